@@ -1,0 +1,89 @@
+//! The paper's scenario: an elastic sphere dropped under gravity on a fixed
+//! boundary sphere, integrated contact by contact, with every event (contact
+//! onset, maximum overlap, rebound) located inside the time step.
+
+pub mod events;
+mod scenario;
+mod simulate;
+
+pub use scenario::{
+    BoundarySection, ContactSection, InputError, Integration, Motion, ParticleSection, Scenario,
+    StepRule, Stepping, DEFAULT_ETA,
+};
+pub use simulate::{simulate, simulate_with, Problem, SimulationError};
+
+use serde::{Deserialize, Serialize};
+
+/// Everything measured for one contact. SI units; times from t = 0; x
+/// upward positive.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactRecord {
+    /// Contact onset t_c, s.
+    pub t_contact: f64,
+    /// Time of maximum overlap t_mp, s.
+    pub t_max_overlap: f64,
+    /// Rebound t_r (overlap back to zero), s.
+    pub t_rebound: f64,
+    /// T_c = t_r − t_c, s.
+    pub duration: f64,
+    /// h_max > 0, m.
+    pub max_overlap: f64,
+    /// Peak contact force, N.
+    pub max_force: f64,
+    /// Peak net acceleration ẍ (upward positive, gravity included), m/s².
+    pub max_acceleration: f64,
+    /// v_c < 0, m/s.
+    pub impact_velocity: f64,
+    /// v_r > 0, m/s.
+    pub rebound_velocity: f64,
+    /// Apex of the flight after the rebound, above the contact point, m
+    /// (`None` without gravity).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub apex_height: Option<f64>,
+    /// Integration steps spent in this contact.
+    pub steps: u64,
+}
+
+/// The result of one run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunOutcome {
+    pub contacts: Vec<ContactRecord>,
+    /// Integration steps taken in all (flight and contact).
+    pub steps: u64,
+    /// Δt used, s.
+    pub dt: f64,
+    /// The law's contact-time estimate Δt was derived from, s.
+    pub contact_time_estimate: f64,
+}
+
+/// One point of the trajectory, for histories and plots (SI).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    pub t: f64,
+    pub x: f64,
+    pub v: f64,
+    pub a: f64,
+    pub overlap: f64,
+    pub force: f64,
+    pub in_contact: bool,
+}
+
+/// Watches a run: trajectory samples and progress. The unit type `()`
+/// watches nothing and costs nothing (the calls compile away).
+pub trait Observer {
+    /// False for observers that ignore samples; the run then skips computing them.
+    const ACTIVE: bool = true;
+    /// A trajectory point (every step in contact and in fixed-step flight;
+    /// `flight_samples()` points per flight arc in event stepping).
+    fn sample(&mut self, _sample: &Sample) {}
+    /// Points per free-flight arc in event stepping.
+    fn flight_samples(&self) -> usize {
+        0
+    }
+    /// Called now and then with the simulated time and the expected end time, s.
+    fn progress(&mut self, _t: f64, _t_end: f64) {}
+}
+
+impl Observer for () {
+    const ACTIVE: bool = false;
+}

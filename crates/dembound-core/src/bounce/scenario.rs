@@ -1,0 +1,341 @@
+//! The bouncing-particle scenario: every input of a run, with the paper's
+//! validation case (section 4.2, ERRATA item 4) as the default, and the
+//! checks that turn bad input into an error naming the field, the value and
+//! the allowed range.
+
+use crate::contact::ContactLawKind;
+use crate::integrate::Scheme;
+use crate::material::{Boundary, ContactPair, Particle};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// How the run advances in time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Stepping {
+    /// Free flight in closed form, onset solved exactly, only the contact integrated.
+    Event,
+    /// One constant Δt through the whole path (the paper's way); events are
+    /// still located inside the step.
+    Fixed,
+}
+
+/// `[particle]`: the mobile sphere.
+pub type ParticleSection = Particle;
+
+/// `[boundary]`: the fixed boundary sphere, relative to the particle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySection {
+    /// r = R_b/R_m; `"inf"` for an elastic half-space.
+    #[serde(with = "crate::serde_inf")]
+    pub radius_ratio: f64,
+    /// ζ = E_b/E_m; `"inf"` for a rigid boundary.
+    #[serde(with = "crate::serde_inf")]
+    pub modulus_ratio: f64,
+    /// ν_b; omitted means the particle's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+}
+
+/// `[contact]`: the normal contact law.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    pub law: ContactLawKind,
+}
+
+/// `[motion]`: initial conditions and how long to run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Motion {
+    /// Initial distance between the surfaces, m.
+    pub gap: f64,
+    /// Initial velocity, m/s, upward positive.
+    pub velocity: f64,
+    /// Gravitational acceleration g, m/s², acting downward.
+    pub gravity: f64,
+    /// Number of rebounds after which the run stops.
+    pub contacts: u32,
+}
+
+/// `[integration]`: scheme, step and stepping mode.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Integration {
+    pub scheme: Scheme,
+    /// Δt = η T_c, with T_c the law's contact-time estimate at the first
+    /// impact speed. Give either `eta` or `dt`; neither means η = 1/50.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eta: Option<f64>,
+    /// Δt in seconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    pub stepping: Stepping,
+}
+
+/// The paper's choice η₂ = 1/50 (section 4.2).
+pub const DEFAULT_ETA: f64 = 0.02;
+
+/// Everything a run needs. `Default` is the paper's validation case.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub particle: ParticleSection,
+    pub boundary: BoundarySection,
+    pub contact: ContactSection,
+    pub motion: Motion,
+    pub integration: Integration,
+}
+
+impl Default for Scenario {
+    /// The paper's validation case (section 4.2 with ERRATA item 4): c² = 1e7
+    /// m²/s², ν = 0.3, R_m = 0.5 mm, r = ζ = 100, a 5 mm gap dropped from rest
+    /// under g = 9.81 m/s², Hertz, Gear5, η = 1/50, event stepping, 2 contacts.
+    fn default() -> Self {
+        Scenario {
+            particle: Particle::PAPER,
+            boundary: BoundarySection {
+                radius_ratio: 100.0,
+                modulus_ratio: 100.0,
+                poisson_ratio: None,
+            },
+            contact: ContactSection {
+                law: ContactLawKind::Hertz,
+            },
+            motion: Motion {
+                gap: 5.0e-3,
+                velocity: 0.0,
+                gravity: 9.81,
+                contacts: 2,
+            },
+            integration: Integration {
+                scheme: Scheme::Gear5,
+                eta: None,
+                dt: None,
+                stepping: Stepping::Event,
+            },
+        }
+    }
+}
+
+/// How Δt is chosen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepRule {
+    /// Δt = η · T_c estimate.
+    Fraction(f64),
+    /// Δt given, s.
+    Fixed(f64),
+}
+
+/// A field with a value outside its allowed range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputError {
+    /// `section.key`.
+    pub field: String,
+    /// The offending value as the user wrote it.
+    pub value: String,
+    /// The allowed range or set, with units.
+    pub allowed: String,
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "invalid value for `{}`: {} (allowed: {})",
+            self.field, self.value, self.allowed
+        )
+    }
+}
+
+impl std::error::Error for InputError {}
+
+fn check(ok: bool, field: &str, value: impl fmt::Display, allowed: &str) -> Result<(), InputError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(InputError {
+            field: field.into(),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        })
+    }
+}
+
+fn positive(field: &str, x: f64, unit: &str) -> Result<(), InputError> {
+    check(
+        x.is_finite() && x > 0.0,
+        field,
+        x,
+        &format!("finite and > 0, in {unit}"),
+    )
+}
+
+fn ratio(field: &str, x: f64) -> Result<(), InputError> {
+    check(x > 0.0 && !x.is_nan(), field, x, "> 0, or \"inf\"")
+}
+
+fn poisson(field: &str, x: f64) -> Result<(), InputError> {
+    check(x > -1.0 && x < 0.5, field, x, "-1 < ν < 0.5")
+}
+
+impl Scenario {
+    /// Checks every field; the first error names the field, value and range.
+    pub fn validate(&self) -> Result<(), InputError> {
+        let p = &self.particle;
+        positive("particle.radius", p.radius, "m")?;
+        positive("particle.density", p.density, "kg/m³")?;
+        positive("particle.youngs_modulus", p.youngs_modulus, "Pa")?;
+        poisson("particle.poisson_ratio", p.poisson_ratio)?;
+        let b = &self.boundary;
+        ratio("boundary.radius_ratio", b.radius_ratio)?;
+        ratio("boundary.modulus_ratio", b.modulus_ratio)?;
+        if let Some(nu) = b.poisson_ratio {
+            poisson("boundary.poisson_ratio", nu)?;
+        }
+        if let ContactLawKind::Power(alpha) = self.contact.law {
+            check(
+                (1.0..=3.0).contains(&alpha),
+                "contact.law.power",
+                alpha,
+                "1 ≤ α ≤ 3",
+            )?;
+        }
+        let m = &self.motion;
+        check(
+            m.gap.is_finite() && m.gap >= 0.0,
+            "motion.gap",
+            m.gap,
+            "finite and ≥ 0, in m",
+        )?;
+        check(
+            m.velocity.is_finite(),
+            "motion.velocity",
+            m.velocity,
+            "finite, in m/s",
+        )?;
+        check(
+            m.gravity.is_finite() && m.gravity >= 0.0,
+            "motion.gravity",
+            m.gravity,
+            "finite and ≥ 0, in m/s²",
+        )?;
+        check(
+            (1..=1_000_000).contains(&m.contacts),
+            "motion.contacts",
+            m.contacts,
+            "1 to 1000000",
+        )?;
+        if m.gravity == 0.0 {
+            check(
+                m.velocity < 0.0,
+                "motion.velocity",
+                m.velocity,
+                "< 0 (moving towards the boundary) when motion.gravity = 0",
+            )?;
+            check(
+                m.contacts == 1,
+                "motion.contacts",
+                m.contacts,
+                "1 when motion.gravity = 0 (the particle never comes back)",
+            )?;
+        }
+        let i = &self.integration;
+        if let Some(eta) = i.eta {
+            check(eta > 0.0 && eta <= 1.0, "integration.eta", eta, "0 < η ≤ 1")?;
+        }
+        if let Some(dt) = i.dt {
+            positive("integration.dt", dt, "s")?;
+            check(
+                i.eta.is_none(),
+                "integration.eta",
+                i.eta.unwrap_or(0.0),
+                "absent when integration.dt is given (give one of them)",
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The particle–boundary pair.
+    pub fn pair(&self) -> ContactPair {
+        ContactPair::new(
+            self.particle,
+            Boundary {
+                radius_ratio: self.boundary.radius_ratio,
+                modulus_ratio: self.boundary.modulus_ratio,
+                poisson_ratio: self.boundary.poisson_ratio,
+            },
+        )
+    }
+
+    /// How Δt is chosen.
+    pub fn step_rule(&self) -> StepRule {
+        match (self.integration.dt, self.integration.eta) {
+            (Some(dt), _) => StepRule::Fixed(dt),
+            (None, eta) => StepRule::Fraction(eta.unwrap_or(DEFAULT_ETA)),
+        }
+    }
+
+    /// The scenario with every default written out (η when no Δt is given).
+    pub fn resolved(&self) -> Scenario {
+        let mut s = *self;
+        if s.integration.dt.is_none() && s.integration.eta.is_none() {
+            s.integration.eta = Some(DEFAULT_ETA);
+        }
+        s
+    }
+
+    /// Speed at the first contact, m/s (≥ 0): √(v₀² + 2 g H₀) with gravity,
+    /// |v₀| without (ERRATA item 7).
+    pub fn impact_speed(&self) -> f64 {
+        let m = &self.motion;
+        (m.velocity * m.velocity + 2.0 * m.gravity * m.gap).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_is_valid_and_impact_speed_is_the_papers() {
+        let s = Scenario::default();
+        s.validate().unwrap();
+        // v_c = −0.313 m/s (section 4.2); √(2·9.81·0.005) = 0.3132091953…
+        assert!((s.impact_speed() - 0.313_209_195_3).abs() < 1e-10);
+    }
+
+    #[test]
+    fn each_bad_field_is_named() {
+        let cases: Vec<(&str, fn(&mut Scenario))> = vec![
+            ("particle.radius", |s| s.particle.radius = -1.0),
+            ("particle.density", |s| s.particle.density = 0.0),
+            ("particle.youngs_modulus", |s| {
+                s.particle.youngs_modulus = f64::NAN
+            }),
+            ("particle.poisson_ratio", |s| s.particle.poisson_ratio = 0.5),
+            ("boundary.radius_ratio", |s| s.boundary.radius_ratio = 0.0),
+            ("boundary.modulus_ratio", |s| {
+                s.boundary.modulus_ratio = -2.0
+            }),
+            ("boundary.poisson_ratio", |s| {
+                s.boundary.poisson_ratio = Some(-1.0)
+            }),
+            ("contact.law.power", |s| {
+                s.contact.law = ContactLawKind::Power(0.5)
+            }),
+            ("motion.gap", |s| s.motion.gap = -1e-3),
+            ("motion.gravity", |s| s.motion.gravity = -9.81),
+            ("motion.contacts", |s| s.motion.contacts = 0),
+            ("integration.eta", |s| s.integration.eta = Some(1.5)),
+            ("integration.dt", |s| s.integration.dt = Some(0.0)),
+        ];
+        for (field, spoil) in cases {
+            let mut s = Scenario::default();
+            spoil(&mut s);
+            let err = s.validate().unwrap_err();
+            assert_eq!(err.field, field);
+        }
+    }
+}

@@ -1,0 +1,441 @@
+//! The time loop of the bouncing particle, in two stepping modes.
+//!
+//! **Force discontinuity at contact onset.** Out of contact ẍ = −g exactly,
+//! so the Nordsieck vector holds (x, v, −g, 0, 0, 0). At the onset the
+//! contact force switches on and the higher derivatives jump; a Gear vector
+//! carried across would hold stale free-flight values and the corrector
+//! would need many steps to forget them. Both modes therefore *restart* the
+//! integrator at the onset: the onset time and velocity are exact (flight is
+//! a parabola), and the Nordsieck vector is seeded with the one-sided
+//! derivatives of the contact solution at h = 0⁺ from the law
+//! ([`NormalContactLaw::onset_derivatives`]). At the rebound the flight that
+//! follows is again exact, so nothing of the contact's derivatives is carried
+//! into it either.
+
+use super::events::{locate, time_to_surface, Crossing};
+use super::{
+    ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule, Stepping,
+};
+use crate::contact::{with_law, LawVisitor, NormalContactLaw};
+use crate::integrate::{Gear5, Integrator, Scheme, Verlet};
+use std::fmt;
+
+/// Why a run could not finish.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SimulationError {
+    /// A scenario field is out of range.
+    Input(InputError),
+    /// The particle never reaches the boundary.
+    NeverReachesBoundary,
+    /// A contact did not end within its step budget.
+    NoRebound { contact: u32, steps: u64 },
+}
+
+impl fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimulationError::Input(e) => e.fmt(f),
+            SimulationError::NeverReachesBoundary => {
+                f.write_str("the particle never reaches the boundary (check motion.velocity and motion.gravity)")
+            }
+            SimulationError::NoRebound { contact, steps } => write!(
+                f,
+                "contact {contact} did not end after {steps} steps (the particle came to rest on the boundary?)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+impl From<InputError> for SimulationError {
+    fn from(e: InputError) -> Self {
+        SimulationError::Input(e)
+    }
+}
+
+/// The numerical problem a run solves, resolved from a [`Scenario`] and its law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Problem {
+    /// Particle mass, kg.
+    pub mass: f64,
+    /// g, m/s².
+    pub gravity: f64,
+    /// Initial gap, m.
+    pub gap: f64,
+    /// Initial velocity, m/s, upward positive.
+    pub velocity: f64,
+    /// Rebounds to run.
+    pub contacts: u32,
+    /// Time step, s.
+    pub dt: f64,
+    /// The contact-time estimate Δt came from, s.
+    pub contact_time_estimate: f64,
+    pub stepping: Stepping,
+}
+
+impl Problem {
+    /// Resolves Δt for `law` (Δt = η T_c with the law's estimate at the
+    /// first impact speed, or Δt as given).
+    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Self {
+        let mass = s.particle.mass();
+        let g = s.motion.gravity;
+        let mut speed = s.impact_speed();
+        if speed <= 0.0 {
+            // Dropped with no speed onto the surface: the gravity-driven
+            // oscillation has the speed scale √(2 g h_eq), h_eq the static overlap.
+            let (mut lo, mut hi) = (0.0, s.particle.radius);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if law.force(mid, 0.0) < mass * g {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            speed = (2.0 * g * hi).sqrt();
+        }
+        let estimate = law.contact_time_estimate(mass, speed);
+        let dt = match s.step_rule() {
+            StepRule::Fixed(dt) => dt,
+            StepRule::Fraction(eta) => eta * estimate,
+        };
+        Problem {
+            mass,
+            gravity: g,
+            gap: s.motion.gap,
+            velocity: s.motion.velocity,
+            contacts: s.motion.contacts,
+            dt,
+            contact_time_estimate: estimate,
+            stepping: s.integration.stepping,
+        }
+    }
+
+    /// Expected end time of the run, s (flight exact, contacts estimated).
+    pub fn expected_end_time(&self) -> f64 {
+        let g = self.gravity;
+        let first = time_to_surface(self.gap, self.velocity, g).unwrap_or(0.0);
+        let speed = (self.velocity * self.velocity + 2.0 * g * self.gap).sqrt();
+        let flight = if g > 0.0 { 2.0 * speed / g } else { 0.0 };
+        let n = f64::from(self.contacts);
+        first + n * self.contact_time_estimate + (n - 1.0) * flight
+    }
+
+    /// Expected number of integration steps.
+    pub fn expected_steps(&self) -> f64 {
+        match self.stepping {
+            Stepping::Event => f64::from(self.contacts) * self.contact_time_estimate / self.dt,
+            Stepping::Fixed => self.expected_end_time() / self.dt,
+        }
+    }
+}
+
+/// Runs a scenario (validated first) and reports every contact.
+pub fn simulate<O: Observer>(
+    s: &Scenario,
+    observer: &mut O,
+) -> Result<RunOutcome, SimulationError> {
+    s.validate()?;
+    struct Visit<'a, O> {
+        scenario: &'a Scenario,
+        observer: &'a mut O,
+    }
+    impl<O: Observer> LawVisitor for Visit<'_, O> {
+        type Output = Result<RunOutcome, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
+            let problem = Problem::new(self.scenario, &law);
+            match self.scenario.integration.scheme {
+                Scheme::Gear5 => {
+                    let gear = Gear5::for_force(law.depends_on_rate());
+                    simulate_with(&law, gear, &problem, self.observer)
+                }
+                Scheme::Verlet => simulate_with(&law, Verlet, &problem, self.observer),
+            }
+        }
+    }
+    with_law(
+        s.contact.law,
+        &s.pair(),
+        Visit {
+            scenario: s,
+            observer,
+        },
+    )
+}
+
+const PROGRESS_EVERY: u64 = 1 << 16;
+
+/// Runs `problem` with a concrete law and integrator.
+pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
+    law: &L,
+    integrator: I,
+    problem: &Problem,
+    observer: &mut O,
+) -> Result<RunOutcome, SimulationError> {
+    let mut run = Run {
+        law,
+        integrator,
+        problem,
+        observer,
+        inv_mass: 1.0 / problem.mass,
+        steps: 0,
+        t_end: problem.expected_end_time(),
+        contact_budget: (100.0 * problem.contact_time_estimate / problem.dt) as u64 + 1_000_000,
+    };
+    let contacts = match problem.stepping {
+        Stepping::Event => run.event_stepping()?,
+        Stepping::Fixed => run.fixed_stepping()?,
+    };
+    Ok(RunOutcome {
+        contacts,
+        steps: run.steps,
+        dt: problem.dt,
+        contact_time_estimate: problem.contact_time_estimate,
+    })
+}
+
+struct Run<'a, L, I, O> {
+    law: &'a L,
+    integrator: I,
+    problem: &'a Problem,
+    observer: &'a mut O,
+    inv_mass: f64,
+    steps: u64,
+    t_end: f64,
+    contact_budget: u64,
+}
+
+/// How a contact ended.
+struct ContactEnd {
+    record: ContactRecord,
+    /// Time of the end of the step that contains the rebound, s.
+    step_end: f64,
+    /// Steps taken in the contact.
+    steps: u64,
+}
+
+impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
+    /// Net acceleration ẍ during a contact: the law's force, continued
+    /// smoothly to x > 0 inside the step that contains the rebound (see
+    /// [`NormalContactLaw::force`]).
+    #[inline(always)]
+    fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
+        self.law.force(-x, -v) * self.inv_mass - self.problem.gravity
+    }
+
+    /// Physical net acceleration ẍ at (x, v).
+    fn acceleration(&self, x: f64, v: f64) -> f64 {
+        let g = self.problem.gravity;
+        if x < 0.0 {
+            self.law.force(-x, -v) * self.inv_mass - g
+        } else {
+            -g
+        }
+    }
+
+    fn sample(&mut self, t: f64, x: f64, v: f64) {
+        let in_contact = x < 0.0;
+        let overlap = (-x).max(0.0);
+        let force = if in_contact {
+            self.law.force(overlap, -v)
+        } else {
+            0.0
+        };
+        let a = self.acceleration(x, v);
+        self.observer.sample(&Sample {
+            t,
+            x,
+            v,
+            a,
+            overlap,
+            force,
+            in_contact,
+        });
+    }
+
+    fn flight_samples(&mut self, t0: f64, x0: f64, v0: f64, duration: f64) {
+        let n = self.observer.flight_samples();
+        let g = self.problem.gravity;
+        for i in 0..n {
+            let tau = duration * i as f64 / n as f64;
+            self.sample(t0 + tau, x0 + tau * (v0 - 0.5 * g * tau), v0 - g * tau);
+        }
+    }
+
+    /// Free flight in closed form between contacts; only contacts integrated.
+    fn event_stepping(&mut self) -> Result<Vec<ContactRecord>, SimulationError> {
+        let g = self.problem.gravity;
+        let (mut t, mut x, mut v) = (0.0, self.problem.gap, self.problem.velocity);
+        let mut records = Vec::with_capacity(self.problem.contacts as usize);
+        for n in 1..=self.problem.contacts {
+            let tau = time_to_surface(x, v, g).ok_or(SimulationError::NeverReachesBoundary)?;
+            if O::ACTIVE {
+                self.flight_samples(t, x, v, tau);
+            }
+            let t_contact = t + tau;
+            let impact_velocity = v - g * tau;
+            let dt = self.problem.dt;
+            let end = self.contact(n, t_contact, impact_velocity, dt, t_contact + dt)?;
+            (t, x, v) = (end.record.t_rebound, 0.0, end.record.rebound_velocity);
+            records.push(end.record);
+        }
+        if O::ACTIVE && g > 0.0 {
+            self.flight_samples(t, x, v, 2.0 * v / g);
+        }
+        Ok(records)
+    }
+
+    /// One constant Δt on a fixed grid t_k = k Δt through the whole path.
+    fn fixed_stepping(&mut self) -> Result<Vec<ContactRecord>, SimulationError> {
+        let g = self.problem.gravity;
+        let dt = self.problem.dt;
+        let it = self.integrator;
+        let mut records = Vec::with_capacity(self.problem.contacts as usize);
+        let mut k: u64 = 0;
+        let mut state = it.start(
+            [self.problem.gap, self.problem.velocity, -g, 0.0, 0.0, 0.0],
+            dt,
+        );
+        for n in 1..=self.problem.contacts {
+            // Flight: the scheme integrates ẍ = −g exactly; step until the
+            // step that crosses the surface, then place the onset exactly.
+            let (t_contact, impact_velocity, first_end_index) = loop {
+                let before = it.kinematics(&state);
+                if before.position <= 0.0 && before.velocity <= 0.0 {
+                    break (k as f64 * dt, before.velocity, None);
+                }
+                it.step(&mut state, |_, _| -g);
+                self.steps += 1;
+                let after = it.kinematics(&state);
+                if O::ACTIVE {
+                    self.sample((k + 1) as f64 * dt, after.position, after.velocity);
+                    if self.steps % PROGRESS_EVERY == 0 {
+                        self.observer.progress((k + 1) as f64 * dt, self.t_end);
+                    }
+                }
+                if after.position < 0.0 {
+                    let tau = time_to_surface(before.position, before.velocity, g)
+                        .ok_or(SimulationError::NeverReachesBoundary)?;
+                    break (k as f64 * dt + tau, before.velocity - g * tau, Some(k + 1));
+                }
+                if g == 0.0 && after.velocity >= 0.0 {
+                    return Err(SimulationError::NeverReachesBoundary);
+                }
+                k += 1;
+            };
+            // The contact restarts the scheme at the onset. Its first step
+            // runs to the next grid point; a sliver shorter than Δt/4 is
+            // merged with the following step (a tiny first step would
+            // amplify the rounding of the Nordsieck vector when rescaled).
+            let mut end_index = first_end_index.unwrap_or(k + 1);
+            let mut first = end_index as f64 * dt - t_contact;
+            if first < 0.25 * dt {
+                end_index += 1;
+                first += dt;
+            }
+            let end = self.contact(n, t_contact, impact_velocity, first, end_index as f64 * dt)?;
+            k = end_index + end.steps - 1;
+            // Exact flight from the rebound to the grid point closing its step.
+            let rest = end.step_end - end.record.t_rebound;
+            let v_r = end.record.rebound_velocity;
+            let (x, v) = (rest * (v_r - 0.5 * g * rest), v_r - g * rest);
+            state = it.start([x.max(0.0), v, -g, 0.0, 0.0, 0.0], dt);
+            records.push(end.record);
+        }
+        Ok(records)
+    }
+
+    /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
+    /// rebound. The first step has length `first`, ending at `first_end`;
+    /// the others have length Δt.
+    fn contact(
+        &mut self,
+        number: u32,
+        t_c: f64,
+        v_c: f64,
+        first: f64,
+        first_end: f64,
+    ) -> Result<ContactEnd, SimulationError> {
+        let it = self.integrator;
+        let dt = self.problem.dt;
+        let m = self.problem.mass;
+        // One-sided derivatives at h = 0⁺ (see the module doc).
+        let overlap_rate = -v_c;
+        let onset_force = self.law.force(0.0, overlap_rate);
+        let overlap_accel = self.problem.gravity - onset_force * self.inv_mass;
+        let [h3, h4, h5] = self.law.onset_derivatives(m, overlap_rate, overlap_accel);
+        let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first);
+        if O::ACTIVE {
+            self.sample(t_c, 0.0, v_c);
+        }
+        let mut max_force = onset_force;
+        let mut max_overlap: Option<(f64, f64)> = None;
+        let mut steps: u64 = 0;
+        loop {
+            let t_before = if steps == 0 {
+                t_c
+            } else {
+                first_end + (steps - 1) as f64 * dt
+            };
+            let before = state;
+            it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+            steps += 1;
+            let h = it.step_size(&state);
+            let k = it.kinematics(&state);
+            if k.position < 0.0 {
+                max_force = max_force.max(self.law.force(-k.position, -k.velocity));
+            }
+            if O::ACTIVE {
+                self.sample(t_before + h, k.position, k.velocity);
+                if (self.steps + steps) % PROGRESS_EVERY == 0 {
+                    self.observer.progress(t_before + h, self.t_end);
+                }
+            }
+            if max_overlap.is_none() && k.velocity >= 0.0 {
+                let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
+                let overlap = -at.position;
+                max_force = max_force.max(self.law.force(overlap, -at.velocity));
+                max_overlap = Some((t_before + theta * h, overlap));
+            }
+            if let (Some((t_max_overlap, overlap)), true) = (max_overlap, k.position >= 0.0) {
+                let (theta, at) = locate(&it.dense(&before, &state), Crossing::Position);
+                let t_rebound = t_before + theta * h;
+                let rebound_velocity = at.velocity;
+                let g = self.problem.gravity;
+                if O::ACTIVE {
+                    self.sample(t_rebound, 0.0, rebound_velocity);
+                }
+                self.steps += steps;
+                return Ok(ContactEnd {
+                    record: ContactRecord {
+                        t_contact: t_c,
+                        t_max_overlap,
+                        t_rebound,
+                        duration: t_rebound - t_c,
+                        max_overlap: overlap,
+                        max_force,
+                        max_acceleration: max_force * self.inv_mass - g,
+                        impact_velocity: v_c,
+                        rebound_velocity,
+                        apex_height: (g > 0.0)
+                            .then(|| rebound_velocity * rebound_velocity / (2.0 * g)),
+                        steps,
+                    },
+                    step_end: t_before + h,
+                    steps,
+                });
+            }
+            if steps == 1 && first != dt {
+                it.set_step(&mut state, dt);
+            }
+            if steps > self.contact_budget {
+                self.steps += steps;
+                return Err(SimulationError::NoRebound {
+                    contact: number,
+                    steps,
+                });
+            }
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! Physics core of dembound: a DEM study of an elastic sphere meeting a
+//! boundary sphere (Jasevičius & Kačianauskas 2007). No I/O here: the CLI
+//! crate parses, writes and plots.
+//!
+//! - [`material`]: the two spheres and their effective properties (eqs 2, 5–14);
+//! - [`contact`]: normal contact laws behind one trait (eq 4);
+//! - [`integrate`]: Gear5 and velocity Verlet behind one trait (eqs 18–19);
+//! - [`bounce`]: the bouncing scenario, both stepping modes and event location.
+
+pub mod bounce;
+pub mod contact;
+pub mod integrate;
+pub mod material;
+mod serde_inf;
