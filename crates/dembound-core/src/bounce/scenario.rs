@@ -308,7 +308,8 @@ mod tests {
 
     #[test]
     fn each_bad_field_is_named() {
-        let cases: Vec<(&str, fn(&mut Scenario))> = vec![
+        type Spoil = fn(&mut Scenario);
+        let cases: Vec<(&str, Spoil)> = vec![
             ("particle.radius", |s| s.particle.radius = -1.0),
             ("particle.density", |s| s.particle.density = 0.0),
             ("particle.youngs_modulus", |s| {

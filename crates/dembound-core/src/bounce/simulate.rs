@@ -87,7 +87,7 @@ impl Problem {
             let (mut lo, mut hi) = (0.0, s.particle.radius);
             for _ in 0..200 {
                 let mid = 0.5 * (lo + hi);
-                if law.force(mid, 0.0) < mass * g {
+                if law.force(mid, 0.0, &Default::default()) < mass * g {
                     lo = mid;
                 } else {
                     hi = mid;
@@ -182,6 +182,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         steps: 0,
         t_end: problem.expected_end_time(),
         contact_budget: (100.0 * problem.contact_time_estimate / problem.dt) as u64 + 1_000_000,
+        history: L::History::default(),
     };
     let contacts = match problem.stepping {
         Stepping::Event => run.event_stepping()?,
@@ -195,7 +196,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
     })
 }
 
-struct Run<'a, L, I, O> {
+struct Run<'a, L: NormalContactLaw, I, O> {
     law: &'a L,
     integrator: I,
     problem: &'a Problem,
@@ -204,6 +205,8 @@ struct Run<'a, L, I, O> {
     steps: u64,
     t_end: f64,
     contact_budget: u64,
+    /// The law's memory of the current contact.
+    history: L::History,
 }
 
 /// How a contact ended.
@@ -221,14 +224,14 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// [`NormalContactLaw::force`]).
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
-        self.law.force(-x, -v) * self.inv_mass - self.problem.gravity
+        self.law.force(-x, -v, &self.history) * self.inv_mass - self.problem.gravity
     }
 
     /// Physical net acceleration ẍ at (x, v).
     fn acceleration(&self, x: f64, v: f64) -> f64 {
         let g = self.problem.gravity;
         if x < 0.0 {
-            self.law.force(-x, -v) * self.inv_mass - g
+            self.law.force(-x, -v, &self.history) * self.inv_mass - g
         } else {
             -g
         }
@@ -238,7 +241,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let in_contact = x < 0.0;
         let overlap = (-x).max(0.0);
         let force = if in_contact {
-            self.law.force(overlap, -v)
+            self.law.force(overlap, -v, &self.history)
         } else {
             0.0
         };
@@ -362,7 +365,8 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let m = self.problem.mass;
         // One-sided derivatives at h = 0⁺ (see the module doc).
         let overlap_rate = -v_c;
-        let onset_force = self.law.force(0.0, overlap_rate);
+        self.history = L::History::default();
+        let onset_force = self.law.force(0.0, overlap_rate, &self.history);
         let overlap_accel = self.problem.gravity - onset_force * self.inv_mass;
         let [h3, h4, h5] = self.law.onset_derivatives(m, overlap_rate, overlap_accel);
         let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first);
@@ -383,8 +387,10 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             steps += 1;
             let h = it.step_size(&state);
             let k = it.kinematics(&state);
+            self.law
+                .update_history(-k.position, -k.velocity, &mut self.history);
             if k.position < 0.0 {
-                max_force = max_force.max(self.law.force(-k.position, -k.velocity));
+                max_force = max_force.max(self.law.force(-k.position, -k.velocity, &self.history));
             }
             if O::ACTIVE {
                 self.sample(t_before + h, k.position, k.velocity);
@@ -395,7 +401,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             if max_overlap.is_none() && k.velocity >= 0.0 {
                 let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
                 let overlap = -at.position;
-                max_force = max_force.max(self.law.force(overlap, -at.velocity));
+                max_force = max_force.max(self.law.force(overlap, -at.velocity, &self.history));
                 max_overlap = Some((t_before + theta * h, overlap));
             }
             if let (Some((t_max_overlap, overlap)), true) = (max_overlap, k.position >= 0.0) {

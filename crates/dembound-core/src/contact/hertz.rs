@@ -20,12 +20,14 @@ impl Hertz {
 }
 
 impl NormalContactLaw for Hertz {
+    type History = ();
+
     fn name(&self) -> &'static str {
         "hertz"
     }
 
     #[inline(always)]
-    fn force(&self, overlap: f64, _overlap_rate: f64) -> f64 {
+    fn force(&self, overlap: f64, _overlap_rate: f64, _history: &()) -> f64 {
         self.stiffness * overlap * overlap.abs().sqrt()
     }
 

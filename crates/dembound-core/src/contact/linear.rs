@@ -18,12 +18,14 @@ impl LinearSpring {
 }
 
 impl NormalContactLaw for LinearSpring {
+    type History = ();
+
     fn name(&self) -> &'static str {
         "linear"
     }
 
     #[inline(always)]
-    fn force(&self, overlap: f64, _overlap_rate: f64) -> f64 {
+    fn force(&self, overlap: f64, _overlap_rate: f64, _history: &()) -> f64 {
         self.stiffness * overlap
     }
 

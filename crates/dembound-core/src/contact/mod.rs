@@ -21,6 +21,11 @@ use serde::{Deserialize, Serialize};
 
 /// A normal contact law for one pair of spheres.
 pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
+    /// What the law remembers of the current contact (the largest overlap
+    /// so far, for a hysteretic law); `()` for history-free laws. A fresh
+    /// `Default` value starts each contact.
+    type History: Copy + Default + std::fmt::Debug;
+
     /// Short name used in reports (`"linear"`, `"hertz"`, ...).
     fn name(&self) -> &'static str;
 
@@ -32,7 +37,12 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     /// laws). It is used only inside the one step that straddles the
     /// rebound, so that the step's polynomial is smooth there and locates
     /// h = 0 to the scheme's order; the physical force after separation is 0.
-    fn force(&self, overlap: f64, overlap_rate: f64) -> f64;
+    fn force(&self, overlap: f64, overlap_rate: f64, history: &Self::History) -> f64;
+
+    /// Updates the history after an accepted step ending at (`overlap`,
+    /// `overlap_rate`).
+    #[inline(always)]
+    fn update_history(&self, _overlap: f64, _overlap_rate: f64, _history: &mut Self::History) {}
 
     /// True when the force depends on the overlap rate; the Gear corrector
     /// then uses 3/20 instead of 3/16 for its first coefficient.

@@ -20,12 +20,14 @@ impl PowerLaw {
 }
 
 impl NormalContactLaw for PowerLaw {
+    type History = ();
+
     fn name(&self) -> &'static str {
         "power"
     }
 
     #[inline(always)]
-    fn force(&self, overlap: f64, _overlap_rate: f64) -> f64 {
+    fn force(&self, overlap: f64, _overlap_rate: f64, _history: &()) -> f64 {
         self.stiffness * overlap * overlap.abs().powf(self.exponent - 1.0)
     }
 
@@ -61,10 +63,10 @@ mod tests {
         // Same formula, different code paths (powf vs h·√h): agree to rounding.
         let p = pair();
         let h = 3.7e-7;
-        let lin = LinearSpring::for_pair(&p).force(h, 0.0);
-        let her = Hertz::for_pair(&p).force(h, 0.0);
-        assert!((PowerLaw::for_pair(&p, 1.0).force(h, 0.0) / lin - 1.0).abs() < 1e-15);
-        assert!((PowerLaw::for_pair(&p, 1.5).force(h, 0.0) / her - 1.0).abs() < 1e-14);
+        let lin = LinearSpring::for_pair(&p).force(h, 0.0, &());
+        let her = Hertz::for_pair(&p).force(h, 0.0, &());
+        assert!((PowerLaw::for_pair(&p, 1.0).force(h, 0.0, &()) / lin - 1.0).abs() < 1e-15);
+        assert!((PowerLaw::for_pair(&p, 1.5).force(h, 0.0, &()) / her - 1.0).abs() < 1e-14);
     }
 
     #[test]
