@@ -10,7 +10,7 @@ pub use scenario::{
     BoundarySection, ContactSection, InputError, Integration, Motion, ParticleSection, Scenario,
     StepRule, Stepping, DEFAULT_ETA,
 };
-pub use simulate::{simulate, simulate_with, Problem, SimulationError};
+pub use simulate::{plan, simulate, simulate_with, Problem, SimulationError};
 
 use serde::{Deserialize, Serialize};
 

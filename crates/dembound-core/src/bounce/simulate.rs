@@ -164,6 +164,20 @@ pub fn simulate<O: Observer>(
     )
 }
 
+/// Resolves a scenario into its numerical problem (Δt, expected steps)
+/// without running it: for step-count guards and progress bars.
+pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
+    s.validate()?;
+    struct Plan<'a>(&'a Scenario);
+    impl LawVisitor for Plan<'_> {
+        type Output = Problem;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Problem {
+            Problem::new(self.0, &law)
+        }
+    }
+    Ok(with_law(s.contact.law, &s.pair(), Plan(s)))
+}
+
 const PROGRESS_EVERY: u64 = 1 << 16;
 
 /// Runs `problem` with a concrete law and integrator.
