@@ -5,10 +5,13 @@
 //! - [`material`]: the two spheres and their effective properties (eqs 2, 5–14);
 //! - [`contact`]: normal contact laws behind one trait (eq 4);
 //! - [`integrate`]: Gear5 and velocity Verlet behind one trait (eqs 18–19);
-//! - [`bounce`]: the bouncing scenario, both stepping modes and event location.
+//! - [`bounce`]: the bouncing scenario, both stepping modes and event location;
+//! - [`exact`]: exact references (closed forms, quadrature), kept apart from
+//!   the numerics they check.
 
 pub mod bounce;
 pub mod contact;
+pub mod exact;
 pub mod integrate;
 pub mod material;
 mod serde_inf;

@@ -189,6 +189,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
 ) -> Result<RunOutcome, SimulationError> {
     let mut run = Run {
         law,
+        acceleration_law: law.scaled(1.0 / problem.mass),
         integrator,
         problem,
         observer,
@@ -212,6 +213,8 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
 
 struct Run<'a, L: NormalContactLaw, I, O> {
     law: &'a L,
+    /// `law` scaled by 1/m: gives accelerations.
+    acceleration_law: L,
     integrator: I,
     problem: &'a Problem,
     observer: &'a mut O,
@@ -238,7 +241,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// [`NormalContactLaw::force`]).
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
-        self.law.force(-x, -v, &self.history) * self.inv_mass - self.problem.gravity
+        self.acceleration_law.force(-x, -v, &self.history) - self.problem.gravity
     }
 
     /// Physical net acceleration ẍ at (x, v).

@@ -22,6 +22,12 @@ impl Hertz {
 impl NormalContactLaw for Hertz {
     type History = ();
 
+    fn scaled(&self, factor: f64) -> Self {
+        Self {
+            stiffness: self.stiffness * factor,
+        }
+    }
+
     fn name(&self) -> &'static str {
         "hertz"
     }

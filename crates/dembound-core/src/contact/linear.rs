@@ -20,6 +20,12 @@ impl LinearSpring {
 impl NormalContactLaw for LinearSpring {
     type History = ();
 
+    fn scaled(&self, factor: f64) -> Self {
+        Self {
+            stiffness: self.stiffness * factor,
+        }
+    }
+
     fn name(&self) -> &'static str {
         "linear"
     }

@@ -22,6 +22,13 @@ impl PowerLaw {
 impl NormalContactLaw for PowerLaw {
     type History = ();
 
+    fn scaled(&self, factor: f64) -> Self {
+        Self {
+            stiffness: self.stiffness * factor,
+            ..*self
+        }
+    }
+
     fn name(&self) -> &'static str {
         "power"
     }

@@ -1,0 +1,77 @@
+//! Cost of one integration step inside a contact, and of the validation case
+//! end to end.
+//!
+//! `cargo bench -p dembound-core --bench steps`
+//!
+//! The step benchmarks run 1000 consecutive steps of the in-contact equation
+//! (the law's force continued past h = 0, so the particle oscillates in
+//! contact forever and every step costs what a contact step costs), and
+//! report time per step via `Throughput::Elements`.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use dembound_core::bounce::{simulate, Scenario, Stepping};
+use dembound_core::contact::{ContactLawKind, Hertz, LinearSpring, NormalContactLaw};
+use dembound_core::integrate::{Gear5, Integrator, Verlet};
+use dembound_core::material::{Boundary, ContactPair, Particle};
+
+const STEPS: u64 = 1000;
+
+fn run_steps<I: Integrator, L: NormalContactLaw<History = ()>>(
+    it: I,
+    law: &L,
+    mass: f64,
+    dt: f64,
+) -> f64 {
+    let law = law.scaled(1.0 / mass);
+    let g = 9.81;
+    let mut s = it.start([0.0, -0.3132, -g, 0.0, 0.0, 0.0], dt);
+    for _ in 0..STEPS {
+        it.step(&mut s, |x, v| law.force(-x, -v, &()) - g);
+    }
+    it.kinematics(&s).position
+}
+
+fn steps(c: &mut Criterion) {
+    let pair = ContactPair::new(Particle::PAPER, Boundary::PAPER);
+    let mass = Particle::PAPER.mass();
+    let hertz = Hertz::for_pair(&pair);
+    let linear = LinearSpring::for_pair(&pair);
+    let dt_h = hertz.contact_time_estimate(mass, 0.3132) / 50.0;
+    let dt_l = linear.contact_time_estimate(mass, 0.3132) / 50.0;
+    let mut group = c.benchmark_group("step");
+    group.throughput(Throughput::Elements(STEPS));
+    group.bench_function("gear5_hertz", |b| {
+        b.iter(|| run_steps(Gear5::POSITION_DEPENDENT, black_box(&hertz), mass, dt_h))
+    });
+    group.bench_function("verlet_hertz", |b| {
+        b.iter(|| run_steps(Verlet, black_box(&hertz), mass, dt_h))
+    });
+    group.bench_function("gear5_linear", |b| {
+        b.iter(|| run_steps(Gear5::POSITION_DEPENDENT, black_box(&linear), mass, dt_l))
+    });
+    group.bench_function("verlet_linear", |b| {
+        b.iter(|| run_steps(Verlet, black_box(&linear), mass, dt_l))
+    });
+    group.finish();
+}
+
+fn validation_case(c: &mut Criterion) {
+    let mut group = c.benchmark_group("validation_case");
+    for (name, law, stepping) in [
+        ("hertz_event", ContactLawKind::Hertz, Stepping::Event),
+        ("linear_event", ContactLawKind::Linear, Stepping::Event),
+        ("hertz_fixed", ContactLawKind::Hertz, Stepping::Fixed),
+    ] {
+        let mut s = Scenario::default();
+        s.contact.law = law;
+        s.integration.stepping = stepping;
+        if stepping == Stepping::Fixed {
+            group.sample_size(10);
+        }
+        group.bench_function(name, |b| b.iter(|| simulate(black_box(&s), &mut ())));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, steps, validation_case);
+criterion_main!(benches);
