@@ -15,3 +15,4 @@ pub mod exact;
 pub mod integrate;
 pub mod material;
 mod serde_inf;
+pub mod study;

@@ -1,0 +1,4 @@
+//! Studies built on the scenario and the exact references: the paper's
+//! validation (Tables 1–2) and convergence in the time step.
+
+pub mod validation;
