@@ -401,11 +401,8 @@ mod tests {
             .unwrap_or([f64::NAN; 4]);
         let rows = paper_rows(ContactLawKind::Linear, e);
         let printed = rows[0].printed_delta_percent.unwrap_or([f64::NAN; 4]);
-        for q in 0..3 {
-            assert!(
-                (rows[0].errors[q] * 100.0 - printed[q]).abs() < 0.15,
-                "q {q}"
-            );
+        for (q, (err, delta)) in rows[0].errors.iter().zip(printed).take(3).enumerate() {
+            assert!((err * 100.0 - delta).abs() < 0.15, "q {q}");
         }
     }
 }
