@@ -336,3 +336,19 @@ fn usage_errors_exit_2() {
     let out = dembound().args(["run", "--no-such-flag"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn a_run_that_fails_exits_1_and_writes_nothing() {
+    // Dropped from rest onto the surface: the contact never ends.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = dembound()
+        .args(["run", "--set", "motion.gap=0", "--set", "motion.velocity=0"])
+        .arg("--out")
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    assert!(files_in(tmp.path()).is_empty());
+}

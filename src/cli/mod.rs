@@ -68,9 +68,19 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader of stdout went away (e.g. `| head`): stop quietly.
+        Err(e) if is_broken_pipe(e.error()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {:#}", e.error());
             ExitCode::from(e.exit_code())
         }
     }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }

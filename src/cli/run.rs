@@ -43,7 +43,7 @@ pub struct RunArgs {
           value_parser = clap::value_parser!(u64).range(1..))]
     pub history_points: u64,
 
-    /// No progress bar or notes on stderr
+    /// No progress bar
     #[arg(long, short)]
     pub quiet: bool,
 
@@ -88,8 +88,8 @@ pub fn run(args: &RunArgs) -> CliResult {
 
     if args.json {
         let report = RunReport::new(&scenario, &outcome);
-        serde_json::to_writer_pretty(&mut stdout, &report).map_err(CliError::failed)?;
-        writeln!(stdout).map_err(CliError::failed)?;
+        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
+        writeln!(stdout, "{text}").map_err(CliError::failed)?;
     } else {
         writeln!(
             stdout,
