@@ -71,7 +71,8 @@ pub struct Sample {
 /// Watches a run: trajectory samples and progress. The unit type `()`
 /// watches nothing and costs nothing (the calls compile away).
 pub trait Observer {
-    /// False for observers that ignore samples; the run then skips computing them.
+    /// False for observers that ignore samples; the run then skips computing
+    /// them (`progress` is still called).
     const ACTIVE: bool = true;
     /// A trajectory point (every step in contact and in fixed-step flight;
     /// `flight_samples()` points per flight arc in event stepping).

@@ -330,9 +330,9 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 let after = it.kinematics(&state);
                 if O::ACTIVE {
                     self.sample((k + 1) as f64 * dt, after.position, after.velocity);
-                    if self.steps % PROGRESS_EVERY == 0 {
-                        self.observer.progress((k + 1) as f64 * dt, self.t_end);
-                    }
+                }
+                if self.steps % PROGRESS_EVERY == 0 {
+                    self.observer.progress((k + 1) as f64 * dt, self.t_end);
                 }
                 if after.position < 0.0 {
                     let tau = time_to_surface(before.position, before.velocity, g)
@@ -411,9 +411,9 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             }
             if O::ACTIVE {
                 self.sample(t_before + h, k.position, k.velocity);
-                if (self.steps + steps) % PROGRESS_EVERY == 0 {
-                    self.observer.progress(t_before + h, self.t_end);
-                }
+            }
+            if (self.steps + steps) % PROGRESS_EVERY == 0 {
+                self.observer.progress(t_before + h, self.t_end);
             }
             if max_overlap.is_none() && k.velocity >= 0.0 {
                 let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);

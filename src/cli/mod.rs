@@ -1,0 +1,86 @@
+//! Argument parsing and the subcommands, one file each.
+//!
+//! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
+//! clap's usage errors). Errors go to stderr as `error: …`.
+
+pub mod run;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// DEM studies of an elastic sphere bouncing on a boundary sphere
+/// (Jasevičius & Kačianauskas 2007). All inputs and outputs are SI.
+#[derive(Debug, Parser)]
+#[command(name = "dembound", version, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run one scenario and report every contact (the paper's validation
+    /// case when no file is given)
+    Run(run::RunArgs),
+}
+
+/// Why a command did not succeed, and so its exit code.
+#[derive(Debug)]
+pub enum CliError {
+    /// Bad input: a scenario file, a flag, a value out of range (exit 2).
+    Input(anyhow::Error),
+    /// A run or an output that failed (exit 1).
+    Failed(anyhow::Error),
+}
+
+impl CliError {
+    pub fn input(e: impl Into<anyhow::Error>) -> Self {
+        CliError::Input(e.into())
+    }
+
+    pub fn failed(e: impl Into<anyhow::Error>) -> Self {
+        CliError::Failed(e.into())
+    }
+
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Failed(_) => 1,
+        }
+    }
+
+    fn error(&self) -> &anyhow::Error {
+        match self {
+            CliError::Input(e) | CliError::Failed(e) => e,
+        }
+    }
+}
+
+pub type CliResult<T = ()> = Result<T, CliError>;
+
+/// Parses the command line, runs the subcommand and turns the outcome into
+/// an exit code.
+pub fn main() -> ExitCode {
+    // Usage errors exit 2 and --help/--version exit 0, both printed by clap.
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Run(args) => run::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        // The reader of stdout went away (e.g. `| head`): stop quietly.
+        Err(e) if is_broken_pipe(e.error()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {:#}", e.error());
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}

@@ -1,0 +1,164 @@
+//! `dembound run`: one scenario, every contact reported.
+
+use super::{CliError, CliResult};
+use crate::output::files::AtomicDir;
+use crate::output::format::{duration, sig};
+use crate::output::history::HistoryRecorder;
+use crate::output::observer::Tee;
+use crate::output::progress::{self, Progress};
+use crate::output::report::{self, RunReport};
+use crate::scenario_file::ScenarioArgs;
+use anyhow::anyhow;
+use clap::Args;
+use dembound_core::bounce::{
+    plan, simulate, Problem, RunOutcome, Scenario, SimulationError, Stepping,
+};
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Runs expected to take more steps than this need `--force`.
+pub const MAX_STEPS_WITHOUT_FORCE: f64 = 1e9;
+
+/// The cost per step assumed when estimating run times, s.
+pub const ASSUMED_SECONDS_PER_STEP: f64 = 10e-9;
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub scenario: ScenarioArgs,
+
+    /// Write scenario.toml (resolved, re-runnable), contacts.csv and
+    /// history.csv into DIR (created if missing; nothing is written unless
+    /// the run succeeds)
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+
+    /// Print one JSON object (scenario, contacts, steps, dt,
+    /// contact_time_estimate; SI) to stdout instead of the table
+    #[arg(long)]
+    pub json: bool,
+
+    /// At most N rows in history.csv (the trajectory is evenly decimated)
+    #[arg(long, value_name = "N", default_value_t = 10_000,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub history_points: u64,
+
+    /// No progress bar
+    #[arg(long, short)]
+    pub quiet: bool,
+
+    /// Run even when more than 1e9 integration steps are expected
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(args: &RunArgs) -> CliResult {
+    let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
+    let problem = plan(&scenario).map_err(simulation_error)?;
+    guard_step_count(&scenario, &problem, args.force)?;
+
+    let mut stdout = std::io::stdout().lock();
+    if !args.json {
+        write!(stdout, "{}", report::header(&scenario, &problem)).map_err(CliError::failed)?;
+    }
+
+    let mut history = args.out.as_ref().map(|_| {
+        let rows = usize::try_from(args.history_points).unwrap_or(usize::MAX);
+        HistoryRecorder::new(
+            rows,
+            HistoryRecorder::flight_samples_for(rows, scenario.motion.contacts),
+        )
+    });
+    let mut bar = progress::wanted(problem.expected_steps(), args.quiet).then(Progress::new);
+    let outcome = match (&mut history, &mut bar) {
+        (None, None) => simulate(&scenario, &mut ()),
+        (Some(h), None) => simulate(&scenario, h),
+        (None, Some(p)) => simulate(&scenario, p),
+        (Some(h), Some(p)) => simulate(&scenario, &mut Tee(h, p)),
+    };
+    if let Some(bar) = bar {
+        bar.finish();
+    }
+    let outcome = outcome.map_err(simulation_error)?;
+
+    let written = match (&args.out, &history) {
+        (Some(dir), Some(history)) => Some(write_outputs(dir, &scenario, &outcome, history)?),
+        _ => None,
+    };
+
+    if args.json {
+        let report = RunReport::new(&scenario, &outcome);
+        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
+        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+    } else {
+        writeln!(
+            stdout,
+            "{}\n{} steps taken",
+            report::contacts_table(&outcome.contacts),
+            outcome.steps
+        )
+        .map_err(CliError::failed)?;
+        if let Some(written) = written {
+            for path in written {
+                writeln!(stdout, "wrote {}", path.display()).map_err(CliError::failed)?;
+            }
+        }
+    }
+    stdout.flush().map_err(CliError::failed)?;
+    Ok(())
+}
+
+/// Input errors exit 2; a run that fails exits 1.
+fn simulation_error(e: SimulationError) -> CliError {
+    match e {
+        SimulationError::Input(e) => CliError::input(e),
+        e => CliError::failed(anyhow!("the run failed: {e}")),
+    }
+}
+
+/// Refuses runs of more than [`MAX_STEPS_WITHOUT_FORCE`] steps without `--force`.
+fn guard_step_count(s: &Scenario, problem: &Problem, force: bool) -> CliResult {
+    let steps = problem.expected_steps();
+    if force || steps <= MAX_STEPS_WITHOUT_FORCE {
+        return Ok(());
+    }
+    let how = match s.integration.stepping {
+        Stepping::Fixed => format!(
+            "fixed stepping with Δt = {} s over about {} s of simulated time",
+            sig(problem.dt, 3),
+            sig(problem.expected_end_time(), 3)
+        ),
+        Stepping::Event => format!(
+            "event stepping with Δt = {} s over {} contacts",
+            sig(problem.dt, 3),
+            problem.contacts
+        ),
+    };
+    Err(CliError::input(anyhow!(
+        "this run would take about {} integration steps ({how}), roughly {} \
+         assuming ~10 ns per step; pass --force to run it anyway, or use a larger \
+         integration.dt / integration.eta or integration.stepping = \"event\"",
+        sig(steps, 3),
+        duration(steps * ASSUMED_SECONDS_PER_STEP)
+    )))
+}
+
+/// Writes scenario.toml, contacts.csv and history.csv into `dir`, all or none.
+fn write_outputs(
+    dir: &std::path::Path,
+    scenario: &Scenario,
+    outcome: &RunOutcome,
+    history: &HistoryRecorder,
+) -> CliResult<Vec<PathBuf>> {
+    let toml = report::scenario_toml(scenario).map_err(CliError::failed)?;
+    let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
+    out.write("scenario.toml", |w| Ok(w.write_all(toml.as_bytes())?))
+        .map_err(CliError::failed)?;
+    out.write("contacts.csv", |w| {
+        report::write_contacts_csv(&outcome.contacts, w)
+    })
+    .map_err(CliError::failed)?;
+    out.write("history.csv", |w| history.write_csv(w))
+        .map_err(CliError::failed)?;
+    out.commit().map_err(CliError::failed)
+}

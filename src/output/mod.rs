@@ -1,0 +1,9 @@
+//! Everything a command writes: number formatting, the terminal report,
+//! CSV and JSON, atomic files, the history recorder and the progress bar.
+
+pub mod files;
+pub mod format;
+pub mod history;
+pub mod observer;
+pub mod progress;
+pub mod report;
