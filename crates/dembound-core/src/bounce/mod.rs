@@ -4,6 +4,7 @@
 
 pub mod events;
 mod scenario;
+pub mod schedule;
 mod simulate;
 
 pub use scenario::{

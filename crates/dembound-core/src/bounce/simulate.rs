@@ -13,6 +13,7 @@
 //! into it either.
 
 use super::events::{locate, time_to_surface, Crossing};
+use super::schedule::GradedSteps;
 use super::{
     ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule, Stepping,
 };
@@ -226,6 +227,17 @@ struct Run<'a, L: NormalContactLaw, I, O> {
     history: L::History,
 }
 
+/// Step sizes of a contact.
+#[derive(Debug, Clone, Copy)]
+enum Schedule {
+    /// Fixed stepping: the first step runs to the grid point `first_end`,
+    /// the others are Δt.
+    Grid { first: f64, first_end: f64 },
+    /// Event stepping: Δt, graded at both ends for laws with a non-smooth
+    /// onset (see [`super::schedule`]).
+    Free,
+}
+
 /// How a contact ended.
 struct ContactEnd {
     record: ContactRecord,
@@ -295,8 +307,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             }
             let t_contact = t + tau;
             let impact_velocity = v - g * tau;
-            let dt = self.problem.dt;
-            let end = self.contact(n, t_contact, impact_velocity, dt, t_contact + dt)?;
+            let end = self.contact(n, t_contact, impact_velocity, Schedule::Free)?;
             (t, x, v) = (end.record.t_rebound, 0.0, end.record.rebound_velocity);
             records.push(end.record);
         }
@@ -354,7 +365,13 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 end_index += 1;
                 first += dt;
             }
-            let end = self.contact(n, t_contact, impact_velocity, first, end_index as f64 * dt)?;
+            let first_end = end_index as f64 * dt;
+            let end = self.contact(
+                n,
+                t_contact,
+                impact_velocity,
+                Schedule::Grid { first, first_end },
+            )?;
             k = end_index + end.steps - 1;
             // Exact flight from the rebound to the grid point closing its step.
             let rest = end.step_end - end.record.t_rebound;
@@ -367,15 +384,15 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
-    /// rebound. The first step has length `first`, ending at `first_end`;
-    /// the others have length Δt.
+    /// rebound, with step sizes from `schedule`. Times inside the contact are
+    /// accumulated from the onset (τ = t − t_c), so that durations keep
+    /// their relative precision.
     fn contact(
         &mut self,
         number: u32,
         t_c: f64,
         v_c: f64,
-        first: f64,
-        first_end: f64,
+        schedule: Schedule,
     ) -> Result<ContactEnd, SimulationError> {
         let it = self.integrator;
         let dt = self.problem.dt;
@@ -386,6 +403,15 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let onset_force = self.law.force(0.0, overlap_rate, &self.history);
         let overlap_accel = self.problem.gravity - onset_force * self.inv_mass;
         let [h3, h4, h5] = self.law.onset_derivatives(m, overlap_rate, overlap_accel);
+        let mut graded = GradedSteps::new(
+            dt,
+            self.problem.contact_time_estimate,
+            !self.law.smooth_onset(),
+        );
+        let first = match schedule {
+            Schedule::Grid { first, .. } => first,
+            Schedule::Free => graded.next(0),
+        };
         let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first);
         if O::ACTIVE {
             self.sample(t_c, 0.0, v_c);
@@ -393,16 +419,17 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let mut max_force = onset_force;
         let mut max_overlap: Option<(f64, f64)> = None;
         let mut steps: u64 = 0;
+        let mut tau = 0.0;
         loop {
-            let t_before = if steps == 0 {
-                t_c
-            } else {
-                first_end + (steps - 1) as f64 * dt
-            };
             let before = state;
             it.step(&mut state, |x, v| self.contact_acceleration(x, v));
             steps += 1;
             let h = it.step_size(&state);
+            let tau_before = tau;
+            tau = match schedule {
+                Schedule::Grid { first, .. } => first + (steps - 1) as f64 * dt,
+                Schedule::Free => tau + h,
+            };
             let k = it.kinematics(&state);
             self.law
                 .update_history(-k.position, -k.velocity, &mut self.history);
@@ -410,32 +437,39 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 max_force = max_force.max(self.law.force(-k.position, -k.velocity, &self.history));
             }
             if O::ACTIVE {
-                self.sample(t_before + h, k.position, k.velocity);
+                self.sample(t_c + tau, k.position, k.velocity);
             }
             if (self.steps + steps) % PROGRESS_EVERY == 0 {
-                self.observer.progress(t_before + h, self.t_end);
+                self.observer.progress(t_c + tau, self.t_end);
             }
             if max_overlap.is_none() && k.velocity >= 0.0 {
                 let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
                 let overlap = -at.position;
                 max_force = max_force.max(self.law.force(overlap, -at.velocity, &self.history));
-                max_overlap = Some((t_before + theta * h, overlap));
+                let tau_max = tau_before + theta * h;
+                max_overlap = Some((tau_max, overlap));
+                graded.plan_end(tau, tau_max);
             }
-            if let (Some((t_max_overlap, overlap)), true) = (max_overlap, k.position >= 0.0) {
+            if let (Some((tau_max, overlap)), true) = (max_overlap, k.position >= 0.0) {
                 let (theta, at) = locate(&it.dense(&before, &state), Crossing::Position);
-                let t_rebound = t_before + theta * h;
+                let duration = tau_before + theta * h;
+                let t_rebound = t_c + duration;
                 let rebound_velocity = at.velocity;
                 let g = self.problem.gravity;
                 if O::ACTIVE {
                     self.sample(t_rebound, 0.0, rebound_velocity);
                 }
                 self.steps += steps;
+                let step_end = match schedule {
+                    Schedule::Grid { first_end, .. } => first_end + (steps - 1) as f64 * dt,
+                    Schedule::Free => t_c + tau,
+                };
                 return Ok(ContactEnd {
                     record: ContactRecord {
                         t_contact: t_c,
-                        t_max_overlap,
+                        t_max_overlap: t_c + tau_max,
                         t_rebound,
-                        duration: t_rebound - t_c,
+                        duration,
                         max_overlap: overlap,
                         max_force,
                         max_acceleration: max_force * self.inv_mass - g,
@@ -445,12 +479,16 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                             .then(|| rebound_velocity * rebound_velocity / (2.0 * g)),
                         steps,
                     },
-                    step_end: t_before + h,
+                    step_end,
                     steps,
                 });
             }
-            if steps == 1 && first != dt {
-                it.set_step(&mut state, dt);
+            let next = match schedule {
+                Schedule::Grid { .. } => dt,
+                Schedule::Free => graded.next(steps),
+            };
+            if next != h {
+                it.set_step(&mut state, next);
             }
             if steps > self.contact_budget {
                 self.steps += steps;

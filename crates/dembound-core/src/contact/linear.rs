@@ -40,6 +40,10 @@ impl NormalContactLaw for LinearSpring {
         PI * (mass / self.stiffness).sqrt()
     }
 
+    fn smooth_onset(&self) -> bool {
+        true
+    }
+
     /// From ḧ = g − p² h: h''' = −p² ḣ, h'''' = −p² ḧ, h''''' = −p² h'''.
     fn onset_derivatives(&self, mass: f64, overlap_rate: f64, overlap_accel: f64) -> [f64; 3] {
         let p2 = self.stiffness / mass;

@@ -61,6 +61,14 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     /// of a body of `mass` (kg): the scale of the time step Δt = η T_c.
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64;
 
+    /// True when the overlap is a smooth (analytic) function of time at the
+    /// contact onset, so a uniform step keeps the integrator's full order
+    /// there; false (the default) asks event stepping for a graded mesh at
+    /// both ends of the contact ([`crate::bounce::schedule`]).
+    fn smooth_onset(&self) -> bool {
+        false
+    }
+
     /// One-sided time derivatives (h''', h'''', h''''') of the overlap at the
     /// contact onset h = 0⁺, given ḣ and ḧ there and the mass. They seed the
     /// Gear Nordsieck vector so that no stale (free-flight) derivatives cross

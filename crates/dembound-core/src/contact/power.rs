@@ -42,6 +42,11 @@ impl NormalContactLaw for PowerLaw {
         power_law_free_contact(self.stiffness, self.exponent, mass, impact_speed).1
     }
 
+    /// Integer exponents give an analytic force, hence a smooth onset.
+    fn smooth_onset(&self) -> bool {
+        self.exponent.fract() == 0.0
+    }
+
     /// h''' = −α p² h^(α−1) ḣ: −p² ḣ for α = 1, 0 for α > 1; higher
     /// derivatives are seeded only for α = 1 (they are singular for 1 < α < 2).
     fn onset_derivatives(&self, mass: f64, overlap_rate: f64, overlap_accel: f64) -> [f64; 3] {
