@@ -5,10 +5,12 @@
 //! - [`material`]: the two spheres and their effective properties (eqs 2, 5–14);
 //! - [`contact`]: normal contact laws behind one trait (eq 4);
 //! - [`integrate`]: Gear5 and velocity Verlet behind one trait (eqs 18–19);
-//! - [`bounce`]: the bouncing scenario, both stepping modes and event location.
+//! - [`bounce`]: the bouncing scenario, both stepping modes and event location;
+//! - [`reference`]: independent references for the dissipative laws.
 
 pub mod bounce;
 pub mod contact;
 pub mod integrate;
 pub mod material;
+pub mod reference;
 mod serde_inf;

@@ -12,12 +12,12 @@
 //! follows is again exact, so nothing of the contact's derivatives is carried
 //! into it either.
 
-use super::events::{locate, time_to_surface, Crossing};
+use super::events::{locate, locate_where, time_to_surface, Crossing};
 use super::{
     ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule, Stepping,
 };
-use crate::contact::{with_law, LawVisitor, NormalContactLaw};
-use crate::integrate::{Gear5, Integrator, Scheme, Verlet};
+use crate::contact::{with_model, LawVisitor, ModelError, NormalContactLaw};
+use crate::integrate::{Gear5, Integrator, Kinematics, Scheme, Verlet};
 use std::fmt;
 
 /// Why a run could not finish.
@@ -29,6 +29,8 @@ pub enum SimulationError {
     NeverReachesBoundary,
     /// A contact did not end within its step budget.
     NoRebound { contact: u32, steps: u64 },
+    /// The contact model could not be built (e.g. a restitution out of reach).
+    Model(ModelError),
 }
 
 impl fmt::Display for SimulationError {
@@ -42,11 +44,18 @@ impl fmt::Display for SimulationError {
                 f,
                 "contact {contact} did not end after {steps} steps (the particle came to rest on the boundary?)"
             ),
+            SimulationError::Model(e) => e.fmt(f),
         }
     }
 }
 
 impl std::error::Error for SimulationError {}
+
+impl From<ModelError> for SimulationError {
+    fn from(e: ModelError) -> Self {
+        SimulationError::Model(e)
+    }
+}
 
 impl From<InputError> for SimulationError {
     fn from(e: InputError) -> Self {
@@ -154,14 +163,16 @@ pub fn simulate<O: Observer>(
             }
         }
     }
-    with_law(
-        s.contact.law,
+    with_model(
+        &s.contact.model(),
         &s.pair(),
+        s.particle.mass(),
+        s.impact_speed(),
         Visit {
             scenario: s,
             observer,
         },
-    )
+    )?
 }
 
 /// Resolves a scenario into its numerical problem (Δt, expected steps)
@@ -175,7 +186,13 @@ pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
             Problem::new(self.0, &law)
         }
     }
-    Ok(with_law(s.contact.law, &s.pair(), Plan(s)))
+    Ok(with_model(
+        &s.contact.model(),
+        &s.pair(),
+        s.particle.mass(),
+        s.impact_speed(),
+        Plan(s),
+    )?)
 }
 
 const PROGRESS_EVERY: u64 = 1 << 16;
@@ -197,6 +214,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         t_end: problem.expected_end_time(),
         contact_budget: (100.0 * problem.contact_time_estimate / problem.dt) as u64 + 1_000_000,
         history: L::History::default(),
+        released: false,
     };
     let contacts = match problem.stepping {
         Stepping::Event => run.event_stepping()?,
@@ -221,6 +239,8 @@ struct Run<'a, L: NormalContactLaw, I, O> {
     contact_budget: u64,
     /// The law's memory of the current contact.
     history: L::History,
+    /// The force of a non-attractive law has returned to zero in this contact.
+    released: bool,
 }
 
 /// How a contact ended.
@@ -228,7 +248,7 @@ struct ContactEnd {
     record: ContactRecord,
     /// Time of the end of the step that contains the rebound, s.
     step_end: f64,
-    /// Steps taken in the contact.
+    /// Grid steps spanned by the contact (restarts inside a step do not count).
     steps: u64,
 }
 
@@ -236,9 +256,19 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// Net acceleration ẍ during a contact: the law's force, continued
     /// smoothly to x > 0 inside the step that contains the rebound (see
     /// [`NormalContactLaw::force`]).
+    ///
+    /// A non-attractive law is integrated with its unclamped force until the
+    /// force has returned to zero (so that the step straddling that point
+    /// sees a smooth force and locates it on its polynomial), and with the
+    /// clamped force after. For other laws the test compiles away.
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
-        self.law.force(-x, -v, &self.history) * self.inv_mass - self.problem.gravity
+        let force = if L::NON_ATTRACTIVE && !self.released {
+            self.law.unclamped_force(-x, -v, &self.history)
+        } else {
+            self.law.force(-x, -v, &self.history)
+        };
+        force * self.inv_mass - self.problem.gravity
     }
 
     /// Physical net acceleration ẍ at (x, v).
@@ -365,7 +395,15 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
     /// rebound. The first step has length `first`, ending at `first_end`;
-    /// the others have length Δt.
+    /// the others end on the grid `first_end + n Δt`.
+    ///
+    /// Events inside a step (maximum overlap, force zero, rebound) are
+    /// located on the step's polynomial. Where the force has a kink at an
+    /// event (the branch change of a hysteretic law at the maximum overlap;
+    /// the clamp of a non-attractive law at the force zero) the integrator
+    /// is restarted at the event with the derivatives of the new branch and
+    /// integrated from there to the end of the grid step
+    /// ([`Self::restart`]), so that no step straddles the kink.
     fn contact(
         &mut self,
         number: u32,
@@ -377,11 +415,13 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let it = self.integrator;
         let dt = self.problem.dt;
         let m = self.problem.mass;
+        let g = self.problem.gravity;
         // One-sided derivatives at h = 0⁺ (see the module doc).
         let overlap_rate = -v_c;
         self.history = L::History::default();
+        self.released = false;
         let onset_force = self.law.force(0.0, overlap_rate, &self.history);
-        let overlap_accel = self.problem.gravity - onset_force * self.inv_mass;
+        let overlap_accel = g - onset_force * self.inv_mass;
         let [h3, h4, h5] = self.law.onset_derivatives(m, overlap_rate, overlap_accel);
         let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first);
         if O::ACTIVE {
@@ -389,16 +429,73 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         }
         let mut max_force = onset_force;
         let mut max_overlap: Option<(f64, f64)> = None;
+        let mut t_force_zero: Option<f64> = None;
+        // Grid steps passed (time bookkeeping) and integrator steps (work).
+        let mut grid: u64 = 0;
         let mut steps: u64 = 0;
+        let mut t_start = t_c;
         loop {
-            let t_before = if steps == 0 {
-                t_c
-            } else {
-                first_end + (steps - 1) as f64 * dt
-            };
-            let before = state;
+            let mut before = state;
             it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+            grid += 1;
             steps += 1;
+            let mut t_step = t_start;
+            // Events of this step; a restart replaces (before, state, t_step).
+            loop {
+                let t_end = first_end + (grid - 1) as f64 * dt;
+                let h = it.step_size(&state);
+                let k = it.kinematics(&state);
+                if max_overlap.is_none() && k.velocity >= 0.0 {
+                    let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
+                    let overlap = -at.position;
+                    let t_mp = t_step + theta * h;
+                    max_overlap = Some((t_mp, overlap));
+                    max_force = max_force.max(self.law.force(overlap, -at.velocity, &self.history));
+                    if self.law.at_max_overlap(overlap, &mut self.history) {
+                        let a = self
+                            .law
+                            .unclamped_force(overlap, -at.velocity, &self.history)
+                            * self.inv_mass;
+                        let accel = g - a;
+                        let [h3, h4, h5] = self.law.branch_derivatives(
+                            m,
+                            overlap,
+                            -at.velocity,
+                            accel,
+                            &self.history,
+                        );
+                        let d = [at.position, at.velocity, -accel, -h3, -h4, -h5];
+                        (before, state) = self.restart(d, t_mp, t_end, &mut grid);
+                        steps += 1;
+                        t_step = t_mp;
+                        continue;
+                    }
+                }
+                if L::NON_ATTRACTIVE && max_overlap.is_some() && !self.released {
+                    let unclamped = |k: &Kinematics| {
+                        self.law
+                            .unclamped_force(-k.position, -k.velocity, &self.history)
+                    };
+                    if unclamped(&k) <= 0.0 {
+                        let dense = it.dense(&before, &state);
+                        let (theta, at) = locate_where(&dense, |k| -unclamped(k));
+                        let t_fz = t_step + theta * h;
+                        t_force_zero = Some(t_fz);
+                        self.released = true;
+                        if O::ACTIVE {
+                            self.sample(t_fz, at.position, at.velocity);
+                        }
+                        let a = self.acceleration(at.position, at.velocity);
+                        let d = [at.position, at.velocity, a, 0.0, 0.0, 0.0];
+                        (before, state) = self.restart(d, t_fz, t_end, &mut grid);
+                        steps += 1;
+                        t_step = t_fz;
+                        continue;
+                    }
+                }
+                break;
+            }
+            let t_end = first_end + (grid - 1) as f64 * dt;
             let h = it.step_size(&state);
             let k = it.kinematics(&state);
             self.law
@@ -406,23 +503,10 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             if k.position < 0.0 {
                 max_force = max_force.max(self.law.force(-k.position, -k.velocity, &self.history));
             }
-            if O::ACTIVE {
-                self.sample(t_before + h, k.position, k.velocity);
-                if (self.steps + steps) % PROGRESS_EVERY == 0 {
-                    self.observer.progress(t_before + h, self.t_end);
-                }
-            }
-            if max_overlap.is_none() && k.velocity >= 0.0 {
-                let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
-                let overlap = -at.position;
-                max_force = max_force.max(self.law.force(overlap, -at.velocity, &self.history));
-                max_overlap = Some((t_before + theta * h, overlap));
-            }
             if let (Some((t_max_overlap, overlap)), true) = (max_overlap, k.position >= 0.0) {
                 let (theta, at) = locate(&it.dense(&before, &state), Crossing::Position);
-                let t_rebound = t_before + theta * h;
+                let t_rebound = t_step + theta * h;
                 let rebound_velocity = at.velocity;
-                let g = self.problem.gravity;
                 if O::ACTIVE {
                     self.sample(t_rebound, 0.0, rebound_velocity);
                 }
@@ -432,23 +516,35 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                         t_contact: t_c,
                         t_max_overlap,
                         t_rebound,
+                        t_force_zero,
                         duration: t_rebound - t_c,
                         max_overlap: overlap,
                         max_force,
                         max_acceleration: max_force * self.inv_mass - g,
                         impact_velocity: v_c,
                         rebound_velocity,
+                        restitution: rebound_velocity / -v_c,
+                        energy_dissipated: 0.5
+                            * m
+                            * (v_c * v_c - rebound_velocity * rebound_velocity),
                         apex_height: (g > 0.0)
                             .then(|| rebound_velocity * rebound_velocity / (2.0 * g)),
                         steps,
                     },
-                    step_end: t_before + h,
-                    steps,
+                    step_end: t_end,
+                    steps: grid,
                 });
             }
-            if steps == 1 && first != dt {
+            if O::ACTIVE {
+                self.sample(t_end, k.position, k.velocity);
+                if (self.steps + steps) % PROGRESS_EVERY == 0 {
+                    self.observer.progress(t_end, self.t_end);
+                }
+            }
+            if it.step_size(&state) != dt {
                 it.set_step(&mut state, dt);
             }
+            t_start = t_end;
             if steps > self.contact_budget {
                 self.steps += steps;
                 return Err(SimulationError::NoRebound {
@@ -457,5 +553,30 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 });
             }
         }
+    }
+
+    /// Restarts the integrator at an event at `t_event` inside the step
+    /// ending at the grid point `t_end`, from the derivatives `d`, and
+    /// integrates to `t_end` in one step; a remainder shorter than Δt/4 is
+    /// merged with the next grid step (advancing `grid`), as for the first
+    /// step of a contact. Returns the states at the two ends of that step.
+    fn restart(
+        &mut self,
+        d: [f64; 6],
+        t_event: f64,
+        t_end: f64,
+        grid: &mut u64,
+    ) -> (I::State, I::State) {
+        let it = self.integrator;
+        let dt = self.problem.dt;
+        let mut span = t_end - t_event;
+        if span < 0.25 * dt {
+            span += dt;
+            *grid += 1;
+        }
+        let start = it.start(d, span);
+        let mut state = start;
+        it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+        (start, state)
     }
 }
