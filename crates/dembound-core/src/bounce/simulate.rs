@@ -394,15 +394,17 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
-    /// rebound. The first step has length `first`, ending at `first_end`;
-    /// the others end on the grid `first_end + n Δt`.
+    /// rebound. Steps end on the grid t_n = `first_end` + (n − 1) Δt (the
+    /// first one has length `first`), except that a law with a singular
+    /// onset ([`NormalContactLaw::singular_onset`]) first takes geometrically
+    /// graded steps (ratio 1.4, from ~Δt/200) that land on a grid point.
     ///
     /// Events inside a step (maximum overlap, force zero, rebound) are
     /// located on the step's polynomial. Where the force has a kink at an
     /// event (the branch change of a hysteretic law at the maximum overlap;
     /// the clamp of a non-attractive law at the force zero) the integrator
     /// is restarted at the event with the derivatives of the new branch and
-    /// integrated from there to the end of the grid step
+    /// integrated from there to the next grid point at least Δt/4 away
     /// ([`Self::restart`]), so that no step straddles the kink.
     fn contact(
         &mut self,
@@ -416,6 +418,29 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let dt = self.problem.dt;
         let m = self.problem.mass;
         let g = self.problem.gravity;
+        let grid_time = |n: u64| first_end + (n as f64 - 1.0) * dt;
+        // Graded onset: step ends (absolute times) and the grid index of the last.
+        let mut graded: Vec<f64> = Vec::new();
+        let mut graded_grid = 0;
+        if self.law.singular_onset() {
+            const RATIO: f64 = 1.4;
+            const STEPS: i32 = 16;
+            let sizes: Vec<f64> = (0..STEPS)
+                .map(|j| dt / RATIO * RATIO.powi(j - STEPS + 1))
+                .collect();
+            let total: f64 = sizes.iter().sum();
+            let n = (((t_c + total - first_end) / dt).round() + 1.0).max(1.0) as u64;
+            let scale = (grid_time(n) - t_c) / total;
+            let mut t = t_c;
+            for size in &sizes {
+                t += size * scale;
+                graded.push(t);
+            }
+            if let Some(last) = graded.last_mut() {
+                *last = grid_time(n);
+            }
+            graded_grid = n;
+        }
         // One-sided derivatives at h = 0⁺ (see the module doc).
         let overlap_rate = -v_c;
         self.history = L::History::default();
@@ -423,28 +448,47 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let onset_force = self.law.force(0.0, overlap_rate, &self.history);
         let overlap_accel = g - onset_force * self.inv_mass;
         let [h3, h4, h5] = self.law.onset_derivatives(m, overlap_rate, overlap_accel);
-        let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first);
+        let first_len = graded.first().map_or(first, |end| end - t_c);
+        let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first_len);
         if O::ACTIVE {
             self.sample(t_c, 0.0, v_c);
         }
         let mut max_force = onset_force;
         let mut max_overlap: Option<(f64, f64)> = None;
         let mut t_force_zero: Option<f64> = None;
-        // Grid steps passed (time bookkeeping) and integrator steps (work).
+        // Grid points reached (time bookkeeping) and integrator steps (work).
         let mut grid: u64 = 0;
         let mut steps: u64 = 0;
+        let mut next_graded = 0;
         let mut t_start = t_c;
         loop {
+            // The end of the next step, and its length.
+            let (t_end, len) = if next_graded < graded.len() {
+                next_graded += 1;
+                if next_graded == graded.len() {
+                    grid = graded_grid;
+                }
+                let end = graded[next_graded - 1];
+                (end, end - t_start)
+            } else {
+                grid += 1;
+                // Every step but the first starts on a grid point: exactly Δt.
+                (grid_time(grid), if steps == 0 { first } else { dt })
+            };
+            let len = if steps == 0 { first_len } else { len };
+            if it.step_size(&state) != len {
+                it.set_step(&mut state, len);
+            }
             let mut before = state;
             it.step(&mut state, |x, v| self.contact_acceleration(x, v));
-            grid += 1;
             steps += 1;
             let mut t_step = t_start;
-            // Events of this step; a restart replaces (before, state, t_step).
+            let mut t_end = t_end;
+            // Events of this step; a restart replaces (before, state, t_step, t_end).
             loop {
-                let t_end = first_end + (grid - 1) as f64 * dt;
                 let h = it.step_size(&state);
                 let k = it.kinematics(&state);
+                let mut restart_from: Option<(f64, [f64; 6])> = None;
                 if max_overlap.is_none() && k.velocity >= 0.0 {
                     let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
                     let overlap = -at.position;
@@ -464,14 +508,15 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                             accel,
                             &self.history,
                         );
-                        let d = [at.position, at.velocity, -accel, -h3, -h4, -h5];
-                        (before, state) = self.restart(d, t_mp, t_end, &mut grid);
-                        steps += 1;
-                        t_step = t_mp;
-                        continue;
+                        restart_from =
+                            Some((t_mp, [at.position, at.velocity, -accel, -h3, -h4, -h5]));
                     }
                 }
-                if L::NON_ATTRACTIVE && max_overlap.is_some() && !self.released {
+                if restart_from.is_none()
+                    && L::NON_ATTRACTIVE
+                    && max_overlap.is_some()
+                    && !self.released
+                {
                     let unclamped = |k: &Kinematics| {
                         self.law
                             .unclamped_force(-k.position, -k.velocity, &self.history)
@@ -486,16 +531,22 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                             self.sample(t_fz, at.position, at.velocity);
                         }
                         let a = self.acceleration(at.position, at.velocity);
-                        let d = [at.position, at.velocity, a, 0.0, 0.0, 0.0];
-                        (before, state) = self.restart(d, t_fz, t_end, &mut grid);
-                        steps += 1;
-                        t_step = t_fz;
-                        continue;
+                        restart_from = Some((t_fz, [at.position, at.velocity, a, 0.0, 0.0, 0.0]));
                     }
                 }
-                break;
+                let Some((t_event, d)) = restart_from else {
+                    break;
+                };
+                // Restart to the first grid point ≥ Δt/4 away; the graded
+                // onset, if still running, is abandoned.
+                next_graded = graded.len();
+                let n = (((t_event + 0.25 * dt - first_end) / dt).ceil() + 1.0).max(1.0) as u64;
+                grid = n;
+                t_end = grid_time(n);
+                (before, state) = self.restart(d, t_end - t_event);
+                steps += 1;
+                t_step = t_event;
             }
-            let t_end = first_end + (grid - 1) as f64 * dt;
             let h = it.step_size(&state);
             let k = it.kinematics(&state);
             self.law
@@ -541,9 +592,6 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                     self.observer.progress(t_end, self.t_end);
                 }
             }
-            if it.step_size(&state) != dt {
-                it.set_step(&mut state, dt);
-            }
             t_start = t_end;
             if steps > self.contact_budget {
                 self.steps += steps;
@@ -555,25 +603,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         }
     }
 
-    /// Restarts the integrator at an event at `t_event` inside the step
-    /// ending at the grid point `t_end`, from the derivatives `d`, and
-    /// integrates to `t_end` in one step; a remainder shorter than Δt/4 is
-    /// merged with the next grid step (advancing `grid`), as for the first
-    /// step of a contact. Returns the states at the two ends of that step.
-    fn restart(
-        &mut self,
-        d: [f64; 6],
-        t_event: f64,
-        t_end: f64,
-        grid: &mut u64,
-    ) -> (I::State, I::State) {
+    /// Restarts the integrator from the derivatives `d` at an event and
+    /// takes one step of length `span` (to a grid point); returns the states
+    /// at the two ends of that step.
+    fn restart(&mut self, d: [f64; 6], span: f64) -> (I::State, I::State) {
         let it = self.integrator;
-        let dt = self.problem.dt;
-        let mut span = t_end - t_event;
-        if span < 0.25 * dt {
-            span += dt;
-            *grid += 1;
-        }
         let start = it.start(d, span);
         let mut state = start;
         it.step(&mut state, |x, v| self.contact_acceleration(x, v));

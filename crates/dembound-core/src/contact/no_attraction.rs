@@ -37,6 +37,10 @@ impl<L: NormalContactLaw> NormalContactLaw for NoAttraction<L> {
         self.0.depends_on_rate()
     }
 
+    fn singular_onset(&self) -> bool {
+        self.0.singular_onset()
+    }
+
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {
         self.0.contact_time_estimate(mass, impact_speed)
     }

@@ -71,6 +71,10 @@ impl NormalContactLaw for HertzTsuji {
         true
     }
 
+    fn singular_onset(&self) -> bool {
+        true
+    }
+
     /// The elastic Hertz contact time (damping lengthens it by a few per cent
     /// at most for e ≥ 0.5): a time scale for Δt.
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {

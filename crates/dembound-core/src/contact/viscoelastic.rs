@@ -69,6 +69,8 @@ impl HertzViscoelastic {
                     ));
                 }
                 let t = (mass / stiffness).powf(0.4) * impact_speed.powf(-0.2);
+                // A contact that never ends (creeping back under heavy
+                // damping) counts as e = 0: the damping is too strong.
                 let e_of = |ln_delta: f64| {
                     viscoelastic_restitution(
                         stiffness,
@@ -77,17 +79,18 @@ impl HertzViscoelastic {
                         impact_speed,
                         attractive,
                     )
+                    .unwrap_or(0.0)
                 };
-                // e decreases with δ; e(1e−9) ≈ 1, e(1e4) ≈ 0.
-                let (mut lo, mut hi) = ((1e-9_f64).ln(), (1e4_f64).ln());
-                if e_of(lo)? < e || e_of(hi)? > e {
+                // e decreases with δ: e(1e−9) ≈ 1, e(30) ≈ 0.
+                let (mut lo, mut hi) = ((1e-9_f64).ln(), (30.0_f64).ln());
+                if e_of(lo) < e || e_of(hi) > e {
                     return Err(ModelError(format!(
-                        "contact.restitution = {e} is out of reach of the viscoelastic law"
+                        "contact.restitution = {e} is out of reach of the viscoelastic law (0 < δ ≤ 30)"
                     )));
                 }
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
-                    if e_of(mid)? > e {
+                    if e_of(mid) > e {
                         lo = mid;
                     } else {
                         hi = mid;
@@ -118,6 +121,10 @@ impl NormalContactLaw for HertzViscoelastic {
     }
 
     fn depends_on_rate(&self) -> bool {
+        true
+    }
+
+    fn singular_onset(&self) -> bool {
         true
     }
 
