@@ -7,12 +7,15 @@
 //! - [`integrate`]: Gear5 and velocity Verlet behind one trait (eqs 18–19);
 //! - [`bounce`]: the bouncing scenario, both stepping modes and event location;
 //! - [`exact`]: exact references (closed forms, quadrature), kept apart from
-//!   the numerics they check.
+//!   the numerics they check;
+//! - [`reference`]: independent references for the dissipative laws;
+//! - [`study`]: validation, convergence and parametric studies.
 
 pub mod bounce;
 pub mod contact;
 pub mod exact;
 pub mod integrate;
 pub mod material;
+pub mod reference;
 mod serde_inf;
 pub mod study;

@@ -77,6 +77,61 @@ pub fn locate(dense: &impl DenseOutput, crossing: Crossing) -> (f64, Kinematics)
     (theta, dense.at(theta))
 }
 
+/// Step fraction θ where `f(kinematics)` rises through zero on `dense`,
+/// for quantities without a cheap derivative (the force of a law along the
+/// step's polynomial). Same bracket as [`locate`] (θ down to −1 when the
+/// quantity is already ≥ 0 at θ = 0); Illinois-modified regula falsi, which
+/// converges superlinearly and keeps the bracket, to the last bit.
+pub fn locate_where(dense: &impl DenseOutput, f: impl Fn(&Kinematics) -> f64) -> (f64, Kinematics) {
+    let q = |t: f64| f(&dense.at(t));
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut f_lo = q(lo);
+    let mut f_hi = q(hi);
+    if f_lo >= 0.0 {
+        lo = -1.0;
+        f_lo = q(lo);
+        if f_lo >= 0.0 {
+            return (1.0, dense.at(1.0));
+        }
+    }
+    if f_hi < 0.0 {
+        return (1.0, dense.at(1.0));
+    }
+    // Illinois: halve the retained end's value when the same end is kept twice.
+    let mut side = 0;
+    for _ in 0..200 {
+        let theta = if f_hi > f_lo {
+            (lo - f_lo * (hi - lo) / (f_hi - f_lo)).clamp(lo, hi)
+        } else {
+            0.5 * (lo + hi)
+        };
+        if theta <= lo || theta >= hi || hi - lo <= 2.0 * f64::EPSILON {
+            break;
+        }
+        let y = q(theta);
+        if y == 0.0 {
+            return (theta, dense.at(theta));
+        }
+        if y < 0.0 {
+            lo = theta;
+            f_lo = y;
+            if side == -1 {
+                f_hi *= 0.5;
+            }
+            side = -1;
+        } else {
+            hi = theta;
+            f_hi = y;
+            if side == 1 {
+                f_lo *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    // The upper end of the bracket: the first point with the quantity ≥ 0.
+    (hi, dense.at(hi))
+}
+
 /// Smallest τ ≥ 0 at which a body in free flight at height x ≥ 0 with
 /// velocity v (upward positive) under gravity g reaches x = 0:
 /// x + v τ − g τ²/2 = 0. Written in the cancellation-free form for both

@@ -25,6 +25,12 @@ pub struct ContactRecord {
     pub t_max_overlap: f64,
     /// Rebound t_r (overlap back to zero), s.
     pub t_rebound: f64,
+    /// When attraction is forbidden: the time the force first returns to
+    /// zero after the maximum overlap, s — the physical end of the contact
+    /// (the particle then flies free while the overlap closes, until
+    /// `t_rebound`). `None` for laws that may pull (or never do).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_force_zero: Option<f64>,
     /// T_c = t_r − t_c, s.
     pub duration: f64,
     /// h_max > 0, m.
@@ -35,8 +41,13 @@ pub struct ContactRecord {
     pub max_acceleration: f64,
     /// v_c < 0, m/s.
     pub impact_velocity: f64,
-    /// v_r > 0, m/s.
+    /// v_r > 0, m/s (at `t_rebound`).
     pub rebound_velocity: f64,
+    /// Coefficient of restitution v_r/|v_c|.
+    pub restitution: f64,
+    /// Kinetic energy lost in the contact, ½ m (v_c² − v_r²), J (with
+    /// gravity this includes the tiny work of gravity over the overlap).
+    pub energy_dissipated: f64,
     /// Apex of the flight after the rebound, above the contact point, m
     /// (`None` without gravity).
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -3,7 +3,7 @@
 //! checks that turn bad input into an error naming the field, the value and
 //! the allowed range.
 
-use crate::contact::ContactLawKind;
+use crate::contact::{ContactLawKind, ContactModel, DampingKind, Dissipation};
 use crate::integrate::Scheme;
 use crate::material::{Boundary, ContactPair, Particle};
 use serde::{Deserialize, Serialize};
@@ -38,11 +38,61 @@ pub struct BoundarySection {
     pub poisson_ratio: Option<f64>,
 }
 
-/// `[contact]`: the normal contact law.
+/// `[contact]`: the normal contact law and its dissipation. Every key but
+/// `law` has a default, so elastic scenarios need only `law`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
+    /// `"linear"`, `"hertz"`, `"walton-braun"` or `{ power = α }`.
     pub law: ContactLawKind,
+    /// `"none"` (default), `"viscous"` (with `linear`), `"tsuji"` or
+    /// `"viscoelastic"` (with `hertz`).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub damping: DampingKind,
+    /// Target coefficient of restitution, 0 < e ≤ 1 (dissipative laws and
+    /// Walton–Braun).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// Raw damping coefficient ≥ 0 instead of `restitution`: c in N s/m
+    /// (viscous), γ in N s/m^(5/4) (tsuji), A in s (viscoelastic).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping_coefficient: Option<f64>,
+    /// Allow an attractive normal force (default false: F = max(F, 0)).
+    /// No effect on the elastic laws, whose force is never negative.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub attractive: bool,
+}
+
+fn is_default<T: Default + PartialEq>(x: &T) -> bool {
+    *x == T::default()
+}
+
+impl ContactSection {
+    /// An elastic law with every other key at its default.
+    pub fn elastic(law: ContactLawKind) -> Self {
+        ContactSection {
+            law,
+            damping: DampingKind::None,
+            restitution: None,
+            damping_coefficient: None,
+            attractive: false,
+        }
+    }
+
+    /// The contact model these keys describe (unchecked; see [`Scenario::validate`]).
+    pub fn model(&self) -> ContactModel {
+        let dissipation = match (self.restitution, self.damping_coefficient) {
+            (Some(e), _) => Some(Dissipation::Restitution(e)),
+            (None, Some(c)) => Some(Dissipation::Coefficient(c)),
+            (None, None) => None,
+        };
+        ContactModel {
+            law: self.law,
+            damping: self.damping,
+            dissipation,
+            attractive: self.attractive,
+        }
+    }
 }
 
 /// `[motion]`: initial conditions and how long to run.
@@ -100,9 +150,7 @@ impl Default for Scenario {
                 modulus_ratio: 100.0,
                 poisson_ratio: None,
             },
-            contact: ContactSection {
-                law: ContactLawKind::Hertz,
-            },
+            contact: ContactSection::elastic(ContactLawKind::Hertz),
             motion: Motion {
                 gap: 5.0e-3,
                 velocity: 0.0,
@@ -202,6 +250,7 @@ impl Scenario {
                 "1 ≤ α ≤ 3",
             )?;
         }
+        self.validate_contact()?;
         let m = &self.motion;
         check(
             m.gap.is_finite() && m.gap >= 0.0,
@@ -253,6 +302,102 @@ impl Scenario {
                 i.eta.unwrap_or(0.0),
                 "absent when integration.dt is given (give one of them)",
             )?;
+        }
+        Ok(())
+    }
+
+    /// The `[contact]` keys: ranges, and which combinations make sense.
+    fn validate_contact(&self) -> Result<(), InputError> {
+        let c = &self.contact;
+        if let Some(e) = c.restitution {
+            check(
+                e > 0.0 && e <= 1.0,
+                "contact.restitution",
+                e,
+                "0 < e ≤ 1 (rebound speed / impact speed)",
+            )?;
+        }
+        if let Some(x) = c.damping_coefficient {
+            check(
+                x.is_finite() && x >= 0.0,
+                "contact.damping_coefficient",
+                x,
+                "finite and ≥ 0 (N s/m viscous, N s/m^(5/4) tsuji, s viscoelastic)",
+            )?;
+            check(
+                c.restitution.is_none(),
+                "contact.damping_coefficient",
+                x,
+                "absent when contact.restitution is given (give one of them)",
+            )?;
+        }
+        let quoted = |s: &str| format!("\"{s}\"");
+        let law = c.law.name();
+        match (c.law, c.damping) {
+            (ContactLawKind::WaltonBraun, DampingKind::None) => {
+                check(
+                    c.damping_coefficient.is_none(),
+                    "contact.damping_coefficient",
+                    c.damping_coefficient.unwrap_or(0.0),
+                    "absent for law = \"walton-braun\" (set contact.restitution: k2 = k1/e²)",
+                )?;
+                check(
+                    c.restitution.is_some(),
+                    "contact.restitution",
+                    "missing",
+                    "0 < e ≤ 1, required by law = \"walton-braun\" (k2 = k1/e²)",
+                )?;
+                check(
+                    !c.attractive,
+                    "contact.attractive",
+                    c.attractive,
+                    "false for law = \"walton-braun\" (the law has no tensile branch)",
+                )?;
+            }
+            (_, DampingKind::None) => {
+                check(
+                    c.restitution.is_none(),
+                    "contact.restitution",
+                    c.restitution.unwrap_or(0.0),
+                    "absent unless contact.damping is \"viscous\", \"tsuji\" or \"viscoelastic\" or law = \"walton-braun\"",
+                )?;
+                check(
+                    c.damping_coefficient.is_none(),
+                    "contact.damping_coefficient",
+                    c.damping_coefficient.unwrap_or(0.0),
+                    "absent unless contact.damping is \"viscous\", \"tsuji\" or \"viscoelastic\"",
+                )?;
+            }
+            (ContactLawKind::Linear, DampingKind::Viscous)
+            | (ContactLawKind::Hertz, DampingKind::Tsuji | DampingKind::Viscoelastic) => {
+                check(
+                    c.restitution.is_some() || c.damping_coefficient.is_some(),
+                    "contact.restitution",
+                    "missing",
+                    &format!(
+                        "0 < e ≤ 1 (or contact.damping_coefficient ≥ 0), required by contact.damping = {}",
+                        quoted(c.damping.name())
+                    ),
+                )?;
+                if c.damping == DampingKind::Viscoelastic && c.restitution.is_some() {
+                    let v = self.impact_speed();
+                    check(
+                        v > 0.0 && v.is_finite(),
+                        "contact.restitution",
+                        c.restitution.unwrap_or(0.0),
+                        "usable with damping = \"viscoelastic\" only when the first impact speed > 0 (A is solved for at that speed); give contact.damping_coefficient instead",
+                    )?;
+                }
+            }
+            (_, damping) => check(
+                false,
+                "contact.damping",
+                quoted(damping.name()),
+                &format!(
+                    "with law = {}: \"none\"; \"viscous\" needs law = \"linear\", \"tsuji\" and \"viscoelastic\" need law = \"hertz\" (walton-braun is dissipative on its own)",
+                    quoted(&law)
+                ),
+            )?,
         }
         Ok(())
     }
@@ -325,6 +470,52 @@ mod tests {
             }),
             ("contact.law.power", |s| {
                 s.contact.law = ContactLawKind::Power(0.5)
+            }),
+            ("contact.restitution", |s| {
+                s.contact.law = ContactLawKind::Linear;
+                s.contact.damping = DampingKind::Viscous;
+                s.contact.restitution = Some(1.5);
+            }),
+            ("contact.restitution", |s| {
+                s.contact.law = ContactLawKind::Linear;
+                s.contact.damping = DampingKind::Viscous;
+            }),
+            ("contact.restitution", |s| s.contact.restitution = Some(0.5)),
+            ("contact.damping_coefficient", |s| {
+                s.contact.damping = DampingKind::Tsuji;
+                s.contact.damping_coefficient = Some(-1.0);
+            }),
+            ("contact.damping_coefficient", |s| {
+                s.contact.damping = DampingKind::Tsuji;
+                s.contact.restitution = Some(0.5);
+                s.contact.damping_coefficient = Some(1.0);
+            }),
+            ("contact.damping", |s| {
+                s.contact.damping = DampingKind::Viscous;
+                s.contact.restitution = Some(0.5);
+            }),
+            ("contact.damping", |s| {
+                s.contact.law = ContactLawKind::Linear;
+                s.contact.damping = DampingKind::Tsuji;
+                s.contact.restitution = Some(0.5);
+            }),
+            ("contact.damping", |s| {
+                s.contact.law = ContactLawKind::WaltonBraun;
+                s.contact.damping = DampingKind::Viscous;
+                s.contact.restitution = Some(0.5);
+            }),
+            ("contact.restitution", |s| {
+                s.contact.law = ContactLawKind::WaltonBraun;
+            }),
+            ("contact.attractive", |s| {
+                s.contact.law = ContactLawKind::WaltonBraun;
+                s.contact.restitution = Some(0.5);
+                s.contact.attractive = true;
+            }),
+            ("contact.restitution", |s| {
+                s.contact.damping = DampingKind::Viscoelastic;
+                s.contact.restitution = Some(0.5);
+                s.motion.gap = 0.0;
             }),
             ("motion.gap", |s| s.motion.gap = -1e-3),
             ("motion.gravity", |s| s.motion.gravity = -9.81),

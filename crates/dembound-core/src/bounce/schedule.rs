@@ -25,16 +25,38 @@
 //!   until the rebound is crossed.
 //!
 //! Laws whose onset is smooth (integer α) need none of this and get Δt throughout.
+//!
+//! Laws with a *singular* onset (damping ∝ h^(1/4) ḣ or h^(1/2) ḣ: the
+//! velocity goes like τ^1.25) are different: their higher Nordsieck
+//! components are huge near τ = 0, and the large early step ratios of the
+//! power mesh (7×, 2.7×, …) amplify them by ratio⁵ on each rescaling. They
+//! get a gentle geometric ramp instead: 16 steps growing by 1.4 from ~Δt/200.
 
 /// Grading exponent q (≥ 2.4 for Hertz, see the module doc).
 pub const GRADING_EXPONENT: f64 = 3.0;
 /// Fraction of the contact-time estimate graded at each end.
 pub const GRADED_FRACTION: f64 = 0.25;
 
+/// How the steps of a contact are graded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Grading {
+    /// Δt throughout (smooth onset).
+    Uniform,
+    /// τ = T_g (j/N)^q at both ends (non-smooth but bounded force, Hertz).
+    Power,
+    /// Geometric ramp at the onset only (singular damping force).
+    Geometric,
+}
+
+/// Growth ratio and length of the geometric onset ramp.
+const GEOMETRIC_RATIO: f64 = 1.4;
+const GEOMETRIC_STEPS: u64 = 16;
+
 /// Step sizes of one contact.
 #[derive(Debug, Clone, Copy)]
 pub struct GradedSteps {
     dt: f64,
+    grading: Grading,
     graded: bool,
     /// Length of the graded onset region and its number of steps.
     onset_region: f64,
@@ -64,12 +86,13 @@ fn graded_step(length: f64, n: u64, j: u64) -> f64 {
 }
 
 impl GradedSteps {
-    /// Δt and the contact-time estimate; `graded` false gives Δt throughout.
-    pub fn new(dt: f64, contact_time: f64, graded: bool) -> Self {
+    /// Δt, the contact-time estimate and the kind of grading.
+    pub fn new(dt: f64, contact_time: f64, grading: Grading) -> Self {
         let onset_region = GRADED_FRACTION * contact_time;
         Self {
             dt,
-            graded,
+            grading,
+            graded: grading == Grading::Power,
             onset_region,
             onset_steps: graded_count(onset_region, dt),
             uniform_left: 0,
@@ -107,7 +130,14 @@ impl GradedSteps {
 
     /// Size of step number `j` (0-based) of the contact.
     pub fn next(&mut self, j: u64) -> f64 {
-        let h = if !self.graded {
+        let h = if self.grading == Grading::Geometric {
+            if j < GEOMETRIC_STEPS {
+                let from_end = (GEOMETRIC_STEPS - j) as i32;
+                self.dt * GEOMETRIC_RATIO.powi(-from_end)
+            } else {
+                self.dt
+            }
+        } else if !self.graded {
             self.dt
         } else if self.planned {
             if self.uniform_left > 0 {
@@ -137,7 +167,7 @@ mod tests {
     #[test]
     fn onset_region_is_covered_exactly_with_steps_up_to_dt() {
         let (dt, t) = (1.0, 50.0);
-        let mut g = GradedSteps::new(dt, t, true);
+        let mut g = GradedSteps::new(dt, t, Grading::Power);
         let n = g.onset_steps;
         let steps: Vec<f64> = (0..n).map(|j| g.next(j)).collect();
         let covered: f64 = steps.iter().sum();
@@ -149,7 +179,7 @@ mod tests {
     #[test]
     fn end_plan_lands_on_twice_the_time_of_maximum_overlap() {
         let (dt, t) = (1.0, 50.0);
-        let mut g = GradedSteps::new(dt, t, true);
+        let mut g = GradedSteps::new(dt, t, Grading::Power);
         let mut tau = 0.0;
         let mut j = 0;
         while tau < 25.3 {
@@ -166,7 +196,7 @@ mod tests {
 
     #[test]
     fn smooth_laws_get_uniform_steps() {
-        let mut g = GradedSteps::new(0.5, 50.0, false);
+        let mut g = GradedSteps::new(0.5, 50.0, Grading::Uniform);
         g.plan_end(25.0, 24.9);
         assert!((0..10).all(|j| g.next(j) == 0.5));
     }

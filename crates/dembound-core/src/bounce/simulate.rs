@@ -12,13 +12,13 @@
 //! follows is again exact, so nothing of the contact's derivatives is carried
 //! into it either.
 
-use super::events::{locate, time_to_surface, Crossing};
-use super::schedule::GradedSteps;
+use super::events::{locate, locate_where, time_to_surface, Crossing};
+use super::schedule::{GradedSteps, Grading};
 use super::{
     ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule, Stepping,
 };
-use crate::contact::{with_law, LawVisitor, NormalContactLaw};
-use crate::integrate::{Gear5, Integrator, Scheme, Verlet};
+use crate::contact::{with_model, LawVisitor, ModelError, NormalContactLaw};
+use crate::integrate::{Gear5, Integrator, Kinematics, Scheme, Verlet};
 use std::fmt;
 
 /// Why a run could not finish.
@@ -30,6 +30,8 @@ pub enum SimulationError {
     NeverReachesBoundary,
     /// A contact did not end within its step budget.
     NoRebound { contact: u32, steps: u64 },
+    /// The contact model could not be built (e.g. a restitution out of reach).
+    Model(ModelError),
 }
 
 impl fmt::Display for SimulationError {
@@ -43,11 +45,18 @@ impl fmt::Display for SimulationError {
                 f,
                 "contact {contact} did not end after {steps} steps (the particle came to rest on the boundary?)"
             ),
+            SimulationError::Model(e) => e.fmt(f),
         }
     }
 }
 
 impl std::error::Error for SimulationError {}
+
+impl From<ModelError> for SimulationError {
+    fn from(e: ModelError) -> Self {
+        SimulationError::Model(e)
+    }
+}
 
 impl From<InputError> for SimulationError {
     fn from(e: InputError) -> Self {
@@ -155,14 +164,16 @@ pub fn simulate<O: Observer>(
             }
         }
     }
-    with_law(
-        s.contact.law,
+    with_model(
+        &s.contact.model(),
         &s.pair(),
+        s.particle.mass(),
+        s.impact_speed(),
         Visit {
             scenario: s,
             observer,
         },
-    )
+    )?
 }
 
 /// Resolves a scenario into its numerical problem (Δt, expected steps)
@@ -176,7 +187,13 @@ pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
             Problem::new(self.0, &law)
         }
     }
-    Ok(with_law(s.contact.law, &s.pair(), Plan(s)))
+    Ok(with_model(
+        &s.contact.model(),
+        &s.pair(),
+        s.particle.mass(),
+        s.impact_speed(),
+        Plan(s),
+    )?)
 }
 
 const PROGRESS_EVERY: u64 = 1 << 16;
@@ -199,6 +216,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         t_end: problem.expected_end_time(),
         contact_budget: (100.0 * problem.contact_time_estimate / problem.dt) as u64 + 1_000_000,
         history: L::History::default(),
+        released: false,
     };
     let contacts = match problem.stepping {
         Stepping::Event => run.event_stepping()?,
@@ -214,7 +232,8 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
 
 struct Run<'a, L: NormalContactLaw, I, O> {
     law: &'a L,
-    /// `law` scaled by 1/m: gives accelerations.
+    /// `law` scaled by 1/m: gives accelerations (one multiplication fewer
+    /// on the latency chain of every step).
     acceleration_law: L,
     integrator: I,
     problem: &'a Problem,
@@ -225,17 +244,170 @@ struct Run<'a, L: NormalContactLaw, I, O> {
     contact_budget: u64,
     /// The law's memory of the current contact.
     history: L::History,
+    /// The force of a non-attractive law has returned to zero in this contact.
+    released: bool,
 }
 
-/// Step sizes of a contact.
+/// How the steps of a contact are laid out.
 #[derive(Debug, Clone, Copy)]
 enum Schedule {
-    /// Fixed stepping: the first step runs to the grid point `first_end`,
-    /// the others are Δt.
-    Grid { first: f64, first_end: f64 },
-    /// Event stepping: Δt, graded at both ends for laws with a non-smooth
-    /// onset (see [`super::schedule`]).
+    /// Fixed stepping: steps end on the grid t_n = `first_end` + (n − 1) Δt.
+    Grid { first_end: f64 },
+    /// Event stepping: Δt, graded at both ends for laws whose onset is not
+    /// smooth (see [`super::schedule`]).
     Free,
+}
+
+/// Where the steps of a contact end, in τ = t − t_c.
+enum StepEnds {
+    Grid {
+        /// τ of grid point 1, and Δt.
+        first: f64,
+        first_end: f64,
+        dt: f64,
+        /// Grid points reached.
+        n: u64,
+        /// Geometrically graded first step ends of a law with a singular
+        /// onset ([`NormalContactLaw::singular_onset`]), the last on grid
+        /// point `pre_grid`.
+        pre: Vec<f64>,
+        pre_next: usize,
+        pre_grid: u64,
+    },
+    Free {
+        graded: GradedSteps,
+        j: u64,
+    },
+}
+
+impl StepEnds {
+    fn new<L: NormalContactLaw>(schedule: Schedule, t_c: f64, problem: &Problem, law: &L) -> Self {
+        let dt = problem.dt;
+        match schedule {
+            Schedule::Free => {
+                let grading = if law.singular_onset() {
+                    Grading::Geometric
+                } else if law.smooth_onset() {
+                    Grading::Uniform
+                } else {
+                    Grading::Power
+                };
+                StepEnds::Free {
+                    graded: GradedSteps::new(dt, problem.contact_time_estimate, grading),
+                    j: 0,
+                }
+            }
+            Schedule::Grid { first_end } => {
+                let first = first_end - t_c;
+                let grid_tau = |n: u64| first + (n as f64 - 1.0) * dt;
+                let (mut pre, mut pre_grid) = (Vec::new(), 0);
+                if law.singular_onset() {
+                    // 16 steps growing by 1.4 from ~Δt/200, stretched to land on a grid point.
+                    const RATIO: f64 = 1.4;
+                    const STEPS: i32 = 16;
+                    let sizes: Vec<f64> = (0..STEPS)
+                        .map(|j| dt / RATIO * RATIO.powi(j - STEPS + 1))
+                        .collect();
+                    let total: f64 = sizes.iter().sum();
+                    let n = (((total - first) / dt).round() + 1.0).max(1.0) as u64;
+                    let scale = grid_tau(n) / total;
+                    let mut tau = 0.0;
+                    for size in &sizes {
+                        tau += size * scale;
+                        pre.push(tau);
+                    }
+                    if let Some(last) = pre.last_mut() {
+                        *last = grid_tau(n);
+                    }
+                    pre_grid = n;
+                }
+                StepEnds::Grid {
+                    first,
+                    first_end,
+                    dt,
+                    n: 0,
+                    pre,
+                    pre_next: 0,
+                    pre_grid,
+                }
+            }
+        }
+    }
+
+    /// τ at the end of the step that starts at `tau_start`.
+    fn next(&mut self, tau_start: f64) -> f64 {
+        match self {
+            StepEnds::Grid {
+                first,
+                dt,
+                n,
+                pre,
+                pre_next,
+                pre_grid,
+                ..
+            } => {
+                if *pre_next < pre.len() {
+                    *pre_next += 1;
+                    if *pre_next == pre.len() {
+                        *n = *pre_grid;
+                    }
+                    pre[*pre_next - 1]
+                } else {
+                    *n += 1;
+                    *first + (*n as f64 - 1.0) * *dt
+                }
+            }
+            StepEnds::Free { graded, j } => {
+                *j += 1;
+                tau_start + graded.next(*j - 1)
+            }
+        }
+    }
+
+    /// τ at the end of the step that restarts at an event at `tau_event`:
+    /// the next grid point at least Δt/4 away, or the next planned step.
+    fn after_event(&mut self, tau_event: f64) -> f64 {
+        match self {
+            StepEnds::Grid {
+                first,
+                dt,
+                n,
+                pre,
+                pre_next,
+                ..
+            } => {
+                *pre_next = pre.len();
+                *n = (((tau_event + 0.25 * *dt - *first) / *dt).ceil() + 1.0).max(1.0) as u64;
+                *first + (*n as f64 - 1.0) * *dt
+            }
+            StepEnds::Free { .. } => self.next(tau_event),
+        }
+    }
+
+    /// The maximum overlap was found at `tau_max` in the step ending at `tau`.
+    fn max_overlap_found(&mut self, tau: f64, tau_max: f64) {
+        if let StepEnds::Free { graded, .. } = self {
+            graded.plan_end(tau, tau_max);
+        }
+    }
+
+    /// Absolute time of the step end `tau_end` (a grid time in fixed stepping).
+    fn absolute_end(&self, t_c: f64, tau_end: f64) -> f64 {
+        match self {
+            StepEnds::Grid {
+                first_end, dt, n, ..
+            } => first_end + (*n as f64 - 1.0) * dt,
+            StepEnds::Free { .. } => t_c + tau_end,
+        }
+    }
+
+    /// Grid points spanned (fixed stepping).
+    fn grid_steps(&self) -> u64 {
+        match self {
+            StepEnds::Grid { n, .. } => *n,
+            StepEnds::Free { .. } => 0,
+        }
+    }
 }
 
 /// How a contact ended.
@@ -243,7 +415,7 @@ struct ContactEnd {
     record: ContactRecord,
     /// Time of the end of the step that contains the rebound, s.
     step_end: f64,
-    /// Steps taken in the contact.
+    /// Grid steps spanned by the contact (restarts inside a step do not count).
     steps: u64,
 }
 
@@ -251,9 +423,20 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// Net acceleration ẍ during a contact: the law's force, continued
     /// smoothly to x > 0 inside the step that contains the rebound (see
     /// [`NormalContactLaw::force`]).
+    ///
+    /// A non-attractive law is integrated with its unclamped force until the
+    /// force has returned to zero (so that the step straddling that point
+    /// sees a smooth force and locates it on its polynomial), and with the
+    /// clamped force after. For other laws the test compiles away.
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
-        self.acceleration_law.force(-x, -v, &self.history) - self.problem.gravity
+        let law = &self.acceleration_law;
+        let acceleration = if L::NON_ATTRACTIVE && !self.released {
+            law.unclamped_force(-x, -v, &self.history)
+        } else {
+            law.force(-x, -v, &self.history)
+        };
+        acceleration - self.problem.gravity
     }
 
     /// Physical net acceleration ẍ at (x, v).
@@ -341,9 +524,9 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 let after = it.kinematics(&state);
                 if O::ACTIVE {
                     self.sample((k + 1) as f64 * dt, after.position, after.velocity);
-                }
-                if self.steps % PROGRESS_EVERY == 0 {
-                    self.observer.progress((k + 1) as f64 * dt, self.t_end);
+                    if self.steps % PROGRESS_EVERY == 0 {
+                        self.observer.progress((k + 1) as f64 * dt, self.t_end);
+                    }
                 }
                 if after.position < 0.0 {
                     let tau = time_to_surface(before.position, before.velocity, g)
@@ -360,18 +543,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             // merged with the following step (a tiny first step would
             // amplify the rounding of the Nordsieck vector when rescaled).
             let mut end_index = first_end_index.unwrap_or(k + 1);
-            let mut first = end_index as f64 * dt - t_contact;
-            if first < 0.25 * dt {
+            if end_index as f64 * dt - t_contact < 0.25 * dt {
                 end_index += 1;
-                first += dt;
             }
             let first_end = end_index as f64 * dt;
-            let end = self.contact(
-                n,
-                t_contact,
-                impact_velocity,
-                Schedule::Grid { first, first_end },
-            )?;
+            let end = self.contact(n, t_contact, impact_velocity, Schedule::Grid { first_end })?;
             k = end_index + end.steps - 1;
             // Exact flight from the rebound to the grid point closing its step.
             let rest = end.step_end - end.record.t_rebound;
@@ -384,9 +560,17 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
-    /// rebound, with step sizes from `schedule`. Times inside the contact are
-    /// accumulated from the onset (τ = t − t_c), so that durations keep
-    /// their relative precision.
+    /// rebound. Step ends come from [`StepEnds`]: the grid in fixed
+    /// stepping, a mesh graded at both ends in event stepping. Times inside
+    /// the contact are kept relative to the onset (τ = t − t_c), so that
+    /// durations keep their relative precision.
+    ///
+    /// Events inside a step (maximum overlap, force zero, rebound) are
+    /// located on the step's polynomial. Where the force has a kink at an
+    /// event (the branch change of a hysteretic law at the maximum overlap;
+    /// the clamp of a non-attractive law at the force zero) the integrator
+    /// is restarted at the event with the derivatives of the new branch
+    /// ([`Self::restart`]), so that no step straddles the kink.
     fn contact(
         &mut self,
         number: u32,
@@ -395,101 +579,143 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         schedule: Schedule,
     ) -> Result<ContactEnd, SimulationError> {
         let it = self.integrator;
-        let dt = self.problem.dt;
         let m = self.problem.mass;
+        let g = self.problem.gravity;
+        let mut ends = StepEnds::new(schedule, t_c, self.problem, self.law);
         // One-sided derivatives at h = 0⁺ (see the module doc).
         let overlap_rate = -v_c;
         self.history = L::History::default();
+        self.released = false;
         let onset_force = self.law.force(0.0, overlap_rate, &self.history);
-        let overlap_accel = self.problem.gravity - onset_force * self.inv_mass;
+        let overlap_accel = g - onset_force * self.inv_mass;
         let [h3, h4, h5] = self.law.onset_derivatives(m, overlap_rate, overlap_accel);
-        let mut graded = GradedSteps::new(
-            dt,
-            self.problem.contact_time_estimate,
-            !self.law.smooth_onset(),
-        );
-        let first = match schedule {
-            Schedule::Grid { first, .. } => first,
-            Schedule::Free => graded.next(0),
-        };
-        let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], first);
+        let mut tau_start = 0.0;
+        let mut tau_end = ends.next(tau_start);
+        let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], tau_end);
         if O::ACTIVE {
             self.sample(t_c, 0.0, v_c);
         }
         let mut max_force = onset_force;
         let mut max_overlap: Option<(f64, f64)> = None;
+        let mut tau_force_zero: Option<f64> = None;
         let mut steps: u64 = 0;
-        let mut tau = 0.0;
         loop {
-            let before = state;
+            let len = tau_end - tau_start;
+            if it.step_size(&state) != len {
+                it.set_step(&mut state, len);
+            }
+            let mut before = state;
             it.step(&mut state, |x, v| self.contact_acceleration(x, v));
             steps += 1;
+            let mut tau_step = tau_start;
+            // Events of this step; a restart replaces (before, state, tau_step, tau_end).
+            loop {
+                let h = it.step_size(&state);
+                let k = it.kinematics(&state);
+                let mut restart_from: Option<(f64, [f64; 6])> = None;
+                if max_overlap.is_none() && k.velocity >= 0.0 {
+                    let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
+                    let overlap = -at.position;
+                    let tau_max = tau_step + theta * h;
+                    max_overlap = Some((tau_max, overlap));
+                    max_force = max_force.max(self.law.force(overlap, -at.velocity, &self.history));
+                    ends.max_overlap_found(tau_end, tau_max);
+                    if self.law.at_max_overlap(overlap, &mut self.history) {
+                        let accel =
+                            g - self
+                                .law
+                                .unclamped_force(overlap, -at.velocity, &self.history)
+                                * self.inv_mass;
+                        let [h3, h4, h5] = self.law.branch_derivatives(
+                            m,
+                            overlap,
+                            -at.velocity,
+                            accel,
+                            &self.history,
+                        );
+                        restart_from =
+                            Some((tau_max, [at.position, at.velocity, -accel, -h3, -h4, -h5]));
+                    }
+                }
+                if restart_from.is_none()
+                    && L::NON_ATTRACTIVE
+                    && max_overlap.is_some()
+                    && !self.released
+                {
+                    let unclamped = |k: &Kinematics| {
+                        self.law
+                            .unclamped_force(-k.position, -k.velocity, &self.history)
+                    };
+                    if unclamped(&k) <= 0.0 {
+                        let dense = it.dense(&before, &state);
+                        let (theta, at) = locate_where(&dense, |k| -unclamped(k));
+                        let tau_zero = tau_step + theta * h;
+                        tau_force_zero = Some(tau_zero);
+                        self.released = true;
+                        if O::ACTIVE {
+                            self.sample(t_c + tau_zero, at.position, at.velocity);
+                        }
+                        let a = self.acceleration(at.position, at.velocity);
+                        restart_from =
+                            Some((tau_zero, [at.position, at.velocity, a, 0.0, 0.0, 0.0]));
+                    }
+                }
+                let Some((tau_event, d)) = restart_from else {
+                    break;
+                };
+                tau_end = ends.after_event(tau_event);
+                (before, state) = self.restart(d, tau_end - tau_event);
+                steps += 1;
+                tau_step = tau_event;
+            }
             let h = it.step_size(&state);
-            let tau_before = tau;
-            tau = match schedule {
-                Schedule::Grid { first, .. } => first + (steps - 1) as f64 * dt,
-                Schedule::Free => tau + h,
-            };
             let k = it.kinematics(&state);
             self.law
                 .update_history(-k.position, -k.velocity, &mut self.history);
             if k.position < 0.0 {
                 max_force = max_force.max(self.law.force(-k.position, -k.velocity, &self.history));
             }
-            if O::ACTIVE {
-                self.sample(t_c + tau, k.position, k.velocity);
-            }
-            if (self.steps + steps) % PROGRESS_EVERY == 0 {
-                self.observer.progress(t_c + tau, self.t_end);
-            }
-            if max_overlap.is_none() && k.velocity >= 0.0 {
-                let (theta, at) = locate(&it.dense(&before, &state), Crossing::Velocity);
-                let overlap = -at.position;
-                max_force = max_force.max(self.law.force(overlap, -at.velocity, &self.history));
-                let tau_max = tau_before + theta * h;
-                max_overlap = Some((tau_max, overlap));
-                graded.plan_end(tau, tau_max);
-            }
             if let (Some((tau_max, overlap)), true) = (max_overlap, k.position >= 0.0) {
                 let (theta, at) = locate(&it.dense(&before, &state), Crossing::Position);
-                let duration = tau_before + theta * h;
+                let duration = tau_step + theta * h;
                 let t_rebound = t_c + duration;
                 let rebound_velocity = at.velocity;
-                let g = self.problem.gravity;
                 if O::ACTIVE {
                     self.sample(t_rebound, 0.0, rebound_velocity);
                 }
                 self.steps += steps;
-                let step_end = match schedule {
-                    Schedule::Grid { first_end, .. } => first_end + (steps - 1) as f64 * dt,
-                    Schedule::Free => t_c + tau,
-                };
                 return Ok(ContactEnd {
                     record: ContactRecord {
                         t_contact: t_c,
                         t_max_overlap: t_c + tau_max,
                         t_rebound,
+                        t_force_zero: tau_force_zero.map(|tau| t_c + tau),
                         duration,
                         max_overlap: overlap,
                         max_force,
                         max_acceleration: max_force * self.inv_mass - g,
                         impact_velocity: v_c,
                         rebound_velocity,
+                        restitution: rebound_velocity / -v_c,
+                        energy_dissipated: 0.5
+                            * m
+                            * (v_c * v_c - rebound_velocity * rebound_velocity),
                         apex_height: (g > 0.0)
                             .then(|| rebound_velocity * rebound_velocity / (2.0 * g)),
                         steps,
                     },
-                    step_end,
-                    steps,
+                    step_end: ends.absolute_end(t_c, tau_end),
+                    steps: ends.grid_steps(),
                 });
             }
-            let next = match schedule {
-                Schedule::Grid { .. } => dt,
-                Schedule::Free => graded.next(steps),
-            };
-            if next != h {
-                it.set_step(&mut state, next);
+            if O::ACTIVE {
+                self.sample(t_c + tau_end, k.position, k.velocity);
             }
+            if (self.steps + steps) % PROGRESS_EVERY == 0 {
+                self.observer.progress(t_c + tau_end, self.t_end);
+            }
+            tau_start = tau_end;
+            tau_end = ends.next(tau_start);
             if steps > self.contact_budget {
                 self.steps += steps;
                 return Err(SimulationError::NoRebound {
@@ -498,5 +724,16 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 });
             }
         }
+    }
+
+    /// Restarts the integrator from the derivatives `d` at an event and
+    /// takes one step of length `span` (to a grid point); returns the states
+    /// at the two ends of that step.
+    fn restart(&mut self, d: [f64; 6], span: f64) -> (I::State, I::State) {
+        let it = self.integrator;
+        let start = it.start(d, span);
+        let mut state = start;
+        it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+        (start, state)
     }
 }

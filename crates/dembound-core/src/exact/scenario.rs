@@ -40,6 +40,11 @@ pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError>
             max_acceleration: c.max_acceleration,
             impact_velocity: c.impact_velocity,
             rebound_velocity: c.rebound_velocity,
+            // Elastic: e = 1 and nothing is dissipated; the force returns to
+            // zero exactly with the overlap.
+            restitution: c.rebound_velocity / -c.impact_velocity,
+            energy_dissipated: 0.0,
+            t_force_zero: None,
             apex_height: c.apex_height.is_finite().then_some(c.apex_height),
             steps: 0,
         })
