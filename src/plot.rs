@@ -48,7 +48,12 @@ pub struct Series {
 }
 
 impl Series {
-    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark, color: usize) -> Self {
+    pub fn new(
+        label: impl Into<String>,
+        points: Vec<(f64, f64)>,
+        mark: Mark,
+        color: usize,
+    ) -> Self {
         Self {
             label: label.into(),
             points,
@@ -126,7 +131,10 @@ impl Figure {
         let y = range(pts().map(|p| p.1), self.y_log);
         match (x, y) {
             (Some(x), Some(y)) => Ok((x, y)),
-            _ => Err(anyhow!("figure \"{}\" has no finite points to draw", self.title)),
+            _ => Err(anyhow!(
+                "figure \"{}\" has no finite points to draw",
+                self.title
+            )),
         }
     }
 
@@ -191,14 +199,19 @@ impl Figure {
                     let mark = s.mark;
                     // The legend sample: a marker for points, two dashes for
                     // a dashed line, a solid line otherwise.
-                    anno.label(s.label.clone()).legend(move |(x, y)| match mark {
-                        Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
-                        Mark::Dashed => {
-                            plotters::element::DashedPathElement::new(vec![(x, y), (x + 20, y)], 7, 4, c.stroke_width(2))
-                                .into_dyn()
-                        }
-                        _ => PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)).into_dyn(),
-                    });
+                    anno.label(s.label.clone())
+                        .legend(move |(x, y)| match mark {
+                            Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+                            Mark::Dashed => plotters::element::DashedPathElement::new(
+                                vec![(x, y), (x + 20, y)],
+                                7,
+                                4,
+                                c.stroke_width(2),
+                            )
+                            .into_dyn(),
+                            _ => PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                                .into_dyn(),
+                        });
                 }
                 chart
                     .configure_series_labels()

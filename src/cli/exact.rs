@@ -190,7 +190,6 @@ fn estimates_table(estimates: &[PaperEstimate]) -> Table {
         "estimate",
         "exact (with gravity)",
         "estimate/exact − 1",
-        "note",
     ]);
     for e in estimates {
         let (scale, unit, name) = match e.quantity {
@@ -208,7 +207,6 @@ fn estimates_table(estimates: &[PaperEstimate]) -> Table {
             e.relative_difference
                 .map(error_cell)
                 .unwrap_or_else(|| "—".into()),
-            e.note.clone(),
         ]);
     }
     for i in 3..6 {
@@ -217,6 +215,13 @@ fn estimates_table(estimates: &[PaperEstimate]) -> Table {
         }
     }
     table
+}
+
+fn estimate_notes(estimates: &[PaperEstimate]) -> String {
+    estimates
+        .iter()
+        .map(|e| format!("  eq {}: {}\n", e.equation, e.note))
+        .collect()
 }
 
 pub fn run(args: &ExactArgs) -> CliResult {
@@ -238,7 +243,7 @@ pub fn run(args: &ExactArgs) -> CliResult {
             stdout,
             "exact reference: contact law {}, {} contact{}, impact speed {} m/s\n{}\n\n\
              The paper's estimates for this pair and impact speed (eqs 26–29 are \
-             written for the linear law, eq 30 for Hertz):\n{}\n{}",
+             written for the linear law, eq 30 for Hertz):\n{}\n{}{}",
             scenario.contact.law.name(),
             scenario.motion.contacts,
             if scenario.motion.contacts == 1 {
@@ -249,6 +254,7 @@ pub fn run(args: &ExactArgs) -> CliResult {
             sig(scenario.impact_speed(), DIGITS),
             report::exact_contacts_table(&contacts),
             estimates_table(&estimates),
+            estimate_notes(&estimates),
             paper::BRILLIANTOV_NOT_REPRODUCIBLE,
         )
         .map_err(CliError::failed)?;

@@ -7,8 +7,7 @@ use crate::output::validation::{self as report, OrderRow, Verdict};
 use anyhow::anyhow;
 use clap::Args;
 use dembound_core::study::validation::{
-    convergence, validation_tables, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS,
-    QUANTITIES,
+    convergence, validation_tables, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS, QUANTITIES,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -81,7 +80,7 @@ pub fn run(args: &ValidateArgs) -> CliResult {
     let spinner = Spinner::new(args.quiet);
     spinner.stage("Tables 1–2: 32 runs against the exact reference");
     let tables = validation_tables().map_err(|e| CliError::failed(anyhow!("{e}")))?;
-    spinner.stage("convergence study: 144 runs, η from 1/5 to 1/2000");
+    spinner.stage("convergence study: 72 runs, η from 1/5 to 1/2000");
     let points = convergence(&CONVERGENCE_ETAS).map_err(|e| CliError::failed(anyhow!("{e}")))?;
     let report = ValidationReport {
         quantities: QUANTITIES,
@@ -147,8 +146,10 @@ fn write_outputs(
         report::convergence_figures(points, figures_dir.path()).map_err(CliError::failed)?;
     out.write("validation.md", |w| Ok(w.write_all(markdown.as_bytes())?))
         .map_err(CliError::failed)?;
-    out.write("validation.csv", |w| report::write_validation_csv(tables, w))
-        .map_err(CliError::failed)?;
+    out.write("validation.csv", |w| {
+        report::write_validation_csv(tables, w)
+    })
+    .map_err(CliError::failed)?;
     out.write("validation.json", |w| Ok(writeln!(w, "{json}")?))
         .map_err(CliError::failed)?;
     out.write("convergence.csv", |w| {

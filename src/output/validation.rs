@@ -143,13 +143,15 @@ impl Grid {
 
 /// The numerical rows of a table (the exact row first).
 fn numerical_grid(t: &ValidationTable) -> Grid {
-    let mut header: Vec<String> = ["row", "Δt from", "η", "scheme", "stepping", "Δt (ns)", "steps"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    for q in 0..4 {
+    let mut header: Vec<String> = [
+        "row", "Δt from", "η", "scheme", "stepping", "Δt (ns)", "steps",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for (q, label) in LABELS.iter().enumerate() {
         header.push(header_with_units(q));
-        header.push(format!("δ {} (%)", LABELS[q]));
+        header.push(format!("δ {label} (%)"));
     }
     let mut rows = Vec::new();
     let mut exact_row = vec![
@@ -212,8 +214,8 @@ fn paper_grid(t: &ValidationTable) -> Grid {
                 r.label.to_string(),
                 r.dt.map(|dt| sig(dt * 1e9, 4)).unwrap_or_default(),
             ];
-            for q in 0..4 {
-                row.push(sig(r.values[q] * DISPLAY[q].0, 4));
+            for (x, (scale, _)) in r.values.iter().zip(DISPLAY) {
+                row.push(sig(x * scale, 4));
             }
             row.push(
                 r.printed_delta_percent
