@@ -543,8 +543,12 @@ fn orders_grid(points: &[ConvergencePoint]) -> Grid {
 
 const CONVERGENCE_NOTES: &str = "Errors are relative to the exact reference, 2nd contact, Δt = η T_c \
 with the exact T_c. The observed order is the least-squares slope of log(error) against log(η) over \
-the points with error > 1e−12 (rounding and the reference's own accuracy dominate below), so \
-pre-asymptotic points at large η are included.";
+all points with error > 1e−12 (rounding and the reference's own accuracy dominate below), \
+pre-asymptotic points at large η included. Read the fixed-stepping orders with care: over \
+10⁷–10⁸ flight steps rounding accumulates, and the linear Gear5 fixed errors level off near \
+1e−10–1e−9 for η ≤ 1/200, which pulls the fitted slope down (from η = 1/20 to 1/100 they fall at \
+order ≈ 5, as in event stepping). For Hertz, h^(3/2) is not smooth at the onset and rebound \
+(h'''' ∝ h^(−1/2)), which holds Gear5 near order 2.5.";
 
 /// The convergence study for the terminal: errors per law, then the orders.
 pub fn convergence_terminal(points: &[ConvergencePoint]) -> String {
