@@ -5,10 +5,6 @@
 //! `assets/DejaVuSans-LICENSE.txt`) is compiled in and registered with
 //! plotters' `ab_glyph` renderer, so no system font is needed.
 
-// Used by `validate`, `sweep` and `paper` (on their way); until they land
-// the module is exercised only by its own tests.
-#![allow(dead_code)]
-
 use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -27,6 +23,8 @@ fn register_font() {
 }
 
 /// How a series is drawn.
+// Part of the figure API: not every build uses every mark.
+#[allow(dead_code)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mark {
     /// A solid line (exact curves).
@@ -111,6 +109,21 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {
     }
 }
 
+/// A tick label: the value rounded to 3 significant digits, in its shortest
+/// form (`1e-5`, `2.5e-7`, `0.02`, `1000`), so that log-axis ticks such as
+/// 9.999999999998e-5 read `1e-4`.
+fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let r: f64 = format!("{v:.2e}").parse().unwrap_or(v);
+    if (1e-3..1e5).contains(&r.abs()) {
+        format!("{r}")
+    } else {
+        format!("{r:e}")
+    }
+}
+
 impl Figure {
     fn ranges(&self) -> Result<((f64, f64), (f64, f64))> {
         let pts = || self.series.iter().flat_map(|s| s.points.iter());
@@ -145,6 +158,8 @@ impl Figure {
                     .x_desc(&self.x_label)
                     .y_desc(&self.y_label)
                     .axis_desc_style(("sans-serif", 17))
+                    .x_label_formatter(&|v| tick(*v))
+                    .y_label_formatter(&|v| tick(*v))
                     .label_style(("sans-serif", 14))
                     .light_line_style(RGBColor(235, 235, 235))
                     .draw()
@@ -182,9 +197,18 @@ impl Figure {
                         }
                     };
                     let mark = s.mark;
+                    // The legend sample: a marker for points, two dashes for
+                    // a dashed line, a solid line otherwise.
                     anno.label(s.label.clone())
                         .legend(move |(x, y)| match mark {
                             Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+                            Mark::Dashed => plotters::element::DashedPathElement::new(
+                                vec![(x, y), (x + 20, y)],
+                                7,
+                                4,
+                                c.stroke_width(2),
+                            )
+                            .into_dyn(),
                             _ => PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
                                 .into_dyn(),
                         });
@@ -271,6 +295,15 @@ mod tests {
         assert!(text.contains("relative error (1)"));
         // A PNG with text is well over a few kB; an empty canvas compresses to ~2 kB.
         assert!(std::fs::metadata(png).map(|m| m.len()).unwrap_or(0) > 10_000);
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick(9.999999999998e-5), "1e-4");
+        assert_eq!(tick(100.00000000001), "100");
+        assert_eq!(tick(0.30000000000000004), "0.3");
+        assert_eq!(tick(2.5e-7), "2.5e-7");
+        assert_eq!(tick(1e6), "1e6");
     }
 
     #[test]

@@ -3,7 +3,9 @@
 //! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
+pub mod exact;
 pub mod run;
+pub mod validate;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,6 +24,12 @@ enum Command {
     /// Run one scenario and report every contact (the paper's validation
     /// case when no file is given)
     Run(run::RunArgs),
+    /// The exact per-contact values of a scenario (the paper's validation
+    /// case when no file is given), with the paper's estimates (eqs 26–30)
+    Exact(exact::ExactArgs),
+    /// Reproduce the paper's Tables 1–2 against the exact reference, and a
+    /// convergence study in the time step
+    Validate(validate::ValidateArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -65,6 +73,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Run(args) => run::run(args),
+        Command::Exact(args) => exact::run(args),
+        Command::Validate(args) => validate::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,7 +6,7 @@ use crate::output::format::{duration, sig};
 use crate::output::history::HistoryRecorder;
 use crate::output::observer::Tee;
 use crate::output::progress::{self, Progress};
-use crate::output::report::{self, RunReport};
+use crate::output::report::{self, RelativeErrors, RunReport};
 use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::Args;
@@ -43,6 +43,12 @@ pub struct RunArgs {
           value_parser = clap::value_parser!(u64).range(1..))]
     pub history_points: u64,
 
+    /// Also report every quantity's relative error against the exact
+    /// reference (value/exact − 1): a second table, or `relative_errors` in
+    /// the JSON
+    #[arg(long)]
+    pub compare_exact: bool,
+
     /// No progress bar
     #[arg(long, short)]
     pub quiet: bool,
@@ -56,6 +62,12 @@ pub fn run(args: &RunArgs) -> CliResult {
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
     let problem = plan(&scenario).map_err(simulation_error)?;
     guard_step_count(&scenario, &problem, args.force)?;
+    // Before the run, so that a scenario without a reference fails at once.
+    let exact = if args.compare_exact {
+        Some(super::exact::exact_contacts(&scenario)?)
+    } else {
+        None
+    };
 
     let mut stdout = std::io::stdout().lock();
     if !args.json {
@@ -86,8 +98,12 @@ pub fn run(args: &RunArgs) -> CliResult {
         _ => None,
     };
 
+    let errors = exact
+        .as_ref()
+        .map(|exact| RelativeErrors::all(&outcome.contacts, exact));
     if args.json {
-        let report = RunReport::new(&scenario, &outcome);
+        let mut report = RunReport::new(&scenario, &outcome);
+        report.relative_errors = errors;
         let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
         writeln!(stdout, "{text}").map_err(CliError::failed)?;
     } else {
@@ -98,6 +114,15 @@ pub fn run(args: &RunArgs) -> CliResult {
             outcome.steps
         )
         .map_err(CliError::failed)?;
+        if let Some(errors) = &errors {
+            writeln!(
+                stdout,
+                "\nrelative errors against the exact reference (value/exact − 1; \
+                 times are absolute, from t = 0):\n{}",
+                report::relative_errors_table(errors)
+            )
+            .map_err(CliError::failed)?;
+        }
         if let Some(written) = written {
             for path in written {
                 writeln!(stdout, "wrote {}", path.display()).map_err(CliError::failed)?;

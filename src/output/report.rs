@@ -44,6 +44,16 @@ pub fn stepping_name(s: &Scenario) -> &'static str {
 
 /// The per-contact table, units in the column headers.
 pub fn contacts_table(contacts: &[ContactRecord]) -> Table {
+    values_table(contacts, |c| c.steps.to_string())
+}
+
+/// The per-contact table of exact values: the layout of [`contacts_table`],
+/// the steps column reads "exact" (nothing was integrated).
+pub fn exact_contacts_table(contacts: &[ContactRecord]) -> Table {
+    values_table(contacts, |_| "exact".to_string())
+}
+
+fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> String) -> Table {
     let mut table = Table::new();
     table.load_preset(presets::UTF8_FULL_CONDENSED);
     table.set_header(vec![
@@ -71,14 +81,115 @@ pub fn contacts_table(contacts: &[ContactRecord]) -> Table {
             sig(c.max_acceleration, DIGITS),
             sig(c.impact_velocity, DIGITS),
             sig(c.rebound_velocity, DIGITS),
-            c.steps.to_string(),
+            steps(c),
         ]);
     }
-    for i in 0..11 {
+    right_align(&mut table, 11);
+    table
+}
+
+fn right_align(table: &mut Table, columns: usize) {
+    for i in 0..columns {
         if let Some(column) = table.column_mut(i) {
             column.set_cell_alignment(CellAlignment::Right);
         }
     }
+}
+
+/// Relative errors of one contact against the exact reference, signed:
+/// `value / exact − 1` (positive when the numerical magnitude is larger).
+/// The keys are those of [`ContactRecord`] (`steps` left out).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RelativeErrors {
+    pub t_contact: f64,
+    pub t_max_overlap: f64,
+    pub t_rebound: f64,
+    pub duration: f64,
+    pub max_overlap: f64,
+    pub max_force: f64,
+    pub max_acceleration: f64,
+    pub impact_velocity: f64,
+    pub rebound_velocity: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub apex_height: Option<f64>,
+}
+
+/// `value / exact − 1`; 0 when both are 0.
+pub fn relative_error(value: f64, exact: f64) -> f64 {
+    if value == exact {
+        0.0
+    } else {
+        value / exact - 1.0
+    }
+}
+
+impl RelativeErrors {
+    pub fn new(c: &ContactRecord, e: &ContactRecord) -> Self {
+        RelativeErrors {
+            t_contact: relative_error(c.t_contact, e.t_contact),
+            t_max_overlap: relative_error(c.t_max_overlap, e.t_max_overlap),
+            t_rebound: relative_error(c.t_rebound, e.t_rebound),
+            duration: relative_error(c.duration, e.duration),
+            max_overlap: relative_error(c.max_overlap, e.max_overlap),
+            max_force: relative_error(c.max_force, e.max_force),
+            max_acceleration: relative_error(c.max_acceleration, e.max_acceleration),
+            impact_velocity: relative_error(c.impact_velocity, e.impact_velocity),
+            rebound_velocity: relative_error(c.rebound_velocity, e.rebound_velocity),
+            apex_height: match (c.apex_height, e.apex_height) {
+                (Some(a), Some(b)) => Some(relative_error(a, b)),
+                _ => None,
+            },
+        }
+    }
+
+    /// The errors of every contact, pairing the i-th numerical contact with
+    /// the i-th exact one.
+    pub fn all(numerical: &[ContactRecord], exact: &[ContactRecord]) -> Vec<Self> {
+        numerical
+            .iter()
+            .zip(exact)
+            .map(|(c, e)| Self::new(c, e))
+            .collect()
+    }
+}
+
+/// Significant digits of relative errors in terminal tables.
+pub const ERROR_DIGITS: usize = 3;
+
+/// A relative error (fraction) for a table: scientific, signed.
+pub fn error_cell(e: f64) -> String {
+    if e == 0.0 {
+        "0".into()
+    } else if !e.is_finite() {
+        e.to_string()
+    } else {
+        format!("{:+.*e}", ERROR_DIGITS - 1, e)
+    }
+}
+
+/// The table of relative errors against the exact reference, one row per
+/// contact, the columns of [`contacts_table`].
+pub fn relative_errors_table(errors: &[RelativeErrors]) -> Table {
+    let mut table = Table::new();
+    table.load_preset(presets::UTF8_FULL_CONDENSED);
+    table.set_header(vec![
+        "#", "t_c", "t_mp", "t_r", "T_c", "h_max", "F_max", "a_max", "v_c", "v_r",
+    ]);
+    for (i, e) in errors.iter().enumerate() {
+        table.add_row(vec![
+            (i + 1).to_string(),
+            error_cell(e.t_contact),
+            error_cell(e.t_max_overlap),
+            error_cell(e.t_rebound),
+            error_cell(e.duration),
+            error_cell(e.max_overlap),
+            error_cell(e.max_force),
+            error_cell(e.max_acceleration),
+            error_cell(e.impact_velocity),
+            error_cell(e.rebound_velocity),
+        ]);
+    }
+    right_align(&mut table, 10);
     table
 }
 
@@ -127,6 +238,9 @@ pub struct RunReport<'a> {
     pub steps: u64,
     pub dt: f64,
     pub contact_time_estimate: f64,
+    /// With `--compare-exact`: per contact, `value / exact − 1` of every field.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relative_errors: Option<Vec<RelativeErrors>>,
 }
 
 impl<'a> RunReport<'a> {
@@ -137,6 +251,7 @@ impl<'a> RunReport<'a> {
             steps: outcome.steps,
             dt: outcome.dt,
             contact_time_estimate: outcome.contact_time_estimate,
+            relative_errors: None,
         }
     }
 }

@@ -131,18 +131,6 @@ pub struct ValidationTable {
     pub paper_rows: Vec<PaperRow>,
 }
 
-impl ValidationTable {
-    /// Largest relative error of any quantity in the paper's printed rows
-    /// (the numerical ones, not the reference row).
-    pub fn best_paper_error(&self) -> f64 {
-        self.paper_rows
-            .iter()
-            .filter(|r| r.printed_delta_percent.is_some() || r.label.starts_with("Δt"))
-            .flat_map(|r| r.errors)
-            .fold(f64::INFINITY, f64::min)
-    }
-}
-
 /// The validation scenario (the paper's case, ERRATA 4) for a law.
 pub fn validation_scenario(law: ContactLawKind) -> Scenario {
     let mut s = Scenario::default();

@@ -1,0 +1,264 @@
+//! `dembound exact`: the exact per-contact values of a scenario, with the
+//! paper's estimates (eqs 26–30) beside the exact contact time and overlap.
+
+use super::{CliError, CliResult};
+use crate::output::format::sig;
+use crate::output::report::{self, error_cell, relative_error, DIGITS};
+use crate::scenario_file::ScenarioArgs;
+use anyhow::anyhow;
+use clap::Args;
+use comfy_table::{presets, CellAlignment, Table};
+use dembound_core::bounce::{ContactRecord, Scenario};
+use dembound_core::contact::ContactLawKind;
+use dembound_core::exact::{self, paper, ExactError};
+use serde::Serialize;
+use std::io::Write;
+
+#[derive(Debug, Args)]
+pub struct ExactArgs {
+    #[command(flatten)]
+    pub scenario: ScenarioArgs,
+
+    /// Print one JSON object (scenario, contacts, paper_estimates; SI) to
+    /// stdout instead of the tables
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Fails (exit 2) for a law that has no exact reference. Every law of today
+/// is elastic and conservative and has one (closed form for α = 1, quadrature
+/// otherwise, ERRATA 6 and 8); a dissipative law added to [`ContactLawKind`]
+/// must get an arm here returning the error below.
+pub fn require_exact_reference(law: ContactLawKind) -> CliResult {
+    match law {
+        ContactLawKind::Linear | ContactLawKind::Hertz | ContactLawKind::Power(_) => Ok(()),
+        #[allow(unreachable_patterns)]
+        _ => Err(CliError::input(anyhow!(
+            "contact law `{}` has no exact reference (only the elastic laws \
+             linear, hertz and power α do)",
+            law.name()
+        ))),
+    }
+}
+
+/// Exact per-contact values of a validated scenario. A scenario the exact
+/// reference rejects is bad input (exit 2); a failed quadrature or root
+/// search exits 1.
+pub fn exact_contacts(s: &Scenario) -> CliResult<Vec<ContactRecord>> {
+    require_exact_reference(s.contact.law)?;
+    exact::scenario_contacts(s).map_err(exact_error)
+}
+
+fn exact_error(e: ExactError) -> CliError {
+    match e {
+        ExactError::Numerical(_) => {
+            CliError::failed(anyhow!("the exact reference could not be computed: {e}"))
+        }
+        e => CliError::input(anyhow!("no exact reference for this scenario: {e}")),
+    }
+}
+
+/// One of the paper's estimates, evaluated for the scenario's pair and
+/// impact speed, beside the exact value of the law it is written for.
+#[derive(Debug, Clone, Serialize)]
+pub struct PaperEstimate {
+    /// e.g. "26 as printed".
+    pub equation: &'static str,
+    /// The estimated field: `duration` (T_c) or `max_overlap` (h_max).
+    pub quantity: &'static str,
+    /// The law the formula is written for (`linear` or `hertz`).
+    pub law: &'static str,
+    /// The estimate, SI; `None` where the formula has no value (reason in `note`).
+    pub value: Option<f64>,
+    /// The exact value of `law` for this pair and impact speed (with gravity), SI.
+    pub exact: f64,
+    /// `value / exact − 1`.
+    pub relative_difference: Option<f64>,
+    pub note: String,
+}
+
+/// Eqs 26 (as printed and corrected), 27, 28, 29 for the linear law and
+/// eq 30 for Hertz, all with the scenario's pair, gravity and impact speed.
+pub fn paper_estimates(s: &Scenario) -> CliResult<Vec<PaperEstimate>> {
+    let v = s.impact_speed();
+    let g = s.motion.gravity;
+    let shape = |law: ContactLawKind| {
+        let mut t = *s;
+        t.contact.law = law;
+        exact::contact_shape(&exact::problem(&t), v).map_err(exact_error)
+    };
+    let linear = shape(ContactLawKind::Linear)?;
+    let hertz = shape(ContactLawKind::Hertz)?;
+    let p2_linear = exact::problem(&{
+        let mut t = *s;
+        t.contact.law = ContactLawKind::Linear;
+        t
+    })
+    .p_squared;
+    let p2_hertz = exact::problem(&{
+        let mut t = *s;
+        t.contact.law = ContactLawKind::Hertz;
+        t
+    })
+    .p_squared;
+
+    let make = |equation, quantity, law, value: Result<f64, ExactError>, exact: f64, note: &str| {
+        let (value, note) = match value {
+            Ok(x) => (Some(x), note.to_string()),
+            Err(e) => (None, format!("no value: {e}")),
+        };
+        PaperEstimate {
+            equation,
+            quantity,
+            law,
+            value,
+            exact,
+            relative_difference: value.map(|x| relative_error(x, exact)),
+            note,
+        }
+    };
+    Ok(vec![
+        make(
+            "26 as printed",
+            "duration",
+            "linear",
+            paper::eq26_as_printed(p2_linear, g, v),
+            linear.duration,
+            "2/p·arctan(|v_c| p/g): the wrong arctan branch, shorter than π/p (ERRATA 6)",
+        ),
+        make(
+            "26 corrected",
+            "duration",
+            "linear",
+            paper::eq26_corrected(p2_linear, g, v),
+            linear.duration,
+            "(π + 2 arctan(g/(|v_c| p)))/p: exact (ERRATA 6)",
+        ),
+        make(
+            "27",
+            "duration",
+            "linear",
+            paper::eq27(p2_linear),
+            linear.duration,
+            "π/p: gravity-free",
+        ),
+        make(
+            "28 as printed",
+            "max_overlap",
+            "linear",
+            paper::eq28_as_printed(p2_linear, g, v),
+            linear.max_overlap,
+            "(√(v_c² p² − g²) + g)/p²: −g² where +g² belongs (ERRATA 6)",
+        ),
+        make(
+            "29",
+            "max_overlap",
+            "linear",
+            paper::eq29(p2_linear, v),
+            linear.max_overlap,
+            "|v_c|/p: gravity-free",
+        ),
+        make(
+            "30 (Brilliantov)",
+            "duration",
+            "hertz",
+            paper::eq30_brilliantov(p2_hertz, v),
+            hertz.duration,
+            "2.94 (m_eff/k)^(2/5) |v_c|^(−1/5), gravity-free; the paper's 4.29 µs \
+             is not reproducible (ERRATA 9)",
+        ),
+    ])
+}
+
+/// The JSON object of `exact --json`: the keys of `run --json` that have a
+/// meaning without integration, plus the paper's estimates.
+#[derive(Debug, Serialize)]
+pub struct ExactReport<'a> {
+    pub scenario: &'a Scenario,
+    pub contacts: &'a [ContactRecord],
+    pub paper_estimates: &'a [PaperEstimate],
+    pub notes: Vec<&'static str>,
+}
+
+fn estimates_table(estimates: &[PaperEstimate]) -> Table {
+    let mut table = Table::new();
+    table.load_preset(presets::UTF8_FULL_CONDENSED);
+    table.set_header(vec![
+        "eq",
+        "quantity",
+        "law",
+        "estimate",
+        "exact (with gravity)",
+        "estimate/exact − 1",
+    ]);
+    for e in estimates {
+        let (scale, unit, name) = match e.quantity {
+            "duration" => (1e6, "µs", "T_c"),
+            _ => (1e9, "nm", "h_max"),
+        };
+        table.add_row(vec![
+            e.equation.to_string(),
+            name.to_string(),
+            e.law.to_string(),
+            e.value
+                .map(|x| format!("{} {unit}", sig(x * scale, DIGITS)))
+                .unwrap_or_else(|| "—".into()),
+            format!("{} {unit}", sig(e.exact * scale, DIGITS)),
+            e.relative_difference
+                .map(error_cell)
+                .unwrap_or_else(|| "—".into()),
+        ]);
+    }
+    for i in 3..6 {
+        if let Some(column) = table.column_mut(i) {
+            column.set_cell_alignment(CellAlignment::Right);
+        }
+    }
+    table
+}
+
+fn estimate_notes(estimates: &[PaperEstimate]) -> String {
+    estimates
+        .iter()
+        .map(|e| format!("  eq {}: {}\n", e.equation, e.note))
+        .collect()
+}
+
+pub fn run(args: &ExactArgs) -> CliResult {
+    let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
+    let contacts = exact_contacts(&scenario)?;
+    let estimates = paper_estimates(&scenario)?;
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        let report = ExactReport {
+            scenario: &scenario,
+            contacts: &contacts,
+            paper_estimates: &estimates,
+            notes: vec![paper::BRILLIANTOV_NOT_REPRODUCIBLE],
+        };
+        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
+        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+    } else {
+        writeln!(
+            stdout,
+            "exact reference: contact law {}, {} contact{}, impact speed {} m/s\n{}\n\n\
+             The paper's estimates for this pair and impact speed (eqs 26–29 are \
+             written for the linear law, eq 30 for Hertz):\n{}\n{}{}",
+            scenario.contact.law.name(),
+            scenario.motion.contacts,
+            if scenario.motion.contacts == 1 {
+                ""
+            } else {
+                "s"
+            },
+            sig(scenario.impact_speed(), DIGITS),
+            report::exact_contacts_table(&contacts),
+            estimates_table(&estimates),
+            estimate_notes(&estimates),
+            paper::BRILLIANTOV_NOT_REPRODUCIBLE,
+        )
+        .map_err(CliError::failed)?;
+    }
+    stdout.flush().map_err(CliError::failed)?;
+    Ok(())
+}
