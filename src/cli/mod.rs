@@ -3,7 +3,11 @@
 //! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
+pub mod lists;
+pub mod paper;
+pub mod recommend;
 pub mod run;
+pub mod sweep;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,6 +26,15 @@ enum Command {
     /// Run one scenario and report every contact (the paper's validation
     /// case when no file is given)
     Run(run::RunArgs),
+    /// Sweep r, ζ, laws and other keys; integrator beside the exact
+    /// reference, normalised by the rigid half-space
+    Sweep(sweep::SweepArgs),
+    /// Smallest ζ or r within a tolerance of the rigid half-space, or the
+    /// deviations at a given (r, ζ)
+    Recommend(recommend::RecommendArgs),
+    /// Reproduce the paper's section 5 (Figs 4–8, quoted numbers, Tables
+    /// 1–2) into a directory with report.md and report.html
+    Paper(paper::PaperArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -65,6 +78,9 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Run(args) => run::run(args),
+        Command::Sweep(args) => sweep::run(args),
+        Command::Recommend(args) => recommend::run(args),
+        Command::Paper(args) => paper::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
