@@ -129,7 +129,10 @@ fn legend_position(fig: &Figure, x: (f64, f64), y: (f64, f64)) -> SeriesLabelPos
         .max()
         .unwrap_or(0) as f64;
     // The legend box as a fraction of the plotting area (14 px font, ~780 × 480 px area).
-    let (w, h) = (((longest * 7.5 + 50.0) / 780.0).min(0.9), ((entries * 19.0 + 12.0) / 480.0).min(0.95));
+    let (w, h) = (
+        ((longest * 7.5 + 50.0) / 780.0).min(0.9),
+        ((entries * 19.0 + 12.0) / 480.0).min(0.95),
+    );
     let corners = [
         (SeriesLabelPosition::UpperRight, 1.0 - w, 1.0, 1.0 - h, 1.0),
         (SeriesLabelPosition::UpperLeft, 0.0, w, 1.0 - h, 1.0),
@@ -155,7 +158,9 @@ fn legend_position(fig: &Figure, x: (f64, f64), y: (f64, f64)) -> SeriesLabelPos
             };
             for (i, p) in pts.iter().enumerate() {
                 probe(p.0, p.1);
-                if let (Some(q), Mark::Line | Mark::Dashed | Mark::LinePoints) = (pts.get(i + 1), s.mark) {
+                if let (Some(q), Mark::Line | Mark::Dashed | Mark::LinePoints) =
+                    (pts.get(i + 1), s.mark)
+                {
                     for k in 1..8 {
                         let t = k as f64 / 8.0;
                         probe(p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1));
@@ -250,22 +255,24 @@ impl Figure {
                         continue;
                     }
                     let mark = s.mark;
-                    anno.label(s.label.clone()).legend(move |(x, y)| match mark {
-                        Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
-                        Mark::Triangles => {
-                            TriangleMarker::new((x + 10, y), 5, c.stroke_width(2)).into_dyn()
-                        }
-                        Mark::Dashed => plotters::element::DashedPathElement::new(
-                            vec![(x, y), (x + 22, y)],
-                            6,
-                            4,
-                            c.stroke_width(2),
-                        )
-                        .into_dyn(),
-                        Mark::Line | Mark::LinePoints => {
-                            PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)).into_dyn()
-                        }
-                    });
+                    anno.label(s.label.clone())
+                        .legend(move |(x, y)| match mark {
+                            Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+                            Mark::Triangles => {
+                                TriangleMarker::new((x + 10, y), 5, c.stroke_width(2)).into_dyn()
+                            }
+                            Mark::Dashed => plotters::element::DashedPathElement::new(
+                                vec![(x, y), (x + 22, y)],
+                                6,
+                                4,
+                                c.stroke_width(2),
+                            )
+                            .into_dyn(),
+                            Mark::Line | Mark::LinePoints => {
+                                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                                    .into_dyn()
+                            }
+                        });
                 }
                 chart
                     .configure_series_labels()

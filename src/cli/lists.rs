@@ -39,7 +39,11 @@ pub fn numbers(flag: &str, text: &str) -> Result<Vec<f64>> {
             bail!("invalid value for `{flag}`: `{text}` has an empty item (allowed: e.g. 1,10,100,inf or log:1:1000:13)");
         }
         let lower = item.to_ascii_lowercase();
-        if let Some(spec) = lower.strip_prefix("log:").map(|s| (s, true)).or_else(|| lower.strip_prefix("lin:").map(|s| (s, false))) {
+        if let Some(spec) = lower
+            .strip_prefix("log:")
+            .map(|s| (s, true))
+            .or_else(|| lower.strip_prefix("lin:").map(|s| (s, false)))
+        {
             out.extend(range(flag, item, spec.0, spec.1)?);
         } else {
             out.push(number(flag, item)?);
@@ -60,10 +64,20 @@ fn range(flag: &str, item: &str, spec: &str, log: bool) -> Result<Vec<f64>> {
     if parts.len() != 3 {
         return Err(bad("expected three fields"));
     }
-    let a: f64 = parts[0].trim().parse().map_err(|_| bad("A is not a number"))?;
-    let b: f64 = parts[1].trim().parse().map_err(|_| bad("B is not a number"))?;
-    let n: usize = parts[2].trim().parse().map_err(|_| bad("N is not a whole number"))?;
-    if !(a.is_finite() && b.is_finite()) || n < 2 || n > 100_000 || (log && (a <= 0.0 || b <= 0.0)) {
+    let a: f64 = parts[0]
+        .trim()
+        .parse()
+        .map_err(|_| bad("A is not a number"))?;
+    let b: f64 = parts[1]
+        .trim()
+        .parse()
+        .map_err(|_| bad("B is not a number"))?;
+    let n: usize = parts[2]
+        .trim()
+        .parse()
+        .map_err(|_| bad("N is not a whole number"))?;
+    if !(a.is_finite() && b.is_finite()) || n < 2 || n > 100_000 || (log && (a <= 0.0 || b <= 0.0))
+    {
         return Err(bad("out of range"));
     }
     Ok((0..n)
@@ -144,14 +158,23 @@ mod tests {
         assert_eq!(l.len(), 13);
         assert_eq!((l[0], l[12]), (1.0, 1000.0));
         assert!((l[4] - 10.0).abs() < 1e-12);
-        assert_eq!(numbers("--x", "lin:0:1:3,5").unwrap(), vec![0.0, 0.5, 1.0, 5.0]);
+        assert_eq!(
+            numbers("--x", "lin:0:1:3,5").unwrap(),
+            vec![0.0, 0.5, 1.0, 5.0]
+        );
         for bad in ["", "1,,2", "abc", "log:0:10:3", "log:1:10", "lin:1:2:1"] {
             let e = numbers("--r", bad).unwrap_err().to_string();
             assert!(e.contains("`--r`"), "{e}");
         }
-        assert!(ratios("--r", "1,-2").unwrap_err().to_string().contains("-2"));
+        assert!(ratios("--r", "1,-2")
+            .unwrap_err()
+            .to_string()
+            .contains("-2"));
         assert_eq!(laws("--law", "linear,HERTZ,power=1.25").unwrap().len(), 3);
-        assert!(law("--law", "cubic").unwrap_err().to_string().contains("cubic"));
+        assert!(law("--law", "cubic")
+            .unwrap_err()
+            .to_string()
+            .contains("cubic"));
         assert!(law("--law", "4").is_err());
     }
 }

@@ -76,9 +76,9 @@ pub struct Scaling {
     /// The same by the integrator.
     pub h_nl_integrator: f64,
     pub t_nl_integrator: f64,
-    /// Hertz T_c at r = 1000, ζ = ∞ (the text's "boundary" remark), s.
+    /// Hertz T_c at r = ζ = 1000, the study's stiffest case (ERRATA 13), s.
     pub t_r1000: f64,
-    /// Hertz h_max at r = 1000, ζ = ∞, m.
+    /// Hertz h_max at r = ζ = 1000, m.
     pub h_r1000: f64,
     /// Impact speed, m/s.
     pub impact_speed: f64,
@@ -92,6 +92,7 @@ fn scaling(base: &Scenario) -> Result<Scaling, StudyError> {
     let e = first_contact(&s, Model::Exact)?;
     let n = first_contact(&s, Model::Simulated)?;
     s.boundary.radius_ratio = 1000.0;
+    s.boundary.modulus_ratio = 1000.0;
     let e1000 = first_contact(&s, Model::Exact)?;
     Ok(Scaling {
         h_nl: e.max_overlap,
@@ -124,7 +125,13 @@ pub struct History {
     pub integrator: Vec<(f64, f64)>,
 }
 
-fn history(base: &Scenario, law: ContactLawKind, r: f64, zeta: f64, sc: &Scaling) -> Result<History> {
+fn history(
+    base: &Scenario,
+    law: ContactLawKind,
+    r: f64,
+    zeta: f64,
+    sc: &Scaling,
+) -> Result<History> {
     let mut s = *base;
     s.contact.law = law;
     s.boundary.radius_ratio = r;
@@ -260,12 +267,31 @@ fn compute(base: &Scenario, quiet: bool, start: Instant) -> CliResult<PaperData>
         .collect::<Result<Vec<_>>>()
         .map_err(CliError::failed)?;
 
-    stage(quiet, start, "sweeps over r and ζ (Figs 5–8), integrator and exact");
-    let swept = |spec: SweepSpec| sweep(&spec, &|_, _| {}).map_err(|e| CliError::failed(anyhow!("{e}")));
-    let sweep_r = swept(SweepSpec::new(*base, r_grid(), ZETAS.to_vec(), LAWS.to_vec()))?;
-    let sweep_zeta = swept(SweepSpec::new(*base, RADII.to_vec(), decades(0, 3, 12), LAWS.to_vec()))?;
+    stage(
+        quiet,
+        start,
+        "sweeps over r and ζ (Figs 5–8), integrator and exact",
+    );
+    let swept =
+        |spec: SweepSpec| sweep(&spec, &|_, _| {}).map_err(|e| CliError::failed(anyhow!("{e}")));
+    let sweep_r = swept(SweepSpec::new(
+        *base,
+        r_grid(),
+        ZETAS.to_vec(),
+        LAWS.to_vec(),
+    ))?;
+    let sweep_zeta = swept(SweepSpec::new(
+        *base,
+        RADII.to_vec(),
+        decades(0, 3, 12),
+        LAWS.to_vec(),
+    ))?;
 
-    stage(quiet, start, "indicators, convergence laws, recommended limits");
+    stage(
+        quiet,
+        start,
+        "indicators, convergence laws, recommended limits",
+    );
     let indicators = section5_indicators(base).map_err(study)?;
     let values = paper_fit_values();
     let exponents_exact = convergence_exponents(base, &values, Model::Exact).map_err(study)?;
@@ -276,7 +302,8 @@ fn compute(base: &Scenario, quiet: bool, start: Instant) -> CliResult<PaperData>
     let mut recommended = Vec::new();
     for law in LAWS {
         for (r, z) in [(INF, 100.0), (100.0, INF), (100.0, 100.0)] {
-            recommended.push(deviations(base, law, r, z).map_err(|e| CliError::failed(anyhow!("{e}")))?);
+            recommended
+                .push(deviations(base, law, r, z).map_err(|e| CliError::failed(anyhow!("{e}")))?);
         }
     }
     let mut limit_jobs = Vec::new();
@@ -297,7 +324,14 @@ fn compute(base: &Scenario, quiet: bool, start: Instant) -> CliResult<PaperData>
         .iter()
         .map(|&z| {
             let d = |law| {
-                dembound_core::study::recommend::deviation(base, law, INF, z, Quantity::MaxOverlap, Model::Exact)
+                dembound_core::study::recommend::deviation(
+                    base,
+                    law,
+                    INF,
+                    z,
+                    Quantity::MaxOverlap,
+                    Model::Exact,
+                )
             };
             Ok((z, d(ContactLawKind::Linear)?, d(ContactLawKind::Hertz)?))
         })
@@ -348,7 +382,7 @@ fn quoted_numbers(sc: &Scaling, ind: &[QuotedIndicator]) -> Vec<Quoted> {
             unit: "µs".into(),
             decimals: 3,
             note: format!(
-                "ERRATA 13: r = 1000, ζ = ∞ gives {} µs",
+                "ERRATA 13: r = ζ = 1000 would give {} µs",
                 sig(sc.t_r1000 * 1e6, 4)
             ),
         },
@@ -362,7 +396,7 @@ fn quoted_numbers(sc: &Scaling, ind: &[QuotedIndicator]) -> Vec<Quoted> {
             note: "overlap relative to the particle".into(),
         },
         Quoted {
-            what: "h_NL_max / R_b at r = 1000".into(),
+            what: "h_max / R_b at r = ζ = 1000".into(),
             paper: "0.104".into(),
             ours: sc.h_r1000 / (1000.0 * base_scenario().particle.radius) * 100.0 * 1e3,
             integrator: None,
@@ -445,7 +479,12 @@ fn fig4(d: &PaperData, r: f64, letter: char) -> Figure {
         }
     }
     series.push(Series::new("integrator, Hertz", vec![], Mark::Points, 7));
-    series.push(Series::new("integrator, linear", vec![], Mark::Triangles, 7));
+    series.push(Series::new(
+        "integrator, linear",
+        vec![],
+        Mark::Triangles,
+        7,
+    ));
     Figure {
         title: format!("Fig 4{letter}: overlap histories, r = {}", show(r)),
         x_label: "time since contact onset t* = t / T_c_NL  (1)".into(),
@@ -487,18 +526,31 @@ fn curves(
             }
         };
         cases.sort_by(|a, b| x(a).total_cmp(&x(b)));
-        let exact = cases.iter().map(|c| (x(c), c.first().exact.get(q) / scale)).collect();
+        let exact = cases
+            .iter()
+            .map(|c| (x(c), c.first().exact.get(q) / scale))
+            .collect();
         let num = cases
             .iter()
             .filter(|c| marked(x(c)))
             .map(|c| (x(c), c.first().numerical.get(q) / scale))
             .collect();
         let name = if along_r { "ζ" } else { "r" };
-        series.push(Series::new(format!("{name} = {}", show(o)), exact, Mark::Line, i));
+        series.push(Series::new(
+            format!("{name} = {}", show(o)),
+            exact,
+            Mark::Line,
+            i,
+        ));
         series.push(Series::new("", num, Mark::Points, i));
     }
     series.push(Series::new("lines: exact reference", vec![], Mark::Line, 7));
-    series.push(Series::new("points: integrator (Gear5, η = 1/50)", vec![], Mark::Points, 7));
+    series.push(Series::new(
+        "points: integrator (Gear5, η = 1/50)",
+        vec![],
+        Mark::Points,
+        7,
+    ));
     series
 }
 
@@ -511,7 +563,13 @@ fn fig8(d: &PaperData, axis: Axis) -> Figure {
         let mut v: Vec<f64> = sw
             .cases
             .iter()
-            .map(|c| if along_r { c.key.radius_ratio } else { c.key.modulus_ratio })
+            .map(|c| {
+                if along_r {
+                    c.key.radius_ratio
+                } else {
+                    c.key.modulus_ratio
+                }
+            })
             .filter(|x| *x < PAPER_MAX)
             .collect();
         v.sort_by(f64::total_cmp);
@@ -521,19 +579,31 @@ fn fig8(d: &PaperData, axis: Axis) -> Figure {
     for law in LAWS {
         let c = law_color(law);
         let alpha = law.exponent();
-        let theory = xs.iter().map(|&x| (x, eq33(axis, x, PAPER_MAX, alpha, false))).collect();
+        let theory = xs
+            .iter()
+            .map(|&x| (x, eq33(axis, x, PAPER_MAX, alpha, false)))
+            .collect();
         series.push(Series::new(
-            format!("{}: eq 33{} corrected (theory)", law.name(), if along_r { "b" } else { "a" }),
+            format!(
+                "{}: eq 33{} corrected (theory)",
+                law.name(),
+                if along_r { "b" } else { "a" }
+            ),
             theory,
             Mark::Line,
             c,
         ));
         // Numerical: eq 32 on the integrator's h_max, every curve of Fig 5 (6).
-        let mark = if law == ContactLawKind::Linear { Mark::Triangles } else { Mark::Points };
+        let mark = if law == ContactLawKind::Linear {
+            Mark::Triangles
+        } else {
+            Mark::Points
+        };
         for (k, &o) in others.iter().enumerate() {
             let at = |x: f64| {
                 let (r, z) = if along_r { (x, o) } else { (o, x) };
-                sw.find(0, law, r, z).map(|c| c.first().numerical.max_overlap)
+                sw.find(0, law, r, z)
+                    .map(|c| c.first().numerical.max_overlap)
             };
             let Some(h_max) = at(PAPER_MAX) else { continue };
             let pts = xs
@@ -562,13 +632,23 @@ fn fig8(d: &PaperData, axis: Axis) -> Figure {
             .iter()
             .map(|&x| (x, eq33(axis, x, PAPER_MAX, 1.5, true)))
             .collect();
-        series.push(Series::new("Hertz: eq 33b as printed", printed, Mark::Dashed, 1));
+        series.push(Series::new(
+            "Hertz: eq 33b as printed",
+            printed,
+            Mark::Dashed,
+            1,
+        ));
     } else {
         let printed = xs
             .iter()
             .map(|&x| (x, eq33(axis, x, PAPER_MAX, 1.5, true)))
             .collect();
-        series.push(Series::new("eq 33a as printed (both laws)", printed, Mark::Dashed, 6));
+        series.push(Series::new(
+            "eq 33a as printed (both laws)",
+            printed,
+            Mark::Dashed,
+            6,
+        ));
     }
     Figure {
         title: format!(
@@ -577,7 +657,11 @@ fn fig8(d: &PaperData, axis: Axis) -> Figure {
             axis.symbol(),
             axis.symbol()
         ),
-        x_label: if along_r { R_LABEL.into() } else { Z_LABEL.into() },
+        x_label: if along_r {
+            R_LABEL.into()
+        } else {
+            Z_LABEL.into()
+        },
         y_label: "indicator ΔΨ on h_max  (%)".into(),
         x_log: true,
         y_log: true,
@@ -596,7 +680,8 @@ fn figures(d: &PaperData) -> Vec<(String, Figure, String)> {
             format!(
                 "Fig 4{letter}: overlap h* = h/h_NL_max against t* = t/T_c_NL during the first contact, r = {}, \
                  ζ = 1, 10, 100, 1000; Hertz solid lines and circles, linear dashed lines and triangles. \
-                 Lines: exact reference (`exact::overlap_at`); points: every second integrator step.",
+                 Lines: exact reference (`exact::overlap_at`); points: integrator steps \
+                 (every 2nd for Hertz, every 4th for linear).",
                 show(*r)
             ),
         ));
@@ -607,14 +692,20 @@ fn figures(d: &PaperData) -> Vec<(String, Figure, String)> {
         out.push((
             format!("fig5{letter}"),
             Figure {
-                title: format!("Fig 5{letter}: maximum overlap against r, {} law", law.name()),
+                title: format!(
+                    "Fig 5{letter}: maximum overlap against r, {} law",
+                    law.name()
+                ),
                 x_label: R_LABEL.into(),
                 y_label: "h*_max = h_max / h_NL_max  (1)".into(),
                 x_log: true,
                 y_log: false,
                 series: curves(&d.sweep_r, *law, true, &ZETAS, h, sc.h_nl),
             },
-            format!("Fig 5{letter}: h*_max against r for ζ = 1, 10, 100, 1000, {} law.", law.name()),
+            format!(
+                "Fig 5{letter}: h*_max against r for ζ = 1, 10, 100, 1000, {} law.",
+                law.name()
+            ),
         ));
     }
     for (law, letter) in LAWS.iter().zip(['a', 'b']) {
@@ -718,7 +809,9 @@ fn report_markdown(
             q.unit,
             q.paper,
             sig(q.ours, 7),
-            q.integrator.map(|x| sig(x, 7)).unwrap_or_else(|| "–".into()),
+            q.integrator
+                .map(|x| sig(x, 7))
+                .unwrap_or_else(|| "–".into()),
             q.ours - q.paper_value(),
             if q.agrees() { "yes" } else { "**no**" },
             q.note
@@ -803,8 +896,18 @@ fn report_markdown(
          | law | r | ζ | h_max exact | h_max integrator | T_c exact | T_c integrator | a_max exact | a_max integrator |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for dv in &d.recommended {
-        let g = |q: Quantity| dv.quantities.iter().find(|x| x.quantity == q).map(|x| (x.exact, x.simulated)).unwrap_or((f64::NAN, f64::NAN));
-        let (h, t, a) = (g(Quantity::MaxOverlap), g(Quantity::Duration), g(Quantity::MaxAcceleration));
+        let g = |q: Quantity| {
+            dv.quantities
+                .iter()
+                .find(|x| x.quantity == q)
+                .map(|x| (x.exact, x.simulated))
+                .unwrap_or((f64::NAN, f64::NAN))
+        };
+        let (h, t, a) = (
+            g(Quantity::MaxOverlap),
+            g(Quantity::Duration),
+            g(Quantity::MaxAcceleration),
+        );
         let _ = writeln!(
             m,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
@@ -827,7 +930,11 @@ fn report_markdown(
     );
     for law in LAWS {
         for q in Quantity::ALL {
-            let find = |axis| d.limits.iter().find(|l| l.law == law && l.quantity == q && l.solved == axis);
+            let find = |axis| {
+                d.limits
+                    .iter()
+                    .find(|l| l.law == law && l.quantity == q && l.solved == axis)
+            };
             let show_l = |l: Option<&Limit>| match l.map(|l| l.outcome) {
                 Some(Outcome::Found { value }) => sig(value, 6),
                 Some(Outcome::Unreachable { .. }) => "none".into(),
@@ -837,10 +944,22 @@ fn report_markdown(
             let (z, r) = (find(Axis::Modulus), find(Axis::Radius));
             let free = format!(
                 "ζ = {}, r = {}",
-                z.and_then(|l| l.gravity_free).map(|x| sig(x, 6)).unwrap_or_else(|| "–".into()),
-                r.and_then(|l| l.gravity_free).map(|x| sig(x, 6)).unwrap_or_else(|| "–".into())
+                z.and_then(|l| l.gravity_free)
+                    .map(|x| sig(x, 6))
+                    .unwrap_or_else(|| "–".into()),
+                r.and_then(|l| l.gravity_free)
+                    .map(|x| sig(x, 6))
+                    .unwrap_or_else(|| "–".into())
             );
-            let _ = writeln!(m, "| {} | {} | {} | {} | {} |", law.name(), q.symbol(), show_l(z), show_l(r), free);
+            let _ = writeln!(
+                m,
+                "| {} | {} | {} | {} | {} |",
+                law.name(),
+                q.symbol(),
+                show_l(z),
+                show_l(r),
+                free
+            );
         }
     }
 
@@ -874,7 +993,7 @@ const ERRATA_USED: [&str; 11] = [
     "ERRATA 4 — the drop is a 5 mm gap (10 R_m), not 5 R_m: only this gives the paper's v_c = −0.313 m/s, which all of section 5 uses.",
     "ERRATA 6 and 8 — the exact references: the corrected linear closed forms (eq 26's arctan branch, eq 28's sign) and the Hertz quadrature with gravity.",
     "ERRATA 9–12 — Tables 1–2: units, the mislabelled reference row and the δ values (see the tables above).",
-    "ERRATA 13 — h_NL_max and T_c_NL are the Hertz values for r = ζ = ∞ (r = 1000 would give T_c = 4.899 µs, not 4.896 µs).",
+    "ERRATA 13 — h_NL_max and T_c_NL are the Hertz values for r = ζ = ∞ (r = ζ = 1000, the study's stiffest case, gives the same h_max to three digits but T_c = 4.899 µs, not 4.896 µs).",
     "ERRATA 14 — the quoted percentages are indicator (32) on h_max with ζ_max = r_max = 1000, at 10 and 100, with gravity.",
     "ERRATA 15 — eq 33a's prefactor exponent and both eqs' Hertz exponents are corrected; the printed forms are shown beside (Fig 8, tables).",
     "ERRATA 16 — the convergence laws: exponents 1/(α+1) in ζ̄ and (2−α)/(α+1) in r̄ (1/2, 1/2 linear; 2/5, 1/5 Hertz), a_max inversely, v_r constant; Fig 8a's \"single curve\" holds per law only.",
@@ -887,7 +1006,11 @@ fn base64(bytes: &[u8]) -> String {
     const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
         let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
         for i in 0..4 {
             if i <= chunk.len() {
@@ -907,7 +1030,12 @@ fn report_html(markdown: &str, dir: &Path) -> Result<String> {
     let mut failed = None;
     let events: Vec<Event> = parser
         .map(|e| match e {
-            Event::Start(Tag::Image { link_type, dest_url, title, id }) if !dest_url.starts_with("data:") => {
+            Event::Start(Tag::Image {
+                link_type,
+                dest_url,
+                title,
+                id,
+            }) if !dest_url.starts_with("data:") => {
                 let path = dir.join(dest_url.as_ref());
                 match std::fs::read(&path) {
                     Ok(bytes) => Event::Start(Tag::Image {
@@ -918,7 +1046,12 @@ fn report_html(markdown: &str, dir: &Path) -> Result<String> {
                     }),
                     Err(err) => {
                         failed.get_or_insert(anyhow!("cannot embed {}: {err}", path.display()));
-                        Event::Start(Tag::Image { link_type, dest_url, title, id })
+                        Event::Start(Tag::Image {
+                            link_type,
+                            dest_url,
+                            title,
+                            id,
+                        })
                     }
                 }
             }
@@ -951,8 +1084,12 @@ pub fn run(args: &PaperArgs) -> CliResult {
 
     stage(args.quiet, start, "figures and report");
     let dir = &args.out;
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::failed(anyhow!("cannot create output directory `{}`: {e}", dir.display())))?;
+    std::fs::create_dir_all(dir).map_err(|e| {
+        CliError::failed(anyhow!(
+            "cannot create output directory `{}`: {e}",
+            dir.display()
+        ))
+    })?;
     let figs = figures(&data);
     let mut written: Vec<PathBuf> = figs
         .par_iter()
@@ -962,7 +1099,8 @@ pub fn run(args: &PaperArgs) -> CliResult {
         .into_iter()
         .flatten()
         .collect();
-    let conv_figs = validation::convergence_figures(&data.convergence, dir).map_err(CliError::failed)?;
+    let conv_figs =
+        validation::convergence_figures(&data.convergence, dir).map_err(CliError::failed)?;
     written.extend(conv_figs.iter().cloned());
     let captions: Vec<(String, String)> = figs.into_iter().map(|(s, _, c)| (s, c)).collect();
     let md = report_markdown(&data, &captions, &conv_figs, compute_seconds);
@@ -982,15 +1120,28 @@ pub fn run(args: &PaperArgs) -> CliResult {
     let mut stdout = std::io::stdout().lock();
     let mut t = comfy_table::Table::new();
     t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
-    t.set_header(vec!["quoted in the paper", "unit", "paper", "ours (exact)", "ours (integrator)", "same digits"]);
+    t.set_header(vec![
+        "quoted in the paper",
+        "unit",
+        "paper",
+        "ours (exact)",
+        "ours (integrator)",
+        "same digits",
+    ]);
     for q in &data.quoted {
         t.add_row(vec![
             q.what.clone(),
             q.unit.clone(),
             q.paper.clone(),
             sig(q.ours, 7),
-            q.integrator.map(|x| sig(x, 7)).unwrap_or_else(|| "–".into()),
-            if q.agrees() { "yes".into() } else { "NO".into() },
+            q.integrator
+                .map(|x| sig(x, 7))
+                .unwrap_or_else(|| "–".into()),
+            if q.agrees() {
+                "yes".into()
+            } else {
+                "NO".into()
+            },
         ]);
     }
     let total = start.elapsed().as_secs_f64();

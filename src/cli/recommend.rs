@@ -10,7 +10,9 @@ use anyhow::{anyhow, bail, Result};
 use clap::Args;
 use comfy_table::{presets, CellAlignment, Table};
 use dembound_core::contact::ContactLawKind;
-use dembound_core::study::recommend::{deviations, smallest, Deviations, Limit, Outcome, RecommendError};
+use dembound_core::study::recommend::{
+    deviations, smallest, Deviations, Limit, Outcome, RecommendError,
+};
 use dembound_core::study::{Axis, Quantity};
 use serde::Serialize;
 use std::io::Write;
@@ -21,7 +23,7 @@ pub struct RecommendArgs {
     pub scenario: ScenarioArgs,
 
     /// Largest allowed deviation |q(r, ζ)/q(∞, ∞) − 1|, a fraction (0.01) or a percentage (1%)
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub tolerance: Option<String>,
 
     /// Contact laws (default: linear,hertz)
@@ -33,11 +35,11 @@ pub struct RecommendArgs {
     pub quantity: Option<String>,
 
     /// Boundary radius ratio r (`inf` allowed): with --tolerance, the smallest ζ for this r
-    #[arg(long = "r", value_name = "R")]
+    #[arg(long = "r", value_name = "R", allow_hyphen_values = true)]
     pub r: Option<String>,
 
     /// Boundary modulus ratio ζ (`inf` allowed): with --tolerance, the smallest r for this ζ
-    #[arg(long = "zeta", value_name = "Z")]
+    #[arg(long = "zeta", value_name = "Z", allow_hyphen_values = true)]
     pub zeta: Option<String>,
 
     /// Print one JSON object to stdout instead of the table
@@ -171,7 +173,10 @@ pub fn run(args: &RecommendArgs) -> CliResult {
                      (Brent), checked by the integrator ({}, η = {}) at the limit",
                     sig(tolerance * 100.0, 4),
                     base.integration.scheme.name(),
-                    base.integration.eta.map(|e| e.to_string()).unwrap_or_else(|| "given Δt".into())
+                    base.integration
+                        .eta
+                        .map(|e| e.to_string())
+                        .unwrap_or_else(|| "given Δt".into())
                 )
                 .map_err(CliError::failed)?;
                 for l in limits {
@@ -202,7 +207,8 @@ pub fn run(args: &RecommendArgs) -> CliResult {
 }
 
 fn pct(x: Option<f64>) -> String {
-    x.map(|x| format!("{} %", sig(x * 100.0, 6))).unwrap_or_else(|| "–".into())
+    x.map(|x| format!("{} %", sig(x * 100.0, 6)))
+        .unwrap_or_else(|| "–".into())
 }
 
 fn value(x: Option<f64>) -> String {
@@ -250,7 +256,14 @@ fn limits_table(limits: &[Limit]) -> Table {
 fn deviations_table(ds: &[Deviations]) -> Table {
     let mut t = Table::new();
     t.load_preset(presets::UTF8_FULL_CONDENSED);
-    t.set_header(vec!["law", "r", "ζ", "quantity", "exact deviation", "integrator deviation"]);
+    t.set_header(vec![
+        "law",
+        "r",
+        "ζ",
+        "quantity",
+        "exact deviation",
+        "integrator deviation",
+    ]);
     for d in ds {
         for q in &d.quantities {
             t.add_row(vec![

@@ -24,11 +24,21 @@ pub struct SweepArgs {
     pub scenario: ScenarioArgs,
 
     /// Boundary radius ratios r = R_b/R_m: `1,10,100,inf`, `log:0.5:1000:13`, `lin:1:5:5` or a mix
-    #[arg(long = "r", value_name = "LIST", required = true)]
+    #[arg(
+        long = "r",
+        value_name = "LIST",
+        required = true,
+        allow_hyphen_values = true
+    )]
     pub r: String,
 
     /// Boundary modulus ratios ζ = E_b/E_m (same syntax as --r)
-    #[arg(long = "zeta", value_name = "LIST", required = true)]
+    #[arg(
+        long = "zeta",
+        value_name = "LIST",
+        required = true,
+        allow_hyphen_values = true
+    )]
     pub zeta: String,
 
     /// Contact laws: `linear,hertz` or `power=1.25` (default: the scenario's)
@@ -71,7 +81,9 @@ fn variants(args: &SweepArgs) -> Result<Vec<Variant>> {
             ("contact.law", "--law"),
         ];
         if let Some((_, flag)) = reserved.iter().find(|(k, _)| key.starts_with(k)) {
-            return Err(anyhow!("--vary `{v}`: `{key}` is swept with {flag}, not --vary"));
+            return Err(anyhow!(
+                "--vary `{v}`: `{key}` is swept with {flag}, not --vary"
+            ));
         }
         let mut values = Vec::new();
         for item in list.split(',').map(str::trim) {
@@ -252,10 +264,18 @@ fn ratio_text(x: f64) -> String {
 /// are ratios (1).
 fn write_csv(result: &SweepResult, w: &mut dyn Write) -> Result<()> {
     let mut csv = csv::Writer::from_writer(w);
-    let mut header: Vec<String> = ["variant", "variant_label", "law", "r", "zeta", "contact", "steps"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    let mut header: Vec<String> = [
+        "variant",
+        "variant_label",
+        "law",
+        "r",
+        "zeta",
+        "contact",
+        "steps",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     for (name, unit, _) in FIELDS {
         header.push(format!("{name}_{unit}_integrator"));
         header.push(format!("{name}_{unit}_exact"));
@@ -344,7 +364,11 @@ fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
         v
     };
     for (variant, law) in combos {
-        let suffix = if many { format!("_v{variant}") } else { String::new() };
+        let suffix = if many {
+            format!("_v{variant}")
+        } else {
+            String::new()
+        };
         let title_variant = if many {
             format!(" ({})", result.variants[variant].label)
         } else {
@@ -352,7 +376,9 @@ fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
         };
         for q in Quantity::ALL {
             // (x axis name, x values, curve parameter values, is_r_axis)
-            for (xname, xs, others, along_r) in [("r", &rs, &all_z, true), ("zeta", &zs, &all_r, false)] {
+            for (xname, xs, others, along_r) in
+                [("r", &rs, &all_z, true), ("zeta", &zs, &all_r, false)]
+            {
                 if xs.len() < 2 {
                     continue;
                 }
@@ -394,7 +420,11 @@ fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
                     y_log: false,
                     series,
                 };
-                let stem = dir.join(format!("{}_vs_{xname}_{}{suffix}", q.key(), law_file_name(law)));
+                let stem = dir.join(format!(
+                    "{}_vs_{xname}_{}{suffix}",
+                    q.key(),
+                    law_file_name(law)
+                ));
                 written.extend(fig.write(&stem)?);
             }
         }
