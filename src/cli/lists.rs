@@ -76,8 +76,8 @@ fn range(flag: &str, item: &str, spec: &str, log: bool) -> Result<Vec<f64>> {
         .trim()
         .parse()
         .map_err(|_| bad("N is not a whole number"))?;
-    if !(a.is_finite() && b.is_finite()) || n < 2 || n > 100_000 || (log && (a <= 0.0 || b <= 0.0))
-    {
+    let finite = a.is_finite() && b.is_finite() && (2..=100_000).contains(&n);
+    if !finite || (log && (a <= 0.0 || b <= 0.0)) {
         return Err(bad("out of range"));
     }
     Ok((0..n)
@@ -97,7 +97,7 @@ fn range(flag: &str, item: &str, spec: &str, log: bool) -> Result<Vec<f64>> {
 /// A list of positive ratios (r or ζ).
 pub fn ratios(flag: &str, text: &str) -> Result<Vec<f64>> {
     let xs = numbers(flag, text)?;
-    if let Some(x) = xs.iter().find(|x| !(**x > 0.0)) {
+    if let Some(x) = xs.iter().find(|x| x.is_nan() || **x <= 0.0) {
         bail!("invalid value for `{flag}`: {x} (allowed: > 0, or inf)");
     }
     Ok(xs)
