@@ -34,10 +34,15 @@ pub enum Mark {
     /// Markers only (numerical points).
     Points,
     /// Line with markers.
+    #[allow(dead_code)] // part of the plotting API; no figure of this branch uses it
     LinePoints,
+    /// Hollow triangles only (a second kind of numerical points).
+    Triangles,
 }
 
-/// One curve of a figure.
+/// One curve of a figure. A series with an empty label is drawn but gets
+/// no legend entry; a series without points gets only its legend entry
+/// (to explain a marker or line style once for many series).
 #[derive(Debug, Clone)]
 pub struct Series {
     pub label: String,
@@ -124,6 +129,69 @@ fn tick(v: f64) -> String {
     }
 }
 
+/// Where the legend goes: the corner that covers the fewest data points.
+fn legend_position(fig: &Figure, x: (f64, f64), y: (f64, f64)) -> SeriesLabelPosition {
+    let norm = |v: f64, (lo, hi): (f64, f64), log: bool| {
+        if log {
+            (v.log10() - lo.log10()) / (hi.log10() - lo.log10())
+        } else {
+            (v - lo) / (hi - lo)
+        }
+    };
+    let entries = fig.series.iter().filter(|s| !s.label.is_empty()).count() as f64;
+    let longest = fig
+        .series
+        .iter()
+        .map(|s| s.label.chars().count())
+        .max()
+        .unwrap_or(0) as f64;
+    // The legend box as a fraction of the plotting area (14 px font, ~780 × 480 px area).
+    let (w, h) = (
+        ((longest * 7.5 + 50.0) / 780.0).min(0.9),
+        ((entries * 19.0 + 12.0) / 480.0).min(0.95),
+    );
+    let corners = [
+        (SeriesLabelPosition::UpperRight, 1.0 - w, 1.0, 1.0 - h, 1.0),
+        (SeriesLabelPosition::UpperLeft, 0.0, w, 1.0 - h, 1.0),
+        (SeriesLabelPosition::LowerRight, 1.0 - w, 1.0, 0.0, h),
+        (SeriesLabelPosition::LowerLeft, 0.0, w, 0.0, h),
+    ];
+    let mut best = (usize::MAX, SeriesLabelPosition::UpperRight);
+    for (pos, x0, x1, y0, y1) in corners {
+        let mut covered = 0;
+        for s in &fig.series {
+            // Lines count along their length: sample between the points.
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .filter(|p| (!fig.x_log || p.0 > 0.0) && (!fig.y_log || p.1 > 0.0))
+                .map(|p| (norm(p.0, x, fig.x_log), norm(p.1, y, fig.y_log)))
+                .collect();
+            let mut probe = |u: f64, v: f64| {
+                if u >= x0 - 0.02 && u <= x1 + 0.02 && v >= y0 - 0.03 && v <= y1 + 0.03 {
+                    covered += 1;
+                }
+            };
+            for (i, p) in pts.iter().enumerate() {
+                probe(p.0, p.1);
+                if let (Some(q), Mark::Line | Mark::Dashed | Mark::LinePoints) =
+                    (pts.get(i + 1), s.mark)
+                {
+                    for k in 1..8 {
+                        let t = k as f64 / 8.0;
+                        probe(p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1));
+                    }
+                }
+            }
+        }
+        if covered < best.0 {
+            best = (covered, pos);
+        }
+    }
+    best.1
+}
+
 impl Figure {
     fn ranges(&self) -> Result<((f64, f64), (f64, f64))> {
         let pts = || self.series.iter().flat_map(|s| s.points.iter());
@@ -187,6 +255,12 @@ impl Figure {
                         Mark::Points => chart
                             .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c.filled())))
                             .map_err(|e| anyhow!("{e:?}"))?,
+                        Mark::Triangles => chart
+                            .draw_series(
+                                pts.into_iter()
+                                    .map(|p| TriangleMarker::new(p, 5, c.stroke_width(2))),
+                            )
+                            .map_err(|e| anyhow!("{e:?}"))?,
                         Mark::LinePoints => {
                             chart
                                 .draw_series(LineSeries::new(pts.clone(), c.stroke_width(1)))
@@ -196,21 +270,27 @@ impl Figure {
                                 .map_err(|e| anyhow!("{e:?}"))?
                         }
                     };
+                    if s.label.is_empty() {
+                        continue;
+                    }
                     let mark = s.mark;
-                    // The legend sample: a marker for points, two dashes for
-                    // a dashed line, a solid line otherwise.
                     anno.label(s.label.clone())
                         .legend(move |(x, y)| match mark {
                             Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+                            Mark::Triangles => {
+                                TriangleMarker::new((x + 10, y), 5, c.stroke_width(2)).into_dyn()
+                            }
                             Mark::Dashed => plotters::element::DashedPathElement::new(
-                                vec![(x, y), (x + 20, y)],
-                                7,
+                                vec![(x, y), (x + 22, y)],
+                                6,
                                 4,
                                 c.stroke_width(2),
                             )
                             .into_dyn(),
-                            _ => PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                                .into_dyn(),
+                            Mark::Line | Mark::LinePoints => {
+                                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                                    .into_dyn()
+                            }
                         });
                 }
                 chart
@@ -218,7 +298,7 @@ impl Figure {
                     .background_style(WHITE.mix(0.85))
                     .border_style(RGBColor(160, 160, 160))
                     .label_font(("sans-serif", 14))
-                    .position(SeriesLabelPosition::UpperRight)
+                    .position(legend_position(self, (x0, x1), (y0, y1)))
                     .draw()
                     .map_err(|e| anyhow!("{e:?}"))?;
             }};

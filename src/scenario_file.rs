@@ -34,11 +34,17 @@ pub struct ScenarioArgs {
 impl ScenarioArgs {
     /// The scenario these arguments describe, validated.
     pub fn load(&self) -> Result<Scenario> {
+        self.load_with(&[])
+    }
+
+    /// The scenario with `extra` `--set` overrides applied after the user's.
+    pub fn load_with(&self, extra: &[String]) -> Result<Scenario> {
         let file = match &self.scenario {
             Some(path) => Some((path.as_path(), read_file(path)?)),
             None => None,
         };
-        load(file.as_ref().map(|(p, t)| (*p, t.as_str())), &self.set)
+        let sets: Vec<String> = self.set.iter().chain(extra).cloned().collect();
+        load(file.as_ref().map(|(p, t)| (*p, t.as_str())), &sets)
     }
 }
 

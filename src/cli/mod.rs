@@ -4,7 +4,11 @@
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
 pub mod exact;
+pub mod lists;
+pub mod paper;
+pub mod recommend;
 pub mod run;
+pub mod sweep;
 pub mod validate;
 
 use clap::{Parser, Subcommand};
@@ -30,6 +34,15 @@ enum Command {
     /// Reproduce the paper's Tables 1–2 against the exact reference, and a
     /// convergence study in the time step
     Validate(validate::ValidateArgs),
+    /// Sweep r, ζ, laws and other keys; integrator beside the exact
+    /// reference, normalised by the rigid half-space
+    Sweep(sweep::SweepArgs),
+    /// Smallest ζ or r within a tolerance of the rigid half-space, or the
+    /// deviations at a given (r, ζ)
+    Recommend(recommend::RecommendArgs),
+    /// Reproduce the paper's section 5 (Figs 4–8, quoted numbers, Tables
+    /// 1–2) into a directory with report.md and report.html
+    Paper(paper::PaperArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -75,6 +88,9 @@ pub fn main() -> ExitCode {
         Command::Run(args) => run::run(args),
         Command::Exact(args) => exact::run(args),
         Command::Validate(args) => validate::run(args),
+        Command::Sweep(args) => sweep::run(args),
+        Command::Recommend(args) => recommend::run(args),
+        Command::Paper(args) => paper::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -47,3 +47,18 @@ impl Observer for Progress {
         }
     }
 }
+
+/// A bar counting finished cases of a study, on stderr; `None` when quiet or
+/// when stderr is not a terminal. Safe to tick from several threads.
+pub fn counter(total: usize, quiet: bool, what: &str) -> Option<ProgressBar> {
+    if quiet || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = ProgressBar::new(total as u64);
+    let style = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} [{{wide_bar}}] {{pos}}/{{len}} {what}, ETA {{eta}}"
+    ))
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style.progress_chars("=> "));
+    Some(bar)
+}

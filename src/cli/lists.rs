@@ -1,0 +1,180 @@
+//! Parsing of list arguments shared by `sweep` and `recommend`: numbers
+//! (`inf` allowed), generated ranges and contact laws. Every error names the
+//! flag, the value and what is allowed.
+
+use anyhow::{anyhow, bail, Result};
+use dembound_core::contact::ContactLawKind;
+
+/// One number, `inf` (also `infinity`) allowed.
+pub fn number(flag: &str, text: &str) -> Result<f64> {
+    let t = text.trim();
+    let x = match t.to_ascii_lowercase().as_str() {
+        "inf" | "+inf" | "infinity" | "+infinity" => f64::INFINITY,
+        other => other.parse::<f64>().map_err(|_| {
+            anyhow!("invalid value for `{flag}`: `{t}` is not a number (allowed: a number or inf)")
+        })?,
+    };
+    if x.is_nan() {
+        bail!("invalid value for `{flag}`: `{t}` (allowed: a number or inf)");
+    }
+    Ok(x)
+}
+
+/// A positive ratio (> 0, `inf` allowed).
+pub fn ratio(flag: &str, text: &str) -> Result<f64> {
+    let x = number(flag, text)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        bail!("invalid value for `{flag}`: {x} (allowed: > 0, or inf)")
+    }
+}
+
+/// A list: comma-separated items, each a number, `inf`, `log:A:B:N` (N
+/// values from A to B evenly in log, ends included) or `lin:A:B:N`.
+pub fn numbers(flag: &str, text: &str) -> Result<Vec<f64>> {
+    let mut out = Vec::new();
+    for item in text.split(',').map(str::trim) {
+        if item.is_empty() {
+            bail!("invalid value for `{flag}`: `{text}` has an empty item (allowed: e.g. 1,10,100,inf or log:1:1000:13)");
+        }
+        let lower = item.to_ascii_lowercase();
+        if let Some(spec) = lower
+            .strip_prefix("log:")
+            .map(|s| (s, true))
+            .or_else(|| lower.strip_prefix("lin:").map(|s| (s, false)))
+        {
+            out.extend(range(flag, item, spec.0, spec.1)?);
+        } else {
+            out.push(number(flag, item)?);
+        }
+    }
+    Ok(out)
+}
+
+fn range(flag: &str, item: &str, spec: &str, log: bool) -> Result<Vec<f64>> {
+    let bad = |why: &str| {
+        anyhow!(
+            "invalid value for `{flag}`: `{item}`: {why} (allowed: {}:A:B:N with finite A, B{} and N ≥ 2)",
+            if log { "log" } else { "lin" },
+            if log { " > 0" } else { "" }
+        )
+    };
+    let parts: Vec<&str> = spec.split(':').collect();
+    if parts.len() != 3 {
+        return Err(bad("expected three fields"));
+    }
+    let a: f64 = parts[0]
+        .trim()
+        .parse()
+        .map_err(|_| bad("A is not a number"))?;
+    let b: f64 = parts[1]
+        .trim()
+        .parse()
+        .map_err(|_| bad("B is not a number"))?;
+    let n: usize = parts[2]
+        .trim()
+        .parse()
+        .map_err(|_| bad("N is not a whole number"))?;
+    let finite = a.is_finite() && b.is_finite() && (2..=100_000).contains(&n);
+    if !finite || (log && (a <= 0.0 || b <= 0.0)) {
+        return Err(bad("out of range"));
+    }
+    Ok((0..n)
+        .map(|i| {
+            let t = i as f64 / (n - 1) as f64;
+            if i == n - 1 {
+                b
+            } else if log {
+                a * (b / a).powf(t)
+            } else {
+                a + t * (b - a)
+            }
+        })
+        .collect())
+}
+
+/// A list of positive ratios (r or ζ).
+pub fn ratios(flag: &str, text: &str) -> Result<Vec<f64>> {
+    let xs = numbers(flag, text)?;
+    if let Some(x) = xs.iter().find(|x| x.is_nan() || **x <= 0.0) {
+        bail!("invalid value for `{flag}`: {x} (allowed: > 0, or inf)");
+    }
+    Ok(xs)
+}
+
+/// One contact law: `linear`, `hertz`, or a power `α` (`power=1.25`, `1.25`), 1 ≤ α ≤ 3.
+pub fn law(flag: &str, text: &str) -> Result<ContactLawKind> {
+    let t = text.trim().to_ascii_lowercase();
+    let alpha = match t.as_str() {
+        "linear" => return Ok(ContactLawKind::Linear),
+        "hertz" => return Ok(ContactLawKind::Hertz),
+        other => other
+            .strip_prefix("power=")
+            .or_else(|| other.strip_prefix("power:"))
+            .unwrap_or(other)
+            .parse::<f64>()
+            .ok(),
+    };
+    match alpha {
+        Some(a) if (1.0..=3.0).contains(&a) => Ok(ContactLawKind::Power(a)),
+        _ => bail!(
+            "invalid value for `{flag}`: `{}` (allowed: linear, hertz, or power=α with 1 ≤ α ≤ 3)",
+            text.trim()
+        ),
+    }
+}
+
+/// A comma-separated list of laws.
+pub fn laws(flag: &str, text: &str) -> Result<Vec<ContactLawKind>> {
+    text.split(',').map(|t| law(flag, t)).collect()
+}
+
+/// A ratio for tables and labels: `inf` or the shortest number.
+pub fn show(x: f64) -> String {
+    if x.is_infinite() {
+        "∞".into()
+    } else {
+        let s = format!("{x}");
+        if s.len() > 8 {
+            crate::output::format::sig(x, 4)
+        } else {
+            s
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists() {
+        assert_eq!(
+            numbers("--r", "1, 10,100,inf").unwrap(),
+            vec![1.0, 10.0, 100.0, f64::INFINITY]
+        );
+        let l = numbers("--zeta", "log:1:1000:13").unwrap();
+        assert_eq!(l.len(), 13);
+        assert_eq!((l[0], l[12]), (1.0, 1000.0));
+        assert!((l[4] - 10.0).abs() < 1e-12);
+        assert_eq!(
+            numbers("--x", "lin:0:1:3,5").unwrap(),
+            vec![0.0, 0.5, 1.0, 5.0]
+        );
+        for bad in ["", "1,,2", "abc", "log:0:10:3", "log:1:10", "lin:1:2:1"] {
+            let e = numbers("--r", bad).unwrap_err().to_string();
+            assert!(e.contains("`--r`"), "{e}");
+        }
+        assert!(ratios("--r", "1,-2")
+            .unwrap_err()
+            .to_string()
+            .contains("-2"));
+        assert_eq!(laws("--law", "linear,HERTZ,power=1.25").unwrap().len(), 3);
+        assert!(law("--law", "cubic")
+            .unwrap_err()
+            .to_string()
+            .contains("cubic"));
+        assert!(law("--law", "4").is_err());
+    }
+}

@@ -1,0 +1,291 @@
+//! `dembound sweep`, `recommend` and `paper`, through the real binary.
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+fn dembound() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_dembound"))
+}
+
+fn json(args: &[&str]) -> Value {
+    let out = dembound().args(args).output().expect("the binary runs");
+    assert!(
+        out.status.success(),
+        "dembound {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+}
+
+/// Runs and expects exit 2 with `needle` in stderr.
+fn bad_input(args: &[&str], needle: &str) {
+    let out = dembound().args(args).output().expect("the binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert!(err.contains(needle), "{args:?}: `{needle}` not in {err}");
+}
+
+#[test]
+fn sweep_reports_every_case_and_writes_its_files() {
+    let v = json(&[
+        "sweep",
+        "--r",
+        "1,inf",
+        "--zeta",
+        "log:1:100:3",
+        "--law",
+        "linear,hertz",
+        "--vary",
+        "motion.gap=0.001,0.005",
+        "--json",
+        "--quiet",
+    ]);
+    let cases = v["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 2 * 2 * 2 * 3);
+    assert_eq!(v["variants"].as_array().unwrap().len(), 2);
+    assert_eq!(cases[0]["key"]["radius_ratio"], 1.0);
+    assert_eq!(cases[3]["key"]["radius_ratio"], "inf");
+    for c in cases {
+        let e = &c["contacts"][0]["relative_error"]["max_overlap"];
+        assert!(e.as_f64().unwrap().abs() < 2e-4, "{c}");
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s");
+    dembound()
+        .args(["sweep", "--r", "1,10,inf", "--zeta", "1,10", "--out"])
+        .arg(&out)
+        .args(["--plot", "--quiet"])
+        .assert()
+        .success();
+    for f in [
+        "sweep.csv",
+        "sweep.json",
+        "max_overlap_vs_r_hertz.png",
+        "duration_vs_zeta_hertz.svg",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count(),
+        1 + 6 * 2,
+        "one row per case and contact"
+    );
+    assert!(csv
+        .lines()
+        .next()
+        .unwrap()
+        .contains("max_overlap_normalised_exact"));
+}
+
+#[test]
+fn sweep_bad_input_exits_2_naming_the_field() {
+    bad_input(&["sweep", "--r", "1,x", "--zeta", "1"], "--r");
+    bad_input(&["sweep", "--r", "1", "--zeta", "-3"], "--zeta");
+    bad_input(&["sweep", "--r", "1", "--zeta", "log:0:10:3"], "--zeta");
+    bad_input(
+        &["sweep", "--r", "1", "--zeta", "1", "--law", "cubic"],
+        "--law",
+    );
+    bad_input(
+        &[
+            "sweep",
+            "--r",
+            "1",
+            "--zeta",
+            "1",
+            "--vary",
+            "motion.gap=-1",
+        ],
+        "motion.gap",
+    );
+    bad_input(
+        &[
+            "sweep",
+            "--r",
+            "1",
+            "--zeta",
+            "1",
+            "--vary",
+            "boundary.radius_ratio=1",
+        ],
+        "--r",
+    );
+    bad_input(&["sweep", "--r", "1", "--zeta", "1", "--plot"], "--out");
+    bad_input(&["sweep", "--zeta", "1"], "--r");
+}
+
+#[test]
+fn recommend_matches_the_closed_forms() {
+    // Hertz, h_max, T = 1 %: gravity-free closed forms ζ = 1/((1+T)^2.5 − 1),
+    // r = 1/((1+T)^5 − 1); with gravity the closed form derived in
+    // core::study::recommend (module doc). Both to 1e−6.
+    let v = json(&[
+        "recommend",
+        "--tolerance",
+        "0.01",
+        "--law",
+        "hertz",
+        "--quantity",
+        "max_overlap",
+        "--json",
+    ]);
+    let limits = v["limits"].as_array().unwrap();
+    assert_eq!(limits.len(), 2);
+    let zeta0 = 1.0 / (1.01f64.powf(2.5) - 1.0);
+    let r0 = 1.0 / (1.01f64.powf(5.0) - 1.0);
+    for l in limits {
+        let value = l["outcome"]["value"].as_f64().unwrap();
+        let closed = l["closed_form"].as_f64().unwrap();
+        let free = l["gravity_free"].as_f64().unwrap();
+        assert!((value / closed - 1.0).abs() < 1e-6, "{l}");
+        let expect = if l["solved"] == "modulus" { zeta0 } else { r0 };
+        assert!((free / expect - 1.0).abs() < 1e-12, "{l}");
+        // Gravity moves the limit by ~4e−5 only.
+        assert!((value / expect - 1.0).abs() < 1e-4, "{l}");
+    }
+    // Without gravity the search itself gives the closed form.
+    let v = json(&[
+        "recommend",
+        "--tolerance",
+        "0.01",
+        "--law",
+        "hertz",
+        "--quantity",
+        "h_max",
+        "--set",
+        "motion.gravity=0",
+        "--set",
+        "motion.velocity=-0.3132",
+        "--set",
+        "motion.contacts=1",
+        "--json",
+    ]);
+    for l in v["limits"].as_array().unwrap() {
+        let value = l["outcome"]["value"].as_f64().unwrap();
+        let expect = if l["solved"] == "modulus" { zeta0 } else { r0 };
+        assert!((value / expect - 1.0).abs() < 1e-6, "{l}");
+    }
+    // Given r = 10, no ζ keeps h_max within 1 %: said plainly.
+    let out = dembound()
+        .args([
+            "recommend",
+            "--tolerance",
+            "1%",
+            "--law",
+            "hertz",
+            "--quantity",
+            "h_max",
+            "--r",
+            "10",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("no ζ satisfies T"));
+    // Deviations at the paper's recommendation.
+    let v = json(&[
+        "recommend",
+        "--r",
+        "100",
+        "--zeta",
+        "100",
+        "--law",
+        "hertz",
+        "--json",
+    ]);
+    let q = &v["deviations"][0]["quantities"];
+    assert_eq!(q.as_array().unwrap().len(), 3);
+    let h = q[0]["exact"].as_f64().unwrap();
+    assert!((h - 0.005988).abs() < 1e-5, "{h}");
+}
+
+#[test]
+fn recommend_bad_input_exits_2_naming_the_field() {
+    bad_input(&["recommend", "--tolerance", "-1"], "--tolerance");
+    bad_input(&["recommend", "--tolerance", "abc"], "--tolerance");
+    bad_input(&["recommend", "--tolerance", "0.01", "--r", "0"], "--r");
+    bad_input(
+        &[
+            "recommend",
+            "--tolerance",
+            "0.01",
+            "--r",
+            "1",
+            "--zeta",
+            "1",
+        ],
+        "--zeta",
+    );
+    bad_input(
+        &["recommend", "--tolerance", "0.01", "--quantity", "speed"],
+        "--quantity",
+    );
+    bad_input(&["recommend", "--r", "10"], "--tolerance");
+    bad_input(
+        &["recommend", "--r", "10", "--zeta", "10", "--law", "x"],
+        "--law",
+    );
+}
+
+#[test]
+fn paper_writes_the_report_figures_and_quoted_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("paper");
+    let run = dembound()
+        .arg("paper")
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("the binary runs");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(
+        stdout.contains("compute time") && stdout.contains("total time"),
+        "{stdout}"
+    );
+    assert!(
+        !stdout.contains("NO"),
+        "a quoted number disagrees: {stdout}"
+    );
+    assert!(
+        String::from_utf8_lossy(&run.stderr).contains("paper:"),
+        "progress on stderr"
+    );
+    let mut names = vec![
+        "report.md".to_string(),
+        "report.html".into(),
+        "paper.json".into(),
+    ];
+    for f in [
+        "4a", "4b", "4c", "5a", "5b", "6a", "6b", "7a", "7b", "8a", "8b",
+    ] {
+        names.push(format!("fig{f}.png"));
+        names.push(format!("fig{f}.svg"));
+    }
+    for n in &names {
+        assert!(out.join(n).exists(), "{n} missing");
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for number in [
+        "0.521",
+        "4.896",
+        "4.829",
+        "3.845",
+        "0.4485",
+        "0.359",
+        "1.904",
+        "0.179",
+        "ERRATA 17",
+    ] {
+        assert!(md.contains(number), "{number} not in report.md");
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("<table>") && html.contains("data:image/png;base64,"));
+    assert!(!html.contains("src=\"fig"), "every figure is embedded");
+}
