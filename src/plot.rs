@@ -1,5 +1,7 @@
 //! Figures: line and point series on linear or logarithmic axes, written as
-//! SVG and PNG side by side (atomically: temporary file, then rename).
+//! SVG and PNG side by side (atomically: temporary file, then rename). A
+//! series with an empty label stays out of the legend; a series with no
+//! points only adds a legend entry (e.g. to explain line styles).
 //!
 //! PNG text needs a font: DejaVu Sans (permissive licence,
 //! `assets/DejaVuSans-LICENSE.txt`) is compiled in and registered with
@@ -76,8 +78,9 @@ pub struct Figure {
     pub series: Vec<Series>,
 }
 
-/// Colour-blind-friendly palette (Okabe–Ito), then black.
-const PALETTE: [RGBColor; 8] = [
+/// Colour-blind-friendly palette (Okabe–Ito), then black, then two more
+/// for figures with many curves.
+const PALETTE: [RGBColor; 10] = [
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
@@ -86,7 +89,12 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(86, 180, 233),
     RGBColor(120, 120, 120),
     RGBColor(0, 0, 0),
+    RGBColor(128, 0, 64),
+    RGBColor(90, 60, 150),
 ];
+
+/// Palette index of black (for legend entries that explain line styles).
+pub const BLACK: usize = 7;
 
 fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
@@ -182,21 +190,30 @@ impl Figure {
                         }
                     };
                     let mark = s.mark;
-                    anno.label(s.label.clone())
-                        .legend(move |(x, y)| match mark {
-                            Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
-                            _ => PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                                .into_dyn(),
-                        });
+                    // An empty label keeps the series out of the legend.
+                    if !s.label.is_empty() {
+                        anno.label(s.label.clone())
+                            .legend(move |(x, y)| match mark {
+                                Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+                                Mark::Dashed => {
+                                    PathElement::new(vec![(x, y), (x + 7, y)], c.stroke_width(2))
+                                        .into_dyn()
+                                }
+                                _ => PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                                    .into_dyn(),
+                            });
+                    }
                 }
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(RGBColor(160, 160, 160))
-                    .label_font(("sans-serif", 14))
-                    .position(SeriesLabelPosition::UpperRight)
-                    .draw()
-                    .map_err(|e| anyhow!("{e:?}"))?;
+                if self.series.iter().any(|s| !s.label.is_empty()) {
+                    chart
+                        .configure_series_labels()
+                        .background_style(WHITE.mix(0.85))
+                        .border_style(RGBColor(160, 160, 160))
+                        .label_font(("sans-serif", 14))
+                        .position(SeriesLabelPosition::UpperRight)
+                        .draw()
+                        .map_err(|e| anyhow!("{e:?}"))?;
+                }
             }};
         }
         match (self.x_log, self.y_log) {

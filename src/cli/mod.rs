@@ -3,6 +3,7 @@
 //! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
+pub mod restitution;
 pub mod run;
 
 use clap::{Parser, Subcommand};
@@ -22,6 +23,10 @@ enum Command {
     /// Run one scenario and report every contact (the paper's validation
     /// case when no file is given)
     Run(run::RunArgs),
+    /// Effective restitution of the dissipative laws on boundary particles
+    /// (sweep over r and ζ, wall- or pair-calibrated damping), or with
+    /// --target the e to enter for a wanted rebound
+    Restitution(restitution::RestitutionArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -65,6 +70,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Run(args) => run::run(args),
+        Command::Restitution(args) => restitution::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,3 +7,4 @@ pub mod history;
 pub mod observer;
 pub mod progress;
 pub mod report;
+pub mod restitution;
