@@ -41,9 +41,9 @@ fn free_boundary_line(s: &Scenario) -> String {
         return String::new();
     };
     format!(
-        "free boundary: m_m = {} kg, m_b = {} kg, reduced mass m* = {} kg; gravity on {} \
-         (relative g = {} m/s²); velocities below are relative (particle − boundary), \
-         each sphere's in the v_m, v_b columns\n",
+        "free boundary: m_m = {} kg, m_b = {} kg, reduced mass m* = {} kg; \
+         motion.gravity_on = \"{}\" (relative g = {} m/s²); velocities below are relative \
+         (particle − boundary), each sphere's in the v_m, v_b columns\n",
         sig(tb.particle_mass, 6),
         sig(mb, 6),
         sig(s.reduced_mass(), 6),
