@@ -115,6 +115,25 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--zeta", "-3"], "> 0"),
         (vec!["--r", "big"], "not a number"),
         (vec!["--law", "hooke"], "unknown law"),
+        (
+            vec![
+                "--law",
+                "viscoelastic",
+                "--e",
+                "0.001",
+                "--r",
+                "1",
+                "--zeta",
+                "1",
+            ],
+            "out of reach",
+        ),
+        (
+            vec![
+                "--target", "0.02", "--law", "tsuji", "--r", "3", "--zeta", "3",
+            ],
+            "out of reach",
+        ),
         (vec!["--calibrate", "floor"], "floor"),
         (vec!["--json"], "--target"),
         (vec!["--set", "boundary.fixed=false"], "fixed boundary"),

@@ -343,11 +343,12 @@ pub fn raw_coefficient(
         DissipativeLaw::Tsuji => HertzTsuji::for_pair(&pair, mass, target).damping,
         DissipativeLaw::Viscoelastic => {
             HertzViscoelastic::for_pair(&pair, mass, target, s.impact_speed(), s.contact.attractive)
-                .map_err(|error| RestitutionError::Simulation {
-                    law,
-                    radius_ratio: s.boundary.radius_ratio,
-                    modulus_ratio: s.boundary.modulus_ratio,
-                    error: error.into(),
+                // A target the law cannot reach is bad input, not a failed run.
+                .map_err(|error| {
+                    RestitutionError::OutOfReach(format!(
+                        "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
+                        s.boundary.radius_ratio, s.boundary.modulus_ratio
+                    ))
                 })?
                 .a
         }
@@ -600,7 +601,6 @@ pub fn required_restitution(
             Err(e) => Err(e),
         }
     };
-    let naive = rebound(target)?.0;
     let (top, _) = rebound(1.0)?;
     if top <= target {
         return Err(RestitutionError::OutOfReach(format!(
@@ -608,28 +608,35 @@ pub fn required_restitution(
              {law} with {calibration} calibration: even e = 1 gives {top:.6}"
         )));
     }
-    // Bracket [lo, hi] with rebound(lo) < E < rebound(hi).
+    // Bracket [lo, hi] with rebound(lo) < E < rebound(hi), halving e from E.
+    let unreachable = |why: String| {
+        RestitutionError::OutOfReach(format!(
+            "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
+             {law} with {calibration} calibration: {why}"
+        ))
+    };
+    let naive = match rebound(target) {
+        Ok((e, _)) => e,
+        Err(RestitutionError::OutOfReach(why)) => return Err(unreachable(why)),
+        Err(e) => return Err(e),
+    };
     let (mut lo, mut hi) = (target, 1.0);
     if naive >= target {
         hi = target;
-        lo = target;
         loop {
             lo *= 0.5;
             if lo < 1e-6 {
-                return Err(RestitutionError::OutOfReach(format!(
-                    "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
-                     {law} with {calibration} calibration: even e = 1e-6 rebounds faster"
+                let slowest = rebound(2.0 * lo)?.0;
+                return Err(unreachable(format!(
+                    "even e = {:.1e} rebounds with {slowest:.6} (with attraction forbidden the \
+                     rebound of the damped laws does not vanish with e)",
+                    2.0 * lo
                 )));
             }
             // A calibration that fails at small e (viscoelastic δ out of range) is out of reach too.
             let e_lo = match rebound(lo) {
                 Ok((e, _)) => e,
-                Err(RestitutionError::Simulation { error, .. }) => {
-                    return Err(RestitutionError::OutOfReach(format!(
-                        "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
-                         {law} with {calibration} calibration ({error})"
-                    )))
-                }
+                Err(RestitutionError::OutOfReach(why)) => return Err(unreachable(why)),
                 Err(e) => return Err(e),
             };
             if e_lo < target {
