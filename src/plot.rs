@@ -1,5 +1,7 @@
 //! Figures: line and point series on linear or logarithmic axes, written as
-//! SVG and PNG side by side (atomically: temporary file, then rename).
+//! SVG and PNG side by side (atomically: temporary file, then rename). A
+//! series with an empty label stays out of the legend; a series with no
+//! points only adds a legend entry (e.g. to explain line styles).
 //!
 //! PNG text needs a font: DejaVu Sans (permissive licence,
 //! `assets/DejaVuSans-LICENSE.txt`) is compiled in and registered with
@@ -79,8 +81,9 @@ pub struct Figure {
     pub series: Vec<Series>,
 }
 
-/// Colour-blind-friendly palette (Okabe–Ito), then black.
-const PALETTE: [RGBColor; 8] = [
+/// Colour-blind-friendly palette (Okabe–Ito), then black, then two more
+/// for figures with many curves.
+const PALETTE: [RGBColor; 10] = [
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
@@ -89,7 +92,12 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(86, 180, 233),
     RGBColor(120, 120, 120),
     RGBColor(0, 0, 0),
+    RGBColor(128, 0, 64),
+    RGBColor(90, 60, 150),
 ];
+
+/// Palette index of black (for legend entries that explain line styles).
+pub const BLACK: usize = 7;
 
 fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]

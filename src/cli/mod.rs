@@ -7,6 +7,7 @@ pub mod exact;
 pub mod lists;
 pub mod paper;
 pub mod recommend;
+pub mod restitution;
 pub mod run;
 pub mod sweep;
 pub mod validate;
@@ -43,6 +44,10 @@ enum Command {
     /// Reproduce the paper's section 5 (Figs 4–8, quoted numbers, Tables
     /// 1–2) into a directory with report.md and report.html
     Paper(paper::PaperArgs),
+    /// Effective restitution of the dissipative laws on boundary particles
+    /// (sweep over r and ζ, wall- or pair-calibrated damping), or with
+    /// --target the e to enter for a wanted rebound
+    Restitution(restitution::RestitutionArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -91,6 +96,7 @@ pub fn main() -> ExitCode {
         Command::Sweep(args) => sweep::run(args),
         Command::Recommend(args) => recommend::run(args),
         Command::Paper(args) => paper::run(args),
+        Command::Restitution(args) => restitution::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

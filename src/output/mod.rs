@@ -7,4 +7,5 @@ pub mod history;
 pub mod observer;
 pub mod progress;
 pub mod report;
+pub mod restitution;
 pub mod validation;

@@ -32,6 +32,23 @@ pub fn header(s: &Scenario, problem: &Problem) -> String {
         sig(s.impact_speed(), 6),
         sig(problem.dt * 1e9, 6),
         sig(problem.expected_steps().round(), 3),
+    ) + &free_boundary_line(s)
+}
+
+/// With a free boundary: the masses and how gravity acts (empty otherwise).
+fn free_boundary_line(s: &Scenario) -> String {
+    let (Some(mb), Some(tb)) = (s.boundary_mass(), s.two_body()) else {
+        return String::new();
+    };
+    format!(
+        "free boundary: m_m = {} kg, m_b = {} kg, reduced mass m* = {} kg; \
+         motion.gravity_on = \"{}\" (relative g = {} m/s²); velocities below are relative \
+         (particle − boundary), each sphere's in the v_m, v_b columns\n",
+        sig(tb.particle_mass, 6),
+        sig(mb, 6),
+        sig(s.reduced_mass(), 6),
+        s.motion.gravity_on.name(),
+        sig(s.relative_gravity(), 6),
     )
 }
 
@@ -56,7 +73,8 @@ pub fn exact_contacts_table(contacts: &[ContactRecord]) -> Table {
 fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> String) -> Table {
     let mut table = Table::new();
     table.load_preset(presets::UTF8_FULL_CONDENSED);
-    table.set_header(vec![
+    let two_body = contacts.iter().any(|c| c.bodies.is_some());
+    let mut header = vec![
         "#",
         "t_c (ms)",
         "t_mp (ms)",
@@ -68,9 +86,19 @@ fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> St
         "v_c (m/s)",
         "v_r (m/s)",
         "steps",
-    ]);
+    ];
+    if two_body {
+        header.extend([
+            "v_m before (m/s)",
+            "v_m after (m/s)",
+            "v_b before (m/s)",
+            "v_b after (m/s)",
+        ]);
+    }
+    let columns = header.len();
+    table.set_header(header);
     for (i, c) in contacts.iter().enumerate() {
-        table.add_row(vec![
+        let mut row = vec![
             (i + 1).to_string(),
             sig(c.t_contact * 1e3, DIGITS),
             sig(c.t_max_overlap * 1e3, DIGITS),
@@ -82,9 +110,21 @@ fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> St
             sig(c.impact_velocity, DIGITS),
             sig(c.rebound_velocity, DIGITS),
             steps(c),
-        ]);
+        ];
+        if let Some(b) = &c.bodies {
+            row.extend(
+                [
+                    b.particle_before,
+                    b.particle_after,
+                    b.boundary_before,
+                    b.boundary_after,
+                ]
+                .map(|v| sig(v, DIGITS)),
+            );
+        }
+        table.add_row(row);
     }
-    right_align(&mut table, 11);
+    right_align(&mut table, columns);
     table
 }
 
@@ -194,9 +234,12 @@ pub fn relative_errors_table(errors: &[RelativeErrors]) -> Table {
 }
 
 /// Writes `contacts.csv`: one row per contact, SI, units in the header.
+/// With a free boundary four columns follow: each sphere's velocity
+/// before and after the contact.
 pub fn write_contacts_csv(contacts: &[ContactRecord], w: &mut dyn Write) -> Result<()> {
     let mut csv = csv::Writer::from_writer(w);
-    csv.write_record([
+    let two_body = contacts.iter().any(|c| c.bodies.is_some());
+    let mut header = vec![
         "contact",
         "t_contact_s",
         "t_max_overlap_s",
@@ -209,9 +252,18 @@ pub fn write_contacts_csv(contacts: &[ContactRecord], w: &mut dyn Write) -> Resu
         "rebound_velocity_m_s",
         "apex_height_m",
         "steps",
-    ])?;
+    ];
+    if two_body {
+        header.extend([
+            "particle_velocity_before_m_s",
+            "particle_velocity_after_m_s",
+            "boundary_velocity_before_m_s",
+            "boundary_velocity_after_m_s",
+        ]);
+    }
+    csv.write_record(&header)?;
     for (i, c) in contacts.iter().enumerate() {
-        csv.write_record([
+        let mut row = vec![
             (i + 1).to_string(),
             exact(c.t_contact),
             exact(c.t_max_overlap),
@@ -224,7 +276,20 @@ pub fn write_contacts_csv(contacts: &[ContactRecord], w: &mut dyn Write) -> Resu
             exact(c.rebound_velocity),
             c.apex_height.map(exact).unwrap_or_default(),
             c.steps.to_string(),
-        ])?;
+        ];
+        if two_body {
+            let b = c.bodies;
+            row.extend(
+                [
+                    b.map(|b| b.particle_before),
+                    b.map(|b| b.particle_after),
+                    b.map(|b| b.boundary_before),
+                    b.map(|b| b.boundary_after),
+                ]
+                .map(|v| v.map(exact).unwrap_or_default()),
+            );
+        }
+        csv.write_record(&row)?;
     }
     csv.flush()?;
     Ok(())

@@ -8,8 +8,8 @@ pub mod schedule;
 mod simulate;
 
 pub use scenario::{
-    BoundarySection, ContactSection, InputError, Integration, Motion, ParticleSection, Scenario,
-    StepRule, Stepping, DEFAULT_ETA,
+    BoundarySection, ContactSection, GravityOn, InputError, Integration, Motion, ParticleSection,
+    Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA,
 };
 pub use simulate::{plan, simulate, simulate_with, Problem, SimulationError};
 
@@ -17,6 +17,11 @@ use serde::{Deserialize, Serialize};
 
 /// Everything measured for one contact. SI units; times from t = 0; x
 /// upward positive.
+///
+/// Against a free boundary (`boundary.fixed = false`) every kinematic
+/// field is of the *relative* motion: x is the gap, velocities are
+/// v_m − v_b, accelerations ẍ_m − ẍ_b, and `restitution` is the ratio of
+/// relative velocities; each sphere's own velocities are in `bodies`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ContactRecord {
     /// Contact onset t_c, s.
@@ -37,7 +42,8 @@ pub struct ContactRecord {
     pub max_overlap: f64,
     /// Peak contact force, N.
     pub max_force: f64,
-    /// Peak net acceleration ẍ (upward positive, gravity included), m/s².
+    /// Peak net acceleration ẍ (upward positive, gravity included), m/s²
+    /// (F_max/m* − g for the relative motion with a free boundary).
     pub max_acceleration: f64,
     /// v_c < 0, m/s.
     pub impact_velocity: f64,
@@ -54,6 +60,41 @@ pub struct ContactRecord {
     pub apex_height: Option<f64>,
     /// Integration steps spent in this contact.
     pub steps: u64,
+    /// Each sphere's velocity before and after the contact, with a free
+    /// boundary (`None` against a fixed one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<BodyVelocities>,
+}
+
+/// The two spheres' velocities at the onset and at the rebound of a contact
+/// with a free boundary, m/s, upward positive.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BodyVelocities {
+    /// v_m at `t_contact`.
+    pub particle_before: f64,
+    /// v_m at `t_rebound`.
+    pub particle_after: f64,
+    /// v_b at `t_contact`.
+    pub boundary_before: f64,
+    /// v_b at `t_rebound`.
+    pub boundary_after: f64,
+}
+
+impl BodyVelocities {
+    /// Both spheres' velocities for `record`, recovered from the
+    /// centre-of-mass motion of `bodies`.
+    pub fn of(record: &ContactRecord, bodies: &TwoBody) -> Self {
+        let (particle_before, boundary_before) =
+            bodies.velocities(record.t_contact, record.impact_velocity);
+        let (particle_after, boundary_after) =
+            bodies.velocities(record.t_rebound, record.rebound_velocity);
+        BodyVelocities {
+            particle_before,
+            particle_after,
+            boundary_before,
+            boundary_after,
+        }
+    }
 }
 
 /// The result of one run.

@@ -23,7 +23,9 @@ pub enum Stepping {
 /// `[particle]`: the mobile sphere.
 pub type ParticleSection = Particle;
 
-/// `[boundary]`: the fixed boundary sphere, relative to the particle.
+/// `[boundary]`: the boundary sphere, relative to the particle. Fixed by
+/// default (the paper); `fixed = false` makes it a free sphere that the
+/// particle meets head-on (see [`Scenario::two_body`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundarySection {
@@ -36,6 +38,80 @@ pub struct BoundarySection {
     /// ν_b; omitted means the particle's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub poisson_ratio: Option<f64>,
+    /// True (default): the boundary is held in place. False: a free sphere
+    /// of mass ρ_b 4/3 π (r R_m)³ that moves under the contact force (and
+    /// gravity, with `motion.gravity_on = "both"`).
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub fixed: bool,
+    /// ρ_b, kg/m³, of a free boundary; omitted means the particle's. Only
+    /// with `fixed = false`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Initial velocity of a free boundary, m/s, upward positive; omitted
+    /// means 0. Only with `fixed = false`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(x: &bool) -> bool {
+    *x
+}
+
+/// Which spheres gravity acts on (TOML `motion.gravity_on`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GravityOn {
+    /// The particle only (default; the paper's case). A free boundary then
+    /// floats weightless and the pair feels g relative to each other.
+    #[default]
+    Particle,
+    /// Both spheres (needs `boundary.fixed = false`): they fall together,
+    /// and their relative motion feels no gravity at all.
+    Both,
+    /// Neither: `motion.gravity` is ignored.
+    None,
+}
+
+impl GravityOn {
+    pub fn name(&self) -> &'static str {
+        match self {
+            GravityOn::Particle => "particle",
+            GravityOn::Both => "both",
+            GravityOn::None => "none",
+        }
+    }
+}
+
+/// The two spheres of a free-boundary run, for recovering each sphere's
+/// motion from the relative coordinate: the centre of mass moves
+/// ballistically (the contact force is internal), so with the relative
+/// velocity v = v_m − v_b, v_m = V + (m_b/M) v and v_b = V − (m_m/M) v.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoBody {
+    /// m_m, kg.
+    pub particle_mass: f64,
+    /// m_b, kg.
+    pub boundary_mass: f64,
+    /// Centre-of-mass velocity at t = 0, m/s, upward positive.
+    pub cm_velocity: f64,
+    /// Its constant acceleration, m/s² (−g, −g m_m/M or 0).
+    pub cm_acceleration: f64,
+}
+
+impl TwoBody {
+    /// (v_m, v_b) at time `t` (s) for the relative velocity `relative` (m/s).
+    pub fn velocities(&self, t: f64, relative: f64) -> (f64, f64) {
+        let total = self.particle_mass + self.boundary_mass;
+        let cm = self.cm_velocity + self.cm_acceleration * t;
+        (
+            cm + self.boundary_mass / total * relative,
+            cm - self.particle_mass / total * relative,
+        )
+    }
 }
 
 /// `[contact]`: the normal contact law and its dissipation. Every key but
@@ -107,6 +183,10 @@ pub struct Motion {
     pub gravity: f64,
     /// Number of rebounds after which the run stops.
     pub contacts: u32,
+    /// Which spheres gravity acts on: `"particle"` (default), `"both"`
+    /// (free boundary only) or `"none"`.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub gravity_on: GravityOn,
 }
 
 /// `[integration]`: scheme, step and stepping mode.
@@ -149,6 +229,9 @@ impl Default for Scenario {
                 radius_ratio: 100.0,
                 modulus_ratio: 100.0,
                 poisson_ratio: None,
+                fixed: true,
+                density: None,
+                velocity: None,
             },
             contact: ContactSection::elastic(ContactLawKind::Hertz),
             motion: Motion {
@@ -156,6 +239,7 @@ impl Default for Scenario {
                 velocity: 0.0,
                 gravity: 9.81,
                 contacts: 2,
+                gravity_on: GravityOn::Particle,
             },
             integration: Integration {
                 scheme: Scheme::Gear5,
@@ -242,6 +326,7 @@ impl Scenario {
         if let Some(nu) = b.poisson_ratio {
             poisson("boundary.poisson_ratio", nu)?;
         }
+        self.validate_free_boundary()?;
         if let ContactLawKind::Power(alpha) = self.contact.law {
             check(
                 (1.0..=3.0).contains(&alpha),
@@ -276,18 +361,37 @@ impl Scenario {
             m.contacts,
             "1 to 1000000",
         )?;
-        if m.gravity == 0.0 {
-            check(
-                m.velocity < 0.0,
-                "motion.velocity",
-                m.velocity,
-                "< 0 (moving towards the boundary) when motion.gravity = 0",
-            )?;
+        if self.relative_gravity() == 0.0 {
+            let why = match m.gravity_on {
+                GravityOn::Particle => "when motion.gravity = 0",
+                GravityOn::Both => {
+                    "when motion.gravity_on = \"both\" (no gravity in the relative motion)"
+                }
+                GravityOn::None => "when motion.gravity_on = \"none\"",
+            };
+            if b.fixed {
+                check(
+                    m.velocity < 0.0,
+                    "motion.velocity",
+                    m.velocity,
+                    &format!("< 0 (moving towards the boundary) {why}"),
+                )?;
+            } else {
+                check(
+                    self.relative_velocity() < 0.0,
+                    "motion.velocity",
+                    m.velocity,
+                    &format!(
+                        "< boundary.velocity = {} (the spheres approaching) {why}",
+                        b.velocity.unwrap_or(0.0)
+                    ),
+                )?;
+            }
             check(
                 m.contacts == 1,
                 "motion.contacts",
                 m.contacts,
-                "1 when motion.gravity = 0 (the particle never comes back)",
+                &format!("1 {why} (the spheres never meet again)"),
             )?;
         }
         let i = &self.integration;
@@ -302,6 +406,46 @@ impl Scenario {
                 i.eta.unwrap_or(0.0),
                 "absent when integration.dt is given (give one of them)",
             )?;
+        }
+        Ok(())
+    }
+
+    /// `boundary.fixed`, `boundary.density`, `boundary.velocity` and
+    /// `motion.gravity_on`: ranges and combinations.
+    fn validate_free_boundary(&self) -> Result<(), InputError> {
+        let b = &self.boundary;
+        if b.fixed {
+            check(
+                b.density.is_none(),
+                "boundary.density",
+                b.density.unwrap_or(0.0),
+                "absent unless boundary.fixed = false (a fixed boundary has no mass in the problem)",
+            )?;
+            check(
+                b.velocity.is_none(),
+                "boundary.velocity",
+                b.velocity.unwrap_or(0.0),
+                "absent unless boundary.fixed = false (a fixed boundary does not move)",
+            )?;
+            check(
+                self.motion.gravity_on != GravityOn::Both,
+                "motion.gravity_on",
+                "\"both\"",
+                "\"particle\" or \"none\" with a fixed boundary (\"both\" needs boundary.fixed = false)",
+            )?;
+            return Ok(());
+        }
+        check(
+            b.radius_ratio.is_finite(),
+            "boundary.radius_ratio",
+            b.radius_ratio,
+            "finite when boundary.fixed = false (a free half-space would have infinite mass)",
+        )?;
+        if let Some(rho) = b.density {
+            positive("boundary.density", rho, "kg/m³")?;
+        }
+        if let Some(v) = b.velocity {
+            check(v.is_finite(), "boundary.velocity", v, "finite, in m/s")?;
         }
         Ok(())
     }
@@ -422,20 +566,86 @@ impl Scenario {
         }
     }
 
-    /// The scenario with every default written out (η when no Δt is given).
+    /// The scenario with every default written out (η when no Δt is given;
+    /// a free boundary's density and velocity).
     pub fn resolved(&self) -> Scenario {
         let mut s = *self;
         if s.integration.dt.is_none() && s.integration.eta.is_none() {
             s.integration.eta = Some(DEFAULT_ETA);
         }
+        if !s.boundary.fixed {
+            s.boundary.density.get_or_insert(s.particle.density);
+            s.boundary.velocity.get_or_insert(0.0);
+        }
         s
     }
 
-    /// Speed at the first contact, m/s (≥ 0): √(v₀² + 2 g H₀) with gravity,
-    /// |v₀| without (ERRATA item 7).
+    /// Mass of a free boundary, ρ_b 4/3 π (r R_m)³, kg; `None` when fixed.
+    pub fn boundary_mass(&self) -> Option<f64> {
+        let b = &self.boundary;
+        (!b.fixed).then(|| {
+            let radius = b.radius_ratio * self.particle.radius;
+            let density = b.density.unwrap_or(self.particle.density);
+            4.0 / 3.0 * std::f64::consts::PI * density * radius.powi(3)
+        })
+    }
+
+    /// The mass of the relative motion, kg: the particle's against a fixed
+    /// boundary, m* = m_m m_b/(m_m + m_b) against a free one.
+    pub fn reduced_mass(&self) -> f64 {
+        let m = self.particle.mass();
+        match self.boundary_mass() {
+            None => m,
+            Some(mb) => m * mb / (m + mb),
+        }
+    }
+
+    /// Gravity in the relative motion (the particle's minus the
+    /// boundary's), m/s², acting to close the gap: g with gravity on the
+    /// particle only, 0 with gravity on both or none.
+    pub fn relative_gravity(&self) -> f64 {
+        match self.motion.gravity_on {
+            GravityOn::Particle => self.motion.gravity,
+            GravityOn::Both | GravityOn::None => 0.0,
+        }
+    }
+
+    /// Initial relative velocity v_m − v_b, m/s (the particle's velocity
+    /// against a fixed boundary).
+    pub fn relative_velocity(&self) -> f64 {
+        if self.boundary.fixed {
+            self.motion.velocity
+        } else {
+            self.motion.velocity - self.boundary.velocity.unwrap_or(0.0)
+        }
+    }
+
+    /// The two spheres of a free-boundary run; `None` when the boundary is fixed.
+    pub fn two_body(&self) -> Option<TwoBody> {
+        let mb = self.boundary_mass()?;
+        let mm = self.particle.mass();
+        let total = mm + mb;
+        let g = self.motion.gravity;
+        let vb = self.boundary.velocity.unwrap_or(0.0);
+        let cm_acceleration = match self.motion.gravity_on {
+            GravityOn::Particle => -g * mm / total,
+            GravityOn::Both => -g,
+            GravityOn::None => 0.0,
+        };
+        Some(TwoBody {
+            particle_mass: mm,
+            boundary_mass: mb,
+            cm_velocity: (mm * self.motion.velocity + mb * vb) / total,
+            cm_acceleration,
+        })
+    }
+
+    /// Relative speed at the first contact, m/s (≥ 0): √(v₀² + 2 g H₀) with
+    /// v₀ and g those of the relative motion ([`Self::relative_velocity`],
+    /// [`Self::relative_gravity`]), |v₀| without gravity (ERRATA item 7).
     pub fn impact_speed(&self) -> f64 {
-        let m = &self.motion;
-        (m.velocity * m.velocity + 2.0 * m.gravity * m.gap).sqrt()
+        let v = self.relative_velocity();
+        (v * v + 2.0 * self.relative_gravity() * self.motion.gap).sqrt()
     }
 }
 
@@ -522,6 +732,35 @@ mod tests {
             ("motion.contacts", |s| s.motion.contacts = 0),
             ("integration.eta", |s| s.integration.eta = Some(1.5)),
             ("integration.dt", |s| s.integration.dt = Some(0.0)),
+            ("boundary.density", |s| s.boundary.density = Some(2000.0)),
+            ("boundary.velocity", |s| s.boundary.velocity = Some(0.1)),
+            ("motion.gravity_on", |s| {
+                s.motion.gravity_on = GravityOn::Both
+            }),
+            ("boundary.radius_ratio", |s| {
+                s.boundary.fixed = false;
+                s.boundary.radius_ratio = f64::INFINITY;
+            }),
+            ("boundary.density", |s| {
+                s.boundary.fixed = false;
+                s.boundary.density = Some(-1.0);
+            }),
+            ("boundary.velocity", |s| {
+                s.boundary.fixed = false;
+                s.boundary.velocity = Some(f64::NAN);
+            }),
+            ("motion.velocity", |s| {
+                s.boundary.fixed = false;
+                s.motion.gravity_on = GravityOn::Both;
+                s.motion.contacts = 1;
+                s.motion.velocity = -0.1;
+                s.boundary.velocity = Some(-0.2);
+            }),
+            ("motion.contacts", |s| {
+                s.boundary.fixed = false;
+                s.motion.gravity_on = GravityOn::None;
+                s.motion.velocity = -0.3;
+            }),
         ];
         for (field, spoil) in cases {
             let mut s = Scenario::default();

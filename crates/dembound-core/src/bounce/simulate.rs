@@ -15,7 +15,8 @@
 use super::events::{locate, locate_where, time_to_surface, Crossing};
 use super::schedule::{GradedSteps, Grading};
 use super::{
-    ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule, Stepping,
+    BodyVelocities, ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule,
+    Stepping, TwoBody,
 };
 use crate::contact::{with_model, LawVisitor, ModelError, NormalContactLaw};
 use crate::integrate::{Gear5, Integrator, Kinematics, Scheme, Verlet};
@@ -65,15 +66,21 @@ impl From<InputError> for SimulationError {
 }
 
 /// The numerical problem a run solves, resolved from a [`Scenario`] and its law.
+///
+/// It has one degree of freedom, the gap x between the surfaces: against a
+/// fixed boundary the particle's position, against a free one the relative
+/// coordinate, with the reduced mass m* and the difference of the two
+/// spheres' gravity (the time loop does not know which).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Problem {
-    /// Particle mass, kg.
+    /// Mass of the relative motion, kg: the particle's against a fixed
+    /// boundary, m* = m_m m_b/(m_m + m_b) against a free one.
     pub mass: f64,
-    /// g, m/s².
+    /// Gravity of the relative motion, m/s² ([`Scenario::relative_gravity`]).
     pub gravity: f64,
     /// Initial gap, m.
     pub gap: f64,
-    /// Initial velocity, m/s, upward positive.
+    /// Initial (relative) velocity, m/s, upward positive.
     pub velocity: f64,
     /// Rebounds to run.
     pub contacts: u32,
@@ -82,14 +89,17 @@ pub struct Problem {
     /// The contact-time estimate Δt came from, s.
     pub contact_time_estimate: f64,
     pub stepping: Stepping,
+    /// The two spheres, with a free boundary: each sphere's velocities are
+    /// recovered from the relative ones after the run.
+    pub two_body: Option<TwoBody>,
 }
 
 impl Problem {
     /// Resolves Δt for `law` (Δt = η T_c with the law's estimate at the
     /// first impact speed, or Δt as given).
     pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Self {
-        let mass = s.particle.mass();
-        let g = s.motion.gravity;
+        let mass = s.reduced_mass();
+        let g = s.relative_gravity();
         let mut speed = s.impact_speed();
         if speed <= 0.0 {
             // Dropped with no speed onto the surface: the gravity-driven
@@ -114,11 +124,12 @@ impl Problem {
             mass,
             gravity: g,
             gap: s.motion.gap,
-            velocity: s.motion.velocity,
+            velocity: s.relative_velocity(),
             contacts: s.motion.contacts,
             dt,
             contact_time_estimate: estimate,
             stepping: s.integration.stepping,
+            two_body: s.two_body(),
         }
     }
 
@@ -167,7 +178,7 @@ pub fn simulate<O: Observer>(
     with_model(
         &s.contact.model(),
         &s.pair(),
-        s.particle.mass(),
+        s.reduced_mass(),
         s.impact_speed(),
         Visit {
             scenario: s,
@@ -190,7 +201,7 @@ pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
     Ok(with_model(
         &s.contact.model(),
         &s.pair(),
-        s.particle.mass(),
+        s.reduced_mass(),
         s.impact_speed(),
         Plan(s),
     )?)
@@ -218,16 +229,28 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         history: L::History::default(),
         released: false,
     };
-    let contacts = match problem.stepping {
+    let mut contacts = match problem.stepping {
         Stepping::Event => run.event_stepping()?,
         Stepping::Fixed => run.fixed_stepping()?,
     };
+    if let Some(bodies) = &problem.two_body {
+        attach_bodies(&mut contacts, bodies);
+    }
     Ok(RunOutcome {
         contacts,
         steps: run.steps,
         dt: problem.dt,
         contact_time_estimate: problem.contact_time_estimate,
     })
+}
+
+/// Each sphere's velocities of every contact, from the relative ones (kept
+/// out of line: the fixed-boundary path never calls it).
+#[inline(never)]
+fn attach_bodies(contacts: &mut [ContactRecord], bodies: &TwoBody) {
+    for c in contacts {
+        c.bodies = Some(BodyVelocities::of(c, bodies));
+    }
 }
 
 struct Run<'a, L: NormalContactLaw, I, O> {
@@ -703,6 +726,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                         apex_height: (g > 0.0)
                             .then(|| rebound_velocity * rebound_velocity / (2.0 * g)),
                         steps,
+                        bodies: None,
                     },
                     step_end: ends.absolute_end(t_c, tau_end),
                     steps: ends.grid_steps(),

@@ -1,10 +1,12 @@
 //! Studies built on the scenario and the exact references: the paper's
 //! validation (Tables 1–2) and convergence in the time step, the parametric
 //! sweep over the boundary (section 5), the paper's indicators and
-//! convergence laws (eqs 32–33), and recommended boundary parameters.
+//! convergence laws (eqs 32–33), and recommended boundary parameters; the restitution study of the dissipative
+//! laws against boundary particles.
 
 pub mod indicators;
 pub mod recommend;
+pub mod restitution;
 pub mod sweep;
 pub mod validation;
 
