@@ -11,6 +11,7 @@ use super::lists::show;
 use super::{CliError, CliResult};
 use crate::output::files::AtomicDir;
 use crate::output::format::sig;
+use crate::output::restitution::{restitution_figures, restitution_markdown};
 use crate::output::validation;
 use crate::plot::{Figure, Mark, Series};
 use anyhow::{anyhow, Result};
@@ -23,6 +24,7 @@ use dembound_core::study::indicators::{
     QuotedIndicator, PAPER_MAX,
 };
 use dembound_core::study::recommend::{deviations, smallest, Deviations, Limit, Outcome};
+use dembound_core::study::restitution::{restitution_sweep, RestitutionSpec, RestitutionStudy};
 use dembound_core::study::sweep::{sweep, SweepResult, SweepSpec};
 use dembound_core::study::validation::{
     convergence, validation_tables, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS,
@@ -241,6 +243,9 @@ pub struct PaperData {
     pub tables: Vec<ValidationTable>,
     #[serde(skip)]
     pub convergence: Vec<ConvergencePoint>,
+    /// Beyond the paper: dissipative laws on boundary particles.
+    #[serde(skip)]
+    pub restitution: RestitutionStudy,
 }
 
 fn stage(quiet: bool, start: Instant, msg: &str) {
@@ -343,8 +348,17 @@ fn compute(base: &Scenario, quiet: bool, start: Instant) -> CliResult<PaperData>
     let tables = tables.map_err(|e| CliError::failed(anyhow!("{e}")))?;
     let convergence = conv.map_err(|e| CliError::failed(anyhow!("{e}")))?;
 
+    stage(
+        quiet,
+        start,
+        "beyond the paper: restitution of dissipative laws",
+    );
+    let restitution = restitution_sweep(&Scenario::default(), &RestitutionSpec::default())
+        .map_err(|e| CliError::failed(anyhow!("{e}")))?;
+
     let quoted = quoted_numbers(&sc, &indicators);
     Ok(PaperData {
+        restitution,
         scenario: *base,
         scaling: sc,
         quoted,
@@ -779,6 +793,7 @@ fn report_markdown(
     d: &PaperData,
     figs: &[(String, String)],
     conv_figs: &[PathBuf],
+    restitution_figs: &[PathBuf],
     compute_seconds: f64,
 ) -> String {
     let mut m = String::new();
@@ -981,6 +996,21 @@ fn report_markdown(
         }
     }
 
+    m.push('\n');
+    m.push_str(&restitution_markdown(&d.restitution));
+    let _ = writeln!(
+        m,
+        "\nEffective restitution against r (all figures, also against ζ and for T_c and \
+         h_max, are in `{RESTITUTION_DIR}/`):\n"
+    );
+    for p in restitution_figs {
+        if let Some(name) = p.file_name().map(|n| n.to_string_lossy()) {
+            if name.ends_with("_restitution_vs_r.png") {
+                let _ = writeln!(m, "![{name}]({RESTITUTION_DIR}/{name})\n");
+            }
+        }
+    }
+
     let _ = writeln!(m, "\n## Where we depart from the printed text\n");
     for item in ERRATA_USED {
         let _ = writeln!(m, "- {item}");
@@ -1076,6 +1106,9 @@ fn report_html(markdown: &str, dir: &Path) -> Result<String> {
 
 // --------------------------------------------------------------------- run
 
+/// Subfolder of the reproduction that holds the restitution study's figures.
+const RESTITUTION_DIR: &str = "restitution";
+
 pub fn run(args: &PaperArgs) -> CliResult {
     let start = Instant::now();
     let base = base_scenario();
@@ -1102,8 +1135,17 @@ pub fn run(args: &PaperArgs) -> CliResult {
     let conv_figs =
         validation::convergence_figures(&data.convergence, dir).map_err(CliError::failed)?;
     written.extend(conv_figs.iter().cloned());
+    let restitution_figs = restitution_figures(&data.restitution, &dir.join(RESTITUTION_DIR))
+        .map_err(CliError::failed)?;
+    written.extend(restitution_figs.iter().cloned());
     let captions: Vec<(String, String)> = figs.into_iter().map(|(s, _, c)| (s, c)).collect();
-    let md = report_markdown(&data, &captions, &conv_figs, compute_seconds);
+    let md = report_markdown(
+        &data,
+        &captions,
+        &conv_figs,
+        &restitution_figs,
+        compute_seconds,
+    );
     let html = report_html(&md, dir).map_err(CliError::failed)?;
     let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
     out.write("report.md", |w| Ok(w.write_all(md.as_bytes())?))
