@@ -121,8 +121,17 @@ pub struct Integration {
     /// Δt in seconds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
+    /// Accuracy target instead of `eta` or `dt`: the largest relative error
+    /// wanted in h_max, T_c and v_r of a contact; Δt is then chosen from
+    /// pilot runs of the first contact (see [`crate::bounce::tolerance`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     pub stepping: Stepping,
 }
+
+/// Range of `integration.tolerance`.
+pub const MIN_TOLERANCE: f64 = 1e-13;
+pub const MAX_TOLERANCE: f64 = 1e-2;
 
 /// The paper's choice η₂ = 1/50 (section 4.2).
 pub const DEFAULT_ETA: f64 = 0.02;
@@ -161,6 +170,7 @@ impl Default for Scenario {
                 scheme: Scheme::Gear5,
                 eta: None,
                 dt: None,
+                tolerance: None,
                 stepping: Stepping::Event,
             },
         }
@@ -174,6 +184,8 @@ pub enum StepRule {
     Fraction(f64),
     /// Δt given, s.
     Fixed(f64),
+    /// Δt chosen for a relative accuracy target.
+    Tolerance(f64),
 }
 
 /// A field with a value outside its allowed range.
@@ -303,6 +315,20 @@ impl Scenario {
                 "absent when integration.dt is given (give one of them)",
             )?;
         }
+        if let Some(tol) = i.tolerance {
+            check(
+                (MIN_TOLERANCE..=MAX_TOLERANCE).contains(&tol),
+                "integration.tolerance",
+                tol,
+                "1e-13 ≤ tolerance ≤ 0.01 (relative error)",
+            )?;
+            check(
+                i.eta.is_none() && i.dt.is_none(),
+                "integration.tolerance",
+                tol,
+                "absent when integration.eta or integration.dt is given (give one of them)",
+            )?;
+        }
         Ok(())
     }
 
@@ -416,6 +442,9 @@ impl Scenario {
 
     /// How Δt is chosen.
     pub fn step_rule(&self) -> StepRule {
+        if let Some(tol) = self.integration.tolerance {
+            return StepRule::Tolerance(tol);
+        }
         match (self.integration.dt, self.integration.eta) {
             (Some(dt), _) => StepRule::Fixed(dt),
             (None, eta) => StepRule::Fraction(eta.unwrap_or(DEFAULT_ETA)),
@@ -425,7 +454,10 @@ impl Scenario {
     /// The scenario with every default written out (η when no Δt is given).
     pub fn resolved(&self) -> Scenario {
         let mut s = *self;
-        if s.integration.dt.is_none() && s.integration.eta.is_none() {
+        if s.integration.dt.is_none()
+            && s.integration.eta.is_none()
+            && s.integration.tolerance.is_none()
+        {
             s.integration.eta = Some(DEFAULT_ETA);
         }
         s
@@ -522,6 +554,17 @@ mod tests {
             ("motion.contacts", |s| s.motion.contacts = 0),
             ("integration.eta", |s| s.integration.eta = Some(1.5)),
             ("integration.dt", |s| s.integration.dt = Some(0.0)),
+            ("integration.tolerance", |s| {
+                s.integration.tolerance = Some(0.5)
+            }),
+            ("integration.tolerance", |s| {
+                s.integration.tolerance = Some(1e-8);
+                s.integration.eta = Some(0.02);
+            }),
+            ("integration.tolerance", |s| {
+                s.integration.tolerance = Some(1e-8);
+                s.integration.dt = Some(1e-9);
+            }),
         ];
         for (field, spoil) in cases {
             let mut s = Scenario::default();

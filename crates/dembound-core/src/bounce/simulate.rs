@@ -14,6 +14,7 @@
 
 use super::events::{locate, locate_where, time_to_surface, Crossing};
 use super::schedule::{GradedSteps, Grading};
+use super::tolerance;
 use super::{
     ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule, Stepping,
 };
@@ -82,12 +83,16 @@ pub struct Problem {
     /// The contact-time estimate Δt came from, s.
     pub contact_time_estimate: f64,
     pub stepping: Stepping,
+    /// With `integration.tolerance`: the estimated largest relative error of
+    /// T_c, h_max and v_r at the chosen Δt (see [`super::tolerance`]).
+    pub error_estimate: Option<f64>,
 }
 
 impl Problem {
     /// Resolves Δt for `law` (Δt = η T_c with the law's estimate at the
-    /// first impact speed, or Δt as given).
-    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Self {
+    /// first impact speed, Δt as given, or Δt for an accuracy target from
+    /// pilot runs: [`super::tolerance`]).
+    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Result<Self, SimulationError> {
         let mass = s.particle.mass();
         let g = s.motion.gravity;
         let mut speed = s.impact_speed();
@@ -109,8 +114,9 @@ impl Problem {
         let dt = match s.step_rule() {
             StepRule::Fixed(dt) => dt,
             StepRule::Fraction(eta) => eta * estimate,
+            StepRule::Tolerance(_) => tolerance::PILOT_ETAS[1] * estimate,
         };
-        Problem {
+        let mut problem = Problem {
             mass,
             gravity: g,
             gap: s.motion.gap,
@@ -119,7 +125,14 @@ impl Problem {
             dt,
             contact_time_estimate: estimate,
             stepping: s.integration.stepping,
+            error_estimate: None,
+        };
+        if let StepRule::Tolerance(tol) = s.step_rule() {
+            let chosen = tolerance::choose_step(s, law, tol, &problem)?;
+            problem.dt = chosen.eta * estimate;
+            problem.error_estimate = Some(chosen.error_estimate);
         }
+        Ok(problem)
     }
 
     /// Expected end time of the run, s (flight exact, contacts estimated).
@@ -154,7 +167,7 @@ pub fn simulate<O: Observer>(
     impl<O: Observer> LawVisitor for Visit<'_, O> {
         type Output = Result<RunOutcome, SimulationError>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
-            let problem = Problem::new(self.scenario, &law);
+            let problem = Problem::new(self.scenario, &law)?;
             match self.scenario.integration.scheme {
                 Scheme::Gear5 => {
                     let gear = Gear5::for_force(law.depends_on_rate());
@@ -182,18 +195,18 @@ pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
     s.validate()?;
     struct Plan<'a>(&'a Scenario);
     impl LawVisitor for Plan<'_> {
-        type Output = Problem;
-        fn visit<L: NormalContactLaw>(self, law: L) -> Problem {
+        type Output = Result<Problem, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             Problem::new(self.0, &law)
         }
     }
-    Ok(with_model(
+    with_model(
         &s.contact.model(),
         &s.pair(),
         s.particle.mass(),
         s.impact_speed(),
         Plan(s),
-    )?)
+    )?
 }
 
 const PROGRESS_EVERY: u64 = 1 << 16;
@@ -227,6 +240,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         steps: run.steps,
         dt: problem.dt,
         contact_time_estimate: problem.contact_time_estimate,
+        error_estimate: problem.error_estimate,
     })
 }
 
@@ -420,9 +434,10 @@ struct ContactEnd {
 }
 
 impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
-    /// Net acceleration ẍ during a contact: the law's force, continued
-    /// smoothly to x > 0 inside the step that contains the rebound (see
-    /// [`NormalContactLaw::force`]).
+    /// Contact part of the acceleration ẍ during a contact (gravity, −g, is
+    /// added by the step: [`Integrator::step_split`]): the law's force per
+    /// unit mass, continued smoothly to x > 0 inside the step that contains
+    /// the rebound (see [`NormalContactLaw::force`]).
     ///
     /// A non-attractive law is integrated with its unclamped force until the
     /// force has returned to zero (so that the step straddling that point
@@ -431,12 +446,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
         let law = &self.acceleration_law;
-        let acceleration = if L::NON_ATTRACTIVE && !self.released {
+        if L::NON_ATTRACTIVE && !self.released {
             law.unclamped_force(-x, -v, &self.history)
         } else {
             law.force(-x, -v, &self.history)
-        };
-        acceleration - self.problem.gravity
+        }
     }
 
     /// Physical net acceleration ẍ at (x, v).
@@ -605,7 +619,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 it.set_step(&mut state, len);
             }
             let mut before = state;
-            it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+            it.step_split(&mut state, -g, |x, v| self.contact_acceleration(x, v));
             steps += 1;
             let mut tau_step = tau_start;
             // Events of this step; a restart replaces (before, state, tau_step, tau_end).
@@ -733,7 +747,8 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let it = self.integrator;
         let start = it.start(d, span);
         let mut state = start;
-        it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+        let g = self.problem.gravity;
+        it.step_split(&mut state, -g, |x, v| self.contact_acceleration(x, v));
         (start, state)
     }
 }
