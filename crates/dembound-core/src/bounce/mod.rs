@@ -2,12 +2,14 @@
 //! boundary sphere, integrated contact by contact, with every event (contact
 //! onset, maximum overlap, rebound) located inside the time step.
 
+pub mod batch;
 pub mod events;
 mod scenario;
 pub mod schedule;
 mod simulate;
 pub mod tolerance;
 
+pub use batch::simulate_batch;
 pub use scenario::{
     BoundarySection, ContactSection, InputError, Integration, Motion, ParticleSection, Scenario,
     StepRule, Stepping, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,

@@ -224,12 +224,10 @@ fn check(ok: bool, field: &str, value: impl fmt::Display, allowed: &str) -> Resu
 }
 
 fn positive(field: &str, x: f64, unit: &str) -> Result<(), InputError> {
-    check(
-        x.is_finite() && x > 0.0,
-        field,
-        x,
-        &format!("finite and > 0, in {unit}"),
-    )
+    if x.is_finite() && x > 0.0 {
+        return Ok(());
+    }
+    check(false, field, x, &format!("finite and > 0, in {unit}"))
 }
 
 fn ratio(field: &str, x: f64) -> Result<(), InputError> {

@@ -18,12 +18,12 @@ use super::{DenseOutput, Integrator, Kinematics};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gear5 {
     /// Corrector coefficients c₀..c₅.
-    corrector: [f64; 6],
+    pub(crate) corrector: [f64; 6],
     /// Σ c_k and Σ k c_k (see [`Gear5State`]).
-    corrector_sums: [f64; 2],
+    pub(crate) corrector_sums: [f64; 2],
     /// Weights α of the part of the next-but-one prediction that the
     /// corrected state already fixes (see [`Gear5State`]).
-    lookahead: [[f64; 6]; 2],
+    pub(crate) lookahead: [[f64; 6]; 2],
 }
 
 const fn gear5(c0: f64) -> Gear5 {
