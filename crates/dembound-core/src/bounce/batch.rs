@@ -1,10 +1,10 @@
 //! Many independent bouncing cases at once: [`simulate_batch`].
 //!
-//! A single trajectory is latency-bound (each step waits for the force of
-//! the previous one: ~25 cycles of a ~70-instruction step). Independent
-//! cases have no such chain, so this path advances [`LANES`] cases together
-//! in structure-of-arrays form: one vector instruction does the same
-//! operation for every lane, and the lanes' chains overlap.
+//! Independent cases share no data, so this path advances [`LANES`] cases
+//! together in structure-of-arrays form: one vector instruction does the
+//! same operation for every lane (the lanes step in lockstep, so an
+//! iteration keeps one step's dependency chain; the gain is in the work per
+//! step, see BENCHMARKS.md: ~2× per thread).
 //!
 //! What is batched: Gear5, event stepping, the elastic Hertz and linear
 //! laws (any particle, boundary, motion, Δt rule). Each lane runs one case
@@ -359,8 +359,7 @@ struct Lanes {
     dt: V,
     half_dt2: V,
     inv_dt: V,
-    gain: [V; 2],
-    lookahead: [V; 2],
+    predicted_sums: [V; 2],
     next: [V; 2],
     // Case constants.
     gravity: V,
@@ -397,8 +396,7 @@ impl Lanes {
             dt: one,
             half_dt2: V::splat(0.5),
             inv_dt: one,
-            gain: [z; 2],
-            lookahead: [z; 2],
+            predicted_sums: [z; 2],
             next: [z; 2],
             gravity: z,
             accel_stiffness: z,
@@ -430,8 +428,7 @@ impl Lanes {
             dt: self.dt.0[l],
             half_dt2: self.half_dt2.0[l],
             inv_dt: self.inv_dt.0[l],
-            gain: [self.gain[0].0[l], self.gain[1].0[l]],
-            lookahead: [self.lookahead[0].0[l], self.lookahead[1].0[l]],
+            predicted_sums: [self.predicted_sums[0].0[l], self.predicted_sums[1].0[l]],
             next: [self.next[0].0[l], self.next[1].0[l]],
         }
     }
@@ -444,8 +441,7 @@ impl Lanes {
         self.half_dt2.0[l] = s.half_dt2;
         self.inv_dt.0[l] = s.inv_dt;
         for i in 0..2 {
-            self.gain[i].0[l] = s.gain[i];
-            self.lookahead[i].0[l] = s.lookahead[i];
+            self.predicted_sums[i].0[l] = s.predicted_sums[i];
             self.next[i].0[l] = s.next[i];
         }
     }
@@ -693,9 +689,6 @@ impl<L: LaneLaw> Kernel<'_, L> {
         s.dt = len;
         s.half_dt2 = 0.5 * len * len;
         s.inv_dt = 1.0 / len;
-        let [cs0, cs1] = gear.corrector_sums;
-        s.gain = [cs0 * s.half_dt2, cs1 * s.half_dt2];
-        s.lookahead = lookahead_sums(&gear, &s.r);
         let next = pascal_sums(&s.r);
         s.next = [
             select(resize, next[0], s.next[0]),
@@ -712,18 +705,19 @@ impl<L: LaneLaw> Kernel<'_, L> {
             r4 + 5.0 * r5,
             r5,
         ];
-        // Force per unit mass at the prediction; correct with c = −g.
-        let f = L::lanes_force(s.accel_stiffness, -x);
-        let c = -s.gravity;
-        let delta = (f + c) * s.half_dt2 - s.r[2];
-        s.next = [
-            (s.lookahead[0] + s.gain[0] * c) + s.gain[0] * f,
-            (s.lookahead[1] + s.gain[1] * c) + s.gain[1] * f,
-        ];
+        s.predicted_sums = pascal_sums(&s.r);
+        // Acceleration at the prediction: the law's force per unit mass
+        // plus c = −g (`Integrator::step_split`); correct.
+        let a = L::lanes_force(s.accel_stiffness, -x) + (-s.gravity);
+        let delta = a * s.half_dt2 - s.r[2];
         for k in 0..6 {
             s.r[k] = s.r[k] + gear.corrector[k] * delta;
         }
-        s.lookahead = lookahead_sums(&gear, &s.r);
+        let [cs0, cs1] = gear.corrector_sums;
+        s.next = [
+            s.predicted_sums[0] + cs0 * delta,
+            s.predicted_sums[1] + cs1 * delta,
+        ];
         s.steps = s.steps + V::splat(1.0);
         // Events.
         let position = s.r[0];
@@ -847,16 +841,6 @@ impl<L: LaneLaw> Kernel<'_, L> {
             self.take_case(l);
         }
     }
-}
-
-/// `Gear5::lookahead_sums` in lanes (same expression tree).
-#[inline(always)]
-fn lookahead_sums(gear: &Gear5, r: &[V; 6]) -> [V; 2] {
-    let [a, b] = &gear.lookahead;
-    [
-        (r[0] + a[1] * r[1]) + ((a[2] * r[2] + a[3] * r[3]) + (a[4] * r[4] + a[5] * r[5])),
-        (b[1] * r[1] + b[2] * r[2]) + ((b[3] * r[3] + b[4] * r[4]) + b[5] * r[5]),
-    ]
 }
 
 /// `gear5::pascal_sums` in lanes (same expression tree).
