@@ -25,7 +25,8 @@ pub struct ScenarioArgs {
     /// Override one key after the file, e.g. `--set contact.law=linear`,
     /// `--set boundary.radius_ratio=inf`, `--set 'contact.law={power=1.25}'`.
     /// VALUE is read as TOML; a bare word that is not TOML is a string.
-    /// Setting integration.dt drops integration.eta and vice versa.
+    /// Setting one of integration.dt, integration.eta and
+    /// integration.tolerance drops the other two.
     /// Repeatable.
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
@@ -159,8 +160,18 @@ fn apply_set(base: &mut Table, arg: &str) -> Result<()> {
     // Δt is given either as a fraction of the contact time or in seconds.
     if section == "integration" && parents.is_empty() {
         match *last {
-            "dt" => drop(table.remove("eta")),
-            "eta" => drop(table.remove("dt")),
+            "dt" => {
+                table.remove("eta");
+                table.remove("tolerance");
+            }
+            "eta" => {
+                table.remove("dt");
+                table.remove("tolerance");
+            }
+            "tolerance" => {
+                table.remove("dt");
+                table.remove("eta");
+            }
             _ => {}
         }
     }

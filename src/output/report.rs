@@ -18,6 +18,11 @@ pub fn header(s: &Scenario, problem: &Problem) -> String {
     let step = match s.step_rule() {
         StepRule::Fraction(eta) => format!("η = {eta} of the contact-time estimate"),
         StepRule::Fixed(_) => "given".to_string(),
+        StepRule::Tolerance(tol) => format!(
+            "η = {} chosen for a relative tolerance of {tol}, estimated error {}",
+            sig(problem.dt / problem.contact_time_estimate, 3),
+            sig(problem.error_estimate.unwrap_or(f64::NAN), 2)
+        ),
     };
     format!(
         "contact law {}, scheme {}, {} stepping, {} contact{}\n\
@@ -306,6 +311,8 @@ pub struct RunReport<'a> {
     /// With `--compare-exact`: per contact, `value / exact − 1` of every field.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relative_errors: Option<Vec<RelativeErrors>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_estimate: Option<f64>,
 }
 
 impl<'a> RunReport<'a> {
@@ -317,6 +324,7 @@ impl<'a> RunReport<'a> {
             dt: outcome.dt,
             contact_time_estimate: outcome.contact_time_estimate,
             relative_errors: None,
+            error_estimate: outcome.error_estimate,
         }
     }
 }

@@ -3,6 +3,8 @@
 //!
 //! `cargo bench -p dembound-core --bench steps`
 //!
+//! Instruction counts of the same loops under callgrind: `examples/step_count.rs`.
+//!
 //! The step benchmarks run 1000 consecutive steps of the in-contact equation
 //! (the law's force continued past h = 0, so the particle oscillates in
 //! contact forever and every step costs what a contact step costs), and
@@ -11,7 +13,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use dembound_core::bounce::{simulate, Scenario, Stepping};
 use dembound_core::contact::{ContactLawKind, Hertz, LinearSpring, NormalContactLaw};
-use dembound_core::integrate::{Gear5, Integrator, Verlet};
+use dembound_core::integrate::{Gear5, Integrator, Scheme, Verlet};
 use dembound_core::material::{Boundary, ContactPair, Particle};
 
 const STEPS: u64 = 1000;
@@ -26,7 +28,7 @@ fn run_steps<I: Integrator, L: NormalContactLaw<History = ()>>(
     let g = 9.81;
     let mut s = it.start([0.0, -0.3132, -g, 0.0, 0.0, 0.0], dt);
     for _ in 0..STEPS {
-        it.step(&mut s, |x, v| law.force(-x, -v, &()) - g);
+        it.step_split(&mut s, -g, |x, v| law.force(-x, -v, &()));
     }
     it.kinematics(&s).position
 }
@@ -57,13 +59,41 @@ fn steps(c: &mut Criterion) {
 
 fn validation_case(c: &mut Criterion) {
     let mut group = c.benchmark_group("validation_case");
-    for (name, law, stepping) in [
-        ("hertz_event", ContactLawKind::Hertz, Stepping::Event),
-        ("linear_event", ContactLawKind::Linear, Stepping::Event),
-        ("hertz_fixed", ContactLawKind::Hertz, Stepping::Fixed),
+    for (name, law, scheme, stepping) in [
+        (
+            "hertz_gear5_event",
+            ContactLawKind::Hertz,
+            Scheme::Gear5,
+            Stepping::Event,
+        ),
+        (
+            "linear_gear5_event",
+            ContactLawKind::Linear,
+            Scheme::Gear5,
+            Stepping::Event,
+        ),
+        (
+            "hertz_verlet_event",
+            ContactLawKind::Hertz,
+            Scheme::Verlet,
+            Stepping::Event,
+        ),
+        (
+            "hertz_gear5_fixed",
+            ContactLawKind::Hertz,
+            Scheme::Gear5,
+            Stepping::Fixed,
+        ),
+        (
+            "linear_gear5_fixed",
+            ContactLawKind::Linear,
+            Scheme::Gear5,
+            Stepping::Fixed,
+        ),
     ] {
         let mut s = Scenario::default();
         s.contact.law = law;
+        s.integration.scheme = scheme;
         s.integration.stepping = stepping;
         if stepping == Stepping::Fixed {
             group.sample_size(10);

@@ -2,14 +2,17 @@
 //! boundary sphere, integrated contact by contact, with every event (contact
 //! onset, maximum overlap, rebound) located inside the time step.
 
+pub mod batch;
 pub mod events;
 mod scenario;
 pub mod schedule;
 mod simulate;
+pub mod tolerance;
 
+pub use batch::simulate_batch;
 pub use scenario::{
     BoundarySection, ContactSection, GravityOn, InputError, Integration, Motion, ParticleSection,
-    Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA,
+    Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,
 };
 pub use simulate::{plan, simulate, simulate_with, Problem, SimulationError};
 
@@ -107,6 +110,10 @@ pub struct RunOutcome {
     pub dt: f64,
     /// The law's contact-time estimate Δt was derived from, s.
     pub contact_time_estimate: f64,
+    /// With `integration.tolerance`: the estimated largest relative error of
+    /// T_c, h_max and v_r at the Δt chosen ([`tolerance`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_estimate: Option<f64>,
 }
 
 /// One point of the trajectory, for histories and plots (SI).

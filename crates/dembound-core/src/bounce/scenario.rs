@@ -201,8 +201,17 @@ pub struct Integration {
     /// Δt in seconds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
+    /// Accuracy target instead of `eta` or `dt`: the largest relative error
+    /// wanted in h_max, T_c and v_r of a contact; Δt is then chosen from
+    /// pilot runs of the first contact (see [`crate::bounce::tolerance`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     pub stepping: Stepping,
 }
+
+/// Range of `integration.tolerance`.
+pub const MIN_TOLERANCE: f64 = 1e-13;
+pub const MAX_TOLERANCE: f64 = 1e-2;
 
 /// The paper's choice η₂ = 1/50 (section 4.2).
 pub const DEFAULT_ETA: f64 = 0.02;
@@ -245,6 +254,7 @@ impl Default for Scenario {
                 scheme: Scheme::Gear5,
                 eta: None,
                 dt: None,
+                tolerance: None,
                 stepping: Stepping::Event,
             },
         }
@@ -258,6 +268,8 @@ pub enum StepRule {
     Fraction(f64),
     /// Δt given, s.
     Fixed(f64),
+    /// Δt chosen for a relative accuracy target.
+    Tolerance(f64),
 }
 
 /// A field with a value outside its allowed range.
@@ -296,12 +308,10 @@ fn check(ok: bool, field: &str, value: impl fmt::Display, allowed: &str) -> Resu
 }
 
 fn positive(field: &str, x: f64, unit: &str) -> Result<(), InputError> {
-    check(
-        x.is_finite() && x > 0.0,
-        field,
-        x,
-        &format!("finite and > 0, in {unit}"),
-    )
+    if x.is_finite() && x > 0.0 {
+        return Ok(());
+    }
+    check(false, field, x, &format!("finite and > 0, in {unit}"))
 }
 
 fn ratio(field: &str, x: f64) -> Result<(), InputError> {
@@ -405,6 +415,20 @@ impl Scenario {
                 "integration.eta",
                 i.eta.unwrap_or(0.0),
                 "absent when integration.dt is given (give one of them)",
+            )?;
+        }
+        if let Some(tol) = i.tolerance {
+            check(
+                (MIN_TOLERANCE..=MAX_TOLERANCE).contains(&tol),
+                "integration.tolerance",
+                tol,
+                "1e-13 ≤ tolerance ≤ 0.01 (relative error)",
+            )?;
+            check(
+                i.eta.is_none() && i.dt.is_none(),
+                "integration.tolerance",
+                tol,
+                "absent when integration.eta or integration.dt is given (give one of them)",
             )?;
         }
         Ok(())
@@ -560,6 +584,9 @@ impl Scenario {
 
     /// How Δt is chosen.
     pub fn step_rule(&self) -> StepRule {
+        if let Some(tol) = self.integration.tolerance {
+            return StepRule::Tolerance(tol);
+        }
         match (self.integration.dt, self.integration.eta) {
             (Some(dt), _) => StepRule::Fixed(dt),
             (None, eta) => StepRule::Fraction(eta.unwrap_or(DEFAULT_ETA)),
@@ -570,7 +597,10 @@ impl Scenario {
     /// a free boundary's density and velocity).
     pub fn resolved(&self) -> Scenario {
         let mut s = *self;
-        if s.integration.dt.is_none() && s.integration.eta.is_none() {
+        if s.integration.dt.is_none()
+            && s.integration.eta.is_none()
+            && s.integration.tolerance.is_none()
+        {
             s.integration.eta = Some(DEFAULT_ETA);
         }
         if !s.boundary.fixed {
@@ -760,6 +790,17 @@ mod tests {
                 s.boundary.fixed = false;
                 s.motion.gravity_on = GravityOn::None;
                 s.motion.velocity = -0.3;
+            }),
+            ("integration.tolerance", |s| {
+                s.integration.tolerance = Some(0.5)
+            }),
+            ("integration.tolerance", |s| {
+                s.integration.tolerance = Some(1e-8);
+                s.integration.eta = Some(0.02);
+            }),
+            ("integration.tolerance", |s| {
+                s.integration.tolerance = Some(1e-8);
+                s.integration.dt = Some(1e-9);
             }),
         ];
         for (field, spoil) in cases {

@@ -56,31 +56,31 @@ const GEOMETRIC_STEPS: u64 = 16;
 /// Step sizes of one contact.
 #[derive(Debug, Clone, Copy)]
 pub struct GradedSteps {
-    dt: f64,
-    grading: Grading,
-    graded: bool,
+    pub(crate) dt: f64,
+    pub(crate) grading: Grading,
+    pub(crate) graded: bool,
     /// Length of the graded onset region and its number of steps.
-    onset_region: f64,
-    onset_steps: u64,
+    pub(crate) onset_region: f64,
+    pub(crate) onset_steps: u64,
     /// Uniform steps left before the end region, and their size.
-    uniform_left: u64,
-    uniform_size: f64,
+    pub(crate) uniform_left: u64,
+    pub(crate) uniform_size: f64,
     /// End region: length, step count, steps left.
-    end_region: f64,
-    end_steps: u64,
-    end_left: u64,
-    planned: bool,
-    last: f64,
+    pub(crate) end_region: f64,
+    pub(crate) end_steps: u64,
+    pub(crate) end_left: u64,
+    pub(crate) planned: bool,
+    pub(crate) last: f64,
 }
 
 /// Steps needed to grade a region of `length` so that its largest step is ≤ Δt.
-fn graded_count(length: f64, dt: f64) -> u64 {
+pub(crate) fn graded_count(length: f64, dt: f64) -> u64 {
     ((f64::from(GRADING_EXPONENT) * length / dt).ceil().max(1.0)) as u64
 }
 
 /// Size of step `j` (0-based, from the thin end) of a region of `length`
 /// graded in `n` steps.
-fn graded_step(length: f64, n: u64, j: u64) -> f64 {
+pub(crate) fn graded_step(length: f64, n: u64, j: u64) -> f64 {
     let q = GRADING_EXPONENT;
     let (a, b) = (j as f64 / n as f64, (j + 1) as f64 / n as f64);
     length * (b.powi(q) - a.powi(q))

@@ -14,6 +14,7 @@
 
 use super::events::{locate, locate_where, time_to_surface, Crossing};
 use super::schedule::{GradedSteps, Grading};
+use super::tolerance;
 use super::{
     BodyVelocities, ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule,
     Stepping, TwoBody,
@@ -92,12 +93,16 @@ pub struct Problem {
     /// The two spheres, with a free boundary: each sphere's velocities are
     /// recovered from the relative ones after the run.
     pub two_body: Option<TwoBody>,
+    /// With `integration.tolerance`: the estimated largest relative error of
+    /// T_c, h_max and v_r at the chosen Δt (see [`super::tolerance`]).
+    pub error_estimate: Option<f64>,
 }
 
 impl Problem {
     /// Resolves Δt for `law` (Δt = η T_c with the law's estimate at the
-    /// first impact speed, or Δt as given).
-    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Self {
+    /// first impact speed, Δt as given, or Δt for an accuracy target from
+    /// pilot runs: [`super::tolerance`]).
+    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Result<Self, SimulationError> {
         let mass = s.reduced_mass();
         let g = s.relative_gravity();
         let mut speed = s.impact_speed();
@@ -119,8 +124,9 @@ impl Problem {
         let dt = match s.step_rule() {
             StepRule::Fixed(dt) => dt,
             StepRule::Fraction(eta) => eta * estimate,
+            StepRule::Tolerance(_) => tolerance::PILOT_ETAS[1] * estimate,
         };
-        Problem {
+        let mut problem = Problem {
             mass,
             gravity: g,
             gap: s.motion.gap,
@@ -130,7 +136,14 @@ impl Problem {
             contact_time_estimate: estimate,
             stepping: s.integration.stepping,
             two_body: s.two_body(),
+            error_estimate: None,
+        };
+        if let StepRule::Tolerance(tol) = s.step_rule() {
+            let chosen = tolerance::choose_step(s, law, tol, &problem)?;
+            problem.dt = chosen.eta * estimate;
+            problem.error_estimate = Some(chosen.error_estimate);
         }
+        Ok(problem)
     }
 
     /// Expected end time of the run, s (flight exact, contacts estimated).
@@ -165,7 +178,7 @@ pub fn simulate<O: Observer>(
     impl<O: Observer> LawVisitor for Visit<'_, O> {
         type Output = Result<RunOutcome, SimulationError>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
-            let problem = Problem::new(self.scenario, &law);
+            let problem = Problem::new(self.scenario, &law)?;
             match self.scenario.integration.scheme {
                 Scheme::Gear5 => {
                     let gear = Gear5::for_force(law.depends_on_rate());
@@ -193,18 +206,18 @@ pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
     s.validate()?;
     struct Plan<'a>(&'a Scenario);
     impl LawVisitor for Plan<'_> {
-        type Output = Problem;
-        fn visit<L: NormalContactLaw>(self, law: L) -> Problem {
+        type Output = Result<Problem, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             Problem::new(self.0, &law)
         }
     }
-    Ok(with_model(
+    with_model(
         &s.contact.model(),
         &s.pair(),
         s.reduced_mass(),
         s.impact_speed(),
         Plan(s),
-    )?)
+    )?
 }
 
 const PROGRESS_EVERY: u64 = 1 << 16;
@@ -241,6 +254,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         steps: run.steps,
         dt: problem.dt,
         contact_time_estimate: problem.contact_time_estimate,
+        error_estimate: problem.error_estimate,
     })
 }
 
@@ -443,9 +457,10 @@ struct ContactEnd {
 }
 
 impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
-    /// Net acceleration ẍ during a contact: the law's force, continued
-    /// smoothly to x > 0 inside the step that contains the rebound (see
-    /// [`NormalContactLaw::force`]).
+    /// Contact part of the acceleration ẍ during a contact (gravity, −g, is
+    /// added by the step: [`Integrator::step_split`]): the law's force per
+    /// unit mass, continued smoothly to x > 0 inside the step that contains
+    /// the rebound (see [`NormalContactLaw::force`]).
     ///
     /// A non-attractive law is integrated with its unclamped force until the
     /// force has returned to zero (so that the step straddling that point
@@ -454,12 +469,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
         let law = &self.acceleration_law;
-        let acceleration = if L::NON_ATTRACTIVE && !self.released {
+        if L::NON_ATTRACTIVE && !self.released {
             law.unclamped_force(-x, -v, &self.history)
         } else {
             law.force(-x, -v, &self.history)
-        };
-        acceleration - self.problem.gravity
+        }
     }
 
     /// Physical net acceleration ẍ at (x, v).
@@ -628,7 +642,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 it.set_step(&mut state, len);
             }
             let mut before = state;
-            it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+            it.step_split(&mut state, -g, |x, v| self.contact_acceleration(x, v));
             steps += 1;
             let mut tau_step = tau_start;
             // Events of this step; a restart replaces (before, state, tau_step, tau_end).
@@ -757,7 +771,8 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let it = self.integrator;
         let start = it.start(d, span);
         let mut state = start;
-        it.step(&mut state, |x, v| self.contact_acceleration(x, v));
+        let g = self.problem.gravity;
+        it.step_split(&mut state, -g, |x, v| self.contact_acceleration(x, v));
         (start, state)
     }
 }

@@ -18,9 +18,9 @@ use super::{DenseOutput, Integrator, Kinematics};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gear5 {
     /// Corrector coefficients c₀..c₅.
-    corrector: [f64; 6],
+    pub(crate) corrector: [f64; 6],
     /// Σ c_k and Σ k c_k (see [`Gear5State`]).
-    corrector_sums: [f64; 2],
+    pub(crate) corrector_sums: [f64; 2],
 }
 
 const fn gear5(c0: f64) -> Gear5 {
@@ -65,12 +65,12 @@ pub struct Gear5State {
     /// Δt, s.
     pub dt: f64,
     /// Δt²/2 and 1/Δt, cached.
-    half_dt2: f64,
-    inv_dt: f64,
+    pub(crate) half_dt2: f64,
+    pub(crate) inv_dt: f64,
     /// Σ r_kᵖ and Σ k r_kᵖ of the current prediction (x and Δt·ẋ before correction).
-    predicted_sums: [f64; 2],
+    pub(crate) predicted_sums: [f64; 2],
     /// x and Δt·ẋ that the next prediction will give.
-    next: [f64; 2],
+    pub(crate) next: [f64; 2],
 }
 
 impl Gear5State {
@@ -90,7 +90,7 @@ impl Gear5State {
 
 /// x and Δt·ẋ of the Taylor prediction from `r`: Σ r_k and Σ k r_k.
 #[inline(always)]
-fn pascal_sums(r: &[f64; 6]) -> [f64; 2] {
+pub(crate) fn pascal_sums(r: &[f64; 6]) -> [f64; 2] {
     [
         ((r[0] + r[1]) + (r[2] + r[3])) + (r[4] + r[5]),
         (r[1] + 2.0 * r[2]) + (3.0 * r[3] + 4.0 * r[4]) + 5.0 * r[5],

@@ -66,6 +66,16 @@ pub trait Integrator: Copy + Send + Sync + std::fmt::Debug {
         let (x, v) = self.predict(state);
         self.correct(state, f(x, v));
     }
+
+    /// One whole step for a single body with acceleration `f(x, v) + c`,
+    /// `c` constant (−g): the same as `step` with `|x, v| f(x, v) + c`
+    /// (bit for bit), but a scheme may override it to take `c` off the
+    /// latency chain from one force to the next (see BENCHMARKS.md for a
+    /// Gear5 variant that did, and why it was not kept).
+    #[inline(always)]
+    fn step_split(&self, state: &mut Self::State, c: f64, f: impl Fn(f64, f64) -> f64) {
+        self.step(state, |x, v| f(x, v) + c);
+    }
 }
 
 /// A polynomial over one step in the step fraction θ ∈ [0, 1].

@@ -426,7 +426,7 @@ fn run_clamped<L: NormalContactLaw>(
 }
 
 fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord, SimulationError> {
-    let problem = Problem::new(s, &law);
+    let problem = Problem::new(s, &law)?;
     let outcome = match s.integration.scheme {
         Scheme::Gear5 => {
             let gear = Gear5::for_force(law.depends_on_rate());

@@ -1,0 +1,72 @@
+//! Driver for instruction counts under callgrind (see BENCHMARKS.md):
+//!
+//! `step_count steps SCHEME LAW N` runs N in-contact steps (as
+//! `benches/steps.rs` does); `step_count case STEPPING N` runs the
+//! validation case N times. Instructions per step = difference of two
+//! callgrind totals at different N, divided by the difference in N.
+use dembound_core::bounce::{simulate, Scenario, Stepping};
+use dembound_core::contact::{Hertz, LinearSpring, NormalContactLaw};
+use dembound_core::integrate::{Gear5, Integrator, Verlet};
+use dembound_core::material::{Boundary, ContactPair, Particle};
+use std::hint::black_box;
+
+fn run_steps<I: Integrator, L: NormalContactLaw<History = ()>>(
+    it: I,
+    law: &L,
+    mass: f64,
+    dt: f64,
+    n: u64,
+) -> f64 {
+    let law = law.scaled(1.0 / mass);
+    let g = 9.81;
+    let mut s = it.start([0.0, -0.3132, -g, 0.0, 0.0, 0.0], dt);
+    for _ in 0..n {
+        it.step_split(&mut s, -g, |x, v| law.force(-x, -v, &()));
+    }
+    it.kinematics(&s).position
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let usage =
+        "usage: step_count steps gear5|verlet hertz|linear N | step_count case event|fixed N";
+    let n: u64 = args.last().and_then(|a| a.parse().ok()).expect(usage);
+    let pair = ContactPair::new(Particle::PAPER, Boundary::PAPER);
+    let mass = Particle::PAPER.mass();
+    match args.get(1).map(String::as_str) {
+        Some("steps") => {
+            let hertz = Hertz::for_pair(&pair);
+            let linear = LinearSpring::for_pair(&pair);
+            let dt_h = hertz.contact_time_estimate(mass, 0.3132) / 50.0;
+            let dt_l = linear.contact_time_estimate(mass, 0.3132) / 50.0;
+            let x = match (args[2].as_str(), args[3].as_str()) {
+                ("gear5", "hertz") => {
+                    run_steps(Gear5::POSITION_DEPENDENT, black_box(&hertz), mass, dt_h, n)
+                }
+                ("gear5", "linear") => {
+                    run_steps(Gear5::POSITION_DEPENDENT, black_box(&linear), mass, dt_l, n)
+                }
+                ("verlet", "hertz") => run_steps(Verlet, black_box(&hertz), mass, dt_h, n),
+                ("verlet", "linear") => run_steps(Verlet, black_box(&linear), mass, dt_l, n),
+                _ => panic!("{usage}"),
+            };
+            println!("{x}");
+        }
+        Some("case") => {
+            let mut s = Scenario::default();
+            s.integration.stepping = match args[2].as_str() {
+                "event" => Stepping::Event,
+                "fixed" => Stepping::Fixed,
+                _ => panic!("{usage}"),
+            };
+            let mut steps = 0;
+            for _ in 0..n {
+                steps += simulate(black_box(&s), &mut ())
+                    .map(|o| o.steps)
+                    .unwrap_or(0);
+            }
+            println!("{steps} steps");
+        }
+        _ => panic!("{usage}"),
+    }
+}
