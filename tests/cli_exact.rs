@@ -8,23 +8,10 @@
 //! dembound-core, to 1e−12 relative (a few roundings of ~1e−16 each, with
 //! margin for the arctan and square roots).
 
-use assert_cmd::Command;
+mod common;
+
+use common::{dembound, json, CONTACT_KEYS};
 use serde_json::Value;
-
-fn dembound() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dembound"))
-}
-
-/// Runs `dembound ARGS`, expecting success; the parsed stdout.
-fn json(args: &[&str]) -> Value {
-    let out = dembound().args(args).output().expect("the binary runs");
-    assert!(
-        out.status.success(),
-        "dembound {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
-}
 
 fn exact_json(sets: &[&str]) -> Value {
     let mut args = vec!["exact", "--json"];
@@ -49,18 +36,6 @@ fn field(c: &Value, key: &str) -> f64 {
         .as_f64()
         .unwrap_or_else(|| panic!("`{key}` missing in {c}"))
 }
-
-const CONTACT_KEYS: [&str; 9] = [
-    "t_contact",
-    "t_max_overlap",
-    "t_rebound",
-    "duration",
-    "max_overlap",
-    "max_force",
-    "max_acceleration",
-    "impact_velocity",
-    "rebound_velocity",
-];
 
 #[test]
 fn defaults_are_the_papers_hertz_case() {

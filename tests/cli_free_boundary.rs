@@ -1,11 +1,9 @@
 //! `dembound run` with a free boundary particle, through the real binary.
 
-use assert_cmd::Command;
-use serde_json::Value;
+mod common;
 
-fn dembound() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dembound"))
-}
+use common::dembound;
+use serde_json::Value;
 
 const HEAD_ON: [&str; 14] = [
     "--set",

@@ -1,13 +1,11 @@
 //! `dembound restitution`, through the real binary: the sweep's outputs,
 //! exit codes, and the reverse question's answers entered back.
 
-use assert_cmd::Command;
+mod common;
+
+use common::dembound;
 use serde_json::Value;
 use std::path::Path;
-
-fn dembound() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dembound"))
-}
 
 fn files_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = match std::fs::read_dir(dir) {

@@ -1,12 +1,10 @@
 //! `dembound run`, through the real binary.
 
-use assert_cmd::Command;
+mod common;
+
+use common::{dembound, CONTACT_KEYS};
 use serde_json::Value;
 use std::path::Path;
-
-fn dembound() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dembound"))
-}
 
 /// Runs `dembound run ARGS --json`, expecting success; the parsed stdout.
 fn run_json(args: &[&str]) -> Value {
@@ -48,17 +46,7 @@ fn default_run_reports_both_contacts_of_the_validation_case() {
     let contacts = json["contacts"].as_array().unwrap();
     assert_eq!(contacts.len(), 2);
     for c in contacts {
-        for key in [
-            "t_contact",
-            "t_max_overlap",
-            "t_rebound",
-            "duration",
-            "max_overlap",
-            "max_force",
-            "max_acceleration",
-            "impact_velocity",
-            "rebound_velocity",
-        ] {
+        for key in CONTACT_KEYS {
             assert!(c[key].is_number(), "missing `{key}` in {c}");
         }
     }

@@ -1,21 +1,8 @@
 //! `dembound sweep`, `recommend` and `paper`, through the real binary.
 
-use assert_cmd::Command;
-use serde_json::Value;
+mod common;
 
-fn dembound() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dembound"))
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = dembound().args(args).output().expect("the binary runs");
-    assert!(
-        out.status.success(),
-        "dembound {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
-}
+use common::{dembound, json};
 
 /// Runs and expects exit 2 with `needle` in stderr.
 fn bad_input(args: &[&str], needle: &str) {

@@ -1,12 +1,10 @@
 //! `dembound validate`, through the real binary (each run takes a few
 //! seconds in release: Tables 1–2 and the 72-run convergence study).
 
-use assert_cmd::Command;
-use serde_json::Value;
+mod common;
 
-fn dembound() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_dembound"))
-}
+use common::dembound;
+use serde_json::Value;
 
 fn array4(v: &Value) -> [f64; 4] {
     let a = v.as_array().expect("an array of 4");

@@ -7,27 +7,15 @@
 //! (criterion's elements/s).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+mod common;
+
+use common::sweep;
 use dembound_core::bounce::batch::{simulate_batch_with, Isa};
-use dembound_core::bounce::{simulate, Scenario};
+use dembound_core::bounce::simulate;
 use rayon::prelude::*;
 use std::hint::black_box;
 
 const CASES: usize = 10_000;
-
-/// n cases spread over r ∈ [0.5, 10⁴], ζ ∈ [0.1, 10⁴], gap ∈ [0.1, 10] mm
-/// (the same sweep as `examples/batch_throughput.rs`).
-fn sweep(n: usize) -> Vec<Scenario> {
-    (0..n)
-        .map(|i| {
-            let u = |k: usize| ((i * k) % 1000) as f64 / 1000.0;
-            let mut s = Scenario::default();
-            s.boundary.radius_ratio = 10f64.powf(-0.3 + 4.3 * u(7));
-            s.boundary.modulus_ratio = 10f64.powf(-1.0 + 5.0 * u(13));
-            s.motion.gap = 10f64.powf(-4.0 + 2.0 * u(31));
-            s
-        })
-        .collect()
-}
 
 fn sweep_bench(c: &mut Criterion) {
     let cases = sweep(CASES);

@@ -1,24 +1,14 @@
 //! Cases per second of a 10,000-case Hertz sweep (the validation case with
 //! r, ζ and the impact speed varied), scalar against batched, on 1 and 2
 //! threads: `cargo run --release -p dembound-core --example batch_throughput [N]`.
+#[path = "../benches/common/mod.rs"]
+mod common;
+
+use common::sweep;
 use dembound_core::bounce::batch::{simulate_batch_with, Isa};
-use dembound_core::bounce::{simulate, Scenario};
+use dembound_core::bounce::simulate;
 use rayon::prelude::*;
 use std::time::Instant;
-
-/// The sweep of `benches/batch.rs`: n cases on a log grid.
-pub fn sweep(n: usize) -> Vec<Scenario> {
-    (0..n)
-        .map(|i| {
-            let u = |k: usize| ((i * k) % 1000) as f64 / 1000.0;
-            let mut s = Scenario::default();
-            s.boundary.radius_ratio = 10f64.powf(-0.3 + 4.3 * u(7));
-            s.boundary.modulus_ratio = 10f64.powf(-1.0 + 5.0 * u(13));
-            s.motion.gap = 10f64.powf(-4.0 + 2.0 * u(31));
-            s
-        })
-        .collect()
-}
 
 fn main() {
     let n: usize = std::env::args()
