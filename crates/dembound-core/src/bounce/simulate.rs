@@ -19,7 +19,7 @@ use super::{
     BodyVelocities, ContactRecord, InputError, Observer, RunOutcome, Sample, Scenario, StepRule,
     Stepping, TwoBody,
 };
-use crate::contact::{with_model, LawVisitor, ModelError, NormalContactLaw};
+use crate::contact::{with_model, LawVisitor, ModelError, NormalContactLaw, Onset};
 use crate::integrate::{Gear5, Integrator, Kinematics, Scheme, Verlet};
 use std::fmt;
 
@@ -305,7 +305,7 @@ enum StepEnds {
         /// Grid points reached.
         n: u64,
         /// Geometrically graded first step ends of a law with a singular
-        /// onset ([`NormalContactLaw::singular_onset`]), the last on grid
+        /// onset ([`Onset::Singular`]), the last on grid
         /// point `pre_grid`.
         pre: Vec<f64>,
         pre_next: usize,
@@ -322,12 +322,10 @@ impl StepEnds {
         let dt = problem.dt;
         match schedule {
             Schedule::Free => {
-                let grading = if law.singular_onset() {
-                    Grading::Geometric
-                } else if law.smooth_onset() {
-                    Grading::Uniform
-                } else {
-                    Grading::Power
+                let grading = match law.onset() {
+                    Onset::Singular => Grading::Geometric,
+                    Onset::Smooth => Grading::Uniform,
+                    Onset::NonSmooth => Grading::Power,
                 };
                 StepEnds::Free {
                     graded: GradedSteps::new(dt, problem.contact_time_estimate, grading),
@@ -338,7 +336,7 @@ impl StepEnds {
                 let first = first_end - t_c;
                 let grid_tau = |n: u64| first + (n as f64 - 1.0) * dt;
                 let (mut pre, mut pre_grid) = (Vec::new(), 0);
-                if law.singular_onset() {
+                if law.onset() == Onset::Singular {
                     // 16 steps growing by 1.4 from ~Δt/200, stretched to land on a grid point.
                     const RATIO: f64 = 1.4;
                     const STEPS: i32 = 16;

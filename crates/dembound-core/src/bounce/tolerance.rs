@@ -32,7 +32,7 @@
 
 use super::simulate::{simulate_with, Problem, SimulationError};
 use super::{ContactRecord, Scenario, Stepping};
-use crate::contact::NormalContactLaw;
+use crate::contact::{NormalContactLaw, Onset};
 use crate::integrate::{Gear5, Scheme, Verlet};
 
 /// η₁ and η₂ of the pilot runs.
@@ -59,8 +59,8 @@ pub struct ToleranceStep {
 /// Order of convergence assumed for `scheme` and `stepping` with `law`.
 pub fn assumed_order(scheme: Scheme, stepping: Stepping, law: &impl NormalContactLaw) -> f64 {
     match (scheme, stepping) {
-        (Scheme::Gear5, Stepping::Event) if !law.singular_onset() => 5.0,
-        (Scheme::Gear5, Stepping::Fixed) if law.smooth_onset() => 5.0,
+        (Scheme::Gear5, Stepping::Event) if law.onset() != Onset::Singular => 5.0,
+        (Scheme::Gear5, Stepping::Fixed) if law.onset() == Onset::Smooth => 5.0,
         _ => 2.0,
     }
 }

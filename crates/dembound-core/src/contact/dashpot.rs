@@ -61,8 +61,8 @@ impl NormalContactLaw for LinearDashpot {
     }
 
     /// F = k h + c ḣ is analytic in (h, ḣ): no grading needed.
-    fn smooth_onset(&self) -> bool {
-        true
+    fn onset(&self) -> super::Onset {
+        super::Onset::Smooth
     }
 
     type History = ();

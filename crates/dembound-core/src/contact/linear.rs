@@ -40,8 +40,8 @@ impl NormalContactLaw for LinearSpring {
         PI * (mass / self.stiffness).sqrt()
     }
 
-    fn smooth_onset(&self) -> bool {
-        true
+    fn onset(&self) -> super::Onset {
+        super::Onset::Smooth
     }
 
     /// From ḧ = g − p² h: h''' = −p² ḣ, h'''' = −p² ḧ, h''''' = −p² h'''.

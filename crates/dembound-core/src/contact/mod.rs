@@ -78,12 +78,11 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     /// of a body of `mass` (kg): the scale of the time step Δt = η T_c.
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64;
 
-    /// True when the overlap is a smooth (analytic) function of time at the
-    /// contact onset, so a uniform step keeps the integrator's full order
-    /// there; false (the default) asks event stepping for a graded mesh at
-    /// both ends of the contact ([`crate::bounce::schedule`]).
-    fn smooth_onset(&self) -> bool {
-        false
+    /// How smooth the overlap is in time at the contact onset; it decides
+    /// how event stepping grades its steps there ([`crate::bounce::schedule`]).
+    /// The default, [`Onset::NonSmooth`], is right for Hertz-like laws.
+    fn onset(&self) -> Onset {
+        Onset::NonSmooth
     }
 
     /// One-sided time derivatives (h''', h'''', h''''') of the overlap at the
@@ -93,15 +92,6 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     /// infinite or unknown at h = 0 (Hertz: h'''' ∝ h^(-1/2)).
     fn onset_derivatives(&self, _mass: f64, _overlap_rate: f64, _overlap_accel: f64) -> [f64; 3] {
         [0.0; 3]
-    }
-
-    /// True when the force is not smooth at the onset: a fractional power of
-    /// h multiplies ḣ (Tsuji h^(1/4) ḣ, viscoelastic h^(1/2) ḣ), so the
-    /// derivatives of the force are infinite at h = 0⁺ and a uniform first
-    /// step loses ~1e−3 of accuracy at η = 1/50. The contact loop then
-    /// grades its first steps geometrically from ~Δt/200 up to Δt.
-    fn singular_onset(&self) -> bool {
-        false
     }
 
     /// True when the law forbids an attractive normal force, F = max(F, 0)
@@ -144,6 +134,22 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     ) -> [f64; 3] {
         [0.0; 3]
     }
+}
+
+/// How smooth a law makes the overlap at the contact onset h = 0⁺.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Onset {
+    /// Analytic in (h, ḣ) (integer exponents, linear dashpot, Walton–Braun's
+    /// linear branches): a uniform step keeps the integrator's full order.
+    Smooth,
+    /// Bounded force but non-analytic (h^(3/2)): event stepping grades the
+    /// mesh at both ends of the contact, τ ∝ j³.
+    NonSmooth,
+    /// A fractional power of h multiplies ḣ (Tsuji h^(1/4) ḣ, viscoelastic
+    /// h^(1/2) ḣ): the force's time derivatives are infinite at h = 0⁺ and a
+    /// uniform first step loses ~1e−3 at η = 1/50. Both stepping modes ramp
+    /// the first steps up geometrically from ~Δt/200.
+    Singular,
 }
 
 /// Which contact law a scenario uses (TOML: `law = "linear"`, `"hertz"`,

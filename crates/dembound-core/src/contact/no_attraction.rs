@@ -13,9 +13,8 @@ impl<L: NormalContactLaw> NormalContactLaw for NoAttraction<L> {
     fn scaled(&self, factor: f64) -> Self {
         NoAttraction(self.0.scaled(factor))
     }
-
-    fn smooth_onset(&self) -> bool {
-        self.0.smooth_onset()
+    fn onset(&self) -> super::Onset {
+        self.0.onset()
     }
 
     type History = L::History;
@@ -43,10 +42,6 @@ impl<L: NormalContactLaw> NormalContactLaw for NoAttraction<L> {
 
     fn depends_on_rate(&self) -> bool {
         self.0.depends_on_rate()
-    }
-
-    fn singular_onset(&self) -> bool {
-        self.0.singular_onset()
     }
 
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {

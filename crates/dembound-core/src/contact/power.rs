@@ -43,8 +43,12 @@ impl NormalContactLaw for PowerLaw {
     }
 
     /// Integer exponents give an analytic force, hence a smooth onset.
-    fn smooth_onset(&self) -> bool {
-        self.exponent.fract() == 0.0
+    fn onset(&self) -> super::Onset {
+        if self.exponent.fract() == 0.0 {
+            super::Onset::Smooth
+        } else {
+            super::Onset::NonSmooth
+        }
     }
 
     /// h''' = −α p² h^(α−1) ḣ: −p² ḣ for α = 1, 0 for α > 1; higher

@@ -78,8 +78,8 @@ impl NormalContactLaw for HertzTsuji {
         true
     }
 
-    fn singular_onset(&self) -> bool {
-        true
+    fn onset(&self) -> super::Onset {
+        super::Onset::Singular
     }
 
     /// The elastic Hertz contact time (damping lengthens it by a few per cent

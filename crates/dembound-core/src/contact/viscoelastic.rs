@@ -131,8 +131,8 @@ impl NormalContactLaw for HertzViscoelastic {
         true
     }
 
-    fn singular_onset(&self) -> bool {
-        true
+    fn onset(&self) -> super::Onset {
+        super::Onset::Singular
     }
 
     /// The elastic Hertz contact time: a time scale for Δt.

@@ -59,8 +59,8 @@ impl NormalContactLaw for WaltonBraun {
     }
 
     /// Linear branches: smooth away from the kink, which is restarted at.
-    fn smooth_onset(&self) -> bool {
-        true
+    fn onset(&self) -> super::Onset {
+        super::Onset::Smooth
     }
 
     type History = WaltonBraunHistory;
