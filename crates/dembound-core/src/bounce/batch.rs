@@ -350,6 +350,19 @@ impl Neg for V {
     }
 }
 
+/// `gear5::pascal` in every lane (same expression order).
+#[inline(always)]
+fn lanes_pascal(r: &[V; 6]) -> [V; 6] {
+    [
+        ((r[0] + r[1]) + (r[2] + r[3])) + (r[4] + r[5]),
+        ((r[1] + 2.0 * r[2]) + (3.0 * r[3] + 4.0 * r[4])) + 5.0 * r[5],
+        (r[2] + 3.0 * r[3]) + (6.0 * r[4] + 10.0 * r[5]),
+        (r[3] + 4.0 * r[4]) + 10.0 * r[5],
+        r[4] + 5.0 * r[5],
+        r[5],
+    ]
+}
+
 // ---------------------------------------------------------------------------
 // The kernel.
 
@@ -361,8 +374,8 @@ struct Lanes {
     dt: V,
     half_dt2: V,
     inv_dt: V,
-    predicted_sums: [V; 2],
-    next: [V; 2],
+    gain: V,
+    next: [V; 6],
     // Case constants.
     gravity: V,
     accel_stiffness: V,
@@ -398,8 +411,8 @@ impl Lanes {
             dt: one,
             half_dt2: V::splat(0.5),
             inv_dt: one,
-            predicted_sums: [z; 2],
-            next: [z; 2],
+            gain: z,
+            next: [z; 6],
             gravity: z,
             accel_stiffness: z,
             stiffness: z,
@@ -430,8 +443,8 @@ impl Lanes {
             dt: self.dt.0[l],
             half_dt2: self.half_dt2.0[l],
             inv_dt: self.inv_dt.0[l],
-            predicted_sums: [self.predicted_sums[0].0[l], self.predicted_sums[1].0[l]],
-            next: [self.next[0].0[l], self.next[1].0[l]],
+            gain: self.gain.0[l],
+            next: std::array::from_fn(|k| self.next[k].0[l]),
         }
     }
 
@@ -442,9 +455,9 @@ impl Lanes {
         self.dt.0[l] = s.dt;
         self.half_dt2.0[l] = s.half_dt2;
         self.inv_dt.0[l] = s.inv_dt;
-        for i in 0..2 {
-            self.predicted_sums[i].0[l] = s.predicted_sums[i];
-            self.next[i].0[l] = s.next[i];
+        self.gain.0[l] = s.gain;
+        for k in 0..6 {
+            self.next[k].0[l] = s.next[k];
         }
     }
 
@@ -691,35 +704,29 @@ impl<L: LaneLaw> Kernel<'_, L> {
         s.dt = len;
         s.half_dt2 = 0.5 * len * len;
         s.inv_dt = 1.0 / len;
-        let next = pascal_sums(&s.r);
-        s.next = [
-            select(resize, next[0], s.next[0]),
-            select(resize, next[1], s.next[1]),
-        ];
-        // Predict.
-        let [_, _, r2, r3, r4, r5] = s.r;
-        let [x, v_dt] = s.next;
-        s.r = [
-            x,
-            v_dt,
-            r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5,
-            r3 + 4.0 * r4 + 10.0 * r5,
-            r4 + 5.0 * r5,
-            r5,
-        ];
-        s.predicted_sums = pascal_sums(&s.r);
-        // Acceleration at the prediction: the law's force per unit mass
-        // plus c = −g (`Integrator::step_split`); correct.
-        let a = L::lanes_force(s.accel_stiffness, -x) + (-s.gravity);
-        let delta = a * s.half_dt2 - s.r[2];
-        for k in 0..6 {
-            s.r[k] = s.r[k] + gear.corrector[k] * delta;
-        }
-        let [cs0, cs1] = gear.corrector_sums;
-        s.next = [
-            s.predicted_sums[0] + cs0 * delta,
-            s.predicted_sums[1] + cs1 * delta,
-        ];
+        let pc = gear.predicted_corrector;
+        s.gain = pc[0] * s.half_dt2;
+        let rescaled_next = lanes_pascal(&s.r);
+        s.next = std::array::from_fn(|k| select(resize, rescaled_next[k], s.next[k]));
+        // `Gear5::step_scaled` with the law scaled by the gain, as
+        // `Run::contact_step` does, and c = −g; the same expressions in the
+        // same order. Predict:
+        s.r = s.next;
+        s.next = lanes_pascal(&s.r);
+        let x = s.r[0];
+        let c = -s.gravity;
+        let base = c * s.half_dt2 - s.r[2];
+        let next_x_base = s.next[0] + pc[0] * base;
+        let scaled = L::lanes_force(s.accel_stiffness * s.gain, -x);
+        let delta = scaled * V::splat(gear.inverse_sum) + base;
+        s.r = std::array::from_fn(|k| s.r[k] + gear.corrector[k] * delta);
+        s.next = std::array::from_fn(|k| {
+            if k == 0 {
+                next_x_base + scaled
+            } else {
+                s.next[k] + pc[k] * delta
+            }
+        });
         s.steps = s.steps + V::splat(1.0);
         // Events.
         let position = s.r[0];
@@ -844,13 +851,4 @@ impl<L: LaneLaw> Kernel<'_, L> {
             self.take_case(l);
         }
     }
-}
-
-/// `gear5::pascal_sums` in lanes (same expression tree).
-#[inline(always)]
-fn pascal_sums(r: &[V; 6]) -> [V; 2] {
-    [
-        ((r[0] + r[1]) + (r[2] + r[3])) + (r[4] + r[5]),
-        (r[1] + 2.0 * r[2]) + (3.0 * r[3] + 4.0 * r[4]) + 5.0 * r[5],
-    ]
 }

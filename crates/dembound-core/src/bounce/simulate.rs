@@ -232,6 +232,8 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
     let mut run = Run {
         law,
         acceleration_law: law.scaled(1.0 / problem.mass),
+        step_law: law.scaled(1.0 / problem.mass),
+        step_law_dt: f64::NAN,
         integrator,
         problem,
         observer,
@@ -272,6 +274,10 @@ struct Run<'a, L: NormalContactLaw, I, O> {
     /// `law` scaled by 1/m: gives accelerations (one multiplication fewer
     /// on the latency chain of every step).
     acceleration_law: L,
+    /// `acceleration_law` scaled by the integrator's force gain for the
+    /// step size `step_law_dt` ([`Integrator::step_scaled`]).
+    step_law: L,
+    step_law_dt: f64,
     integrator: I,
     problem: &'a Problem,
     observer: &'a mut O,
@@ -455,9 +461,9 @@ struct ContactEnd {
 }
 
 impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
-    /// Contact part of the acceleration ẍ during a contact (gravity, −g, is
-    /// added by the step: [`Integrator::step_split`]): the law's force per
-    /// unit mass, continued smoothly to x > 0 inside the step that contains
+    /// Contact part of the acceleration ẍ during a contact times the
+    /// integrator's force gain (gravity, −g, is added by the step:
+    /// [`Integrator::step_scaled`]): the law's force per unit mass, continued smoothly to x > 0 inside the step that contains
     /// the rebound (see [`NormalContactLaw::force`]).
     ///
     /// A non-attractive law is integrated with its unclamped force until the
@@ -466,7 +472,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// clamped force after. For other laws the test compiles away.
     #[inline(always)]
     fn contact_acceleration(&self, x: f64, v: f64) -> f64 {
-        let law = &self.acceleration_law;
+        let law = &self.step_law;
         if L::NON_ATTRACTIVE && !self.released {
             law.unclamped_force(-x, -v, &self.history)
         } else {
@@ -640,7 +646,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 it.set_step(&mut state, len);
             }
             let mut before = state;
-            it.step_split(&mut state, -g, |x, v| self.contact_acceleration(x, v));
+            self.contact_step(&mut state);
             steps += 1;
             let mut tau_step = tau_start;
             // Events of this step; a restart replaces (before, state, tau_step, tau_end).
@@ -769,8 +775,20 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let it = self.integrator;
         let start = it.start(d, span);
         let mut state = start;
-        let g = self.problem.gravity;
-        it.step_split(&mut state, -g, |x, v| self.contact_acceleration(x, v));
+        self.contact_step(&mut state);
         (start, state)
+    }
+
+    /// One step inside a contact, with the law scaled for the step size.
+    #[inline(always)]
+    fn contact_step(&mut self, state: &mut I::State) {
+        let it = self.integrator;
+        let dt = it.step_size(state);
+        if dt != self.step_law_dt {
+            self.step_law = self.acceleration_law.scaled(it.force_gain(state));
+            self.step_law_dt = dt;
+        }
+        let g = self.problem.gravity;
+        it.step_scaled(state, -g, |x, v| self.contact_acceleration(x, v));
     }
 }

@@ -68,13 +68,29 @@ pub trait Integrator: Copy + Send + Sync + std::fmt::Debug {
     }
 
     /// One whole step for a single body with acceleration `f(x, v) + c`,
-    /// `c` constant (−g): the same as `step` with `|x, v| f(x, v) + c`
-    /// (bit for bit), but a scheme may override it to take `c` off the
-    /// latency chain from one force to the next (see BENCHMARKS.md for a
-    /// Gear5 variant that did, and why it was not kept).
+    /// `c` constant (−g): the same step as `step` with `|x, v| f(x, v) + c`,
+    /// but a scheme may reassociate it to take `c` off the latency chain
+    /// from one force to the next (Gear5 does; the rounding then differs
+    /// by a few ulps).
     #[inline(always)]
     fn step_split(&self, state: &mut Self::State, c: f64, f: impl Fn(f64, f64) -> f64) {
         self.step(state, |x, v| f(x, v) + c);
+    }
+
+    /// The factor G by which [`Self::step_scaled`] wants its force
+    /// multiplied; it depends on the step size only. 1 by default.
+    fn force_gain(&self, _state: &Self::State) -> f64 {
+        1.0
+    }
+
+    /// `step_split` with `f` returning G × the acceleration, G =
+    /// [`Self::force_gain`]: a caller that folds G into the law's constants
+    /// (`NormalContactLaw::scaled`) once per step size saves the scheme a
+    /// multiplication on the latency chain. Schemes whose G is not 1
+    /// override it.
+    #[inline(always)]
+    fn step_scaled(&self, state: &mut Self::State, c: f64, f: impl Fn(f64, f64) -> f64) {
+        self.step_split(state, c, f);
     }
 }
 
