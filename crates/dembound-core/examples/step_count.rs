@@ -6,7 +6,7 @@
 //! callgrind totals at different N, divided by the difference in N.
 use dembound_core::bounce::{simulate, Scenario, Stepping};
 use dembound_core::contact::{Hertz, LinearSpring, NormalContactLaw};
-use dembound_core::integrate::{Gear5, Integrator, Verlet};
+use dembound_core::integrate::{Gear5, Integrator, Scheme, Verlet};
 use dembound_core::material::{Boundary, ContactPair, Particle};
 use std::hint::black_box;
 
@@ -31,7 +31,7 @@ fn run_steps<I: Integrator, L: NormalContactLaw<History = ()>>(
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let usage =
-        "usage: step_count steps gear5|verlet hertz|linear N | step_count case event|fixed N";
+        "usage: step_count steps gear5|verlet hertz|linear N | step_count case event|event-verlet|fixed N";
     let n: u64 = args.last().and_then(|a| a.parse().ok()).expect(usage);
     let pair = ContactPair::new(Particle::PAPER, Boundary::PAPER);
     let mass = Particle::PAPER.mass();
@@ -57,10 +57,13 @@ fn main() {
         Some("case") => {
             let mut s = Scenario::default();
             s.integration.stepping = match args[2].as_str() {
-                "event" => Stepping::Event,
+                "event" | "event-verlet" => Stepping::Event,
                 "fixed" => Stepping::Fixed,
                 _ => panic!("{usage}"),
             };
+            if args[2] == "event-verlet" {
+                s.integration.scheme = Scheme::Verlet;
+            }
             let mut steps = 0;
             for _ in 0..n {
                 steps += simulate(black_box(&s), &mut ())

@@ -233,7 +233,6 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         law,
         acceleration_law: law.scaled(1.0 / problem.mass),
         step_law: law.scaled(1.0 / problem.mass),
-        step_law_dt: f64::NAN,
         integrator,
         problem,
         observer,
@@ -275,9 +274,9 @@ struct Run<'a, L: NormalContactLaw, I, O> {
     /// on the latency chain of every step).
     acceleration_law: L,
     /// `acceleration_law` scaled by the integrator's force gain for the
-    /// step size `step_law_dt` ([`Integrator::step_scaled`]).
+    /// current step size ([`Integrator::step_scaled`]); kept in step with
+    /// the state by [`Self::scale_law_for`].
     step_law: L,
-    step_law_dt: f64,
     integrator: I,
     problem: &'a Problem,
     observer: &'a mut O,
@@ -633,6 +632,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let mut tau_start = 0.0;
         let mut tau_end = ends.next(tau_start);
         let mut state = it.start([0.0, v_c, -overlap_accel, -h3, -h4, -h5], tau_end);
+        self.scale_law_for(&state);
         if O::ACTIVE {
             self.sample(t_c, 0.0, v_c);
         }
@@ -644,6 +644,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             let len = tau_end - tau_start;
             if it.step_size(&state) != len {
                 it.set_step(&mut state, len);
+                self.scale_law_for(&state);
             }
             let mut before = state;
             self.contact_step(&mut state);
@@ -774,21 +775,26 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     fn restart(&mut self, d: [f64; 6], span: f64) -> (I::State, I::State) {
         let it = self.integrator;
         let start = it.start(d, span);
+        self.scale_law_for(&start);
         let mut state = start;
         self.contact_step(&mut state);
         (start, state)
     }
 
+    /// Scales the law for the step size of `state` (after every `start` or
+    /// `set_step` inside a contact).
+    #[inline(always)]
+    fn scale_law_for(&mut self, state: &I::State) {
+        self.step_law = self
+            .acceleration_law
+            .scaled(self.integrator.force_gain(state));
+    }
+
     /// One step inside a contact, with the law scaled for the step size.
     #[inline(always)]
-    fn contact_step(&mut self, state: &mut I::State) {
-        let it = self.integrator;
-        let dt = it.step_size(state);
-        if dt != self.step_law_dt {
-            self.step_law = self.acceleration_law.scaled(it.force_gain(state));
-            self.step_law_dt = dt;
-        }
+    fn contact_step(&self, state: &mut I::State) {
         let g = self.problem.gravity;
-        it.step_scaled(state, -g, |x, v| self.contact_acceleration(x, v));
+        self.integrator
+            .step_scaled(state, -g, |x, v| self.contact_acceleration(x, v));
     }
 }

@@ -12,7 +12,7 @@
 //! Written by hand because the scheme is what the paper studies and its
 //! per-step cost is the project's hot path.
 
-use super::{DenseOutput, Integrator, Kinematics};
+use super::{keep_scalar, DenseOutput, Integrator, Kinematics};
 
 /// 5th-order Gear predictor–corrector for second-order equations.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,27 +103,6 @@ pub struct Gear5State {
     pub(crate) gain: f64,
     /// The next predicted vector P r (between `predict` and `correct`: P rᵖ).
     pub(crate) next: [f64; 6],
-}
-
-/// `x`, opaque to the optimiser: keeps LLVM's SLP vectoriser from packing
-/// the next predicted position into one vector addition with the next
-/// predicted velocity, which waits for Δ and so would put the corrector on
-/// the latency chain from one force to the next (measured with `benches/steps.rs`: 12.1 → 7.8 ns/step for Hertz).
-/// No instruction is emitted.
-#[inline(always)]
-fn keep_scalar(x: f64) -> f64 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let mut x = x;
-        // SAFETY: an empty template; it reads and writes one register and
-        // touches no memory.
-        unsafe {
-            std::arch::asm!("/* {0} */", inout(xmm_reg) x, options(pure, nomem, nostack, preserves_flags));
-        }
-        x
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    x
 }
 
 /// The Taylor prediction over one step: multiplication by Pascal's
