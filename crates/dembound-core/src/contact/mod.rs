@@ -147,8 +147,9 @@ pub enum Onset {
     NonSmooth,
     /// A fractional power of h multiplies ḣ (Tsuji h^(1/4) ḣ, viscoelastic
     /// h^(1/2) ḣ): the force's time derivatives are infinite at h = 0⁺ and a
-    /// uniform first step loses ~1e−3 at η = 1/50. Both stepping modes ramp
-    /// the first steps up geometrically from ~Δt/200.
+    /// uniform first step loses ~1e−3 at η = 1/50. Both stepping modes grade
+    /// the steps toward the onset and toward the end of the contact
+    /// ([`crate::bounce::schedule::SingularMesh`]).
     Singular,
 }
 
