@@ -304,6 +304,63 @@ mod tests {
     }
 
     #[test]
+    fn singular_onset_grows_by_at_most_1_4_and_reaches_dt_at_the_graded_fraction() {
+        let (dt, t) = (1.0, 50.0);
+        let mesh = SingularMesh::new(dt, t);
+        let mut tau = 0.0;
+        let mut last = mesh.onset_step(0.0);
+        assert!((last - SINGULAR_FIRST * dt).abs() < 1e-18, "{last}");
+        let mut n = 0;
+        while last < dt {
+            tau += last;
+            let h = mesh.onset_step(tau);
+            assert!(
+                h <= (1.0 + SINGULAR_GROWTH) * last * (1.0 + 1e-12),
+                "{tau}: {last} -> {h}"
+            );
+            last = h;
+            n += 1;
+        }
+        // Δt once past s_g = 0.15 T_c = 7.5 Δt. The capped growth from
+        // 1e−3 Δt meets the power mesh H = Δt (τ/s_g)^(4/5) at
+        // τ = Δt (Δt/s_g)⁴/ρ⁵ = 0.031 Δt (10 steps of 1.4); from there the
+        // power mesh has N (1 − (0.031/7.5)^(1/5)) = 25 of its N = 37.5 steps.
+        assert!(tau >= SINGULAR_FRACTION * t - dt && tau < SINGULAR_FRACTION * t + dt);
+        assert!((35..=40).contains(&n), "{n}");
+        // The first step shrinks like Δt η³ (η = Δt/T_c).
+        let finer = SingularMesh::new(0.5, t);
+        assert!((finer.onset_step(0.0) / (0.5 * SINGULAR_FIRST / 8.0) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn singular_end_follows_the_power_mesh_and_crosses_the_end() {
+        // Exact time left: the steps walk the mesh s_g (j/N)^q down to
+        // j = 2 and the last one crosses the end.
+        let (dt, t) = (1.0, 50.0);
+        let mesh = SingularMesh::new(dt, t);
+        let end = 20.0;
+        let (mut tau, mut n, mut last) = (0.0, 0, dt);
+        while tau < end {
+            let h = mesh.end_step(end - tau);
+            assert!(h <= dt && h > 0.0);
+            if tau + h < end {
+                assert!(h <= last * (1.0 + 1e-12), "steps shrink toward the end");
+            }
+            last = h;
+            tau += h;
+            n += 1;
+        }
+        let region = SINGULAR_FRACTION * t;
+        let big_n = f64::from(SINGULAR_EXPONENT) * region / dt;
+        // The last step: twice the time left at j ≤ 2, s ≤ s_g (2/N)^q.
+        assert!(last <= 2.0 * region * (2.0 / big_n).powi(SINGULAR_EXPONENT) * (1.0 + 1e-9));
+        assert!(tau - end < last);
+        // (end − s_g)/Δt uniform steps, then N − 1 graded ones and the last.
+        let expected = (end - region) / dt + big_n - 1.0;
+        assert!((n as f64 - expected).abs() <= 2.0, "{n} vs {expected}");
+    }
+
+    #[test]
     fn smooth_laws_get_uniform_steps() {
         let mut g = GradedSteps::new(0.5, 50.0, Grading::Uniform);
         g.plan_end(25.0, 24.9);
