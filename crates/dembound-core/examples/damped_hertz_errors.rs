@@ -6,7 +6,7 @@
 
 use dembound_core::bounce::{simulate, Scenario, Stepping};
 use dembound_core::contact::{
-    ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic,
+    Calibration, ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic,
 };
 use dembound_core::integrate::Scheme;
 use dembound_core::reference::dissipative::{damped_hertz, DampedHertz};
@@ -31,7 +31,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("law           e    v(m/s)  g     attr  scheme stepping |  e err     T_c err   h_max err  t_mp err  tF0 err  | steps");
     let mut worst = [[0.0f64; 2]; 2];
     for damping in [DampingKind::Tsuji, DampingKind::Viscoelastic] {
-        for e in [0.3, 0.5, 0.9] {
+        let targets: Vec<f64> = std::env::var("TARGETS")
+            .ok()
+            .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
+            .unwrap_or_else(|| vec![0.3, 0.5, 0.9]);
+        for &e in &targets {
             for (v, g) in [(0.01, 0.0), (0.313, 0.0), (3.0, 0.0), (0.0, 9.81)] {
                 for attractive in [true, false] {
                     for scheme in [Scheme::Gear5, Scheme::Verlet] {
@@ -84,15 +88,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             let model = match damping {
                                 DampingKind::Tsuji => DampedHertz::Tsuji {
                                     stiffness: k,
-                                    damping: HertzTsuji::for_pair(&s.pair(), m, target).damping,
+                                    damping: HertzTsuji::calibrated(
+                                        &s.pair(),
+                                        m,
+                                        target,
+                                        Calibration::Exact,
+                                        attractive,
+                                    )
+                                    .damping,
                                 },
                                 _ => DampedHertz::Viscoelastic {
                                     stiffness: k,
-                                    a: HertzViscoelastic::for_pair(
+                                    a: HertzViscoelastic::calibrated(
                                         &s.pair(),
                                         m,
                                         target,
                                         speed,
+                                        Calibration::Exact,
                                         attractive,
                                     )?
                                     .a,

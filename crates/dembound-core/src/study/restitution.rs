@@ -300,9 +300,14 @@ fn pair_scenario(base: &Scenario, radius_ratio: f64, modulus_ratio: f64) -> Scen
     s
 }
 
-/// Checks the base scenario: valid, fixed boundary.
+/// Checks the base scenario: valid, fixed boundary. Its
+/// `contact.calibration` is checked without its restitution (the study
+/// supplies e).
 fn check_base(base: &Scenario) -> Result<(), RestitutionError> {
-    base.validate()
+    let mut checked = *base;
+    checked.contact.calibration = None;
+    checked
+        .validate()
         .map_err(|e| input(format!("base scenario: {e}")))?;
     if !base.boundary.fixed {
         return Err(input(
@@ -338,19 +343,35 @@ pub fn raw_coefficient(
     let pair = s.pair();
     let mass = s.reduced_mass();
     let target = Dissipation::Restitution(e);
+    // How e becomes the coefficient: the base scenario's contact.calibration.
+    let (mapping, attractive) = (
+        s.contact.calibration.unwrap_or_default(),
+        s.contact.attractive,
+    );
     Ok(match law {
-        DissipativeLaw::Viscous => LinearDashpot::for_pair(&pair, mass, target).damping,
-        DissipativeLaw::Tsuji => HertzTsuji::for_pair(&pair, mass, target).damping,
+        DissipativeLaw::Viscous => {
+            LinearDashpot::calibrated(&pair, mass, target, mapping, attractive).damping
+        }
+        DissipativeLaw::Tsuji => {
+            HertzTsuji::calibrated(&pair, mass, target, mapping, attractive).damping
+        }
         DissipativeLaw::Viscoelastic => {
-            HertzViscoelastic::for_pair(&pair, mass, target, s.impact_speed(), s.contact.attractive)
-                // A target the law cannot reach is bad input, not a failed run.
-                .map_err(|error| {
-                    RestitutionError::OutOfReach(format!(
-                        "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
-                        s.boundary.radius_ratio, s.boundary.modulus_ratio
-                    ))
-                })?
-                .a
+            HertzViscoelastic::calibrated(
+                &pair,
+                mass,
+                target,
+                s.impact_speed(),
+                mapping,
+                attractive,
+            )
+            // A target the law cannot reach is bad input, not a failed run.
+            .map_err(|error| {
+                RestitutionError::OutOfReach(format!(
+                    "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
+                    s.boundary.radius_ratio, s.boundary.modulus_ratio
+                ))
+            })?
+            .a
         }
         DissipativeLaw::WaltonBraun => pair.power_law_stiffness(1.0) / (e * e),
     })
