@@ -86,6 +86,13 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
     for c in &study.spec.calibrations {
         let _ = writeln!(md, "- **{}**: {}.", c.name(), c.description());
     }
+    let mapping = study.scenario.contact.calibration.unwrap_or_default();
+    let _ = writeln!(
+        md,
+        "\nIn both, e becomes the coefficient with `contact.calibration = \"{}\"`: {}.",
+        mapping.name(),
+        mapping.description()
+    );
     let _ = writeln!(
         md,
         "\nWith the **pair** calibration e does not depend on r and ζ for the linear, Tsuji and \

@@ -140,8 +140,9 @@ pub struct ContactSection {
     /// How `restitution` becomes the damping coefficient: `"exact"` (the
     /// default when omitted: a gravity-free contact of the law as run,
     /// clamped or not, rebounds with exactly e) or `"formula"` (the
-    /// published mapping, as LIGGGHTS/LAMMPS; see [`Calibration`]). Only
-    /// with `restitution`.
+    /// published mapping, as LIGGGHTS/LAMMPS; see [`Calibration`]). No
+    /// effect without `restitution` (a base scenario of `dembound
+    /// restitution` sets it for the study's targets).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<Calibration>,
 }
@@ -506,14 +507,6 @@ impl Scenario {
                 "contact.damping_coefficient",
                 x,
                 "absent when contact.restitution is given (give one of them)",
-            )?;
-        }
-        if let Some(calibration) = c.calibration {
-            check(
-                c.restitution.is_some(),
-                "contact.calibration",
-                format!("\"{}\"", calibration.name()),
-                "absent unless contact.restitution is given (it says how e becomes the damping coefficient: \"exact\" or \"formula\")",
             )?;
         }
         let quoted = |s: &str| format!("\"{s}\"");

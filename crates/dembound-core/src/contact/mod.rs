@@ -263,6 +263,18 @@ impl Calibration {
             Calibration::Formula => "formula",
         }
     }
+
+    /// One line saying what the calibration means.
+    pub fn description(&self) -> &'static str {
+        match self {
+            Calibration::Exact => {
+                "the law's exact gravity-free relation, solved for the law as run (clamped or not): one gravity-free contact rebounds with exactly e"
+            }
+            Calibration::Formula => {
+                "the published mapping (LIGGGHTS/LAMMPS), exact only with attraction allowed: with the clamp e = 0.5 rebounds with 0.550"
+            }
+        }
+    }
 }
 
 /// How strong the dissipation is.

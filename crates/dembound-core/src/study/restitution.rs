@@ -300,14 +300,9 @@ fn pair_scenario(base: &Scenario, radius_ratio: f64, modulus_ratio: f64) -> Scen
     s
 }
 
-/// Checks the base scenario: valid, fixed boundary. Its
-/// `contact.calibration` is checked without its restitution (the study
-/// supplies e).
+/// Checks the base scenario: valid, fixed boundary.
 fn check_base(base: &Scenario) -> Result<(), RestitutionError> {
-    let mut checked = *base;
-    checked.contact.calibration = None;
-    checked
-        .validate()
+    base.validate()
         .map_err(|e| input(format!("base scenario: {e}")))?;
     if !base.boundary.fixed {
         return Err(input(
