@@ -101,7 +101,8 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
         "\nWith the **pair** calibration e does not depend on r and ζ for the linear, Tsuji and \
          Walton–Braun laws (the calibration holds their dimensionless damping fixed), nor for the \
          viscoelastic law at the calibration speed; what remains comes from gravity during the \
-         contact and from forbidding attraction. With the **wall** calibration the same raw \
+         contact (and, with `contact.calibration = \"formula\"`, from forbidding attraction). \
+         With the **wall** calibration the same raw \
          coefficient meets a softer pair: the dashpot and Tsuji laws are then more damped (e \
          drops), the viscoelastic law less (δ ∝ A k^(2/5) falls, e rises) and Walton–Braun's \
          fixed k₂ gives e √(k₁/k₁(∞)).\n"

@@ -13,9 +13,10 @@
 //!   particle–boundary pair itself. Then e does not depend on r and ζ for
 //!   the linear dashpot, Tsuji and Walton–Braun laws (their e is a function
 //!   of a dimensionless damping ratio that the calibration holds fixed) nor,
-//!   at the calibration speed, for the viscoelastic law; what remains are
-//!   the small effects of gravity during the contact and of the
-//!   no-attraction clamp.
+//!   at the calibration speed, for the viscoelastic law; what remains is
+//!   the small effect of gravity during the contact (and, with the base
+//!   scenario's `contact.calibration = "formula"`, that of the
+//!   no-attraction clamp, which the default `"exact"` calibrates away).
 //! - [`Calibration::Wall`]: the coefficient is computed once on the rigid
 //!   half-space r = ζ = ∞ and the *same raw number* is reused on the
 //!   boundary particle, as happens when a DEM code's material table is
