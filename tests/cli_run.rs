@@ -365,7 +365,7 @@ fn contact_calibration_exact_by_default_formula_as_liggghts() {
             .as_f64()
             .unwrap()
     };
-    // Default "exact": the target itself (Gear5 at η = 1/50: ≤ 1.1e−6).
+    // Default "exact": the target itself (Gear5 at η = 1/50: ≤ 2.1e−6).
     assert!((e_of(&[]) / 0.5 - 1.0).abs() < 1e-5);
     // "formula": ξ = −ln e/√(π² + ln² e), and the clamped contact rebounds
     // with exp(−ξ(π − 2 asin ξ)/√(1 − ξ²)) (Schwager & Pöschel 2007) = 0.5503.

@@ -1,8 +1,17 @@
 //! Relative errors of the damped Hertz laws (Tsuji, viscoelastic) against
-//! the adaptive reference, per e, impact speed, attraction setting, scheme
-//! and stepping, at η = 1/50; with the steps spent in the contact.
+//! the adaptive reference (`reference::dissipative::damped_hertz`), per
+//! target e, impact, attraction setting, scheme and stepping, with the
+//! steps spent in the contact; the default e → coefficient calibration.
 //!
-//! `cargo run --release -p dembound-core --example damped_hertz_errors`
+//! ```text
+//! cargo run --release -p dembound-core --example damped_hertz_errors -- [ETA] [FILTER]...
+//! ```
+//!
+//! ETA defaults to 1/50. Each FILTER word keeps only the rows with that
+//! value in its group (`gear5`/`verlet`, `event`/`fixed`, `attr`/`noattr`,
+//! `tsuji`/`viscoelastic`); the environment variable `TARGETS=0.1,0.2`
+//! replaces the targets 0.3, 0.5, 0.9. The last line gives the largest error
+//! in e, T_c and h_max per scheme and attraction setting.
 
 use dembound_core::bounce::{simulate, Scenario, Stepping};
 use dembound_core::contact::{
@@ -15,32 +24,40 @@ fn rel(a: f64, b: f64) -> f64 {
     (a / b - 1.0).abs()
 }
 
-fn category(a: &str) -> u8 {
-    match a {
-        "gear5" | "verlet" => 0,
-        "event" | "fixed" => 1,
-        "attr" | "noattr" => 2,
-        _ => 3,
-    }
-}
+/// The filter groups: a row is kept when, in every group the user named a
+/// word of, its own word was named.
+const GROUPS: [[&str; 2]; 4] = [
+    ["gear5", "verlet"],
+    ["event", "fixed"],
+    ["attr", "noattr"],
+    ["tsuji", "viscoelastic"],
+];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let eta: f64 = args.first().and_then(|s| s.parse().ok()).unwrap_or(0.02);
-    let only = |what: &str| args.len() < 2 || args[1..].iter().any(|a| a == what);
-    println!("law           e    v(m/s)  g     attr  scheme stepping |  e err     T_c err   h_max err  t_mp err  tF0 err  | steps");
+    let filters: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
+    let keep = |words: [&str; 4]| {
+        GROUPS.iter().zip(words).all(|(group, word)| {
+            !group.iter().any(|g| filters.contains(g)) || filters.contains(&word)
+        })
+    };
+    let targets: Vec<f64> = std::env::var("TARGETS")
+        .ok()
+        .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
+        .unwrap_or_else(|| vec![0.3, 0.5, 0.9]);
+    println!(
+        "law           e    v(m/s)  g     attr  scheme stepping |  e err     T_c err   h_max err  t_mp err  tF0 err  | steps"
+    );
+    // [scheme][attractive]
     let mut worst = [[0.0f64; 2]; 2];
     for damping in [DampingKind::Tsuji, DampingKind::Viscoelastic] {
-        let targets: Vec<f64> = std::env::var("TARGETS")
-            .ok()
-            .map(|s| s.split(',').filter_map(|x| x.parse().ok()).collect())
-            .unwrap_or_else(|| vec![0.3, 0.5, 0.9]);
         for &e in &targets {
             for (v, g) in [(0.01, 0.0), (0.313, 0.0), (3.0, 0.0), (0.0, 9.81)] {
                 for attractive in [true, false] {
                     for scheme in [Scheme::Gear5, Scheme::Verlet] {
                         for stepping in [Stepping::Event, Stepping::Fixed] {
-                            let names = [
+                            let words = [
                                 scheme.name(),
                                 if stepping == Stepping::Event {
                                     "event"
@@ -50,23 +67,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                                 if attractive { "attr" } else { "noattr" },
                                 damping.name(),
                             ];
-                            if !names.iter().all(|n| {
-                                only(n)
-                                    || !args[1..].iter().any(|a| {
-                                        [
-                                            "gear5",
-                                            "verlet",
-                                            "event",
-                                            "fixed",
-                                            "attr",
-                                            "noattr",
-                                            "tsuji",
-                                            "viscoelastic",
-                                        ]
-                                        .contains(&a.as_str())
-                                            && category(a) == category(n)
-                                    })
-                            }) {
+                            if !keep(words) {
                                 continue;
                             }
                             let mut s = Scenario::default();
@@ -85,6 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             let (k, m) = (s.pair().power_law_stiffness(1.5), s.particle.mass());
                             let speed = s.impact_speed();
                             let target = Dissipation::Restitution(e);
+                            let exact = Calibration::Exact;
                             let model = match damping {
                                 DampingKind::Tsuji => DampedHertz::Tsuji {
                                     stiffness: k,
@@ -92,7 +94,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                                         &s.pair(),
                                         m,
                                         target,
-                                        Calibration::Exact,
+                                        exact,
                                         attractive,
                                     )
                                     .damping,
@@ -104,7 +106,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                                         m,
                                         target,
                                         speed,
-                                        Calibration::Exact,
+                                        exact,
                                         attractive,
                                     )?
                                     .a,
@@ -122,14 +124,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                                     _ => 0.0,
                                 },
                             ];
-                            let wi = if scheme == Scheme::Gear5 { 0 } else { 1 };
-                            let ai = attractive as usize;
-                            let mx = errs[..3].iter().cloned().fold(0.0, f64::max);
-                            worst[wi][ai] = worst[wi][ai].max(mx);
+                            let w = &mut worst[usize::from(scheme == Scheme::Verlet)]
+                                [usize::from(attractive)];
+                            *w = errs[..3].iter().fold(*w, |w, x| w.max(*x));
                             println!(
                                 "{:<13} {e:<4} {speed:<7.3} {g:<5} {:<5} {:<6} {:<8} | {:.2e}  {:.2e}  {:.2e}  {:.2e}  {:.2e} | {}",
-                                damping.name(), attractive, scheme.name(), format!("{stepping:?}"),
-                                errs[0], errs[1], errs[2], errs[3], errs[4], c.steps
+                                damping.name(),
+                                attractive,
+                                scheme.name(),
+                                format!("{stepping:?}"),
+                                errs[0],
+                                errs[1],
+                                errs[2],
+                                errs[3],
+                                errs[4],
+                                c.steps
                             );
                         }
                     }
@@ -137,7 +146,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
-    println!("worst over e, T_c, h_max: gear5 [forbidden, allowed] = {:.2e} {:.2e}; verlet = {:.2e} {:.2e}",
-        worst[0][0], worst[0][1], worst[1][0], worst[1][1]);
+    println!(
+        "worst over e, T_c, h_max: gear5 [forbidden, allowed] = {:.2e} {:.2e}; verlet = {:.2e} {:.2e}",
+        worst[0][0], worst[0][1], worst[1][0], worst[1][1]
+    );
     Ok(())
 }

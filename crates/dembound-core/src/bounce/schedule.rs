@@ -70,9 +70,11 @@
 //!
 //! Measured (`examples/damped_hertz_errors`, Gear5, e ∈ {0.3, 0.5, 0.9},
 //! four impact speeds, with and without attraction, event and fixed
-//! stepping): the largest relative error in e, T_c and h_max is 1.2e−4,
-//! 1.1e−6, 3.8e−8, 1.6e−9 at η = 1/25, 1/50, 1/100, 1/200 (5th order),
-//! for about 100 steps per contact at η = 1/50 (elastic Hertz: 103).
+//! stepping, exact calibration): the largest relative error in e, T_c and
+//! h_max is 2.7e−4, 2.1e−6, 5.8e−8, 1.9e−9 at η = 1/25, 1/50, 1/100, 1/200
+//! (5th order), for 86–95 steps per contact without attraction and 111–121
+//! with it at η = 1/50 (elastic Hertz: 103; before this mesh 64–78, with
+//! errors up to 1.8e−3 in e).
 
 /// Grading exponent q (≥ 2.4 for Hertz, see the module doc); an integer so
 /// that the mesh costs two `powi`, not two `powf`, per step.

@@ -249,10 +249,11 @@ pub enum Calibration {
     #[default]
     Exact,
     /// The published mapping, exact only when attraction is allowed, as
-    /// LIGGGHTS and LAMMPS use it with the clamp too: ξ = β = −ln e/√(ln² e
-    /// + π²) for the spring–dashpot and Tsuji (a clamped contact then
-    /// rebounds faster, 0.550 for a target of 0.5); for the viscoelastic
-    /// law, which has no closed form, A solved for the unclamped law.
+    /// LIGGGHTS and LAMMPS use it with the clamp too: for the
+    /// spring–dashpot and Tsuji ξ = −β = −ln e/√(ln² e + π²) (a clamped
+    /// contact then rebounds faster, 0.550 for a target of 0.5); for the
+    /// viscoelastic law, which has no closed form, A solved for the
+    /// unclamped law.
     Formula,
 }
 
