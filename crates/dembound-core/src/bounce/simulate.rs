@@ -688,6 +688,8 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         let m = self.problem.mass;
         let g = self.problem.gravity;
         let mut ends = StepEnds::new(schedule, t_c, self.problem, self.law);
+        // Constant for the contact: only singular-onset laws grade their end.
+        let grades_end = ends.grades_end();
         // One-sided derivatives at h = 0⁺ (see the module doc).
         let overlap_rate = -v_c;
         self.history = L::History::default();
@@ -822,9 +824,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 self.observer.progress(t_c + tau_end, self.t_end);
             }
             tau_start = tau_end;
-            let remaining = (max_overlap.is_some() && !self.released && ends.grades_end())
-                .then(|| time_to_exit(&k));
-            tau_end = ends.next(tau_start, remaining);
+            tau_end = if grades_end && max_overlap.is_some() && !self.released {
+                ends.next(tau_start, Some(time_to_exit(&k)))
+            } else {
+                ends.next(tau_start, None)
+            };
             if steps > self.contact_budget {
                 self.steps += steps;
                 return Err(SimulationError::NoRebound {
