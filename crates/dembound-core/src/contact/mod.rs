@@ -415,7 +415,7 @@ pub trait LawVisitor {
 /// range (e ≳ 0.05 with the published ξ(e)) keeps the elastic time.
 /// Measured at η = 1/50 (Tsuji, clamped, exact calibration): e = 0.05 and
 /// 0.02 were off by 1.2e−4 and 8e−4 with the elastic time alone.
-pub(crate) fn heavy_damping_scale(xi: f64) -> f64 {
+pub fn heavy_damping_scale(xi: f64) -> f64 {
     if xi <= std::f64::consts::FRAC_1_SQRT_2 {
         1.0
     } else {
