@@ -246,6 +246,10 @@ pub struct PaperData {
     /// Beyond the paper: dissipative laws on boundary particles.
     #[serde(skip)]
     pub restitution: RestitutionStudy,
+    /// The closing table's points with LIGGGHTS' e → coefficient mapping
+    /// (`contact.calibration = "formula"`; the study above uses the default).
+    #[serde(skip)]
+    pub restitution_formula: RestitutionStudy,
 }
 
 fn stage(quiet: bool, start: Instant, msg: &str) {
@@ -355,10 +359,16 @@ fn compute(base: &Scenario, quiet: bool, start: Instant) -> CliResult<PaperData>
     );
     let restitution = restitution_sweep(&Scenario::default(), &RestitutionSpec::default())
         .map_err(|e| CliError::failed(anyhow!("{e}")))?;
+    let mut formula_base = Scenario::default();
+    formula_base.contact.calibration = Some(dembound_core::contact::Calibration::Formula);
+    let restitution_formula =
+        restitution_sweep(&formula_base, &crate::output::restitution::closing_spec())
+            .map_err(|e| CliError::failed(anyhow!("{e}")))?;
 
     let quoted = quoted_numbers(&sc, &indicators);
     Ok(PaperData {
         restitution,
+        restitution_formula,
         scenario: *base,
         scaling: sc,
         quoted,
@@ -998,6 +1008,10 @@ fn report_markdown(
 
     m.push('\n');
     m.push_str(&restitution_markdown(&d.restitution));
+    m.push_str(&crate::output::restitution::closing_table(
+        &d.restitution,
+        &d.restitution_formula,
+    ));
     let _ = writeln!(
         m,
         "\nEffective restitution against r (all figures, also against ζ and for T_c and \

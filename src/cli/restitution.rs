@@ -173,6 +173,12 @@ fn sweep(args: &RestitutionArgs, base: &Scenario) -> CliResult {
     for c in &spec.calibrations {
         text.push_str(&format!("  {}: {}\n", c.name(), c.description()));
     }
+    let mapping = base.contact.calibration.unwrap_or_default();
+    text.push_str(&format!(
+        "  e → coefficient: contact.calibration = \"{}\", {}\n",
+        mapping.name(),
+        mapping.description()
+    ));
     writeln!(stdout, "{text}{}", summary_table(&study)).map_err(CliError::failed)?;
     match written {
         Some(paths) => {
@@ -316,15 +322,18 @@ fn reverse(args: &RestitutionArgs, base: &Scenario, target: f64) -> CliResult {
         let text = serde_json::to_string_pretty(&answers).map_err(CliError::failed)?;
         writeln!(stdout, "{text}").map_err(CliError::failed)?;
     } else {
+        let mapping = base.contact.calibration.unwrap_or_default();
         writeln!(
             stdout,
             "{} ({}) on the boundary particle r = {}, ζ = {}; wanted rebound E = {target} \
-             (impact speed {} m/s)",
+             (impact speed {} m/s)\ne → coefficient: contact.calibration = \"{}\", {}",
             law.name(),
             law.description(),
             ratio_text(r),
             ratio_text(z),
-            sig(base.impact_speed(), 6)
+            sig(base.impact_speed(), 6),
+            mapping.name(),
+            mapping.description()
         )
         .map_err(CliError::failed)?;
         for a in &answers {
@@ -371,10 +380,14 @@ fn write_answer(
         }
         (_, Calibration::Pair) => writeln!(
             w,
-            "  scenario: --set contact.law={} --set contact.damping={} --set contact.restitution={:.9}",
+            "  scenario: --set contact.law={} --set contact.damping={} --set contact.restitution={:.9}{}",
             l.name(),
             d.name(),
-            a.enter
+            a.enter,
+            match base.contact.calibration {
+                Some(c) => format!(" --set contact.calibration={}", c.name()),
+                None => String::new(),
+            }
         ),
         (_, Calibration::Wall) => writeln!(
             w,

@@ -6,8 +6,10 @@
 use crate::output::format::{exact, sig};
 use crate::plot::{Figure, Mark, Series, BLACK};
 use anyhow::Result;
+use dembound_core::bounce::StepRule;
+use dembound_core::contact::Calibration as ContactCalibration;
 use dembound_core::study::restitution::{
-    Calibration, DissipativeLaw, RestitutionPoint, RestitutionStudy,
+    Calibration, DissipativeLaw, RestitutionPoint, RestitutionSpec, RestitutionStudy,
 };
 use std::fmt::Write as _;
 use std::io::Write;
@@ -42,7 +44,7 @@ fn drop_text(study: &RestitutionStudy) -> String {
     let s = &study.scenario;
     format!(
         "particle R_m = {} mm, ρ = {} kg/m³, E_m = {} Pa, ν = {}; dropped from a gap of {} mm at \
-         {} m/s under g = {} m/s² (impact speed {} m/s); one contact, {} {} stepping, η = {}; \
+         {} m/s under g = {} m/s² (impact speed {} m/s); one contact, {} {} stepping, {}; \
          attraction {}",
         sig(s.particle.radius * 1e3, 6),
         sig(s.particle.density, 6),
@@ -54,10 +56,11 @@ fn drop_text(study: &RestitutionStudy) -> String {
         sig(s.impact_speed(), 6),
         s.integration.scheme.name(),
         super::report::stepping_name(s),
-        s.integration
-            .eta
-            .map(|e| sig(e, 4))
-            .unwrap_or_else(|| "given Δt".into()),
+        match s.step_rule() {
+            StepRule::Fraction(eta) => format!("η = {}", sig(eta, 4)),
+            StepRule::Fixed(dt) => format!("Δt = {} s", sig(dt, 6)),
+            StepRule::Tolerance(tol) => format!("Δt for a tolerance of {}", sig(tol, 3)),
+        },
         if s.contact.attractive {
             "allowed"
         } else {
@@ -86,12 +89,20 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
     for c in &study.spec.calibrations {
         let _ = writeln!(md, "- **{}**: {}.", c.name(), c.description());
     }
+    let mapping = study.scenario.contact.calibration.unwrap_or_default();
+    let _ = writeln!(
+        md,
+        "\nIn both, e becomes the coefficient with `contact.calibration = \"{}\"`: {}.",
+        mapping.name(),
+        mapping.description()
+    );
     let _ = writeln!(
         md,
         "\nWith the **pair** calibration e does not depend on r and ζ for the linear, Tsuji and \
          Walton–Braun laws (the calibration holds their dimensionless damping fixed), nor for the \
          viscoelastic law at the calibration speed; what remains comes from gravity during the \
-         contact and from forbidding attraction. With the **wall** calibration the same raw \
+         contact (and, with `contact.calibration = \"formula\"`, from forbidding attraction). \
+         With the **wall** calibration the same raw \
          coefficient meets a softer pair: the dashpot and Tsuji laws are then more damped (e \
          drops), the viscoelastic law less (δ ∝ A k^(2/5) falls, e rises) and Walton–Braun's \
          fixed k₂ gives e √(k₁/k₁(∞)).\n"
@@ -146,6 +157,71 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
             let _ = writeln!(md);
         }
     }
+    md
+}
+
+/// The points of the closing table: every law, e = 0.5 and 0.9, r = ζ = 100
+/// and the rigid wall, both calibrations.
+pub fn closing_spec() -> RestitutionSpec {
+    RestitutionSpec {
+        laws: DissipativeLaw::ALL.to_vec(),
+        targets: vec![0.5, 0.9],
+        radius_ratios: vec![100.0, f64::INFINITY],
+        modulus_ratios: vec![100.0, f64::INFINITY],
+        calibrations: Calibration::ALL.to_vec(),
+    }
+}
+
+/// The closing note: the effective restitution at r = ζ = 100 and on the
+/// rigid wall, for e = 0.5 and 0.9 under each law, with the default e →
+/// coefficient mapping of `exact` and with LIGGGHTS' of `formula` (the
+/// points [`closing_spec`] of each study).
+pub fn closing_table(exact: &RestitutionStudy, formula: &RestitutionStudy) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "**Closing note: effective restitution at r = ζ = 100 and on the rigid wall (r = ζ = \
+         ∞)**, {}. Columns: the e → coefficient mapping (`contact.calibration`, \
+         \"{}\" by default, or LIGGGHTS' \"{}\") and where the raw coefficient is calibrated \
+         (on the pair itself, or on the wall and reused). Regenerate with \
+         `cargo run --release -p dembound-core --example restitution_table`.\n",
+        drop_text(exact),
+        ContactCalibration::Exact.name(),
+        ContactCalibration::Formula.name(),
+    );
+    let _ = writeln!(
+        md,
+        "| law | e | wall, exact | r = ζ = 100 pair, exact | r = ζ = 100 wall, exact | \
+         wall, formula | r = ζ = 100 pair, formula | r = ζ = 100 wall, formula |\n\
+         |---|---|---:|---:|---:|---:|---:|---:|"
+    );
+    let inf = f64::INFINITY;
+    for law in DissipativeLaw::ALL {
+        for e in [0.5, 0.9] {
+            let _ = write!(md, "| {} | {e} |", law.name());
+            for study in [exact, formula] {
+                for (cal, r) in [
+                    (Calibration::Pair, inf),
+                    (Calibration::Pair, 100.0),
+                    (Calibration::Wall, 100.0),
+                ] {
+                    let text = study
+                        .point(law, cal, e, r, r)
+                        .map(|p| format!("{:.6}", p.restitution()))
+                        .unwrap_or_else(|| "—".into());
+                    let _ = write!(md, " {text} |");
+                }
+            }
+            let _ = writeln!(md);
+        }
+    }
+    let _ = writeln!(
+        md,
+        "\nWith attraction forbidden (as here) \"formula\" leaves the clamped linear and Tsuji \
+         laws rebounding faster than the target (0.550 for 0.5 on the wall, gravity-free); \
+         \"exact\" removes that, and what remains on the wall is the effect of gravity during \
+         the contact. Walton–Braun is exact either way (e = √(k₁/k₂)).\n"
+    );
     md
 }
 

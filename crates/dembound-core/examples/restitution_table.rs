@@ -1,76 +1,56 @@
-//! Effective restitution of the dissipative laws at r = ζ = 100 against the
-//! rigid half-space r = ζ = ∞, for target e = 0.5 and 0.9.
+//! The closing note of the restitution study: the effective restitution at
+//! r = ζ = 100 and on the rigid half-space r = ζ = ∞, for target e = 0.5 and
+//! 0.9 under each dissipative law, with both e → coefficient mappings
+//! (`contact.calibration`: "exact", the default, and LIGGGHTS' "formula").
 //!
 //! The validation drop (5 mm, g = 9.81, Gear5, η = 1/50, event stepping,
-//! attraction forbidden). "own" sets each pair's damping from the target
+//! attraction forbidden). "pair" sets each pair's damping from the target
 //! with that pair's own k (and, for the viscoelastic law, its own first
-//! impact speed); "fixed" keeps the raw coefficient calibrated on the
-//! half-space and applies it to r = ζ = 100.
+//! impact speed); "wall" keeps the raw coefficient calibrated on the
+//! half-space and applies it to r = ζ = 100. The `dembound paper` report
+//! prints the same numbers (its "beyond the paper" closing note).
 //!
 //! `cargo run --release -p dembound-core --example restitution_table`
 
-use dembound_core::bounce::{simulate, Scenario};
-use dembound_core::contact::{
-    ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic, LinearDashpot,
+use dembound_core::bounce::Scenario;
+use dembound_core::contact::Calibration as Mapping;
+use dembound_core::study::restitution::{
+    raw_coefficient, simulate_coefficient, Calibration, DissipativeLaw,
 };
-use dembound_core::material::{Boundary, ContactPair};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let models = [
-        (ContactLawKind::Linear, DampingKind::Viscous),
-        (ContactLawKind::Hertz, DampingKind::Tsuji),
-        (ContactLawKind::Hertz, DampingKind::Viscoelastic),
-        (ContactLawKind::WaltonBraun, DampingKind::None),
-    ];
-    println!("law           e_target  e(∞,own)   e(100,own)  e(100,fixed)  contact 2 (100,own)");
-    for (law, damping) in models {
+    println!(
+        "effective restitution v_r/|v_c|, validation drop (impact 0.313 m/s, g = 9.81), attraction forbidden"
+    );
+    println!(
+        "{:<13} {:<4} | {:>10} {:>10} {:>10} | {:>10} {:>10} {:>10}",
+        "law", "e", "∞ exact", "100 pair", "100 wall", "∞ formula", "100 pair", "100 wall"
+    );
+    for law in DissipativeLaw::ALL {
         for e in [0.5, 0.9] {
-            let base = |r: f64| {
-                let mut s = Scenario::default();
-                s.contact.law = law;
-                s.contact.damping = damping;
-                s.contact.restitution = Some(e);
-                s.boundary.radius_ratio = r;
-                s.boundary.modulus_ratio = r;
-                s
-            };
-            let inf = base(f64::INFINITY);
-            let hundred = base(100.0);
-            let run_inf = simulate(&inf, &mut ())?;
-            let run_100 = simulate(&hundred, &mut ())?;
-            // The half-space's raw coefficient applied at r = ζ = 100.
-            let m = inf.particle.mass();
-            let pair_inf = ContactPair::new(inf.particle, Boundary::RIGID_HALF_SPACE);
-            let target = Dissipation::Restitution(e);
-            let raw = match damping {
-                DampingKind::Viscous => Some(LinearDashpot::for_pair(&pair_inf, m, target).damping),
-                DampingKind::Tsuji => Some(HertzTsuji::for_pair(&pair_inf, m, target).damping),
-                DampingKind::Viscoelastic => Some(
-                    HertzViscoelastic::for_pair(&pair_inf, m, target, inf.impact_speed(), false)?.a,
-                ),
-                DampingKind::None => None,
-            };
-            let fixed = match raw {
-                Some(c) => {
-                    let mut s = hundred;
-                    s.contact.restitution = None;
-                    s.contact.damping_coefficient = Some(c);
-                    simulate(&s, &mut ())?.contacts[0].restitution
+            let mut cells = Vec::new();
+            for mapping in [Mapping::Exact, Mapping::Formula] {
+                let mut base = Scenario::default();
+                base.contact.calibration = Some(mapping);
+                let inf = f64::INFINITY;
+                for (cal, r) in [
+                    (Calibration::Pair, inf),
+                    (Calibration::Pair, 100.0),
+                    (Calibration::Wall, 100.0),
+                ] {
+                    let c = raw_coefficient(&base, law, cal, e, r, r)?;
+                    cells.push(simulate_coefficient(&base, law, c, r, r)?.restitution);
                 }
-                None => {
-                    // Walton–Braun: k2 = k1(∞)/e² kept, k1 of r = ζ = 100 (g = 0 exact).
-                    let k1_100 = hundred.pair().power_law_stiffness(1.0);
-                    let k2 = pair_inf.power_law_stiffness(1.0) / (e * e);
-                    (k1_100 / k2).sqrt()
-                }
-            };
+            }
             println!(
-                "{:<13} {e:<8}  {:.6}   {:.6}    {:.6}      {:.6}",
-                format!("{}/{}", law.name(), damping.name()),
-                run_inf.contacts[0].restitution,
-                run_100.contacts[0].restitution,
-                fixed,
-                run_100.contacts[1].restitution,
+                "{:<13} {e:<4} | {:>10.6} {:>10.6} {:>10.6} | {:>10.6} {:>10.6} {:>10.6}",
+                law.name(),
+                cells[0],
+                cells[1],
+                cells[2],
+                cells[3],
+                cells[4],
+                cells[5]
             );
         }
     }

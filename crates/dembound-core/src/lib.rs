@@ -8,7 +8,7 @@
 //! - [`bounce`]: the bouncing scenario, both stepping modes and event location;
 //! - [`exact`]: exact references (closed forms, quadrature), kept apart from
 //!   the numerics they check;
-//! - [`reference`]: independent references for the dissipative laws;
+//! - [`reference`](mod@reference): independent references for the dissipative laws;
 //! - [`study`]: validation, convergence and parametric studies.
 
 pub mod bounce;

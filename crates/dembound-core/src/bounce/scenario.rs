@@ -3,7 +3,7 @@
 //! checks that turn bad input into an error naming the field, the value and
 //! the allowed range.
 
-use crate::contact::{ContactLawKind, ContactModel, DampingKind, Dissipation};
+use crate::contact::{Calibration, ContactLawKind, ContactModel, DampingKind, Dissipation};
 use crate::integrate::Scheme;
 use crate::material::{Boundary, ContactPair, Particle};
 use serde::{Deserialize, Serialize};
@@ -137,6 +137,14 @@ pub struct ContactSection {
     /// No effect on the elastic laws, whose force is never negative.
     #[serde(default, skip_serializing_if = "is_default")]
     pub attractive: bool,
+    /// How `restitution` becomes the damping coefficient: `"exact"` (the
+    /// default when omitted: a gravity-free contact of the law as run,
+    /// clamped or not, rebounds with exactly e) or `"formula"` (the
+    /// published mapping, as LIGGGHTS/LAMMPS; see [`Calibration`]). No
+    /// effect without `restitution` (a base scenario of `dembound
+    /// restitution` sets it for the study's targets).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<Calibration>,
 }
 
 fn is_default<T: Default + PartialEq>(x: &T) -> bool {
@@ -152,6 +160,7 @@ impl ContactSection {
             restitution: None,
             damping_coefficient: None,
             attractive: false,
+            calibration: None,
         }
     }
 
@@ -167,6 +176,7 @@ impl ContactSection {
             damping: self.damping,
             dissipation,
             attractive: self.attractive,
+            calibration: self.calibration.unwrap_or_default(),
         }
     }
 }

@@ -17,10 +17,12 @@
 //! law; a dissipative one damps them by e each contact). The tolerance
 //! holds for every contact of the run, so each may use 1/N of it.
 //!
-//! Orders: Gear5 with event stepping is of 5th order for the laws whose
-//! contact is meshed uniformly or graded at both ends (smooth onsets, Hertz
-//! and power laws); everything else (Verlet; Gear5 with fixed stepping on a
-//! non-smooth law, or with a singular-onset damping law) is taken as 2nd
+//! Orders: Gear5 with event stepping is of 5th order for every law (meshed
+//! uniformly or graded at both ends: smooth onsets, Hertz and power laws,
+//! and the singular-onset damping laws), and so is Gear5 with fixed
+//! stepping on a smooth or singular-onset law (the latter graded between
+//! grid points, [`super::schedule::SingularMesh`]); everything else
+//! (Verlet; Gear5 with fixed stepping on a non-smooth law) is taken as 2nd
 //! order, which is conservative where the true order is higher: a lower p
 //! inflates e₂ and shrinks the extrapolated η.
 //!
@@ -58,9 +60,9 @@ pub struct ToleranceStep {
 
 /// Order of convergence assumed for `scheme` and `stepping` with `law`.
 pub fn assumed_order(scheme: Scheme, stepping: Stepping, law: &impl NormalContactLaw) -> f64 {
-    match (scheme, stepping) {
-        (Scheme::Gear5, Stepping::Event) if law.onset() != Onset::Singular => 5.0,
-        (Scheme::Gear5, Stepping::Fixed) if law.onset() == Onset::Smooth => 5.0,
+    match (scheme, stepping, law.onset()) {
+        (Scheme::Gear5, Stepping::Event, _) => 5.0,
+        (Scheme::Gear5, Stepping::Fixed, Onset::Smooth | Onset::Singular) => 5.0,
         _ => 2.0,
     }
 }

@@ -16,9 +16,14 @@
 //! onto a linear spring–dashpot with ξ = α/√5 (Antypov & Elliott, EPL 94,
 //! 50004 (2011)): so β above gives e *exactly* when attraction is allowed;
 //! with attraction forbidden e = exp(−ξ(π − 2 asin ξ)/√(1−ξ²)), ξ = |β|
-//! (see `reference::dissipative`).
+//! (see `reference::dissipative`): 0.550 for a target of 0.5. That is what
+//! LIGGGHTS does ([`Calibration::Formula`]); [`Calibration::Exact`] (the
+//! default) solves the clamped relation instead, γ = ξ √(5 k m) with ξ from
+//! [`damping_ratio_for`], the same inversion as the spring–dashpot's.
 
-use super::{power_law_free_contact, Dissipation, NormalContactLaw};
+use super::{
+    damping_ratio_for, power_law_free_contact, Calibration, Dissipation, NormalContactLaw,
+};
 use crate::material::ContactPair;
 
 /// LIGGGHTS' β = ln e/√(ln² e + π²) (≤ 0).
@@ -50,6 +55,30 @@ impl HertzTsuji {
             Dissipation::Coefficient(gamma) => gamma,
         };
         Self { stiffness, damping }
+    }
+
+    /// As [`Self::for_pair`], with a target restitution turned into γ by
+    /// `calibration` ([`Calibration::Exact`]: the exact gravity-free
+    /// relation of the law as run, `attractive` or clamped, through the
+    /// phase-space map onto the spring–dashpot, ξ = γ/√(5 k m)).
+    pub fn calibrated(
+        pair: &ContactPair,
+        mass: f64,
+        dissipation: Dissipation,
+        calibration: Calibration,
+        attractive: bool,
+    ) -> Self {
+        match (dissipation, calibration, attractive) {
+            (Dissipation::Restitution(e), Calibration::Exact, false) => {
+                let law = Self::for_pair(pair, mass, Dissipation::Coefficient(0.0));
+                let xi = damping_ratio_for(e, false);
+                Self {
+                    damping: xi * (5.0 * law.stiffness * mass).sqrt(),
+                    ..law
+                }
+            }
+            _ => Self::for_pair(pair, mass, dissipation),
+        }
     }
 }
 
@@ -83,9 +112,12 @@ impl NormalContactLaw for HertzTsuji {
     }
 
     /// The elastic Hertz contact time (damping lengthens it by a few per cent
-    /// at most for e ≥ 0.5): a time scale for Δt.
+    /// at most for e ≥ 0.5): a time scale for Δt; divided by √2 ξ beyond
+    /// ξ = γ/√(5 k m) = 1/√2 ([`super::heavy_damping_scale`]).
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {
-        power_law_free_contact(self.stiffness, 1.5, mass, impact_speed).1
+        let elastic = power_law_free_contact(self.stiffness, 1.5, mass, impact_speed).1;
+        let xi = self.damping / (5.0 * self.stiffness * mass).sqrt();
+        elastic * super::heavy_damping_scale(xi)
     }
 
     // h''' ∝ h^(−3/4) at the onset: the default (zeros) is the honest seed.

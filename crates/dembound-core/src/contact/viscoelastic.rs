@@ -17,9 +17,13 @@
 //! reference integrator ([`crate::reference::dissipative`]) and inverted by
 //! bisection in ln δ. Later (slower) impacts of the same run then rebound
 //! with a larger e, as they physically should. Alternatively A is given
-//! raw (`contact.damping_coefficient`, seconds).
+//! raw (`contact.damping_coefficient`, seconds). With
+//! [`Calibration::Formula`] A is solved for the unclamped law even when
+//! the run forbids attraction (there is no published closed form; this is
+//! the counterpart of the other laws' published mappings, which ignore the
+//! clamp too).
 
-use super::{power_law_free_contact, Dissipation, ModelError, NormalContactLaw};
+use super::{power_law_free_contact, Calibration, Dissipation, ModelError, NormalContactLaw};
 use crate::material::ContactPair;
 use crate::reference::dissipative::{damped_hertz, DampedHertz};
 
@@ -48,6 +52,21 @@ pub fn viscoelastic_restitution(
 }
 
 impl HertzViscoelastic {
+    /// As [`Self::for_pair`], calibrating for the law as run
+    /// ([`Calibration::Exact`]) or for the unclamped law
+    /// ([`Calibration::Formula`]).
+    pub fn calibrated(
+        pair: &ContactPair,
+        mass: f64,
+        dissipation: Dissipation,
+        impact_speed: f64,
+        calibration: Calibration,
+        attractive: bool,
+    ) -> Result<Self, ModelError> {
+        let as_run = attractive || calibration == Calibration::Formula;
+        Self::for_pair(pair, mass, dissipation, impact_speed, as_run)
+    }
+
     /// A from a target restitution at `impact_speed` (see the module doc),
     /// or A given (s).
     pub fn for_pair(
@@ -135,9 +154,16 @@ impl NormalContactLaw for HertzViscoelastic {
         super::Onset::Singular
     }
 
-    /// The elastic Hertz contact time: a time scale for Δt.
+    /// The elastic Hertz contact time: a time scale for Δt; divided by √2 ξ
+    /// beyond an equivalent damping ratio ξ = 1/√2
+    /// ([`super::heavy_damping_scale`]). ξ is Tsuji's γ h^(1/4)/(√5 √(k m)) with
+    /// the damping rate (3/2) k A h^(1/2)/m of this law at the elastic h_max:
+    /// ξ = (3/2) A ω_h/√5, ω_h = √(k/m) h_max^(1/4).
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {
-        power_law_free_contact(self.stiffness, 1.5, mass, impact_speed).1
+        let (h_max, elastic) = power_law_free_contact(self.stiffness, 1.5, mass, impact_speed);
+        let omega_h = (self.stiffness / mass).sqrt() * h_max.powf(0.25);
+        let xi = 1.5 * self.a * omega_h / 5f64.sqrt();
+        elastic * super::heavy_damping_scale(xi)
     }
 
     // h''' ∝ h^(−1/2) at the onset: the default (zeros) is the honest seed.

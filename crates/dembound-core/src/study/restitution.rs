@@ -13,9 +13,10 @@
 //!   particle–boundary pair itself. Then e does not depend on r and ζ for
 //!   the linear dashpot, Tsuji and Walton–Braun laws (their e is a function
 //!   of a dimensionless damping ratio that the calibration holds fixed) nor,
-//!   at the calibration speed, for the viscoelastic law; what remains are
-//!   the small effects of gravity during the contact and of the
-//!   no-attraction clamp.
+//!   at the calibration speed, for the viscoelastic law; what remains is
+//!   the small effect of gravity during the contact (and, with the base
+//!   scenario's `contact.calibration = "formula"`, that of the
+//!   no-attraction clamp, which the default `"exact"` calibrates away).
 //! - [`Calibration::Wall`]: the coefficient is computed once on the rigid
 //!   half-space r = ζ = ∞ and the *same raw number* is reused on the
 //!   boundary particle, as happens when a DEM code's material table is
@@ -338,19 +339,35 @@ pub fn raw_coefficient(
     let pair = s.pair();
     let mass = s.reduced_mass();
     let target = Dissipation::Restitution(e);
+    // How e becomes the coefficient: the base scenario's contact.calibration.
+    let (mapping, attractive) = (
+        s.contact.calibration.unwrap_or_default(),
+        s.contact.attractive,
+    );
     Ok(match law {
-        DissipativeLaw::Viscous => LinearDashpot::for_pair(&pair, mass, target).damping,
-        DissipativeLaw::Tsuji => HertzTsuji::for_pair(&pair, mass, target).damping,
+        DissipativeLaw::Viscous => {
+            LinearDashpot::calibrated(&pair, mass, target, mapping, attractive).damping
+        }
+        DissipativeLaw::Tsuji => {
+            HertzTsuji::calibrated(&pair, mass, target, mapping, attractive).damping
+        }
         DissipativeLaw::Viscoelastic => {
-            HertzViscoelastic::for_pair(&pair, mass, target, s.impact_speed(), s.contact.attractive)
-                // A target the law cannot reach is bad input, not a failed run.
-                .map_err(|error| {
-                    RestitutionError::OutOfReach(format!(
-                        "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
-                        s.boundary.radius_ratio, s.boundary.modulus_ratio
-                    ))
-                })?
-                .a
+            HertzViscoelastic::calibrated(
+                &pair,
+                mass,
+                target,
+                s.impact_speed(),
+                mapping,
+                attractive,
+            )
+            // A target the law cannot reach is bad input, not a failed run.
+            .map_err(|error| {
+                RestitutionError::OutOfReach(format!(
+                    "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
+                    s.boundary.radius_ratio, s.boundary.modulus_ratio
+                ))
+            })?
+            .a
         }
         DissipativeLaw::WaltonBraun => pair.power_law_stiffness(1.0) / (e * e),
     })
