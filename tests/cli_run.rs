@@ -74,6 +74,8 @@ fn default_run_prints_a_table_with_units() {
         "F_max (N)",
         "a_max (m/s²)",
         "v_c (m/s)",
+        "e = v_r/|v_c| (1)",
+        "E_diss (J)",
         "steps",
         "-0.313209195",
     ] {

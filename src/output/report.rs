@@ -79,6 +79,9 @@ fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> St
     let mut table = Table::new();
     table.load_preset(presets::UTF8_FULL_CONDENSED);
     let two_body = contacts.iter().any(|c| c.bodies.is_some());
+    // A non-attractive law's force returns to zero before the overlap does:
+    // both ends are reported when they differ.
+    let force_zero = contacts.iter().any(|c| c.t_force_zero.is_some());
     let mut header = vec![
         "#",
         "t_c (ms)",
@@ -90,8 +93,13 @@ fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> St
         "a_max (m/s²)",
         "v_c (m/s)",
         "v_r (m/s)",
+        "e = v_r/|v_c| (1)",
+        "E_diss (J)",
         "steps",
     ];
+    if force_zero {
+        header.insert(4, "t_F=0 (ms)");
+    }
     if two_body {
         header.extend([
             "v_m before (m/s)",
@@ -114,8 +122,16 @@ fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> St
             sig(c.max_acceleration, DIGITS),
             sig(c.impact_velocity, DIGITS),
             sig(c.rebound_velocity, DIGITS),
+            sig(c.restitution, DIGITS),
+            sig(c.energy_dissipated, 3),
             steps(c),
         ];
+        if force_zero {
+            let t = c
+                .t_force_zero
+                .map_or("–".to_string(), |t| sig(t * 1e3, DIGITS));
+            row.insert(4, t);
+        }
         if let Some(b) = &c.bodies {
             row.extend(
                 [
