@@ -58,8 +58,7 @@ use rayon::prelude::*;
 use simd::{Simd, V};
 #[cfg(target_arch = "x86_64")]
 use simd::{Avx2, Avx512, Sse2};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 mod simd;
 
@@ -158,37 +157,47 @@ pub fn simulate_batch_with(
             None => scalar.push(index),
         }
     }
-    let hertz = Queue::new(scenarios, &hertz);
-    let linear = Queue::new(scenarios, &linear);
+    let placeholders = |n: usize| -> Vec<Slot> {
+        (0..n)
+            .map(|_| Err(SimulationError::NeverReachesBoundary))
+            .collect()
+    };
+    let (mut hertz_out, mut linear_out) = (placeholders(hertz.len()), placeholders(linear.len()));
     let groups = (hertz.len() + linear.len()).div_ceil(isa.lanes());
     let tasks = rayon::current_num_threads().min(groups);
-    let (batched, unbatched) = rayon::join(
-        || {
-            (0..tasks)
-                .into_par_iter()
-                .map(|_| {
-                    let mut out = run_kernel::<Hertz>(&hertz, isa);
-                    out.extend(run_kernel::<LinearSpring>(&linear, isa));
-                    out
+    let unbatched = {
+        let hertz = Queue::new(scenarios, &hertz, &mut hertz_out);
+        let linear = Queue::new(scenarios, &linear, &mut linear_out);
+        rayon::join(
+            || {
+                (0..tasks).into_par_iter().for_each(|_| {
+                    run_kernel::<Hertz>(&hertz, isa);
+                    run_kernel::<LinearSpring>(&linear, isa);
                 })
-                .collect::<Vec<Output>>()
-        },
-        || {
-            scalar
-                .par_iter()
-                .map(|&i| (i, simulate(&scenarios[i], &mut ())))
-                .collect::<Output>()
-        },
-    );
-    let mut results: Vec<Option<Result<RunOutcome, SimulationError>>> =
-        (0..scenarios.len()).map(|_| None).collect();
-    for (index, result) in batched.into_iter().flatten().chain(unbatched) {
-        results[index] = Some(result);
+            },
+            || {
+                scalar
+                    .par_iter()
+                    .map(|&i| simulate(&scenarios[i], &mut ()))
+                    .collect::<Vec<Slot>>()
+            },
+        )
+        .1
+    };
+    // Every slot has been written; the placeholders are never seen.
+    if linear.is_empty() && scalar.is_empty() {
+        return hertz_out;
+    }
+    if hertz.is_empty() && scalar.is_empty() {
+        return linear_out;
+    }
+    let mut results = placeholders(scenarios.len());
+    for (indices, out) in [(hertz, hertz_out), (linear, linear_out), (scalar, unbatched)] {
+        for (i, result) in indices.into_iter().zip(out) {
+            results[i] = result;
+        }
     }
     results
-        .into_iter()
-        .map(|r| r.unwrap_or(Err(SimulationError::NeverReachesBoundary)))
-        .collect()
 }
 
 /// The law a scenario is batched with, if it is batched: elastic Hertz or
@@ -203,36 +212,61 @@ fn batch_law(s: &Scenario) -> Option<ContactLawKind> {
         .filter(|law| matches!(law, ContactLawKind::Hertz | ContactLawKind::Linear))
 }
 
-/// Cases of one law, taken one at a time by the kernels of all threads.
+/// A run's result.
+type Slot = Result<RunOutcome, SimulationError>;
+
+/// Cases a kernel takes from its queue at a time.
+const CHUNK: usize = 32;
+
+/// Cases of one law (indices into the batch) and their result slots,
+/// handed out a chunk at a time to the kernels of all threads.
 struct Queue<'a> {
     scenarios: &'a [Scenario],
-    indices: &'a [usize],
-    taken: AtomicUsize,
+    len: usize,
+    #[allow(clippy::type_complexity)]
+    chunks: Mutex<std::iter::Zip<std::slice::Chunks<'a, usize>, std::slice::ChunksMut<'a, Slot>>>,
 }
 
 impl<'a> Queue<'a> {
-    fn new(scenarios: &'a [Scenario], indices: &'a [usize]) -> Self {
+    fn new(scenarios: &'a [Scenario], indices: &'a [usize], out: &'a mut [Slot]) -> Self {
         Queue {
             scenarios,
-            indices,
-            taken: AtomicUsize::new(0),
+            len: indices.len(),
+            chunks: Mutex::new(indices.chunks(CHUNK).zip(out.chunks_mut(CHUNK))),
         }
     }
 
     fn len(&self) -> usize {
-        self.indices.len()
+        self.len
     }
 
-    /// The next case: its index in the batch and its scenario.
-    fn pop(&self) -> Option<(usize, &'a Scenario)> {
-        let i = *self.indices.get(self.taken.fetch_add(1, Ordering::Relaxed))?;
-        Some((i, &self.scenarios[i]))
+    /// The next chunk of cases, if any is left.
+    fn take(&self) -> Option<Chunk<'a>> {
+        // A poisoned lock (a panic elsewhere) still holds a valid iterator.
+        let mut chunks = self.chunks.lock().unwrap_or_else(|e| e.into_inner());
+        let (indices, out) = chunks.next()?;
+        Some(Chunk {
+            indices,
+            out,
+            next: 0,
+        })
     }
 }
 
+/// Cases a kernel has taken, and where their results go.
+struct Chunk<'a> {
+    indices: &'a [usize],
+    out: &'a mut [Slot],
+    /// The next case to start.
+    next: usize,
+}
+
+/// Where a case's result goes: (chunk, position) in the kernel's chunks.
+type SlotId = (usize, usize);
+
 /// One case, resolved.
 struct Case {
-    index: usize,
+    slot: SlotId,
     problem: Problem,
     /// The law's stiffness and that of the law scaled by 1/m.
     stiffness: f64,
@@ -244,7 +278,7 @@ struct Case {
 /// Resolves a case as [`plan`] does (same checks, same errors, same bits),
 /// with the law built once and its contact-time estimate's constant factor
 /// computed once per law ([`LaneLaw::estimate`]).
-fn plan_case<L: LaneLaw>(index: usize, s: &Scenario) -> Result<Case, SimulationError> {
+fn plan_case<L: LaneLaw>(slot: SlotId, s: &Scenario) -> Result<Case, SimulationError> {
     s.validate()?;
     let law = L::for_pair(&s.pair());
     let problem = match s.step_rule() {
@@ -254,7 +288,7 @@ fn plan_case<L: LaneLaw>(index: usize, s: &Scenario) -> Result<Case, SimulationE
     };
     let inv_mass = 1.0 / problem.mass;
     Ok(Case {
-        index,
+        slot,
         problem,
         stiffness: law.stiffness(),
         accel_stiffness: law.scaled(inv_mass).stiffness(),
@@ -410,13 +444,18 @@ impl State {
     fn gear(&self, l: usize, gear: &Gear5) -> Gear5State {
         let dt = self.dt[l];
         let half_dt2 = 0.5 * dt * dt;
+        let (mut r, mut next) = ([0.0; 6], [0.0; 6]);
+        for k in 0..6 {
+            r[k] = self.r[k][l];
+            next[k] = self.next[k][l];
+        }
         Gear5State {
-            r: [0, 1, 2, 3, 4, 5].map(|k| self.r[k][l]),
+            r,
             dt,
             half_dt2,
             inv_dt: 1.0 / dt,
             gain: gear.predicted_corrector[0] * half_dt2,
-            next: [0, 1, 2, 3, 4, 5].map(|k| self.next[k][l]),
+            next,
         }
     }
 
@@ -712,11 +751,11 @@ impl LaneCase {
     }
 }
 
-type Output = Vec<(usize, Result<RunOutcome, SimulationError>)>;
-
-fn run_kernel<L: LaneLaw>(queue: &Queue<'_>, isa: Isa) -> Output {
+/// Runs the cases of `queue` (with the other kernels that share it) into
+/// their slots.
+fn run_kernel<L: LaneLaw>(queue: &Queue<'_>, isa: Isa) {
     if queue.len() == 0 {
-        return Vec::new();
+        return;
     }
     #[cfg(target_arch = "x86_64")]
     {
@@ -735,43 +774,55 @@ fn run_kernel<L: LaneLaw>(queue: &Queue<'_>, isa: Isa) -> Output {
             }
             Isa::Baseline => {}
         }
-        match Sse2::detect() {
-            Some(s) => Kernel::<L, Sse2, { GROUP_BASELINE }>::new(queue, s).run(),
-            None => Vec::new(),
+        if let Some(s) = Sse2::detect() {
+            Kernel::<L, Sse2, { GROUP_BASELINE }>::new(queue, s).run();
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
         let _ = isa;
-        match simd::Scalar::detect() {
-            Some(s) => Kernel::<L, simd::Scalar, 8>::new(queue, s).run(),
-            None => Vec::new(),
+        if let Some(s) = simd::Scalar::detect() {
+            Kernel::<L, simd::Scalar, 8>::new(queue, s).run();
         }
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
-unsafe fn kernel_avx512<L: LaneLaw>(queue: &Queue<'_>, s: Avx512) -> Output {
+unsafe fn kernel_avx512<L: LaneLaw>(queue: &Queue<'_>, s: Avx512) {
     Kernel::<L, Avx512, { GROUP_AVX512 }>::new(queue, s).run()
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn kernel_avx2<L: LaneLaw>(queue: &Queue<'_>, s: Avx2) -> Output {
+unsafe fn kernel_avx2<L: LaneLaw>(queue: &Queue<'_>, s: Avx2) {
     Kernel::<L, Avx2, { GROUP_AVX2 }>::new(queue, s).run()
+}
+
+/// A threshold t with r₁ ≥ t wherever `r₁ * (1.0 / Δt) >= 0.0` for the
+/// step sizes Δt of a contact with `dt` (they are below 2 dt): r₁ ≥ 0, or
+/// r₁ < 0 so small that the product rounds to −0, |r₁| < 2⁻¹⁰⁷⁴ Δt. A
+/// normal number, so that nothing in the step loop is subnormal.
+fn velocity_threshold(dt: f64) -> f64 {
+    -f64::MIN_POSITIVE * (2.0 * dt).max(1.0)
 }
 
 struct Kernel<'a, 'q, L, S: Simd, const G: usize> {
     s: S,
     queue: &'a Queue<'q>,
+    /// The chunks of cases taken; the last is being started.
+    chunks: Vec<Chunk<'q>>,
     /// The lanes' state between steps (see [`Hot`]).
     mem: State,
     /// Per-lane constants of the step: −g and the law's stiffness over m.
     c: Lanes,
     accel_stiffness: Lanes,
-    /// Event thresholds: a lane's event is velocity ≥ `velocity_event` or
-    /// position ≥ `position_event`.
+    /// Event thresholds: a lane's event is r₁ ≥ `velocity_event` or
+    /// position ≥ `position_event`. The maximum overlap is sought where the
+    /// velocity r₁/Δt ≥ 0; that is tested on r₁ alone, against a tiny
+    /// negative threshold (see [`velocity_threshold`]), the position is
+    /// tested against 0 after it; +∞ disables either. The events recheck
+    /// the scalar path's conditions exactly.
     velocity_event: Lanes,
     position_event: Lanes,
     /// Step sizes: row `i % RING` holds every lane's size for iteration i.
@@ -785,7 +836,6 @@ struct Kernel<'a, 'q, L, S: Simd, const G: usize> {
     refill_at: u64,
     deadline: u64,
     active: usize,
-    out: Output,
     gear: Gear5,
     _law: std::marker::PhantomData<L>,
 }
@@ -800,6 +850,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         Kernel {
             s,
             queue,
+            chunks: Vec::new(),
             mem: State::new(),
             c: [0.0; MAX_LANES],
             accel_stiffness: [0.0; MAX_LANES],
@@ -812,7 +863,6 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             refill_at: u64::MAX,
             deadline: u64::MAX,
             active: 0,
-            out: Vec::new(),
             gear: Gear5::POSITION_DEPENDENT,
             _law: std::marker::PhantomData,
         }
@@ -820,7 +870,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
 
     /// Runs the lanes until the queue is empty.
     #[inline(always)]
-    fn run(mut self) -> Output {
+    fn run(mut self) {
         self.start();
         let s = self.s;
         let gear = self.gear;
@@ -850,7 +900,6 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 power = power * ratio;
             }
             let half_dt2 = 0.5 * len * len;
-            let inv_dt = 1.0 / len;
             let gain = pc[0] * half_dt2;
             let rescaled = lanes_pascal(&r);
             let mut p = hot.next;
@@ -878,11 +927,10 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             hot.dt = len;
             // Events.
             let position = r[0];
-            let velocity = r[1] * inv_dt;
             hot.min_position = position
                 .lt(hot.min_position)
                 .select(position, hot.min_position);
-            let events = velocity.ge(V::load(s, &self.velocity_event))
+            let events = r[1].ge(V::load(s, &self.velocity_event))
                 | position.ge(V::load(s, &self.position_event));
             let bits = events.bits();
             if bits != 0 || self.now >= self.deadline {
@@ -891,7 +939,28 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 hot = Hot::load(s, &self.mem);
             }
         }
-        self.out
+    }
+
+    /// The next case to start: its slot and scenario.
+    fn pop(&mut self) -> Option<(SlotId, &'q Scenario)> {
+        loop {
+            let id = self.chunks.len().wrapping_sub(1);
+            if let Some(c) = self.chunks.last_mut() {
+                if let Some(&index) = c.indices.get(c.next) {
+                    c.next += 1;
+                    return Some(((id, c.next - 1), &self.queue.scenarios[index]));
+                }
+            }
+            let chunk = self.queue.take()?;
+            self.chunks.push(chunk);
+        }
+    }
+
+    /// Stores a case's result.
+    fn put(&mut self, (chunk, i): SlotId, result: Slot) {
+        if let Some(slot) = self.chunks.get_mut(chunk).and_then(|c| c.out.get_mut(i)) {
+            *slot = result;
+        }
     }
 
     /// Gives every lane its first case.
@@ -965,7 +1034,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                         contact: lc.contact,
                         steps: now + 1 - lc.first,
                     };
-                    self.out.push((c.index, Err(error)));
+                    self.put(c.slot, Err(error));
                 }
                 self.take_case(l);
             }
@@ -979,11 +1048,11 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         if self.lane[l].case.take().is_some() {
             self.active -= 1;
         }
-        while let Some((index, s)) = self.queue.pop() {
-            let case = match plan_case::<L>(index, s) {
+        while let Some((slot, s)) = self.pop() {
+            let case = match plan_case::<L>(slot, s) {
                 Ok(case) => case,
                 Err(e) => {
-                    self.out.push((index, Err(e)));
+                    self.put(slot, Err(e));
                     continue;
                 }
             };
@@ -1000,7 +1069,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             match self.start_contact(l) {
                 Ok(()) => return,
                 Err(e) => {
-                    self.out.push((index, Err(e)));
+                    self.put(slot, Err(e));
                     self.lane[l].case = None;
                     self.active -= 1;
                 }
@@ -1062,7 +1131,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         m.dt[l] = state.dt;
         m.tau_end[l] = 0.0;
         m.min_position[l] = 0.0;
-        self.velocity_event[l] = 0.0;
+        self.velocity_event[l] = velocity_threshold(p.dt);
         self.position_event[l] = f64::INFINITY;
         self.fill(l, self.now);
         Ok(())
@@ -1139,15 +1208,16 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 contact_time_estimate: c.problem.contact_time_estimate,
                 error_estimate: c.problem.error_estimate,
             };
-            self.out.push((c.index, Ok(outcome)));
+            let slot = c.slot;
+            self.put(slot, Ok(outcome));
             self.take_case(l);
             return;
         }
-        let index = c.index;
+        let slot = c.slot;
         lc.contact += 1;
         (lc.t, lc.x, lc.v) = (t_rebound, 0.0, rebound_velocity);
         if let Err(e) = self.start_contact(l) {
-            self.out.push((index, Err(e)));
+            self.put(slot, Err(e));
             self.take_case(l);
         }
     }
