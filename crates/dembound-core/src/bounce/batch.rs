@@ -472,6 +472,20 @@ impl State {
     }
 }
 
+/// The sizes of a step and the factors that depend on them alone.
+#[derive(Clone, Copy)]
+struct Geometry<S: Simd, const G: usize> {
+    tau_end: V<S, G>,
+    len: V<S, G>,
+    /// Where the size changes.
+    resize: simd::Mask<S, G>,
+    /// The size's ratio to the last one, to the powers 1 to 5.
+    power: [V<S, G>; 5],
+    half_dt2: V<S, G>,
+    /// The law's stiffness over m times the gain.
+    k_step: V<S, G>,
+}
+
 /// [`State`] in registers.
 #[derive(Clone, Copy)]
 struct Hot<S: Simd, const G: usize> {
@@ -878,42 +892,34 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         let cc = gear.corrector;
         let inverse_sum = V::splat(s, gear.inverse_sum);
         let mut hot = Hot::<S, G>::load(s, &self.mem);
+        if 1 >= self.refill_at {
+            self.refill(1);
+        }
+        let mut geo = self.geometry(&hot);
         while self.active > 0 {
             self.now += 1;
-            if self.now >= self.refill_at {
-                self.refill();
-            }
+            hot.tau_start = hot.tau_end;
+            hot.tau_end = geo.tau_end;
             // The step's size: `set_step` where it changes. Where it does
             // not, the ratio is 1 and every recomputed value comes out
             // with the bits it had (the same expressions of the same
             // values), so only the prediction needs a select.
-            let h = V::load(s, &self.ring[self.now as usize & (RING - 1)]);
-            hot.tau_start = hot.tau_end;
-            hot.tau_end = hot.tau_start + h;
-            let len = hot.tau_end - hot.tau_start;
-            let resize = len.ne(hot.dt);
-            let ratio = len / hot.dt;
             let mut r = hot.r;
-            let mut power = ratio;
-            for rk in r.iter_mut().skip(1) {
-                *rk = *rk * power;
-                power = power * ratio;
+            for k in 1..6 {
+                r[k] = r[k] * geo.power[k - 1];
             }
-            let half_dt2 = 0.5 * len * len;
-            let gain = pc[0] * half_dt2;
             let rescaled = lanes_pascal(&r);
             let mut p = hot.next;
             for k in 0..6 {
-                p[k] = resize.select(rescaled[k], p[k]);
+                p[k] = geo.resize.select(rescaled[k], p[k]);
             }
             // `Gear5::step_scaled` with the law scaled by the gain, as
             // `Run::contact_step` does, and c = −g; the same expressions in
             // the same order.
             let mut next = lanes_pascal(&p);
-            let base = V::load(s, &self.c) * half_dt2 - p[2];
+            let base = V::load(s, &self.c) * geo.half_dt2 - p[2];
             let next_x_base = next[0] + pc[0] * base;
-            let k_step = V::load(s, &self.accel_stiffness) * gain;
-            let scaled = L::lanes_force(k_step, -p[0]);
+            let scaled = L::lanes_force(geo.k_step, -p[0]);
             let delta = scaled * inverse_sum + base;
             for k in 0..6 {
                 r[k] = p[k] + cc[k] * delta;
@@ -924,7 +930,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             next[0] = next_x_base + scaled;
             hot.r = r;
             hot.next = next;
-            hot.dt = len;
+            hot.dt = geo.len;
             // Events.
             let position = r[0];
             hot.min_position = position
@@ -938,6 +944,37 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 self.events(bits);
                 hot = Hot::load(s, &self.mem);
             }
+            // The next step's geometry, ahead of its state (it depends on
+            // the mesh alone, so it overlaps this step's latency chain).
+            if self.now + 1 >= self.refill_at {
+                self.refill(self.now + 1);
+            }
+            geo = self.geometry(&hot);
+        }
+    }
+
+    /// The sizes of the step of iteration `now + 1` and the factors of
+    /// `set_step` and `step_scaled` that depend on them alone.
+    #[inline(always)]
+    fn geometry(&self, hot: &Hot<S, G>) -> Geometry<S, G> {
+        let s = self.s;
+        let h = V::load(s, &self.ring[(self.now + 1) as usize & (RING - 1)]);
+        let tau_end = hot.tau_end + h;
+        let len = tau_end - hot.tau_end;
+        let ratio = len / hot.dt;
+        let mut power = [ratio; 5];
+        for k in 1..5 {
+            power[k] = power[k - 1] * ratio;
+        }
+        let half_dt2 = 0.5 * len * len;
+        let gain = self.gear.predicted_corrector[0] * half_dt2;
+        Geometry {
+            tau_end,
+            len,
+            resize: len.ne(hot.dt),
+            power,
+            half_dt2,
+            k_step: V::load(s, &self.accel_stiffness) * gain,
         }
     }
 
@@ -972,12 +1009,13 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         self.update_marks();
     }
 
-    /// Refills the ring of every lane that is at most [`REFILL`] ahead.
+    /// Refills the ring of every lane that is at most [`REFILL`] ahead of
+    /// iteration `at` (whose row has not been read yet).
     #[inline(never)]
-    fn refill(&mut self) {
+    fn refill(&mut self, at: u64) {
         for l in 0..Self::N {
-            if self.lane[l].filled <= self.now + REFILL {
-                self.fill(l, self.now);
+            if self.lane[l].filled <= at + REFILL {
+                self.fill(l, at);
             }
         }
         self.update_marks();
