@@ -63,10 +63,9 @@ use std::sync::{Mutex, OnceLock};
 mod simd;
 
 /// Rows of the step-size ring (a power of two).
-const RING: usize = 32;
-/// A lane's ring is filled this many iterations ahead (< RING) ...
-const AHEAD: u64 = 24;
-/// ... once it holds no more than this many.
+const RING: usize = 64;
+/// A lane's run of sizes longer than the ring is continued once the ring
+/// holds no more than this many of them.
 const REFILL: u64 = 8;
 /// Graded regions of up to this many steps take their sizes from a table.
 const MAX_TABLE: u64 = 1 << 14;
@@ -638,20 +637,32 @@ impl Mesh {
         }
     }
 
-    /// The next `count` step sizes, through `put`: `count` calls of
-    /// [`Self::next`], a run of equal or tabled sizes at a time.
+    /// Whether every step from here on is Δt (until a re-plan).
     #[inline(always)]
-    fn fill(&mut self, tables: &Tables, mut count: u64, mut put: impl FnMut(f64)) {
-        let g = &mut self.steps;
-        while count > 0 {
+    fn uniform_from_here(&self) -> bool {
+        let g = &self.steps;
+        !g.graded
+            || (!g.planned && self.j >= g.onset_steps)
+            || (g.planned && g.uniform_left == 0 && g.end_left == 0 && g.last == g.dt)
+    }
+
+    /// The step sizes that follow, through `put`, up to the first of a run
+    /// of Δt to the end (the sizes [`Self::next`] gives) but at most
+    /// `max`; returns how many, and whether that run of Δt was reached.
+    #[inline(always)]
+    fn explicit(&mut self, tables: &Tables, max: u64, mut put: impl FnMut(f64)) -> (u64, bool) {
+        let mut done = 0;
+        loop {
+            if self.uniform_from_here() {
+                return (done, true);
+            }
+            if done == max {
+                return (done, false);
+            }
+            let g = &mut self.steps;
+            let count = max - done;
             let k;
-            if !g.graded || (!g.planned && self.j >= g.onset_steps) {
-                k = count;
-                for _ in 0..k {
-                    put(g.dt);
-                }
-                g.last = g.dt;
-            } else if !g.planned {
+            if !g.planned {
                 k = count.min(g.onset_steps - self.j);
                 let (region, n) = (g.onset_region, g.onset_steps);
                 match self.onset_table {
@@ -694,17 +705,12 @@ impl Mesh {
                 g.end_left -= k;
                 g.last = tables.step(self.end_table, region, n, g.end_left);
             } else {
-                // Past the planned rebound: grow until it is crossed (Δt
-                // from the first step that reaches it on).
-                k = count;
-                for _ in 0..k {
-                    if g.last != g.dt {
-                        g.last = (2.0 * g.last).min(g.dt);
-                    }
-                    put(g.last);
-                }
+                // Past the planned rebound: grow until it is crossed.
+                k = 1;
+                g.last = (2.0 * g.last).min(g.dt);
+                put(g.last);
             }
-            count -= k;
+            done += k;
             self.j += k;
         }
     }
@@ -731,8 +737,11 @@ struct LaneCase {
     first: u64,
     deadline: u64,
     mesh: Mesh,
-    /// Iterations up to which the ring holds this lane's step sizes.
+    /// The ring holds this lane's sizes up to this iteration (not
+    /// included); Δt after.
     filled: u64,
+    /// Whether the sizes after `filled` are still to be written.
+    more: bool,
 }
 
 impl LaneCase {
@@ -760,7 +769,8 @@ impl LaneCase {
                 onset_table: None,
                 end_table: None,
             },
-            filled: u64::MAX,
+            filled: 0,
+            more: false,
         }
     }
 }
@@ -839,8 +849,11 @@ struct Kernel<'a, 'q, L, S: Simd, const G: usize> {
     /// the scalar path's conditions exactly.
     velocity_event: Lanes,
     position_event: Lanes,
-    /// Step sizes: row `i % RING` holds every lane's size for iteration i.
+    /// Step sizes: row `i % RING` holds every lane's size for iteration
+    /// i < `until` (as f64); the lane's Δt, `dt`, is the size after.
     ring: Box<[Lanes; RING]>,
+    until: Lanes,
+    dt: Lanes,
     lane: Vec<LaneCase>,
     tables: Tables,
     /// The iteration whose step is being taken (the first is 1).
@@ -871,6 +884,8 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             velocity_event: [f64::INFINITY; MAX_LANES],
             position_event: [f64::INFINITY; MAX_LANES],
             ring: Box::new([[1.0; MAX_LANES]; RING]),
+            until: [0.0; MAX_LANES],
+            dt: [1.0; MAX_LANES],
             lane: (0..Self::N).map(|_| LaneCase::idle()).collect(),
             tables: Tables::default(),
             now: 0,
@@ -958,7 +973,9 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
     #[inline(always)]
     fn geometry(&self, hot: &Hot<S, G>) -> Geometry<S, G> {
         let s = self.s;
-        let h = V::load(s, &self.ring[(self.now + 1) as usize & (RING - 1)]);
+        let at = V::splat(s, (self.now + 1) as f64);
+        let row = V::load(s, &self.ring[(self.now + 1) as usize & (RING - 1)]);
+        let h = at.lt(V::load(s, &self.until)).select(row, V::load(s, &self.dt));
         let tau_end = hot.tau_end + h;
         let len = tau_end - hot.tau_end;
         let ratio = len / hot.dt;
@@ -1009,40 +1026,53 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         self.update_marks();
     }
 
-    /// Refills the ring of every lane that is at most [`REFILL`] ahead of
-    /// iteration `at` (whose row has not been read yet).
+    /// Continues the runs of sizes of the lanes that have at most
+    /// [`REFILL`] left before iteration `at` (whose row has not been read).
     #[inline(never)]
     fn refill(&mut self, at: u64) {
         for l in 0..Self::N {
-            if self.lane[l].filled <= at + REFILL {
-                self.fill(l, at);
+            let lc = &self.lane[l];
+            if lc.more && lc.filled <= at + REFILL {
+                self.write_run(l, at);
             }
         }
         self.update_marks();
     }
 
-    /// Fills lane `l`'s step sizes up to [`AHEAD`] iterations ahead of
-    /// iteration `from`.
-    fn fill(&mut self, l: usize, from: u64) {
+    /// Writes lane `l`'s sizes from `filled` on, for as far as the ring
+    /// reaches from iteration `at` (whose row has not been read) or to the
+    /// start of a run of Δt.
+    fn write_run(&mut self, l: usize, at: u64) {
         let lc = &mut self.lane[l];
-        let end = from + AHEAD;
-        if lc.filled >= end {
-            return;
-        }
         let mut row = lc.filled as usize;
         let ring = &mut self.ring;
-        lc.mesh.fill(&self.tables, end - lc.filled, |h| {
-            ring[row & (RING - 1)][l] = h;
-            row += 1;
-        });
-        lc.filled = end;
+        let limit = at + RING as u64;
+        let (done, ended) = lc
+            .mesh
+            .explicit(&self.tables, limit.saturating_sub(lc.filled), |h| {
+                ring[row & (RING - 1)][l] = h;
+                row += 1;
+            });
+        lc.filled += done;
+        lc.more = !ended;
+        // Exact: iteration numbers stay far below 2⁵³.
+        self.until[l] = lc.filled as f64;
+    }
+
+    /// Lane `l`'s sizes from iteration `from` (the one after the current)
+    /// on.
+    fn restart_run(&mut self, l: usize, from: u64) {
+        self.lane[l].filled = from;
+        self.write_run(l, from);
     }
 
     fn update_marks(&mut self) {
         let active = self.lane.iter().filter(|lc| lc.case.is_some());
         let (mut filled, mut deadline) = (u64::MAX, u64::MAX);
         for lc in active {
-            filled = filled.min(lc.filled);
+            if lc.more {
+                filled = filled.min(lc.filled);
+            }
             deadline = deadline.min(lc.deadline);
         }
         self.refill_at = filled.saturating_sub(REFILL);
@@ -1119,9 +1149,9 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         self.accel_stiffness[l] = 0.0;
         self.velocity_event[l] = f64::INFINITY;
         self.position_event[l] = f64::INFINITY;
-        for row in self.ring.iter_mut() {
-            row[l] = 1.0;
-        }
+        self.dt[l] = 1.0;
+        self.lane[l].mesh = LaneCase::idle().mesh;
+        self.restart_run(l, self.now + 1);
         self.lane[l] = LaneCase::idle();
     }
 
@@ -1147,7 +1177,10 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         let [h3, h4, h5] = law.onset_derivatives(p.mass, overlap_rate, overlap_accel);
         let graded = GradedSteps::new(p.dt, p.contact_time_estimate, L::GRADING);
         lc.mesh = Mesh::new(graded, &mut self.tables);
-        let h0 = lc.mesh.next(&self.tables);
+        let h0 = {
+            let mut mesh = lc.mesh;
+            mesh.next(&self.tables)
+        };
         let tau_end = 0.0 + h0;
         let state = self
             .gear
@@ -1157,21 +1190,19 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         lc.first = self.now + 1;
         // The scalar path gives up after a step with `steps > budget`.
         lc.deadline = lc.first + c.budget;
-        // The next iteration advances τ from 0 by its row: h0.
-        let first = lc.first;
-        self.ring[first as usize & (RING - 1)][l] = h0;
-        lc.filled = first + 1;
+        self.dt[l] = p.dt;
         let m = &mut self.mem;
         for k in 0..6 {
             m.r[k][l] = state.r[k];
             m.next[k][l] = state.next[k];
         }
         m.dt[l] = state.dt;
+        // The next iteration advances τ from 0 by its row: h0.
         m.tau_end[l] = 0.0;
         m.min_position[l] = 0.0;
         self.velocity_event[l] = velocity_threshold(p.dt);
         self.position_event[l] = f64::INFINITY;
-        self.fill(l, self.now);
+        self.restart_run(l, self.now + 1);
         Ok(())
     }
 
@@ -1192,8 +1223,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         let j = self.now - lc.first;
         lc.mesh
             .plan_end(j, self.mem.tau_end[l], tau_max, &mut self.tables);
-        lc.filled = self.now + 1;
-        self.fill(l, self.now);
+        self.restart_run(l, self.now + 1);
         self.velocity_event[l] = f64::INFINITY;
         self.position_event[l] = 0.0;
     }
@@ -1342,18 +1372,29 @@ mod tests {
                 for j in plan_at..plan_at + 200 {
                     expected.push(reference.next(j));
                 }
-                // The same in runs of 1 to 13 steps, re-planned alike.
+                // The same in runs of 1 to 13 steps, re-planned alike, Δt
+                // after the explicit sizes.
                 let mut mesh = Mesh::new(g, &mut tables);
                 let mut got = Vec::new();
                 let mut run = 1;
+                let mut ended = false;
                 while (got.len() as u64) < plan_at {
                     let count = run.min(plan_at - got.len() as u64);
-                    mesh.fill(&tables, count, |h| got.push(h));
+                    if ended {
+                        got.extend((0..count).map(|_| dt));
+                    } else {
+                        ended = mesh.explicit(&tables, count, |h| got.push(h)).1;
+                    }
                     run = run % 13 + 4;
                 }
                 mesh.plan_end(plan_at - 1, tau, 0.52 * tau, &mut tables);
+                ended = false;
                 while got.len() < expected.len() {
-                    mesh.fill(&tables, run, |h| got.push(h));
+                    if ended {
+                        got.push(dt);
+                    } else {
+                        ended = mesh.explicit(&tables, run, |h| got.push(h)).1;
+                    }
                     run = run % 13 + 4;
                 }
                 got.truncate(expected.len());
