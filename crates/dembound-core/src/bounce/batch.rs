@@ -45,21 +45,23 @@
 //! enabled for the compiler, which does not contract on its own), or the
 //! baseline SSE2 build.
 
-use super::events::{locate, time_to_surface, Crossing};
+use super::events::{time_to_surface, Crossing};
 use super::schedule::{graded_step, GradedSteps, Grading};
 use super::{
     plan, simulate, ContactRecord, Problem, RunOutcome, Scenario, SimulationError, StepRule,
     Stepping,
 };
 use crate::contact::{ContactLawKind, DampingKind, Hertz, LinearSpring, NormalContactLaw, Onset};
-use crate::integrate::{Gear5, Gear5State, Integrator, Scheme};
+use crate::integrate::{Gear5, Gear5State, Integrator, Kinematics, Scheme};
 use crate::material::ContactPair;
+use locate::Step;
 use rayon::prelude::*;
-use simd::{Simd, V};
 #[cfg(target_arch = "x86_64")]
 use simd::{Avx2, Avx512, Sse2};
+use simd::{Simd, V};
 use std::sync::{Mutex, OnceLock};
 
+mod locate;
 mod simd;
 
 /// Rows of the step-size ring (a power of two).
@@ -191,7 +193,11 @@ pub fn simulate_batch_with(
         return linear_out;
     }
     let mut results = placeholders(scenarios.len());
-    for (indices, out) in [(hertz, hertz_out), (linear, linear_out), (scalar, unbatched)] {
+    for (indices, out) in [
+        (hertz, hertz_out),
+        (linear, linear_out),
+        (scalar, unbatched),
+    ] {
         for (i, result) in indices.into_iter().zip(out) {
             results[i] = result;
         }
@@ -975,7 +981,9 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         let s = self.s;
         let at = V::splat(s, (self.now + 1) as f64);
         let row = V::load(s, &self.ring[(self.now + 1) as usize & (RING - 1)]);
-        let h = at.lt(V::load(s, &self.until)).select(row, V::load(s, &self.dt));
+        let h = at
+            .lt(V::load(s, &self.until))
+            .select(row, V::load(s, &self.dt));
         let tau_end = hot.tau_end + h;
         let len = tau_end - hot.tau_end;
         let ratio = len / hot.dt;
@@ -1084,28 +1092,67 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
     #[inline(never)]
     fn events(&mut self, bits: u32) {
         let now = self.now;
+        // The scalar path's tests, lane by lane: the maximum overlap first,
+        // then the rebound (possibly in the same step), else the budget.
+        // Events of the same kind are located together.
+        let mut lanes = [0usize; MAX_LANES];
+        let mut steps = [Step {
+            r: [0.0; 6],
+            dt: 1.0,
+        }; MAX_LANES];
+        let mut located = [(0.0, Kinematics::default()); MAX_LANES];
+        let mut kinematics = [Kinematics::default(); MAX_LANES];
+        let mut rebounded = [false; MAX_LANES];
         for l in 0..Self::N {
-            if bits & (1 << l) == 0 && now < self.lane[l].deadline {
+            if bits & (1 << l) != 0 {
+                let state = self.mem.gear(l, &self.gear);
+                kinematics[l] = self.gear.kinematics(&state);
+            }
+        }
+        for crossing in [Crossing::Velocity, Crossing::Position] {
+            let mut n = 0;
+            for l in (0..Self::N).filter(|&l| bits & (1 << l) != 0) {
+                let (found, k) = (self.lane[l].found, &kinematics[l]);
+                let event = match crossing {
+                    Crossing::Velocity => !found && k.velocity >= 0.0,
+                    Crossing::Position => found && k.position >= 0.0,
+                };
+                if event {
+                    lanes[n] = l;
+                    steps[n] = Step {
+                        r: std::array::from_fn(|k| self.mem.r[k][l]),
+                        dt: self.mem.dt[l],
+                    };
+                    n += 1;
+                }
+            }
+            self.s.locate(crossing, &steps[..n], &mut located[..n]);
+            for i in 0..n {
+                let (l, (theta, at)) = (lanes[i], located[i]);
+                match crossing {
+                    Crossing::Velocity => self.max_overlap(l, theta, &at),
+                    Crossing::Position => self.rebound(l, theta, &at),
+                }
+            }
+            if crossing == Crossing::Position {
+                for &l in &lanes[..n] {
+                    rebounded[l] = true;
+                }
+            }
+        }
+        for l in 0..Self::N {
+            if rebounded[l] || now < self.lane[l].deadline {
                 continue;
             }
-            let state = self.mem.gear(l, &self.gear);
-            let k = self.gear.kinematics(&state);
-            if !self.lane[l].found && k.velocity >= 0.0 {
-                self.max_overlap(l, &state);
+            let lc = &self.lane[l];
+            if let Some(c) = &lc.case {
+                let error = SimulationError::NoRebound {
+                    contact: lc.contact,
+                    steps: now + 1 - lc.first,
+                };
+                self.put(c.slot, Err(error));
             }
-            if self.lane[l].found && k.position >= 0.0 {
-                self.rebound(l, &state);
-            } else if now >= self.lane[l].deadline {
-                let lc = &self.lane[l];
-                if let Some(c) = &lc.case {
-                    let error = SimulationError::NoRebound {
-                        contact: lc.contact,
-                        steps: now + 1 - lc.first,
-                    };
-                    self.put(c.slot, Err(error));
-                }
-                self.take_case(l);
-            }
+            self.take_case(l);
         }
         self.update_marks();
     }
@@ -1206,10 +1253,10 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         Ok(())
     }
 
-    /// The step of lane `l` crossed the maximum overlap.
-    fn max_overlap(&mut self, l: usize, state: &Gear5State) {
-        let h = state.dt;
-        let (theta, at) = locate(&self.gear.dense(state, state), Crossing::Velocity);
+    /// The step of lane `l` crossed the maximum overlap, at `theta` where
+    /// the kinematics are `at`.
+    fn max_overlap(&mut self, l: usize, theta: f64, at: &Kinematics) {
+        let h = self.mem.dt[l];
         let overlap = -at.position;
         let tau_max = self.mem.tau_start[l] + theta * h;
         let lc = &mut self.lane[l];
@@ -1228,10 +1275,10 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         self.position_event[l] = 0.0;
     }
 
-    /// The step of lane `l` crossed the rebound.
-    fn rebound(&mut self, l: usize, state: &Gear5State) {
-        let h = state.dt;
-        let (theta, at) = locate(&self.gear.dense(state, state), Crossing::Position);
+    /// The step of lane `l` crossed the rebound, at `theta` where the
+    /// kinematics are `at`.
+    fn rebound(&mut self, l: usize, theta: f64, at: &Kinematics) {
+        let h = self.mem.dt[l];
         let steps = self.now + 1 - self.lane[l].first;
         let lc = &mut self.lane[l];
         let Some(c) = &lc.case else {
@@ -1399,7 +1446,11 @@ mod tests {
                 }
                 got.truncate(expected.len());
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(bits(&got), bits(&expected), "{dt} {t} {grading:?} {plan_at}");
+                assert_eq!(
+                    bits(&got),
+                    bits(&expected),
+                    "{dt} {t} {grading:?} {plan_at}"
+                );
             }
         }
     }

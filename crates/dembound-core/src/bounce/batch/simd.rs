@@ -13,6 +13,8 @@
 //! has its instructions ([`Simd::detect`]), so the safe methods that use
 //! them are sound.
 
+use super::locate::{Located, Step};
+use crate::bounce::events::Crossing;
 use std::ops::{Add, BitOr, Div, Mul, Neg, Sub};
 
 /// An instruction set's vector of f64 and its operations.
@@ -43,11 +45,20 @@ pub(super) trait Simd: Copy + Send + Sync + 'static {
     fn lt(self, a: Self::F, b: Self::F) -> Self::M;
     /// a >= b (false for NaN).
     fn ge(self, a: Self::F, b: Self::F) -> Self::M;
+    /// a == b, a > b, a <= b (false for NaN).
+    fn eq(self, a: Self::F, b: Self::F) -> Self::M;
+    fn gt(self, a: Self::F, b: Self::F) -> Self::M;
+    fn le(self, a: Self::F, b: Self::F) -> Self::M;
     fn or(self, a: Self::M, b: Self::M) -> Self::M;
+    fn and(self, a: Self::M, b: Self::M) -> Self::M;
+    /// a and not b.
+    fn and_not(self, a: Self::M, b: Self::M) -> Self::M;
     /// a where the mask is set, b elsewhere.
     fn select(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
     /// The mask as bits, lane l in bit l.
     fn bits(self, m: Self::M) -> u32;
+    /// [`super::locate::locate_steps`] compiled for this instruction set.
+    fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]);
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -55,8 +66,20 @@ pub(super) use x86::{Avx2, Avx512, Sse2};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
+    use super::super::locate::{locate_steps, Located, Step};
     use super::Simd;
+    use crate::bounce::events::Crossing;
     use std::arch::x86_64::*;
+
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
+    unsafe fn locate_avx512(s: Avx512, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+        locate_steps(s, crossing, steps, out)
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn locate_avx2(s: Avx2, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+        locate_steps(s, crossing, steps, out)
+    }
 
     /// AVX-512F/DQ/VL: 8 lanes per register.
     #[derive(Debug, Clone, Copy)]
@@ -136,8 +159,31 @@ mod x86 {
             unsafe { _mm512_cmp_pd_mask::<_CMP_GE_OQ>(a, b) }
         }
         #[inline(always)]
+        fn eq(self, a: __m512d, b: __m512d) -> __mmask8 {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn gt(self, a: __m512d, b: __m512d) -> __mmask8 {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_GT_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn le(self, a: __m512d, b: __m512d) -> __mmask8 {
+            unsafe { _mm512_cmp_pd_mask::<_CMP_LE_OQ>(a, b) }
+        }
+        #[inline(always)]
         fn or(self, a: __mmask8, b: __mmask8) -> __mmask8 {
             a | b
+        }
+        #[inline(always)]
+        fn and(self, a: __mmask8, b: __mmask8) -> __mmask8 {
+            a & b
+        }
+        #[inline(always)]
+        fn and_not(self, a: __mmask8, b: __mmask8) -> __mmask8 {
+            a & !b
+        }
+        fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+            unsafe { locate_avx512(self, crossing, steps, out) }
         }
         #[inline(always)]
         fn select(self, m: __mmask8, a: __m512d, b: __m512d) -> __m512d {
@@ -211,8 +257,31 @@ mod x86 {
             unsafe { _mm256_cmp_pd::<_CMP_GE_OQ>(a, b) }
         }
         #[inline(always)]
+        fn eq(self, a: __m256d, b: __m256d) -> __m256d {
+            unsafe { _mm256_cmp_pd::<_CMP_EQ_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn gt(self, a: __m256d, b: __m256d) -> __m256d {
+            unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(a, b) }
+        }
+        #[inline(always)]
+        fn le(self, a: __m256d, b: __m256d) -> __m256d {
+            unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(a, b) }
+        }
+        #[inline(always)]
         fn or(self, a: __m256d, b: __m256d) -> __m256d {
             unsafe { _mm256_or_pd(a, b) }
+        }
+        #[inline(always)]
+        fn and(self, a: __m256d, b: __m256d) -> __m256d {
+            unsafe { _mm256_and_pd(a, b) }
+        }
+        #[inline(always)]
+        fn and_not(self, a: __m256d, b: __m256d) -> __m256d {
+            unsafe { _mm256_andnot_pd(b, a) }
+        }
+        fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+            unsafe { locate_avx2(self, crossing, steps, out) }
         }
         #[inline(always)]
         fn select(self, m: __m256d, a: __m256d, b: __m256d) -> __m256d {
@@ -289,8 +358,32 @@ mod x86 {
             unsafe { _mm_cmple_pd(b, a) }
         }
         #[inline(always)]
+        fn eq(self, a: __m128d, b: __m128d) -> __m128d {
+            unsafe { _mm_cmpeq_pd(a, b) }
+        }
+        #[inline(always)]
+        fn gt(self, a: __m128d, b: __m128d) -> __m128d {
+            // b < a: false when unordered.
+            unsafe { _mm_cmplt_pd(b, a) }
+        }
+        #[inline(always)]
+        fn le(self, a: __m128d, b: __m128d) -> __m128d {
+            unsafe { _mm_cmple_pd(a, b) }
+        }
+        #[inline(always)]
         fn or(self, a: __m128d, b: __m128d) -> __m128d {
             unsafe { _mm_or_pd(a, b) }
+        }
+        #[inline(always)]
+        fn and(self, a: __m128d, b: __m128d) -> __m128d {
+            unsafe { _mm_and_pd(a, b) }
+        }
+        #[inline(always)]
+        fn and_not(self, a: __m128d, b: __m128d) -> __m128d {
+            unsafe { _mm_andnot_pd(b, a) }
+        }
+        fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+            locate_steps(self, crossing, steps, out)
         }
         #[inline(always)]
         fn select(self, m: __m128d, a: __m128d, b: __m128d) -> __m128d {
@@ -369,8 +462,31 @@ impl Simd for Scalar {
         a >= b
     }
     #[inline(always)]
+    fn eq(self, a: f64, b: f64) -> bool {
+        a == b
+    }
+    #[inline(always)]
+    fn gt(self, a: f64, b: f64) -> bool {
+        a > b
+    }
+    #[inline(always)]
+    fn le(self, a: f64, b: f64) -> bool {
+        a <= b
+    }
+    #[inline(always)]
     fn or(self, a: bool, b: bool) -> bool {
         a | b
+    }
+    #[inline(always)]
+    fn and(self, a: bool, b: bool) -> bool {
+        a & b
+    }
+    #[inline(always)]
+    fn and_not(self, a: bool, b: bool) -> bool {
+        a & !b
+    }
+    fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+        super::locate::locate_steps(self, crossing, steps, out)
     }
     #[inline(always)]
     fn select(self, m: bool, a: f64, b: f64) -> f64 {
@@ -413,7 +529,10 @@ impl<S: Simd, const G: usize> V<S, G> {
 
     #[inline(always)]
     pub(super) fn splat(s: S, x: f64) -> Self {
-        V { s, v: [s.splat(x); G] }
+        V {
+            s,
+            v: [s.splat(x); G],
+        }
     }
 
     /// The first `LANES` values of `p`.
@@ -472,6 +591,21 @@ impl<S: Simd, const G: usize> V<S, G> {
     pub(super) fn ge(self, b: Self) -> Mask<S, G> {
         self.cmp(b, S::ge)
     }
+
+    #[inline(always)]
+    pub(super) fn eq(self, b: Self) -> Mask<S, G> {
+        self.cmp(b, S::eq)
+    }
+
+    #[inline(always)]
+    pub(super) fn gt(self, b: Self) -> Mask<S, G> {
+        self.cmp(b, S::gt)
+    }
+
+    #[inline(always)]
+    pub(super) fn le(self, b: Self) -> Mask<S, G> {
+        self.cmp(b, S::le)
+    }
 }
 
 impl<S: Simd, const G: usize> Mask<S, G> {
@@ -480,6 +614,31 @@ impl<S: Simd, const G: usize> Mask<S, G> {
     pub(super) fn select(self, a: V<S, G>, b: V<S, G>) -> V<S, G> {
         let s = self.s;
         V::from_fn(s, |g| s.select(self.m[g], a.v[g], b.v[g]))
+    }
+
+    #[inline(always)]
+    fn zip(self, b: Self, f: impl Fn(S, S::M, S::M) -> S::M) -> Self {
+        let mut m = self.m;
+        for (x, y) in m.iter_mut().zip(b.m) {
+            *x = f(self.s, *x, y);
+        }
+        Mask { s: self.s, m }
+    }
+
+    #[inline(always)]
+    pub(super) fn and(self, b: Self) -> Self {
+        self.zip(b, S::and)
+    }
+
+    /// self and not b.
+    #[inline(always)]
+    pub(super) fn and_not(self, b: Self) -> Self {
+        self.zip(b, S::and_not)
+    }
+
+    #[inline(always)]
+    pub(super) fn any(self) -> bool {
+        self.bits() != 0
     }
 
     /// Lane l in bit l.
@@ -497,11 +656,7 @@ impl<S: Simd, const G: usize> BitOr for Mask<S, G> {
     type Output = Self;
     #[inline(always)]
     fn bitor(self, b: Self) -> Self {
-        let mut m = self.m;
-        for (x, y) in m.iter_mut().zip(b.m) {
-            *x = self.s.or(*x, y);
-        }
-        Mask { s: self.s, m }
+        self.zip(b, S::or)
     }
 }
 
