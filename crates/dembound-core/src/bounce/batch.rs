@@ -54,7 +54,7 @@ use super::{
 use crate::contact::{ContactLawKind, DampingKind, Hertz, LinearSpring, NormalContactLaw, Onset};
 use crate::integrate::{Gear5, Gear5State, Integrator, Kinematics, Scheme};
 use crate::material::ContactPair;
-use locate::Step;
+use locate::{Located, Steps, MAX_STEPS};
 use rayon::prelude::*;
 #[cfg(target_arch = "x86_64")]
 use simd::{Avx2, Avx512, Sse2};
@@ -885,7 +885,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
 
     #[inline(always)]
     fn new(queue: &'a Queue<'q>, s: S) -> Self {
-        const { assert!(S::W * G <= MAX_LANES) };
+        const { assert!(S::W * G <= MAX_LANES && MAX_LANES <= MAX_STEPS) };
         Kernel {
             s,
             queue,
@@ -1109,11 +1109,6 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         // then the rebound (possibly in the same step), else the budget.
         // Events of the same kind are located together.
         let mut lanes = [0usize; MAX_LANES];
-        let mut steps = [Step {
-            r: [0.0; 6],
-            dt: 1.0,
-        }; MAX_LANES];
-        let mut located = [(0.0, Kinematics::default()); MAX_LANES];
         let mut kinematics = [Kinematics::default(); MAX_LANES];
         let mut rebounded = [false; MAX_LANES];
         for l in 0..Self::N {
@@ -1122,8 +1117,10 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 kinematics[l] = self.gear.kinematics(&state);
             }
         }
+        let mut steps = Steps::new();
+        let mut located = Located::new();
         for crossing in [Crossing::Velocity, Crossing::Position] {
-            let mut n = 0;
+            steps.n = 0;
             for l in (0..Self::N).filter(|&l| bits & (1 << l) != 0) {
                 let (found, k) = (self.lane[l].found, &kinematics[l]);
                 let event = match crossing {
@@ -1131,25 +1128,25 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                     Crossing::Position => found && k.position >= 0.0,
                 };
                 if event {
-                    lanes[n] = l;
-                    steps[n] = Step {
-                        r: std::array::from_fn(|k| self.mem.r[k][l]),
-                        dt: self.mem.dt[l],
-                    };
-                    n += 1;
+                    lanes[steps.n] = l;
+                    steps.push(std::array::from_fn(|k| self.mem.r[k][l]), self.mem.dt[l]);
                 }
             }
-            self.s.locate(crossing, &steps[..n], &mut located[..n]);
-            for i in 0..n {
-                let (l, (theta, at)) = (lanes[i], located[i]);
+            if steps.n == 0 {
+                continue;
+            }
+            steps.pad();
+            // Written lane by lane, read as registers (see the end).
+            std::sync::atomic::fence(std::sync::atomic::Ordering::SeqCst);
+            self.s.locate(crossing, &steps, &mut located);
+            for (i, &l) in lanes.iter().enumerate().take(steps.n) {
+                let (theta, at) = located.get(i);
                 match crossing {
                     Crossing::Velocity => self.max_overlap(l, theta, &at),
-                    Crossing::Position => self.rebound(l, theta, &at),
-                }
-            }
-            if crossing == Crossing::Position {
-                for &l in &lanes[..n] {
-                    rebounded[l] = true;
+                    Crossing::Position => {
+                        self.rebound(l, theta, &at);
+                        rebounded[l] = true;
+                    }
                 }
             }
         }

@@ -16,27 +16,96 @@ use super::simd::{Simd, V};
 use crate::bounce::events::Crossing;
 use crate::integrate::Kinematics;
 
-/// A step to locate an event in: its corrected Nordsieck vector and size
-/// (a [`crate::integrate::Gear5State`]'s `r` and `dt`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(in crate::bounce) struct Step {
-    pub r: [f64; 6],
-    pub dt: f64,
+/// Most steps located at once.
+pub(in crate::bounce) const MAX_STEPS: usize = 32;
+
+/// Steps to locate an event in, one lane each (structure of arrays): the
+/// corrected Nordsieck vector and size of each step (a
+/// [`crate::integrate::Gear5State`]'s `r` and `dt`). Lanes from `n` to the
+/// next multiple of 8 must hold a valid step too (a copy; see [`Steps::pad`]).
+#[derive(Debug, Clone, Copy)]
+pub(in crate::bounce) struct Steps {
+    pub r: [[f64; MAX_STEPS]; 6],
+    pub dt: [f64; MAX_STEPS],
+    pub n: usize,
 }
 
-/// Where the event is: the step fraction θ and the kinematics there.
-pub(in crate::bounce) type Located = (f64, Kinematics);
+impl Steps {
+    pub(in crate::bounce) fn new() -> Self {
+        Steps {
+            r: [[0.0; MAX_STEPS]; 6],
+            dt: [1.0; MAX_STEPS],
+            n: 0,
+        }
+    }
+
+    pub(in crate::bounce) fn push(&mut self, r: [f64; 6], dt: f64) {
+        for (k, x) in r.into_iter().enumerate() {
+            self.r[k][self.n] = x;
+        }
+        self.dt[self.n] = dt;
+        self.n += 1;
+    }
+
+    /// Copies the last step into the lanes up to the next multiple of 8.
+    pub(in crate::bounce) fn pad(&mut self) {
+        let Some(last) = self.n.checked_sub(1) else {
+            return;
+        };
+        for i in self.n..self.n.next_multiple_of(8).min(MAX_STEPS) {
+            for k in 0..6 {
+                self.r[k][i] = self.r[k][last];
+            }
+            self.dt[i] = self.dt[last];
+        }
+    }
+}
+
+/// Where the events are: the step fraction θ and the kinematics there.
+#[derive(Debug, Clone, Copy)]
+pub(in crate::bounce) struct Located {
+    pub theta: [f64; MAX_STEPS],
+    pub position: [f64; MAX_STEPS],
+    pub velocity: [f64; MAX_STEPS],
+    pub acceleration: [f64; MAX_STEPS],
+}
+
+impl Located {
+    pub(in crate::bounce) fn new() -> Self {
+        let z = [0.0; MAX_STEPS];
+        Located {
+            theta: z,
+            position: z,
+            velocity: z,
+            acceleration: z,
+        }
+    }
+
+    /// Step i's θ and kinematics.
+    pub(in crate::bounce) fn get(&self, i: usize) -> (f64, Kinematics) {
+        (
+            self.theta[i],
+            Kinematics {
+                position: self.position[i],
+                velocity: self.velocity[i],
+                acceleration: self.acceleration[i],
+            },
+        )
+    }
+}
 
 /// `locate(&gear.dense(state, state), crossing)` for every step.
 #[inline(always)]
 pub(in crate::bounce) fn locate_steps<S: Simd>(
     s: S,
     crossing: Crossing,
-    steps: &[Step],
-    out: &mut [Located],
+    steps: &Steps,
+    out: &mut Located,
 ) {
-    for (steps, out) in steps.chunks(S::W).zip(out.chunks_mut(S::W)) {
-        locate_register(s, crossing, steps, out);
+    let mut i = 0;
+    while i < steps.n {
+        locate_register(s, crossing, steps, i, out);
+        i += S::W;
     }
 }
 
@@ -69,31 +138,18 @@ fn value<S: Simd>(
     }
 }
 
-/// Up to one register's worth (`S::W`, at most 8) of steps.
+/// The register of steps from lane `i`.
 #[inline(always)]
-fn locate_register<S: Simd>(s: S, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
-    let n = steps.len().min(S::W).min(8);
-    if n == 0 {
-        return;
-    }
-    // Lanes past n repeat the last step; their results are dropped.
-    let mut input = [[0.0; 8]; 7];
-    for i in 0..8 {
-        let st = &steps[i.min(n - 1)];
-        for k in 0..6 {
-            input[k][i] = st.r[k];
-        }
-        input[6][i] = st.dt;
-    }
+fn locate_register<S: Simd>(s: S, crossing: Crossing, steps: &Steps, i: usize, out: &mut Located) {
     let r = [
-        V::<S, 1>::load(s, &input[0]),
-        V::load(s, &input[1]),
-        V::load(s, &input[2]),
-        V::load(s, &input[3]),
-        V::load(s, &input[4]),
-        V::load(s, &input[5]),
+        V::<S, 1>::load(s, &steps.r[0][i..]),
+        V::load(s, &steps.r[1][i..]),
+        V::load(s, &steps.r[2][i..]),
+        V::load(s, &steps.r[3][i..]),
+        V::load(s, &steps.r[4][i..]),
+        V::load(s, &steps.r[5][i..]),
     ];
-    let dt = V::load(s, &input[6]);
+    let dt = V::load(s, &steps.dt[i..]);
     let dt2 = dt * dt;
     let (zero, one) = (V::splat(s, 0.0), V::splat(s, 1.0));
     let mut hi = one;
@@ -135,21 +191,10 @@ fn locate_register<S: Simd>(s: S, crossing: Crossing, steps: &[Step], out: &mut 
     }
     theta = degenerate.select(one, theta);
     let [x, v, a] = at(s, &r, dt, dt2, theta);
-    let mut lanes_out = [[0.0; 8]; 4];
-    theta.store(&mut lanes_out[0]);
-    x.store(&mut lanes_out[1]);
-    v.store(&mut lanes_out[2]);
-    a.store(&mut lanes_out[3]);
-    for (i, o) in out.iter_mut().take(n).enumerate() {
-        *o = (
-            lanes_out[0][i],
-            Kinematics {
-                position: lanes_out[1][i],
-                velocity: lanes_out[2][i],
-                acceleration: lanes_out[3][i],
-            },
-        );
-    }
+    theta.store(&mut out.theta[i..]);
+    x.store(&mut out.position[i..]);
+    v.store(&mut out.velocity[i..]);
+    a.store(&mut out.acceleration[i..]);
 }
 
 #[cfg(test)]
@@ -168,6 +213,12 @@ mod tests {
             self.0 ^= self.0 >> 27;
             (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
         }
+    }
+
+    /// A step: its Nordsieck vector and size.
+    struct Step {
+        r: [f64; 6],
+        dt: f64,
     }
 
     /// Steps of a Hertz-like contact near its maximum overlap and its
@@ -203,18 +254,29 @@ mod tests {
 
     fn check<S: Simd>(s: S) {
         let gear = Gear5::POSITION_DEPENDENT;
-        let steps = steps(203);
+        let all = steps(203);
         for crossing in [Crossing::Position, Crossing::Velocity] {
-            let mut out = vec![(0.0, Kinematics::default()); steps.len()];
-            s.locate(crossing, &steps, &mut out);
-            for (i, (st, got)) in steps.iter().zip(&out).enumerate() {
-                let state = gear.start([0.0; 6], st.dt);
-                let state = Gear5State { r: st.r, ..state };
-                let want = locate(&gear.dense(&state, &state), crossing);
-                let bits = |(t, k): &Located| {
-                    [t, &k.position, &k.velocity, &k.acceleration].map(|x| x.to_bits())
-                };
-                assert_eq!(bits(got), bits(&want), "{crossing:?} step {i}");
+            for (c, chunk) in all.chunks(MAX_STEPS - 3).enumerate() {
+                let mut steps = Steps::new();
+                for st in chunk {
+                    steps.push(st.r, st.dt);
+                }
+                steps.pad();
+                let mut out = Located::new();
+                s.locate(crossing, &steps, &mut out);
+                for (i, st) in chunk.iter().enumerate() {
+                    let state = gear.start([0.0; 6], st.dt);
+                    let state = Gear5State { r: st.r, ..state };
+                    let want = locate(&gear.dense(&state, &state), crossing);
+                    let bits = |(t, k): (f64, Kinematics)| {
+                        [t, k.position, k.velocity, k.acceleration].map(f64::to_bits)
+                    };
+                    assert_eq!(
+                        bits(out.get(i)),
+                        bits(want),
+                        "{crossing:?} chunk {c} step {i}"
+                    );
+                }
             }
         }
     }

@@ -13,7 +13,7 @@
 //! has its instructions ([`Simd::detect`]), so the safe methods that use
 //! them are sound.
 
-use super::locate::{Located, Step};
+use super::locate::{Located, Steps};
 use crate::bounce::events::Crossing;
 use std::ops::{Add, BitOr, Div, Mul, Neg, Sub};
 
@@ -58,7 +58,7 @@ pub(super) trait Simd: Copy + Send + Sync + 'static {
     /// The mask as bits, lane l in bit l.
     fn bits(self, m: Self::M) -> u32;
     /// [`super::locate::locate_steps`] compiled for this instruction set.
-    fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]);
+    fn locate(self, crossing: Crossing, steps: &Steps, out: &mut Located);
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -66,18 +66,18 @@ pub(super) use x86::{Avx2, Avx512, Sse2};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::super::locate::{locate_steps, Located, Step};
+    use super::super::locate::{locate_steps, Located, Steps};
     use super::Simd;
     use crate::bounce::events::Crossing;
     use std::arch::x86_64::*;
 
     #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx2,fma")]
-    unsafe fn locate_avx512(s: Avx512, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+    unsafe fn locate_avx512(s: Avx512, crossing: Crossing, steps: &Steps, out: &mut Located) {
         locate_steps(s, crossing, steps, out)
     }
 
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn locate_avx2(s: Avx2, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+    unsafe fn locate_avx2(s: Avx2, crossing: Crossing, steps: &Steps, out: &mut Located) {
         locate_steps(s, crossing, steps, out)
     }
 
@@ -182,7 +182,7 @@ mod x86 {
         fn and_not(self, a: __mmask8, b: __mmask8) -> __mmask8 {
             a & !b
         }
-        fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+        fn locate(self, crossing: Crossing, steps: &Steps, out: &mut Located) {
             unsafe { locate_avx512(self, crossing, steps, out) }
         }
         #[inline(always)]
@@ -280,7 +280,7 @@ mod x86 {
         fn and_not(self, a: __m256d, b: __m256d) -> __m256d {
             unsafe { _mm256_andnot_pd(b, a) }
         }
-        fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+        fn locate(self, crossing: Crossing, steps: &Steps, out: &mut Located) {
             unsafe { locate_avx2(self, crossing, steps, out) }
         }
         #[inline(always)]
@@ -382,7 +382,7 @@ mod x86 {
         fn and_not(self, a: __m128d, b: __m128d) -> __m128d {
             unsafe { _mm_andnot_pd(b, a) }
         }
-        fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+        fn locate(self, crossing: Crossing, steps: &Steps, out: &mut Located) {
             locate_steps(self, crossing, steps, out)
         }
         #[inline(always)]
@@ -485,7 +485,7 @@ impl Simd for Scalar {
     fn and_not(self, a: bool, b: bool) -> bool {
         a & !b
     }
-    fn locate(self, crossing: Crossing, steps: &[Step], out: &mut [Located]) {
+    fn locate(self, crossing: Crossing, steps: &Steps, out: &mut Located) {
         super::locate::locate_steps(self, crossing, steps, out)
     }
     #[inline(always)]
