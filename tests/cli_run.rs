@@ -340,3 +340,35 @@ fn a_run_that_fails_exits_1_and_writes_nothing() {
     assert!(stderr.starts_with("error: "), "{stderr}");
     assert!(files_in(tmp.path()).is_empty());
 }
+
+#[test]
+fn a_tolerance_run_reports_its_pilot_steps_apart() {
+    let json = run_json(&["--set", "integration.tolerance=1e-8"]);
+    let steps = json["steps"].as_u64().unwrap();
+    let pilots = json["pilot_steps"].as_u64().unwrap();
+    let contact_steps: u64 = json["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["steps"].as_u64().unwrap())
+        .sum();
+    assert_eq!(steps, contact_steps);
+    assert!(pilots > 100, "{pilots}");
+    assert_eq!(json["total_steps"].as_u64().unwrap(), steps + pilots);
+    assert!(json["error_estimate"].as_f64().unwrap() <= 1e-8);
+    // Without a tolerance: no pilots, no total.
+    let plain = run_json(&[]);
+    assert!(plain.get("pilot_steps").is_none() && plain.get("total_steps").is_none());
+    let text = dembound()
+        .args(["run", "--quiet", "--set", "integration.tolerance=1e-8"])
+        .output()
+        .expect("the binary runs");
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains(&format!(
+            "{steps} steps taken, and {pilots} in the pilot runs that chose Δt ({} in all)",
+            steps + pilots
+        )),
+        "{text}"
+    );
+}

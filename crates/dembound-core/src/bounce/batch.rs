@@ -1339,6 +1339,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 dt: c.problem.dt,
                 contact_time_estimate: c.problem.contact_time_estimate,
                 error_estimate: c.problem.error_estimate,
+                pilot_steps: c.problem.pilot_steps,
             };
             let slot = c.slot;
             self.put(slot, Ok(outcome));
