@@ -398,7 +398,7 @@ impl LaneLaw for LinearSpring {
 // Lanes.
 
 /// Most lanes a kernel has.
-const MAX_LANES: usize = 32;
+const MAX_LANES: usize = 16;
 /// One value per lane, in memory.
 type Lanes = [f64; MAX_LANES];
 

@@ -17,7 +17,7 @@ use crate::bounce::events::Crossing;
 use crate::integrate::Kinematics;
 
 /// Most steps located at once.
-pub(in crate::bounce) const MAX_STEPS: usize = 32;
+pub(in crate::bounce) const MAX_STEPS: usize = 16;
 
 /// Steps to locate an event in, one lane each (structure of arrays): the
 /// corrected Nordsieck vector and size of each step (a
