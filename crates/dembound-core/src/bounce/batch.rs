@@ -711,15 +711,24 @@ impl Mesh {
                 g.end_left -= k;
                 g.last = tables.step(self.end_table, region, n, g.end_left);
             } else {
-                // Past the planned rebound: grow until it is crossed (to Δt).
-                let (mut last, dt) = (g.last, g.dt);
+                // Past the planned rebound: grow until it is crossed, up to
+                // Δt: min(2 last, Δt) again and again, that is min(2ⁱ h, Δt)
+                // (doubling is exact), computed without the chain through
+                // `last`; f64::min is the plain comparison for these
+                // (positive, not NaN) values.
+                let (h, dt) = (g.last, g.dt);
                 let mut n = 0;
-                while n < count && last != dt {
-                    last = (2.0 * last).min(dt);
-                    put(last);
+                let mut scale = 2.0;
+                while n < count {
+                    let grown = h * scale;
+                    g.last = if grown < dt { grown } else { dt };
+                    put(g.last);
                     n += 1;
+                    if g.last == dt {
+                        break;
+                    }
+                    scale *= 2.0;
                 }
-                g.last = last;
                 k = n;
             }
             done += k;
