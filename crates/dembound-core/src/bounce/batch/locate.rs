@@ -24,6 +24,7 @@ pub(in crate::bounce) const MAX_STEPS: usize = 16;
 /// [`crate::integrate::Gear5State`]'s `r` and `dt`). Lanes from `n` to the
 /// next multiple of 8 must hold a valid step too (a copy; see [`Steps::pad`]).
 #[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
 pub(in crate::bounce) struct Steps {
     pub r: [[f64; MAX_STEPS]; 6],
     pub dt: [f64; MAX_STEPS],
@@ -63,6 +64,7 @@ impl Steps {
 
 /// Where the events are: the step fraction θ and the kinematics there.
 #[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
 pub(in crate::bounce) struct Located {
     pub theta: [f64; MAX_STEPS],
     pub position: [f64; MAX_STEPS],
