@@ -3,8 +3,8 @@
 //! Independent cases share no data, so this path advances a group of
 //! lanes (cases) together in structure-of-arrays form: one vector
 //! instruction does the same operation for every lane. The lanes step in
-//! lockstep; a group holds several registers' worth of lanes, so that an
-//! iteration has several independent dependency chains.
+//! lockstep; a group holds two registers' worth of lanes (16 with AVX-512),
+//! so that an iteration has two independent dependency chains.
 //!
 //! What is batched: Gear5, event stepping, the elastic Hertz and linear
 //! laws, fixed boundary (any particle, boundary, motion, Δt rule). Each
@@ -12,18 +12,22 @@
 //! does: flight in closed form, the contact integrated on the same step
 //! mesh (graded at both ends for Hertz), events located on the step's
 //! polynomial. The per-step work (rescaling, prediction, force,
-//! correction) is vector code with the lanes' state held in registers; the
-//! rare per-lane events (onset, maximum overlap, rebound) run the scalar
-//! path's own functions on that lane.
+//! correction) is vector code written with explicit instructions
+//! (`simd`), the lanes' state held in registers; the events (onset,
+//! maximum overlap, rebound) run the scalar path's functions per lane, but
+//! for the location of the event inside its step, which runs for all the
+//! lanes with an event at once (`locate`; cases of similar length keep
+//! their events in step).
 //!
-//! - The step sizes of the mesh are a function of the case alone (and of
-//!   the maximum overlap, once it is found), so they are not computed in
-//!   the vector loop: each lane's next step sizes wait in a ring of
-//!   [`RING`] rows, filled ahead by scalar code from the lane's
-//!   [`GradedSteps`] (the graded sizes from a table per region size, the
-//!   same bits as [`super::schedule`] computes), refilled every
-//!   `RING / 2` steps and rewritten when the maximum overlap re-plans the
-//!   end of the contact.
+//! - The step sizes of the mesh depend on the case alone (and on the
+//!   maximum overlap, once it is found), so the vector loop does not
+//!   compute them: each lane's sizes wait in a ring of `RING` rows,
+//!   written by scalar code a run at a time (the graded onset when a
+//!   contact starts, the planned end when the maximum overlap is found;
+//!   the graded sizes from a table per region size, the same bits as
+//!   [`super::schedule`]); after the run the size is the lane's Δt.
+//! - The next step's sizes, ratio powers and gain are computed at the end
+//!   of the iteration before, off the state's latency chain.
 //! - A lane's events are two comparisons with per-lane thresholds (the
 //!   velocity against 0 until the maximum overlap is found, the position
 //!   against 0 after; +∞ otherwise), so the loop has no masks to keep.
@@ -33,17 +37,19 @@
 //!
 //! A lane whose case ends takes the next case from a queue shared by all
 //! threads, so lanes stay busy whatever the cases' lengths and both cores
-//! finish together. Each case is resolved ([`super::plan`]) by the thread
-//! that takes it, with the law's constant factors computed once.
+//! finish together; results go straight into their slots. Each case is
+//! resolved ([`super::plan`]) by the thread that takes it, with the law's
+//! constant factors computed once.
 //!
 //! The vector code performs the scalar path's operations in the same order
-//! (no fused multiply–add, no reassociation), so every [`ContactRecord`]
-//! is identical to the last bit to the scalar path's (tested in
-//! `tests/batch.rs` for all instruction sets available).
+//! (no fused multiply–add, no reassociation), so every [`RunOutcome`] is
+//! identical to the last bit to the scalar path's (tested in
+//! `tests/batch.rs` for all instruction sets available, and unit tests
+//! here for the mesh and the event location).
 //!
 //! Instruction sets are chosen at run time: AVX-512, AVX2 (both with FMA
 //! enabled for the compiler, which does not contract on its own), or the
-//! baseline SSE2 build.
+//! baseline SSE2 build. Measurements: BENCHMARKS.md, `benches/batch.rs`.
 
 use super::events::{time_to_surface, Crossing};
 use super::schedule::{graded_step, GradedSteps, Grading};
@@ -124,8 +130,9 @@ impl Isa {
     }
 }
 
-/// Registers of lanes per kernel (see BENCHMARKS.md for the
-/// measurements behind the choice).
+/// Registers of lanes per kernel: two independent chains per iteration.
+/// (Measured on Zen 4, AVX-512: 1 register 3% slower than 2; 3 no
+/// better; AVX2: 4 registers 15% slower than 2, their spills.)
 const GROUP_AVX512: usize = 2;
 const GROUP_AVX2: usize = 2;
 const GROUP_BASELINE: usize = 4;
@@ -973,8 +980,8 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             // with the bits it had (the same expressions of the same
             // values), so only the prediction needs a select.
             let mut r = hot.r;
-            for k in 1..6 {
-                r[k] = r[k] * geo.power[k - 1];
+            for (rk, power) in r.iter_mut().skip(1).zip(geo.power) {
+                *rk = *rk * power;
             }
             let rescaled = lanes_pascal(&r);
             let mut p = hot.next;
@@ -1161,10 +1168,9 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
         let mut lanes = [0usize; MAX_LANES];
         let mut kinematics = [Kinematics::default(); MAX_LANES];
         let mut rebounded = [false; MAX_LANES];
-        for l in 0..Self::N {
+        for (l, k) in kinematics.iter_mut().enumerate().take(Self::N) {
             if bits & (1 << l) != 0 {
-                let state = self.mem.gear(l, &self.gear);
-                kinematics[l] = self.gear.kinematics(&state);
+                *k = self.gear.kinematics(&self.mem.gear(l, &self.gear));
             }
         }
         let mut steps = Steps::new();
@@ -1200,8 +1206,8 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
                 }
             }
         }
-        for l in 0..Self::N {
-            if rebounded[l] || now < self.lane[l].deadline {
+        for (l, &rebounded) in rebounded.iter().enumerate().take(Self::N) {
+            if rebounded || now < self.lane[l].deadline {
                 continue;
             }
             let lc = &self.lane[l];
