@@ -583,13 +583,23 @@ impl<S: Simd, const G: usize> Hot<S, G> {
 struct Tables(Vec<(u64, Vec<f64>)>);
 
 impl Tables {
-    /// The table of a region of `n` steps (None above [`MAX_TABLE`]).
+    /// Most tables a kernel keeps, and most sizes in all (a batch with
+    /// many different Δt/T_c gets tables for the first ones only).
+    const MAX_TABLES: usize = 256;
+    const MAX_SIZES: usize = 1 << 20;
+
+    /// The table of a region of `n` steps (None above [`MAX_TABLE`] steps
+    /// or when the tables are full: the sizes are then computed).
     fn id(&mut self, n: u64) -> Option<usize> {
         if n > MAX_TABLE {
             return None;
         }
-        if let Some(i) = self.0.iter().position(|(m, _)| *m == n) {
+        if let Some(i) = self.0.iter().rposition(|(m, _)| *m == n) {
             return Some(i);
+        }
+        let held: usize = self.0.iter().map(|(_, w)| w.len()).sum();
+        if self.0.len() >= Self::MAX_TABLES || held + n as usize > Self::MAX_SIZES {
+            return None;
         }
         self.0
             .push((n, (0..n).map(|j| graded_step(1.0, n, j)).collect()));
