@@ -403,3 +403,35 @@ fn the_dissipative_example_meets_its_target() {
     assert!((e - 0.5).abs() < 2e-4, "{e}");
     assert_eq!(v["scenario"]["contact"]["calibration"], "exact");
 }
+
+#[test]
+fn a_tolerance_run_reports_its_pilot_steps_apart() {
+    let json = run_json(&["--set", "integration.tolerance=1e-8"]);
+    let steps = json["steps"].as_u64().unwrap();
+    let pilots = json["pilot_steps"].as_u64().unwrap();
+    let contact_steps: u64 = json["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["steps"].as_u64().unwrap())
+        .sum();
+    assert_eq!(steps, contact_steps);
+    assert!(pilots > 100, "{pilots}");
+    assert_eq!(json["total_steps"].as_u64().unwrap(), steps + pilots);
+    assert!(json["error_estimate"].as_f64().unwrap() <= 1e-8);
+    // Without a tolerance: no pilots, no total.
+    let plain = run_json(&[]);
+    assert!(plain.get("pilot_steps").is_none() && plain.get("total_steps").is_none());
+    let text = dembound()
+        .args(["run", "--quiet", "--set", "integration.tolerance=1e-8"])
+        .output()
+        .expect("the binary runs");
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains(&format!(
+            "{steps} steps taken, and {pilots} in the pilot runs that chose Δt ({} in all)",
+            steps + pilots
+        )),
+        "{text}"
+    );
+}

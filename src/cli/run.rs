@@ -107,9 +107,16 @@ pub fn run(args: &RunArgs) -> CliResult {
         let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
         writeln!(stdout, "{text}").map_err(CliError::failed)?;
     } else {
+        let pilots = match outcome.pilot_steps {
+            Some(pilot) => format!(
+                ", and {pilot} in the pilot runs that chose Δt ({} in all)",
+                outcome.total_steps()
+            ),
+            None => String::new(),
+        };
         writeln!(
             stdout,
-            "{}\n{} steps taken",
+            "{}\n{} steps taken{pilots}",
             report::contacts_table(&outcome.contacts),
             outcome.steps
         )

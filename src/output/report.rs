@@ -329,6 +329,12 @@ pub struct RunReport<'a> {
     pub relative_errors: Option<Vec<RelativeErrors>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_estimate: Option<f64>,
+    /// With `integration.tolerance`: the pilot runs' steps (not in `steps`)
+    /// and the sum of both.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pilot_steps: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub total_steps: Option<u64>,
 }
 
 impl<'a> RunReport<'a> {
@@ -341,6 +347,8 @@ impl<'a> RunReport<'a> {
             contact_time_estimate: outcome.contact_time_estimate,
             relative_errors: None,
             error_estimate: outcome.error_estimate,
+            pilot_steps: outcome.pilot_steps,
+            total_steps: outcome.pilot_steps.map(|_| outcome.total_steps()),
         }
     }
 }

@@ -1,7 +1,13 @@
 //! A 10,000-case Hertz sweep (the validation case with r, ζ and the drop
 //! height varied; Gear5, η = 1/50, event stepping, 2 contacts each),
 //! scalar (`simulate` per case, `par_iter`) against batched
-//! (`simulate_batch`), on 1 and 2 threads.
+//! (`simulate_batch_with`, every instruction set this CPU has), on 1 and 2
+//! threads, all in one run.
+//!
+//! `scalar_*` drops each result as it comes (the reference of the
+//! "batched ≥ 4× scalar" comparison); `scalar_collect_*` keeps them in a
+//! `Vec` as `simulate_batch` must (the allocations of 10,000 outcomes cost
+//! a few percent).
 //!
 //! `cargo bench -p dembound-core --bench batch`; throughput in cases/s
 //! (criterion's elements/s).
@@ -38,7 +44,21 @@ fn sweep_bench(c: &mut Criterion) {
                 })
             })
         });
-        for isa in [Isa::detect(), Isa::Baseline] {
+        group.bench_function(format!("scalar_collect_{threads}t"), |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    cases
+                        .par_iter()
+                        .map(|s| simulate(black_box(s), &mut ()))
+                        .collect::<Vec<_>>()
+                        .len()
+                })
+            })
+        });
+        for isa in [Isa::Avx512, Isa::Avx2, Isa::Baseline] {
+            if !isa.available() {
+                continue;
+            }
             group.bench_function(format!("batched_{isa:?}_{threads}t"), |b| {
                 b.iter(|| pool.install(|| simulate_batch_with(black_box(&cases), isa).len()))
             });

@@ -84,3 +84,29 @@ fn tolerance_excludes_eta_and_dt() {
     s.integration.eta = Some(0.01);
     assert_eq!(s.validate().unwrap_err().field, "integration.tolerance");
 }
+
+#[test]
+fn the_pilot_runs_are_counted_apart() {
+    // The pilots: the first contact alone, from its onset at the first
+    // impact speed, at η = 1/50 and 1/100 of the contact-time estimate.
+    let mut s = Scenario::default();
+    s.integration.tolerance = Some(1e-8);
+    let out = simulate(&s, &mut ()).unwrap();
+    let pilot_steps = |eta: f64| {
+        let mut p = Scenario::default();
+        p.integration.eta = Some(eta);
+        p.motion.gap = 0.0;
+        p.motion.velocity = -s.impact_speed();
+        p.motion.contacts = 1;
+        simulate(&p, &mut ()).unwrap().steps
+    };
+    let pilots = pilot_steps(0.02) + pilot_steps(0.01);
+    assert!(pilots > 100, "{pilots}");
+    assert_eq!(out.pilot_steps, Some(pilots));
+    assert_eq!(out.total_steps(), out.steps + pilots);
+    assert_eq!(out.steps, out.contacts.iter().map(|c| c.steps).sum::<u64>());
+    // Without a tolerance there are none.
+    let plain = simulate(&Scenario::default(), &mut ()).unwrap();
+    assert_eq!(plain.pilot_steps, None);
+    assert_eq!(plain.total_steps(), plain.steps);
+}

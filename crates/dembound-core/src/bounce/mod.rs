@@ -104,7 +104,8 @@ impl BodyVelocities {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunOutcome {
     pub contacts: Vec<ContactRecord>,
-    /// Integration steps taken in all (flight and contact).
+    /// Integration steps taken in all (flight and contact) by the run; the
+    /// pilot runs of `integration.tolerance` are in `pilot_steps`.
     pub steps: u64,
     /// Δt used, s.
     pub dt: f64,
@@ -114,6 +115,17 @@ pub struct RunOutcome {
     /// T_c, h_max and v_r at the Δt chosen ([`tolerance`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_estimate: Option<f64>,
+    /// With `integration.tolerance`: the steps of the two pilot runs that
+    /// chose Δt ([`tolerance`]), not included in `steps`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pilot_steps: Option<u64>,
+}
+
+impl RunOutcome {
+    /// Every integration step the run cost: `steps` plus the pilot runs'.
+    pub fn total_steps(&self) -> u64 {
+        self.steps + self.pilot_steps.unwrap_or(0)
+    }
 }
 
 /// One point of the trajectory, for histories and plots (SI).

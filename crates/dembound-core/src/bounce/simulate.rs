@@ -96,6 +96,8 @@ pub struct Problem {
     /// With `integration.tolerance`: the estimated largest relative error of
     /// T_c, h_max and v_r at the chosen Δt (see [`super::tolerance`]).
     pub error_estimate: Option<f64>,
+    /// With `integration.tolerance`: the steps of the pilot runs that chose Δt.
+    pub pilot_steps: Option<u64>,
 }
 
 impl Problem {
@@ -137,11 +139,13 @@ impl Problem {
             stepping: s.integration.stepping,
             two_body: s.two_body(),
             error_estimate: None,
+            pilot_steps: None,
         };
         if let StepRule::Tolerance(tol) = s.step_rule() {
             let chosen = tolerance::choose_step(s, law, tol, &problem)?;
             problem.dt = chosen.eta * estimate;
             problem.error_estimate = Some(chosen.error_estimate);
+            problem.pilot_steps = Some(chosen.pilot_steps);
         }
         Ok(problem)
     }
@@ -256,6 +260,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
         dt: problem.dt,
         contact_time_estimate: problem.contact_time_estimate,
         error_estimate: problem.error_estimate,
+        pilot_steps: problem.pilot_steps,
     })
 }
 

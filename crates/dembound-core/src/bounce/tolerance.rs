@@ -27,7 +27,8 @@
 //! inflates e₂ and shrinks the extrapolated η.
 //!
 //! Caveats: the pilots cost about as many steps as the run they plan (they
-//! are not counted in `RunOutcome::steps`); the estimate is for the first
+//! are counted apart, in `RunOutcome::pilot_steps`; `RunOutcome::total_steps`
+//! adds both); the estimate is for the first
 //! contact (later contacts of a dissipative law are slower and usually more
 //! accurate); in fixed stepping the pilot's onset lies on a grid point,
 //! while the run's lies anywhere in a step.
@@ -56,6 +57,8 @@ pub struct ToleranceStep {
     /// Estimated largest relative error of T_c, h_max, v_r of any contact
     /// at `eta` (N times the per-contact estimate).
     pub error_estimate: f64,
+    /// Integration steps of the two pilot runs.
+    pub pilot_steps: u64,
 }
 
 /// Order of convergence assumed for `scheme` and `stepping` with `law`.
@@ -88,13 +91,14 @@ pub(crate) fn choose_step<L: NormalContactLaw>(
     base: &Problem,
 ) -> Result<ToleranceStep, SimulationError> {
     let scheme = s.integration.scheme;
-    let pilot = |eta: f64| -> Result<ContactRecord, SimulationError> {
+    let pilot = |eta: f64| -> Result<(ContactRecord, u64), SimulationError> {
         let p = Problem {
             gap: 0.0,
             velocity: -s.impact_speed(),
             contacts: 1,
             dt: eta * base.contact_time_estimate,
             error_estimate: None,
+            pilot_steps: None,
             ..*base
         };
         let out = match scheme {
@@ -103,10 +107,10 @@ pub(crate) fn choose_step<L: NormalContactLaw>(
             }
             Scheme::Verlet => simulate_with(law, Verlet, &p, &mut ())?,
         };
-        Ok(out.contacts[0])
+        Ok((out.contacts[0], out.steps))
     };
     let [eta1, eta2] = PILOT_ETAS;
-    let (coarse, fine) = (pilot(eta1)?, pilot(eta2)?);
+    let ((coarse, coarse_steps), (fine, fine_steps)) = (pilot(eta1)?, pilot(eta2)?);
     let order = assumed_order(scheme, s.integration.stepping, law);
     let d = difference(&coarse, &fine);
     let e2 = d / ((eta1 / eta2).powf(order) - 1.0);
@@ -121,5 +125,6 @@ pub(crate) fn choose_step<L: NormalContactLaw>(
         order,
         pilot_difference: d,
         error_estimate: contacts * e2 * (eta / eta2).powf(order),
+        pilot_steps: coarse_steps + fine_steps,
     })
 }

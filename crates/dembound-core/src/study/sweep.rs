@@ -7,7 +7,9 @@
 //! Pure computation: cases run in parallel with rayon, progress is reported
 //! through a callback, the result serialises with serde.
 
-use crate::bounce::{simulate, ContactRecord, InputError, Scenario, SimulationError};
+use crate::bounce::{
+    simulate_batch, ContactRecord, InputError, RunOutcome, Scenario, SimulationError,
+};
 use crate::contact::ContactLawKind;
 use crate::exact::{scenario_contacts, ExactError};
 use rayon::prelude::*;
@@ -302,12 +304,14 @@ impl std::error::Error for SweepError {}
 /// Per-contact values of one scenario: (integrator, exact, steps).
 type Run = (Vec<Values>, Vec<Values>, u64);
 
-fn run_case(s: &Scenario, label: &str) -> Result<Run, SweepError> {
-    s.validate().map_err(|error| SweepError::Input {
-        case: label.to_string(),
-        error,
-    })?;
-    let out = simulate(s, &mut ()).map_err(|error| SweepError::Simulation {
+/// A case's values from its run (`outcome`, from [`simulate_batch`]) and
+/// its exact reference.
+fn run_case(
+    s: &Scenario,
+    outcome: Result<RunOutcome, SimulationError>,
+    label: &str,
+) -> Result<Run, SweepError> {
+    let out = outcome.map_err(|error| SweepError::Simulation {
         case: label.to_string(),
         error,
     })?;
@@ -368,11 +372,27 @@ pub fn sweep(
         let n = done.fetch_add(1, Ordering::Relaxed) + 1;
         progress(n, total);
     };
-    let references: Vec<Reference> = ref_keys
+    // Every run at once, in SIMD lanes where it can be ([`simulate_batch`]:
+    // the same results as `simulate` case by case), references first.
+    let all: Vec<CaseKey> = ref_keys.iter().chain(&keys).copied().collect();
+    let scenarios: Vec<Scenario> = all.iter().map(|k| spec.scenario(k)).collect();
+    let outcomes = simulate_batch(&scenarios);
+    let mut runs = all
         .par_iter()
-        .map(|k| {
-            let (numerical, exact, _) = run_case(&spec.scenario(k), &k.to_string())?;
+        .zip(&scenarios)
+        .zip(outcomes)
+        .map(|((k, s), outcome)| {
+            let run = run_case(s, outcome, &k.to_string());
             tick();
+            run
+        })
+        .collect::<Vec<_>>()
+        .into_iter();
+    let references: Vec<Reference> = ref_keys
+        .iter()
+        .zip(runs.by_ref())
+        .map(|(k, run)| {
+            let (numerical, exact, _) = run?;
             Ok(Reference {
                 variant: k.variant,
                 law: k.law,
@@ -382,9 +402,10 @@ pub fn sweep(
         })
         .collect::<Result<_, SweepError>>()?;
     let cases = keys
-        .par_iter()
-        .map(|k| {
-            let (numerical, exact, steps) = run_case(&spec.scenario(k), &k.to_string())?;
+        .iter()
+        .zip(runs)
+        .map(|(k, run)| {
+            let (numerical, exact, steps) = run?;
             let reference = references
                 .iter()
                 .find(|r| r.variant == k.variant && r.law == k.law)
@@ -405,7 +426,6 @@ pub fn sweep(
                     }
                 })
                 .collect();
-            tick();
             Ok(SweepCase {
                 key: *k,
                 steps,
