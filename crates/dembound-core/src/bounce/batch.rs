@@ -58,7 +58,7 @@ use super::{
     Stepping,
 };
 use crate::contact::{ContactLawKind, DampingKind, Hertz, LinearSpring, NormalContactLaw, Onset};
-use crate::integrate::{Gear5, Gear5State, Integrator, Kinematics, Scheme};
+use crate::integrate::{pascal, Gear5, Gear5State, Integrator, Kinematics, Scheme};
 use crate::material::ContactPair;
 use locate::{Located, Steps, MAX_STEPS};
 use rayon::prelude::*;
@@ -433,19 +433,6 @@ impl std::ops::DerefMut for Lanes {
     fn deref_mut(&mut self) -> &mut [f64] {
         &mut self.0
     }
-}
-
-/// `gear5::pascal` in every lane (same expression order).
-#[inline(always)]
-fn lanes_pascal<S: Simd, const G: usize>(r: &[V<S, G>; 6]) -> [V<S, G>; 6] {
-    [
-        ((r[0] + r[1]) + (r[2] + r[3])) + (r[4] + r[5]),
-        ((r[1] + 2.0 * r[2]) + (3.0 * r[3] + 4.0 * r[4])) + 5.0 * r[5],
-        (r[2] + 3.0 * r[3]) + (6.0 * r[4] + 10.0 * r[5]),
-        (r[3] + 4.0 * r[4]) + 10.0 * r[5],
-        r[4] + 5.0 * r[5],
-        r[5],
-    ]
 }
 
 /// The lanes' state that every step reads and writes, in memory (for the
@@ -992,7 +979,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             for (rk, power) in r.iter_mut().skip(1).zip(geo.power) {
                 *rk = *rk * power;
             }
-            let rescaled = lanes_pascal(&r);
+            let rescaled = pascal(&r);
             let mut p = hot.next;
             for k in 0..6 {
                 p[k] = geo.resize.select(rescaled[k], p[k]);
@@ -1000,7 +987,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             // `Gear5::step_scaled` with the law scaled by the gain, as
             // `Run::contact_step` does, and c = −g; the same expressions in
             // the same order.
-            let mut next = lanes_pascal(&p);
+            let mut next = pascal(&p);
             let base = V::load(s, &self.c) * geo.half_dt2 - p[2];
             let next_x_base = next[0] + pc[0] * base;
             let scaled = L::lanes_force(geo.k_step, -p[0]);

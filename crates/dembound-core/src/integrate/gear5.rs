@@ -28,7 +28,15 @@ pub struct Gear5 {
 
 const fn gear5(c0: f64) -> Gear5 {
     let c = [c0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0];
-    let pc = pascal(&c);
+    // P c (Pascal's rows applied to c; `pascal` is not a const fn).
+    let pc = [
+        ((c[0] + c[1]) + (c[2] + c[3])) + (c[4] + c[5]),
+        ((c[1] + 2.0 * c[2]) + (3.0 * c[3] + 4.0 * c[4])) + 5.0 * c[5],
+        (c[2] + 3.0 * c[3]) + (6.0 * c[4] + 10.0 * c[5]),
+        (c[3] + 4.0 * c[4]) + 10.0 * c[5],
+        c[4] + 5.0 * c[5],
+        c[5],
+    ];
     Gear5 {
         corrector: c,
         predicted_corrector: pc,
@@ -106,9 +114,14 @@ pub struct Gear5State {
 }
 
 /// The Taylor prediction over one step: multiplication by Pascal's
-/// triangle, rᵖ_k = Σ_j C(j, k) r_j (eq 18).
+/// triangle, rᵖ_k = Σ_j C(j, k) r_j (eq 18). Generic so that the batched
+/// path's SIMD lanes run these very expressions (bit-identical results).
 #[inline(always)]
-pub(crate) const fn pascal(r: &[f64; 6]) -> [f64; 6] {
+pub(crate) fn pascal<T>(r: &[T; 6]) -> [T; 6]
+where
+    T: Copy + std::ops::Add<Output = T>,
+    f64: std::ops::Mul<T, Output = T>,
+{
     [
         ((r[0] + r[1]) + (r[2] + r[3])) + (r[4] + r[5]),
         ((r[1] + 2.0 * r[2]) + (3.0 * r[3] + 4.0 * r[4])) + 5.0 * r[5],
