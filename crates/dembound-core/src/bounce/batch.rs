@@ -631,29 +631,15 @@ impl Mesh {
         }
     }
 
-    /// `GradedSteps::next(self.j)`, then j += 1.
+    /// `GradedSteps::next(self.j)` with the graded sizes from the tables,
+    /// then j += 1.
     #[inline(always)]
     fn next(&mut self, tables: &Tables) -> f64 {
-        let g = &mut self.steps;
-        let h = if !g.graded {
-            g.dt
-        } else if g.planned {
-            if g.uniform_left > 0 {
-                g.uniform_left -= 1;
-                g.uniform_size
-            } else if g.end_left > 0 {
-                g.end_left -= 1;
-                tables.step(self.end_table, g.end_region, g.end_steps, g.end_left)
-            } else {
-                // Past the planned rebound: grow until it is crossed.
-                (2.0 * g.last).min(g.dt)
-            }
-        } else if self.j < g.onset_steps {
-            tables.step(self.onset_table, g.onset_region, g.onset_steps, self.j)
-        } else {
-            g.dt
-        };
-        g.last = h;
+        let (onset_table, end_table) = (self.onset_table, self.end_table);
+        let h = self.steps.next_with(self.j, |region, is_end, n, k| {
+            let table = if is_end { end_table } else { onset_table };
+            tables.step(table, region, n, k)
+        });
         self.j += 1;
         h
     }

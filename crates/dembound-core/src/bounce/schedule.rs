@@ -175,6 +175,14 @@ impl GradedSteps {
 
     /// Size of step number `j` (0-based) of the contact.
     pub fn next(&mut self, j: u64) -> f64 {
+        self.next_with(j, |region, _, n, k| graded_step(region, n, k))
+    }
+
+    /// [`Self::next`] with the graded step sizes from `graded(region
+    /// length, is the end region, steps, index)` (the batched path reads
+    /// them from tables holding `graded_step`'s values).
+    #[inline(always)]
+    pub(crate) fn next_with(&mut self, j: u64, graded: impl Fn(f64, bool, u64, u64) -> f64) -> f64 {
         let h = if !self.graded {
             self.dt
         } else if self.planned {
@@ -183,13 +191,13 @@ impl GradedSteps {
                 self.uniform_size
             } else if self.end_left > 0 {
                 self.end_left -= 1;
-                graded_step(self.end_region, self.end_steps, self.end_left)
+                graded(self.end_region, true, self.end_steps, self.end_left)
             } else {
                 // Past the planned rebound: grow until it is crossed.
                 (2.0 * self.last).min(self.dt)
             }
         } else if j < self.onset_steps {
-            graded_step(self.onset_region, self.onset_steps, j)
+            graded(self.onset_region, false, self.onset_steps, j)
         } else {
             self.dt
         };
