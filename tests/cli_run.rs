@@ -219,7 +219,17 @@ fn out_writes_three_files_and_scenario_toml_reproduces_the_run() {
     ]);
     let mut names = files_in(&dir);
     names.sort();
-    assert_eq!(names, ["contacts.csv", "history.csv", "scenario.toml"]);
+    // The set and the record of which files it is (README, "Output
+    // directories").
+    assert_eq!(
+        names,
+        [
+            ".dembound.json",
+            "contacts.csv",
+            "history.csv",
+            "scenario.toml"
+        ]
+    );
 
     let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
     let mut lines = history.lines();

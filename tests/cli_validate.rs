@@ -180,7 +180,9 @@ fn out_writes_every_file_and_the_terminal_report_has_verdicts() {
         .expect("dir")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names.len(), 8, "{names:?}");
+    // 8 files and the record of the set (README, "Output directories").
+    assert_eq!(names.len(), 9, "{names:?}");
+    assert!(names.contains(&".dembound.json".to_string()), "{names:?}");
 
     let md = std::fs::read_to_string(dir.path().join("validation.md")).expect("md");
     assert!(md.contains("| row | Δt from |") && md.contains("Observed orders"));

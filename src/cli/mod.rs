@@ -12,7 +12,10 @@ pub mod run;
 pub mod sweep;
 pub mod validate;
 
+use crate::output::files::AtomicDir;
+use crate::output::interrupt;
 use clap::{Parser, Subcommand};
+use std::path::Path;
 use std::process::ExitCode;
 
 /// DEM studies of an elastic sphere bouncing on a boundary sphere
@@ -89,6 +92,7 @@ pub type CliResult<T = ()> = Result<T, CliError>;
 pub fn main() -> ExitCode {
     // Usage errors exit 2 and --help/--version exit 0, both printed by clap.
     let cli = Cli::parse();
+    interrupt::install();
     let result = match &cli.command {
         Command::Run(args) => run::run(args),
         Command::Exact(args) => exact::run(args),
@@ -107,6 +111,19 @@ pub fn main() -> ExitCode {
             ExitCode::from(e.exit_code())
         }
     }
+}
+
+/// The output directory of `--out`, opened (made if missing, a staging
+/// directory in it) before anything is computed: a path that is not a
+/// writable directory is bad input (exit 2). `set` names the subcommand
+/// whose files it receives.
+pub fn output_dir(dir: &Path, set: &str) -> CliResult<AtomicDir> {
+    AtomicDir::create(dir, set).map_err(|e| {
+        CliError::input(e.context(format!(
+            "--out `{}`: cannot write the output there",
+            dir.display()
+        )))
+    })
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {

@@ -9,7 +9,6 @@
 
 use super::lists::show;
 use super::{CliError, CliResult};
-use crate::output::files::AtomicDir;
 use crate::output::format::sig;
 use crate::output::restitution::{restitution_figures, restitution_markdown};
 use crate::output::validation;
@@ -39,7 +38,8 @@ use std::time::Instant;
 
 #[derive(Debug, Args)]
 pub struct PaperArgs {
-    /// Output directory (created if missing)
+    /// Output directory (created if missing; checked before computing; all
+    /// files or none)
     #[arg(long, value_name = "DIR", default_value = "paper-reproduction")]
     pub out: PathBuf,
 
@@ -1125,33 +1125,25 @@ const RESTITUTION_DIR: &str = "restitution";
 
 pub fn run(args: &PaperArgs) -> CliResult {
     let start = Instant::now();
+    let dir = &args.out;
+    // Before computing: a bad --out fails at once.
+    let mut out = super::output_dir(dir, "paper")?;
     let base = base_scenario();
     let data = compute(&base, args.quiet, start)?;
     let compute_seconds = start.elapsed().as_secs_f64();
 
     stage(args.quiet, start, "figures and report");
-    let dir = &args.out;
-    std::fs::create_dir_all(dir).map_err(|e| {
-        CliError::failed(anyhow!(
-            "cannot create output directory `{}`: {e}",
-            dir.display()
-        ))
-    })?;
+    // Everything is drawn into the staging directory and published at once.
+    let staging = out.staging().to_path_buf();
     let figs = figures(&data);
-    let mut written: Vec<PathBuf> = figs
-        .par_iter()
-        .map(|(stem, fig, _)| fig.write(&dir.join(stem)))
+    figs.par_iter()
+        .map(|(stem, fig, _)| fig.write(&staging.join(stem)))
         .collect::<Result<Vec<_>>>()
-        .map_err(CliError::failed)?
-        .into_iter()
-        .flatten()
-        .collect();
-    let conv_figs =
-        validation::convergence_figures(&data.convergence, dir).map_err(CliError::failed)?;
-    written.extend(conv_figs.iter().cloned());
-    let restitution_figs = restitution_figures(&data.restitution, &dir.join(RESTITUTION_DIR))
         .map_err(CliError::failed)?;
-    written.extend(restitution_figs.iter().cloned());
+    let conv_figs =
+        validation::convergence_figures(&data.convergence, &staging).map_err(CliError::failed)?;
+    let restitution_figs = restitution_figures(&data.restitution, &staging.join(RESTITUTION_DIR))
+        .map_err(CliError::failed)?;
     let captions: Vec<(String, String)> = figs.into_iter().map(|(s, _, c)| (s, c)).collect();
     let md = report_markdown(
         &data,
@@ -1160,8 +1152,7 @@ pub fn run(args: &PaperArgs) -> CliResult {
         &restitution_figs,
         compute_seconds,
     );
-    let html = report_html(&md, dir).map_err(CliError::failed)?;
-    let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
+    let html = report_html(&md, &staging).map_err(CliError::failed)?;
     out.write("report.md", |w| Ok(w.write_all(md.as_bytes())?))
         .map_err(CliError::failed)?;
     out.write("report.html", |w| Ok(w.write_all(html.as_bytes())?))
@@ -1171,7 +1162,7 @@ pub fn run(args: &PaperArgs) -> CliResult {
         Ok(writeln!(w)?)
     })
     .map_err(CliError::failed)?;
-    written.extend(out.commit().map_err(CliError::failed)?);
+    let written = out.commit().map_err(CliError::failed)?;
 
     let mut stdout = std::io::stdout().lock();
     let mut t = comfy_table::Table::new();

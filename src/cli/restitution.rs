@@ -19,7 +19,7 @@ use dembound_core::study::restitution::{
     RestitutionError, RestitutionSpec, RestitutionStudy, DEFAULT_RATIOS, DEFAULT_TARGETS,
 };
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `--calibrate`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -93,7 +93,8 @@ pub struct RestitutionArgs {
     pub json: bool,
 
     /// Write restitution.csv, restitution.md and the figures (SVG + PNG)
-    /// into DIR (created if missing)
+    /// into DIR (created if missing; checked before computing; all files
+    /// or none)
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
@@ -162,9 +163,13 @@ fn sweep(args: &RestitutionArgs, base: &Scenario) -> CliResult {
         modulus_ratios: or(&args.modulus_ratios, &DEFAULT_RATIOS),
         calibrations: args.calibrate.unwrap_or(CalibrateArg::Both).calibrations(),
     };
+    let out = match &args.out {
+        Some(dir) => Some(super::output_dir(dir, "restitution")?),
+        None => None,
+    };
     let study = restitution_sweep(base, &spec).map_err(study_error)?;
-    let written = match &args.out {
-        Some(dir) => Some(write_outputs(dir, &study)?),
+    let written = match out {
+        Some(out) => Some(write_outputs(out, &study)?),
         None => None,
     };
     let mut stdout = std::io::stdout().lock();
@@ -245,43 +250,15 @@ fn summary_table(study: &RestitutionStudy) -> Table {
     table
 }
 
-/// restitution.csv and restitution.md (staged, renamed together) and the
-/// figures; on failure nothing of it is left.
-fn write_outputs(dir: &Path, study: &RestitutionStudy) -> CliResult<Vec<PathBuf>> {
-    let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
+/// restitution.csv, restitution.md and the figures, all or none.
+fn write_outputs(mut out: AtomicDir, study: &RestitutionStudy) -> CliResult<Vec<PathBuf>> {
     out.write("restitution.csv", |w| write_restitution_csv(study, w))
         .map_err(CliError::failed)?;
     let md = restitution_markdown(study);
     out.write("restitution.md", |w| Ok(w.write_all(md.as_bytes())?))
         .map_err(CliError::failed)?;
-    let figures = match restitution_figures(study, dir) {
-        Ok(paths) => paths,
-        Err(e) => {
-            // Figures already written go too: a failed command leaves nothing.
-            for path in figure_paths_in(dir) {
-                let _ = std::fs::remove_file(path);
-            }
-            return Err(CliError::failed(e));
-        }
-    };
-    let mut written = out.commit().map_err(CliError::failed)?;
-    written.extend(figures);
-    Ok(written)
-}
-
-fn figure_paths_in(dir: &Path) -> Vec<PathBuf> {
-    std::fs::read_dir(dir)
-        .map(|entries| {
-            entries
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| {
-                    let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-                    name.starts_with("restitution_")
-                        && (name.ends_with(".svg") || name.ends_with(".png"))
-                })
-                .collect()
-        })
-        .unwrap_or_default()
+    restitution_figures(study, out.staging()).map_err(CliError::failed)?;
+    out.commit().map_err(CliError::failed)
 }
 
 fn single<T: Copy>(values: &[T], flag: &str, what: &str) -> CliResult<T> {

@@ -28,8 +28,8 @@ pub struct RunArgs {
     pub scenario: ScenarioArgs,
 
     /// Write scenario.toml (resolved, re-runnable), contacts.csv and
-    /// history.csv into DIR (created if missing; nothing is written unless
-    /// the run succeeds)
+    /// history.csv into DIR (created if missing; checked before the run;
+    /// all three files or none)
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
@@ -62,6 +62,10 @@ pub fn run(args: &RunArgs) -> CliResult {
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
     let problem = plan(&scenario).map_err(simulation_error)?;
     guard_step_count(&scenario, &problem, args.force)?;
+    let out = match &args.out {
+        Some(dir) => Some(super::output_dir(dir, "run")?),
+        None => None,
+    };
     // Before the run, so that a scenario without a reference fails at once.
     let exact = if args.compare_exact {
         Some(super::exact::exact_contacts(&scenario)?)
@@ -74,7 +78,7 @@ pub fn run(args: &RunArgs) -> CliResult {
         write!(stdout, "{}", report::header(&scenario, &problem)).map_err(CliError::failed)?;
     }
 
-    let mut history = args.out.as_ref().map(|_| {
+    let mut history = out.as_ref().map(|_| {
         let rows = usize::try_from(args.history_points).unwrap_or(usize::MAX);
         HistoryRecorder::new(
             rows,
@@ -93,8 +97,8 @@ pub fn run(args: &RunArgs) -> CliResult {
     }
     let outcome = outcome.map_err(simulation_error)?;
 
-    let written = match (&args.out, &history) {
-        (Some(dir), Some(history)) => Some(write_outputs(dir, &scenario, &outcome, history)?),
+    let written = match (out, &history) {
+        (Some(out), Some(history)) => Some(write_outputs(out, &scenario, &outcome, history)?),
         _ => None,
     };
 
@@ -175,15 +179,15 @@ fn guard_step_count(s: &Scenario, problem: &Problem, force: bool) -> CliResult {
     )))
 }
 
-/// Writes scenario.toml, contacts.csv and history.csv into `dir`, all or none.
+/// Writes scenario.toml, contacts.csv and history.csv into the output
+/// directory, all or none.
 fn write_outputs(
-    dir: &std::path::Path,
+    mut out: AtomicDir,
     scenario: &Scenario,
     outcome: &RunOutcome,
     history: &HistoryRecorder,
 ) -> CliResult<Vec<PathBuf>> {
     let toml = report::scenario_toml(scenario).map_err(CliError::failed)?;
-    let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
     out.write("scenario.toml", |w| Ok(w.write_all(toml.as_bytes())?))
         .map_err(CliError::failed)?;
     out.write("contacts.csv", |w| {

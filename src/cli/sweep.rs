@@ -4,7 +4,6 @@
 
 use super::lists;
 use super::{CliError, CliResult};
-use crate::output::files::AtomicDir;
 use crate::output::format::{exact, sig};
 use crate::output::progress;
 use crate::plot::{Figure, Mark, Series};
@@ -142,6 +141,10 @@ pub fn run(args: &SweepArgs) -> CliResult {
         )));
     }
     let spec = spec(args).map_err(CliError::input)?;
+    let out = match &args.out {
+        Some(dir) => Some(super::output_dir(dir, "sweep")?),
+        None => None,
+    };
     let total = spec.cases().len();
     let bar = progress::counter(total, args.quiet, "cases");
     let result = sweep(&spec, &|done, _| {
@@ -158,8 +161,7 @@ pub fn run(args: &SweepArgs) -> CliResult {
     })?;
 
     let mut written = Vec::new();
-    if let Some(dir) = &args.out {
-        let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
+    if let Some(mut out) = out {
         out.write("sweep.csv", |w| write_csv(&result, w))
             .map_err(CliError::failed)?;
         out.write("sweep.json", |w| {
@@ -167,10 +169,10 @@ pub fn run(args: &SweepArgs) -> CliResult {
             Ok(writeln!(w)?)
         })
         .map_err(CliError::failed)?;
-        written = out.commit().map_err(CliError::failed)?;
         if args.plot {
-            written.extend(figures(&result, dir).map_err(CliError::failed)?);
+            figures(&result, out.staging()).map_err(CliError::failed)?;
         }
+        written = out.commit().map_err(CliError::failed)?;
     }
 
     let mut stdout = std::io::stdout().lock();

@@ -12,14 +12,14 @@ use dembound_core::study::validation::{
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Duration;
 
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
     /// Write validation.md, validation.csv, validation.json, convergence.csv
     /// and the convergence figures (SVG, PNG) into DIR (created if missing;
-    /// nothing is written unless everything succeeds)
+    /// checked before computing; all files or none)
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
@@ -77,6 +77,10 @@ impl Drop for Spinner {
 }
 
 pub fn run(args: &ValidateArgs) -> CliResult {
+    let out = match &args.out {
+        Some(dir) => Some(super::output_dir(dir, "validate")?),
+        None => None,
+    };
     let spinner = Spinner::new(args.quiet);
     spinner.stage("Tables 1–2: 32 runs against the exact reference");
     let tables = validation_tables().map_err(|e| CliError::failed(anyhow!("{e}")))?;
@@ -90,10 +94,10 @@ pub fn run(args: &ValidateArgs) -> CliResult {
         orders: report::orders(&points),
     };
     let json = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
-    let written = match &args.out {
-        Some(dir) => {
+    let written = match out {
+        Some(out) => {
             spinner.stage("writing files and figures");
-            Some(write_outputs(dir, &tables, &points, &json)?)
+            Some(write_outputs(out, &tables, &points, &json)?)
         }
         None => None,
     };
@@ -131,19 +135,14 @@ pub fn validation_markdown(tables: &[ValidationTable], points: &[ConvergencePoin
     )
 }
 
-/// Writes every file into `dir`, all or none: the figures are drawn into a
-/// temporary directory first and staged with the rest.
+/// Writes every file into the output directory, all or none.
 fn write_outputs(
-    dir: &Path,
+    mut out: AtomicDir,
     tables: &[ValidationTable],
     points: &[ConvergencePoint],
     json: &str,
 ) -> CliResult<Vec<PathBuf>> {
     let markdown = validation_markdown(tables, points);
-    let mut out = AtomicDir::create(dir).map_err(CliError::failed)?;
-    let figures_dir = tempfile::tempdir().map_err(CliError::failed)?;
-    let figures =
-        report::convergence_figures(points, figures_dir.path()).map_err(CliError::failed)?;
     out.write("validation.md", |w| Ok(w.write_all(markdown.as_bytes())?))
         .map_err(CliError::failed)?;
     out.write("validation.csv", |w| {
@@ -156,14 +155,6 @@ fn write_outputs(
         report::write_convergence_csv(points, w)
     })
     .map_err(CliError::failed)?;
-    for figure in &figures {
-        let name = figure
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .ok_or_else(|| CliError::failed(anyhow!("figure without a file name")))?;
-        let bytes = std::fs::read(figure).map_err(CliError::failed)?;
-        out.write(&name, |w| Ok(w.write_all(&bytes)?))
-            .map_err(CliError::failed)?;
-    }
+    report::convergence_figures(points, out.staging()).map_err(CliError::failed)?;
     out.commit().map_err(CliError::failed)
 }

@@ -4,6 +4,7 @@
 pub mod files;
 pub mod format;
 pub mod history;
+pub mod interrupt;
 pub mod observer;
 pub mod progress;
 pub mod report;
