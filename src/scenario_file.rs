@@ -68,9 +68,100 @@ pub fn load(file: Option<(&Path, &str)>, sets: &[String]) -> Result<Scenario> {
     for arg in sets {
         apply_set(&mut merged, arg)?;
     }
+    let given = si_to_ratios(&mut merged)?;
     let scenario = deserialize(&defaults, &merged)?;
-    scenario.validate()?;
+    scenario.validate().map_err(|e| {
+        // A range error on a ratio the user gave in SI names both forms.
+        let mut msg = e.to_string();
+        for (key, ratio_field, text) in &given {
+            if e.field == *ratio_field {
+                msg.push_str(&format!(" (from `boundary.{key}` = {text})"));
+            }
+        }
+        anyhow!(msg)
+    })?;
     Ok(scenario)
+}
+
+/// The `[boundary]` keys that have an SI alternative: (SI key, ratio key,
+/// the particle key it is relative to, unit, what ∞ means).
+const SI_PAIRS: [(&str, &str, &str, &str, &str); 2] = [
+    ("radius", "radius_ratio", "radius", "m", "an elastic half-space"),
+    (
+        "youngs_modulus",
+        "modulus_ratio",
+        "youngs_modulus",
+        "Pa",
+        "a rigid boundary",
+    ),
+];
+
+/// The ratio key that an SI `[boundary]` key replaces, if `key` is one.
+fn ratio_key_of(key: &str) -> Option<&'static str> {
+    SI_PAIRS.iter().find(|p| p.0 == key).map(|p| p.1)
+}
+
+/// The SI key that a ratio `[boundary]` key replaces, if `key` is one.
+fn si_key_of(key: &str) -> Option<&'static str> {
+    SI_PAIRS.iter().find(|p| p.1 == key).map(|p| p.0)
+}
+
+/// A number or "inf" from a TOML value.
+fn number_or_inf(v: &Value) -> Option<f64> {
+    match v {
+        Value::Float(x) => Some(*x),
+        Value::Integer(i) => Some(*i as f64),
+        Value::String(s) => match s.trim().to_ascii_lowercase().as_str() {
+            "inf" | "+inf" | "infinity" | "+infinity" => Some(f64::INFINITY),
+            other => other.parse().ok(),
+        },
+        _ => None,
+    }
+}
+
+/// Replaces `boundary.radius` (m) and `boundary.youngs_modulus` (Pa) by
+/// the ratios the core works with, r = R_b/R_m and ζ = E_b/E_m, using the
+/// particle's final radius and modulus. Returns, for each key converted,
+/// (SI key, ratio field, the value as given) for error messages.
+fn si_to_ratios(merged: &mut Table) -> Result<Vec<(&'static str, String, String)>> {
+    let particle = |key: &str| {
+        merged
+            .get("particle")
+            .and_then(|p| p.get(key))
+            .and_then(number_or_inf)
+            .filter(|x| x.is_finite() && *x > 0.0)
+    };
+    let mut ratios = Vec::new();
+    for (si, ratio, of, unit, inf) in SI_PAIRS {
+        let Some(Value::Table(b)) = merged.get("boundary") else {
+            continue;
+        };
+        let Some(v) = b.get(si) else { continue };
+        let x = number_or_inf(v).filter(|x| *x > 0.0 && !x.is_nan());
+        let Some(x) = x else {
+            bail!(
+                "invalid value for `boundary.{si}`: {v} (allowed: > 0, in {unit}, or \"inf\" for {inf})"
+            );
+        };
+        // A bad particle value is reported by its own key later; the ratio
+        // is then a placeholder.
+        let r = particle(of).map_or(1.0, |p| x / p);
+        ratios.push((si, ratio, r, format!("{v} {unit}")));
+    }
+    let mut given = Vec::new();
+    if let Some(Value::Table(b)) = merged.get_mut("boundary") {
+        for (si, ratio, r, text) in ratios {
+            b.remove(si);
+            let value = if r.is_infinite() {
+                Value::String("inf".into())
+            } else {
+                Value::Float(r)
+            };
+            b.insert(ratio.to_string(), value);
+            given.push((si, format!("boundary.{ratio}"), text));
+        }
+    }
+    Ok(given)
 }
 
 /// The default scenario as a TOML table.
@@ -104,6 +195,23 @@ fn merge_file(base: &mut Table, user: Table) -> Result<()> {
                  found `{section} = {value}`"
             );
         };
+        if section == "boundary" {
+            // `radius` or `radius_ratio`, `youngs_modulus` or `modulus_ratio`:
+            // one of each pair, and the one given replaces the default's other.
+            for (si, ratio, ..) in SI_PAIRS {
+                if keys.contains_key(si) && keys.contains_key(ratio) {
+                    bail!(
+                        "`boundary.{si}` and `boundary.{ratio}` are both given: give one of \
+                         them (the boundary's {si} in SI, or relative to the particle's)"
+                    );
+                }
+                if keys.contains_key(si) {
+                    slot.remove(ratio);
+                } else if keys.contains_key(ratio) {
+                    slot.remove(si);
+                }
+            }
+        }
         for (key, v) in keys {
             slot.insert(key, v);
         }
@@ -157,6 +265,12 @@ fn apply_set(base: &mut Table, arg: &str) -> Result<()> {
         };
     }
     table.insert((*last).to_string(), parse_value(raw));
+    // The boundary's radius and modulus are given in SI or as ratios.
+    if section == "boundary" && parents.is_empty() {
+        if let Some(other) = ratio_key_of(last).or_else(|| si_key_of(last)) {
+            table.remove(other);
+        }
+    }
     // Δt is given either as a fraction of the contact time or in seconds.
     if section == "integration" && parents.is_empty() {
         match *last {
@@ -290,5 +404,79 @@ mod tests {
         assert!(m.contains("f.toml") && m.contains("gap = = 1"), "{m}");
         let m = msg(load(None, &sets(&["motion.gap=-1"])));
         assert!(m.contains("motion.gap"), "{m}");
+    }
+
+    #[test]
+    fn the_boundary_is_given_in_si_or_as_ratios() {
+        // R_b = 50 mm on the default R_m = 0.5 mm is r = 100; E_b = 200 GPa
+        // on the default E_m = 10 GPa is ζ = 20.
+        let text = "[boundary]\nradius = 0.05\nyoungs_modulus = 2.0e11\n";
+        let s = load(Some((Path::new("f.toml"), text)), &[]).unwrap();
+        assert!((s.boundary.radius_ratio / 100.0 - 1.0).abs() < 1e-15);
+        assert!((s.boundary.modulus_ratio / 20.0 - 1.0).abs() < 1e-15);
+        // The conversion uses the particle's final values, --set included.
+        let s = load(
+            Some((Path::new("f.toml"), text)),
+            &sets(&["particle.radius=1e-3", "particle.youngs_modulus=1e11"]),
+        )
+        .unwrap();
+        assert!((s.boundary.radius_ratio / 50.0 - 1.0).abs() < 1e-15);
+        assert!((s.boundary.modulus_ratio / 2.0 - 1.0).abs() < 1e-15);
+        // "inf" is a half-space / a rigid boundary in either form.
+        let s = load(
+            None,
+            &sets(&["boundary.radius=inf", "boundary.youngs_modulus=inf"]),
+        )
+        .unwrap();
+        assert!(s.boundary.radius_ratio.is_infinite() && s.boundary.modulus_ratio.is_infinite());
+        // --set of one form drops the other, from the file or the defaults.
+        let s = load(
+            Some((Path::new("f.toml"), text)),
+            &sets(&["boundary.radius_ratio=3"]),
+        )
+        .unwrap();
+        assert_eq!(s.boundary.radius_ratio, 3.0);
+        let s = load(
+            Some((Path::new("f.toml"), "[boundary]\nradius_ratio = 3.0\n")),
+            &sets(&["boundary.radius=0.001"]),
+        )
+        .unwrap();
+        assert!((s.boundary.radius_ratio / 2.0 - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn both_forms_or_a_bad_si_value_are_refused_by_name() {
+        let msg = |r: Result<Scenario>| format!("{:#}", r.unwrap_err());
+        let m = msg(load(
+            Some((
+                Path::new("f.toml"),
+                "[boundary]\nradius = 0.05\nradius_ratio = 100.0\n",
+            )),
+            &[],
+        ));
+        assert!(
+            m.contains("boundary.radius`") && m.contains("boundary.radius_ratio") && m.contains("f.toml"),
+            "{m}"
+        );
+        let m = msg(load(
+            Some((
+                Path::new("f.toml"),
+                "[boundary]\nyoungs_modulus = 2e11\nmodulus_ratio = 20.0\n",
+            )),
+            &[],
+        ));
+        assert!(
+            m.contains("boundary.youngs_modulus") && m.contains("boundary.modulus_ratio"),
+            "{m}"
+        );
+        for bad in ["boundary.radius=-1", "boundary.radius=0", "boundary.radius=big"] {
+            let m = msg(load(None, &sets(&[bad])));
+            assert!(m.contains("`boundary.radius`") && m.contains("in m"), "{m}");
+        }
+        let m = msg(load(None, &sets(&["boundary.youngs_modulus=-2e11"])));
+        assert!(m.contains("`boundary.youngs_modulus`") && m.contains("Pa"), "{m}");
+        // A bad particle radius is reported as itself, not as the boundary's.
+        let m = msg(load(None, &sets(&["boundary.radius=0.05", "particle.radius=-1"])));
+        assert!(m.contains("particle.radius"), "{m}");
     }
 }

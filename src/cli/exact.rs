@@ -174,6 +174,7 @@ pub fn paper_estimates(s: &Scenario) -> CliResult<Vec<PaperEstimate>> {
 /// meaning without integration, plus the paper's estimates.
 #[derive(Debug, Serialize)]
 pub struct ExactReport<'a> {
+    #[serde(serialize_with = "crate::output::boundary::serialize_scenario")]
     pub scenario: &'a Scenario,
     pub contacts: &'a [ContactRecord],
     pub paper_estimates: &'a [PaperEstimate],

@@ -1,9 +1,10 @@
-//! Parsing of list arguments shared by `sweep` and `recommend`: numbers
+//! Parsing of list arguments shared by every subcommand: numbers
 //! (`inf` allowed), generated ranges and contact laws. Every error names the
 //! flag, the value and what is allowed.
 
 use anyhow::{anyhow, bail, Result};
 use dembound_core::contact::ContactLawKind;
+use dembound_core::study::restitution::DissipativeLaw;
 
 /// One number, `inf` (also `infinity`) allowed.
 pub fn number(flag: &str, text: &str) -> Result<f64> {
@@ -103,12 +104,30 @@ pub fn ratios(flag: &str, text: &str) -> Result<Vec<f64>> {
     Ok(xs)
 }
 
-/// One contact law: `linear`, `hertz`, or a power `α` (`power=1.25`, `1.25`), 1 ≤ α ≤ 3.
-pub fn law(flag: &str, text: &str) -> Result<ContactLawKind> {
+/// Every contact law by the names used everywhere (`--law` of every
+/// subcommand, `contact.law`/`contact.damping` of a scenario): the elastic
+/// laws and the dissipative ones of `restitution`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AnyLaw {
+    Elastic(ContactLawKind),
+    Dissipative(DissipativeLaw),
+}
+
+/// Every law name, for messages.
+pub const ALL_LAW_NAMES: &str =
+    "linear, hertz, power=α (1 ≤ α ≤ 3), viscous, tsuji, viscoelastic, walton-braun";
+
+/// One contact law: `linear`, `hertz`, a power `α` (`power=1.25`, `1.25`,
+/// 1 ≤ α ≤ 3), or a dissipative law (`viscous`, `tsuji`, `viscoelastic`,
+/// `walton-braun`).
+pub fn any_law(flag: &str, text: &str) -> Result<AnyLaw> {
     let t = text.trim().to_ascii_lowercase();
+    if let Some(d) = DissipativeLaw::parse(&t) {
+        return Ok(AnyLaw::Dissipative(d));
+    }
     let alpha = match t.as_str() {
-        "linear" => return Ok(ContactLawKind::Linear),
-        "hertz" => return Ok(ContactLawKind::Hertz),
+        "linear" => return Ok(AnyLaw::Elastic(ContactLawKind::Linear)),
+        "hertz" => return Ok(AnyLaw::Elastic(ContactLawKind::Hertz)),
         other => other
             .strip_prefix("power=")
             .or_else(|| other.strip_prefix("power:"))
@@ -117,17 +136,60 @@ pub fn law(flag: &str, text: &str) -> Result<ContactLawKind> {
             .ok(),
     };
     match alpha {
-        Some(a) if (1.0..=3.0).contains(&a) => Ok(ContactLawKind::Power(a)),
+        Some(a) if (1.0..=3.0).contains(&a) => Ok(AnyLaw::Elastic(ContactLawKind::Power(a))),
         _ => bail!(
-            "invalid value for `{flag}`: `{}` (allowed: linear, hertz, or power=α with 1 ≤ α ≤ 3)",
+            "invalid value for `{flag}`: `{}` is not a contact law (allowed: {ALL_LAW_NAMES})",
             text.trim()
         ),
     }
 }
 
-/// A comma-separated list of laws.
-pub fn laws(flag: &str, text: &str) -> Result<Vec<ContactLawKind>> {
-    text.split(',').map(|t| law(flag, t)).collect()
+/// One elastic law for a subcommand (`command`) that compares against the
+/// exact elastic reference: a dissipative law is refused with the reason.
+fn law_for(flag: &str, text: &str, command: &str) -> Result<ContactLawKind> {
+    match any_law(flag, text)? {
+        AnyLaw::Elastic(l) => Ok(l),
+        AnyLaw::Dissipative(d) => bail!(
+            "invalid value for `{flag}`: `{}` is a dissipative law, and {command} \
+             normalises by the exact elastic reference, which it has not (allowed here: \
+             linear, hertz, power=α with 1 ≤ α ≤ 3; the dissipative laws are studied by \
+             `dembound restitution --law {}`)",
+            text.trim(),
+            d.name()
+        ),
+    }
+}
+
+/// A comma-separated list of elastic laws for `command` (see [`law`]).
+pub fn laws_for(flag: &str, text: &str, command: &str) -> Result<Vec<ContactLawKind>> {
+    text.split(',').map(|t| law_for(flag, t, command)).collect()
+}
+
+/// A comma-separated list of dissipative laws (`restitution`): an elastic
+/// law is refused with the reason.
+pub fn dissipative_laws(flag: &str, text: &str) -> Result<Vec<DissipativeLaw>> {
+    text.split(',')
+        .map(|t| match any_law(flag, t)? {
+            AnyLaw::Dissipative(d) => Ok(d),
+            AnyLaw::Elastic(l) => bail!(
+                "invalid value for `{flag}`: `{}` ({}) is elastic: it rebounds with e = 1 \
+                 whatever the boundary (allowed here: viscous, tsuji, viscoelastic, \
+                 walton-braun; the elastic laws are studied by `dembound sweep --law {}`)",
+                t.trim(),
+                l.name(),
+                l.name()
+            ),
+        })
+        .collect()
+}
+
+/// A list of restitution coefficients, 0 < e ≤ 1 (the list syntax of [`numbers`]).
+pub fn restitutions(flag: &str, text: &str) -> Result<Vec<f64>> {
+    let xs = numbers(flag, text)?;
+    if let Some(x) = xs.iter().find(|x| !(**x > 0.0 && **x <= 1.0)) {
+        bail!("invalid value for `{flag}`: {x} (allowed: 0 < e ≤ 1)");
+    }
+    Ok(xs)
 }
 
 /// A ratio for tables and labels: `inf` or the shortest number.
@@ -170,11 +232,43 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("-2"));
-        assert_eq!(laws("--law", "linear,HERTZ,power=1.25").unwrap().len(), 3);
-        assert!(law("--law", "cubic")
+        assert_eq!(
+            laws_for("--law", "linear,HERTZ,power=1.25", "sweep")
+                .unwrap()
+                .len(),
+            3
+        );
+        assert!(any_law("--law", "cubic")
             .unwrap_err()
             .to_string()
             .contains("cubic"));
-        assert!(law("--law", "4").is_err());
+        assert!(any_law("--law", "4").is_err());
+    }
+
+    #[test]
+    fn laws_are_named_alike_everywhere() {
+        // The same names parse in every command; a law a command cannot take
+        // is refused with the reason, naming the flag, not as "unknown".
+        assert_eq!(
+            any_law("--law", "Tsuji").unwrap(),
+            AnyLaw::Dissipative(DissipativeLaw::Tsuji)
+        );
+        let e = laws_for("--law", "hertz,tsuji", "sweep").unwrap_err().to_string();
+        assert!(
+            e.contains("`--law`") && e.contains("tsuji") && e.contains("dissipative")
+                && e.contains("sweep") && e.contains("restitution"),
+            "{e}"
+        );
+        assert_eq!(
+            dissipative_laws("--law", "viscous, walton-braun").unwrap(),
+            vec![DissipativeLaw::Viscous, DissipativeLaw::WaltonBraun]
+        );
+        let e = dissipative_laws("--law", "hertz").unwrap_err().to_string();
+        assert!(e.contains("`--law`") && e.contains("elastic"), "{e}");
+        let e = any_law("--law", "cubic").unwrap_err().to_string();
+        assert!(e.contains("cubic") && e.contains("walton-braun"), "{e}");
+        let e = restitutions("--e", "lin:0.5:0.9:3,1").unwrap();
+        assert_eq!((e.len(), e[0], e[2], e[3]), (4, 0.5, 0.9, 1.0));
+        assert!(restitutions("--e", "0.5,1.5").unwrap_err().to_string().contains("1.5"));
     }
 }

@@ -102,7 +102,7 @@ fn core_error(e: RecommendError) -> CliError {
 pub fn run(args: &RecommendArgs) -> CliResult {
     let base = args.scenario.load().map_err(CliError::input)?.resolved();
     let laws = match &args.law {
-        Some(l) => lists::laws("--law", l).map_err(CliError::input)?,
+        Some(l) => lists::laws_for("--law", l, "recommend").map_err(CliError::input)?,
         None => vec![ContactLawKind::Linear, ContactLawKind::Hertz],
     };
     let r = args

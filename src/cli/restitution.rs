@@ -3,7 +3,9 @@
 //! (`--target`): which e to enter for a given rebound on a given boundary
 //! particle.
 
+use super::lists;
 use super::{CliError, CliResult};
+use crate::output::boundary;
 use crate::output::files::AtomicDir;
 use crate::output::format::sig;
 use crate::output::restitution::{
@@ -50,31 +52,25 @@ pub struct RestitutionArgs {
     #[command(flatten)]
     pub scenario: ScenarioArgs,
 
-    /// Dissipative laws (comma-separated or repeated): viscous, tsuji,
-    /// viscoelastic, walton-braun [default: all four]
-    #[arg(long, value_name = "LAW", value_delimiter = ',', value_parser = parse_law)]
-    pub law: Vec<DissipativeLaw>,
+    /// Dissipative laws: viscous, tsuji, viscoelastic, walton-braun
+    /// (comma-separated or repeated) [default: all four]
+    #[arg(long, value_name = "LIST")]
+    pub law: Vec<String>,
 
-    /// Target restitutions set on the pair, 0 < e ≤ 1 [default: 0.5,0.9]
-    #[arg(
-        long = "e",
-        value_name = "E",
-        value_delimiter = ',',
-        allow_negative_numbers = true
-    )]
-    pub targets: Vec<f64>,
+    /// Target restitutions set on the pair, 0 < e ≤ 1: `0.5,0.9`,
+    /// `lin:0.3:0.9:4` [default: 0.5,0.9]
+    #[arg(long = "e", value_name = "LIST", allow_hyphen_values = true)]
+    pub targets: Vec<String>,
 
-    /// Boundary radius ratios r = R_b/R_m (> 0 or inf)
+    /// Boundary radius ratios r = R_b/R_m: `1,10,100,inf`, `log:1:1000:7`,
+    /// `lin:1:5:5` or a mix [default: 1,3,10,30,100,300,1000,inf]
+    #[arg(long = "r", value_name = "LIST", allow_hyphen_values = true)]
+    pub radius_ratios: Vec<String>,
+
+    /// Boundary modulus ratios ζ = E_b/E_m (same syntax as --r)
     /// [default: 1,3,10,30,100,300,1000,inf]
-    #[arg(long = "r", value_name = "R", value_delimiter = ',', value_parser = parse_ratio,
-          allow_negative_numbers = true)]
-    pub radius_ratios: Vec<f64>,
-
-    /// Boundary modulus ratios ζ = E_b/E_m (> 0 or inf)
-    /// [default: 1,3,10,30,100,300,1000,inf]
-    #[arg(long = "zeta", value_name = "ZETA", value_delimiter = ',', value_parser = parse_ratio,
-          allow_negative_numbers = true)]
-    pub modulus_ratios: Vec<f64>,
+    #[arg(long = "zeta", value_name = "LIST", allow_hyphen_values = true)]
+    pub modulus_ratios: Vec<String>,
 
     /// Where the raw damping coefficient is calibrated for e: on the rigid
     /// wall (then reused on the boundary particle), on each pair, or both
@@ -99,32 +95,42 @@ pub struct RestitutionArgs {
     pub out: Option<PathBuf>,
 }
 
-fn parse_law(s: &str) -> Result<DissipativeLaw, String> {
-    DissipativeLaw::parse(s).ok_or_else(|| {
-        format!("unknown law `{s}` (expected viscous, tsuji, viscoelastic or walton-braun)")
-    })
+/// The parsed lists of the arguments (repeated flags joined).
+struct Lists {
+    laws: Vec<DissipativeLaw>,
+    targets: Vec<f64>,
+    radius_ratios: Vec<f64>,
+    modulus_ratios: Vec<f64>,
 }
 
-fn parse_ratio(s: &str) -> Result<f64, String> {
-    let t = s.trim();
-    let x = if t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinity") {
-        f64::INFINITY
-    } else {
-        t.parse::<f64>()
-            .map_err(|_| format!("`{s}` is not a number or inf"))?
-    };
-    if x > 0.0 {
-        Ok(x)
-    } else {
-        Err(format!("`{s}`: a ratio must be > 0 (or inf)"))
-    }
+fn lists_of(args: &RestitutionArgs) -> anyhow::Result<Lists> {
+    let joined = |v: &Vec<String>| (!v.is_empty()).then(|| v.join(","));
+    Ok(Lists {
+        laws: match joined(&args.law) {
+            Some(t) => lists::dissipative_laws("--law", &t)?,
+            None => Vec::new(),
+        },
+        targets: match joined(&args.targets) {
+            Some(t) => lists::restitutions("--e", &t)?,
+            None => Vec::new(),
+        },
+        radius_ratios: match joined(&args.radius_ratios) {
+            Some(t) => lists::ratios("--r", &t)?,
+            None => Vec::new(),
+        },
+        modulus_ratios: match joined(&args.modulus_ratios) {
+            Some(t) => lists::ratios("--zeta", &t)?,
+            None => Vec::new(),
+        },
+    })
 }
 
 pub fn run(args: &RestitutionArgs) -> CliResult {
     let base = args.scenario.load().map_err(CliError::input)?.resolved();
+    let lists = lists_of(args).map_err(CliError::input)?;
     match args.target {
-        Some(target) => reverse(args, &base, target),
-        None => sweep(args, &base),
+        Some(target) => reverse(args, &lists, &base, target),
+        None => sweep(args, &lists, &base),
     }
 }
 
@@ -139,7 +145,7 @@ fn study_error(e: RestitutionError) -> CliError {
     }
 }
 
-fn sweep(args: &RestitutionArgs, base: &Scenario) -> CliResult {
+fn sweep(args: &RestitutionArgs, lists: &Lists, base: &Scenario) -> CliResult {
     if args.json {
         return Err(CliError::input(anyhow!(
             "--json applies to the reverse question (--target); the sweep writes CSV with --out"
@@ -153,14 +159,14 @@ fn sweep(args: &RestitutionArgs, base: &Scenario) -> CliResult {
         }
     };
     let spec = RestitutionSpec {
-        laws: if args.law.is_empty() {
+        laws: if lists.laws.is_empty() {
             DissipativeLaw::ALL.to_vec()
         } else {
-            args.law.clone()
+            lists.laws.clone()
         },
-        targets: or(&args.targets, &DEFAULT_TARGETS),
-        radius_ratios: or(&args.radius_ratios, &DEFAULT_RATIOS),
-        modulus_ratios: or(&args.modulus_ratios, &DEFAULT_RATIOS),
+        targets: or(&lists.targets, &DEFAULT_TARGETS),
+        radius_ratios: or(&lists.radius_ratios, &DEFAULT_RATIOS),
+        modulus_ratios: or(&lists.modulus_ratios, &DEFAULT_RATIOS),
         calibrations: args.calibrate.unwrap_or(CalibrateArg::Both).calibrations(),
     };
     let out = match &args.out {
@@ -274,11 +280,11 @@ fn single<T: Copy>(values: &[T], flag: &str, what: &str) -> CliResult<T> {
     }
 }
 
-fn reverse(args: &RestitutionArgs, base: &Scenario, target: f64) -> CliResult {
-    let law = single(&args.law, "--law", "dissipative law")?;
-    let r = single(&args.radius_ratios, "--r", "boundary radius ratio")?;
-    let z = single(&args.modulus_ratios, "--zeta", "boundary modulus ratio")?;
-    if !args.targets.is_empty() {
+fn reverse(args: &RestitutionArgs, lists: &Lists, base: &Scenario, target: f64) -> CliResult {
+    let law = single(&lists.laws, "--law", "dissipative law")?;
+    let r = single(&lists.radius_ratios, "--r", "boundary radius ratio")?;
+    let z = single(&lists.modulus_ratios, "--zeta", "boundary modulus ratio")?;
+    if !lists.targets.is_empty() {
         return Err(CliError::input(anyhow!(
             "--e sets targets of the sweep; with --target the answer is the e to enter"
         )));
@@ -296,18 +302,35 @@ fn reverse(args: &RestitutionArgs, base: &Scenario, target: f64) -> CliResult {
         .map_err(study_error)?;
     let mut stdout = std::io::stdout().lock();
     if args.json {
+        // Each answer with the boundary in SI beside r and ζ.
+        #[derive(serde::Serialize)]
+        struct Answer<'a> {
+            #[serde(flatten)]
+            answer: &'a RequiredRestitution,
+            #[serde(flatten)]
+            si: boundary::SiBoundary,
+        }
+        let answers: Vec<Answer> = answers
+            .iter()
+            .map(|a| Answer {
+                answer: a,
+                si: boundary::SiBoundary::new(base, a.radius_ratio, a.modulus_ratio),
+            })
+            .collect();
         let text = serde_json::to_string_pretty(&answers).map_err(CliError::failed)?;
         writeln!(stdout, "{text}").map_err(CliError::failed)?;
     } else {
         let mapping = base.contact.calibration.unwrap_or_default();
         writeln!(
             stdout,
-            "{} ({}) on the boundary particle r = {}, ζ = {}; wanted rebound E = {target} \
+            "{} ({}) on the boundary particle r = {} ({}), ζ = {} ({}); wanted rebound E = {target} \
              (impact speed {} m/s)\ne → coefficient: contact.calibration = \"{}\", {}",
             law.name(),
             law.description(),
             ratio_text(r),
+            boundary::radius_text(boundary::radius(base, r)),
             ratio_text(z),
+            boundary::modulus_text(boundary::youngs_modulus(base, z)),
             sig(base.impact_speed(), 6),
             mapping.name(),
             mapping.description()

@@ -4,6 +4,7 @@
 
 use super::lists;
 use super::{CliError, CliResult};
+use crate::output::boundary;
 use crate::output::format::{exact, sig};
 use crate::output::progress;
 use crate::plot::{Figure, Mark, Series};
@@ -40,7 +41,9 @@ pub struct SweepArgs {
     )]
     pub zeta: String,
 
-    /// Contact laws: `linear,hertz` or `power=1.25` (default: the scenario's)
+    /// Contact laws: `linear,hertz` or `power=1.25` (default: the scenario's;
+    /// the dissipative laws have no elastic reference to normalise by: see
+    /// `restitution`)
     #[arg(long, value_name = "LIST")]
     pub law: Option<String>,
 
@@ -127,7 +130,7 @@ fn spec(args: &SweepArgs) -> Result<SweepSpec> {
         radius_ratios: lists::ratios("--r", &args.r)?,
         modulus_ratios: lists::ratios("--zeta", &args.zeta)?,
         laws: match &args.law {
-            Some(l) => lists::laws("--law", l)?,
+            Some(l) => lists::laws_for("--law", l, "sweep")?,
             None => Vec::new(),
         },
         variants: variants(args)?,
@@ -164,8 +167,9 @@ pub fn run(args: &SweepArgs) -> CliResult {
     if let Some(mut out) = out {
         out.write("sweep.csv", |w| write_csv(&result, w))
             .map_err(CliError::failed)?;
+        let json = sweep_json(&result).map_err(CliError::failed)?;
         out.write("sweep.json", |w| {
-            serde_json::to_writer_pretty(&mut *w, &result)?;
+            serde_json::to_writer_pretty(&mut *w, &json)?;
             Ok(writeln!(w)?)
         })
         .map_err(CliError::failed)?;
@@ -177,7 +181,8 @@ pub fn run(args: &SweepArgs) -> CliResult {
 
     let mut stdout = std::io::stdout().lock();
     if args.json {
-        let text = serde_json::to_string_pretty(&result).map_err(CliError::failed)?;
+        let json = sweep_json(&result).map_err(CliError::failed)?;
+        let text = serde_json::to_string_pretty(&json).map_err(CliError::failed)?;
         writeln!(stdout, "{text}").map_err(CliError::failed)?;
     } else {
         writeln!(stdout, "{}", table(&result)).map_err(CliError::failed)?;
@@ -195,6 +200,37 @@ pub fn run(args: &SweepArgs) -> CliResult {
     Ok(())
 }
 
+/// The sweep as JSON: every case's key and every variant's scenario with
+/// the boundary in SI (`boundary_radius`, m; `boundary_youngs_modulus`, Pa)
+/// beside r and ζ.
+fn sweep_json(result: &SweepResult) -> Result<serde_json::Value> {
+    let mut v = serde_json::to_value(result)?;
+    if let Some(cases) = v.get_mut("cases").and_then(|c| c.as_array_mut()) {
+        for (json, case) in cases.iter_mut().zip(&result.cases) {
+            let s = &result.variants[case.key.variant].scenario;
+            let si = boundary::SiBoundary::new(s, case.key.radius_ratio, case.key.modulus_ratio);
+            if let (Some(key), serde_json::Value::Object(si)) = (
+                json.get_mut("key").and_then(|k| k.as_object_mut()),
+                serde_json::to_value(si)?,
+            ) {
+                key.extend(si);
+            }
+        }
+    }
+    if let Some(variants) = v.get_mut("variants").and_then(|c| c.as_array_mut()) {
+        for (json, variant) in variants.iter_mut().zip(&result.variants) {
+            #[derive(serde::Serialize)]
+            struct S<'a>(
+                #[serde(serialize_with = "boundary::serialize_scenario")] &'a dembound_core::bounce::Scenario,
+            );
+            if let Some(slot) = json.get_mut("scenario") {
+                *slot = serde_json::to_value(S(&variant.scenario))?;
+            }
+        }
+    }
+    Ok(v)
+}
+
 fn table(result: &SweepResult) -> Table {
     let many = result.variants.len() > 1;
     let mut t = Table::new();
@@ -207,6 +243,8 @@ fn table(result: &SweepResult) -> Table {
         "law",
         "r",
         "ζ",
+        "R_b (m)",
+        "E_b (Pa)",
         "h_max/h_max∞",
         "T_c/T_c∞",
         "a_max/a_max∞",
@@ -217,6 +255,7 @@ fn table(result: &SweepResult) -> Table {
     t.set_header(header);
     for c in &result.cases {
         let f = c.first();
+        let s = &result.variants[c.key.variant].scenario;
         let mut row = vec![];
         if many {
             row.push(result.variants[c.key.variant].label.clone());
@@ -225,6 +264,8 @@ fn table(result: &SweepResult) -> Table {
             c.key.law.name(),
             lists::show(c.key.radius_ratio),
             lists::show(c.key.modulus_ratio),
+            boundary::si_text(boundary::radius(s, c.key.radius_ratio)),
+            boundary::si_text(boundary::youngs_modulus(s, c.key.modulus_ratio)),
             sig(f.exact_normalised.max_overlap, 7),
             sig(f.exact_normalised.duration, 7),
             sig(f.exact_normalised.max_acceleration, 7),
@@ -235,7 +276,7 @@ fn table(result: &SweepResult) -> Table {
         t.add_row(row);
     }
     let first = usize::from(many) + 1;
-    for i in first..first + 8 {
+    for i in first..first + 10 {
         if let Some(col) = t.column_mut(i) {
             col.set_cell_alignment(CellAlignment::Right);
         }
@@ -272,6 +313,8 @@ fn write_csv(result: &SweepResult, w: &mut dyn Write) -> Result<()> {
         "law",
         "r",
         "zeta",
+        "boundary_radius_m",
+        "boundary_youngs_modulus_Pa",
         "contact",
         "steps",
     ]
@@ -287,6 +330,7 @@ fn write_csv(result: &SweepResult, w: &mut dyn Write) -> Result<()> {
     }
     csv.write_record(&header)?;
     for c in &result.cases {
+        let s = &result.variants[c.key.variant].scenario;
         for k in &c.contacts {
             let mut row = vec![
                 c.key.variant.to_string(),
@@ -294,6 +338,8 @@ fn write_csv(result: &SweepResult, w: &mut dyn Write) -> Result<()> {
                 c.key.law.name(),
                 ratio_text(c.key.radius_ratio),
                 ratio_text(c.key.modulus_ratio),
+                ratio_text(boundary::radius(s, c.key.radius_ratio)),
+                ratio_text(boundary::youngs_modulus(s, c.key.modulus_ratio)),
                 k.contact.to_string(),
                 c.steps.to_string(),
             ];

@@ -1,6 +1,7 @@
 //! Everything a command writes: number formatting, the terminal report,
 //! CSV and JSON, atomic files, the history recorder and the progress bar.
 
+pub mod boundary;
 pub mod files;
 pub mod format;
 pub mod history;

@@ -37,7 +37,8 @@ pub fn header(s: &Scenario, problem: &Problem) -> String {
         sig(s.impact_speed(), 6),
         sig(problem.dt * 1e9, 6),
         sig(problem.expected_steps().round(), 3),
-    ) + &free_boundary_line(s)
+    ) + &super::boundary::header_line(s)
+        + &free_boundary_line(s)
 }
 
 /// With a free boundary: the masses and how gravity acts (empty otherwise).
@@ -319,6 +320,8 @@ pub fn write_contacts_csv(contacts: &[ContactRecord], w: &mut dyn Write) -> Resu
 /// The JSON object of `run --json` (SI).
 #[derive(Debug, Serialize)]
 pub struct RunReport<'a> {
+    /// The resolved scenario, `boundary` with its SI values added.
+    #[serde(serialize_with = "super::boundary::serialize_scenario")]
     pub scenario: &'a Scenario,
     pub contacts: &'a [ContactRecord],
     pub steps: u64,
@@ -356,8 +359,15 @@ impl<'a> RunReport<'a> {
 /// The resolved scenario as a TOML file that `dembound run FILE` reads back.
 pub fn scenario_toml(s: &Scenario) -> Result<String> {
     let body = toml::to_string_pretty(s).map_err(|e| anyhow!("cannot write the scenario: {e}"))?;
+    let b = &s.boundary;
+    let radius = super::boundary::radius(s, b.radius_ratio);
+    let modulus = super::boundary::youngs_modulus(s, b.modulus_ratio);
     Ok(format!(
         "# dembound scenario, every key written out (SI units).\n\
-         # Re-run with: dembound run scenario.toml\n\n{body}"
+         # Re-run with: dembound run scenario.toml\n\
+         # The boundary in SI: radius = {} m, youngs_modulus = {} Pa\n\
+         # (radius_ratio × particle.radius, modulus_ratio × particle.youngs_modulus).\n\n{body}",
+        super::format::exact(radius),
+        super::format::exact(modulus)
     ))
 }
