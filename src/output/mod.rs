@@ -8,4 +8,5 @@ pub mod observer;
 pub mod progress;
 pub mod report;
 pub mod restitution;
+pub mod table;
 pub mod validation;
