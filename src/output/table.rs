@@ -37,6 +37,7 @@ impl Unit {
     pub const SECOND: Unit = Unit::prefixed("s", "s");
     pub const NEWTON: Unit = Unit::prefixed("N", "N");
     pub const JOULE: Unit = Unit::prefixed("J", "J");
+    #[allow(dead_code)] // for moduli (boundary_youngs_modulus)
     pub const PASCAL: Unit = Unit::prefixed("Pa", "Pa");
     pub const METRE_PER_SECOND: Unit = Unit::fixed("m/s", "m_s");
     pub const METRE_PER_SECOND2: Unit = Unit::fixed("m/s²", "m_s2");
