@@ -3,11 +3,11 @@
 
 use super::{CliError, CliResult};
 use crate::output::format::sig;
-use crate::output::report::{self, error_cell, relative_error, DIGITS};
+use crate::output::report::{self, relative_error, DIGITS};
+use crate::output::table::{Cell, Column, Format, Table, Unit};
 use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::Args;
-use comfy_table::{presets, CellAlignment, Table};
 use dembound_core::bounce::{ContactRecord, Scenario};
 use dembound_core::contact::ContactLawKind;
 use dembound_core::exact::{self, paper, ExactError};
@@ -182,38 +182,35 @@ pub struct ExactReport<'a> {
 }
 
 fn estimates_table(estimates: &[PaperEstimate]) -> Table {
-    let mut table = Table::new();
-    table.load_preset(presets::UTF8_FULL_CONDENSED);
-    table.set_header(vec![
-        "eq",
-        "quantity",
-        "law",
-        "estimate",
-        "exact (with gravity)",
-        "estimate/exact − 1",
+    // One quantity per row: each value carries its unit in the cell.
+    let mut table = Table::new(vec![
+        Column::text("eq"),
+        Column::text("quantity"),
+        Column::text("law"),
+        Column::text("estimate").right(),
+        Column::text("exact (with gravity)").right(),
+        Column::number(
+            "estimate/exact − 1",
+            Unit::NONE,
+            Format::SignedSci(report::ERROR_DIGITS),
+        ),
     ]);
     for e in estimates {
         let (scale, unit, name) = match e.quantity {
             "duration" => (1e6, "µs", "T_c"),
             _ => (1e9, "nm", "h_max"),
         };
-        table.add_row(vec![
-            e.equation.to_string(),
-            name.to_string(),
-            e.law.to_string(),
+        table.push(vec![
+            Cell::text(e.equation),
+            Cell::text(name),
+            Cell::text(e.law),
             e.value
-                .map(|x| format!("{} {unit}", sig(x * scale, DIGITS)))
-                .unwrap_or_else(|| "—".into()),
-            format!("{} {unit}", sig(e.exact * scale, DIGITS)),
+                .map(|x| Cell::text(format!("{} {unit}", sig(x * scale, DIGITS))))
+                .unwrap_or_else(|| Cell::text("—")),
+            Cell::text(format!("{} {unit}", sig(e.exact * scale, DIGITS))),
             e.relative_difference
-                .map(error_cell)
-                .unwrap_or_else(|| "—".into()),
+                .map_or_else(|| Cell::text("—"), Cell::Number),
         ]);
-    }
-    for i in 3..6 {
-        if let Some(column) = table.column_mut(i) {
-            column.set_cell_alignment(CellAlignment::Right);
-        }
     }
     table
 }

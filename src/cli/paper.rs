@@ -11,9 +11,12 @@ use super::lists::show;
 use super::{CliError, CliResult};
 use crate::output::format::sig;
 use crate::output::restitution::{restitution_figures, restitution_markdown};
+use crate::output::table::{Cell, Column, Format, Table, Unit};
 use crate::output::validation;
 use crate::plot::{Figure, Mark, Series};
 use anyhow::{anyhow, Result};
+use base64::engine::general_purpose::STANDARD as BASE64;
+use base64::Engine as _;
 use clap::Args;
 use dembound_core::bounce::{simulate, Observer, Sample, Scenario};
 use dembound_core::contact::ContactLawKind;
@@ -822,26 +825,38 @@ fn report_markdown(
     );
 
     let _ = writeln!(m, "## Numbers quoted in the paper\n");
-    let _ = writeln!(
-        m,
-        "| quantity | unit | paper | ours (exact) | ours (integrator) | ours − paper | same printed digits | note |\n|---|---|---:|---:|---:|---:|:---:|---|"
-    );
+    // Each row in its own unit (the unit column): the values are text.
+    let mut t = Table::new(vec![
+        Column::text("quantity"),
+        Column::text("unit"),
+        Column::text("paper").right(),
+        Column::text("ours (exact)").right(),
+        Column::text("ours (integrator)").right(),
+        Column::number("ours − paper", Unit::NONE, Format::SignedSci(3)),
+        Column::text("same printed digits"),
+        Column::text("note"),
+    ]);
     for q in &d.quoted {
-        let _ = writeln!(
-            m,
-            "| {} | {} | {} | {} | {} | {:+.2e} | {} | {} |",
-            q.what,
-            q.unit,
-            q.paper,
-            sig(q.ours, 7),
-            q.integrator
-                .map(|x| sig(x, 7))
-                .unwrap_or_else(|| "–".into()),
-            q.ours - q.paper_value(),
-            if q.agrees() { "yes" } else { "**no**" },
-            q.note
-        );
+        t.push(vec![
+            Cell::text(&q.what),
+            Cell::text(&q.unit),
+            Cell::text(&q.paper),
+            Cell::text(sig(q.ours, 7)),
+            Cell::text(
+                q.integrator
+                    .map(|x| sig(x, 7))
+                    .unwrap_or_else(|| "–".into()),
+            ),
+            (q.ours - q.paper_value()).into(),
+            if q.agrees() {
+                Cell::text("yes")
+            } else {
+                Cell::Markdown("**no**".into())
+            },
+            Cell::text(&q.note),
+        ]);
     }
+    m.push_str(&t.markdown());
     let _ = writeln!(
         m,
         "\nThe scaling constants are the Hertz values for the rigid half-space r = ζ = ∞ \
@@ -859,23 +874,29 @@ fn report_markdown(
         m,
         "ERRATA 15: eq 33a as printed has the prefactor's exponent sign flipped and both 33a and 33b use \
          the linear model's exponent for Hertz. Consistent forms: 100((ζ̄_max/ζ̄)^(1/(α+1)) − 1) and \
-         100((r̄_max/r̄)^((2−α)/(α+1)) − 1).\n\n\
-         | law | indicator | at | eq 32, exact (%) | eq 33 corrected (%) | eq 33 as printed (%) |\n|---|---|---:|---:|---:|---:|"
+         100((r̄_max/r̄)^((2−α)/(α+1)) − 1).\n"
     );
+    let percent = |label: &str| Column::number(label, Unit::PERCENT, Format::Fixed(5));
+    let mut t = Table::new(vec![
+        Column::text("law"),
+        Column::text("indicator"),
+        Column::text("at").right(),
+        percent("eq 32, exact"),
+        percent("eq 33 corrected"),
+        percent("eq 33 as printed"),
+    ]);
     for i in &d.indicators {
-        let _ = writeln!(
-            m,
-            "| {} | 32{}/33{} | {} = {} | {:.5} | {:.5} | {:.5} |",
-            i.law.name(),
-            if i.axis == Axis::Modulus { "a" } else { "b" },
-            if i.axis == Axis::Modulus { "a" } else { "b" },
-            i.axis.symbol(),
-            i.at,
-            i.exact,
-            i.theory,
-            i.theory_printed
-        );
+        let letter = if i.axis == Axis::Modulus { "a" } else { "b" };
+        t.push(vec![
+            Cell::text(i.law.name()),
+            Cell::text(format!("32{letter}/33{letter}")),
+            Cell::text(format!("{} = {}", i.axis.symbol(), i.at)),
+            i.exact.into(),
+            i.theory.into(),
+            i.theory_printed.into(),
+        ]);
     }
+    m.push_str(&t.markdown());
 
     let _ = writeln!(m, "\n## Convergence laws (ERRATA 16)\n");
     let _ = writeln!(
@@ -883,42 +904,72 @@ fn report_markdown(
         "Least-squares slope of ln(q/q(∞, ∞)) against ln ζ̄ (or ln r̄) over 13 values from 1 to 1000, the \
          other parameter at ∞. Theory (gravity-free): h_max and T_c ∝ ζ̄^(−1/(α+1)) r̄^(−(2−α)/(α+1)), \
          a_max inversely. The paper's conclusion states ((ζ+1)/ζ)^(1/2) and ((r+1)/r)^((2−α)/2): right \
-         for the linear law, not for Hertz (2/5 and 1/5).\n\n\
-         | law | axis | quantity | theory | exact, g = 9.81 | exact, g = 0 | integrator, g = 9.81 |\n|---|---|---|---:|---:|---:|---:|"
+         for the linear law, not for Hertz (2/5 and 1/5).\n"
     );
+    let mut t = Table::new(vec![
+        Column::text("law"),
+        Column::text("axis"),
+        Column::text("quantity"),
+        Column::text("theory").right(),
+        Column::text("exact, g = 9.81").right(),
+        Column::text("exact, g = 0").right(),
+        Column::text("integrator, g = 9.81").right(),
+    ]);
     for ((e, f), n) in d
         .exponents_exact
         .iter()
         .zip(&d.exponents_gravity_free)
         .zip(&d.exponents_integrator)
     {
-        let _ = writeln!(
-            m,
-            "| {} | {}̄ | {} | {:+.4} | {:+.6} | {:+.6} | {:+.6} |",
-            e.law.name(),
-            e.axis.symbol(),
-            e.quantity.symbol(),
-            e.theory,
-            e.fitted,
-            f.fitted,
-            n.fitted
-        );
+        t.push(vec![
+            Cell::text(e.law.name()),
+            Cell::text(format!("{}̄", e.axis.symbol())),
+            Cell::text(e.quantity.symbol()),
+            Cell::text(format!("{:+.4}", e.theory)),
+            Cell::text(format!("{:+.6}", e.fitted)),
+            Cell::text(format!("{:+.6}", f.fitted)),
+            Cell::text(format!("{:+.6}", n.fitted)),
+        ]);
     }
+    m.push_str(&t.markdown());
     let _ = writeln!(
         m,
         "\nv_r does not depend on r or ζ at all (the model is conservative, v_r = |v_c|). The \
          *departure* from the rigid limit decays like 1/ζ, not ζ^(−1/2) as the paper's wording \
-         suggests: |h_max(ζ)/h_max(∞) − 1| with r = ∞ (exact):\n\n| ζ | linear | Hertz |\n|---:|---:|---:|"
+         suggests: \\|h_max(ζ)/h_max(∞) − 1\\| with r = ∞ (exact):\n"
     );
-    for (z, l, h) in &d.decay {
-        let _ = writeln!(m, "| {} | {:.4e} | {:.4e} |", z, l, h);
+    let mut t = Table::new(vec![
+        Column::text("ζ").right(),
+        Column::number("linear", Unit::NONE, Format::Sci(5)),
+        Column::number("Hertz", Unit::NONE, Format::Sci(5)),
+    ]);
+    for &(z, l, h) in &d.decay {
+        t.push(vec![Cell::text(z.to_string()), l.into(), h.into()]);
     }
+    m.push_str(&t.markdown());
 
     let _ = writeln!(m, "\n## Recommended limits ζ = r = 100\n");
     let _ = writeln!(
         m,
-        "The paper recommends ζ = 100 and r = 100. Deviation |q(r, ζ)/q(∞, ∞) − 1| they leave:\n\n\
-         | law | r | ζ | h_max exact | h_max integrator | T_c exact | T_c integrator | a_max exact | a_max integrator |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "The paper recommends ζ = 100 and r = 100. Deviation \\|q(r, ζ)/q(∞, ∞) − 1\\| they leave:\n"
+    );
+    let mut t = Table::new(
+        ["law", "r", "ζ"]
+            .iter()
+            .map(|n| Column::text(*n))
+            .chain(
+                [
+                    "h_max exact",
+                    "h_max integrator",
+                    "T_c exact",
+                    "T_c integrator",
+                    "a_max exact",
+                    "a_max integrator",
+                ]
+                .iter()
+                .map(|n| Column::text(*n).right()),
+            )
+            .collect(),
     );
     for dv in &d.recommended {
         let g = |q: Quantity| {
@@ -928,31 +979,41 @@ fn report_markdown(
                 .map(|x| (x.exact, x.simulated))
                 .unwrap_or((f64::NAN, f64::NAN))
         };
-        let (h, t, a) = (
+        let (h, tc, a) = (
             g(Quantity::MaxOverlap),
             g(Quantity::Duration),
             g(Quantity::MaxAcceleration),
         );
-        let _ = writeln!(
-            m,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            dv.law.name(),
-            show(dv.radius_ratio),
-            show(dv.modulus_ratio),
-            pct(h.0),
-            pct(h.1),
-            pct(t.0),
-            pct(t.1),
-            pct(a.0),
-            pct(a.1)
+        t.push(
+            [
+                dv.law.name(),
+                show(dv.radius_ratio),
+                show(dv.modulus_ratio),
+                pct(h.0),
+                pct(h.1),
+                pct(tc.0),
+                pct(tc.1),
+                pct(a.0),
+                pct(a.1),
+            ]
+            .into_iter()
+            .map(Cell::Text)
+            .collect(),
         );
     }
+    m.push_str(&t.markdown());
     let _ = writeln!(
         m,
         "\nFor comparison, the smallest ζ (r = ∞) and the smallest r (ζ = ∞) that keep each quantity \
-         within T = 1 % (`dembound recommend --tolerance 0.01`; exact model, Brent):\n\n\
-         | law | quantity | smallest ζ (r = ∞) | smallest r (ζ = ∞) | gravity-free closed forms |\n|---|---|---:|---:|---|"
+         within T = 1 % (`dembound recommend --tolerance 0.01`; exact model, Brent):\n"
     );
+    let mut t = Table::new(vec![
+        Column::text("law"),
+        Column::text("quantity"),
+        Column::text("smallest ζ (r = ∞)").right(),
+        Column::text("smallest r (ζ = ∞)").right(),
+        Column::text("gravity-free closed forms"),
+    ]);
     for law in LAWS {
         for q in Quantity::ALL {
             let find = |axis| {
@@ -976,17 +1037,15 @@ fn report_markdown(
                     .map(|x| sig(x, 6))
                     .unwrap_or_else(|| "–".into())
             );
-            let _ = writeln!(
-                m,
-                "| {} | {} | {} | {} | {} |",
-                law.name(),
-                q.symbol(),
-                show_l(z),
-                show_l(r),
-                free
+            t.push(
+                [law.name(), q.symbol().to_string(), show_l(z), show_l(r), free]
+                    .into_iter()
+                    .map(Cell::Text)
+                    .collect(),
             );
         }
     }
+    m.push_str(&t.markdown());
 
     let _ = writeln!(m, "\n## Figures 4–8\n");
     for (stem, caption) in figs {
@@ -1046,27 +1105,6 @@ const ERRATA_USED: [&str; 11] = [
     "The paper's figures show both laws normalised by the Hertz constants; so do ours (linear h* ≈ 0.16).",
 ];
 
-fn base64(bytes: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for i in 0..4 {
-            if i <= chunk.len() {
-                out.push(T[((n >> (18 - 6 * i)) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
 /// The report as one HTML file, every PNG embedded.
 fn report_html(markdown: &str, dir: &Path) -> Result<String> {
     use pulldown_cmark::{html, Event, Options, Parser, Tag};
@@ -1084,7 +1122,7 @@ fn report_html(markdown: &str, dir: &Path) -> Result<String> {
                 match std::fs::read(&path) {
                     Ok(bytes) => Event::Start(Tag::Image {
                         link_type,
-                        dest_url: format!("data:image/png;base64,{}", base64(&bytes)).into(),
+                        dest_url: format!("data:image/png;base64,{}", BASE64.encode(&bytes)).into(),
                         title,
                         id,
                     }),
@@ -1209,15 +1247,6 @@ pub fn run(args: &PaperArgs) -> CliResult {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn base64_matches_known_values() {
-        assert_eq!(base64(b""), "");
-        assert_eq!(base64(b"f"), "Zg==");
-        assert_eq!(base64(b"fo"), "Zm8=");
-        assert_eq!(base64(b"foo"), "Zm9v");
-        assert_eq!(base64(b"foobar"), "Zm9vYmFy");
-    }
 
     #[test]
     fn grids_hold_the_decades_exactly() {

@@ -10,4 +10,5 @@ pub mod observer;
 pub mod progress;
 pub mod report;
 pub mod restitution;
+pub mod table;
 pub mod validation;

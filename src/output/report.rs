@@ -2,12 +2,14 @@
 //! the JSON object and the resolved `scenario.toml`.
 
 use anyhow::{anyhow, Result};
-use comfy_table::{presets, CellAlignment, Table};
-use dembound_core::bounce::{ContactRecord, Problem, RunOutcome, Scenario, StepRule};
+use dembound_core::bounce::{
+    BodyVelocities, ContactRecord, Problem, RunOutcome, Scenario, StepRule,
+};
 use serde::Serialize;
 use std::io::Write;
 
-use super::format::{exact, sig};
+use super::format::sig;
+use super::table::{Cell, Column, Format, Table, Unit};
 
 /// Significant digits in terminal tables.
 pub const DIGITS: usize = 9;
@@ -67,95 +69,118 @@ pub fn stepping_name(s: &Scenario) -> &'static str {
 
 /// The per-contact table, units in the column headers.
 pub fn contacts_table(contacts: &[ContactRecord]) -> Table {
-    values_table(contacts, |c| c.steps.to_string())
+    contacts_document(contacts, |c| Cell::from(c.steps))
 }
 
 /// The per-contact table of exact values: the layout of [`contacts_table`],
 /// the steps column reads "exact" (nothing was integrated).
 pub fn exact_contacts_table(contacts: &[ContactRecord]) -> Table {
-    values_table(contacts, |_| "exact".to_string())
+    contacts_document(contacts, |_| Cell::text("exact"))
 }
 
-fn values_table(contacts: &[ContactRecord], steps: impl Fn(&ContactRecord) -> String) -> Table {
-    let mut table = Table::new();
-    table.load_preset(presets::UTF8_FULL_CONDENSED);
+/// Every column of a contact, for the terminal and `contacts.csv` alike
+/// (SI values; the terminal picks the prefixes). Some columns are only on
+/// the terminal (e, E_diss, t_F=0), one only in the CSV (apex height).
+fn contacts_document(
+    contacts: &[ContactRecord],
+    steps: impl Fn(&ContactRecord) -> Cell + 'static,
+) -> Table {
     let two_body = contacts.iter().any(|c| c.bodies.is_some());
     // A non-attractive law's force returns to zero before the overlap does:
     // both ends are reported when they differ.
     let force_zero = contacts.iter().any(|c| c.t_force_zero.is_some());
-    let mut header = vec![
-        "#",
-        "t_c (ms)",
-        "t_mp (ms)",
-        "t_r (ms)",
-        "T_c (µs)",
-        "h_max (nm)",
-        "F_max (N)",
-        "a_max (m/s²)",
-        "v_c (m/s)",
-        "v_r (m/s)",
-        "e = v_r/|v_c| (1)",
-        "E_diss (J)",
-        "steps",
+    let time = |label: &str, key: &str| Column::quantity(label, Unit::SECOND, DIGITS).csv(key);
+    let speed =
+        |label: &str, key: &str| Column::quantity(label, Unit::METRE_PER_SECOND, DIGITS).csv(key);
+    type Get = Box<dyn Fn(&ContactRecord) -> Cell>;
+    let mut columns: Vec<(Column, Get)> = vec![
+        (
+            Column::number("#", Unit::NONE, Format::Integer).csv("contact"),
+            Box::new(|_| Cell::Empty),
+        ),
+        (time("t_c", "t_contact"), Box::new(|c| c.t_contact.into())),
+        (
+            time("t_mp", "t_max_overlap"),
+            Box::new(|c| c.t_max_overlap.into()),
+        ),
+        (time("t_r", "t_rebound"), Box::new(|c| c.t_rebound.into())),
     ];
     if force_zero {
-        header.insert(4, "t_F=0 (ms)");
+        columns.push((
+            Column::quantity("t_F=0", Unit::SECOND, DIGITS),
+            Box::new(|c| c.t_force_zero.map_or(Cell::text("–"), Cell::Number)),
+        ));
     }
+    columns.extend([
+        (
+            time("T_c", "duration"),
+            Box::new(|c: &ContactRecord| c.duration.into()) as Get,
+        ),
+        (
+            Column::quantity("h_max", Unit::METRE, DIGITS).csv("max_overlap"),
+            Box::new(|c| c.max_overlap.into()),
+        ),
+        (
+            Column::quantity("F_max", Unit::NEWTON, DIGITS).csv("max_force"),
+            Box::new(|c| c.max_force.into()),
+        ),
+        (
+            Column::quantity("a_max", Unit::METRE_PER_SECOND2, DIGITS).csv("max_acceleration"),
+            Box::new(|c| c.max_acceleration.into()),
+        ),
+        (
+            speed("v_c", "impact_velocity"),
+            Box::new(|c| c.impact_velocity.into()),
+        ),
+        (
+            speed("v_r", "rebound_velocity"),
+            Box::new(|c| c.rebound_velocity.into()),
+        ),
+        (
+            Column::quantity("e = v_r/|v_c|", Unit::ONE, DIGITS),
+            Box::new(|c| c.restitution.into()),
+        ),
+        (
+            Column::quantity("E_diss", Unit::JOULE, 3),
+            Box::new(|c| c.energy_dissipated.into()),
+        ),
+        (
+            Column::quantity("apex", Unit::METRE, DIGITS)
+                .csv("apex_height")
+                .csv_only(),
+            Box::new(|c| c.apex_height.into()),
+        ),
+        (
+            Column::number("steps", Unit::NONE, Format::Integer).csv("steps"),
+            Box::new(steps),
+        ),
+    ]);
     if two_body {
-        header.extend([
-            "v_m before (m/s)",
-            "v_m after (m/s)",
-            "v_b before (m/s)",
-            "v_b after (m/s)",
+        let body = |label: &str, key: &str, get: fn(&BodyVelocities) -> f64| -> (Column, Get) {
+            (
+                speed(label, key),
+                Box::new(move |c: &ContactRecord| c.bodies.as_ref().map(get).into()),
+            )
+        };
+        columns.extend([
+            body("v_m before", "particle_velocity_before", |b| {
+                b.particle_before
+            }),
+            body("v_m after", "particle_velocity_after", |b| b.particle_after),
+            body("v_b before", "boundary_velocity_before", |b| {
+                b.boundary_before
+            }),
+            body("v_b after", "boundary_velocity_after", |b| b.boundary_after),
         ]);
     }
-    let columns = header.len();
-    table.set_header(header);
+    let (columns, getters): (Vec<Column>, Vec<Get>) = columns.into_iter().unzip();
+    let mut table = Table::new(columns);
     for (i, c) in contacts.iter().enumerate() {
-        let mut row = vec![
-            (i + 1).to_string(),
-            sig(c.t_contact * 1e3, DIGITS),
-            sig(c.t_max_overlap * 1e3, DIGITS),
-            sig(c.t_rebound * 1e3, DIGITS),
-            sig(c.duration * 1e6, DIGITS),
-            sig(c.max_overlap * 1e9, DIGITS),
-            sig(c.max_force, DIGITS),
-            sig(c.max_acceleration, DIGITS),
-            sig(c.impact_velocity, DIGITS),
-            sig(c.rebound_velocity, DIGITS),
-            sig(c.restitution, DIGITS),
-            sig(c.energy_dissipated, 3),
-            steps(c),
-        ];
-        if force_zero {
-            let t = c
-                .t_force_zero
-                .map_or("–".to_string(), |t| sig(t * 1e3, DIGITS));
-            row.insert(4, t);
-        }
-        if let Some(b) = &c.bodies {
-            row.extend(
-                [
-                    b.particle_before,
-                    b.particle_after,
-                    b.boundary_before,
-                    b.boundary_after,
-                ]
-                .map(|v| sig(v, DIGITS)),
-            );
-        }
-        table.add_row(row);
+        let mut row: Vec<Cell> = getters.iter().map(|get| get(c)).collect();
+        row[0] = (i + 1).into();
+        table.push(row);
     }
-    right_align(&mut table, columns);
     table
-}
-
-fn right_align(table: &mut Table, columns: usize) {
-    for i in 0..columns {
-        if let Some(column) = table.column_mut(i) {
-            column.set_cell_alignment(CellAlignment::Right);
-        }
-    }
 }
 
 /// Relative errors of one contact against the exact reference, signed:
@@ -218,40 +243,36 @@ impl RelativeErrors {
 /// Significant digits of relative errors in terminal tables.
 pub const ERROR_DIGITS: usize = 3;
 
-/// A relative error (fraction) for a table: scientific, signed.
-pub fn error_cell(e: f64) -> String {
-    if e == 0.0 {
-        "0".into()
-    } else if !e.is_finite() {
-        e.to_string()
-    } else {
-        format!("{:+.*e}", ERROR_DIGITS - 1, e)
-    }
-}
-
 /// The table of relative errors against the exact reference, one row per
 /// contact, the columns of [`contacts_table`].
 pub fn relative_errors_table(errors: &[RelativeErrors]) -> Table {
-    let mut table = Table::new();
-    table.load_preset(presets::UTF8_FULL_CONDENSED);
-    table.set_header(vec![
-        "#", "t_c", "t_mp", "t_r", "T_c", "h_max", "F_max", "a_max", "v_c", "v_r",
+    let error = |label: &str| Column::number(label, Unit::NONE, Format::SignedSci(ERROR_DIGITS));
+    let mut table = Table::new(vec![
+        Column::number("#", Unit::NONE, Format::Integer),
+        error("t_c"),
+        error("t_mp"),
+        error("t_r"),
+        error("T_c"),
+        error("h_max"),
+        error("F_max"),
+        error("a_max"),
+        error("v_c"),
+        error("v_r"),
     ]);
     for (i, e) in errors.iter().enumerate() {
-        table.add_row(vec![
-            (i + 1).to_string(),
-            error_cell(e.t_contact),
-            error_cell(e.t_max_overlap),
-            error_cell(e.t_rebound),
-            error_cell(e.duration),
-            error_cell(e.max_overlap),
-            error_cell(e.max_force),
-            error_cell(e.max_acceleration),
-            error_cell(e.impact_velocity),
-            error_cell(e.rebound_velocity),
+        table.push(vec![
+            (i + 1).into(),
+            e.t_contact.into(),
+            e.t_max_overlap.into(),
+            e.t_rebound.into(),
+            e.duration.into(),
+            e.max_overlap.into(),
+            e.max_force.into(),
+            e.max_acceleration.into(),
+            e.impact_velocity.into(),
+            e.rebound_velocity.into(),
         ]);
     }
-    right_align(&mut table, 10);
     table
 }
 
@@ -259,62 +280,7 @@ pub fn relative_errors_table(errors: &[RelativeErrors]) -> Table {
 /// With a free boundary four columns follow: each sphere's velocity
 /// before and after the contact.
 pub fn write_contacts_csv(contacts: &[ContactRecord], w: &mut dyn Write) -> Result<()> {
-    let mut csv = csv::Writer::from_writer(w);
-    let two_body = contacts.iter().any(|c| c.bodies.is_some());
-    let mut header = vec![
-        "contact",
-        "t_contact_s",
-        "t_max_overlap_s",
-        "t_rebound_s",
-        "duration_s",
-        "max_overlap_m",
-        "max_force_N",
-        "max_acceleration_m_s2",
-        "impact_velocity_m_s",
-        "rebound_velocity_m_s",
-        "apex_height_m",
-        "steps",
-    ];
-    if two_body {
-        header.extend([
-            "particle_velocity_before_m_s",
-            "particle_velocity_after_m_s",
-            "boundary_velocity_before_m_s",
-            "boundary_velocity_after_m_s",
-        ]);
-    }
-    csv.write_record(&header)?;
-    for (i, c) in contacts.iter().enumerate() {
-        let mut row = vec![
-            (i + 1).to_string(),
-            exact(c.t_contact),
-            exact(c.t_max_overlap),
-            exact(c.t_rebound),
-            exact(c.duration),
-            exact(c.max_overlap),
-            exact(c.max_force),
-            exact(c.max_acceleration),
-            exact(c.impact_velocity),
-            exact(c.rebound_velocity),
-            c.apex_height.map(exact).unwrap_or_default(),
-            c.steps.to_string(),
-        ];
-        if two_body {
-            let b = c.bodies;
-            row.extend(
-                [
-                    b.map(|b| b.particle_before),
-                    b.map(|b| b.particle_after),
-                    b.map(|b| b.boundary_before),
-                    b.map(|b| b.boundary_after),
-                ]
-                .map(|v| v.map(exact).unwrap_or_default()),
-            );
-        }
-        csv.write_record(&row)?;
-    }
-    csv.flush()?;
-    Ok(())
+    contacts_table(contacts).write_csv(w)
 }
 
 /// The JSON object of `run --json` (SI).

@@ -4,6 +4,7 @@
 //! its "beyond the paper" section.
 
 use crate::output::format::{exact, sig};
+use crate::output::table::{markdown_escape, Cell, Column, Table};
 use crate::plot::{Figure, Mark, Series, BLACK};
 use anyhow::Result;
 use dembound_core::bounce::StepRule;
@@ -114,19 +115,16 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
         );
         return md;
     }
-    let head = |md: &mut String| {
-        let _ = write!(md, "| law | calibration |");
-        for d in &diag {
-            let _ = write!(md, " r = ζ = {} |", ratio_text(*d));
-        }
-        let _ = write!(md, "\n|---|---|");
-        for _ in &diag {
-            let _ = write!(md, "---:|");
-        }
-        let _ = writeln!(md);
+    let head = || {
+        let mut columns = vec![Column::text("law"), Column::text("calibration")];
+        columns.extend(
+            diag.iter()
+                .map(|d| Column::text(format!("r = ζ = {}", ratio_text(*d))).right()),
+        );
+        Table::new(columns).with_keys(2)
     };
-    type Cell = fn(&RestitutionPoint) -> String;
-    let tables: [(&str, Cell); 3] = [
+    type CellText = fn(&RestitutionPoint) -> String;
+    let tables: [(&str, CellText); 3] = [
         ("effective restitution v_r/|v_c|", |p| {
             format!("{:.6}", p.restitution())
         }),
@@ -139,22 +137,23 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
     ];
     for &target in &study.spec.targets {
         for (what, cell) in tables {
-            let _ = writeln!(md, "**e = {target}: {what}**\n");
-            head(&mut md);
+            let _ = writeln!(md, "**e = {target}: {}**\n", markdown_escape(what));
+            let mut table = head();
             for &law in &study.spec.laws {
                 for &cal in &study.spec.calibrations {
-                    let _ = write!(md, "| {} | {} |", law.name(), cal.name());
-                    for &d in &diag {
-                        let text = study
-                            .point(law, cal, target, d, d)
-                            .map(cell)
-                            .unwrap_or_default();
-                        let _ = write!(md, " {text} |");
-                    }
-                    let _ = writeln!(md);
+                    let mut row = vec![Cell::text(law.name()), Cell::text(cal.name())];
+                    row.extend(diag.iter().map(|&d| {
+                        Cell::Text(
+                            study
+                                .point(law, cal, target, d, d)
+                                .map(cell)
+                                .unwrap_or_default(),
+                        )
+                    }));
+                    table.push(row);
                 }
             }
-            let _ = writeln!(md);
+            let _ = writeln!(md, "{}", table.markdown());
         }
     }
     md
@@ -189,32 +188,35 @@ pub fn closing_table(exact: &RestitutionStudy, formula: &RestitutionStudy) -> St
         ContactCalibration::Exact.name(),
         ContactCalibration::Formula.name(),
     );
-    let _ = writeln!(
-        md,
-        "| law | e | wall, exact | r = ζ = 100 pair, exact | r = ζ = 100 wall, exact | \
-         wall, formula | r = ζ = 100 pair, formula | r = ζ = 100 wall, formula |\n\
-         |---|---|---:|---:|---:|---:|---:|---:|"
-    );
+    let mut columns = vec![Column::text("law"), Column::text("e")];
+    for mapping in ["exact", "formula"] {
+        for place in ["wall", "r = ζ = 100 pair", "r = ζ = 100 wall"] {
+            columns.push(Column::text(format!("{place}, {mapping}")).right());
+        }
+    }
+    let mut table = Table::new(columns).with_keys(2);
     let inf = f64::INFINITY;
     for law in DissipativeLaw::ALL {
         for e in [0.5, 0.9] {
-            let _ = write!(md, "| {} | {e} |", law.name());
+            let mut row = vec![Cell::text(law.name()), Cell::text(e.to_string())];
             for study in [exact, formula] {
                 for (cal, r) in [
                     (Calibration::Pair, inf),
                     (Calibration::Pair, 100.0),
                     (Calibration::Wall, 100.0),
                 ] {
-                    let text = study
-                        .point(law, cal, e, r, r)
-                        .map(|p| format!("{:.6}", p.restitution()))
-                        .unwrap_or_else(|| "—".into());
-                    let _ = write!(md, " {text} |");
+                    row.push(Cell::Text(
+                        study
+                            .point(law, cal, e, r, r)
+                            .map(|p| format!("{:.6}", p.restitution()))
+                            .unwrap_or_else(|| "—".into()),
+                    ));
                 }
             }
-            let _ = writeln!(md);
+            table.push(row);
         }
     }
+    md.push_str(&table.markdown());
     let _ = writeln!(
         md,
         "\nWith attraction forbidden (as here) \"formula\" leaves the clamped linear and Tsuji \

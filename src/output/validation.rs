@@ -8,7 +8,7 @@
 use super::format::{exact, sig};
 use crate::plot::{Figure, Mark, Series};
 use anyhow::Result;
-use comfy_table::{presets, CellAlignment, Table};
+use super::table::{Cell, Column, Format, Table, Unit};
 use dembound_core::bounce::Stepping;
 use dembound_core::contact::ContactLawKind;
 use dembound_core::integrate::Scheme;
@@ -23,8 +23,13 @@ use std::path::{Path, PathBuf};
 /// Short names of the four quantities, in the order of [`QUANTITIES`].
 pub const LABELS: [&str; 4] = ["t_r", "h_max", "a_max", "v_r"];
 
-/// Display scale and unit of each quantity (SI value × scale).
-const DISPLAY: [(f64, &str); 4] = [(1e3, "ms"), (1e9, "nm"), (1.0, "m/s²"), (1.0, "m/s")];
+/// The SI unit of each quantity (the tables choose the prefix).
+const UNITS: [Unit; 4] = [
+    Unit::SECOND,
+    Unit::METRE,
+    Unit::METRE_PER_SECOND2,
+    Unit::METRE_PER_SECOND,
+];
 
 /// Significant digits of values in the tables.
 const VALUE_DIGITS: usize = 9;
@@ -79,119 +84,49 @@ fn percent(e: f64) -> String {
     sig(e * 100.0, 3)
 }
 
-/// A relative error (fraction), scientific.
-fn sci(e: f64) -> String {
-    if e == 0.0 {
-        "0".into()
-    } else {
-        format!("{e:.2e}")
-    }
-}
-
-fn value(q: usize, x: f64) -> String {
-    sig(x * DISPLAY[q].0, VALUE_DIGITS)
-}
-
-fn header_with_units(q: usize) -> String {
-    format!("{} ({})", LABELS[q], DISPLAY[q].1)
-}
-
-/// A table as header and rows of text, rendered for the terminal or Markdown.
-struct Grid {
-    header: Vec<String>,
-    rows: Vec<Vec<String>>,
-    /// Columns aligned left (the others right).
-    left: usize,
-}
-
-impl Grid {
-    fn terminal(&self) -> String {
-        let mut t = Table::new();
-        t.load_preset(presets::UTF8_FULL_CONDENSED);
-        t.set_header(self.header.clone());
-        for r in &self.rows {
-            t.add_row(r.clone());
-        }
-        for i in self.left..self.header.len() {
-            if let Some(c) = t.column_mut(i) {
-                c.set_cell_alignment(CellAlignment::Right);
-            }
-        }
-        t.to_string()
-    }
-
-    fn markdown(&self) -> String {
-        let esc = |s: &String| s.replace('|', "\\|");
-        let mut out = String::new();
-        out.push_str(&format!(
-            "| {} |\n",
-            self.header.iter().map(esc).collect::<Vec<_>>().join(" | ")
-        ));
-        let align: Vec<&str> = (0..self.header.len())
-            .map(|i| if i < self.left { "---" } else { "---:" })
-            .collect();
-        out.push_str(&format!("| {} |\n", align.join(" | ")));
-        for r in &self.rows {
-            out.push_str(&format!(
-                "| {} |\n",
-                r.iter().map(esc).collect::<Vec<_>>().join(" | ")
-            ));
-        }
-        out
-    }
+fn text_columns(names: &[&str]) -> Vec<Column> {
+    names.iter().map(|n| Column::text(*n)).collect()
 }
 
 /// The numerical rows of a table (the exact row first).
-fn numerical_grid(t: &ValidationTable) -> Grid {
-    let mut header: Vec<String> = [
-        "row", "Δt from", "η", "scheme", "stepping", "Δt (ns)", "steps",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+fn numerical_grid(t: &ValidationTable) -> Table {
+    let mut columns = text_columns(&["row", "Δt from"]);
+    columns.push(Column::text("η").right());
+    columns.extend(text_columns(&["scheme", "stepping"]));
+    columns.push(Column::quantity("Δt", Unit::SECOND, 5));
+    columns.push(Column::number("steps", Unit::NONE, Format::Integer));
     for (q, label) in LABELS.iter().enumerate() {
-        header.push(header_with_units(q));
-        header.push(format!("δ {label} (%)"));
+        columns.push(Column::quantity(*label, UNITS[q], VALUE_DIGITS));
+        columns.push(Column::quantity(format!("δ {label}"), Unit::PERCENT, 3));
     }
-    let mut rows = Vec::new();
-    let mut exact_row = vec![
-        "exact".to_string(),
-        String::new(),
-        String::new(),
-        String::new(),
-        String::new(),
-        String::new(),
-        String::new(),
-    ];
+    let mut table = Table::new(columns).with_keys(5);
+    let mut exact_row = vec![Cell::text("exact")];
+    exact_row.resize(7, Cell::Empty);
     for q in 0..4 {
-        exact_row.push(value(q, t.exact[q]));
-        exact_row.push(String::new());
+        exact_row.push(t.exact[q].into());
+        exact_row.push(Cell::Empty);
     }
-    rows.push(exact_row);
+    table.push(exact_row);
     for r in &t.rows {
         let mut row = vec![
-            "dembound".to_string(),
-            match r.basis {
-                StepBasis::Paper => "paper T_c".into(),
-                StepBasis::Exact => "exact T_c".into(),
-            },
-            eta_label(r.eta),
-            scheme_label(r.scheme).into(),
-            stepping_name(r.stepping).into(),
-            sig(r.dt * 1e9, 5),
-            r.steps.to_string(),
+            Cell::text("dembound"),
+            Cell::text(match r.basis {
+                StepBasis::Paper => "paper T_c",
+                StepBasis::Exact => "exact T_c",
+            }),
+            Cell::text(eta_label(r.eta)),
+            Cell::text(scheme_label(r.scheme)),
+            Cell::text(stepping_name(r.stepping)),
+            r.dt.into(),
+            r.steps.into(),
         ];
         for q in 0..4 {
-            row.push(value(q, r.values[q]));
-            row.push(percent(r.errors[q]));
+            row.push(r.values[q].into());
+            row.push((r.errors[q] * 100.0).into());
         }
-        rows.push(row);
+        table.push(row);
     }
-    Grid {
-        header,
-        rows,
-        left: 5,
-    }
+    table
 }
 
 fn four(x: [f64; 4], f: impl Fn(f64) -> String) -> String {
@@ -199,38 +134,29 @@ fn four(x: [f64; 4], f: impl Fn(f64) -> String) -> String {
 }
 
 /// The paper's printed rows, in SI.
-fn paper_grid(t: &ValidationTable) -> Grid {
-    let mut header: Vec<String> = vec!["paper row".into(), "Δt (ns)".into()];
+fn paper_grid(t: &ValidationTable) -> Table {
+    let mut columns = vec![
+        Column::text("paper row"),
+        Column::quantity("Δt", Unit::SECOND, 4),
+    ];
     for q in 0..4 {
-        header.push(header_with_units(q));
+        columns.push(Column::quantity(LABELS[q], UNITS[q], 4));
     }
-    header.push("printed δ (%): t_r, h_max, a_max, v_r".into());
-    header.push("δ vs exact (%): t_r, h_max, a_max, v_r".into());
-    let rows = t
-        .paper_rows
-        .iter()
-        .map(|r| {
-            let mut row = vec![
-                r.label.to_string(),
-                r.dt.map(|dt| sig(dt * 1e9, 4)).unwrap_or_default(),
-            ];
-            for (x, (scale, _)) in r.values.iter().zip(DISPLAY) {
-                row.push(sig(x * scale, 4));
-            }
-            row.push(
-                r.printed_delta_percent
-                    .map(|d| four(d, |x| x.to_string()))
-                    .unwrap_or_else(|| "—".into()),
-            );
-            row.push(four(r.errors, percent));
-            row
-        })
-        .collect();
-    Grid {
-        header,
-        rows,
-        left: 1,
+    columns.push(Column::text("printed δ (%): t_r, h_max, a_max, v_r").right());
+    columns.push(Column::text("δ vs exact (%): t_r, h_max, a_max, v_r").right());
+    let mut table = Table::new(columns);
+    for r in &t.paper_rows {
+        let mut row = vec![Cell::text(r.label), r.dt.into()];
+        row.extend(r.values.iter().map(|&x| Cell::Number(x)));
+        row.push(Cell::text(
+            r.printed_delta_percent
+                .map(|d| four(d, |x| x.to_string()))
+                .unwrap_or_else(|| "—".into()),
+        ));
+        row.push(Cell::text(four(r.errors, percent)));
+        table.push(row);
     }
+    table
 }
 
 /// The paper's rows that come from a numerical run (they name a Δt): the
@@ -354,13 +280,13 @@ pub fn tables_terminal(tables: &[ValidationTable]) -> String {
     let mut out = String::new();
     for t in tables {
         out.push_str(&format!("{}\n", table_title(t)));
-        out.push_str(&numerical_grid(t).terminal());
+        out.push_str(&numerical_grid(t).to_string());
         out.push('\n');
         out.push_str(&format!(
             "the paper's printed {} rows, in SI:\n",
             table_number(t.law)
         ));
-        out.push_str(&paper_grid(t).terminal());
+        out.push_str(&paper_grid(t).to_string());
         out.push('\n');
         for r in &t.paper_rows {
             out.push_str(&format!("  {}: {}\n", r.label, r.note));
@@ -481,64 +407,50 @@ pub fn orders(points: &[ConvergencePoint]) -> Vec<OrderRow> {
         .collect()
 }
 
-fn errors_grid(points: &[ConvergencePoint], law: ContactLawKind) -> Grid {
-    let mut header: Vec<String> = ["scheme", "stepping", "η", "steps"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+fn errors_grid(points: &[ConvergencePoint], law: ContactLawKind) -> Table {
+    let mut columns = text_columns(&["scheme", "stepping"]);
+    columns.push(Column::text("η").right());
+    columns.push(Column::number("steps", Unit::NONE, Format::Integer));
     for l in LABELS {
-        header.push(format!("error {l}"));
+        columns.push(Column::number(format!("error {l}"), Unit::NONE, Format::Sci(3)));
     }
-    let mut rows = Vec::new();
+    let mut table = Table::new(columns).with_keys(3);
     for (_, scheme, stepping, pts) in series(points).into_iter().filter(|s| s.0 == law) {
         for p in pts {
             let mut row = vec![
-                scheme_label(scheme).to_string(),
-                stepping_name(stepping).to_string(),
-                eta_label(p.eta),
-                p.steps.to_string(),
+                Cell::text(scheme_label(scheme)),
+                Cell::text(stepping_name(stepping)),
+                Cell::text(eta_label(p.eta)),
+                p.steps.into(),
             ];
-            row.extend(p.errors.iter().map(|&e| sci(e)));
-            rows.push(row);
+            row.extend(p.errors.iter().map(|&e| Cell::Number(e)));
+            table.push(row);
         }
     }
-    Grid {
-        header,
-        rows,
-        left: 2,
-    }
+    table
 }
 
-fn orders_grid(points: &[ConvergencePoint]) -> Grid {
-    let mut header: Vec<String> = ["law", "scheme", "stepping"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+fn orders_grid(points: &[ConvergencePoint]) -> Table {
+    let mut columns = text_columns(&["law", "scheme", "stepping"]);
     for l in LABELS {
-        header.push(format!("order {l}"));
+        columns.push(Column::number(format!("order {l}"), Unit::NONE, Format::Fixed(2)));
     }
-    let rows = orders(points)
-        .into_iter()
-        .map(|o| {
-            let mut row = vec![
-                law_label(o.law),
-                scheme_label(o.scheme).to_string(),
-                stepping_name(o.stepping).to_string(),
-            ];
-            row.extend(
-                o.orders
-                    .as_array()
-                    .iter()
-                    .map(|x| x.map(|v| format!("{v:.2}")).unwrap_or_else(|| "—".into())),
-            );
-            row
-        })
-        .collect();
-    Grid {
-        header,
-        rows,
-        left: 3,
+    let mut table = Table::new(columns).with_keys(3);
+    for o in orders(points) {
+        let mut row = vec![
+            Cell::text(law_label(o.law)),
+            Cell::text(scheme_label(o.scheme)),
+            Cell::text(stepping_name(o.stepping)),
+        ];
+        row.extend(
+            o.orders
+                .as_array()
+                .iter()
+                .map(|x| x.map_or_else(|| Cell::text("—"), Cell::Number)),
+        );
+        table.push(row);
     }
+    table
 }
 
 const CONVERGENCE_NOTES: &str = "Errors are relative to the exact reference, 2nd contact, Δt = η T_c \
@@ -563,11 +475,11 @@ pub fn convergence_terminal(points: &[ConvergencePoint]) -> String {
             "convergence, {} law: relative error against the exact reference vs η\n",
             law_label(law)
         ));
-        out.push_str(&errors_grid(points, law).terminal());
+        out.push_str(&errors_grid(points, law).to_string());
         out.push_str("\n\n");
     }
     out.push_str("observed orders of convergence (slope of log error vs log η):\n");
-    out.push_str(&orders_grid(points).terminal());
+    out.push_str(&orders_grid(points).to_string());
     out.push_str(&format!("\n{CONVERGENCE_NOTES}\n"));
     out
 }
@@ -767,15 +679,5 @@ mod tests {
         assert_eq!(eta_label(0.02), "1/50");
         assert_eq!(eta_label(0.0005), "1/2000");
         assert_eq!(eta_label(0.3), "0.300");
-    }
-
-    #[test]
-    fn markdown_escapes_pipes() {
-        let g = Grid {
-            header: vec!["a".into(), "b".into()],
-            rows: vec![vec!["x|y".into(), "1".into()]],
-            left: 1,
-        };
-        assert_eq!(g.markdown(), "| a | b |\n| --- | ---: |\n| x\\|y | 1 |\n");
     }
 }
