@@ -1085,11 +1085,20 @@ fn report_markdown(
     }
 
     let _ = writeln!(m, "\n## Where we depart from the printed text\n");
+    let _ = writeln!(
+        m,
+        "Every item, with what the paper prints, what is right and how we know, is in \
+         [errata.md](errata.md) (written beside this report; `docs/errata.md` in the dembound \
+         sources).\n"
+    );
     for item in ERRATA_USED {
         let _ = writeln!(m, "- {item}");
     }
     m
 }
+
+/// docs/errata.md: the ERRATA items the report cites, written beside it.
+const ERRATA: &str = include_str!("../../docs/errata.md");
 
 const ERRATA_USED: [&str; 11] = [
     "ERRATA 1 — eqs 3 and 9: the contact force pushes the particle out, h'' = g − p² h^α; as printed eq 9 is undefined for Hertz.",
@@ -1200,6 +1209,8 @@ pub fn run(args: &PaperArgs) -> CliResult {
         Ok(writeln!(w)?)
     })
     .map_err(CliError::failed)?;
+    out.write("errata.md", |w| Ok(w.write_all(ERRATA.as_bytes())?))
+        .map_err(CliError::failed)?;
     let written = out.commit().map_err(CliError::failed)?;
 
     let mut stdout = std::io::stdout().lock();
@@ -1232,7 +1243,7 @@ pub fn run(args: &PaperArgs) -> CliResult {
     let total = start.elapsed().as_secs_f64();
     writeln!(
         stdout,
-        "{t}\nwrote {} files into {} (report.md, report.html, paper.json, figures)\n\
+        "{t}\nwrote {} files into {} (report.md, report.html, paper.json, errata.md, figures)\n\
          compute time {:.2} s, total time {:.2} s",
         written.len(),
         dir.display(),

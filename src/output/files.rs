@@ -66,6 +66,9 @@ impl AtomicDir {
     /// for the set of subcommand `set`. Fails, before anything is computed,
     /// when `dir` is not a directory or cannot be written.
     pub fn create(dir: &Path, set: &str) -> Result<Self> {
+        if dir.as_os_str().is_empty() {
+            bail!("the path is empty");
+        }
         if let Ok(meta) = fs::metadata(dir) {
             if !meta.is_dir() {
                 bail!("`{}` exists and is not a directory", dir.display());

@@ -70,7 +70,7 @@ impl HistoryRecorder {
 
 impl Observer for HistoryRecorder {
     fn sample(&mut self, sample: &Sample) {
-        if self.seen % self.stride == 0 {
+        if self.seen.is_multiple_of(self.stride) {
             self.rows.push(*sample);
             if self.rows.len() > self.max_rows {
                 let mut i = 0;

@@ -595,7 +595,7 @@ pub fn write_validation_csv(tables: &[ValidationTable], w: &mut dyn Write) -> Re
             String::new(),
         ];
         record.extend(t.exact.iter().map(|&x| exact(x)));
-        record.extend(std::iter::repeat(String::new()).take(9));
+        record.extend(std::iter::repeat_n(String::new(), 9));
         csv.write_record(&record)?;
         for r in &t.rows {
             let mut record: Vec<String> = vec![
@@ -614,7 +614,7 @@ pub fn write_validation_csv(tables: &[ValidationTable], w: &mut dyn Write) -> Re
             ];
             record.extend(r.values.iter().map(|&x| exact(x)));
             record.extend(r.errors.iter().map(|&x| exact(x)));
-            record.extend(std::iter::repeat(String::new()).take(5));
+            record.extend(std::iter::repeat_n(String::new(), 5));
             csv.write_record(&record)?;
         }
         for r in &t.paper_rows {
@@ -633,7 +633,7 @@ pub fn write_validation_csv(tables: &[ValidationTable], w: &mut dyn Write) -> Re
             record.extend(r.errors.iter().map(|&x| exact(x)));
             match r.printed_delta_percent {
                 Some(d) => record.extend(d.iter().map(|&x| exact(x))),
-                None => record.extend(std::iter::repeat(String::new()).take(4)),
+                None => record.extend(std::iter::repeat_n(String::new(), 4)),
             }
             record.push(r.note.into());
             csv.write_record(&record)?;

@@ -640,7 +640,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 let after = it.kinematics(&state);
                 if O::ACTIVE {
                     self.sample((k + 1) as f64 * dt, after.position, after.velocity);
-                    if self.steps % PROGRESS_EVERY == 0 {
+                    if self.steps.is_multiple_of(PROGRESS_EVERY) {
                         self.observer.progress((k + 1) as f64 * dt, self.t_end);
                     }
                 }
@@ -832,7 +832,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             if O::ACTIVE {
                 self.sample(t_c + tau_end, k.position, k.velocity);
             }
-            if (self.steps + steps) % PROGRESS_EVERY == 0 {
+            if (self.steps + steps).is_multiple_of(PROGRESS_EVERY) {
                 self.observer.progress(t_c + tau_end, self.t_end);
             }
             tau_start = tau_end;

@@ -64,11 +64,9 @@ pub(super) trait Simd: Copy + Send + Sync + 'static {
 #[cfg(target_arch = "x86_64")]
 pub(super) use x86::{Avx2, Avx512, Sse2};
 
-// The AVX-512 intrinsics, like the `avx512*` target features this crate
-// already enabled for the batched kernel, are stable since Rust 1.89: the
-// crate needs 1.89 whatever `rust-version` (1.80) says.
+// The AVX-512 intrinsics and the `avx512*` target features are stable since
+// Rust 1.89, the workspace's `rust-version`.
 #[cfg(target_arch = "x86_64")]
-#[allow(clippy::incompatible_msrv)]
 mod x86 {
     use super::super::locate::{locate_steps, Located, Steps};
     use super::Simd;
