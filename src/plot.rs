@@ -9,9 +9,17 @@
 
 use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
+use plotters::element::DynElement;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::{Path, PathBuf};
 use std::sync::Once;
+
+/// Pixel size of every figure.
+const SIZE: (u32, u32) = (900, 600);
+
+/// Black for text drawn outside the chart.
+const BLACK_RGB: RGBColor = RGBColor(0, 0, 0);
 
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
@@ -40,6 +48,86 @@ pub enum Mark {
     LinePoints,
     /// Hollow triangles only (a second kind of numerical points).
     Triangles,
+    /// A solid line with markers of this shape (one shape per curve).
+    LineShape(Shape),
+    /// Markers of this shape only.
+    Shape(Shape),
+}
+
+/// Marker shapes, so that curves differ by more than colour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shape {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+    HollowCircle,
+    HollowSquare,
+    Cross,
+}
+
+/// The shapes in the order curves take them.
+pub const SHAPES: [Shape; 6] = [
+    Shape::Circle,
+    Shape::Square,
+    Shape::Triangle,
+    Shape::Diamond,
+    Shape::HollowCircle,
+    Shape::HollowSquare,
+];
+
+/// A marker of `shape` centred at `at` (data or pixel coordinates), with a
+/// short line through it when `line` (legend samples of line series).
+fn marker<'a, DB: DrawingBackend + 'a, C: Clone + 'a>(
+    shape: Shape,
+    at: C,
+    c: RGBColor,
+    line: bool,
+) -> DynElement<'a, DB, C> {
+    // Without a line the path has no length (nothing is drawn).
+    let half = if line { 11 } else { 0 };
+    let e = EmptyElement::at(at) + PathElement::new(vec![(-half, 0), (half, 0)], c.stroke_width(2));
+    match shape {
+        Shape::Circle => (e + Circle::new((0, 0), 4, c.filled())).into_dyn(),
+        Shape::HollowCircle => {
+            (e + Circle::new((0, 0), 4, WHITE.filled()) + Circle::new((0, 0), 4, c.stroke_width(2)))
+                .into_dyn()
+        }
+        Shape::Square => (e + Rectangle::new([(-4, -4), (4, 4)], c.filled())).into_dyn(),
+        Shape::HollowSquare => (e
+            + Rectangle::new([(-4, -4), (4, 4)], WHITE.filled())
+            + Rectangle::new([(-4, -4), (4, 4)], c.stroke_width(2)))
+        .into_dyn(),
+        Shape::Triangle => (e + TriangleMarker::new((0, 0), 5, c.filled())).into_dyn(),
+        Shape::Diamond => {
+            (e + Polygon::new(vec![(0, -6), (5, 0), (0, 6), (-5, 0)], c.filled())).into_dyn()
+        }
+        Shape::Cross => (e + Cross::new((0, 0), 4, c.stroke_width(2))).into_dyn(),
+    }
+}
+
+/// The legend's sample of a series drawn as `mark`, its left end at (x, y).
+fn legend_glyph<'a, DB: DrawingBackend + 'a>(
+    mark: Mark,
+    c: RGBColor,
+    (x, y): (i32, i32),
+) -> DynElement<'a, DB, (i32, i32)> {
+    match mark {
+        Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+        Mark::Triangles => TriangleMarker::new((x + 10, y), 5, c.stroke_width(2)).into_dyn(),
+        Mark::Dashed => plotters::element::DashedPathElement::new(
+            vec![(x, y), (x + 22, y)],
+            6,
+            4,
+            c.stroke_width(2),
+        )
+        .into_dyn(),
+        Mark::Line | Mark::LinePoints => {
+            PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)).into_dyn()
+        }
+        Mark::Shape(shape) => marker(shape, (x + 11, y), c, false),
+        Mark::LineShape(shape) => marker(shape, (x + 11, y), c, true),
+    }
 }
 
 /// One curve of a figure. A series with an empty label is drawn but gets
@@ -79,6 +167,32 @@ pub struct Figure {
     pub x_log: bool,
     pub y_log: bool,
     pub series: Vec<Series>,
+    /// Where ∞ is drawn on the x axis (a position beyond the largest finite
+    /// value, see [`infinity_position`]): labelled `∞`, marked by a dotted
+    /// line, tick labels beyond the finite values left out.
+    pub x_infinity: Option<f64>,
+    /// The legend to the right of the plotting area, outside the data
+    /// (otherwise in the corner that covers the fewest points).
+    pub legend_outside: bool,
+}
+
+/// Where ∞ goes on an axis whose finite values are `values`: a decade above
+/// the largest on a log axis, a quarter of the range beyond it on a linear
+/// one (at 1 when there is no finite value).
+pub fn infinity_position(values: &[f64], log: bool) -> f64 {
+    let finite = values.iter().copied().filter(|v| v.is_finite());
+    let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+        (l.min(v), h.max(v))
+    });
+    if !hi.is_finite() {
+        1.0
+    } else if log {
+        10.0 * hi
+    } else if hi > lo {
+        hi + 0.25 * (hi - lo)
+    } else {
+        hi + 0.25 * hi.abs().max(1.0)
+    }
 }
 
 /// Colour-blind-friendly palette (Okabe–Ito), then black, then two more
@@ -183,8 +297,10 @@ fn legend_position(fig: &Figure, x: (f64, f64), y: (f64, f64)) -> SeriesLabelPos
             };
             for (i, p) in pts.iter().enumerate() {
                 probe(p.0, p.1);
-                if let (Some(q), Mark::Line | Mark::Dashed | Mark::LinePoints) =
-                    (pts.get(i + 1), s.mark)
+                if let (
+                    Some(q),
+                    Mark::Line | Mark::Dashed | Mark::LinePoints | Mark::LineShape(_),
+                ) = (pts.get(i + 1), s.mark)
                 {
                     for k in 1..8 {
                         let t = k as f64 / 8.0;
@@ -214,18 +330,104 @@ impl Figure {
         }
     }
 
+    /// Width in pixels of the legend column of a figure `width` wide.
+    fn legend_width(&self, width: u32) -> u32 {
+        let longest = self
+            .series
+            .iter()
+            .filter(|s| !s.label.is_empty())
+            .map(|s| s.label.chars().count())
+            .max()
+            .unwrap_or(0) as u32;
+        (longest * 8 + 56).clamp(120, width * 2 / 5)
+    }
+
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<()>
     where
         DB::ErrorType: 'static,
     {
         let ((x0, x1), (y0, y1)) = self.ranges()?;
         root.fill(&WHITE).map_err(|e| anyhow!("{e:?}"))?;
-        let mut builder = ChartBuilder::on(&root);
+        // With the legend outside: the title over the whole width, the
+        // chart on the left, the legend column on the right.
+        let (area, legend_area) = if self.legend_outside {
+            let titled = root
+                .titled(&self.title, ("sans-serif", 22))
+                .map_err(|e| anyhow!("{e:?}"))?;
+            let width = titled.dim_in_pixel().0;
+            let (chart, legend) = titled.split_horizontally(width - self.legend_width(width));
+            (chart, Some(legend))
+        } else {
+            (root.clone(), None)
+        };
+        let mut builder = ChartBuilder::on(&area);
+        if !self.legend_outside {
+            builder.caption(&self.title, ("sans-serif", 22));
+        }
         builder
-            .caption(&self.title, ("sans-serif", 22))
             .margin(14)
             .x_label_area_size(52)
             .y_label_area_size(84);
+        // Tick labels beyond the finite values would read as values: only ∞ is labelled there.
+        let finite_max = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.0))
+            .filter(|x| x.is_finite() && !self.x_infinity.is_some_and(|inf| *x >= inf))
+            .fold(f64::NEG_INFINITY, f64::max);
+        // A tick at zero computed as 1e-17 reads 0 (linear axes only reach it).
+        let near_zero = |v: f64, lo: f64, hi: f64| v.abs() <= 1e-9 * (hi - lo).abs();
+        let x_tick = |v: &f64| match self.x_infinity {
+            Some(_) if *v > finite_max * (1.0 + 1e-9) + 1e-300 => String::new(),
+            _ if near_zero(*v, x0, x1) => "0".into(),
+            _ => tick(*v),
+        };
+        let y_tick = |v: &f64| {
+            if near_zero(*v, y0, y1) {
+                "0".into()
+            } else {
+                tick(*v)
+            }
+        };
+        // One concrete element type per shape (no boxing in data coordinates).
+        macro_rules! shapes {
+            ($chart:expr, $pts:expr, $shape:expr, $c:expr) => {{
+                let (pts, c) = ($pts, $c);
+                let at = |p: (f64, f64)| EmptyElement::at(p);
+                match $shape {
+                    Shape::Circle => $chart.draw_series(
+                        pts.into_iter()
+                            .map(|p| at(p) + Circle::new((0, 0), 4, c.filled())),
+                    ),
+                    Shape::HollowCircle => $chart.draw_series(pts.into_iter().map(|p| {
+                        at(p)
+                            + Circle::new((0, 0), 4, WHITE.filled())
+                            + Circle::new((0, 0), 4, c.stroke_width(2))
+                    })),
+                    Shape::Square => $chart.draw_series(
+                        pts.into_iter()
+                            .map(|p| at(p) + Rectangle::new([(-4, -4), (4, 4)], c.filled())),
+                    ),
+                    Shape::HollowSquare => $chart.draw_series(pts.into_iter().map(|p| {
+                        at(p)
+                            + Rectangle::new([(-4, -4), (4, 4)], WHITE.filled())
+                            + Rectangle::new([(-4, -4), (4, 4)], c.stroke_width(2))
+                    })),
+                    Shape::Triangle => $chart.draw_series(
+                        pts.into_iter()
+                            .map(|p| at(p) + TriangleMarker::new((0, 0), 5, c.filled())),
+                    ),
+                    Shape::Diamond => $chart.draw_series(pts.into_iter().map(|p| {
+                        at(p) + Polygon::new(vec![(0, -6), (5, 0), (0, 6), (-5, 0)], c.filled())
+                    })),
+                    Shape::Cross => $chart.draw_series(
+                        pts.into_iter()
+                            .map(|p| at(p) + Cross::new((0, 0), 4, c.stroke_width(2))),
+                    ),
+                }
+                .map_err(|e| anyhow!("{e:?}"))?
+            }};
+        }
         macro_rules! finish {
             ($chart:expr) => {{
                 let mut chart = $chart;
@@ -234,12 +436,33 @@ impl Figure {
                     .x_desc(&self.x_label)
                     .y_desc(&self.y_label)
                     .axis_desc_style(("sans-serif", 17))
-                    .x_label_formatter(&|v| tick(*v))
-                    .y_label_formatter(&|v| tick(*v))
+                    .x_label_formatter(&x_tick)
+                    .y_label_formatter(&y_tick)
                     .label_style(("sans-serif", 14))
                     .light_line_style(RGBColor(235, 235, 235))
                     .draw()
                     .map_err(|e| anyhow!("{e:?}"))?;
+                if let Some(inf) = self.x_infinity {
+                    chart
+                        .draw_series(DashedLineSeries::new(
+                            vec![(inf, y0), (inf, y1)],
+                            3,
+                            4,
+                            RGBColor(150, 150, 150).stroke_width(1),
+                        ))
+                        .map_err(|e| anyhow!("{e:?}"))?;
+                    let (px, py) = chart.backend_coord(&(inf, y0));
+                    root.draw(&Text::new(
+                        "∞",
+                        (px, py + 6),
+                        ("sans-serif", 20)
+                            .into_font()
+                            .color(&BLACK_RGB)
+                            .pos(Pos::new(HPos::Center, VPos::Top)),
+                    ))
+                    .map_err(|e| anyhow!("{e:?}"))?;
+                }
+                let mut legend: Vec<(String, Mark, RGBColor)> = Vec::new();
                 for s in &self.series {
                     let c = color(s.color);
                     let pts: Vec<(f64, f64)> = s
@@ -277,14 +500,29 @@ impl Figure {
                                 .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, c.filled())))
                                 .map_err(|e| anyhow!("{e:?}"))?
                         }
+                        Mark::LineShape(shape) => {
+                            chart
+                                .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
+                                .map_err(|e| anyhow!("{e:?}"))?;
+                            shapes!(chart, pts, shape, c)
+                        }
+                        Mark::Shape(shape) => shapes!(chart, pts, shape, c),
                     };
                     if s.label.is_empty() {
                         continue;
                     }
+                    if self.legend_outside {
+                        legend.push((s.label.clone(), s.mark, c));
+                        continue;
+                    }
                     let mark = s.mark;
+                    // Inside the chart plotters draws the legend (concrete
+                    // elements: a boxed one would need a 'static backend).
                     anno.label(s.label.clone())
                         .legend(move |(x, y)| match mark {
-                            Mark::Points => Circle::new((x + 10, y), 4, c.filled()).into_dyn(),
+                            Mark::Points | Mark::Shape(_) => {
+                                Circle::new((x + 10, y), 4, c.filled()).into_dyn()
+                            }
                             Mark::Triangles => {
                                 TriangleMarker::new((x + 10, y), 5, c.stroke_width(2)).into_dyn()
                             }
@@ -295,20 +533,42 @@ impl Figure {
                                 c.stroke_width(2),
                             )
                             .into_dyn(),
-                            Mark::Line | Mark::LinePoints => {
+                            Mark::Line | Mark::LinePoints | Mark::LineShape(_) => {
                                 PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
                                     .into_dyn()
                             }
                         });
                 }
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(RGBColor(160, 160, 160))
-                    .label_font(("sans-serif", 14))
-                    .position(legend_position(self, (x0, x1), (y0, y1)))
-                    .draw()
-                    .map_err(|e| anyhow!("{e:?}"))?;
+                if let Some(area) = &legend_area {
+                    // One entry per line from the top of the plotting area down.
+                    let (_, top) = chart.backend_coord(&(x0, y1));
+                    let (left, _) = area.get_base_pixel();
+                    let (_, root_top) = root.get_base_pixel();
+                    for (i, (label, mark, c)) in legend.iter().enumerate() {
+                        let y = top - root_top + 10 + 22 * i as i32;
+                        let x = left + 6;
+                        root.draw(&legend_glyph(*mark, *c, (x, y)))
+                            .map_err(|e| anyhow!("{e:?}"))?;
+                        root.draw(&Text::new(
+                            label.clone(),
+                            (x + 30, y),
+                            ("sans-serif", 14)
+                                .into_font()
+                                .color(&BLACK_RGB)
+                                .pos(Pos::new(HPos::Left, VPos::Center)),
+                        ))
+                        .map_err(|e| anyhow!("{e:?}"))?;
+                    }
+                } else {
+                    chart
+                        .configure_series_labels()
+                        .background_style(WHITE.mix(0.85))
+                        .border_style(RGBColor(160, 160, 160))
+                        .label_font(("sans-serif", 14))
+                        .position(legend_position(self, (x0, x1), (y0, y1)))
+                        .draw()
+                        .map_err(|e| anyhow!("{e:?}"))?;
+                }
             }};
         }
         match (self.x_log, self.y_log) {
@@ -329,13 +589,47 @@ impl Figure {
         Ok(())
     }
 
+    /// The figure as SVG text and PNG bytes (900×600 px), for writing
+    /// through an [`AtomicDir`](crate::output::files::AtomicDir).
+    pub fn render(&self) -> Result<(String, Vec<u8>)> {
+        register_font();
+        let (w, h) = SIZE;
+        let mut svg = String::new();
+        self.draw(SVGBackend::with_string(&mut svg, SIZE).into_drawing_area())?;
+        let mut rgb = vec![0u8; (w * h * 3) as usize];
+        self.draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())?;
+        let mut png_bytes = Vec::new();
+        {
+            let mut encoder = png::Encoder::new(&mut png_bytes, w, h);
+            encoder.set_compression(png::Compression::Best);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            let mut writer = encoder.write_header()?;
+            writer.write_image_data(&rgb)?;
+        }
+        Ok((svg, png_bytes))
+    }
+
+    /// Stages `<stem>.svg` and `<stem>.png` in `out`; returns their names.
+    pub fn write_into(
+        &self,
+        out: &mut crate::output::files::AtomicDir,
+        stem: &str,
+    ) -> Result<[String; 2]> {
+        let (svg, png_bytes) = self.render()?;
+        let names = [format!("{stem}.svg"), format!("{stem}.png")];
+        out.write(&names[0], |w| Ok(w.write_all(svg.as_bytes())?))?;
+        out.write(&names[1], |w| Ok(w.write_all(&png_bytes)?))?;
+        Ok(names)
+    }
+
     /// Writes `<stem>.svg` and `<stem>.png` (900×600 px); returns both paths.
     pub fn write(&self, stem: &Path) -> Result<[PathBuf; 2]> {
         register_font();
         let svg_path = stem.with_extension("svg");
         let png_path = stem.with_extension("png");
         let dir = stem.parent().unwrap_or_else(|| Path::new("."));
-        let size = (900, 600);
+        let size = SIZE;
 
         let mut svg = String::new();
         self.draw(SVGBackend::with_string(&mut svg, size).into_drawing_area())?;

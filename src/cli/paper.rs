@@ -519,6 +519,7 @@ fn fig4(d: &PaperData, r: f64, letter: char) -> Figure {
         x_log: false,
         y_log: false,
         series,
+        ..Default::default()
     }
 }
 
@@ -693,6 +694,7 @@ fn fig8(d: &PaperData, axis: Axis) -> Figure {
         x_log: true,
         y_log: true,
         series,
+        ..Default::default()
     }
 }
 
@@ -728,6 +730,7 @@ fn figures(d: &PaperData) -> Vec<(String, Figure, String)> {
                 x_log: true,
                 y_log: false,
                 series: curves(&d.sweep_r, *law, true, &ZETAS, h, sc.h_nl),
+                ..Default::default()
             },
             format!(
                 "Fig 5{letter}: h*_max against r for ζ = 1, 10, 100, 1000, {} law.",
@@ -745,6 +748,7 @@ fn figures(d: &PaperData) -> Vec<(String, Figure, String)> {
                 x_log: true,
                 y_log: false,
                 series: curves(&d.sweep_zeta, *law, false, &RADII, h, sc.h_nl),
+                ..Default::default()
             },
             format!(
                 "Fig 6{letter}: h*_max against ζ for r = 0.5, 1, 10, 100, 1000 (five curves, ERRATA 17), {} law.",
@@ -762,6 +766,7 @@ fn figures(d: &PaperData) -> Vec<(String, Figure, String)> {
             x_log: true,
             y_log: false,
             series: curves(&d.sweep_zeta, hertz, false, &RADII, t, sc.t_nl),
+            ..Default::default()
         },
         "Fig 7a: T*_c against ζ for r = 0.5, 1, 10, 100, 1000, Hertz.".into(),
     ));
@@ -774,6 +779,7 @@ fn figures(d: &PaperData) -> Vec<(String, Figure, String)> {
             x_log: true,
             y_log: false,
             series: curves(&d.sweep_r, hertz, true, &ZETAS, t, sc.t_nl),
+            ..Default::default()
         },
         "Fig 7b: T*_c against r for ζ = 1, 10, 100, 1000, Hertz.".into(),
     ));
@@ -1038,10 +1044,16 @@ fn report_markdown(
                     .unwrap_or_else(|| "–".into())
             );
             t.push(
-                [law.name(), q.symbol().to_string(), show_l(z), show_l(r), free]
-                    .into_iter()
-                    .map(Cell::Text)
-                    .collect(),
+                [
+                    law.name(),
+                    q.symbol().to_string(),
+                    show_l(z),
+                    show_l(r),
+                    free,
+                ]
+                .into_iter()
+                .map(Cell::Text)
+                .collect(),
             );
         }
     }

@@ -48,7 +48,7 @@ pub struct RecommendArgs {
 }
 
 /// `0.01` or `1%`.
-fn tolerance(text: &str) -> Result<f64> {
+pub(crate) fn tolerance(text: &str) -> Result<f64> {
     let t = text.trim();
     let (num, scale) = match t.strip_suffix('%') {
         Some(n) => (n.trim(), 0.01),

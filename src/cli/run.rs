@@ -7,6 +7,7 @@ use crate::output::history::HistoryRecorder;
 use crate::output::observer::Tee;
 use crate::output::progress::{self, Progress};
 use crate::output::report::{self, RelativeErrors, RunReport};
+use crate::output::run_plots::{write_run_figures, RunTrace};
 use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::Args;
@@ -38,6 +39,12 @@ pub struct RunArgs {
     #[arg(long)]
     pub json: bool,
 
+    /// Also write figures into DIR (needs --out): overlap_vs_time (h
+    /// against the time since each contact's onset), force_vs_overlap
+    /// (F against h) and velocity_vs_time (v over the run), SVG and PNG
+    #[arg(long)]
+    pub plot: bool,
+
     /// At most N rows in history.csv (the trajectory is evenly decimated)
     #[arg(long, value_name = "N", default_value_t = 10_000,
           value_parser = clap::value_parser!(u64).range(1..))]
@@ -59,6 +66,11 @@ pub struct RunArgs {
 }
 
 pub fn run(args: &RunArgs) -> CliResult {
+    if args.plot && args.out.is_none() {
+        return Err(CliError::input(anyhow!(
+            "--plot writes figures into the output directory: give --out DIR"
+        )));
+    }
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
     let problem = plan(&scenario).map_err(simulation_error)?;
     guard_step_count(&scenario, &problem, args.force)?;
@@ -80,9 +92,13 @@ pub fn run(args: &RunArgs) -> CliResult {
 
     let mut history = out.as_ref().map(|_| {
         let rows = usize::try_from(args.history_points).unwrap_or(usize::MAX);
-        HistoryRecorder::new(
-            rows,
-            HistoryRecorder::flight_samples_for(rows, scenario.motion.contacts),
+        RunTrace::new(
+            HistoryRecorder::new(
+                rows,
+                HistoryRecorder::flight_samples_for(rows, scenario.motion.contacts),
+            ),
+            args.plot,
+            scenario.motion.contacts,
         )
     });
     let mut bar = progress::wanted(problem.expected_steps(), args.quiet).then(Progress::new);
@@ -179,14 +195,15 @@ fn guard_step_count(s: &Scenario, problem: &Problem, force: bool) -> CliResult {
     )))
 }
 
-/// Writes scenario.toml, contacts.csv and history.csv into the output
-/// directory, all or none.
+/// Writes scenario.toml, contacts.csv, history.csv (and the figures with
+/// `--plot`) into `dir`, all or none.
 fn write_outputs(
     mut out: AtomicDir,
     scenario: &Scenario,
     outcome: &RunOutcome,
-    history: &HistoryRecorder,
+    trace: &RunTrace,
 ) -> CliResult<Vec<PathBuf>> {
+    let history = &trace.history;
     let toml = report::scenario_toml(scenario).map_err(CliError::failed)?;
     out.write("scenario.toml", |w| Ok(w.write_all(toml.as_bytes())?))
         .map_err(CliError::failed)?;
@@ -196,5 +213,15 @@ fn write_outputs(
     .map_err(CliError::failed)?;
     out.write("history.csv", |w| history.write_csv(w))
         .map_err(CliError::failed)?;
+    if let Some(contacts) = &trace.contacts {
+        write_run_figures(
+            &mut out,
+            history,
+            contacts,
+            &outcome.contacts,
+            &scenario.contact.law.name(),
+        )
+        .map_err(CliError::failed)?;
+    }
     out.commit().map_err(CliError::failed)
 }

@@ -7,16 +7,16 @@ use super::{CliError, CliResult};
 use crate::output::boundary;
 use crate::output::format::{exact, sig};
 use crate::output::progress;
-use crate::plot::{Figure, Mark, Series};
+use crate::output::table::{Cell, Column, Format, Table, Unit};
+use crate::plot::{infinity_position, Figure, Mark, Series, Shape, BLACK, SHAPES};
 use crate::scenario_file::ScenarioArgs;
 use anyhow::{anyhow, Result};
 use clap::Args;
-use comfy_table::{presets, CellAlignment, Table};
 use dembound_core::contact::ContactLawKind;
 use dembound_core::study::sweep::{sweep, SweepError, SweepResult, SweepSpec, Values, Variant};
 use dembound_core::study::Quantity;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Debug, Args)]
 pub struct SweepArgs {
@@ -56,9 +56,15 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
-    /// Figures of the normalised h_max, T_c and a_max against r and ζ (needs --out)
+    /// Figures of the deviation |q/q(r = ζ = ∞) − 1| of h_max, T_c and a_max
+    /// against r and ζ, log scale, with the tolerance line (needs --out)
     #[arg(long)]
     pub plot: bool,
+
+    /// The tolerance line drawn in the --plot figures: a fraction (0.01) or
+    /// a percentage (1%); default 1%
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub tolerance: Option<String>,
 
     /// Print the result as one JSON object to stdout instead of the table
     #[arg(long)]
@@ -143,6 +149,10 @@ pub fn run(args: &SweepArgs) -> CliResult {
             "--plot writes figures into the output directory: give --out DIR"
         )));
     }
+    let tolerance = match &args.tolerance {
+        Some(t) => super::recommend::tolerance(t).map_err(CliError::input)?,
+        None => DEFAULT_TOLERANCE,
+    };
     let spec = spec(args).map_err(CliError::input)?;
     let out = match &args.out {
         Some(dir) => Some(super::output_dir(dir, "sweep")?),
@@ -174,7 +184,7 @@ pub fn run(args: &SweepArgs) -> CliResult {
         })
         .map_err(CliError::failed)?;
         if args.plot {
-            figures(&result, out.staging()).map_err(CliError::failed)?;
+            figures(&result, tolerance, &mut out).map_err(CliError::failed)?;
         }
         written = out.commit().map_err(CliError::failed)?;
     }
@@ -231,55 +241,50 @@ fn sweep_json(result: &SweepResult) -> Result<serde_json::Value> {
     Ok(v)
 }
 
+/// The tolerance line of the figures when `--tolerance` is not given.
+pub const DEFAULT_TOLERANCE: f64 = 0.01;
+
 fn table(result: &SweepResult) -> Table {
     let many = result.variants.len() > 1;
-    let mut t = Table::new();
-    t.load_preset(presets::UTF8_FULL_CONDENSED);
-    let mut header = vec![];
+    let mut columns = Vec::new();
     if many {
-        header.push("variant");
+        columns.push(Column::text("variant"));
     }
-    header.extend([
-        "law",
-        "r",
-        "ζ",
-        "R_b (m)",
-        "E_b (Pa)",
-        "h_max/h_max∞",
-        "T_c/T_c∞",
-        "a_max/a_max∞",
-        "h_max (nm)",
-        "T_c (µs)",
-        "integrator error",
+    columns.extend([
+        Column::text("law"),
+        Column::text("r").right(),
+        Column::text("ζ").right(),
+        Column::text("R_b (m)").right(),
+        Column::text("E_b (Pa)").right(),
+        Column::quantity("h_max/h_max∞", Unit::ONE, 7),
+        Column::quantity("T_c/T_c∞", Unit::ONE, 7),
+        Column::quantity("a_max/a_max∞", Unit::ONE, 7),
+        Column::quantity("h_max", Unit::METRE, 6),
+        Column::quantity("T_c", Unit::SECOND, 6),
+        Column::number("integrator error", Unit::NONE, Format::Sci(2)),
     ]);
-    t.set_header(header);
+    let mut t = Table::new(columns).with_keys(usize::from(many) + 3);
     for c in &result.cases {
         let f = c.first();
         let s = &result.variants[c.key.variant].scenario;
         let mut row = vec![];
         if many {
-            row.push(result.variants[c.key.variant].label.clone());
+            row.push(Cell::text(&result.variants[c.key.variant].label));
         }
         row.extend([
-            c.key.law.name(),
-            lists::show(c.key.radius_ratio),
-            lists::show(c.key.modulus_ratio),
-            boundary::si_text(boundary::radius(s, c.key.radius_ratio)),
-            boundary::si_text(boundary::youngs_modulus(s, c.key.modulus_ratio)),
-            sig(f.exact_normalised.max_overlap, 7),
-            sig(f.exact_normalised.duration, 7),
-            sig(f.exact_normalised.max_acceleration, 7),
-            sig(f.exact.max_overlap * 1e9, 6),
-            sig(f.exact.duration * 1e6, 6),
-            format!("{:.1e}", f.relative_error.max_abs()),
+            Cell::text(c.key.law.name()),
+            Cell::text(lists::show(c.key.radius_ratio)),
+            Cell::text(lists::show(c.key.modulus_ratio)),
+            Cell::text(boundary::si_text(boundary::radius(s, c.key.radius_ratio))),
+            Cell::text(boundary::si_text(boundary::youngs_modulus(s, c.key.modulus_ratio))),
+            f.exact_normalised.max_overlap.into(),
+            f.exact_normalised.duration.into(),
+            f.exact_normalised.max_acceleration.into(),
+            f.exact.max_overlap.into(),
+            f.exact.duration.into(),
+            f.relative_error.max_abs().into(),
         ]);
-        t.add_row(row);
-    }
-    let first = usize::from(many) + 1;
-    for i in first..first + 10 {
-        if let Some(col) = t.column_mut(i) {
-            col.set_cell_alignment(CellAlignment::Right);
-        }
+        t.push(row);
     }
     t
 }
@@ -357,13 +362,10 @@ fn write_csv(result: &SweepResult, w: &mut dyn Write) -> Result<()> {
     Ok(())
 }
 
-/// The normalised quantity's axis label.
-pub fn normalised_label(q: Quantity) -> &'static str {
-    match q {
-        Quantity::MaxOverlap => "h_max / h_max(r = ζ = ∞)  (1)",
-        Quantity::Duration => "T_c / T_c(r = ζ = ∞)  (1)",
-        Quantity::MaxAcceleration => "a_max / a_max(r = ζ = ∞)  (1)",
-    }
+/// The deviation's axis label.
+pub fn deviation_label(q: Quantity) -> String {
+    let s = q.symbol();
+    format!("deviation |{s} / {s}(r = ζ = ∞) − 1|  (1), log scale")
 }
 
 fn law_file_name(law: ContactLawKind) -> String {
@@ -373,25 +375,29 @@ fn law_file_name(law: ContactLawKind) -> String {
     }
 }
 
-fn finite_sorted(xs: impl Iterator<Item = f64>) -> Vec<f64> {
-    let mut v: Vec<f64> = xs.filter(|x| x.is_finite()).collect();
+fn sorted(xs: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = xs.collect();
     v.sort_by(f64::total_cmp);
     v.dedup();
     v
 }
 
-/// Legend entries that explain the marks once: lines exact, points integrator.
-pub fn style_legend(series: &mut Vec<Series>, numerical: &str) {
-    series.push(Series::new("lines: exact reference", vec![], Mark::Line, 7));
-    series.push(Series::new(numerical, vec![], Mark::Points, 7));
+/// A percentage for labels: `1 %`, `0.5 %`.
+fn percent_text(x: f64) -> String {
+    let t = sig(x * 100.0, 3);
+    let t = if t.contains('.') && !t.contains('e') {
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        t
+    };
+    format!("{t} %")
 }
 
-/// Figures of h_max, T_c, a_max (normalised) against r (one curve per ζ)
-/// and against ζ (one curve per r), per variant and law.
-fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
-    let rs = finite_sorted(result.cases.iter().map(|c| c.key.radius_ratio));
-    let zs = finite_sorted(result.cases.iter().map(|c| c.key.modulus_ratio));
+/// Figures of the deviation |q/q(∞, ∞) − 1| of h_max, T_c and a_max
+/// against r (one curve per ζ) and against ζ (one curve per r), per
+/// variant and law, log scale, the tolerance as a dashed line, ∞ drawn
+/// beyond the largest finite value; staged in `out` (SVG and PNG).
+fn figures(result: &SweepResult, tolerance: f64, out: &mut AtomicDir) -> Result<()> {
     let many = result.variants.len() > 1;
     let mut combos: Vec<(usize, ContactLawKind)> = Vec::new();
     for c in &result.cases {
@@ -399,18 +405,8 @@ fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
             combos.push((c.key.variant, c.key.law));
         }
     }
-    let all_r: Vec<f64> = {
-        let mut v: Vec<f64> = result.cases.iter().map(|c| c.key.radius_ratio).collect();
-        v.sort_by(f64::total_cmp);
-        v.dedup();
-        v
-    };
-    let all_z: Vec<f64> = {
-        let mut v: Vec<f64> = result.cases.iter().map(|c| c.key.modulus_ratio).collect();
-        v.sort_by(f64::total_cmp);
-        v.dedup();
-        v
-    };
+    let all_r = sorted(result.cases.iter().map(|c| c.key.radius_ratio));
+    let all_z = sorted(result.cases.iter().map(|c| c.key.modulus_ratio));
     for (variant, law) in combos {
         let suffix = if many {
             format!("_v{variant}")
@@ -423,36 +419,65 @@ fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
             String::new()
         };
         for q in Quantity::ALL {
-            // (x axis name, x values, curve parameter values, is_r_axis)
             for (xname, xs, others, along_r) in
-                [("r", &rs, &all_z, true), ("zeta", &zs, &all_r, false)]
+                [("r", &all_r, &all_z, true), ("zeta", &all_z, &all_r, false)]
             {
                 if xs.len() < 2 {
                     continue;
                 }
+                let finite: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
+                let x_log = finite.first().is_some_and(|&lo| {
+                    lo > 0.0 && (finite.len() < 2 || finite[finite.len() - 1] / lo >= 20.0)
+                });
+                let has_inf = xs.iter().any(|x| x.is_infinite());
+                let inf_at = infinity_position(&finite, x_log);
+                let at = |x: f64| if x.is_infinite() { inf_at } else { x };
                 let mut series = Vec::new();
                 for (i, &o) in others.iter().enumerate() {
                     let pick = |x: f64| {
                         let (r, z) = if along_r { (x, o) } else { (o, x) };
                         result.find(variant, law, r, z).map(|c| *c.first())
                     };
+                    let deviation = |v: &Values| (v.get(q) - 1.0).abs();
                     let exact: Vec<(f64, f64)> = xs
                         .iter()
-                        .filter_map(|&x| pick(x).map(|c| (x, c.exact_normalised.get(q))))
+                        .filter_map(|&x| pick(x).map(|c| (at(x), deviation(&c.exact_normalised))))
                         .collect();
                     let num: Vec<(f64, f64)> = xs
                         .iter()
-                        .filter_map(|&x| pick(x).map(|c| (x, c.numerical_normalised.get(q))))
+                        .filter_map(|&x| {
+                            pick(x).map(|c| (at(x), deviation(&c.numerical_normalised)))
+                        })
                         .collect();
                     let label = format!("{} = {}", if along_r { "ζ" } else { "r" }, lists::show(o));
-                    series.push(Series::new(label, exact, Mark::Line, i));
-                    series.push(Series::new("", num, Mark::Points, i));
+                    // Black is kept for the notes of the legend.
+                    let color = if i >= BLACK { i + 1 } else { i };
+                    let shape = SHAPES[i % SHAPES.len()];
+                    series.push(Series::new(label, exact, Mark::LineShape(shape), color));
+                    series.push(Series::new("", num, Mark::Shape(Shape::Cross), color));
                 }
-                style_legend(&mut series, "points: integrator");
-                let x_log = xs[0] > 0.0 && xs[xs.len() - 1] / xs[0] >= 20.0;
+                let x_ends = (at(xs[0]), at(xs[xs.len() - 1]));
+                series.push(Series::new(
+                    format!("tolerance T = {}", percent_text(tolerance)),
+                    vec![(x_ends.0, tolerance), (x_ends.1, tolerance)],
+                    Mark::Dashed,
+                    6,
+                ));
+                series.push(Series::new(
+                    "lines, markers: exact",
+                    vec![],
+                    Mark::LineShape(Shape::Circle),
+                    BLACK,
+                ));
+                series.push(Series::new(
+                    "×: integrator",
+                    vec![],
+                    Mark::Shape(Shape::Cross),
+                    BLACK,
+                ));
                 let fig = Figure {
                     title: format!(
-                        "{} against {}, {} law{}",
+                        "Deviation of {} from the rigid half-space against {}, {} law{}",
                         q.symbol(),
                         if along_r { "r" } else { "ζ" },
                         law.name(),
@@ -463,19 +488,17 @@ fn figures(result: &SweepResult, dir: &Path) -> Result<Vec<PathBuf>> {
                     } else {
                         "boundary modulus ratio ζ = E_b/E_m  (1)".into()
                     },
-                    y_label: normalised_label(q).into(),
+                    y_label: deviation_label(q),
                     x_log,
-                    y_log: false,
+                    y_log: true,
                     series,
+                    x_infinity: has_inf.then_some(inf_at),
+                    legend_outside: true,
                 };
-                let stem = dir.join(format!(
-                    "{}_vs_{xname}_{}{suffix}",
-                    q.key(),
-                    law_file_name(law)
-                ));
-                written.extend(fig.write(&stem)?);
+                let stem = format!("{}_vs_{xname}_{}{suffix}", q.key(), law_file_name(law));
+                fig.write_into(out, &stem)?;
             }
         }
     }
-    Ok(written)
+    Ok(())
 }

@@ -10,5 +10,6 @@ pub mod observer;
 pub mod progress;
 pub mod report;
 pub mod restitution;
+pub mod run_plots;
 pub mod table;
 pub mod validation;

@@ -350,6 +350,8 @@ fn figure(
         x_log: true,
         y_log: false,
         series,
+        x_infinity: xs.iter().any(|x| x.is_infinite()).then_some(inf_at),
+        ..Default::default()
     }
 }
 

@@ -6,9 +6,9 @@
 //! shared with other commands (the `paper` report).
 
 use super::format::{exact, sig};
+use super::table::{Cell, Column, Format, Table, Unit};
 use crate::plot::{Figure, Mark, Series};
 use anyhow::Result;
-use super::table::{Cell, Column, Format, Table, Unit};
 use dembound_core::bounce::Stepping;
 use dembound_core::contact::ContactLawKind;
 use dembound_core::integrate::Scheme;
@@ -412,7 +412,11 @@ fn errors_grid(points: &[ConvergencePoint], law: ContactLawKind) -> Table {
     columns.push(Column::text("η").right());
     columns.push(Column::number("steps", Unit::NONE, Format::Integer));
     for l in LABELS {
-        columns.push(Column::number(format!("error {l}"), Unit::NONE, Format::Sci(3)));
+        columns.push(Column::number(
+            format!("error {l}"),
+            Unit::NONE,
+            Format::Sci(3),
+        ));
     }
     let mut table = Table::new(columns).with_keys(3);
     for (_, scheme, stepping, pts) in series(points).into_iter().filter(|s| s.0 == law) {
@@ -433,7 +437,11 @@ fn errors_grid(points: &[ConvergencePoint], law: ContactLawKind) -> Table {
 fn orders_grid(points: &[ConvergencePoint]) -> Table {
     let mut columns = text_columns(&["law", "scheme", "stepping"]);
     for l in LABELS {
-        columns.push(Column::number(format!("order {l}"), Unit::NONE, Format::Fixed(2)));
+        columns.push(Column::number(
+            format!("order {l}"),
+            Unit::NONE,
+            Format::Fixed(2),
+        ));
     }
     let mut table = Table::new(columns).with_keys(3);
     for o in orders(points) {
@@ -528,6 +536,7 @@ pub fn convergence_figures(points: &[ConvergencePoint], dir: &Path) -> Result<Ve
             x_log: true,
             y_log: true,
             series: Vec::new(),
+            ..Default::default()
         };
         for (color, (_, scheme, stepping, pts)) in of_law.iter().enumerate() {
             for (q, mark) in FIGURE_QUANTITIES {
