@@ -401,6 +401,19 @@ normal_registry! {
             attraction: false,
         },
     };
+    /// LAMMPS/LIGGGHTS `hooke`: F = k_n h with k_n given.
+    Hooke { stiffness } => normal::hooke::Hooke = NormalRow {
+        name: "hooke",
+        formula: "F = k_n h, k_n given (LAMMPS/LIGGGHTS hooke)",
+        params: &[ParamSpec {
+            key: "stiffness",
+            symbol: "k_n",
+            unit: "N/m",
+            range: Range::POSITIVE,
+        }],
+        family: Family::Linear,
+        capabilities: ELASTIC,
+    };
 }
 
 damping_registry! {
