@@ -373,3 +373,11 @@ fn viscoelastic_series_calibration_is_right_to_its_third_order() {
     model.calibration = Calibration::Formula;
     assert_eq!(model.validate().unwrap_err().key, "contact.restitution");
 }
+
+#[test]
+fn pair_law_and_history_are_small_plain_records() {
+    // A many-body store keeps one history per contact and may cache one
+    // PairLaw per pair: both stay within a cache line or two.
+    assert!(std::mem::size_of::<PairLaw>() <= 96);
+    assert!(std::mem::size_of::<ContactHistory>() <= 16);
+}
