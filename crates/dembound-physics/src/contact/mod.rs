@@ -301,6 +301,13 @@ impl PairLaw {
         self.normal.update(overlap, overlap_rate, history);
     }
 
+    /// Elastic energy stored in the contact at `overlap` (J), for energy
+    /// balances: the normal law's ([`NormalPair::elastic_energy`]); the
+    /// damping stores none.
+    pub fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64 {
+        self.normal.elastic_energy(overlap, history)
+    }
+
     /// Duration (s) of a gravity-free impact of this pair at
     /// `impact_speed` (m/s): the time-step scale Δt = η T_c. The normal
     /// law's elastic time, shortened beyond heavy damping

@@ -270,6 +270,11 @@ macro_rules! normal_registry {
                 match self { $( NormalPair::$V(law) => law.update(overlap, overlap_rate, history), )+ }
             }
 
+            /// [`NormalSubModel::elastic_energy`].
+            pub fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64 {
+                match self { $( NormalPair::$V(law) => law.elastic_energy(overlap, history), )+ }
+            }
+
             /// [`NormalSubModel::stiffness`].
             pub fn stiffness(&self) -> f64 {
                 match self { $( NormalPair::$V(law) => law.stiffness(), )+ }

@@ -381,3 +381,34 @@ fn pair_law_and_history_are_small_plain_records() {
     assert!(std::mem::size_of::<PairLaw>() <= 96);
     assert!(std::mem::size_of::<ContactHistory>() <= 16);
 }
+
+#[test]
+fn elastic_energy_is_the_integral_of_the_force() {
+    // dU/dh = F: a central difference at step δ = 1e−3 h has relative error
+    // ~ (δ/h)² F'''/F ~ 1e−6 for these powers; rounding adds ~ 1e−16 U/δ ≈
+    // 1e−13 relative. Bound 1e−5.
+    let h = 4e-7;
+    let d = 1e-3 * h;
+    let laws = [
+        NormalLaw::Linear,
+        NormalLaw::Hertz,
+        NormalLaw::Power { exponent: 1.25 },
+        NormalLaw::Power { exponent: 3.0 },
+        NormalLaw::WaltonBraun { restitution: 0.6 },
+        NormalLaw::Hooke { stiffness: 2.0e4 },
+    ];
+    for n in laws {
+        let pl = law(ContactModel::elastic(n));
+        // Walton–Braun on its unloading branch too (h_max = 1.5 h).
+        let unloading = ContactHistory {
+            max_overlap: 1.5 * h,
+            unloading: true,
+        };
+        for hist in [ContactHistory::default(), unloading] {
+            let du =
+                (pl.elastic_energy(h + d, &hist) - pl.elastic_energy(h - d, &hist)) / (2.0 * d);
+            let f = pl.force(h, 0.0, &hist);
+            assert!((du / f - 1.0).abs() < 1e-5, "{n:?} {hist:?}: {du} vs {f}");
+        }
+    }
+}

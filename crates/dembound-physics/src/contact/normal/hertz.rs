@@ -28,6 +28,11 @@ impl NormalSubModel for Hertz {
         self.stiffness * overlap * overlap.abs().sqrt()
     }
 
+    /// (2/5) k h^(5/2).
+    fn elastic_energy(&self, overlap: f64, _history: &ContactHistory) -> f64 {
+        0.4 * self.stiffness * overlap * overlap * overlap.abs().sqrt()
+    }
+
     fn stiffness(&self) -> f64 {
         self.stiffness
     }

@@ -29,6 +29,11 @@ impl NormalSubModel for Hooke {
         self.stiffness * overlap
     }
 
+    /// k_n h²/2.
+    fn elastic_energy(&self, overlap: f64, _history: &ContactHistory) -> f64 {
+        0.5 * self.stiffness * overlap * overlap
+    }
+
     fn stiffness(&self) -> f64 {
         self.stiffness
     }

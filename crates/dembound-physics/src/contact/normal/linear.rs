@@ -23,6 +23,11 @@ impl NormalSubModel for Linear {
         self.stiffness * overlap
     }
 
+    /// k h²/2.
+    fn elastic_energy(&self, overlap: f64, _history: &ContactHistory) -> f64 {
+        0.5 * self.stiffness * overlap * overlap
+    }
+
     fn stiffness(&self) -> f64 {
         self.stiffness
     }

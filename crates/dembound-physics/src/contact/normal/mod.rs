@@ -28,6 +28,11 @@ pub trait NormalSubModel: Copy + std::fmt::Debug {
     #[inline(always)]
     fn update(&self, _overlap: f64, _overlap_rate: f64, _history: &mut ContactHistory) {}
 
+    /// Elastic energy stored in the contact at overlap h (J): the work of
+    /// the force along its current branch, ∫ F dh from where it vanishes
+    /// (for an energy balance; a hysteretic law's lost work is not in it).
+    fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64;
+
     /// The stiffness a damping scales with: k of the loading branch
     /// F = k h^α, N/m^α.
     fn stiffness(&self) -> f64;

@@ -29,6 +29,11 @@ impl NormalSubModel for PowerLaw {
         self.stiffness * overlap * overlap.abs().powf(self.exponent - 1.0)
     }
 
+    /// k h^(α+1)/(α+1).
+    fn elastic_energy(&self, overlap: f64, _history: &ContactHistory) -> f64 {
+        self.stiffness * overlap.abs().powf(self.exponent + 1.0) / (self.exponent + 1.0)
+    }
+
     fn stiffness(&self) -> f64 {
         self.stiffness
     }

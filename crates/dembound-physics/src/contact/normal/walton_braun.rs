@@ -69,6 +69,18 @@ impl NormalSubModel for WaltonBraun {
         history.max_overlap = history.max_overlap.max(overlap);
     }
 
+    /// k₁ h²/2 while loading; on unloading the energy the k₂ line returns,
+    /// k₂ (h − h₀)²/2 above h₀ (0 below), or k₁ h²/2 where the law follows
+    /// the loading line (h above h_max).
+    fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64 {
+        let load = 0.5 * self.loading * overlap * overlap;
+        if !history.unloading || overlap >= history.max_overlap {
+            return load;
+        }
+        let d = (overlap - self.residual_overlap(history)).max(0.0);
+        0.5 * self.unloading * d * d
+    }
+
     fn stiffness(&self) -> f64 {
         self.loading
     }
