@@ -670,6 +670,8 @@ mod tests {
                 Series::new("a", vec![(0.1, 1e-3), (0.01, 1e-8)], Mark::LinePoints, 0),
                 Series::new("b", vec![(0.1, 1e-2), (0.01, 1e-4)], Mark::Dashed, 1),
             ],
+            x_infinity: None,
+            legend_outside: false,
         };
         let [svg, png] = fig.write(&dir.path().join("fig")).expect("figure written");
         let text = std::fs::read_to_string(svg).expect("svg readable");

@@ -5,6 +5,7 @@
 use super::lists;
 use super::{CliError, CliResult};
 use crate::output::boundary;
+use crate::output::files::AtomicDir;
 use crate::output::format::{exact, sig};
 use crate::output::progress;
 use crate::output::table::{Cell, Column, Format, Table, Unit};
