@@ -76,7 +76,11 @@ impl AtomicDir {
         }
         let (cleanup, (staging, lock)) = interrupt::register(|| {
             let created = create_dirs(dir)?;
-            match make_staging(dir) {
+            // Under DIR's lock, so that a commit into DIR never sees the
+            // new staging before it is locked (it would take it for one
+            // left by a killed process).
+            let staging = lock_dir(dir).and_then(|_dir_lock| make_staging(dir));
+            match staging {
                 Ok((staging, lock)) => Ok((
                     Cleanup {
                         staging: staging.clone(),
