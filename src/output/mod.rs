@@ -8,6 +8,7 @@ pub mod history;
 pub mod interrupt;
 pub mod observer;
 pub mod progress;
+pub mod publish;
 pub mod report;
 pub mod restitution;
 pub mod run_plots;
