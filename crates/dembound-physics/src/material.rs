@@ -11,6 +11,7 @@ use std::f64::consts::PI;
 
 /// An isotropic elastic material, SI units.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Material {
     /// Density ρ, kg/m³.
     pub density: f64,

@@ -46,6 +46,7 @@ use damping::DampingSetup;
 /// that a many-body store keeps one plain record per contacting pair; a new
 /// contact starts from `Default`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContactHistory {
     /// Largest overlap of this contact so far, m (hysteretic laws).
     pub max_overlap: f64,
