@@ -23,11 +23,13 @@ pub struct ScenarioArgs {
     pub scenario: Option<PathBuf>,
 
     /// Override one key after the file, e.g. `--set contact.law=linear`,
-    /// `--set boundary.radius_ratio=inf`, `--set 'contact.law={power=1.25}'`.
+    /// `--set boundary.radius=0.02` (m), `--set boundary.youngs_modulus=2e11`
+    /// (Pa), `--set boundary.radius_ratio=inf`, `--set 'contact.law={power=1.25}'`.
     /// VALUE is read as TOML; a bare word that is not TOML is a string.
     /// Setting one of integration.dt, integration.eta and
-    /// integration.tolerance drops the other two.
-    /// Repeatable.
+    /// integration.tolerance drops the other two; boundary.radius drops
+    /// boundary.radius_ratio and boundary.youngs_modulus drops
+    /// boundary.modulus_ratio, and vice versa. Repeatable.
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
 }

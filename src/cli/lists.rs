@@ -21,16 +21,6 @@ pub fn number(flag: &str, text: &str) -> Result<f64> {
     Ok(x)
 }
 
-/// A positive ratio (> 0, `inf` allowed).
-pub fn ratio(flag: &str, text: &str) -> Result<f64> {
-    let x = number(flag, text)?;
-    if x > 0.0 {
-        Ok(x)
-    } else {
-        bail!("invalid value for `{flag}`: {x} (allowed: > 0, or inf)")
-    }
-}
-
 /// A list: comma-separated items, each a number, `inf`, `log:A:B:N` (N
 /// values from A to B evenly in log, ends included) or `lin:A:B:N`.
 pub fn numbers(flag: &str, text: &str) -> Result<Vec<f64>> {

@@ -42,9 +42,9 @@ pub struct SweepArgs {
     )]
     pub zeta: String,
 
-    /// Contact laws: `linear,hertz` or `power=1.25` (default: the scenario's;
-    /// the dissipative laws have no elastic reference to normalise by: see
-    /// `restitution`)
+    /// Contact laws: `linear,hertz` or `power=1.25` (the dissipative laws have
+    /// no elastic reference to normalise by: see `restitution`) [default: the
+    /// scenario's]
     #[arg(long, value_name = "LIST")]
     pub law: Option<String>,
 
