@@ -140,7 +140,11 @@ fn recommend_answers_in_si_and_says_against_what() {
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for needle in [
         "flat wall",
         "E_b = 2e11 Pa",
@@ -200,15 +204,29 @@ fn recommend_prints_the_tradeoff_curve_and_a_pick() {
     // 1.01^(−5/4).
     let rb = 1.01f64.powf(-2.5);
     let r_pick = rb / (1.0 - rb);
-    assert!(rel(tr["pick"]["radius_ratio"].as_f64().unwrap(), r_pick) < 1e-6, "{tr}");
+    assert!(
+        rel(tr["pick"]["radius_ratio"].as_f64().unwrap(), r_pick) < 1e-6,
+        "{tr}"
+    );
     assert!(tr["pick_rule"].as_str().unwrap().contains("balanced"));
 
     let out = dembound()
-        .args(["recommend", "--tolerance", "1%", "--law", "hertz", "--quantity", "T_c"])
+        .args([
+            "recommend",
+            "--tolerance",
+            "1%",
+            "--law",
+            "hertz",
+            "--quantity",
+            "T_c",
+        ])
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("smallest ζ for each r") && text.contains("pick: r ="), "{text}");
+    assert!(
+        text.contains("smallest ζ for each r") && text.contains("pick: r ="),
+        "{text}"
+    );
 }
 
 #[test]
@@ -219,7 +237,10 @@ fn recommend_refuses_what_it_cannot_answer() {
         &["`--tolerance`", "1e-300", "1e-8"],
     );
     bad_input(&["recommend", "--tolerance", "1e-9"], &["`--tolerance`"]);
-    bad_input(&["recommend", "--tolerance", "1e5"], &["`--tolerance`", "100"]);
+    bad_input(
+        &["recommend", "--tolerance", "1e5"],
+        &["`--tolerance`", "100"],
+    );
     // Against a flat wall only r varies.
     bad_input(
         &[
@@ -244,7 +265,17 @@ fn recommend_refuses_what_it_cannot_answer() {
     );
     // A tolerance above 10 % given as a plain fraction: a warning.
     let out = dembound()
-        .args(["recommend", "--tolerance", "0.2", "--law", "linear", "--quantity", "h_max", "--r", "inf"])
+        .args([
+            "recommend",
+            "--tolerance",
+            "0.2",
+            "--law",
+            "linear",
+            "--quantity",
+            "h_max",
+            "--r",
+            "inf",
+        ])
         .output()
         .unwrap();
     assert!(out.status.success());
@@ -273,9 +304,23 @@ fn recommend_takes_lists_for_r_and_zeta() {
         .map(|l| l["outcome"]["value"].as_f64().unwrap())
         .collect();
     assert!(z[0] > z[1] && z[1] > z[2], "{z:?}");
-    let v = json(&["recommend", "--r", "10,100", "--zeta", "100", "--law", "hertz", "--json"]);
+    let v = json(&[
+        "recommend",
+        "--r",
+        "10,100",
+        "--zeta",
+        "100",
+        "--law",
+        "hertz",
+        "--json",
+    ]);
     assert_eq!(v["deviations"].as_array().unwrap().len(), 2);
-    assert!(rel(v["deviations"][1]["boundary_radius"].as_f64().unwrap(), 0.05) < 1e-15);
+    assert!(
+        rel(
+            v["deviations"][1]["boundary_radius"].as_f64().unwrap(),
+            0.05
+        ) < 1e-15
+    );
 }
 
 #[test]
@@ -293,10 +338,22 @@ fn the_boundary_in_si_in_and_out_of_run() {
     args.push("--json");
     let v = json(&args);
     let b = &v["scenario"]["boundary"];
-    assert!(rel(b["radius_ratio"].as_f64().unwrap(), 40.0) < 1e-15, "{b}");
-    assert!(rel(b["modulus_ratio"].as_f64().unwrap(), 20.0) < 1e-15, "{b}");
-    assert!(rel(b["boundary_radius"].as_f64().unwrap(), 0.02) < 1e-15, "{b}");
-    assert!(rel(b["boundary_youngs_modulus"].as_f64().unwrap(), 2e11) < 1e-15, "{b}");
+    assert!(
+        rel(b["radius_ratio"].as_f64().unwrap(), 40.0) < 1e-15,
+        "{b}"
+    );
+    assert!(
+        rel(b["modulus_ratio"].as_f64().unwrap(), 20.0) < 1e-15,
+        "{b}"
+    );
+    assert!(
+        rel(b["boundary_radius"].as_f64().unwrap(), 0.02) < 1e-15,
+        "{b}"
+    );
+    assert!(
+        rel(b["boundary_youngs_modulus"].as_f64().unwrap(), 2e11) < 1e-15,
+        "{b}"
+    );
     // The same run given as ratios gives the same contacts.
     let ratios = json(&[
         "run",
@@ -313,7 +370,10 @@ fn the_boundary_in_si_in_and_out_of_run() {
         .zip(ratios["contacts"].as_array().unwrap())
     {
         // The ratio R_b/R_m may round differently from 40 in the last bit.
-        let (x, y) = (a["duration"].as_f64().unwrap(), b["duration"].as_f64().unwrap());
+        let (x, y) = (
+            a["duration"].as_f64().unwrap(),
+            b["duration"].as_f64().unwrap(),
+        );
         assert!(rel(x, y) < 1e-13, "{a} {b}");
     }
     // The header states both forms.
@@ -358,12 +418,26 @@ fn sweep_names_laws_as_everywhere_and_gives_the_boundary_in_si() {
         &["`--law`", "cubic", "walton-braun"],
     );
     let v = json(&[
-        "sweep", "--r", "10", "--zeta", "lin:10:20:2", "--law", "hertz", "--json", "--quiet",
+        "sweep",
+        "--r",
+        "10",
+        "--zeta",
+        "lin:10:20:2",
+        "--law",
+        "hertz",
+        "--json",
+        "--quiet",
     ]);
     let key = &v["cases"][1]["key"];
     assert_eq!(key["modulus_ratio"], 20.0);
-    assert!(rel(key["boundary_radius"].as_f64().unwrap(), 5e-3) < 1e-15, "{key}");
-    assert!(rel(key["boundary_youngs_modulus"].as_f64().unwrap(), 2e11) < 1e-15, "{key}");
+    assert!(
+        rel(key["boundary_radius"].as_f64().unwrap(), 5e-3) < 1e-15,
+        "{key}"
+    );
+    assert!(
+        rel(key["boundary_youngs_modulus"].as_f64().unwrap(), 2e11) < 1e-15,
+        "{key}"
+    );
     assert!(v["variants"][0]["scenario"]["boundary"]["boundary_radius"].is_number());
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("s");
@@ -378,7 +452,10 @@ fn sweep_names_laws_as_everywhere_and_gives_the_boundary_in_si() {
         header.contains("r,zeta,boundary_radius_m,boundary_youngs_modulus_Pa"),
         "{header}"
     );
-    assert!(csv.lines().nth(1).unwrap().contains("10,inf,0.005,inf"), "{csv}");
+    assert!(
+        csv.lines().nth(1).unwrap().contains("10,inf,0.005,inf"),
+        "{csv}"
+    );
 }
 
 #[test]
@@ -419,16 +496,36 @@ fn restitution_takes_the_same_lists_and_law_names() {
     assert_eq!(lines.count(), 2 * 2, "two e × two r");
     assert!(csv.contains(",10,10,0.005,100000000000,"), "{csv}");
     let v = json(&[
-        "restitution", "--target", "0.5", "--law", "tsuji", "--r", "10", "--zeta", "10", "--json",
+        "restitution",
+        "--target",
+        "0.5",
+        "--law",
+        "tsuji",
+        "--r",
+        "10",
+        "--zeta",
+        "10",
+        "--json",
     ]);
-    assert!(rel(v[0]["boundary_radius"].as_f64().unwrap(), 5e-3) < 1e-15, "{v}");
+    assert!(
+        rel(v[0]["boundary_radius"].as_f64().unwrap(), 5e-3) < 1e-15,
+        "{v}"
+    );
 }
 
 #[test]
 fn every_help_has_one_layout() {
     // The compact layout everywhere: no per-value help blocks, `-h` and
     // `--help` alike, every list flag shown as <LIST>, defaults as [default: …].
-    for cmd in ["run", "exact", "validate", "sweep", "recommend", "paper", "restitution"] {
+    for cmd in [
+        "run",
+        "exact",
+        "validate",
+        "sweep",
+        "recommend",
+        "paper",
+        "restitution",
+    ] {
         let long = dembound().args([cmd, "--help"]).output().unwrap();
         let short = dembound().args([cmd, "-h"]).output().unwrap();
         let text = String::from_utf8_lossy(&long.stdout).to_string();
@@ -438,7 +535,10 @@ fn every_help_has_one_layout() {
         assert!(!text.contains("(default:"), "{cmd}: {text}");
         assert!(text.contains(&format!("Usage: dembound {cmd}")), "{text}");
         for flag in ["--r", "--zeta", "--law", "--e"] {
-            if let Some(line) = text.lines().find(|l| l.trim_start().starts_with(&format!("{flag} <"))) {
+            if let Some(line) = text
+                .lines()
+                .find(|l| l.trim_start().starts_with(&format!("{flag} <")))
+            {
                 assert!(line.contains("<LIST>"), "{cmd}: {line}");
             }
         }

@@ -564,7 +564,8 @@ fn tradeoff_text(base: &Scenario, tr: &Tradeoff) -> String {
     let p = &tr.pick;
     format!(
         "\n{} {}, T = {} %: the smallest ζ for each r (below r = {} no ζ is enough)\n{t}\n\
-         pick: r = {}, ζ = {} ({}, {}), {}: each alone costs {} %\n",
+         pick: r = {}, ζ = {} ({}, {}): r alone and ζ alone each cost {} % (balanced \
+         shares of T; to first order the point of the curve with the smallest r·ζ)\n",
         tr.law.name(),
         tr.quantity.symbol(),
         sig(tr.tolerance * 100.0, 4),
@@ -573,7 +574,6 @@ fn tradeoff_text(base: &Scenario, tr: &Tradeoff) -> String {
         sig(p.modulus_ratio, 6),
         boundary::radius_text(boundary::radius(base, p.radius_ratio)),
         boundary::modulus_text(boundary::youngs_modulus(base, p.modulus_ratio)),
-        PICK_RULE,
         sig(tr.share * 100.0, 4),
     )
 }

@@ -219,7 +219,8 @@ fn sweep_json(result: &SweepResult) -> Result<serde_json::Value> {
         for (json, variant) in variants.iter_mut().zip(&result.variants) {
             #[derive(serde::Serialize)]
             struct S<'a>(
-                #[serde(serialize_with = "boundary::serialize_scenario")] &'a dembound_core::bounce::Scenario,
+                #[serde(serialize_with = "boundary::serialize_scenario")]
+                &'a dembound_core::bounce::Scenario,
             );
             if let Some(slot) = json.get_mut("scenario") {
                 *slot = serde_json::to_value(S(&variant.scenario))?;

@@ -328,7 +328,15 @@ pub fn gravity_free_limit(
     solved: Axis,
     other: f64,
 ) -> Option<f64> {
-    gravity_free_limit_for(alpha, quantity, tolerance, solved, other, 1.0, Reference::Rigid)
+    gravity_free_limit_for(
+        alpha,
+        quantity,
+        tolerance,
+        solved,
+        other,
+        1.0,
+        Reference::Rigid,
+    )
 }
 
 /// The gravity-free limit (closed form, module doc) for Poisson factor `c`
@@ -415,7 +423,15 @@ pub fn smallest(
     solved: Axis,
     other: f64,
 ) -> Result<Limit, RecommendError> {
-    smallest_against(base, law, quantity, tolerance, solved, other, Reference::Rigid)
+    smallest_against(
+        base,
+        law,
+        quantity,
+        tolerance,
+        solved,
+        other,
+        Reference::Rigid,
+    )
 }
 
 /// [`smallest`] against a [`Reference`]: with `HalfSpace` only r is solved,
@@ -610,15 +626,17 @@ pub fn tradeoff(
     };
     let point = |r: f64, t: f64| -> Result<Option<TradeoffPoint>, RecommendError> {
         let l = smallest(t, Axis::Modulus, r)?;
-        Ok(match (l.value(), l.exact_deviation, l.simulated_deviation) {
-            (Some(z), Some(e), Some(n)) => Some(TradeoffPoint {
-                radius_ratio: r,
-                modulus_ratio: z,
-                exact_deviation: e,
-                simulated_deviation: n,
-            }),
-            _ => None,
-        })
+        Ok(
+            match (l.value(), l.exact_deviation, l.simulated_deviation) {
+                (Some(z), Some(e), Some(n)) => Some(TradeoffPoint {
+                    radius_ratio: r,
+                    modulus_ratio: z,
+                    exact_deviation: e,
+                    simulated_deviation: n,
+                }),
+                _ => None,
+            },
+        )
     };
     let mut curve = Vec::new();
     for f in TRADEOFF_FACTORS.iter().chain(&[inf]) {
@@ -780,8 +798,15 @@ mod tests {
         let c = (1.0 - 0.09) / (1.0 - 0.0484);
         let t: f64 = 0.01;
         let zeta = c / (1.01f64.powf(2.5) - 1.0);
-        let z = smallest(&s, ContactLawKind::Hertz, Quantity::Duration, t, Axis::Modulus, INF)
-            .unwrap();
+        let z = smallest(
+            &s,
+            ContactLawKind::Hertz,
+            Quantity::Duration,
+            t,
+            Axis::Modulus,
+            INF,
+        )
+        .unwrap();
         assert!(rel(z.value().unwrap(), zeta) < 1e-6, "{z:?}");
         assert!(rel(z.gravity_free.unwrap(), zeta) < 1e-12, "{z:?}");
         // Solving for r with a given ζ: ζ̄′ = bar(ζ/c_ν) enters s.
@@ -840,7 +865,10 @@ mod tests {
             Reference::HalfSpace,
         )
         .unwrap();
-        assert!(rel(l.value().unwrap(), l.closed_form.unwrap()) < 1e-6, "{l:?}");
+        assert!(
+            rel(l.value().unwrap(), l.closed_form.unwrap()) < 1e-6,
+            "{l:?}"
+        );
         // Only r varies against a flat wall.
         let e = smallest_against(
             &g,
@@ -859,9 +887,19 @@ mod tests {
     fn tolerances_the_numerics_cannot_resolve_are_refused() {
         let g = Scenario::default();
         for t in [1e-300, MIN_TOLERANCE / 2.0, 0.0, f64::NAN, 1e6] {
-            let e = smallest(&g, ContactLawKind::Hertz, Quantity::Duration, t, Axis::Modulus, INF)
-                .unwrap_err();
-            assert!(matches!(e, RecommendError::Input(ref i) if i.field == "tolerance"), "{t}");
+            let e = smallest(
+                &g,
+                ContactLawKind::Hertz,
+                Quantity::Duration,
+                t,
+                Axis::Modulus,
+                INF,
+            )
+            .unwrap_err();
+            assert!(
+                matches!(e, RecommendError::Input(ref i) if i.field == "tolerance"),
+                "{t}"
+            );
         }
         let l = smallest(
             &g,
@@ -903,7 +941,10 @@ mod tests {
             assert!(w[0].modulus_ratio > w[1].modulus_ratio);
         }
         for p in tr.curve.iter().chain([&tr.pick]) {
-            assert!(rel(p.modulus_ratio, zeta_of(p.radius_ratio)) < 1e-6, "{p:?}");
+            assert!(
+                rel(p.modulus_ratio, zeta_of(p.radius_ratio)) < 1e-6,
+                "{p:?}"
+            );
             assert!((p.exact_deviation - t).abs() < 1e-9);
         }
         let r_min = tr.smallest_radius_ratio;
@@ -912,7 +953,10 @@ mod tests {
             .map(|r| r * zeta_of(r))
             .fold(INF, f64::min);
         let pick = tr.pick.radius_ratio * tr.pick.modulus_ratio;
-        assert!(pick >= best * (1.0 - 1e-9) && pick < best * (1.0 + 1e-4), "{pick} {best}");
+        assert!(
+            pick >= best * (1.0 - 1e-9) && pick < best * (1.0 + 1e-4),
+            "{pick} {best}"
+        );
         assert!((tr.share - (1.02f64.sqrt() - 1.0)).abs() < 1e-15);
     }
 }
