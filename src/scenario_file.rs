@@ -23,11 +23,13 @@ pub struct ScenarioArgs {
     pub scenario: Option<PathBuf>,
 
     /// Override one key after the file, e.g. `--set contact.law=linear`,
-    /// `--set boundary.radius_ratio=inf`, `--set 'contact.law={power=1.25}'`.
+    /// `--set boundary.radius=0.02` (m), `--set boundary.youngs_modulus=2e11`
+    /// (Pa), `--set boundary.radius_ratio=inf`, `--set 'contact.law={power=1.25}'`.
     /// VALUE is read as TOML; a bare word that is not TOML is a string.
     /// Setting one of integration.dt, integration.eta and
-    /// integration.tolerance drops the other two.
-    /// Repeatable.
+    /// integration.tolerance drops the other two; boundary.radius drops
+    /// boundary.radius_ratio and boundary.youngs_modulus drops
+    /// boundary.modulus_ratio, and vice versa. Repeatable.
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
 }
@@ -86,7 +88,13 @@ pub fn load(file: Option<(&Path, &str)>, sets: &[String]) -> Result<Scenario> {
 /// The `[boundary]` keys that have an SI alternative: (SI key, ratio key,
 /// the particle key it is relative to, unit, what ∞ means).
 const SI_PAIRS: [(&str, &str, &str, &str, &str); 2] = [
-    ("radius", "radius_ratio", "radius", "m", "an elastic half-space"),
+    (
+        "radius",
+        "radius_ratio",
+        "radius",
+        "m",
+        "an elastic half-space",
+    ),
     (
         "youngs_modulus",
         "modulus_ratio",
@@ -455,7 +463,9 @@ mod tests {
             &[],
         ));
         assert!(
-            m.contains("boundary.radius`") && m.contains("boundary.radius_ratio") && m.contains("f.toml"),
+            m.contains("boundary.radius`")
+                && m.contains("boundary.radius_ratio")
+                && m.contains("f.toml"),
             "{m}"
         );
         let m = msg(load(
@@ -469,14 +479,24 @@ mod tests {
             m.contains("boundary.youngs_modulus") && m.contains("boundary.modulus_ratio"),
             "{m}"
         );
-        for bad in ["boundary.radius=-1", "boundary.radius=0", "boundary.radius=big"] {
+        for bad in [
+            "boundary.radius=-1",
+            "boundary.radius=0",
+            "boundary.radius=big",
+        ] {
             let m = msg(load(None, &sets(&[bad])));
             assert!(m.contains("`boundary.radius`") && m.contains("in m"), "{m}");
         }
         let m = msg(load(None, &sets(&["boundary.youngs_modulus=-2e11"])));
-        assert!(m.contains("`boundary.youngs_modulus`") && m.contains("Pa"), "{m}");
+        assert!(
+            m.contains("`boundary.youngs_modulus`") && m.contains("Pa"),
+            "{m}"
+        );
         // A bad particle radius is reported as itself, not as the boundary's.
-        let m = msg(load(None, &sets(&["boundary.radius=0.05", "particle.radius=-1"])));
+        let m = msg(load(
+            None,
+            &sets(&["boundary.radius=0.05", "particle.radius=-1"]),
+        ));
         assert!(m.contains("particle.radius"), "{m}");
     }
 }

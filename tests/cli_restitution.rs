@@ -112,7 +112,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--r", "0"], "> 0"),
         (vec!["--zeta", "-3"], "> 0"),
         (vec!["--r", "big"], "not a number"),
-        (vec!["--law", "hooke"], "unknown law"),
+        (vec!["--law", "nonsense"], "unknown law"),
         (
             vec![
                 "--law",

@@ -21,16 +21,6 @@ pub fn number(flag: &str, text: &str) -> Result<f64> {
     Ok(x)
 }
 
-/// A positive ratio (> 0, `inf` allowed).
-pub fn ratio(flag: &str, text: &str) -> Result<f64> {
-    let x = number(flag, text)?;
-    if x > 0.0 {
-        Ok(x)
-    } else {
-        bail!("invalid value for `{flag}`: {x} (allowed: > 0, or inf)")
-    }
-}
-
 /// A list: comma-separated items, each a number, `inf`, `log:A:B:N` (N
 /// values from A to B evenly in log, ends included) or `lin:A:B:N`.
 pub fn numbers(flag: &str, text: &str) -> Result<Vec<f64>> {
@@ -138,7 +128,7 @@ pub fn any_law(flag: &str, text: &str) -> Result<AnyLaw> {
     match alpha {
         Some(a) if (1.0..=3.0).contains(&a) => Ok(AnyLaw::Elastic(ContactLawKind::Power(a))),
         _ => bail!(
-            "invalid value for `{flag}`: `{}` is not a contact law (allowed: {ALL_LAW_NAMES})",
+            "invalid value for `{flag}`: unknown law `{}` (allowed: {ALL_LAW_NAMES})",
             text.trim()
         ),
     }
@@ -253,10 +243,15 @@ mod tests {
             any_law("--law", "Tsuji").unwrap(),
             AnyLaw::Dissipative(DissipativeLaw::Tsuji)
         );
-        let e = laws_for("--law", "hertz,tsuji", "sweep").unwrap_err().to_string();
+        let e = laws_for("--law", "hertz,tsuji", "sweep")
+            .unwrap_err()
+            .to_string();
         assert!(
-            e.contains("`--law`") && e.contains("tsuji") && e.contains("dissipative")
-                && e.contains("sweep") && e.contains("restitution"),
+            e.contains("`--law`")
+                && e.contains("tsuji")
+                && e.contains("dissipative")
+                && e.contains("sweep")
+                && e.contains("restitution"),
             "{e}"
         );
         assert_eq!(
@@ -269,6 +264,9 @@ mod tests {
         assert!(e.contains("cubic") && e.contains("walton-braun"), "{e}");
         let e = restitutions("--e", "lin:0.5:0.9:3,1").unwrap();
         assert_eq!((e.len(), e[0], e[2], e[3]), (4, 0.5, 0.9, 1.0));
-        assert!(restitutions("--e", "0.5,1.5").unwrap_err().to_string().contains("1.5"));
+        assert!(restitutions("--e", "0.5,1.5")
+            .unwrap_err()
+            .to_string()
+            .contains("1.5"));
     }
 }

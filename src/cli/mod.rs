@@ -41,8 +41,9 @@ enum Command {
     /// Sweep r, ζ, laws and other keys; integrator beside the exact
     /// reference, normalised by the rigid half-space
     Sweep(sweep::SweepArgs),
-    /// Smallest ζ or r within a tolerance of the rigid half-space, or the
-    /// deviations at a given (r, ζ)
+    /// Smallest ζ or r within a tolerance of the rigid half-space or of a
+    /// flat wall of the boundary's material, the r–ζ trade-off, or the
+    /// deviations at given (r, ζ); answers as ratios and in SI
     Recommend(recommend::RecommendArgs),
     /// Reproduce the paper's section 5 (Figs 4–8, quoted numbers, Tables
     /// 1–2) into a directory with report.md and report.html

@@ -72,10 +72,11 @@ pub struct RestitutionArgs {
     #[arg(long = "zeta", value_name = "LIST", allow_hyphen_values = true)]
     pub modulus_ratios: Vec<String>,
 
-    /// Where the raw damping coefficient is calibrated for e: on the rigid
-    /// wall (then reused on the boundary particle), on each pair, or both
+    /// Where the raw damping coefficient is calibrated for e: `wall` (on the
+    /// rigid wall r = ζ = ∞, then reused on the boundary particle), `pair` (on
+    /// each pair's own effective properties) or `both`
     /// [default: both for the sweep, wall with --target]
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, value_name = "WHERE", hide_possible_values = true)]
     pub calibrate: Option<CalibrateArg>,
 
     /// The reverse question: the rebound E (0 < E < 1) wanted on the

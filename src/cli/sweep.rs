@@ -42,9 +42,9 @@ pub struct SweepArgs {
     )]
     pub zeta: String,
 
-    /// Contact laws: `linear,hertz` or `power=1.25` (default: the scenario's;
-    /// the dissipative laws have no elastic reference to normalise by: see
-    /// `restitution`)
+    /// Contact laws: `linear,hertz` or `power=1.25` (the dissipative laws have
+    /// no elastic reference to normalise by: see `restitution`) [default: the
+    /// scenario's]
     #[arg(long, value_name = "LIST")]
     pub law: Option<String>,
 
@@ -232,7 +232,8 @@ fn sweep_json(result: &SweepResult) -> Result<serde_json::Value> {
         for (json, variant) in variants.iter_mut().zip(&result.variants) {
             #[derive(serde::Serialize)]
             struct S<'a>(
-                #[serde(serialize_with = "boundary::serialize_scenario")] &'a dembound_core::bounce::Scenario,
+                #[serde(serialize_with = "boundary::serialize_scenario")]
+                &'a dembound_core::bounce::Scenario,
             );
             if let Some(slot) = json.get_mut("scenario") {
                 *slot = serde_json::to_value(S(&variant.scenario))?;

@@ -20,7 +20,11 @@ pub fn youngs_modulus(s: &Scenario, zeta: f64) -> f64 {
 /// dropped, scientific outside 1e−3 … 1e5; `∞` for infinity.
 pub fn si_text(x: f64) -> String {
     if x.is_infinite() {
-        return if x > 0.0 { "∞".into() } else { "−∞".into() };
+        return if x > 0.0 {
+            "∞".into()
+        } else {
+            "−∞".into()
+        };
     }
     let a = x.abs();
     if x == 0.0 || (1e-3..1e5).contains(&a) {

@@ -421,7 +421,10 @@ pub fn write_restitution_csv(study: &RestitutionStudy, w: &mut dyn Write) -> Res
             exact(p.radius_ratio),
             exact(p.modulus_ratio),
             exact(super::boundary::radius(&study.scenario, p.radius_ratio)),
-            exact(super::boundary::youngs_modulus(&study.scenario, p.modulus_ratio)),
+            exact(super::boundary::youngs_modulus(
+                &study.scenario,
+                p.modulus_ratio,
+            )),
             exact(p.coefficient),
             p.law.coefficient_unit().to_string(),
             exact(c.restitution),
