@@ -670,8 +670,7 @@ mod tests {
                 Series::new("a", vec![(0.1, 1e-3), (0.01, 1e-8)], Mark::LinePoints, 0),
                 Series::new("b", vec![(0.1, 1e-2), (0.01, 1e-4)], Mark::Dashed, 1),
             ],
-            x_infinity: None,
-            legend_outside: false,
+            ..Default::default()
         };
         let [svg, png] = fig.write(&dir.path().join("fig")).expect("figure written");
         let text = std::fs::read_to_string(svg).expect("svg readable");
@@ -679,6 +678,41 @@ mod tests {
         assert!(text.contains("relative error (1)"));
         // A PNG with text is well over a few kB; an empty canvas compresses to ~2 kB.
         assert!(std::fs::metadata(png).map(|m| m.len()).unwrap_or(0) > 10_000);
+    }
+
+    #[test]
+    fn infinity_goes_beyond_the_finite_values() {
+        assert_eq!(
+            infinity_position(&[1.0, 10.0, 100.0, f64::INFINITY], true),
+            1000.0
+        );
+        assert_eq!(infinity_position(&[1.0, 5.0], false), 6.0);
+        assert_eq!(infinity_position(&[f64::INFINITY], true), 1.0);
+    }
+
+    #[test]
+    fn legend_outside_and_infinity_render_in_memory() {
+        let fig = Figure {
+            title: "deviation".into(),
+            x_label: "r (1)".into(),
+            y_label: "deviation (1)".into(),
+            x_log: true,
+            y_log: true,
+            series: vec![
+                Series::new(
+                    "ζ = 1",
+                    vec![(1.0, 0.3), (10.0, 0.1), (1000.0, 0.05)],
+                    Mark::LineShape(Shape::Square),
+                    0,
+                ),
+                Series::new("", vec![(1.0, 0.31)], Mark::Shape(Shape::Cross), 0),
+            ],
+            x_infinity: Some(1000.0),
+            legend_outside: true,
+        };
+        let (svg, png) = fig.render().expect("rendered");
+        assert!(svg.contains("∞") && svg.contains("ζ = 1"));
+        assert!(png.starts_with(b"\x89PNG") && png.len() > 10_000);
     }
 
     #[test]

@@ -71,11 +71,12 @@ fn default_run_prints_a_table_with_units() {
         "t_c (ms)",
         "T_c (µs)",
         "h_max (nm)",
-        "F_max (N)",
+        // Auto-scaled SI prefixes: F_max ≈ 0.122 N, E_diss ≈ 1e-14 J.
+        "F_max (mN)",
         "a_max (m/s²)",
         "v_c (m/s)",
         "e = v_r/|v_c| (1)",
-        "E_diss (J)",
+        "E_diss (fJ)",
         "steps",
         "-0.313209195",
     ] {
@@ -203,6 +204,36 @@ fn invalid_input_exits_2_names_the_field_and_writes_nothing() {
         assert!(out.stdout.is_empty(), "{args:?} printed to stdout");
         assert_eq!(files_in(&out_dir), Vec::<String>::new(), "{args:?}");
     }
+}
+
+#[test]
+fn plot_writes_the_three_figures_and_needs_out() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("plots");
+    dembound()
+        .args(["run", "--quiet", "--plot", "--out"])
+        .arg(&dir)
+        .assert()
+        .success();
+    for stem in ["overlap_vs_time", "force_vs_overlap", "velocity_vs_time"] {
+        for ext in ["svg", "png"] {
+            let path = dir.join(format!("{stem}.{ext}"));
+            let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+            // A PNG with axes and text is well over a few kB; an empty canvas ~2 kB.
+            assert!(size > 10_000, "{} has {size} bytes", path.display());
+        }
+    }
+    let svg = std::fs::read_to_string(dir.join("overlap_vs_time.svg")).unwrap();
+    // Axis labels carry units, the SI prefix chosen from the data (h_max ≈ 524 nm).
+    assert!(
+        svg.contains("overlap h  (nm)") && svg.contains("(µs)"),
+        "{svg}"
+    );
+    assert!(svg.contains("contact 2"));
+
+    let out = dembound().args(["run", "--plot"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--out"));
 }
 
 #[test]

@@ -53,6 +53,33 @@ fn sweep_reports_every_case_and_writes_its_files() {
     ] {
         assert!(out.join(f).exists(), "{f}");
     }
+    // The deviation figure: log axis, the tolerance line, ∞ on the r axis.
+    let svg = std::fs::read_to_string(out.join("max_overlap_vs_r_hertz.svg")).unwrap();
+    for needle in [
+        "deviation |h_max / h_max(r = ζ = ∞) − 1|",
+        "tolerance T = 1 %",
+        "∞",
+    ] {
+        assert!(svg.contains(needle), "`{needle}` not in the sweep figure");
+    }
+    let with_tolerance = dir.path().join("t");
+    dembound()
+        .args([
+            "sweep",
+            "--r",
+            "1,10",
+            "--zeta",
+            "1,inf",
+            "--tolerance",
+            "0.5%",
+        ])
+        .arg("--out")
+        .arg(&with_tolerance)
+        .args(["--plot", "--quiet"])
+        .assert()
+        .success();
+    let svg = std::fs::read_to_string(with_tolerance.join("duration_vs_zeta_hertz.svg")).unwrap();
+    assert!(svg.contains("tolerance T = 0.5 %"));
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert_eq!(
         csv.lines().count(),
@@ -100,6 +127,10 @@ fn sweep_bad_input_exits_2_naming_the_field() {
         "--r",
     );
     bad_input(&["sweep", "--r", "1", "--zeta", "1", "--plot"], "--out");
+    bad_input(
+        &["sweep", "--r", "1", "--zeta", "1", "--tolerance", "-1%"],
+        "--tolerance",
+    );
     bad_input(&["sweep", "--zeta", "1"], "--r");
 }
 
@@ -275,4 +306,10 @@ fn paper_writes_the_report_figures_and_quoted_numbers() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("<table>") && html.contains("data:image/png;base64,"));
     assert!(!html.contains("src=\"fig"), "every figure is embedded");
+    // A `|` inside a cell is escaped: the row keeps its cells (issue 10).
+    assert!(md.contains("| impact velocity \\|v_c\\| | m/s |"), "{md}");
+    assert!(
+        html.contains("<td>impact velocity |v_c|</td>"),
+        "the |v_c| row is one cell in report.html"
+    );
 }

@@ -1226,30 +1226,26 @@ pub fn run(args: &PaperArgs) -> CliResult {
     let written = out.commit().map_err(CliError::failed)?;
 
     let mut stdout = std::io::stdout().lock();
-    let mut t = comfy_table::Table::new();
-    t.load_preset(comfy_table::presets::UTF8_FULL_CONDENSED);
-    t.set_header(vec![
-        "quoted in the paper",
-        "unit",
-        "paper",
-        "ours (exact)",
-        "ours (integrator)",
-        "same digits",
+    let mut t = Table::new(vec![
+        Column::text("quoted in the paper"),
+        Column::text("unit"),
+        Column::text("paper").right(),
+        Column::text("ours (exact)").right(),
+        Column::text("ours (integrator)").right(),
+        Column::text("same digits"),
     ]);
     for q in &data.quoted {
-        t.add_row(vec![
-            q.what.clone(),
-            q.unit.clone(),
-            q.paper.clone(),
-            sig(q.ours, 7),
-            q.integrator
-                .map(|x| sig(x, 7))
-                .unwrap_or_else(|| "–".into()),
-            if q.agrees() {
-                "yes".into()
-            } else {
-                "NO".into()
-            },
+        t.push(vec![
+            Cell::text(&q.what),
+            Cell::text(&q.unit),
+            Cell::text(&q.paper),
+            Cell::text(sig(q.ours, 7)),
+            Cell::text(
+                q.integrator
+                    .map(|x| sig(x, 7))
+                    .unwrap_or_else(|| "–".into()),
+            ),
+            Cell::text(if q.agrees() { "yes" } else { "NO" }),
         ]);
     }
     let total = start.elapsed().as_secs_f64();

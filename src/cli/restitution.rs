@@ -11,10 +11,10 @@ use crate::output::format::sig;
 use crate::output::restitution::{
     ratio_text, restitution_figures, restitution_markdown, write_restitution_csv,
 };
+use crate::output::table::{Cell, Column, Table};
 use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
-use comfy_table::{presets, CellAlignment, Table};
 use dembound_core::bounce::Scenario;
 use dembound_core::study::restitution::{
     required_restitution, restitution_sweep, Calibration, DissipativeLaw, RequiredRestitution,
@@ -224,34 +224,38 @@ fn summary_table(study: &RestitutionStudy) -> Table {
             .map(|&r| (r, spec.modulus_ratios[0]))
             .collect();
     }
-    let mut table = Table::new();
-    table.load_preset(presets::UTF8_FULL_CONDENSED);
-    let mut header = vec!["law".to_string(), "calibration".into(), "e".into()];
-    header.extend(cols.iter().map(|&(r, z)| {
-        if r == z {
+    let mut columns = vec![
+        Column::text("law"),
+        Column::text("calibration"),
+        Column::text("e").right(),
+    ];
+    columns.extend(cols.iter().map(|&(r, z)| {
+        Column::text(if r == z {
             format!("r = ζ = {}", ratio_text(r))
         } else {
             format!("r = {}, ζ = {}", ratio_text(r), ratio_text(z))
-        }
+        })
+        .right()
     }));
-    table.set_header(header);
+    let mut table = Table::new(columns).with_keys(3);
     for &law in &spec.laws {
         for &cal in &spec.calibrations {
             for &e in &spec.targets {
-                let mut row = vec![law.name().to_string(), cal.name().into(), e.to_string()];
+                let mut row = vec![
+                    Cell::text(law.name()),
+                    Cell::text(cal.name()),
+                    Cell::text(e.to_string()),
+                ];
                 row.extend(cols.iter().map(|&(r, z)| {
-                    study
-                        .point(law, cal, e, r, z)
-                        .map(|p| format!("{:.6}", p.restitution()))
-                        .unwrap_or_default()
+                    Cell::Text(
+                        study
+                            .point(law, cal, e, r, z)
+                            .map(|p| format!("{:.6}", p.restitution()))
+                            .unwrap_or_default(),
+                    )
                 }));
-                table.add_row(row);
+                table.push(row);
             }
-        }
-    }
-    for i in 2..3 + cols.len() {
-        if let Some(c) = table.column_mut(i) {
-            c.set_cell_alignment(CellAlignment::Right);
         }
     }
     table
