@@ -1,0 +1,2 @@
+//! Files: the scene file ([`config`]), VTK snapshots ([`vtk`]), the time
+//! series ([`series`]) and checkpoints ([`checkpoint`]).
