@@ -1,0 +1,22 @@
+//! dembound-scene: a many-particle 3D DEM engine for scenes of spheres,
+//! boundary particles and plane walls (issue 12). No I/O in the engine:
+//! a [`setup::SceneSetup`] in, a [`Simulation`] to step and query.
+//!
+//! - [`bodies`]: the body store (structure of arrays).
+//! - [`geometry`]: box, cells, Verlet lists, ghost layer.
+//! - [`dynamics`]: pair contacts, plane walls, integrators, collision log.
+//! - [`pipeline`]: one step as named stages over the [`pipeline::World`].
+//! - [`simulation`]: the public [`Simulation`] API and its checkpoint.
+
+pub mod bodies;
+pub mod dynamics;
+pub mod error;
+pub mod geometry;
+pub mod pipeline;
+pub mod setup;
+pub mod simulation;
+
+pub use dynamics::collisions::{Collision, Partner};
+pub use error::SceneError;
+pub use setup::SceneSetup;
+pub use simulation::{Checkpoint, Observation, Simulation, TimeStepReport};
