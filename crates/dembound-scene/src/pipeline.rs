@@ -1,0 +1,430 @@
+//! One time step as named stages: ghosts, neighbours, forces, integrate,
+//! observe. The [`World`] is the data set; the [`Pipeline`] holds only
+//! scratch (the reference positions of the displacement check and the
+//! cell grid).
+
+use std::collections::HashMap;
+
+use dembound_physics::contact::ContactHistory;
+
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::collisions::{Collision, Partner, Track};
+use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
+use crate::dynamics::integrate;
+use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts};
+use crate::geometry::cells::{sort_by_cell, CellGrid};
+use crate::geometry::domain::Domain;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::{PairList, SearchInput};
+use crate::setup::Scheme;
+
+/// What a wall in file order is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WallKind {
+    /// Index into [`World::planes`].
+    Plane(usize),
+    /// Boundary particles: the bodies whose group is this wall.
+    Particles,
+}
+
+/// Collision tracking state, aligned with the lists.
+#[derive(Debug, Clone, Default)]
+pub struct Tracks {
+    pub main: Vec<Track>,
+    pub extra: Vec<Track>,
+    /// `planes[i * planes + p]`, permuted with the bodies.
+    pub planes: Vec<Track>,
+}
+
+/// The data set of a simulation.
+#[derive(Debug, Clone)]
+pub struct World {
+    pub bodies: Bodies,
+    pub planes: Vec<PlaneWall>,
+    pub wall_contacts: WallContacts,
+    pub walls: Vec<WallKind>,
+    pub domain: Domain,
+    pub laws: LawTable,
+    pub gravity: [f64; 3],
+    pub scheme: Scheme,
+    /// s.
+    pub dt: f64,
+    pub steps_done: u64,
+    /// Neighbour skin, m.
+    pub skin: f64,
+    /// Cell edge (≥ the largest pair range among celled bodies), m.
+    pub cell_size: f64,
+    /// Bodies larger than this (m) are paired outside the cells.
+    pub large_radius: f64,
+    pub list: PairList,
+    pub histories: PairHistories,
+    pub ghosts: Ghosts,
+    /// `Some` when the collision log is on.
+    pub tracks: Option<Tracks>,
+    pub collisions: Vec<Collision>,
+    pub rebuilds: u64,
+}
+
+impl World {
+    pub fn time(&self) -> f64 {
+        self.steps_done as f64 * self.dt
+    }
+}
+
+/// Scratch of the stages.
+#[derive(Debug, Clone, Default)]
+pub struct Pipeline {
+    /// Positions at the last list build, m.
+    pub reference: Vec<[f64; 3]>,
+    grid: CellGrid,
+}
+
+impl Pipeline {
+    /// Builds the lists and evaluates the first forces.
+    pub fn start(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+        self.neighbours(world, pool);
+        self.forces(world, pool);
+        if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
+            integrate::gear5_start(&mut world.bodies, world.dt);
+        }
+    }
+
+    /// One step.
+    pub fn step(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+        let dt = world.dt;
+        let moved2 = match world.scheme {
+            Scheme::Verlet => {
+                integrate::verlet_kick_drift(&mut world.bodies, &self.reference, dt, pool)
+            }
+            Scheme::Gear5 => integrate::gear5_predict(&mut world.bodies, &self.reference, dt, pool),
+        };
+        let half_skin = 0.5 * world.skin;
+        if !(moved2 <= half_skin * half_skin) {
+            self.neighbours(world, pool);
+        } else {
+            self.ghosts(world);
+        }
+        self.forces(world, pool);
+        match world.scheme {
+            Scheme::Verlet => integrate::verlet_kick(&mut world.bodies, dt, pool),
+            Scheme::Gear5 => {
+                let c = integrate::gear5_corrector(
+                    world.laws.model.pair(&unit_pair()).depends_on_rate(),
+                );
+                integrate::gear5_correct(&mut world.bodies, dt, c, pool);
+            }
+        }
+        world.steps_done += 1;
+        self.ghosts(world);
+        self.observe(world);
+    }
+
+    /// Stage "ghosts": images follow their owners.
+    pub fn ghosts(&mut self, world: &mut World) {
+        world
+            .ghosts
+            .update(&world.bodies.position, &world.bodies.velocity);
+    }
+
+    /// Stage "neighbours": wrap into the box, sort bodies by cell, rebuild
+    /// the ghost layer and the lists, carry every pair's history over.
+    pub fn neighbours(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+        world.rebuilds += 1;
+        // Histories (and collision tracks) by input ids.
+        let saved: HashMap<(u32, u32), ContactHistory> =
+            contacts::active_histories(&world.bodies, &world.ghosts, &world.list, &world.histories)
+                .into_iter()
+                .map(|(a, b, h)| ((a, b), h))
+                .collect();
+        let saved_tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
+
+        let n = world.bodies.len();
+        for k in 0..n {
+            world.bodies.position[k] = world.domain.wrap(world.bodies.position[k]);
+        }
+        // Grid bounds: the box on periodic axes, the celled bodies' extent elsewhere.
+        let large = world.large_radius;
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for k in 0..n {
+            if world.bodies.radius[k] > large {
+                continue;
+            }
+            let x = world.bodies.position[k];
+            for a in 0..3 {
+                if x[a].is_finite() {
+                    lo[a] = lo[a].min(x[a]);
+                    hi[a] = hi[a].max(x[a]);
+                }
+            }
+        }
+        for a in 0..3 {
+            if world.domain.periodic[a] {
+                lo[a] = world.domain.lower[a];
+                hi[a] = world.domain.upper[a];
+            } else if lo[a] > hi[a] {
+                lo[a] = 0.0;
+                hi[a] = 0.0;
+            }
+        }
+        self.grid = CellGrid::new(lo, hi, world.cell_size, (2 * n).max(64));
+        let cells = self.grid.count();
+        let cell: Vec<u32> = (0..n)
+            .map(|k| {
+                if world.bodies.radius[k] > large {
+                    cells as u32
+                } else {
+                    self.grid.index(self.grid.coords(world.bodies.position[k])) as u32
+                }
+            })
+            .collect();
+        let (order, start) = sort_by_cell(&cell, cells);
+        world.bodies.permute(&order);
+        world.wall_contacts.permute(&order);
+        if let Some(t) = world.tracks.as_mut() {
+            let p = world.planes.len();
+            if p > 0 {
+                let mut v = Vec::with_capacity(t.planes.len());
+                for &o in &order {
+                    v.extend_from_slice(&t.planes[o as usize * p..(o as usize + 1) * p]);
+                }
+                t.planes = v;
+            }
+        }
+        let celled = start[cells] as usize;
+        let bodies = &world.bodies;
+        world.ghosts = Ghosts::build(&world.domain, &bodies.position, world.cell_size, |k| {
+            bodies.radius[k] > large
+        });
+        world.ghosts.update(&bodies.position, &bodies.velocity);
+        world.list = PairList::build(
+            &SearchInput {
+                position: &bodies.position,
+                radius: &bodies.radius,
+                fixed: &bodies.fixed,
+                celled,
+                grid: &self.grid,
+                cell_start: &start,
+                ghosts: &world.ghosts,
+                skin: world.skin,
+            },
+            pool,
+        );
+        let list = &world.list;
+        let key = |i: usize, j_ext: usize| {
+            let (_, _, owner) = extended(bodies, &world.ghosts, j_ext);
+            let (a, b) = (bodies.id[i], bodies.id[owner]);
+            (a.min(b), a.max(b))
+        };
+        let mut main = vec![ContactHistory::default(); list.j.len()];
+        let mut extra = vec![ContactHistory::default(); list.extra.len()];
+        if !saved.is_empty() {
+            for i in 0..n {
+                for k in list.start[i] as usize..list.start[i + 1] as usize {
+                    if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
+                        main[k] = *h;
+                    }
+                }
+            }
+            for (k, &(i, j)) in list.extra.iter().enumerate() {
+                if let Some(h) = saved.get(&key(i as usize, j as usize)) {
+                    extra[k] = *h;
+                }
+            }
+        }
+        world.histories = PairHistories { main, extra };
+        if let (Some(saved), Some(tracks)) = (saved_tracks, world.tracks.as_mut()) {
+            tracks.main = vec![Track::default(); list.j.len()];
+            tracks.extra = vec![Track::default(); list.extra.len()];
+            for i in 0..n {
+                for k in list.start[i] as usize..list.start[i + 1] as usize {
+                    if let Some(t) = saved.get(&key(i, list.j[k] as usize)) {
+                        tracks.main[k] = *t;
+                    }
+                }
+            }
+            for (k, &(i, j)) in list.extra.iter().enumerate() {
+                if let Some(t) = saved.get(&key(i as usize, j as usize)) {
+                    tracks.extra[k] = *t;
+                }
+            }
+        }
+        self.reference.clone_from(&world.bodies.position);
+    }
+
+    /// Stage "forces": gravity and plane walls per body, then the pairs.
+    pub fn forces(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+        let mut force = std::mem::take(&mut world.bodies.force);
+        force.resize(world.bodies.len(), [0.0; 3]);
+        walls::start_forces(
+            &world.bodies,
+            &world.planes,
+            &mut world.wall_contacts,
+            &world.laws,
+            world.gravity,
+            &mut force,
+            pool,
+        );
+        contacts::add_pair_forces(
+            &world.bodies,
+            &world.ghosts,
+            &world.list,
+            &mut world.histories,
+            &world.laws,
+            &mut force,
+            pool,
+        );
+        world.bodies.force = force;
+    }
+
+    /// Stage "observe": the collision log at the end of the step.
+    pub fn observe(&mut self, world: &mut World) {
+        let t = world.time();
+        let Some(tracks) = world.tracks.as_mut() else {
+            return;
+        };
+        let dt = world.dt;
+        let bodies = &world.bodies;
+        let n = bodies.len();
+        let laws = &world.laws;
+        let mut log = Vec::new();
+        let mut visit = |i: usize, j_ext: usize, track: &mut Track, history: &ContactHistory| {
+            let (xj, vj, owner) = extended(bodies, &world.ghosts, j_ext);
+            let g = contacts::separation(
+                bodies.position[i],
+                bodies.velocity[i],
+                bodies.radius[i],
+                xj,
+                vj,
+                bodies.radius[owner],
+            );
+            let law = laws.pair(bodies, i, owner);
+            if let Some(c) = track.advance(t, dt, g.overlap, g.overlap_rate, |h, r| {
+                law.force(h, r, history)
+            }) {
+                let (a, b) = (bodies.id[i] as usize, bodies.id[owner] as usize);
+                log.push(Collision {
+                    i: a.min(b),
+                    j: Partner::Body(a.max(b)),
+                    t_start: c.t_start,
+                    t_end: c.t_end,
+                    duration: c.t_end - c.t_start,
+                    max_overlap: c.max_overlap,
+                    max_normal_force: c.max_force,
+                    impact_normal_velocity: c.impact,
+                    rebound_normal_velocity: c.rebound,
+                });
+            }
+        };
+        for i in 0..n {
+            for k in world.list.start[i] as usize..world.list.start[i + 1] as usize {
+                visit(
+                    i,
+                    world.list.j[k] as usize,
+                    &mut tracks.main[k],
+                    &world.histories.main[k],
+                );
+            }
+        }
+        for (k, &(i, j)) in world.list.extra.iter().enumerate() {
+            visit(
+                i as usize,
+                j as usize,
+                &mut tracks.extra[k],
+                &world.histories.extra[k],
+            );
+        }
+        let np = world.planes.len();
+        for i in 0..n {
+            if bodies.fixed[i] {
+                continue;
+            }
+            for (p, plane) in world.planes.iter().enumerate() {
+                let (h, rate) = plane_overlap(
+                    plane,
+                    bodies.position[i],
+                    bodies.velocity[i],
+                    bodies.radius[i],
+                );
+                let track = &mut tracks.planes[i * np + p];
+                // Only couples near contact are worth tracking.
+                if h < -world.skin && !track.is_known() {
+                    continue;
+                }
+                let law = laws.plane(bodies, i, p);
+                let hist = &world.wall_contacts.history[i * np + p];
+                if let Some(c) = track.advance(t, dt, h, rate, |h, r| law.force(h, r, hist)) {
+                    log.push(Collision {
+                        i: bodies.id[i] as usize,
+                        j: Partner::Wall(plane.wall),
+                        t_start: c.t_start,
+                        t_end: c.t_end,
+                        duration: c.t_end - c.t_start,
+                        max_overlap: c.max_overlap,
+                        max_normal_force: c.max_force,
+                        impact_normal_velocity: c.impact,
+                        rebound_normal_velocity: c.rebound,
+                    });
+                }
+                if h < -world.skin {
+                    *track = Track::default();
+                }
+            }
+        }
+        // A fixed order within the step: by pair.
+        log.sort_by(|a, b| (a.i, partner_key(a.j)).cmp(&(b.i, partner_key(b.j))));
+        world.collisions.extend(log);
+    }
+}
+
+fn partner_key(p: Partner) -> (u8, usize) {
+    match p {
+        Partner::Body(j) => (0, j),
+        Partner::Wall(w) => (1, w),
+    }
+}
+
+/// The tracks of the listed couples that have a previous step, by input ids.
+pub(crate) fn saved_tracks_public(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+    saved_tracks(world, tracks)
+}
+
+fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+    let bodies = &world.bodies;
+    let list = &world.list;
+    let mut out = HashMap::new();
+    if tracks.main.len() != list.j.len() {
+        return out;
+    }
+    for i in 0..bodies.len() {
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            if tracks.main[k].is_known() {
+                let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
+                out.insert((a.min(b), a.max(b)), tracks.main[k]);
+            }
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        if tracks.extra.get(k).is_some_and(|t| t.is_known()) {
+            let (_, _, owner) = extended(bodies, &world.ghosts, j as usize);
+            let (a, b) = (bodies.id[i as usize], bodies.id[owner]);
+            out.insert((a.min(b), a.max(b)), tracks.extra[k]);
+        }
+    }
+    out
+}
+
+/// A pair used only to ask the contact model whether it depends on the
+/// overlap rate.
+fn unit_pair() -> dembound_physics::material::PairProperties {
+    dembound_physics::material::PairProperties {
+        radius: 1.0,
+        modulus: 1.0,
+        mass: 1.0,
+    }
+}
+
+/// Whether body k belongs to a boundary-particle wall.
+pub fn in_group(bodies: &Bodies, k: usize) -> bool {
+    bodies.group[k] != NO_GROUP
+}
