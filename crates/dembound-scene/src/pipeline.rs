@@ -393,7 +393,7 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
     let bodies = &world.bodies;
     let list = &world.list;
     let mut out = HashMap::new();
-    if tracks.main.len() != list.j.len() {
+    if tracks.main.len() != list.j.len() || list.start.len() != bodies.len() + 1 {
         return out;
     }
     for i in 0..bodies.len() {

@@ -958,12 +958,23 @@ fn smallest_contact_time(setup: &SceneSetup, impact_speed: f64) -> f64 {
         }
     };
     let mut best = f64::INFINITY;
-    for (a, &(ra, ma, fa)) in cl.iter().enumerate() {
+    // A class paired with itself only when two bodies share it.
+    let count = |c: (f64, usize, bool)| {
+        setup
+            .spheres
+            .iter()
+            .filter(|s| (s.radius, s.material, s.fixed) == c)
+            .take(2)
+            .count()
+    };
+    for &(ra, ma, fa) in cl.iter() {
         if fa {
             continue;
         }
         for &(rb, mb, fb) in &cl[..] {
-            let _ = a;
+            if (rb, mb, fb) == (ra, ma, fa) && count((ra, ma, fa)) < 2 {
+                continue;
+            }
             let p = PairProperties::spheres(
                 ra,
                 mass(ra, ma, fa),

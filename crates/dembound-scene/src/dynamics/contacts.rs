@@ -444,6 +444,10 @@ pub fn active_histories(
 ) -> Vec<(u32, u32, ContactHistory)> {
     let mut out = Vec::new();
     let n = bodies.len();
+    if list.start.len() != n + 1 {
+        // No list yet.
+        return out;
+    }
     for i in 0..n {
         for k in list.start[i] as usize..list.start[i + 1] as usize {
             if histories.main[k] != ContactHistory::default() {
