@@ -12,6 +12,7 @@ pub mod bodies;
 pub mod dynamics;
 pub mod error;
 pub mod geometry;
+pub mod parallel;
 pub mod pipeline;
 pub mod setup;
 pub mod simulation;

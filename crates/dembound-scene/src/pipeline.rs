@@ -16,6 +16,7 @@ use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::{PairList, SearchInput};
+use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
 use crate::setup::Scheme;
 
 /// What a wall in file order is.
@@ -77,46 +78,132 @@ pub struct Pipeline {
     /// Positions at the last list build, m.
     pub reference: Vec<[f64; 3]>,
     grid: CellGrid,
+    /// Verlet's last half kick of the previous step is still to apply.
+    pending_kick: bool,
 }
 
 impl Pipeline {
     /// Builds the lists and evaluates the first forces.
-    pub fn start(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
-        self.neighbours(world, pool);
-        self.forces(world, pool);
+    pub fn start(&mut self, world: &mut World, workers: &Workers) {
+        self.neighbours(world, workers);
+        self.forces(world, workers);
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
     }
 
-    /// One step.
-    pub fn step(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
-        let dt = world.dt;
-        let moved2 = match world.scheme {
-            Scheme::Verlet => {
-                integrate::verlet_kick_drift(&mut world.bodies, &self.reference, dt, pool)
-            }
-            Scheme::Gear5 => integrate::gear5_predict(&mut world.bodies, &self.reference, dt, pool),
-        };
-        let half_skin = 0.5 * world.skin;
-        if !(moved2 <= half_skin * half_skin) {
-            self.neighbours(world, pool);
-        } else {
+    /// `n` steps. Verlet's last half kick of a step is fused with the first
+    /// of the next (the same operations in the same order as two passes:
+    /// the same bits however the steps are grouped); the state is complete
+    /// again when this returns.
+    pub fn steps(&mut self, world: &mut World, workers: &Workers, n: u64) {
+        for _ in 0..n {
+            self.step(world, workers);
+        }
+        self.finish(world, workers);
+    }
+
+    /// Applies a pending half kick.
+    pub fn finish(&mut self, world: &mut World, workers: &Workers) {
+        if self.pending_kick {
+            integrate::verlet_kick(&mut world.bodies, world.dt, workers);
+            self.pending_kick = false;
             self.ghosts(world);
         }
-        self.forces(world, pool);
+    }
+
+    fn step(&mut self, world: &mut World, workers: &Workers) {
+        let dt = world.dt;
+        let half_skin = 0.5 * world.skin;
         match world.scheme {
-            Scheme::Verlet => integrate::verlet_kick(&mut world.bodies, dt, pool),
+            Scheme::Verlet => {
+                // Stages integrate (first half) and forces (per body:
+                // gravity, walls) in one pass over the bodies.
+                let moved2 = self.verlet_advance(world, workers);
+                if !(moved2 <= half_skin * half_skin) {
+                    self.neighbours(world, workers);
+                    // The wall masks are new: the per-body forces again
+                    // (the same state: history updates are idempotent).
+                    self.body_forces(world, workers);
+                } else {
+                    self.ghosts(world);
+                }
+                self.pair_forces(world, workers);
+                if world.tracks.is_some() {
+                    integrate::verlet_kick(&mut world.bodies, dt, workers);
+                } else {
+                    self.pending_kick = true;
+                }
+            }
             Scheme::Gear5 => {
+                let moved2 =
+                    integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
+                if !(moved2 <= half_skin * half_skin) {
+                    self.neighbours(world, workers);
+                } else {
+                    self.ghosts(world);
+                }
+                self.forces(world, workers);
                 let c = integrate::gear5_corrector(
                     world.laws.model.pair(&unit_pair()).depends_on_rate(),
                 );
-                integrate::gear5_correct(&mut world.bodies, dt, c, pool);
+                integrate::gear5_correct(&mut world.bodies, dt, c, workers);
             }
         }
         world.steps_done += 1;
-        self.ghosts(world);
-        self.observe(world);
+        if world.tracks.is_some() {
+            self.ghosts(world);
+            self.observe(world);
+        }
+    }
+
+    /// Verlet: the pending half kick of the last step (if any), the half
+    /// kick and drift of this one, and the body's gravity and wall forces
+    /// at its new position. Returns the largest squared displacement since
+    /// the last list build, m².
+    fn verlet_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
+        let n = world.bodies.len();
+        let half_dt = 0.5 * world.dt;
+        let dt = world.dt;
+        let pending = self.pending_kick;
+        self.pending_kick = false;
+        let walls = world.wall_contacts.shared();
+        let b = &mut world.bodies;
+        let (x, v, f) = (
+            SharedMut::new(&mut b.position),
+            SharedMut::new(&mut b.velocity),
+            SharedMut::new(&mut b.force),
+        );
+        let b = &world.bodies;
+        let (planes, laws, gravity, reference) =
+            (&world.planes, &world.laws, world.gravity, &self.reference);
+        let partial = workers.map(n.div_ceil(BODY_CHUNK), |c| {
+            let mut m = 0.0f64;
+            for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
+                if b.fixed[i] {
+                    // SAFETY: as below.
+                    unsafe { *f.at(i) = [0.0; 3] };
+                    continue;
+                }
+                // SAFETY: chunks are disjoint ranges of bodies; body i's
+                // position, velocity, force and wall entries are touched
+                // by this iteration only, and `body_force` reads body i
+                // alone.
+                unsafe {
+                    let (xi, vi, fi) = (x.at(i), v.at(i), f.at(i));
+                    let dtfm = half_dt / b.mass[i];
+                    if pending {
+                        integrate::half_kick(vi, *fi, dtfm);
+                    }
+                    integrate::half_kick(vi, *fi, dtfm);
+                    integrate::drift(xi, *vi, dt);
+                    m = m.max(integrate::displacement2(*xi, reference[i]));
+                    *fi = walls::body_force(b, i, planes, &walls, laws, gravity);
+                }
+            }
+            m
+        });
+        partial.into_iter().fold(0.0, f64::max)
     }
 
     /// Stage "ghosts": images follow their owners.
@@ -128,7 +215,7 @@ impl Pipeline {
 
     /// Stage "neighbours": wrap into the box, sort bodies by cell, rebuild
     /// the ghost layer and the lists, carry every pair's history over.
-    pub fn neighbours(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+    pub fn neighbours(&mut self, world: &mut World, workers: &Workers) {
         world.rebuilds += 1;
         // Histories (and collision tracks) by input ids.
         let saved: HashMap<(u32, u32), ContactHistory> =
@@ -181,6 +268,9 @@ impl Pipeline {
         let (order, start) = sort_by_cell(&cell, cells);
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
+        world
+            .wall_contacts
+            .update_near(&world.bodies, &world.planes, world.skin);
         if let Some(t) = world.tracks.as_mut() {
             let p = world.planes.len();
             if p > 0 {
@@ -208,7 +298,7 @@ impl Pipeline {
                 ghosts: &world.ghosts,
                 skin: world.skin,
             },
-            pool,
+            workers,
         );
         let list = &world.list;
         let key = |i: usize, j_ext: usize| {
@@ -253,9 +343,15 @@ impl Pipeline {
     }
 
     /// Stage "forces": gravity and plane walls per body, then the pairs.
-    pub fn forces(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+    pub fn forces(&mut self, world: &mut World, workers: &Workers) {
+        self.body_forces(world, workers);
+        self.pair_forces(world, workers);
+    }
+
+    /// Gravity and plane walls: sets each body's force.
+    fn body_forces(&mut self, world: &mut World, workers: &Workers) {
+        world.bodies.force.resize(world.bodies.len(), [0.0; 3]);
         let mut force = std::mem::take(&mut world.bodies.force);
-        force.resize(world.bodies.len(), [0.0; 3]);
         walls::start_forces(
             &world.bodies,
             &world.planes,
@@ -263,8 +359,14 @@ impl Pipeline {
             &world.laws,
             world.gravity,
             &mut force,
-            pool,
+            workers,
         );
+        world.bodies.force = force;
+    }
+
+    /// Adds the pair forces.
+    fn pair_forces(&mut self, world: &mut World, workers: &Workers) {
+        let mut force = std::mem::take(&mut world.bodies.force);
         contacts::add_pair_forces(
             &world.bodies,
             &world.ghosts,
@@ -272,7 +374,7 @@ impl Pipeline {
             &mut world.histories,
             &world.laws,
             &mut force,
-            pool,
+            workers,
         );
         world.bodies.force = force;
     }

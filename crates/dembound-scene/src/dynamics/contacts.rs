@@ -1,14 +1,12 @@
 //! Sphere–sphere contact forces through the physics crate's `PairLaw`, with
 //! each pair's `ContactHistory` kept beside the neighbour list.
 
-use dembound_physics::contact::{ContactHistory, ContactModel, NormalLaw, PairLaw};
-use dembound_physics::material::{Material, PairProperties};
-use rayon::prelude::*;
-
-use super::SharedMut;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
+use crate::parallel::{SharedMut, Workers};
+use dembound_physics::contact::{ContactHistory, ContactModel, NormalLaw, PairLaw};
+use dembound_physics::material::{Material, PairProperties};
 
 /// At most this many body classes (material, radius, fixed) get a
 /// precomputed table of pair laws; beyond, laws are computed per contact.
@@ -200,6 +198,29 @@ pub fn touching(
     Some(geometry(d, r2, s, vi, vj))
 }
 
+/// [`touching`] with the partner's velocity read only in contact.
+#[inline(always)]
+pub fn touching_lazy(
+    xi: [f64; 3],
+    vi: [f64; 3],
+    ri: f64,
+    xj: [f64; 3],
+    vj: impl Fn() -> [f64; 3],
+    rj: f64,
+) -> Option<PairGeometry> {
+    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let s = ri + rj;
+    if r2 >= s * s {
+        return None;
+    }
+    if r2 == 0.0 {
+        // Coincident centres: no direction to push along.
+        return None;
+    }
+    Some(geometry(d, r2, s, vi, vj()))
+}
+
 /// The pair's geometry whether or not it touches (collision log).
 #[inline]
 pub fn separation(
@@ -261,10 +282,11 @@ pub fn add_pair_forces(
     histories: &mut PairHistories,
     laws: &LawTable,
     force: &mut [[f64; 3]],
-    pool: &rayon::ThreadPool,
+    workers: &Workers,
 ) {
     let n = bodies.len();
-    debug_assert_eq!(force.len(), n);
+    assert!(force.len() == n && list.start.len() == n + 1 && histories.main.len() == list.j.len());
+    assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
     let f_ptr = SharedMut(force.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
     let blocks = list.blocks.len().saturating_sub(1);
@@ -314,14 +336,10 @@ pub fn add_pair_forces(
             unsafe { add(&mut *f_ptr.0.add(i), fi) };
         }
     };
-    pool.install(|| {
-        for parity in 0..2 {
-            (0..blocks)
-                .into_par_iter()
-                .filter(|b| b % 2 == parity)
-                .for_each(|b| run_block(b));
-        }
-    });
+    for parity in 0..2 {
+        let count = (blocks + 1 - parity) / 2;
+        workers.run(count, |k| run_block(2 * k + parity));
+    }
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -380,11 +398,14 @@ pub fn pair_observables(
     list: &PairList,
     histories: &PairHistories,
     laws: &LawTable,
-    pool: &rayon::ThreadPool,
+    workers: &Workers,
 ) -> (usize, usize, f64) {
     let n = bodies.len();
+    if list.start.len() != n + 1 {
+        return (0, 0, 0.0);
+    }
     let walled = |i: usize, j: usize| bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP;
-    let [count, wall_count, energy] = super::deterministic_sum(pool, n, |i| {
+    let [count, wall_count, energy] = workers.sum(n, |i| {
         let mut c = 0.0;
         let mut w = 0.0;
         let mut e = 0.0;
