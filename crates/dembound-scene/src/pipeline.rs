@@ -11,7 +11,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
 use crate::dynamics::integrate;
-use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts};
+use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
@@ -163,45 +163,29 @@ impl Pipeline {
     /// the last list build, m².
     fn verlet_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
         let n = world.bodies.len();
-        let half_dt = 0.5 * world.dt;
-        let dt = world.dt;
         let pending = self.pending_kick;
         self.pending_kick = false;
-        let walls = world.wall_contacts.shared();
-        let b = &mut world.bodies;
-        let (x, v, f) = (
-            SharedMut::new(&mut b.position),
-            SharedMut::new(&mut b.velocity),
-            SharedMut::new(&mut b.force),
+        let ctx = AdvanceContext {
+            x: SharedMut::new(&mut world.bodies.position),
+            v: SharedMut::new(&mut world.bodies.velocity),
+            f: SharedMut::new(&mut world.bodies.force),
+            walls: world.wall_contacts.shared(),
+            bodies: &world.bodies,
+            planes: &world.planes,
+            laws: &world.laws,
+            gravity: world.gravity,
+            reference: &self.reference,
+            dt: world.dt,
+            pending,
+        };
+        assert!(
+            self.reference.len() == n
+                && world.bodies.mass.len() == n
+                && world.bodies.fixed.len() == n
         );
-        let b = &world.bodies;
-        let (planes, laws, gravity, reference) =
-            (&world.planes, &world.laws, world.gravity, &self.reference);
         let partial = workers.map(n.div_ceil(BODY_CHUNK), |c| {
-            let mut m = 0.0f64;
-            for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
-                if b.fixed[i] {
-                    // SAFETY: as below.
-                    unsafe { *f.at(i) = [0.0; 3] };
-                    continue;
-                }
-                // SAFETY: chunks are disjoint ranges of bodies; body i's
-                // position, velocity, force and wall entries are touched
-                // by this iteration only, and `body_force` reads body i
-                // alone.
-                unsafe {
-                    let (xi, vi, fi) = (x.at(i), v.at(i), f.at(i));
-                    let dtfm = half_dt / b.mass[i];
-                    if pending {
-                        integrate::half_kick(vi, *fi, dtfm);
-                    }
-                    integrate::half_kick(vi, *fi, dtfm);
-                    integrate::drift(xi, *vi, dt);
-                    m = m.max(integrate::displacement2(*xi, reference[i]));
-                    *fi = walls::body_force(b, i, planes, &walls, laws, gravity);
-                }
-            }
-            m
+            // SAFETY: chunks are disjoint ranges of bodies; lengths asserted.
+            unsafe { verlet_chunk(&ctx, c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n)) }
         });
         partial.into_iter().fold(0.0, f64::max)
     }
@@ -477,6 +461,57 @@ impl Pipeline {
         log.sort_by(|a, b| (a.i, partner_key(a.j)).cmp(&(b.i, partner_key(b.j))));
         world.collisions.extend(log);
     }
+}
+
+/// What [`verlet_chunk`] needs. `bodies` is read only for radius, mass,
+/// fixed flag and class; positions, velocities and forces go through the
+/// raw pointers.
+struct AdvanceContext<'a> {
+    x: SharedMut<[f64; 3]>,
+    v: SharedMut<[f64; 3]>,
+    f: SharedMut<[f64; 3]>,
+    walls: WallContactsMut,
+    bodies: &'a Bodies,
+    planes: &'a [PlaneWall],
+    laws: &'a LawTable,
+    gravity: [f64; 3],
+    reference: &'a [[f64; 3]],
+    dt: f64,
+    pending: bool,
+}
+
+unsafe impl Sync for AdvanceContext<'_> {}
+
+/// Verlet's first half (after a pending closing half kick) and the
+/// per-body forces of bodies lo..hi. Returns their largest squared
+/// displacement since the last list build, m².
+///
+/// # Safety
+/// lo..hi within the bodies, and no other thread touches these bodies.
+#[inline(never)]
+unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+    let b = c.bodies;
+    let half_dt = 0.5 * c.dt;
+    let mut m = 0.0f64;
+    // Local slices: their headers are not reloaded after the raw writes.
+    let (fixed, mass, reference) = (&b.fixed[..], &b.mass[..], c.reference);
+    for i in lo..hi {
+        let fi = c.f.at(i);
+        if *fixed.get_unchecked(i) {
+            *fi = [0.0; 3];
+            continue;
+        }
+        let (xi, vi) = (c.x.at(i), c.v.at(i));
+        let dtfm = half_dt / *mass.get_unchecked(i);
+        if c.pending {
+            integrate::half_kick(vi, *fi, dtfm);
+        }
+        integrate::half_kick(vi, *fi, dtfm);
+        integrate::drift(xi, *vi, c.dt);
+        m = m.max(integrate::displacement2(*xi, *reference.get_unchecked(i)));
+        *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
+    }
+    m
 }
 
 fn partner_key(p: Partner) -> (u8, usize) {

@@ -114,7 +114,7 @@ impl LawTable {
     }
 
     /// The law of bodies i and j.
-    #[inline]
+    #[inline(always)]
     pub fn pair(&self, bodies: &Bodies, i: usize, j: usize) -> PairLaw {
         if self.classes > 0 {
             let (a, b) = (bodies.class[i] as usize, bodies.class[j] as usize);
@@ -290,45 +290,51 @@ pub fn add_pair_forces(
     let f_ptr = SharedMut(force.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
     let blocks = list.blocks.len().saturating_sub(1);
+    // Local slices: the compiler cannot hoist loads of the vectors' headers
+    // past the raw-pointer writes below.
+    let (position, velocity, radius) = (
+        &bodies.position[..],
+        &bodies.velocity[..],
+        &bodies.radius[..],
+    );
+    let (start, js) = (&list.start[..], &list.j[..]);
     let run_block = |b: usize| {
         let (f_ptr, h_ptr) = (f_ptr, h_ptr);
         let lo = list.blocks[b] as usize;
         let hi = list.blocks[b + 1] as usize;
         for i in lo..hi {
-            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
             if s == e {
                 continue;
             }
-            let xi = bodies.position[i];
-            let vi = bodies.velocity[i];
-            let ri = bodies.radius[i];
+            let xi = position[i];
+            let vi = velocity[i];
+            let ri = radius[i];
             let mut fi = [0.0; 3];
             for k in s..e {
-                let j = list.j[k] as usize;
-                // SAFETY: history k belongs to row i, which only this block
-                // visits.
-                let hist = unsafe { &mut *h_ptr.0.add(k) };
-                match touching(
-                    xi,
-                    vi,
-                    ri,
-                    bodies.position[j],
-                    bodies.velocity[j],
-                    bodies.radius[j],
-                ) {
-                    Some(g) => {
-                        let law = laws.pair(bodies, i, j);
-                        let fj = contact_force(&law, &g, hist);
-                        sub(&mut fi, fj);
-                        // SAFETY: j lies in this block or the next (the
-                        // blocks' construction); blocks of one parity are
-                        // two apart, so no other running block writes j.
-                        unsafe { add(&mut *f_ptr.0.add(j), fj) };
-                    }
-                    None => {
-                        if *hist != ContactHistory::default() {
-                            *hist = ContactHistory::default();
-                        }
+                // SAFETY (the unchecked reads): k < js.len() (rows lie
+                // within j), and every j < n (the list's construction);
+                // lengths asserted above.
+                let j = unsafe { *js.get_unchecked(k) } as usize;
+                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+                // The velocity is read only for touching pairs.
+                let vj = || unsafe { *velocity.get_unchecked(j) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    // SAFETY: history k belongs to row i, which only this
+                    // block visits.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    let law = laws.pair(bodies, i, j);
+                    let fj = contact_force(&law, &g, hist);
+                    sub(&mut fi, fj);
+                    // SAFETY: j lies in this block or the next (the
+                    // blocks' construction); blocks of one parity are two
+                    // apart, so no other running block writes j.
+                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
+                } else {
+                    // SAFETY: as above.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
                     }
                 }
             }

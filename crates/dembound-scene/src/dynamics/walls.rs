@@ -97,15 +97,19 @@ pub fn plane_overlap(plane: &PlaneWall, x: [f64; 3], v: [f64; 3], radius: f64) -
 }
 
 /// The force that starts body i's total: gravity (free bodies) plus its
-/// plane-wall forces, updating its wall histories and mask.
+/// plane-wall forces at position `x` and velocity `v`, updating its wall
+/// histories and mask. Reads of `bodies`: radius, mass, fixed flag, class.
 ///
 /// # Safety
 /// Body i's entries of `walls` (mask, histories) are touched by no other
 /// thread meanwhile.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub unsafe fn body_force(
     bodies: &Bodies,
     i: usize,
+    x: [f64; 3],
+    v: [f64; 3],
     planes: &[PlaneWall],
     walls: &WallContactsMut,
     laws: &LawTable,
@@ -123,12 +127,7 @@ pub unsafe fn body_force(
         let p = todo.trailing_zeros() as usize;
         todo &= todo - 1;
         let plane = &planes[p];
-        let (h, rate) = plane_overlap(
-            plane,
-            bodies.position[i],
-            bodies.velocity[i],
-            bodies.radius[i],
-        );
+        let (h, rate) = plane_overlap(plane, x, v, bodies.radius[i]);
         let bit = 1u64 << p;
         let hist = walls.history.at(i * walls.planes + p);
         if h > 0.0 {
@@ -183,7 +182,18 @@ pub fn start_forces(
     workers.run(n.div_ceil(BODY_CHUNK), |c| {
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
             // SAFETY: chunks are disjoint ranges of bodies.
-            unsafe { *f.at(i) = body_force(bodies, i, planes, &w, laws, gravity) };
+            unsafe {
+                *f.at(i) = body_force(
+                    bodies,
+                    i,
+                    bodies.position[i],
+                    bodies.velocity[i],
+                    planes,
+                    &w,
+                    laws,
+                    gravity,
+                )
+            };
         }
     });
 }
