@@ -144,9 +144,7 @@ impl Pipeline {
                     self.ghosts(world);
                 }
                 self.forces(world, workers);
-                let c = integrate::gear5_corrector(
-                    world.laws.model.pair(&unit_pair()).depends_on_rate(),
-                );
+                let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
                 integrate::gear5_correct(&mut world.bodies, dt, c, workers);
             }
         }
@@ -549,16 +547,6 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
         }
     }
     out
-}
-
-/// A pair used only to ask the contact model whether it depends on the
-/// overlap rate.
-fn unit_pair() -> dembound_physics::material::PairProperties {
-    dembound_physics::material::PairProperties {
-        radius: 1.0,
-        modulus: 1.0,
-        mass: 1.0,
-    }
 }
 
 /// Whether body k belongs to a boundary-particle wall.

@@ -868,12 +868,16 @@ impl Simulation {
 pub struct HistoryRecord {
     /// m.
     pub max_overlap: f64,
+    /// On the unloading branch (hysteretic laws).
+    #[serde(default)]
+    pub unloading: bool,
 }
 
 impl From<ContactHistory> for HistoryRecord {
     fn from(h: ContactHistory) -> Self {
         Self {
             max_overlap: h.max_overlap,
+            unloading: h.unloading,
         }
     }
 }
@@ -882,6 +886,7 @@ impl From<HistoryRecord> for ContactHistory {
     fn from(h: HistoryRecord) -> Self {
         ContactHistory {
             max_overlap: h.max_overlap,
+            unloading: h.unloading,
         }
     }
 }

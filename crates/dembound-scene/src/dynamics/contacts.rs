@@ -5,7 +5,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
-use dembound_physics::contact::{ContactHistory, ContactModel, NormalLaw, PairLaw};
+use dembound_physics::contact::{ContactHistory, ContactModel, PairLaw};
 use dembound_physics::material::{Material, PairProperties};
 
 /// At most this many body classes (material, radius, fixed) get a
@@ -146,16 +146,11 @@ impl LawTable {
         }
     }
 
-    /// Elastic energy (J) stored at overlap h by the law's rate-free force:
-    /// ∫₀ʰ F dh = F h/(α + 1) for F ∝ h^α (eq 4).
+    /// Elastic energy (J) stored in a contact at overlap h (the normal
+    /// law's, `PairLaw::elastic_energy`).
     #[inline]
     pub fn elastic_energy(&self, law: &PairLaw, overlap: f64, history: &ContactHistory) -> f64 {
-        let f = law.force(overlap, 0.0, history);
-        let alpha = match self.model.normal {
-            NormalLaw::Linear => 1.0,
-            NormalLaw::Hertz => 1.5,
-        };
-        f * overlap / (alpha + 1.0)
+        law.elastic_energy(overlap, history)
     }
 }
 
