@@ -88,7 +88,11 @@ pub fn run(args: &SceneArgs) -> CliResult {
     let start = sim.steps_done();
     let span = total.saturating_sub(start);
     let every = resolved.file.output.every.unwrap_or((span / 20).max(1));
-    let series_every = resolved.file.output.series_every.unwrap_or((span / 1000).max(1));
+    let series_every = resolved
+        .file
+        .output
+        .series_every
+        .unwrap_or((span / 1000).max(1));
 
     let mut out = match &args.out {
         Some(dir) => Some(AtomicDir::create(dir).map_err(CliError::failed)?),
@@ -154,7 +158,11 @@ pub fn run(args: &SceneArgs) -> CliResult {
         wall_forces: last.wall_forces.clone(),
         wall_clock: stepping,
         wall_clock_total: wall_total,
-        particle_steps_per_second: if stepping > 0.0 { particle_steps / stepping } else { 0.0 },
+        particle_steps_per_second: if stepping > 0.0 {
+            particle_steps / stepping
+        } else {
+            0.0
+        },
         threads: sim.threads(),
         neighbour_list_builds: sim.list_builds(),
         collisions: resolved
@@ -208,7 +216,9 @@ fn write_snapshot(out: &mut AtomicDir, sim: &Simulation, k: usize) -> anyhow::Re
         fixed: &fixed,
         materials: &materials,
     };
-    out.write(&vtk::snapshot_name(k), |w| Ok(vtk::write_snapshot(w, &snapshot)?))
+    out.write(&vtk::snapshot_name(k), |w| {
+        Ok(vtk::write_snapshot(w, &snapshot)?)
+    })
 }
 
 /// The series, the collision log, the resolved scene and the checkpoint,
@@ -234,7 +244,10 @@ fn finish_outputs(
     }
     let toml = toml::to_string(&resolved.file).map_err(CliError::failed)?;
     out.write("scene.toml", |w| {
-        writeln!(w, "# The scene as run: every default written out, source paths absolute.")?;
+        writeln!(
+            w,
+            "# The scene as run: every default written out, source paths absolute."
+        )?;
         Ok(w.write_all(toml.as_bytes())?)
     })
     .map_err(failed)?;
@@ -313,7 +326,12 @@ impl From<&Collision> for CollisionRow {
 }
 
 fn vector(v: [f64; 3], unit: &str) -> String {
-    format!("[{}, {}, {}] {unit}", sig(v[0], 4), sig(v[1], 4), sig(v[2], 4))
+    format!(
+        "[{}, {}, {}] {unit}",
+        sig(v[0], 4),
+        sig(v[1], 4),
+        sig(v[2], 4)
+    )
 }
 
 /// The text summary, units on every number.

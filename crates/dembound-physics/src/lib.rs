@@ -9,7 +9,12 @@
 //! - [`contact`]: per-pair contact models. A [`contact::ContactModel`] is
 //!   what a user configures (normal law, damping, clamp); for one pair of
 //!   bodies it gives a [`contact::PairLaw`], the coefficients of that pair,
-//!   whose `force` and `update` are all a time loop needs.
+//!   whose `force` and `update` are all a time loop needs. Sub-models and
+//!   their parameters are rows of [`contact::registry`].
+//! - [`error`]: the crate's one error type, [`PhysicsError`].
 
 pub mod contact;
+pub mod error;
 pub mod material;
+
+pub use error::PhysicsError;

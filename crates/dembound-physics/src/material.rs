@@ -148,4 +148,20 @@ mod tests {
         assert!((effective_modulus(&b, &GRAIN) * compliance / (4.0 / 3.0) - 1.0).abs() < 1e-15);
         assert_eq!(effective_modulus(&b, &GRAIN), effective_modulus(&GRAIN, &b));
     }
+
+    #[test]
+    fn equal_spheres_halve_radius_and_mass() {
+        // Two equal free spheres: R_eff = R/2, m_eff = m/2 (eqs 5, 7), and
+        // E_eff = (4/3) E/(2(1−ν²)). Halving is exact in binary.
+        let r = 0.5e-3;
+        let m = GRAIN.sphere_mass(r);
+        let p = PairProperties::spheres(r, m, &GRAIN, r, m, &GRAIN);
+        assert_eq!(p.radius, r / 2.0);
+        assert_eq!(p.mass, m / 2.0);
+        let expected = 4.0 / 3.0 * 1.0e10 / (2.0 * 0.91);
+        assert!((p.modulus / expected - 1.0).abs() < 1e-15);
+        // A fixed second sphere (m = ∞): the mass of the first, exactly.
+        let q = PairProperties::spheres(r, m, &GRAIN, r, f64::INFINITY, &GRAIN);
+        assert_eq!(q.mass, m);
+    }
 }

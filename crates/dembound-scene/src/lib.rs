@@ -18,6 +18,7 @@ pub mod dynamics;
 pub mod error;
 pub mod geometry;
 pub mod io;
+pub mod parallel;
 pub mod pipeline;
 pub mod setup;
 pub mod simulation;

@@ -11,11 +11,12 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
 use crate::dynamics::integrate;
-use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts};
+use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::{PairList, SearchInput};
+use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
 use crate::setup::Scheme;
 
 /// What a wall in file order is.
@@ -77,46 +78,114 @@ pub struct Pipeline {
     /// Positions at the last list build, m.
     pub reference: Vec<[f64; 3]>,
     grid: CellGrid,
+    /// Verlet's last half kick of the previous step is still to apply.
+    pending_kick: bool,
 }
 
 impl Pipeline {
     /// Builds the lists and evaluates the first forces.
-    pub fn start(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
-        self.neighbours(world, pool);
-        self.forces(world, pool);
+    pub fn start(&mut self, world: &mut World, workers: &Workers) {
+        self.neighbours(world, workers);
+        self.forces(world, workers);
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
     }
 
-    /// One step.
-    pub fn step(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
-        let dt = world.dt;
-        let moved2 = match world.scheme {
-            Scheme::Verlet => {
-                integrate::verlet_kick_drift(&mut world.bodies, &self.reference, dt, pool)
-            }
-            Scheme::Gear5 => integrate::gear5_predict(&mut world.bodies, &self.reference, dt, pool),
-        };
-        let half_skin = 0.5 * world.skin;
-        if !(moved2 <= half_skin * half_skin) {
-            self.neighbours(world, pool);
-        } else {
+    /// `n` steps. Verlet's last half kick of a step is fused with the first
+    /// of the next (the same operations in the same order as two passes:
+    /// the same bits however the steps are grouped); the state is complete
+    /// again when this returns.
+    pub fn steps(&mut self, world: &mut World, workers: &Workers, n: u64) {
+        for _ in 0..n {
+            self.step(world, workers);
+        }
+        self.finish(world, workers);
+    }
+
+    /// Applies a pending half kick.
+    pub fn finish(&mut self, world: &mut World, workers: &Workers) {
+        if self.pending_kick {
+            integrate::verlet_kick(&mut world.bodies, world.dt, workers);
+            self.pending_kick = false;
             self.ghosts(world);
         }
-        self.forces(world, pool);
+    }
+
+    fn step(&mut self, world: &mut World, workers: &Workers) {
+        let dt = world.dt;
+        let half_skin = 0.5 * world.skin;
         match world.scheme {
-            Scheme::Verlet => integrate::verlet_kick(&mut world.bodies, dt, pool),
+            Scheme::Verlet => {
+                // Stages integrate (first half) and forces (per body:
+                // gravity, walls) in one pass over the bodies.
+                let moved2 = self.verlet_advance(world, workers);
+                if !(moved2 <= half_skin * half_skin) {
+                    self.neighbours(world, workers);
+                    // The wall masks are new: the per-body forces again
+                    // (the same state: history updates are idempotent).
+                    self.body_forces(world, workers);
+                } else {
+                    self.ghosts(world);
+                }
+                self.pair_forces(world, workers);
+                if world.tracks.is_some() {
+                    integrate::verlet_kick(&mut world.bodies, dt, workers);
+                } else {
+                    self.pending_kick = true;
+                }
+            }
             Scheme::Gear5 => {
-                let c = integrate::gear5_corrector(
-                    world.laws.model.pair(&unit_pair()).depends_on_rate(),
-                );
-                integrate::gear5_correct(&mut world.bodies, dt, c, pool);
+                let moved2 =
+                    integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
+                if !(moved2 <= half_skin * half_skin) {
+                    self.neighbours(world, workers);
+                } else {
+                    self.ghosts(world);
+                }
+                self.forces(world, workers);
+                let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
+                integrate::gear5_correct(&mut world.bodies, dt, c, workers);
             }
         }
         world.steps_done += 1;
-        self.ghosts(world);
-        self.observe(world);
+        if world.tracks.is_some() {
+            self.ghosts(world);
+            self.observe(world);
+        }
+    }
+
+    /// Verlet: the pending half kick of the last step (if any), the half
+    /// kick and drift of this one, and the body's gravity and wall forces
+    /// at its new position. Returns the largest squared displacement since
+    /// the last list build, m².
+    fn verlet_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
+        let n = world.bodies.len();
+        let pending = self.pending_kick;
+        self.pending_kick = false;
+        let ctx = AdvanceContext {
+            x: SharedMut::new(&mut world.bodies.position),
+            v: SharedMut::new(&mut world.bodies.velocity),
+            f: SharedMut::new(&mut world.bodies.force),
+            walls: world.wall_contacts.shared(),
+            bodies: &world.bodies,
+            planes: &world.planes,
+            laws: &world.laws,
+            gravity: world.gravity,
+            reference: &self.reference,
+            dt: world.dt,
+            pending,
+        };
+        assert!(
+            self.reference.len() == n
+                && world.bodies.mass.len() == n
+                && world.bodies.fixed.len() == n
+        );
+        let partial = workers.map(n.div_ceil(BODY_CHUNK), |c| {
+            // SAFETY: chunks are disjoint ranges of bodies; lengths asserted.
+            unsafe { verlet_chunk(&ctx, c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n)) }
+        });
+        partial.into_iter().fold(0.0, f64::max)
     }
 
     /// Stage "ghosts": images follow their owners.
@@ -128,7 +197,7 @@ impl Pipeline {
 
     /// Stage "neighbours": wrap into the box, sort bodies by cell, rebuild
     /// the ghost layer and the lists, carry every pair's history over.
-    pub fn neighbours(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+    pub fn neighbours(&mut self, world: &mut World, workers: &Workers) {
         world.rebuilds += 1;
         // Histories (and collision tracks) by input ids.
         let saved: HashMap<(u32, u32), ContactHistory> =
@@ -181,6 +250,9 @@ impl Pipeline {
         let (order, start) = sort_by_cell(&cell, cells);
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
+        world
+            .wall_contacts
+            .update_near(&world.bodies, &world.planes, world.skin);
         if let Some(t) = world.tracks.as_mut() {
             let p = world.planes.len();
             if p > 0 {
@@ -208,7 +280,7 @@ impl Pipeline {
                 ghosts: &world.ghosts,
                 skin: world.skin,
             },
-            pool,
+            workers,
         );
         let list = &world.list;
         let key = |i: usize, j_ext: usize| {
@@ -253,9 +325,15 @@ impl Pipeline {
     }
 
     /// Stage "forces": gravity and plane walls per body, then the pairs.
-    pub fn forces(&mut self, world: &mut World, pool: &rayon::ThreadPool) {
+    pub fn forces(&mut self, world: &mut World, workers: &Workers) {
+        self.body_forces(world, workers);
+        self.pair_forces(world, workers);
+    }
+
+    /// Gravity and plane walls: sets each body's force.
+    fn body_forces(&mut self, world: &mut World, workers: &Workers) {
+        world.bodies.force.resize(world.bodies.len(), [0.0; 3]);
         let mut force = std::mem::take(&mut world.bodies.force);
-        force.resize(world.bodies.len(), [0.0; 3]);
         walls::start_forces(
             &world.bodies,
             &world.planes,
@@ -263,8 +341,14 @@ impl Pipeline {
             &world.laws,
             world.gravity,
             &mut force,
-            pool,
+            workers,
         );
+        world.bodies.force = force;
+    }
+
+    /// Adds the pair forces.
+    fn pair_forces(&mut self, world: &mut World, workers: &Workers) {
+        let mut force = std::mem::take(&mut world.bodies.force);
         contacts::add_pair_forces(
             &world.bodies,
             &world.ghosts,
@@ -272,7 +356,7 @@ impl Pipeline {
             &mut world.histories,
             &world.laws,
             &mut force,
-            pool,
+            workers,
         );
         world.bodies.force = force;
     }
@@ -377,6 +461,57 @@ impl Pipeline {
     }
 }
 
+/// What [`verlet_chunk`] needs. `bodies` is read only for radius, mass,
+/// fixed flag and class; positions, velocities and forces go through the
+/// raw pointers.
+struct AdvanceContext<'a> {
+    x: SharedMut<[f64; 3]>,
+    v: SharedMut<[f64; 3]>,
+    f: SharedMut<[f64; 3]>,
+    walls: WallContactsMut,
+    bodies: &'a Bodies,
+    planes: &'a [PlaneWall],
+    laws: &'a LawTable,
+    gravity: [f64; 3],
+    reference: &'a [[f64; 3]],
+    dt: f64,
+    pending: bool,
+}
+
+unsafe impl Sync for AdvanceContext<'_> {}
+
+/// Verlet's first half (after a pending closing half kick) and the
+/// per-body forces of bodies lo..hi. Returns their largest squared
+/// displacement since the last list build, m².
+///
+/// # Safety
+/// lo..hi within the bodies, and no other thread touches these bodies.
+#[inline(never)]
+unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+    let b = c.bodies;
+    let half_dt = 0.5 * c.dt;
+    let mut m = 0.0f64;
+    // Local slices: their headers are not reloaded after the raw writes.
+    let (fixed, mass, reference) = (&b.fixed[..], &b.mass[..], c.reference);
+    for i in lo..hi {
+        let fi = c.f.at(i);
+        if *fixed.get_unchecked(i) {
+            *fi = [0.0; 3];
+            continue;
+        }
+        let (xi, vi) = (c.x.at(i), c.v.at(i));
+        let dtfm = half_dt / *mass.get_unchecked(i);
+        if c.pending {
+            integrate::half_kick(vi, *fi, dtfm);
+        }
+        integrate::half_kick(vi, *fi, dtfm);
+        integrate::drift(xi, *vi, c.dt);
+        m = m.max(integrate::displacement2(*xi, *reference.get_unchecked(i)));
+        *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
+    }
+    m
+}
+
 fn partner_key(p: Partner) -> (u8, usize) {
     match p {
         Partner::Body(j) => (0, j),
@@ -412,16 +547,6 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
         }
     }
     out
-}
-
-/// A pair used only to ask the contact model whether it depends on the
-/// overlap rate.
-fn unit_pair() -> dembound_physics::material::PairProperties {
-    dembound_physics::material::PairProperties {
-        radius: 1.0,
-        modulus: 1.0,
-        mass: 1.0,
-    }
 }
 
 /// Whether body k belongs to a boundary-particle wall.

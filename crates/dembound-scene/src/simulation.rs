@@ -15,6 +15,7 @@ use crate::error::SceneError;
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
+use crate::parallel::Workers;
 use crate::pipeline::{Pipeline, Tracks, WallKind, World};
 use crate::setup::{RunLength, SceneSetup, Scheme, TimeStep, WallSetup};
 
@@ -65,8 +66,7 @@ pub struct Observation {
 pub struct Simulation {
     world: World,
     pipeline: Pipeline,
-    pool: rayon::ThreadPool,
-    threads: usize,
+    workers: Workers,
     total_steps: u64,
     time_step: TimeStepReport,
     initial_energy: f64,
@@ -85,7 +85,7 @@ impl Simulation {
     /// (≥ 1; results do not depend on it).
     pub fn new(setup: SceneSetup, threads: usize) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
-        sim.pipeline.start(&mut sim.world, &sim.pool);
+        sim.pipeline.start(&mut sim.world, &sim.workers);
         sim.initial_energy = sim.mechanical_energy();
         Ok(sim)
     }
@@ -412,10 +412,7 @@ impl Simulation {
                 s as u64
             }
         };
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| SceneError::Threads(e.to_string()))?;
+        let workers = Workers::new(threads).map_err(|e| SceneError::Threads(e.to_string()))?;
         let np = planes.len();
         let world = World {
             wall_contacts: WallContacts::new(n, np),
@@ -449,8 +446,7 @@ impl Simulation {
         Ok(Simulation {
             world,
             pipeline: Pipeline::default(),
-            pool,
-            threads,
+            workers,
             total_steps,
             time_step: TimeStepReport {
                 dt,
@@ -464,9 +460,7 @@ impl Simulation {
 
     /// Advances `n` steps.
     pub fn step(&mut self, n: u64) {
-        for _ in 0..n {
-            self.pipeline.step(&mut self.world, &self.pool);
-        }
+        self.pipeline.steps(&mut self.world, &self.workers, n);
     }
 
     /// Steps until the setup's run length is reached.
@@ -502,7 +496,7 @@ impl Simulation {
     }
 
     pub fn threads(&self) -> usize {
-        self.threads
+        self.workers.threads()
     }
 
     /// Number of spheres (free and fixed).
@@ -565,7 +559,7 @@ impl Simulation {
     /// Σ ½ m v² over free bodies, J.
     pub fn kinetic_energy(&self) -> f64 {
         let b = &self.world.bodies;
-        let [e] = crate::dynamics::deterministic_sum(&self.pool, b.len(), |k| {
+        let [e] = self.workers.sum(b.len(), |k| {
             if b.fixed[k] {
                 return [0.0];
             }
@@ -579,7 +573,7 @@ impl Simulation {
     pub fn potential_energy(&self) -> f64 {
         let b = &self.world.bodies;
         let g = self.world.gravity;
-        let [e] = crate::dynamics::deterministic_sum(&self.pool, b.len(), |k| {
+        let [e] = self.workers.sum(b.len(), |k| {
             if b.fixed[k] {
                 return [0.0];
             }
@@ -631,10 +625,15 @@ impl Simulation {
             &w.list,
             &w.histories,
             &w.laws,
-            &self.pool,
+            &self.workers,
         );
-        let (plane_forces, plane_contacts, plane_energy) =
-            walls::plane_observables(&w.bodies, &w.planes, &w.wall_contacts, &w.laws, &self.pool);
+        let (plane_forces, plane_contacts, plane_energy) = walls::plane_observables(
+            &w.bodies,
+            &w.planes,
+            &w.wall_contacts,
+            &w.laws,
+            &self.workers,
+        );
         let mut wall_forces = vec![[0.0; 3]; w.walls.len()];
         // Boundary-particle walls: their spheres in input order.
         let force_in = w.bodies.in_input_order(&w.bodies.force);
@@ -789,7 +788,7 @@ impl Simulation {
         // (already sorted, so the stable sort keeps this order).
         w.bodies.position.clone_from(&c.reference);
         w.bodies.velocity.clone_from(&c.velocity);
-        sim.pipeline.neighbours(w, &sim.pool);
+        sim.pipeline.neighbours(w, &sim.workers);
         w.bodies.position.clone_from(&c.position);
         w.bodies.force.clone_from(&c.force);
         w.bodies.higher.clone_from(&c.higher);
@@ -869,12 +868,16 @@ impl Simulation {
 pub struct HistoryRecord {
     /// m.
     pub max_overlap: f64,
+    /// On the unloading branch (hysteretic laws).
+    #[serde(default)]
+    pub unloading: bool,
 }
 
 impl From<ContactHistory> for HistoryRecord {
     fn from(h: ContactHistory) -> Self {
         Self {
             max_overlap: h.max_overlap,
+            unloading: h.unloading,
         }
     }
 }
@@ -883,6 +886,7 @@ impl From<HistoryRecord> for ContactHistory {
     fn from(h: HistoryRecord) -> Self {
         ContactHistory {
             max_overlap: h.max_overlap,
+            unloading: h.unloading,
         }
     }
 }

@@ -52,6 +52,7 @@ fn exact(law: NormalLaw, props: &PairProperties, v_c: f64) -> Exact {
     let (alpha, k) = match law {
         NormalLaw::Linear => (1.0, props.modulus * props.radius),
         NormalLaw::Hertz => (1.5, props.modulus * props.radius.sqrt()),
+        other => panic!("no validation reference for {other:?}"),
     };
     let m = props.mass;
     if alpha == 1.0 {
@@ -250,6 +251,7 @@ fn gear5_tolerance(law: NormalLaw) -> f64 {
     match law {
         NormalLaw::Hertz => 1e-4,
         NormalLaw::Linear => 2e-4,
+        other => panic!("no validation tolerance for {other:?}"),
     }
 }
 

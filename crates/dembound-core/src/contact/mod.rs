@@ -409,36 +409,9 @@ pub trait LawVisitor {
 }
 
 /// Factor on the elastic contact time of a damped Hertz law with damping
-/// ratio ξ (Tsuji's ξ = γ/√(5 k m), or its equivalent): 1 up to ξ = 1/√2,
-/// 1/(√2 ξ) beyond. A heavily damped contact decelerates at a rate ~ ξ
-/// times the elastic one, so Δt = η T_c must shrink with it; the common
-/// range (e ≳ 0.05 with the published ξ(e)) keeps the elastic time.
-/// Measured at η = 1/50 (Tsuji, clamped, exact calibration): e = 0.05 and
-/// 0.02 were off by 1.2e−4 and 8e−4 with the elastic time alone.
-pub fn heavy_damping_scale(xi: f64) -> f64 {
-    if xi <= std::f64::consts::FRAC_1_SQRT_2 {
-        1.0
-    } else {
-        std::f64::consts::FRAC_1_SQRT_2 / xi
-    }
-}
+/// ratio ξ, from the physics crate (where it is documented).
+pub use dembound_physics::contact::heavy_damping_scale;
 
 /// Gravity-free contact of the power law F = k h^α at impact speed v for a
-/// body of mass m: maximum overlap from the energy balance
-/// k h^(α+1)/(α+1) = m v²/2, and duration
-/// T_c = 2 (h_max/v) ∫₀¹ ds/√(1 − s^(α+1)) = 2 (h_max/v) B(1/(α+1), 1/2)/(α+1).
-///
-/// Written by hand because it is the physics itself; the Beta function comes
-/// from `libm::tgamma`.
-pub(crate) fn power_law_free_contact(
-    stiffness: f64,
-    alpha: f64,
-    mass: f64,
-    speed: f64,
-) -> (f64, f64) {
-    let beta = alpha + 1.0;
-    let max_overlap = (beta * mass * speed * speed / (2.0 * stiffness)).powf(1.0 / beta);
-    let b = libm::tgamma(1.0 / beta) * libm::tgamma(0.5) / libm::tgamma(1.0 / beta + 0.5);
-    let duration = 2.0 * max_overlap / speed * b / beta;
-    (max_overlap, duration)
-}
+/// body of mass m, (h_max, T_c), from the physics crate.
+pub(crate) use dembound_physics::contact::power_law_free_contact;

@@ -26,11 +26,8 @@ use super::{
 };
 use crate::material::ContactPair;
 
-/// LIGGGHTS' β = ln e/√(ln² e + π²) (≤ 0).
-pub fn tsuji_beta(e: f64) -> f64 {
-    let l = e.ln();
-    l / (l * l + std::f64::consts::PI.powi(2)).sqrt()
-}
+/// LIGGGHTS' β = ln e/√(ln² e + π²) (≤ 0), from the physics crate.
+pub use dembound_physics::contact::tsuji_beta;
 
 /// F = k h^(3/2) + γ h^(1/4) ḣ.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,11 +1,16 @@
 //! Per-pair contact models, after LAMMPS GRANULAR's 2022 design
-//! (`granular_model.cpp`): small sub-models with the same few methods, one
-//! registry row per sub-model, and one model object that combines the
-//! normal law with damping and applies the no-attraction clamp.
+//! (`granular_model.cpp`): small sub-models with the same few methods
+//! ([`normal`], [`damping`]), one registry row per sub-model
+//! ([`registry`]), and one model object that combines the normal law with
+//! damping and applies the no-attraction clamp once, as
+//! `GranularModel::calculate_forces` does (`Fntot = Fne + Fdamp`, then
+//! `if (limit_damping && Fntot < 0) Fntot = 0`).
 //!
 //! Two levels:
-//! - [`ContactModel`]: what the user configures (law, damping, restitution,
-//!   clamp). Material-independent.
+//! - [`ContactModel`]: what the user configures (normal law, damping,
+//!   restitution or coefficient, calibration, clamp). Material-independent;
+//!   built from names and values by [`ContactModel::from_spec`], checked
+//!   against the registry by [`ContactModel::validate`].
 //! - [`PairLaw`]: the model for one pair of bodies, its coefficients
 //!   computed once from the pair's [`PairProperties`]
 //!   ([`ContactModel::pair`]). `force` and `update` are all a time loop
@@ -16,16 +21,26 @@
 //! (m/s) positive while the bodies approach, normal force F (N) repulsive
 //! positive.
 
-use crate::material::PairProperties;
+pub mod calibration;
+pub mod damping;
+pub mod normal;
+pub mod registry;
+mod spec;
+#[cfg(test)]
+mod tests;
 
-/// Which normal law (eq 4: F = E_eff R_eff^(2−α) h^α).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum NormalLaw {
-    /// α = 1: F = E_eff R_eff h.
-    Linear,
-    /// α = 3/2: F = E_eff √R_eff h^(3/2).
-    Hertz,
-}
+pub use calibration::{
+    damping_ratio_for, free_restitution, heavy_damping_scale, power_law_free_contact,
+    restitution_to_damping_ratio, tsuji_beta,
+};
+pub use damping::{Calibration, Dissipation};
+pub use normal::hertz::HERTZ_CONTACT_TIME_FACTOR;
+pub use registry::{DampingKind, DampingPair, NormalLaw, NormalPair};
+pub use spec::ContactSpec;
+
+use crate::error::PhysicsError;
+use crate::material::PairProperties;
+use damping::DampingSetup;
 
 /// What a pair remembers of its current contact. One type for every law so
 /// that a many-body store keeps one plain record per contacting pair; a new
@@ -34,15 +49,98 @@ pub enum NormalLaw {
 pub struct ContactHistory {
     /// Largest overlap of this contact so far, m (hysteretic laws).
     pub max_overlap: f64,
+    /// True once the overlap has started to decrease (hysteretic laws:
+    /// the unloading branch).
+    pub unloading: bool,
+}
+
+/// The damping part of a [`ContactModel`]: which model and how strong.
+/// Built by [`Damping::new`], which solves the pair-independent part of an
+/// exact calibration once, so that [`ContactModel::pair`] stays cheap.
+#[derive(Debug, Clone, Copy)]
+pub struct Damping {
+    kind: DampingKind,
+    dissipation: Option<Dissipation>,
+    reference_speed: Option<f64>,
+    /// ξ of the clamped oscillator for a target e ([`damping_ratio_for`]).
+    clamped_ratio: f64,
+}
+
+impl Damping {
+    /// No damping.
+    pub const NONE: Damping = Damping {
+        kind: DampingKind::None,
+        dissipation: None,
+        reference_speed: None,
+        clamped_ratio: f64::NAN,
+    };
+
+    /// `kind` with strength `dissipation`.
+    pub fn new(kind: DampingKind, dissipation: Dissipation) -> Self {
+        let clamped_ratio = match dissipation {
+            Dissipation::Restitution(e) if e > 0.0 && e <= 1.0 => damping_ratio_for(e, false),
+            _ => f64::NAN,
+        };
+        Self {
+            kind,
+            dissipation: Some(dissipation),
+            reference_speed: None,
+            clamped_ratio,
+        }
+    }
+
+    /// The same, with the impact speed (m/s) a speed-dependent calibration
+    /// (the viscoelastic law's) refers to.
+    pub fn with_reference_speed(self, speed: f64) -> Self {
+        Self {
+            reference_speed: Some(speed),
+            ..self
+        }
+    }
+
+    /// Which damping model.
+    pub fn kind(&self) -> DampingKind {
+        self.kind
+    }
+
+    /// Its strength, if any.
+    pub fn dissipation(&self) -> Option<Dissipation> {
+        self.dissipation
+    }
+
+    /// The reference impact speed, m/s, if any.
+    pub fn reference_speed(&self) -> Option<f64> {
+        self.reference_speed
+    }
+}
+
+/// Equal when the configurations are (the cached ratio follows from them).
+impl PartialEq for Damping {
+    fn eq(&self, other: &Self) -> bool {
+        self.kind == other.kind
+            && self.dissipation == other.dissipation
+            && self.reference_speed == other.reference_speed
+    }
+}
+
+impl Default for Damping {
+    fn default() -> Self {
+        Self::NONE
+    }
 }
 
 /// A configured contact model (normal law, damping, clamp).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactModel {
+    /// The normal law and its parameters.
     pub normal: NormalLaw,
     /// `false`: F = max(F, 0), the force never pulls (LAMMPS
     /// `limit_damping`, LIGGGHTS `limitForce`).
     pub attractive: bool,
+    /// The damping added to the normal law.
+    pub damping: Damping,
+    /// How a target restitution becomes a damping coefficient.
+    pub calibration: Calibration,
 }
 
 impl ContactModel {
@@ -51,21 +149,121 @@ impl ContactModel {
         Self {
             normal,
             attractive: false,
+            damping: Damping::NONE,
+            calibration: Calibration::Exact,
+        }
+    }
+
+    /// `normal` with `damping`, clamped, exact calibration.
+    pub fn damped(normal: NormalLaw, damping: Damping) -> Self {
+        Self {
+            damping,
+            ..Self::elastic(normal)
+        }
+    }
+
+    /// Checks the model against the registry: parameter ranges, the
+    /// law–damping compatibility, the dissipation a damping needs. An error
+    /// names the key, the value and the allowed range.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        let law = self.normal.row();
+        for (spec, value) in law.params.iter().zip(self.normal.params()) {
+            spec.check(value)?;
+        }
+        let damping = self.damping.kind.row();
+        if !damping.combines(law) {
+            return Err(PhysicsError::new(
+                "contact.damping",
+                format!("\"{}\"", damping.name),
+                format!(
+                    "{} with law = \"{}\"",
+                    registry::dampings_for(law),
+                    law.name
+                ),
+            ));
+        }
+        match (damping.coefficient, self.damping.dissipation) {
+            (None, None) => Ok(()),
+            (None, Some(d)) => {
+                let (key, value) = match d {
+                    Dissipation::Restitution(e) => ("contact.restitution", e),
+                    Dissipation::Coefficient(c) => ("contact.damping_coefficient", c),
+                };
+                Err(PhysicsError::new(
+                    key,
+                    value,
+                    format!("absent with damping = \"{}\"", damping.name),
+                ))
+            }
+            (Some(_), None) => Err(PhysicsError::new(
+                "contact.restitution",
+                "missing",
+                format!(
+                    "0 < e ≤ 1 (or contact.damping_coefficient), required by damping = \"{}\"",
+                    damping.name
+                ),
+            )),
+            (Some(coefficient), Some(d)) => {
+                match d {
+                    Dissipation::Restitution(e) => registry::RESTITUTION.check(e)?,
+                    Dissipation::Coefficient(c) => coefficient.check(c)?,
+                };
+                self.damping
+                    .kind
+                    .check(d, self.calibration, self.damping.reference_speed)
+            }
         }
     }
 
     /// The model for one pair: its coefficients from the pair's properties.
+    /// Cheap (a few square roots; the exact calibration's root solve is
+    /// done once in [`Damping::new`]). The model should have passed
+    /// [`Self::validate`]; an invalid one gives NaN coefficients, not a panic.
     pub fn pair(&self, pair: &PairProperties) -> PairLaw {
-        let stiffness = match self.normal {
-            NormalLaw::Linear => pair.modulus * pair.radius,
-            NormalLaw::Hertz => pair.modulus * pair.radius.sqrt(),
+        let normal = self.normal.resolve(pair);
+        let damping = match self.damping.dissipation {
+            None => DampingPair::None(damping::none::NoDamping),
+            Some(dissipation) => self.damping.kind.resolve(&DampingSetup {
+                stiffness: normal.stiffness(),
+                mass: pair.mass,
+                dissipation,
+                calibration: self.calibration,
+                attractive: self.attractive,
+                reference_speed: self.damping.reference_speed,
+                clamped_ratio: self.damping.clamped_ratio,
+            }),
         };
         PairLaw {
-            normal: self.normal,
-            stiffness,
+            normal,
+            damping,
             mass: pair.mass,
             attractive: self.attractive,
         }
+    }
+
+    /// True when the force depends on the overlap rate (damping).
+    pub fn depends_on_rate(&self) -> bool {
+        self.normal.row().capabilities.rate_dependent
+            || self.damping.kind.row().capabilities.rate_dependent
+    }
+
+    /// A short label: `hertz`, `power (α = 1.25)`, `linear + viscous`.
+    pub fn label(&self) -> String {
+        let row = self.normal.row();
+        let mut s = row.name.to_string();
+        if !row.params.is_empty() {
+            let values: Vec<String> = row
+                .params
+                .iter()
+                .zip(self.normal.params())
+                .map(|(p, v)| format!("{} = {v}", p.symbol))
+                .collect();
+            s = format!("{s} ({})", values.join(", "));
+        }
+        if self.damping.kind != DampingKind::None {
+            s = format!("{s} + {}", self.damping.kind.row().name);
+        }
+        s
     }
 }
 
@@ -73,9 +271,8 @@ impl ContactModel {
 /// many-body loop may cache it per pair or per pair of material classes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairLaw {
-    normal: NormalLaw,
-    /// Stiffness k of F = k h^α, N/m^α.
-    stiffness: f64,
+    normal: NormalPair,
+    damping: DampingPair,
     /// Effective mass, kg.
     mass: f64,
     attractive: bool,
@@ -83,14 +280,13 @@ pub struct PairLaw {
 
 impl PairLaw {
     /// Normal force (N, repulsive positive) at overlap `overlap` > 0 (m)
-    /// and overlap rate `overlap_rate` (m/s), given the contact's history.
-    /// Callers evaluate it only in contact (h > 0).
+    /// and overlap rate `overlap_rate` (m/s), given the contact's history:
+    /// normal law plus damping, then the clamp F = max(F, 0) unless the
+    /// model is attractive. Callers evaluate it only in contact (h > 0).
     #[inline(always)]
-    pub fn force(&self, overlap: f64, _overlap_rate: f64, _history: &ContactHistory) -> f64 {
-        let f = match self.normal {
-            NormalLaw::Linear => self.stiffness * overlap,
-            NormalLaw::Hertz => self.stiffness * overlap * overlap.sqrt(),
-        };
+    pub fn force(&self, overlap: f64, overlap_rate: f64, history: &ContactHistory) -> f64 {
+        let f = self.normal.force(overlap, overlap_rate, history)
+            + self.damping.force(overlap, overlap_rate);
         if self.attractive {
             f
         } else {
@@ -101,72 +297,54 @@ impl PairLaw {
     /// Updates the history after an accepted step that ends at
     /// (`overlap`, `overlap_rate`) with the pair still in contact.
     #[inline(always)]
-    pub fn update(&self, overlap: f64, _overlap_rate: f64, history: &mut ContactHistory) {
-        history.max_overlap = history.max_overlap.max(overlap);
+    pub fn update(&self, overlap: f64, overlap_rate: f64, history: &mut ContactHistory) {
+        self.normal.update(overlap, overlap_rate, history);
+    }
+
+    /// Elastic energy stored in the contact at `overlap` (J), for energy
+    /// balances: the normal law's ([`NormalPair::elastic_energy`]); the
+    /// damping stores none.
+    pub fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64 {
+        self.normal.elastic_energy(overlap, history)
     }
 
     /// Duration (s) of a gravity-free impact of this pair at
-    /// `impact_speed` (m/s): the time-step scale Δt = η T_c.
+    /// `impact_speed` (m/s): the time-step scale Δt = η T_c. The normal
+    /// law's elastic time, shortened beyond heavy damping
+    /// ([`heavy_damping_scale`]; the damped half period for viscous damping).
     pub fn contact_time_estimate(&self, impact_speed: f64) -> f64 {
-        match self.normal {
-            // Half a period of the harmonic oscillator, π √(m/k) (eq 27).
-            NormalLaw::Linear => std::f64::consts::PI * (self.mass / self.stiffness).sqrt(),
-            // T_c = 2.9432… h_max/v with h_max = (5 m v²/(4 k))^(2/5)
-            // (eqs 29–30; the constant is 0.8 B(2/5, 1/2)).
-            NormalLaw::Hertz => {
-                let h_max =
-                    (1.25 * self.mass * impact_speed * impact_speed / self.stiffness).powf(0.4);
-                HERTZ_CONTACT_TIME_FACTOR * h_max / impact_speed
-            }
-        }
+        self.normal.contact_time_estimate(self.mass, impact_speed)
+            * self.damping.time_factor(self.mass, impact_speed)
     }
 
     /// True when the force depends on the overlap rate (damping).
     pub fn depends_on_rate(&self) -> bool {
-        false
-    }
-}
-
-/// 0.8 B(2/5, 1/2) = 2.9432751843…: the gravity-free Hertz contact time in
-/// units of h_max/v (eq 30).
-pub const HERTZ_CONTACT_TIME_FACTOR: f64 = 2.943_275_184_3;
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::material::{Material, PairProperties};
-
-    fn paper_pair() -> PairProperties {
-        // The paper's validation pair (section 4.2): r = ζ = 100.
-        let m = Material {
-            density: 1000.0,
-            youngs_modulus: 1.0e10,
-            poisson_ratio: 0.3,
-        };
-        let b = Material {
-            youngs_modulus: 1.0e12,
-            ..m
-        };
-        let r = 0.5e-3;
-        PairProperties::spheres(r, m.sphere_mass(r), &m, 100.0 * r, f64::INFINITY, &b)
+        self.normal.row().capabilities.rate_dependent
+            || self.damping.row().capabilities.rate_dependent
     }
 
-    #[test]
-    fn linear_contact_time_is_848_ns() {
-        // Paper section 4.2: T_cL = 848.3 ns.
-        let law = ContactModel::elastic(NormalLaw::Linear).pair(&paper_pair());
-        let t = law.contact_time_estimate(0.3132092);
-        assert!((t * 1e9 - 848.3).abs() < 0.05, "{t}");
+    /// True when the force depends on the contact's history.
+    pub fn has_history(&self) -> bool {
+        self.normal.row().capabilities.history
     }
 
-    #[test]
-    fn hertz_contact_time_is_4_926_us() {
-        // The exact gravity-free T_c of the validation case at the
-        // paper's impact speed v_c = 0.3132092 m/s is 4.925789 µs (the
-        // bounce study's exact reference, 1e-15); gravity is absent here
-        // and shifts the with-gravity value by < 1e-4.
-        let law = ContactModel::elastic(NormalLaw::Hertz).pair(&paper_pair());
-        let t = law.contact_time_estimate(0.3132092);
-        assert!((t / 4.925789e-6 - 1.0).abs() < 1e-4, "{t}");
+    /// The resolved normal law.
+    pub fn normal(&self) -> &NormalPair {
+        &self.normal
+    }
+
+    /// The resolved damping.
+    pub fn damping(&self) -> &DampingPair {
+        &self.damping
+    }
+
+    /// Effective mass of the pair, kg.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// Whether the force may pull (no clamp).
+    pub fn attractive(&self) -> bool {
+        self.attractive
     }
 }

@@ -1,14 +1,12 @@
 //! Sphere–sphere contact forces through the physics crate's `PairLaw`, with
 //! each pair's `ContactHistory` kept beside the neighbour list.
 
-use dembound_physics::contact::{ContactHistory, ContactModel, NormalLaw, PairLaw};
-use dembound_physics::material::{Material, PairProperties};
-use rayon::prelude::*;
-
-use super::SharedMut;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
+use crate::parallel::{SharedMut, Workers};
+use dembound_physics::contact::{ContactHistory, ContactModel, PairLaw};
+use dembound_physics::material::{Material, PairProperties};
 
 /// At most this many body classes (material, radius, fixed) get a
 /// precomputed table of pair laws; beyond, laws are computed per contact.
@@ -116,7 +114,7 @@ impl LawTable {
     }
 
     /// The law of bodies i and j.
-    #[inline]
+    #[inline(always)]
     pub fn pair(&self, bodies: &Bodies, i: usize, j: usize) -> PairLaw {
         if self.classes > 0 {
             let (a, b) = (bodies.class[i] as usize, bodies.class[j] as usize);
@@ -148,16 +146,11 @@ impl LawTable {
         }
     }
 
-    /// Elastic energy (J) stored at overlap h by the law's rate-free force:
-    /// ∫₀ʰ F dh = F h/(α + 1) for F ∝ h^α (eq 4).
+    /// Elastic energy (J) stored in a contact at overlap h (the normal
+    /// law's, `PairLaw::elastic_energy`).
     #[inline]
     pub fn elastic_energy(&self, law: &PairLaw, overlap: f64, history: &ContactHistory) -> f64 {
-        let f = law.force(overlap, 0.0, history);
-        let alpha = match self.model.normal {
-            NormalLaw::Linear => 1.0,
-            NormalLaw::Hertz => 1.5,
-        };
-        f * overlap / (alpha + 1.0)
+        law.elastic_energy(overlap, history)
     }
 }
 
@@ -198,6 +191,29 @@ pub fn touching(
         return None;
     }
     Some(geometry(d, r2, s, vi, vj))
+}
+
+/// [`touching`] with the partner's velocity read only in contact.
+#[inline(always)]
+pub fn touching_lazy(
+    xi: [f64; 3],
+    vi: [f64; 3],
+    ri: f64,
+    xj: [f64; 3],
+    vj: impl Fn() -> [f64; 3],
+    rj: f64,
+) -> Option<PairGeometry> {
+    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let s = ri + rj;
+    if r2 >= s * s {
+        return None;
+    }
+    if r2 == 0.0 {
+        // Coincident centres: no direction to push along.
+        return None;
+    }
+    Some(geometry(d, r2, s, vi, vj()))
 }
 
 /// The pair's geometry whether or not it touches (collision log).
@@ -261,52 +277,59 @@ pub fn add_pair_forces(
     histories: &mut PairHistories,
     laws: &LawTable,
     force: &mut [[f64; 3]],
-    pool: &rayon::ThreadPool,
+    workers: &Workers,
 ) {
     let n = bodies.len();
-    debug_assert_eq!(force.len(), n);
+    assert!(force.len() == n && list.start.len() == n + 1 && histories.main.len() == list.j.len());
+    assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
     let f_ptr = SharedMut(force.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
     let blocks = list.blocks.len().saturating_sub(1);
+    // Local slices: the compiler cannot hoist loads of the vectors' headers
+    // past the raw-pointer writes below.
+    let (position, velocity, radius) = (
+        &bodies.position[..],
+        &bodies.velocity[..],
+        &bodies.radius[..],
+    );
+    let (start, js) = (&list.start[..], &list.j[..]);
     let run_block = |b: usize| {
         let (f_ptr, h_ptr) = (f_ptr, h_ptr);
         let lo = list.blocks[b] as usize;
         let hi = list.blocks[b + 1] as usize;
         for i in lo..hi {
-            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
             if s == e {
                 continue;
             }
-            let xi = bodies.position[i];
-            let vi = bodies.velocity[i];
-            let ri = bodies.radius[i];
+            let xi = position[i];
+            let vi = velocity[i];
+            let ri = radius[i];
             let mut fi = [0.0; 3];
             for k in s..e {
-                let j = list.j[k] as usize;
-                // SAFETY: history k belongs to row i, which only this block
-                // visits.
-                let hist = unsafe { &mut *h_ptr.0.add(k) };
-                match touching(
-                    xi,
-                    vi,
-                    ri,
-                    bodies.position[j],
-                    bodies.velocity[j],
-                    bodies.radius[j],
-                ) {
-                    Some(g) => {
-                        let law = laws.pair(bodies, i, j);
-                        let fj = contact_force(&law, &g, hist);
-                        sub(&mut fi, fj);
-                        // SAFETY: j lies in this block or the next (the
-                        // blocks' construction); blocks of one parity are
-                        // two apart, so no other running block writes j.
-                        unsafe { add(&mut *f_ptr.0.add(j), fj) };
-                    }
-                    None => {
-                        if *hist != ContactHistory::default() {
-                            *hist = ContactHistory::default();
-                        }
+                // SAFETY (the unchecked reads): k < js.len() (rows lie
+                // within j), and every j < n (the list's construction);
+                // lengths asserted above.
+                let j = unsafe { *js.get_unchecked(k) } as usize;
+                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+                // The velocity is read only for touching pairs.
+                let vj = || unsafe { *velocity.get_unchecked(j) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    // SAFETY: history k belongs to row i, which only this
+                    // block visits.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    let law = laws.pair(bodies, i, j);
+                    let fj = contact_force(&law, &g, hist);
+                    sub(&mut fi, fj);
+                    // SAFETY: j lies in this block or the next (the
+                    // blocks' construction); blocks of one parity are two
+                    // apart, so no other running block writes j.
+                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
+                } else {
+                    // SAFETY: as above.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
                     }
                 }
             }
@@ -314,14 +337,10 @@ pub fn add_pair_forces(
             unsafe { add(&mut *f_ptr.0.add(i), fi) };
         }
     };
-    pool.install(|| {
-        for parity in 0..2 {
-            (0..blocks)
-                .into_par_iter()
-                .filter(|b| b % 2 == parity)
-                .for_each(|b| run_block(b));
-        }
-    });
+    for parity in 0..2 {
+        let count = (blocks + 1 - parity) / 2;
+        workers.run(count, |k| run_block(2 * k + parity));
+    }
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -380,11 +399,14 @@ pub fn pair_observables(
     list: &PairList,
     histories: &PairHistories,
     laws: &LawTable,
-    pool: &rayon::ThreadPool,
+    workers: &Workers,
 ) -> (usize, usize, f64) {
     let n = bodies.len();
+    if list.start.len() != n + 1 {
+        return (0, 0, 0.0);
+    }
     let walled = |i: usize, j: usize| bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP;
-    let [count, wall_count, energy] = super::deterministic_sum(pool, n, |i| {
+    let [count, wall_count, energy] = workers.sum(n, |i| {
         let mut c = 0.0;
         let mut w = 0.0;
         let mut e = 0.0;

@@ -3,11 +3,10 @@
 //! model as the sphere pairs.
 
 use dembound_physics::contact::ContactHistory;
-use rayon::prelude::*;
 
 use super::contacts::LawTable;
-use super::{SharedMut, SUM_CHUNK};
 use crate::bodies::Bodies;
+use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
 
 /// Most plane walls a scene may have (a bit mask per body).
 pub const MAX_PLANES: usize = 64;
@@ -23,14 +22,17 @@ pub struct PlaneWall {
     pub normal: [f64; 3],
 }
 
-/// Per body and plane: the contact history, and a bit mask of the planes a
-/// body touches. Permuted with the bodies.
+/// Per body and plane: the contact history; bit masks of the planes a body
+/// touches and of those it is near (within R + skin at the last list
+/// build, so that it cannot touch any other before the next one). Permuted
+/// with the bodies.
 #[derive(Debug, Clone, Default)]
 pub struct WallContacts {
     pub planes: usize,
     /// `history[i * planes + p]`.
     pub history: Vec<ContactHistory>,
     pub touching: Vec<u64>,
+    pub near: Vec<u64>,
 }
 
 impl WallContacts {
@@ -39,6 +41,14 @@ impl WallContacts {
             planes,
             history: vec![ContactHistory::default(); bodies * planes],
             touching: vec![0; bodies],
+            near: vec![
+                if planes > 0 {
+                    u64::MAX >> (64 - planes)
+                } else {
+                    0
+                };
+                bodies
+            ],
         }
     }
 
@@ -54,6 +64,25 @@ impl WallContacts {
         self.history = h;
         self.touching = order.iter().map(|&o| self.touching[o as usize]).collect();
     }
+
+    /// Marks the planes within R + `skin` of each free body.
+    pub fn update_near(&mut self, bodies: &Bodies, planes: &[PlaneWall], skin: f64) {
+        self.near = (0..bodies.len())
+            .map(|i| {
+                let mut m = 0u64;
+                if !bodies.fixed[i] {
+                    for (p, plane) in planes.iter().enumerate() {
+                        let (h, _) =
+                            plane_overlap(plane, bodies.position[i], [0.0; 3], bodies.radius[i]);
+                        if h > -skin {
+                            m |= 1 << p;
+                        }
+                    }
+                }
+                m
+            })
+            .collect();
+    }
 }
 
 /// Overlap (m) and overlap rate (m/s) of a sphere against a plane.
@@ -67,8 +96,77 @@ pub fn plane_overlap(plane: &PlaneWall, x: [f64; 3], v: [f64; 3], radius: f64) -
     (radius - d, rate)
 }
 
-/// Sets every body's force to gravity (free bodies) plus its plane-wall
-/// forces, updating the wall histories. Per body, so parallel and exact.
+/// The force that starts body i's total: gravity (free bodies) plus its
+/// plane-wall forces at position `x` and velocity `v`, updating its wall
+/// histories and mask. Reads of `bodies`: radius, mass, fixed flag, class.
+///
+/// # Safety
+/// Body i's entries of `walls` (mask, histories) are touched by no other
+/// thread meanwhile.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn body_force(
+    bodies: &Bodies,
+    i: usize,
+    x: [f64; 3],
+    v: [f64; 3],
+    planes: &[PlaneWall],
+    walls: &WallContactsMut,
+    laws: &LawTable,
+    gravity: [f64; 3],
+) -> [f64; 3] {
+    let mut acc = if bodies.fixed[i] {
+        return [0.0; 3];
+    } else {
+        let m = bodies.mass[i];
+        [m * gravity[0], m * gravity[1], m * gravity[2]]
+    };
+    let mask = walls.touching.at(i);
+    let mut todo = *walls.near.at(i) | *mask;
+    while todo != 0 {
+        let p = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
+        let plane = &planes[p];
+        let (h, rate) = plane_overlap(plane, x, v, bodies.radius[i]);
+        let bit = 1u64 << p;
+        let hist = walls.history.at(i * walls.planes + p);
+        if h > 0.0 {
+            let law = laws.plane(bodies, i, p);
+            let fw = law.force(h, rate, hist);
+            law.update(h, rate, hist);
+            *mask |= bit;
+            acc[0] += fw * plane.normal[0];
+            acc[1] += fw * plane.normal[1];
+            acc[2] += fw * plane.normal[2];
+        } else if *mask & bit != 0 {
+            *hist = ContactHistory::default();
+            *mask &= !bit;
+        }
+    }
+    acc
+}
+
+/// Shared pointers into a [`WallContacts`] for per-body parallel access.
+#[derive(Clone, Copy)]
+pub struct WallContactsMut {
+    pub planes: usize,
+    pub history: SharedMut<ContactHistory>,
+    pub touching: SharedMut<u64>,
+    pub near: SharedMut<u64>,
+}
+
+impl WallContacts {
+    pub fn shared(&mut self) -> WallContactsMut {
+        WallContactsMut {
+            planes: self.planes,
+            history: SharedMut::new(&mut self.history),
+            touching: SharedMut::new(&mut self.touching),
+            near: SharedMut::new(&mut self.near),
+        }
+    }
+}
+
+/// Sets every body's force to gravity plus its plane-wall forces.
 pub fn start_forces(
     bodies: &Bodies,
     planes: &[PlaneWall],
@@ -76,47 +174,27 @@ pub fn start_forces(
     laws: &LawTable,
     gravity: [f64; 3],
     force: &mut [[f64; 3]],
-    pool: &rayon::ThreadPool,
+    workers: &Workers,
 ) {
-    let np = planes.len();
-    let hist_ptr = SharedMut(walls.history.as_mut_ptr());
-    let mask_ptr = SharedMut(walls.touching.as_mut_ptr());
-    pool.install(|| {
-        force.par_iter_mut().enumerate().for_each(|(i, f)| {
-            let (hist_ptr, mask_ptr) = (hist_ptr, mask_ptr);
-            let mut acc = if bodies.fixed[i] {
-                [0.0; 3]
-            } else {
-                let m = bodies.mass[i];
-                [m * gravity[0], m * gravity[1], m * gravity[2]]
-            };
-            for (p, plane) in planes.iter().enumerate() {
-                let (h, rate) = plane_overlap(
-                    plane,
+    let n = bodies.len();
+    let w = walls.shared();
+    let f = SharedMut::new(force);
+    workers.run(n.div_ceil(BODY_CHUNK), |c| {
+        for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
+            // SAFETY: chunks are disjoint ranges of bodies.
+            unsafe {
+                *f.at(i) = body_force(
+                    bodies,
+                    i,
                     bodies.position[i],
                     bodies.velocity[i],
-                    bodies.radius[i],
-                );
-                let bit = 1u64 << p;
-                // SAFETY: body i's mask and histories are touched by this
-                // iteration only.
-                let mask = unsafe { &mut *mask_ptr.0.add(i) };
-                let hist = unsafe { &mut *hist_ptr.0.add(i * np + p) };
-                if h > 0.0 {
-                    let law = laws.plane(bodies, i, p);
-                    let fw = law.force(h, rate, hist);
-                    law.update(h, rate, hist);
-                    *mask |= bit;
-                    acc[0] += fw * plane.normal[0];
-                    acc[1] += fw * plane.normal[1];
-                    acc[2] += fw * plane.normal[2];
-                } else if *mask & bit != 0 {
-                    *hist = ContactHistory::default();
-                    *mask &= !bit;
-                }
-            }
-            *f = acc;
-        });
+                    planes,
+                    &w,
+                    laws,
+                    gravity,
+                )
+            };
+        }
     });
 }
 
@@ -128,7 +206,7 @@ pub fn plane_observables(
     planes: &[PlaneWall],
     walls: &WallContacts,
     laws: &LawTable,
-    pool: &rayon::ThreadPool,
+    workers: &Workers,
 ) -> (Vec<[f64; 3]>, usize, f64) {
     let np = planes.len();
     let n = bodies.len();
@@ -137,34 +215,29 @@ pub fn plane_observables(
     }
     // Layout of a partial sum: 3 per plane, then count, then energy.
     let width = 3 * np + 2;
-    let partial: Vec<Vec<f64>> = pool.install(|| {
-        (0..n.div_ceil(SUM_CHUNK))
-            .into_par_iter()
-            .map(|c| {
-                let mut s = vec![0.0; width];
-                for i in c * SUM_CHUNK..((c + 1) * SUM_CHUNK).min(n) {
-                    for (p, plane) in planes.iter().enumerate() {
-                        let (h, rate) = plane_overlap(
-                            plane,
-                            bodies.position[i],
-                            bodies.velocity[i],
-                            bodies.radius[i],
-                        );
-                        if h > 0.0 {
-                            let law = laws.plane(bodies, i, p);
-                            let hist = &walls.history[i * np + p];
-                            let fw = law.force(h, rate, hist);
-                            for a in 0..3 {
-                                s[3 * p + a] -= fw * plane.normal[a];
-                            }
-                            s[3 * np] += 1.0;
-                            s[3 * np + 1] += laws.elastic_energy(&law, h, hist);
-                        }
+    let partial: Vec<Vec<f64>> = workers.map(n.div_ceil(BODY_CHUNK), |c| {
+        let mut s = vec![0.0; width];
+        for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
+            for (p, plane) in planes.iter().enumerate() {
+                let (h, rate) = plane_overlap(
+                    plane,
+                    bodies.position[i],
+                    bodies.velocity[i],
+                    bodies.radius[i],
+                );
+                if h > 0.0 {
+                    let law = laws.plane(bodies, i, p);
+                    let hist = &walls.history[i * np + p];
+                    let fw = law.force(h, rate, hist);
+                    for a in 0..3 {
+                        s[3 * p + a] -= fw * plane.normal[a];
                     }
+                    s[3 * np] += 1.0;
+                    s[3 * np + 1] += laws.elastic_energy(&law, h, hist);
                 }
-                s
-            })
-            .collect()
+            }
+        }
+        s
     });
     let mut total = vec![0.0; width];
     for p in partial {

@@ -16,10 +16,9 @@
 //! and the order of additions into each body is set by the blocks alone,
 //! never by the number of threads.
 
-use rayon::prelude::*;
-
 use super::cells::CellGrid;
 use super::ghosts::Ghosts;
+use crate::parallel::Workers;
 
 /// Body chunk of the parallel list build (fixed: the list does not depend
 /// on the thread count).
@@ -82,65 +81,60 @@ impl PairList {
     }
 
     /// Builds the lists.
-    pub fn build(input: &SearchInput, pool: &rayon::ThreadPool) -> Self {
+    pub fn build(input: &SearchInput, workers: &Workers) -> Self {
         let n = input.position.len();
         let grid = input.grid;
         let offsets = forward_offsets();
         let cell_of_body = |x: [f64; 3]| grid.coords(x);
-        let rows: Vec<(Vec<u32>, Vec<u32>)> = pool.install(|| {
-            (0..input.celled.div_ceil(BUILD_CHUNK))
-                .into_par_iter()
-                .map(|chunk| {
-                    let lo = chunk * BUILD_CHUNK;
-                    let hi = (lo + BUILD_CHUNK).min(input.celled);
-                    let mut counts = Vec::with_capacity(hi - lo);
-                    let mut js = Vec::with_capacity((hi - lo) * 8);
-                    for i in lo..hi {
-                        let before = js.len();
-                        let xi = input.position[i];
-                        let ri = input.radius[i] + input.skin;
-                        let fi = input.fixed[i];
-                        let c = cell_of_body(xi);
-                        let own = grid.index(c);
-                        let end = input.cell_start[own + 1] as usize;
-                        for j in i + 1..end {
+        let rows: Vec<(Vec<u32>, Vec<u32>)> =
+            workers.map(input.celled.div_ceil(BUILD_CHUNK), |chunk| {
+                let lo = chunk * BUILD_CHUNK;
+                let hi = (lo + BUILD_CHUNK).min(input.celled);
+                let mut counts = Vec::with_capacity(hi - lo);
+                let mut js = Vec::with_capacity((hi - lo) * 8);
+                for i in lo..hi {
+                    let before = js.len();
+                    let xi = input.position[i];
+                    let ri = input.radius[i] + input.skin;
+                    let fi = input.fixed[i];
+                    let c = cell_of_body(xi);
+                    let own = grid.index(c);
+                    let end = input.cell_start[own + 1] as usize;
+                    for j in i + 1..end {
+                        if !(fi && input.fixed[j])
+                            && within(xi, input.position[j], ri + input.radius[j])
+                        {
+                            js.push(j as u32);
+                        }
+                    }
+                    for o in &offsets {
+                        let cx = c[0] as i64 + o[0];
+                        let cy = c[1] as i64 + o[1];
+                        let cz = c[2] as i64 + o[2];
+                        if cx < 0
+                            || cy < 0
+                            || cz < 0
+                            || cx >= grid.dims[0] as i64
+                            || cy >= grid.dims[1] as i64
+                            || cz >= grid.dims[2] as i64
+                        {
+                            continue;
+                        }
+                        let k = grid.index([cx as usize, cy as usize, cz as usize]);
+                        for j in input.cell_start[k] as usize..input.cell_start[k + 1] as usize {
                             if !(fi && input.fixed[j])
                                 && within(xi, input.position[j], ri + input.radius[j])
                             {
                                 js.push(j as u32);
                             }
                         }
-                        for o in &offsets {
-                            let cx = c[0] as i64 + o[0];
-                            let cy = c[1] as i64 + o[1];
-                            let cz = c[2] as i64 + o[2];
-                            if cx < 0
-                                || cy < 0
-                                || cz < 0
-                                || cx >= grid.dims[0] as i64
-                                || cy >= grid.dims[1] as i64
-                                || cz >= grid.dims[2] as i64
-                            {
-                                continue;
-                            }
-                            let k = grid.index([cx as usize, cy as usize, cz as usize]);
-                            for j in input.cell_start[k] as usize..input.cell_start[k + 1] as usize
-                            {
-                                if !(fi && input.fixed[j])
-                                    && within(xi, input.position[j], ri + input.radius[j])
-                                {
-                                    js.push(j as u32);
-                                }
-                            }
-                        }
-                        // Ascending j within a row: better locality in the force loop.
-                        js[before..].sort_unstable();
-                        counts.push((js.len() - before) as u32);
                     }
-                    (counts, js)
-                })
-                .collect()
-        });
+                    // Ascending j within a row: better locality in the force loop.
+                    js[before..].sort_unstable();
+                    counts.push((js.len() - before) as u32);
+                }
+                (counts, js)
+            });
         let mut start = Vec::with_capacity(n + 1);
         start.push(0u32);
         let total: usize = rows.iter().map(|r| r.1.len()).sum();

@@ -9,6 +9,7 @@
 //! range. All errors are [`SceneError::Input`] (exit 2 in the CLI).
 
 use crate::SceneError;
+use dembound_physics::contact::{ContactModel, ContactSpec};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use toml::{Table, Value};
@@ -58,65 +59,91 @@ pub struct MaterialSection {
 /// The reserved material name of a rigid plane wall.
 pub const RIGID: &str = "rigid";
 
-/// `[contact]`: the keys of `dembound run`'s `[contact]`.
+/// `[contact]`: the keys of `dembound run`'s `[contact]`, checked against
+/// the physics crate's registry ([`ContactSection::model`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
+    /// `"linear"`, `"hertz"`, `"walton-braun"`, … or `{ power = α }`.
     pub law: Law,
-    #[serde(default)]
-    pub damping: Damping,
+    /// `"none"`, `"viscous"`, `"tsuji"`, `"viscoelastic"`.
+    #[serde(default = "no_damping")]
+    pub damping: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
-    #[serde(default)]
-    pub calibration: Calibration,
+    /// `"exact"` or `"formula"`.
+    #[serde(default = "exact")]
+    pub calibration: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping_coefficient: Option<f64>,
     #[serde(default)]
     pub attractive: bool,
 }
 
+fn no_damping() -> String {
+    "none".into()
+}
+
+fn exact() -> String {
+    "exact".into()
+}
+
 impl Default for ContactSection {
     fn default() -> Self {
         Self {
-            law: Law::Hertz,
-            damping: Damping::None,
+            law: Law::Name("hertz".into()),
+            damping: no_damping(),
             restitution: None,
-            calibration: Calibration::Exact,
+            calibration: exact(),
             damping_coefficient: None,
             attractive: false,
         }
     }
 }
 
-/// `contact.law`: `"linear"`, `"hertz"`, `{ power = α }`, `"walton-braun"`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+/// `contact.law`: a registry name, or `{ name = value }` (the law's first
+/// parameter: `{ power = 1.25 }`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
 pub enum Law {
-    Linear,
-    Hertz,
-    Power(f64),
-    #[serde(rename = "walton-braun")]
-    WaltonBraun,
+    Name(String),
+    WithValue(std::collections::BTreeMap<String, f64>),
 }
 
-/// `contact.damping`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Damping {
-    #[default]
-    None,
-    Viscous,
-    Tsuji,
-    Viscoelastic,
-}
-
-/// `contact.calibration`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Calibration {
-    #[default]
-    Exact,
-    Formula,
+impl ContactSection {
+    /// The contact model, through the physics crate's registry;
+    /// `reference_speed` (m/s) is the impact speed of a speed-dependent
+    /// calibration (the viscoelastic law's).
+    pub fn model(&self, reference_speed: Option<f64>) -> Result<ContactModel, SceneError> {
+        let mut spec = match &self.law {
+            Law::Name(name) => ContactSpec::law(name),
+            Law::WithValue(map) => {
+                let mut entries = map.iter();
+                match (entries.next(), entries.next()) {
+                    (Some((name, value)), None) => ContactSpec::law_with_value(name, *value),
+                    _ => {
+                        return Err(invalid(
+                            "contact.law",
+                            format!("{map:?}"),
+                            "a law name, or one `{ name = value }` such as { power = 1.25 }",
+                        ))
+                    }
+                }
+            }
+        };
+        spec.damping = self.damping.clone();
+        spec.restitution = self.restitution;
+        spec.damping_coefficient = self.damping_coefficient;
+        spec.calibration = self.calibration.clone();
+        spec.attractive = self.attractive;
+        spec.reference_speed = reference_speed;
+        let model =
+            ContactModel::from_spec(&spec).map_err(|e| invalid(&e.key, e.value, &e.allowed))?;
+        model
+            .validate()
+            .map_err(|e| invalid(&e.key, e.value, &e.allowed))?;
+        Ok(model)
+    }
 }
 
 /// `[[particles]]`: one group of spheres of one material, from exactly one
@@ -475,33 +502,9 @@ impl SceneFile {
     }
 
     fn validate_contact(&self) -> Result<(), SceneError> {
-        let c = &self.contact;
-        if let Law::Power(alpha) = c.law {
-            check(
-                (1.0..=3.0).contains(&alpha),
-                "contact.law.power",
-                alpha,
-                "1 ≤ α ≤ 3",
-            )?;
-        }
-        if let Some(e) = c.restitution {
-            check(e > 0.0 && e <= 1.0, "contact.restitution", e, "0 < e ≤ 1")?;
-        }
-        if let Some(x) = c.damping_coefficient {
-            check(
-                x >= 0.0 && x.is_finite(),
-                "contact.damping_coefficient",
-                x,
-                "finite and ≥ 0",
-            )?;
-        }
-        check(
-            !(c.restitution.is_some() && c.damping_coefficient.is_some()),
-            "contact.damping_coefficient",
-            "given with contact.restitution",
-            "one of restitution and damping_coefficient",
-        )?;
-        Ok(())
+        // The impact speed matters only to the viscoelastic calibration,
+        // solved again at resolution with the scene's own speed.
+        self.contact.model(Some(1.0)).map(|_| ())
     }
 
     fn validate_particles(&self, i: usize, p: &ParticlesSection) -> Result<(), SceneError> {

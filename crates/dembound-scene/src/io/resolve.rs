@@ -7,9 +7,7 @@
 //! `[[particles]]` groups in file order, each in its source's order, then
 //! the spheres of each `boundary_particles` wall in wall order.
 
-use super::config::{
-    self, Damping, Law, ParticlesSection, SceneFile, Scheme as SchemeName, TilingName, RIGID,
-};
+use super::config::{ParticlesSection, SceneFile, Scheme as SchemeName, TilingName, RIGID};
 use crate::setup::{
     DomainSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength, SceneSetup, Scheme,
     SphereInit, TimeStep, WallSetup,
@@ -20,7 +18,6 @@ use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::{Extent, Pattern, Tiling};
 use crate::sources::{self, SourceSphere};
 use crate::SceneError;
-use dembound_physics::contact::{ContactModel, NormalLaw};
 use dembound_physics::material::Material;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -171,14 +168,15 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
     }
 
     let n = &file.integration;
+    let impact_speed = match n.impact_speed {
+        Some(v) => Ok(v),
+        None => default_impact_speed(&file, &spheres),
+    };
     let time_step = match (n.dt, n.eta) {
         (Some(dt), _) => TimeStep::Fixed(dt),
         (None, Some(eta)) => TimeStep::Eta {
             eta,
-            impact_speed: match n.impact_speed {
-                Some(v) => v,
-                None => default_impact_speed(&file, &spheres)?,
-            },
+            impact_speed: impact_speed.clone()?,
         },
         (None, None) => {
             return Err(SceneError::input(
@@ -198,7 +196,7 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
             periodic: d.periodic,
         },
         materials,
-        contact: contact_model(&file.contact)?,
+        contact: file.contact.model(impact_speed.ok())?,
         spheres,
         walls,
         gravity: file.motion.gravity,
@@ -319,37 +317,4 @@ fn default_impact_speed(file: &SceneFile, spheres: &[SphereInit]) -> Result<f64,
              estimate it from (give a speed in m/s, > 0)",
         ))
     }
-}
-
-/// The contact model of `[contact]`. The engine's physics crate holds the
-/// elastic linear and Hertz laws today; the other keys of `run`'s
-/// `[contact]` are parsed and validated but refused here until it has
-/// them.
-pub fn contact_model(c: &config::ContactSection) -> Result<ContactModel, SceneError> {
-    let normal = match c.law {
-        Law::Linear => NormalLaw::Linear,
-        Law::Hertz => NormalLaw::Hertz,
-        Law::Power(alpha) => {
-            return Err(SceneError::input(format!(
-                "invalid value for `contact.law`: {{ power = {alpha} }} (allowed in scenes so far: \
-                 \"linear\", \"hertz\")"
-            )))
-        }
-        Law::WaltonBraun => {
-            return Err(SceneError::input(
-                "invalid value for `contact.law`: \"walton-braun\" (allowed in scenes so far: \"linear\", \"hertz\")",
-            ))
-        }
-    };
-    if c.damping != Damping::None || c.restitution.is_some() || c.damping_coefficient.is_some() {
-        return Err(SceneError::input(format!(
-            "invalid value for `contact.damping`: {:?} with restitution {:?}, damping_coefficient {:?} \
-             (allowed in scenes so far: \"none\", no restitution or coefficient)",
-            c.damping, c.restitution, c.damping_coefficient
-        )));
-    }
-    Ok(ContactModel {
-        normal,
-        attractive: c.attractive,
-    })
 }

@@ -48,7 +48,7 @@ fn the_issue_example_parses_with_its_values() {
     let s = load(ISSUE_EXAMPLE, "issue.toml", &[]).unwrap();
     assert_eq!(s.domain.upper, [0.0246, 0.0246, 0.03]);
     assert_eq!(s.materials[0].youngs_modulus, 1.0e7);
-    assert_eq!(s.contact.law, Law::Hertz);
+    assert_eq!(s.contact.law, Law::Name("hertz".into()));
     assert_eq!(s.particles.len(), 3);
     assert_eq!(
         s.particles[0].lammps_data.as_deref(),
@@ -98,7 +98,10 @@ fn set_overrides_index_lists_and_swap_exclusive_keys() {
         s.walls[1].boundary_particles.as_ref().unwrap().tiling,
         TilingName::Hexagonal
     );
-    assert_eq!(s.contact.law, Law::Power(1.25));
+    assert_eq!(
+        s.contact.law,
+        Law::WithValue([("power".to_string(), 1.25)].into_iter().collect())
+    );
     assert!(s.output.collisions && !s.particles[2].fixed);
 }
 
@@ -136,13 +139,19 @@ fn validation_table() {
             "unknown field",
         ),
         ("contact.law=cubic", "contact.law", "linear"),
-        ("contact.law.power=4", "contact.law.power", "1 ≤ α ≤ 3"),
+        ("contact.law.power=4", "contact.exponent", "α"),
+        ("contact.damping=tsuji", "contact.restitution", "missing"),
         (
-            "contact.restitution=1.5",
+            "contact.restitution=0.5",
             "contact.restitution",
-            "0 < e ≤ 1",
+            "absent with damping",
         ),
         ("contact.damping=sticky", "contact.damping", "viscous"),
+        (
+            "contact.calibration=guess",
+            "contact.calibration",
+            "formula",
+        ),
         (
             "particles.0.material=sand",
             "particles[0].material",
