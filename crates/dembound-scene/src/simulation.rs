@@ -94,6 +94,11 @@ impl Simulation {
         if threads == 0 {
             return Err(SceneError::invalid("threads", 0, "at least 1"));
         }
+        setup.contact.validate().map_err(|e| SceneError::Invalid {
+            key: e.key,
+            value: e.value,
+            allowed: e.allowed,
+        })?;
         let d = &setup.domain;
         for a in 0..3 {
             if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.lower[a] < d.upper[a]) {
