@@ -288,9 +288,10 @@ impl Pipeline {
             let (a, b) = (bodies.id[i], bodies.id[owner]);
             (a.min(b), a.max(b))
         };
-        let mut main = vec![ContactHistory::default(); list.j.len()];
-        let mut extra = vec![ContactHistory::default(); list.extra.len()];
-        if !saved.is_empty() {
+        let keep = world.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { list.extra.len() } else { 0 }];
+        if keep && !saved.is_empty() {
             for i in 0..n {
                 for k in list.start[i] as usize..list.start[i + 1] as usize {
                     if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
@@ -406,7 +407,7 @@ impl Pipeline {
                     i,
                     world.list.j[k] as usize,
                     &mut tracks.main[k],
-                    &world.histories.main[k],
+                    world.histories.main(k),
                 );
             }
         }
@@ -415,7 +416,7 @@ impl Pipeline {
                 i as usize,
                 j as usize,
                 &mut tracks.extra[k],
-                &world.histories.extra[k],
+                world.histories.extra(k),
             );
         }
         let np = world.planes.len();
@@ -436,7 +437,11 @@ impl Pipeline {
                     continue;
                 }
                 let law = laws.plane(bodies, i, p);
-                let hist = &world.wall_contacts.history[i * np + p];
+                let hist = world
+                    .wall_contacts
+                    .history
+                    .get(i * np + p)
+                    .unwrap_or(&contacts::NO_HISTORY);
                 if let Some(c) = track.advance(t, dt, h, rate, |h, r| law.force(h, r, hist)) {
                     log.push(Collision {
                         i: bodies.id[i] as usize,

@@ -420,7 +420,7 @@ impl Simulation {
         let workers = Workers::new(threads).map_err(|e| SceneError::Threads(e.to_string()))?;
         let np = planes.len();
         let world = World {
-            wall_contacts: WallContacts::new(n, np),
+            wall_contacts: WallContacts::new(n, np, laws.history),
             tracks: setup.collisions.then(|| Tracks {
                 main: Vec::new(),
                 extra: Vec::new(),
@@ -695,7 +695,12 @@ impl Simulation {
         let mut plane_histories = Vec::new();
         for i in 0..b.len() {
             for p in 0..np {
-                let h = w.wall_contacts.history[i * np + p];
+                let h = w
+                    .wall_contacts
+                    .history
+                    .get(i * np + p)
+                    .copied()
+                    .unwrap_or_default();
                 if h != ContactHistory::default() {
                     plane_histories.push((b.id[i], p as u32, HistoryRecord::from(h)));
                 }
@@ -815,15 +820,16 @@ impl Simulation {
             let (a, b) = (w.bodies.id[i], w.bodies.id[owner]);
             (a.min(b), a.max(b))
         };
-        let mut main = vec![ContactHistory::default(); w.list.j.len()];
-        let mut extra = vec![ContactHistory::default(); w.list.extra.len()];
+        let keep = w.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { w.list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { w.list.extra.len() } else { 0 }];
         let mut tmain = vec![Track::default(); w.list.j.len()];
         let mut textra = vec![Track::default(); w.list.extra.len()];
         for i in 0..n {
             for k in w.list.start[i] as usize..w.list.start[i + 1] as usize {
                 let key = key_of(w, i, w.list.j[k] as usize);
-                if let Some(h) = pairs.get(&key) {
-                    main[k] = *h;
+                if let (Some(h), Some(slot)) = (pairs.get(&key), main.get_mut(k)) {
+                    *slot = *h;
                 }
                 if let Some(t) = tracks.get(&key) {
                     tmain[k] = *t;
@@ -832,8 +838,8 @@ impl Simulation {
         }
         for (k, &(i, j)) in w.list.extra.iter().enumerate() {
             let key = key_of(w, i as usize, j as usize);
-            if let Some(h) = pairs.get(&key) {
-                extra[k] = *h;
+            if let (Some(h), Some(slot)) = (pairs.get(&key), extra.get_mut(k)) {
+                *slot = *h;
             }
             if let Some(t) = tracks.get(&key) {
                 textra[k] = *t;
@@ -849,8 +855,10 @@ impl Simulation {
                 )));
             }
             let i = at[id as usize] as usize;
-            w.wall_contacts.history[i * np + p as usize] = h.into();
-            w.wall_contacts.touching[i] |= 1u64 << p;
+            if let Some(slot) = w.wall_contacts.history.get_mut(i * np + p as usize) {
+                *slot = h.into();
+                w.wall_contacts.touching[i] |= 1u64 << p;
+            }
         }
         if let Some(t) = w.tracks.as_mut() {
             t.main = tmain;
