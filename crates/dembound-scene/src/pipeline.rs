@@ -120,7 +120,7 @@ impl Pipeline {
                 // Stages integrate (first half) and forces (per body:
                 // gravity, walls) in one pass over the bodies.
                 let moved2 = self.verlet_advance(world, workers);
-                if !(moved2 <= half_skin * half_skin) {
+                if needs_rebuild(moved2, half_skin) {
                     self.neighbours(world, workers);
                     // The wall masks are new: the per-body forces again
                     // (the same state: history updates are idempotent).
@@ -138,7 +138,7 @@ impl Pipeline {
             Scheme::Gear5 => {
                 let moved2 =
                     integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
-                if !(moved2 <= half_skin * half_skin) {
+                if needs_rebuild(moved2, half_skin) {
                     self.neighbours(world, workers);
                 } else {
                     self.ghosts(world);
@@ -292,11 +292,9 @@ impl Pipeline {
         let mut main = vec![ContactHistory::default(); if keep { list.j.len() } else { 0 }];
         let mut extra = vec![ContactHistory::default(); if keep { list.extra.len() } else { 0 }];
         if keep && !saved.is_empty() {
-            for i in 0..n {
-                for k in list.start[i] as usize..list.start[i + 1] as usize {
-                    if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
-                        main[k] = *h;
-                    }
+            for (i, k) in list.entries() {
+                if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
+                    main[k] = *h;
                 }
             }
             for (k, &(i, j)) in list.extra.iter().enumerate() {
@@ -461,7 +459,7 @@ impl Pipeline {
             }
         }
         // A fixed order within the step: by pair.
-        log.sort_by(|a, b| (a.i, partner_key(a.j)).cmp(&(b.i, partner_key(b.j))));
+        log.sort_by_key(|c| (c.i, partner_key(c.j)));
         world.collisions.extend(log);
     }
 }
@@ -515,6 +513,11 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
     }
     m
+}
+
+/// A body moved more than half the skin (or a position is not finite).
+fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
+    moved2.is_nan() || moved2 > half_skin * half_skin
 }
 
 fn partner_key(p: Partner) -> (u8, usize) {

@@ -118,7 +118,7 @@ impl Simulation {
                     "finite and > 0 kg/m³",
                 ));
             }
-            if !(m.youngs_modulus > 0.0) || m.youngs_modulus.is_nan() {
+            if m.youngs_modulus.is_nan() || m.youngs_modulus <= 0.0 {
                 return Err(SceneError::invalid(
                     format!("materials[{k}].youngs_modulus"),
                     m.youngs_modulus,
@@ -337,8 +337,8 @@ impl Simulation {
             d.upper[1] - d.lower[1],
             d.upper[2] - d.lower[2],
         ];
-        for a in 0..3 {
-            if d.periodic[a] && len[a] < 2.0 * cell_size {
+        for (a, &len) in len.iter().enumerate() {
+            if d.periodic[a] && len < 2.0 * cell_size {
                 return Err(SceneError::invalid(
                     format!("domain.upper[{a}]"),
                     d.upper[a],
@@ -687,7 +687,7 @@ impl Simulation {
     pub fn checkpoint(&self) -> Checkpoint {
         let w = &self.world;
         let b = &w.bodies;
-        let pairs = contacts::active_histories(&b, &w.ghosts, &w.list, &w.histories)
+        let pairs = contacts::active_histories(b, &w.ghosts, &w.list, &w.histories)
             .into_iter()
             .map(|(a, c, h)| (a, c, HistoryRecord::from(h)))
             .collect();
@@ -825,15 +825,13 @@ impl Simulation {
         let mut extra = vec![ContactHistory::default(); if keep { w.list.extra.len() } else { 0 }];
         let mut tmain = vec![Track::default(); w.list.j.len()];
         let mut textra = vec![Track::default(); w.list.extra.len()];
-        for i in 0..n {
-            for k in w.list.start[i] as usize..w.list.start[i + 1] as usize {
-                let key = key_of(w, i, w.list.j[k] as usize);
-                if let (Some(h), Some(slot)) = (pairs.get(&key), main.get_mut(k)) {
-                    *slot = *h;
-                }
-                if let Some(t) = tracks.get(&key) {
-                    tmain[k] = *t;
-                }
+        for (i, k) in w.list.entries() {
+            let key = key_of(w, i, w.list.j[k] as usize);
+            if let (Some(h), Some(slot)) = (pairs.get(&key), main.get_mut(k)) {
+                *slot = *h;
+            }
+            if let Some(t) = tracks.get(&key) {
+                tmain[k] = *t;
             }
         }
         for (k, &(i, j)) in w.list.extra.iter().enumerate() {

@@ -524,6 +524,6 @@ pub fn active_histories(
             out.push((a.min(b), a.max(b), histories.extra[k]));
         }
     }
-    out.sort_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+    out.sort_by_key(|x| (x.0, x.1));
     out
 }
