@@ -233,6 +233,11 @@ pub fn plane_observables(
     let partial: Vec<Vec<f64>> = workers.map(n.div_ceil(BODY_CHUNK), |c| {
         let mut s = vec![0.0; width];
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
+            // Fixed bodies never touch a plane (both are fixed), as in
+            // the forces (`update_near`).
+            if bodies.fixed[i] {
+                continue;
+            }
             for (p, plane) in planes.iter().enumerate() {
                 let (h, rate) = plane_overlap(
                     plane,
