@@ -107,17 +107,19 @@ fn main() {
             group: None,
         });
     }
+    // The file's copy is not needed any more (peak memory).
+    drop(data);
     for a in 0..3 {
         let mut n = [0.0; 3];
         n[a] = 1.0;
         setup.walls.push(WallSetup::Plane {
-            point: data.lower,
+            point: setup.domain.lower,
             normal: n,
             material: 0,
         });
         n[a] = -1.0;
         setup.walls.push(WallSetup::Plane {
-            point: data.upper,
+            point: setup.domain.upper,
             normal: n,
             material: 0,
         });

@@ -120,7 +120,7 @@ impl Pipeline {
                 // Stages integrate (first half) and forces (per body:
                 // gravity, walls) in one pass over the bodies.
                 let moved2 = self.verlet_advance(world, workers);
-                if !(moved2 <= half_skin * half_skin) {
+                if needs_rebuild(moved2, half_skin) {
                     self.neighbours(world, workers);
                     // The wall masks are new: the per-body forces again
                     // (the same state: history updates are idempotent).
@@ -138,7 +138,7 @@ impl Pipeline {
             Scheme::Gear5 => {
                 let moved2 =
                     integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
-                if !(moved2 <= half_skin * half_skin) {
+                if needs_rebuild(moved2, half_skin) {
                     self.neighbours(world, workers);
                 } else {
                     self.ghosts(world);
@@ -288,14 +288,13 @@ impl Pipeline {
             let (a, b) = (bodies.id[i], bodies.id[owner]);
             (a.min(b), a.max(b))
         };
-        let mut main = vec![ContactHistory::default(); list.j.len()];
-        let mut extra = vec![ContactHistory::default(); list.extra.len()];
-        if !saved.is_empty() {
-            for i in 0..n {
-                for k in list.start[i] as usize..list.start[i + 1] as usize {
-                    if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
-                        main[k] = *h;
-                    }
+        let keep = world.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { list.extra.len() } else { 0 }];
+        if keep && !saved.is_empty() {
+            for (i, k) in list.entries() {
+                if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
+                    main[k] = *h;
                 }
             }
             for (k, &(i, j)) in list.extra.iter().enumerate() {
@@ -305,20 +304,52 @@ impl Pipeline {
             }
         }
         world.histories = PairHistories { main, extra };
+        // Tracked contacts that are still open but no longer listed (they
+        // separated by more than the skin within one step) stay listed, as
+        // extra pairs, until the log has seen them end.
+        let mut kept: Vec<(u32, u32, Track)> = Vec::new();
         if let (Some(saved), Some(tracks)) = (saved_tracks, world.tracks.as_mut()) {
             tracks.main = vec![Track::default(); list.j.len()];
             tracks.extra = vec![Track::default(); list.extra.len()];
-            for i in 0..n {
-                for k in list.start[i] as usize..list.start[i + 1] as usize {
-                    if let Some(t) = saved.get(&key(i, list.j[k] as usize)) {
-                        tracks.main[k] = *t;
-                    }
+            let mut found = std::collections::HashSet::new();
+            for (i, k) in list.entries() {
+                let key = key(i, list.j[k] as usize);
+                if let Some(t) = saved.get(&key) {
+                    tracks.main[k] = *t;
+                    found.insert(key);
                 }
             }
             for (k, &(i, j)) in list.extra.iter().enumerate() {
-                if let Some(t) = saved.get(&key(i as usize, j as usize)) {
+                let key = key(i as usize, j as usize);
+                if let Some(t) = saved.get(&key) {
                     tracks.extra[k] = *t;
+                    found.insert(key);
                 }
+            }
+            let mut open: Vec<_> = saved
+                .iter()
+                .filter(|(key, t)| t.in_contact() && !found.contains(*key))
+                .map(|(key, t)| (*key, *t))
+                .collect();
+            open.sort_by_key(|(key, _)| *key);
+            let at = bodies.index_of_ids();
+            for ((a, b), t) in open {
+                let (i, j) = (at[a as usize] as usize, at[b as usize] as usize);
+                kept.push((
+                    i as u32,
+                    nearest_image(bodies, &world.ghosts, i, j) as u32,
+                    t,
+                ));
+            }
+        }
+        for (i, j, t) in kept {
+            world.list.extra.push((i, j));
+            if world.laws.history {
+                // A contact that separated keeps no history worth carrying.
+                world.histories.extra.push(ContactHistory::default());
+            }
+            if let Some(tracks) = world.tracks.as_mut() {
+                tracks.extra.push(t);
             }
         }
         self.reference.clone_from(&world.bodies.position);
@@ -406,7 +437,7 @@ impl Pipeline {
                     i,
                     world.list.j[k] as usize,
                     &mut tracks.main[k],
-                    &world.histories.main[k],
+                    world.histories.main(k),
                 );
             }
         }
@@ -415,7 +446,7 @@ impl Pipeline {
                 i as usize,
                 j as usize,
                 &mut tracks.extra[k],
-                &world.histories.extra[k],
+                world.histories.extra(k),
             );
         }
         let np = world.planes.len();
@@ -436,7 +467,11 @@ impl Pipeline {
                     continue;
                 }
                 let law = laws.plane(bodies, i, p);
-                let hist = &world.wall_contacts.history[i * np + p];
+                let hist = world
+                    .wall_contacts
+                    .history
+                    .get(i * np + p)
+                    .unwrap_or(&contacts::NO_HISTORY);
                 if let Some(c) = track.advance(t, dt, h, rate, |h, r| law.force(h, r, hist)) {
                     log.push(Collision {
                         i: bodies.id[i] as usize,
@@ -456,7 +491,7 @@ impl Pipeline {
             }
         }
         // A fixed order within the step: by pair.
-        log.sort_by(|a, b| (a.i, partner_key(a.j)).cmp(&(b.i, partner_key(b.j))));
+        log.sort_by_key(|c| (c.i, partner_key(c.j)));
         world.collisions.extend(log);
     }
 }
@@ -510,6 +545,27 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
     }
     m
+}
+
+/// Extended index of body j's image nearest to body i: j itself or one of
+/// its ghosts.
+fn nearest_image(bodies: &Bodies, ghosts: &Ghosts, i: usize, j: usize) -> usize {
+    let d2 = |x: [f64; 3]| crate::dynamics::integrate::displacement2(x, bodies.position[i]);
+    let mut best = (d2(bodies.position[j]), j);
+    for (g, &owner) in ghosts.owner.iter().enumerate() {
+        if owner as usize == j {
+            let d = d2(ghosts.position[g]);
+            if d < best.0 {
+                best = (d, bodies.len() + g);
+            }
+        }
+    }
+    best.1
+}
+
+/// A body moved more than half the skin (or a position is not finite).
+fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
+    moved2.is_nan() || moved2 > half_skin * half_skin
 }
 
 fn partner_key(p: Partner) -> (u8, usize) {

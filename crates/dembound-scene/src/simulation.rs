@@ -94,6 +94,11 @@ impl Simulation {
         if threads == 0 {
             return Err(SceneError::invalid("threads", 0, "at least 1"));
         }
+        setup.contact.validate().map_err(|e| SceneError::Invalid {
+            key: e.key,
+            value: e.value,
+            allowed: e.allowed,
+        })?;
         let d = &setup.domain;
         for a in 0..3 {
             if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.lower[a] < d.upper[a]) {
@@ -113,7 +118,7 @@ impl Simulation {
                     "finite and > 0 kg/m³",
                 ));
             }
-            if !(m.youngs_modulus > 0.0) || m.youngs_modulus.is_nan() {
+            if m.youngs_modulus.is_nan() || m.youngs_modulus <= 0.0 {
                 return Err(SceneError::invalid(
                     format!("materials[{k}].youngs_modulus"),
                     m.youngs_modulus,
@@ -332,8 +337,8 @@ impl Simulation {
             d.upper[1] - d.lower[1],
             d.upper[2] - d.lower[2],
         ];
-        for a in 0..3 {
-            if d.periodic[a] && len[a] < 2.0 * cell_size {
+        for (a, &len) in len.iter().enumerate() {
+            if d.periodic[a] && len < 2.0 * cell_size {
                 return Err(SceneError::invalid(
                     format!("domain.upper[{a}]"),
                     d.upper[a],
@@ -415,7 +420,7 @@ impl Simulation {
         let workers = Workers::new(threads).map_err(|e| SceneError::Threads(e.to_string()))?;
         let np = planes.len();
         let world = World {
-            wall_contacts: WallContacts::new(n, np),
+            wall_contacts: WallContacts::new(n, np, laws.history),
             tracks: setup.collisions.then(|| Tracks {
                 main: Vec::new(),
                 extra: Vec::new(),
@@ -682,7 +687,7 @@ impl Simulation {
     pub fn checkpoint(&self) -> Checkpoint {
         let w = &self.world;
         let b = &w.bodies;
-        let pairs = contacts::active_histories(&b, &w.ghosts, &w.list, &w.histories)
+        let pairs = contacts::active_histories(b, &w.ghosts, &w.list, &w.histories)
             .into_iter()
             .map(|(a, c, h)| (a, c, HistoryRecord::from(h)))
             .collect();
@@ -690,7 +695,12 @@ impl Simulation {
         let mut plane_histories = Vec::new();
         for i in 0..b.len() {
             for p in 0..np {
-                let h = w.wall_contacts.history[i * np + p];
+                let h = w
+                    .wall_contacts
+                    .history
+                    .get(i * np + p)
+                    .copied()
+                    .unwrap_or_default();
                 if h != ContactHistory::default() {
                     plane_histories.push((b.id[i], p as u32, HistoryRecord::from(h)));
                 }
@@ -810,25 +820,24 @@ impl Simulation {
             let (a, b) = (w.bodies.id[i], w.bodies.id[owner]);
             (a.min(b), a.max(b))
         };
-        let mut main = vec![ContactHistory::default(); w.list.j.len()];
-        let mut extra = vec![ContactHistory::default(); w.list.extra.len()];
+        let keep = w.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { w.list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { w.list.extra.len() } else { 0 }];
         let mut tmain = vec![Track::default(); w.list.j.len()];
         let mut textra = vec![Track::default(); w.list.extra.len()];
-        for i in 0..n {
-            for k in w.list.start[i] as usize..w.list.start[i + 1] as usize {
-                let key = key_of(w, i, w.list.j[k] as usize);
-                if let Some(h) = pairs.get(&key) {
-                    main[k] = *h;
-                }
-                if let Some(t) = tracks.get(&key) {
-                    tmain[k] = *t;
-                }
+        for (i, k) in w.list.entries() {
+            let key = key_of(w, i, w.list.j[k] as usize);
+            if let (Some(h), Some(slot)) = (pairs.get(&key), main.get_mut(k)) {
+                *slot = *h;
+            }
+            if let Some(t) = tracks.get(&key) {
+                tmain[k] = *t;
             }
         }
         for (k, &(i, j)) in w.list.extra.iter().enumerate() {
             let key = key_of(w, i as usize, j as usize);
-            if let Some(h) = pairs.get(&key) {
-                extra[k] = *h;
+            if let (Some(h), Some(slot)) = (pairs.get(&key), extra.get_mut(k)) {
+                *slot = *h;
             }
             if let Some(t) = tracks.get(&key) {
                 textra[k] = *t;
@@ -844,8 +853,10 @@ impl Simulation {
                 )));
             }
             let i = at[id as usize] as usize;
-            w.wall_contacts.history[i * np + p as usize] = h.into();
-            w.wall_contacts.touching[i] |= 1u64 << p;
+            if let Some(slot) = w.wall_contacts.history.get_mut(i * np + p as usize) {
+                *slot = h.into();
+                w.wall_contacts.touching[i] |= 1u64 << p;
+            }
         }
         if let Some(t) = w.tracks.as_mut() {
             t.main = tmain;

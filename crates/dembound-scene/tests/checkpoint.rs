@@ -4,6 +4,7 @@
 
 mod common;
 
+use dembound_physics::contact::{ContactModel, NormalLaw};
 use dembound_scene::setup::Scheme;
 use dembound_scene::{SceneSetup, Simulation};
 
@@ -39,6 +40,10 @@ fn restart_continues_bit_for_bit() {
     check(lattice, 350, 250);
     let mut gas = common::periodic_gas(4, 0.05, 0.5, 3);
     gas.collisions = true;
+    check(gas.clone(), 500, 500);
+    // A hysteretic law: per-pair histories stored, carried over list
+    // rebuilds and through the checkpoint.
+    gas.contact = ContactModel::elastic(NormalLaw::WaltonBraun { restitution: 0.5 });
     check(gas, 500, 500);
 }
 

@@ -13,8 +13,12 @@ fn bits3(v: &[[f64; 3]]) -> Vec<[u64; 3]> {
         .collect()
 }
 
-/// Everything a run reports, as bits.
-fn fingerprint(sim: &Simulation) -> (Vec<[u64; 3]>, Vec<[u64; 3]>, Vec<[u64; 3]>, String) {
+/// Positions, velocities and forces as bits, and the observables and
+/// collision log printed.
+type Fingerprint = (Vec<[u64; 3]>, Vec<[u64; 3]>, Vec<[u64; 3]>, String);
+
+/// Everything a run reports.
+fn fingerprint(sim: &Simulation) -> Fingerprint {
     let o = sim.observe();
     (
         bits3(&sim.positions()),

@@ -144,8 +144,7 @@ fn scene(law: NormalLaw, scheme: Scheme, on_plane: bool) -> (SceneSetup, PairPro
         },
     ];
     let m = grain().sphere_mass(R);
-    let props;
-    if on_plane {
+    let props = if on_plane {
         setup.walls.push(WallSetup::Plane {
             point: [0.0; 3],
             normal: [0.0, 0.0, 1.0],
@@ -159,7 +158,7 @@ fn scene(law: NormalLaw, scheme: Scheme, on_plane: bool) -> (SceneSetup, PairPro
             fixed: false,
             group: None,
         });
-        props = PairProperties::sphere_plane(R, m, &grain(), &grain());
+        PairProperties::sphere_plane(R, m, &grain(), &grain())
     } else {
         let rb = 100.0 * R;
         setup.spheres.push(SphereInit {
@@ -178,8 +177,8 @@ fn scene(law: NormalLaw, scheme: Scheme, on_plane: bool) -> (SceneSetup, PairPro
             fixed: false,
             group: None,
         });
-        props = PairProperties::spheres(R, m, &grain(), rb, f64::INFINITY, &boundary());
-    }
+        PairProperties::spheres(R, m, &grain(), rb, f64::INFINITY, &boundary())
+    };
     (setup, props)
 }
 

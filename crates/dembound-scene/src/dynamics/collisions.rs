@@ -126,9 +126,14 @@ impl Hermite {
 }
 
 impl Track {
-    /// Forgets the previous step (a couple newly listed).
+    /// The couple has a previous step.
     pub fn is_known(&self) -> bool {
         self.known
+    }
+
+    /// A contact has started and not ended.
+    pub fn in_contact(&self) -> bool {
+        self.in_contact
     }
 
     /// Advances over the step that ends at time `t` (length `dt`) with

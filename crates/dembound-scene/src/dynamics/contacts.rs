@@ -19,6 +19,9 @@ pub const NO_CLASS: u16 = u16::MAX;
 #[derive(Debug, Clone)]
 pub struct LawTable {
     pub model: ContactModel,
+    /// The normal law keeps a per-contact history (hysteretic laws); when
+    /// it does not, no history is stored at all.
+    pub history: bool,
     pub materials: Vec<Material>,
     classes: usize,
     pairs: Vec<PairLaw>,
@@ -58,6 +61,7 @@ impl LawTable {
         }
         let mut table = LawTable {
             model,
+            history: model.normal.row().capabilities.history,
             materials,
             classes: 0,
             pairs: Vec::new(),
@@ -155,11 +159,31 @@ impl LawTable {
 }
 
 /// Histories aligned with a [`PairList`]: `main[k]` for `list.j[k]`,
-/// `extra[k]` for `list.extra[k]`.
+/// `extra[k]` for `list.extra[k]`; both empty when the law keeps none.
 #[derive(Debug, Clone, Default)]
 pub struct PairHistories {
     pub main: Vec<ContactHistory>,
     pub extra: Vec<ContactHistory>,
+}
+
+/// The history every contact of a history-free law reads.
+pub const NO_HISTORY: ContactHistory = ContactHistory {
+    max_overlap: 0.0,
+    unloading: false,
+};
+
+impl PairHistories {
+    /// History of main entry k (the default when none are kept).
+    #[inline]
+    pub fn main(&self, k: usize) -> &ContactHistory {
+        self.main.get(k).unwrap_or(&NO_HISTORY)
+    }
+
+    /// History of extra entry k.
+    #[inline]
+    pub fn extra(&self, k: usize) -> &ContactHistory {
+        self.extra.get(k).unwrap_or(&NO_HISTORY)
+    }
 }
 
 /// The geometry of one pair at one instant.
@@ -280,7 +304,9 @@ pub fn add_pair_forces(
     workers: &Workers,
 ) {
     let n = bodies.len();
-    assert!(force.len() == n && list.start.len() == n + 1 && histories.main.len() == list.j.len());
+    let keep = laws.history;
+    assert!(force.len() == n && list.start.len() == n + 1);
+    assert!(!keep || histories.main.len() == list.j.len());
     assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
     let f_ptr = SharedMut(force.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
@@ -315,9 +341,14 @@ pub fn add_pair_forces(
                 // The velocity is read only for touching pairs.
                 let vj = || unsafe { *velocity.get_unchecked(j) };
                 if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    let mut scratch = NO_HISTORY;
                     // SAFETY: history k belongs to row i, which only this
                     // block visits.
-                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    let hist = if keep {
+                        unsafe { &mut *h_ptr.0.add(k) }
+                    } else {
+                        &mut scratch
+                    };
                     let law = laws.pair(bodies, i, j);
                     let fj = contact_force(&law, &g, hist);
                     sub(&mut fi, fj);
@@ -325,7 +356,7 @@ pub fn add_pair_forces(
                     // blocks' construction); blocks of one parity are two
                     // apart, so no other running block writes j.
                     unsafe { add(&mut *f_ptr.0.add(j), fj) };
-                } else {
+                } else if keep {
                     // SAFETY: as above.
                     let hist = unsafe { &mut *h_ptr.0.add(k) };
                     if *hist != ContactHistory::default() {
@@ -353,7 +384,12 @@ pub fn add_pair_forces(
                 ghosts.owner[g] as usize,
             )
         };
-        let hist = &mut histories.extra[k];
+        let mut scratch = NO_HISTORY;
+        let hist = if keep {
+            &mut histories.extra[k]
+        } else {
+            &mut scratch
+        };
         match touching(
             bodies.position[i],
             bodies.velocity[i],
@@ -425,7 +461,7 @@ pub fn pair_observables(
                 } else {
                     c += 1.0;
                 }
-                e += laws.elastic_energy(&laws.pair(bodies, i, j), g.overlap, &histories.main[k]);
+                e += laws.elastic_energy(&laws.pair(bodies, i, j), g.overlap, histories.main(k));
             }
         }
         [c, w, e]
@@ -450,7 +486,7 @@ pub fn pair_observables(
                 count += 1;
             }
             energy +=
-                laws.elastic_energy(&laws.pair(bodies, i, owner), g.overlap, &histories.extra[k]);
+                laws.elastic_energy(&laws.pair(bodies, i, owner), g.overlap, histories.extra(k));
         }
     }
     (count, wall_count, energy)
@@ -466,7 +502,10 @@ pub fn active_histories(
 ) -> Vec<(u32, u32, ContactHistory)> {
     let mut out = Vec::new();
     let n = bodies.len();
-    if list.start.len() != n + 1 {
+    if list.start.len() != n + 1
+        || histories.main.len() != list.j.len()
+        || histories.extra.len() != list.extra.len()
+    {
         // No list yet.
         return out;
     }
@@ -485,6 +524,6 @@ pub fn active_histories(
             out.push((a.min(b), a.max(b), histories.extra[k]));
         }
     }
-    out.sort_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+    out.sort_by_key(|x| (x.0, x.1));
     out
 }

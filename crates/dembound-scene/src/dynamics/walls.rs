@@ -4,7 +4,7 @@
 
 use dembound_physics::contact::ContactHistory;
 
-use super::contacts::LawTable;
+use super::contacts::{LawTable, NO_HISTORY};
 use crate::bodies::Bodies;
 use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
 
@@ -36,10 +36,15 @@ pub struct WallContacts {
 }
 
 impl WallContacts {
-    pub fn new(bodies: usize, planes: usize) -> Self {
+    /// `history`: whether the law keeps one (else none is stored).
+    pub fn new(bodies: usize, planes: usize, history: bool) -> Self {
         Self {
             planes,
-            history: vec![ContactHistory::default(); bodies * planes],
+            history: if history {
+                vec![ContactHistory::default(); bodies * planes]
+            } else {
+                Vec::new()
+            },
             touching: vec![0; bodies],
             near: vec![
                 if planes > 0 {
@@ -57,11 +62,13 @@ impl WallContacts {
         if p == 0 {
             return;
         }
-        let mut h = Vec::with_capacity(self.history.len());
-        for &o in order {
-            h.extend_from_slice(&self.history[o as usize * p..(o as usize + 1) * p]);
+        if !self.history.is_empty() {
+            let mut h = Vec::with_capacity(self.history.len());
+            for &o in order {
+                h.extend_from_slice(&self.history[o as usize * p..(o as usize + 1) * p]);
+            }
+            self.history = h;
         }
-        self.history = h;
         self.touching = order.iter().map(|&o| self.touching[o as usize]).collect();
     }
 
@@ -129,7 +136,12 @@ pub unsafe fn body_force(
         let plane = &planes[p];
         let (h, rate) = plane_overlap(plane, x, v, bodies.radius[i]);
         let bit = 1u64 << p;
-        let hist = walls.history.at(i * walls.planes + p);
+        let mut scratch = NO_HISTORY;
+        let hist = if walls.keep {
+            walls.history.at(i * walls.planes + p)
+        } else {
+            &mut scratch
+        };
         if h > 0.0 {
             let law = laws.plane(bodies, i, p);
             let fw = law.force(h, rate, hist);
@@ -150,6 +162,8 @@ pub unsafe fn body_force(
 #[derive(Clone, Copy)]
 pub struct WallContactsMut {
     pub planes: usize,
+    /// Histories are kept.
+    pub keep: bool,
     pub history: SharedMut<ContactHistory>,
     pub touching: SharedMut<u64>,
     pub near: SharedMut<u64>,
@@ -159,6 +173,7 @@ impl WallContacts {
     pub fn shared(&mut self) -> WallContactsMut {
         WallContactsMut {
             planes: self.planes,
+            keep: !self.history.is_empty(),
             history: SharedMut::new(&mut self.history),
             touching: SharedMut::new(&mut self.touching),
             near: SharedMut::new(&mut self.near),
@@ -232,7 +247,7 @@ pub fn plane_observables(
                 );
                 if h > 0.0 {
                     let law = laws.plane(bodies, i, p);
-                    let hist = &walls.history[i * np + p];
+                    let hist = walls.history.get(i * np + p).unwrap_or(&NO_HISTORY);
                     let fw = law.force(h, rate, hist);
                     for a in 0..3 {
                         s[3 * p + a] -= fw * plane.normal[a];

@@ -76,6 +76,14 @@ fn forward_offsets() -> Vec<[i64; 3]> {
 }
 
 impl PairList {
+    /// Every main entry as (row i, entry k), in list order.
+    pub fn entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.start
+            .windows(2)
+            .enumerate()
+            .flat_map(|(i, w)| (w[0] as usize..w[1] as usize).map(move |k| (i, k)))
+    }
+
     pub fn pair_count(&self) -> usize {
         self.j.len() + self.extra.len()
     }
