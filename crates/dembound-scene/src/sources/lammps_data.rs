@@ -112,7 +112,7 @@ impl LammpsData {
                                 }
                             };
                             let (lo, hi) = (number(lo)?, number(hi)?);
-                            if !(lo < hi) {
+                            if lo >= hi || lo.is_nan() || hi.is_nan() {
                                 return Err(err(
                                     line_no,
                                     format!("{axis_lo} {lo} ≥ {axis_hi} {hi}"),

@@ -105,11 +105,15 @@ impl RandomInsertion {
             };
             let mut found = None;
             for _ in 0..self.max_attempts {
-                let mut p = [0.0; 3];
-                for k in 0..3 {
+                // x, then y, then z: the order fixes the sequence per seed.
+                let p: [f64; 3] = std::array::from_fn(|k| {
                     let (lo, hi) = (self.lower[k] + radius, self.upper[k] - radius);
-                    p[k] = if lo < hi { rng.gen_range(lo..hi) } else { lo };
-                }
+                    if lo < hi {
+                        rng.gen_range(lo..hi)
+                    } else {
+                        lo
+                    }
+                });
                 let free = grid.neighbours(p).all(|slot| {
                     let other = match slot {
                         Slot::Existing(i) => &existing[i],

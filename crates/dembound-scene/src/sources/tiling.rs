@@ -239,14 +239,14 @@ impl Tiling {
         // on each side (half a cell more along u for shifted rows).
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for corner in 0..8 {
-            let mut c = [0.0; 3];
-            for k in 0..3 {
-                c[k] = if corner >> k & 1 == 0 {
+            let c: [f64; 3] = std::array::from_fn(|k| {
+                let side = if corner >> k & 1 == 0 {
                     extent.lower[k]
                 } else {
                     extent.upper[k]
-                } - self.point[k];
-            }
+                };
+                side - self.point[k]
+            });
             let t = dot(c, axis);
             lo = lo.min(t);
             hi = hi.max(t);
