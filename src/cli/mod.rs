@@ -9,6 +9,7 @@ pub mod paper;
 pub mod recommend;
 pub mod restitution;
 pub mod run;
+pub mod scene;
 pub mod sweep;
 pub mod validate;
 
@@ -52,6 +53,9 @@ enum Command {
     /// (sweep over r and ζ, wall- or pair-calibrated damping), or with
     /// --target the e to enter for a wanted rebound
     Restitution(restitution::RestitutionArgs),
+    /// Run a many-particle 3D scene (spheres, plane walls, walls of
+    /// boundary particles) from a scene file
+    Scene(scene::SceneArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -102,6 +106,7 @@ pub fn main() -> ExitCode {
         Command::Recommend(args) => recommend::run(args),
         Command::Paper(args) => paper::run(args),
         Command::Restitution(args) => restitution::run(args),
+        Command::Scene(args) => scene::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

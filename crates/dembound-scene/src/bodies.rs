@@ -1,0 +1,89 @@
+//! The body store: spheres, free and fixed, as a structure of arrays.
+//!
+//! Bodies are reordered by neighbour cell at every list rebuild
+//! ([`Bodies::permute`]); `id` keeps each body's input index so that
+//! outputs are always in input order.
+
+/// Marker of "no group" in [`Bodies::group`].
+pub const NO_GROUP: u32 = u32::MAX;
+
+/// Per-body arrays, all of the same length.
+#[derive(Debug, Clone, Default)]
+pub struct Bodies {
+    /// Centre, m.
+    pub position: Vec<[f64; 3]>,
+    /// m/s (0 for fixed bodies).
+    pub velocity: Vec<[f64; 3]>,
+    /// Total force of the last force evaluation, N: contacts, walls and
+    /// gravity (fixed bodies: contacts only).
+    pub force: Vec<[f64; 3]>,
+    /// m.
+    pub radius: Vec<f64>,
+    /// kg; `f64::INFINITY` for a fixed body.
+    pub mass: Vec<f64>,
+    /// 1/kg; 0 for a fixed body.
+    pub inverse_mass: Vec<f64>,
+    /// Material index.
+    pub material: Vec<u32>,
+    /// Fixed (boundary particle): infinite mass, never moves.
+    pub fixed: Vec<bool>,
+    /// Input index, stable across reordering.
+    pub id: Vec<u32>,
+    /// Wall index of a boundary particle, [`NO_GROUP`] otherwise.
+    pub group: Vec<u32>,
+    /// Pair-law class (see `dynamics::contacts::LawTable`).
+    pub class: Vec<u16>,
+    /// Gear5 only: the scaled derivatives r₂..r₅ (r_k = Δt^k x⁽ᵏ⁾/k!).
+    pub higher: Vec<[[f64; 3]; 4]>,
+}
+
+impl Bodies {
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Reorders every array so that new body k is old body `order[k]`.
+    pub fn permute(&mut self, order: &[u32]) {
+        fn gather<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            if v.is_empty() {
+                return;
+            }
+            let out: Vec<T> = order.iter().map(|&o| v[o as usize]).collect();
+            *v = out;
+        }
+        gather(&mut self.position, order);
+        gather(&mut self.velocity, order);
+        gather(&mut self.force, order);
+        gather(&mut self.radius, order);
+        gather(&mut self.mass, order);
+        gather(&mut self.inverse_mass, order);
+        gather(&mut self.material, order);
+        gather(&mut self.fixed, order);
+        gather(&mut self.id, order);
+        gather(&mut self.group, order);
+        gather(&mut self.class, order);
+        gather(&mut self.higher, order);
+    }
+
+    /// Body index of each input index (the inverse of `id`).
+    pub fn index_of_ids(&self) -> Vec<u32> {
+        let mut at = vec![0u32; self.len()];
+        for (k, &id) in self.id.iter().enumerate() {
+            at[id as usize] = k as u32;
+        }
+        at
+    }
+
+    /// One per-body array in input order.
+    pub fn in_input_order<T: Copy>(&self, values: &[T]) -> Vec<T> {
+        let mut out: Vec<T> = values.to_vec();
+        for (k, &id) in self.id.iter().enumerate() {
+            out[id as usize] = values[k];
+        }
+        out
+    }
+}

@@ -1,0 +1,261 @@
+//! The collision log: one row per completed contact, its onset and end
+//! located inside the step.
+//!
+//! Each tracked pair (or sphere–wall couple) keeps the overlap h and its
+//! rate ḣ at the end of the previous step. Onset is extrapolated linearly
+//! from the last contact-free state, the end back from the first
+//! contact-free one (only contact-free forces act there; error O(a τ) in
+//! the speed, a the contact-free relative acceleration, τ < Δt; an
+//! interpolant across the step would straddle the kink of the force). The
+//! largest overlap is the maximum of the cubic Hermite interpolant of
+//! (h, ḣ) at both ends of the step where ḣ changes sign (error O(Δt⁴));
+//! the discrete maximum alone would be off by ~(π η)²/8 (2·10⁻³ at
+//! η = 1/50).
+
+use serde::{Deserialize, Serialize};
+
+/// The other side of a collision.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Partner {
+    /// A sphere, by input index.
+    Body(usize),
+    /// A plane wall, by wall index in file order.
+    Wall(usize),
+}
+
+/// One completed contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Collision {
+    /// Sphere, input index (the smaller one of a sphere pair).
+    pub i: usize,
+    pub j: Partner,
+    /// Onset, s.
+    pub t_start: f64,
+    /// End (overlap back to 0), s.
+    pub t_end: f64,
+    /// t_end − t_start, s.
+    pub duration: f64,
+    /// Largest overlap, m.
+    pub max_overlap: f64,
+    /// Largest normal force, N.
+    pub max_normal_force: f64,
+    /// Normal approach speed at onset, m/s (positive).
+    pub impact_normal_velocity: f64,
+    /// Normal separation speed at the end, m/s (positive).
+    pub rebound_normal_velocity: f64,
+}
+
+/// What a tracked couple remembers between steps.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Track {
+    known: bool,
+    overlap: f64,
+    rate: f64,
+    in_contact: bool,
+    t_start: f64,
+    impact: f64,
+    max_overlap: f64,
+    max_force: f64,
+}
+
+/// A completed contact, before it is named.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Completed {
+    pub t_start: f64,
+    pub t_end: f64,
+    pub max_overlap: f64,
+    pub max_force: f64,
+    pub impact: f64,
+    pub rebound: f64,
+}
+
+/// Cubic Hermite interpolant on s ∈ [0, 1] of a step of length dt.
+struct Hermite {
+    p0: f64,
+    m0: f64,
+    p1: f64,
+    m1: f64,
+}
+
+impl Hermite {
+    fn new(h0: f64, r0: f64, h1: f64, r1: f64, dt: f64) -> Self {
+        Self {
+            p0: h0,
+            m0: r0 * dt,
+            p1: h1,
+            m1: r1 * dt,
+        }
+    }
+
+    fn value(&self, s: f64) -> f64 {
+        let s2 = s * s;
+        let s3 = s2 * s;
+        (2.0 * s3 - 3.0 * s2 + 1.0) * self.p0
+            + (s3 - 2.0 * s2 + s) * self.m0
+            + (-2.0 * s3 + 3.0 * s2) * self.p1
+            + (s3 - s2) * self.m1
+    }
+
+    /// dH/ds.
+    fn slope(&self, s: f64) -> f64 {
+        let s2 = s * s;
+        (6.0 * s2 - 6.0 * s) * self.p0
+            + (3.0 * s2 - 4.0 * s + 1.0) * self.m0
+            + (-6.0 * s2 + 6.0 * s) * self.p1
+            + (3.0 * s2 - 2.0 * s) * self.m1
+    }
+
+    /// A root of `f` in [0, 1] given f(0) and f(1) of opposite signs (or
+    /// f(1) = 0): bisection to machine precision.
+    fn bisect(f: impl Fn(f64) -> f64) -> f64 {
+        let (mut a, mut b) = (0.0f64, 1.0f64);
+        let fa_negative = f(0.0) < 0.0;
+        for _ in 0..64 {
+            let m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+            if (f(m) < 0.0) == fa_negative {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        0.5 * (a + b)
+    }
+}
+
+impl Track {
+    /// The couple has a previous step.
+    pub fn is_known(&self) -> bool {
+        self.known
+    }
+
+    /// A contact has started and not ended.
+    pub fn in_contact(&self) -> bool {
+        self.in_contact
+    }
+
+    /// Advances over the step that ends at time `t` (length `dt`) with
+    /// overlap `h` (m, negative apart) and rate `rate` (m/s, approach
+    /// positive); `force(h, rate)` is the normal force. Returns the
+    /// contact if it ended in this step.
+    pub fn advance(
+        &mut self,
+        t: f64,
+        dt: f64,
+        h: f64,
+        rate: f64,
+        force: impl Fn(f64, f64) -> f64,
+    ) -> Option<Completed> {
+        let mut done = None;
+        let herm = Hermite::new(self.overlap, self.rate, h, rate, dt);
+        let t0 = t - dt;
+        if !self.in_contact && h > 0.0 {
+            // Onset: extrapolated from the last state before contact,
+            // where only the contact-free forces act (a kink in the force
+            // at onset would spoil an interpolant across the step): error
+            // O(a τ) in the speed, a the contact-free relative
+            // acceleration, τ < Δt.
+            if self.known && self.overlap <= 0.0 && self.rate > 0.0 {
+                let ahead = (-self.overlap / self.rate).min(dt);
+                self.t_start = t0 + ahead;
+                self.impact = self.rate;
+            } else {
+                // Newly listed and already touching: from the current state.
+                let back = if rate > 0.0 { (h / rate).min(dt) } else { 0.0 };
+                self.t_start = t - back;
+                self.impact = rate;
+            }
+            self.in_contact = true;
+            self.max_overlap = h;
+            self.max_force = force(h, rate).max(0.0);
+            self.known = true;
+            self.overlap = h;
+            self.rate = rate;
+            return None;
+        }
+        if self.in_contact {
+            // A maximum of h inside the step.
+            if self.known && self.rate > 0.0 && rate <= 0.0 {
+                let s = Hermite::bisect(|s| herm.slope(s));
+                let hm = herm.value(s);
+                if hm > self.max_overlap {
+                    self.max_overlap = hm;
+                }
+                self.max_force = self.max_force.max(force(hm, 0.0));
+            }
+            if h > 0.0 {
+                self.max_overlap = self.max_overlap.max(h);
+                self.max_force = self.max_force.max(force(h, rate));
+            } else {
+                // End: extrapolated back from the first state after it,
+                // contact-free for the same reason.
+                let (t_end, rebound) = if rate < 0.0 {
+                    (t - (h / rate).min(dt), -rate)
+                } else {
+                    (t, -rate)
+                };
+                done = Some(Completed {
+                    t_start: self.t_start,
+                    t_end,
+                    max_overlap: self.max_overlap,
+                    max_force: self.max_force,
+                    impact: self.impact,
+                    rebound,
+                });
+                self.in_contact = false;
+            }
+        }
+        self.known = true;
+        self.overlap = h;
+        self.rate = rate;
+        done
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hermite_locates_a_parabola_exactly() {
+        // In contact h(t) = v t − ½ a t² (a cubic interpolant is exact on
+        // it), free flight at speed v outside: onset at 0, maximum
+        // v²/(2a) at v/a, end at 2v/a with speed v; all exact.
+        let (v, a, dt) = (0.3, 1.0e5, 1.0e-7);
+        let end = 2.0 * v / a;
+        let h = |t: f64| {
+            if t < 0.0 {
+                v * t
+            } else if t > end {
+                -v * (t - end)
+            } else {
+                v * t - 0.5 * a * t * t
+            }
+        };
+        let r = |t: f64| {
+            if t < 0.0 {
+                v
+            } else if t > end {
+                -v
+            } else {
+                v - a * t
+            }
+        };
+        let start = -0.37 * dt;
+        let mut track = Track::default();
+        let mut t = start;
+        let mut out = None;
+        while out.is_none() {
+            out = track.advance(t, dt, h(t), r(t), |h, _| h);
+            t += dt;
+        }
+        let c = out.unwrap();
+        assert!(c.t_start.abs() < 1e-18, "{}", c.t_start);
+        assert!((c.t_end / (2.0 * v / a) - 1.0).abs() < 1e-12);
+        assert!((c.max_overlap / (v * v / (2.0 * a)) - 1.0).abs() < 1e-12);
+        assert!((c.impact / v - 1.0).abs() < 1e-12);
+        assert!((c.rebound / v - 1.0).abs() < 1e-12);
+    }
+}

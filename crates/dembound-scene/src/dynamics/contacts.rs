@@ -1,0 +1,529 @@
+//! Sphere–sphere contact forces through the physics crate's `PairLaw`, with
+//! each pair's `ContactHistory` kept beside the neighbour list.
+
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+use crate::parallel::{SharedMut, Workers};
+use dembound_physics::contact::{ContactHistory, ContactModel, PairLaw};
+use dembound_physics::material::{Material, PairProperties};
+
+/// At most this many body classes (material, radius, fixed) get a
+/// precomputed table of pair laws; beyond, laws are computed per contact.
+const MAX_CLASSES: usize = 64;
+/// Class of a body when there is no table.
+pub const NO_CLASS: u16 = u16::MAX;
+
+/// The pair laws of a scene: a table over body classes when there are few
+/// (monodisperse or a few sizes), else computed per contact.
+#[derive(Debug, Clone)]
+pub struct LawTable {
+    pub model: ContactModel,
+    /// The normal law keeps a per-contact history (hysteretic laws); when
+    /// it does not, no history is stored at all.
+    pub history: bool,
+    pub materials: Vec<Material>,
+    classes: usize,
+    pairs: Vec<PairLaw>,
+    planes: Vec<PairLaw>,
+    plane_materials: Vec<u32>,
+}
+
+impl LawTable {
+    /// Assigns `bodies.class` and tabulates.
+    pub fn new(
+        model: ContactModel,
+        materials: Vec<Material>,
+        bodies: &mut Bodies,
+        plane_materials: Vec<u32>,
+    ) -> Self {
+        let mut keys: Vec<(u64, u64, u32)> = Vec::new();
+        let mut class = Vec::with_capacity(bodies.len());
+        let mut too_many = false;
+        for k in 0..bodies.len() {
+            let key = (
+                bodies.radius[k].to_bits(),
+                bodies.mass[k].to_bits(),
+                bodies.material[k],
+            );
+            let c = match keys.iter().position(|&q| q == key) {
+                Some(c) => c,
+                None => {
+                    keys.push(key);
+                    keys.len() - 1
+                }
+            };
+            if keys.len() > MAX_CLASSES {
+                too_many = true;
+                break;
+            }
+            class.push(c as u16);
+        }
+        let mut table = LawTable {
+            model,
+            history: model.normal.row().capabilities.history,
+            materials,
+            classes: 0,
+            pairs: Vec::new(),
+            planes: Vec::new(),
+            plane_materials,
+        };
+        if too_many {
+            bodies.class = vec![NO_CLASS; bodies.len()];
+            return table;
+        }
+        bodies.class = class;
+        let c = keys.len();
+        let info = |k: usize| {
+            let (r, m, mat) = keys[k];
+            (f64::from_bits(r), f64::from_bits(m), mat as usize)
+        };
+        for a in 0..c {
+            for b in 0..c {
+                let (ra, ma, mata) = info(a);
+                let (rb, mb, matb) = info(b);
+                table
+                    .pairs
+                    .push(table.compute_pair(ra, ma, mata, rb, mb, matb));
+            }
+        }
+        for a in 0..c {
+            for p in 0..table.plane_materials.len() {
+                let (ra, ma, mata) = info(a);
+                table.planes.push(table.compute_plane(ra, ma, mata, p));
+            }
+        }
+        table.classes = c;
+        table
+    }
+
+    fn compute_pair(
+        &self,
+        ra: f64,
+        ma: f64,
+        mata: usize,
+        rb: f64,
+        mb: f64,
+        matb: usize,
+    ) -> PairLaw {
+        let props =
+            PairProperties::spheres(ra, ma, &self.materials[mata], rb, mb, &self.materials[matb]);
+        self.model.pair(&props)
+    }
+
+    fn compute_plane(&self, r: f64, m: f64, mat: usize, plane: usize) -> PairLaw {
+        let wall = &self.materials[self.plane_materials[plane] as usize];
+        let props = PairProperties::sphere_plane(r, m, &self.materials[mat], wall);
+        self.model.pair(&props)
+    }
+
+    /// The law of bodies i and j.
+    #[inline(always)]
+    pub fn pair(&self, bodies: &Bodies, i: usize, j: usize) -> PairLaw {
+        if self.classes > 0 {
+            let (a, b) = (bodies.class[i] as usize, bodies.class[j] as usize);
+            self.pairs[a * self.classes + b]
+        } else {
+            self.compute_pair(
+                bodies.radius[i],
+                bodies.mass[i],
+                bodies.material[i] as usize,
+                bodies.radius[j],
+                bodies.mass[j],
+                bodies.material[j] as usize,
+            )
+        }
+    }
+
+    /// The law of body i against plane wall `plane`.
+    #[inline]
+    pub fn plane(&self, bodies: &Bodies, i: usize, plane: usize) -> PairLaw {
+        if self.classes > 0 {
+            self.planes[bodies.class[i] as usize * self.plane_materials.len() + plane]
+        } else {
+            self.compute_plane(
+                bodies.radius[i],
+                bodies.mass[i],
+                bodies.material[i] as usize,
+                plane,
+            )
+        }
+    }
+
+    /// Elastic energy (J) stored in a contact at overlap h (the normal
+    /// law's, `PairLaw::elastic_energy`).
+    #[inline]
+    pub fn elastic_energy(&self, law: &PairLaw, overlap: f64, history: &ContactHistory) -> f64 {
+        law.elastic_energy(overlap, history)
+    }
+}
+
+/// Histories aligned with a [`PairList`]: `main[k]` for `list.j[k]`,
+/// `extra[k]` for `list.extra[k]`; both empty when the law keeps none.
+#[derive(Debug, Clone, Default)]
+pub struct PairHistories {
+    pub main: Vec<ContactHistory>,
+    pub extra: Vec<ContactHistory>,
+}
+
+/// The history every contact of a history-free law reads.
+pub const NO_HISTORY: ContactHistory = ContactHistory {
+    max_overlap: 0.0,
+    unloading: false,
+};
+
+impl PairHistories {
+    /// History of main entry k (the default when none are kept).
+    #[inline]
+    pub fn main(&self, k: usize) -> &ContactHistory {
+        self.main.get(k).unwrap_or(&NO_HISTORY)
+    }
+
+    /// History of extra entry k.
+    #[inline]
+    pub fn extra(&self, k: usize) -> &ContactHistory {
+        self.extra.get(k).unwrap_or(&NO_HISTORY)
+    }
+}
+
+/// The geometry of one pair at one instant.
+#[derive(Debug, Clone, Copy)]
+pub struct PairGeometry {
+    /// Overlap R_i + R_j − |x_j − x_i|, m (negative apart).
+    pub overlap: f64,
+    /// Overlap rate, m/s, positive while approaching.
+    pub overlap_rate: f64,
+    /// Unit normal from i to j.
+    pub normal: [f64; 3],
+}
+
+/// Overlap, rate and normal of spheres (x_i, v_i, R_i) and (x_j, v_j, R_j);
+/// `None` when they do not touch.
+#[inline(always)]
+pub fn touching(
+    xi: [f64; 3],
+    vi: [f64; 3],
+    ri: f64,
+    xj: [f64; 3],
+    vj: [f64; 3],
+    rj: f64,
+) -> Option<PairGeometry> {
+    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let s = ri + rj;
+    if r2 >= s * s || r2 == 0.0 {
+        return None;
+    }
+    Some(geometry(d, r2, s, vi, vj))
+}
+
+/// [`touching`] with the partner's velocity read only in contact.
+#[inline(always)]
+pub fn touching_lazy(
+    xi: [f64; 3],
+    vi: [f64; 3],
+    ri: f64,
+    xj: [f64; 3],
+    vj: impl Fn() -> [f64; 3],
+    rj: f64,
+) -> Option<PairGeometry> {
+    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let s = ri + rj;
+    if r2 >= s * s {
+        return None;
+    }
+    if r2 == 0.0 {
+        // Coincident centres: no direction to push along.
+        return None;
+    }
+    Some(geometry(d, r2, s, vi, vj()))
+}
+
+/// The pair's geometry whether or not it touches (collision log).
+#[inline]
+pub fn separation(
+    xi: [f64; 3],
+    vi: [f64; 3],
+    ri: f64,
+    xj: [f64; 3],
+    vj: [f64; 3],
+    rj: f64,
+) -> PairGeometry {
+    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    geometry(d, r2, ri + rj, vi, vj)
+}
+
+#[inline(always)]
+fn geometry(d: [f64; 3], r2: f64, s: f64, vi: [f64; 3], vj: [f64; 3]) -> PairGeometry {
+    let r = r2.sqrt();
+    let inv = 1.0 / r;
+    let n = [d[0] * inv, d[1] * inv, d[2] * inv];
+    let rate = (vi[0] - vj[0]) * n[0] + (vi[1] - vj[1]) * n[1] + (vi[2] - vj[2]) * n[2];
+    PairGeometry {
+        overlap: s - r,
+        overlap_rate: rate,
+        normal: n,
+    }
+}
+
+/// Force on j (N) of a touching pair, updating its history; i gets minus it.
+#[inline(always)]
+fn contact_force(law: &PairLaw, g: &PairGeometry, history: &mut ContactHistory) -> [f64; 3] {
+    let f = law.force(g.overlap, g.overlap_rate, history);
+    law.update(g.overlap, g.overlap_rate, history);
+    [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
+}
+
+#[inline(always)]
+fn add(a: &mut [f64; 3], b: [f64; 3]) {
+    a[0] += b[0];
+    a[1] += b[1];
+    a[2] += b[2];
+}
+
+#[inline(always)]
+fn sub(a: &mut [f64; 3], b: [f64; 3]) {
+    a[0] -= b[0];
+    a[1] -= b[1];
+    a[2] -= b[2];
+}
+
+/// Adds every pair force to `force` (indexed like the bodies). Blocks of
+/// the list run even ones first then odd ones, in parallel within a phase;
+/// the extra pairs (large bodies, ghosts) follow serially. Deterministic
+/// for any thread count.
+pub fn add_pair_forces(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    histories: &mut PairHistories,
+    laws: &LawTable,
+    force: &mut [[f64; 3]],
+    workers: &Workers,
+) {
+    let n = bodies.len();
+    let keep = laws.history;
+    assert!(force.len() == n && list.start.len() == n + 1);
+    assert!(!keep || histories.main.len() == list.j.len());
+    assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
+    let f_ptr = SharedMut(force.as_mut_ptr());
+    let h_ptr = SharedMut(histories.main.as_mut_ptr());
+    let blocks = list.blocks.len().saturating_sub(1);
+    // Local slices: the compiler cannot hoist loads of the vectors' headers
+    // past the raw-pointer writes below.
+    let (position, velocity, radius) = (
+        &bodies.position[..],
+        &bodies.velocity[..],
+        &bodies.radius[..],
+    );
+    let (start, js) = (&list.start[..], &list.j[..]);
+    let run_block = |b: usize| {
+        let (f_ptr, h_ptr) = (f_ptr, h_ptr);
+        let lo = list.blocks[b] as usize;
+        let hi = list.blocks[b + 1] as usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s == e {
+                continue;
+            }
+            let xi = position[i];
+            let vi = velocity[i];
+            let ri = radius[i];
+            let mut fi = [0.0; 3];
+            for k in s..e {
+                // SAFETY (the unchecked reads): k < js.len() (rows lie
+                // within j), and every j < n (the list's construction);
+                // lengths asserted above.
+                let j = unsafe { *js.get_unchecked(k) } as usize;
+                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+                // The velocity is read only for touching pairs.
+                let vj = || unsafe { *velocity.get_unchecked(j) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    let mut scratch = NO_HISTORY;
+                    // SAFETY: history k belongs to row i, which only this
+                    // block visits.
+                    let hist = if keep {
+                        unsafe { &mut *h_ptr.0.add(k) }
+                    } else {
+                        &mut scratch
+                    };
+                    let law = laws.pair(bodies, i, j);
+                    let fj = contact_force(&law, &g, hist);
+                    sub(&mut fi, fj);
+                    // SAFETY: j lies in this block or the next (the
+                    // blocks' construction); blocks of one parity are two
+                    // apart, so no other running block writes j.
+                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
+                } else if keep {
+                    // SAFETY: as above.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
+                    }
+                }
+            }
+            // SAFETY: i is in this block.
+            unsafe { add(&mut *f_ptr.0.add(i), fi) };
+        }
+    };
+    for parity in 0..2 {
+        let count = (blocks + 1 - parity) / 2;
+        workers.run(count, |k| run_block(2 * k + parity));
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let (xj, vj, owner) = if j < n {
+            (bodies.position[j], bodies.velocity[j], j)
+        } else {
+            let g = j - n;
+            (
+                ghosts.position[g],
+                ghosts.velocity[g],
+                ghosts.owner[g] as usize,
+            )
+        };
+        let mut scratch = NO_HISTORY;
+        let hist = if keep {
+            &mut histories.extra[k]
+        } else {
+            &mut scratch
+        };
+        match touching(
+            bodies.position[i],
+            bodies.velocity[i],
+            bodies.radius[i],
+            xj,
+            vj,
+            bodies.radius[owner],
+        ) {
+            Some(g) => {
+                let law = laws.pair(bodies, i, owner);
+                let fj = contact_force(&law, &g, hist);
+                sub(&mut force[i], fj);
+                add(&mut force[owner], fj);
+            }
+            None => *hist = ContactHistory::default(),
+        }
+    }
+}
+
+/// Position and velocity of extended index j (a body or a ghost) and its
+/// owner body.
+#[inline]
+pub fn extended(bodies: &Bodies, ghosts: &Ghosts, j: usize) -> ([f64; 3], [f64; 3], usize) {
+    let n = bodies.len();
+    if j < n {
+        (bodies.position[j], bodies.velocity[j], j)
+    } else {
+        let g = j - n;
+        (
+            ghosts.position[g],
+            ghosts.velocity[g],
+            ghosts.owner[g] as usize,
+        )
+    }
+}
+
+/// Contacts between particles, contacts with a boundary-particle wall (a
+/// body with a group), and elastic energy (J) of the listed pairs at the
+/// bodies' current state.
+pub fn pair_observables(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    histories: &PairHistories,
+    laws: &LawTable,
+    workers: &Workers,
+) -> (usize, usize, f64) {
+    let n = bodies.len();
+    if list.start.len() != n + 1 {
+        return (0, 0, 0.0);
+    }
+    let walled = |i: usize, j: usize| bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP;
+    let [count, wall_count, energy] = workers.sum(n, |i| {
+        let mut c = 0.0;
+        let mut w = 0.0;
+        let mut e = 0.0;
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            let j = list.j[k] as usize;
+            if let Some(g) = touching(
+                bodies.position[i],
+                bodies.velocity[i],
+                bodies.radius[i],
+                bodies.position[j],
+                bodies.velocity[j],
+                bodies.radius[j],
+            ) {
+                if walled(i, j) {
+                    w += 1.0;
+                } else {
+                    c += 1.0;
+                }
+                e += laws.elastic_energy(&laws.pair(bodies, i, j), g.overlap, histories.main(k));
+            }
+        }
+        [c, w, e]
+    });
+    let mut count = count as usize;
+    let mut wall_count = wall_count as usize;
+    let mut energy = energy;
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let (xj, vj, owner) = extended(bodies, ghosts, j);
+        if let Some(g) = touching(
+            bodies.position[i],
+            bodies.velocity[i],
+            bodies.radius[i],
+            xj,
+            vj,
+            bodies.radius[owner],
+        ) {
+            if walled(i, owner) {
+                wall_count += 1;
+            } else {
+                count += 1;
+            }
+            energy +=
+                laws.elastic_energy(&laws.pair(bodies, i, owner), g.overlap, histories.extra(k));
+        }
+    }
+    (count, wall_count, energy)
+}
+
+/// The in-contact state of a pair for the checkpoint: (input id a, input id
+/// b, history), a < b.
+pub fn active_histories(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    histories: &PairHistories,
+) -> Vec<(u32, u32, ContactHistory)> {
+    let mut out = Vec::new();
+    let n = bodies.len();
+    if list.start.len() != n + 1
+        || histories.main.len() != list.j.len()
+        || histories.extra.len() != list.extra.len()
+    {
+        // No list yet.
+        return out;
+    }
+    for i in 0..n {
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            if histories.main[k] != ContactHistory::default() {
+                let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
+                out.push((a.min(b), a.max(b), histories.main[k]));
+            }
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        if histories.extra[k] != ContactHistory::default() {
+            let (_, _, owner) = extended(bodies, ghosts, j as usize);
+            let (a, b) = (bodies.id[i as usize], bodies.id[owner]);
+            out.push((a.min(b), a.max(b), histories.extra[k]));
+        }
+    }
+    out.sort_by_key(|x| (x.0, x.1));
+    out
+}

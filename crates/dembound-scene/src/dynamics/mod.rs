@@ -1,0 +1,7 @@
+//! Forces and motion: pair contacts, plane walls, the integrators and the
+//! collision log.
+
+pub mod collisions;
+pub mod contacts;
+pub mod integrate;
+pub mod walls;

@@ -1,0 +1,89 @@
+//! The crate's one error type.
+
+use std::fmt;
+
+/// Why a scene cannot be built or restored. The message names the field,
+/// the value and the allowed range.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SceneError {
+    /// A setup value out of its allowed range.
+    Invalid {
+        /// The field, as a path (`spheres[3].radius`, `integration.dt`).
+        key: String,
+        /// The offending value, printed.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+    /// A checkpoint that does not fit the setup.
+    Checkpoint(String),
+    /// The thread pool could not be built.
+    Threads(String),
+    /// Bad input found by the scene file and the particle sources
+    /// (`io`, `sources`): the message names the key or the file and
+    /// line, the value and what is allowed.
+    Input(String),
+    /// A file that could not be read or written.
+    Io {
+        path: std::path::PathBuf,
+        message: String,
+    },
+}
+
+impl SceneError {
+    pub(crate) fn invalid(
+        key: impl Into<String>,
+        value: impl fmt::Display,
+        allowed: impl Into<String>,
+    ) -> Self {
+        SceneError::Invalid {
+            key: key.into(),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        }
+    }
+}
+
+impl SceneError {
+    /// Bad input with this message (`io`, `sources`).
+    pub fn input(message: impl Into<String>) -> Self {
+        SceneError::Input(message.into())
+    }
+
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<std::path::PathBuf>, source: std::io::Error) -> Self {
+        SceneError::Io {
+            path: path.into(),
+            message: source.to_string(),
+        }
+    }
+
+    /// Whether the user's input is at fault (the CLI exits 2) rather than
+    /// the machine (threads, files: exit 1).
+    pub fn is_input(&self) -> bool {
+        matches!(
+            self,
+            SceneError::Invalid { .. } | SceneError::Checkpoint(_) | SceneError::Input(_)
+        )
+    }
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::Invalid {
+                key,
+                value,
+                allowed,
+            } => {
+                write!(f, "{key} = {value} is out of range: {allowed}")
+            }
+            SceneError::Checkpoint(why) => write!(f, "checkpoint does not fit the scene: {why}"),
+            SceneError::Threads(why) => write!(f, "cannot start the worker threads: {why}"),
+            SceneError::Input(message) => f.write_str(message),
+            SceneError::Io { path, message } => write!(f, "`{}`: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}

@@ -1,0 +1,8 @@
+//! Files: the scene file ([`config`]), VTK snapshots ([`vtk`]), the time
+//! series ([`series`]) and checkpoints ([`checkpoint`]).
+
+pub mod checkpoint;
+pub mod config;
+pub mod resolve;
+pub mod series;
+pub mod vtk;

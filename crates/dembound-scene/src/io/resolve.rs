@@ -1,0 +1,320 @@
+//! From a validated [`SceneFile`] to the engine's [`SceneSetup`]: the
+//! particle sources are read or generated (paths relative to the scene
+//! file), the boundary-particle walls tiled and appended, materials
+//! indexed, the contact model and the time-step rule built.
+//!
+//! Input order of the bodies (every per-body output uses it): the
+//! `[[particles]]` groups in file order, each in its source's order, then
+//! the spheres of each `boundary_particles` wall in wall order.
+
+use super::config::{ParticlesSection, SceneFile, Scheme as SchemeName, TilingName, RIGID};
+use crate::setup::{
+    DomainSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength, SceneSetup, Scheme,
+    SphereInit, TimeStep, WallSetup,
+};
+use crate::sources::lammps_data::LammpsData;
+use crate::sources::lattice::Lattice;
+use crate::sources::random::RandomInsertion;
+use crate::sources::tiling::{Extent, Pattern, Tiling};
+use crate::sources::{self, SourceSphere};
+use crate::SceneError;
+use dembound_physics::material::Material;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// A scene ready to run, with what the output needs to know of its make.
+#[derive(Debug, Clone)]
+pub struct ResolvedScene {
+    pub setup: SceneSetup,
+    /// Bodies of each `[[particles]]` group (input indices).
+    pub groups: Vec<Range<usize>>,
+    /// Bodies of each wall (empty for a plane).
+    pub wall_bodies: Vec<Range<usize>>,
+    /// The file as resolved: every default written out, source paths made
+    /// absolute (so that it runs from anywhere).
+    pub file: SceneFile,
+}
+
+/// Density given to the reserved `"rigid"` material. It never matters: a
+/// rigid plane has no mass, and a rigid particle must be fixed.
+const RIGID_DENSITY: f64 = 1000.0;
+
+/// Resolves `file`; relative source paths are taken from `base_dir` (the
+/// scene file's directory).
+pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, SceneError> {
+    file.validate()?;
+    let mut file = file.clone();
+    let mut materials: Vec<NamedMaterial> = file
+        .materials
+        .iter()
+        .map(|m| NamedMaterial {
+            name: m.name.clone(),
+            material: Material {
+                density: m.density,
+                youngs_modulus: m.youngs_modulus,
+                poisson_ratio: m.poisson_ratio,
+            },
+        })
+        .collect();
+    let material_index = |name: &str, materials: &mut Vec<NamedMaterial>| -> usize {
+        if let Some(k) = materials.iter().position(|m| m.name == name) {
+            return k;
+        }
+        // Only "rigid" reaches here (validated).
+        materials.push(NamedMaterial {
+            name: RIGID.into(),
+            material: Material::rigid(RIGID_DENSITY),
+        });
+        materials.len() - 1
+    };
+
+    let mut spheres: Vec<SphereInit> = Vec::new();
+    let mut groups = Vec::with_capacity(file.particles.len());
+    for (i, group) in file.particles.iter_mut().enumerate() {
+        let key = format!("particles[{i}]");
+        let made = group_spheres(group, &key, base_dir, &spheres)?;
+        let material = material_index(&group.material, &mut materials);
+        let first = spheres.len();
+        spheres.extend(made.into_iter().map(|s| SphereInit {
+            position: s.position,
+            velocity: s.velocity,
+            radius: s.radius,
+            material,
+            fixed: group.fixed,
+            group: None,
+        }));
+        groups.push(first..spheres.len());
+    }
+
+    let d = &file.domain;
+    let extent = Extent {
+        lower: d.lower,
+        upper: d.upper,
+        periodic: d.periodic,
+    };
+    let mut walls = Vec::with_capacity(file.walls.len());
+    let mut wall_bodies = Vec::with_capacity(file.walls.len());
+    for (w, wall) in file.walls.iter().enumerate() {
+        let key = format!("wall[{w}]");
+        if let Some(plane) = &wall.plane {
+            walls.push(WallSetup::Plane {
+                point: plane.point,
+                normal: plane.normal,
+                material: material_index(&wall.material, &mut materials),
+            });
+            wall_bodies.push(spheres.len()..spheres.len());
+            continue;
+        }
+        let Some(b) = &wall.boundary_particles else {
+            continue; // validated: one of the two
+        };
+        let base = materials
+            .iter()
+            .position(|m| m.name == wall.material)
+            .ok_or_else(|| SceneError::input(format!("`{key}.material`: unknown")))?;
+        let reference = match b.reference_radius {
+            Some(r) => r,
+            None => spheres
+                .iter()
+                .filter(|s| !s.fixed && s.material == base)
+                .map(|s| s.radius)
+                .fold(None, |m: Option<f64>, r| Some(m.map_or(r, |m| m.max(r))))
+                .ok_or_else(|| {
+                    SceneError::input(format!(
+                        "`{key}.boundary_particles.reference_radius` is needed: no free particle is made \
+                         of \"{}\" to take R_ref from (give R_ref in m, > 0)",
+                        wall.material
+                    ))
+                })?,
+        };
+        let radius = b.radius_ratio * reference;
+        let tiling = Tiling {
+            point: b.point,
+            normal: b.normal,
+            radius,
+            spacing: b.spacing.unwrap_or(2.0 * radius),
+            pattern: match b.tiling {
+                TilingName::Square => Pattern::Square,
+                TilingName::Hexagonal => Pattern::Hexagonal,
+            },
+        };
+        let made = tiling.spheres(&extent, &key)?;
+        let m = &materials[base].material;
+        materials.push(NamedMaterial {
+            name: format!(
+                "{}:boundary(r={}, zeta={})",
+                wall.material, b.radius_ratio, b.modulus_ratio
+            ),
+            material: Material {
+                youngs_modulus: m.youngs_modulus * b.modulus_ratio,
+                ..*m
+            },
+        });
+        let material = materials.len() - 1;
+        let first = spheres.len();
+        spheres.extend(made.into_iter().map(|s| SphereInit {
+            position: s.position,
+            velocity: [0.0; 3],
+            radius: s.radius,
+            material,
+            fixed: true,
+            group: Some(w),
+        }));
+        walls.push(WallSetup::BoundaryParticles {
+            first_body: first,
+            count: spheres.len() - first,
+        });
+        wall_bodies.push(first..spheres.len());
+    }
+
+    let n = &file.integration;
+    let impact_speed = match n.impact_speed {
+        Some(v) => Ok(v),
+        None => default_impact_speed(&file, &spheres),
+    };
+    let time_step = match (n.dt, n.eta) {
+        (Some(dt), _) => TimeStep::Fixed(dt),
+        (None, Some(eta)) => TimeStep::Eta {
+            eta,
+            impact_speed: impact_speed.clone()?,
+        },
+        (None, None) => {
+            return Err(SceneError::input(
+                "`integration.dt`: missing (give dt or eta)",
+            ))
+        }
+    };
+    let length = match (n.steps, n.duration) {
+        (Some(s), _) => RunLength::Steps(s),
+        (None, Some(t)) => RunLength::Duration(t),
+        (None, None) => return Err(SceneError::input("`integration.steps`: missing")),
+    };
+    let setup = SceneSetup {
+        domain: DomainSetup {
+            lower: d.lower,
+            upper: d.upper,
+            periodic: d.periodic,
+        },
+        materials,
+        contact: file.contact.model(impact_speed.ok())?,
+        spheres,
+        walls,
+        gravity: file.motion.gravity,
+        integration: IntegrationSetup {
+            scheme: match n.scheme {
+                SchemeName::Verlet => Scheme::Verlet,
+                SchemeName::Gear5 => Scheme::Gear5,
+            },
+            time_step,
+            length,
+        },
+        neighbour: NeighbourSetup { skin: n.skin },
+        collisions: file.output.collisions,
+    };
+    Ok(ResolvedScene {
+        setup,
+        groups,
+        wall_bodies,
+        file,
+    })
+}
+
+/// The spheres of one group; makes the group's file paths absolute.
+fn group_spheres(
+    group: &mut ParticlesSection,
+    key: &str,
+    base_dir: &Path,
+    earlier: &[SphereInit],
+) -> Result<Vec<SourceSphere>, SceneError> {
+    let absolute = |p: &str| -> PathBuf {
+        let p = base_dir.join(p);
+        std::path::absolute(&p).unwrap_or(p)
+    };
+    if let Some(path) = &mut group.lammps_data {
+        let full = absolute(path);
+        *path = full.display().to_string();
+        return Ok(LammpsData::read(&full)?.spheres());
+    }
+    if let Some(path) = &mut group.csv {
+        let full = absolute(path);
+        *path = full.display().to_string();
+        return sources::csv::read(&full);
+    }
+    if let Some(l) = &group.lattice {
+        let lattice = Lattice {
+            counts: l.counts,
+            spacing: l.spacing,
+            origin: l.origin,
+            radius: l.radius,
+            stagger: l.stagger,
+        };
+        lattice.validate(&format!("{key}.lattice"))?;
+        let mut s = lattice.spheres();
+        for sphere in &mut s {
+            sphere.velocity = l.velocity;
+        }
+        return Ok(s);
+    }
+    if let Some(r) = &group.random {
+        let insertion = RandomInsertion {
+            count: r.count,
+            radius: r.radius.range(),
+            lower: r.lower,
+            upper: r.upper,
+            velocity: r.velocity,
+            seed: r.seed,
+            max_attempts: r.max_attempts,
+        };
+        let existing: Vec<SourceSphere> = earlier
+            .iter()
+            .map(|s| SourceSphere {
+                position: s.position,
+                velocity: s.velocity,
+                radius: s.radius,
+            })
+            .collect();
+        return insertion.spheres(&format!("{key}.random"), &existing);
+    }
+    if let Some(list) = &group.spheres {
+        return Ok(list
+            .iter()
+            .map(|s| SourceSphere {
+                position: s.position,
+                velocity: s.velocity,
+                radius: s.radius,
+            })
+            .collect());
+    }
+    Err(SceneError::input(format!("`{key}`: no source")))
+}
+
+/// The impact speed of the contact-time estimate when the file gives none:
+/// the larger of a free fall across the whole domain along g, √(2 |g| H)
+/// (H the box's extent along g), and the fastest initial speed.
+fn default_impact_speed(file: &SceneFile, spheres: &[SphereInit]) -> Result<f64, SceneError> {
+    let g = file.motion.gravity;
+    let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+    let d = &file.domain;
+    let height: f64 = if g_norm > 0.0 {
+        (0..3)
+            .map(|k| g[k].abs() / g_norm * (d.upper[k] - d.lower[k]))
+            .sum()
+    } else {
+        0.0
+    };
+    let fall = (2.0 * g_norm * height).sqrt();
+    let fastest = spheres
+        .iter()
+        .filter(|s| !s.fixed)
+        .map(|s| (s.velocity[0].powi(2) + s.velocity[1].powi(2) + s.velocity[2].powi(2)).sqrt())
+        .fold(0.0, f64::max);
+    let v = fall.max(fastest);
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(SceneError::input(
+            "`integration.impact_speed` is needed with `eta`: no gravity and no initial velocity to \
+             estimate it from (give a speed in m/s, > 0)",
+        ))
+    }
+}

@@ -1,0 +1,195 @@
+//! VTK XML PolyData snapshots (`.vtp`) and their `.pvd` series, for
+//! ParaView: one vertex per sphere with its radius, velocity, force, fixed
+//! flag, material index and input index as point data.
+//!
+//! A small writer rather than a crate: the format needed here is a dozen
+//! lines of XML around base64 arrays (`format="binary"`, `UInt64` header,
+//! little-endian, uncompressed), and the `base64` crate does the encoding.
+//! Arrays are in input order, so snapshots of the same run compare and
+//! diff cleanly.
+
+use base64::engine::general_purpose::STANDARD;
+use base64::Engine;
+use std::io::{self, Write};
+
+/// One snapshot of every sphere, input order, SI.
+#[derive(Debug, Clone, Copy)]
+pub struct Snapshot<'a> {
+    /// s.
+    pub time: f64,
+    pub step: u64,
+    /// m.
+    pub positions: &'a [[f64; 3]],
+    /// m.
+    pub radii: &'a [f64],
+    /// m/s.
+    pub velocities: &'a [[f64; 3]],
+    /// N (contact forces; on a boundary particle, the force the particles
+    /// exert on it).
+    pub forces: &'a [[f64; 3]],
+    pub fixed: &'a [bool],
+    /// Index into the scene's material list.
+    pub materials: &'a [usize],
+}
+
+fn array(
+    w: &mut dyn Write,
+    name: &str,
+    kind: &str,
+    components: usize,
+    bytes: &[u8],
+) -> io::Result<()> {
+    let mut block = Vec::with_capacity(8 + bytes.len());
+    block.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+    block.extend_from_slice(bytes);
+    let comps = if components > 1 {
+        format!(" NumberOfComponents=\"{components}\"")
+    } else {
+        String::new()
+    };
+    writeln!(
+        w,
+        "        <DataArray type=\"{kind}\" Name=\"{name}\"{comps} format=\"binary\">{}</DataArray>",
+        STANDARD.encode(&block)
+    )
+}
+
+fn f64s<'a>(values: impl Iterator<Item = &'a f64>) -> Vec<u8> {
+    values.flat_map(|x| x.to_le_bytes()).collect()
+}
+
+fn vectors(values: &[[f64; 3]]) -> Vec<u8> {
+    f64s(values.iter().flatten())
+}
+
+/// Writes one `.vtp` file.
+pub fn write_snapshot(w: &mut dyn Write, s: &Snapshot) -> io::Result<()> {
+    let n = s.positions.len();
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+    )?;
+    writeln!(w, "  <PolyData>")?;
+    writeln!(w, "    <FieldData>")?;
+    array(w, "TIME", "Float64", 1, &s.time.to_le_bytes())
+        .and_then(|_| array(w, "STEP", "UInt64", 1, &s.step.to_le_bytes()))?;
+    writeln!(w, "    </FieldData>")?;
+    writeln!(
+        w,
+        "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
+    )?;
+    writeln!(w, "      <Points>")?;
+    array(w, "position", "Float64", 3, &vectors(s.positions))?;
+    writeln!(w, "      </Points>")?;
+    writeln!(
+        w,
+        "      <PointData Scalars=\"radius\" Vectors=\"velocity\">"
+    )?;
+    array(w, "radius", "Float64", 1, &f64s(s.radii.iter()))?;
+    array(w, "velocity", "Float64", 3, &vectors(s.velocities))?;
+    array(w, "force", "Float64", 3, &vectors(s.forces))?;
+    let fixed: Vec<u8> = s.fixed.iter().map(|f| u8::from(*f)).collect();
+    array(w, "fixed", "UInt8", 1, &fixed)?;
+    let materials: Vec<u8> = s
+        .materials
+        .iter()
+        .flat_map(|m| (*m as i32).to_le_bytes())
+        .collect();
+    array(w, "material", "Int32", 1, &materials)?;
+    let ids: Vec<u8> = (0..n as i64).flat_map(|i| i.to_le_bytes()).collect();
+    array(w, "id", "Int64", 1, &ids)?;
+    writeln!(w, "      </PointData>")?;
+    // One vertex cell per point, so that ParaView draws them as they are.
+    writeln!(w, "      <Verts>")?;
+    array(w, "connectivity", "Int64", 1, &ids)?;
+    let offsets: Vec<u8> = (1..=n as i64).flat_map(|i| i.to_le_bytes()).collect();
+    array(w, "offsets", "Int64", 1, &offsets)?;
+    writeln!(w, "      </Verts>")?;
+    writeln!(w, "    </Piece>")?;
+    writeln!(w, "  </PolyData>")?;
+    writeln!(w, "</VTKFile>")
+}
+
+/// Writes the `.pvd` collection of `(time in s, file name)` entries.
+pub fn write_series(w: &mut dyn Write, entries: &[(f64, String)]) -> io::Result<()> {
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">"
+    )?;
+    writeln!(w, "  <Collection>")?;
+    for (t, file) in entries {
+        writeln!(
+            w,
+            "    <DataSet timestep=\"{t:e}\" group=\"\" part=\"0\" file=\"{file}\"/>"
+        )?;
+    }
+    writeln!(w, "  </Collection>")?;
+    writeln!(w, "</VTKFile>")
+}
+
+/// The file name of snapshot number `k`.
+pub fn snapshot_name(k: usize) -> String {
+    format!("snapshot_{k:06}.vtp")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Decodes the array `name` of a written file (the reading side a
+    /// VTK reader does: base64, 8-byte length, little-endian values).
+    fn decode(text: &str, name: &str) -> Vec<u8> {
+        let tag = format!("Name=\"{name}\"");
+        let line = text.lines().find(|l| l.contains(&tag)).unwrap();
+        let data = &line[line.find('>').unwrap() + 1..line.rfind("</").unwrap()];
+        let block = STANDARD.decode(data).unwrap();
+        let len = u64::from_le_bytes(block[..8].try_into().unwrap()) as usize;
+        assert_eq!(len, block.len() - 8);
+        block[8..].to_vec()
+    }
+
+    #[test]
+    fn arrays_decode_to_the_values_written() {
+        let positions = [[1.0, 2.0, 3.0], [-4.0, 5.5, 1e-3]];
+        let s = Snapshot {
+            time: 0.25,
+            step: 7,
+            positions: &positions,
+            radii: &[0.5e-3, 0.05],
+            velocities: &[[0.0, 0.0, -1.0], [0.0; 3]],
+            forces: &[[0.0; 3], [0.0, 0.0, 9.81e-3]],
+            fixed: &[false, true],
+            materials: &[0, 2],
+        };
+        let mut out = Vec::new();
+        write_snapshot(&mut out, &s).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.contains("NumberOfPoints=\"2\""));
+        let pos: Vec<f64> = decode(&text, "position")
+            .chunks(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        assert_eq!(pos, vec![1.0, 2.0, 3.0, -4.0, 5.5, 1e-3]);
+        assert_eq!(decode(&text, "fixed"), vec![0, 1]);
+        let m: Vec<i32> = decode(&text, "material")
+            .chunks(4)
+            .map(|c| i32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        assert_eq!(m, vec![0, 2]);
+        let t = f64::from_le_bytes(decode(&text, "TIME").try_into().unwrap());
+        assert_eq!(t, 0.25);
+        let mut pvd = Vec::new();
+        write_series(
+            &mut pvd,
+            &[(0.0, snapshot_name(0)), (0.25, snapshot_name(1))],
+        )
+        .unwrap();
+        let pvd = String::from_utf8(pvd).unwrap();
+        assert!(
+            pvd.contains("timestep=\"2.5e-1\"") && pvd.contains("snapshot_000001.vtp"),
+            "{pvd}"
+        );
+    }
+}

@@ -1,0 +1,30 @@
+//! dembound-scene: a many-particle 3D DEM engine for scenes of spheres,
+//! boundary particles and plane walls (issue 12). No I/O in the engine:
+//! a [`setup::SceneSetup`] in, a [`Simulation`] to step and query.
+//!
+//! - [`bodies`]: the body store (structure of arrays).
+//! - [`geometry`]: box, cells, Verlet lists, ghost layer.
+//! - [`dynamics`]: pair contacts, plane walls, integrators, collision log.
+//! - [`pipeline`]: one step as named stages over the [`pipeline::World`].
+//! - [`simulation`]: the public [`Simulation`] API and its checkpoint.
+//!
+//! Around the engine, with files (helper "scene-io"):
+//! - [`sources`]: where the spheres come from (lattice, random insertion,
+//!   LAMMPS data, CSV) and the boundary-particle walls (`tiling`).
+//! - [`io`]: the scene file, VTK snapshots, the time series, checkpoints.
+
+pub mod bodies;
+pub mod dynamics;
+pub mod error;
+pub mod geometry;
+pub mod io;
+pub mod parallel;
+pub mod pipeline;
+pub mod setup;
+pub mod simulation;
+pub mod sources;
+
+pub use dynamics::collisions::{Collision, Partner};
+pub use error::SceneError;
+pub use setup::SceneSetup;
+pub use simulation::{Checkpoint, Observation, Simulation, TimeStepReport};

@@ -1,0 +1,611 @@
+//! One time step as named stages: ghosts, neighbours, forces, integrate,
+//! observe. The [`World`] is the data set; the [`Pipeline`] holds only
+//! scratch (the reference positions of the displacement check and the
+//! cell grid).
+
+use std::collections::HashMap;
+
+use dembound_physics::contact::ContactHistory;
+
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::collisions::{Collision, Partner, Track};
+use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
+use crate::dynamics::integrate;
+use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
+use crate::geometry::cells::{sort_by_cell, CellGrid};
+use crate::geometry::domain::Domain;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::{PairList, SearchInput};
+use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
+use crate::setup::Scheme;
+
+/// What a wall in file order is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WallKind {
+    /// Index into [`World::planes`].
+    Plane(usize),
+    /// Boundary particles: the bodies whose group is this wall.
+    Particles,
+}
+
+/// Collision tracking state, aligned with the lists.
+#[derive(Debug, Clone, Default)]
+pub struct Tracks {
+    pub main: Vec<Track>,
+    pub extra: Vec<Track>,
+    /// `planes[i * planes + p]`, permuted with the bodies.
+    pub planes: Vec<Track>,
+}
+
+/// The data set of a simulation.
+#[derive(Debug, Clone)]
+pub struct World {
+    pub bodies: Bodies,
+    pub planes: Vec<PlaneWall>,
+    pub wall_contacts: WallContacts,
+    pub walls: Vec<WallKind>,
+    pub domain: Domain,
+    pub laws: LawTable,
+    pub gravity: [f64; 3],
+    pub scheme: Scheme,
+    /// s.
+    pub dt: f64,
+    pub steps_done: u64,
+    /// Neighbour skin, m.
+    pub skin: f64,
+    /// Cell edge (≥ the largest pair range among celled bodies), m.
+    pub cell_size: f64,
+    /// Bodies larger than this (m) are paired outside the cells.
+    pub large_radius: f64,
+    pub list: PairList,
+    pub histories: PairHistories,
+    pub ghosts: Ghosts,
+    /// `Some` when the collision log is on.
+    pub tracks: Option<Tracks>,
+    pub collisions: Vec<Collision>,
+    pub rebuilds: u64,
+}
+
+impl World {
+    pub fn time(&self) -> f64 {
+        self.steps_done as f64 * self.dt
+    }
+}
+
+/// Scratch of the stages.
+#[derive(Debug, Clone, Default)]
+pub struct Pipeline {
+    /// Positions at the last list build, m.
+    pub reference: Vec<[f64; 3]>,
+    grid: CellGrid,
+    /// Verlet's last half kick of the previous step is still to apply.
+    pending_kick: bool,
+}
+
+impl Pipeline {
+    /// Builds the lists and evaluates the first forces.
+    pub fn start(&mut self, world: &mut World, workers: &Workers) {
+        self.neighbours(world, workers);
+        self.forces(world, workers);
+        if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
+            integrate::gear5_start(&mut world.bodies, world.dt);
+        }
+    }
+
+    /// `n` steps. Verlet's last half kick of a step is fused with the first
+    /// of the next (the same operations in the same order as two passes:
+    /// the same bits however the steps are grouped); the state is complete
+    /// again when this returns.
+    pub fn steps(&mut self, world: &mut World, workers: &Workers, n: u64) {
+        for _ in 0..n {
+            self.step(world, workers);
+        }
+        self.finish(world, workers);
+    }
+
+    /// Applies a pending half kick.
+    pub fn finish(&mut self, world: &mut World, workers: &Workers) {
+        if self.pending_kick {
+            integrate::verlet_kick(&mut world.bodies, world.dt, workers);
+            self.pending_kick = false;
+            self.ghosts(world);
+        }
+    }
+
+    fn step(&mut self, world: &mut World, workers: &Workers) {
+        let dt = world.dt;
+        let half_skin = 0.5 * world.skin;
+        match world.scheme {
+            Scheme::Verlet => {
+                // Stages integrate (first half) and forces (per body:
+                // gravity, walls) in one pass over the bodies.
+                let moved2 = self.verlet_advance(world, workers);
+                if needs_rebuild(moved2, half_skin) {
+                    self.neighbours(world, workers);
+                    // The wall masks are new: the per-body forces again
+                    // (the same state: history updates are idempotent).
+                    self.body_forces(world, workers);
+                } else {
+                    self.ghosts(world);
+                }
+                self.pair_forces(world, workers);
+                if world.tracks.is_some() {
+                    integrate::verlet_kick(&mut world.bodies, dt, workers);
+                } else {
+                    self.pending_kick = true;
+                }
+            }
+            Scheme::Gear5 => {
+                let moved2 =
+                    integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
+                if needs_rebuild(moved2, half_skin) {
+                    self.neighbours(world, workers);
+                } else {
+                    self.ghosts(world);
+                }
+                self.forces(world, workers);
+                let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
+                integrate::gear5_correct(&mut world.bodies, dt, c, workers);
+            }
+        }
+        world.steps_done += 1;
+        if world.tracks.is_some() {
+            self.ghosts(world);
+            self.observe(world);
+        }
+    }
+
+    /// Verlet: the pending half kick of the last step (if any), the half
+    /// kick and drift of this one, and the body's gravity and wall forces
+    /// at its new position. Returns the largest squared displacement since
+    /// the last list build, m².
+    fn verlet_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
+        let n = world.bodies.len();
+        let pending = self.pending_kick;
+        self.pending_kick = false;
+        let ctx = AdvanceContext {
+            x: SharedMut::new(&mut world.bodies.position),
+            v: SharedMut::new(&mut world.bodies.velocity),
+            f: SharedMut::new(&mut world.bodies.force),
+            walls: world.wall_contacts.shared(),
+            bodies: &world.bodies,
+            planes: &world.planes,
+            laws: &world.laws,
+            gravity: world.gravity,
+            reference: &self.reference,
+            dt: world.dt,
+            pending,
+        };
+        assert!(
+            self.reference.len() == n
+                && world.bodies.mass.len() == n
+                && world.bodies.fixed.len() == n
+        );
+        let partial = workers.map(n.div_ceil(BODY_CHUNK), |c| {
+            // SAFETY: chunks are disjoint ranges of bodies; lengths asserted.
+            unsafe { verlet_chunk(&ctx, c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n)) }
+        });
+        partial.into_iter().fold(0.0, f64::max)
+    }
+
+    /// Stage "ghosts": images follow their owners.
+    pub fn ghosts(&mut self, world: &mut World) {
+        world
+            .ghosts
+            .update(&world.bodies.position, &world.bodies.velocity);
+    }
+
+    /// Stage "neighbours": wrap into the box, sort bodies by cell, rebuild
+    /// the ghost layer and the lists, carry every pair's history over.
+    pub fn neighbours(&mut self, world: &mut World, workers: &Workers) {
+        world.rebuilds += 1;
+        // Histories (and collision tracks) by input ids.
+        let saved: HashMap<(u32, u32), ContactHistory> =
+            contacts::active_histories(&world.bodies, &world.ghosts, &world.list, &world.histories)
+                .into_iter()
+                .map(|(a, b, h)| ((a, b), h))
+                .collect();
+        let saved_tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
+
+        let n = world.bodies.len();
+        for k in 0..n {
+            world.bodies.position[k] = world.domain.wrap(world.bodies.position[k]);
+        }
+        // Grid bounds: the box on periodic axes, the celled bodies' extent elsewhere.
+        let large = world.large_radius;
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for k in 0..n {
+            if world.bodies.radius[k] > large {
+                continue;
+            }
+            let x = world.bodies.position[k];
+            for a in 0..3 {
+                if x[a].is_finite() {
+                    lo[a] = lo[a].min(x[a]);
+                    hi[a] = hi[a].max(x[a]);
+                }
+            }
+        }
+        for a in 0..3 {
+            if world.domain.periodic[a] {
+                lo[a] = world.domain.lower[a];
+                hi[a] = world.domain.upper[a];
+            } else if lo[a] > hi[a] {
+                lo[a] = 0.0;
+                hi[a] = 0.0;
+            }
+        }
+        self.grid = CellGrid::new(lo, hi, world.cell_size, (2 * n).max(64));
+        let cells = self.grid.count();
+        let cell: Vec<u32> = (0..n)
+            .map(|k| {
+                if world.bodies.radius[k] > large {
+                    cells as u32
+                } else {
+                    self.grid.index(self.grid.coords(world.bodies.position[k])) as u32
+                }
+            })
+            .collect();
+        let (order, start) = sort_by_cell(&cell, cells);
+        world.bodies.permute(&order);
+        world.wall_contacts.permute(&order);
+        world
+            .wall_contacts
+            .update_near(&world.bodies, &world.planes, world.skin);
+        if let Some(t) = world.tracks.as_mut() {
+            let p = world.planes.len();
+            if p > 0 {
+                let mut v = Vec::with_capacity(t.planes.len());
+                for &o in &order {
+                    v.extend_from_slice(&t.planes[o as usize * p..(o as usize + 1) * p]);
+                }
+                t.planes = v;
+            }
+        }
+        let celled = start[cells] as usize;
+        let bodies = &world.bodies;
+        world.ghosts = Ghosts::build(&world.domain, &bodies.position, world.cell_size, |k| {
+            bodies.radius[k] > large
+        });
+        world.ghosts.update(&bodies.position, &bodies.velocity);
+        world.list = PairList::build(
+            &SearchInput {
+                position: &bodies.position,
+                radius: &bodies.radius,
+                fixed: &bodies.fixed,
+                celled,
+                grid: &self.grid,
+                cell_start: &start,
+                ghosts: &world.ghosts,
+                skin: world.skin,
+            },
+            workers,
+        );
+        let list = &world.list;
+        let key = |i: usize, j_ext: usize| {
+            let (_, _, owner) = extended(bodies, &world.ghosts, j_ext);
+            let (a, b) = (bodies.id[i], bodies.id[owner]);
+            (a.min(b), a.max(b))
+        };
+        let keep = world.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { list.extra.len() } else { 0 }];
+        if keep && !saved.is_empty() {
+            for (i, k) in list.entries() {
+                if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
+                    main[k] = *h;
+                }
+            }
+            for (k, &(i, j)) in list.extra.iter().enumerate() {
+                if let Some(h) = saved.get(&key(i as usize, j as usize)) {
+                    extra[k] = *h;
+                }
+            }
+        }
+        world.histories = PairHistories { main, extra };
+        // Tracked contacts that are still open but no longer listed (they
+        // separated by more than the skin within one step) stay listed, as
+        // extra pairs, until the log has seen them end.
+        let mut kept: Vec<(u32, u32, Track)> = Vec::new();
+        if let (Some(saved), Some(tracks)) = (saved_tracks, world.tracks.as_mut()) {
+            tracks.main = vec![Track::default(); list.j.len()];
+            tracks.extra = vec![Track::default(); list.extra.len()];
+            let mut found = std::collections::HashSet::new();
+            for (i, k) in list.entries() {
+                let key = key(i, list.j[k] as usize);
+                if let Some(t) = saved.get(&key) {
+                    tracks.main[k] = *t;
+                    found.insert(key);
+                }
+            }
+            for (k, &(i, j)) in list.extra.iter().enumerate() {
+                let key = key(i as usize, j as usize);
+                if let Some(t) = saved.get(&key) {
+                    tracks.extra[k] = *t;
+                    found.insert(key);
+                }
+            }
+            let mut open: Vec<_> = saved
+                .iter()
+                .filter(|(key, t)| t.in_contact() && !found.contains(*key))
+                .map(|(key, t)| (*key, *t))
+                .collect();
+            open.sort_by_key(|(key, _)| *key);
+            let at = bodies.index_of_ids();
+            for ((a, b), t) in open {
+                let (i, j) = (at[a as usize] as usize, at[b as usize] as usize);
+                kept.push((
+                    i as u32,
+                    nearest_image(bodies, &world.ghosts, i, j) as u32,
+                    t,
+                ));
+            }
+        }
+        for (i, j, t) in kept {
+            world.list.extra.push((i, j));
+            if world.laws.history {
+                // A contact that separated keeps no history worth carrying.
+                world.histories.extra.push(ContactHistory::default());
+            }
+            if let Some(tracks) = world.tracks.as_mut() {
+                tracks.extra.push(t);
+            }
+        }
+        self.reference.clone_from(&world.bodies.position);
+    }
+
+    /// Stage "forces": gravity and plane walls per body, then the pairs.
+    pub fn forces(&mut self, world: &mut World, workers: &Workers) {
+        self.body_forces(world, workers);
+        self.pair_forces(world, workers);
+    }
+
+    /// Gravity and plane walls: sets each body's force.
+    fn body_forces(&mut self, world: &mut World, workers: &Workers) {
+        world.bodies.force.resize(world.bodies.len(), [0.0; 3]);
+        let mut force = std::mem::take(&mut world.bodies.force);
+        walls::start_forces(
+            &world.bodies,
+            &world.planes,
+            &mut world.wall_contacts,
+            &world.laws,
+            world.gravity,
+            &mut force,
+            workers,
+        );
+        world.bodies.force = force;
+    }
+
+    /// Adds the pair forces.
+    fn pair_forces(&mut self, world: &mut World, workers: &Workers) {
+        let mut force = std::mem::take(&mut world.bodies.force);
+        contacts::add_pair_forces(
+            &world.bodies,
+            &world.ghosts,
+            &world.list,
+            &mut world.histories,
+            &world.laws,
+            &mut force,
+            workers,
+        );
+        world.bodies.force = force;
+    }
+
+    /// Stage "observe": the collision log at the end of the step.
+    pub fn observe(&mut self, world: &mut World) {
+        let t = world.time();
+        let Some(tracks) = world.tracks.as_mut() else {
+            return;
+        };
+        let dt = world.dt;
+        let bodies = &world.bodies;
+        let n = bodies.len();
+        let laws = &world.laws;
+        let mut log = Vec::new();
+        let mut visit = |i: usize, j_ext: usize, track: &mut Track, history: &ContactHistory| {
+            let (xj, vj, owner) = extended(bodies, &world.ghosts, j_ext);
+            let g = contacts::separation(
+                bodies.position[i],
+                bodies.velocity[i],
+                bodies.radius[i],
+                xj,
+                vj,
+                bodies.radius[owner],
+            );
+            let law = laws.pair(bodies, i, owner);
+            if let Some(c) = track.advance(t, dt, g.overlap, g.overlap_rate, |h, r| {
+                law.force(h, r, history)
+            }) {
+                let (a, b) = (bodies.id[i] as usize, bodies.id[owner] as usize);
+                log.push(Collision {
+                    i: a.min(b),
+                    j: Partner::Body(a.max(b)),
+                    t_start: c.t_start,
+                    t_end: c.t_end,
+                    duration: c.t_end - c.t_start,
+                    max_overlap: c.max_overlap,
+                    max_normal_force: c.max_force,
+                    impact_normal_velocity: c.impact,
+                    rebound_normal_velocity: c.rebound,
+                });
+            }
+        };
+        for i in 0..n {
+            for k in world.list.start[i] as usize..world.list.start[i + 1] as usize {
+                visit(
+                    i,
+                    world.list.j[k] as usize,
+                    &mut tracks.main[k],
+                    world.histories.main(k),
+                );
+            }
+        }
+        for (k, &(i, j)) in world.list.extra.iter().enumerate() {
+            visit(
+                i as usize,
+                j as usize,
+                &mut tracks.extra[k],
+                world.histories.extra(k),
+            );
+        }
+        let np = world.planes.len();
+        for i in 0..n {
+            if bodies.fixed[i] {
+                continue;
+            }
+            for (p, plane) in world.planes.iter().enumerate() {
+                let (h, rate) = plane_overlap(
+                    plane,
+                    bodies.position[i],
+                    bodies.velocity[i],
+                    bodies.radius[i],
+                );
+                let track = &mut tracks.planes[i * np + p];
+                // Only couples near contact are worth tracking.
+                if h < -world.skin && !track.is_known() {
+                    continue;
+                }
+                let law = laws.plane(bodies, i, p);
+                let hist = world
+                    .wall_contacts
+                    .history
+                    .get(i * np + p)
+                    .unwrap_or(&contacts::NO_HISTORY);
+                if let Some(c) = track.advance(t, dt, h, rate, |h, r| law.force(h, r, hist)) {
+                    log.push(Collision {
+                        i: bodies.id[i] as usize,
+                        j: Partner::Wall(plane.wall),
+                        t_start: c.t_start,
+                        t_end: c.t_end,
+                        duration: c.t_end - c.t_start,
+                        max_overlap: c.max_overlap,
+                        max_normal_force: c.max_force,
+                        impact_normal_velocity: c.impact,
+                        rebound_normal_velocity: c.rebound,
+                    });
+                }
+                if h < -world.skin {
+                    *track = Track::default();
+                }
+            }
+        }
+        // A fixed order within the step: by pair.
+        log.sort_by_key(|c| (c.i, partner_key(c.j)));
+        world.collisions.extend(log);
+    }
+}
+
+/// What [`verlet_chunk`] needs. `bodies` is read only for radius, mass,
+/// fixed flag and class; positions, velocities and forces go through the
+/// raw pointers.
+struct AdvanceContext<'a> {
+    x: SharedMut<[f64; 3]>,
+    v: SharedMut<[f64; 3]>,
+    f: SharedMut<[f64; 3]>,
+    walls: WallContactsMut,
+    bodies: &'a Bodies,
+    planes: &'a [PlaneWall],
+    laws: &'a LawTable,
+    gravity: [f64; 3],
+    reference: &'a [[f64; 3]],
+    dt: f64,
+    pending: bool,
+}
+
+unsafe impl Sync for AdvanceContext<'_> {}
+
+/// Verlet's first half (after a pending closing half kick) and the
+/// per-body forces of bodies lo..hi. Returns their largest squared
+/// displacement since the last list build, m².
+///
+/// # Safety
+/// lo..hi within the bodies, and no other thread touches these bodies.
+#[inline(never)]
+unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+    let b = c.bodies;
+    let half_dt = 0.5 * c.dt;
+    let mut m = 0.0f64;
+    // Local slices: their headers are not reloaded after the raw writes.
+    let (fixed, mass, reference) = (&b.fixed[..], &b.mass[..], c.reference);
+    for i in lo..hi {
+        let fi = c.f.at(i);
+        if *fixed.get_unchecked(i) {
+            *fi = [0.0; 3];
+            continue;
+        }
+        let (xi, vi) = (c.x.at(i), c.v.at(i));
+        let dtfm = half_dt / *mass.get_unchecked(i);
+        if c.pending {
+            integrate::half_kick(vi, *fi, dtfm);
+        }
+        integrate::half_kick(vi, *fi, dtfm);
+        integrate::drift(xi, *vi, c.dt);
+        m = m.max(integrate::displacement2(*xi, *reference.get_unchecked(i)));
+        *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
+    }
+    m
+}
+
+/// Extended index of body j's image nearest to body i: j itself or one of
+/// its ghosts.
+fn nearest_image(bodies: &Bodies, ghosts: &Ghosts, i: usize, j: usize) -> usize {
+    let d2 = |x: [f64; 3]| crate::dynamics::integrate::displacement2(x, bodies.position[i]);
+    let mut best = (d2(bodies.position[j]), j);
+    for (g, &owner) in ghosts.owner.iter().enumerate() {
+        if owner as usize == j {
+            let d = d2(ghosts.position[g]);
+            if d < best.0 {
+                best = (d, bodies.len() + g);
+            }
+        }
+    }
+    best.1
+}
+
+/// A body moved more than half the skin (or a position is not finite).
+fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
+    moved2.is_nan() || moved2 > half_skin * half_skin
+}
+
+fn partner_key(p: Partner) -> (u8, usize) {
+    match p {
+        Partner::Body(j) => (0, j),
+        Partner::Wall(w) => (1, w),
+    }
+}
+
+/// The tracks of the listed couples that have a previous step, by input ids.
+pub(crate) fn saved_tracks_public(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+    saved_tracks(world, tracks)
+}
+
+fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+    let bodies = &world.bodies;
+    let list = &world.list;
+    let mut out = HashMap::new();
+    if tracks.main.len() != list.j.len() || list.start.len() != bodies.len() + 1 {
+        return out;
+    }
+    for i in 0..bodies.len() {
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            if tracks.main[k].is_known() {
+                let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
+                out.insert((a.min(b), a.max(b)), tracks.main[k]);
+            }
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        if tracks.extra.get(k).is_some_and(|t| t.is_known()) {
+            let (_, _, owner) = extended(bodies, &world.ghosts, j as usize);
+            let (a, b) = (bodies.id[i as usize], bodies.id[owner]);
+            out.insert((a.min(b), a.max(b)), tracks.extra[k]);
+        }
+    }
+    out
+}
+
+/// Whether body k belongs to a boundary-particle wall.
+pub fn in_group(bodies: &Bodies, k: usize) -> bool {
+    bodies.group[k] != NO_GROUP
+}

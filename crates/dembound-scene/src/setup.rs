@@ -1,0 +1,155 @@
+//! The engine's input: plain data, no files, SI units. The scene file
+//! reader (`io::config`) and the particle sources build a [`SceneSetup`];
+//! [`crate::Simulation::new`] validates it.
+
+use dembound_physics::contact::ContactModel;
+use dembound_physics::material::Material;
+
+/// Everything a scene needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneSetup {
+    pub domain: DomainSetup,
+    /// The materials, referred to by index from spheres and plane walls.
+    /// A rigid wall is a material with E = ∞ ([`Material::rigid`]).
+    pub materials: Vec<NamedMaterial>,
+    /// The contact model of every pair (sphere–sphere and sphere–plane).
+    pub contact: ContactModel,
+    /// All spheres, free and fixed, in input order (the order every
+    /// per-body output uses).
+    pub spheres: Vec<SphereInit>,
+    /// Walls in file order (the order of the wall forces).
+    pub walls: Vec<WallSetup>,
+    /// Gravitational acceleration, m/s².
+    pub gravity: [f64; 3],
+    pub integration: IntegrationSetup,
+    pub neighbour: NeighbourSetup,
+    /// Keep a collision log (one row per completed contact).
+    pub collisions: bool,
+}
+
+/// The box. On a periodic axis bodies leave through one face and enter
+/// through the other and interact across it; on the other axes the box only
+/// bounds the neighbour search grid (walls are separate, [`WallSetup`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DomainSetup {
+    /// Lower corner, m.
+    pub lower: [f64; 3],
+    /// Upper corner, m.
+    pub upper: [f64; 3],
+    pub periodic: [bool; 3],
+}
+
+/// A material with the name the scene file gives it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedMaterial {
+    pub name: String,
+    pub material: Material,
+}
+
+/// One sphere's initial state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereInit {
+    /// Centre, m.
+    pub position: [f64; 3],
+    /// m/s (ignored for fixed spheres, which never move).
+    pub velocity: [f64; 3],
+    /// m, > 0.
+    pub radius: f64,
+    /// Index into [`SceneSetup::materials`].
+    pub material: usize,
+    /// A fixed sphere (boundary particle) has infinite mass and never moves;
+    /// two fixed spheres never interact.
+    pub fixed: bool,
+    /// The wall (index into [`SceneSetup::walls`]) this sphere belongs to,
+    /// for a boundary-particle wall.
+    pub group: Option<usize>,
+}
+
+/// A wall.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum WallSetup {
+    /// A fixed plane through `point` (m) whose `normal` (any length > 0)
+    /// points into the domain: spheres touch it from the normal's side. It
+    /// is an elastic half-space of `material` (index into
+    /// [`SceneSetup::materials`]): the paper's r = ∞, ζ = E_wall/E.
+    Plane {
+        point: [f64; 3],
+        normal: [f64; 3],
+        material: usize,
+    },
+    /// A wall of boundary particles: spheres `first_body..first_body+count`
+    /// of [`SceneSetup::spheres`], all fixed, with `group` = this wall.
+    BoundaryParticles { first_body: usize, count: usize },
+}
+
+/// Integration scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scheme {
+    /// Velocity Verlet (kick–drift–kick), 2nd order.
+    Verlet,
+    /// The paper's 5th-order Gear predictor–corrector (eqs 18–19), one
+    /// Nordsieck vector per body.
+    Gear5,
+}
+
+/// How the time step is chosen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TimeStep {
+    /// Δt given, s.
+    Fixed(f64),
+    /// Δt = η × the smallest pair contact-time estimate at `impact_speed`
+    /// (m/s), over every kind of pair the scene holds.
+    Eta { eta: f64, impact_speed: f64 },
+}
+
+/// How long to run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RunLength {
+    Steps(u64),
+    /// Simulated time, s; the step count is ⌈duration/Δt⌉.
+    Duration(f64),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntegrationSetup {
+    pub scheme: Scheme,
+    pub time_step: TimeStep,
+    pub length: RunLength,
+}
+
+/// Neighbour search settings.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NeighbourSetup {
+    /// Verlet skin, m: pairs closer than R_i + R_j + skin are listed, and the
+    /// lists are rebuilt when a body has moved more than skin/2. `None`:
+    /// 0.2 × the smallest radius of a free sphere (0.1 mm for R = 0.5 mm,
+    /// LAMMPS's `neighbor 0.0001 bin` of the lattice-drop deck).
+    pub skin: Option<f64>,
+}
+
+impl SceneSetup {
+    /// An empty scene in `domain` with one contact model, Verlet, no
+    /// gravity; fill in materials, spheres and walls.
+    pub fn new(
+        domain: DomainSetup,
+        contact: ContactModel,
+        time_step: TimeStep,
+        length: RunLength,
+    ) -> Self {
+        Self {
+            domain,
+            materials: Vec::new(),
+            contact,
+            spheres: Vec::new(),
+            walls: Vec::new(),
+            gravity: [0.0; 3],
+            integration: IntegrationSetup {
+                scheme: Scheme::Verlet,
+                time_step,
+                length,
+            },
+            neighbour: NeighbourSetup::default(),
+            collisions: false,
+        }
+    }
+}

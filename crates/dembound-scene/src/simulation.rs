@@ -1,0 +1,1040 @@
+//! The public API: build a [`Simulation`] from a [`SceneSetup`], step it,
+//! read its state (always in input order), checkpoint and restore it.
+
+use std::collections::HashMap;
+
+use dembound_physics::contact::ContactHistory;
+use dembound_physics::material::PairProperties;
+use serde::{Deserialize, Serialize};
+
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::collisions::{Collision, Track};
+use crate::dynamics::contacts::{self, LawTable, PairHistories};
+use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
+use crate::error::SceneError;
+use crate::geometry::domain::Domain;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+use crate::parallel::Workers;
+use crate::pipeline::{Pipeline, Tracks, WallKind, World};
+use crate::setup::{RunLength, SceneSetup, Scheme, TimeStep, WallSetup};
+
+/// Bodies larger than this many times the smallest free sphere are paired
+/// outside the cell grid (boundary spheres of r = 100 would otherwise make
+/// every cell as large as they are).
+const LARGE_FACTOR: f64 = 4.0;
+
+/// How the time step came about.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TimeStepReport {
+    /// The step used, s.
+    pub dt: f64,
+    /// The smallest pair contact-time estimate at `impact_speed`, s (when
+    /// Δt comes from η).
+    pub contact_time: Option<f64>,
+    /// m/s.
+    pub impact_speed: Option<f64>,
+    /// The smallest Rayleigh time of a free sphere,
+    /// π R √(ρ/G)/(0.1631 ν + 0.8766), G = E/(2(1 + ν)), s (`None` when
+    /// no free sphere has a finite modulus).
+    pub rayleigh_time: Option<f64>,
+}
+
+/// The scene's global state at one instant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Observation {
+    pub step: u64,
+    /// s.
+    pub time: f64,
+    /// J.
+    pub kinetic_energy: f64,
+    /// Stored in contacts (pairs and walls), J.
+    pub elastic_energy: f64,
+    /// −Σ m g·x over free bodies, J.
+    pub potential_energy: f64,
+    /// Energy lost since the start (damping, and the integration error), J.
+    pub dissipated_energy: f64,
+    /// Pairs of spheres in contact, neither in a boundary-particle wall.
+    pub particle_contacts: usize,
+    /// Sphere–plane contacts plus contacts with boundary particles.
+    pub wall_contacts: usize,
+    /// Force on each wall (file order), N.
+    pub wall_forces: Vec<[f64; 3]>,
+}
+
+/// A running scene.
+pub struct Simulation {
+    world: World,
+    pipeline: Pipeline,
+    workers: Workers,
+    total_steps: u64,
+    time_step: TimeStepReport,
+    initial_energy: f64,
+}
+
+fn finite3(v: [f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+fn show3(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
+}
+
+impl Simulation {
+    /// Validates `setup` and prepares the run on `threads` worker threads
+    /// (≥ 1; results do not depend on it).
+    pub fn new(setup: SceneSetup, threads: usize) -> Result<Self, SceneError> {
+        let mut sim = Self::prepare(&setup, threads)?;
+        sim.pipeline.start(&mut sim.world, &sim.workers);
+        sim.initial_energy = sim.mechanical_energy();
+        Ok(sim)
+    }
+
+    fn prepare(setup: &SceneSetup, threads: usize) -> Result<Self, SceneError> {
+        if threads == 0 {
+            return Err(SceneError::invalid("threads", 0, "at least 1"));
+        }
+        setup.contact.validate().map_err(|e| SceneError::Invalid {
+            key: e.key,
+            value: e.value,
+            allowed: e.allowed,
+        })?;
+        let d = &setup.domain;
+        for a in 0..3 {
+            if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.lower[a] < d.upper[a]) {
+                return Err(SceneError::invalid(
+                    format!("domain.upper[{a}]"),
+                    d.upper[a],
+                    format!("finite and above domain.lower[{a}] = {} m", d.lower[a]),
+                ));
+            }
+        }
+        for (k, m) in setup.materials.iter().enumerate() {
+            let m = &m.material;
+            if !(m.density.is_finite() && m.density > 0.0) {
+                return Err(SceneError::invalid(
+                    format!("materials[{k}].density"),
+                    m.density,
+                    "finite and > 0 kg/m³",
+                ));
+            }
+            if m.youngs_modulus.is_nan() || m.youngs_modulus <= 0.0 {
+                return Err(SceneError::invalid(
+                    format!("materials[{k}].youngs_modulus"),
+                    m.youngs_modulus,
+                    "> 0 Pa (inf for rigid)",
+                ));
+            }
+            if !(m.poisson_ratio > -1.0 && m.poisson_ratio <= 0.5) {
+                return Err(SceneError::invalid(
+                    format!("materials[{k}].poisson_ratio"),
+                    m.poisson_ratio,
+                    "in (-1, 0.5]",
+                ));
+            }
+        }
+        let nm = setup.materials.len();
+        for (k, s) in setup.spheres.iter().enumerate() {
+            if !(s.radius.is_finite() && s.radius > 0.0) {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].radius"),
+                    s.radius,
+                    "finite and > 0 m",
+                ));
+            }
+            if !finite3(s.position) {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].position"),
+                    show3(s.position),
+                    "finite, m",
+                ));
+            }
+            if !finite3(s.velocity) {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].velocity"),
+                    show3(s.velocity),
+                    "finite, m/s",
+                ));
+            }
+            if s.material >= nm {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].material"),
+                    s.material,
+                    format!("a material index below {nm}"),
+                ));
+            }
+            if let Some(g) = s.group {
+                let ok = matches!(
+                    setup.walls.get(g),
+                    Some(WallSetup::BoundaryParticles { .. })
+                );
+                if !ok || !s.fixed {
+                    return Err(SceneError::invalid(
+                        format!("spheres[{k}].group"),
+                        g,
+                        "the index of a boundary-particle wall, on a fixed sphere",
+                    ));
+                }
+            }
+            if !s.fixed && !setup.materials[s.material].material.density.is_finite() {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].material"),
+                    s.material,
+                    "a finite density",
+                ));
+            }
+        }
+        if setup.spheres.len() >= u32::MAX as usize {
+            return Err(SceneError::invalid(
+                "spheres",
+                setup.spheres.len(),
+                "fewer than 2^32 − 1",
+            ));
+        }
+        let mut planes = Vec::new();
+        let mut plane_materials = Vec::new();
+        let mut kinds = Vec::new();
+        for (w, wall) in setup.walls.iter().enumerate() {
+            match *wall {
+                WallSetup::Plane {
+                    point,
+                    normal,
+                    material,
+                } => {
+                    let len =
+                        (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
+                            .sqrt();
+                    if !(len.is_finite() && len > 0.0) {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].normal"),
+                            show3(normal),
+                            "finite and non-zero",
+                        ));
+                    }
+                    if !finite3(point) {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].point"),
+                            show3(point),
+                            "finite, m",
+                        ));
+                    }
+                    if material >= nm {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].material"),
+                            material,
+                            format!("a material index below {nm}"),
+                        ));
+                    }
+                    if planes.len() >= MAX_PLANES {
+                        return Err(SceneError::invalid(
+                            "walls",
+                            setup.walls.len(),
+                            format!("at most {MAX_PLANES} plane walls"),
+                        ));
+                    }
+                    kinds.push(WallKind::Plane(planes.len()));
+                    planes.push(PlaneWall {
+                        wall: w,
+                        point,
+                        normal: [normal[0] / len, normal[1] / len, normal[2] / len],
+                    });
+                    plane_materials.push(material as u32);
+                }
+                WallSetup::BoundaryParticles { first_body, count } => {
+                    let end = first_body
+                        .checked_add(count)
+                        .filter(|&e| e <= setup.spheres.len());
+                    let Some(end) = end else {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].count"),
+                            count,
+                            format!(
+                                "spheres {first_body}.. within the {} spheres",
+                                setup.spheres.len()
+                            ),
+                        ));
+                    };
+                    for k in first_body..end {
+                        let s = &setup.spheres[k];
+                        if !s.fixed || s.group != Some(w) {
+                            return Err(SceneError::invalid(
+                                format!("spheres[{k}].group"),
+                                format!("{:?}", s.group),
+                                format!("Some({w}) and fixed: sphere {k} belongs to boundary-particle wall {w}"),
+                            ));
+                        }
+                    }
+                    kinds.push(WallKind::Particles);
+                }
+            }
+        }
+        if !finite3(setup.gravity) {
+            return Err(SceneError::invalid(
+                "motion.gravity",
+                show3(setup.gravity),
+                "finite, m/s²",
+            ));
+        }
+
+        // Bodies in input order.
+        let n = setup.spheres.len();
+        let mut b = Bodies::default();
+        for (k, s) in setup.spheres.iter().enumerate() {
+            let mat = &setup.materials[s.material].material;
+            b.position.push(s.position);
+            b.velocity.push(if s.fixed { [0.0; 3] } else { s.velocity });
+            b.force.push([0.0; 3]);
+            b.radius.push(s.radius);
+            let m = if s.fixed {
+                f64::INFINITY
+            } else {
+                mat.sphere_mass(s.radius)
+            };
+            b.mass.push(m);
+            b.inverse_mass.push(if s.fixed { 0.0 } else { 1.0 / m });
+            b.material.push(s.material as u32);
+            b.fixed.push(s.fixed);
+            b.id.push(k as u32);
+            b.group.push(s.group.map_or(NO_GROUP, |g| g as u32));
+        }
+        let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
+        let laws = LawTable::new(setup.contact, materials, &mut b, plane_materials);
+
+        // Neighbour geometry.
+        let free_min = b
+            .radius
+            .iter()
+            .zip(&b.fixed)
+            .filter(|(_, &f)| !f)
+            .map(|(&r, _)| r)
+            .fold(f64::INFINITY, f64::min);
+        let any_min = b.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        let reference_radius = if free_min.is_finite() {
+            free_min
+        } else {
+            any_min
+        };
+        let skin = match setup.neighbour.skin {
+            Some(s) => {
+                if !(s.is_finite() && s > 0.0) {
+                    return Err(SceneError::invalid("neighbour.skin", s, "finite and > 0 m"));
+                }
+                s
+            }
+            None if reference_radius.is_finite() => 0.2 * reference_radius,
+            None => 1.0e-4,
+        };
+        let large_radius = LARGE_FACTOR * reference_radius;
+        let small_max = b
+            .radius
+            .iter()
+            .copied()
+            .filter(|&r| r <= large_radius)
+            .fold(0.0, f64::max);
+        let cell_size = 2.0 * small_max + skin;
+        let len = [
+            d.upper[0] - d.lower[0],
+            d.upper[1] - d.lower[1],
+            d.upper[2] - d.lower[2],
+        ];
+        for (a, &len) in len.iter().enumerate() {
+            if d.periodic[a] && len < 2.0 * cell_size {
+                return Err(SceneError::invalid(
+                    format!("domain.upper[{a}]"),
+                    d.upper[a],
+                    format!(
+                        "a periodic box at least 2 × (largest diameter + skin) = {} m long on axis {a}",
+                        2.0 * cell_size
+                    ),
+                ));
+            }
+        }
+        if d.periodic.iter().any(|&p| p) && b.radius.iter().any(|&r| r > large_radius) {
+            return Err(SceneError::invalid(
+                "domain.periodic",
+                format!("{:?}", d.periodic),
+                format!("no periodic axis with spheres larger than {LARGE_FACTOR} × the smallest free sphere"),
+            ));
+        }
+
+        // Time step.
+        let rayleigh_time = rayleigh_time(setup);
+        let (dt, contact_time, impact_speed) = match setup.integration.time_step {
+            TimeStep::Fixed(dt) => {
+                if !(dt.is_finite() && dt > 0.0) {
+                    return Err(SceneError::invalid(
+                        "integration.dt",
+                        dt,
+                        "finite and > 0 s",
+                    ));
+                }
+                (dt, None, None)
+            }
+            TimeStep::Eta { eta, impact_speed } => {
+                if !(eta.is_finite() && eta > 0.0) {
+                    return Err(SceneError::invalid(
+                        "integration.eta",
+                        eta,
+                        "finite and > 0",
+                    ));
+                }
+                if !(impact_speed.is_finite() && impact_speed > 0.0) {
+                    return Err(SceneError::invalid(
+                        "integration.impact_speed",
+                        impact_speed,
+                        "finite and > 0 m/s",
+                    ));
+                }
+                let tc = smallest_contact_time(setup, impact_speed);
+                if !(tc.is_finite() && tc > 0.0) {
+                    return Err(SceneError::invalid(
+                        "integration.eta",
+                        eta,
+                        "a scene with at least one pair of finite stiffness (use integration.dt)",
+                    ));
+                }
+                (eta * tc, Some(tc), Some(impact_speed))
+            }
+        };
+        let total_steps = match setup.integration.length {
+            RunLength::Steps(s) => s,
+            RunLength::Duration(t) => {
+                if !(t.is_finite() && t >= 0.0) {
+                    return Err(SceneError::invalid(
+                        "integration.duration",
+                        t,
+                        "finite and ≥ 0 s",
+                    ));
+                }
+                let s = (t / dt).ceil();
+                if s > 1.0e15 {
+                    return Err(SceneError::invalid(
+                        "integration.duration",
+                        t,
+                        format!("at most 1e15 steps of {dt} s"),
+                    ));
+                }
+                s as u64
+            }
+        };
+        let workers = Workers::new(threads).map_err(|e| SceneError::Threads(e.to_string()))?;
+        let np = planes.len();
+        let world = World {
+            wall_contacts: WallContacts::new(n, np, laws.history),
+            tracks: setup.collisions.then(|| Tracks {
+                main: Vec::new(),
+                extra: Vec::new(),
+                planes: vec![Track::default(); n * np],
+            }),
+            bodies: b,
+            planes,
+            walls: kinds,
+            domain: Domain {
+                lower: d.lower,
+                upper: d.upper,
+                periodic: d.periodic,
+            },
+            laws,
+            gravity: setup.gravity,
+            scheme: setup.integration.scheme,
+            dt,
+            steps_done: 0,
+            skin,
+            cell_size,
+            large_radius,
+            list: PairList::default(),
+            histories: PairHistories::default(),
+            ghosts: Ghosts::default(),
+            collisions: Vec::new(),
+            rebuilds: 0,
+        };
+        Ok(Simulation {
+            world,
+            pipeline: Pipeline::default(),
+            workers,
+            total_steps,
+            time_step: TimeStepReport {
+                dt,
+                contact_time,
+                impact_speed,
+                rayleigh_time,
+            },
+            initial_energy: 0.0,
+        })
+    }
+
+    /// Advances `n` steps.
+    pub fn step(&mut self, n: u64) {
+        self.pipeline.steps(&mut self.world, &self.workers, n);
+    }
+
+    /// Steps until the setup's run length is reached.
+    pub fn run_to_end(&mut self) {
+        self.step(self.remaining_steps());
+    }
+
+    /// The run length in steps (from `integration.steps` or `duration`).
+    pub fn total_steps(&self) -> u64 {
+        self.total_steps
+    }
+
+    pub fn remaining_steps(&self) -> u64 {
+        self.total_steps.saturating_sub(self.world.steps_done)
+    }
+
+    pub fn steps_done(&self) -> u64 {
+        self.world.steps_done
+    }
+
+    /// Simulated time, s (steps × Δt).
+    pub fn time(&self) -> f64 {
+        self.world.time()
+    }
+
+    /// s.
+    pub fn dt(&self) -> f64 {
+        self.world.dt
+    }
+
+    pub fn time_step(&self) -> &TimeStepReport {
+        &self.time_step
+    }
+
+    pub fn threads(&self) -> usize {
+        self.workers.threads()
+    }
+
+    /// Number of spheres (free and fixed).
+    pub fn body_count(&self) -> usize {
+        self.world.bodies.len()
+    }
+
+    /// Neighbour-list builds so far.
+    pub fn list_builds(&self) -> u64 {
+        self.world.rebuilds
+    }
+
+    /// Listed pairs (with skin) now.
+    pub fn listed_pairs(&self) -> usize {
+        self.world.list.pair_count()
+    }
+
+    /// Centres, m, input order.
+    pub fn positions(&self) -> Vec<[f64; 3]> {
+        self.world
+            .bodies
+            .in_input_order(&self.world.bodies.position)
+    }
+
+    /// m/s, input order.
+    pub fn velocities(&self) -> Vec<[f64; 3]> {
+        self.world
+            .bodies
+            .in_input_order(&self.world.bodies.velocity)
+    }
+
+    /// Force on each body at the last force evaluation (contacts, walls and
+    /// gravity; for a fixed body the contact forces only), N, input order.
+    pub fn forces(&self) -> Vec<[f64; 3]> {
+        self.world.bodies.in_input_order(&self.world.bodies.force)
+    }
+
+    /// m, input order.
+    pub fn radii(&self) -> Vec<f64> {
+        self.world.bodies.in_input_order(&self.world.bodies.radius)
+    }
+
+    /// Input order.
+    pub fn fixed(&self) -> Vec<bool> {
+        self.world.bodies.in_input_order(&self.world.bodies.fixed)
+    }
+
+    /// Material index of each body, input order.
+    pub fn material_indices(&self) -> Vec<usize> {
+        let m: Vec<usize> = self
+            .world
+            .bodies
+            .material
+            .iter()
+            .map(|&m| m as usize)
+            .collect();
+        self.world.bodies.in_input_order(&m)
+    }
+
+    /// Σ ½ m v² over free bodies, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        let b = &self.world.bodies;
+        let [e] = self.workers.sum(b.len(), |k| {
+            if b.fixed[k] {
+                return [0.0];
+            }
+            let v = b.velocity[k];
+            [0.5 * b.mass[k] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])]
+        });
+        e
+    }
+
+    /// −Σ m g·x over free bodies, J.
+    pub fn potential_energy(&self) -> f64 {
+        let b = &self.world.bodies;
+        let g = self.world.gravity;
+        let [e] = self.workers.sum(b.len(), |k| {
+            if b.fixed[k] {
+                return [0.0];
+            }
+            let x = b.position[k];
+            [-b.mass[k] * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2])]
+        });
+        e
+    }
+
+    /// Energy stored in the contacts (pairs and plane walls), J.
+    pub fn elastic_energy(&self) -> f64 {
+        self.observe().elastic_energy
+    }
+
+    /// Energy lost since the start, J: the initial kinetic + elastic +
+    /// potential energy minus the current one (damping and integration
+    /// error).
+    pub fn dissipated_energy(&self) -> f64 {
+        self.observe().dissipated_energy
+    }
+
+    fn mechanical_energy(&self) -> f64 {
+        let o = self.observe();
+        o.kinetic_energy + o.elastic_energy + o.potential_energy
+    }
+
+    /// Sphere pairs in contact now (neither a boundary particle).
+    pub fn particle_contacts(&self) -> usize {
+        self.observe().particle_contacts
+    }
+
+    /// Sphere–wall contacts now (planes and boundary particles).
+    pub fn wall_contacts(&self) -> usize {
+        self.observe().wall_contacts
+    }
+
+    /// Force on each wall in file order, N (for a boundary-particle wall
+    /// the sum over its spheres).
+    pub fn wall_forces(&self) -> Vec<[f64; 3]> {
+        self.observe().wall_forces
+    }
+
+    /// Every global observable at the current state.
+    pub fn observe(&self) -> Observation {
+        let w = &self.world;
+        let (pc, wc, pe) = contacts::pair_observables(
+            &w.bodies,
+            &w.ghosts,
+            &w.list,
+            &w.histories,
+            &w.laws,
+            &self.workers,
+        );
+        let (plane_forces, plane_contacts, plane_energy) = walls::plane_observables(
+            &w.bodies,
+            &w.planes,
+            &w.wall_contacts,
+            &w.laws,
+            &self.workers,
+        );
+        let mut wall_forces = vec![[0.0; 3]; w.walls.len()];
+        // Boundary-particle walls: their spheres in input order.
+        let force_in = w.bodies.in_input_order(&w.bodies.force);
+        let group_in = w.bodies.in_input_order(&w.bodies.group);
+        for (k, g) in group_in.iter().enumerate() {
+            if *g != NO_GROUP {
+                let f = &mut wall_forces[*g as usize];
+                for a in 0..3 {
+                    f[a] += force_in[k][a];
+                }
+            }
+        }
+        for (wi, kind) in w.walls.iter().enumerate() {
+            if let WallKind::Plane(p) = kind {
+                wall_forces[wi] = plane_forces[*p];
+            }
+        }
+        let kinetic = self.kinetic_energy();
+        let potential = self.potential_energy();
+        let elastic = pe + plane_energy;
+        Observation {
+            step: w.steps_done,
+            time: w.time(),
+            kinetic_energy: kinetic,
+            elastic_energy: elastic,
+            potential_energy: potential,
+            dissipated_energy: self.initial_energy - (kinetic + elastic + potential),
+            particle_contacts: pc,
+            wall_contacts: wc + plane_contacts,
+            wall_forces,
+        }
+    }
+
+    /// Completed contacts so far, in the order they ended.
+    pub fn collisions(&self) -> &[Collision] {
+        &self.world.collisions
+    }
+
+    /// The smallest pair contact-time estimate of the scene at
+    /// `impact_speed` (m/s), s.
+    pub fn contact_time_estimate(setup: &SceneSetup, impact_speed: f64) -> f64 {
+        smallest_contact_time(setup, impact_speed)
+    }
+
+    /// The full state, enough to continue bit for bit.
+    pub fn checkpoint(&self) -> Checkpoint {
+        let w = &self.world;
+        let b = &w.bodies;
+        let pairs = contacts::active_histories(b, &w.ghosts, &w.list, &w.histories)
+            .into_iter()
+            .map(|(a, c, h)| (a, c, HistoryRecord::from(h)))
+            .collect();
+        let np = w.planes.len();
+        let mut plane_histories = Vec::new();
+        for i in 0..b.len() {
+            for p in 0..np {
+                let h = w
+                    .wall_contacts
+                    .history
+                    .get(i * np + p)
+                    .copied()
+                    .unwrap_or_default();
+                if h != ContactHistory::default() {
+                    plane_histories.push((b.id[i], p as u32, HistoryRecord::from(h)));
+                }
+            }
+        }
+        let (mut pair_tracks, mut plane_tracks) = (Vec::new(), Vec::new());
+        if let Some(t) = &w.tracks {
+            let mut m: Vec<_> = crate::pipeline::saved_tracks_public(w, t)
+                .into_iter()
+                .collect();
+            m.sort_by_key(|(k, _)| *k);
+            pair_tracks = m.into_iter().map(|((a, c), t)| (a, c, t)).collect();
+            for i in 0..b.len() {
+                for p in 0..np {
+                    let tr = t.planes[i * np + p];
+                    if tr != Track::default() {
+                        plane_tracks.push((b.id[i], p as u32, tr));
+                    }
+                }
+            }
+        }
+        Checkpoint {
+            steps_done: w.steps_done,
+            dt: w.dt,
+            order: b.id.clone(),
+            position: b.position.clone(),
+            velocity: b.velocity.clone(),
+            force: b.force.clone(),
+            higher: b.higher.clone(),
+            reference: self.pipeline.reference.clone(),
+            pair_histories: pairs,
+            plane_histories,
+            pair_tracks,
+            plane_tracks,
+            collisions: w.collisions.clone(),
+            initial_energy: self.initial_energy,
+            list_builds: w.rebuilds,
+        }
+    }
+
+    /// Continues a checkpointed run of the same `setup`.
+    pub fn restore(
+        setup: SceneSetup,
+        checkpoint: &Checkpoint,
+        threads: usize,
+    ) -> Result<Self, SceneError> {
+        let mut sim = Self::prepare(&setup, threads)?;
+        let c = checkpoint;
+        let n = sim.world.bodies.len();
+        let same_len = |len: usize| len == n;
+        if !(same_len(c.order.len())
+            && same_len(c.position.len())
+            && same_len(c.velocity.len())
+            && same_len(c.force.len())
+            && same_len(c.reference.len())
+            && (c.higher.is_empty() || same_len(c.higher.len())))
+        {
+            return Err(SceneError::Checkpoint(format!(
+                "it holds {} bodies, the scene {n}",
+                c.order.len()
+            )));
+        }
+        if c.dt.to_bits() != sim.world.dt.to_bits() {
+            return Err(SceneError::Checkpoint(format!(
+                "its Δt is {} s, the scene's {} s",
+                c.dt, sim.world.dt
+            )));
+        }
+        let mut seen = vec![false; n];
+        for &id in &c.order {
+            if id as usize >= n || seen[id as usize] {
+                return Err(SceneError::Checkpoint(format!(
+                    "body order has a bad or repeated id {id}"
+                )));
+            }
+            seen[id as usize] = true;
+        }
+        if sim.world.scheme == Scheme::Gear5 && c.higher.is_empty() {
+            return Err(SceneError::Checkpoint(
+                "it was written by a Verlet run, the scene uses Gear5".into(),
+            ));
+        }
+        let w = &mut sim.world;
+        w.bodies.permute(&c.order);
+        w.wall_contacts.permute(&c.order);
+        if let Some(t) = w.tracks.as_mut() {
+            let p = w.planes.len();
+            let mut v = Vec::with_capacity(t.planes.len());
+            for &o in &c.order {
+                v.extend_from_slice(&t.planes[o as usize * p..(o as usize + 1) * p]);
+            }
+            t.planes = v;
+        }
+        // The lists as they were built: from the positions of the last build
+        // (already sorted, so the stable sort keeps this order).
+        w.bodies.position.clone_from(&c.reference);
+        w.bodies.velocity.clone_from(&c.velocity);
+        sim.pipeline.neighbours(w, &sim.workers);
+        w.bodies.position.clone_from(&c.position);
+        w.bodies.force.clone_from(&c.force);
+        w.bodies.higher.clone_from(&c.higher);
+        w.ghosts.update(&w.bodies.position, &w.bodies.velocity);
+        w.steps_done = c.steps_done;
+        w.rebuilds = c.list_builds;
+        w.collisions.clone_from(&c.collisions);
+        sim.initial_energy = c.initial_energy;
+        // Histories and tracks by input ids.
+        let pairs: HashMap<(u32, u32), ContactHistory> = c
+            .pair_histories
+            .iter()
+            .map(|&(a, b, h)| ((a, b), h.into()))
+            .collect();
+        let tracks: HashMap<(u32, u32), Track> =
+            c.pair_tracks.iter().map(|&(a, b, t)| ((a, b), t)).collect();
+        let key_of = |w: &World, i: usize, j: usize| {
+            let (_, _, owner) = contacts::extended(&w.bodies, &w.ghosts, j);
+            let (a, b) = (w.bodies.id[i], w.bodies.id[owner]);
+            (a.min(b), a.max(b))
+        };
+        let keep = w.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { w.list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { w.list.extra.len() } else { 0 }];
+        let mut tmain = vec![Track::default(); w.list.j.len()];
+        let mut textra = vec![Track::default(); w.list.extra.len()];
+        for (i, k) in w.list.entries() {
+            let key = key_of(w, i, w.list.j[k] as usize);
+            if let (Some(h), Some(slot)) = (pairs.get(&key), main.get_mut(k)) {
+                *slot = *h;
+            }
+            if let Some(t) = tracks.get(&key) {
+                tmain[k] = *t;
+            }
+        }
+        for (k, &(i, j)) in w.list.extra.iter().enumerate() {
+            let key = key_of(w, i as usize, j as usize);
+            if let (Some(h), Some(slot)) = (pairs.get(&key), extra.get_mut(k)) {
+                *slot = *h;
+            }
+            if let Some(t) = tracks.get(&key) {
+                textra[k] = *t;
+            }
+        }
+        w.histories = PairHistories { main, extra };
+        let np = w.planes.len();
+        let at = w.bodies.index_of_ids();
+        for &(id, p, h) in &c.plane_histories {
+            if id as usize >= n || p as usize >= np {
+                return Err(SceneError::Checkpoint(format!(
+                    "wall history of body {id}, plane {p} out of range"
+                )));
+            }
+            let i = at[id as usize] as usize;
+            if let Some(slot) = w.wall_contacts.history.get_mut(i * np + p as usize) {
+                *slot = h.into();
+                w.wall_contacts.touching[i] |= 1u64 << p;
+            }
+        }
+        if let Some(t) = w.tracks.as_mut() {
+            t.main = tmain;
+            t.extra = textra;
+            for &(id, p, tr) in &c.plane_tracks {
+                if id as usize >= n || p as usize >= np {
+                    return Err(SceneError::Checkpoint(format!(
+                        "wall track of body {id}, plane {p} out of range"
+                    )));
+                }
+                t.planes[at[id as usize] as usize * np + p as usize] = tr;
+            }
+        }
+        Ok(sim)
+    }
+}
+
+/// A contact history as stored in a checkpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HistoryRecord {
+    /// m.
+    pub max_overlap: f64,
+    /// On the unloading branch (hysteretic laws).
+    #[serde(default)]
+    pub unloading: bool,
+}
+
+impl From<ContactHistory> for HistoryRecord {
+    fn from(h: ContactHistory) -> Self {
+        Self {
+            max_overlap: h.max_overlap,
+            unloading: h.unloading,
+        }
+    }
+}
+
+impl From<HistoryRecord> for ContactHistory {
+    fn from(h: HistoryRecord) -> Self {
+        ContactHistory {
+            max_overlap: h.max_overlap,
+            unloading: h.unloading,
+        }
+    }
+}
+
+/// Everything needed to continue a run bit for bit. Per-body arrays are in
+/// the engine's order at the time (`order` gives each entry's input index).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    pub steps_done: u64,
+    /// s.
+    pub dt: f64,
+    pub order: Vec<u32>,
+    pub position: Vec<[f64; 3]>,
+    pub velocity: Vec<[f64; 3]>,
+    pub force: Vec<[f64; 3]>,
+    /// Gear5's scaled derivatives (empty for Verlet).
+    pub higher: Vec<[[f64; 3]; 4]>,
+    /// Positions at the last list build.
+    pub reference: Vec<[f64; 3]>,
+    /// (input id a < b, history) of pairs in contact.
+    pub pair_histories: Vec<(u32, u32, HistoryRecord)>,
+    /// (input id, plane index, history).
+    pub plane_histories: Vec<(u32, u32, HistoryRecord)>,
+    pub pair_tracks: Vec<(u32, u32, Track)>,
+    pub plane_tracks: Vec<(u32, u32, Track)>,
+    pub collisions: Vec<Collision>,
+    /// J.
+    pub initial_energy: f64,
+    pub list_builds: u64,
+}
+
+/// Distinct (radius, material, fixed) classes of the scene, at most a few
+/// hundred (beyond: the extreme radii of each material and kind).
+fn classes(setup: &SceneSetup) -> Vec<(f64, usize, bool)> {
+    let mut out: Vec<(f64, usize, bool)> = Vec::new();
+    for s in &setup.spheres {
+        let key = (s.radius, s.material, s.fixed);
+        if !out.contains(&key) {
+            out.push(key);
+            if out.len() > 256 {
+                break;
+            }
+        }
+    }
+    if out.len() <= 256 {
+        return out;
+    }
+    let mut ext: HashMap<(usize, bool), (f64, f64)> = HashMap::new();
+    for s in &setup.spheres {
+        let e = ext
+            .entry((s.material, s.fixed))
+            .or_insert((s.radius, s.radius));
+        e.0 = e.0.min(s.radius);
+        e.1 = e.1.max(s.radius);
+    }
+    let mut v: Vec<_> = ext
+        .into_iter()
+        .flat_map(|((m, f), (lo, hi))| [(lo, m, f), (hi, m, f)])
+        .collect();
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    v.dedup();
+    v
+}
+
+fn smallest_contact_time(setup: &SceneSetup, impact_speed: f64) -> f64 {
+    let cl = classes(setup);
+    let mats = &setup.materials;
+    let mass = |r: f64, m: usize, fixed: bool| {
+        if fixed {
+            f64::INFINITY
+        } else {
+            mats[m].material.sphere_mass(r)
+        }
+    };
+    let mut best = f64::INFINITY;
+    // A class paired with itself only when two bodies share it.
+    let count = |c: (f64, usize, bool)| {
+        setup
+            .spheres
+            .iter()
+            .filter(|s| (s.radius, s.material, s.fixed) == c)
+            .take(2)
+            .count()
+    };
+    for &(ra, ma, fa) in cl.iter() {
+        if fa {
+            continue;
+        }
+        for &(rb, mb, fb) in &cl[..] {
+            if (rb, mb, fb) == (ra, ma, fa) && count((ra, ma, fa)) < 2 {
+                continue;
+            }
+            let p = PairProperties::spheres(
+                ra,
+                mass(ra, ma, fa),
+                &mats[ma].material,
+                rb,
+                mass(rb, mb, fb),
+                &mats[mb].material,
+            );
+            let t = setup.contact.pair(&p).contact_time_estimate(impact_speed);
+            if t > 0.0 {
+                best = best.min(t);
+            }
+        }
+        for wall in &setup.walls {
+            if let WallSetup::Plane { material, .. } = *wall {
+                let p = PairProperties::sphere_plane(
+                    ra,
+                    mass(ra, ma, fa),
+                    &mats[ma].material,
+                    &mats[material].material,
+                );
+                let t = setup.contact.pair(&p).contact_time_estimate(impact_speed);
+                if t > 0.0 {
+                    best = best.min(t);
+                }
+            }
+        }
+    }
+    best
+}
+
+fn rayleigh_time(setup: &SceneSetup) -> Option<f64> {
+    let mut best: Option<f64> = None;
+    for (r, m, fixed) in classes(setup) {
+        if fixed {
+            continue;
+        }
+        let mat = &setup.materials[m].material;
+        if !mat.youngs_modulus.is_finite() {
+            continue;
+        }
+        let nu = mat.poisson_ratio;
+        let shear = mat.youngs_modulus / (2.0 * (1.0 + nu));
+        let t = std::f64::consts::PI * r * (mat.density / shear).sqrt() / (0.1631 * nu + 0.8766);
+        best = Some(best.map_or(t, |b: f64| b.min(t)));
+    }
+    best
+}

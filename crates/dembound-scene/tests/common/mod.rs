@@ -1,0 +1,148 @@
+//! Scenes shared by the integration tests.
+#![allow(dead_code)]
+
+use dembound_physics::contact::{ContactModel, NormalLaw};
+use dembound_physics::material::Material;
+use dembound_scene::setup::{
+    DomainSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+};
+use dembound_scene::SceneSetup;
+
+pub fn grain(youngs_modulus: f64) -> Material {
+    Material {
+        density: 1000.0,
+        youngs_modulus,
+        poisson_ratio: 0.3,
+    }
+}
+
+/// A small deterministic generator (SplitMix64) for test scenes.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in [-1, 1).
+    pub fn symmetric(&mut self) -> f64 {
+        2.0 * self.next_f64() - 1.0
+    }
+}
+
+/// The lattice-drop layout (make_lattice.py): `side`² spheres per layer,
+/// `layers` layers, odd layers offset by half a cell; six plane walls of
+/// the grains' own material. R = 0.5 mm, E = 1e7 Pa, Hertz, g along −z.
+pub fn lattice_drop(side: usize, layers: usize, dt: f64, steps: u64) -> SceneSetup {
+    let (a, c, z0, r) = (1.2e-3, 0.54e-3, 0.505e-3, 0.5e-3);
+    let l = side as f64 * a + 0.5 * a;
+    let upper = [l, l, 0.03];
+    let mut s = SceneSetup::new(
+        DomainSetup {
+            lower: [0.0; 3],
+            upper,
+            periodic: [false; 3],
+        },
+        ContactModel::elastic(NormalLaw::Hertz),
+        TimeStep::Fixed(dt),
+        RunLength::Steps(steps),
+    );
+    s.gravity = [0.0, 0.0, -9.81];
+    s.neighbour.skin = Some(1.0e-4);
+    s.materials.push(NamedMaterial {
+        name: "grain".into(),
+        material: grain(1.0e7),
+    });
+    for k in 0..layers {
+        let shift = 0.5 * a * (k % 2) as f64;
+        for j in 0..side {
+            for i in 0..side {
+                s.spheres.push(SphereInit {
+                    position: [
+                        0.5 * a + i as f64 * a + shift,
+                        0.5 * a + j as f64 * a + shift,
+                        z0 + k as f64 * c,
+                    ],
+                    velocity: [0.0; 3],
+                    radius: r,
+                    material: 0,
+                    fixed: false,
+                    group: None,
+                });
+            }
+        }
+    }
+    for axis in 0..3 {
+        let mut n = [0.0; 3];
+        n[axis] = 1.0;
+        s.walls.push(WallSetup::Plane {
+            point: [0.0; 3],
+            normal: n,
+            material: 0,
+        });
+        n[axis] = -1.0;
+        s.walls.push(WallSetup::Plane {
+            point: upper,
+            normal: n,
+            material: 0,
+        });
+    }
+    s
+}
+
+/// A frictionless elastic Hertz gas in a fully periodic cube: `per_side`³
+/// spheres of R = 0.5 mm on a simple cubic lattice of spacing 2.5 mm,
+/// random velocities of up to `speed` per component (zero total momentum
+/// not enforced), no gravity, Δt = η × the contact-time estimate at
+/// `speed`.
+pub fn periodic_gas(per_side: usize, eta: f64, speed: f64, seed: u64) -> SceneSetup {
+    let spacing = 2.5e-3;
+    let l = per_side as f64 * spacing;
+    let mut s = SceneSetup::new(
+        DomainSetup {
+            lower: [0.0; 3],
+            upper: [l; 3],
+            periodic: [true; 3],
+        },
+        ContactModel::elastic(NormalLaw::Hertz),
+        TimeStep::Eta {
+            eta,
+            impact_speed: speed,
+        },
+        RunLength::Steps(0),
+    );
+    s.materials.push(NamedMaterial {
+        name: "grain".into(),
+        material: grain(1.0e7),
+    });
+    let mut rng = Rng(seed);
+    for k in 0..per_side {
+        for j in 0..per_side {
+            for i in 0..per_side {
+                let v = [
+                    rng.symmetric() * speed,
+                    rng.symmetric() * speed,
+                    rng.symmetric() * speed,
+                ];
+                s.spheres.push(SphereInit {
+                    position: [
+                        (i as f64 + 0.5) * spacing,
+                        (j as f64 + 0.5) * spacing,
+                        (k as f64 + 0.5) * spacing,
+                    ],
+                    velocity: v,
+                    radius: 0.5e-3,
+                    material: 0,
+                    fixed: false,
+                    group: None,
+                });
+            }
+        }
+    }
+    s
+}

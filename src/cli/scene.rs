@@ -1,0 +1,413 @@
+//! `dembound scene`: a many-particle scene (issue 12). Thin: the scene
+//! file is read and resolved by `dembound_scene::io`, run by its
+//! `Simulation`, and its outputs written here through [`AtomicDir`].
+
+use super::{CliError, CliResult};
+use crate::output::files::AtomicDir;
+use crate::output::format::{duration, sig};
+use anyhow::anyhow;
+use clap::Args;
+use dembound_scene::io::checkpoint::{self, CheckpointFile};
+use dembound_scene::io::resolve::{resolve, ResolvedScene};
+use dembound_scene::io::series::partner_name;
+use dembound_scene::io::{config, series, vtk};
+use dembound_scene::setup::WallSetup;
+use dembound_scene::{Collision, Observation, SceneError, Simulation};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Without --threads, scenes of fewer free particles run on one thread.
+pub const PARALLEL_MIN_PARTICLES: usize = 5000;
+
+#[derive(Debug, Args)]
+pub struct SceneArgs {
+    /// Scene file (TOML, SI; see README "dembound scene")
+    #[arg(value_name = "FILE.toml")]
+    pub file: PathBuf,
+
+    /// Override one key after the file, e.g. `--set integration.steps=500`,
+    /// `--set wall.0.material=rigid` (lists indexed by number). VALUE is
+    /// read as TOML, a bare word as a string. Setting integration.dt drops
+    /// integration.eta and vice versa; steps and duration likewise.
+    /// Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+
+    /// Write the VTK snapshots (snapshot_*.vtp + snapshots.pvd),
+    /// series.csv, collisions.csv (with output.collisions), the resolved
+    /// scene.toml and checkpoint.cbor into DIR (all or nothing)
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+
+    /// Print one JSON object (SI) to stdout instead of the summary
+    #[arg(long)]
+    pub json: bool,
+
+    /// Worker threads (results do not depend on it); default: all cores,
+    /// one for scenes of fewer than 5000 free particles
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Option<u16>,
+
+    /// Continue from a checkpoint written by --out (the scene file must
+    /// describe the same bodies and Δt; raise integration.steps to go on)
+    #[arg(long, value_name = "CHECKPOINT")]
+    pub restart: Option<PathBuf>,
+
+    /// No progress bar
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Bad input exits 2, anything else 1.
+fn scene_error(e: SceneError) -> CliError {
+    if e.is_input() {
+        CliError::input(e)
+    } else {
+        CliError::failed(e)
+    }
+}
+
+pub fn run(args: &SceneArgs) -> CliResult {
+    let file = config::read(&args.file, &args.set).map_err(scene_error)?;
+    let base = args.file.parent().unwrap_or(Path::new("."));
+    let resolved = resolve(&file, base).map_err(scene_error)?;
+    let free = resolved.setup.spheres.iter().filter(|s| !s.fixed).count();
+    let threads = match args.threads {
+        Some(n) => usize::from(n),
+        // Small scenes run faster on one thread than they synchronise two.
+        None if free < PARALLEL_MIN_PARTICLES => 1,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let setup = resolved.setup.clone();
+    let mut sim = match &args.restart {
+        Some(path) => {
+            let saved = checkpoint::read(path).map_err(scene_error)?;
+            Simulation::restore(setup, &saved.state, threads)
+        }
+        None => Simulation::new(setup, threads),
+    }
+    .map_err(scene_error)?;
+
+    let total = sim.total_steps();
+    let start = sim.steps_done();
+    let span = total.saturating_sub(start);
+    let every = resolved.file.output.every.unwrap_or((span / 20).max(1));
+    let series_every = resolved
+        .file
+        .output
+        .series_every
+        .unwrap_or((span / 1000).max(1));
+
+    let mut out = match &args.out {
+        Some(dir) => Some(AtomicDir::create(dir).map_err(CliError::failed)?),
+        None => None,
+    };
+    let mut rows: Vec<Observation> = Vec::new();
+    let mut snapshots: Vec<(f64, String)> = Vec::new();
+    let bar = progress_bar(span, args.quiet);
+    // Progress is updated at least every 1/200 of the run.
+    let tick = (span / 200).max(1);
+
+    let clock = Instant::now();
+    let mut stepping = 0.0;
+    loop {
+        let step = sim.steps_done();
+        if (step - start) % series_every == 0 || step == total {
+            rows.push(sim.observe());
+        }
+        if let Some(out) = &mut out {
+            if (step - start) % every == 0 || step == total {
+                write_snapshot(out, &sim, snapshots.len()).map_err(CliError::failed)?;
+                snapshots.push((sim.time(), vtk::snapshot_name(snapshots.len())));
+            }
+        }
+        if step >= total {
+            break;
+        }
+        let mut next = total.min(step + tick);
+        for interval in [series_every, if out.is_some() { every } else { u64::MAX }] {
+            let k = (step - start) / interval + 1;
+            next = next.min(start.saturating_add(k.saturating_mul(interval)));
+        }
+        let t0 = Instant::now();
+        sim.step(next - step);
+        stepping += t0.elapsed().as_secs_f64();
+        if let Some(bar) = &bar {
+            bar.set_position(next - start);
+        }
+    }
+    let wall_total = clock.elapsed().as_secs_f64();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
+    let particle_steps = sim.body_count() as f64 * span as f64;
+    let report = Report {
+        particles: sim.body_count(),
+        free_particles: free,
+        fixed_particles: resolved.setup.spheres.iter().filter(|s| s.fixed).count(),
+        steps: sim.steps_done(),
+        steps_this_run: span,
+        time: sim.time(),
+        dt: sim.dt(),
+        contact_time_estimate: sim.time_step().contact_time,
+        impact_speed: sim.time_step().impact_speed,
+        rayleigh_time: sim.time_step().rayleigh_time,
+        kinetic_energy: last.kinetic_energy,
+        elastic_energy: last.elastic_energy,
+        potential_energy: last.potential_energy,
+        dissipated_energy: last.dissipated_energy,
+        particle_contacts: last.particle_contacts,
+        wall_contacts: last.wall_contacts,
+        wall_forces: last.wall_forces.clone(),
+        wall_clock: stepping,
+        wall_clock_total: wall_total,
+        particle_steps_per_second: if stepping > 0.0 {
+            particle_steps / stepping
+        } else {
+            0.0
+        },
+        threads: sim.threads(),
+        neighbour_list_builds: sim.list_builds(),
+        collisions: resolved
+            .file
+            .output
+            .collisions
+            .then(|| sim.collisions().iter().map(CollisionRow::from).collect()),
+    };
+
+    let written = match out {
+        Some(out) => Some(finish_outputs(out, &resolved, &sim, &rows, &snapshots)?),
+        None => None,
+    };
+
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
+        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+    } else {
+        write!(stdout, "{}", summary(&report, &resolved)).map_err(CliError::failed)?;
+        for path in written.unwrap_or_default() {
+            writeln!(stdout, "wrote {}", path.display()).map_err(CliError::failed)?;
+        }
+    }
+    stdout.flush().map_err(CliError::failed)
+}
+
+fn progress_bar(steps: u64, quiet: bool) -> Option<ProgressBar> {
+    if quiet || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = ProgressBar::new(steps);
+    let style = ProgressStyle::with_template(
+        "{elapsed_precise} [{wide_bar}] {pos}/{len} steps ({per_sec}), ETA {eta}",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style.progress_chars("=> "));
+    Some(bar)
+}
+
+fn write_snapshot(out: &mut AtomicDir, sim: &Simulation, k: usize) -> anyhow::Result<()> {
+    let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
+    let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
+    let snapshot = vtk::Snapshot {
+        time: sim.time(),
+        step: sim.steps_done(),
+        positions: &positions,
+        radii: &radii,
+        velocities: &velocities,
+        forces: &forces,
+        fixed: &fixed,
+        materials: &materials,
+    };
+    out.write(&vtk::snapshot_name(k), |w| {
+        Ok(vtk::write_snapshot(w, &snapshot)?)
+    })
+}
+
+/// The series, the collision log, the resolved scene and the checkpoint,
+/// then everything renamed into place.
+fn finish_outputs(
+    mut out: AtomicDir,
+    resolved: &ResolvedScene,
+    sim: &Simulation,
+    rows: &[Observation],
+    snapshots: &[(f64, String)],
+) -> CliResult<Vec<PathBuf>> {
+    let failed = CliError::failed;
+    out.write("snapshots.pvd", |w| Ok(vtk::write_series(w, snapshots)?))
+        .map_err(failed)?;
+    let walls = resolved.setup.walls.len();
+    out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))
+        .map_err(failed)?;
+    if resolved.file.output.collisions {
+        out.write("collisions.csv", |w| {
+            Ok(series::write_collisions(w, sim.collisions())?)
+        })
+        .map_err(failed)?;
+    }
+    let toml = toml::to_string(&resolved.file).map_err(CliError::failed)?;
+    out.write("scene.toml", |w| {
+        writeln!(
+            w,
+            "# The scene as run: every default written out, source paths absolute."
+        )?;
+        Ok(w.write_all(toml.as_bytes())?)
+    })
+    .map_err(failed)?;
+    let saved = CheckpointFile::new(resolved.file.clone(), sim.checkpoint());
+    out.write("checkpoint.cbor", |w| {
+        checkpoint::write(w, &saved).map_err(|e| anyhow!(e))
+    })
+    .map_err(failed)?;
+    out.commit().map_err(failed)
+}
+
+/// The `--json` object.
+#[derive(Debug, Serialize)]
+struct Report {
+    particles: usize,
+    free_particles: usize,
+    fixed_particles: usize,
+    /// Steps since t = 0 (a restart continues the count).
+    steps: u64,
+    steps_this_run: u64,
+    time: f64,
+    dt: f64,
+    contact_time_estimate: Option<f64>,
+    impact_speed: Option<f64>,
+    rayleigh_time: Option<f64>,
+    kinetic_energy: f64,
+    elastic_energy: f64,
+    potential_energy: f64,
+    dissipated_energy: f64,
+    particle_contacts: usize,
+    wall_contacts: usize,
+    wall_forces: Vec<[f64; 3]>,
+    /// Seconds spent stepping (output excluded).
+    wall_clock: f64,
+    /// Seconds of the whole loop, sampling and snapshots included.
+    wall_clock_total: f64,
+    particle_steps_per_second: f64,
+    threads: usize,
+    neighbour_list_builds: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    collisions: Option<Vec<CollisionRow>>,
+}
+
+#[derive(Debug, Serialize)]
+struct CollisionRow {
+    i: usize,
+    /// A sphere's input index, or "wall:K".
+    j: serde_json::Value,
+    t_start: f64,
+    t_end: f64,
+    duration: f64,
+    max_overlap: f64,
+    max_normal_force: f64,
+    impact_normal_velocity: f64,
+    rebound_normal_velocity: f64,
+}
+
+impl From<&Collision> for CollisionRow {
+    fn from(c: &Collision) -> Self {
+        let j = match c.j {
+            dembound_scene::Partner::Body(b) => serde_json::Value::from(b),
+            ref wall => serde_json::Value::from(partner_name(wall)),
+        };
+        Self {
+            i: c.i,
+            j,
+            t_start: c.t_start,
+            t_end: c.t_end,
+            duration: c.duration,
+            max_overlap: c.max_overlap,
+            max_normal_force: c.max_normal_force,
+            impact_normal_velocity: c.impact_normal_velocity,
+            rebound_normal_velocity: c.rebound_normal_velocity,
+        }
+    }
+}
+
+fn vector(v: [f64; 3], unit: &str) -> String {
+    format!(
+        "[{}, {}, {}] {unit}",
+        sig(v[0], 4),
+        sig(v[1], 4),
+        sig(v[2], 4)
+    )
+}
+
+/// The text summary, units on every number.
+fn summary(r: &Report, resolved: &ResolvedScene) -> String {
+    let mut s = String::new();
+    let scheme = format!("{:?}", resolved.file.integration.scheme).to_lowercase();
+    s += &format!(
+        "{} spheres ({} free, {} fixed), {} walls; {scheme}, Δt = {} s",
+        r.particles,
+        r.free_particles,
+        r.fixed_particles,
+        resolved.setup.walls.len(),
+        sig(r.dt, 4)
+    );
+    if let (Some(tc), Some(v)) = (r.contact_time_estimate, r.impact_speed) {
+        s += &format!(
+            " (η × the smallest contact-time estimate {} s at {} m/s)",
+            sig(tc, 4),
+            sig(v, 3)
+        );
+    }
+    if let Some(tr) = r.rayleigh_time {
+        s += &format!("; Rayleigh time {} s", sig(tr, 4));
+    }
+    s += "\n";
+    s += &format!(
+        "ran {} steps to t = {} s in {} ({} particle-steps/s on {} thread{})\n",
+        r.steps_this_run,
+        sig(r.time, 6),
+        duration(r.wall_clock),
+        sig(r.particle_steps_per_second, 3),
+        r.threads,
+        if r.threads == 1 { "" } else { "s" }
+    );
+    s += &format!(
+        "energy: kinetic {} J, elastic {} J, potential {} J, dissipated {} J\n",
+        sig(r.kinetic_energy, 6),
+        sig(r.elastic_energy, 6),
+        sig(r.potential_energy, 6),
+        sig(r.dissipated_energy, 3)
+    );
+    s += &format!(
+        "contacts now: {} particle–particle, {} particle–wall\n",
+        r.particle_contacts, r.wall_contacts
+    );
+    for (k, (f, wall)) in r.wall_forces.iter().zip(&resolved.setup.walls).enumerate() {
+        let kind = match wall {
+            WallSetup::Plane { .. } => "plane".to_string(),
+            WallSetup::BoundaryParticles { count, .. } => format!("{count} boundary particles"),
+        };
+        s += &format!("wall {k} ({kind}): force {}\n", vector(*f, "N"));
+    }
+    if let Some(rows) = &r.collisions {
+        s += &format!("{} completed collisions", rows.len());
+        if let Some(c) = rows.first() {
+            s += &format!(
+                "; the first: {}–{} from {} s for {} s, max overlap {} m, max force {} N, \
+                 impact {} m/s, rebound {} m/s",
+                c.i,
+                c.j,
+                sig(c.t_start, 6),
+                sig(c.duration, 6),
+                sig(c.max_overlap, 6),
+                sig(c.max_normal_force, 6),
+                sig(c.impact_normal_velocity, 6),
+                sig(c.rebound_normal_velocity, 6)
+            );
+        }
+        s += "\n";
+    }
+    s
+}
