@@ -102,7 +102,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         .unwrap_or((span / 1000).max(1));
 
     let mut out = match &args.out {
-        Some(dir) => Some(AtomicDir::create(dir).map_err(CliError::failed)?),
+        Some(dir) => Some(super::output_dir(dir, "scene")?),
         None => None,
     };
     let mut rows: Vec<Observation> = Vec::new();
