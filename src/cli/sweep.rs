@@ -278,7 +278,10 @@ fn table(result: &SweepResult) -> Table {
             Cell::text(lists::show(c.key.radius_ratio)),
             Cell::text(lists::show(c.key.modulus_ratio)),
             Cell::text(boundary::si_text(boundary::radius(s, c.key.radius_ratio))),
-            Cell::text(boundary::si_text(boundary::youngs_modulus(s, c.key.modulus_ratio))),
+            Cell::text(boundary::si_text(boundary::youngs_modulus(
+                s,
+                c.key.modulus_ratio,
+            ))),
             f.exact_normalised.max_overlap.into(),
             f.exact_normalised.duration.into(),
             f.exact_normalised.max_acceleration.into(),

@@ -63,7 +63,7 @@ impl Observer for ContactTrace {
         if !(s.in_contact || s.x == 0.0) {
             return;
         }
-        if self.seen % self.stride == 0 {
+        if self.seen.is_multiple_of(self.stride) {
             self.samples.push(*s);
             if self.samples.len() > self.max {
                 let mut i = 0;
