@@ -4,6 +4,7 @@
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
 pub mod exact;
+pub mod keys;
 pub mod lists;
 pub mod paper;
 pub mod recommend;
@@ -11,6 +12,7 @@ pub mod restitution;
 pub mod run;
 pub mod sweep;
 pub mod validate;
+pub mod warnings;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -48,6 +50,8 @@ enum Command {
     /// (sweep over r and ζ, wall- or pair-calibrated damping), or with
     /// --target the e to enter for a wanted rebound
     Restitution(restitution::RestitutionArgs),
+    /// Every scenario key with its unit, default and allowed range
+    Keys(keys::KeysArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -97,6 +101,7 @@ pub fn main() -> ExitCode {
         Command::Recommend(args) => recommend::run(args),
         Command::Paper(args) => paper::run(args),
         Command::Restitution(args) => restitution::run(args),
+        Command::Keys(args) => keys::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
