@@ -256,7 +256,7 @@ fn check_gravity_share(
 pub fn check_step(s: &Scenario, problem: &Problem) -> Result<(), InputError> {
     let limit = limits::MAX_ETA * problem.contact_time_estimate;
     if let Some(dt) = s.integration.dt {
-        if !(dt <= limit) {
+        if dt.is_nan() || dt > limit {
             return Err(InputError {
                 field: "integration.dt".into(),
                 value: format!("{} s", limits::show(dt)),
