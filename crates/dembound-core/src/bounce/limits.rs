@@ -25,8 +25,9 @@
 
 /// `particle.radius`, m.
 pub const RADIUS: (f64, f64) = (1e-9, 10.0);
-/// `particle.density` and `boundary.density`, kg/m³.
-pub const DENSITY: (f64, f64) = (1e-3, 1e6);
+/// `particle.density` and `boundary.density`, kg/m³ (a boundary 1e6 times
+/// denser than the particle stands in for a fixed one in the tests).
+pub const DENSITY: (f64, f64) = (1e-3, 1e12);
 /// `particle.youngs_modulus`, Pa.
 pub const YOUNGS_MODULUS: (f64, f64) = (1e3, 1e13);
 /// `boundary.radius_ratio` and `boundary.modulus_ratio` when finite ("inf" also allowed).
