@@ -248,6 +248,20 @@ fn other_subcommands_refuse_what_run_refuses() {
             &[
                 "sweep",
                 "--r",
+                "1",
+                "--zeta",
+                "1",
+                "--vary",
+                "motion.gap=lin:0.001:0.002:100000",
+                "--vary",
+                "motion.velocity=lin:-1:0:100000",
+            ],
+            "--vary",
+        ),
+        (
+            &[
+                "sweep",
+                "--r",
                 "1,10",
                 "--zeta",
                 "inf",

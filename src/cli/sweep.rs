@@ -100,6 +100,13 @@ fn variants(args: &SweepArgs) -> Result<Vec<Variant>> {
                 values.push(item.to_string());
             }
         }
+        if combos.len() as u128 * values.len() as u128 > MAX_CASES {
+            return Err(anyhow!(
+                "--vary: {} combinations of the --vary values; at most {MAX_CASES} cases are \
+                 allowed (every case is kept in memory): use fewer values",
+                combos.len() as u128 * values.len() as u128
+            ));
+        }
         combos = combos
             .into_iter()
             .flat_map(|c| {
