@@ -251,7 +251,7 @@ pub fn run(args: &KeysArgs) -> CliResult {
     } else {
         let mut table = Table::new();
         table
-            .load_preset(presets::UTF8_HORIZONTAL_ONLY)
+            .load_preset(presets::ASCII_MARKDOWN)
             .set_content_arrangement(ContentArrangement::Dynamic)
             .set_header(["key", "unit", "default", "allowed", "meaning"]);
         for k in &keys {
