@@ -29,7 +29,10 @@ pub struct ScenarioArgs {
     /// Setting one of integration.dt, integration.eta and
     /// integration.tolerance drops the other two; boundary.radius drops
     /// boundary.radius_ratio and boundary.youngs_modulus drops
-    /// boundary.modulus_ratio, and vice versa. Repeatable.
+    /// boundary.modulus_ratio, and vice versa. Repeatable. Every value is
+    /// checked against its range (`dembound keys` lists every key with unit,
+    /// default and range: e.g. 1e-9 ≤ particle.radius ≤ 10 m, η ≤ 0.1, a
+    /// contact not dominated by gravity); out of range exits 2 naming the key.
     #[arg(long = "set", value_name = "SECTION.KEY=VALUE")]
     pub set: Vec<String>,
 }

@@ -215,6 +215,8 @@ fn out_writes_the_whole_set_and_the_resolved_scene_reruns() {
     let mut expected: Vec<String> = (0..=4).map(|k| format!("snapshot_{k:06}.vtp")).collect();
     expected.extend(
         [
+            // The record of the published set (README, "Output directories").
+            ".dembound.json",
             "checkpoint.cbor",
             "collisions.csv",
             "scene.toml",

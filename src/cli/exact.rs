@@ -1,7 +1,7 @@
 //! `dembound exact`: the exact per-contact values of a scenario, with the
 //! paper's estimates (eqs 26–30) beside the exact contact time and overlap.
 
-use super::{CliError, CliResult};
+use super::{warnings, CliError, CliResult};
 use crate::output::format::sig;
 use crate::output::report::{self, relative_error, DIGITS};
 use crate::output::table::{Cell, Column, Format, Table, Unit};
@@ -25,19 +25,25 @@ pub struct ExactArgs {
     pub json: bool,
 }
 
-/// Fails (exit 2) for a law that has no exact reference. Every law of today
-/// is elastic and conservative and has one (closed form for α = 1, quadrature
-/// otherwise, ERRATA 6 and 8); a dissipative law added to [`ContactLawKind`]
-/// must get an arm here returning the error below.
-pub fn require_exact_reference(law: ContactLawKind) -> CliResult {
-    match law {
-        ContactLawKind::Linear | ContactLawKind::Hertz | ContactLawKind::Power(_) => Ok(()),
-        #[allow(unreachable_patterns)]
-        _ => Err(CliError::input(anyhow!(
-            "contact law `{}` has no exact reference (only the elastic laws \
-             linear, hertz and power α do)",
-            law.name()
-        ))),
+/// What the reference of `s` is: the elastic laws' exact solution, or for
+/// a dissipative contact the closed form or adaptive integration of its own
+/// law (never the elastic law: `contact.damping` is not ignored).
+pub fn reference_source(s: &Scenario) -> String {
+    use dembound_core::contact::DampingKind;
+    let law = s.contact.law.name();
+    match (s.contact.law, s.contact.damping) {
+        (ContactLawKind::WaltonBraun, _) => {
+            format!("contact law {law}, closed form with gravity")
+        }
+        (_, DampingKind::Viscous) => format!(
+            "contact law {law} with viscous damping (spring–dashpot), closed form with gravity"
+        ),
+        (_, DampingKind::Tsuji | DampingKind::Viscoelastic) => format!(
+            "contact law {law} with {} damping, adaptive Dormand–Prince integration of the \
+             contact (relative tolerance 1e-13 per step)",
+            s.contact.damping.name()
+        ),
+        _ => format!("contact law {law}"),
     }
 }
 
@@ -45,7 +51,6 @@ pub fn require_exact_reference(law: ContactLawKind) -> CliResult {
 /// reference rejects is bad input (exit 2); a failed quadrature or root
 /// search exits 1.
 pub fn exact_contacts(s: &Scenario) -> CliResult<Vec<ContactRecord>> {
-    require_exact_reference(s.contact.law)?;
     exact::scenario_contacts(s).map_err(exact_error)
 }
 
@@ -224,7 +229,9 @@ fn estimate_notes(estimates: &[PaperEstimate]) -> String {
 
 pub fn run(args: &ExactArgs) -> CliResult {
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
+    warnings::print(&warnings::inputs(&scenario));
     let contacts = exact_contacts(&scenario)?;
+    warnings::print(&warnings::contacts(&scenario, &contacts));
     let estimates = paper_estimates(&scenario)?;
     let mut stdout = std::io::stdout().lock();
     if args.json {
@@ -239,10 +246,10 @@ pub fn run(args: &ExactArgs) -> CliResult {
     } else {
         writeln!(
             stdout,
-            "exact reference: contact law {}, {} contact{}, impact speed {} m/s\n{}\n\n\
+            "exact reference: {}, {} contact{}, impact speed {} m/s\n{}\n\n\
              The paper's estimates for this pair and impact speed (eqs 26–29 are \
              written for the linear law, eq 30 for Hertz):\n{}\n{}{}",
-            scenario.contact.law.name(),
+            reference_source(&scenario),
             scenario.motion.contacts,
             if scenario.motion.contacts == 1 {
                 ""

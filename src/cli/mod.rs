@@ -4,6 +4,7 @@
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
 pub mod exact;
+pub mod keys;
 pub mod lists;
 pub mod paper;
 pub mod recommend;
@@ -12,6 +13,7 @@ pub mod run;
 pub mod scene;
 pub mod sweep;
 pub mod validate;
+pub mod warnings;
 
 use crate::output::files::AtomicDir;
 use crate::output::interrupt;
@@ -56,6 +58,8 @@ enum Command {
     /// Run a many-particle 3D scene (spheres, plane walls, walls of
     /// boundary particles) from a scene file
     Scene(scene::SceneArgs),
+    /// Every scenario key with its unit, default and allowed range
+    Keys(keys::KeysArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -107,6 +111,7 @@ pub fn main() -> ExitCode {
         Command::Paper(args) => paper::run(args),
         Command::Restitution(args) => restitution::run(args),
         Command::Scene(args) => scene::run(args),
+        Command::Keys(args) => keys::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

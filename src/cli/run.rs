@@ -1,6 +1,6 @@
 //! `dembound run`: one scenario, every contact reported.
 
-use super::{CliError, CliResult};
+use super::{warnings, CliError, CliResult};
 use crate::output::files::AtomicDir;
 use crate::output::format::{duration, sig};
 use crate::output::history::HistoryRecorder;
@@ -73,6 +73,8 @@ pub fn run(args: &RunArgs) -> CliResult {
     }
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
     let problem = plan(&scenario).map_err(simulation_error)?;
+    check_rebounds(&scenario)?;
+    warnings::print(&warnings::inputs(&scenario));
     guard_step_count(&scenario, &problem, args.force)?;
     let out = match &args.out {
         Some(dir) => Some(super::output_dir(dir, "run")?),
@@ -112,6 +114,7 @@ pub fn run(args: &RunArgs) -> CliResult {
         bar.finish();
     }
     let outcome = outcome.map_err(simulation_error)?;
+    warnings::print(&warnings::contacts(&scenario, &outcome.contacts));
 
     let written = match (out, &history) {
         (Some(out), Some(history)) => Some(write_outputs(out, &scenario, &outcome, history)?),
@@ -165,6 +168,42 @@ fn simulation_error(e: SimulationError) -> CliError {
     match e {
         SimulationError::Input(e) => CliError::input(e),
         e => CliError::failed(anyhow!("the run failed: {e}")),
+    }
+}
+
+/// The most contacts whose rebound is checked before a dissipative run.
+const MAX_CHECKED_CONTACTS: u32 = 1000;
+
+/// Refuses (exit 2) a dissipative run with a contact that would not end
+/// (gravity holds the particle on the boundary after its force returns to
+/// zero), found by the law's reference before the run: the run would spend
+/// its whole step budget on it. Skipped for more than
+/// [`MAX_CHECKED_CONTACTS`] contacts (the run then reports it, exit 1).
+fn check_rebounds(s: &Scenario) -> CliResult {
+    if !dembound_core::exact::dissipative::is_dissipative(s)
+        || s.motion.contacts > MAX_CHECKED_CONTACTS
+    {
+        return Ok(());
+    }
+    match dembound_core::exact::scenario_contacts(s) {
+        Err(dembound_core::exact::ExactError::NoRebound { contact }) if contact > 1 => {
+            Err(CliError::input(anyhow!(
+                "invalid value for `motion.contacts`: {} (allowed: 1 to {} for this scenario: \
+                 contact {contact} would not end, gravity holds the particle on the boundary \
+                 once the damping has slowed it)",
+                s.motion.contacts,
+                contact - 1
+            )))
+        }
+        Err(dembound_core::exact::ExactError::NoRebound { .. }) => Err(CliError::input(anyhow!(
+            "invalid value for `motion.gap`: {} m (the first contact would not end: gravity \
+             holds the particle on the boundary; a larger motion.gap, a faster motion.velocity \
+             or less damping (contact.restitution) lets it rebound)",
+            s.motion.gap
+        ))),
+        // Other failures of the reference are reported by --compare-exact
+        // or not at all: the run itself does not need it.
+        _ => Ok(()),
     }
 }
 

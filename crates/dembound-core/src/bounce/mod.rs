@@ -4,6 +4,7 @@
 
 pub mod batch;
 pub mod events;
+pub mod limits;
 mod scenario;
 pub mod schedule;
 mod simulate;
@@ -14,7 +15,9 @@ pub use scenario::{
     BoundarySection, ContactSection, GravityOn, InputError, Integration, Motion, ParticleSection,
     Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,
 };
-pub use simulate::{plan, simulate, simulate_with, Problem, SimulationError};
+pub use simulate::{
+    check_resolution, check_step, plan, simulate, simulate_with, Problem, SimulationError,
+};
 
 use serde::{Deserialize, Serialize};
 

@@ -3,6 +3,7 @@
 //! checks that turn bad input into an error naming the field, the value and
 //! the allowed range.
 
+use super::limits;
 use crate::contact::{Calibration, ContactLawKind, ContactModel, DampingKind, Dissipation};
 use crate::integrate::Scheme;
 use crate::material::{Boundary, ContactPair, Particle};
@@ -321,11 +322,31 @@ fn positive(field: &str, x: f64, unit: &str) -> Result<(), InputError> {
     if x.is_finite() && x > 0.0 {
         return Ok(());
     }
-    check(false, field, x, &format!("finite and > 0, in {unit}"))
+    check(
+        false,
+        field,
+        limits::show(x),
+        &format!("finite and > 0, in {unit}"),
+    )
+}
+
+/// `range.0 ≤ x ≤ range.1` ([`limits`]).
+fn within(field: &str, x: f64, range: (f64, f64), unit: &str) -> Result<(), InputError> {
+    check(
+        x >= range.0 && x <= range.1,
+        field,
+        limits::show(x),
+        &limits::describe(range, unit),
+    )
 }
 
 fn ratio(field: &str, x: f64) -> Result<(), InputError> {
-    check(x > 0.0 && !x.is_nan(), field, x, "> 0, or \"inf\"")
+    check(
+        x == f64::INFINITY || (x >= limits::RATIO.0 && x <= limits::RATIO.1),
+        field,
+        limits::show(x),
+        &format!("{}, or \"inf\"", limits::describe(limits::RATIO, "")),
+    )
 }
 
 fn poisson(field: &str, x: f64) -> Result<(), InputError> {
@@ -336,9 +357,14 @@ impl Scenario {
     /// Checks every field; the first error names the field, value and range.
     pub fn validate(&self) -> Result<(), InputError> {
         let p = &self.particle;
-        positive("particle.radius", p.radius, "m")?;
-        positive("particle.density", p.density, "kg/m³")?;
-        positive("particle.youngs_modulus", p.youngs_modulus, "Pa")?;
+        within("particle.radius", p.radius, limits::RADIUS, "m")?;
+        within("particle.density", p.density, limits::DENSITY, "kg/m³")?;
+        within(
+            "particle.youngs_modulus",
+            p.youngs_modulus,
+            limits::YOUNGS_MODULUS,
+            "Pa",
+        )?;
         poisson("particle.poisson_ratio", p.poisson_ratio)?;
         let b = &self.boundary;
         ratio("boundary.radius_ratio", b.radius_ratio)?;
@@ -357,23 +383,18 @@ impl Scenario {
         }
         self.validate_contact()?;
         let m = &self.motion;
+        within("motion.gap", m.gap, limits::GAP, "m")?;
         check(
-            m.gap.is_finite() && m.gap >= 0.0,
-            "motion.gap",
-            m.gap,
-            "finite and ≥ 0, in m",
-        )?;
-        check(
-            m.velocity.is_finite(),
+            m.velocity.abs() <= limits::MAX_SPEED,
             "motion.velocity",
-            m.velocity,
-            "finite, in m/s",
+            limits::show(m.velocity),
+            &format!("-{0:e} to {0:e} m/s", limits::MAX_SPEED),
         )?;
         check(
-            m.gravity.is_finite() && m.gravity >= 0.0,
+            m.gravity == 0.0 || (m.gravity >= limits::GRAVITY.0 && m.gravity <= limits::GRAVITY.1),
             "motion.gravity",
-            m.gravity,
-            "finite and ≥ 0, in m/s²",
+            limits::show(m.gravity),
+            &format!("0, or {}", limits::describe(limits::GRAVITY, "m/s²")),
         )?;
         check(
             (1..=1_000_000).contains(&m.contacts),
@@ -416,7 +437,16 @@ impl Scenario {
         }
         let i = &self.integration;
         if let Some(eta) = i.eta {
-            check(eta > 0.0 && eta <= 1.0, "integration.eta", eta, "0 < η ≤ 1")?;
+            check(
+                eta >= limits::ETA.0 && eta <= limits::ETA.1,
+                "integration.eta",
+                limits::show(eta),
+                &format!(
+                    "{} (Δt = η T_c; above 0.1 the first contact's e, h_max, T_c are off by more \
+                     than ~1 % and from 0.125 the integrator diverges)",
+                    limits::describe(limits::ETA, "")
+                ),
+            )?;
         }
         if let Some(dt) = i.dt {
             positive("integration.dt", dt, "s")?;
@@ -432,7 +462,7 @@ impl Scenario {
                 (MIN_TOLERANCE..=MAX_TOLERANCE).contains(&tol),
                 "integration.tolerance",
                 tol,
-                "1e-13 ≤ tolerance ≤ 0.01 (relative error)",
+                "1e-13 ≤ tolerance ≤ 0.01 (a relative error as a plain fraction: 0.01 = 1 %)",
             )?;
             check(
                 i.eta.is_none() && i.dt.is_none(),
@@ -476,10 +506,15 @@ impl Scenario {
             "finite when boundary.fixed = false (a free half-space would have infinite mass)",
         )?;
         if let Some(rho) = b.density {
-            positive("boundary.density", rho, "kg/m³")?;
+            within("boundary.density", rho, limits::DENSITY, "kg/m³")?;
         }
         if let Some(v) = b.velocity {
-            check(v.is_finite(), "boundary.velocity", v, "finite, in m/s")?;
+            check(
+                v.abs() <= limits::MAX_SPEED,
+                "boundary.velocity",
+                limits::show(v),
+                &format!("-{0:e} to {0:e} m/s", limits::MAX_SPEED),
+            )?;
         }
         Ok(())
     }

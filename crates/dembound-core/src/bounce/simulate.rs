@@ -13,6 +13,7 @@
 //! into it either.
 
 use super::events::{locate, locate_where, time_to_surface, Crossing};
+use super::limits;
 use super::schedule::{GradedSteps, Grading, SingularMesh};
 use super::tolerance;
 use super::{
@@ -123,6 +124,7 @@ impl Problem {
             speed = (2.0 * g * hi).sqrt();
         }
         let estimate = law.contact_time_estimate(mass, speed);
+        check_gravity_share(s, law, mass)?;
         let dt = match s.step_rule() {
             StepRule::Fixed(dt) => dt,
             StepRule::Fraction(eta) => eta * estimate,
@@ -169,6 +171,134 @@ impl Problem {
     }
 }
 
+/// Refuses a contact that gravity dominates: g T_c/|v_c| above
+/// [`limits::MAX_GRAVITY_SHARE`] at the first impact, or at the last one
+/// when a target restitution e < 1 slows the later impacts (|v_c| e^(n−1),
+/// gravity-free). There e = v_r/|v_c| is ill-conditioned and the integrator
+/// cannot resolve it (measurements in [`limits`]). The message names
+/// `motion.gap` with the smallest gap that would do.
+fn check_gravity_share(
+    s: &Scenario,
+    law: &impl NormalContactLaw,
+    mass: f64,
+) -> Result<(), InputError> {
+    let g = s.relative_gravity();
+    if g == 0.0 {
+        return Ok(());
+    }
+    let slowing = match s.contact.restitution {
+        Some(e) if e < 1.0 => e.powi(s.motion.contacts.saturating_sub(1).min(10_000) as i32),
+        _ => 1.0,
+    };
+    let share = |v: f64| g * law.contact_time_estimate(mass, v) / v;
+    let v_last = s.impact_speed() * slowing;
+    let ratio = if v_last > 0.0 {
+        share(v_last)
+    } else {
+        f64::INFINITY
+    };
+    if ratio <= limits::MAX_GRAVITY_SHARE {
+        return Ok(());
+    }
+    // The smallest impact speed with an acceptable share (the share falls
+    // with the speed for every law: T_c does not grow with it).
+    let (mut lo, mut hi) = ((1e-30f64).ln(), (1e10f64).ln());
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if share(mid.exp()) > limits::MAX_GRAVITY_SHARE {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let v_min = hi.exp();
+    let v_first = s.impact_speed();
+    if slowing < 1.0 && v_first >= v_min {
+        // The first impact is fine, a later slower one is not.
+        let e = s.contact.restitution.unwrap_or(1.0);
+        let most = 1.0 + ((v_first / v_min).ln() / (1.0 / e).ln()).floor();
+        return Err(InputError {
+            field: "motion.contacts".into(),
+            value: s.motion.contacts.to_string(),
+            allowed: format!(
+                "1 to {most} for this scenario: with e = {e} the impact speed falls to \
+                 {v_last:.3e} m/s by contact {n}, where gravity dominates the contact \
+                 (g T_c/|v_c| = {ratio:.3e} > {max}) and the rebound speed cannot be resolved",
+                n = s.motion.contacts,
+                max = limits::MAX_GRAVITY_SHARE,
+            ),
+        });
+    }
+    let v_needed = v_min / slowing;
+    let v0 = s.relative_velocity();
+    let gap_needed = (v_needed * v_needed - v0 * v0) / (2.0 * g);
+    Err(InputError {
+        field: "motion.gap".into(),
+        value: format!("{} m", limits::show(s.motion.gap)),
+        allowed: format!(
+            "≥ {gap_needed:.3e} m for this particle, boundary and law: gravity dominates the \
+             contact (g T_c/|v_c| = {ratio:.3e} > {max}: the impact speed {v:.3e} m/s is too \
+             small against the velocity gravity adds during the contact, and the rebound speed \
+             cannot be resolved); or a faster motion.velocity, a smaller particle.radius or a \
+             stiffer particle",
+            max = limits::MAX_GRAVITY_SHARE,
+            v = v_first
+        ),
+    })
+}
+
+/// Refuses a step that does not resolve the contact: Δt above
+/// [`limits::MAX_ETA`] times the contact-time estimate (`integration.dt`;
+/// `integration.eta` is bounded by [`Scenario::validate`]), or a step count
+/// that is not finite. Called by [`plan`], not by [`simulate`]: studies of
+/// the integrator itself (the convergence study runs η = 0.2) may step
+/// coarser.
+pub fn check_step(s: &Scenario, problem: &Problem) -> Result<(), InputError> {
+    let limit = limits::MAX_ETA * problem.contact_time_estimate;
+    if let Some(dt) = s.integration.dt {
+        if dt.is_nan() || dt > limit {
+            return Err(InputError {
+                field: "integration.dt".into(),
+                value: format!("{} s", limits::show(dt)),
+                allowed: format!(
+                    "0 < Δt ≤ {limit:.4e} s, i.e. at most {} × the contact-time estimate \
+                     T_c = {:.4e} s (a coarser step does not resolve the contact: errors of \
+                     several % at 0.125 T_c, divergence beyond)",
+                    limits::MAX_ETA,
+                    problem.contact_time_estimate
+                ),
+            });
+        }
+    }
+    let steps = problem.expected_steps();
+    if !(steps.is_finite() && problem.dt > 0.0 && problem.contact_time_estimate > 0.0) {
+        return Err(InputError {
+            field: "integration.dt".into(),
+            value: format!("{} s", problem.dt),
+            allowed: format!(
+                "a step giving a finite number of steps (the contact-time estimate is {} s and \
+                 the expected end time {} s: check particle.radius, particle.youngs_modulus, \
+                 motion.gap and motion.gravity)",
+                problem.contact_time_estimate,
+                problem.expected_end_time()
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// [`plan`]'s checks without its cost: validation, the gravity share and
+/// the step, with an `integration.tolerance` replaced by η = 1/50 (its
+/// pilot runs are not needed to know that the contact can be resolved;
+/// the step it chooses is finer still).
+pub fn check_resolution(s: &Scenario) -> Result<(), SimulationError> {
+    let mut s = *s;
+    if s.integration.tolerance.take().is_some() {
+        s.integration.eta = Some(super::DEFAULT_ETA);
+    }
+    plan(&s).map(|_| ())
+}
+
 /// Runs a scenario (validated first) and reports every contact.
 pub fn simulate<O: Observer>(
     s: &Scenario,
@@ -205,14 +335,17 @@ pub fn simulate<O: Observer>(
 }
 
 /// Resolves a scenario into its numerical problem (Δt, expected steps)
-/// without running it: for step-count guards and progress bars.
+/// without running it: for step-count guards and progress bars. Refuses a
+/// step that does not resolve the contact ([`check_step`]).
 pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
     s.validate()?;
     struct Plan<'a>(&'a Scenario);
     impl LawVisitor for Plan<'_> {
         type Output = Result<Problem, SimulationError>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
-            Problem::new(self.0, &law)
+            let problem = Problem::new(self.0, &law)?;
+            check_step(self.0, &problem)?;
+            Ok(problem)
         }
     }
     with_model(
@@ -606,6 +739,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             }
             let t_contact = t + tau;
             let impact_velocity = v - g * tau;
+            self.check_gravity_share(n, impact_velocity)?;
             let end = self.contact(n, t_contact, impact_velocity, Schedule::Free)?;
             (t, x, v) = (end.record.t_rebound, 0.0, end.record.rebound_velocity);
             records.push(end.record);
@@ -658,6 +792,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             // runs to the next grid point; a sliver shorter than Δt/4 is
             // merged with the following step (a tiny first step would
             // amplify the rounding of the Nordsieck vector when rescaled).
+            self.check_gravity_share(n, impact_velocity)?;
             let mut end_index = first_end_index.unwrap_or(k + 1);
             if end_index as f64 * dt - t_contact < 0.25 * dt {
                 end_index += 1;
@@ -673,6 +808,37 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             records.push(end.record);
         }
         Ok(records)
+    }
+
+    /// Refuses contact `n` > 1 when the impacts have slowed (a dissipative
+    /// law) until gravity dominates it: g T_c/|v_c| above
+    /// [`limits::MAX_GRAVITY_SHARE`], where the rebound cannot be resolved
+    /// (see [`limits`]; the first contact is checked before the run).
+    fn check_gravity_share(&self, n: u32, v_c: f64) -> Result<(), SimulationError> {
+        let g = self.problem.gravity;
+        if n == 1 || g == 0.0 {
+            return Ok(());
+        }
+        let speed = v_c.abs();
+        let share = if speed > 0.0 {
+            g * self.law.contact_time_estimate(self.problem.mass, speed) / speed
+        } else {
+            f64::INFINITY
+        };
+        if share <= limits::MAX_GRAVITY_SHARE {
+            return Ok(());
+        }
+        Err(SimulationError::Input(InputError {
+            field: "motion.contacts".into(),
+            value: self.problem.contacts.to_string(),
+            allowed: format!(
+                "1 to {} for this scenario: the impact speed has fallen to {speed:.3e} m/s by \
+                 contact {n}, where gravity dominates the contact (g T_c/|v_c| = {share:.3e} > \
+                 {}) and the rebound cannot be resolved",
+                n - 1,
+                limits::MAX_GRAVITY_SHARE
+            ),
+        }))
     }
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the

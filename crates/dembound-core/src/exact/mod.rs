@@ -19,6 +19,7 @@
 //! Nothing here panics, prints or performs I/O; every fallible function returns
 //! [`Result`]`<_, `[`ExactError`]`>`.
 
+pub mod dissipative;
 pub mod linear;
 pub mod paper;
 pub mod power;
@@ -123,6 +124,12 @@ pub enum ExactError {
     },
     /// A numerical step (root bracketing, quadrature, inversion) failed.
     Numerical(&'static str),
+    /// A dissipative contact that does not end: after the force returns to
+    /// zero gravity pulls the particle back before the overlap closes.
+    NoRebound {
+        /// The contact (1-based).
+        contact: usize,
+    },
 }
 
 impl fmt::Display for ExactError {
@@ -156,6 +163,10 @@ impl fmt::Display for ExactError {
                 "time {tau} s since contact start is outside the contact [0, {duration}] s"
             ),
             ExactError::Numerical(what) => write!(f, "numerical failure: {what}"),
+            ExactError::NoRebound { contact } => write!(
+                f,
+                "contact {contact} does not end: gravity holds the particle on the boundary"
+            ),
         }
     }
 }

@@ -27,7 +27,13 @@ pub fn flight(s: &Scenario) -> Flight {
 }
 
 /// Exact values of every contact of `s` (`steps` = 0: nothing was integrated).
+///
+/// A dissipative scenario (`contact.damping`, or Walton–Braun) gets the
+/// reference of its own law ([`super::dissipative`]), never the elastic one.
 pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+    if super::dissipative::is_dissipative(s) {
+        return super::dissipative::dissipative_contacts(s);
+    }
     let mass = s.reduced_mass();
     let bodies = s.two_body();
     let exact = contacts(&problem(s), &flight(s), s.motion.contacts as usize)?;

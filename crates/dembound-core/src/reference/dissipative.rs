@@ -148,6 +148,85 @@ pub fn spring_dashpot(
     })
 }
 
+/// Peak force of the linear spring–dashpot contact of [`spring_dashpot`]
+/// (underdamped, ξ < 1), N, in closed form: F = k h + c ḣ is itself
+/// F = k h_eq + e^(−σt)(α cos φ + β sin φ) with φ = ω_d t, whose first
+/// stationary point after the onset is a maximum when F rises at the onset
+/// (else the maximum is the onset's c v). The maximum comes before the
+/// maximum overlap (there dF/dt = c ḧ < 0), so the clamp F ≥ 0 does not
+/// touch it.
+pub fn spring_dashpot_max_force(
+    k: f64,
+    c: f64,
+    m: f64,
+    v: f64,
+    g: f64,
+) -> Result<f64, ReferenceError> {
+    let omega = (k / m).sqrt();
+    let xi = c / (2.0 * (k * m).sqrt());
+    if xi >= 1.0 {
+        return Err(ReferenceError::Overdamped(xi));
+    }
+    let wd = omega * (1.0 - xi * xi).sqrt();
+    let sigma = xi * omega;
+    let h_eq = g / (omega * omega);
+    let (a, b) = (-h_eq, (v - sigma * h_eq) / wd);
+    let (p, q) = (wd * b - sigma * a, -wd * a - sigma * b);
+    // F − k h_eq = e^(−σt)(α cos φ + β sin φ); its time derivative is
+    // e^(−σt)(P cos φ + Q sin φ).
+    let (alpha, beta) = (k * a + c * p, k * b + c * q);
+    let (pp, qq) = (-sigma * alpha + wd * beta, -sigma * beta - wd * alpha);
+    let force =
+        |phi: f64| k * h_eq + (-sigma * phi / wd).exp() * (alpha * phi.cos() + beta * phi.sin());
+    let onset = force(0.0);
+    if pp <= 0.0 {
+        return Ok(onset);
+    }
+    // First φ > 0 with P cos φ + Q sin φ = 0.
+    let phi = (pp.atan2(-qq)).rem_euclid(PI);
+    Ok(force(phi).max(onset))
+}
+
+/// Peak force of a damped Hertz contact of [`damped_hertz`], N: the
+/// adaptive integration from the onset to the first zero of dF/dt (F rises
+/// from the onset, where dF/dt = +∞, and falls at the maximum overlap, so
+/// the peak lies between and the clamp F ≥ 0 does not touch it). dF/dt is
+/// written out (ḧ = g − F/m) and multiplied by h^(3/4) (Tsuji) or h^(1/2)
+/// (viscoelastic) to stay finite at h = 0 with the same sign.
+pub fn damped_hertz_max_force(
+    model: DampedHertz,
+    m: f64,
+    v: f64,
+    g: f64,
+) -> Result<f64, ReferenceError> {
+    let k = model.stiffness();
+    let h_s = (1.25 * m * v * v / k).powf(0.4);
+    let t_s = h_s / v;
+    let tol = Tolerance {
+        rtol: DAMPED_HERTZ_RTOL,
+        atol: [1e-15 * h_s, 1e-15 * v],
+    };
+    let free = |y: &State| [y[1], g - model.force(y[0], y[1]) / m];
+    let falling = |y: &State| {
+        let (h, hd) = (y[0].abs(), y[1]);
+        let hdd = g - model.force(y[0], y[1]) / m;
+        let scaled_rate = match model {
+            // h^(3/4) dF/dt for F = k h^(3/2) + γ h^(1/4) ḣ.
+            DampedHertz::Tsuji { stiffness, damping } => {
+                1.5 * stiffness * h.powf(1.25) * hd + damping * (0.25 * hd * hd + h * hdd)
+            }
+            // h^(1/2) dF/dt / k for F = k (h^(3/2) + (3/2) A h^(1/2) ḣ).
+            DampedHertz::Viscoelastic { a, .. } => {
+                1.5 * h * hd + 1.5 * a * (0.5 * hd * hd + h * hdd)
+            }
+        };
+        -scaled_rate
+    };
+    let peak = integrate_to_event(free, [0.0, v], &[&falling], tol, 1e-6 * t_s, 2_000_000)
+        .map_err(|e| ReferenceError::Ode(e.to_string()))?;
+    Ok(model.force(peak.y[0], peak.y[1]))
+}
+
 /// Gravity-free spring–dashpot restitution for damping ratio ξ < 1:
 /// exp(−πξ/√(1−ξ²)) with attraction; with F = max(F, 0)
 /// exp(−ξ(π − 2 asin ξ)/√(1−ξ²)) (the force vanishes at ω_d t = π − 2 asin ξ
@@ -255,6 +334,12 @@ pub fn damped_hertz(
     };
     let budget = 2_000_000;
     let ode = |e: super::ode::OdeError| ReferenceError::Ode(e.to_string());
+    // After the maximum overlap, no event within the budget means the body
+    // settles on the boundary (gravity against a spent rebound): no rebound.
+    let settles = |e: super::ode::OdeError| match e {
+        super::ode::OdeError::TooManySteps(_) => ReferenceError::NoRebound,
+        e => ReferenceError::Ode(e.to_string()),
+    };
     let free = |y: &State| [y[1], g - model.force(y[0], y[1]) / m];
     let clamped = |y: &State| [y[1], g - model.force(y[0], y[1]).max(0.0) / m];
     let top = integrate_to_event(
@@ -270,17 +355,17 @@ pub fn damped_hertz(
     let f_zero = |y: &State| -model.force(y[0], y[1]);
     let (t_force_zero, end) = if attractive {
         let end =
-            integrate_to_event(free, top.y, &[&h_out], tol, 1e-3 * t_s, budget).map_err(ode)?;
+            integrate_to_event(free, top.y, &[&h_out], tol, 1e-3 * t_s, budget).map_err(settles)?;
         (None, (top.t + end.t, end.y))
     } else {
         let rel = integrate_to_event(free, top.y, &[&f_zero, &h_out], tol, 1e-3 * t_s, budget)
-            .map_err(ode)?;
+            .map_err(settles)?;
         let t_f = top.t + rel.t;
         if rel.index == 1 {
             (None, (t_f, rel.y))
         } else {
             let fly = integrate_to_event(clamped, rel.y, &[&h_out], tol, 1e-3 * t_s, budget)
-                .map_err(ode)?;
+                .map_err(settles)?;
             (Some(t_f), (t_f + fly.t, fly.y))
         }
     };

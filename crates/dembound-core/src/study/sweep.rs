@@ -359,12 +359,22 @@ pub fn sweep(
     }
     // Validate every case first, so that a bad value fails before any work.
     for k in keys.iter().chain(&ref_keys) {
-        spec.scenario(k)
-            .validate()
-            .map_err(|error| SweepError::Input {
-                case: k.to_string(),
-                error,
-            })?;
+        // The range of every key, and a step that resolves the contact.
+        match crate::bounce::check_resolution(&spec.scenario(k)) {
+            Ok(()) => {}
+            Err(SimulationError::Input(error)) => {
+                return Err(SweepError::Input {
+                    case: k.to_string(),
+                    error,
+                })
+            }
+            Err(error) => {
+                return Err(SweepError::Simulation {
+                    case: k.to_string(),
+                    error,
+                })
+            }
+        }
     }
     let total = keys.len() + ref_keys.len();
     let done = AtomicUsize::new(0);

@@ -1,0 +1,67 @@
+//! The ranges of the scenario's physical and numerical inputs: what the
+//! numerics handle and the tool can vouch for. [`super::Scenario::validate`]
+//! checks them and `dembound keys` prints them, from these constants.
+//!
+//! How each was chosen (measured with `dembound run`, Gear5, event stepping):
+//!
+//! - **η ≤ 0.1** ([`MAX_ETA`]): the first contact's e, h_max and T_c at
+//!   η = 0.1 are within 0.4 % (Hertz), 0.45 % (power 3), 0.9 % (Tsuji,
+//!   e = 0.5) and 0.3 % (viscoelastic) of the reference, and within 2.6 %
+//!   with velocity Verlet (Walton–Braun); at η = 0.125 Gear5 on Hertz is
+//!   already 5 % off in e, at 0.15 19 %, at 0.2 e = 1.6 and at 0.5 e = 242
+//!   (the predictor–corrector is unstable when a few steps span the
+//!   contact). The same bound holds for `integration.dt`, as Δt ≤ 0.1 T_c
+//!   with T_c the law's contact-time estimate.
+//! - **g T_c/|v_c| ≤ 10** ([`MAX_GRAVITY_SHARE`]): when gravity changes the
+//!   velocity during the contact by much more than the impact speed itself
+//!   (a tiny drop, a huge or very soft particle) the contact is a
+//!   gravity-loaded oscillation and e = v_r/|v_c| is ill-conditioned: the
+//!   Hertz error in e grows from 5e−7 at g T_c/|v_c| = 1.6 to 2.3e−6 at
+//!   6.4, 1.1e−5 at 13, 4.5e−5 at 26 and 1.5 % at 240 (R = 1000 m), 690 %
+//!   at 3000 (a 1e−15 m drop). Refused above 10 (an error ~5e−6).
+//! - The physical ranges keep every derived quantity (masses, stiffnesses,
+//!   times, step counts) finite in double precision with room to spare;
+//!   they are far wider than any DEM material.
+
+/// `particle.radius`, m.
+pub const RADIUS: (f64, f64) = (1e-9, 10.0);
+/// `particle.density` and `boundary.density`, kg/m³ (a boundary 1e6 times
+/// denser than the particle stands in for a fixed one in the tests).
+pub const DENSITY: (f64, f64) = (1e-3, 1e12);
+/// `particle.youngs_modulus`, Pa.
+pub const YOUNGS_MODULUS: (f64, f64) = (1e3, 1e13);
+/// `boundary.radius_ratio` and `boundary.modulus_ratio` when finite ("inf" also allowed).
+pub const RATIO: (f64, f64) = (1e-6, 1e18);
+/// `motion.gap`, m (0 allowed).
+pub const GAP: (f64, f64) = (0.0, 1e4);
+/// |`motion.velocity`| and |`boundary.velocity`|, m/s.
+pub const MAX_SPEED: f64 = 1e4;
+/// `motion.gravity`, m/s², when not 0.
+pub const GRAVITY: (f64, f64) = (1e-6, 1e6);
+/// `integration.eta`.
+pub const ETA: (f64, f64) = (1e-9, MAX_ETA);
+/// The largest Δt/T_c (see the module doc).
+pub const MAX_ETA: f64 = 0.1;
+/// The largest g T_c/|v_c| (see the module doc).
+pub const MAX_GRAVITY_SHARE: f64 = 10.0;
+
+/// A number for a message: as written when short, else in exponent form
+/// (1e-308, not 0.000…0001).
+pub fn show(x: f64) -> String {
+    let plain = x.to_string();
+    if plain.len() > 10 {
+        format!("{x:e}")
+    } else {
+        plain
+    }
+}
+
+/// A range for messages, e.g. "1e-9 to 10 m".
+pub fn describe(range: (f64, f64), unit: &str) -> String {
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    format!("{} to {}{unit}", show(range.0), show(range.1))
+}

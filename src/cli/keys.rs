@@ -1,0 +1,296 @@
+//! `dembound keys`: every scenario key with its unit, default and allowed
+//! range. The numeric ranges are the constants the validation checks
+//! ([`dembound_core::bounce::limits`]), the defaults those of
+//! [`Scenario::default`], so the table cannot drift from either.
+
+use super::{CliError, CliResult};
+use clap::Args;
+use comfy_table::{presets, ContentArrangement, Table};
+use dembound_core::bounce::limits::{self, describe, show};
+use dembound_core::bounce::{Scenario, MAX_TOLERANCE, MIN_TOLERANCE};
+use serde::Serialize;
+use std::io::Write;
+
+#[derive(Debug, Args)]
+pub struct KeysArgs {
+    /// Print the table as a JSON array of {key, unit, default, allowed, meaning}
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// One scenario key.
+#[derive(Debug, Clone, Serialize)]
+pub struct KeyInfo {
+    /// `section.key`, as in the TOML file and `--set`.
+    pub key: &'static str,
+    /// SI unit, "" when dimensionless.
+    pub unit: &'static str,
+    /// The default, or what an omitted key means.
+    pub default: String,
+    /// The allowed values or range.
+    pub allowed: String,
+    pub meaning: &'static str,
+}
+
+/// Every scenario key.
+pub fn keys() -> Vec<KeyInfo> {
+    let d = Scenario::default();
+    let row = |key, unit, default: String, allowed: String, meaning| KeyInfo {
+        key,
+        unit,
+        default,
+        allowed,
+        meaning,
+    };
+    let ratio = format!("{}, or \"inf\"", describe(limits::RATIO, ""));
+    let speed = format!(
+        "{} to {}",
+        show(-limits::MAX_SPEED),
+        show(limits::MAX_SPEED)
+    );
+    let poisson = "-1 < ν < 0.5".to_string();
+    vec![
+        row(
+            "particle.radius",
+            "m",
+            show(d.particle.radius),
+            describe(limits::RADIUS, ""),
+            "R_m, the mobile sphere's radius (warning above 0.1 m)",
+        ),
+        row(
+            "particle.density",
+            "kg/m³",
+            show(d.particle.density),
+            describe(limits::DENSITY, ""),
+            "ρ",
+        ),
+        row(
+            "particle.youngs_modulus",
+            "Pa",
+            show(d.particle.youngs_modulus),
+            describe(limits::YOUNGS_MODULUS, ""),
+            "E_m (warning below 1e5 Pa)",
+        ),
+        row(
+            "particle.poisson_ratio",
+            "",
+            show(d.particle.poisson_ratio),
+            poisson.clone(),
+            "ν_m",
+        ),
+        row(
+            "boundary.radius_ratio",
+            "",
+            show(d.boundary.radius_ratio),
+            ratio.clone(),
+            "r = R_b/R_m; inf: a half-space",
+        ),
+        row(
+            "boundary.modulus_ratio",
+            "",
+            show(d.boundary.modulus_ratio),
+            ratio,
+            "ζ = E_b/E_m; inf: rigid",
+        ),
+        row(
+            "boundary.poisson_ratio",
+            "",
+            "the particle's".into(),
+            poisson,
+            "ν_b",
+        ),
+        row(
+            "boundary.fixed",
+            "",
+            "true".into(),
+            "true, false".into(),
+            "false: a free sphere (two-body collision)",
+        ),
+        row(
+            "boundary.density",
+            "kg/m³",
+            "the particle's".into(),
+            format!("{}; only with fixed = false", describe(limits::DENSITY, "")),
+            "ρ_b of a free boundary",
+        ),
+        row(
+            "boundary.velocity",
+            "m/s",
+            "0".into(),
+            format!("{speed}; only with fixed = false"),
+            "initial velocity of a free boundary, upward positive",
+        ),
+        row(
+            "contact.law",
+            "",
+            format!("\"{}\"", d.contact.law.name()),
+            "\"linear\", \"hertz\", \"walton-braun\", { power = α } with 1 ≤ α ≤ 3".into(),
+            "normal contact law",
+        ),
+        row(
+            "contact.damping",
+            "",
+            "\"none\"".into(),
+            "\"none\"; \"viscous\" (linear); \"tsuji\", \"viscoelastic\" (hertz)".into(),
+            "dissipation of the law",
+        ),
+        row(
+            "contact.restitution",
+            "",
+            "none".into(),
+            "0 < e ≤ 1; with damping or walton-braun".into(),
+            "target coefficient of restitution",
+        ),
+        row(
+            "contact.damping_coefficient",
+            "N s/m, N s/m^(5/4) or s",
+            "none".into(),
+            "finite, ≥ 0; instead of restitution".into(),
+            "c (viscous), γ (tsuji), A (viscoelastic)",
+        ),
+        row(
+            "contact.attractive",
+            "",
+            "false".into(),
+            "true, false (not with walton-braun)".into(),
+            "may the damping pull",
+        ),
+        row(
+            "contact.calibration",
+            "",
+            "\"exact\"".into(),
+            "\"exact\", \"formula\"".into(),
+            "how restitution becomes the coefficient",
+        ),
+        row(
+            "motion.gap",
+            "m",
+            show(d.motion.gap),
+            format!(
+                "{}, and g T_c/|v_c| ≤ {} (gravity must not dominate the contact)",
+                describe(limits::GAP, ""),
+                limits::MAX_GRAVITY_SHARE
+            ),
+            "initial distance between the surfaces",
+        ),
+        row(
+            "motion.velocity",
+            "m/s",
+            show(d.motion.velocity),
+            format!("{speed}; < 0 without gravity"),
+            "initial velocity, upward positive",
+        ),
+        row(
+            "motion.gravity",
+            "m/s²",
+            show(d.motion.gravity),
+            format!("0, or {}", describe(limits::GRAVITY, "")),
+            "g, acting downward",
+        ),
+        row(
+            "motion.contacts",
+            "",
+            d.motion.contacts.to_string(),
+            "1 to 1000000; 1 without gravity".into(),
+            "rebounds to run",
+        ),
+        row(
+            "motion.gravity_on",
+            "",
+            "\"particle\"".into(),
+            "\"particle\", \"both\" (free boundary), \"none\"".into(),
+            "which spheres gravity acts on",
+        ),
+        row(
+            "integration.scheme",
+            "",
+            "\"gear5\"".into(),
+            "\"gear5\", \"verlet\"".into(),
+            "time integrator",
+        ),
+        row(
+            "integration.eta",
+            "",
+            show(dembound_core::bounce::DEFAULT_ETA),
+            describe(limits::ETA, ""),
+            "Δt = η T_c (T_c the law's contact-time estimate)",
+        ),
+        row(
+            "integration.dt",
+            "s",
+            "none (η is used)".into(),
+            format!("> 0 and ≤ {} T_c", limits::MAX_ETA),
+            "Δt, instead of eta",
+        ),
+        row(
+            "integration.tolerance",
+            "",
+            "none".into(),
+            format!(
+                "{} (a plain fraction: 0.01 = 1 %)",
+                describe((MIN_TOLERANCE, MAX_TOLERANCE), "")
+            ),
+            "accuracy target instead of eta or dt",
+        ),
+        row(
+            "integration.stepping",
+            "",
+            "\"event\"".into(),
+            "\"event\", \"fixed\"".into(),
+            "exact flight, or one Δt through the whole path",
+        ),
+    ]
+}
+
+pub fn run(args: &KeysArgs) -> CliResult {
+    let keys = keys();
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        let text = serde_json::to_string_pretty(&keys).map_err(CliError::failed)?;
+        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+    } else {
+        let mut table = Table::new();
+        table
+            .load_preset(presets::ASCII_MARKDOWN)
+            .set_content_arrangement(ContentArrangement::Dynamic)
+            .set_header(["key", "unit", "default", "allowed", "meaning"]);
+        for k in &keys {
+            table.add_row([
+                k.key,
+                k.unit,
+                k.default.as_str(),
+                k.allowed.as_str(),
+                k.meaning,
+            ]);
+        }
+        writeln!(
+            stdout,
+            "{table}\nAll values SI. Set them in a scenario file ([section] key = value) or with \
+             --set section.key=value."
+        )
+        .map_err(CliError::failed)?;
+    }
+    stdout.flush().map_err(CliError::failed)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_key_of_the_resolved_default_scenario_is_listed() {
+        // Independent of the table: the keys serde writes for a scenario
+        // with every optional key set.
+        let mut s = Scenario::default().resolved();
+        s.boundary.poisson_ratio = Some(0.3);
+        let value = toml::Value::try_from(s).unwrap();
+        let listed: Vec<&str> = keys().iter().map(|k| k.key).collect();
+        for (section, table) in value.as_table().unwrap() {
+            for key in table.as_table().unwrap().keys() {
+                let name = format!("{section}.{key}");
+                assert!(listed.contains(&name.as_str()), "{name} missing");
+            }
+        }
+    }
+}
