@@ -87,6 +87,44 @@ fn flight_out(h: f64, hd: f64, g: f64) -> Option<(f64, f64)> {
     Some((2.0 * h / (root - hd), root))
 }
 
+/// The underdamped oscillator h'' + 2ξω ḣ + ω² h = g started at h = 0,
+/// ḣ = v (the spring–dashpot F = k h + c ḣ of mass m, ω² = k/m,
+/// ξ = c/(2√(k m))): h = h_eq + e^(−σt)(a cos φ + b sin φ) and
+/// ḣ = e^(−σt)(p cos φ + q sin φ), φ = ω_d t, ω_d = ω√(1 − ξ²), σ = ξω.
+struct DampedOscillator {
+    wd: f64,
+    sigma: f64,
+    h_eq: f64,
+    a: f64,
+    b: f64,
+    p: f64,
+    q: f64,
+}
+
+impl DampedOscillator {
+    fn new(k: f64, c: f64, m: f64, v: f64, g: f64) -> Result<Self, ReferenceError> {
+        let omega = (k / m).sqrt();
+        let xi = c / (2.0 * (k * m).sqrt());
+        if xi >= 1.0 {
+            return Err(ReferenceError::Overdamped(xi));
+        }
+        let wd = omega * (1.0 - xi * xi).sqrt();
+        let sigma = xi * omega;
+        let h_eq = g / (omega * omega);
+        let (a, b) = (-h_eq, (v - sigma * h_eq) / wd);
+        let (p, q) = (wd * b - sigma * a, -wd * a - sigma * b);
+        Ok(Self {
+            wd,
+            sigma,
+            h_eq,
+            a,
+            b,
+            p,
+            q,
+        })
+    }
+}
+
 /// Linear spring–dashpot F = k h + c ḣ in closed form (the damped
 /// oscillator h'' + 2ξω ḣ + ω² h = g), with or without attraction. Events
 /// other than the maximum are roots of the closed form found by bisection
@@ -99,17 +137,15 @@ pub fn spring_dashpot(
     g: f64,
     attractive: bool,
 ) -> Result<ContactReference, ReferenceError> {
-    let omega = (k / m).sqrt();
-    let xi = c / (2.0 * (k * m).sqrt());
-    if xi >= 1.0 {
-        return Err(ReferenceError::Overdamped(xi));
-    }
-    let wd = omega * (1.0 - xi * xi).sqrt();
-    let sigma = xi * omega;
-    let h_eq = g / (omega * omega);
-    let (a, b) = (-h_eq, (v - sigma * h_eq) / wd);
-    // h = h_eq + e^(−σt)(a cos φ + b sin φ), ḣ = e^(−σt)(p cos φ + q sin φ), φ = ω_d t.
-    let (p, q) = (wd * b - sigma * a, -wd * a - sigma * b);
+    let DampedOscillator {
+        wd,
+        sigma,
+        h_eq,
+        a,
+        b,
+        p,
+        q,
+    } = DampedOscillator::new(k, c, m, v, g)?;
     let h = |phi: f64| h_eq + (-sigma * phi / wd).exp() * (a * phi.cos() + b * phi.sin());
     let hd = |phi: f64| (-sigma * phi / wd).exp() * (p * phi.cos() + q * phi.sin());
     let force = |phi: f64| k * h(phi) + c * hd(phi);
@@ -162,16 +198,15 @@ pub fn spring_dashpot_max_force(
     v: f64,
     g: f64,
 ) -> Result<f64, ReferenceError> {
-    let omega = (k / m).sqrt();
-    let xi = c / (2.0 * (k * m).sqrt());
-    if xi >= 1.0 {
-        return Err(ReferenceError::Overdamped(xi));
-    }
-    let wd = omega * (1.0 - xi * xi).sqrt();
-    let sigma = xi * omega;
-    let h_eq = g / (omega * omega);
-    let (a, b) = (-h_eq, (v - sigma * h_eq) / wd);
-    let (p, q) = (wd * b - sigma * a, -wd * a - sigma * b);
+    let DampedOscillator {
+        wd,
+        sigma,
+        h_eq,
+        a,
+        b,
+        p,
+        q,
+    } = DampedOscillator::new(k, c, m, v, g)?;
     // F − k h_eq = e^(−σt)(α cos φ + β sin φ); its time derivative is
     // e^(−σt)(P cos φ + Q sin φ).
     let (alpha, beta) = (k * a + c * p, k * b + c * q);
