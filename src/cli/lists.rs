@@ -150,7 +150,7 @@ fn law_for(flag: &str, text: &str, command: &str) -> Result<ContactLawKind> {
     }
 }
 
-/// A comma-separated list of elastic laws for `command` (see [`law`]).
+/// A comma-separated list of elastic laws for `command` (see [`any_law`]).
 pub fn laws_for(flag: &str, text: &str, command: &str) -> Result<Vec<ContactLawKind>> {
     text.split(',').map(|t| law_for(flag, t, command)).collect()
 }
