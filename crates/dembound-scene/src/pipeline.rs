@@ -16,7 +16,7 @@ use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::{PairList, SearchInput};
-use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
+use crate::parallel::{SharedMut, Workers, STEP_CHUNK};
 use crate::setup::Scheme;
 
 /// What a wall in file order is.
@@ -97,10 +97,12 @@ impl Pipeline {
     /// the same bits however the steps are grouped); the state is complete
     /// again when this returns.
     pub fn steps(&mut self, world: &mut World, workers: &Workers, n: u64) {
-        for _ in 0..n {
-            self.step(world, workers);
-        }
-        self.finish(world, workers);
+        workers.install(|| {
+            for _ in 0..n {
+                self.step(world, workers);
+            }
+            self.finish(world, workers);
+        });
     }
 
     /// Applies a pending half kick.
@@ -181,9 +183,9 @@ impl Pipeline {
                 && world.bodies.mass.len() == n
                 && world.bodies.fixed.len() == n
         );
-        let partial = workers.map(n.div_ceil(BODY_CHUNK), |c| {
+        let partial = workers.map(n.div_ceil(STEP_CHUNK), |c| {
             // SAFETY: chunks are disjoint ranges of bodies; lengths asserted.
-            unsafe { verlet_chunk(&ctx, c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n)) }
+            unsafe { verlet_chunk(&ctx, c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n)) }
         });
         partial.into_iter().fold(0.0, f64::max)
     }

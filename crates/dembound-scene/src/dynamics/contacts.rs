@@ -1,6 +1,8 @@
 //! Sphere–sphere contact forces through the physics crate's `PairLaw`, with
 //! each pair's `ContactHistory` kept beside the neighbour list.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
@@ -368,10 +370,27 @@ pub fn add_pair_forces(
             unsafe { add(&mut *f_ptr.0.add(i), fi) };
         }
     };
-    for parity in 0..2 {
-        let count = (blocks + 1 - parity) / 2;
-        workers.run(count, |k| run_block(2 * k + parity));
-    }
+    // Even blocks then odd blocks, without a barrier between the phases:
+    // odd block b starts when even blocks b - 1 and b + 1 are done, which
+    // is all the two phases ordered (each body's additions come in the
+    // same order as with the barrier: the same bits).
+    let order = block_order(blocks);
+    let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
+    let next = AtomicUsize::new(0);
+    workers.run(workers.threads(), |_| loop {
+        // Blocks are taken in `order`; a block waits only for blocks
+        // earlier in it, which a running worker has taken: no deadlock.
+        let t = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&b) = order.get(t) else { break };
+        if b % 2 == 1 {
+            wait_for(&done[b - 1]);
+            if let Some(d) = done.get(b + 1) {
+                wait_for(d);
+            }
+        }
+        run_block(b);
+        done[b].store(true, Ordering::Release);
+    });
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -405,6 +424,36 @@ pub fn add_pair_forces(
                 add(&mut force[owner], fj);
             }
             None => *hist = ContactHistory::default(),
+        }
+    }
+}
+
+/// The force blocks in the order they are taken: 0, 2, 1, 4, 3, 6, 5, …
+/// (each odd block right after the even block it waits for last).
+fn block_order(blocks: usize) -> Vec<usize> {
+    let mut order = Vec::with_capacity(blocks);
+    for e in (0..blocks).step_by(2) {
+        order.push(e);
+        if e >= 2 {
+            order.push(e - 1);
+        }
+    }
+    if blocks.is_multiple_of(2) && blocks > 0 {
+        order.push(blocks - 1);
+    }
+    order
+}
+
+/// Waits until another worker has set `flag` (spinning, then yielding
+/// the core: a step is short, but the machine may be shared).
+fn wait_for(flag: &AtomicBool) {
+    let mut spins = 0u32;
+    while !flag.load(Ordering::Acquire) {
+        if spins < 1000 {
+            std::hint::spin_loop();
+            spins += 1;
+        } else {
+            std::thread::yield_now();
         }
     }
 }
@@ -526,4 +575,28 @@ pub fn active_histories(
     }
     out.sort_by_key(|x| (x.0, x.1));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::block_order;
+
+    /// Every block once; each odd block after both even neighbours (the
+    /// order the two-phase loop gave every body's additions).
+    #[test]
+    fn block_order_takes_each_block_once_after_its_even_neighbours() {
+        for blocks in 0..20 {
+            let order = block_order(blocks);
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            assert_eq!(seen, (0..blocks).collect::<Vec<_>>(), "{blocks} blocks");
+            let at = |b: usize| order.iter().position(|&x| x == b);
+            for b in (1..blocks).step_by(2) {
+                assert!(at(b - 1) < at(b), "{blocks} blocks: {b} before {}", b - 1);
+                if b + 1 < blocks {
+                    assert!(at(b + 1) < at(b), "{blocks} blocks: {b} before {}", b + 1);
+                }
+            }
+        }
+    }
 }
