@@ -210,13 +210,7 @@ pub fn touching(
     vj: [f64; 3],
     rj: f64,
 ) -> Option<PairGeometry> {
-    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
-    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    let s = ri + rj;
-    if r2 >= s * s || r2 == 0.0 {
-        return None;
-    }
-    Some(geometry(d, r2, s, vi, vj))
+    touching_lazy(xi, vi, ri, xj, || vj, rj)
 }
 
 /// [`touching`] with the partner's velocity read only in contact.
