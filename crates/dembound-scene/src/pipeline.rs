@@ -11,6 +11,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
 use crate::dynamics::integrate;
+use crate::dynamics::kinks::Kinks;
 use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
@@ -80,6 +81,8 @@ pub struct Pipeline {
     grid: CellGrid,
     /// Verlet's last half kick of the previous step is still to apply.
     pending_kick: bool,
+    /// Gear5: the contacts that began or ended inside the step.
+    kinks: Kinks,
 }
 
 impl Pipeline {
@@ -146,8 +149,18 @@ impl Pipeline {
                     self.ghosts(world);
                 }
                 self.forces(world, workers);
+                // At the predicted state, before the corrector moves it.
+                self.kinks.collect(
+                    &world.bodies,
+                    &world.ghosts,
+                    &world.list,
+                    &world.planes,
+                    &world.laws,
+                    dt,
+                );
                 let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
                 integrate::gear5_correct(&mut world.bodies, dt, c, workers);
+                self.kinks.apply(&mut world.bodies, dt, c);
             }
         }
         world.steps_done += 1;
