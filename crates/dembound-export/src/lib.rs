@@ -1,0 +1,155 @@
+//! Export of a dembound bounce scenario to other DEM codes, and the way
+//! back.
+//!
+//! [`plan::Plan`] resolves a [`Scenario`] into the numbers every code needs
+//! (radii, masses, the pre-mixed effective modulus, the law's stiffness and
+//! damping coefficient, Δt from dembound's rule, where the spheres start,
+//! and the step windows around each exact contact in which the deck writes
+//! a per-step trace). One writer per code turns a plan into files:
+//! [`lammps`], [`liggghts`], [`yade`]. [`trace`] reads the trace back and
+//! measures h_max, T_c, v_c, v_r and e from it.
+//!
+//! Every deck writes the same trace format (`trace.txt`): one line per
+//! step, `time (s) overlap (m) relative velocity (m/s, upward positive)
+//! contact force on the particle (N, upward positive)`, `#` comments.
+
+pub mod lammps;
+pub mod liggghts;
+pub mod plan;
+pub mod trace;
+pub mod yade;
+
+use dembound_core::bounce::Scenario;
+use std::fmt;
+
+/// The codes a scenario can be exported to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Code {
+    Lammps,
+    Liggghts,
+    Yade,
+}
+
+impl Code {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Code::Lammps => "lammps",
+            Code::Liggghts => "liggghts",
+            Code::Yade => "yade",
+        }
+    }
+
+    /// The input file the deck starts from.
+    pub fn input_file(&self) -> &'static str {
+        match self {
+            Code::Lammps => "in.lammps",
+            Code::Liggghts => "in.liggghts",
+            Code::Yade => "bounce.py",
+        }
+    }
+
+    /// The command that runs the deck inside its directory.
+    pub fn command(&self) -> &'static str {
+        match self {
+            Code::Lammps => "lmp -in in.lammps -log log.lammps",
+            Code::Liggghts => "liggghts -in in.liggghts -log log.liggghts",
+            Code::Yade => "yade -n -x bounce.py",
+        }
+    }
+}
+
+/// Known wrong settings a deck can be written with on purpose, to show by
+/// number what they do (docs/export-lammps.md). Never the default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pitfall {
+    /// LAMMPS: the boundary as `fix wall/gran … hertz/material E_b 0 ν_b`,
+    /// a plane given the boundary's own modulus (LAMMPS then treats the
+    /// particle as E_b too).
+    WallMaterial,
+    /// LAMMPS: per-type `pair_coeff i i hertz/material` for the particle and
+    /// the frozen boundary sphere, the cross pair left to LAMMPS's mixing.
+    AutoMix,
+}
+
+impl Pitfall {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Pitfall::WallMaterial => "wall-material",
+            Pitfall::AutoMix => "auto-mix",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "wall-material" => Some(Pitfall::WallMaterial),
+            "auto-mix" => Some(Pitfall::AutoMix),
+            _ => None,
+        }
+    }
+}
+
+/// One file of a deck: its name inside the output directory and its text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeckFile {
+    pub name: String,
+    pub text: String,
+}
+
+/// The files of an exported deck.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deck {
+    pub code: Code,
+    pub files: Vec<DeckFile>,
+}
+
+/// Why a scenario cannot be exported (a message naming the key or the
+/// code's limitation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportError(pub String);
+
+impl fmt::Display for ExportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ExportError {}
+
+/// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
+/// LAMMPS only).
+pub fn export(
+    code: Code,
+    scenario: &Scenario,
+    pitfall: Option<Pitfall>,
+) -> Result<Deck, ExportError> {
+    let plan = plan::Plan::new(scenario)?;
+    if pitfall.is_some() && code != Code::Lammps {
+        return Err(ExportError(format!(
+            "--pitfall is only for lammps (the pitfalls of {} are in docs/export-{}.md)",
+            code.name(),
+            code.name()
+        )));
+    }
+    let input = match code {
+        Code::Lammps => lammps::deck(&plan, pitfall)?,
+        Code::Liggghts => liggghts::deck(&plan)?,
+        Code::Yade => yade::deck(&plan)?,
+    };
+    Ok(Deck {
+        code,
+        files: vec![DeckFile {
+            name: code.input_file().into(),
+            text: input,
+        }],
+    })
+}
+
+/// A number as the decks write it: the shortest text that reads back to
+/// the same f64 (Rust's `{:e}`), which LAMMPS, LIGGGHTS and Python parse.
+pub fn num(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:e}")
+    }
+}

@@ -1,0 +1,7 @@
+//! LIGGGHTS deck (placeholder until written).
+use crate::plan::Plan;
+use crate::ExportError;
+
+pub fn deck(_plan: &Plan) -> Result<String, ExportError> {
+    Err(ExportError("liggghts export is not written yet".into()))
+}
