@@ -1,0 +1,235 @@
+//! `dembound export` checked by running the other codes: Debian's LAMMPS
+//! (`lmp`), LIGGGHTS (`liggghts`) and Yade (`yade`) run the exported decks,
+//! and `dembound compare --json` measures their contacts against the exact
+//! reference (`dembound exact`, closed forms and quadrature independent of
+//! the deck writer and of the trace reader).
+//!
+//! Each test skips, saying so on stderr, only when its code's binary is not
+//! on PATH (.ci/run installs all three).
+//!
+//! Tolerances: 0.1 % in h_max, T_c and v_r and 1e-3 in e (issue 15), for
+//! velocity Verlet (LAMMPS, LIGGGHTS) and leapfrog (Yade) at dembound's
+//! Δt = T_c/50, whose second-order error on the validation case is about
+//! 2e-4 (the scene engine's Verlet measured 2.1e-4). Where a code cannot
+//! reach them for a reason of its own, the test says why and checks the
+//! number it does reach.
+
+mod common;
+
+use common::dembound;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// `name` on PATH, if any.
+fn on_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+/// The binary of `code` and its arguments to run the deck in a directory.
+fn runner(code: &str) -> (&'static str, Vec<&'static str>) {
+    match code {
+        "lammps" => ("lmp", vec!["-in", "in.lammps", "-log", "log.lammps"]),
+        "liggghts" => ("liggghts", vec!["-in", "in.liggghts", "-log", "log.liggghts"]),
+        _ => ("yade", vec!["-n", "-x", "bounce.py"]),
+    }
+}
+
+/// Exports the scenario (`--set` pairs, plus `extra` arguments), runs it
+/// with `code` and returns `compare --json`'s first contact; None (with a
+/// message) when the code is not installed.
+fn run_case(code: &str, sets: &[&str], extra: &[&str]) -> Option<Value> {
+    let (bin, args) = runner(code);
+    if on_path(bin).is_none() {
+        eprintln!(
+            "SKIPPED: `{bin}` is not on PATH (Debian package {code}; .ci/run installs it), \
+             so the {code} export is not checked here"
+        );
+        return None;
+    }
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let deck = dir.path().join("deck");
+    let mut cmd_args: Vec<String> = vec!["export".into(), code.into()];
+    for s in sets {
+        cmd_args.push("--set".into());
+        cmd_args.push((*s).into());
+    }
+    cmd_args.extend(extra.iter().map(|s| s.to_string()));
+    cmd_args.push("--out".into());
+    cmd_args.push(deck.display().to_string());
+    let out = dembound().args(&cmd_args).output().expect("dembound runs");
+    assert!(
+        out.status.success(),
+        "export failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ran = Command::new(bin)
+        .args(&args)
+        .current_dir(&deck)
+        .output()
+        .expect("the code runs");
+    assert!(
+        ran.status.success(),
+        "{bin} failed:\n{}\n{}",
+        String::from_utf8_lossy(&ran.stdout),
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    Some(compare(&deck))
+}
+
+fn compare(deck: &Path) -> Value {
+    let out = dembound()
+        .args(["compare", "--json"])
+        .arg(deck)
+        .output()
+        .expect("dembound runs");
+    assert!(
+        out.status.success(),
+        "compare failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    v["contacts"][0].clone()
+}
+
+fn err(c: &Value, key: &str) -> f64 {
+    c["code_vs_exact"][key].as_f64().expect("a number")
+}
+
+/// h_max, T_c, v_r within `rel` of the exact reference, e within `de`.
+fn assert_agrees(c: &Value, rel: f64, de: f64, what: &str) {
+    for key in ["max_overlap", "duration", "rebound_velocity"] {
+        let e = err(c, key);
+        assert!(e.abs() <= rel, "{what}: {key} off by {e:e} (allowed {rel:e}): {c}");
+    }
+    let e = err(c, "restitution");
+    assert!(e.abs() <= de, "{what}: e off by {e:e} (allowed {de:e}): {c}");
+}
+
+/// The paper's validation case: Hertz, r = ζ = 100, 5 mm drop.
+const PAPER: &[&str] = &["motion.contacts=1"];
+/// A flat elastic wall of its own modulus: r = ∞, ζ = 20.
+const WALL: &[&str] = &[
+    "motion.contacts=1",
+    "boundary.radius_ratio=inf",
+    "boundary.modulus_ratio=20",
+];
+/// The linear spring–dashpot with e = 0.5 (clamped, exact calibration).
+const DASHPOT: &[&str] = &[
+    "motion.contacts=1",
+    "contact.law=linear",
+    "contact.damping=viscous",
+    "contact.restitution=0.5",
+];
+/// Two equal free spheres meeting head-on at 0.3 m/s, no gravity.
+const TWO_SPHERES: &[&str] = &[
+    "motion.contacts=1",
+    "boundary.radius_ratio=1",
+    "boundary.modulus_ratio=1",
+    "boundary.fixed=false",
+    "motion.gravity_on=none",
+    "motion.velocity=-0.3",
+];
+
+/// Δt = T_c/1000 with the same impact speed from a 1 µm gap (the free fall
+/// of the 5 mm drop would take 3.7e7 steps).
+const FINE: &[&str] = &[
+    "integration.eta=0.001",
+    "motion.gap=1e-6",
+    "motion.velocity=-0.313209195",
+];
+
+fn with(base: &[&str], more: &[&'static str]) -> Vec<&'static str> {
+    let mut v: Vec<&'static str> = base
+        .iter()
+        .map(|s| &*Box::leak(s.to_string().into_boxed_str()))
+        .collect();
+    v.extend_from_slice(more);
+    v
+}
+
+mod lammps {
+    use super::*;
+
+    #[test]
+    fn hertz_on_the_papers_boundary_sphere() {
+        if let Some(c) = run_case("lammps", PAPER, &[]) {
+            assert_agrees(&c, 1e-3, 1e-3, "LAMMPS paper case");
+        }
+    }
+
+    #[test]
+    fn flat_elastic_wall_of_its_own_modulus() {
+        if let Some(c) = run_case("lammps", WALL, &[]) {
+            assert_agrees(&c, 1e-3, 1e-3, "LAMMPS wall ζ = 20");
+        }
+    }
+
+    /// The dashpot force jumps to c|v_c| at the onset and the clamp cuts it
+    /// at the end; a fixed step without event location (LAMMPS's velocity
+    /// Verlet, which also evaluates c ḣ with the half-step velocity) makes
+    /// an error of first order there, of size ξωΔt and depending on where
+    /// the onset falls in the step. Measured: at dembound's Δt = T_c/50,
+    /// T_c −8.2e-3, v_r +5.9e-3, e +2.9e-3; at Δt = T_c/1000 all within
+    /// 0.1 % and e within 1e-3 (T_c −4.0e-4, h_max −9.2e-4, e −3.1e-4).
+    #[test]
+    fn spring_dashpot_e_half() {
+        if let Some(c) = run_case("lammps", DASHPOT, &[]) {
+            // ξ ω Δt = 0.255 · π/50 ≈ 0.016: the first-order bound at T_c/50.
+            assert_agrees(&c, 1.6e-2, 8e-3, "LAMMPS dashpot at T_c/50");
+        }
+        if let Some(c) = run_case("lammps", &with(DASHPOT, FINE), &[]) {
+            assert_agrees(&c, 1e-3, 1e-3, "LAMMPS dashpot at T_c/1000");
+        }
+    }
+
+    #[test]
+    fn two_free_spheres() {
+        if let Some(c) = run_case("lammps", TWO_SPHERES, &[]) {
+            assert_agrees(&c, 1e-3, 1e-3, "LAMMPS two spheres");
+        }
+    }
+
+    /// `fix wall/gran … hertz/material E_b 0 ν_b` on the paper's case:
+    /// LAMMPS 20220106 uses k_n = 4/3 E_b/(2(1 − ν_b)) for the wall (a
+    /// static probe at 100 nm gives 0.67344 N, this formula 0.67344 N),
+    /// i.e. the particle taken as E_b too: 66× dembound's eq 6 pair
+    /// stiffness (E_eff √R_eff), so h_max ∝ k^(−2/5) is 81 % low.
+    #[test]
+    fn pitfall_wall_hertz_material() {
+        if let Some(c) = run_case("lammps", PAPER, &["--pitfall", "wall-material"]) {
+            let h = err(&c, "max_overlap");
+            assert!((-0.82..=-0.80).contains(&h), "h_max off by {h}");
+            // The stiffness LAMMPS used, from h_max ∝ k^(−2/5).
+            let ratio = (1.0 + h).powf(-2.5);
+            let nu: f64 = 0.3;
+            let lammps = 4.0 / 3.0 * 1e12 / (2.0 * (1.0 - nu));
+            let eq6 = 4.0 / 3.0 / ((1.0 - nu * nu) / 1e10 + (1.0 - nu * nu) / 1e12)
+                * (0.5e-3_f64 * 100.0 / 101.0).sqrt()
+                / 0.5e-3_f64.sqrt();
+            assert!(
+                (ratio / (lammps / eq6) - 1.0).abs() < 0.02,
+                "stiffness ratio {ratio}, formula {}",
+                lammps / eq6
+            );
+        }
+    }
+
+    /// Per-type `hertz/material` for the particle (E_m) and the frozen
+    /// boundary sphere (E_b), the 1–2 pair left to LAMMPS's mixing: the
+    /// mixed stiffness is far too large (a static probe: 7326 N at 100 nm
+    /// where eq 6 gives 0.0102 N) and the particle is shot away within one
+    /// step.
+    #[test]
+    fn pitfall_per_type_auto_mixing() {
+        if let Some(c) = run_case("lammps", PAPER, &["--pitfall", "auto-mix"]) {
+            let v = c["code"]["rebound_velocity"].as_f64().expect("v_r");
+            let t = c["code"]["duration"].as_f64().expect("T_c");
+            assert!(v > 10.0, "rebound {v} m/s");
+            assert!(t < 1e-7, "contact {t} s");
+        }
+    }
+}
