@@ -208,7 +208,11 @@ fn table(code: &str, c: &ContactComparison) -> Table {
         Column::text(code).right(),
         Column::text("dembound").right(),
         Column::text("exact").right(),
-        Column::number(format!("{code}/exact − 1"), Unit::NONE, Format::SignedSci(2)),
+        Column::number(
+            format!("{code}/exact − 1"),
+            Unit::NONE,
+            Format::SignedSci(2),
+        ),
         Column::number("dembound/exact − 1", Unit::NONE, Format::SignedSci(2)),
     ]);
     type Get = fn(&Quantities) -> f64;

@@ -35,6 +35,10 @@ pub enum PitfallArg {
     /// LAMMPS: per-type `hertz/material` for particle and frozen boundary
     /// sphere, the cross pair left to LAMMPS's mixing
     AutoMix,
+    /// Yade: the plane as `utils.wall` (Mindlin then takes R* = R_m/2)
+    YadeWall,
+    /// Yade: `NewtonIntegrator` at its default Cundall damping 0.2
+    CundallDamping,
 }
 
 #[derive(Debug, Args)]
@@ -52,8 +56,8 @@ pub struct ExportArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Write a known-wrong LAMMPS deck on purpose, to see by number what a
-    /// common setting does (docs/export-lammps.md)
+    /// Write a known-wrong deck on purpose, to see by number what a common
+    /// setting does (docs/export-lammps.md, docs/export-yade.md)
     #[arg(long, value_enum)]
     pub pitfall: Option<PitfallArg>,
 }
@@ -65,6 +69,8 @@ pub fn run(args: &ExportArgs) -> CliResult {
     let pitfall = args.pitfall.map(|p| match p {
         PitfallArg::WallMaterial => Pitfall::WallMaterial,
         PitfallArg::AutoMix => Pitfall::AutoMix,
+        PitfallArg::YadeWall => Pitfall::YadeWall,
+        PitfallArg::CundallDamping => Pitfall::CundallDamping,
     });
     let mut out = output_dir(&args.out, "export")?;
     let deck = export(code, &scenario, pitfall).map_err(|e| CliError::input(anyhow!("{e}")))?;

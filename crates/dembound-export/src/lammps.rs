@@ -57,7 +57,9 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
     }
     // Where the boundary is in this deck: a frozen or free atom, or a plane.
     let (sphere, plane_z) = match (plan.boundary, pitfall) {
-        (Boundary::Sphere { .. }, Some(Pitfall::WallMaterial)) => (None, Some(plan.contact_distance() - p.radius)),
+        (Boundary::Sphere { .. }, Some(Pitfall::WallMaterial)) => {
+            (None, Some(plan.contact_distance() - p.radius))
+        }
         (b @ Boundary::Sphere { .. }, _) => (Some(b), None),
         (Boundary::Plane { .. }, Some(Pitfall::AutoMix)) => {
             return Err(ExportError(
@@ -142,7 +144,12 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         )
         .ok();
         if !fixed {
-            writeln!(d, "velocity     boundary set 0 0 {} units box", num(velocity)).ok();
+            writeln!(
+                d,
+                "velocity     boundary set 0 0 {} units box",
+                num(velocity)
+            )
+            .ok();
             integrated = "all";
         }
     }
@@ -215,11 +222,21 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
     }
     let g_p = plan.particle_gravity();
     if g_p > 0.0 {
-        writeln!(d, "fix          gravity particle gravity {} vector 0 0 -1", num(g_p)).ok();
+        writeln!(
+            d,
+            "fix          gravity particle gravity {} vector 0 0 -1",
+            num(g_p)
+        )
+        .ok();
     }
     let g_b = plan.boundary_gravity();
     if g_b > 0.0 && sphere.is_some() {
-        writeln!(d, "fix          gravity_b boundary gravity {} vector 0 0 -1", num(g_b)).ok();
+        writeln!(
+            d,
+            "fix          gravity_b boundary gravity {} vector 0 0 -1",
+            num(g_b)
+        )
+        .ok();
     }
     writeln!(d, "timestep     {}", num(plan.dt)).ok();
     let (h, v) = match (sphere, plane_z) {

@@ -69,6 +69,11 @@ pub enum Pitfall {
     /// LAMMPS: per-type `pair_coeff i i hertz/material` for the particle and
     /// the frozen boundary sphere, the cross pair left to LAMMPS's mixing.
     AutoMix,
+    /// Yade: the plane as `utils.wall` (the Mindlin functor then takes
+    /// R* = R_m/2).
+    YadeWall,
+    /// Yade: `NewtonIntegrator` left at its default Cundall damping 0.2.
+    CundallDamping,
 }
 
 impl Pitfall {
@@ -76,6 +81,8 @@ impl Pitfall {
         match self {
             Pitfall::WallMaterial => "wall-material",
             Pitfall::AutoMix => "auto-mix",
+            Pitfall::YadeWall => "yade-wall",
+            Pitfall::CundallDamping => "cundall-damping",
         }
     }
 
@@ -83,6 +90,8 @@ impl Pitfall {
         match s {
             "wall-material" => Some(Pitfall::WallMaterial),
             "auto-mix" => Some(Pitfall::AutoMix),
+            "yade-wall" => Some(Pitfall::YadeWall),
+            "cundall-damping" => Some(Pitfall::CundallDamping),
             _ => None,
         }
     }
@@ -116,16 +125,23 @@ impl fmt::Display for ExportError {
 impl std::error::Error for ExportError {}
 
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
-/// LAMMPS only).
+/// for the code it belongs to).
 pub fn export(
     code: Code,
     scenario: &Scenario,
     pitfall: Option<Pitfall>,
 ) -> Result<Deck, ExportError> {
     let plan = plan::Plan::new(scenario)?;
-    if pitfall.is_some() && code != Code::Lammps {
+    let for_code = match pitfall {
+        None => code,
+        Some(Pitfall::WallMaterial | Pitfall::AutoMix) => Code::Lammps,
+        Some(Pitfall::YadeWall | Pitfall::CundallDamping) => Code::Yade,
+    };
+    if for_code != code {
         return Err(ExportError(format!(
-            "--pitfall is only for lammps (the pitfalls of {} are in docs/export-{}.md)",
+            "--pitfall {} is a {} pitfall, not one of {} (see docs/export-{}.md)",
+            pitfall.map_or("", |p| p.name()),
+            for_code.name(),
             code.name(),
             code.name()
         )));
@@ -133,7 +149,7 @@ pub fn export(
     let input = match code {
         Code::Lammps => lammps::deck(&plan, pitfall)?,
         Code::Liggghts => liggghts::deck(&plan)?,
-        Code::Yade => yade::deck(&plan)?,
+        Code::Yade => yade::deck(&plan, pitfall)?,
     };
     Ok(Deck {
         code,

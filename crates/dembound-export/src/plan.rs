@@ -268,7 +268,9 @@ impl Plan {
                     num(poisson_ratio)
                 ));
                 if fixed {
-                    l.push("          fixed: frozen, never integrated (boundary.fixed = true)".into());
+                    l.push(
+                        "          fixed: frozen, never integrated (boundary.fixed = true)".into(),
+                    );
                 } else {
                     l.push(format!(
                         "          free sphere: rho_b = {} kg/m^3, m_b = {} kg, v_b = {} m/s; \
@@ -366,7 +368,9 @@ impl Plan {
         }
         l.push(String::new());
         l.push("output: trace.txt, every step inside windows around each exact contact:".into());
-        l.push("  time (s), overlap h (m), relative velocity v_m - v_b (m/s, upward positive),".into());
+        l.push(
+            "  time (s), overlap h (m), relative velocity v_m - v_b (m/s, upward positive),".into(),
+        );
         l.push("  contact force on the particle (N, upward positive).".into());
         l.push("Read it back with `dembound compare DIR` (DIR holds this deck, scenario.toml, trace.txt).".into());
         l
