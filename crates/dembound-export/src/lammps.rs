@@ -269,11 +269,10 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         if w.start > at {
             writeln!(
                 d,
-                "run          {}   # to step {} (t = {} s), {} steps before the exact onset",
+                "run          {}   # to step {} (t = {} s), where the trace window opens",
                 w.start - at,
                 w.start,
-                num(w.start as f64 * plan.dt),
-                12
+                num(w.start as f64 * plan.dt)
             )
             .ok();
         }
