@@ -345,3 +345,68 @@ mod yade {
         }
     }
 }
+
+/// Bad input exits 2 naming what is wrong, and leaves no deck behind.
+#[test]
+fn refusals_name_the_problem() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let out = dir.path().join("deck");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["export", "liggghts", "--pitfall", "auto-mix"],
+            "lammps pitfall",
+        ),
+        (
+            &[
+                "export",
+                "lammps",
+                "--set",
+                "contact.damping=tsuji",
+                "--set",
+                "contact.restitution=0.5",
+            ],
+            "not exported yet",
+        ),
+        (
+            &["export", "yade", "--set", "boundary.modulus_ratio=inf"],
+            "finite Young's modulus",
+        ),
+        (
+            &[
+                "export",
+                "lammps",
+                "--set",
+                "boundary.radius_ratio=inf",
+                "--pitfall",
+                "auto-mix",
+            ],
+            "boundary sphere",
+        ),
+    ];
+    for (args, needle) in cases {
+        let o = dembound()
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("dembound runs");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: `{needle}` not in {err}");
+        assert!(!out.join("in.lammps").exists() && !out.join("bounce.py").exists());
+    }
+    // compare without a trace: exit 2, saying to run the deck.
+    let o = dembound()
+        .args(["export", "lammps", "--out"])
+        .arg(&out)
+        .output()
+        .expect("dembound runs");
+    assert!(o.status.success());
+    let o = dembound()
+        .arg("compare")
+        .arg(&out)
+        .output()
+        .expect("dembound runs");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("run the deck first"));
+}
