@@ -24,27 +24,80 @@ use std::fmt::Write;
 const TRACE_TITLE: &str = "# time_s overlap_m velocity_m_s force_N";
 
 /// The granular model arguments of the pre-mixed law.
-fn model(plan: &Plan) -> String {
+/// LAMMPS's `damping tsuji` reads the coefficient as a restitution e and
+/// turns it into α = 1.2728 − 4.2783 e + 11.087 e² − 22.348 e³ + 27.467 e⁴
+/// − 18.022 e⁵ + 4.8218 e⁶ (pair_granular.cpp), then η = α √(m k_n a).
+pub fn tsuji_alpha(e: f64) -> f64 {
+    let c = [1.2728, -4.2783, 11.087, -22.348, 27.467, -18.022, 4.8218];
+    c.iter().rev().fold(0.0, |acc, k| acc * e + k)
+}
+
+/// The e to give LAMMPS's `damping tsuji` so that its α is `alpha`
+/// (bisection on [0, 1], where the polynomial falls from 1.2728 to 0.0006).
+fn tsuji_input(alpha: f64) -> Result<f64, ExportError> {
+    let (mut lo, mut hi) = (0.0, 1.0);
+    if !(tsuji_alpha(hi)..=tsuji_alpha(lo)).contains(&alpha) {
+        return Err(ExportError(format!(
+            "the Tsuji damping asks LAMMPS for alpha = {alpha}, outside what its polynomial in e \
+             gives on [0, 1] ({} to {})",
+            tsuji_alpha(hi),
+            tsuji_alpha(lo)
+        )));
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if tsuji_alpha(mid) > alpha {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(0.5 * (lo + hi))
+}
+
+fn model(plan: &Plan) -> Result<String, ExportError> {
+    // The mass LAMMPS puts in its damping: the particle's against a frozen
+    // atom or a wall, the reduced mass of two free atoms.
+    let m = plan.reduced_mass;
     match plan.law {
+        // F_damp = α √(m k_n a) δ̇ with k_n = E_eff, a = √(R δ): α = γ/(√(m E_eff) R^(1/4)).
+        Law::Tsuji { damping, clamp, .. } => {
+            let alpha =
+                damping / ((m * plan.effective_modulus).sqrt() * plan.effective_radius.powf(0.25));
+            let e = tsuji_input(alpha)?;
+            Ok(format!(
+                "hertz {} {} tangential linear_nohistory 0.0 0.0 damping tsuji{}",
+                num(plan.effective_modulus),
+                num(e),
+                if clamp { " limit_damping" } else { "" }
+            ))
+        }
+        // F_damp = η₀ a m δ̇ with a = √(R δ): η₀ = (3/2) A E_eff/m.
+        Law::Viscoelastic { a, clamp, .. } => Ok(format!(
+            "hertz {} {} tangential linear_nohistory 0.0 0.0 damping viscoelastic{}",
+            num(plan.effective_modulus),
+            num(1.5 * a * plan.effective_modulus / m),
+            if clamp { " limit_damping" } else { "" }
+        )),
         // LAMMPS multiplies by a = √(R δ) itself: k_n is E_eff, not E_eff √R_eff.
-        Law::Hertz { .. } => format!(
+        Law::Hertz { .. } => Ok(format!(
             "hertz {} 0.0 tangential linear_nohistory 0.0 0.0 damping velocity",
             num(plan.effective_modulus)
-        ),
-        Law::Linear { stiffness } => format!(
+        )),
+        Law::Linear { stiffness } => Ok(format!(
             "hooke {} 0.0 tangential linear_nohistory 0.0 0.0 damping velocity",
             num(stiffness)
-        ),
+        )),
         Law::Dashpot {
             stiffness,
             damping,
             clamp,
-        } => format!(
+        } => Ok(format!(
             "hooke {} {} tangential linear_nohistory 0.0 0.0 damping velocity{}",
             num(stiffness),
             num(damping),
             if clamp { " limit_damping" } else { "" }
-        ),
+        )),
     }
 }
 
@@ -177,7 +230,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
                  pair_style   granular\n\
                  pair_coeff   * * {m}\n\
                  pair_coeff   1 2 {m}",
-                m = model(plan)
+                m = model(plan)?
             )
             .ok();
         }
@@ -204,7 +257,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
                 "# A plane wall with the pre-mixed E_eff of the particle against the boundary's material\n\
                  # (R_eff = R_m). Not hertz/material: LAMMPS would mix the wall as the particle's material.\n\
                  fix          wall particle wall/gran granular {} zplane {} NULL",
-                model(plan),
+                model(plan)?,
                 num(z)
             )
             .ok();
@@ -294,4 +347,20 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         at = w.end;
     }
     Ok(d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tsuji_polynomial_is_inverted() {
+        // The polynomial falls monotonically on [0, 1] (1.2728 at e = 0,
+        // 3e-4 at e = 1), so bisection returns the e that produced α.
+        for e in [0.1, 0.5, 0.9] {
+            let back = tsuji_input(tsuji_alpha(e)).expect("in range");
+            assert!((back - e).abs() < 1e-12, "{e} -> {back}");
+        }
+        assert!(tsuji_input(2.0).is_err());
+    }
 }

@@ -38,6 +38,11 @@ pub fn deck(plan: &Plan) -> Result<String, ExportError> {
                 .into(),
         ));
     }
+    if matches!(plan.law, Law::Tsuji { .. } | Law::Viscoelastic { .. }) {
+        return Err(ExportError(
+            "Hertz with tsuji or viscoelastic damping is exported to LAMMPS only so far".into(),
+        ));
+    }
     let mut d = String::new();
     for line in plan.provenance() {
         writeln!(d, "# {line}").ok();
@@ -86,7 +91,9 @@ pub fn deck(plan: &Plan) -> Result<String, ExportError> {
     )
     .ok();
     let model = match plan.law {
-        Law::Hertz { .. } => "model hertz tangential no_history".to_string(),
+        Law::Hertz { .. } | Law::Tsuji { .. } | Law::Viscoelastic { .. } => {
+            "model hertz tangential no_history".to_string()
+        }
         Law::Linear { stiffness } | Law::Dashpot { stiffness, .. } => {
             let (c, clamp) = match plan.law {
                 Law::Dashpot { damping, clamp, .. } => (damping, clamp),

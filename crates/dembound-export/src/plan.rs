@@ -4,7 +4,9 @@
 
 use crate::{num, ExportError};
 use dembound_core::bounce::{plan as dembound_plan, ContactRecord, GravityOn, Scenario};
-use dembound_core::contact::{ContactLawKind, DampingKind, Dissipation, LinearDashpot};
+use dembound_core::contact::{
+    ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic, LinearDashpot,
+};
 use dembound_core::exact;
 
 /// The mobile sphere.
@@ -60,6 +62,14 @@ pub enum Law {
         damping: f64,
         clamp: bool,
     },
+    /// F = k h^(3/2) + γ h^(1/4) ḣ (Tsuji; γ in N s/m^(5/4)).
+    Tsuji {
+        stiffness: f64,
+        damping: f64,
+        clamp: bool,
+    },
+    /// F = k (h^(3/2) + (3/2) A h^(1/2) ḣ) (Kuwabara–Kono; A in s).
+    Viscoelastic { stiffness: f64, a: f64, clamp: bool },
 }
 
 /// A range of steps in which the deck writes the trace every step.
@@ -164,10 +174,45 @@ impl Plan {
                     clamp: !model.attractive,
                 }
             }
+            (ContactLawKind::Hertz, DampingKind::Tsuji) => {
+                let model = c.model();
+                let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
+                let t = HertzTsuji::calibrated(
+                    &pair,
+                    s.reduced_mass(),
+                    dissipation,
+                    model.calibration,
+                    model.attractive,
+                );
+                Law::Tsuji {
+                    stiffness: t.stiffness,
+                    damping: t.damping,
+                    clamp: !model.attractive,
+                }
+            }
+            (ContactLawKind::Hertz, DampingKind::Viscoelastic) => {
+                let model = c.model();
+                let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
+                let v = HertzViscoelastic::calibrated(
+                    &pair,
+                    s.reduced_mass(),
+                    dissipation,
+                    s.impact_speed(),
+                    model.calibration,
+                    model.attractive,
+                )
+                .map_err(|e| ExportError(e.to_string()))?;
+                Law::Viscoelastic {
+                    stiffness: v.stiffness,
+                    a: v.a,
+                    clamp: !model.attractive,
+                }
+            }
             (law, damping) => {
                 return Err(ExportError(format!(
                     "contact.law = \"{}\" with contact.damping = \"{}\" is not exported yet \
-                     (exported: hertz, linear, linear with viscous damping)",
+                     (exported: hertz, linear, linear with viscous damping, hertz with tsuji or \
+                     viscoelastic damping to LAMMPS)",
                     law.name(),
                     damping.name()
                 )))
@@ -328,6 +373,32 @@ impl Plan {
                     .map_or_else(|| "none (coefficient given)".into(), num),
                 s.contact.calibration.unwrap_or_default().name(),
                 num(damping / (2.0 * (stiffness * self.reduced_mass).sqrt()))
+            ),
+            Law::Tsuji {
+                stiffness,
+                damping,
+                clamp,
+            } => format!(
+                "law:      Hertz-Tsuji F = k h^(3/2) + gamma h^(1/4) dh/dt{}, k = {} N/m^1.5, gamma = {} N s/m^1.25 \
+                 (contact.restitution = {} by the {} calibration)",
+                if clamp { ", F = max(F, 0)" } else { "" },
+                num(stiffness),
+                num(damping),
+                s.contact
+                    .restitution
+                    .map_or_else(|| "none (coefficient given)".into(), num),
+                s.contact.calibration.unwrap_or_default().name(),
+            ),
+            Law::Viscoelastic { stiffness, a, clamp } => format!(
+                "law:      Hertz viscoelastic F = k (h^(3/2) + 3/2 A h^(1/2) dh/dt){}, k = {} N/m^1.5, A = {} s \
+                 (contact.restitution = {} by the {} calibration at the first impact speed)",
+                if clamp { ", F = max(F, 0)" } else { "" },
+                num(stiffness),
+                num(a),
+                s.contact
+                    .restitution
+                    .map_or_else(|| "none (coefficient given)".into(), num),
+                s.contact.calibration.unwrap_or_default().name(),
             ),
         });
         l.push(format!(

@@ -53,6 +53,11 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
                 .into(),
         ));
     }
+    if matches!(plan.law, Law::Tsuji { .. } | Law::Viscoelastic { .. }) {
+        return Err(ExportError(
+            "Hertz with tsuji or viscoelastic damping is exported to LAMMPS only so far".into(),
+        ));
+    }
     let mut d = String::new();
     for line in plan.provenance() {
         writeln!(d, "# {line}").ok();
@@ -103,7 +108,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         .ok();
     }
     let materials = match plan.law {
-        Law::Hertz { .. } => format!(
+        Law::Hertz { .. } | Law::Tsuji { .. } | Law::Viscoelastic { .. } => format!(
             "mat_p = O.materials.append(FrictMat(young={}, poisson={}, density={}, frictionAngle=0.0))\n\
              mat_b = O.materials.append(FrictMat(young={}, poisson={}, density={}, frictionAngle=0.0))\n\
              physics = [Ip2_FrictMat_FrictMat_MindlinPhys()]\n\
