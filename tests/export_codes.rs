@@ -431,4 +431,18 @@ fn refusals_name_the_problem() {
         .expect("dembound runs");
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("run the deck first"));
+    // A trace left by a deck of another scenario: exit 2, not a comparison.
+    let mut stale =
+        String::from("# time_s overlap_m velocity_m_s force_N scenario=0000000000000000\n");
+    for n in 0..10 {
+        stale.push_str(&format!("{n}e-7 -1e-7 -0.3 0\n"));
+    }
+    std::fs::write(out.join("trace.txt"), stale).expect("written");
+    let o = dembound()
+        .arg("compare")
+        .arg(&out)
+        .output()
+        .expect("dembound runs");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("another scenario"));
 }

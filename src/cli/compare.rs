@@ -148,8 +148,21 @@ pub fn run(args: &CompareArgs) -> CliResult {
             trace_path.display()
         ))
     })?;
-    let measured = Trace::parse(&trace_text)
-        .and_then(|t| t.contacts())
+    let trace = Trace::parse(&trace_text)
+        .map_err(|e| CliError::input(anyhow!("trace `{}`: {e}", trace_path.display())))?;
+    let expected = dembound_export::fingerprint(&scenario);
+    if let Some(found) = &trace.scenario {
+        if *found != expected {
+            return Err(CliError::input(anyhow!(
+                "trace `{}` was written by a deck of another scenario (fingerprint {found}, \
+                 `{}` has {expected}): run the deck exported with this scenario again",
+                trace_path.display(),
+                scenario_path.display()
+            )));
+        }
+    }
+    let measured = trace
+        .contacts()
         .map_err(|e| CliError::input(anyhow!("trace `{}`: {e}", trace_path.display())))?;
     let exact = exact_contacts(&scenario)?;
     let ours = simulate(&scenario, &mut ())

@@ -21,8 +21,6 @@ use crate::plan::{Boundary, Law, Plan};
 use crate::{num, ExportError, Pitfall};
 use std::fmt::Write;
 
-const TRACE_TITLE: &str = "# time_s overlap_m velocity_m_s force_N";
-
 /// The granular model arguments of the pre-mixed law.
 /// LAMMPS's `damping tsuji` reads the coefficient as a restitution e and
 /// turns it into α = 1.2728 − 4.2783 e + 11.087 e² − 22.348 e³ + 27.467 e⁴
@@ -330,7 +328,10 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
             .ok();
         }
         let target = if i == 0 {
-            format!("file trace.txt title \"{TRACE_TITLE}\"")
+            format!(
+                "file trace.txt title \"{}\"",
+                crate::trace_title(&plan.scenario)
+            )
         } else {
             "append trace.txt".into()
         };

@@ -160,6 +160,29 @@ pub fn export(
     })
 }
 
+/// A short fingerprint of a scenario (FNV-1a over its resolved values),
+/// written into the trace's header by every deck so that `dembound
+/// compare` can refuse a trace left by a deck of another scenario.
+pub fn fingerprint(scenario: &Scenario) -> String {
+    // FNV-1a, 64 bit: a few lines, stable across Rust versions (unlike
+    // std's DefaultHasher); not a security hash.
+    let text = format!("{:?}", scenario.resolved());
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// The first header line of every trace.
+pub fn trace_title(scenario: &Scenario) -> String {
+    format!(
+        "# time_s overlap_m velocity_m_s force_N scenario={}",
+        fingerprint(scenario)
+    )
+}
+
 /// A number as the decks write it: the shortest text that reads back to
 /// the same f64 (Rust's `{:e}`), which LAMMPS, LIGGGHTS and Python parse.
 pub fn num(x: f64) -> String {

@@ -217,9 +217,12 @@ pub fn deck(plan: &Plan) -> Result<String, ExportError> {
             writeln!(d, "run          {}   # to step {}", w.start - at, w.start).ok();
         }
         let target = if i == 0 {
-            "file trace.txt title \"# time_s overlap_m velocity_m_s force_N\""
+            format!(
+                "file trace.txt title \"{}\"",
+                crate::trace_title(&plan.scenario)
+            )
         } else {
-            "append trace.txt title none"
+            "append trace.txt title none".to_string()
         };
         writeln!(
             d,

@@ -41,6 +41,8 @@ pub struct Trace {
     pub samples: Vec<Sample>,
     /// The velocities are those at `time + velocity_time_offset`, s.
     pub velocity_time_offset: f64,
+    /// The scenario fingerprint in the header (`scenario=…`), if any.
+    pub scenario: Option<String>,
 }
 
 /// One contact measured in a trace, in dembound's terms (SI).
@@ -73,12 +75,19 @@ impl Trace {
     pub fn parse(text: &str) -> Result<Self, TraceError> {
         let mut samples = Vec::new();
         let mut offset = 0.0;
+        let mut scenario = None;
         for (n, line) in text.lines().enumerate() {
             let line = line.trim();
             if line.is_empty() {
                 continue;
             }
             if let Some(comment) = line.strip_prefix('#') {
+                if let Some(at) = comment.find("scenario=") {
+                    scenario = comment[at + 9..]
+                        .split_whitespace()
+                        .next()
+                        .map(String::from);
+                }
                 if let Some((key, value)) = comment.split_once('=') {
                     if key.trim() == "velocity_time_offset_s" {
                         offset = value.trim().parse().map_err(|_| {
@@ -115,6 +124,7 @@ impl Trace {
         Ok(Trace {
             samples,
             velocity_time_offset: offset,
+            scenario,
         })
     }
 

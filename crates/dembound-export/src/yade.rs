@@ -171,7 +171,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
          \x20   O.bodies[b].state.vel = Vector3(0, 0, {v_b} + g_b * O.dt / 2)\n\
          \n\
          trace = open('trace.txt', 'w')\n\
-         trace.write('# time_s overlap_m velocity_m_s force_N\\n')\n\
+         trace.write('{title}\\n')\n\
          trace.write('# velocity_time_offset_s = %r\\n' % (-O.dt / 2))\n\
          \n\
          def record():\n\
@@ -221,6 +221,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
             String::new()
         },
         windows = windows.join(", "),
+        title = crate::trace_title(&plan.scenario),
     )
     .ok();
     Ok(d)
