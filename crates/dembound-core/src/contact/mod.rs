@@ -15,24 +15,25 @@
 //! the elastic laws' inner loop is unchanged.
 
 mod dashpot;
-mod hertz;
-mod linear;
 mod no_attraction;
-mod power;
+mod physics_laws;
 mod tsuji;
 mod viscoelastic;
-mod walton_braun;
 
 pub use dashpot::{
     damping_ratio_for, free_restitution, restitution_to_damping_ratio, LinearDashpot,
 };
-pub use hertz::Hertz;
-pub use linear::LinearSpring;
+pub use dembound_physics::contact::normal::{
+    hertz::Hertz, hooke::Hooke, linear::Linear as LinearSpring, power::PowerLaw,
+    walton_braun::WaltonBraun,
+};
 pub use no_attraction::NoAttraction;
-pub use power::PowerLaw;
 pub use tsuji::{tsuji_beta, HertzTsuji};
 pub use viscoelastic::{viscoelastic_restitution, HertzViscoelastic};
-pub use walton_braun::{WaltonBraun, WaltonBraunHistory};
+
+/// What a Walton–Braun contact remembers: the physics crate's one
+/// per-pair history (largest overlap, unloading flag).
+pub type WaltonBraunHistory = dembound_physics::contact::ContactHistory;
 
 use crate::material::ContactPair;
 use serde::{Deserialize, Serialize};
@@ -200,10 +201,10 @@ impl ContactLawKind {
 /// spring that keeps a history). Use [`with_model`] for dissipative models.
 pub fn with_law<R>(kind: ContactLawKind, pair: &ContactPair, f: impl LawVisitor<Output = R>) -> R {
     match kind {
-        ContactLawKind::Linear => f.visit(LinearSpring::for_pair(pair)),
-        ContactLawKind::Hertz => f.visit(Hertz::for_pair(pair)),
-        ContactLawKind::Power(alpha) => f.visit(PowerLaw::for_pair(pair, alpha)),
-        ContactLawKind::WaltonBraun => f.visit(WaltonBraun::for_pair(pair, 1.0)),
+        ContactLawKind::Linear => f.visit(pair.law::<LinearSpring>(&[])),
+        ContactLawKind::Hertz => f.visit(pair.law::<Hertz>(&[])),
+        ContactLawKind::Power(alpha) => f.visit(pair.law::<PowerLaw>(&[alpha])),
+        ContactLawKind::WaltonBraun => f.visit(pair.law::<WaltonBraun>(&[1.0])),
     }
 }
 
@@ -365,7 +366,7 @@ pub fn with_model<R>(
     let (attractive, calibration) = (model.attractive, model.calibration);
     match (model.law, model.damping) {
         (ContactLawKind::WaltonBraun, DampingKind::None) => match need() {
-            Ok(Dissipation::Restitution(e)) => Ok(f.visit(WaltonBraun::for_pair(pair, e))),
+            Ok(Dissipation::Restitution(e)) => Ok(f.visit(pair.law::<WaltonBraun>(&[e]))),
             _ => Err(ModelError(
                 "law = \"walton-braun\" needs contact.restitution (k2 = k1/e^2)".into(),
             )),

@@ -424,6 +424,7 @@ pub fn simulate_coefficient(
             WaltonBraun {
                 loading: k1,
                 unloading: coefficient,
+                residual_fraction: 1.0 - k1 / coefficient,
             },
         ),
     }
