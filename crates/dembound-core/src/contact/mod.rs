@@ -36,6 +36,7 @@ pub use viscoelastic::{viscoelastic_restitution, HertzViscoelastic};
 pub type WaltonBraunHistory = dembound_physics::contact::ContactHistory;
 
 use crate::material::ContactPair;
+use dembound_physics::contact::registry;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -183,13 +184,32 @@ impl ContactLawKind {
         }
     }
 
+    /// The registry name (`"hertz"`), with the exponent for a power law
+    /// (`"power 1.25"`).
     pub fn name(&self) -> String {
         match *self {
-            ContactLawKind::Linear => "linear".into(),
-            ContactLawKind::Hertz => "hertz".into(),
-            ContactLawKind::Power(alpha) => format!("power {alpha}"),
-            ContactLawKind::WaltonBraun => "walton-braun".into(),
+            ContactLawKind::Power(alpha) => format!("{} {alpha}", self.row().name),
+            _ => self.row().name.into(),
         }
+    }
+
+    /// The law as the physics crate's registry configures it, with the
+    /// restitution a hysteretic law takes (k₂ = k₁/e²; 1 when absent).
+    pub fn to_physics(&self, restitution: Option<f64>) -> registry::NormalLaw {
+        match *self {
+            ContactLawKind::Linear => registry::NormalLaw::Linear,
+            ContactLawKind::Hertz => registry::NormalLaw::Hertz,
+            ContactLawKind::Power(exponent) => registry::NormalLaw::Power { exponent },
+            ContactLawKind::WaltonBraun => registry::NormalLaw::WaltonBraun {
+                restitution: restitution.unwrap_or(1.0),
+            },
+        }
+    }
+
+    /// Its row of the physics registry (name, parameters, family: the
+    /// law–damping compatibility table).
+    pub fn row(&self) -> &'static registry::NormalRow {
+        self.to_physics(None).row()
     }
 }
 
@@ -225,13 +245,30 @@ pub enum DampingKind {
 }
 
 impl DampingKind {
+    /// The registry name.
     pub fn name(&self) -> &'static str {
+        self.row().name
+    }
+
+    /// The damping as the physics crate's registry names it.
+    pub fn to_physics(&self) -> registry::DampingKind {
         match self {
-            DampingKind::None => "none",
-            DampingKind::Viscous => "viscous",
-            DampingKind::Tsuji => "tsuji",
-            DampingKind::Viscoelastic => "viscoelastic",
+            DampingKind::None => registry::DampingKind::None,
+            DampingKind::Viscous => registry::DampingKind::Viscous,
+            DampingKind::Tsuji => registry::DampingKind::Tsuji,
+            DampingKind::Viscoelastic => registry::DampingKind::Viscoelastic,
         }
+    }
+
+    /// Its row of the physics registry.
+    pub fn row(&self) -> &'static registry::DampingRow {
+        self.to_physics().row()
+    }
+
+    /// Whether it combines with `law`: the registry's one compatibility
+    /// table ([`registry::DampingRow::combines`]).
+    pub fn combines_with(&self, law: ContactLawKind) -> bool {
+        self.row().combines(law.row())
     }
 }
 
@@ -395,10 +432,10 @@ pub fn with_model<R>(
             f,
         )),
         (law, damping) => Err(ModelError(format!(
-            "contact.damping = \"{}\" does not go with law = \"{}\" (viscous needs \"linear\", \
-             tsuji and viscoelastic need \"hertz\", walton-braun is dissipative on its own)",
+            "contact.damping = \"{}\" does not go with law = \"{}\" (allowed with it: {})",
             damping.name(),
-            law.name()
+            law.row().name,
+            registry::dampings_for(law.row())
         ))),
     }
 }
