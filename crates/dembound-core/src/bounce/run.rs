@@ -10,7 +10,8 @@ use super::problem::{Problem, SimulationError};
 use super::simulate::simulate_with;
 use super::tolerance;
 use super::{InputError, Observer, RunOutcome, Scenario, StepRule};
-use crate::contact::{with_model, LawVisitor, NormalContactLaw};
+use crate::calibration::with_model;
+use crate::contact::{LawVisitor, NormalContactLaw};
 use crate::integrate::{Gear5, Scheme, Verlet};
 
 impl Problem {

@@ -11,8 +11,8 @@
 //!
 //! Dissipative laws ([`LinearDashpot`], [`HertzTsuji`], [`HertzViscoelastic`],
 //! [`WaltonBraun`]) are separate concrete types; forbidding an attractive
-//! force is the wrapper [`NoAttraction`]. [`with_model`] picks the type, so
-//! the elastic laws' inner loop is unchanged.
+//! force is the wrapper [`NoAttraction`]. [`crate::calibration::with_model`]
+//! picks the type, so the elastic laws' inner loop is unchanged.
 
 mod dashpot;
 mod no_attraction;
@@ -29,7 +29,7 @@ pub use dembound_physics::contact::normal::{
 };
 pub use no_attraction::NoAttraction;
 pub use tsuji::{tsuji_beta, HertzTsuji};
-pub use viscoelastic::{viscoelastic_restitution, HertzViscoelastic};
+pub use viscoelastic::HertzViscoelastic;
 
 /// What a Walton–Braun contact remembers: the physics crate's one
 /// per-pair history (largest overlap, unloading flag).
@@ -364,81 +364,6 @@ impl fmt::Display for ModelError {
 }
 
 impl std::error::Error for ModelError {}
-
-/// Calls `f` with the concrete law of `model` for `pair`, a body of `mass`
-/// (kg; the particle's own mass against a fixed boundary) and first impact
-/// speed `impact_speed` (m/s; used only to calibrate the viscoelastic law
-/// to a target restitution). A target restitution becomes the law's
-/// coefficient as `model.calibration` says.
-///
-/// Each dissipative law is its own type and the no-attraction clamp is the
-/// wrapper [`NoAttraction`]; elastic models go through [`with_law`]
-/// unchanged (their force is ≥ 0 for h ≥ 0, so the clamp would be a no-op).
-pub fn with_model<R>(
-    model: &ContactModel,
-    pair: &ContactPair,
-    mass: f64,
-    impact_speed: f64,
-    f: impl LawVisitor<Output = R>,
-) -> Result<R, ModelError> {
-    fn clamp<L: NormalContactLaw, R>(
-        law: L,
-        attractive: bool,
-        f: impl LawVisitor<Output = R>,
-    ) -> R {
-        if attractive {
-            f.visit(law)
-        } else {
-            f.visit(NoAttraction(law))
-        }
-    }
-    let need = || {
-        model.dissipation.ok_or_else(|| {
-            ModelError(format!(
-                "contact.damping = \"{}\" needs contact.restitution or contact.damping_coefficient",
-                model.damping.name()
-            ))
-        })
-    };
-    let (attractive, calibration) = (model.attractive, model.calibration);
-    match (model.law, model.damping) {
-        (ContactLawKind::WaltonBraun, DampingKind::None) => match need() {
-            Ok(Dissipation::Restitution(e)) => Ok(f.visit(pair.law::<WaltonBraun>(&[e]))),
-            _ => Err(ModelError(
-                "law = \"walton-braun\" needs contact.restitution (k2 = k1/e^2)".into(),
-            )),
-        },
-        (law, DampingKind::None) => Ok(with_law(law, pair, f)),
-        (ContactLawKind::Linear, DampingKind::Viscous) => Ok(clamp(
-            LinearDashpot::calibrated(pair, mass, need()?, calibration, attractive),
-            attractive,
-            f,
-        )),
-        (ContactLawKind::Hertz, DampingKind::Tsuji) => Ok(clamp(
-            HertzTsuji::calibrated(pair, mass, need()?, calibration, attractive),
-            attractive,
-            f,
-        )),
-        (ContactLawKind::Hertz, DampingKind::Viscoelastic) => Ok(clamp(
-            HertzViscoelastic::calibrated(
-                pair,
-                mass,
-                need()?,
-                impact_speed,
-                calibration,
-                attractive,
-            )?,
-            attractive,
-            f,
-        )),
-        (law, damping) => Err(ModelError(format!(
-            "contact.damping = \"{}\" does not go with law = \"{}\" (allowed with it: {})",
-            damping.name(),
-            law.row().name,
-            registry::dampings_for(law.row())
-        ))),
-    }
-}
 
 /// A generic computation over a concrete law type (see [`with_law`]).
 pub trait LawVisitor {
