@@ -18,6 +18,7 @@ pub mod warnings;
 use crate::output::files::AtomicDir;
 use crate::output::interrupt;
 use clap::{Parser, Subcommand};
+use std::cell::RefCell;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -87,7 +88,8 @@ impl CliError {
         }
     }
 
-    fn error(&self) -> &anyhow::Error {
+    /// The error, with its context.
+    pub fn error(&self) -> &anyhow::Error {
         match self {
             CliError::Input(e) | CliError::Failed(e) => e,
         }
@@ -102,7 +104,20 @@ pub fn main() -> ExitCode {
     // Usage errors exit 2 and --help/--version exit 0, both printed by clap.
     let cli = Cli::parse();
     interrupt::install();
-    let result = match &cli.command {
+    match dispatch(&cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        // The reader of stdout went away (e.g. `| head`): stop quietly.
+        Err(e) if is_broken_pipe(e.error()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {:#}", e.error());
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+/// Runs the subcommand of a parsed command line.
+pub fn dispatch(cli: &Cli) -> CliResult {
+    match &cli.command {
         Command::Run(args) => run::run(args),
         Command::Exact(args) => exact::run(args),
         Command::Validate(args) => validate::run(args),
@@ -112,16 +127,40 @@ pub fn main() -> ExitCode {
         Command::Restitution(args) => restitution::run(args),
         Command::Scene(args) => scene::run(args),
         Command::Keys(args) => keys::run(args),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        // The reader of stdout went away (e.g. `| head`): stop quietly.
-        Err(e) if is_broken_pipe(e.error()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {:#}", e.error());
-            ExitCode::from(e.exit_code())
-        }
     }
+}
+
+thread_local! {
+    /// Set inside [`capture_json`]: the `--json` document lands here instead
+    /// of on stdout.
+    static JSON_CAPTURE: RefCell<Option<Option<serde_json::Value>>> = const { RefCell::new(None) };
+}
+
+/// The text a `--json` command prints: `doc` pretty-printed with a final
+/// newline. Inside [`capture_json`] the document is kept as a value
+/// instead (the same serialisation, so the same numbers bit for bit) and
+/// the text is empty.
+pub fn json_text(doc: &impl serde::Serialize) -> CliResult<String> {
+    let captured = JSON_CAPTURE.with(|slot| match slot.borrow_mut().as_mut() {
+        Some(kept) => Some(serde_json::to_value(doc).map(|v| *kept = Some(v))),
+        None => None,
+    });
+    match captured {
+        Some(result) => result.map(|()| String::new()).map_err(CliError::failed),
+        None => serde_json::to_string_pretty(doc)
+            .map(|text| text + "\n")
+            .map_err(CliError::failed),
+    }
+}
+
+/// Runs `f` (a command with `--json`) and returns the JSON document it
+/// would have printed, as a value: how the Python bindings get exactly the
+/// CLI's `--json` structures. `None` if the command printed none.
+pub fn capture_json(f: impl FnOnce() -> CliResult) -> CliResult<Option<serde_json::Value>> {
+    let previous = JSON_CAPTURE.with(|slot| slot.replace(Some(None)));
+    let result = f();
+    let kept = JSON_CAPTURE.with(|slot| slot.replace(previous)).flatten();
+    result.map(|()| kept)
 }
 
 /// The output directory of `--out`, opened (made if missing, a staging
