@@ -322,13 +322,25 @@ def batch(scenario: ScenarioLike = None, **keys: Any) -> dict[str, np.ndarray]:
     for name, value in keys.items():
         key = _ALIASES.get(name, name.replace("__", "."))
         if isinstance(value, (np.ndarray, list, tuple)):
-            varying[key] = np.asarray(value, dtype=np.float64)
+            allowed = [k for k, _ in _native.batch_keys()]
+            if key not in allowed:
+                raise ValueError(
+                    f"`{key}` cannot vary case by case in batch(); the keys that can: {', '.join(allowed)}"
+                )
+            try:
+                varying[key] = np.asarray(value, dtype=np.float64)
+            except (TypeError, ValueError) as e:
+                raise ValueError(f"`{key}`: the values must be numbers ({e})") from None
         else:
             fixed[key] = value
     shape: tuple[int, ...] = ()
     columns = []
     if varying:
-        arrays = np.broadcast_arrays(*varying.values())
+        try:
+            arrays = np.broadcast_arrays(*varying.values())
+        except ValueError:
+            shapes = ", ".join(f"`{k}` {a.shape}" for k, a in varying.items())
+            raise ValueError(f"the per-case arrays do not broadcast to one shape: {shapes}") from None
         shape = arrays[0].shape
         columns = [(k, np.ascontiguousarray(a, dtype=np.float64).ravel()) for k, a in zip(varying, arrays)]
     path, sets = _scenario_args(scenario, {})

@@ -195,7 +195,7 @@ pub fn batch<'py>(
                 let outcome = outcome.map_err(|e| {
                     let case: Vec<String> = setters
                         .iter()
-                        .map(|(k, _, v)| format!("{k}={}", v[i]))
+                        .map(|(k, _, v)| format!("{k}={:?}", v[i]))
                         .collect();
                     match simulation_failure(e) {
                         Failure::Input(m) => {
