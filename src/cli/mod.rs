@@ -141,9 +141,10 @@ thread_local! {
 /// instead (the same serialisation, so the same numbers bit for bit) and
 /// the text is empty.
 pub fn json_text(doc: &impl serde::Serialize) -> CliResult<String> {
-    let captured = JSON_CAPTURE.with(|slot| match slot.borrow_mut().as_mut() {
-        Some(kept) => Some(serde_json::to_value(doc).map(|v| *kept = Some(v))),
-        None => None,
+    let captured = JSON_CAPTURE.with(|slot| {
+        slot.borrow_mut()
+            .as_mut()
+            .map(|kept| serde_json::to_value(doc).map(|v| *kept = Some(v)))
     });
     match captured {
         Some(result) => result.map(|()| String::new()).map_err(CliError::failed),

@@ -119,8 +119,10 @@ pub fn batch_keys() -> Vec<(&'static str, &'static str)> {
     BATCH_KEYS.iter().map(|(k, u, _)| (*k, *u)).collect()
 }
 
-/// Per-contact quantities of [`batch`]'s result: (name, field).
-const BATCH_QUANTITIES: [(&str, fn(&ContactRecord) -> f64); 11] = [
+/// A per-contact quantity of [`batch`]'s result: (name, field).
+type Quantity = (&'static str, fn(&ContactRecord) -> f64);
+
+const BATCH_QUANTITIES: [Quantity; 11] = [
     ("t_contact", |c| c.t_contact),
     ("t_max_overlap", |c| c.t_max_overlap),
     ("t_rebound", |c| c.t_rebound),
