@@ -116,3 +116,15 @@ def test_restitution_target(cli_json):
 
 def test_keys(cli_json):
     assert_same(dembound.keys(), cli_json(["keys", "--json"]))
+
+
+def test_cli_warnings_are_python_warnings(cli):
+    # The CLI warns on stderr for a radius above 0.1 m; Python gets the same
+    # text as a UserWarning, and the same document.
+    import pytest
+
+    stderr = cli(["run", "--json", "--quiet", "--set", "particle.radius=0.2"]).stderr
+    line = next(s for s in stderr.splitlines() if s.startswith("warning: "))
+    with pytest.warns(UserWarning) as caught:
+        dembound.run(particle__radius=0.2)
+    assert line[len("warning: "):] in [str(w.message) for w in caught]

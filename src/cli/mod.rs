@@ -154,6 +154,32 @@ pub fn json_text(doc: &impl serde::Serialize) -> CliResult<String> {
     }
 }
 
+thread_local! {
+    /// Set inside [`capture_warnings`]: warnings are kept, not printed.
+    static WARNING_CAPTURE: RefCell<Option<Vec<String>>> = const { RefCell::new(None) };
+}
+
+/// Keeps a warning if [`capture_warnings`] is active (true), else leaves
+/// it to be printed (false).
+pub fn capture_warning(warning: &str) -> bool {
+    WARNING_CAPTURE.with(|slot| match slot.borrow_mut().as_mut() {
+        Some(kept) => {
+            kept.push(warning.to_string());
+            true
+        }
+        None => false,
+    })
+}
+
+/// Runs `f` and returns the warnings it would have printed to stderr (the
+/// Python bindings raise them as Python warnings).
+pub fn capture_warnings<T>(f: impl FnOnce() -> T) -> (T, Vec<String>) {
+    let previous = WARNING_CAPTURE.with(|slot| slot.replace(Some(Vec::new())));
+    let result = f();
+    let kept = WARNING_CAPTURE.with(|slot| slot.replace(previous));
+    (result, kept.unwrap_or_default())
+}
+
 /// Runs `f` (a command with `--json`) and returns the JSON document it
 /// would have printed, as a value: how the Python bindings get exactly the
 /// CLI's `--json` structures. `None` if the command printed none.

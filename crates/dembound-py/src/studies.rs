@@ -3,12 +3,12 @@
 
 use crate::errors::{guarded, usage, Failure};
 use clap::Parser;
-use dembound::cli::{capture_json, dispatch, Cli};
+use dembound::cli::{capture_json, capture_warnings, dispatch, Cli};
 use dembound::output::history::HistoryRecorder;
 use dembound::scenario_file::ScenarioArgs;
 use dembound_core::bounce::{simulate, simulate_batch, ContactRecord, Scenario, SimulationError};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::PyRuntimeError;
+use pyo3::exceptions::{PyRuntimeError, PyUserWarning};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -19,13 +19,22 @@ use std::path::PathBuf;
 /// released while it runs.
 #[pyfunction]
 pub fn cli_json(py: Python<'_>, argv: Vec<String>) -> PyResult<Py<PyAny>> {
-    let value = py.detach(|| {
-        guarded(|| {
-            let cli = Cli::try_parse_from(std::iter::once("dembound".to_string()).chain(argv))
-                .map_err(|e| usage(&e))?;
-            capture_json(|| dispatch(&cli)).map_err(Failure::from)
+    let (value, warnings) = py.detach(|| {
+        capture_warnings(|| {
+            guarded(|| {
+                let cli = Cli::try_parse_from(std::iter::once("dembound".to_string()).chain(argv))
+                    .map_err(|e| usage(&e))?;
+                capture_json(|| dispatch(&cli)).map_err(Failure::from)
+            })
         })
-    })?;
+    });
+    // The CLI's `warning: …` lines on stderr, as Python warnings.
+    for w in warnings {
+        let text = std::ffi::CString::new(w.replace('\0', " "))
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &text, 1)?;
+    }
+    let value = value?;
     match value {
         Some(v) => Ok(pythonize::pythonize(py, &v)?.unbind()),
         None => Err(PyRuntimeError::new_err(
