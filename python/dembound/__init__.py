@@ -22,6 +22,7 @@ the value and the allowed range; a run that fails raises
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from collections.abc import Mapping
@@ -31,6 +32,11 @@ import numpy as np
 
 from . import _native
 from ._native import Scene
+
+
+def _cli(argv: list[str]) -> Any:
+    """``dembound ARGV…`` (with ``--json``) in this process: its document."""
+    return json.loads(_native.cli_json(argv))
 
 __all__ = [
     "run",
@@ -159,7 +165,7 @@ def run(
         argv.append("--compare-exact")
     if force:
         argv.append("--force")
-    doc = _native.cli_json(argv)
+    doc = _cli(argv)
     if history is not None:
         if int(history) < 1:
             raise ValueError(f"history: {history} rows (allowed: 1 or more)")
@@ -183,13 +189,13 @@ def history(scenario: ScenarioLike = None, *, points: int = 10_000, **keys: Any)
 def exact(scenario: ScenarioLike = None, **keys: Any) -> dict:
     """The exact per-contact values and the paper's estimates (eqs 26–30):
     ``dembound exact --json``. SI values."""
-    return _native.cli_json(_argv("exact", scenario, keys))
+    return _cli(_argv("exact", scenario, keys))
 
 
 def validate() -> dict:
     """The paper's Tables 1–2 against the exact reference and the convergence
     study in Δt: ``dembound validate --json``."""
-    return _native.cli_json(["validate", "--json", "--quiet"])
+    return _cli(["validate", "--json", "--quiet"])
 
 
 def sweep(
@@ -219,7 +225,7 @@ def sweep(
     _option(argv, "--law", law)
     for key, values in (vary or {}).items():
         argv += ["--vary", f"{key.replace('__', '.')}={_list(values)}"]
-    return _native.cli_json(argv)
+    return _cli(argv)
 
 
 def recommend(
@@ -247,7 +253,7 @@ def recommend(
     _option(argv, "--quantity", quantity)
     _option(argv, "--r", r)
     _option(argv, "--zeta", zeta)
-    return _native.cli_json(argv)
+    return _cli(argv)
 
 
 def restitution(
@@ -273,13 +279,13 @@ def restitution(
     _option(argv, "--zeta", zeta)
     if calibrate is not None:
         argv += ["--calibrate", calibrate]
-    return _native.cli_json(argv)
+    return _cli(argv)
 
 
 def keys() -> Any:
     """Every scenario key with its unit, default and allowed range
     (``dembound keys --json``)."""
-    return _native.cli_json(["keys", "--json"])
+    return _cli(["keys", "--json"])
 
 
 def scene(path: Union[str, "os.PathLike[str]"], *, threads: Optional[int] = None, **keys: Any) -> dict:
@@ -292,7 +298,7 @@ def scene(path: Union[str, "os.PathLike[str]"], *, threads: Optional[int] = None
         argv += ["--set", f"{name.replace('__', '.')}={_toml(value)}"]
     if threads is not None:
         argv += ["--threads", str(int(threads))]
-    return _native.cli_json(argv)
+    return _cli(argv)
 
 
 _ALIASES = {"r": "boundary.radius_ratio", "zeta": "boundary.modulus_ratio"}

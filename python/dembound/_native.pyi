@@ -12,10 +12,11 @@ __version__: str
 
 _Path = Union[str, PathLike[str]]
 
-def cli_json(argv: list[str]) -> Any:
+def cli_json(argv: list[str]) -> str:
     """Runs ``dembound ARGV…`` (a command with ``--json``) in this process
-    and returns its JSON document as dicts, lists, floats, ints and strings:
-    the CLI's document bit for bit. GIL released while it runs.
+    and returns its JSON document as compact JSON text (read it with
+    ``json.loads``: the CLI's document, floats bit for bit). GIL released
+    while it runs; the CLI's warnings become ``UserWarning``.
 
     Raises ValueError (bad input: exit code 2 of the CLI, the same message,
     naming the key, the value and the allowed range) or RuntimeError (a run

@@ -131,20 +131,20 @@ pub fn dispatch(cli: &Cli) -> CliResult {
 }
 
 thread_local! {
-    /// Set inside [`capture_json`]: the `--json` document lands here instead
-    /// of on stdout.
-    static JSON_CAPTURE: RefCell<Option<Option<serde_json::Value>>> = const { RefCell::new(None) };
+    /// Set inside [`capture_json`]: the `--json` document lands here (as
+    /// compact JSON text) instead of on stdout.
+    static JSON_CAPTURE: RefCell<Option<Option<String>>> = const { RefCell::new(None) };
 }
 
 /// The text a `--json` command prints: `doc` pretty-printed with a final
-/// newline. Inside [`capture_json`] the document is kept as a value
-/// instead (the same serialisation, so the same numbers bit for bit) and
-/// the text is empty.
+/// newline. Inside [`capture_json`] the document is kept as compact JSON
+/// text instead (the same serialisation, so the same numbers bit for bit)
+/// and the text returned is empty.
 pub fn json_text(doc: &impl serde::Serialize) -> CliResult<String> {
     let captured = JSON_CAPTURE.with(|slot| {
         slot.borrow_mut()
             .as_mut()
-            .map(|kept| serde_json::to_value(doc).map(|v| *kept = Some(v)))
+            .map(|kept| serde_json::to_string(doc).map(|text| *kept = Some(text)))
     });
     match captured {
         Some(result) => result.map(|()| String::new()).map_err(CliError::failed),
@@ -181,9 +181,9 @@ pub fn capture_warnings<T>(f: impl FnOnce() -> T) -> (T, Vec<String>) {
 }
 
 /// Runs `f` (a command with `--json`) and returns the JSON document it
-/// would have printed, as a value: how the Python bindings get exactly the
-/// CLI's `--json` structures. `None` if the command printed none.
-pub fn capture_json(f: impl FnOnce() -> CliResult) -> CliResult<Option<serde_json::Value>> {
+/// would have printed, as compact JSON text: how the Python bindings get
+/// exactly the CLI's `--json` documents. `None` if the command printed none.
+pub fn capture_json(f: impl FnOnce() -> CliResult) -> CliResult<Option<String>> {
     let previous = JSON_CAPTURE.with(|slot| slot.replace(Some(None)));
     let result = f();
     let kept = JSON_CAPTURE.with(|slot| slot.replace(previous)).flatten();
