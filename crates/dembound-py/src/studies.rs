@@ -44,16 +44,16 @@ pub fn cli_json(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
     Ok(text?)
 }
 
-/// The scenario of a file and `--set` overrides, validated, every default
-/// written out.
+/// The scenario of a file and `--set` overrides, validated (as loaded:
+/// `run` and `simulate` treat an unset η as η = 1/50 alike, and
+/// `Scenario::validate`, run again for every case of a batch, costs less
+/// with fewer optional keys set).
 fn scenario(path: Option<String>, sets: Vec<String>) -> Result<Scenario, Failure> {
     let args = ScenarioArgs {
         scenario: path.map(PathBuf::from),
         set: sets,
     };
-    args.load()
-        .map(|s| s.resolved())
-        .map_err(|e| Failure::Input(format!("{e:#}")))
+    args.load().map_err(|e| Failure::Input(format!("{e:#}")))
 }
 
 fn simulation_failure(e: SimulationError) -> Failure {
