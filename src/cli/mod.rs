@@ -3,7 +3,9 @@
 //! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
+pub mod compare;
 pub mod exact;
+pub mod export;
 pub mod keys;
 pub mod lists;
 pub mod paper;
@@ -61,6 +63,13 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Every scenario key with its unit, default and allowed range
     Keys(keys::KeysArgs),
+    /// Write a LAMMPS or LIGGGHTS deck or a Yade script that reproduces
+    /// the scenario (pre-mixed moduli, damping in the code's convention,
+    /// dembound's Δt, a per-step trace)
+    Export(export::ExportArgs),
+    /// Read the trace an exported deck wrote and print its h_max, T_c,
+    /// v_r, e beside dembound's and the exact reference
+    Compare(compare::CompareArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -127,6 +136,8 @@ pub fn dispatch(cli: &Cli) -> CliResult {
         Command::Restitution(args) => restitution::run(args),
         Command::Scene(args) => scene::run(args),
         Command::Keys(args) => keys::run(args),
+        Command::Export(args) => export::run(args),
+        Command::Compare(args) => compare::run(args),
     }
 }
 

@@ -4,4 +4,5 @@
 pub mod collisions;
 pub mod contacts;
 pub mod integrate;
+pub mod kinks;
 pub mod walls;
