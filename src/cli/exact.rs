@@ -241,8 +241,7 @@ pub fn run(args: &ExactArgs) -> CliResult {
             paper_estimates: &estimates,
             notes: vec![paper::BRILLIANTOV_NOT_REPRODUCIBLE],
         };
-        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
-        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&report)?).map_err(CliError::failed)?;
     } else {
         writeln!(
             stdout,

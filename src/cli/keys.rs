@@ -246,8 +246,7 @@ pub fn run(args: &KeysArgs) -> CliResult {
     let keys = keys();
     let mut stdout = std::io::stdout().lock();
     if args.json {
-        let text = serde_json::to_string_pretty(&keys).map_err(CliError::failed)?;
-        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&keys)?).map_err(CliError::failed)?;
     } else {
         let mut table = Table::new();
         table

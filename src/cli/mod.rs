@@ -20,6 +20,7 @@ pub mod warnings;
 use crate::output::files::AtomicDir;
 use crate::output::interrupt;
 use clap::{Parser, Subcommand};
+use std::cell::RefCell;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -96,7 +97,8 @@ impl CliError {
         }
     }
 
-    fn error(&self) -> &anyhow::Error {
+    /// The error, with its context.
+    pub fn error(&self) -> &anyhow::Error {
         match self {
             CliError::Input(e) | CliError::Failed(e) => e,
         }
@@ -111,7 +113,20 @@ pub fn main() -> ExitCode {
     // Usage errors exit 2 and --help/--version exit 0, both printed by clap.
     let cli = Cli::parse();
     interrupt::install();
-    let result = match &cli.command {
+    match dispatch(&cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        // The reader of stdout went away (e.g. `| head`): stop quietly.
+        Err(e) if is_broken_pipe(e.error()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {:#}", e.error());
+            ExitCode::from(e.exit_code())
+        }
+    }
+}
+
+/// Runs the subcommand of a parsed command line.
+pub fn dispatch(cli: &Cli) -> CliResult {
+    match &cli.command {
         Command::Run(args) => run::run(args),
         Command::Exact(args) => exact::run(args),
         Command::Validate(args) => validate::run(args),
@@ -123,16 +138,67 @@ pub fn main() -> ExitCode {
         Command::Keys(args) => keys::run(args),
         Command::Export(args) => export::run(args),
         Command::Compare(args) => compare::run(args),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        // The reader of stdout went away (e.g. `| head`): stop quietly.
-        Err(e) if is_broken_pipe(e.error()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {:#}", e.error());
-            ExitCode::from(e.exit_code())
-        }
     }
+}
+
+thread_local! {
+    /// Set inside [`capture_json`]: the `--json` document lands here (as
+    /// compact JSON text) instead of on stdout.
+    static JSON_CAPTURE: RefCell<Option<Option<String>>> = const { RefCell::new(None) };
+}
+
+/// The text a `--json` command prints: `doc` pretty-printed with a final
+/// newline. Inside [`capture_json`] the document is kept as compact JSON
+/// text instead (the same serialisation, so the same numbers bit for bit)
+/// and the text returned is empty.
+pub fn json_text(doc: &impl serde::Serialize) -> CliResult<String> {
+    let captured = JSON_CAPTURE.with(|slot| {
+        slot.borrow_mut()
+            .as_mut()
+            .map(|kept| serde_json::to_string(doc).map(|text| *kept = Some(text)))
+    });
+    match captured {
+        Some(result) => result.map(|()| String::new()).map_err(CliError::failed),
+        None => serde_json::to_string_pretty(doc)
+            .map(|text| text + "\n")
+            .map_err(CliError::failed),
+    }
+}
+
+thread_local! {
+    /// Set inside [`capture_warnings`]: warnings are kept, not printed.
+    static WARNING_CAPTURE: RefCell<Option<Vec<String>>> = const { RefCell::new(None) };
+}
+
+/// Keeps a warning if [`capture_warnings`] is active (true), else leaves
+/// it to be printed (false).
+pub fn capture_warning(warning: &str) -> bool {
+    WARNING_CAPTURE.with(|slot| match slot.borrow_mut().as_mut() {
+        Some(kept) => {
+            kept.push(warning.to_string());
+            true
+        }
+        None => false,
+    })
+}
+
+/// Runs `f` and returns the warnings it would have printed to stderr (the
+/// Python bindings raise them as Python warnings).
+pub fn capture_warnings<T>(f: impl FnOnce() -> T) -> (T, Vec<String>) {
+    let previous = WARNING_CAPTURE.with(|slot| slot.replace(Some(Vec::new())));
+    let result = f();
+    let kept = WARNING_CAPTURE.with(|slot| slot.replace(previous));
+    (result, kept.unwrap_or_default())
+}
+
+/// Runs `f` (a command with `--json`) and returns the JSON document it
+/// would have printed, as compact JSON text: how the Python bindings get
+/// exactly the CLI's `--json` documents. `None` if the command printed none.
+pub fn capture_json(f: impl FnOnce() -> CliResult) -> CliResult<Option<String>> {
+    let previous = JSON_CAPTURE.with(|slot| slot.replace(Some(None)));
+    let result = f();
+    let kept = JSON_CAPTURE.with(|slot| slot.replace(previous)).flatten();
+    result.map(|()| kept)
 }
 
 /// The output directory of `--out`, opened (made if missing, a staging

@@ -314,7 +314,7 @@ pub fn run(args: &RecommendArgs) -> CliResult {
     if args.json {
         let value = json(&base, reference, t, &limits, &tradeoffs, &deviations)
             .map_err(CliError::failed)?;
-        out = serde_json::to_string_pretty(&value).map_err(CliError::failed)? + "\n";
+        out = super::json_text(&value)?;
     } else {
         out.push_str(&context(&base, reference, &question));
         if let Some(t) = t {

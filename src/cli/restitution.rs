@@ -322,8 +322,7 @@ fn reverse(args: &RestitutionArgs, lists: &Lists, base: &Scenario, target: f64) 
                 si: boundary::SiBoundary::new(base, a.radius_ratio, a.modulus_ratio),
             })
             .collect();
-        let text = serde_json::to_string_pretty(&answers).map_err(CliError::failed)?;
-        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&answers)?).map_err(CliError::failed)?;
     } else {
         let mapping = base.contact.calibration.unwrap_or_default();
         writeln!(

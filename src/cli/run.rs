@@ -127,8 +127,7 @@ pub fn run(args: &RunArgs) -> CliResult {
     if args.json {
         let mut report = RunReport::new(&scenario, &outcome);
         report.relative_errors = errors;
-        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
-        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&report)?).map_err(CliError::failed)?;
     } else {
         let pilots = match outcome.pilot_steps {
             Some(pilot) => format!(

@@ -186,8 +186,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
 
     let mut stdout = std::io::stdout().lock();
     if args.json {
-        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
-        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&report)?).map_err(CliError::failed)?;
     } else {
         write!(stdout, "{}", summary(&report, &resolved)).map_err(CliError::failed)?;
         for path in written.unwrap_or_default() {

@@ -230,8 +230,7 @@ pub fn run(args: &SweepArgs) -> CliResult {
     let mut stdout = std::io::stdout().lock();
     if args.json {
         let json = sweep_json(&result).map_err(CliError::failed)?;
-        let text = serde_json::to_string_pretty(&json).map_err(CliError::failed)?;
-        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&json)?).map_err(CliError::failed)?;
     } else {
         writeln!(stdout, "{}", table(&result)).map_err(CliError::failed)?;
         writeln!(

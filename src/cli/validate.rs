@@ -105,7 +105,7 @@ pub fn run(args: &ValidateArgs) -> CliResult {
 
     let mut stdout = std::io::stdout().lock();
     if args.json {
-        writeln!(stdout, "{json}").map_err(CliError::failed)?;
+        write!(stdout, "{}", super::json_text(&report)?).map_err(CliError::failed)?;
     } else {
         write!(
             stdout,

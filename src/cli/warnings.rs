@@ -66,7 +66,9 @@ pub fn contacts(s: &Scenario, contacts: &[ContactRecord]) -> Vec<String> {
 /// Prints `warnings` on stderr.
 pub fn print(warnings: &[String]) {
     for w in warnings {
-        eprintln!("warning: {w}");
+        if !super::capture_warning(w) {
+            eprintln!("warning: {w}");
+        }
     }
 }
 

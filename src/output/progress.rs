@@ -37,6 +37,12 @@ impl Progress {
     }
 }
 
+impl Default for Progress {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl Observer for Progress {
     const ACTIVE: bool = false;
 

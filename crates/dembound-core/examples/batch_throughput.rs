@@ -1,6 +1,7 @@
 //! Cases per second of a 10,000-case Hertz sweep (the validation case with
 //! r, ζ and the impact speed varied), scalar against batched, on 1 and 2
-//! threads: `cargo run --release -p dembound-core --example batch_throughput [N]`.
+//! threads: `cargo run --release -p dembound-core --example batch_throughput [N]`;
+//! `… batch_throughput N batch K`: `simulate_batch` alone, best of K.
 #[path = "../benches/common/mod.rs"]
 mod common;
 
@@ -28,6 +29,28 @@ fn main() {
         }
         Some("batch-avx2") => {
             println!("{}", simulate_batch_with(&cases, Isa::Avx2).len());
+            return;
+        }
+        // The path the Python package's `dembound.batch` runs
+        // (`simulate_batch`: detected ISA, global pool), best of K:
+        // bench/python_batch.py measures the same cases from Python.
+        Some("batch") => {
+            let k: usize = std::env::args()
+                .nth(3)
+                .and_then(|a| a.parse().ok())
+                .unwrap_or(10);
+            let best = (0..k)
+                .map(|_| {
+                    let t = Instant::now();
+                    let ok = dembound_core::bounce::simulate_batch(&cases)
+                        .iter()
+                        .filter(|r| r.is_ok())
+                        .count();
+                    assert_eq!(ok, n);
+                    t.elapsed().as_secs_f64()
+                })
+                .fold(f64::INFINITY, f64::min);
+            println!("rust simulate_batch: {:.0} cases/s", n as f64 / best);
             return;
         }
         _ => {}

@@ -1,0 +1,483 @@
+//! The scene engine as the Python class `dembound.Scene`: build from a
+//! scene file or a dict, add spheres and plane walls from arrays, step,
+//! read the state as NumPy arrays, write VTK snapshots and checkpoints.
+
+use crate::errors::{guarded, Failure};
+use dembound_scene::io::checkpoint::{self, CheckpointFile};
+use dembound_scene::io::config::{self, SceneFile};
+use dembound_scene::io::resolve::resolve;
+use dembound_scene::io::vtk;
+use dembound_scene::setup::{SceneSetup, SphereInit, WallSetup};
+use dembound_scene::{Partner, SceneError, Simulation};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyType};
+use std::path::{Path, PathBuf};
+
+fn scene_failure(e: SceneError) -> Failure {
+    if e.is_input() {
+        Failure::Input(e.to_string())
+    } else {
+        Failure::Failed(e.to_string())
+    }
+}
+
+/// Rows of 3 as an (n, 3) array.
+fn rows3<'py>(py: Python<'py>, rows: Vec<[f64; 3]>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = rows.len();
+    let flat: Vec<f64> = rows.into_iter().flatten().collect();
+    flat.into_pyarray(py).reshape([n, 3])
+}
+
+/// A many-particle scene (spheres, plane walls, walls of boundary
+/// particles). SI throughout: m, m/s, N, J, s.
+#[pyclass(module = "dembound._native")]
+pub struct Scene {
+    sim: Simulation,
+    setup: SceneSetup,
+    file: SceneFile,
+    threads: usize,
+}
+
+impl Scene {
+    fn build(file: SceneFile, base: &Path, threads: usize) -> Result<Scene, Failure> {
+        let resolved = resolve(&file, base).map_err(scene_failure)?;
+        let sim = Simulation::new(resolved.setup.clone(), threads).map_err(scene_failure)?;
+        Ok(Scene {
+            sim,
+            setup: resolved.setup,
+            file: resolved.file,
+            threads,
+        })
+    }
+
+    /// Rebuilds the simulation after the setup changed (only before the
+    /// first step).
+    fn rebuild(&mut self, what: &str) -> Result<(), Failure> {
+        if self.sim.steps_done() > 0 {
+            return Err(Failure::Input(format!(
+                "{what}: the scene has run {} steps; bodies and walls can be added only before the first step",
+                self.sim.steps_done()
+            )));
+        }
+        self.sim = Simulation::new(self.setup.clone(), self.threads).map_err(scene_failure)?;
+        Ok(())
+    }
+}
+
+fn threads_or_one(threads: Option<usize>) -> Result<usize, Failure> {
+    match threads {
+        None => Ok(1),
+        Some(0) => Err(Failure::Input(
+            "threads: 0 (allowed: 1 or more)".to_string(),
+        )),
+        Some(n) => Ok(n),
+    }
+}
+
+#[pymethods]
+impl Scene {
+    /// A scene from a scene file (TOML, SI) with `--set`-style overrides
+    /// (`["integration.steps=500"]`); relative source paths are taken from
+    /// the file's directory. `threads`: worker threads (results do not
+    /// depend on it), default 1.
+    #[classmethod]
+    #[pyo3(signature = (path, sets = Vec::new(), threads = None))]
+    fn from_toml(
+        _cls: &Bound<'_, PyType>,
+        py: Python<'_>,
+        path: PathBuf,
+        sets: Vec<String>,
+        threads: Option<usize>,
+    ) -> PyResult<Scene> {
+        Ok(py.detach(|| {
+            guarded(|| {
+                let threads = threads_or_one(threads)?;
+                let file = config::read(&path, &sets).map_err(scene_failure)?;
+                let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+                Scene::build(file, &base, threads)
+            })
+        })?)
+    }
+
+    /// A scene from a dict with the scene file's structure; relative source
+    /// paths are taken from `base_dir` (default: the current directory).
+    #[classmethod]
+    #[pyo3(signature = (scene, base_dir = None, threads = None))]
+    fn from_dict(
+        _cls: &Bound<'_, PyType>,
+        py: Python<'_>,
+        scene: &Bound<'_, PyDict>,
+        base_dir: Option<PathBuf>,
+        threads: Option<usize>,
+    ) -> PyResult<Scene> {
+        let table: toml::Table = pythonize::depythonize(scene.as_any())
+            .map_err(|e| Failure::Input(format!("scene dict: {e}")))?;
+        Ok(py.detach(|| {
+            guarded(|| {
+                let threads = threads_or_one(threads)?;
+                let file = config::from_table(table, "<dict>").map_err(scene_failure)?;
+                let base = base_dir.unwrap_or_else(|| PathBuf::from("."));
+                Scene::build(file, &base, threads)
+            })
+        })?)
+    }
+
+    /// A scene continued from a checkpoint written by `checkpoint()` or
+    /// `dembound scene --out` (the scene recorded in it; bodies added from
+    /// arrays are not recorded there: restore those with `restore()`).
+    #[classmethod]
+    #[pyo3(signature = (path, threads = None))]
+    fn from_checkpoint(
+        _cls: &Bound<'_, PyType>,
+        py: Python<'_>,
+        path: PathBuf,
+        threads: Option<usize>,
+    ) -> PyResult<Scene> {
+        Ok(py.detach(|| {
+            guarded(|| {
+                let threads = threads_or_one(threads)?;
+                let saved = checkpoint::read(&path).map_err(scene_failure)?;
+                let mut scene = Scene::build(saved.scene, Path::new("."), threads)?;
+                scene.sim = Simulation::restore(scene.setup.clone(), &saved.state, threads)
+                    .map_err(scene_failure)?;
+                Ok(scene)
+            })
+        })?)
+    }
+
+    /// Adds spheres before the first step: `positions` (n, 3) m, `radii`
+    /// (n,) m, optional `velocities` (n, 3) m/s, `fixed` (n,) bool and the
+    /// material index (in the scene's `[[material]]` order).
+    #[pyo3(signature = (positions, radii, velocities = None, fixed = None, material = 0))]
+    fn add_particles(
+        &mut self,
+        positions: PyReadonlyArray2<'_, f64>,
+        radii: PyReadonlyArray1<'_, f64>,
+        velocities: Option<PyReadonlyArray2<'_, f64>>,
+        fixed: Option<PyReadonlyArray1<'_, bool>>,
+        material: usize,
+    ) -> PyResult<()> {
+        let p = positions.as_array();
+        let r = radii.as_array();
+        let n = r.len();
+        let shape_error = |what: &str, got: &[usize], want: String| {
+            Failure::Input(format!("{what}: shape {got:?}, expected {want}"))
+        };
+        if p.shape() != [n, 3] {
+            return Err(shape_error("positions", p.shape(), format!("({n}, 3)")).into());
+        }
+        let v = velocities.as_ref().map(|v| v.as_array());
+        if let Some(v) = &v {
+            if v.shape() != [n, 3] {
+                return Err(shape_error("velocities", v.shape(), format!("({n}, 3)")).into());
+            }
+        }
+        let f = fixed.as_ref().map(|f| f.as_array());
+        if let Some(f) = &f {
+            if f.len() != n {
+                return Err(shape_error("fixed", f.shape(), format!("({n},)")).into());
+            }
+        }
+        if material >= self.setup.materials.len() {
+            return Err(Failure::Input(format!(
+                "material: {material} (allowed: 0 to {}, the scene's materials in file order)",
+                self.setup.materials.len().saturating_sub(1)
+            ))
+            .into());
+        }
+        let before = self.setup.spheres.len();
+        for i in 0..n {
+            self.setup.spheres.push(SphereInit {
+                position: [p[[i, 0]], p[[i, 1]], p[[i, 2]]],
+                velocity: v
+                    .as_ref()
+                    .map_or([0.0; 3], |v| [v[[i, 0]], v[[i, 1]], v[[i, 2]]]),
+                radius: r[i],
+                material,
+                fixed: f.as_ref().is_some_and(|f| f[i]),
+                group: None,
+            });
+        }
+        if let Err(e) = self.rebuild("add_particles") {
+            self.setup.spheres.truncate(before);
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
+    /// Adds a fixed plane wall before the first step: through `point` (m)
+    /// with `normal` pointing into the domain, of material index `material`.
+    #[pyo3(signature = (point, normal, material = 0))]
+    fn add_plane(&mut self, point: [f64; 3], normal: [f64; 3], material: usize) -> PyResult<()> {
+        if material >= self.setup.materials.len() {
+            return Err(Failure::Input(format!(
+                "material: {material} (allowed: 0 to {}, the scene's materials in file order)",
+                self.setup.materials.len().saturating_sub(1)
+            ))
+            .into());
+        }
+        self.setup.walls.push(WallSetup::Plane {
+            point,
+            normal,
+            material,
+        });
+        if let Err(e) = self.rebuild("add_plane") {
+            self.setup.walls.pop();
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
+    /// Advances `n` steps (GIL released).
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let sim = &mut self.sim;
+        Ok(py.detach(|| {
+            guarded(|| {
+                sim.step(n);
+                Ok(())
+            })
+        })?)
+    }
+
+    /// Runs for `duration` s (rounded to whole steps), or to the scene's
+    /// end (`integration.steps`/`duration`) when None. `progress(done,
+    /// total)` (steps of this call) is called about 100 times; Ctrl-C stops
+    /// between chunks. Returns the steps taken.
+    #[pyo3(signature = (duration = None, progress = None))]
+    fn run(
+        &mut self,
+        py: Python<'_>,
+        duration: Option<f64>,
+        progress: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<u64> {
+        let total = match duration {
+            None => self.sim.remaining_steps(),
+            Some(d) if d.is_finite() && d >= 0.0 => {
+                let steps = (d / self.sim.dt()).round();
+                if steps > 1e15 {
+                    return Err(Failure::Input(format!(
+                        "duration: {d} s is {steps:e} steps of Δt = {} s (allowed: up to 1e15 steps)",
+                        self.sim.dt()
+                    ))
+                    .into());
+                }
+                steps as u64
+            }
+            Some(d) => {
+                return Err(Failure::Input(format!(
+                    "duration: {d} s (allowed: a finite time ≥ 0 s)"
+                ))
+                .into())
+            }
+        };
+        let chunk = (total / 100).max(1);
+        let mut done = 0;
+        while done < total {
+            let n = chunk.min(total - done);
+            self.step(py, n)?;
+            done += n;
+            if let Some(callback) = &progress {
+                callback.call1((done, total))?;
+            }
+            py.check_signals()?;
+        }
+        Ok(done)
+    }
+
+    /// Simulated time, s.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// Δt, s.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.sim.dt()
+    }
+
+    /// Steps taken since the start (restarts included).
+    #[getter]
+    fn steps_done(&self) -> u64 {
+        self.sim.steps_done()
+    }
+
+    /// The scene's run length in steps.
+    #[getter]
+    fn total_steps(&self) -> u64 {
+        self.sim.total_steps()
+    }
+
+    /// Number of spheres (boundary particles included).
+    fn __len__(&self) -> usize {
+        self.sim.body_count()
+    }
+
+    /// Centres, (n, 3) m, input order.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.positions())
+    }
+
+    /// Velocities, (n, 3) m/s.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.velocities())
+    }
+
+    /// Force on each sphere at the last force evaluation, (n, 3) N.
+    #[getter]
+    fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.forces())
+    }
+
+    /// Radii, (n,) m.
+    #[getter]
+    fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.sim.radii().into_pyarray(py)
+    }
+
+    /// Whether each sphere is fixed, (n,) bool.
+    #[getter]
+    fn fixed<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        self.sim.fixed().into_pyarray(py)
+    }
+
+    /// Force on each wall (file order, then walls added), (walls, 3) N.
+    #[getter]
+    fn wall_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.wall_forces())
+    }
+
+    /// Energies (J), contact counts and wall forces (N) now, as the CLI's
+    /// series.csv row: a dict.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        Ok(pythonize::pythonize(py, &self.sim.observe())?)
+    }
+
+    /// The collision log (completed contacts; needs `output.collisions =
+    /// true` in the scene): arrays `i` (sphere), `j` (sphere, or -1),
+    /// `wall` (plane wall index, or -1), `t_start`, `t_end`, `duration`
+    /// (s), `max_overlap` (m), `max_normal_force` (N),
+    /// `impact_normal_velocity`, `rebound_normal_velocity` (m/s).
+    #[getter]
+    fn collisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let log = self.sim.collisions();
+        let out = PyDict::new(py);
+        let ints =
+            |f: fn(&dembound_scene::Collision) -> i64| -> Vec<i64> { log.iter().map(f).collect() };
+        out.set_item("i", ints(|c| c.i as i64).into_pyarray(py))?;
+        out.set_item(
+            "j",
+            ints(|c| match c.j {
+                Partner::Body(b) => b as i64,
+                _ => -1,
+            })
+            .into_pyarray(py),
+        )?;
+        out.set_item(
+            "wall",
+            ints(|c| match c.j {
+                Partner::Wall(w) => w as i64,
+                _ => -1,
+            })
+            .into_pyarray(py),
+        )?;
+        let floats =
+            |f: fn(&dembound_scene::Collision) -> f64| -> Vec<f64> { log.iter().map(f).collect() };
+        out.set_item("t_start", floats(|c| c.t_start).into_pyarray(py))?;
+        out.set_item("t_end", floats(|c| c.t_end).into_pyarray(py))?;
+        out.set_item("duration", floats(|c| c.duration).into_pyarray(py))?;
+        out.set_item("max_overlap", floats(|c| c.max_overlap).into_pyarray(py))?;
+        out.set_item(
+            "max_normal_force",
+            floats(|c| c.max_normal_force).into_pyarray(py),
+        )?;
+        out.set_item(
+            "impact_normal_velocity",
+            floats(|c| c.impact_normal_velocity).into_pyarray(py),
+        )?;
+        out.set_item(
+            "rebound_normal_velocity",
+            floats(|c| c.rebound_normal_velocity).into_pyarray(py),
+        )?;
+        Ok(out)
+    }
+
+    /// Writes a VTK PolyData snapshot (`snapshot_STEP.vtp`, ParaView) into
+    /// `directory` (created if missing) and returns its path.
+    fn write_vtk(&self, py: Python<'_>, directory: PathBuf) -> PyResult<PathBuf> {
+        let sim = &self.sim;
+        let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
+        let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
+        let snapshot = vtk::Snapshot {
+            time: sim.time(),
+            step: sim.steps_done(),
+            positions: &positions,
+            radii: &radii,
+            velocities: &velocities,
+            forces: &forces,
+            fixed: &fixed,
+            materials: &materials,
+        };
+        let path = directory.join(format!("snapshot_{:09}.vtp", sim.steps_done()));
+        Ok(py.detach(|| {
+            guarded(|| {
+                std::fs::create_dir_all(&directory)
+                    .and_then(|()| {
+                        let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
+                        vtk::write_snapshot(&mut w, &snapshot)?;
+                        std::io::Write::flush(&mut w)
+                    })
+                    .map_err(|e| {
+                        Failure::Failed(format!("cannot write `{}`: {e}", path.display()))
+                    })?;
+                Ok(path.clone())
+            })
+        })?)
+    }
+
+    /// Writes a checkpoint (CBOR, the CLI's format) to `path`: the run goes
+    /// on bit for bit from it with `restore()` or `Scene.from_checkpoint()`.
+    fn checkpoint(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let saved = CheckpointFile::new(self.file.clone(), self.sim.checkpoint());
+        Ok(py.detach(|| {
+            guarded(|| {
+                let mut w = std::io::BufWriter::new(std::fs::File::create(&path).map_err(|e| {
+                    Failure::Failed(format!("cannot write `{}`: {e}", path.display()))
+                })?);
+                checkpoint::write(&mut w, &saved).map_err(Failure::Failed)?;
+                std::io::Write::flush(&mut w)
+                    .map_err(|e| Failure::Failed(format!("cannot write `{}`: {e}", path.display())))
+            })
+        })?)
+    }
+
+    /// Replaces the state with a checkpoint of this same scene (same
+    /// bodies and Δt).
+    fn restore(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let setup = self.setup.clone();
+        let threads = self.threads;
+        let sim = py.detach(|| {
+            guarded(|| {
+                let saved = checkpoint::read(&path).map_err(scene_failure)?;
+                Simulation::restore(setup, &saved.state, threads).map_err(scene_failure)
+            })
+        })?;
+        self.sim = sim;
+        Ok(())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({} spheres, {} walls, t = {} s, step {}/{}, dt = {} s)",
+            self.sim.body_count(),
+            self.setup.walls.len(),
+            self.sim.time(),
+            self.sim.steps_done(),
+            self.sim.total_steps(),
+            self.sim.dt()
+        )
+    }
+}

@@ -1,0 +1,123 @@
+"""Type stubs of ``dembound._native``, the compiled part of the package
+(PyO3, crates/dembound-py). Use it through :mod:`dembound`. SI units
+throughout: m, kg, s, Pa, N, J."""
+
+from os import PathLike
+from typing import Any, Callable, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = Union[str, PathLike[str]]
+
+def cli_json(argv: list[str]) -> str:
+    """Runs ``dembound ARGV…`` (a command with ``--json``) in this process
+    and returns its JSON document as compact JSON text (read it with
+    ``json.loads``: the CLI's document, floats bit for bit). GIL released
+    while it runs; the CLI's warnings become ``UserWarning``.
+
+    Raises ValueError (bad input: exit code 2 of the CLI, the same message,
+    naming the key, the value and the allowed range) or RuntimeError (a run
+    that failed: exit code 1)."""
+
+def history(scenario: Optional[str], sets: list[str], points: int) -> dict[str, np.ndarray]:
+    """The trajectory of a run, at most ``points`` rows evenly decimated:
+    ``t`` (s), ``x`` (m, the gap, upward positive), ``v`` (m/s), ``a``
+    (m/s²), ``overlap`` (m), ``force`` (N), ``in_contact`` (bool)."""
+
+def batch_keys() -> list[tuple[str, str]]:
+    """The scenario keys :func:`batch` can vary case by case, with units."""
+
+def batch(
+    scenario: Optional[str],
+    sets: list[str],
+    columns: list[tuple[str, npt.NDArray[np.float64]]],
+) -> dict[str, np.ndarray]:
+    """One run per row of ``columns`` through the batched SIMD path, GIL
+    released. Returns ``steps`` (n,), ``dt`` (n,) s and per-contact (n,
+    contacts) arrays: ``t_contact``, ``t_max_overlap``, ``t_rebound``,
+    ``duration`` (s), ``max_overlap`` (m), ``max_force`` (N),
+    ``max_acceleration`` (m/s²), ``impact_velocity``, ``rebound_velocity``
+    (m/s), ``restitution`` (1), ``energy_dissipated`` (J)."""
+
+class Scene:
+    """A many-particle scene: spheres, plane walls, walls of boundary
+    particles. SI: m, m/s, N, J, s."""
+
+    @classmethod
+    def from_toml(cls, path: _Path, sets: list[str] = ..., threads: Optional[int] = None) -> Scene:
+        """A scene from a scene file with ``--set``-style overrides
+        (``["integration.steps=500"]``); ``threads`` (default 1) does not
+        change the results."""
+    @classmethod
+    def from_dict(
+        cls, scene: dict[str, Any], base_dir: Optional[_Path] = None, threads: Optional[int] = None
+    ) -> Scene:
+        """A scene from a dict with the scene file's structure."""
+    @classmethod
+    def from_checkpoint(cls, path: _Path, threads: Optional[int] = None) -> Scene:
+        """The scene recorded in a checkpoint, continued from it bit for bit."""
+    def add_particles(
+        self,
+        positions: npt.NDArray[np.float64],
+        radii: npt.NDArray[np.float64],
+        velocities: Optional[npt.NDArray[np.float64]] = None,
+        fixed: Optional[npt.NDArray[np.bool_]] = None,
+        material: int = 0,
+    ) -> None:
+        """Adds spheres before the first step: positions (n, 3) m, radii (n,)
+        m, velocities (n, 3) m/s, fixed (n,) bool, material index."""
+    def add_plane(self, point: tuple[float, float, float] | list[float], normal: tuple[float, float, float] | list[float], material: int = 0) -> None:
+        """Adds a fixed plane wall through ``point`` (m), ``normal`` into the
+        domain, before the first step."""
+    def step(self, n: int) -> None:
+        """Advances n steps of Δt (GIL released)."""
+    def run(
+        self, duration: Optional[float] = None, progress: Optional[Callable[[int, int], Any]] = None
+    ) -> int:
+        """Runs ``duration`` s (whole steps), or to the scene's end; calls
+        ``progress(done, total)`` about 100 times; returns the steps taken."""
+    @property
+    def time(self) -> float:
+        """Simulated time, s."""
+    @property
+    def dt(self) -> float:
+        """Δt, s."""
+    @property
+    def steps_done(self) -> int: ...
+    @property
+    def total_steps(self) -> int: ...
+    def __len__(self) -> int: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]:
+        """Centres, (n, 3) m, input order."""
+    @property
+    def velocities(self) -> npt.NDArray[np.float64]:
+        """(n, 3) m/s."""
+    @property
+    def forces(self) -> npt.NDArray[np.float64]:
+        """Force on each sphere at the last force evaluation, (n, 3) N."""
+    @property
+    def radii(self) -> npt.NDArray[np.float64]:
+        """(n,) m."""
+    @property
+    def fixed(self) -> npt.NDArray[np.bool_]: ...
+    @property
+    def wall_forces(self) -> npt.NDArray[np.float64]:
+        """Force on each wall, (walls, 3) N."""
+    def observe(self) -> dict[str, Any]:
+        """Energies (J), contact counts, wall forces (N) now."""
+    @property
+    def collisions(self) -> dict[str, np.ndarray]:
+        """Completed contacts: ``i``, ``j`` (sphere or -1), ``wall`` (or -1),
+        ``t_start``, ``t_end``, ``duration`` (s), ``max_overlap`` (m),
+        ``max_normal_force`` (N), ``impact_normal_velocity``,
+        ``rebound_normal_velocity`` (m/s)."""
+    def write_vtk(self, directory: _Path) -> PathLike[str]:
+        """Writes ``snapshot_STEP.vtp`` into ``directory``; returns its path."""
+    def checkpoint(self, path: _Path) -> None:
+        """Writes a checkpoint (CBOR, the CLI's format)."""
+    def restore(self, path: _Path) -> None:
+        """Continues from a checkpoint of this same scene."""

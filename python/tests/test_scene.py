@@ -1,0 +1,118 @@
+"""The scene engine from Python: the CLI's `scene --json` document, arrays,
+collision log, VTK, checkpoint and restart, bodies and walls from arrays."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import dembound
+from conftest import REPO, assert_same
+
+VALIDATION = REPO / "examples" / "scenes" / "validation.toml"
+# Wall-clock figures differ from run to run; everything else must not.
+TIMINGS = ("wall_clock", "wall_clock_total", "particle_steps_per_second")
+
+
+def test_scene_json_equals_cli(cli_json):
+    python = dembound.scene(VALIDATION, threads=1)
+    expected = cli_json(["scene", "--json", "--quiet", "--threads", "1", str(VALIDATION)])
+    for k in TIMINGS:
+        assert k in expected
+        python.pop(k)
+        expected.pop(k)
+    assert_same(python, expected)
+
+
+def test_scene_stepping_arrays_and_collision_log():
+    scene = dembound.Scene.from_toml(VALIDATION)
+    assert len(scene) == 2
+    assert scene.positions.shape == (2, 3)
+    assert scene.radii.tolist() == [0.5e-3, 0.05]
+    assert scene.fixed.tolist() == [False, True]
+    z0 = scene.positions[0, 2]
+    scene.step(1000)
+    assert scene.steps_done == 1000
+    # Free fall from rest (no contact yet): z = z0 − g t²/2, v = −g t; the
+    # integrator is exact for constant acceleration up to rounding.
+    t = scene.time
+    assert abs(t - 1000 * scene.dt) <= 1e-12 * t
+    assert scene.positions[0, 2] == pytest.approx(z0 - 9.81 * t * t / 2, rel=1e-12)
+    assert scene.velocities[0, 2] == pytest.approx(-9.81 * t, rel=1e-12)
+    calls = []
+    steps = scene.run(progress=lambda done, total: calls.append((done, total)))
+    assert steps == scene.total_steps - 1000
+    assert calls[-1] == (steps, steps) and len(calls) >= 50
+    assert scene.forces.shape == (2, 3) and scene.wall_forces.shape == (0, 3)
+    log = scene.collisions
+    assert len(log["i"]) == 1 and log["i"][0] == 0 and log["j"][0] == 1 and log["wall"][0] == -1
+    # The exact reference of the validation case (Hertz, the paper's drop):
+    # h_max = 524.1905 nm, T_c = 4.92579 µs; the scene's Gear5 at η = 1/50
+    # is within 6e-5 (crates/dembound-scene tests), so 1e-4 here.
+    assert log["max_overlap"][0] == pytest.approx(524.1905e-9, rel=1e-4)
+    assert log["duration"][0] == pytest.approx(4.92579e-6, rel=1e-4)
+    energies = scene.observe()
+    assert energies["step"] == scene.steps_done and "kinetic_energy" in energies
+
+
+def test_checkpoint_and_restart_are_bit_for_bit(tmp_path):
+    straight = dembound.Scene.from_toml(VALIDATION)
+    straight.step(200_000)
+    first = dembound.Scene.from_toml(VALIDATION)
+    first.step(120_000)
+    first.checkpoint(tmp_path / "c.cbor")
+    again = dembound.Scene.from_toml(VALIDATION)
+    again.restore(tmp_path / "c.cbor")
+    assert again.steps_done == 120_000
+    again.step(80_000)
+    assert np.array_equal(again.positions, straight.positions)
+    assert np.array_equal(again.velocities, straight.velocities)
+    loaded = dembound.Scene.from_checkpoint(tmp_path / "c.cbor")
+    loaded.step(80_000)
+    assert np.array_equal(loaded.positions, straight.positions)
+
+
+def test_write_vtk(tmp_path):
+    scene = dembound.Scene.from_toml(VALIDATION)
+    path = scene.write_vtk(tmp_path / "vtk")
+    text = path.read_text()
+    assert path.name.endswith(".vtp") and "<VTKFile" in text and 'NumberOfPoints="2"' in text
+
+
+def test_scene_from_dict_with_bodies_and_walls_from_arrays():
+    # A box of two spheres falling onto a plane added from Python: each
+    # rests on the floor at the end (damped), so the floor carries their
+    # weight N m g.
+    scene = dembound.Scene.from_dict(
+        {
+            "domain": {"lower": [0.0, 0.0, 0.0], "upper": [0.01, 0.01, 0.01], "periodic": [False] * 3},
+            "material": [{"name": "grain", "density": 1000.0, "youngs_modulus": 1e7, "poisson_ratio": 0.3}],
+            "contact": {"law": "hertz", "damping": "tsuji", "restitution": 0.3},
+            "particles": [{"spheres": [{"position": [0.003, 0.005, 0.0011], "radius": 1e-3}], "material": "grain"}],
+            "motion": {"gravity": [0.0, 0.0, -9.81]},
+            "integration": {"scheme": "verlet", "dt": 5e-6, "duration": 0.2},
+            "output": {"collisions": True},
+        }
+    )
+    assert len(scene) == 1
+    scene.add_particles(np.array([[0.007, 0.005, 0.0011]]), np.array([1e-3]))
+    scene.add_plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+    assert len(scene) == 2 and scene.wall_forces.shape == (1, 3)
+    scene.run()
+    weight = 2 * 1000.0 * 4 / 3 * math.pi * 1e-3**3 * 9.81
+    # Settled: the floor's force equals the weight to the damping's decay
+    # over 0.2 s (many rebounds at e = 0.3); 1e-3 relative.
+    assert scene.wall_forces[0, 2] == pytest.approx(-weight, rel=1e-3) or scene.wall_forces[
+        0, 2
+    ] == pytest.approx(weight, rel=1e-3)
+    with pytest.raises(ValueError, match="before the first step"):
+        scene.add_plane([0.0, 0.0, 0.01], [0.0, 0.0, -1.0])
+    with pytest.raises(ValueError, match="missing field `material`"):
+        dembound.Scene.from_dict({"domain": {"lower": [0, 0, 0], "upper": [1, 1, 1]}})
+
+
+def test_scene_bad_input_is_value_error():
+    with pytest.raises(ValueError, match="integration"):
+        dembound.Scene.from_toml(VALIDATION, ["integration.eta=5"])
