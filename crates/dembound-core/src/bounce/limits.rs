@@ -48,20 +48,40 @@ pub const MAX_GRAVITY_SHARE: f64 = 10.0;
 /// A number for a message: as written when short, else in exponent form
 /// (1e-308, not 0.000…0001).
 pub fn show(x: f64) -> String {
-    let plain = x.to_string();
-    if plain.len() > 10 {
-        format!("{x:e}")
-    } else {
-        plain
-    }
+    Shown(x).to_string()
 }
 
 /// A range for messages, e.g. "1e-9 to 10 m".
 pub fn describe(range: (f64, f64), unit: &str) -> String {
-    let unit = if unit.is_empty() {
-        String::new()
-    } else {
-        format!(" {unit}")
-    };
-    format!("{} to {}{unit}", show(range.0), show(range.1))
+    Described(range, unit).to_string()
+}
+
+/// [`show`], formatted only when displayed (validation builds its
+/// messages only for a value that fails).
+#[derive(Debug, Clone, Copy)]
+pub struct Shown(pub f64);
+
+impl std::fmt::Display for Shown {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let plain = self.0.to_string();
+        if plain.len() > 10 {
+            write!(f, "{:e}", self.0)
+        } else {
+            f.write_str(&plain)
+        }
+    }
+}
+
+/// [`describe`], formatted only when displayed.
+#[derive(Debug, Clone, Copy)]
+pub struct Described<'a>(pub (f64, f64), pub &'a str);
+
+impl std::fmt::Display for Described<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} to {}", Shown(self.0 .0), Shown(self.0 .1))?;
+        if !self.1.is_empty() {
+            write!(f, " {}", self.1)?;
+        }
+        Ok(())
+    }
 }
