@@ -3,5 +3,6 @@
 
 pub mod collisions;
 pub mod contacts;
+pub mod friction;
 pub mod integrate;
 pub mod walls;
