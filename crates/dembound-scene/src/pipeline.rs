@@ -234,7 +234,7 @@ impl Pipeline {
                 .map(|(a, b, h)| ((a, b), h))
                 .collect();
         let saved_tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
-        let saved_shear: HashMap<(u32, u32), [f64; 3]> = if world.friction.is_some() {
+        let saved_shear: HashMap<(u32, u32), friction::Springs> = if world.friction.is_some() {
             friction::active_shear(&world.bodies, &world.ghosts, &world.list, &world.shear)
                 .into_iter()
                 .map(|(a, b, s)| ((a, b), s))
@@ -389,7 +389,7 @@ impl Pipeline {
                 world.histories.extra.push(ContactHistory::default());
             }
             if world.friction.is_some() {
-                world.shear.extra.push([0.0; 3]);
+                world.shear.extra.push([0.0; 6]);
             }
             if let Some(tracks) = world.tracks.as_mut() {
                 tracks.extra.push(t);

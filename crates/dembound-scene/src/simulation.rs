@@ -957,7 +957,7 @@ impl Simulation {
         }
         w.histories = PairHistories { main, extra };
         if w.friction.is_some() {
-            let saved: HashMap<(u32, u32), [f64; 3]> =
+            let saved: HashMap<(u32, u32), friction::Springs> =
                 c.pair_shear.iter().map(|&(a, b, s)| ((a, b), s)).collect();
             w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved);
         }
@@ -1062,9 +1062,10 @@ pub struct Checkpoint {
     /// N m, engine order (friction only).
     #[serde(default)]
     pub torque: Vec<[f64; 3]>,
-    /// (input id a < b, tangential displacement of a relative to b, m).
+    /// (input id a < b, springs seen from a: tangential displacement of
+    /// a relative to b, m, and rolling torque on a, N m).
     #[serde(default)]
-    pub pair_shear: Vec<(u32, u32, [f64; 3])>,
+    pub pair_shear: Vec<(u32, u32, friction::Springs)>,
     /// (input id, plane index, displacement record).
     #[serde(default)]
     pub plane_shear: Vec<(u32, u32, WallShear)>,

@@ -240,33 +240,50 @@ impl FrictionTable {
     }
 }
 
-/// Tangential displacements aligned with a [`PairList`] (like
-/// [`PairHistories`]): the displacement of row body i's contact point
-/// relative to its partner's, m.
-#[derive(Debug, Clone, Default)]
-pub struct PairShear {
-    pub main: Vec<[f64; 3]>,
-    pub extra: Vec<[f64; 3]>,
+/// The springs of one contact: the tangential displacement of body 1's
+/// contact point relative to body 2's (m, components 0..3) and the rolling
+/// spring's torque on body 1 (N m, components 3..6). Seen from body 2 both
+/// change sign.
+pub type Springs = [f64; 6];
+
+fn negate(s: Springs) -> Springs {
+    s.map(|x| -x)
 }
 
-/// A sphere–plane tangential displacement (m) with the value it had before
-/// the step `stamp` moved it: evaluating the same step's forces twice (the
+fn split(s: &mut Springs) -> (&mut [f64; 3], &mut [f64; 3]) {
+    let (a, b) = s.split_at_mut(3);
+    // Infallible: 6 = 3 + 3.
+    (
+        a.try_into().unwrap_or_else(|_| unreachable!()),
+        b.try_into().unwrap_or_else(|_| unreachable!()),
+    )
+}
+
+/// Contact springs aligned with a [`PairList`] (like [`PairHistories`]),
+/// seen from the row body i.
+#[derive(Debug, Clone, Default)]
+pub struct PairShear {
+    pub main: Vec<Springs>,
+    pub extra: Vec<Springs>,
+}
+
+/// A sphere–plane contact's springs with the values they had before the
+/// step `stamp` moved them: evaluating the same step's forces twice (the
 /// per-body pass again after a list rebuild) starts again from `before`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct WallShear {
-    pub shear: [f64; 3],
-    pub before: [f64; 3],
+    pub shear: Springs,
+    pub before: Springs,
     pub stamp: u64,
 }
 
-/// The displacements of the pairs in contact, by input ids (a < b), each
-/// as the displacement of a's contact point relative to b's.
+/// The springs of the pairs in contact, by input ids (a < b), seen from a.
 pub fn active_shear(
     bodies: &Bodies,
     ghosts: &Ghosts,
     list: &PairList,
     shear: &PairShear,
-) -> Vec<(u32, u32, [f64; 3])> {
+) -> Vec<(u32, u32, Springs)> {
     let mut out = Vec::new();
     let n = bodies.len();
     if list.start.len() != n + 1
@@ -275,13 +292,13 @@ pub fn active_shear(
     {
         return out;
     }
-    let mut push = |i: usize, owner: usize, s: [f64; 3]| {
-        if s != [0.0; 3] {
+    let mut push = |i: usize, owner: usize, s: Springs| {
+        if s != [0.0; 6] {
             let (a, b) = (bodies.id[i], bodies.id[owner]);
             if a < b {
                 out.push((a, b, s));
             } else {
-                out.push((b, a, scale(-1.0, s)));
+                out.push((b, a, negate(s)));
             }
         }
     };
@@ -304,20 +321,20 @@ pub fn restore_shear(
     bodies: &Bodies,
     ghosts: &Ghosts,
     list: &PairList,
-    saved: &HashMap<(u32, u32), [f64; 3]>,
+    saved: &HashMap<(u32, u32), Springs>,
 ) -> PairShear {
-    let mut main = vec![[0.0; 3]; list.j.len()];
-    let mut extra = vec![[0.0; 3]; list.extra.len()];
+    let mut main = vec![[0.0; 6]; list.j.len()];
+    let mut extra = vec![[0.0; 6]; list.extra.len()];
     if saved.is_empty() {
         return PairShear { main, extra };
     }
-    let get = |i: usize, j_ext: usize| -> Option<[f64; 3]> {
+    let get = |i: usize, j_ext: usize| -> Option<Springs> {
         let (_, _, owner) = extended(bodies, ghosts, j_ext);
         let (a, b) = (bodies.id[i], bodies.id[owner]);
         if a < b {
             saved.get(&(a, b)).copied()
         } else {
-            saved.get(&(b, a)).map(|s| scale(-1.0, *s))
+            saved.get(&(b, a)).map(|s| negate(*s))
         }
     };
     for (i, k) in list.entries() {
@@ -342,9 +359,9 @@ fn contact(
     friction: &FrictionPair,
     g: &PairGeometry,
     history: &mut ContactHistory,
-    shear: &mut [f64; 3],
-    (vi, wi, ri): ([f64; 3], [f64; 3], f64),
-    (vj, wj, rj): ([f64; 3], [f64; 3], f64),
+    springs: &mut Springs,
+    (vi, wi, ri, inv_ii): ([f64; 3], [f64; 3], f64, f64),
+    (vj, wj, rj, inv_ij): ([f64; 3], [f64; 3], f64, f64),
     dt: f64,
 ) -> ([f64; 3], [f64; 3], [f64; 3]) {
     let f = law.force(g.overlap, g.overlap_rate, history);
@@ -362,15 +379,35 @@ fn contact(
         vi[2] - vj[2] + spin[2],
     ];
     let vt = tangential(slip, n);
+    let (shear, roll) = split(springs);
     let ft = friction.tangential_force(g.overlap, f, n, vt, dt, shear);
     let nxf = cross(n, ft);
     let mut ti = scale(ri, nxf);
     let mut tj = scale(rj, nxf);
-    let rolling = friction.rolling_torque(f, n, [wi[0] - wj[0], wi[1] - wj[1], wi[2] - wj[2]]);
+    let rolling = friction.rolling_torque(
+        law,
+        g.overlap,
+        f,
+        n,
+        [wi[0] - wj[0], wi[1] - wj[1], wi[2] - wj[2]],
+        inertia(inv_ii + inv_ij),
+        dt,
+        roll,
+    );
     add(&mut ti, rolling);
     sub(&mut tj, rolling);
     let fj = [f * n[0] - ft[0], f * n[1] - ft[1], f * n[2] - ft[2]];
     (fj, ti, tj)
+}
+
+/// 1/Σ(1/I), kg m² (0 when both are fixed).
+#[inline(always)]
+fn inertia(inverse_inertia: f64) -> f64 {
+    if inverse_inertia > 0.0 {
+        1.0 / inverse_inertia
+    } else {
+        0.0
+    }
 }
 
 /// What the friction force loop reads and writes.
@@ -418,11 +455,12 @@ pub fn add_pair_forces(
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
     let s_ptr = SharedMut(shear.main.as_mut_ptr());
     let blocks = list.blocks.len().saturating_sub(1);
-    let (position, velocity, radius, spin) = (
+    let (position, velocity, radius, spin, inverse_inertia) = (
         &bodies.position[..],
         &bodies.velocity[..],
         &bodies.radius[..],
         &bodies.angular_velocity[..],
+        &bodies.inverse_inertia[..],
     );
     let (start, js) = (&list.start[..], &list.j[..]);
     let run_block = |b: usize| {
@@ -460,8 +498,8 @@ pub fn add_pair_forces(
                         &g,
                         hist,
                         sh,
-                        (vi, wi, ri),
-                        (velocity[j], spin[j], rj),
+                        (vi, wi, ri, inverse_inertia[i]),
+                        (velocity[j], spin[j], rj, inverse_inertia[j]),
                         dt,
                     );
                     sub(&mut fi, fj);
@@ -477,8 +515,8 @@ pub fn add_pair_forces(
                             *hist = ContactHistory::default();
                         }
                     }
-                    if *sh != [0.0; 3] {
-                        *sh = [0.0; 3];
+                    if *sh != [0.0; 6] {
+                        *sh = [0.0; 6];
                     }
                 }
             }
@@ -530,8 +568,18 @@ pub fn add_pair_forces(
                     &g,
                     hist,
                     sh,
-                    (bodies.velocity[i], spin[i], bodies.radius[i]),
-                    (vj, spin[owner], bodies.radius[owner]),
+                    (
+                        bodies.velocity[i],
+                        spin[i],
+                        bodies.radius[i],
+                        inverse_inertia[i],
+                    ),
+                    (
+                        vj,
+                        spin[owner],
+                        bodies.radius[owner],
+                        inverse_inertia[owner],
+                    ),
                     dt,
                 );
                 sub(&mut force[i], fj);
@@ -541,7 +589,7 @@ pub fn add_pair_forces(
             }
             None => {
                 *hist = ContactHistory::default();
-                *sh = [0.0; 3];
+                *sh = [0.0; 6];
             }
         }
     }
@@ -620,13 +668,24 @@ pub unsafe fn body_force(
                 sh.stamp = c.step;
             }
             let mut d = sh.before;
-            let ft = fr.tangential_force(h, fw, n, vt, c.dt, &mut d);
+            let (ds, dr) = split(&mut d);
+            let ft = fr.tangential_force(h, fw, n, vt, c.dt, ds);
+            let rolling = fr.rolling_torque(
+                &law,
+                h,
+                fw,
+                n,
+                w,
+                inertia(bodies.inverse_inertia[i]),
+                c.dt,
+                dr,
+            );
             sh.shear = d;
             for a in 0..3 {
                 acc[a] += fw * plane.normal[a] + ft[a];
             }
             add(&mut torque, scale(r, cross(n, ft)));
-            add(&mut torque, fr.rolling_torque(fw, n, w));
+            add(&mut torque, rolling);
         } else if *mask & bit != 0 {
             *hist = ContactHistory::default();
             *sh = WallShear::default();
@@ -675,7 +734,8 @@ pub fn plane_tangential_forces(
             let s = cross(scale(r, w), n);
             let vt = tangential([v[0] + s[0], v[1] + s[1], v[2] + s[2]], n);
             let mut d = shear[i * np + p].shear;
-            let ft = fr.tangential_force(h, fw, n, vt, 0.0, &mut d);
+            let (ds, _) = split(&mut d);
+            let ft = fr.tangential_force(h, fw, n, vt, 0.0, ds);
             sub(&mut out[p], ft);
         }
     }

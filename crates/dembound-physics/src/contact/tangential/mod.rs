@@ -12,9 +12,16 @@
 //!    plane and rescaled to its old length (the contact frame rotates);
 //! 2. δ ← δ + v_t Δt (v_t the tangential relative velocity of the contact
 //!    points);
-//! 3. F_t = −k_t δ − η_t v_t;
-//! 4. if |F_t| > μ |F_n| (Coulomb): F_t ← μ |F_n| F_t/|F_t| and
-//!    δ ← −(F_t + η_t v_t)/k_t (the spring holds what the limit allows).
+//! 3. sliding if the spring alone exceeds the Coulomb limit, k_t |δ| >
+//!    μ |F_n|: δ is cut back to length μ |F_n|/k_t and F_t = −k_t δ
+//!    (magnitude exactly μ |F_n|, no damping; LIGGGHTS
+//!    `tangential_model_history`);
+//! 4. else sticking: F_t = −k_t δ − η_t v_t, capped at μ |F_n| in
+//!    magnitude (the spring kept). LAMMPS instead caps the total and
+//!    solves the spring back from it, δ = −(F_t + η_t v_t)/k_t, which can
+//!    turn δ against the slip near onset (damping above the tiny limit)
+//!    and make the next force push along the slip: with this order a
+//!    sliding contact transmits exactly μ |F_n| at every step.
 //!
 //! Tangential damping from the same restitution as the normal: with η_n(h)
 //! the normal damping coefficient (N s/m, the damping force per unit
@@ -348,41 +355,94 @@ impl FrictionPair {
         for a in 0..3 {
             shear[a] += v[a] * dt;
         }
-        // 3. Spring and dashpot.
+        // 3. Coulomb on the spring (LIGGGHTS `tangential_model_history`):
+        // sliding when the spring alone exceeds μ |F_n|; the spring is cut
+        // back to the limit and the force is the limit, without damping.
+        let limit = self.friction * normal_force.abs();
+        let spring = k_t * norm(*shear);
+        if spring > limit {
+            let s = if spring > 0.0 { limit / spring } else { 0.0 };
+            for x in shear.iter_mut() {
+                *x *= s;
+            }
+            return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
+        }
+        // 4. Sticking: spring and dashpot, the total still capped at μ |F_n|
+        // (the spring kept).
         let eta = self.damping_coefficient(overlap, k_t);
         let mut f = [
             -k_t * shear[0] - eta * v[0],
             -k_t * shear[1] - eta * v[1],
             -k_t * shear[2] - eta * v[2],
         ];
-        // 4. Coulomb.
-        let limit = self.friction * normal_force.abs();
         let magnitude = norm(f);
         if magnitude > limit {
             let s = limit / magnitude;
-            for a in 0..3 {
-                f[a] *= s;
-                shear[a] = if k_t > 0.0 {
-                    -(f[a] + eta * v[a]) / k_t
-                } else {
-                    0.0
-                };
+            for x in &mut f {
+                *x *= s;
             }
         }
         f
     }
 
-    /// Rolling-resistance torque on body 1 (N m) for the relative angular
-    /// velocity ω₁ − ω₂ (rad/s) and normal force `normal_force` (N)
-    /// ([`super::rolling::Epsd2`]); body 2 gets minus it.
+    /// Rolling-resistance torque on body 1 (N m) at overlap `overlap` (m)
+    /// with normal force `normal_force` (N), for the relative angular
+    /// velocity ω₁ − ω₂ (rad/s) of bodies of effective rolling inertia
+    /// `inertia` = 1/(1/I₁ + 1/I₂) (kg m²), after `dt` s
+    /// ([`super::rolling::Epsd2`]); updates the spring torque `history`.
+    /// Body 2 gets minus it. The damping ratio is the normal contact's
+    /// local one, η_n/(2 √(S_n m*)).
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub fn rolling_torque(
         &self,
+        law: &PairLaw,
+        overlap: f64,
         normal_force: f64,
         normal: [f64; 3],
         relative_spin: [f64; 3],
+        inertia: f64,
+        dt: f64,
+        history: &mut [f64; 3],
     ) -> [f64; 3] {
-        self.rolling.torque(normal_force, normal, relative_spin)
+        if self.rolling.coefficient == 0.0 {
+            *history = [0.0; 3];
+            return [0.0; 3];
+        }
+        let h = overlap.max(f64::MIN_POSITIVE);
+        let secant = law
+            .normal()
+            .force(h, 0.0, &super::ContactHistory::default())
+            / h;
+        let ratio = match self.damping {
+            TangentialDamping::None => 0.0,
+            TangentialDamping::SameRatio {
+                family,
+                normal_stiffness,
+                ..
+            } => {
+                let s_n = match family {
+                    Family::Hertzian => 1.5 * normal_stiffness * h.sqrt(),
+                    _ => normal_stiffness,
+                };
+                let eta_n = law.damping().force(h, 1.0);
+                if s_n > 0.0 {
+                    eta_n / (2.0 * (s_n * law.mass()).sqrt())
+                } else {
+                    0.0
+                }
+            }
+        };
+        self.rolling.torque(
+            normal_force,
+            secant,
+            ratio,
+            inertia,
+            normal,
+            relative_spin,
+            dt,
+            history,
+        )
     }
 }
 

@@ -200,3 +200,29 @@ fn registry_names_and_checks() {
     };
     assert_eq!(m.validate().unwrap_err().key, "contact.rolling_friction");
 }
+
+#[test]
+fn sliding_with_damping_transmits_exactly_the_limit_along_the_slip() {
+    // Near onset the damping η_t v_t exceeds the tiny limit μ F_n; the
+    // force must still be μ F_n against the slip (not a spring turned
+    // against it), at every step of a growing normal force.
+    let e: f64 = 0.5;
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(e)),
+        TangentialKind::Mindlin,
+        0.3,
+    );
+    let n = [0.0, 0.0, 1.0];
+    let mut shear = [0.0; 3];
+    for k in 1..200 {
+        let h = 1.0e-9 * k as f64;
+        let fn_ = 1.0e-4 * k as f64;
+        let force = f.tangential_force(h, fn_, n, [5.0, 0.0, 0.0], 1.0e-7, &mut shear);
+        assert!(
+            (force[0] / (-0.3 * fn_) - 1.0).abs() < 1e-14,
+            "step {k}: {force:?}"
+        );
+        assert!(shear[0] > 0.0);
+    }
+}
