@@ -131,6 +131,36 @@ fn a_plane_collision_names_the_wall() {
     assert_eq!(c["j"], "wall:0", "{c}");
 }
 
+/// A sphere that lands on a boundary-particle wall names the wall as
+/// "wall:K" (issue 12) and the boundary particle it hit by input index.
+#[test]
+fn a_boundary_particle_collision_names_the_wall_and_the_particle() {
+    // The validation case with its boundary sphere given as a wall of
+    // boundary particles (r = ζ = 100, a sphere's top under the drop).
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenes().join("validation.toml")).unwrap();
+    let text = text.replace(
+        "[[particles]]                          # the boundary sphere, R_b = 100 R\nspheres = [{ position = [0.0, 0.0, 0.0], radius = 0.05 }]\nmaterial = \"boundary\"\nfixed = true\n",
+        "[[wall]]\nboundary_particles = { point = [0.0, 0.0, 0.05], normal = [0.0, 0.0, 1.0], radius_ratio = 100.0, modulus_ratio = 100.0, tiling = \"square\" }\nmaterial = \"grain\"\n",
+    );
+    assert!(text.contains("boundary_particles"));
+    let file = dir.path().join("tiles.toml");
+    std::fs::write(&file, text).unwrap();
+    let v = scene_json(&[&file.display().to_string(), "--threads", "1"]);
+    let c = &v["collisions"][0];
+    assert_eq!(c["i"], 0, "{c}");
+    assert_eq!(c["j"], "wall:0", "{c}");
+    // The falling sphere is input 0; the tiles follow it.
+    assert!(
+        c["boundary_particle"].as_u64().is_some_and(|b| b >= 1),
+        "{c}"
+    );
+    // Same contact as against the single boundary sphere (same r, ζ):
+    // h_max = 524.1905 nm to the Gear5 accuracy of the validation case.
+    let h = c["max_overlap"].as_f64().unwrap();
+    assert!((h / 524.1905e-9 - 1.0).abs() < 1e-4, "{c}");
+}
+
 #[test]
 fn bad_input_exits_2_naming_the_key() {
     let cases: &[(&[&str], &str)] = &[

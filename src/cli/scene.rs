@@ -9,7 +9,7 @@ use anyhow::anyhow;
 use clap::Args;
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, ResolvedScene};
-use dembound_scene::io::series::partner_name;
+use dembound_scene::io::series::{boundary_particle, partner_name};
 use dembound_scene::io::{config, series, vtk};
 use dembound_scene::setup::WallSetup;
 use dembound_scene::{Collision, Observation, SceneError, Simulation};
@@ -305,6 +305,10 @@ struct CollisionRow {
     i: usize,
     /// A sphere's input index, or "wall:K".
     j: serde_json::Value,
+    /// Input index of the boundary particle hit when `j` is a
+    /// boundary-particle wall.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    boundary_particle: Option<usize>,
     t_start: f64,
     t_end: f64,
     duration: f64,
@@ -331,6 +335,7 @@ impl From<&Collision> for CollisionRow {
         Self {
             i: c.i,
             j,
+            boundary_particle: boundary_particle(&c.j),
             t_start: c.t_start,
             t_end: c.t_end,
             duration: c.duration,

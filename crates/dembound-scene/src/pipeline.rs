@@ -12,6 +12,7 @@ use crate::dynamics::collisions::{Collision, Motion, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
 use crate::dynamics::integrate;
+use crate::dynamics::kinks::Kinks;
 use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
@@ -87,6 +88,8 @@ pub struct Pipeline {
     grid: CellGrid,
     /// Verlet's last half kick of the previous step is still to apply.
     pending_kick: bool,
+    /// Gear5: the contacts that began or ended inside the step.
+    kinks: Kinks,
 }
 
 impl Pipeline {
@@ -159,8 +162,18 @@ impl Pipeline {
                     self.ghosts(world);
                 }
                 self.forces(world, workers);
+                // At the predicted state, before the corrector moves it.
+                self.kinks.collect(
+                    &world.bodies,
+                    &world.ghosts,
+                    &world.list,
+                    &world.planes,
+                    &world.laws,
+                    dt,
+                );
                 let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
                 integrate::gear5_correct(&mut world.bodies, dt, c, workers);
+                self.kinks.apply(&mut world.bodies, dt, c);
             }
         }
         world.steps_done += 1;
@@ -547,13 +560,15 @@ impl Pipeline {
                 })
             {
                 let (a, b) = (bodies.id[i] as usize, bodies.id[owner] as usize);
+                let (i, j) = collision_pair(a, bodies.group[i], b, bodies.group[owner]);
                 let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
-                let swap = a > b;
+                // The log's sphere i is the engine's owner, not i: spins swap.
+                let swap = i != a;
                 let pick =
                     |m: &Motion, first: bool| if first != swap { m.spin_i } else { m.spin_j };
                 log.push(Collision {
-                    i: a.min(b),
-                    j: Partner::Body(a.max(b)),
+                    i,
+                    j,
                     t_start: c.t_start,
                     t_end: c.t_end,
                     duration: c.t_end - c.t_start,
@@ -796,6 +811,30 @@ fn partner_key(p: Partner) -> (u8, usize) {
     match p {
         Partner::Body(j) => (0, j),
         Partner::Wall(w) => (1, w),
+        Partner::BoundaryParticle { body, .. } => (0, body),
+    }
+}
+
+/// The two sides of a sphere–sphere collision, by input index a, b and
+/// wall group: a boundary particle of a wall is named as the wall's
+/// partner; two free (or two grouped) spheres in index order.
+fn collision_pair(a: usize, group_a: u32, b: usize, group_b: u32) -> (usize, Partner) {
+    match (group_a != NO_GROUP, group_b != NO_GROUP) {
+        (false, true) => (
+            a,
+            Partner::BoundaryParticle {
+                wall: group_b as usize,
+                body: b,
+            },
+        ),
+        (true, false) => (
+            b,
+            Partner::BoundaryParticle {
+                wall: group_a as usize,
+                body: a,
+            },
+        ),
+        _ => (a.min(b), Partner::Body(a.max(b))),
     }
 }
 

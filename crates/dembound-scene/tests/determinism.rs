@@ -92,3 +92,14 @@ fn periodic_gas_with_boundary_particles_is_bit_identical() {
     setup.collisions = true;
     assert_same(setup, 300);
 }
+
+#[test]
+fn gear5_with_kink_corrections_is_bit_identical() {
+    // Gear5 adds the serial onset/end corrections (`dynamics::kinks`) to
+    // the parallel corrector: the collapse has many contacts beginning and
+    // ending inside steps.
+    let mut setup = common::lattice_drop(12, 32, 2.0e-5, 400);
+    setup.integration.scheme = dembound_scene::setup::Scheme::Gear5;
+    setup.collisions = true;
+    assert_same(setup, 400);
+}

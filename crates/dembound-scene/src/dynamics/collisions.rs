@@ -21,12 +21,26 @@ pub enum Partner {
     Body(usize),
     /// A plane wall, by wall index in file order.
     Wall(usize),
+    /// One boundary particle of a boundary-particle wall: the wall's
+    /// index in file order and the particle's input index.
+    BoundaryParticle { wall: usize, body: usize },
+}
+
+impl Partner {
+    /// The wall (file order) this partner belongs to, if any.
+    pub fn wall(&self) -> Option<usize> {
+        match *self {
+            Partner::Body(_) => None,
+            Partner::Wall(w) | Partner::BoundaryParticle { wall: w, .. } => Some(w),
+        }
+    }
 }
 
 /// One completed contact.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Collision {
-    /// Sphere, input index (the smaller one of a sphere pair).
+    /// Sphere, input index (the smaller one of a sphere pair; the free
+    /// sphere against a boundary particle).
     pub i: usize,
     pub j: Partner,
     /// Onset, s.

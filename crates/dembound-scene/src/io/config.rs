@@ -190,6 +190,12 @@ pub struct ParticlesSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spheres: Option<Vec<InlineSphere>>,
     pub material: String,
+    /// `lammps_data` only: the material of each LAMMPS atom type (`"2" =
+    /// "glass"`); types not listed take `material`. Every atom's density
+    /// must equal its material's (the engine's mass comes from the
+    /// material), else the scene is refused naming the atom.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub types: Option<std::collections::BTreeMap<String, String>>,
     /// Boundary particles: infinite mass, never move.
     #[serde(default)]
     pub fixed: bool,
@@ -637,6 +643,31 @@ impl SceneFile {
         )?;
         if let Some(l) = &p.lattice {
             finite3(&format!("{key}.lattice.velocity"), l.velocity, "m/s")?;
+        }
+        if let Some(types) = &p.types {
+            check(
+                p.lammps_data.is_some(),
+                &format!("{key}.types"),
+                "a table",
+                "only with lammps_data (atom type → material)",
+            )?;
+            for (t, name) in types {
+                check(
+                    t.parse::<u32>().is_ok_and(|t| t >= 1),
+                    &format!("{key}.types"),
+                    format!("{t:?}"),
+                    "atom types as whole numbers ≥ 1 (\"1\", \"2\", …)",
+                )?;
+                check(
+                    self.material_known(name) || (name == RIGID && p.fixed),
+                    &format!("{key}.types.{t}"),
+                    format!("{name:?}"),
+                    &format!(
+                        "a [[material]] name ({}), or \"rigid\" with fixed = true",
+                        self.material_names()
+                    ),
+                )?;
+            }
         }
         if let Some(spheres) = &p.spheres {
             check(

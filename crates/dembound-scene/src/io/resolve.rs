@@ -73,9 +73,22 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
     let mut groups = Vec::with_capacity(file.particles.len());
     for (i, group) in file.particles.iter_mut().enumerate() {
         let key = format!("particles[{i}]");
-        let made = group_spheres(group, &key, base_dir, &spheres)?;
         let material = material_index(&group.material, &mut materials);
         let first = spheres.len();
+        if group.lammps_data.is_some() {
+            let atoms = lammps_atoms(group, &key, base_dir, material, &mut materials)?;
+            spheres.extend(atoms.into_iter().map(|(s, material)| SphereInit {
+                position: s.position,
+                velocity: s.velocity,
+                radius: s.radius,
+                material,
+                fixed: group.fixed,
+                group: None,
+            }));
+            groups.push(first..spheres.len());
+            continue;
+        }
+        let made = group_spheres(group, &key, base_dir, &spheres)?;
         spheres.extend(made.into_iter().map(|s| SphereInit {
             position: s.position,
             velocity: s.velocity,
@@ -294,6 +307,73 @@ fn materials_of(
     ))
 }
 
+/// Relative difference allowed between an atom's density and its
+/// material's: the data file's printed digits (make_lattice.py writes
+/// `1000`; a `%.17g` writer is exact).
+const DENSITY_TOLERANCE: f64 = 1e-9;
+
+/// The atoms of a `lammps_data` group with the material index of each (by
+/// atom type, `types`, else `default`); makes the path absolute. An atom
+/// whose density is not its material's is refused: the engine's masses
+/// come from the materials, and a silently different mass would not be the
+/// state LAMMPS runs.
+fn lammps_atoms(
+    group: &mut ParticlesSection,
+    key: &str,
+    base_dir: &Path,
+    default: usize,
+    materials: &mut Vec<NamedMaterial>,
+) -> Result<Vec<(SourceSphere, usize)>, SceneError> {
+    let Some(path) = &mut group.lammps_data else {
+        return Ok(Vec::new());
+    };
+    let full = base_dir.join(&*path);
+    let full = std::path::absolute(&full).unwrap_or(full);
+    *path = full.display().to_string();
+    let data = LammpsData::read(&full)?;
+    let mut by_type = std::collections::HashMap::new();
+    for (t, name) in group.types.iter().flatten() {
+        // Validated: whole numbers ≥ 1 and known names.
+        let Ok(t) = t.parse::<u32>() else { continue };
+        let k = match materials.iter().position(|m| m.name == *name) {
+            Some(k) => k,
+            None => {
+                materials.push(NamedMaterial {
+                    name: RIGID.into(),
+                    material: Material::rigid(RIGID_DENSITY),
+                });
+                materials.len() - 1
+            }
+        };
+        by_type.insert(t, k);
+    }
+    let mut out = Vec::with_capacity(data.atoms.len());
+    for atom in &data.atoms {
+        let k = by_type.get(&atom.atom_type).copied().unwrap_or(default);
+        let m = &materials[k];
+        let fixed_rigid = group.fixed && m.name == RIGID;
+        let expected = m.material.density;
+        // Written so that a NaN density is refused too.
+        let agrees = (atom.density - expected).abs() <= DENSITY_TOLERANCE * expected;
+        if !fixed_rigid && !agrees {
+            return Err(SceneError::input(format!(
+                "`{key}.lammps_data`: atom {} (type {}) of `{}` has density {} kg/m³, but its \
+                 material \"{}\" has {} kg/m³ (allowed: equal to {DENSITY_TOLERANCE:e} relative; \
+                 give type {} a [[material]] of its density in `{key}.types`)",
+                atom.id,
+                atom.atom_type,
+                full.display(),
+                atom.density,
+                m.name,
+                expected,
+                atom.atom_type
+            )));
+        }
+        out.push((atom.sphere, k));
+    }
+    Ok(out)
+}
+
 /// The spheres of one group; makes the group's file paths absolute.
 fn group_spheres(
     group: &mut ParticlesSection,
@@ -305,11 +385,6 @@ fn group_spheres(
         let p = base_dir.join(p);
         std::path::absolute(&p).unwrap_or(p)
     };
-    if let Some(path) = &mut group.lammps_data {
-        let full = absolute(path);
-        *path = full.display().to_string();
-        return Ok(LammpsData::read(&full)?.spheres());
-    }
     if let Some(path) = &mut group.csv {
         let full = absolute(path);
         *path = full.display().to_string();

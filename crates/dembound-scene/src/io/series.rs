@@ -50,11 +50,21 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
 }
 
 /// The partner of a collision as the outputs name it: a sphere's input
-/// index, or `wall:K` for plane wall K (file order).
+/// index, or `wall:K` for wall K (file order: a plane, or one of the
+/// boundary particles of a boundary-particle wall, whose input index is
+/// [`boundary_particle`]).
 pub fn partner_name(j: &Partner) -> String {
     match j {
         Partner::Body(b) => b.to_string(),
-        Partner::Wall(k) => format!("wall:{k}"),
+        Partner::Wall(k) | Partner::BoundaryParticle { wall: k, .. } => format!("wall:{k}"),
+    }
+}
+
+/// The input index of the boundary particle hit, if the partner is one.
+pub fn boundary_particle(j: &Partner) -> Option<usize> {
+    match j {
+        Partner::BoundaryParticle { body, .. } => Some(*body),
+        _ => None,
     }
 }
 
@@ -64,6 +74,7 @@ pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()>
     out.write_record([
         "i",
         "j",
+        "boundary_particle",
         "t_start_s",
         "t_end_s",
         "duration_s",
@@ -90,6 +101,7 @@ pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()>
         let mut row = vec![
             c.i.to_string(),
             partner_name(&c.j),
+            boundary_particle(&c.j).map_or(String::new(), |b| b.to_string()),
             format!("{:e}", c.t_start),
             format!("{:e}", c.t_end),
             format!("{:e}", c.duration),
