@@ -13,6 +13,7 @@ pub mod run;
 pub mod scene;
 pub mod sweep;
 pub mod validate;
+pub mod wall_study;
 pub mod warnings;
 
 use crate::output::files::AtomicDir;
@@ -60,6 +61,8 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Every scenario key with its unit, default and allowed range
     Keys(keys::KeysArgs),
+    /// Boundary particles against a plane in a many-particle bed (issue 13)
+    WallStudy(wall_study::WallStudyArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -112,6 +115,7 @@ pub fn main() -> ExitCode {
         Command::Restitution(args) => restitution::run(args),
         Command::Scene(args) => scene::run(args),
         Command::Keys(args) => keys::run(args),
+        Command::WallStudy(args) => wall_study::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

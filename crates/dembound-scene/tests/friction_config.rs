@@ -31,7 +31,9 @@ dt = 1.0e-6
 steps = 10
 "#;
 
-fn load(sets: &[&str]) -> Result<dembound_scene::io::resolve::ResolvedScene, dembound_scene::SceneError> {
+fn load(
+    sets: &[&str],
+) -> Result<dembound_scene::io::resolve::ResolvedScene, dembound_scene::SceneError> {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let file = config::load(SCENE, "test.toml", &sets)?;
     resolve(&file, Path::new("."))
@@ -52,7 +54,9 @@ fn bad_values_name_their_key() {
         ("material.0.friction=-2", "material[0].friction"),
         ("wall.0.friction=-2", "wall[0].friction"),
     ] {
-        let err = load(&[set]).err().unwrap_or_else(|| panic!("{set} accepted"));
+        let err = load(&[set])
+            .err()
+            .unwrap_or_else(|| panic!("{set} accepted"));
         assert!(err.is_input(), "{set}: {err}");
         assert!(err.to_string().contains(key), "{set}: {err}");
     }
