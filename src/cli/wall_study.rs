@@ -683,7 +683,7 @@ fn report(
                 continue;
             }
             let rel = (v - p).abs() / p.abs().max(1e-300);
-            if !(rel <= tolerance) {
+            if rel.is_nan() || rel > tolerance {
                 fails.push(format!("{name}: {:.3} % off", 100.0 * rel));
             }
         }

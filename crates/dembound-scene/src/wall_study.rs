@@ -213,7 +213,7 @@ impl StudyConfig {
                 if !(radius_ratio.is_finite() && (0.5..=1000.0).contains(&radius_ratio)) {
                     return Err(invalid("--radius-ratios", radius_ratio, "0.5 ≤ r ≤ 1000"));
                 }
-                if !(modulus_ratio > 0.0 && !modulus_ratio.is_nan()) {
+                if modulus_ratio <= 0.0 || modulus_ratio.is_nan() {
                     return Err(invalid("--modulus-ratios", modulus_ratio, "> 0, or inf"));
                 }
             }

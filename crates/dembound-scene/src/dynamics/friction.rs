@@ -111,7 +111,7 @@ impl FrictionTable {
             pairs: Vec::new(),
             planes: Vec::new(),
         };
-        if bodies.class.iter().any(|&c| c == NO_CLASS) {
+        if bodies.class.contains(&NO_CLASS) {
             return table;
         }
         let classes = bodies
@@ -475,8 +475,8 @@ pub fn add_pair_forces(
             let (xi, vi, ri, wi) = (position[i], velocity[i], radius[i], spin[i]);
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
-            for k in s..e {
-                let j = js[k] as usize;
+            for (k, &j) in js.iter().enumerate().take(e).skip(s) {
+                let j = j as usize;
                 let (xj, rj) = (position[j], radius[j]);
                 // SAFETY (every pointer below): entry k belongs to row i,
                 // which only this block visits; j lies in this block or the
