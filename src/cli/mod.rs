@@ -3,7 +3,9 @@
 //! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
+pub mod compare;
 pub mod exact;
+pub mod export;
 pub mod keys;
 pub mod lists;
 pub mod paper;
@@ -63,6 +65,13 @@ enum Command {
     Keys(keys::KeysArgs),
     /// Boundary particles against a plane in a many-particle bed (issue 13)
     WallStudy(wall_study::WallStudyArgs),
+    /// Write a LAMMPS or LIGGGHTS deck or a Yade script that reproduces
+    /// the scenario (pre-mixed moduli, damping in the code's convention,
+    /// dembound's Δt, a per-step trace)
+    Export(export::ExportArgs),
+    /// Read the trace an exported deck wrote and print its h_max, T_c,
+    /// v_r, e beside dembound's and the exact reference
+    Compare(compare::CompareArgs),
 }
 
 /// Why a command did not succeed, and so its exit code.
@@ -116,6 +125,8 @@ pub fn main() -> ExitCode {
         Command::Scene(args) => scene::run(args),
         Command::Keys(args) => keys::run(args),
         Command::WallStudy(args) => wall_study::run(args),
+        Command::Export(args) => export::run(args),
+        Command::Compare(args) => compare::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -38,8 +38,8 @@ fn run_steps<I: Integrator, L: NormalContactLaw<History = ()>>(
 fn steps(c: &mut Criterion) {
     let pair = ContactPair::new(Particle::PAPER, Boundary::PAPER);
     let mass = Particle::PAPER.mass();
-    let hertz = Hertz::for_pair(&pair);
-    let linear = LinearSpring::for_pair(&pair);
+    let hertz = pair.law::<Hertz>(&[]);
+    let linear = pair.law::<LinearSpring>(&[]);
     let dt_h = hertz.contact_time_estimate(mass, 0.3132) / 50.0;
     let dt_l = linear.contact_time_estimate(mass, 0.3132) / 50.0;
     let mut group = c.benchmark_group("step");

@@ -37,8 +37,8 @@ fn main() {
     let mass = Particle::PAPER.mass();
     match args.get(1).map(String::as_str) {
         Some("steps") => {
-            let hertz = Hertz::for_pair(&pair);
-            let linear = LinearSpring::for_pair(&pair);
+            let hertz = pair.law::<Hertz>(&[]);
+            let linear = pair.law::<LinearSpring>(&[]);
             let dt_h = hertz.contact_time_estimate(mass, 0.3132) / 50.0;
             let dt_l = linear.contact_time_estimate(mass, 0.3132) / 50.0;
             let x = match (args[2].as_str(), args[3].as_str()) {

@@ -9,9 +9,12 @@
 //! - [`exact`]: exact references (closed forms, quadrature), kept apart from
 //!   the numerics they check;
 //! - [`reference`](mod@reference): independent references for the dissipative laws;
-//! - [`study`]: validation, convergence and parametric studies.
+//! - [`study`]: validation, convergence and parametric studies;
+//! - [`calibration`]: from a configured model to the concrete law, a target
+//!   restitution turned into its coefficient (above `contact` and `reference`).
 
 pub mod bounce;
+pub mod calibration;
 pub mod contact;
 pub mod exact;
 pub mod integrate;

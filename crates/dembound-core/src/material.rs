@@ -6,6 +6,8 @@
 //! formula here is written in the reciprocal form that evaluates those limits
 //! exactly rather than as `∞/∞`.
 
+use dembound_physics::contact::normal::NormalSubModel;
+use dembound_physics::material::PairProperties;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -135,6 +137,23 @@ impl ContactPair {
     /// in N/m^α.
     pub fn power_law_stiffness(&self, alpha: f64) -> f64 {
         self.effective_modulus() * self.effective_radius().powf(2.0 - alpha)
+    }
+
+    /// The pair as the physics crate's per-pair laws see it: R_eff, E_eff
+    /// and the particle's mass m_m (the boundary is fixed here).
+    pub fn properties(&self) -> PairProperties {
+        PairProperties {
+            radius: self.effective_radius(),
+            modulus: self.effective_modulus(),
+            mass: self.particle.mass(),
+        }
+    }
+
+    /// The physics crate's normal law `T` for this pair, with its
+    /// parameters in the order of its registry row (`pair.law::<Hertz>(&[])`,
+    /// `pair.law::<PowerLaw>(&[α])`, `pair.law::<WaltonBraun>(&[e])`).
+    pub fn law<T: NormalSubModel>(&self, params: &[f64]) -> T {
+        T::new(params, &self.properties())
     }
 
     /// p = √(E_eff R_eff^(2−α)/m_m) (eq 10), in s⁻¹ m^((1−α)/2).

@@ -11,10 +11,13 @@
 //!   bodies it gives a [`contact::PairLaw`], the coefficients of that pair,
 //!   whose `force` and `update` are all a time loop needs. Sub-models and
 //!   their parameters are rows of [`contact::registry`].
+//! - [`integrate`]: Gear5 and velocity Verlet generic over the state they
+//!   advance (a scalar, a [`integrate::Vec3`], an array of bodies).
 //! - [`error`]: the crate's one error type, [`PhysicsError`].
 
 pub mod contact;
 pub mod error;
+pub mod integrate;
 pub mod material;
 
 pub use error::PhysicsError;

@@ -356,7 +356,7 @@ trait LaneLaw: NormalContactLaw<History = ()> + Copy {
 impl LaneLaw for Hertz {
     const GRADING: Grading = Grading::Power;
     fn for_pair(pair: &ContactPair) -> Self {
-        Hertz::for_pair(pair)
+        pair.law::<Hertz>(&[])
     }
     fn with_stiffness(k: f64) -> Self {
         Hertz { stiffness: k }
@@ -384,7 +384,7 @@ impl LaneLaw for Hertz {
 impl LaneLaw for LinearSpring {
     const GRADING: Grading = Grading::Uniform;
     fn for_pair(pair: &ContactPair) -> Self {
-        LinearSpring::for_pair(pair)
+        pair.law::<LinearSpring>(&[])
     }
     fn with_stiffness(k: f64) -> Self {
         LinearSpring { stiffness: k }

@@ -5,19 +5,21 @@
 pub mod batch;
 pub mod events;
 pub mod limits;
+mod problem;
+mod run;
 mod scenario;
 pub mod schedule;
 mod simulate;
 pub mod tolerance;
 
 pub use batch::simulate_batch;
+pub use problem::{Problem, SimulationError};
+pub use run::{check_resolution, check_step, plan, simulate};
 pub use scenario::{
     BoundarySection, ContactSection, GravityOn, InputError, Integration, Motion, ParticleSection,
     Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,
 };
-pub use simulate::{
-    check_resolution, check_step, plan, simulate, simulate_with, Problem, SimulationError,
-};
+pub use simulate::simulate_with;
 
 use serde::{Deserialize, Serialize};
 

@@ -581,8 +581,8 @@ impl Scenario {
                     "absent unless contact.damping is \"viscous\", \"tsuji\" or \"viscoelastic\"",
                 )?;
             }
-            (ContactLawKind::Linear, DampingKind::Viscous)
-            | (ContactLawKind::Hertz, DampingKind::Tsuji | DampingKind::Viscoelastic) => {
+            // The physics registry's compatibility table.
+            (law, damping) if damping.combines_with(law) => {
                 check(
                     c.restitution.is_some() || c.damping_coefficient.is_some(),
                     "contact.restitution",
@@ -607,8 +607,9 @@ impl Scenario {
                 "contact.damping",
                 quoted(damping.name()),
                 &format!(
-                    "with law = {}: \"none\"; \"viscous\" needs law = \"linear\", \"tsuji\" and \"viscoelastic\" need law = \"hertz\" (walton-braun is dissipative on its own)",
-                    quoted(&law)
+                    "with law = {}: {}",
+                    quoted(&law),
+                    dembound_physics::contact::registry::dampings_for(c.law.row())
                 ),
             )?,
         }

@@ -33,7 +33,8 @@
 //! accurate); in fixed stepping the pilot's onset lies on a grid point,
 //! while the run's lies anywhere in a step.
 
-use super::simulate::{simulate_with, Problem, SimulationError};
+use super::problem::{Problem, SimulationError};
+use super::simulate::simulate_with;
 use super::{ContactRecord, Scenario, Stepping};
 use crate::contact::{NormalContactLaw, Onset};
 use crate::integrate::{Gear5, Scheme, Verlet};

@@ -11,30 +11,32 @@
 //!
 //! Dissipative laws ([`LinearDashpot`], [`HertzTsuji`], [`HertzViscoelastic`],
 //! [`WaltonBraun`]) are separate concrete types; forbidding an attractive
-//! force is the wrapper [`NoAttraction`]. [`with_model`] picks the type, so
-//! the elastic laws' inner loop is unchanged.
+//! force is the wrapper [`NoAttraction`]. [`crate::calibration::with_model`]
+//! picks the type, so the elastic laws' inner loop is unchanged.
 
 mod dashpot;
-mod hertz;
-mod linear;
 mod no_attraction;
-mod power;
+mod physics_laws;
 mod tsuji;
 mod viscoelastic;
-mod walton_braun;
 
 pub use dashpot::{
     damping_ratio_for, free_restitution, restitution_to_damping_ratio, LinearDashpot,
 };
-pub use hertz::Hertz;
-pub use linear::LinearSpring;
+pub use dembound_physics::contact::normal::{
+    hertz::Hertz, hooke::Hooke, linear::Linear as LinearSpring, power::PowerLaw,
+    walton_braun::WaltonBraun,
+};
 pub use no_attraction::NoAttraction;
-pub use power::PowerLaw;
 pub use tsuji::{tsuji_beta, HertzTsuji};
-pub use viscoelastic::{viscoelastic_restitution, HertzViscoelastic};
-pub use walton_braun::{WaltonBraun, WaltonBraunHistory};
+pub use viscoelastic::HertzViscoelastic;
+
+/// What a Walton–Braun contact remembers: the physics crate's one
+/// per-pair history (largest overlap, unloading flag).
+pub type WaltonBraunHistory = dembound_physics::contact::ContactHistory;
 
 use crate::material::ContactPair;
+use dembound_physics::contact::registry;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -182,13 +184,32 @@ impl ContactLawKind {
         }
     }
 
+    /// The registry name (`"hertz"`), with the exponent for a power law
+    /// (`"power 1.25"`).
     pub fn name(&self) -> String {
         match *self {
-            ContactLawKind::Linear => "linear".into(),
-            ContactLawKind::Hertz => "hertz".into(),
-            ContactLawKind::Power(alpha) => format!("power {alpha}"),
-            ContactLawKind::WaltonBraun => "walton-braun".into(),
+            ContactLawKind::Power(alpha) => format!("{} {alpha}", self.row().name),
+            _ => self.row().name.into(),
         }
+    }
+
+    /// The law as the physics crate's registry configures it, with the
+    /// restitution a hysteretic law takes (k₂ = k₁/e²; 1 when absent).
+    pub fn to_physics(&self, restitution: Option<f64>) -> registry::NormalLaw {
+        match *self {
+            ContactLawKind::Linear => registry::NormalLaw::Linear,
+            ContactLawKind::Hertz => registry::NormalLaw::Hertz,
+            ContactLawKind::Power(exponent) => registry::NormalLaw::Power { exponent },
+            ContactLawKind::WaltonBraun => registry::NormalLaw::WaltonBraun {
+                restitution: restitution.unwrap_or(1.0),
+            },
+        }
+    }
+
+    /// Its row of the physics registry (name, parameters, family: the
+    /// law–damping compatibility table).
+    pub fn row(&self) -> &'static registry::NormalRow {
+        self.to_physics(None).row()
     }
 }
 
@@ -200,10 +221,10 @@ impl ContactLawKind {
 /// spring that keeps a history). Use [`with_model`] for dissipative models.
 pub fn with_law<R>(kind: ContactLawKind, pair: &ContactPair, f: impl LawVisitor<Output = R>) -> R {
     match kind {
-        ContactLawKind::Linear => f.visit(LinearSpring::for_pair(pair)),
-        ContactLawKind::Hertz => f.visit(Hertz::for_pair(pair)),
-        ContactLawKind::Power(alpha) => f.visit(PowerLaw::for_pair(pair, alpha)),
-        ContactLawKind::WaltonBraun => f.visit(WaltonBraun::for_pair(pair, 1.0)),
+        ContactLawKind::Linear => f.visit(pair.law::<LinearSpring>(&[])),
+        ContactLawKind::Hertz => f.visit(pair.law::<Hertz>(&[])),
+        ContactLawKind::Power(alpha) => f.visit(pair.law::<PowerLaw>(&[alpha])),
+        ContactLawKind::WaltonBraun => f.visit(pair.law::<WaltonBraun>(&[1.0])),
     }
 }
 
@@ -224,13 +245,30 @@ pub enum DampingKind {
 }
 
 impl DampingKind {
+    /// The registry name.
     pub fn name(&self) -> &'static str {
+        self.row().name
+    }
+
+    /// The damping as the physics crate's registry names it.
+    pub fn to_physics(&self) -> registry::DampingKind {
         match self {
-            DampingKind::None => "none",
-            DampingKind::Viscous => "viscous",
-            DampingKind::Tsuji => "tsuji",
-            DampingKind::Viscoelastic => "viscoelastic",
+            DampingKind::None => registry::DampingKind::None,
+            DampingKind::Viscous => registry::DampingKind::Viscous,
+            DampingKind::Tsuji => registry::DampingKind::Tsuji,
+            DampingKind::Viscoelastic => registry::DampingKind::Viscoelastic,
         }
+    }
+
+    /// Its row of the physics registry.
+    pub fn row(&self) -> &'static registry::DampingRow {
+        self.to_physics().row()
+    }
+
+    /// Whether it combines with `law`: the registry's one compatibility
+    /// table ([`registry::DampingRow::combines`]).
+    pub fn combines_with(&self, law: ContactLawKind) -> bool {
+        self.row().combines(law.row())
     }
 }
 
@@ -326,81 +364,6 @@ impl fmt::Display for ModelError {
 }
 
 impl std::error::Error for ModelError {}
-
-/// Calls `f` with the concrete law of `model` for `pair`, a body of `mass`
-/// (kg; the particle's own mass against a fixed boundary) and first impact
-/// speed `impact_speed` (m/s; used only to calibrate the viscoelastic law
-/// to a target restitution). A target restitution becomes the law's
-/// coefficient as `model.calibration` says.
-///
-/// Each dissipative law is its own type and the no-attraction clamp is the
-/// wrapper [`NoAttraction`]; elastic models go through [`with_law`]
-/// unchanged (their force is ≥ 0 for h ≥ 0, so the clamp would be a no-op).
-pub fn with_model<R>(
-    model: &ContactModel,
-    pair: &ContactPair,
-    mass: f64,
-    impact_speed: f64,
-    f: impl LawVisitor<Output = R>,
-) -> Result<R, ModelError> {
-    fn clamp<L: NormalContactLaw, R>(
-        law: L,
-        attractive: bool,
-        f: impl LawVisitor<Output = R>,
-    ) -> R {
-        if attractive {
-            f.visit(law)
-        } else {
-            f.visit(NoAttraction(law))
-        }
-    }
-    let need = || {
-        model.dissipation.ok_or_else(|| {
-            ModelError(format!(
-                "contact.damping = \"{}\" needs contact.restitution or contact.damping_coefficient",
-                model.damping.name()
-            ))
-        })
-    };
-    let (attractive, calibration) = (model.attractive, model.calibration);
-    match (model.law, model.damping) {
-        (ContactLawKind::WaltonBraun, DampingKind::None) => match need() {
-            Ok(Dissipation::Restitution(e)) => Ok(f.visit(WaltonBraun::for_pair(pair, e))),
-            _ => Err(ModelError(
-                "law = \"walton-braun\" needs contact.restitution (k2 = k1/e^2)".into(),
-            )),
-        },
-        (law, DampingKind::None) => Ok(with_law(law, pair, f)),
-        (ContactLawKind::Linear, DampingKind::Viscous) => Ok(clamp(
-            LinearDashpot::calibrated(pair, mass, need()?, calibration, attractive),
-            attractive,
-            f,
-        )),
-        (ContactLawKind::Hertz, DampingKind::Tsuji) => Ok(clamp(
-            HertzTsuji::calibrated(pair, mass, need()?, calibration, attractive),
-            attractive,
-            f,
-        )),
-        (ContactLawKind::Hertz, DampingKind::Viscoelastic) => Ok(clamp(
-            HertzViscoelastic::calibrated(
-                pair,
-                mass,
-                need()?,
-                impact_speed,
-                calibration,
-                attractive,
-            )?,
-            attractive,
-            f,
-        )),
-        (law, damping) => Err(ModelError(format!(
-            "contact.damping = \"{}\" does not go with law = \"{}\" (viscous needs \"linear\", \
-             tsuji and viscoelastic need \"hertz\", walton-braun is dissipative on its own)",
-            damping.name(),
-            law.name()
-        ))),
-    }
-}
 
 /// A generic computation over a concrete law type (see [`with_law`]).
 pub trait LawVisitor {

@@ -15,7 +15,9 @@
 //! at the scenario's first impact speed rebounds with the target e (with
 //! the attraction setting of the run): e(δ) is computed by the adaptive
 //! reference integrator ([`crate::reference::dissipative`]) and inverted by
-//! bisection in ln δ. Later (slower) impacts of the same run then rebound
+//! bisection in ln δ ([`HertzViscoelastic::for_pair`], in
+//! [`crate::calibration`], which sits above both this module and the
+//! references). Later (slower) impacts of the same run then rebound
 //! with a larger e, as they physically should. Alternatively A is given
 //! raw (`contact.damping_coefficient`, seconds). With
 //! [`Calibration::Formula`] A is solved for the unclamped law even when
@@ -23,9 +25,7 @@
 //! the counterpart of the other laws' published mappings, which ignore the
 //! clamp too).
 
-use super::{power_law_free_contact, Calibration, Dissipation, ModelError, NormalContactLaw};
-use crate::material::ContactPair;
-use crate::reference::dissipative::{damped_hertz, DampedHertz};
+use super::{power_law_free_contact, NormalContactLaw};
 
 /// F = k (h^(3/2) + (3/2) A h^(1/2) ḣ).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,95 +34,6 @@ pub struct HertzViscoelastic {
     pub stiffness: f64,
     /// Dissipative constant A, s.
     pub a: f64,
-}
-
-/// Restitution of a gravity-free impact at `speed` of a body of `mass` under
-/// F = k (h^(3/2) + (3/2) A h^(1/2) ḣ), by the adaptive reference integrator.
-pub fn viscoelastic_restitution(
-    stiffness: f64,
-    a: f64,
-    mass: f64,
-    speed: f64,
-    attractive: bool,
-) -> Result<f64, ModelError> {
-    let model = DampedHertz::Viscoelastic { stiffness, a };
-    damped_hertz(model, mass, speed, 0.0, attractive)
-        .map(|r| r.restitution)
-        .map_err(|e| ModelError(format!("viscoelastic calibration: {e}")))
-}
-
-impl HertzViscoelastic {
-    /// As [`Self::for_pair`], calibrating for the law as run
-    /// ([`Calibration::Exact`]) or for the unclamped law
-    /// ([`Calibration::Formula`]).
-    pub fn calibrated(
-        pair: &ContactPair,
-        mass: f64,
-        dissipation: Dissipation,
-        impact_speed: f64,
-        calibration: Calibration,
-        attractive: bool,
-    ) -> Result<Self, ModelError> {
-        let as_run = attractive || calibration == Calibration::Formula;
-        Self::for_pair(pair, mass, dissipation, impact_speed, as_run)
-    }
-
-    /// A from a target restitution at `impact_speed` (see the module doc),
-    /// or A given (s).
-    pub fn for_pair(
-        pair: &ContactPair,
-        mass: f64,
-        dissipation: Dissipation,
-        impact_speed: f64,
-        attractive: bool,
-    ) -> Result<Self, ModelError> {
-        let stiffness = pair.power_law_stiffness(1.5);
-        let a = match dissipation {
-            Dissipation::Coefficient(a) => a,
-            Dissipation::Restitution(e) if e >= 1.0 => 0.0,
-            Dissipation::Restitution(e) => {
-                if impact_speed.is_nan() || impact_speed <= 0.0 || impact_speed.is_infinite() {
-                    return Err(ModelError(
-                        "contact.restitution with damping = \"viscoelastic\" needs a first impact speed > 0"
-                            .into(),
-                    ));
-                }
-                let t = (mass / stiffness).powf(0.4) * impact_speed.powf(-0.2);
-                // A contact that never ends (creeping back under heavy
-                // damping) counts as e = 0: the damping is too strong.
-                let e_of = |ln_delta: f64| {
-                    viscoelastic_restitution(
-                        stiffness,
-                        ln_delta.exp() * t,
-                        mass,
-                        impact_speed,
-                        attractive,
-                    )
-                    .unwrap_or(0.0)
-                };
-                // e decreases with δ: e(1e−9) ≈ 1, e(30) ≈ 0.
-                let (mut lo, mut hi) = ((1e-9_f64).ln(), (30.0_f64).ln());
-                if e_of(lo) < e || e_of(hi) > e {
-                    return Err(ModelError(format!(
-                        "contact.restitution = {e} is out of reach of the viscoelastic law (0 < δ ≤ 30)"
-                    )));
-                }
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    if e_of(mid) > e {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                    if hi - lo < 1e-13 {
-                        break;
-                    }
-                }
-                (0.5 * (lo + hi)).exp() * t
-            }
-        };
-        Ok(Self { stiffness, a })
-    }
 }
 
 impl NormalContactLaw for HertzViscoelastic {

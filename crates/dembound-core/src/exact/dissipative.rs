@@ -52,7 +52,7 @@ pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactErr
                     requirement: "given for law = \"walton-braun\"",
                 });
             };
-            let law = WaltonBraun::for_pair(&pair, e);
+            let law = pair.law::<WaltonBraun>(&[e]);
             Box::new(move |v| {
                 let r = walton_braun(law.loading, law.unloading, mass, v, g)?;
                 Ok((r, law.loading * r.max_overlap))

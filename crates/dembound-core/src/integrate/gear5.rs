@@ -14,51 +14,16 @@
 
 use super::{keep_scalar, DenseOutput, Integrator, Kinematics};
 
-/// 5th-order Gear predictor–corrector for second-order equations.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Gear5 {
-    /// Corrector coefficients c₀..c₅.
-    pub(crate) corrector: [f64; 6],
-    /// The corrector carried through the next prediction: P c, with P
-    /// Pascal's triangle, (P c)_k = Σ_j C(j, k) c_j (see [`Gear5State`]).
-    pub(crate) predicted_corrector: [f64; 6],
-    /// 1 / Σ c_k.
-    pub(crate) inverse_sum: f64,
+pub use dembound_physics::integrate::gear5::{pascal, Gear5};
+
+/// The bounce's scalar state built on the physics crate's [`Gear5`]
+/// coefficients (one copy of them and of the Pascal predictor).
+trait ScalarGear5 {
+    fn state(&self, r: [f64; 6], dt: f64) -> Gear5State;
+    fn apply(&self, r: &mut [f64; 6], next: &mut [f64; 6], delta: f64);
 }
 
-const fn gear5(c0: f64) -> Gear5 {
-    let c = [c0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0];
-    // P c (Pascal's rows applied to c; `pascal` is not a const fn).
-    let pc = [
-        ((c[0] + c[1]) + (c[2] + c[3])) + (c[4] + c[5]),
-        ((c[1] + 2.0 * c[2]) + (3.0 * c[3] + 4.0 * c[4])) + 5.0 * c[5],
-        (c[2] + 3.0 * c[3]) + (6.0 * c[4] + 10.0 * c[5]),
-        (c[3] + 4.0 * c[4]) + 10.0 * c[5],
-        c[4] + 5.0 * c[5],
-        c[5],
-    ];
-    Gear5 {
-        corrector: c,
-        predicted_corrector: pc,
-        inverse_sum: 1.0 / pc[0],
-    }
-}
-
-impl Gear5 {
-    /// For forces that depend on position only (c₀ = 3/16).
-    pub const POSITION_DEPENDENT: Gear5 = gear5(3.0 / 16.0);
-    /// For forces that also depend on velocity (c₀ = 3/20).
-    pub const VELOCITY_DEPENDENT: Gear5 = gear5(3.0 / 20.0);
-
-    /// The right coefficients for a force that does or does not depend on velocity.
-    pub fn for_force(depends_on_velocity: bool) -> Self {
-        if depends_on_velocity {
-            Self::VELOCITY_DEPENDENT
-        } else {
-            Self::POSITION_DEPENDENT
-        }
-    }
-
+impl ScalarGear5 for Gear5 {
     fn state(&self, r: [f64; 6], dt: f64) -> Gear5State {
         let half_dt2 = 0.5 * dt * dt;
         Gear5State {
@@ -111,25 +76,6 @@ pub struct Gear5State {
     pub(crate) gain: f64,
     /// The next predicted vector P r (between `predict` and `correct`: P rᵖ).
     pub(crate) next: [f64; 6],
-}
-
-/// The Taylor prediction over one step: multiplication by Pascal's
-/// triangle, rᵖ_k = Σ_j C(j, k) r_j (eq 18). Generic so that the batched
-/// path's SIMD lanes run these very expressions (bit-identical results).
-#[inline(always)]
-pub(crate) fn pascal<T>(r: &[T; 6]) -> [T; 6]
-where
-    T: Copy + std::ops::Add<Output = T>,
-    f64: std::ops::Mul<T, Output = T>,
-{
-    [
-        ((r[0] + r[1]) + (r[2] + r[3])) + (r[4] + r[5]),
-        ((r[1] + 2.0 * r[2]) + (3.0 * r[3] + 4.0 * r[4])) + 5.0 * r[5],
-        (r[2] + 3.0 * r[3]) + (6.0 * r[4] + 10.0 * r[5]),
-        (r[3] + 4.0 * r[4]) + 10.0 * r[5],
-        r[4] + 5.0 * r[5],
-        r[5],
-    ]
 }
 
 const FACTORIAL: [f64; 6] = [1.0, 1.0, 2.0, 6.0, 24.0, 120.0];

@@ -12,7 +12,7 @@
 mod gear5;
 mod verlet;
 
-pub(crate) use gear5::pascal;
+pub use gear5::pascal;
 pub use gear5::{Gear5, Gear5State};
 pub use verlet::{Verlet, VerletState};
 

@@ -65,13 +65,13 @@ impl DissipativeLaw {
         DissipativeLaw::WaltonBraun,
     ];
 
-    /// `viscous`, `tsuji`, `viscoelastic`, `walton-braun`.
+    /// `viscous`, `tsuji`, `viscoelastic`, `walton-braun`: the registry
+    /// name of its damping, or of its law when the law is dissipative on
+    /// its own.
     pub fn name(&self) -> &'static str {
-        match self {
-            DissipativeLaw::Viscous => "viscous",
-            DissipativeLaw::Tsuji => "tsuji",
-            DissipativeLaw::Viscoelastic => "viscoelastic",
-            DissipativeLaw::WaltonBraun => "walton-braun",
+        match self.contact() {
+            (law, DampingKind::None) => law.row().name,
+            (_, damping) => damping.name(),
         }
     }
 
@@ -102,11 +102,10 @@ impl DissipativeLaw {
 
     /// Symbol of the raw coefficient.
     pub fn coefficient_symbol(&self) -> &'static str {
-        match self {
-            DissipativeLaw::Viscous => "c",
-            DissipativeLaw::Tsuji => "γ",
-            DissipativeLaw::Viscoelastic => "A",
-            DissipativeLaw::WaltonBraun => "k₂",
+        match self.contact().1.row().coefficient {
+            Some(coefficient) => coefficient.symbol,
+            // Walton–Braun: its unloading stiffness.
+            None => "k₂",
         }
     }
 
@@ -424,6 +423,7 @@ pub fn simulate_coefficient(
             WaltonBraun {
                 loading: k1,
                 unloading: coefficient,
+                residual_fraction: 1.0 - k1 / coefficient,
             },
         ),
     }

@@ -419,6 +419,19 @@ normal_registry! {
         family: Family::Linear,
         capabilities: ELASTIC,
     };
+    /// LAMMPS GRANULAR `hertz`: F = k_n √R_eff h^(3/2) with k_n given.
+    HertzKn { stiffness } => normal::hertz_kn::HertzKn = NormalRow {
+        name: "hertz-kn",
+        formula: "F = k_n √R_eff h^(3/2), k_n given (LAMMPS granular hertz)",
+        params: &[ParamSpec {
+            key: "stiffness",
+            symbol: "k_n",
+            unit: "Pa",
+            range: Range::POSITIVE,
+        }],
+        family: Family::Hertzian,
+        capabilities: ELASTIC,
+    };
 }
 
 damping_registry! {

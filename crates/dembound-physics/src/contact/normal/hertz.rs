@@ -1,7 +1,7 @@
 //! The Hertz law, eq 4 with α = 3/2: F = k h^(3/2), k = E_eff √R_eff.
 
 use super::NormalSubModel;
-use crate::contact::ContactHistory;
+use crate::contact::{calibration::power_law_free_contact, ContactHistory};
 use crate::material::PairProperties;
 
 /// 0.8 B(2/5, 1/2) = 2.9432751843…: the gravity-free Hertz contact time in
@@ -37,9 +37,10 @@ impl NormalSubModel for Hertz {
         self.stiffness
     }
 
-    /// T_c = 2.9432… h_max/v with h_max = (5 m v²/(4 k))^(2/5) (eqs 29–30).
+    /// T_c = 2.9432… h_max/v with h_max = (5 m v²/(4 k))^(2/5) (eqs 29–30),
+    /// the constant evaluated exactly as 0.8 B(2/5, 1/2)
+    /// ([`power_law_free_contact`] with α = 3/2), as the bounce study has it.
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {
-        let h_max = (1.25 * mass * impact_speed * impact_speed / self.stiffness).powf(0.4);
-        HERTZ_CONTACT_TIME_FACTOR * h_max / impact_speed
+        power_law_free_contact(self.stiffness, 1.5, mass, impact_speed).1
     }
 }

@@ -7,6 +7,7 @@ use super::ContactHistory;
 use crate::material::PairProperties;
 
 pub mod hertz;
+pub mod hertz_kn;
 pub mod hooke;
 pub mod linear;
 pub mod power;

@@ -28,7 +28,7 @@ pub struct WaltonBraun {
     /// Unloading stiffness k₂ = k₁/e², N/m.
     pub unloading: f64,
     /// 1 − k₁/k₂ = 1 − e²: h₀ = h_max · this.
-    residual_fraction: f64,
+    pub residual_fraction: f64,
 }
 
 impl WaltonBraun {
@@ -43,10 +43,13 @@ impl NormalSubModel for WaltonBraun {
     fn new(params: &[f64], pair: &PairProperties) -> Self {
         let e = params[0];
         let loading = pair.modulus * pair.radius;
+        let unloading = loading / (e * e);
         Self {
             loading,
-            unloading: loading / (e * e),
-            residual_fraction: 1.0 - e * e,
+            unloading,
+            // 1 − k₁/k₂ (= 1 − e² up to the last bit; formed as the bounce
+            // study always has).
+            residual_fraction: 1.0 - loading / unloading,
         }
     }
 

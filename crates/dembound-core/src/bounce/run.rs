@@ -1,0 +1,253 @@
+//! From a scenario to a run: validate, build the law, resolve the
+//! numerical problem (Δt = η T_c, a given Δt, or the Δt of an accuracy
+//! target from pilot runs, [`super::tolerance`]), check that the step
+//! resolves the contact, then hand the problem to the time loop
+//! ([`super::simulate`]). Above both the loop and the step choice, so that
+//! neither imports the other's caller.
+
+use super::limits;
+use super::problem::{Problem, SimulationError};
+use super::simulate::simulate_with;
+use super::tolerance;
+use super::{InputError, Observer, RunOutcome, Scenario, StepRule};
+use crate::calibration::with_model;
+use crate::contact::{LawVisitor, NormalContactLaw};
+use crate::integrate::{Gear5, Scheme, Verlet};
+
+impl Problem {
+    /// Resolves Δt for `law` (Δt = η T_c with the law's estimate at the
+    /// first impact speed, Δt as given, or Δt for an accuracy target from
+    /// pilot runs: [`super::tolerance`]).
+    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Result<Self, SimulationError> {
+        let mass = s.reduced_mass();
+        let g = s.relative_gravity();
+        let mut speed = s.impact_speed();
+        if speed <= 0.0 {
+            // Dropped with no speed onto the surface: the gravity-driven
+            // oscillation has the speed scale √(2 g h_eq), h_eq the static overlap.
+            let (mut lo, mut hi) = (0.0, s.particle.radius);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if law.force(mid, 0.0, &Default::default()) < mass * g {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            speed = (2.0 * g * hi).sqrt();
+        }
+        let estimate = law.contact_time_estimate(mass, speed);
+        check_gravity_share(s, law, mass)?;
+        let dt = match s.step_rule() {
+            StepRule::Fixed(dt) => dt,
+            StepRule::Fraction(eta) => eta * estimate,
+            StepRule::Tolerance(_) => tolerance::PILOT_ETAS[1] * estimate,
+        };
+        let mut problem = Problem {
+            mass,
+            gravity: g,
+            gap: s.motion.gap,
+            velocity: s.relative_velocity(),
+            contacts: s.motion.contacts,
+            dt,
+            contact_time_estimate: estimate,
+            stepping: s.integration.stepping,
+            two_body: s.two_body(),
+            error_estimate: None,
+            pilot_steps: None,
+        };
+        if let StepRule::Tolerance(tol) = s.step_rule() {
+            let chosen = tolerance::choose_step(s, law, tol, &problem)?;
+            problem.dt = chosen.eta * estimate;
+            problem.error_estimate = Some(chosen.error_estimate);
+            problem.pilot_steps = Some(chosen.pilot_steps);
+        }
+        Ok(problem)
+    }
+}
+
+/// Refuses a contact that gravity dominates: g T_c/|v_c| above
+/// [`limits::MAX_GRAVITY_SHARE`] at the first impact, or at the last one
+/// when a target restitution e < 1 slows the later impacts (|v_c| e^(n−1),
+/// gravity-free). There e = v_r/|v_c| is ill-conditioned and the integrator
+/// cannot resolve it (measurements in [`limits`]). The message names
+/// `motion.gap` with the smallest gap that would do.
+fn check_gravity_share(
+    s: &Scenario,
+    law: &impl NormalContactLaw,
+    mass: f64,
+) -> Result<(), InputError> {
+    let g = s.relative_gravity();
+    if g == 0.0 {
+        return Ok(());
+    }
+    let slowing = match s.contact.restitution {
+        Some(e) if e < 1.0 => e.powi(s.motion.contacts.saturating_sub(1).min(10_000) as i32),
+        _ => 1.0,
+    };
+    let share = |v: f64| g * law.contact_time_estimate(mass, v) / v;
+    let v_last = s.impact_speed() * slowing;
+    let ratio = if v_last > 0.0 {
+        share(v_last)
+    } else {
+        f64::INFINITY
+    };
+    if ratio <= limits::MAX_GRAVITY_SHARE {
+        return Ok(());
+    }
+    // The smallest impact speed with an acceptable share (the share falls
+    // with the speed for every law: T_c does not grow with it).
+    let (mut lo, mut hi) = ((1e-30f64).ln(), (1e10f64).ln());
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if share(mid.exp()) > limits::MAX_GRAVITY_SHARE {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let v_min = hi.exp();
+    let v_first = s.impact_speed();
+    if slowing < 1.0 && v_first >= v_min {
+        // The first impact is fine, a later slower one is not.
+        let e = s.contact.restitution.unwrap_or(1.0);
+        let most = 1.0 + ((v_first / v_min).ln() / (1.0 / e).ln()).floor();
+        return Err(InputError {
+            field: "motion.contacts".into(),
+            value: s.motion.contacts.to_string(),
+            allowed: format!(
+                "1 to {most} for this scenario: with e = {e} the impact speed falls to \
+                 {v_last:.3e} m/s by contact {n}, where gravity dominates the contact \
+                 (g T_c/|v_c| = {ratio:.3e} > {max}) and the rebound speed cannot be resolved",
+                n = s.motion.contacts,
+                max = limits::MAX_GRAVITY_SHARE,
+            ),
+        });
+    }
+    let v_needed = v_min / slowing;
+    let v0 = s.relative_velocity();
+    let gap_needed = (v_needed * v_needed - v0 * v0) / (2.0 * g);
+    Err(InputError {
+        field: "motion.gap".into(),
+        value: format!("{} m", limits::show(s.motion.gap)),
+        allowed: format!(
+            "≥ {gap_needed:.3e} m for this particle, boundary and law: gravity dominates the \
+             contact (g T_c/|v_c| = {ratio:.3e} > {max}: the impact speed {v:.3e} m/s is too \
+             small against the velocity gravity adds during the contact, and the rebound speed \
+             cannot be resolved); or a faster motion.velocity, a smaller particle.radius or a \
+             stiffer particle",
+            max = limits::MAX_GRAVITY_SHARE,
+            v = v_first
+        ),
+    })
+}
+
+/// Refuses a step that does not resolve the contact: Δt above
+/// [`limits::MAX_ETA`] times the contact-time estimate (`integration.dt`;
+/// `integration.eta` is bounded by [`Scenario::validate`]), or a step count
+/// that is not finite. Called by [`plan`], not by [`simulate`]: studies of
+/// the integrator itself (the convergence study runs η = 0.2) may step
+/// coarser.
+pub fn check_step(s: &Scenario, problem: &Problem) -> Result<(), InputError> {
+    let limit = limits::MAX_ETA * problem.contact_time_estimate;
+    if let Some(dt) = s.integration.dt {
+        if dt.is_nan() || dt > limit {
+            return Err(InputError {
+                field: "integration.dt".into(),
+                value: format!("{} s", limits::show(dt)),
+                allowed: format!(
+                    "0 < Δt ≤ {limit:.4e} s, i.e. at most {} × the contact-time estimate \
+                     T_c = {:.4e} s (a coarser step does not resolve the contact: errors of \
+                     several % at 0.125 T_c, divergence beyond)",
+                    limits::MAX_ETA,
+                    problem.contact_time_estimate
+                ),
+            });
+        }
+    }
+    let steps = problem.expected_steps();
+    if !(steps.is_finite() && problem.dt > 0.0 && problem.contact_time_estimate > 0.0) {
+        return Err(InputError {
+            field: "integration.dt".into(),
+            value: format!("{} s", problem.dt),
+            allowed: format!(
+                "a step giving a finite number of steps (the contact-time estimate is {} s and \
+                 the expected end time {} s: check particle.radius, particle.youngs_modulus, \
+                 motion.gap and motion.gravity)",
+                problem.contact_time_estimate,
+                problem.expected_end_time()
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// [`plan`]'s checks without its cost: validation, the gravity share and
+/// the step, with an `integration.tolerance` replaced by η = 1/50 (its
+/// pilot runs are not needed to know that the contact can be resolved;
+/// the step it chooses is finer still).
+pub fn check_resolution(s: &Scenario) -> Result<(), SimulationError> {
+    let mut s = *s;
+    if s.integration.tolerance.take().is_some() {
+        s.integration.eta = Some(super::DEFAULT_ETA);
+    }
+    plan(&s).map(|_| ())
+}
+
+/// Runs a scenario (validated first) and reports every contact.
+pub fn simulate<O: Observer>(
+    s: &Scenario,
+    observer: &mut O,
+) -> Result<RunOutcome, SimulationError> {
+    s.validate()?;
+    struct Visit<'a, O> {
+        scenario: &'a Scenario,
+        observer: &'a mut O,
+    }
+    impl<O: Observer> LawVisitor for Visit<'_, O> {
+        type Output = Result<RunOutcome, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
+            let problem = Problem::new(self.scenario, &law)?;
+            match self.scenario.integration.scheme {
+                Scheme::Gear5 => {
+                    let gear = Gear5::for_force(law.depends_on_rate());
+                    simulate_with(&law, gear, &problem, self.observer)
+                }
+                Scheme::Verlet => simulate_with(&law, Verlet, &problem, self.observer),
+            }
+        }
+    }
+    with_model(
+        &s.contact.model(),
+        &s.pair(),
+        s.reduced_mass(),
+        s.impact_speed(),
+        Visit {
+            scenario: s,
+            observer,
+        },
+    )?
+}
+
+/// Resolves a scenario into its numerical problem (Δt, expected steps)
+/// without running it: for step-count guards and progress bars. Refuses a
+/// step that does not resolve the contact ([`check_step`]).
+pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
+    s.validate()?;
+    struct Plan<'a>(&'a Scenario);
+    impl LawVisitor for Plan<'_> {
+        type Output = Result<Problem, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
+            let problem = Problem::new(self.0, &law)?;
+            check_step(self.0, &problem)?;
+            Ok(problem)
+        }
+    }
+    with_model(
+        &s.contact.model(),
+        &s.pair(),
+        s.reduced_mass(),
+        s.impact_speed(),
+        Plan(s),
+    )?
+}

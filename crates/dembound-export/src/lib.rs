@@ -1,0 +1,194 @@
+//! Export of a dembound bounce scenario to other DEM codes, and the way
+//! back.
+//!
+//! [`plan::Plan`] resolves a [`Scenario`] into the numbers every code needs
+//! (radii, masses, the pre-mixed effective modulus, the law's stiffness and
+//! damping coefficient, Δt from dembound's rule, where the spheres start,
+//! and the step windows around each exact contact in which the deck writes
+//! a per-step trace). One writer per code turns a plan into files:
+//! [`lammps`], [`liggghts`], [`yade`]. [`trace`] reads the trace back and
+//! measures h_max, T_c, v_c, v_r and e from it.
+//!
+//! Every deck writes the same trace format (`trace.txt`): one line per
+//! step, `time (s) overlap (m) relative velocity (m/s, upward positive)
+//! contact force on the particle (N, upward positive)`, `#` comments.
+
+pub mod lammps;
+pub mod liggghts;
+pub mod plan;
+pub mod trace;
+pub mod yade;
+
+use dembound_core::bounce::Scenario;
+use std::fmt;
+
+/// The codes a scenario can be exported to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Code {
+    Lammps,
+    Liggghts,
+    Yade,
+}
+
+impl Code {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Code::Lammps => "lammps",
+            Code::Liggghts => "liggghts",
+            Code::Yade => "yade",
+        }
+    }
+
+    /// The input file the deck starts from.
+    pub fn input_file(&self) -> &'static str {
+        match self {
+            Code::Lammps => "in.lammps",
+            Code::Liggghts => "in.liggghts",
+            Code::Yade => "bounce.py",
+        }
+    }
+
+    /// The command that runs the deck inside its directory.
+    pub fn command(&self) -> &'static str {
+        match self {
+            Code::Lammps => "lmp -in in.lammps -log log.lammps",
+            Code::Liggghts => "liggghts -in in.liggghts -log log.liggghts",
+            Code::Yade => "yade -n -x bounce.py",
+        }
+    }
+}
+
+/// Known wrong settings a deck can be written with on purpose, to show by
+/// number what they do (docs/export-lammps.md). Never the default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pitfall {
+    /// LAMMPS: the boundary as `fix wall/gran … hertz/material E_b 0 ν_b`,
+    /// a plane given the boundary's own modulus (LAMMPS then treats the
+    /// particle as E_b too).
+    WallMaterial,
+    /// LAMMPS: per-type `pair_coeff i i hertz/material` for the particle and
+    /// the frozen boundary sphere, the cross pair left to LAMMPS's mixing.
+    AutoMix,
+    /// Yade: the plane as `utils.wall` (the Mindlin functor then takes
+    /// R* = R_m/2).
+    YadeWall,
+    /// Yade: `NewtonIntegrator` left at its default Cundall damping 0.2.
+    CundallDamping,
+}
+
+impl Pitfall {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Pitfall::WallMaterial => "wall-material",
+            Pitfall::AutoMix => "auto-mix",
+            Pitfall::YadeWall => "yade-wall",
+            Pitfall::CundallDamping => "cundall-damping",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "wall-material" => Some(Pitfall::WallMaterial),
+            "auto-mix" => Some(Pitfall::AutoMix),
+            "yade-wall" => Some(Pitfall::YadeWall),
+            "cundall-damping" => Some(Pitfall::CundallDamping),
+            _ => None,
+        }
+    }
+}
+
+/// One file of a deck: its name inside the output directory and its text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeckFile {
+    pub name: String,
+    pub text: String,
+}
+
+/// The files of an exported deck.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deck {
+    pub code: Code,
+    pub files: Vec<DeckFile>,
+}
+
+/// Why a scenario cannot be exported (a message naming the key or the
+/// code's limitation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportError(pub String);
+
+impl fmt::Display for ExportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ExportError {}
+
+/// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
+/// for the code it belongs to).
+pub fn export(
+    code: Code,
+    scenario: &Scenario,
+    pitfall: Option<Pitfall>,
+) -> Result<Deck, ExportError> {
+    let plan = plan::Plan::new(scenario)?;
+    let for_code = match pitfall {
+        None => code,
+        Some(Pitfall::WallMaterial | Pitfall::AutoMix) => Code::Lammps,
+        Some(Pitfall::YadeWall | Pitfall::CundallDamping) => Code::Yade,
+    };
+    if for_code != code {
+        return Err(ExportError(format!(
+            "--pitfall {} is a {} pitfall, not one of {} (see docs/export-{}.md)",
+            pitfall.map_or("", |p| p.name()),
+            for_code.name(),
+            code.name(),
+            code.name()
+        )));
+    }
+    let input = match code {
+        Code::Lammps => lammps::deck(&plan, pitfall)?,
+        Code::Liggghts => liggghts::deck(&plan)?,
+        Code::Yade => yade::deck(&plan, pitfall)?,
+    };
+    Ok(Deck {
+        code,
+        files: vec![DeckFile {
+            name: code.input_file().into(),
+            text: input,
+        }],
+    })
+}
+
+/// A short fingerprint of a scenario (FNV-1a over its resolved values),
+/// written into the trace's header by every deck so that `dembound
+/// compare` can refuse a trace left by a deck of another scenario.
+pub fn fingerprint(scenario: &Scenario) -> String {
+    // FNV-1a, 64 bit: a few lines, stable across Rust versions (unlike
+    // std's DefaultHasher); not a security hash.
+    let text = format!("{:?}", scenario.resolved());
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// The first header line of every trace.
+pub fn trace_title(scenario: &Scenario) -> String {
+    format!(
+        "# time_s overlap_m velocity_m_s force_N scenario={}",
+        fingerprint(scenario)
+    )
+}
+
+/// A number as the decks write it: the shortest text that reads back to
+/// the same f64 (Rust's `{:e}`), which LAMMPS, LIGGGHTS and Python parse.
+pub fn num(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:e}")
+    }
+}
