@@ -204,6 +204,7 @@ fn incline_sliding_accelerates_at_g_sin_minus_mu_cos() {
     let v2 = sim.velocities()[0][0];
     let a = (v2 - v1) / (sim.time() - t1);
     let expected = 9.81 * (theta.sin() - mu * theta.cos());
+    eprintln!("sliding: a = {a} m/s², closed form {expected} m/s²");
     // In steady sliding F_t = μ F_n with F_n = m g cos θ to the decay of
     // the normal transient (e^(-50 periods)): the velocity change is exact
     // to round-off over the interval; 1e-6 is the bound.
@@ -237,6 +238,7 @@ fn incline_rolling_without_slip_accelerates_at_five_sevenths_g_sin() {
     );
     let a = (v2 - v1) / span;
     let expected = 5.0 / 7.0 * 9.81 * theta.sin();
+    eprintln!("rolling: a = {a} m/s², closed form {expected} m/s²");
     // The tangential spring holds a constant (2/7) m g sin θ once its
     // damped transient is gone: the centre's acceleration is the rolling
     // closed form to the transient's remains, 1e-6.
@@ -247,6 +249,7 @@ fn incline_rolling_without_slip_accelerates_at_five_sevenths_g_sin() {
     // Slip of the contact point over 1 s: Δx − R Δθ (θ the rotation
     // angle, ∫ω dt = (ω₁ + ω₂)/2 · span for constant angular acceleration).
     let slip = (x2 - x1) - R * 0.5 * (w1 + w2) * span;
+    eprintln!("rolling: contact-point slip {slip} m over {span} s");
     assert!(slip.abs() < 1e-9, "slip {slip} m over {span} s");
 }
 
@@ -260,6 +263,7 @@ fn incline_with_friction_and_rolling_resistance_above_tan_theta_holds() {
     sim.step((1.0 / dt).round() as u64);
     let x2 = sim.positions()[0];
     let d = ((x2[0] - x1[0]).powi(2) + (x2[1] - x1[1]).powi(2) + (x2[2] - x1[2]).powi(2)).sqrt();
+    eprintln!("held: displacement {d} m over {} s", sim.time() - t1);
     assert!(
         d < 1e-9,
         "moved {d} m in {} s (spin {:?} rad/s)",
