@@ -24,7 +24,7 @@ const BLACK_RGB: RGBColor = RGBColor(0, 0, 0);
 static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
-fn register_font() {
+pub fn register_font() {
     REGISTER.call_once(|| {
         // The bundled font is a valid TTF; if registration ever failed, PNG
         // text would be missing, never a panic.

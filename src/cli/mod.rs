@@ -15,6 +15,7 @@ pub mod run;
 pub mod scene;
 pub mod sweep;
 pub mod validate;
+pub mod wall_study;
 pub mod warnings;
 
 use crate::output::files::AtomicDir;
@@ -63,6 +64,8 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Every scenario key with its unit, default and allowed range
     Keys(keys::KeysArgs),
+    /// Boundary particles against a plane in a many-particle bed (issue 13)
+    WallStudy(wall_study::WallStudyArgs),
     /// Write a LAMMPS or LIGGGHTS deck or a Yade script that reproduces
     /// the scenario (pre-mixed moduli, damping in the code's convention,
     /// dembound's Δt, a per-step trace)
@@ -136,6 +139,7 @@ pub fn dispatch(cli: &Cli) -> CliResult {
         Command::Restitution(args) => restitution::run(args),
         Command::Scene(args) => scene::run(args),
         Command::Keys(args) => keys::run(args),
+        Command::WallStudy(args) => wall_study::run(args),
         Command::Export(args) => export::run(args),
         Command::Compare(args) => compare::run(args),
     }

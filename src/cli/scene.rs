@@ -212,6 +212,7 @@ fn progress_bar(steps: u64, quiet: bool) -> Option<ProgressBar> {
 fn write_snapshot(out: &mut AtomicDir, sim: &Simulation, k: usize) -> anyhow::Result<()> {
     let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
     let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
+    let spins = sim.angular_velocities();
     let snapshot = vtk::Snapshot {
         time: sim.time(),
         step: sim.steps_done(),
@@ -221,6 +222,7 @@ fn write_snapshot(out: &mut AtomicDir, sim: &Simulation, k: usize) -> anyhow::Re
         forces: &forces,
         fixed: &fixed,
         materials: &materials,
+        angular_velocities: &spins,
     };
     out.write(&vtk::snapshot_name(k), |w| {
         Ok(vtk::write_snapshot(w, &snapshot)?)
@@ -313,6 +315,14 @@ struct CollisionRow {
     max_normal_force: f64,
     impact_normal_velocity: f64,
     rebound_normal_velocity: f64,
+    /// m/s (issue 13).
+    impact_tangential_velocity: f64,
+    rebound_tangential_velocity: f64,
+    /// rad/s.
+    impact_spin_i: [f64; 3],
+    rebound_spin_i: [f64; 3],
+    impact_spin_j: [f64; 3],
+    rebound_spin_j: [f64; 3],
 }
 
 impl From<&Collision> for CollisionRow {
@@ -332,6 +342,12 @@ impl From<&Collision> for CollisionRow {
             max_normal_force: c.max_normal_force,
             impact_normal_velocity: c.impact_normal_velocity,
             rebound_normal_velocity: c.rebound_normal_velocity,
+            impact_tangential_velocity: c.impact_tangential_velocity,
+            rebound_tangential_velocity: c.rebound_tangential_velocity,
+            impact_spin_i: c.impact_spin_i,
+            rebound_spin_i: c.rebound_spin_i,
+            impact_spin_j: c.impact_spin_j,
+            rebound_spin_j: c.rebound_spin_j,
         }
     }
 }

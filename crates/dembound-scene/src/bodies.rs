@@ -35,6 +35,13 @@ pub struct Bodies {
     pub class: Vec<u16>,
     /// Gear5 only: the scaled derivatives r₂..r₅ (r_k = Δt^k x⁽ᵏ⁾/k!).
     pub higher: Vec<[[f64; 3]; 4]>,
+    /// Angular velocity ω, rad/s (0 for fixed bodies; stays 0 without
+    /// friction).
+    pub angular_velocity: Vec<[f64; 3]>,
+    /// Total torque of the last force evaluation, N m (friction only).
+    pub torque: Vec<[f64; 3]>,
+    /// 1/I with I = 2/5 m R² (a solid sphere), 1/(kg m²); 0 for a fixed body.
+    pub inverse_inertia: Vec<f64>,
 }
 
 impl Bodies {
@@ -67,6 +74,9 @@ impl Bodies {
         gather(&mut self.group, order);
         gather(&mut self.class, order);
         gather(&mut self.higher, order);
+        gather(&mut self.angular_velocity, order);
+        gather(&mut self.torque, order);
+        gather(&mut self.inverse_inertia, order);
     }
 
     /// Body index of each input index (the inverse of `id`).

@@ -23,6 +23,7 @@ pub mod pipeline;
 pub mod setup;
 pub mod simulation;
 pub mod sources;
+pub mod wall_study;
 
 pub use dynamics::collisions::{Collision, Partner};
 pub use error::SceneError;

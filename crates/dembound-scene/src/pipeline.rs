@@ -8,8 +8,9 @@ use std::collections::HashMap;
 use dembound_physics::contact::ContactHistory;
 
 use crate::bodies::{Bodies, NO_GROUP};
-use crate::dynamics::collisions::{Collision, Partner, Track};
+use crate::dynamics::collisions::{Collision, Motion, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
+use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
 use crate::dynamics::integrate;
 use crate::dynamics::kinks::Kinks;
 use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
@@ -65,6 +66,12 @@ pub struct World {
     pub tracks: Option<Tracks>,
     pub collisions: Vec<Collision>,
     pub rebuilds: u64,
+    /// Friction and rotation (issue 13); `None`: frictionless.
+    pub friction: Option<FrictionTable>,
+    /// Tangential displacements of the listed pairs (friction only).
+    pub shear: PairShear,
+    /// `wall_shear[i * planes + p]`, permuted with the bodies (friction only).
+    pub wall_shear: Vec<WallShear>,
 }
 
 impl World {
@@ -112,6 +119,9 @@ impl Pipeline {
     pub fn finish(&mut self, world: &mut World, workers: &Workers) {
         if self.pending_kick {
             integrate::verlet_kick(&mut world.bodies, world.dt, workers);
+            if world.friction.is_some() {
+                friction_spin_kick(&mut world.bodies, world.dt, workers);
+            }
             self.pending_kick = false;
             self.ghosts(world);
         }
@@ -129,13 +139,16 @@ impl Pipeline {
                     self.neighbours(world, workers);
                     // The wall masks are new: the per-body forces again
                     // (the same state: history updates are idempotent).
-                    self.body_forces(world, workers);
+                    self.body_forces(world, workers, dt);
                 } else {
                     self.ghosts(world);
                 }
-                self.pair_forces(world, workers);
+                self.pair_forces(world, workers, dt);
                 if world.tracks.is_some() {
                     integrate::verlet_kick(&mut world.bodies, dt, workers);
+                    if world.friction.is_some() {
+                        friction_spin_kick(&mut world.bodies, dt, workers);
+                    }
                 } else {
                     self.pending_kick = true;
                 }
@@ -178,6 +191,8 @@ impl Pipeline {
         let n = world.bodies.len();
         let pending = self.pending_kick;
         self.pending_kick = false;
+        let spin = SharedMut::new(&mut world.bodies.angular_velocity);
+        let torque = SharedMut::new(&mut world.bodies.torque);
         let ctx = AdvanceContext {
             x: SharedMut::new(&mut world.bodies.position),
             v: SharedMut::new(&mut world.bodies.velocity),
@@ -190,6 +205,11 @@ impl Pipeline {
             reference: &self.reference,
             dt: world.dt,
             pending,
+            spin,
+            torque,
+            wall_shear: SharedMut::new(&mut world.wall_shear),
+            friction: world.friction.as_ref(),
+            step: world.steps_done + 1,
         };
         assert!(
             self.reference.len() == n
@@ -198,7 +218,13 @@ impl Pipeline {
         );
         let partial = workers.map(n.div_ceil(STEP_CHUNK), |c| {
             // SAFETY: chunks are disjoint ranges of bodies; lengths asserted.
-            unsafe { verlet_chunk(&ctx, c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n)) }
+            unsafe {
+                if ctx.friction.is_some() {
+                    verlet_chunk_friction(&ctx, c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n))
+                } else {
+                    verlet_chunk(&ctx, c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n))
+                }
+            }
         });
         partial.into_iter().fold(0.0, f64::max)
     }
@@ -221,6 +247,14 @@ impl Pipeline {
                 .map(|(a, b, h)| ((a, b), h))
                 .collect();
         let saved_tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
+        let saved_shear: HashMap<(u32, u32), friction::Springs> = if world.friction.is_some() {
+            friction::active_shear(&world.bodies, &world.ghosts, &world.list, &world.shear)
+                .into_iter()
+                .map(|(a, b, s)| ((a, b), s))
+                .collect()
+        } else {
+            HashMap::new()
+        };
 
         let n = world.bodies.len();
         for k in 0..n {
@@ -265,6 +299,7 @@ impl Pipeline {
         let (order, start) = sort_by_cell(&cell, cells);
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
+        friction::permute_wall_shear(&mut world.wall_shear, world.planes.len(), &order);
         world
             .wall_contacts
             .update_near(&world.bodies, &world.planes, world.skin);
@@ -319,6 +354,9 @@ impl Pipeline {
             }
         }
         world.histories = PairHistories { main, extra };
+        if world.friction.is_some() {
+            world.shear = friction::restore_shear(bodies, &world.ghosts, list, &saved_shear);
+        }
         // Tracked contacts that are still open but no longer listed (they
         // separated by more than the skin within one step) stay listed, as
         // extra pairs, until the log has seen them end.
@@ -363,6 +401,9 @@ impl Pipeline {
                 // A contact that separated keeps no history worth carrying.
                 world.histories.extra.push(ContactHistory::default());
             }
+            if world.friction.is_some() {
+                world.shear.extra.push([0.0; 6]);
+            }
             if let Some(tracks) = world.tracks.as_mut() {
                 tracks.extra.push(t);
             }
@@ -371,14 +412,21 @@ impl Pipeline {
     }
 
     /// Stage "forces": gravity and plane walls per body, then the pairs.
+    /// With friction the tangential springs do not move (LAMMPS's setup):
+    /// used at the start only (Gear5 runs no friction).
     pub fn forces(&mut self, world: &mut World, workers: &Workers) {
-        self.body_forces(world, workers);
-        self.pair_forces(world, workers);
+        self.body_forces(world, workers, 0.0);
+        self.pair_forces(world, workers, 0.0);
     }
 
-    /// Gravity and plane walls: sets each body's force.
-    fn body_forces(&mut self, world: &mut World, workers: &Workers) {
+    /// Gravity and plane walls: sets each body's force (and torque, with
+    /// friction; the springs move by `dt` s of slip).
+    fn body_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
         world.bodies.force.resize(world.bodies.len(), [0.0; 3]);
+        if world.friction.is_some() {
+            self.body_forces_friction(world, workers, dt);
+            return;
+        }
         let mut force = std::mem::take(&mut world.bodies.force);
         walls::start_forces(
             &world.bodies,
@@ -392,8 +440,75 @@ impl Pipeline {
         world.bodies.force = force;
     }
 
-    /// Adds the pair forces.
-    fn pair_forces(&mut self, world: &mut World, workers: &Workers) {
+    /// [`Self::body_forces`] with friction: forces and torques.
+    fn body_forces_friction(&mut self, world: &mut World, workers: &Workers, dt: f64) {
+        let n = world.bodies.len();
+        world.bodies.torque.resize(n, [0.0; 3]);
+        let np = world.planes.len();
+        world.wall_shear.resize(n * np, WallShear::default());
+        let mut force = std::mem::take(&mut world.bodies.force);
+        let mut torque = std::mem::take(&mut world.bodies.torque);
+        let (f, t) = (SharedMut::new(&mut force), SharedMut::new(&mut torque));
+        let shear = SharedMut::new(&mut world.wall_shear);
+        let walls = world.wall_contacts.shared();
+        if let Some(table) = world.friction.as_ref() {
+            let input = friction::BodyForceInput {
+                bodies: &world.bodies,
+                planes: &world.planes,
+                laws: &world.laws,
+                friction: table,
+                gravity: world.gravity,
+                step: world.steps_done + u64::from(dt > 0.0),
+                dt,
+            };
+            let b = &world.bodies;
+            workers.run(n.div_ceil(crate::parallel::BODY_CHUNK), |c| {
+                let chunk = crate::parallel::BODY_CHUNK;
+                for i in c * chunk..((c + 1) * chunk).min(n) {
+                    // SAFETY: chunks are disjoint ranges of bodies.
+                    unsafe {
+                        let (fi, ti) = friction::body_force(
+                            &input,
+                            i,
+                            (b.position[i], b.velocity[i], b.angular_velocity[i]),
+                            &walls,
+                            shear,
+                        );
+                        *f.at(i) = fi;
+                        *t.at(i) = ti;
+                    }
+                }
+            });
+        }
+        world.bodies.force = force;
+        world.bodies.torque = torque;
+    }
+
+    /// Adds the pair forces (and torques, with friction; the springs move
+    /// by `dt` s of slip).
+    fn pair_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
+        if let Some(table) = world.friction.as_ref() {
+            let mut force = std::mem::take(&mut world.bodies.force);
+            let mut torque = std::mem::take(&mut world.bodies.torque);
+            friction::add_pair_forces(
+                &friction::PairForceInput {
+                    bodies: &world.bodies,
+                    ghosts: &world.ghosts,
+                    list: &world.list,
+                    laws: &world.laws,
+                    friction: table,
+                    dt,
+                },
+                &mut world.histories,
+                &mut world.shear,
+                &mut force,
+                &mut torque,
+                workers,
+            );
+            world.bodies.force = force;
+            world.bodies.torque = torque;
+            return;
+        }
         let mut force = std::mem::take(&mut world.bodies.force);
         contacts::add_pair_forces(
             &world.bodies,
@@ -429,11 +544,28 @@ impl Pipeline {
                 bodies.radius[owner],
             );
             let law = laws.pair(bodies, i, owner);
-            if let Some(c) = track.advance(t, dt, g.overlap, g.overlap_rate, |h, r| {
-                law.force(h, r, history)
-            }) {
+            let spin = |k: usize| bodies.angular_velocity.get(k).copied().unwrap_or([0.0; 3]);
+            let vi = bodies.velocity[i];
+            let motion = Motion {
+                tangential: friction::tangential(
+                    [vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]],
+                    g.normal,
+                ),
+                spin_i: spin(i),
+                spin_j: spin(owner),
+            };
+            if let Some((c, before, after)) =
+                track.advance_with_motion(t, dt, g.overlap, g.overlap_rate, motion, |h, r| {
+                    law.force(h, r, history)
+                })
+            {
                 let (a, b) = (bodies.id[i] as usize, bodies.id[owner] as usize);
                 let (i, j) = collision_pair(a, bodies.group[i], b, bodies.group[owner]);
+                let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
+                // The log's sphere i is the engine's owner, not i: spins swap.
+                let swap = i != a;
+                let pick =
+                    |m: &Motion, first: bool| if first != swap { m.spin_i } else { m.spin_j };
                 log.push(Collision {
                     i,
                     j,
@@ -444,6 +576,12 @@ impl Pipeline {
                     max_normal_force: c.max_force,
                     impact_normal_velocity: c.impact,
                     rebound_normal_velocity: c.rebound,
+                    impact_tangential_velocity: vt_in,
+                    rebound_tangential_velocity: vt_out,
+                    impact_spin_i: pick(&before, true),
+                    rebound_spin_i: pick(&after, true),
+                    impact_spin_j: pick(&before, false),
+                    rebound_spin_j: pick(&after, false),
                 });
             }
         };
@@ -488,7 +626,16 @@ impl Pipeline {
                     .history
                     .get(i * np + p)
                     .unwrap_or(&contacts::NO_HISTORY);
-                if let Some(c) = track.advance(t, dt, h, rate, |h, r| law.force(h, r, hist)) {
+                let v = bodies.velocity[i];
+                let motion = Motion {
+                    tangential: friction::tangential(v, plane.normal),
+                    spin_i: bodies.angular_velocity.get(i).copied().unwrap_or([0.0; 3]),
+                    spin_j: [0.0; 3],
+                };
+                if let Some((c, before, after)) =
+                    track.advance_with_motion(t, dt, h, rate, motion, |h, r| law.force(h, r, hist))
+                {
+                    let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
                     log.push(Collision {
                         i: bodies.id[i] as usize,
                         j: Partner::Wall(plane.wall),
@@ -499,6 +646,12 @@ impl Pipeline {
                         max_normal_force: c.max_force,
                         impact_normal_velocity: c.impact,
                         rebound_normal_velocity: c.rebound,
+                        impact_tangential_velocity: vt_in,
+                        rebound_tangential_velocity: vt_out,
+                        impact_spin_i: before.spin_i,
+                        rebound_spin_i: after.spin_i,
+                        impact_spin_j: [0.0; 3],
+                        rebound_spin_j: [0.0; 3],
                     });
                 }
                 if h < -world.skin {
@@ -527,6 +680,12 @@ struct AdvanceContext<'a> {
     reference: &'a [[f64; 3]],
     dt: f64,
     pending: bool,
+    spin: SharedMut<[f64; 3]>,
+    torque: SharedMut<[f64; 3]>,
+    wall_shear: SharedMut<WallShear>,
+    friction: Option<&'a FrictionTable>,
+    /// The step being made (its forces' stamp).
+    step: u64,
 }
 
 unsafe impl Sync for AdvanceContext<'_> {}
@@ -561,6 +720,70 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
     }
     m
+}
+
+/// [`verlet_chunk`] with rotation: ω gets the same half kicks from the
+/// torque (Δt/2 · τ/I, LAMMPS `nve/sphere`), and the per-body forces are
+/// the friction pass's ([`friction::body_force`]).
+///
+/// # Safety
+/// As [`verlet_chunk`].
+#[inline(never)]
+unsafe fn verlet_chunk_friction(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+    let b = c.bodies;
+    let half_dt = 0.5 * c.dt;
+    let mut m = 0.0f64;
+    let Some(table) = c.friction else {
+        return m;
+    };
+    let input = friction::BodyForceInput {
+        bodies: b,
+        planes: c.planes,
+        laws: c.laws,
+        friction: table,
+        gravity: c.gravity,
+        step: c.step,
+        dt: c.dt,
+    };
+    for i in lo..hi {
+        let fi = c.f.at(i);
+        let ti = c.torque.at(i);
+        if b.fixed[i] {
+            *fi = [0.0; 3];
+            *ti = [0.0; 3];
+            continue;
+        }
+        let (xi, vi, wi) = (c.x.at(i), c.v.at(i), c.spin.at(i));
+        let dtfm = half_dt / b.mass[i];
+        let dtfi = half_dt * b.inverse_inertia[i];
+        if c.pending {
+            integrate::half_kick(vi, *fi, dtfm);
+            integrate::half_kick(wi, *ti, dtfi);
+        }
+        integrate::half_kick(vi, *fi, dtfm);
+        integrate::half_kick(wi, *ti, dtfi);
+        integrate::drift(xi, *vi, c.dt);
+        m = m.max(integrate::displacement2(*xi, c.reference[i]));
+        let (f, t) = friction::body_force(&input, i, (*xi, *vi, *wi), &c.walls, c.wall_shear);
+        *fi = f;
+        *ti = t;
+    }
+    m
+}
+
+/// Verlet's last half kick of the spins: ω ← ω + Δt/2 · τ/I.
+fn friction_spin_kick(bodies: &mut Bodies, dt: f64, workers: &Workers) {
+    let n = bodies.len();
+    let w = SharedMut::new(&mut bodies.angular_velocity);
+    let (torque, inv, fixed) = (&bodies.torque, &bodies.inverse_inertia, &bodies.fixed);
+    workers.run(n.div_ceil(STEP_CHUNK), |c| {
+        for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+            if !fixed[i] {
+                // SAFETY: one body per iteration.
+                integrate::half_kick(unsafe { w.at(i) }, torque[i], 0.5 * dt * inv[i]);
+            }
+        }
+    });
 }
 
 /// Extended index of body j's image nearest to body i: j itself or one of

@@ -2,6 +2,7 @@
 //! reader (`io::config`) and the particle sources build a [`SceneSetup`];
 //! [`crate::Simulation::new`] validates it.
 
+use dembound_physics::contact::tangential::FrictionModel;
 use dembound_physics::contact::ContactModel;
 use dembound_physics::material::Material;
 
@@ -25,6 +26,56 @@ pub struct SceneSetup {
     pub neighbour: NeighbourSetup,
     /// Keep a collision log (one row per completed contact).
     pub collisions: bool,
+    /// Friction and rotation (issue 13); `None`: frictionless, no spin.
+    pub friction: Option<FrictionSetup>,
+}
+
+/// Friction of a scene: the model and each surface's coefficients.
+///
+/// A pair's μ is the geometric mean of its two surfaces' μ
+/// ([`dembound_physics::contact::tangential::mix_friction`]), likewise μ_r.
+/// A sphere's surface is its material's; a plane wall's is its own if
+/// given (`wall`), else its material's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrictionSetup {
+    /// Tangential model and the default μ and μ_r of every surface.
+    pub model: FrictionModel,
+    /// (μ, μ_r) of each material (index as [`SceneSetup::materials`]);
+    /// missing entries or `None`: the model's.
+    pub materials: Vec<Option<(f64, f64)>>,
+    /// (μ, μ_r) of each wall in file order (planes; a boundary-particle
+    /// wall's spheres take theirs through their own material); missing or
+    /// `None`: its material's.
+    pub walls: Vec<Option<(f64, f64)>>,
+}
+
+impl FrictionSetup {
+    /// One model for every surface.
+    pub fn uniform(model: FrictionModel) -> Self {
+        Self {
+            model,
+            materials: Vec::new(),
+            walls: Vec::new(),
+        }
+    }
+
+    /// (μ, μ_r) of material `m`.
+    pub fn of_material(&self, m: usize) -> (f64, f64) {
+        self.materials
+            .get(m)
+            .copied()
+            .flatten()
+            .unwrap_or((self.model.friction, self.model.rolling_friction))
+    }
+
+    /// (μ, μ_r) of wall `w` made of material `m`.
+    pub fn of_wall(&self, w: usize, m: usize) -> (f64, f64) {
+        self.walls
+            .get(w)
+            .copied()
+            .flatten()
+            .unwrap_or_else(|| self.of_material(m))
+    }
 }
 
 /// The box. On a periodic axis bodies leave through one face and enter
@@ -150,6 +201,7 @@ impl SceneSetup {
             },
             neighbour: NeighbourSetup::default(),
             collisions: false,
+            friction: None,
         }
     }
 }

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{self, LawTable, PairHistories};
+use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
 use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
 use crate::error::SceneError;
 use crate::geometry::domain::Domain;
@@ -99,6 +100,7 @@ impl Simulation {
             value: e.value,
             allowed: e.allowed,
         })?;
+        validate_friction(setup)?;
         let d = &setup.domain;
         for a in 0..3 {
             if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.lower[a] < d.upper[a]) {
@@ -292,13 +294,25 @@ impl Simulation {
             };
             b.mass.push(m);
             b.inverse_mass.push(if s.fixed { 0.0 } else { 1.0 / m });
+            b.angular_velocity.push([0.0; 3]);
+            b.torque.push([0.0; 3]);
+            // A solid sphere: I = 2/5 m R².
+            b.inverse_inertia.push(if s.fixed {
+                0.0
+            } else {
+                1.0 / (0.4 * m * s.radius * s.radius)
+            });
             b.material.push(s.material as u32);
             b.fixed.push(s.fixed);
             b.id.push(k as u32);
             b.group.push(s.group.map_or(NO_GROUP, |g| g as u32));
         }
         let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
-        let laws = LawTable::new(setup.contact, materials, &mut b, plane_materials);
+        let laws = LawTable::new(setup.contact, materials, &mut b, plane_materials.clone());
+        let friction = setup
+            .friction
+            .clone()
+            .map(|f| FrictionTable::new(f, &laws, &b, &planes, &plane_materials));
 
         // Neighbour geometry.
         let free_min = b
@@ -447,6 +461,13 @@ impl Simulation {
             ghosts: Ghosts::default(),
             collisions: Vec::new(),
             rebuilds: 0,
+            wall_shear: if friction.is_some() {
+                vec![WallShear::default(); n * np]
+            } else {
+                Vec::new()
+            },
+            friction,
+            shear: PairShear::default(),
         };
         Ok(Simulation {
             world,
@@ -561,17 +582,55 @@ impl Simulation {
         self.world.bodies.in_input_order(&m)
     }
 
-    /// Σ ½ m v² over free bodies, J.
+    /// Σ ½ m v² over free bodies, plus Σ ½ I ω² with friction, J.
     pub fn kinetic_energy(&self) -> f64 {
         let b = &self.world.bodies;
+        let spin = self.world.friction.is_some();
         let [e] = self.workers.sum(b.len(), |k| {
             if b.fixed[k] {
                 return [0.0];
             }
             let v = b.velocity[k];
-            [0.5 * b.mass[k] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])]
+            let mut e = 0.5 * b.mass[k] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            if spin {
+                let w = b.angular_velocity[k];
+                e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / b.inverse_inertia[k];
+            }
+            [e]
         });
         e
+    }
+
+    /// Angular velocity of each body, rad/s, input order (0 without friction).
+    pub fn angular_velocities(&self) -> Vec<[f64; 3]> {
+        self.world
+            .bodies
+            .in_input_order(&self.world.bodies.angular_velocity)
+    }
+
+    /// Torque on each body at the last force evaluation, N m, input order.
+    pub fn torques(&self) -> Vec<[f64; 3]> {
+        let b = &self.world.bodies;
+        if b.torque.len() != b.len() {
+            return vec![[0.0; 3]; b.len()];
+        }
+        b.in_input_order(&b.torque)
+    }
+
+    /// Sets the angular velocity (rad/s) of the body of input index `id`
+    /// (a free body of a scene with friction; `false` otherwise). For
+    /// initial spins, before stepping.
+    pub fn set_angular_velocity(&mut self, id: usize, omega: [f64; 3]) -> bool {
+        let b = &mut self.world.bodies;
+        if self.world.friction.is_none() || id >= b.len() {
+            return false;
+        }
+        let k = b.index_of_ids()[id] as usize;
+        if b.fixed[k] {
+            return false;
+        }
+        b.angular_velocity[k] = omega;
+        true
     }
 
     /// −Σ m g·x over free bodies, J.
@@ -651,9 +710,25 @@ impl Simulation {
                 }
             }
         }
+        let tangential = match &w.friction {
+            Some(table) => friction::plane_tangential_forces(
+                &w.bodies,
+                &w.planes,
+                &w.laws,
+                table,
+                &w.wall_contacts.history,
+                &w.wall_shear,
+            ),
+            None => Vec::new(),
+        };
         for (wi, kind) in w.walls.iter().enumerate() {
             if let WallKind::Plane(p) = kind {
                 wall_forces[wi] = plane_forces[*p];
+                if let Some(t) = tangential.get(*p) {
+                    for a in 0..3 {
+                        wall_forces[wi][a] += t[a];
+                    }
+                }
             }
         }
         let kinetic = self.kinetic_energy();
@@ -738,6 +813,34 @@ impl Simulation {
             collisions: w.collisions.clone(),
             initial_energy: self.initial_energy,
             list_builds: w.rebuilds,
+            angular_velocity: if w.friction.is_some() {
+                b.angular_velocity.clone()
+            } else {
+                Vec::new()
+            },
+            torque: if w.friction.is_some() {
+                b.torque.clone()
+            } else {
+                Vec::new()
+            },
+            pair_shear: if w.friction.is_some() {
+                friction::active_shear(b, &w.ghosts, &w.list, &w.shear)
+            } else {
+                Vec::new()
+            },
+            plane_shear: {
+                let mut v = Vec::new();
+                for i in 0..b.len() {
+                    for p in 0..np {
+                        if let Some(s) = w.wall_shear.get(i * np + p) {
+                            if *s != WallShear::default() {
+                                v.push((b.id[i], p as u32, *s));
+                            }
+                        }
+                    }
+                }
+                v
+            },
         }
     }
 
@@ -798,6 +901,15 @@ impl Simulation {
         // (already sorted, so the stable sort keeps this order).
         w.bodies.position.clone_from(&c.reference);
         w.bodies.velocity.clone_from(&c.velocity);
+        if w.friction.is_some() {
+            if !(same_len(c.angular_velocity.len()) && same_len(c.torque.len())) {
+                return Err(SceneError::Checkpoint(
+                    "it holds no spins: it was written by a run without friction".into(),
+                ));
+            }
+            w.bodies.angular_velocity.clone_from(&c.angular_velocity);
+            w.bodies.torque.clone_from(&c.torque);
+        }
         sim.pipeline.neighbours(w, &sim.workers);
         w.bodies.position.clone_from(&c.position);
         w.bodies.force.clone_from(&c.force);
@@ -844,6 +956,11 @@ impl Simulation {
             }
         }
         w.histories = PairHistories { main, extra };
+        if w.friction.is_some() {
+            let saved: HashMap<(u32, u32), friction::Springs> =
+                c.pair_shear.iter().map(|&(a, b, s)| ((a, b), s)).collect();
+            w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved);
+        }
         let np = w.planes.len();
         let at = w.bodies.index_of_ids();
         for &(id, p, h) in &c.plane_histories {
@@ -855,6 +972,18 @@ impl Simulation {
             let i = at[id as usize] as usize;
             if let Some(slot) = w.wall_contacts.history.get_mut(i * np + p as usize) {
                 *slot = h.into();
+                w.wall_contacts.touching[i] |= 1u64 << p;
+            }
+        }
+        for &(id, p, sh) in &c.plane_shear {
+            if id as usize >= n || p as usize >= np {
+                return Err(SceneError::Checkpoint(format!(
+                    "wall displacement of body {id}, plane {p} out of range"
+                )));
+            }
+            let i = at[id as usize] as usize;
+            if let Some(slot) = w.wall_shear.get_mut(i * np + p as usize) {
+                *slot = sh;
                 w.wall_contacts.touching[i] |= 1u64 << p;
             }
         }
@@ -927,6 +1056,19 @@ pub struct Checkpoint {
     /// J.
     pub initial_energy: f64,
     pub list_builds: u64,
+    /// rad/s, engine order (friction only).
+    #[serde(default)]
+    pub angular_velocity: Vec<[f64; 3]>,
+    /// N m, engine order (friction only).
+    #[serde(default)]
+    pub torque: Vec<[f64; 3]>,
+    /// (input id a < b, springs seen from a: tangential displacement of
+    /// a relative to b, m, and rolling torque on a, N m).
+    #[serde(default)]
+    pub pair_shear: Vec<(u32, u32, friction::Springs)>,
+    /// (input id, plane index, displacement record).
+    #[serde(default)]
+    pub plane_shear: Vec<(u32, u32, WallShear)>,
 }
 
 /// Distinct (radius, material, fixed) classes of the scene, at most a few
@@ -960,6 +1102,43 @@ fn classes(setup: &SceneSetup) -> Vec<(f64, usize, bool)> {
     v.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     v.dedup();
     v
+}
+
+/// Friction coefficients finite and ≥ 0; no friction with Gear5.
+fn validate_friction(setup: &SceneSetup) -> Result<(), SceneError> {
+    let Some(f) = &setup.friction else {
+        return Ok(());
+    };
+    let invalid = |e: dembound_physics::PhysicsError| SceneError::Invalid {
+        key: e.key,
+        value: e.value,
+        allowed: e.allowed,
+    };
+    f.model.validate().map_err(invalid)?;
+    use dembound_physics::contact::tangential::check_coefficient;
+    for (k, m) in f.materials.iter().enumerate() {
+        if let Some((mu, roll)) = m {
+            check_coefficient(&format!("materials[{k}].friction"), *mu, "μ").map_err(invalid)?;
+            check_coefficient(&format!("materials[{k}].rolling_friction"), *roll, "μ_r")
+                .map_err(invalid)?;
+        }
+    }
+    for (k, w) in f.walls.iter().enumerate() {
+        if let Some((mu, roll)) = w {
+            check_coefficient(&format!("walls[{k}].friction"), *mu, "μ").map_err(invalid)?;
+            check_coefficient(&format!("walls[{k}].rolling_friction"), *roll, "μ_r")
+                .map_err(invalid)?;
+        }
+    }
+    if setup.integration.scheme == Scheme::Gear5 {
+        return Err(SceneError::invalid(
+            "integration.scheme",
+            "\"gear5\"",
+            "\"verlet\" with friction (contact.friction or contact.rolling_friction > 0): \
+             the scene's Gear5 has no rotation",
+        ));
+    }
+    Ok(())
 }
 
 fn smallest_contact_time(setup: &SceneSetup, impact_speed: f64) -> f64 {

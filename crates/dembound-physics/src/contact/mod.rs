@@ -349,3 +349,8 @@ impl PairLaw {
         self.attractive
     }
 }
+
+// Friction (issue 13): tangential springs with the Coulomb limit, and
+// rolling resistance, as sub-models of their own.
+pub mod rolling;
+pub mod tangential;

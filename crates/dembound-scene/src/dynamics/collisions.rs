@@ -57,6 +57,51 @@ pub struct Collision {
     pub impact_normal_velocity: f64,
     /// Normal separation speed at the end, m/s (positive).
     pub rebound_normal_velocity: f64,
+    /// Tangential speed of the centres (i relative to j, or to the wall)
+    /// at the last state before contact, m/s (≥ 0; issue 13).
+    #[serde(default)]
+    pub impact_tangential_velocity: f64,
+    /// Tangential velocity of the centres at the first state after the
+    /// contact, along the impact's tangential direction, m/s (negative:
+    /// reversed; the magnitude when the impact had none).
+    #[serde(default)]
+    pub rebound_tangential_velocity: f64,
+    /// Angular velocity of sphere i before and after the contact, rad/s.
+    #[serde(default)]
+    pub impact_spin_i: [f64; 3],
+    #[serde(default)]
+    pub rebound_spin_i: [f64; 3],
+    /// Angular velocity of sphere j (0 for a wall) before and after, rad/s.
+    #[serde(default)]
+    pub impact_spin_j: [f64; 3],
+    #[serde(default)]
+    pub rebound_spin_j: [f64; 3],
+}
+
+/// The tangential motion of a couple at one instant (collision log).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Motion {
+    /// Tangential part of v_i − v_j (centres), m/s.
+    pub tangential: [f64; 3],
+    /// ω_i, rad/s.
+    pub spin_i: [f64; 3],
+    /// ω_j, rad/s.
+    pub spin_j: [f64; 3],
+}
+
+impl Motion {
+    /// (impact tangential speed, rebound tangential velocity along the
+    /// impact's direction) of a contact from `impact` to `rebound`, m/s.
+    pub fn tangential_pair(impact: &Motion, rebound: &Motion) -> (f64, f64) {
+        let a = impact.tangential;
+        let b = rebound.tangential;
+        let m = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        if m > 0.0 {
+            (m, (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / m)
+        } else {
+            (0.0, (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt())
+        }
+    }
 }
 
 /// What a tracked couple remembers between steps.
@@ -70,6 +115,12 @@ pub struct Track {
     impact: f64,
     max_overlap: f64,
     max_force: f64,
+    /// The couple's motion at the previous step (issue 13).
+    #[serde(default)]
+    last: Motion,
+    /// Its motion at the last state before the current contact.
+    #[serde(default)]
+    impact_motion: Motion,
 }
 
 /// A completed contact, before it is named.
@@ -148,6 +199,26 @@ impl Track {
     /// A contact has started and not ended.
     pub fn in_contact(&self) -> bool {
         self.in_contact
+    }
+
+    /// [`Self::advance`] that also keeps the tangential motion: returns
+    /// the completed contact with the motion before and after it.
+    pub fn advance_with_motion(
+        &mut self,
+        t: f64,
+        dt: f64,
+        h: f64,
+        rate: f64,
+        motion: Motion,
+        force: impl Fn(f64, f64) -> f64,
+    ) -> Option<(Completed, Motion, Motion)> {
+        let (was_known, was_in, prev) = (self.known, self.in_contact, self.last);
+        let done = self.advance(t, dt, h, rate, force);
+        if !was_in && self.in_contact {
+            self.impact_motion = if was_known { prev } else { motion };
+        }
+        self.last = motion;
+        done.map(|c| (c, self.impact_motion, motion))
     }
 
     /// Advances over the step that ends at time `t` (length `dt`) with

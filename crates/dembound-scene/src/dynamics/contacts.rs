@@ -424,7 +424,7 @@ pub fn add_pair_forces(
 
 /// The force blocks in the order they are taken: 0, 2, 1, 4, 3, 6, 5, …
 /// (each odd block right after the even block it waits for last).
-fn block_order(blocks: usize) -> Vec<usize> {
+pub(crate) fn block_order(blocks: usize) -> Vec<usize> {
     let mut order = Vec::with_capacity(blocks);
     for e in (0..blocks).step_by(2) {
         order.push(e);
@@ -440,7 +440,7 @@ fn block_order(blocks: usize) -> Vec<usize> {
 
 /// Waits until another worker has set `flag` (spinning, then yielding
 /// the core: a step is short, but the machine may be shared).
-fn wait_for(flag: &AtomicBool) {
+pub(crate) fn wait_for(flag: &AtomicBool) {
     let mut spins = 0u32;
     while !flag.load(Ordering::Acquire) {
         if spins < 1000 {

@@ -3,6 +3,7 @@
 
 pub mod collisions;
 pub mod contacts;
+pub mod friction;
 pub mod integrate;
 pub mod kinks;
 pub mod walls;

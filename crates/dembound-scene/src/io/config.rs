@@ -9,6 +9,7 @@
 //! range. All errors are [`SceneError::Input`] (exit 2 in the CLI).
 
 use crate::SceneError;
+use dembound_physics::contact::tangential::{tangential_names, TangentialKind};
 use dembound_physics::contact::{ContactModel, ContactSpec};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -54,6 +55,15 @@ pub struct MaterialSection {
     /// Pa; `inf` for a rigid material.
     pub youngs_modulus: f64,
     pub poisson_ratio: f64,
+    /// Coulomb friction coefficient μ of this material's surface (addition,
+    /// issue 13; default `contact.friction`). A pair's μ is the geometric
+    /// mean of its two surfaces'.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// Rolling friction μ_r of this material's surface (addition; default
+    /// `contact.rolling_friction`; mixed like μ).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_friction: Option<f64>,
 }
 
 /// The reserved material name of a rigid plane wall.
@@ -78,6 +88,19 @@ pub struct ContactSection {
     pub damping_coefficient: Option<f64>,
     #[serde(default)]
     pub attractive: bool,
+    /// Coulomb friction coefficient μ ≥ 0 of every surface (issue 13):
+    /// with friction (here, on a material or on a wall) the spheres rotate
+    /// and each contact carries a tangential spring.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// The tangential spring: `"mindlin"` (default; Hertz–Mindlin no-slip)
+    /// or `"linear"` (Cundall–Strack, k_t = 2/7 E_eff R_eff).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential: Option<String>,
+    /// Rolling friction μ_r ≥ 0 (LIGGGHTS epsd2: a constant torque
+    /// μ_r R_eff |F_n| against rolling).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_friction: Option<f64>,
 }
 
 fn no_damping() -> String {
@@ -97,6 +120,9 @@ impl Default for ContactSection {
             calibration: exact(),
             damping_coefficient: None,
             attractive: false,
+            friction: None,
+            tangential: None,
+            rolling_friction: None,
         }
     }
 }
@@ -260,6 +286,12 @@ pub struct WallSection {
     /// A plane's material (or `"rigid"`); for boundary particles the
     /// particle material that r and ζ refer to.
     pub material: String,
+    /// The wall's own μ (addition, issue 13; default its material's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    /// The wall's own μ_r (addition; default its material's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_friction: Option<f64>,
 }
 
 /// `plane = { point, normal }`: the normal points into the domain.
@@ -510,7 +542,78 @@ impl SceneFile {
     fn validate_contact(&self) -> Result<(), SceneError> {
         // The impact speed matters only to the viscoelastic calibration,
         // solved again at resolution with the scene's own speed.
-        self.contact.model(Some(1.0)).map(|_| ())
+        self.contact.model(Some(1.0))?;
+        self.validate_friction()
+    }
+
+    /// The friction keys (issue 13): each coefficient finite and ≥ 0, the
+    /// tangential model a registry name, no friction with Gear5.
+    fn validate_friction(&self) -> Result<(), SceneError> {
+        let coefficient = |key: &str, v: Option<f64>, symbol: &str| -> Result<(), SceneError> {
+            match v {
+                Some(x) => check(
+                    x.is_finite() && x >= 0.0,
+                    key,
+                    x,
+                    &format!("finite and ≥ 0 ({symbol}, dimensionless)"),
+                ),
+                None => Ok(()),
+            }
+        };
+        let c = &self.contact;
+        coefficient("contact.friction", c.friction, "μ")?;
+        coefficient("contact.rolling_friction", c.rolling_friction, "μ_r")?;
+        if let Some(name) = &c.tangential {
+            check(
+                TangentialKind::from_name(name).is_some(),
+                "contact.tangential",
+                format!("{name:?}"),
+                &format!("one of {}", tangential_names()),
+            )?;
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            coefficient(&format!("material[{i}].friction"), m.friction, "μ")?;
+            coefficient(
+                &format!("material[{i}].rolling_friction"),
+                m.rolling_friction,
+                "μ_r",
+            )?;
+        }
+        for (i, w) in self.walls.iter().enumerate() {
+            coefficient(&format!("wall[{i}].friction"), w.friction, "μ")?;
+            coefficient(
+                &format!("wall[{i}].rolling_friction"),
+                w.rolling_friction,
+                "μ_r",
+            )?;
+        }
+        if self.has_friction() && self.integration.scheme == Scheme::Gear5 {
+            return Err(invalid(
+                "integration.scheme",
+                "\"gear5\"",
+                "\"verlet\" with friction (contact.friction, contact.tangential, \
+                 contact.rolling_friction or a material's or wall's friction given): \
+                 the scene's Gear5 has no rotation",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether any friction key is given (the scene then rotates its
+    /// spheres and carries tangential springs).
+    pub fn has_friction(&self) -> bool {
+        let c = &self.contact;
+        c.friction.is_some()
+            || c.tangential.is_some()
+            || c.rolling_friction.is_some()
+            || self
+                .materials
+                .iter()
+                .any(|m| m.friction.is_some() || m.rolling_friction.is_some())
+            || self
+                .walls
+                .iter()
+                .any(|w| w.friction.is_some() || w.rolling_friction.is_some())
     }
 
     fn validate_particles(&self, i: usize, p: &ParticlesSection) -> Result<(), SceneError> {

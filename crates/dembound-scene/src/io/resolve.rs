@@ -9,8 +9,8 @@
 
 use super::config::{ParticlesSection, SceneFile, Scheme as SchemeName, TilingName, RIGID};
 use crate::setup::{
-    DomainSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength, SceneSetup, Scheme,
-    SphereInit, TimeStep, WallSetup,
+    DomainSetup, FrictionSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength,
+    SceneSetup, Scheme, SphereInit, TimeStep, WallSetup,
 };
 use crate::sources::lammps_data::LammpsData;
 use crate::sources::lattice::Lattice;
@@ -18,6 +18,7 @@ use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::{Extent, Pattern, Tiling};
 use crate::sources::{self, SourceSphere};
 use crate::SceneError;
+use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::material::Material;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -106,6 +107,8 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         periodic: d.periodic,
     };
     let mut walls = Vec::with_capacity(file.walls.len());
+    // (material of the boundary spheres, the material it scales, wall).
+    let mut boundary_materials: Vec<(usize, usize, usize)> = Vec::new();
     let mut wall_bodies = Vec::with_capacity(file.walls.len());
     for (w, wall) in file.walls.iter().enumerate() {
         let key = format!("wall[{w}]");
@@ -164,6 +167,7 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
             },
         });
         let material = materials.len() - 1;
+        boundary_materials.push((material, base, w));
         let first = spheres.len();
         spheres.extend(made.into_iter().map(|s| SphereInit {
             position: s.position,
@@ -223,6 +227,7 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         },
         neighbour: NeighbourSetup { skin: n.skin },
         collisions: file.output.collisions,
+        friction: friction_setup(&file, &boundary_materials),
     };
     Ok(ResolvedScene {
         setup,
@@ -230,6 +235,76 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         wall_bodies,
         file,
     })
+}
+
+/// The friction of the scene (issue 13): `None` when no friction key is
+/// given. Boundary spheres take their wall's coefficients, else those of
+/// the material they scale.
+fn friction_setup(
+    file: &SceneFile,
+    boundary_materials: &[(usize, usize, usize)],
+) -> Option<FrictionSetup> {
+    if !file.has_friction() {
+        return None;
+    }
+    let c = &file.contact;
+    let model = FrictionModel {
+        tangential: c
+            .tangential
+            .as_deref()
+            .and_then(TangentialKind::from_name)
+            .unwrap_or(TangentialKind::Mindlin),
+        friction: c.friction.unwrap_or(0.0),
+        rolling_friction: c.rolling_friction.unwrap_or(0.0),
+    };
+    let of = |mu: Option<f64>, roll: Option<f64>, base: (f64, f64)| -> Option<(f64, f64)> {
+        (mu.is_some() || roll.is_some()).then(|| (mu.unwrap_or(base.0), roll.unwrap_or(base.1)))
+    };
+    let defaults = (model.friction, model.rolling_friction);
+    let mut materials: Vec<Option<(f64, f64)>> = file
+        .materials
+        .iter()
+        .map(|m| of(m.friction, m.rolling_friction, defaults))
+        .collect();
+    let walls: Vec<Option<(f64, f64)>> = file
+        .walls
+        .iter()
+        .map(|w| {
+            let base = materials_of(&file.materials, &w.material, defaults).unwrap_or(defaults);
+            of(w.friction, w.rolling_friction, base)
+        })
+        .collect();
+    for &(material, base, wall) in boundary_materials {
+        if materials.len() <= material {
+            materials.resize(material + 1, None);
+        }
+        materials[material] = walls
+            .get(wall)
+            .copied()
+            .flatten()
+            .or_else(|| materials.get(base).copied().flatten());
+    }
+    Some(FrictionSetup {
+        model,
+        materials,
+        walls,
+    })
+}
+
+/// (μ, μ_r) of the `[[material]]` named `name`, when it gives either.
+fn materials_of(
+    materials: &[super::config::MaterialSection],
+    name: &str,
+    defaults: (f64, f64),
+) -> Option<(f64, f64)> {
+    let m = materials.iter().find(|m| m.name == name)?;
+    if m.friction.is_none() && m.rolling_friction.is_none() {
+        return None;
+    }
+    Some((
+        m.friction.unwrap_or(defaults.0),
+        m.rolling_friction.unwrap_or(defaults.1),
+    ))
 }
 
 /// Relative difference allowed between an atom's density and its

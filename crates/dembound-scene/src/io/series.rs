@@ -82,9 +82,23 @@ pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()>
         "max_normal_force_N",
         "impact_normal_velocity_m_s",
         "rebound_normal_velocity_m_s",
+        "impact_tangential_velocity_m_s",
+        "rebound_tangential_velocity_m_s",
+        "impact_spin_i_x_rad_s",
+        "impact_spin_i_y_rad_s",
+        "impact_spin_i_z_rad_s",
+        "rebound_spin_i_x_rad_s",
+        "rebound_spin_i_y_rad_s",
+        "rebound_spin_i_z_rad_s",
+        "impact_spin_j_x_rad_s",
+        "impact_spin_j_y_rad_s",
+        "impact_spin_j_z_rad_s",
+        "rebound_spin_j_x_rad_s",
+        "rebound_spin_j_y_rad_s",
+        "rebound_spin_j_z_rad_s",
     ])?;
     for c in log {
-        out.write_record([
+        let mut row = vec![
             c.i.to_string(),
             partner_name(&c.j),
             boundary_particle(&c.j).map_or(String::new(), |b| b.to_string()),
@@ -95,7 +109,18 @@ pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()>
             format!("{:e}", c.max_normal_force),
             format!("{:e}", c.impact_normal_velocity),
             format!("{:e}", c.rebound_normal_velocity),
-        ])?;
+            format!("{:e}", c.impact_tangential_velocity),
+            format!("{:e}", c.rebound_tangential_velocity),
+        ];
+        for v in [
+            c.impact_spin_i,
+            c.rebound_spin_i,
+            c.impact_spin_j,
+            c.rebound_spin_j,
+        ] {
+            row.extend(v.iter().map(|x| format!("{x:e}")));
+        }
+        out.write_record(&row)?;
     }
     out.flush()?;
     Ok(())

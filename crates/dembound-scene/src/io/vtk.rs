@@ -30,6 +30,8 @@ pub struct Snapshot<'a> {
     pub fixed: &'a [bool],
     /// Index into the scene's material list.
     pub materials: &'a [usize],
+    /// rad/s (issue 13; all 0 without friction).
+    pub angular_velocities: &'a [[f64; 3]],
 }
 
 fn array(
@@ -89,6 +91,13 @@ pub fn write_snapshot(w: &mut dyn Write, s: &Snapshot) -> io::Result<()> {
     array(w, "radius", "Float64", 1, &f64s(s.radii.iter()))?;
     array(w, "velocity", "Float64", 3, &vectors(s.velocities))?;
     array(w, "force", "Float64", 3, &vectors(s.forces))?;
+    array(
+        w,
+        "angular_velocity",
+        "Float64",
+        3,
+        &vectors(s.angular_velocities),
+    )?;
     let fixed: Vec<u8> = s.fixed.iter().map(|f| u8::from(*f)).collect();
     array(w, "fixed", "UInt8", 1, &fixed)?;
     let materials: Vec<u8> = s
@@ -162,6 +171,7 @@ mod tests {
             forces: &[[0.0; 3], [0.0, 0.0, 9.81e-3]],
             fixed: &[false, true],
             materials: &[0, 2],
+            angular_velocities: &[[0.0, 7.0, 0.0], [0.0; 3]],
         };
         let mut out = Vec::new();
         write_snapshot(&mut out, &s).unwrap();
@@ -173,6 +183,11 @@ mod tests {
             .collect();
         assert_eq!(pos, vec![1.0, 2.0, 3.0, -4.0, 5.5, 1e-3]);
         assert_eq!(decode(&text, "fixed"), vec![0, 1]);
+        let w: Vec<f64> = decode(&text, "angular_velocity")
+            .chunks(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        assert_eq!(w, vec![0.0, 7.0, 0.0, 0.0, 0.0, 0.0]);
         let m: Vec<i32> = decode(&text, "material")
             .chunks(4)
             .map(|c| i32::from_le_bytes(c.try_into().unwrap()))

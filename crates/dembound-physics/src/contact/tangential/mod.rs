@@ -1,0 +1,450 @@
+//! Tangential (friction) sub-models, after LAMMPS GRANULAR's
+//! `gran_sub_mod_tangential.cpp`: each a small `Copy` type giving the
+//! tangential stiffness k_t of a pair ([`TangentialSubModel`]), one
+//! registry row each ([`TANGENTIAL_MODELS`]); the spring's history, its
+//! rotation into the current tangent plane, the tangential damping and the
+//! Coulomb limit are common to all and live in [`FrictionPair`], as in
+//! `GranularModel::calculate_forces`.
+//!
+//! Per evaluation (LAMMPS `linear_history`/`mindlin`, LIGGGHTS
+//! `tangential_model_history`):
+//! 1. the stored displacement δ is projected onto the current tangent
+//!    plane and rescaled to its old length (the contact frame rotates);
+//! 2. δ ← δ + v_t Δt (v_t the tangential relative velocity of the contact
+//!    points);
+//! 3. sliding if the spring alone exceeds the Coulomb limit, k_t |δ| >
+//!    μ |F_n|: δ is cut back to length μ |F_n|/k_t and F_t = −k_t δ
+//!    (magnitude exactly μ |F_n|, no damping; LIGGGHTS
+//!    `tangential_model_history`);
+//! 4. else sticking: F_t = −k_t δ − η_t v_t, capped at μ |F_n| in
+//!    magnitude (the spring kept). LAMMPS instead caps the total and
+//!    solves the spring back from it, δ = −(F_t + η_t v_t)/k_t, which can
+//!    turn δ against the slip near onset (damping above the tiny limit)
+//!    and make the next force push along the slip: with this order a
+//!    sliding contact transmits exactly μ |F_n| at every step.
+//!
+//! Tangential damping from the same restitution as the normal: with η_n(h)
+//! the normal damping coefficient (N s/m, the damping force per unit
+//! overlap rate) and S_n(h) = dF/dh the normal law's tangent stiffness,
+//! η_t = η_n √(k_t/S_n): the tangential spring gets the damping ratio of the
+//! normal one. For Hertz with Tsuji damping this is LIGGGHTS's
+//! γ_t = 2 √(5/6) β √(S_t m*) exactly (γ_n = 2 √(5/6) β √(S_n m*)); for the
+//! linear spring–dashpot it is η_t = 2 ξ √(k_t m*).
+//!
+//! Rolling resistance is its own sub-model ([`super::rolling`]).
+//!
+//! Sign conventions: n is the unit normal from body 1 to body 2; v_t is the
+//! velocity of body 1's contact point relative to body 2's, tangential part;
+//! the returned force acts on body 1 (body 2 gets minus it).
+
+use super::registry::Family;
+use super::PairLaw;
+use crate::error::PhysicsError;
+use crate::material::{Material, PairProperties};
+
+pub mod linear;
+pub mod mindlin;
+
+/// What a tangential sub-model is built from for one pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialSetup {
+    /// The pair's effective radius, modulus (4/3 included) and mass.
+    pub pair: PairProperties,
+    /// G* = 1/((2 − ν₁)/G₁ + (2 − ν₂)/G₂), Pa ([`effective_shear_modulus`]).
+    pub shear_modulus: f64,
+}
+
+/// A tangential model resolved for one pair: its stiffness.
+pub trait TangentialSubModel: Copy + std::fmt::Debug {
+    /// The model for one pair.
+    fn new(setup: &TangentialSetup) -> Self;
+
+    /// k_t at overlap h > 0 (m), N/m.
+    fn stiffness(&self, overlap: f64) -> f64;
+}
+
+/// A registry row of a tangential model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialRow {
+    /// Configuration name (`contact.tangential = "…"`).
+    pub name: &'static str,
+    /// The stiffness law, one line.
+    pub formula: &'static str,
+}
+
+macro_rules! tangential_registry {
+    ($( $(#[$doc:meta])* $V:ident => $T:ty = $row:expr; )+) => {
+        /// Which tangential spring.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub enum TangentialKind {
+            $( $(#[$doc])* $V, )+
+        }
+
+        /// A tangential spring resolved for one pair.
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub enum TangentialPair {
+            $( #[allow(missing_docs)] $V($T), )+
+        }
+
+        #[allow(non_upper_case_globals)]
+        mod tangential_rows {
+            use super::*;
+            $( pub(super) const $V: TangentialRow = $row; )+
+        }
+
+        /// Every tangential model, one row each, in registry order.
+        pub const TANGENTIAL_MODELS: &[TangentialRow] = &[ $( tangential_rows::$V ),+ ];
+
+        impl TangentialKind {
+            /// Its registry row.
+            pub fn row(&self) -> &'static TangentialRow {
+                match self { $( TangentialKind::$V => &tangential_rows::$V, )+ }
+            }
+
+            /// The model of registry name `name`.
+            pub fn from_name(name: &str) -> Option<TangentialKind> {
+                $( if name == tangential_rows::$V.name { return Some(TangentialKind::$V); } )+
+                None
+            }
+
+            /// The model for one pair.
+            pub fn resolve(&self, setup: &TangentialSetup) -> TangentialPair {
+                match self { $( TangentialKind::$V => TangentialPair::$V(<$T as TangentialSubModel>::new(setup)), )+ }
+            }
+        }
+
+        impl TangentialPair {
+            /// [`TangentialSubModel::stiffness`].
+            #[inline(always)]
+            pub fn stiffness(&self, overlap: f64) -> f64 {
+                match self { $( TangentialPair::$V(t) => t.stiffness(overlap), )+ }
+            }
+
+            /// Its registry row.
+            pub fn row(&self) -> &'static TangentialRow {
+                match self { $( TangentialPair::$V(_) => &tangential_rows::$V, )+ }
+            }
+        }
+    };
+}
+
+tangential_registry! {
+    /// Hertz–Mindlin no-slip: k_t = 8 G* √(R_eff h).
+    Mindlin => mindlin::Mindlin = TangentialRow {
+        name: "mindlin",
+        formula: "k_t = 8 G* √(R_eff h), G* = 1/((2−ν₁)/G₁ + (2−ν₂)/G₂)",
+    };
+    /// Linear Cundall–Strack: k_t = (2/7) E_eff R_eff.
+    Linear => linear::LinearTangential = TangentialRow {
+        name: "linear",
+        formula: "k_t = (2/7) E_eff R_eff (constant)",
+    };
+}
+
+/// Registry names of the tangential models, quoted, comma-separated.
+pub fn tangential_names() -> String {
+    TANGENTIAL_MODELS
+        .iter()
+        .map(|r| format!("\"{}\"", r.name))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Effective shear modulus of a contact, G* = 1/((2 − ν₁)/G₁ + (2 − ν₂)/G₂)
+/// with G = E/(2(1 + ν)) (Mindlin 1949; LAMMPS `mix_stiffnessG`), Pa; a
+/// rigid material contributes 0 (written in reciprocal form, exact).
+pub fn effective_shear_modulus(a: &Material, b: &Material) -> f64 {
+    let term =
+        |m: &Material| 2.0 * (2.0 - m.poisson_ratio) * (1.0 + m.poisson_ratio) / m.youngs_modulus;
+    1.0 / (term(a) + term(b))
+}
+
+/// The friction coefficient of a pair of surfaces of coefficients `a` and
+/// `b`: the geometric mean √(μ_a μ_b) (LAMMPS's default mixing of granular
+/// coefficients; a frictionless surface makes the pair frictionless).
+pub fn mix_friction(a: f64, b: f64) -> f64 {
+    if a == b {
+        a
+    } else {
+        (a * b).sqrt()
+    }
+}
+
+/// The configured friction of a scene: tangential spring, sliding
+/// friction μ and rolling friction μ_r (the defaults of every surface).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionModel {
+    /// `contact.tangential`.
+    pub tangential: TangentialKind,
+    /// `contact.friction`: Coulomb coefficient μ ≥ 0.
+    pub friction: f64,
+    /// `contact.rolling_friction`: rolling coefficient μ_r ≥ 0 (epsd2).
+    pub rolling_friction: f64,
+}
+
+impl FrictionModel {
+    /// Checks μ and μ_r: finite and ≥ 0.
+    pub fn validate(&self) -> Result<(), PhysicsError> {
+        check_coefficient("contact.friction", self.friction, "μ")?;
+        check_coefficient("contact.rolling_friction", self.rolling_friction, "μ_r")
+    }
+
+    /// The friction of one pair whose normal law is `law` (its damping
+    /// sets the tangential damping), of properties `pair` and effective
+    /// shear modulus `shear_modulus` (Pa), with the pair's mixed
+    /// coefficients `friction` and `rolling_friction`.
+    pub fn pair(
+        &self,
+        law: &PairLaw,
+        pair: &PairProperties,
+        shear_modulus: f64,
+        friction: f64,
+        rolling_friction: f64,
+    ) -> FrictionPair {
+        let tangential = self.tangential.resolve(&TangentialSetup {
+            pair: *pair,
+            shear_modulus,
+        });
+        let family = law.normal().row().family;
+        let normal_stiffness = law.normal().stiffness();
+        let damping = law.damping();
+        // η_n(h) = F_d(h, ḣ = 1): every damping model is linear in ḣ.
+        let damped = damping.force(1.0, 1.0) != 0.0;
+        FrictionPair {
+            tangential,
+            friction,
+            rolling: super::rolling::Epsd2 {
+                coefficient: rolling_friction,
+                radius: pair.radius,
+            },
+            damping: if damped {
+                TangentialDamping::SameRatio {
+                    law: *law,
+                    family,
+                    normal_stiffness,
+                }
+            } else {
+                TangentialDamping::None
+            },
+        }
+    }
+}
+
+/// A friction coefficient's check: finite and ≥ 0.
+pub fn check_coefficient(key: &str, value: f64, symbol: &str) -> Result<(), PhysicsError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(PhysicsError::new(
+            key,
+            value,
+            format!("finite and ≥ 0 ({symbol}, 1)"),
+        ))
+    }
+}
+
+/// How the tangential damping follows the normal one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum TangentialDamping {
+    None,
+    /// η_t = η_n(h) √(k_t/S_n(h)).
+    SameRatio {
+        law: PairLaw,
+        family: Family,
+        normal_stiffness: f64,
+    },
+}
+
+/// The friction of one pair: tangential spring with damping and Coulomb
+/// limit, and rolling resistance. `Copy`, small.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionPair {
+    tangential: TangentialPair,
+    friction: f64,
+    rolling: super::rolling::Epsd2,
+    damping: TangentialDamping,
+}
+
+#[inline(always)]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+impl FrictionPair {
+    /// μ of the pair.
+    pub fn friction(&self) -> f64 {
+        self.friction
+    }
+
+    /// μ_r of the pair.
+    pub fn rolling_friction(&self) -> f64 {
+        self.rolling.coefficient
+    }
+
+    /// The tangential spring.
+    pub fn tangential(&self) -> &TangentialPair {
+        &self.tangential
+    }
+
+    /// Tangential damping coefficient η_t at overlap h (m) for stiffness
+    /// `k_t` (N/m), N s/m.
+    #[inline(always)]
+    pub fn damping_coefficient(&self, overlap: f64, k_t: f64) -> f64 {
+        match self.damping {
+            TangentialDamping::None => 0.0,
+            TangentialDamping::SameRatio {
+                law,
+                family,
+                normal_stiffness,
+            } => {
+                let s_n = match family {
+                    Family::Hertzian => 1.5 * normal_stiffness * overlap.max(0.0).sqrt(),
+                    _ => normal_stiffness,
+                };
+                if s_n > 0.0 {
+                    law.damping().force(overlap, 1.0) * (k_t / s_n).sqrt()
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
+    /// Tangential force on body 1 (N) at overlap `overlap` > 0 (m) with
+    /// normal force `normal_force` (N; its magnitude sets the Coulomb limit),
+    /// unit normal `normal` (body 1 to body 2) and tangential relative
+    /// velocity `tangential_velocity` of the contact points (m/s), after a
+    /// time `dt` (s) since the last evaluation (0: evaluate without moving
+    /// the spring, as LAMMPS's setup does). Updates the displacement `shear`
+    /// (m), which is kept in the tangent plane.
+    #[inline(always)]
+    pub fn tangential_force(
+        &self,
+        overlap: f64,
+        normal_force: f64,
+        normal: [f64; 3],
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        let k_t = self.tangential.stiffness(overlap);
+        // 1. The contact frame turned: δ back into the tangent plane, its
+        // length kept.
+        let along = dot(*shear, normal);
+        if along != 0.0 {
+            let before = norm(*shear);
+            let mut p = [
+                shear[0] - along * normal[0],
+                shear[1] - along * normal[1],
+                shear[2] - along * normal[2],
+            ];
+            let after = norm(p);
+            let scale = if after > 0.0 { before / after } else { 0.0 };
+            for x in &mut p {
+                *x *= scale;
+            }
+            *shear = p;
+        }
+        // 2. The spring moves with the contact points.
+        let v = tangential_velocity;
+        for a in 0..3 {
+            shear[a] += v[a] * dt;
+        }
+        // 3. Coulomb on the spring (LIGGGHTS `tangential_model_history`):
+        // sliding when the spring alone exceeds μ |F_n|; the spring is cut
+        // back to the limit and the force is the limit, without damping.
+        let limit = self.friction * normal_force.abs();
+        let spring = k_t * norm(*shear);
+        if spring > limit {
+            let s = if spring > 0.0 { limit / spring } else { 0.0 };
+            for x in shear.iter_mut() {
+                *x *= s;
+            }
+            return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
+        }
+        // 4. Sticking: spring and dashpot, the total still capped at μ |F_n|
+        // (the spring kept).
+        let eta = self.damping_coefficient(overlap, k_t);
+        let mut f = [
+            -k_t * shear[0] - eta * v[0],
+            -k_t * shear[1] - eta * v[1],
+            -k_t * shear[2] - eta * v[2],
+        ];
+        let magnitude = norm(f);
+        if magnitude > limit {
+            let s = limit / magnitude;
+            for x in &mut f {
+                *x *= s;
+            }
+        }
+        f
+    }
+
+    /// Rolling-resistance torque on body 1 (N m) at overlap `overlap` (m)
+    /// with normal force `normal_force` (N), for the relative angular
+    /// velocity ω₁ − ω₂ (rad/s) of bodies of effective rolling inertia
+    /// `inertia` = 1/(1/I₁ + 1/I₂) (kg m²), after `dt` s
+    /// ([`super::rolling::Epsd2`]); updates the spring torque `history`.
+    /// Body 2 gets minus it. The damping ratio is the normal contact's
+    /// local one, η_n/(2 √(S_n m*)).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn rolling_torque(
+        &self,
+        law: &PairLaw,
+        overlap: f64,
+        normal_force: f64,
+        normal: [f64; 3],
+        relative_spin: [f64; 3],
+        inertia: f64,
+        dt: f64,
+        history: &mut [f64; 3],
+    ) -> [f64; 3] {
+        if self.rolling.coefficient == 0.0 {
+            *history = [0.0; 3];
+            return [0.0; 3];
+        }
+        let h = overlap.max(f64::MIN_POSITIVE);
+        let secant = law
+            .normal()
+            .force(h, 0.0, &super::ContactHistory::default())
+            / h;
+        let ratio = match self.damping {
+            TangentialDamping::None => 0.0,
+            TangentialDamping::SameRatio {
+                family,
+                normal_stiffness,
+                ..
+            } => {
+                let s_n = match family {
+                    Family::Hertzian => 1.5 * normal_stiffness * h.sqrt(),
+                    _ => normal_stiffness,
+                };
+                let eta_n = law.damping().force(h, 1.0);
+                if s_n > 0.0 {
+                    eta_n / (2.0 * (s_n * law.mass()).sqrt())
+                } else {
+                    0.0
+                }
+            }
+        };
+        self.rolling.torque(
+            normal_force,
+            secant,
+            ratio,
+            inertia,
+            normal,
+            relative_spin,
+            dt,
+            history,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests;

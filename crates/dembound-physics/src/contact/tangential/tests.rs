@@ -1,0 +1,228 @@
+//! The tangential sub-models against closed forms.
+
+use super::*;
+use crate::contact::{Calibration, ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
+use crate::material::{effective_modulus, Material, PairProperties};
+
+const GLASS: Material = Material {
+    density: 2500.0,
+    youngs_modulus: 7.0e10,
+    poisson_ratio: 0.25,
+};
+
+fn setup(
+    law: NormalLaw,
+    damping: Damping,
+    kind: TangentialKind,
+    mu: f64,
+) -> (PairLaw, FrictionPair) {
+    let r = 1.0e-3;
+    let m = GLASS.sphere_mass(r);
+    let pair = PairProperties::sphere_plane(r, m, &GLASS, &GLASS);
+    let model = ContactModel {
+        calibration: Calibration::Formula,
+        attractive: true,
+        ..ContactModel::damped(law, damping)
+    };
+    let law = model.pair(&pair);
+    let friction = FrictionModel {
+        tangential: kind,
+        friction: mu,
+        rolling_friction: 0.0,
+    };
+    let g = effective_shear_modulus(&GLASS, &GLASS);
+    (law, friction.pair(&law, &pair, g, mu, 0.0))
+}
+
+#[test]
+fn shear_modulus_mixing_closed_forms() {
+    // Equal materials: G* = G/(2(2 − ν)), G = E/(2(1 + ν)); against a rigid
+    // body G* = G/(2 − ν). A few roundings: 1e-15.
+    let g = 7.0e10 / (2.0 * 1.25);
+    let same = effective_shear_modulus(&GLASS, &GLASS);
+    assert!((same / (g / (2.0 * 1.75)) - 1.0).abs() < 1e-15);
+    let rigid = effective_shear_modulus(&GLASS, &Material::rigid(1.0));
+    assert!((rigid / (g / 1.75) - 1.0).abs() < 1e-15);
+    assert_eq!(mix_friction(0.3, 0.3), 0.3);
+    assert!((mix_friction(0.2, 0.8) - 0.4).abs() < 1e-16);
+    assert_eq!(mix_friction(0.5, 0.0), 0.0);
+}
+
+#[test]
+fn stiffnesses_closed_forms() {
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::NONE,
+        TangentialKind::Mindlin,
+        0.5,
+    );
+    let g = effective_shear_modulus(&GLASS, &GLASS);
+    let h: f64 = 1.0e-6;
+    let expected = 8.0 * g * (1.0e-3 * h).sqrt();
+    assert!((f.tangential().stiffness(h) / expected - 1.0).abs() < 1e-15);
+    let (_, f) = setup(NormalLaw::Hertz, Damping::NONE, TangentialKind::Linear, 0.5);
+    let e_eff = effective_modulus(&GLASS, &GLASS);
+    assert!((f.tangential().stiffness(h) / (2.0 / 7.0 * e_eff * 1.0e-3) - 1.0).abs() < 1e-15);
+    assert_eq!(f.tangential().stiffness(0.0), f.tangential().stiffness(1.0));
+}
+
+#[test]
+fn sticks_elastically_then_slides_at_the_coulomb_limit() {
+    // Constant tangential velocity v along x, constant normal force F_n:
+    // the spring force is −k_t v t (k_t constant for the linear model)
+    // until it reaches μ F_n, then exactly μ F_n against v, with the
+    // spring stretched to μ F_n/k_t. Sums of equal increments: 1e-12.
+    let mu = 0.3;
+    let (_, f) = setup(NormalLaw::Linear, Damping::NONE, TangentialKind::Linear, mu);
+    let (h, fn_, v, dt) = (1.0e-6, 2.0, 1.0e-3, 1.0e-7);
+    let k = f.tangential().stiffness(h);
+    let n = [0.0, 0.0, 1.0];
+    let mut shear = [0.0; 3];
+    let stick_steps = (mu * fn_ / (k * v * dt)).floor() as usize;
+    assert!(stick_steps > 10, "{stick_steps}");
+    for step in 1..=stick_steps + 20 {
+        let force = f.tangential_force(h, fn_, n, [v, 0.0, 0.0], dt, &mut shear);
+        assert_eq!(force[1], 0.0);
+        assert_eq!(force[2], 0.0);
+        if step <= stick_steps {
+            let expected = -k * v * dt * step as f64;
+            assert!((force[0] / expected - 1.0).abs() < 1e-12, "{step}");
+        } else {
+            assert!((force[0] / (-mu * fn_) - 1.0).abs() < 1e-15, "{step}");
+            assert!((shear[0] / (mu * fn_ / k) - 1.0).abs() < 1e-15);
+        }
+    }
+    // Reversal: the spring unloads from the limit at the elastic slope,
+    // 2 μ F_n of force swing before sliding the other way.
+    let force = f.tangential_force(h, fn_, n, [-v, 0.0, 0.0], dt, &mut shear);
+    assert!((force[0] - (-mu * fn_ + k * v * dt)).abs() < 1e-12 * mu * fn_);
+    // No friction: no force, whatever the spring.
+    let (_, g) = setup(
+        NormalLaw::Linear,
+        Damping::NONE,
+        TangentialKind::Linear,
+        0.0,
+    );
+    let mut s = [1.0e-6, 0.0, 0.0];
+    assert_eq!(
+        g.tangential_force(h, fn_, n, [v, 0.0, 0.0], dt, &mut s),
+        [0.0; 3]
+    );
+}
+
+#[test]
+fn history_is_rotated_into_the_new_tangent_plane() {
+    // The normal turns by 0.1 rad about y; the stored displacement keeps
+    // its length and becomes tangent (elastic, below the limit, dt = 0):
+    // |F| = k_t |δ| and F·n = 0 to rounding.
+    let (_, f) = setup(
+        NormalLaw::Linear,
+        Damping::NONE,
+        TangentialKind::Linear,
+        1.0,
+    );
+    let h = 1.0e-6;
+    let k = f.tangential().stiffness(h);
+    let mut shear = [1.0e-9, 2.0e-9, 0.0];
+    let len = (5.0f64).sqrt() * 1.0e-9;
+    let th = 0.1f64;
+    let n = [th.sin(), 0.0, th.cos()];
+    let force = f.tangential_force(h, 10.0, n, [0.0; 3], 0.0, &mut shear);
+    let along = shear[0] * n[0] + shear[1] * n[1] + shear[2] * n[2];
+    assert!(along.abs() < 1e-24, "{along}");
+    assert!((norm(shear) / len - 1.0).abs() < 1e-15);
+    assert!((norm(force) / (k * len) - 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn tangential_damping_has_the_normal_damping_ratio() {
+    // Linear + viscous (formula, attractive: ξ = −ln e/√(π² + ln² e)):
+    // η_t = 2 ξ √(k_t m*).
+    let e: f64 = 0.7;
+    let xi = -e.ln() / (std::f64::consts::PI.powi(2) + e.ln().powi(2)).sqrt();
+    let r = 1.0e-3;
+    let m = GLASS.sphere_mass(r);
+    let (_, f) = setup(
+        NormalLaw::Linear,
+        Damping::new(DampingKind::Viscous, Dissipation::Restitution(e)),
+        TangentialKind::Linear,
+        0.5,
+    );
+    let h = 1.0e-6;
+    let k_t = f.tangential().stiffness(h);
+    let expected = 2.0 * xi * (k_t * m).sqrt();
+    assert!((f.damping_coefficient(h, k_t) / expected - 1.0).abs() < 1e-14);
+    // Hertz + Tsuji (formula): LIGGGHTS's γ_t = 2 √(5/6) |β| √(S_t m*),
+    // S_t = 8 G* √(R h), β = ln e/√(ln² e + π²).
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(e)),
+        TangentialKind::Mindlin,
+        0.5,
+    );
+    let s_t = 8.0 * effective_shear_modulus(&GLASS, &GLASS) * (r * h).sqrt();
+    let expected = 2.0 * (5.0f64 / 6.0).sqrt() * xi * (s_t * m).sqrt();
+    let k_t = f.tangential().stiffness(h);
+    assert!((f.damping_coefficient(h, k_t) / expected - 1.0).abs() < 1e-14);
+    // Undamped: none.
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::NONE,
+        TangentialKind::Mindlin,
+        0.5,
+    );
+    assert_eq!(f.damping_coefficient(h, k_t), 0.0);
+}
+
+#[test]
+fn registry_names_and_checks() {
+    assert_eq!(
+        TangentialKind::from_name("mindlin"),
+        Some(TangentialKind::Mindlin)
+    );
+    assert_eq!(
+        TangentialKind::from_name("linear"),
+        Some(TangentialKind::Linear)
+    );
+    assert_eq!(TangentialKind::from_name("hooke"), None);
+    assert_eq!(tangential_names(), "\"mindlin\", \"linear\"");
+    let m = FrictionModel {
+        tangential: TangentialKind::Mindlin,
+        friction: -0.1,
+        rolling_friction: 0.0,
+    };
+    let err = m.validate().unwrap_err();
+    assert_eq!(err.key, "contact.friction");
+    let m = FrictionModel {
+        friction: 0.3,
+        rolling_friction: f64::NAN,
+        ..m
+    };
+    assert_eq!(m.validate().unwrap_err().key, "contact.rolling_friction");
+}
+
+#[test]
+fn sliding_with_damping_transmits_exactly_the_limit_along_the_slip() {
+    // Near onset the damping η_t v_t exceeds the tiny limit μ F_n; the
+    // force must still be μ F_n against the slip (not a spring turned
+    // against it), at every step of a growing normal force.
+    let e: f64 = 0.5;
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(e)),
+        TangentialKind::Mindlin,
+        0.3,
+    );
+    let n = [0.0, 0.0, 1.0];
+    let mut shear = [0.0; 3];
+    for k in 1..200 {
+        let h = 1.0e-9 * k as f64;
+        let fn_ = 1.0e-4 * k as f64;
+        let force = f.tangential_force(h, fn_, n, [5.0, 0.0, 0.0], 1.0e-7, &mut shear);
+        assert!(
+            (force[0] / (-0.3 * fn_) - 1.0).abs() < 1e-14,
+            "step {k}: {force:?}"
+        );
+        assert!(shear[0] > 0.0);
+    }
+}

@@ -1,0 +1,755 @@
+//! Friction and rotation (issue 13): the tangential spring with Coulomb
+//! limit and the rolling resistance of the physics crate
+//! (`contact::tangential`, `contact::rolling`) for sphere pairs and plane
+//! walls, each contact's tangential displacement (a 3-vector) kept beside
+//! the neighbour list and carried across rebuilds, reordering and
+//! checkpoints by input ids.
+//!
+//! Geometry (LAMMPS `GranularModel`, LIGGGHTS `surface_model_default`): for
+//! bodies i, j with unit normal n from i to j, the contact point lies at
+//! R_i n from i and −R_j n from j (the undeformed radii as lever arms, so
+//! that in gross sliding the spin change is exactly (5/2) μ J_n/(m R)); the
+//! slip velocity is v_c = v_i − v_j + (R_i ω_i + R_j ω_j) × n, its
+//! tangential part v_t drives the spring; the tangential force F_t acts on
+//! i (−F_t on j), with torques R_i n × F_t on i and R_j n × F_t on j. A
+//! plane is a body of infinite radius and mass with n the plane's inward
+//! normal reversed.
+//!
+//! Kept apart from the frictionless force loop (`contacts.rs`), which stays
+//! as it was: a scene without friction runs the same instructions.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction, FrictionPair};
+use dembound_physics::contact::{ContactHistory, PairLaw};
+use dembound_physics::material::{Material, PairProperties};
+use serde::{Deserialize, Serialize};
+
+use super::contacts::{
+    block_order, extended, touching, touching_lazy, wait_for, LawTable, PairGeometry,
+    PairHistories, NO_CLASS, NO_HISTORY,
+};
+use super::walls::{plane_overlap, PlaneWall, WallContactsMut};
+use crate::bodies::Bodies;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+use crate::parallel::{SharedMut, Workers};
+use crate::setup::FrictionSetup;
+
+#[inline(always)]
+pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[inline(always)]
+pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+fn add(a: &mut [f64; 3], b: [f64; 3]) {
+    a[0] += b[0];
+    a[1] += b[1];
+    a[2] += b[2];
+}
+
+#[inline(always)]
+fn sub(a: &mut [f64; 3], b: [f64; 3]) {
+    a[0] -= b[0];
+    a[1] -= b[1];
+    a[2] -= b[2];
+}
+
+#[inline(always)]
+fn scale(s: f64, a: [f64; 3]) -> [f64; 3] {
+    [s * a[0], s * a[1], s * a[2]]
+}
+
+/// The tangential part of `v` for unit normal `n`.
+#[inline(always)]
+pub fn tangential(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+    let a = dot(v, n);
+    [v[0] - a * n[0], v[1] - a * n[1], v[2] - a * n[2]]
+}
+
+/// The friction laws of a scene, tabulated over the body classes of the
+/// [`LawTable`] when it has them.
+#[derive(Debug, Clone)]
+pub struct FrictionTable {
+    pub setup: FrictionSetup,
+    materials: Vec<Material>,
+    /// Material index and wall index of each plane.
+    plane_surfaces: Vec<(u32, usize)>,
+    classes: usize,
+    pairs: Vec<FrictionPair>,
+    planes: Vec<FrictionPair>,
+}
+
+impl FrictionTable {
+    pub fn new(
+        setup: FrictionSetup,
+        laws: &LawTable,
+        bodies: &Bodies,
+        planes: &[PlaneWall],
+        plane_materials: &[u32],
+    ) -> Self {
+        let plane_surfaces: Vec<(u32, usize)> = plane_materials
+            .iter()
+            .zip(planes)
+            .map(|(&m, p)| (m, p.wall))
+            .collect();
+        let mut table = FrictionTable {
+            setup,
+            materials: laws.materials.clone(),
+            plane_surfaces,
+            classes: 0,
+            pairs: Vec::new(),
+            planes: Vec::new(),
+        };
+        if bodies.class.contains(&NO_CLASS) {
+            return table;
+        }
+        let classes = bodies
+            .class
+            .iter()
+            .map(|&c| c as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut first = vec![usize::MAX; classes];
+        for (k, &c) in bodies.class.iter().enumerate() {
+            if first[c as usize] == usize::MAX {
+                first[c as usize] = k;
+            }
+        }
+        let info = |c: usize| {
+            let k = first[c];
+            (
+                bodies.radius[k],
+                bodies.mass[k],
+                bodies.material[k] as usize,
+            )
+        };
+        for a in 0..classes {
+            for b in 0..classes {
+                let (ra, ma, mata) = info(a);
+                let (rb, mb, matb) = info(b);
+                let p = table.compute_pair(laws, ra, ma, mata, rb, mb, matb);
+                table.pairs.push(p);
+            }
+        }
+        for a in 0..classes {
+            for p in 0..table.plane_surfaces.len() {
+                let (ra, ma, mata) = info(a);
+                let f = table.compute_plane(laws, ra, ma, mata, p);
+                table.planes.push(f);
+            }
+        }
+        table.classes = classes;
+        table
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn compute_pair(
+        &self,
+        laws: &LawTable,
+        ra: f64,
+        ma: f64,
+        mata: usize,
+        rb: f64,
+        mb: f64,
+        matb: usize,
+    ) -> FrictionPair {
+        let (a, b) = (&self.materials[mata], &self.materials[matb]);
+        let props = PairProperties::spheres(ra, ma, a, rb, mb, b);
+        let law = laws.model.pair(&props);
+        let (mu_a, roll_a) = self.setup.of_material(mata);
+        let (mu_b, roll_b) = self.setup.of_material(matb);
+        self.setup.model.pair(
+            &law,
+            &props,
+            effective_shear_modulus(a, b),
+            mix_friction(mu_a, mu_b),
+            mix_friction(roll_a, roll_b),
+        )
+    }
+
+    fn compute_plane(
+        &self,
+        laws: &LawTable,
+        r: f64,
+        m: f64,
+        mat: usize,
+        plane: usize,
+    ) -> FrictionPair {
+        let (wall_material, wall) = self.plane_surfaces[plane];
+        let (a, w) = (
+            &self.materials[mat],
+            &self.materials[wall_material as usize],
+        );
+        let props = PairProperties::sphere_plane(r, m, a, w);
+        let law = laws.model.pair(&props);
+        let (mu_a, roll_a) = self.setup.of_material(mat);
+        let (mu_w, roll_w) = self.setup.of_wall(wall, wall_material as usize);
+        self.setup.model.pair(
+            &law,
+            &props,
+            effective_shear_modulus(a, w),
+            mix_friction(mu_a, mu_w),
+            mix_friction(roll_a, roll_w),
+        )
+    }
+
+    /// The friction of bodies i and j.
+    #[inline(always)]
+    pub fn pair(&self, laws: &LawTable, bodies: &Bodies, i: usize, j: usize) -> FrictionPair {
+        if self.classes > 0 {
+            let (a, b) = (bodies.class[i] as usize, bodies.class[j] as usize);
+            self.pairs[a * self.classes + b]
+        } else {
+            self.compute_pair(
+                laws,
+                bodies.radius[i],
+                bodies.mass[i],
+                bodies.material[i] as usize,
+                bodies.radius[j],
+                bodies.mass[j],
+                bodies.material[j] as usize,
+            )
+        }
+    }
+
+    /// The friction of body i against plane `plane`.
+    #[inline(always)]
+    pub fn plane(&self, laws: &LawTable, bodies: &Bodies, i: usize, plane: usize) -> FrictionPair {
+        if self.classes > 0 {
+            self.planes[bodies.class[i] as usize * self.plane_surfaces.len() + plane]
+        } else {
+            self.compute_plane(
+                laws,
+                bodies.radius[i],
+                bodies.mass[i],
+                bodies.material[i] as usize,
+                plane,
+            )
+        }
+    }
+}
+
+/// The springs of one contact: the tangential displacement of body 1's
+/// contact point relative to body 2's (m, components 0..3) and the rolling
+/// spring's torque on body 1 (N m, components 3..6). Seen from body 2 both
+/// change sign.
+pub type Springs = [f64; 6];
+
+fn negate(s: Springs) -> Springs {
+    s.map(|x| -x)
+}
+
+fn split(s: &mut Springs) -> (&mut [f64; 3], &mut [f64; 3]) {
+    let (a, b) = s.split_at_mut(3);
+    // Infallible: 6 = 3 + 3.
+    (
+        a.try_into().unwrap_or_else(|_| unreachable!()),
+        b.try_into().unwrap_or_else(|_| unreachable!()),
+    )
+}
+
+/// Contact springs aligned with a [`PairList`] (like [`PairHistories`]),
+/// seen from the row body i.
+#[derive(Debug, Clone, Default)]
+pub struct PairShear {
+    pub main: Vec<Springs>,
+    pub extra: Vec<Springs>,
+}
+
+/// A sphere–plane contact's springs with the values they had before the
+/// step `stamp` moved them: evaluating the same step's forces twice (the
+/// per-body pass again after a list rebuild) starts again from `before`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct WallShear {
+    pub shear: Springs,
+    pub before: Springs,
+    pub stamp: u64,
+}
+
+/// The springs of the pairs in contact, by input ids (a < b), seen from a.
+pub fn active_shear(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    shear: &PairShear,
+) -> Vec<(u32, u32, Springs)> {
+    let mut out = Vec::new();
+    let n = bodies.len();
+    if list.start.len() != n + 1
+        || shear.main.len() != list.j.len()
+        || shear.extra.len() != list.extra.len()
+    {
+        return out;
+    }
+    let mut push = |i: usize, owner: usize, s: Springs| {
+        if s != [0.0; 6] {
+            let (a, b) = (bodies.id[i], bodies.id[owner]);
+            if a < b {
+                out.push((a, b, s));
+            } else {
+                out.push((b, a, negate(s)));
+            }
+        }
+    };
+    for i in 0..n {
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            push(i, list.j[k] as usize, shear.main[k]);
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        let (_, _, owner) = extended(bodies, ghosts, j as usize);
+        push(i as usize, owner, shear.extra[k]);
+    }
+    out.sort_by_key(|x| (x.0, x.1));
+    out
+}
+
+/// Displacements for a new list from `saved` (by input ids, as
+/// [`active_shear`] gives them).
+pub fn restore_shear(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    saved: &HashMap<(u32, u32), Springs>,
+) -> PairShear {
+    let mut main = vec![[0.0; 6]; list.j.len()];
+    let mut extra = vec![[0.0; 6]; list.extra.len()];
+    if saved.is_empty() {
+        return PairShear { main, extra };
+    }
+    let get = |i: usize, j_ext: usize| -> Option<Springs> {
+        let (_, _, owner) = extended(bodies, ghosts, j_ext);
+        let (a, b) = (bodies.id[i], bodies.id[owner]);
+        if a < b {
+            saved.get(&(a, b)).copied()
+        } else {
+            saved.get(&(b, a)).map(|s| negate(*s))
+        }
+    };
+    for (i, k) in list.entries() {
+        if let Some(s) = get(i, list.j[k] as usize) {
+            main[k] = s;
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        if let Some(s) = get(i as usize, j as usize) {
+            extra[k] = s;
+        }
+    }
+    PairShear { main, extra }
+}
+
+/// Forces on j and torques on i and j of one touching pair with friction;
+/// updates both histories. The force on i is minus the returned one.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn contact(
+    law: &PairLaw,
+    friction: &FrictionPair,
+    g: &PairGeometry,
+    history: &mut ContactHistory,
+    springs: &mut Springs,
+    (vi, wi, ri, inv_ii): ([f64; 3], [f64; 3], f64, f64),
+    (vj, wj, rj, inv_ij): ([f64; 3], [f64; 3], f64, f64),
+    dt: f64,
+) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    let f = law.force(g.overlap, g.overlap_rate, history);
+    law.update(g.overlap, g.overlap_rate, history);
+    let n = g.normal;
+    let arm = [
+        ri * wi[0] + rj * wj[0],
+        ri * wi[1] + rj * wj[1],
+        ri * wi[2] + rj * wj[2],
+    ];
+    let spin = cross(arm, n);
+    let slip = [
+        vi[0] - vj[0] + spin[0],
+        vi[1] - vj[1] + spin[1],
+        vi[2] - vj[2] + spin[2],
+    ];
+    let vt = tangential(slip, n);
+    let (shear, roll) = split(springs);
+    let ft = friction.tangential_force(g.overlap, f, n, vt, dt, shear);
+    let nxf = cross(n, ft);
+    let mut ti = scale(ri, nxf);
+    let mut tj = scale(rj, nxf);
+    let rolling = friction.rolling_torque(
+        law,
+        g.overlap,
+        f,
+        n,
+        [wi[0] - wj[0], wi[1] - wj[1], wi[2] - wj[2]],
+        inertia(inv_ii + inv_ij),
+        dt,
+        roll,
+    );
+    add(&mut ti, rolling);
+    sub(&mut tj, rolling);
+    let fj = [f * n[0] - ft[0], f * n[1] - ft[1], f * n[2] - ft[2]];
+    (fj, ti, tj)
+}
+
+/// 1/Σ(1/I), kg m² (0 when both are fixed).
+#[inline(always)]
+fn inertia(inverse_inertia: f64) -> f64 {
+    if inverse_inertia > 0.0 {
+        1.0 / inverse_inertia
+    } else {
+        0.0
+    }
+}
+
+/// What the friction force loop reads and writes.
+pub struct PairForceInput<'a> {
+    pub bodies: &'a Bodies,
+    pub ghosts: &'a Ghosts,
+    pub list: &'a PairList,
+    pub laws: &'a LawTable,
+    pub friction: &'a FrictionTable,
+    /// Time since the last evaluation, s (0: do not move the springs).
+    pub dt: f64,
+}
+
+/// Adds every pair force and torque (the frictionless loop's blocks and
+/// order: deterministic for any thread count).
+pub fn add_pair_forces(
+    input: &PairForceInput,
+    histories: &mut PairHistories,
+    shear: &mut PairShear,
+    force: &mut [[f64; 3]],
+    torque: &mut [[f64; 3]],
+    workers: &Workers,
+) {
+    let PairForceInput {
+        bodies,
+        ghosts,
+        list,
+        laws,
+        friction,
+        dt,
+    } = *input;
+    let n = bodies.len();
+    let keep = laws.history;
+    assert!(force.len() == n && torque.len() == n && list.start.len() == n + 1);
+    assert!(!keep || histories.main.len() == list.j.len());
+    assert!(shear.main.len() == list.j.len() && shear.extra.len() == list.extra.len());
+    assert!(
+        bodies.position.len() == n
+            && bodies.velocity.len() == n
+            && bodies.radius.len() == n
+            && bodies.angular_velocity.len() == n
+    );
+    let f_ptr = SharedMut(force.as_mut_ptr());
+    let t_ptr = SharedMut(torque.as_mut_ptr());
+    let h_ptr = SharedMut(histories.main.as_mut_ptr());
+    let s_ptr = SharedMut(shear.main.as_mut_ptr());
+    let blocks = list.blocks.len().saturating_sub(1);
+    let (position, velocity, radius, spin, inverse_inertia) = (
+        &bodies.position[..],
+        &bodies.velocity[..],
+        &bodies.radius[..],
+        &bodies.angular_velocity[..],
+        &bodies.inverse_inertia[..],
+    );
+    let (start, js) = (&list.start[..], &list.j[..]);
+    let run_block = |b: usize| {
+        let (f_ptr, t_ptr, h_ptr, s_ptr) = (f_ptr, t_ptr, h_ptr, s_ptr);
+        let lo = list.blocks[b] as usize;
+        let hi = list.blocks[b + 1] as usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s == e {
+                continue;
+            }
+            let (xi, vi, ri, wi) = (position[i], velocity[i], radius[i], spin[i]);
+            let mut fi = [0.0; 3];
+            let mut ti = [0.0; 3];
+            for (k, &j) in js.iter().enumerate().take(e).skip(s) {
+                let j = j as usize;
+                let (xj, rj) = (position[j], radius[j]);
+                // SAFETY (every pointer below): entry k belongs to row i,
+                // which only this block visits; j lies in this block or the
+                // next, and blocks of one parity are two apart (the
+                // frictionless loop's argument, `contacts::add_pair_forces`).
+                let sh = unsafe { &mut *s_ptr.0.add(k) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, || velocity[j], rj) {
+                    let mut scratch = NO_HISTORY;
+                    let hist = if keep {
+                        unsafe { &mut *h_ptr.0.add(k) }
+                    } else {
+                        &mut scratch
+                    };
+                    let law = laws.pair(bodies, i, j);
+                    let fr = friction.pair(laws, bodies, i, j);
+                    let (fj, tqi, tqj) = contact(
+                        &law,
+                        &fr,
+                        &g,
+                        hist,
+                        sh,
+                        (vi, wi, ri, inverse_inertia[i]),
+                        (velocity[j], spin[j], rj, inverse_inertia[j]),
+                        dt,
+                    );
+                    sub(&mut fi, fj);
+                    add(&mut ti, tqi);
+                    unsafe {
+                        add(&mut *f_ptr.0.add(j), fj);
+                        add(&mut *t_ptr.0.add(j), tqj);
+                    }
+                } else {
+                    if keep {
+                        let hist = unsafe { &mut *h_ptr.0.add(k) };
+                        if *hist != ContactHistory::default() {
+                            *hist = ContactHistory::default();
+                        }
+                    }
+                    if *sh != [0.0; 6] {
+                        *sh = [0.0; 6];
+                    }
+                }
+            }
+            unsafe {
+                add(&mut *f_ptr.0.add(i), fi);
+                add(&mut *t_ptr.0.add(i), ti);
+            }
+        }
+    };
+    let order = block_order(blocks);
+    let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
+    let next = AtomicUsize::new(0);
+    workers.run(workers.threads(), |_| loop {
+        let t = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&b) = order.get(t) else { break };
+        if b % 2 == 1 {
+            wait_for(&done[b - 1]);
+            if let Some(d) = done.get(b + 1) {
+                wait_for(d);
+            }
+        }
+        run_block(b);
+        done[b].store(true, Ordering::Release);
+    });
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let (xj, vj, owner) = extended(bodies, ghosts, j);
+        let mut scratch = NO_HISTORY;
+        let hist = if keep {
+            &mut histories.extra[k]
+        } else {
+            &mut scratch
+        };
+        let sh = &mut shear.extra[k];
+        match touching(
+            bodies.position[i],
+            bodies.velocity[i],
+            bodies.radius[i],
+            xj,
+            vj,
+            bodies.radius[owner],
+        ) {
+            Some(g) => {
+                let law = laws.pair(bodies, i, owner);
+                let fr = friction.pair(laws, bodies, i, owner);
+                let (fj, tqi, tqj) = contact(
+                    &law,
+                    &fr,
+                    &g,
+                    hist,
+                    sh,
+                    (
+                        bodies.velocity[i],
+                        spin[i],
+                        bodies.radius[i],
+                        inverse_inertia[i],
+                    ),
+                    (
+                        vj,
+                        spin[owner],
+                        bodies.radius[owner],
+                        inverse_inertia[owner],
+                    ),
+                    dt,
+                );
+                sub(&mut force[i], fj);
+                add(&mut force[owner], fj);
+                add(&mut torque[i], tqi);
+                add(&mut torque[owner], tqj);
+            }
+            None => {
+                *hist = ContactHistory::default();
+                *sh = [0.0; 6];
+            }
+        }
+    }
+}
+
+/// What the per-body friction pass reads.
+#[derive(Clone, Copy)]
+pub struct BodyForceInput<'a> {
+    pub bodies: &'a Bodies,
+    pub planes: &'a [PlaneWall],
+    pub laws: &'a LawTable,
+    pub friction: &'a FrictionTable,
+    pub gravity: [f64; 3],
+    /// The step whose forces these are (see [`WallShear`]).
+    pub step: u64,
+    /// Time since the last evaluation, s (0: do not move the springs).
+    pub dt: f64,
+}
+
+/// Gravity and plane-wall forces (with friction) and the plane-wall
+/// torques of body i at position `x`, velocity `v` and spin `w`: the
+/// frictionless `walls::body_force` with the tangential force, its torque
+/// and the rolling torque added.
+///
+/// # Safety
+/// Body i's entries of `walls` and `shear` are touched by no other thread.
+#[inline(always)]
+pub unsafe fn body_force(
+    c: &BodyForceInput,
+    i: usize,
+    (x, v, w): ([f64; 3], [f64; 3], [f64; 3]),
+    walls: &WallContactsMut,
+    shear: SharedMut<WallShear>,
+) -> ([f64; 3], [f64; 3]) {
+    let bodies = c.bodies;
+    if bodies.fixed[i] {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    let m = bodies.mass[i];
+    let g = c.gravity;
+    let mut acc = [m * g[0], m * g[1], m * g[2]];
+    let mut torque = [0.0; 3];
+    let mask = walls.touching.at(i);
+    let mut todo = *walls.near.at(i) | *mask;
+    let r = bodies.radius[i];
+    while todo != 0 {
+        let p = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
+        let plane = &c.planes[p];
+        let (h, rate) = plane_overlap(plane, x, v, r);
+        let bit = 1u64 << p;
+        let mut scratch = NO_HISTORY;
+        let hist = if walls.keep {
+            walls.history.at(i * walls.planes + p)
+        } else {
+            &mut scratch
+        };
+        let sh = shear.at(i * walls.planes + p);
+        if h > 0.0 {
+            let law = c.laws.plane(bodies, i, p);
+            let fr = c.friction.plane(c.laws, bodies, i, p);
+            let fw = law.force(h, rate, hist);
+            law.update(h, rate, hist);
+            *mask |= bit;
+            // From the sphere to the wall.
+            let n = scale(-1.0, plane.normal);
+            let vt = tangential(
+                {
+                    let s = cross(scale(r, w), n);
+                    [v[0] + s[0], v[1] + s[1], v[2] + s[2]]
+                },
+                n,
+            );
+            if sh.stamp != c.step {
+                sh.before = sh.shear;
+                sh.stamp = c.step;
+            }
+            let mut d = sh.before;
+            let (ds, dr) = split(&mut d);
+            let ft = fr.tangential_force(h, fw, n, vt, c.dt, ds);
+            let rolling = fr.rolling_torque(
+                &law,
+                h,
+                fw,
+                n,
+                w,
+                inertia(bodies.inverse_inertia[i]),
+                c.dt,
+                dr,
+            );
+            sh.shear = d;
+            for a in 0..3 {
+                acc[a] += fw * plane.normal[a] + ft[a];
+            }
+            add(&mut torque, scale(r, cross(n, ft)));
+            add(&mut torque, rolling);
+        } else if *mask & bit != 0 {
+            *hist = ContactHistory::default();
+            *sh = WallShear::default();
+            *mask &= !bit;
+        }
+    }
+    (acc, torque)
+}
+
+/// The tangential force (N) each plane takes from the spheres touching it
+/// at their current state, from the stored displacements (not moved):
+/// added to the wall forces of the observables.
+pub fn plane_tangential_forces(
+    bodies: &Bodies,
+    planes: &[PlaneWall],
+    laws: &LawTable,
+    friction: &FrictionTable,
+    histories: &[ContactHistory],
+    shear: &[WallShear],
+) -> Vec<[f64; 3]> {
+    let np = planes.len();
+    let mut out = vec![[0.0; 3]; np];
+    if np == 0 || shear.len() != bodies.len() * np {
+        return out;
+    }
+    for i in 0..bodies.len() {
+        if bodies.fixed[i] {
+            continue;
+        }
+        let (x, v, w, r) = (
+            bodies.position[i],
+            bodies.velocity[i],
+            bodies.angular_velocity[i],
+            bodies.radius[i],
+        );
+        for (p, plane) in planes.iter().enumerate() {
+            let (h, rate) = plane_overlap(plane, x, v, r);
+            if h <= 0.0 {
+                continue;
+            }
+            let law = laws.plane(bodies, i, p);
+            let fr = friction.plane(laws, bodies, i, p);
+            let hist = histories.get(i * np + p).unwrap_or(&NO_HISTORY);
+            let fw = law.force(h, rate, hist);
+            let n = scale(-1.0, plane.normal);
+            let s = cross(scale(r, w), n);
+            let vt = tangential([v[0] + s[0], v[1] + s[1], v[2] + s[2]], n);
+            let mut d = shear[i * np + p].shear;
+            let (ds, _) = split(&mut d);
+            let ft = fr.tangential_force(h, fw, n, vt, 0.0, ds);
+            sub(&mut out[p], ft);
+        }
+    }
+    out
+}
+
+/// Permutes per-(body, plane) records with the bodies.
+pub fn permute_wall_shear(shear: &mut Vec<WallShear>, planes: usize, order: &[u32]) {
+    if planes == 0 || shear.is_empty() {
+        return;
+    }
+    let mut v = Vec::with_capacity(shear.len());
+    for &o in order {
+        v.extend_from_slice(&shear[o as usize * planes..(o as usize + 1) * planes]);
+    }
+    *shear = v;
+}

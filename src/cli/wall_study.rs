@@ -1,0 +1,733 @@
+//! `dembound wall-study` (issue 13): the paper's question in a
+//! many-particle setting. For one particle material and a grid of boundary
+//! walls (r, ζ, tiling), beside a plane of the particles' material and a
+//! rigid plane: single impacts at random (seeded) points of the tiling,
+//! normal and oblique, and a bed poured and settled on each floor. Thin:
+//! the runs are `dembound_scene::wall_study`; this writes CSV, figures, the
+//! side view of a bed and a Markdown report through [`AtomicDir`], all or
+//! nothing.
+
+use super::{CliError, CliResult};
+use crate::output::files::AtomicDir;
+use crate::plot::{Figure, Mark, Series};
+use clap::Args;
+use dembound_physics::contact::tangential::TangentialKind;
+use dembound_physics::material::Material;
+use dembound_scene::sources::tiling::Pattern;
+use dembound_scene::wall_study::{self, Floor, FloorResult, StudyConfig};
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+#[derive(Debug, Args)]
+pub struct WallStudyArgs {
+    /// Output directory (CSV, figures, report.md); all or nothing
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Small and fast: 150 particles, 4 impacts per angle, r = ζ = 100
+    /// square only (unless given), 0.05 s of settling after the pour
+    #[arg(long)]
+    pub quick: bool,
+    /// Particles in the bed (default 2000; 150 with --quick; 0: no bed)
+    #[arg(long)]
+    pub particles: Option<usize>,
+    /// Impacts per floor and angle (default 20; 4 with --quick)
+    #[arg(long)]
+    pub impacts: Option<usize>,
+    /// Radius ratios r = R_b/R (default 1,10,100; 100 with --quick)
+    #[arg(long, value_delimiter = ',')]
+    pub radius_ratios: Option<Vec<f64>>,
+    /// Modulus ratios ζ = E_b/E (default 1,100; 100 with --quick)
+    #[arg(long, value_delimiter = ',')]
+    pub modulus_ratios: Option<Vec<f64>>,
+    /// Tilings: square, hexagonal (default both; square with --quick)
+    #[arg(long, value_delimiter = ',')]
+    pub tilings: Option<Vec<String>>,
+    /// Incidence angles from the normal, degrees (default 0,45)
+    #[arg(long, value_delimiter = ',', default_value = "0,45")]
+    pub angles: Vec<f64>,
+    /// Impact speed, m/s
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Particle radius R, m
+    #[arg(long, default_value_t = 0.5e-3)]
+    pub radius: f64,
+    /// Particle density, kg/m³
+    #[arg(long, default_value_t = 1000.0)]
+    pub density: f64,
+    /// Particle Young's modulus, Pa
+    #[arg(long, default_value_t = 1.0e7)]
+    pub youngs_modulus: f64,
+    /// Particle Poisson ratio
+    #[arg(long, default_value_t = 0.3)]
+    pub poisson_ratio: f64,
+    /// Normal restitution (Hertz with Tsuji damping)
+    #[arg(long, default_value_t = 0.5)]
+    pub restitution: f64,
+    /// Coulomb friction μ of every surface (the bed's side walls are frictionless)
+    #[arg(long, default_value_t = 0.5)]
+    pub friction: f64,
+    /// Rolling friction μ_r
+    #[arg(long, default_value_t = 0.0)]
+    pub rolling_friction: f64,
+    /// Tangential spring: mindlin or linear
+    #[arg(long, default_value = "mindlin")]
+    pub tangential: String,
+    /// Δt = η × the particle–plane contact time at the impact speed
+    #[arg(long, default_value_t = 0.05)]
+    pub eta: f64,
+    /// Bed settling time after the pour (the fall time is added), s
+    /// (default 0.1; 0.05 with --quick)
+    #[arg(long)]
+    pub settle_time: Option<f64>,
+    /// Relative tolerance of the recommendation (each quantity against the plane)
+    #[arg(long, default_value_t = 0.05)]
+    pub tolerance: f64,
+    /// Seed of the impact points and the bed's insertion
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// No progress lines
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+fn input(key: &str, value: impl std::fmt::Display, allowed: &str) -> CliError {
+    CliError::input(anyhow::anyhow!("{key} = {value}: allowed {allowed}"))
+}
+
+fn config(a: &WallStudyArgs) -> CliResult<StudyConfig> {
+    let q = a.quick;
+    let radius_ratios = a.radius_ratios.clone().unwrap_or(if q {
+        vec![100.0]
+    } else {
+        vec![1.0, 10.0, 100.0]
+    });
+    let modulus_ratios =
+        a.modulus_ratios
+            .clone()
+            .unwrap_or(if q { vec![100.0] } else { vec![1.0, 100.0] });
+    let tilings = a.tilings.clone().unwrap_or(if q {
+        vec!["square".into()]
+    } else {
+        vec!["square".into(), "hexagonal".into()]
+    });
+    let mut patterns = Vec::new();
+    for t in &tilings {
+        patterns.push(match t.as_str() {
+            "square" => Pattern::Square,
+            "hexagonal" => Pattern::Hexagonal,
+            other => {
+                return Err(input(
+                    "--tilings",
+                    format!("{other:?}"),
+                    "\"square\", \"hexagonal\"",
+                ))
+            }
+        });
+    }
+    let tangential = TangentialKind::from_name(&a.tangential).ok_or_else(|| {
+        input(
+            "--tangential",
+            format!("{:?}", a.tangential),
+            "\"mindlin\", \"linear\"",
+        )
+    })?;
+    if !(a.tolerance.is_finite() && a.tolerance > 0.0) {
+        return Err(input("--tolerance", a.tolerance, "finite and > 0"));
+    }
+    if a.angles.is_empty() {
+        return Err(input("--angles", "[]", "at least one angle"));
+    }
+    let mut floors = vec![Floor::Plane, Floor::Rigid];
+    for &pattern in &patterns {
+        for &radius_ratio in &radius_ratios {
+            for &modulus_ratio in &modulus_ratios {
+                floors.push(Floor::Particles {
+                    radius_ratio,
+                    modulus_ratio,
+                    pattern,
+                });
+            }
+        }
+    }
+    if floors.len() > 64 {
+        return Err(input(
+            "--radius-ratios",
+            format!("{} floors", floors.len()),
+            "at most 62 (r, ζ, tiling) combinations",
+        ));
+    }
+    Ok(StudyConfig {
+        material: Material {
+            density: a.density,
+            youngs_modulus: a.youngs_modulus,
+            poisson_ratio: a.poisson_ratio,
+        },
+        radius: a.radius,
+        restitution: a.restitution,
+        friction: a.friction,
+        tangential,
+        rolling_friction: a.rolling_friction,
+        floors,
+        impacts: a.impacts.unwrap_or(if q { 4 } else { 20 }),
+        speed: a.speed,
+        angles: a.angles.clone(),
+        bed_particles: a.particles.unwrap_or(if q { 150 } else { 2000 }),
+        eta: a.eta,
+        settle_time: a.settle_time.unwrap_or(if q { 0.05 } else { 0.1 }),
+        seed: a.seed,
+    })
+}
+
+fn mean(v: &[f64]) -> f64 {
+    let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+fn std(v: &[f64]) -> f64 {
+    let m = mean(v);
+    let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.len() < 2 {
+        return 0.0;
+    }
+    (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+}
+
+/// The quantities compared with the plane, per floor.
+struct Summary {
+    label: String,
+    /// (name with unit, value, spread)
+    values: Vec<(String, f64, f64)>,
+}
+
+fn summarise(r: &FloorResult, angles: &[f64]) -> Summary {
+    let mut values = Vec::new();
+    for &a in angles {
+        let at: Vec<_> = r.impacts.iter().filter(|i| i.angle == a).collect();
+        let en: Vec<f64> = at.iter().map(|i| i.normal_restitution).collect();
+        values.push((format!("e_n at {a}° (1)"), mean(&en), std(&en)));
+        if a > 0.0 {
+            let et: Vec<f64> = at.iter().map(|i| i.tangential_restitution).collect();
+            values.push((format!("e_t at {a}° (1)"), mean(&et), std(&et)));
+            let ra: Vec<f64> = at.iter().map(|i| i.rebound_angle).collect();
+            values.push((format!("rebound angle at {a}° (deg)"), mean(&ra), std(&ra)));
+        }
+        let tc: Vec<f64> = at.iter().map(|i| i.contact_time * 1e6).collect();
+        values.push((format!("contact time at {a}° (µs)"), mean(&tc), std(&tc)));
+    }
+    if let Some(b) = &r.bed {
+        values.push(("bed height (mm)".into(), b.height * 1e3, 0.0));
+        values.push(("packing fraction 0–2R (1)".into(), b.wall_packing, 0.0));
+        values.push(("packing fraction 4R–8R (1)".into(), b.bulk_packing, 0.0));
+        values.push(("floor pressure (Pa)".into(), b.floor_pressure, 0.0));
+        values.push((
+            "floor pressure fluctuation (1)".into(),
+            b.pressure_fluctuation,
+            0.0,
+        ));
+        if !b.boundary_forces.is_empty() {
+            values.push((
+                "force per loaded boundary particle (µN)".into(),
+                mean(&b.boundary_forces) * 1e6,
+                std(&b.boundary_forces) * 1e6,
+            ));
+        }
+    }
+    Summary {
+        label: r.floor.label(),
+        values,
+    }
+}
+
+pub fn run(args: &WallStudyArgs) -> CliResult {
+    let c = config(args)?;
+    c.validate().map_err(CliError::input)?;
+    let mut out = super::output_dir(&args.out, "wall-study")?;
+    let quiet = args.quiet;
+    let start = std::time::Instant::now();
+    let results = wall_study::run(&c, |label| {
+        if !quiet {
+            eprintln!(
+                "wall-study: {label} ({:.1} s)",
+                start.elapsed().as_secs_f64()
+            );
+        }
+    })
+    .map_err(|e| {
+        if e.is_input() {
+            CliError::input(e)
+        } else {
+            CliError::failed(e)
+        }
+    })?;
+    write_all(&mut out, &c, &results, args.tolerance).map_err(CliError::failed)?;
+    let files = out.commit().map_err(CliError::failed)?;
+    println!(
+        "wall-study: {} floors, {} files in {} ({:.1} s)",
+        results.len(),
+        files.len(),
+        args.out.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn write_all(
+    out: &mut AtomicDir,
+    c: &StudyConfig,
+    results: &[FloorResult],
+    tolerance: f64,
+) -> anyhow::Result<()> {
+    // impacts.csv
+    out.write("impacts.csv", |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record([
+            "floor",
+            "angle_deg",
+            "x_m",
+            "y_m",
+            "normal_restitution",
+            "tangential_restitution",
+            "rebound_angle_deg",
+            "deflection",
+            "contact_time_s",
+            "contacts",
+            "spin_rad_s",
+        ])?;
+        for r in results {
+            for i in &r.impacts {
+                csv.write_record([
+                    r.floor.label(),
+                    i.angle.to_string(),
+                    format!("{:e}", i.point[0]),
+                    format!("{:e}", i.point[1]),
+                    format!("{:e}", i.normal_restitution),
+                    format!("{:e}", i.tangential_restitution),
+                    format!("{:e}", i.rebound_angle),
+                    format!("{:e}", i.deflection),
+                    format!("{:e}", i.contact_time),
+                    i.contacts.to_string(),
+                    format!("{:e}", i.spin),
+                ])?;
+            }
+        }
+        csv.flush()?;
+        Ok(())
+    })?;
+    out.write("profile.csv", |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record(["floor", "z_m", "solid_fraction"])?;
+        for r in results {
+            if let Some(b) = &r.bed {
+                for (z, phi) in &b.profile {
+                    csv.write_record([r.floor.label(), format!("{z:e}"), format!("{phi:e}")])?;
+                }
+            }
+        }
+        csv.flush()?;
+        Ok(())
+    })?;
+    out.write("boundary_forces.csv", |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record(["floor", "normal_force_N"])?;
+        for r in results {
+            if let Some(b) = &r.bed {
+                for f in &b.boundary_forces {
+                    csv.write_record([r.floor.label(), format!("{f:e}")])?;
+                }
+            }
+        }
+        csv.flush()?;
+        Ok(())
+    })?;
+    let summaries: Vec<Summary> = results.iter().map(|r| summarise(r, &c.angles)).collect();
+    out.write("summary.csv", |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record(["floor", "quantity", "mean", "spread_sd"])?;
+        for s in &summaries {
+            for (name, v, sd) in &s.values {
+                csv.write_record([
+                    s.label.clone(),
+                    name.clone(),
+                    format!("{v:e}"),
+                    format!("{sd:e}"),
+                ])?;
+            }
+        }
+        csv.flush()?;
+        Ok(())
+    })?;
+    // Figures.
+    let palette = |k: usize| k % 10;
+    let mut en = Figure {
+        title: "Normal restitution of single impacts, by floor".into(),
+        x_label: "floor (index in report.md)".into(),
+        y_label: "effective normal restitution v_n'/v_n (1)".into(),
+        ..Default::default()
+    };
+    for (k, &a) in c.angles.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = results
+            .iter()
+            .enumerate()
+            .flat_map(|(f, r)| {
+                r.impacts
+                    .iter()
+                    .filter(move |i| i.angle == a)
+                    .map(move |i| (f as f64, i.normal_restitution))
+            })
+            .collect();
+        en.series.push(Series::new(
+            format!("θ = {a}°"),
+            pts,
+            Mark::Points,
+            palette(k),
+        ));
+    }
+    en.write_into(out, "restitution")?;
+    let mut tc = Figure {
+        title: "Contact time of single impacts, by floor".into(),
+        x_label: "floor (index in report.md)".into(),
+        y_label: "contact time (µs)".into(),
+        ..Default::default()
+    };
+    for (k, &a) in c.angles.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = results
+            .iter()
+            .enumerate()
+            .flat_map(|(f, r)| {
+                r.impacts
+                    .iter()
+                    .filter(move |i| i.angle == a)
+                    .map(move |i| (f as f64, i.contact_time * 1e6))
+            })
+            .collect();
+        tc.series.push(Series::new(
+            format!("θ = {a}°"),
+            pts,
+            Mark::Points,
+            palette(k),
+        ));
+    }
+    tc.write_into(out, "contact_time")?;
+    if results.iter().any(|r| r.bed.is_some()) {
+        let mut prof = Figure {
+            title: "Packing fraction near the floor".into(),
+            x_label: "height above the floor's contact plane z/R (1)".into(),
+            y_label: "solid fraction (1)".into(),
+            legend_outside: true,
+            ..Default::default()
+        };
+        for (k, r) in results.iter().enumerate() {
+            if let Some(b) = &r.bed {
+                let pts = b.profile.iter().map(|(z, p)| (z / c.radius, *p)).collect();
+                prof.series
+                    .push(Series::new(r.floor.label(), pts, Mark::Line, palette(k)));
+            }
+        }
+        prof.write_into(out, "packing_profile")?;
+        // The side view of the bed on the first floor of boundary
+        // particles (else the plane).
+        let pick = results
+            .iter()
+            .find(|r| matches!(r.floor, Floor::Particles { .. }) && r.bed.is_some())
+            .or_else(|| results.iter().find(|r| r.bed.is_some()));
+        if let Some(r) = pick {
+            if let Some(b) = &r.bed {
+                let (svg, png) = side_view(b, &r.floor.label())?;
+                out.write("bed_side.svg", |w| Ok(w.write_all(svg.as_bytes())?))?;
+                out.write("bed_side.png", |w| Ok(w.write_all(&png)?))?;
+            }
+        }
+    }
+    let report = report(c, results, &summaries, tolerance);
+    out.write("report.md", |w| Ok(w.write_all(report.as_bytes())?))?;
+    Ok(())
+}
+
+/// Side view (x–z) of a settled bed: every particle a circle, the floor's
+/// boundary particles and contact plane drawn under it. SVG and PNG.
+fn side_view(b: &wall_study::Bed, label: &str) -> anyhow::Result<(String, Vec<u8>)> {
+    crate::plot::register_font();
+    let size = (900u32, 600u32);
+    let mut svg = String::new();
+    draw_side(
+        SVGBackend::with_string(&mut svg, size).into_drawing_area(),
+        b,
+        label,
+        size,
+    )?;
+    let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
+    draw_side(
+        BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
+        b,
+        label,
+        size,
+    )?;
+    let mut png_bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut png_bytes, size.0, size.1);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&rgb)?;
+    }
+    Ok((svg, png_bytes))
+}
+
+fn draw_side<DB: DrawingBackend>(
+    area: DrawingArea<DB, plotters::coord::Shift>,
+    b: &wall_study::Bed,
+    label: &str,
+    size: (u32, u32),
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("{e:?}");
+    let r = b.spheres.first().map_or(1e-3, |s| s.2);
+    let x0 = -r;
+    let x1 = b.side + r;
+    let top = b.height + 2.0 * r;
+    let bottom = -0.15 * (x1 - x0) - 2.0 * r;
+    area.fill(&WHITE).map_err(e)?;
+    let (w, h) = size;
+    // Equal scales on both axes.
+    let plot_w = f64::from(w) - 120.0;
+    let plot_h = f64::from(h) - 110.0;
+    let scale = (plot_w / (x1 - x0)).min(plot_h / (top - bottom));
+    let (xz1, zz1) = (x0 + plot_w / scale, bottom + plot_h / scale);
+    let mut chart = ChartBuilder::on(&area)
+        .caption(
+            format!("Bed on the floor \"{label}\": side view"),
+            ("sans-serif", 22),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0 * 1e3..xz1 * 1e3, bottom * 1e3..zz1 * 1e3)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("x (mm)")
+        .y_desc("z (mm)")
+        .disable_mesh()
+        .draw()
+        .map_err(e)?;
+    let px = |rr: f64| ((rr * scale).round() as i32).max(1);
+    // Boundary spheres can be far larger than the view: each is drawn as
+    // its upper outline within the view, filled down to the view's bottom
+    // (a circle element would not be clipped to the chart).
+    let (vx0, vx1, vz0, vz1) = (x0, xz1, bottom, zz1);
+    for &(xc, zc, rr) in &b.floor_spheres {
+        let (a, c) = ((xc - rr).max(vx0), (xc + rr).min(vx1));
+        if a >= c {
+            continue;
+        }
+        let mut outline: Vec<(f64, f64)> = (0..=200)
+            .map(|k| {
+                let x = a + (c - a) * f64::from(k) / 200.0;
+                let dz = (rr * rr - (x - xc) * (x - xc)).max(0.0).sqrt();
+                (x * 1e3, (zc + dz).clamp(vz0, vz1) * 1e3)
+            })
+            .collect();
+        outline.push((c * 1e3, vz0 * 1e3));
+        outline.push((a * 1e3, vz0 * 1e3));
+        chart
+            .draw_series(std::iter::once(Polygon::new(
+                outline,
+                RGBColor(190, 190, 190).filled(),
+            )))
+            .map_err(e)?;
+    }
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            vec![(x0 * 1e3, 0.0), (x1 * 1e3, 0.0)],
+            BLACK.stroke_width(1),
+        )))
+        .map_err(e)?;
+    chart
+        .draw_series(b.spheres.iter().map(|&(x, z, rr)| {
+            Circle::new(
+                (x * 1e3, z * 1e3),
+                px(rr),
+                RGBColor(31, 119, 180).stroke_width(1),
+            )
+        }))
+        .map_err(e)?;
+    area.present().map_err(e)?;
+    Ok(())
+}
+
+fn report(
+    c: &StudyConfig,
+    results: &[FloorResult],
+    summaries: &[Summary],
+    tolerance: f64,
+) -> String {
+    let mut s = String::new();
+    let m = &c.material;
+    let _ = writeln!(s, "# Wall study: boundary particles against a plane\n");
+    let _ = writeln!(
+        s,
+        "Particles: R = {} m, ρ = {} kg/m³, E = {} Pa, ν = {}; Hertz with Tsuji damping, e = {}; \
+         {} tangential spring, μ = {}, μ_r = {}. Impacts at {} m/s, {} per floor and angle, at \
+         random (seed {}) points of the tiling's cell; Δt = {:.4e} s (η = {} of the \
+         particle–plane contact time {:.4e} s). Bed: {} particles poured into a box with \
+         frictionless side walls and settled for {} s.\n",
+        c.radius,
+        m.density,
+        m.youngs_modulus,
+        m.poisson_ratio,
+        c.restitution,
+        c.tangential.row().name,
+        c.friction,
+        c.rolling_friction,
+        c.speed,
+        c.impacts,
+        c.seed,
+        c.dt(),
+        c.eta,
+        c.contact_time(),
+        c.bed_particles,
+        c.settle_time
+    );
+    let _ = writeln!(s, "## Floors\n");
+    for (k, r) in results.iter().enumerate() {
+        let _ = writeln!(s, "{k}. {}", r.floor.label());
+    }
+    let _ = writeln!(s, "\n## Results (mean ± standard deviation)\n");
+    let Some(reference) = summaries.iter().find(|x| x.label == "plane") else {
+        return s;
+    };
+    let _ = write!(s, "| quantity | plane |");
+    for x in summaries.iter().filter(|x| x.label != "plane") {
+        let _ = write!(s, " {} |", x.label);
+    }
+    let _ = writeln!(s);
+    let _ = write!(s, "|---|---|");
+    for _ in summaries.iter().filter(|x| x.label != "plane") {
+        let _ = write!(s, "---|");
+    }
+    let _ = writeln!(s);
+    for (q, (name, v, sd)) in reference.values.iter().enumerate() {
+        let _ = write!(s, "| {name} | {} |", fmt(*v, *sd));
+        for x in summaries.iter().filter(|x| x.label != "plane") {
+            match x.values.get(q) {
+                Some((_, v, sd)) => {
+                    let _ = write!(s, " {} |", fmt(*v, *sd));
+                }
+                None => {
+                    let _ = write!(s, " – |");
+                }
+            }
+        }
+        let _ = writeln!(s);
+    }
+    let _ = writeln!(
+        s,
+        "\nThe floor pressure equals the weight per area ({:.6e} Pa) once a bed has settled on any \
+         floor; its fluctuation over the last fifth of the run and the force per boundary particle \
+         are what differ.\n",
+        results
+            .iter()
+            .find_map(|r| r.bed.as_ref().map(|b| b.weight_pressure))
+            .unwrap_or(f64::NAN)
+    );
+    let _ = writeln!(
+        s,
+        "Normal force on each loaded boundary particle under the settled bed:\n"
+    );
+    for r in results {
+        if let Some(b) = r.bed.as_ref().filter(|b| !b.boundary_forces.is_empty()) {
+            let f = &b.boundary_forces;
+            let max = f.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let _ = writeln!(
+                s,
+                "- {}: {} particles loaded, mean {} N, sd {} N, max {} N, sum {} N",
+                r.floor.label(),
+                f.len(),
+                sig(mean(f)),
+                sig(std(f)),
+                sig(max),
+                sig(f.iter().sum::<f64>())
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\nEffective restitutions are taken along the floor's normal (z) and the incidence \
+         direction: on a bumpy floor a particle hitting the flank of a boundary sphere rebounds \
+         sideways or down, so e_n may be negative and the rebound angle above 90°.\n"
+    );
+    let _ = writeln!(
+        s,
+        "## Recommendation (tolerance {} relative to the plane)\n",
+        tolerance
+    );
+    let compared = |name: &str| {
+        name.starts_with("e_n")
+            || name.starts_with("e_t")
+            || name.starts_with("rebound angle")
+            || name.starts_with("contact time")
+            || name.starts_with("bed height")
+            || name.starts_with("packing fraction 0")
+    };
+    let mut passing = Vec::new();
+    for x in summaries.iter().filter(|x| x.label != "plane") {
+        let mut fails = Vec::new();
+        for ((name, v, _), (_, p, _)) in x.values.iter().zip(&reference.values) {
+            if !compared(name) || !p.is_finite() {
+                continue;
+            }
+            let rel = (v - p).abs() / p.abs().max(1e-300);
+            if rel.is_nan() || rel > tolerance {
+                fails.push(format!("{name}: {:.3} % off", 100.0 * rel));
+            }
+        }
+        if fails.is_empty() {
+            passing.push(x.label.clone());
+            let _ = writeln!(
+                s,
+                "- **{}**: every compared quantity within {}.",
+                x.label, tolerance
+            );
+        } else {
+            let _ = writeln!(s, "- {}: {}", x.label, fails.join("; "));
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\nFloors that keep e_n, e_t, the rebound angle, the contact time, the bed height and the \
+         first-layer packing fraction within {tolerance} of the plane: {}.\n",
+        if passing.is_empty() {
+            "none".to_string()
+        } else {
+            passing.join(", ")
+        }
+    );
+    let _ = writeln!(
+        s,
+        "Files: impacts.csv (every impact), summary.csv, profile.csv (packing fraction in slabs of \
+         R/4), boundary_forces.csv (N), restitution.svg/png, contact_time.svg/png, \
+         packing_profile.svg/png, bed_side.svg/png (the bed drawn from its final state)."
+    );
+    s
+}
+
+fn fmt(v: f64, sd: f64) -> String {
+    if !v.is_finite() {
+        return "–".into();
+    }
+    if sd > 0.0 {
+        format!("{} ± {}", sig(v), sig(sd))
+    } else {
+        sig(v)
+    }
+}
+
+fn sig(v: f64) -> String {
+    crate::output::format::sig(v, 4)
+}
