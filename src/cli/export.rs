@@ -8,8 +8,8 @@ use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use dembound_export::{export, Code, Pitfall};
-use std::io::Write;
 use dembound_scene::io::{config, resolve::resolve};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

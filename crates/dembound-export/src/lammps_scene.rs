@@ -43,6 +43,10 @@ pub const DATA_FILE: &str = "particles.data";
 struct AtomType {
     material: usize,
     fixed: bool,
+    /// A sphere of a boundary-particle wall (dembound counts its contacts
+    /// as wall contacts; a fixed sphere of a `[[particles]]` group counts
+    /// as a particle contact).
+    wall: bool,
 }
 
 /// The contact model's arguments for one pair of the deck.
@@ -68,7 +72,10 @@ enum Damping {
     /// `damping tsuji` given `e_input`, the e whose LAMMPS polynomial α is
     /// dembound's γ/(√(m_eff E_eff) R_eff^(1/4)), the same for every pair
     /// when γ comes from a restitution (γ = √5 ξ(e) √(k m)).
-    Tsuji { e_input: f64, clamp: bool },
+    Tsuji {
+        e_input: f64,
+        clamp: bool,
+    },
 }
 
 /// The normal law's LAMMPS name and its coefficient for a pair of
@@ -111,24 +118,25 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
 
     // Atom types: the free materials in material order, then the fixed ones.
     let mut types: Vec<AtomType> = Vec::new();
-    for fixed in [false, true] {
+    let kind = |s: &SphereInit| AtomType {
+        material: s.material,
+        fixed: s.fixed,
+        wall: s.group.is_some(),
+    };
+    for (fixed, wall) in [(false, false), (true, false), (true, true)] {
         for material in 0..setup.materials.len() {
-            let t = AtomType { material, fixed };
-            if setup
-                .spheres
-                .iter()
-                .any(|s| s.material == material && s.fixed == fixed)
-            {
+            let t = AtomType {
+                material,
+                fixed,
+                wall,
+            };
+            if setup.spheres.iter().any(|s| kind(s) == t) {
                 types.push(t);
             }
         }
     }
-    let type_of = |s: &SphereInit| -> usize {
-        1 + types
-            .iter()
-            .position(|t| t.material == s.material && t.fixed == s.fixed)
-            .unwrap_or(0)
-    };
+    let type_of =
+        |s: &SphereInit| -> usize { 1 + types.iter().position(|t| *t == kind(s)).unwrap_or(0) };
     let material = |k: usize| -> &Material { &setup.materials[k].material };
     let name = |k: usize| -> &str { &setup.materials[k].name };
 
@@ -140,7 +148,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
             let alpha = |props: &PairProperties| -> f64 {
                 match model.pair(props).damping() {
                     DampingPair::Tsuji(t) => {
-                        t.coefficient / (props.mass * props.modulus).sqrt() / props.radius.powf(0.25)
+                        t.coefficient
+                            / (props.mass * props.modulus).sqrt()
+                            / props.radius.powf(0.25)
                     }
                     _ => f64::NAN,
                 }
@@ -176,14 +186,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
                 clamp: !model.attractive,
             }
         }
-        (DampingKind::Tsuji, _) => {
-            return refuse(
-                "contact.damping_coefficient cannot be exported for scenes: an absolute Tsuji gamma \
+        (DampingKind::Tsuji, _) => return refuse(
+            "contact.damping_coefficient cannot be exported for scenes: an absolute Tsuji gamma \
                  is a different multiple of sqrt(m_eff E_eff) R_eff^(1/4) for each pair, and \
                  LAMMPS's damping tsuji takes one; give contact.restitution instead"
-                    .into(),
-            )
-        }
+                .into(),
+        ),
         (kind, _) => {
             return refuse(format!(
                 "contact.damping = \"{}\" is not exported for scenes yet (exported: \"none\", and \
@@ -244,6 +252,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
 
     let free_types: Vec<usize> = (0..types.len()).filter(|&t| !types[t].fixed).collect();
     let fixed_types: Vec<usize> = (0..types.len()).filter(|&t| types[t].fixed).collect();
+    let wall_types: Vec<usize> = (0..types.len()).filter(|&t| types[t].wall).collect();
+    let held_types: Vec<usize> = (0..types.len())
+        .filter(|&t| types[t].fixed && !types[t].wall)
+        .collect();
     if free_types.is_empty() {
         return refuse("the scene has no free sphere to export".into());
     }
@@ -311,10 +323,17 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
         writeln!(x, "# {line}").ok();
     };
     c(&mut x, "Exported by `dembound export lammps` from a dembound scene (SI units); scene.toml is the scene as resolved.".into());
-    c(&mut x, "Run: lmp -in in.lammps -log log.lammps. Every number below comes from dembound.".into());
+    c(
+        &mut x,
+        "Run: lmp -in in.lammps -log log.lammps. Every number below comes from dembound.".into(),
+    );
     c(&mut x, String::new());
     c(&mut x, format!("spheres: {} in {DATA_FILE} (ids in dembound's input order: the [[particles]] groups, then the boundary-particle walls)", setup.spheres.len()));
-    c(&mut x, "atom types (one per material of the free spheres, one per material of the fixed spheres):".into());
+    c(
+        &mut x,
+        "atom types (one per material of the free spheres, one per material of the fixed spheres):"
+            .into(),
+    );
     for (t, ty) in types.iter().enumerate() {
         let m = material(ty.material);
         c(
@@ -344,7 +363,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
         );
     }
     match damping {
-        Damping::None => c(&mut x, "damping: none (contact.damping = \"none\"), `damping velocity` with coefficient 0".into()),
+        Damping::None => c(
+            &mut x,
+            "damping: none (contact.damping = \"none\"), `damping velocity` with coefficient 0"
+                .into(),
+        ),
         Damping::Tsuji { e_input, clamp } => {
             c(&mut x, format!(
                 "damping: Tsuji, F_d = gamma h^(1/4) dh/dt with gamma = alpha sqrt(m_eff E_eff) R_eff^(1/4) from contact.restitution = {}",
@@ -364,10 +387,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
     c(&mut x, format!("step: dt = {} s (integration.dt, or eta x the smallest contact-time estimate), {} steps, velocity Verlet (fix nve/sphere) as dembound's verlet", num(dt), steps));
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-    c(&mut x, format!("gravity: {:?} m/s^2 (motion.gravity) on the free spheres", g));
+    c(
+        &mut x,
+        format!(
+            "gravity: {:?} m/s^2 (motion.gravity) on the free spheres",
+            g
+        ),
+    );
     c(&mut x, "output: thermo line every step of the last one: step, time (s), kinetic energy (J, translational, free spheres),".into());
-    c(&mut x, "  v_pp = sphere-sphere contacts between free spheres, v_pw = contacts of free spheres with planes and frozen spheres".into());
-    c(&mut x, "  (the `particle_contacts` and `wall_contacts` of `dembound scene --json`).".into());
+    c(&mut x, "  v_pp = sphere-sphere contacts (free-free and free-fixed of [[particles]] groups), v_pw = contacts with planes and".into());
+    c(&mut x, "  boundary-particle walls (the `particle_contacts` and `wall_contacts` of `dembound scene --json`).".into());
 
     let bnd: String = (0..3)
         .map(|k| if d.periodic[k] { "p" } else { "m" })
@@ -388,6 +417,22 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
     writeln!(x, "group        free type {}", list(&free_types)).ok();
     if !fixed_types.is_empty() {
         writeln!(x, "group        frozen type {}", list(&fixed_types)).ok();
+    }
+    if !wall_types.is_empty() {
+        writeln!(
+            x,
+            "group        frozen_wall type {}   # boundary-particle walls",
+            list(&wall_types)
+        )
+        .ok();
+    }
+    if !held_types.is_empty() {
+        writeln!(
+            x,
+            "group        frozen_held type {}   # fixed spheres of [[particles]] groups",
+            list(&held_types)
+        )
+        .ok();
     }
     writeln!(x, "\npair_style   granular").ok();
     for a in 0..types.len() {
@@ -450,10 +495,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
     for p in &planes {
         for &t in &free_types {
             let ty = &types[t];
-            let e = pair_modulus(ty, &AtomType {
-                material: p.material,
-                fixed: true,
-            })?;
+            let e = pair_modulus(
+                ty,
+                &AtomType {
+                    material: p.material,
+                    fixed: true,
+                    wall: true,
+                },
+            )?;
             let (law, k) = normal_coefficient(&model.normal, e);
             let (l, h) = if p.upward {
                 (num(p.position), "NULL".to_string())
@@ -503,25 +552,27 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
 
     // Contact counts: compute contact/atom counts each touching pair on both
     // atoms; frozen-frozen pairs are excluded from the neighbour lists.
-    // Summed over the free spheres it is 2 pp + pf (pf: free-frozen pairs),
-    // over the frozen ones pf.
+    // Summed over the free spheres it is 2 pp + ph + pw (ph: pairs with a
+    // fixed sphere of a [[particles]] group, pw: with a boundary-particle
+    // wall's sphere), over frozen_held ph, over frozen_wall pw. dembound
+    // counts ph among the particle contacts, pw among the wall contacts.
     writeln!(
         x,
-        "\ncompute      nc all contact/atom\n\
-         compute      nc_free free reduce sum c_nc\n\
-         variable     pp equal (c_nc_free-{})/2",
-        if fixed_types.is_empty() {
-            "0".to_string()
-        } else {
-            "c_nc_frozen".to_string()
-        }
+        "\ncompute      nc all contact/atom\ncompute      nc_free free reduce sum c_nc"
     )
     .ok();
+    let mut pp = "c_nc_free".to_string();
     let mut wall_terms: Vec<String> = Vec::new();
-    if !fixed_types.is_empty() {
-        writeln!(x, "compute      nc_frozen frozen reduce sum c_nc").ok();
-        wall_terms.push("c_nc_frozen".into());
+    if !held_types.is_empty() {
+        writeln!(x, "compute      nc_held frozen_held reduce sum c_nc").ok();
+        pp.push_str("+c_nc_held");
     }
+    if !wall_types.is_empty() {
+        writeln!(x, "compute      nc_wall frozen_wall reduce sum c_nc").ok();
+        pp.push_str("-c_nc_wall");
+        wall_terms.push("c_nc_wall".into());
+    }
+    writeln!(x, "variable     pp equal ({pp})/2").ok();
     let coord = ["x", "y", "z"];
     if !planes.is_empty() {
         writeln!(x, "compute      radius all property/atom radius").ok();
