@@ -174,7 +174,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
                 m,
                 &Material::rigid(1.0),
             ));
-            if !((other / reference - 1.0).abs() < 1e-9) {
+            let same = (other / reference - 1.0).abs() < 1e-9;
+            if !same {
                 return refuse(format!(
                     "contact.damping = \"tsuji\": the damping is not the same multiple of \
                      sqrt(m_eff E_eff) R_eff^(1/4) for every pair (alpha {reference} and {other}); \
@@ -621,4 +622,121 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
             },
         ],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dembound_scene::io::{config, resolve::resolve};
+
+    const SCENE: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "b"
+density = 2500.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.2
+[[particles]]
+spheres = [ { position = [0.002, 0.005, 0.005], radius = 1.0e-3, velocity = [0.1, 0.0, 0.0] } ]
+material = "a"
+[[particles]]
+spheres = [ { position = [0.004000000000000001, 0.005, 0.005], radius = 0.7e-3 } ]
+material = "b"
+fixed = true
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "rigid"
+[integration]
+dt = 1.0e-6
+steps = 10
+"#;
+
+    fn exported(sets: &[&str]) -> Result<Deck, ExportError> {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let file = config::load(SCENE, "test", &sets).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        deck(&scene)
+    }
+
+    fn coefficient(deck: &str, pair: &str) -> f64 {
+        let line = deck
+            .lines()
+            .find(|l| l.starts_with(&format!("pair_coeff   {pair} ")))
+            .expect("the pair's line");
+        line.split_whitespace()
+            .nth(4)
+            .expect("k_n")
+            .parse()
+            .expect("a number")
+    }
+
+    #[test]
+    fn every_pair_gets_eq_6_and_the_data_round_trips() {
+        let d = exported(&[]).expect("exports");
+        let input = &d.files[0].text;
+        let data = &d.files[1].text;
+        // Written out here, not through the physics crate: eq 6.
+        let e_ab = 4.0 / 3.0 / ((1.0 - 0.09) / 1.0e7 + (1.0 - 0.04) / 5.0e7);
+        let e_aa = 4.0 / 3.0 / (2.0 * (1.0 - 0.09) / 1.0e7);
+        // Type 1: free "a"; type 2: fixed "b".
+        assert!((coefficient(input, "1 2") / e_ab - 1.0).abs() < 1e-15);
+        assert!((coefficient(input, "1 1") / e_aa - 1.0).abs() < 1e-15);
+        // The rigid floor: E_eff = 4/3 E_a/(1 − ν_a²), as a wall fix.
+        let wall = input
+            .lines()
+            .find(|l| l.starts_with("fix          wall0_t1 t1 wall/gran granular hertz "))
+            .expect("the floor");
+        let k: f64 = wall
+            .split_whitespace()
+            .nth(6)
+            .expect("k_n")
+            .parse()
+            .expect("a number");
+        assert!((k / (4.0 / 3.0 * 1.0e7 / 0.91) - 1.0).abs() < 1e-15);
+        assert!(wall.ends_with("zplane 0 NULL"));
+        assert!(input.contains("group        frozen type 2"));
+        assert!(input.contains("fix          freeze frozen freeze"));
+        assert!(input.contains("timestep     1e-6") && input.contains("run          10"));
+        // The data file: positions read back to the same f64, the fixed
+        // sphere's velocity 0.
+        let atoms: Vec<Vec<f64>> = data
+            .lines()
+            .skip_while(|l| !l.starts_with("Atoms"))
+            .skip(2)
+            .take(2)
+            .map(|l| {
+                l.split_whitespace()
+                    .map(|w| w.parse().expect("a number"))
+                    .collect()
+            })
+            .collect();
+        assert_eq!(
+            atoms[0],
+            vec![1.0, 1.0, 2.0e-3, 1000.0, 0.002, 0.005, 0.005]
+        );
+        assert_eq!(atoms[1][4], 0.004000000000000001);
+        assert!(data.contains("\n1 1e-1 0 0 0 0 0\n") && data.contains("\n2 0 0 0 0 0 0\n"));
+    }
+
+    #[test]
+    fn refusals_name_the_key() {
+        for (sets, key) in [
+            (vec!["integration.scheme=gear5"], "integration.scheme"),
+            (
+                vec!["wall.0.plane.normal=[0.0,1.0,1.0]"],
+                "wall[0].plane.normal",
+            ),
+            (vec!["contact.law=linear"], "contact.law"),
+        ] {
+            let e = exported(&sets).expect_err("refused");
+            assert!(e.0.contains(key), "{sets:?}: {e}");
+        }
+    }
 }
