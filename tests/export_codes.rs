@@ -700,6 +700,19 @@ steps = 4000
         );
     }
 
+    #[test]
+    fn oblique_plane_wall() {
+        // wall[1] tilted (normal (1, 0, 0.2)): `fix wall/gran/region` on a
+        // plane region instead of `fix wall/gran xplane`.
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let scene = write(dir.path(), "mixed.toml", MIXED);
+        agree(
+            &scene,
+            &["wall.1.plane.normal=[1.0,0.0,0.2]"],
+            "the mixed scene with an oblique wall",
+        );
+    }
+
     /// What cannot be exported exits 2 naming the key, with no deck left.
     #[test]
     fn scene_refusals_name_the_key() {
@@ -734,8 +747,8 @@ steps = 4000
             ),
             (
                 "lammps",
-                &["wall.1.plane.normal=[1.0,1.0,0.0]"],
-                "wall[1].plane.normal",
+                &["contact.damping=tsuji", "contact.damping_coefficient=1e-3"],
+                "contact.damping_coefficient",
             ),
         ];
         for (code, sets, needle) in cases {

@@ -217,12 +217,17 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
         }
     };
 
-    // Plane walls: axis-aligned only (fix wall/gran xplane/yplane/zplane).
+    // Plane walls: `fix wall/gran` for a normal along x, y or z, `fix
+    // wall/gran/region` on a plane region otherwise (the same contact: the
+    // distance to the plane; both measured to agree bit for bit on the
+    // axis-aligned walls of the test scenes).
     struct Plane {
         index: usize,
-        axis: usize,
-        position: f64,
-        upward: bool,
+        point: [f64; 3],
+        /// Unit normal into the domain.
+        normal: [f64; 3],
+        /// The axis of an axis-aligned plane.
+        axis: Option<usize>,
         material: usize,
     }
     let mut planes = Vec::new();
@@ -233,19 +238,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
             material,
         } = *w
         {
+            let length =
+                (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
             let nonzero: Vec<usize> = (0..3).filter(|&k| normal[k] != 0.0).collect();
-            if nonzero.len() != 1 {
-                return refuse(format!(
-                    "wall[{index}].plane.normal = {normal:?} cannot be exported: LAMMPS fix \
-                     wall/gran takes planes normal to x, y or z (give a normal along one axis)"
-                ));
-            }
-            let axis = nonzero[0];
             planes.push(Plane {
                 index,
-                axis,
-                position: point[axis],
-                upward: normal[axis] > 0.0,
+                point,
+                normal: normal.map(|c| c / length),
+                axis: (nonzero.len() == 1).then(|| nonzero[0]),
                 material,
             });
         }
@@ -493,6 +493,21 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
             writeln!(x, "group        t{} type {}", t + 1, t + 1).ok();
         }
     }
+    for p in planes.iter().filter(|p| p.axis.is_none()) {
+        writeln!(
+            x,
+            "region       wall{} plane {} {} {} {} {} {} side in units box   # wall[{}], normal into the domain",
+            p.index,
+            num(p.point[0]),
+            num(p.point[1]),
+            num(p.point[2]),
+            num(p.normal[0]),
+            num(p.normal[1]),
+            num(p.normal[2]),
+            p.index
+        )
+        .ok();
+    }
     for p in &planes {
         for &t in &free_types {
             let ty = &types[t];
@@ -505,16 +520,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
                 },
             )?;
             let (law, k) = normal_coefficient(&model.normal, e);
-            let (l, h) = if p.upward {
-                (num(p.position), "NULL".to_string())
-            } else {
-                ("NULL".to_string(), num(p.position))
+            let geometry = match p.axis {
+                Some(axis) if p.normal[axis] > 0.0 => {
+                    format!("{} {} NULL", axis_name[axis], num(p.point[axis]))
+                }
+                Some(axis) => format!("{} NULL {}", axis_name[axis], num(p.point[axis])),
+                None => format!("region wall{}", p.index),
             };
             writeln!(
                 x,
                 "# wall[{}]: plane of \"{}\" against \"{}\": the pre-mixed E_eff = {} Pa (R_eff = R); not\n\
                  # hertz/material, which would mix the wall as if it had the sphere's material\n\
-                 fix          wall{}_t{} t{} wall/gran granular {} {} {} {}",
+                 fix          wall{}_t{} t{} wall/gran{} granular {} {}",
                 p.index,
                 name(p.material),
                 name(ty.material),
@@ -522,10 +539,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
                 p.index,
                 t + 1,
                 t + 1,
+                if p.axis.is_some() { "" } else { "/region" },
                 model_args(law, k, &damping),
-                axis_name[p.axis],
-                l,
-                h
+                geometry
             )
             .ok();
         }
@@ -579,14 +595,22 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
         writeln!(x, "compute      radius all property/atom radius").ok();
     }
     for p in &planes {
-        let dist = if p.upward {
-            format!("({}-{})", coord[p.axis], num(p.position))
-        } else {
-            format!("({}-{})", num(p.position), coord[p.axis])
-        };
+        // n · (x − p), n the unit normal into the domain.
+        let dist = (0..3)
+            .filter(|&k| p.normal[k] != 0.0)
+            .map(|k| {
+                format!(
+                    "({})*({}-({}))",
+                    num(p.normal[k]),
+                    coord[k],
+                    num(p.point[k])
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("+");
         writeln!(
             x,
-            "variable     in_wall{} atom {dist}<c_radius\n\
+            "variable     in_wall{} atom ({dist})<c_radius\n\
              compute      nw{} free reduce sum v_in_wall{}",
             p.index, p.index, p.index
         )
