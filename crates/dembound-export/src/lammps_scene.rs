@@ -668,6 +668,8 @@ name = "b"
 density = 2500.0
 youngs_modulus = 5.0e7
 poisson_ratio = 0.2
+[contact]
+law = "hertz"
 [[particles]]
 spheres = [ { position = [0.002, 0.005, 0.005], radius = 1.0e-3, velocity = [0.1, 0.0, 0.0] } ]
 material = "a"
@@ -755,8 +757,8 @@ steps = 10
         for (sets, key) in [
             (vec!["integration.scheme=gear5"], "integration.scheme"),
             (
-                vec!["wall.0.plane.normal=[0.0,1.0,1.0]"],
-                "wall[0].plane.normal",
+                vec!["contact.damping=tsuji", "contact.damping_coefficient=1e-3"],
+                "contact.damping_coefficient",
             ),
             (vec!["contact.law=linear"], "contact.law"),
         ] {
