@@ -396,7 +396,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
             g
         ),
     );
-    c(&mut x, "output: thermo line every step of the last one: step, time (s), kinetic energy (J, translational, free spheres),".into());
+    c(&mut x, "output: a thermo line at step 0 and at the last step: step, time (s), kinetic energy (J, translational, free spheres),".into());
     c(&mut x, "  v_pp = sphere-sphere contacts (free-free and free-fixed of [[particles]] groups), v_pw = contacts with planes and".into());
     c(&mut x, "  boundary-particle walls (the `particle_contacts` and `wall_contacts` of `dembound scene --json`).".into());
 
