@@ -446,3 +446,331 @@ fn refusals_name_the_problem() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("another scenario"));
 }
+
+/// Scenes (`dembound export lammps SCENE.toml`): the exported deck run by
+/// LAMMPS ends in the state `dembound scene --json` ends in.
+///
+/// Both start from the same state (the data file writes every number as
+/// the shortest text that reads back to the same f64) and integrate with
+/// the same velocity Verlet and the same per-pair forces (k_n = E_eff
+/// written per type pair). What is left is round-off: the codes sum forces
+/// in another order and write the Hertz force as k_n √(R δ) δ rather than
+/// k √R h^(3/2), about 1e-16 per step, amplified by the collisions over the
+/// run. Measured on these scenes: kinetic energy 3e-14 to 4e-12 relative
+/// after 1000–4000 steps (docs/export-lammps.md). The tolerance 1e-9 is
+/// 250× that, yet a coefficient wrong by 1e-6 in any pair that touches
+/// moves the kinetic energy by more. Contact counts must be equal: they
+/// differ only if a pair's overlap at the last step is within ~1e-15 m of
+/// zero, where the overlaps are micrometres.
+mod lammps_scenes {
+    use super::*;
+
+    /// The last thermo row of `log.lammps`: (kinetic energy J, particle
+    /// contacts, wall contacts).
+    fn last_thermo(log: &str) -> (f64, f64, f64) {
+        let rows = log
+            .lines()
+            .skip_while(|l| !l.trim_start().starts_with("Step Time KinEng v_pp v_pw"))
+            .skip(1)
+            .take_while(|l| !l.starts_with("Loop time"));
+        let last = rows.last().expect("a thermo row");
+        let f: Vec<f64> = last
+            .split_whitespace()
+            .map(|w| w.parse().expect("a number"))
+            .collect();
+        (f[2], f[3], f[4])
+    }
+
+    /// Exports `scene` (with `sets`), runs LAMMPS and `dembound scene
+    /// --json`, and checks the end states agree; returns the relative
+    /// kinetic-energy difference. None when `lmp` is missing.
+    fn agree(scene: &Path, sets: &[&str], what: &str) -> Option<f64> {
+        if on_path("lmp").is_none() {
+            eprintln!(
+                "SKIPPED: `lmp` is not on PATH (Debian package lammps; .ci/run installs it), \
+                 so the scene export is not checked here"
+            );
+            return None;
+        }
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let deck = dir.path().join("deck");
+        let set_args: Vec<String> = sets
+            .iter()
+            .flat_map(|s| ["--set".into(), s.to_string()])
+            .collect();
+        let out = dembound()
+            .args(["export", "lammps"])
+            .arg(scene)
+            .args(&set_args)
+            .arg("--out")
+            .arg(&deck)
+            .output()
+            .expect("dembound runs");
+        assert!(
+            out.status.success(),
+            "{what}: export failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let ran = Command::new("lmp")
+            .args(["-in", "in.lammps", "-log", "log.lammps"])
+            .current_dir(&deck)
+            .output()
+            .expect("lmp runs");
+        assert!(
+            ran.status.success(),
+            "{what}: lmp failed:\n{}",
+            String::from_utf8_lossy(&ran.stdout)
+        );
+        let log = std::fs::read_to_string(deck.join("log.lammps")).expect("log.lammps");
+        let (ke, pp, pw) = last_thermo(&log);
+        let out = dembound()
+            .arg("scene")
+            .arg(scene)
+            .args(&set_args)
+            .args(["--json", "--quiet"])
+            .output()
+            .expect("dembound runs");
+        assert!(
+            out.status.success(),
+            "{what}: scene failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let j: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+        let ke_d = j["kinetic_energy"].as_f64().expect("a number");
+        let pp_d = j["particle_contacts"].as_f64().expect("a number");
+        let pw_d = j["wall_contacts"].as_f64().expect("a number");
+        let rel = ke / ke_d - 1.0;
+        eprintln!(
+            "{what}: kinetic energy LAMMPS {ke:e} J, dembound {ke_d:e} J (rel {rel:e}); \
+             particle contacts {pp} / {pp_d}, wall contacts {pw} / {pw_d}"
+        );
+        assert!(rel.abs() < 1e-9, "{what}: kinetic energy off by {rel:e}");
+        assert_eq!(pp, pp_d, "{what}: particle contacts");
+        assert_eq!(pw, pw_d, "{what}: wall contacts");
+        // Not a trivial agreement: contacts happened.
+        assert!(
+            pp_d >= 1.0 && pw_d + pp_d >= 10.0,
+            "{what}: too few contacts to test anything"
+        );
+        Some(rel)
+    }
+
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+        let p = dir.join(name);
+        std::fs::write(&p, text).expect("written");
+        p
+    }
+
+    /// 384 spheres (the lattice-drop packing) thrown at 0.1 m/s on a steel
+    /// plane floor between four plane walls of their own material: elastic
+    /// Hertz, 1000 Verlet steps of 2 µs.
+    const BED_ON_STEEL: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.0102, 0.0102, 0.02]
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "steel"
+density = 7800.0
+youngs_modulus = 2.0e11
+poisson_ratio = 0.3
+[contact]
+law = "hertz"
+[[particles]]
+lattice = { counts = [8, 8, 6], spacing = [1.2e-3, 1.2e-3, 0.54e-3], origin = [0.6e-3, 0.6e-3, 0.505e-3], radius = 0.5e-3, velocity = [0.0, 0.0, -0.1] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "steel"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0102, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0, 0.0102, 0.0], normal = [0.0, -1.0, 0.0] }
+material = "grain"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+scheme = "verlet"
+dt = 2.0e-6
+steps = 1000
+"#;
+
+    /// Two free materials of spread radii (random insertion), a fixed
+    /// rigid sphere in their midst, a hexagonal boundary-particle floor
+    /// (r = 2, ζ = 10 of glass), four plane walls of four materials
+    /// (steel, rigid, grain, glass), Δt from η = 0.02: every kind of pair
+    /// the deck writes.
+    const MIXED: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.012]
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.22
+[[material]]
+name = "steel"
+density = 7800.0
+youngs_modulus = 2.0e11
+poisson_ratio = 0.3
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.005, 0.005, 0.004], radius = 1.0e-3 } ]
+material = "rigid"
+fixed = true
+[[particles]]
+random = { count = 150, radius = [0.3e-3, 0.6e-3], lower = [0.6e-3, 0.6e-3, 0.7e-3], upper = [9.4e-3, 9.4e-3, 0.0114], seed = 7, velocity = [0.5, -0.3, -2.0] }
+material = "grain"
+[[particles]]
+random = { count = 100, radius = [0.3e-3, 0.5e-3], lower = [0.6e-3, 0.6e-3, 0.7e-3], upper = [9.4e-3, 9.4e-3, 0.0114], seed = 8, velocity = [-0.4, 0.2, 1.0] }
+material = "glass"
+[[wall]]
+boundary_particles = { point = [0.005, 0.005, 0.0], normal = [0.0, 0.0, 1.0], radius_ratio = 2.0, modulus_ratio = 10.0, tiling = "hexagonal" }
+material = "glass"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
+material = "steel"
+[[wall]]
+plane = { point = [0.01, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
+material = "rigid"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0, 0.01, 0.0], normal = [0.0, -1.0, 0.0] }
+material = "glass"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+scheme = "verlet"
+eta = 0.02
+steps = 4000
+"#;
+
+    #[test]
+    fn elastic_bed_on_a_plane_floor_of_another_material() {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let scene = write(dir.path(), "bed.toml", BED_ON_STEEL);
+        agree(&scene, &[], "bed on steel, elastic Hertz");
+    }
+
+    #[test]
+    fn tsuji_bed_on_a_boundary_particle_floor() {
+        // The shipped example as it is (Hertz–Tsuji e = 0.3, floor of
+        // boundary particles r = ζ = 100: the frozen group), thrown at
+        // 0.1 m/s so that 1000 steps see contacts.
+        let scene =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/bed_particle_floor.toml");
+        agree(
+            &scene,
+            &[
+                "integration.steps=1000",
+                "particles.0.lattice.velocity=[0.0,0.0,-0.1]",
+            ],
+            "bed on boundary particles, Tsuji e = 0.3",
+        );
+    }
+
+    #[test]
+    fn mixed_materials_radii_and_walls() {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let scene = write(dir.path(), "mixed.toml", MIXED);
+        agree(
+            &scene,
+            &[],
+            "two materials, polydisperse, rigid fixed sphere, hexagonal floor",
+        );
+    }
+
+    #[test]
+    fn oblique_plane_wall() {
+        // wall[1] tilted (normal (1, 0, 0.2)): `fix wall/gran/region` on a
+        // plane region instead of `fix wall/gran xplane`.
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let scene = write(dir.path(), "mixed.toml", MIXED);
+        agree(
+            &scene,
+            &["wall.1.plane.normal=[1.0,0.0,0.2]"],
+            "the mixed scene with an oblique wall",
+        );
+    }
+
+    /// What cannot be exported exits 2 naming the key, with no deck left.
+    #[test]
+    fn scene_refusals_name_the_key() {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let scene = write(dir.path(), "bed.toml", BED_ON_STEEL);
+        let out = dir.path().join("deck");
+        let cases: [(&str, &[&str], &str); 6] = [
+            ("yade", &[], "LAMMPS only"),
+            ("liggghts", &[], "LAMMPS only"),
+            (
+                "lammps",
+                &["integration.scheme=gear5"],
+                "integration.scheme",
+            ),
+            (
+                "lammps",
+                &[
+                    "contact.law=linear",
+                    "contact.damping=viscous",
+                    "contact.restitution=0.5",
+                ],
+                "contact.law",
+            ),
+            (
+                "lammps",
+                &[
+                    "contact.damping=viscoelastic",
+                    "contact.restitution=0.5",
+                    "contact.calibration=formula",
+                ],
+                "contact.damping",
+            ),
+            (
+                "lammps",
+                &["contact.damping=tsuji", "contact.damping_coefficient=1e-3"],
+                "contact.damping_coefficient",
+            ),
+        ];
+        for (code, sets, needle) in cases {
+            let set_args: Vec<String> = sets
+                .iter()
+                .flat_map(|s| ["--set".into(), s.to_string()])
+                .collect();
+            let o = dembound()
+                .args(["export", code])
+                .arg(&scene)
+                .args(&set_args)
+                .arg("--out")
+                .arg(&out)
+                .output()
+                .expect("dembound runs");
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{code} {sets:?}: {err}");
+            assert!(
+                err.contains(needle),
+                "{code} {sets:?}: `{needle}` not in {err}"
+            );
+            assert!(!out.join("in.lammps").exists() && !out.join("particles.data").exists());
+        }
+    }
+}

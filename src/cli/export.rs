@@ -8,8 +8,9 @@ use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use dembound_export::{export, Code, Pitfall};
+use dembound_scene::io::{config, resolve::resolve};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum CodeArg {
@@ -63,6 +64,11 @@ pub struct ExportArgs {
 }
 
 pub fn run(args: &ExportArgs) -> CliResult {
+    if let Some(path) = &args.scenario.scenario {
+        if is_scene_file(path) {
+            return run_scene(args, path);
+        }
+    }
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
     warnings::print(&warnings::inputs(&scenario));
     let code = Code::from(args.code);
@@ -92,6 +98,69 @@ pub fn run(args: &ExportArgs) -> CliResult {
         args.out.display(),
         code.command(),
         args.out.display()
+    )
+    .map_err(CliError::failed)?;
+    Ok(())
+}
+
+/// A scene file (`dembound scene`'s TOML) rather than a bounce scenario:
+/// it has a `[domain]` or `[[particles]]` section, which a scenario never
+/// has. An unreadable file is left to the scenario loader's message.
+fn is_scene_file(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| text.parse::<toml::Table>().ok())
+        .is_some_and(|t| t.contains_key("domain") || t.contains_key("particles"))
+}
+
+/// `dembound export lammps SCENE.toml`: the spheres as a data file, the
+/// deck, the resolved scene (docs/export-lammps.md, "Scenes").
+fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
+    let code = Code::from(args.code);
+    if code != Code::Lammps {
+        return Err(CliError::input(anyhow!(
+            "scene files are exported to LAMMPS only so far (`dembound export lammps {}`); \
+             {} takes bounce scenarios (SCENARIO.toml)",
+            path.display(),
+            code.name()
+        )));
+    }
+    if args.pitfall.is_some() {
+        return Err(CliError::input(anyhow!(
+            "--pitfall is for bounce scenarios, not scene files"
+        )));
+    }
+    let scene_error = |e: dembound_scene::SceneError| {
+        if e.is_input() {
+            CliError::input(e)
+        } else {
+            CliError::failed(e)
+        }
+    };
+    let file = config::read(path, &args.scenario.set).map_err(scene_error)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let resolved = resolve(&file, base).map_err(scene_error)?;
+    let mut out = output_dir(&args.out, "export")?;
+    let deck = dembound_export::lammps_scene::deck(&resolved)
+        .map_err(|e| CliError::input(anyhow!("{e}")))?;
+    for f in &deck.files {
+        out.write(&f.name, |w| Ok(w.write_all(f.text.as_bytes())?))
+            .map_err(CliError::failed)?;
+    }
+    let toml = toml::to_string(&resolved.file).map_err(CliError::failed)?;
+    out.write("scene.toml", |w| Ok(w.write_all(toml.as_bytes())?))
+        .map_err(CliError::failed)?;
+    let written = out.commit().map_err(CliError::failed)?;
+    let mut stdout = std::io::stdout().lock();
+    for p in written {
+        writeln!(stdout, "wrote {}", p.display()).map_err(CliError::failed)?;
+    }
+    writeln!(
+        stdout,
+        "run it:  cd {} && {}\nthe last thermo line (step time ke pp pw) is the state `dembound scene {} --json` ends in",
+        args.out.display(),
+        code.command(),
+        path.display()
     )
     .map_err(CliError::failed)?;
     Ok(())

@@ -32,7 +32,7 @@ pub fn tsuji_alpha(e: f64) -> f64 {
 
 /// The e to give LAMMPS's `damping tsuji` so that its α is `alpha`
 /// (bisection on [0, 1], where the polynomial falls from 1.2728 to 0.0006).
-fn tsuji_input(alpha: f64) -> Result<f64, ExportError> {
+pub(crate) fn tsuji_input(alpha: f64) -> Result<f64, ExportError> {
     let (mut lo, mut hi) = (0.0, 1.0);
     if !(tsuji_alpha(hi)..=tsuji_alpha(lo)).contains(&alpha) {
         return Err(ExportError(format!(

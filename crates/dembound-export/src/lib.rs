@@ -14,6 +14,7 @@
 //! contact force on the particle (N, upward positive)`, `#` comments.
 
 pub mod lammps;
+pub mod lammps_scene;
 pub mod liggghts;
 pub mod plan;
 pub mod trace;

@@ -1,0 +1,769 @@
+//! A many-particle scene (`dembound scene`'s TOML) as a LAMMPS deck: the
+//! spheres as a data file (`atom_style sphere`), one atom type per
+//! material of the free spheres and one per material of the fixed
+//! (boundary) spheres, every type pair's coefficient written explicitly
+//! with dembound's own mixing, plane walls as `fix wall/gran` with the
+//! pre-mixed modulus, a thermo line of kinetic energy and contact counts
+//! (docs/export-lammps.md, "Scenes").
+//!
+//! Why `hertz` with k_n = E_eff and not `hertz/material`: LAMMPS's
+//! granular `hertz` is F = k_n a δ with a = √(R δ), R = R_i R_j/(R_i + R_j)
+//! its own per-pair radius, so k_n = E_eff (dembound's eq 6 modulus, the
+//! 4/3 included) gives dembound's F = E_eff √R_eff h^(3/2) for any radii:
+//! exact for every pair, polydisperse or not. `hertz/material E ν`, given
+//! explicitly for a pair i j, is read as two bodies of the same E and ν
+//! (k_n = 4/3 E/(2(1 − ν²))), so it could be made to give E_eff too
+//! (E = 3/2 E_eff (1 − ν²) for any ν), but then the number in the deck is
+//! not a material's modulus and invites the reader to "correct" it; left to
+//! LAMMPS's own mixing (only `i i` given) it mixes the cross pairs by its
+//! own rule, which the single-contact pitfall `auto-mix` shows failing.
+//! The absolute `hertz` form says what it is.
+//!
+//! Frozen spheres: dembound's fixed spheres have infinite mass and never
+//! move. In the deck they are types of their own in group `frozen`: not
+//! integrated, zero velocity, under `fix freeze` (which zeroes their force
+//! and, read by `pair granular`, makes the pair's mass the free sphere's
+//! alone, m_eff = m_i, dembound's limit for an infinite mass: it matters
+//! for the Tsuji damping), and `neigh_modify exclude group frozen frozen`
+//! (two fixed spheres never interact, as in dembound).
+
+use crate::{lammps::tsuji_input, num, Code, Deck, DeckFile, ExportError};
+use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
+use dembound_physics::material::{effective_modulus, Material, PairProperties};
+use dembound_scene::io::resolve::ResolvedScene;
+use dembound_scene::setup::{Scheme, SphereInit, WallSetup};
+use dembound_scene::Simulation;
+use std::fmt::Write;
+
+/// The data file the deck reads.
+pub const DATA_FILE: &str = "particles.data";
+
+/// One LAMMPS atom type: a material, free or fixed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AtomType {
+    material: usize,
+    fixed: bool,
+    /// A sphere of a boundary-particle wall (dembound counts its contacts
+    /// as wall contacts; a fixed sphere of a `[[particles]]` group counts
+    /// as a particle contact).
+    wall: bool,
+}
+
+/// The contact model's arguments for one pair of the deck.
+fn model_args(normal: &str, modulus: f64, damping: &Damping) -> String {
+    match damping {
+        Damping::None => format!(
+            "{normal} {} 0.0 tangential linear_nohistory 0.0 0.0 damping velocity",
+            num(modulus)
+        ),
+        Damping::Tsuji { e_input, clamp } => format!(
+            "{normal} {} {} tangential linear_nohistory 0.0 0.0 damping tsuji{}",
+            num(modulus),
+            num(*e_input),
+            if *clamp { " limit_damping" } else { "" }
+        ),
+    }
+}
+
+/// The damping as the deck writes it (the same for every pair).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Damping {
+    None,
+    /// `damping tsuji` given `e_input`, the e whose LAMMPS polynomial α is
+    /// dembound's γ/(√(m_eff E_eff) R_eff^(1/4)), the same for every pair
+    /// when γ comes from a restitution (γ = √5 ξ(e) √(k m)).
+    Tsuji {
+        e_input: f64,
+        clamp: bool,
+    },
+}
+
+/// The normal law's LAMMPS name and its coefficient for a pair of
+/// effective modulus `modulus`.
+fn normal_coefficient(law: &NormalLaw, modulus: f64) -> (&'static str, f64) {
+    match law {
+        NormalLaw::Hooke { stiffness } => ("hooke", *stiffness),
+        _ => ("hertz", modulus),
+    }
+}
+
+/// The deck of a resolved scene: `in.lammps` and [`DATA_FILE`].
+pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
+    let setup = &scene.setup;
+    let model = &setup.contact;
+    let refuse = |s: String| Err(ExportError(s));
+    if setup.integration.scheme != Scheme::Verlet {
+        return refuse(
+            "integration.scheme = \"gear5\" cannot be exported: LAMMPS integrates with velocity \
+             Verlet (fix nve/sphere); set integration.scheme = \"verlet\" to get a deck that \
+             runs the same scheme as dembound"
+                .into(),
+        );
+    }
+    match model.normal {
+        NormalLaw::Hertz | NormalLaw::Hooke { .. } => {}
+        other => {
+            return refuse(format!(
+                "contact.law = \"{}\" is not exported for scenes (exported: hertz, hooke): LAMMPS \
+                 `hooke` takes an absolute k_n, and dembound's linear k = E_eff R_eff changes \
+                 from pair to pair",
+                other.row().name
+            ))
+        }
+    }
+    // The engine validates the setup and fixes Δt and the run length.
+    let sim = Simulation::new(setup.clone(), 1).map_err(|e| ExportError(e.to_string()))?;
+    let dt = sim.dt();
+    let steps = sim.total_steps();
+
+    // Atom types: the free materials in material order, then the fixed ones.
+    let mut types: Vec<AtomType> = Vec::new();
+    let kind = |s: &SphereInit| AtomType {
+        material: s.material,
+        fixed: s.fixed,
+        wall: s.group.is_some(),
+    };
+    for (fixed, wall) in [(false, false), (true, false), (true, true)] {
+        for material in 0..setup.materials.len() {
+            let t = AtomType {
+                material,
+                fixed,
+                wall,
+            };
+            if setup.spheres.iter().any(|s| kind(s) == t) {
+                types.push(t);
+            }
+        }
+    }
+    let type_of =
+        |s: &SphereInit| -> usize { 1 + types.iter().position(|t| *t == kind(s)).unwrap_or(0) };
+    let material = |k: usize| -> &Material { &setup.materials[k].material };
+    let name = |k: usize| -> &str { &setup.materials[k].name };
+
+    // The damping, the same for every pair, or a refusal naming the key.
+    let damping = match (model.damping.kind(), model.damping.dissipation()) {
+        (DampingKind::None, _) => Damping::None,
+        (DampingKind::Tsuji, Some(Dissipation::Restitution(_))) => {
+            // α of one pair that occurs, then checked on every type pair.
+            let alpha = |props: &PairProperties| -> f64 {
+                match model.pair(props).damping() {
+                    DampingPair::Tsuji(t) => {
+                        t.coefficient
+                            / (props.mass * props.modulus).sqrt()
+                            / props.radius.powf(0.25)
+                    }
+                    _ => f64::NAN,
+                }
+            };
+            let free = setup.spheres.iter().find(|s| !s.fixed);
+            let Some(s) = free else {
+                return refuse("the scene has no free sphere to export".into());
+            };
+            let m = material(s.material);
+            let reference = alpha(&PairProperties::spheres(
+                s.radius,
+                m.sphere_mass(s.radius),
+                m,
+                s.radius,
+                m.sphere_mass(s.radius),
+                m,
+            ));
+            let other = alpha(&PairProperties::sphere_plane(
+                2.0 * s.radius,
+                m.sphere_mass(s.radius),
+                m,
+                &Material::rigid(1.0),
+            ));
+            let same = (other / reference - 1.0).abs() < 1e-9;
+            if !same {
+                return refuse(format!(
+                    "contact.damping = \"tsuji\": the damping is not the same multiple of \
+                     sqrt(m_eff E_eff) R_eff^(1/4) for every pair (alpha {reference} and {other}); \
+                     LAMMPS's damping tsuji needs one"
+                ));
+            }
+            Damping::Tsuji {
+                e_input: tsuji_input(reference)?,
+                clamp: !model.attractive,
+            }
+        }
+        (DampingKind::Tsuji, _) => return refuse(
+            "contact.damping_coefficient cannot be exported for scenes: an absolute Tsuji gamma \
+                 is a different multiple of sqrt(m_eff E_eff) R_eff^(1/4) for each pair, and \
+                 LAMMPS's damping tsuji takes one; give contact.restitution instead"
+                .into(),
+        ),
+        (kind, _) => {
+            return refuse(format!(
+                "contact.damping = \"{}\" is not exported for scenes yet (exported: \"none\", and \
+                 \"tsuji\" given by contact.restitution); the bounce scenario export maps it \
+                 (`dembound export lammps SCENARIO.toml`)",
+                kind.row().name
+            ))
+        }
+    };
+
+    // Every type pair that meets: E_eff finite.
+    let pair_modulus = |a: &AtomType, b: &AtomType| -> Result<f64, ExportError> {
+        let e = effective_modulus(material(a.material), material(b.material));
+        if e.is_finite() && e > 0.0 {
+            Ok(e)
+        } else {
+            Err(ExportError(format!(
+                "materials \"{}\" and \"{}\" are both rigid: their contact has no finite stiffness",
+                name(a.material),
+                name(b.material)
+            )))
+        }
+    };
+
+    // Plane walls: `fix wall/gran` for a normal along x, y or z, `fix
+    // wall/gran/region` on a plane region otherwise (the same contact: the
+    // distance to the plane; the steel-floor bed of tests/export_codes.rs
+    // with its five walls rewritten by hand as regions ends in the same
+    // kinetic energy to the last digit).
+    struct Plane {
+        index: usize,
+        point: [f64; 3],
+        /// Unit normal into the domain.
+        normal: [f64; 3],
+        /// The axis of an axis-aligned plane.
+        axis: Option<usize>,
+        material: usize,
+    }
+    let mut planes = Vec::new();
+    for (index, w) in setup.walls.iter().enumerate() {
+        if let WallSetup::Plane {
+            point,
+            normal,
+            material,
+        } = *w
+        {
+            let length =
+                (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
+            let nonzero: Vec<usize> = (0..3).filter(|&k| normal[k] != 0.0).collect();
+            planes.push(Plane {
+                index,
+                point,
+                normal: normal.map(|c| c / length),
+                axis: (nonzero.len() == 1).then(|| nonzero[0]),
+                material,
+            });
+        }
+    }
+
+    let free_types: Vec<usize> = (0..types.len()).filter(|&t| !types[t].fixed).collect();
+    let fixed_types: Vec<usize> = (0..types.len()).filter(|&t| types[t].fixed).collect();
+    let wall_types: Vec<usize> = (0..types.len()).filter(|&t| types[t].wall).collect();
+    let held_types: Vec<usize> = (0..types.len())
+        .filter(|&t| types[t].fixed && !types[t].wall)
+        .collect();
+    if free_types.is_empty() {
+        return refuse("the scene has no free sphere to export".into());
+    }
+
+    // The data file.
+    let d = &setup.domain;
+    let mut lo = d.lower;
+    let mut hi = d.upper;
+    for s in &setup.spheres {
+        for k in 0..3 {
+            if !d.periodic[k] {
+                lo[k] = lo[k].min(s.position[k] - s.radius);
+                hi[k] = hi[k].max(s.position[k] + s.radius);
+            }
+        }
+    }
+    let mut data = String::new();
+    writeln!(
+        data,
+        "LAMMPS data file (atom_style sphere) written by `dembound export lammps` from a scene\n\n\
+         {} atoms\n{} atom types\n\n{} {} xlo xhi\n{} {} ylo yhi\n{} {} zlo zhi\n\n\
+         Atoms # sphere\n",
+        setup.spheres.len(),
+        types.len(),
+        num(lo[0]),
+        num(hi[0]),
+        num(lo[1]),
+        num(hi[1]),
+        num(lo[2]),
+        num(hi[2])
+    )
+    .ok();
+    for (i, s) in setup.spheres.iter().enumerate() {
+        let p = s.position;
+        writeln!(
+            data,
+            "{} {} {} {} {} {} {}",
+            i + 1,
+            type_of(s),
+            num(2.0 * s.radius),
+            num(material(s.material).density),
+            num(p[0]),
+            num(p[1]),
+            num(p[2])
+        )
+        .ok();
+    }
+    writeln!(data, "\nVelocities\n").ok();
+    for (i, s) in setup.spheres.iter().enumerate() {
+        let v = if s.fixed { [0.0; 3] } else { s.velocity };
+        writeln!(
+            data,
+            "{} {} {} {} 0 0 0",
+            i + 1,
+            num(v[0]),
+            num(v[1]),
+            num(v[2])
+        )
+        .ok();
+    }
+
+    // The deck.
+    let mut x = String::new();
+    let c = |x: &mut String, line: String| {
+        writeln!(x, "# {line}").ok();
+    };
+    c(&mut x, "Exported by `dembound export lammps` from a dembound scene (SI units); scene.toml is the scene as resolved.".into());
+    c(
+        &mut x,
+        "Run: lmp -in in.lammps -log log.lammps. Every number below comes from dembound.".into(),
+    );
+    c(&mut x, String::new());
+    c(&mut x, format!("spheres: {} in {DATA_FILE} (ids in dembound's input order: the [[particles]] groups, then the boundary-particle walls)", setup.spheres.len()));
+    c(
+        &mut x,
+        "atom types (one per material of the free spheres, one per material of the fixed spheres):"
+            .into(),
+    );
+    for (t, ty) in types.iter().enumerate() {
+        let m = material(ty.material);
+        c(
+            &mut x,
+            format!(
+                "  type {}: {} material \"{}\", rho = {} kg/m^3, E = {} Pa, nu = {}",
+                t + 1,
+                if ty.fixed { "fixed (frozen)" } else { "free" },
+                name(ty.material),
+                num(m.density),
+                num(m.youngs_modulus),
+                num(m.poisson_ratio)
+            ),
+        );
+    }
+    c(&mut x, "pair coefficients: every type pair explicitly, E_eff = 4/3 / ((1-nu_i^2)/E_i + (1-nu_j^2)/E_j) (paper eq 6, ERRATA 2),".into());
+    c(&mut x, "  written as `hertz E_eff`: LAMMPS's F = k_n a delta, a = sqrt(R delta), R = R_i R_j/(R_i+R_j), is dembound's".into());
+    c(&mut x, "  F = E_eff sqrt(R_eff) h^(3/2) for any radii. Not hertz/material: given for a pair i j it reads both bodies as".into());
+    c(&mut x, "  the same E and nu, and left to its own mixing it does not give eq 6 (docs/export-lammps.md, pitfalls).".into());
+    if let NormalLaw::Hooke { stiffness } = model.normal {
+        c(
+            &mut x,
+            format!(
+                "  law: hooke, F = k_n delta with k_n = {} N/m given (contact.law.stiffness), the same for every pair",
+                num(stiffness)
+            ),
+        );
+    }
+    match damping {
+        Damping::None => c(
+            &mut x,
+            "damping: none (contact.damping = \"none\"), `damping velocity` with coefficient 0"
+                .into(),
+        ),
+        Damping::Tsuji { e_input, clamp } => {
+            c(&mut x, format!(
+                "damping: Tsuji, F_d = gamma h^(1/4) dh/dt with gamma = alpha sqrt(m_eff E_eff) R_eff^(1/4) from contact.restitution = {}",
+                model.damping.dissipation().map_or(f64::NAN, |d| match d { Dissipation::Restitution(e) => e, Dissipation::Coefficient(c) => c })
+            ));
+            c(&mut x, format!(
+                "  ({} calibration); LAMMPS's `damping tsuji` reads its coefficient as an e and makes alpha by its polynomial:",
+                model.calibration.name()
+            ));
+            c(&mut x, format!(
+                "  the deck gives e* = {} whose alpha is dembound's. m_eff: the free sphere's mass against a frozen one or a wall{}",
+                num(e_input),
+                if clamp { "; limit_damping = dembound's F = max(F, 0)" } else { "" }
+            ));
+        }
+    }
+    c(&mut x, format!("step: dt = {} s (integration.dt, or eta x the smallest contact-time estimate), {} steps, velocity Verlet (fix nve/sphere) as dembound's verlet", num(dt), steps));
+    let g = setup.gravity;
+    let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+    c(
+        &mut x,
+        format!(
+            "gravity: {:?} m/s^2 (motion.gravity) on the free spheres",
+            g
+        ),
+    );
+    c(&mut x, "output: a thermo line at step 0 and at the last step: step, time (s), kinetic energy (J, translational, free spheres),".into());
+    c(&mut x, "  v_pp = sphere-sphere contacts (free-free and free-fixed of [[particles]] groups), v_pw = contacts with planes and".into());
+    c(&mut x, "  boundary-particle walls (the `particle_contacts` and `wall_contacts` of `dembound scene --json`).".into());
+
+    let bnd: String = (0..3)
+        .map(|k| if d.periodic[k] { "p" } else { "m" })
+        .collect::<Vec<_>>()
+        .join(" ");
+    writeln!(
+        x,
+        "\nunits        si\natom_style   sphere\natom_modify  map array\nboundary     {bnd}\n\
+         newton       off\ncomm_modify  vel yes\nread_data    {DATA_FILE}"
+    )
+    .ok();
+    let list = |ts: &[usize]| -> String {
+        ts.iter()
+            .map(|t| (t + 1).to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    writeln!(x, "group        free type {}", list(&free_types)).ok();
+    if !fixed_types.is_empty() {
+        writeln!(x, "group        frozen type {}", list(&fixed_types)).ok();
+    }
+    if !wall_types.is_empty() {
+        writeln!(
+            x,
+            "group        frozen_wall type {}   # boundary-particle walls",
+            list(&wall_types)
+        )
+        .ok();
+    }
+    if !held_types.is_empty() {
+        writeln!(
+            x,
+            "group        frozen_held type {}   # fixed spheres of [[particles]] groups",
+            list(&held_types)
+        )
+        .ok();
+    }
+    writeln!(x, "\npair_style   granular").ok();
+    for a in 0..types.len() {
+        for b in a..types.len() {
+            let (ta, tb) = (&types[a], &types[b]);
+            if ta.fixed && tb.fixed {
+                // Never computed (neigh_modify exclude below); LAMMPS wants a coefficient.
+                writeln!(
+                    x,
+                    "pair_coeff   {} {} {}   # frozen-frozen: excluded, never computed",
+                    a + 1,
+                    b + 1,
+                    model_args("hertz", 1.0, &Damping::None)
+                )
+                .ok();
+                continue;
+            }
+            let e = pair_modulus(ta, tb)?;
+            let (law, k) = normal_coefficient(&model.normal, e);
+            writeln!(
+                x,
+                "pair_coeff   {} {} {}   # \"{}\"{} - \"{}\"{}: E_eff = {} Pa",
+                a + 1,
+                b + 1,
+                model_args(law, k, &damping),
+                name(ta.material),
+                if ta.fixed { " (fixed)" } else { "" },
+                name(tb.material),
+                if tb.fixed { " (fixed)" } else { "" },
+                num(e)
+            )
+            .ok();
+        }
+    }
+    let skin = setup.neighbour.skin.unwrap_or_else(|| {
+        0.2 * setup
+            .spheres
+            .iter()
+            .filter(|s| !s.fixed)
+            .map(|s| s.radius)
+            .fold(f64::INFINITY, f64::min)
+    });
+    writeln!(
+        x,
+        "\nneighbor     {} bin\nneigh_modify delay 0 every 1 check yes",
+        num(skin)
+    )
+    .ok();
+    if !fixed_types.is_empty() {
+        writeln!(x, "neigh_modify exclude group frozen frozen").ok();
+    }
+
+    // Walls: one fix per plane and free type (the coefficient depends on both).
+    let axis_name = ["xplane", "yplane", "zplane"];
+    if !planes.is_empty() {
+        for &t in &free_types {
+            writeln!(x, "group        t{} type {}", t + 1, t + 1).ok();
+        }
+    }
+    for p in planes.iter().filter(|p| p.axis.is_none()) {
+        writeln!(
+            x,
+            "region       wall{} plane {} {} {} {} {} {} side in units box   # wall[{}], normal into the domain",
+            p.index,
+            num(p.point[0]),
+            num(p.point[1]),
+            num(p.point[2]),
+            num(p.normal[0]),
+            num(p.normal[1]),
+            num(p.normal[2]),
+            p.index
+        )
+        .ok();
+    }
+    for p in &planes {
+        for &t in &free_types {
+            let ty = &types[t];
+            let e = pair_modulus(
+                ty,
+                &AtomType {
+                    material: p.material,
+                    fixed: true,
+                    wall: true,
+                },
+            )?;
+            let (law, k) = normal_coefficient(&model.normal, e);
+            let geometry = match p.axis {
+                Some(axis) if p.normal[axis] > 0.0 => {
+                    format!("{} {} NULL", axis_name[axis], num(p.point[axis]))
+                }
+                Some(axis) => format!("{} NULL {}", axis_name[axis], num(p.point[axis])),
+                None => format!("region wall{}", p.index),
+            };
+            writeln!(
+                x,
+                "# wall[{}]: plane of \"{}\" against \"{}\": the pre-mixed E_eff = {} Pa (R_eff = R); not\n\
+                 # hertz/material, which would mix the wall as if it had the sphere's material\n\
+                 fix          wall{}_t{} t{} wall/gran{} granular {} {}",
+                p.index,
+                name(p.material),
+                name(ty.material),
+                num(e),
+                p.index,
+                t + 1,
+                t + 1,
+                if p.axis.is_some() { "" } else { "/region" },
+                model_args(law, k, &damping),
+                geometry
+            )
+            .ok();
+        }
+    }
+    writeln!(x, "\nfix          integrate free nve/sphere").ok();
+    if !fixed_types.is_empty() {
+        writeln!(
+            x,
+            "fix          freeze frozen freeze   # zero force on the frozen spheres; pair granular then uses m_eff = m_free"
+        )
+        .ok();
+    }
+    if g_norm > 0.0 {
+        writeln!(
+            x,
+            "fix          gravity free gravity {} vector {} {} {}",
+            num(g_norm),
+            num(g[0] / g_norm),
+            num(g[1] / g_norm),
+            num(g[2] / g_norm)
+        )
+        .ok();
+    }
+    writeln!(x, "timestep     {}", num(dt)).ok();
+
+    // Contact counts: compute contact/atom counts each touching pair on both
+    // atoms; frozen-frozen pairs are excluded from the neighbour lists.
+    // Summed over the free spheres it is 2 pp + ph + pw (ph: pairs with a
+    // fixed sphere of a [[particles]] group, pw: with a boundary-particle
+    // wall's sphere), over frozen_held ph, over frozen_wall pw. dembound
+    // counts ph among the particle contacts, pw among the wall contacts.
+    writeln!(
+        x,
+        "\ncompute      nc all contact/atom\ncompute      nc_free free reduce sum c_nc"
+    )
+    .ok();
+    let mut pp = "c_nc_free".to_string();
+    let mut wall_terms: Vec<String> = Vec::new();
+    if !held_types.is_empty() {
+        writeln!(x, "compute      nc_held frozen_held reduce sum c_nc").ok();
+        pp.push_str("+c_nc_held");
+    }
+    if !wall_types.is_empty() {
+        writeln!(x, "compute      nc_wall frozen_wall reduce sum c_nc").ok();
+        pp.push_str("-c_nc_wall");
+        wall_terms.push("c_nc_wall".into());
+    }
+    writeln!(x, "variable     pp equal ({pp})/2").ok();
+    let coord = ["x", "y", "z"];
+    if !planes.is_empty() {
+        writeln!(x, "compute      radius all property/atom radius").ok();
+    }
+    for p in &planes {
+        // n · (x − p), n the unit normal into the domain.
+        let dist = (0..3)
+            .filter(|&k| p.normal[k] != 0.0)
+            .map(|k| {
+                format!(
+                    "({})*({}-({}))",
+                    num(p.normal[k]),
+                    coord[k],
+                    num(p.point[k])
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("+");
+        writeln!(
+            x,
+            "variable     in_wall{} atom ({dist})<c_radius\n\
+             compute      nw{} free reduce sum v_in_wall{}",
+            p.index, p.index, p.index
+        )
+        .ok();
+        wall_terms.push(format!("c_nw{}", p.index));
+    }
+    if wall_terms.is_empty() {
+        wall_terms.push("0".into());
+    }
+    writeln!(
+        x,
+        "variable     pw equal {}\n\
+         thermo_style custom step time ke v_pp v_pw\n\
+         thermo_modify norm no format float %.17g\n\
+         thermo       {}\n\
+         run          {}",
+        wall_terms.join("+"),
+        steps.max(1),
+        steps
+    )
+    .ok();
+
+    Ok(Deck {
+        code: Code::Lammps,
+        files: vec![
+            DeckFile {
+                name: Code::Lammps.input_file().into(),
+                text: x,
+            },
+            DeckFile {
+                name: DATA_FILE.into(),
+                text: data,
+            },
+        ],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dembound_scene::io::{config, resolve::resolve};
+
+    const SCENE: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "b"
+density = 2500.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.2
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.002, 0.005, 0.005], radius = 1.0e-3, velocity = [0.1, 0.0, 0.0] } ]
+material = "a"
+[[particles]]
+spheres = [ { position = [0.004000000000000001, 0.005, 0.005], radius = 0.7e-3 } ]
+material = "b"
+fixed = true
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "rigid"
+[integration]
+dt = 1.0e-6
+steps = 10
+"#;
+
+    fn exported(sets: &[&str]) -> Result<Deck, ExportError> {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let file = config::load(SCENE, "test", &sets).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        deck(&scene)
+    }
+
+    fn coefficient(deck: &str, pair: &str) -> f64 {
+        let line = deck
+            .lines()
+            .find(|l| l.starts_with(&format!("pair_coeff   {pair} ")))
+            .expect("the pair's line");
+        line.split_whitespace()
+            .nth(4)
+            .expect("k_n")
+            .parse()
+            .expect("a number")
+    }
+
+    #[test]
+    fn every_pair_gets_eq_6_and_the_data_round_trips() {
+        let d = exported(&[]).expect("exports");
+        let input = &d.files[0].text;
+        let data = &d.files[1].text;
+        // Written out here, not through the physics crate: eq 6.
+        let e_ab = 4.0 / 3.0 / ((1.0 - 0.09) / 1.0e7 + (1.0 - 0.04) / 5.0e7);
+        let e_aa = 4.0 / 3.0 / (2.0 * (1.0 - 0.09) / 1.0e7);
+        // Type 1: free "a"; type 2: fixed "b".
+        assert!((coefficient(input, "1 2") / e_ab - 1.0).abs() < 1e-15);
+        assert!((coefficient(input, "1 1") / e_aa - 1.0).abs() < 1e-15);
+        // The rigid floor: E_eff = 4/3 E_a/(1 − ν_a²), as a wall fix.
+        let wall = input
+            .lines()
+            .find(|l| l.starts_with("fix          wall0_t1 t1 wall/gran granular hertz "))
+            .expect("the floor");
+        let k: f64 = wall
+            .split_whitespace()
+            .nth(6)
+            .expect("k_n")
+            .parse()
+            .expect("a number");
+        assert!((k / (4.0 / 3.0 * 1.0e7 / 0.91) - 1.0).abs() < 1e-15);
+        assert!(wall.ends_with("zplane 0 NULL"));
+        assert!(input.contains("group        frozen type 2"));
+        assert!(input.contains("fix          freeze frozen freeze"));
+        assert!(input.contains("timestep     1e-6") && input.contains("run          10"));
+        // The data file: positions read back to the same f64, the fixed
+        // sphere's velocity 0.
+        let atoms: Vec<Vec<f64>> = data
+            .lines()
+            .skip_while(|l| !l.starts_with("Atoms"))
+            .skip(2)
+            .take(2)
+            .map(|l| {
+                l.split_whitespace()
+                    .map(|w| w.parse().expect("a number"))
+                    .collect()
+            })
+            .collect();
+        assert_eq!(
+            atoms[0],
+            vec![1.0, 1.0, 2.0e-3, 1000.0, 0.002, 0.005, 0.005]
+        );
+        assert_eq!(atoms[1][4], 0.004000000000000001);
+        assert!(data.contains("\n1 1e-1 0 0 0 0 0\n") && data.contains("\n2 0 0 0 0 0 0\n"));
+    }
+
+    #[test]
+    fn refusals_name_the_key() {
+        for (sets, key) in [
+            (vec!["integration.scheme=gear5"], "integration.scheme"),
+            (
+                vec!["contact.damping=tsuji", "contact.damping_coefficient=1e-3"],
+                "contact.damping_coefficient",
+            ),
+            (vec!["contact.law=linear"], "contact.law"),
+        ] {
+            let e = exported(&sets).expect_err("refused");
+            assert!(e.0.contains(key), "{sets:?}: {e}");
+        }
+    }
+}
