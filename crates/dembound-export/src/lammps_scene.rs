@@ -100,6 +100,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
                 .into(),
         );
     }
+    if let Some(friction) = &setup.friction {
+        // Merged after the scene export was written: friction, rotation
+        // and rolling resistance are not mapped to LAMMPS yet, and a deck
+        // without them would not be the scene dembound runs.
+        return refuse(format!(
+            "contact.friction = {} (friction and rotation) cannot be exported for scenes yet: \
+             the deck would be frictionless (allowed: a scene without friction keys: contact.friction, contact.tangential, contact.rolling_friction, or a material's or wall's friction)",
+            friction.model.friction
+        ));
+    }
     match model.normal {
         NormalLaw::Hertz | NormalLaw::Hooke { .. } => {}
         other => {
@@ -761,6 +771,7 @@ steps = 10
                 "contact.damping_coefficient",
             ),
             (vec!["contact.law=linear"], "contact.law"),
+            (vec!["contact.friction=0.5"], "contact.friction"),
         ] {
             let e = exported(&sets).expect_err("refused");
             assert!(e.0.contains(key), "{sets:?}: {e}");
