@@ -97,6 +97,9 @@ class Scene:
     def velocities(self) -> npt.NDArray[np.float64]:
         """(n, 3) m/s."""
     @property
+    def angular_velocities(self) -> npt.NDArray[np.float64]:
+        """(n, 3) rad/s (zero without friction)."""
+    @property
     def forces(self) -> npt.NDArray[np.float64]:
         """Force on each sphere at the last force evaluation, (n, 3) N."""
     @property

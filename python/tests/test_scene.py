@@ -41,6 +41,9 @@ def test_scene_stepping_arrays_and_collision_log():
     assert abs(t - 1000 * scene.dt) <= 1e-12 * t
     assert scene.positions[0, 2] == pytest.approx(z0 - 9.81 * t * t / 2, rel=1e-12)
     assert scene.velocities[0, 2] == pytest.approx(-9.81 * t, rel=1e-12)
+    # No friction key: nothing spins (exactly zero, not small).
+    assert scene.angular_velocities.shape == (2, 3)
+    assert not scene.angular_velocities.any()
     calls = []
     steps = scene.run(progress=lambda done, total: calls.append((done, total)))
     assert steps == scene.total_steps - 1000

@@ -326,6 +326,12 @@ impl Scene {
         rows3(py, self.sim.velocities())
     }
 
+    /// Angular velocities, (n, 3) rad/s (zero without friction).
+    #[getter]
+    fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.angular_velocities())
+    }
+
     /// Force on each sphere at the last force evaluation, (n, 3) N.
     #[getter]
     fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -411,12 +417,14 @@ impl Scene {
         let sim = &self.sim;
         let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
         let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
+        let spins = sim.angular_velocities();
         let snapshot = vtk::Snapshot {
             time: sim.time(),
             step: sim.steps_done(),
             positions: &positions,
             radii: &radii,
             velocities: &velocities,
+            angular_velocities: &spins,
             forces: &forces,
             fixed: &fixed,
             materials: &materials,
