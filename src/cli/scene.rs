@@ -210,22 +210,8 @@ fn progress_bar(steps: u64, quiet: bool) -> Option<ProgressBar> {
 }
 
 fn write_snapshot(out: &mut AtomicDir, sim: &Simulation, k: usize) -> anyhow::Result<()> {
-    let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
-    let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
-    let spins = sim.angular_velocities();
-    let snapshot = vtk::Snapshot {
-        time: sim.time(),
-        step: sim.steps_done(),
-        positions: &positions,
-        radii: &radii,
-        velocities: &velocities,
-        forces: &forces,
-        fixed: &fixed,
-        materials: &materials,
-        angular_velocities: &spins,
-    };
     out.write(&vtk::snapshot_name(k), |w| {
-        Ok(vtk::write_snapshot(w, &snapshot)?)
+        Ok(vtk::write_simulation(w, sim)?)
     })
 }
 

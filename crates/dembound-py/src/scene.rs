@@ -415,27 +415,13 @@ impl Scene {
     /// `directory` (created if missing) and returns its path.
     fn write_vtk(&self, py: Python<'_>, directory: PathBuf) -> PyResult<PathBuf> {
         let sim = &self.sim;
-        let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
-        let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
-        let spins = sim.angular_velocities();
-        let snapshot = vtk::Snapshot {
-            time: sim.time(),
-            step: sim.steps_done(),
-            positions: &positions,
-            radii: &radii,
-            velocities: &velocities,
-            angular_velocities: &spins,
-            forces: &forces,
-            fixed: &fixed,
-            materials: &materials,
-        };
         let path = directory.join(format!("snapshot_{:09}.vtp", sim.steps_done()));
         Ok(py.detach(|| {
             guarded(|| {
                 std::fs::create_dir_all(&directory)
                     .and_then(|()| {
                         let mut w = std::io::BufWriter::new(std::fs::File::create(&path)?);
-                        vtk::write_snapshot(&mut w, &snapshot)?;
+                        vtk::write_simulation(&mut w, sim)?;
                         std::io::Write::flush(&mut w)
                     })
                     .map_err(|e| {

@@ -64,6 +64,28 @@ fn vectors(values: &[[f64; 3]]) -> Vec<u8> {
     f64s(values.iter().flatten())
 }
 
+/// Writes the snapshot of `sim`'s current state (every per-sphere array
+/// of [`Snapshot`], in input order): what the CLI and the bindings write.
+pub fn write_simulation(w: &mut dyn Write, sim: &crate::Simulation) -> io::Result<()> {
+    let (positions, velocities, forces) = (sim.positions(), sim.velocities(), sim.forces());
+    let (radii, fixed, materials) = (sim.radii(), sim.fixed(), sim.material_indices());
+    let spins = sim.angular_velocities();
+    write_snapshot(
+        w,
+        &Snapshot {
+            time: sim.time(),
+            step: sim.steps_done(),
+            positions: &positions,
+            radii: &radii,
+            velocities: &velocities,
+            forces: &forces,
+            fixed: &fixed,
+            materials: &materials,
+            angular_velocities: &spins,
+        },
+    )
+}
+
 /// Writes one `.vtp` file.
 pub fn write_snapshot(w: &mut dyn Write, s: &Snapshot) -> io::Result<()> {
     let n = s.positions.len();
