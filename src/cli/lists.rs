@@ -182,19 +182,7 @@ pub fn restitutions(flag: &str, text: &str) -> Result<Vec<f64>> {
     Ok(xs)
 }
 
-/// A ratio for tables and labels: `inf` or the shortest number.
-pub fn show(x: f64) -> String {
-    if x.is_infinite() {
-        "∞".into()
-    } else {
-        let s = format!("{x}");
-        if s.len() > 8 {
-            crate::output::format::sig(x, 4)
-        } else {
-            s
-        }
-    }
-}
+pub use dembound_core::study::show;
 
 #[cfg(test)]
 mod tests {

@@ -3,11 +3,12 @@
 
 use super::{CliError, CliResult};
 use crate::output::files::AtomicDir;
-use crate::output::validation::{self as report, OrderRow, Verdict};
+use crate::output::validation as report;
 use anyhow::anyhow;
 use clap::Args;
 use dembound_core::study::validation::{
-    convergence, validation_tables, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS, QUANTITIES,
+    convergence, orders, validation_tables, verdicts, ConvergencePoint, OrderRow, ValidationTable,
+    Verdict, CONVERGENCE_ETAS, QUANTITIES,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -89,9 +90,9 @@ pub fn run(args: &ValidateArgs) -> CliResult {
     let report = ValidationReport {
         quantities: QUANTITIES,
         tables: &tables,
-        verdicts: report::verdicts(&tables),
+        verdicts: verdicts(&tables),
         convergence: &points,
-        orders: report::orders(&points),
+        orders: orders(&points),
     };
     let json = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
     let written = match out {

@@ -1,23 +1,6 @@
 //! Number formatting for tables and files.
 
-/// `x` with `digits` significant digits: fixed notation for moderate
-/// magnitudes, scientific otherwise.
-pub fn sig(x: f64, digits: usize) -> String {
-    let digits = digits.max(1);
-    if !x.is_finite() {
-        return x.to_string();
-    }
-    if x == 0.0 {
-        return "0".into();
-    }
-    let exponent = x.abs().log10().floor() as i32;
-    if (-4..=9).contains(&exponent) {
-        let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
-        format!("{x:.decimals$}")
-    } else {
-        format!("{:.*e}", digits - 1, x)
-    }
-}
+pub use dembound_core::study::sig;
 
 /// `x` exactly (shortest text that reads back to the same `f64`), for
 /// files: fixed notation for moderate magnitudes, scientific otherwise.

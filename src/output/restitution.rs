@@ -10,7 +10,7 @@ use anyhow::Result;
 use dembound_core::bounce::StepRule;
 use dembound_core::contact::Calibration as ContactCalibration;
 use dembound_core::study::restitution::{
-    Calibration, DissipativeLaw, RestitutionPoint, RestitutionSpec, RestitutionStudy,
+    Calibration, DissipativeLaw, RestitutionPoint, RestitutionStudy,
 };
 use std::fmt::Write as _;
 use std::io::Write;
@@ -159,22 +159,10 @@ pub fn restitution_markdown(study: &RestitutionStudy) -> String {
     md
 }
 
-/// The points of the closing table: every law, e = 0.5 and 0.9, r = ζ = 100
-/// and the rigid wall, both calibrations.
-pub fn closing_spec() -> RestitutionSpec {
-    RestitutionSpec {
-        laws: DissipativeLaw::ALL.to_vec(),
-        targets: vec![0.5, 0.9],
-        radius_ratios: vec![100.0, f64::INFINITY],
-        modulus_ratios: vec![100.0, f64::INFINITY],
-        calibrations: Calibration::ALL.to_vec(),
-    }
-}
-
 /// The closing note: the effective restitution at r = ζ = 100 and on the
 /// rigid wall, for e = 0.5 and 0.9 under each law, with the default e →
 /// coefficient mapping of `exact` and with LIGGGHTS' of `formula` (the
-/// points [`closing_spec`] of each study).
+/// points [`dembound_core::study::paper::closing_spec`] of each study).
 pub fn closing_table(exact: &RestitutionStudy, formula: &RestitutionStudy) -> String {
     let mut md = String::new();
     let _ = writeln!(

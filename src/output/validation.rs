@@ -1,6 +1,7 @@
 //! Reports of the validation study (the paper's Tables 1–2 against the exact
 //! reference) and of the convergence study: terminal tables, Markdown, CSV,
-//! the verdicts and the convergence figures.
+//! the verdicts and the convergence figures (the verdicts and orders are
+//! computed in [`dembound_core::study::validation`]).
 //!
 //! `tables_markdown`, `convergence_markdown` and `convergence_figures` are
 //! shared with other commands (the `paper` report).
@@ -13,10 +14,9 @@ use dembound_core::bounce::Stepping;
 use dembound_core::contact::ContactLawKind;
 use dembound_core::integrate::Scheme;
 use dembound_core::study::validation::{
-    observed_orders, ConvergencePoint, NumericalRow, PaperRow, StepBasis, ValidationTable,
-    PAPER_ETAS, QUANTITIES,
+    orders, series, verdicts, ConvergencePoint, StepBasis, ValidationTable, Verdict, LAWS,
+    QUANTITIES,
 };
-use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -33,11 +33,6 @@ const UNITS: [Unit; 4] = [
 
 /// Significant digits of values in the tables.
 const VALUE_DIGITS: usize = 9;
-
-/// The laws, schemes and stepping modes in report order.
-const LAWS: [ContactLawKind; 2] = [ContactLawKind::Linear, ContactLawKind::Hertz];
-const SCHEMES: [Scheme; 2] = [Scheme::Gear5, Scheme::Verlet];
-const STEPPINGS: [Stepping; 2] = [Stepping::Event, Stepping::Fixed];
 
 /// η as a fraction, `1/50`.
 pub fn eta_label(eta: f64) -> String {
@@ -159,71 +154,6 @@ fn paper_grid(t: &ValidationTable) -> Table {
     table
 }
 
-/// The paper's rows that come from a numerical run (they name a Δt): the
-/// rows dembound has to beat. The linear "Analyt." row is left out; Table 2's
-/// reference row is a run at Δt₂ (ERRATA 11) and stays in.
-pub fn paper_numerical_rows(t: &ValidationTable) -> impl Iterator<Item = &PaperRow> {
-    t.paper_rows.iter().filter(|r| r.dt.is_some())
-}
-
-/// dembound's headline configuration: Gear5, event stepping, η = 1/50, Δt
-/// from the exact contact time.
-pub fn headline_row(t: &ValidationTable) -> Option<&NumericalRow> {
-    t.rows.iter().find(|r| {
-        r.scheme == Scheme::Gear5
-            && r.stepping == Stepping::Event
-            && r.basis == StepBasis::Exact
-            && r.eta == PAPER_ETAS[1]
-    })
-}
-
-/// Whether the headline configuration beats every numerical row the paper
-/// printed, quantity by quantity (errors against the exact reference).
-#[derive(Debug, Clone, Serialize)]
-pub struct Verdict {
-    pub law: ContactLawKind,
-    /// Δt of the headline run, s.
-    pub dt: f64,
-    /// Relative errors of the headline run (fractions), t_r, h_max, a_max, v_r.
-    pub errors: [f64; 4],
-    /// Per quantity, the smallest error of the paper's numerical rows and that row.
-    pub best_paper_errors: [f64; 4],
-    pub best_paper_rows: [&'static str; 4],
-    /// Per quantity: `errors[q] < best_paper_errors[q]`.
-    pub better: [bool; 4],
-    /// Better for every quantity.
-    pub more_accurate: bool,
-}
-
-pub fn verdicts(tables: &[ValidationTable]) -> Vec<Verdict> {
-    tables
-        .iter()
-        .filter_map(|t| {
-            let ours = headline_row(t)?;
-            let mut best = [f64::INFINITY; 4];
-            let mut best_rows = [""; 4];
-            for r in paper_numerical_rows(t) {
-                for q in 0..4 {
-                    if r.errors[q] < best[q] {
-                        best[q] = r.errors[q];
-                        best_rows[q] = r.label;
-                    }
-                }
-            }
-            let better: [bool; 4] = std::array::from_fn(|q| ours.errors[q] < best[q]);
-            Some(Verdict {
-                law: t.law,
-                dt: ours.dt,
-                errors: ours.errors,
-                best_paper_errors: best,
-                best_paper_rows: best_rows,
-                better,
-                more_accurate: better.iter().all(|&b| b),
-            })
-        })
-        .collect()
-}
-
 /// One line per law.
 pub fn verdict_line(v: &Verdict) -> String {
     let detail = (0..4)
@@ -330,81 +260,6 @@ pub fn tables_markdown(tables: &[ValidationTable]) -> String {
         out.push_str(&format!("- {}\n", verdict_line(&v)));
     }
     out
-}
-
-/// Observed orders of one (law, scheme, stepping) series.
-#[derive(Debug, Clone, Serialize)]
-pub struct OrderRow {
-    pub law: ContactLawKind,
-    pub scheme: Scheme,
-    pub stepping: Stepping,
-    /// Slope of log(error) against log(η) per quantity (`None`: fewer than 3
-    /// points above 1e−12).
-    pub orders: Orders,
-}
-
-/// The orders by name.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct Orders {
-    pub t_rebound: Option<f64>,
-    pub max_overlap: Option<f64>,
-    pub max_acceleration: Option<f64>,
-    pub rebound_velocity: Option<f64>,
-}
-
-impl Orders {
-    pub fn as_array(&self) -> [Option<f64>; 4] {
-        [
-            self.t_rebound,
-            self.max_overlap,
-            self.max_acceleration,
-            self.rebound_velocity,
-        ]
-    }
-}
-
-/// Every (law, scheme, stepping) series of the points, in report order.
-fn series(
-    points: &[ConvergencePoint],
-) -> Vec<(ContactLawKind, Scheme, Stepping, Vec<&ConvergencePoint>)> {
-    let mut out = Vec::new();
-    for law in LAWS {
-        for scheme in SCHEMES {
-            for stepping in STEPPINGS {
-                let mut pts: Vec<&ConvergencePoint> = points
-                    .iter()
-                    .filter(|p| p.law == law && p.scheme == scheme && p.stepping == stepping)
-                    .collect();
-                if pts.is_empty() {
-                    continue;
-                }
-                pts.sort_by(|a, b| b.eta.total_cmp(&a.eta));
-                out.push((law, scheme, stepping, pts));
-            }
-        }
-    }
-    out
-}
-
-/// Observed orders of every series.
-pub fn orders(points: &[ConvergencePoint]) -> Vec<OrderRow> {
-    series(points)
-        .into_iter()
-        .map(|(law, scheme, stepping, pts)| {
-            let o = observed_orders(&pts);
-            OrderRow {
-                law,
-                scheme,
-                stepping,
-                orders: Orders {
-                    t_rebound: o[0],
-                    max_overlap: o[1],
-                    max_acceleration: o[2],
-                    rebound_velocity: o[3],
-                },
-            }
-        })
-        .collect()
 }
 
 fn errors_grid(points: &[ConvergencePoint], law: ContactLawKind) -> Table {

@@ -52,7 +52,7 @@ impl From<InputError> for SimulationError {
     }
 }
 
-/// The numerical problem a run solves, resolved from a [`Scenario`] and its law.
+/// The numerical problem a run solves, resolved from a [`Scenario`](super::Scenario) and its law.
 ///
 /// It has one degree of freedom, the gap x between the surfaces: against a
 /// fixed boundary the particle's position, against a free one the relative
@@ -63,7 +63,7 @@ pub struct Problem {
     /// Mass of the relative motion, kg: the particle's against a fixed
     /// boundary, m* = m_m m_b/(m_m + m_b) against a free one.
     pub mass: f64,
-    /// Gravity of the relative motion, m/s² ([`Scenario::relative_gravity`]).
+    /// Gravity of the relative motion, m/s² ([`Scenario::relative_gravity`](super::Scenario::relative_gravity)).
     pub gravity: f64,
     /// Initial gap, m.
     pub gap: f64,

@@ -218,7 +218,7 @@ impl ContactLawKind {
 /// the inner loop).
 ///
 /// Walton–Braun needs a restitution; here it gets e = 1 (k₂ = k₁: a linear
-/// spring that keeps a history). Use [`with_model`] for dissipative models.
+/// spring that keeps a history). Use [`with_model`](crate::calibration::with_model) for dissipative models.
 pub fn with_law<R>(kind: ContactLawKind, pair: &ContactPair, f: impl LawVisitor<Output = R>) -> R {
     match kind {
         ContactLawKind::Linear => f.visit(pair.law::<LinearSpring>(&[])),

@@ -2,9 +2,11 @@
 //! validation (Tables 1–2) and convergence in the time step, the parametric
 //! sweep over the boundary (section 5), the paper's indicators and
 //! convergence laws (eqs 32–33), and recommended boundary parameters; the restitution study of the dissipative
-//! laws against boundary particles.
+//! laws against boundary particles; `paper`, all of the paper's section 5
+//! reproduction that is computed (cases, quoted numbers, scaling).
 
 pub mod indicators;
+pub mod paper;
 pub mod recommend;
 pub mod restitution;
 pub mod sweep;
@@ -240,4 +242,39 @@ pub fn gravity_free(s: &crate::bounce::Scenario) -> crate::bounce::Scenario {
 /// `x/(x+1)`, 1 at infinity (eq 14).
 pub fn bar(x: f64) -> f64 {
     crate::material::bar(x)
+}
+
+/// `x` with `digits` significant digits, for the text a study writes
+/// (labels, notes): fixed notation for moderate magnitudes, scientific
+/// otherwise.
+pub fn sig(x: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let exponent = x.abs().log10().floor() as i32;
+    if (-4..=9).contains(&exponent) {
+        let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{:.*e}", digits - 1, x)
+    }
+}
+
+/// A ratio for tables and labels: `∞` or the shortest number (4
+/// significant digits when the shortest is long).
+pub fn show(x: f64) -> String {
+    if x.is_infinite() {
+        "∞".into()
+    } else {
+        let s = format!("{x}");
+        if s.len() > 8 {
+            sig(x, 4)
+        } else {
+            s
+        }
+    }
 }
