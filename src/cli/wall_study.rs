@@ -362,56 +362,46 @@ fn write_all(
     })?;
     // Figures.
     let palette = |k: usize| k % 10;
-    let mut en = Figure {
-        title: "Normal restitution of single impacts, by floor".into(),
-        x_label: "floor (index in report.md)".into(),
-        y_label: "effective normal restitution v_n'/v_n (1)".into(),
-        ..Default::default()
+    // One series per incidence angle: `value` of each impact on each floor.
+    let by_angle = |title: &str, y_label: &str, value: fn(&wall_study::Impact) -> f64| {
+        let mut fig = Figure {
+            title: title.into(),
+            x_label: "floor (index in report.md)".into(),
+            y_label: y_label.into(),
+            ..Default::default()
+        };
+        for (k, &a) in c.angles.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = results
+                .iter()
+                .enumerate()
+                .flat_map(|(f, r)| {
+                    r.impacts
+                        .iter()
+                        .filter(move |i| i.angle == a)
+                        .map(move |i| (f as f64, value(i)))
+                })
+                .collect();
+            fig.series.push(Series::new(
+                format!("θ = {a}°"),
+                pts,
+                Mark::Points,
+                palette(k),
+            ));
+        }
+        fig
     };
-    for (k, &a) in c.angles.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = results
-            .iter()
-            .enumerate()
-            .flat_map(|(f, r)| {
-                r.impacts
-                    .iter()
-                    .filter(move |i| i.angle == a)
-                    .map(move |i| (f as f64, i.normal_restitution))
-            })
-            .collect();
-        en.series.push(Series::new(
-            format!("θ = {a}°"),
-            pts,
-            Mark::Points,
-            palette(k),
-        ));
-    }
-    en.write_into(out, "restitution")?;
-    let mut tc = Figure {
-        title: "Contact time of single impacts, by floor".into(),
-        x_label: "floor (index in report.md)".into(),
-        y_label: "contact time (µs)".into(),
-        ..Default::default()
-    };
-    for (k, &a) in c.angles.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = results
-            .iter()
-            .enumerate()
-            .flat_map(|(f, r)| {
-                r.impacts
-                    .iter()
-                    .filter(move |i| i.angle == a)
-                    .map(move |i| (f as f64, i.contact_time * 1e6))
-            })
-            .collect();
-        tc.series.push(Series::new(
-            format!("θ = {a}°"),
-            pts,
-            Mark::Points,
-            palette(k),
-        ));
-    }
-    tc.write_into(out, "contact_time")?;
+    by_angle(
+        "Normal restitution of single impacts, by floor",
+        "effective normal restitution v_n'/v_n (1)",
+        |i| i.normal_restitution,
+    )
+    .write_into(out, "restitution")?;
+    by_angle(
+        "Contact time of single impacts, by floor",
+        "contact time (µs)",
+        |i| i.contact_time * 1e6,
+    )
+    .write_into(out, "contact_time")?;
     if results.iter().any(|r| r.bed.is_some()) {
         let mut prof = Figure {
             title: "Packing fraction near the floor".into(),

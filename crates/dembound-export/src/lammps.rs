@@ -271,24 +271,8 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
     if let Some(Boundary::Sphere { fixed: true, .. }) = sphere {
         writeln!(d, "fix          freeze boundary freeze").ok();
     }
+    write_gravity(&mut d, plan, sphere.is_some());
     let g_p = plan.particle_gravity();
-    if g_p > 0.0 {
-        writeln!(
-            d,
-            "fix          gravity particle gravity {} vector 0 0 -1",
-            num(g_p)
-        )
-        .ok();
-    }
-    let g_b = plan.boundary_gravity();
-    if g_b > 0.0 && sphere.is_some() {
-        writeln!(
-            d,
-            "fix          gravity_b boundary gravity {} vector 0 0 -1",
-            num(g_b)
-        )
-        .ok();
-    }
     writeln!(d, "timestep     {}", num(plan.dt)).ok();
     let (h, v) = match (sphere, plane_z) {
         (Some(_), _) => (
@@ -348,6 +332,30 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         at = w.end;
     }
     Ok(d)
+}
+
+/// The gravity fixes of the particle group and, when the boundary is a
+/// sphere that falls, of the boundary group (LAMMPS and LIGGGHTS share the
+/// syntax).
+pub(crate) fn write_gravity(d: &mut String, plan: &Plan, boundary_sphere: bool) {
+    let g_p = plan.particle_gravity();
+    if g_p > 0.0 {
+        writeln!(
+            d,
+            "fix          gravity particle gravity {} vector 0 0 -1",
+            num(g_p)
+        )
+        .ok();
+    }
+    let g_b = plan.boundary_gravity();
+    if g_b > 0.0 && boundary_sphere {
+        writeln!(
+            d,
+            "fix          gravity_b boundary gravity {} vector 0 0 -1",
+            num(g_b)
+        )
+        .ok();
+    }
 }
 
 #[cfg(test)]

@@ -173,24 +173,8 @@ pub fn deck(plan: &Plan) -> Result<String, ExportError> {
         }
     }
     writeln!(d, "fix          integrate {integrated} nve/sphere").ok();
+    crate::lammps::write_gravity(&mut d, plan, sphere);
     let g_p = plan.particle_gravity();
-    if g_p > 0.0 {
-        writeln!(
-            d,
-            "fix          gravity particle gravity {} vector 0 0 -1",
-            num(g_p)
-        )
-        .ok();
-    }
-    let g_b = plan.boundary_gravity();
-    if g_b > 0.0 && sphere {
-        writeln!(
-            d,
-            "fix          gravity_b boundary gravity {} vector 0 0 -1",
-            num(g_b)
-        )
-        .ok();
-    }
     let (h, v) = if sphere {
         (
             format!("{}-(z[1]-z[2])", num(plan.contact_distance())),

@@ -151,6 +151,9 @@ impl Plan {
             velocity: s.motion.velocity,
         };
         let c = s.contact;
+        // The damped laws' configuration (no dissipation given: 0).
+        let model = c.model();
+        let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
         let law = match (c.law, c.damping) {
             (ContactLawKind::Hertz, DampingKind::None) => Law::Hertz {
                 stiffness: pair.power_law_stiffness(1.5),
@@ -159,8 +162,6 @@ impl Plan {
                 stiffness: pair.power_law_stiffness(1.0),
             },
             (ContactLawKind::Linear, DampingKind::Viscous) => {
-                let model = c.model();
-                let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
                 let d = LinearDashpot::calibrated(
                     &pair,
                     s.reduced_mass(),
@@ -175,8 +176,6 @@ impl Plan {
                 }
             }
             (ContactLawKind::Hertz, DampingKind::Tsuji) => {
-                let model = c.model();
-                let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
                 let t = HertzTsuji::calibrated(
                     &pair,
                     s.reduced_mass(),
@@ -191,8 +190,6 @@ impl Plan {
                 }
             }
             (ContactLawKind::Hertz, DampingKind::Viscoelastic) => {
-                let model = c.model();
-                let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
                 let v = HertzViscoelastic::calibrated(
                     &pair,
                     s.reduced_mass(),

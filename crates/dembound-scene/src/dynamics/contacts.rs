@@ -364,27 +364,7 @@ pub fn add_pair_forces(
             unsafe { add(&mut *f_ptr.0.add(i), fi) };
         }
     };
-    // Even blocks then odd blocks, without a barrier between the phases:
-    // odd block b starts when even blocks b - 1 and b + 1 are done, which
-    // is all the two phases ordered (each body's additions come in the
-    // same order as with the barrier: the same bits).
-    let order = block_order(blocks);
-    let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
-    let next = AtomicUsize::new(0);
-    workers.run(workers.threads(), |_| loop {
-        // Blocks are taken in `order`; a block waits only for blocks
-        // earlier in it, which a running worker has taken: no deadlock.
-        let t = next.fetch_add(1, Ordering::Relaxed);
-        let Some(&b) = order.get(t) else { break };
-        if b % 2 == 1 {
-            wait_for(&done[b - 1]);
-            if let Some(d) = done.get(b + 1) {
-                wait_for(d);
-            }
-        }
-        run_block(b);
-        done[b].store(true, Ordering::Release);
-    });
+    run_blocks(workers, blocks, run_block);
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -422,9 +402,39 @@ pub fn add_pair_forces(
     }
 }
 
+/// Runs `run_block(b)` for every block of a pair list on the workers:
+/// even blocks then odd blocks, without a barrier between the phases. Odd
+/// block b starts when even blocks b − 1 and b + 1 are done, which is all
+/// the two phases ordered (a block writes forces of its own bodies and of
+/// the next block's): each body's additions come in the same order as with
+/// the barrier, the same bits for any thread count.
+pub(crate) fn run_blocks(
+    workers: &Workers,
+    blocks: usize,
+    run_block: impl Fn(usize) + Sync + Send,
+) {
+    let order = block_order(blocks);
+    let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
+    let next = AtomicUsize::new(0);
+    workers.run(workers.threads(), |_| loop {
+        // Blocks are taken in `order`; a block waits only for blocks
+        // earlier in it, which a running worker has taken: no deadlock.
+        let t = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&b) = order.get(t) else { break };
+        if b % 2 == 1 {
+            wait_for(&done[b - 1]);
+            if let Some(d) = done.get(b + 1) {
+                wait_for(d);
+            }
+        }
+        run_block(b);
+        done[b].store(true, Ordering::Release);
+    });
+}
+
 /// The force blocks in the order they are taken: 0, 2, 1, 4, 3, 6, 5, …
 /// (each odd block right after the even block it waits for last).
-pub(crate) fn block_order(blocks: usize) -> Vec<usize> {
+fn block_order(blocks: usize) -> Vec<usize> {
     let mut order = Vec::with_capacity(blocks);
     for e in (0..blocks).step_by(2) {
         order.push(e);
@@ -440,7 +450,7 @@ pub(crate) fn block_order(blocks: usize) -> Vec<usize> {
 
 /// Waits until another worker has set `flag` (spinning, then yielding
 /// the core: a step is short, but the machine may be shared).
-pub(crate) fn wait_for(flag: &AtomicBool) {
+fn wait_for(flag: &AtomicBool) {
     let mut spins = 0u32;
     while !flag.load(Ordering::Acquire) {
         if spins < 1000 {

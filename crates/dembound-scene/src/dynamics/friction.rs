@@ -19,7 +19,6 @@
 //! as it was: a scene without friction runs the same instructions.
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction, FrictionPair};
 use dembound_physics::contact::{ContactHistory, PairLaw};
@@ -27,8 +26,8 @@ use dembound_physics::material::{Material, PairProperties};
 use serde::{Deserialize, Serialize};
 
 use super::contacts::{
-    block_order, extended, touching, touching_lazy, wait_for, LawTable, PairGeometry,
-    PairHistories, NO_CLASS, NO_HISTORY,
+    extended, run_blocks, touching, touching_lazy, LawTable, PairGeometry, PairHistories, NO_CLASS,
+    NO_HISTORY,
 };
 use super::walls::{plane_overlap, PlaneWall, WallContactsMut};
 use crate::bodies::Bodies;
@@ -526,21 +525,7 @@ pub fn add_pair_forces(
             }
         }
     };
-    let order = block_order(blocks);
-    let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
-    let next = AtomicUsize::new(0);
-    workers.run(workers.threads(), |_| loop {
-        let t = next.fetch_add(1, Ordering::Relaxed);
-        let Some(&b) = order.get(t) else { break };
-        if b % 2 == 1 {
-            wait_for(&done[b - 1]);
-            if let Some(d) = done.get(b + 1) {
-                wait_for(d);
-            }
-        }
-        run_block(b);
-        done[b].store(true, Ordering::Release);
-    });
+    run_blocks(workers, blocks, run_block);
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = extended(bodies, ghosts, j);
