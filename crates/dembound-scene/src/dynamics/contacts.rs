@@ -306,7 +306,6 @@ pub fn add_pair_forces(
     assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
     let f_ptr = SharedMut(force.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
-    let blocks = list.blocks.len().saturating_sub(1);
     // Local slices: the compiler cannot hoist loads of the vectors' headers
     // past the raw-pointer writes below.
     let (position, velocity, radius) = (
@@ -364,7 +363,7 @@ pub fn add_pair_forces(
             unsafe { add(&mut *f_ptr.0.add(i), fi) };
         }
     };
-    run_blocks(workers, blocks, run_block);
+    run_blocks(workers, list, run_block);
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -402,25 +401,21 @@ pub fn add_pair_forces(
     }
 }
 
-/// Runs `run_block(b)` for every block of a pair list on the workers:
-/// even blocks then odd blocks, without a barrier between the phases. Odd
-/// block b starts when even blocks b − 1 and b + 1 are done, which is all
-/// the two phases ordered (a block writes forces of its own bodies and of
-/// the next block's): each body's additions come in the same order as with
-/// the barrier, the same bits for any thread count.
-pub(crate) fn run_blocks(
-    workers: &Workers,
-    blocks: usize,
-    run_block: impl Fn(usize) + Sync + Send,
-) {
-    let order = block_order(blocks);
+/// Runs `run_block(b)` for every block of `list` on the workers: even
+/// blocks then odd blocks, without a barrier between the phases. Odd block
+/// b starts when even blocks b − 1 and b + 1 are done, which is all the two
+/// phases ordered (a block writes forces of its own bodies and of the next
+/// block's): each body's additions come in the same order as with the
+/// barrier, the same bits for any thread count.
+///
+/// Worker t runs the blocks of its share ([`PairList::shares`]), the same
+/// bodies it advanced: their data stay in its core's cache. A share starts
+/// on an even block, so the only wait across workers is the last odd block
+/// of a share for the first block of the next, done first.
+pub(crate) fn run_blocks(workers: &Workers, list: &PairList, run_block: impl Fn(usize) + Sync + Send) {
+    let blocks = list.blocks.len().saturating_sub(1);
     let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
-    let next = AtomicUsize::new(0);
-    workers.run(workers.threads(), |_| loop {
-        // Blocks are taken in `order`; a block waits only for blocks
-        // earlier in it, which a running worker has taken: no deadlock.
-        let t = next.fetch_add(1, Ordering::Relaxed);
-        let Some(&b) = order.get(t) else { break };
+    let run = |b: usize| {
         if b % 2 == 1 {
             wait_for(&done[b - 1]);
             if let Some(d) = done.get(b + 1) {
@@ -429,6 +424,26 @@ pub(crate) fn run_blocks(
         }
         run_block(b);
         done[b].store(true, Ordering::Release);
+    };
+    let threads = workers.threads();
+    if list.shares.len() == threads + 1 {
+        workers.broadcast(|t| {
+            let (first, end) = (list.shares[t] as usize, list.shares[t + 1] as usize);
+            for b in block_order(end - first) {
+                run(first + b);
+            }
+        });
+        return;
+    }
+    // No shares: the blocks are taken in `order` by whichever worker is
+    // free; a block waits only for blocks earlier in it, which a running
+    // worker has taken: no deadlock.
+    let order = block_order(blocks);
+    let next = AtomicUsize::new(0);
+    workers.run(threads, |_| loop {
+        let t = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&b) = order.get(t) else { break };
+        run(b);
     });
 }
 
