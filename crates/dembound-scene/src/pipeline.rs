@@ -4,6 +4,7 @@
 //! cell grid).
 
 use std::collections::HashMap;
+use std::time::Instant;
 
 use dembound_physics::contact::ContactHistory;
 
@@ -144,6 +145,7 @@ impl Pipeline {
                     self.ghosts(world);
                 }
                 self.pair_forces(world, workers, dt);
+                world.list.rebalance();
                 if world.tracks.is_some() {
                     integrate::verlet_kick(&mut world.bodies, dt, workers);
                     if world.friction.is_some() {
@@ -162,6 +164,7 @@ impl Pipeline {
                     self.ghosts(world);
                 }
                 self.forces(world, workers);
+                world.list.rebalance();
                 // At the predicted state, before the corrector moves it.
                 self.kinks.collect(
                     &world.bodies,
@@ -231,7 +234,12 @@ impl Pipeline {
             // loop: they stay in its core's cache (a maximum is exact in
             // any order: the same bits).
             let list = &world.list;
-            workers.broadcast(|t| list.share(t, threads).map_or(0.0, |(lo, hi)| advance(lo, hi)))
+            workers.broadcast(|t| {
+                let started = Instant::now();
+                let moved2 = list.share(t, threads).map_or(0.0, |(lo, hi)| advance(lo, hi));
+                list.shares.record_advance(t, started.elapsed().as_nanos() as u64);
+                moved2
+            })
         } else {
             workers.map(n.div_ceil(STEP_CHUNK), |c| {
                 advance(c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n))

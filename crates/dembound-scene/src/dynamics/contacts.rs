@@ -2,9 +2,11 @@
 //! each pair's `ContactHistory` kept beside the neighbour list.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
 
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
+use crate::balance::share_order;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
 use dembound_physics::contact::{ContactHistory, ContactModel, PairLaw};
@@ -409,12 +411,14 @@ pub fn add_pair_forces(
 /// barrier, the same bits for any thread count.
 ///
 /// Worker t runs the blocks of its share ([`PairList::shares`]), the same
-/// bodies it advanced: their data stay in its core's cache. A share starts
-/// on an even block, so the only wait across workers is the last odd block
-/// of a share for the first block of the next, done first.
+/// bodies it advanced: their data stay in its core's cache; each block's
+/// time goes to the shares' balance. The blocks a neighbouring share waits
+/// for run first ([`share_order`]), so waits across workers are short.
 pub(crate) fn run_blocks(workers: &Workers, list: &PairList, run_block: impl Fn(usize) + Sync + Send) {
     let blocks = list.blocks.len().saturating_sub(1);
     let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
+    let threads = workers.threads();
+    let shared = list.shares.blocks(0, threads).is_some();
     let run = |b: usize| {
         if b % 2 == 1 {
             wait_for(&done[b - 1]);
@@ -422,15 +426,22 @@ pub(crate) fn run_blocks(workers: &Workers, list: &PairList, run_block: impl Fn(
                 wait_for(d);
             }
         }
-        run_block(b);
+        if shared {
+            // The block's own time, waits excluded.
+            let started = Instant::now();
+            run_block(b);
+            list.shares.record_block(b, started.elapsed().as_nanos() as u64);
+        } else {
+            run_block(b);
+        }
         done[b].store(true, Ordering::Release);
     };
-    let threads = workers.threads();
-    if list.shares.len() == threads + 1 {
+    if shared {
         workers.broadcast(|t| {
-            let (first, end) = (list.shares[t] as usize, list.shares[t + 1] as usize);
-            for b in block_order(end - first) {
-                run(first + b);
+            if let Some((first, end)) = list.shares.blocks(t, threads) {
+                for b in share_order(first, end, blocks) {
+                    run(b);
+                }
             }
         });
         return;

@@ -18,6 +18,7 @@
 
 use super::cells::CellGrid;
 use super::ghosts::Ghosts;
+use crate::balance::Shares;
 use crate::parallel::Workers;
 
 /// Body chunk of the parallel list build (fixed: the list does not depend
@@ -25,12 +26,6 @@ use crate::parallel::Workers;
 const BUILD_CHUNK: usize = 1024;
 /// Smallest block of the force loop, bodies.
 const MIN_BLOCK: usize = 512;
-/// What a body costs in the per-body stages (kick, drift, walls, its row
-/// of the force loop), in listed pairs: on lattice-drop with one thread
-/// the advance stage took 41 ns per body and the force loop 20 ns per
-/// listed pair. Only the balance between workers depends on it.
-const BODY_COST: f64 = 2.0;
-
 /// What the search needs of the bodies (sorted by cell).
 pub struct SearchInput<'a> {
     pub position: &'a [[f64; 3]],
@@ -57,12 +52,10 @@ pub struct PairList {
     pub extra: Vec<(u32, u32)>,
     /// Force-loop block boundaries: block k is bodies `blocks[k]..blocks[k+1]`.
     pub blocks: Vec<u32>,
-    /// Scheduling only (results do not depend on it): worker t takes
-    /// blocks `shares[t]..shares[t+1]` of the force loop and their bodies
-    /// in the per-body stages, so that each body stays in one core's cache
-    /// from stage to stage. Every share but the last starts and ends on an
-    /// even block (see [`PairList::shares_for`]). Empty: no split made.
-    pub shares: Vec<u32>,
+    /// Which blocks (and so which bodies) each worker takes, in the force
+    /// loop and the per-body stages: scheduling only, the results do not
+    /// depend on it.
+    pub shares: Shares,
 }
 
 #[inline]
@@ -232,7 +225,7 @@ impl PairList {
             }
         }
         let blocks = Self::blocks_for(&start, &j, n);
-        let shares = Self::shares_for(&blocks, &start, workers.threads());
+        let shares = Shares::new(workers.threads(), &blocks, &start);
         PairList {
             start,
             j,
@@ -244,51 +237,13 @@ impl PairList {
 
     /// Bodies `lo..hi` of worker `t`'s share, if the list has one per worker.
     pub fn share(&self, t: usize, threads: usize) -> Option<(usize, usize)> {
-        if self.shares.len() != threads + 1 {
-            return None;
-        }
-        let b = |k: usize| self.blocks[self.shares[k] as usize] as usize;
-        Some((b(t), b(t + 1)))
+        let (first, end) = self.shares.blocks(t, threads)?;
+        Some((self.blocks[first] as usize, self.blocks[end] as usize))
     }
 
-    /// Cuts the blocks into one contiguous share per worker, of about equal
-    /// cost (a body costs [`BODY_COST`] listed pairs), each cut on an even
-    /// block: the odd block before a cut is the last its worker runs, and it
-    /// waits only for the even block after the cut, the first the next
-    /// worker runs (see `contacts::run_blocks`).
-    fn shares_for(blocks: &[u32], start: &[u32], threads: usize) -> Vec<u32> {
-        let count = blocks.len().saturating_sub(1);
-        if count == 0 || threads == 0 {
-            return Vec::new();
-        }
-        let cost = |b: usize| -> f64 {
-            let (lo, hi) = (blocks[b] as usize, blocks[b + 1] as usize);
-            (hi - lo) as f64 * BODY_COST + (start[hi] - start[lo]) as f64
-        };
-        let mut cumulative = Vec::with_capacity(count + 1);
-        cumulative.push(0.0);
-        for b in 0..count {
-            let c = cumulative[b] + cost(b);
-            cumulative.push(c);
-        }
-        let total = cumulative[count];
-        let mut shares = vec![0u32];
-        for t in 1..threads {
-            let target = total * t as f64 / threads as f64;
-            // The even cut nearest the target, not before the previous one.
-            let previous = *shares.last().unwrap_or(&0) as usize;
-            let mut best = previous;
-            let mut k = previous;
-            while k <= count {
-                if (cumulative[k] - target).abs() < (cumulative[best] - target).abs() {
-                    best = k;
-                }
-                k += 2;
-            }
-            shares.push(best as u32);
-        }
-        shares.push(count as u32);
-        shares
+    /// Folds the step's measured costs into the shares.
+    pub fn rebalance(&mut self) {
+        self.shares.rebalance(&self.blocks);
     }
 
     /// Blocks such that block k's pairs reach at most into block k + 1:
