@@ -153,12 +153,14 @@ impl Pipeline {
                     && world.list.extra.is_empty();
                 if fuse {
                     let moved2 = self.pair_forces_then_advance(world, workers);
+                    world.list.rebalance();
                     world.steps_done += 1;
                     self.advanced = true;
                     self.after_advance(world, workers, moved2);
                     return;
                 }
                 self.pair_forces(world, workers, dt);
+                world.list.rebalance();
                 if world.tracks.is_some() {
                     integrate::verlet_kick(&mut world.bodies, dt, workers);
                     if world.friction.is_some() {
