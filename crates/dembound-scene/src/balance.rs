@@ -41,7 +41,11 @@ pub struct Shares {
 
 impl Clone for Shares {
     fn clone(&self) -> Self {
-        let copy = |v: &[AtomicU64]| v.iter().map(|a| AtomicU64::new(a.load(Ordering::Relaxed))).collect();
+        let copy = |v: &[AtomicU64]| {
+            v.iter()
+                .map(|a| AtomicU64::new(a.load(Ordering::Relaxed)))
+                .collect()
+        };
         Shares {
             cuts: self.cuts.clone(),
             cost: self.cost.clone(),
@@ -215,7 +219,10 @@ mod tests {
     /// (a block runs only when its even neighbours are done, as in
     /// `contacts::run_blocks`): every block runs once, no worker is stuck.
     fn schedule(cuts: &[usize], count: usize) -> Vec<usize> {
-        let orders: Vec<Vec<usize>> = cuts.windows(2).map(|w| share_order(w[0], w[1], count)).collect();
+        let orders: Vec<Vec<usize>> = cuts
+            .windows(2)
+            .map(|w| share_order(w[0], w[1], count))
+            .collect();
         let mut next = vec![0usize; orders.len()];
         let mut done = vec![false; count];
         let mut ran = Vec::new();

@@ -318,8 +318,11 @@ impl Pipeline {
             let list = &world.list;
             workers.broadcast(|t| {
                 let started = Instant::now();
-                let moved2 = list.share(t, threads).map_or(0.0, |(lo, hi)| advance(lo, hi));
-                list.shares.record_advance(t, started.elapsed().as_nanos() as u64);
+                let moved2 = list
+                    .share(t, threads)
+                    .map_or(0.0, |(lo, hi)| advance(lo, hi));
+                list.shares
+                    .record_advance(t, started.elapsed().as_nanos() as u64);
                 moved2
             })
         } else {

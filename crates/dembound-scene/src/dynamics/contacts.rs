@@ -4,9 +4,9 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
+use crate::balance::share_order;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
-use crate::balance::share_order;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
 use dembound_physics::contact::{ContactHistory, ContactModel, PairLaw};
@@ -463,7 +463,11 @@ pub(crate) type FollowUp<'a> = &'a (dyn Fn(usize, usize) -> f64 + Sync);
 /// bodies it advanced: their data stay in its core's cache; each block's
 /// time goes to the shares' balance. The blocks a neighbouring share waits
 /// for run first ([`share_order`]), so waits across workers are short.
-pub(crate) fn run_blocks(workers: &Workers, list: &PairList, run_block: impl Fn(usize) + Sync + Send) {
+pub(crate) fn run_blocks(
+    workers: &Workers,
+    list: &PairList,
+    run_block: impl Fn(usize) + Sync + Send,
+) {
     run_blocks_then(workers, list, run_block, None);
 }
 
@@ -487,7 +491,8 @@ pub(crate) fn run_blocks_then(
             // The block's own time, waits excluded.
             let started = Instant::now();
             let value = f();
-            list.shares.record_block(b, started.elapsed().as_nanos() as u64);
+            list.shares
+                .record_block(b, started.elapsed().as_nanos() as u64);
             value
         } else {
             f()
@@ -544,9 +549,9 @@ pub(crate) fn run_blocks_then(
     if shared {
         return workers
             .broadcast(|t| {
-                list.shares
-                    .blocks(t, threads)
-                    .map_or(0.0, |(first, end)| work(first, end, share_order(first, end, blocks)))
+                list.shares.blocks(t, threads).map_or(0.0, |(first, end)| {
+                    work(first, end, share_order(first, end, blocks))
+                })
             })
             .into_iter()
             .fold(0.0, f64::max);
