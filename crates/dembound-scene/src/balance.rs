@@ -174,7 +174,7 @@ pub fn share_order(first: usize, end: usize, count: usize) -> Vec<usize> {
             order.push(b);
         }
     };
-    if first > 0 && first % 2 == 0 {
+    if first > 0 && first.is_multiple_of(2) {
         // The previous share's last block (odd) waits for it.
         take(first, &mut order);
     }
