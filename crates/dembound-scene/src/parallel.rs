@@ -33,7 +33,7 @@ pub const STEP_CHUNK: usize = 1024;
 /// Waits before a waiting worker yields its core, then parks: ~0.1 ms of
 /// spinning covers the serial work between two stages of a step; parking
 /// after ~10 ms idle frees the core between runs.
-const SPINS: u32 = 1 << 14;
+pub(crate) const SPINS: u32 = 1 << 14;
 const YIELDS: u32 = 1 << 12;
 
 /// The worker threads of one simulation.

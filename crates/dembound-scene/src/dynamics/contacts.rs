@@ -600,7 +600,7 @@ fn block_order(blocks: usize) -> Vec<usize> {
 fn wait_for(flag: &AtomicBool) {
     let mut spins = 0u32;
     while !flag.load(Ordering::Acquire) {
-        if spins < 1000 {
+        if spins < crate::parallel::SPINS {
             std::hint::spin_loop();
             spins += 1;
         } else {
