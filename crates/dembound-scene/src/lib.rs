@@ -13,6 +13,7 @@
 //!   LAMMPS data, CSV) and the boundary-particle walls (`tiling`).
 //! - [`io`]: the scene file, VTK snapshots, the time series, checkpoints.
 
+pub mod balance;
 pub mod bodies;
 pub mod dynamics;
 pub mod error;

@@ -2,9 +2,23 @@
 //! boundaries depend on the data only, never on the thread count; each
 //! chunk is done by one thread in a fixed order, and per-chunk results are
 //! combined in chunk order. One thread runs the chunks in the caller's
-//! thread, without a pool (no hand-off cost per stage).
+//! thread, without a team (no hand-off cost per stage).
+//!
+//! The team is written here rather than taken from rayon (which this crate
+//! used until session 5) because a step of 10,000 spheres is ~150 µs of
+//! work in two parallel stages: rayon's workers park between stages and
+//! take whatever chunk is free, so each stage paid a wake-up and each body
+//! moved between the two cores' caches from stage to stage (measured: the
+//! per-body stage ran *slower* on two threads than on one). The team's
+//! workers spin between stages while a run is going (parking only after a
+//! long idle spell), and worker t is the same OS thread in every stage, so
+//! a body's data stays in one core's cache (see `PairList::shares`).
 
-use rayon::prelude::*;
+use std::cell::UnsafeCell;
+use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
 
 /// Bodies per chunk of the per-body sums (fixes their order of additions:
 /// changing it changes the bits of every reported sum).
@@ -16,56 +30,100 @@ pub const BODY_CHUNK: usize = 4096;
 /// (4096 gave chunks of 4096, 4096 and 1808: one thread did 59 %).
 pub const STEP_CHUNK: usize = 1024;
 
+/// Waits before a waiting worker yields its core, then parks: ~0.1 ms of
+/// spinning covers the serial work between two stages of a step; parking
+/// after ~10 ms idle frees the core between runs.
+pub(crate) const SPINS: u32 = 1 << 14;
+const YIELDS: u32 = 1 << 12;
+
 /// The worker threads of one simulation.
 pub struct Workers {
-    pool: Option<rayon::ThreadPool>,
+    team: Option<Team>,
     threads: usize,
 }
 
+/// Why the workers could not start.
+#[derive(Debug)]
+pub struct WorkersError(pub String);
+
+impl std::fmt::Display for WorkersError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for WorkersError {}
+
 impl Workers {
     /// `threads` ≥ 1 workers (1: the caller's thread alone).
-    pub fn new(threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
-        let pool = if threads > 1 {
-            Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()?,
-            )
+    pub fn new(threads: usize) -> Result<Self, WorkersError> {
+        let team = if threads > 1 {
+            Some(Team::new(threads)?)
         } else {
             None
         };
-        Ok(Self { pool, threads })
+        Ok(Self {
+            team,
+            threads: threads.max(1),
+        })
     }
 
     pub fn threads(&self) -> usize {
         self.threads
     }
 
-    /// Runs `f` on one of the workers, so that the [`Workers::run`] and
-    /// [`Workers::map`] calls inside it start from a worker of the pool:
-    /// each is then a fork-join among the workers, instead of an injection
-    /// from outside whose caller sleeps on a lock and must be woken up at
-    /// the end (the cost of every parallel stage at small body counts).
+    /// Runs `f` (kept for the callers written for a pool: the team needs
+    /// no entering).
     pub fn install<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
-        match &self.pool {
-            Some(pool) => pool.install(f),
-            None => f(),
+        f()
+    }
+
+    /// `f(t)` on every worker t in 0..threads, each call on the same OS
+    /// thread every time (worker 0 is the caller): worker t's share of the
+    /// bodies stays in its core's cache from stage to stage. Results in
+    /// worker order.
+    pub fn broadcast<T: Send>(&self, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+        match &self.team {
+            Some(team) => {
+                let mut slots: Vec<Option<T>> = (0..self.threads).map(|_| None).collect();
+                let out = SharedMut::new(&mut slots);
+                // SAFETY: worker t writes slot t only.
+                team.run(&|t| unsafe { *out.at(t) = Some(f(t)) });
+                // Every slot is set: `run` returns only after every worker
+                // finished (a panic is re-raised there).
+                slots.into_iter().flatten().collect()
+            }
+            None => vec![f(0)],
         }
     }
 
-    /// Runs `f(k)` for every chunk k in 0..chunks.
+    /// Runs `f(k)` for every chunk k in 0..chunks (worker t takes a
+    /// contiguous run of chunks: the same bodies as in the other stages
+    /// when the chunks are bodies).
     pub fn run(&self, chunks: usize, f: impl Fn(usize) + Sync + Send) {
-        match &self.pool {
-            Some(pool) if chunks > 1 => pool.install(|| (0..chunks).into_par_iter().for_each(f)),
+        match &self.team {
+            Some(team) if chunks > 1 => {
+                let threads = self.threads;
+                team.run(&|t| {
+                    for k in chunks * t / threads..chunks * (t + 1) / threads {
+                        f(k);
+                    }
+                });
+            }
             _ => (0..chunks).for_each(f),
         }
     }
 
     /// `f(k)` for every chunk, collected in chunk order.
     pub fn map<T: Send>(&self, chunks: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
-        match &self.pool {
-            Some(pool) if chunks > 1 => {
-                pool.install(|| (0..chunks).into_par_iter().map(f).collect())
+        match &self.team {
+            Some(_) if chunks > 1 => {
+                let mut slots: Vec<Option<T>> = (0..chunks).map(|_| None).collect();
+                let out = SharedMut::new(&mut slots);
+                // SAFETY: chunk k is run once, by one worker, and writes
+                // slot k only.
+                self.run(chunks, |k| unsafe { *out.at(k) = Some(f(k)) });
+                slots.into_iter().flatten().collect()
             }
             _ => (0..chunks).map(f).collect(),
         }
@@ -94,6 +152,162 @@ impl Workers {
             }
         }
         s
+    }
+}
+
+/// The job of the current stage: a closure on the leader's stack, its
+/// lifetime erased (the leader waits for every worker before it returns).
+type Job = *const (dyn Fn(usize) + Sync + 'static);
+
+/// What the leader and the workers share.
+struct Shared {
+    /// Raised by one for every job; a worker runs each new value once.
+    epoch: AtomicU64,
+    /// Written by the leader before it raises `epoch`, read by the workers
+    /// after they see it raised, not written again before `pending` is 0.
+    job: UnsafeCell<Option<Job>>,
+    /// Workers still running the current job.
+    pending: AtomicUsize,
+    /// Worker t (index t − 1) is parked or about to park.
+    sleeping: Vec<AtomicBool>,
+    /// A worker's job panicked (re-raised by the leader).
+    panicked: AtomicBool,
+    stop: AtomicBool,
+    /// The leader is running a job (a call from inside a job, or from
+    /// another thread meanwhile, runs serially instead).
+    busy: AtomicBool,
+}
+
+// SAFETY: `job` is written only by the leader while no worker reads it
+// (between `pending` reaching 0 and the next raise of `epoch`).
+unsafe impl Sync for Shared {}
+unsafe impl Send for Shared {}
+
+/// Threads 1..threads of a simulation (the caller is thread 0).
+struct Team {
+    shared: Arc<Shared>,
+    handles: Vec<JoinHandle<()>>,
+    threads: usize,
+}
+
+impl Team {
+    fn new(threads: usize) -> Result<Self, WorkersError> {
+        let shared = Arc::new(Shared {
+            epoch: AtomicU64::new(0),
+            job: UnsafeCell::new(None),
+            pending: AtomicUsize::new(0),
+            sleeping: (1..threads).map(|_| AtomicBool::new(false)).collect(),
+            panicked: AtomicBool::new(false),
+            stop: AtomicBool::new(false),
+            busy: AtomicBool::new(false),
+        });
+        let mut team = Team {
+            shared: Arc::clone(&shared),
+            handles: Vec::with_capacity(threads - 1),
+            threads,
+        };
+        for t in 1..threads {
+            let shared = Arc::clone(&shared);
+            let handle = std::thread::Builder::new()
+                .name(format!("dembound-worker-{t}"))
+                .spawn(move || work(&shared, t))
+                .map_err(|e| WorkersError(format!("cannot start worker thread {t}: {e}")))?;
+            // Dropping `team` on an error stops the workers started so far.
+            team.handles.push(handle);
+        }
+        Ok(team)
+    }
+
+    /// Runs `f(t)` for t in 0..threads, t ≥ 1 on the workers, and returns
+    /// when all are done.
+    fn run(&self, f: &(dyn Fn(usize) + Sync)) {
+        let s = &*self.shared;
+        if s.busy.swap(true, Ordering::Acquire) {
+            (0..self.threads).for_each(f);
+            return;
+        }
+        // SAFETY: the lifetime is erased only for the time of this call:
+        // it returns after every worker has finished with the job.
+        let job: Job = unsafe { std::mem::transmute::<*const (dyn Fn(usize) + Sync + '_), Job>(f) };
+        // SAFETY: no worker reads `job` now (the last job's `pending` is 0).
+        unsafe { *s.job.get() = Some(job) };
+        s.pending.store(self.threads - 1, Ordering::Relaxed);
+        s.epoch.fetch_add(1, Ordering::SeqCst);
+        for (k, sleeping) in s.sleeping.iter().enumerate() {
+            if sleeping.load(Ordering::SeqCst) {
+                self.handles[k].thread().unpark();
+            }
+        }
+        let mine = catch_unwind(AssertUnwindSafe(|| f(0)));
+        let mut spins = 0u32;
+        while s.pending.load(Ordering::Acquire) != 0 {
+            if spins < SPINS {
+                std::hint::spin_loop();
+                spins += 1;
+            } else {
+                std::thread::yield_now();
+            }
+        }
+        s.busy.store(false, Ordering::Release);
+        if let Err(payload) = mine {
+            resume_unwind(payload);
+        }
+        if s.panicked.swap(false, Ordering::AcqRel) {
+            panic!("a worker thread panicked");
+        }
+    }
+}
+
+impl Drop for Team {
+    fn drop(&mut self) {
+        self.shared.stop.store(true, Ordering::SeqCst);
+        self.shared.epoch.fetch_add(1, Ordering::SeqCst);
+        for h in &self.handles {
+            h.thread().unpark();
+        }
+        for h in self.handles.drain(..) {
+            let _ = h.join();
+        }
+    }
+}
+
+/// Worker t's loop: wait for a new job (spin, yield, then park), run it.
+fn work(s: &Shared, t: usize) {
+    let mut seen = 0u64;
+    loop {
+        let mut waited = 0u32;
+        loop {
+            let e = s.epoch.load(Ordering::Acquire);
+            if s.stop.load(Ordering::Acquire) {
+                return;
+            }
+            if e != seen {
+                seen = e;
+                break;
+            }
+            waited = waited.saturating_add(1);
+            if waited < SPINS {
+                std::hint::spin_loop();
+            } else if waited < SPINS + YIELDS {
+                std::thread::yield_now();
+            } else {
+                let sleeping = &s.sleeping[t - 1];
+                sleeping.store(true, Ordering::SeqCst);
+                if s.epoch.load(Ordering::SeqCst) == seen && !s.stop.load(Ordering::SeqCst) {
+                    std::thread::park();
+                }
+                sleeping.store(false, Ordering::SeqCst);
+            }
+        }
+        // SAFETY: the leader wrote the job before raising `epoch` (read
+        // above with Acquire) and keeps it alive until `pending` is 0.
+        if let Some(job) = unsafe { *s.job.get() } {
+            let f = unsafe { &*job };
+            if catch_unwind(AssertUnwindSafe(|| f(t))).is_err() {
+                s.panicked.store(true, Ordering::Release);
+            }
+        }
+        s.pending.fetch_sub(1, Ordering::Release);
     }
 }
 

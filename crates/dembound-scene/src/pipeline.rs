@@ -4,6 +4,7 @@
 //! cell grid).
 
 use std::collections::HashMap;
+use std::time::Instant;
 
 use dembound_physics::contact::ContactHistory;
 
@@ -88,6 +89,9 @@ pub struct Pipeline {
     grid: CellGrid,
     /// Verlet's last half kick of the previous step is still to apply.
     pending_kick: bool,
+    /// Verlet: this step's first half (kicks, drift, per-body forces) is
+    /// done: it was fused into the last step's force stage.
+    advanced: bool,
     /// Gear5: the contacts that began or ended inside the step.
     kinks: Kinks,
 }
@@ -108,8 +112,8 @@ impl Pipeline {
     /// again when this returns.
     pub fn steps(&mut self, world: &mut World, workers: &Workers, n: u64) {
         workers.install(|| {
-            for _ in 0..n {
-                self.step(world, workers);
+            for k in 0..n {
+                self.step(world, workers, k + 1 < n);
             }
             self.finish(world, workers);
         });
@@ -127,23 +131,36 @@ impl Pipeline {
         }
     }
 
-    fn step(&mut self, world: &mut World, workers: &Workers) {
+    /// One step; `more`: another follows in this call (Verlet may then
+    /// fuse the next step's first half into this one's force stage).
+    fn step(&mut self, world: &mut World, workers: &Workers, more: bool) {
         let dt = world.dt;
         let half_skin = 0.5 * world.skin;
         match world.scheme {
             Scheme::Verlet => {
                 // Stages integrate (first half) and forces (per body:
                 // gravity, walls) in one pass over the bodies.
-                let moved2 = self.verlet_advance(world, workers);
-                if needs_rebuild(moved2, half_skin) {
-                    self.neighbours(world, workers);
-                    // The wall masks are new: the per-body forces again
-                    // (the same state: history updates are idempotent).
-                    self.body_forces(world, workers, dt);
-                } else {
-                    self.ghosts(world);
+                if !std::mem::take(&mut self.advanced) {
+                    let moved2 = self.verlet_advance(world, workers);
+                    self.after_advance(world, workers, moved2);
+                }
+                // The fused form does the same operations on each body in
+                // the same order: the same bits. It needs every pair in
+                // the blocks (no extra pairs) and no per-step observers.
+                let fuse = more
+                    && world.tracks.is_none()
+                    && world.friction.is_none()
+                    && world.list.extra.is_empty();
+                if fuse {
+                    let moved2 = self.pair_forces_then_advance(world, workers);
+                    world.list.rebalance();
+                    world.steps_done += 1;
+                    self.advanced = true;
+                    self.after_advance(world, workers, moved2);
+                    return;
                 }
                 self.pair_forces(world, workers, dt);
+                world.list.rebalance();
                 if world.tracks.is_some() {
                     integrate::verlet_kick(&mut world.bodies, dt, workers);
                     if world.friction.is_some() {
@@ -162,6 +179,7 @@ impl Pipeline {
                     self.ghosts(world);
                 }
                 self.forces(world, workers);
+                world.list.rebalance();
                 // At the predicted state, before the corrector moves it.
                 self.kinks.collect(
                     &world.bodies,
@@ -180,6 +198,73 @@ impl Pipeline {
         if world.tracks.is_some() {
             self.ghosts(world);
             self.observe(world);
+        }
+    }
+
+    /// After Verlet's first half: the lists again if a body moved more
+    /// than half the skin since they were built (then the per-body forces
+    /// again: the wall masks are new; the same state, so history updates
+    /// are idempotent), else the ghosts follow their owners.
+    fn after_advance(&mut self, world: &mut World, workers: &Workers, moved2: f64) {
+        if needs_rebuild(moved2, 0.5 * world.skin) {
+            self.neighbours(world, workers);
+            self.body_forces(world, workers, world.dt);
+        } else {
+            self.ghosts(world);
+        }
+    }
+
+    /// The pair forces of this step and, fused, Verlet's first half of the
+    /// next: each block's bodies are kicked, drifted and given their
+    /// per-body forces as soon as their pair forces are complete
+    /// (`contacts::run_blocks_then`), by the worker that forced them. One
+    /// hand-off between the workers per step instead of two. Returns the
+    /// largest squared displacement since the last list build, m².
+    fn pair_forces_then_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
+        let n = world.bodies.len();
+        assert!(
+            self.reference.len() == n
+                && world.bodies.mass.len() == n
+                && world.bodies.fixed.len() == n
+                && world.bodies.force.len() == n
+        );
+        let f = SharedMut::new(&mut world.bodies.force);
+        let ctx = AdvanceContext {
+            x: SharedMut::new(&mut world.bodies.position),
+            v: SharedMut::new(&mut world.bodies.velocity),
+            f,
+            walls: world.wall_contacts.shared(),
+            bodies: &world.bodies,
+            planes: &world.planes,
+            laws: &world.laws,
+            gravity: world.gravity,
+            reference: &self.reference,
+            dt: world.dt,
+            // This step's closing half kick, not applied yet.
+            pending: true,
+            spin: SharedMut::new(&mut []),
+            torque: SharedMut::new(&mut []),
+            wall_shear: SharedMut::new(&mut []),
+            friction: None,
+            step: world.steps_done + 2,
+        };
+        // SAFETY: each block's bodies lo..hi are given once, to one worker,
+        // when their forces are complete and no block still reads them
+        // (run_blocks_then); lengths asserted.
+        let follow = |lo: usize, hi: usize| unsafe { verlet_chunk(&ctx, lo, hi) };
+        // SAFETY: `f` holds one force per body; only the force loop and the
+        // follow-up touch them, under the blocks' rule.
+        unsafe {
+            contacts::add_pair_forces_then(
+                &world.bodies,
+                &world.ghosts,
+                &world.list,
+                &mut world.histories,
+                &world.laws,
+                f,
+                workers,
+                Some(&follow),
+            )
         }
     }
 
@@ -216,16 +301,35 @@ impl Pipeline {
                 && world.bodies.mass.len() == n
                 && world.bodies.fixed.len() == n
         );
-        let partial = workers.map(n.div_ceil(STEP_CHUNK), |c| {
-            // SAFETY: chunks are disjoint ranges of bodies; lengths asserted.
-            unsafe {
-                if ctx.friction.is_some() {
-                    verlet_chunk_friction(&ctx, c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n))
-                } else {
-                    verlet_chunk(&ctx, c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n))
-                }
+        // SAFETY (both calls): the ranges are disjoint ranges of bodies;
+        // lengths asserted.
+        let advance = |lo: usize, hi: usize| unsafe {
+            if ctx.friction.is_some() {
+                verlet_chunk_friction(&ctx, lo, hi)
+            } else {
+                verlet_chunk(&ctx, lo, hi)
             }
-        });
+        };
+        let threads = workers.threads();
+        let partial = if world.list.share(threads - 1, threads).map(|s| s.1) == Some(n) {
+            // Each worker advances the bodies of its share of the force
+            // loop: they stay in its core's cache (a maximum is exact in
+            // any order: the same bits).
+            let list = &world.list;
+            workers.broadcast(|t| {
+                let started = Instant::now();
+                let moved2 = list
+                    .share(t, threads)
+                    .map_or(0.0, |(lo, hi)| advance(lo, hi));
+                list.shares
+                    .record_advance(t, started.elapsed().as_nanos() as u64);
+                moved2
+            })
+        } else {
+            workers.map(n.div_ceil(STEP_CHUNK), |c| {
+                advance(c * STEP_CHUNK, ((c + 1) * STEP_CHUNK).min(n))
+            })
+        };
         partial.into_iter().fold(0.0, f64::max)
     }
 

@@ -2,7 +2,9 @@
 //! each pair's `ContactHistory` kept beside the neighbour list.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
 
+use crate::balance::share_order;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
@@ -299,14 +301,51 @@ pub fn add_pair_forces(
     force: &mut [[f64; 3]],
     workers: &Workers,
 ) {
+    assert!(force.len() == bodies.len());
+    // SAFETY: one force per body (asserted), borrowed mutably here.
+    unsafe {
+        add_pair_forces_then(
+            bodies,
+            ghosts,
+            list,
+            histories,
+            laws,
+            SharedMut::new(force),
+            workers,
+            None,
+        )
+    };
+}
+
+/// [`add_pair_forces`] with a follow-up on each block's bodies once their
+/// forces are complete (see [`run_blocks_then`]; the list must have no
+/// extra pairs, which come after the blocks). Returns the follow-ups'
+/// maximum.
+///
+/// # Safety
+/// `force` points to one force per body, which nothing else reads or
+/// writes meanwhile but `follow`, on the bodies it is given. `follow` may
+/// write the positions and velocities of those bodies: the blocks that
+/// read them are done, and no later block reads them (the force loop
+/// reads them through `bodies`' slices, never after such a write).
+#[allow(clippy::too_many_arguments)]
+pub(crate) unsafe fn add_pair_forces_then(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    histories: &mut PairHistories,
+    laws: &LawTable,
+    f_ptr: SharedMut<[f64; 3]>,
+    workers: &Workers,
+    follow: Option<FollowUp>,
+) -> f64 {
     let n = bodies.len();
     let keep = laws.history;
-    assert!(force.len() == n && list.start.len() == n + 1);
+    assert!(list.start.len() == n + 1);
+    assert!(follow.is_none() || list.extra.is_empty());
     assert!(!keep || histories.main.len() == list.j.len());
     assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
-    let f_ptr = SharedMut(force.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
-    let blocks = list.blocks.len().saturating_sub(1);
     // Local slices: the compiler cannot hoist loads of the vectors' headers
     // past the raw-pointer writes below.
     let (position, velocity, radius) = (
@@ -364,7 +403,7 @@ pub fn add_pair_forces(
             unsafe { add(&mut *f_ptr.0.add(i), fi) };
         }
     };
-    run_blocks(workers, blocks, run_block);
+    let value = run_blocks_then(workers, list, run_block, follow);
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -394,42 +433,150 @@ pub fn add_pair_forces(
             Some(g) => {
                 let law = laws.pair(bodies, i, owner);
                 let fj = contact_force(&law, &g, hist);
-                sub(&mut force[i], fj);
-                add(&mut force[owner], fj);
+                // SAFETY: i and owner are bodies; the blocks are done.
+                unsafe {
+                    sub(f_ptr.at(i), fj);
+                    add(f_ptr.at(owner), fj);
+                }
             }
             None => *hist = ContactHistory::default(),
         }
     }
+    value
 }
 
-/// Runs `run_block(b)` for every block of a pair list on the workers:
-/// even blocks then odd blocks, without a barrier between the phases. Odd
-/// block b starts when even blocks b − 1 and b + 1 are done, which is all
-/// the two phases ordered (a block writes forces of its own bodies and of
-/// the next block's): each body's additions come in the same order as with
-/// the barrier, the same bits for any thread count.
+/// What a worker does with the bodies `lo..hi` of a block once their
+/// forces are complete: Verlet's closing and opening half kicks and drift
+/// (the next step's first stage, fused into this one: one hand-off between
+/// the workers per step). Returns a value whose maximum over the blocks
+/// [`run_blocks_then`] returns (the squared displacement).
+pub(crate) type FollowUp<'a> = &'a (dyn Fn(usize, usize) -> f64 + Sync);
+
+/// Runs `run_block(b)` for every block of `list` on the workers: even
+/// blocks then odd blocks, without a barrier between the phases. Odd block
+/// b starts when even blocks b − 1 and b + 1 are done, which is all the two
+/// phases ordered (a block writes forces of its own bodies and of the next
+/// block's): each body's additions come in the same order as with the
+/// barrier, the same bits for any thread count.
+///
+/// Worker t runs the blocks of its share ([`PairList::shares`]), the same
+/// bodies it advanced: their data stay in its core's cache; each block's
+/// time goes to the shares' balance. The blocks a neighbouring share waits
+/// for run first ([`share_order`]), so waits across workers are short.
 pub(crate) fn run_blocks(
     workers: &Workers,
-    blocks: usize,
+    list: &PairList,
     run_block: impl Fn(usize) + Sync + Send,
 ) {
-    let order = block_order(blocks);
+    run_blocks_then(workers, list, run_block, None);
+}
+
+/// [`run_blocks`], and `follow` on each block's bodies as soon as its
+/// forces are complete: block b's pairs and block b − 1's are done (no
+/// other block writes b's forces or reads b's positions and velocities, so
+/// `follow` may change them). Returns the maximum of `follow`'s values (0
+/// without it).
+pub(crate) fn run_blocks_then(
+    workers: &Workers,
+    list: &PairList,
+    run_block: impl Fn(usize) + Sync + Send,
+    follow: Option<FollowUp>,
+) -> f64 {
+    let blocks = list.blocks.len().saturating_sub(1);
     let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
-    let next = AtomicUsize::new(0);
-    workers.run(workers.threads(), |_| loop {
-        // Blocks are taken in `order`; a block waits only for blocks
-        // earlier in it, which a running worker has taken: no deadlock.
-        let t = next.fetch_add(1, Ordering::Relaxed);
-        let Some(&b) = order.get(t) else { break };
+    let threads = workers.threads();
+    let shared = list.shares.blocks(0, threads).is_some();
+    let timed = |b: usize, f: &dyn Fn() -> f64| -> f64 {
+        if shared {
+            // The block's own time, waits excluded.
+            let started = Instant::now();
+            let value = f();
+            list.shares
+                .record_block(b, started.elapsed().as_nanos() as u64);
+            value
+        } else {
+            f()
+        }
+    };
+    let run = |b: usize| {
         if b % 2 == 1 {
             wait_for(&done[b - 1]);
             if let Some(d) = done.get(b + 1) {
                 wait_for(d);
             }
         }
-        run_block(b);
+        timed(b, &|| {
+            run_block(b);
+            0.0
+        });
         done[b].store(true, Ordering::Release);
+    };
+    let bodies = |b: usize| (list.blocks[b] as usize, list.blocks[b + 1] as usize);
+    let complete = |b: usize| {
+        done[b].load(Ordering::Acquire) && (b == 0 || done[b - 1].load(Ordering::Acquire))
+    };
+    // One worker's run over blocks `first..end` in `order`, following up
+    // each of them as soon as it is complete, the rest at the end.
+    let work = |first: usize, end: usize, order: Vec<usize>| -> f64 {
+        let mut value = 0.0f64;
+        let mut followed = vec![false; end - first];
+        for b in order {
+            run(b);
+            if let Some(f) = follow {
+                for c in [b, b + 1] {
+                    if (first..end).contains(&c) && !followed[c - first] && complete(c) {
+                        followed[c - first] = true;
+                        let (lo, hi) = bodies(c);
+                        value = value.max(timed(c, &|| f(lo, hi)));
+                    }
+                }
+            }
+        }
+        if let Some(f) = follow {
+            for c in first..end {
+                if !followed[c - first] {
+                    if c > 0 {
+                        wait_for(&done[c - 1]);
+                    }
+                    wait_for(&done[c]);
+                    let (lo, hi) = bodies(c);
+                    value = value.max(timed(c, &|| f(lo, hi)));
+                }
+            }
+        }
+        value
+    };
+    if shared {
+        return workers
+            .broadcast(|t| {
+                list.shares.blocks(t, threads).map_or(0.0, |(first, end)| {
+                    work(first, end, share_order(first, end, blocks))
+                })
+            })
+            .into_iter()
+            .fold(0.0, f64::max);
+    }
+    if threads == 1 {
+        return work(0, blocks, block_order(blocks));
+    }
+    // No shares: the blocks are taken in `order` by whichever worker is
+    // free; a block waits only for blocks earlier in it, which a running
+    // worker has taken: no deadlock. The follow-ups come after all.
+    let order = block_order(blocks);
+    let next = AtomicUsize::new(0);
+    workers.run(threads, |_| loop {
+        let t = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&b) = order.get(t) else { break };
+        run(b);
     });
+    let mut value = 0.0f64;
+    if let Some(f) = follow {
+        for c in 0..blocks {
+            let (lo, hi) = bodies(c);
+            value = value.max(f(lo, hi));
+        }
+    }
+    value
 }
 
 /// The force blocks in the order they are taken: 0, 2, 1, 4, 3, 6, 5, …
@@ -453,7 +600,7 @@ fn block_order(blocks: usize) -> Vec<usize> {
 fn wait_for(flag: &AtomicBool) {
     let mut spins = 0u32;
     while !flag.load(Ordering::Acquire) {
-        if spins < 1000 {
+        if spins < crate::parallel::SPINS {
             std::hint::spin_loop();
             spins += 1;
         } else {

@@ -453,7 +453,6 @@ pub fn add_pair_forces(
     let t_ptr = SharedMut(torque.as_mut_ptr());
     let h_ptr = SharedMut(histories.main.as_mut_ptr());
     let s_ptr = SharedMut(shear.main.as_mut_ptr());
-    let blocks = list.blocks.len().saturating_sub(1);
     let (position, velocity, radius, spin, inverse_inertia) = (
         &bodies.position[..],
         &bodies.velocity[..],
@@ -525,7 +524,7 @@ pub fn add_pair_forces(
             }
         }
     };
-    run_blocks(workers, blocks, run_block);
+    run_blocks(workers, list, run_block);
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = extended(bodies, ghosts, j);

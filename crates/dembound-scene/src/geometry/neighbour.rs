@@ -18,6 +18,7 @@
 
 use super::cells::CellGrid;
 use super::ghosts::Ghosts;
+use crate::balance::Shares;
 use crate::parallel::Workers;
 
 /// Body chunk of the parallel list build (fixed: the list does not depend
@@ -25,7 +26,6 @@ use crate::parallel::Workers;
 const BUILD_CHUNK: usize = 1024;
 /// Smallest block of the force loop, bodies.
 const MIN_BLOCK: usize = 512;
-
 /// What the search needs of the bodies (sorted by cell).
 pub struct SearchInput<'a> {
     pub position: &'a [[f64; 3]],
@@ -52,6 +52,10 @@ pub struct PairList {
     pub extra: Vec<(u32, u32)>,
     /// Force-loop block boundaries: block k is bodies `blocks[k]..blocks[k+1]`.
     pub blocks: Vec<u32>,
+    /// Which blocks (and so which bodies) each worker takes, in the force
+    /// loop and the per-body stages: scheduling only, the results do not
+    /// depend on it.
+    pub shares: Shares,
 }
 
 #[inline]
@@ -221,12 +225,25 @@ impl PairList {
             }
         }
         let blocks = Self::blocks_for(&start, &j, n);
+        let shares = Shares::new(workers.threads(), &blocks, &start);
         PairList {
             start,
             j,
             extra,
             blocks,
+            shares,
         }
+    }
+
+    /// Bodies `lo..hi` of worker `t`'s share, if the list has one per worker.
+    pub fn share(&self, t: usize, threads: usize) -> Option<(usize, usize)> {
+        let (first, end) = self.shares.blocks(t, threads)?;
+        Some((self.blocks[first] as usize, self.blocks[end] as usize))
+    }
+
+    /// Folds the step's measured costs into the shares.
+    pub fn rebalance(&mut self) {
+        self.shares.rebalance(&self.blocks);
     }
 
     /// Blocks such that block k's pairs reach at most into block k + 1:
