@@ -444,18 +444,20 @@ fn write_all(
         }
         fig
     };
-    by_angle(
-        "Normal restitution of single impacts, by floor",
-        "effective normal restitution v_n'/v_n (1)",
-        |i| i.normal_restitution,
-    )
-    .write_into(out, "restitution")?;
-    by_angle(
-        "Contact time of single impacts, by floor",
-        "contact time (µs)",
-        |i| i.contact_time * 1e6,
-    )
-    .write_into(out, "contact_time")?;
+    if results.iter().any(|r| !r.impacts.is_empty()) {
+        by_angle(
+            "Normal restitution of single impacts, by floor",
+            "effective normal restitution v_n'/v_n (1)",
+            |i| i.normal_restitution,
+        )
+        .write_into(out, "restitution")?;
+        by_angle(
+            "Contact time of single impacts, by floor",
+            "contact time (µs)",
+            |i| i.contact_time * 1e6,
+        )
+        .write_into(out, "contact_time")?;
+    }
     if results.iter().any(|r| r.bed.is_some()) {
         let mut prof = Figure {
             title: "Packing fraction near the floor".into(),
