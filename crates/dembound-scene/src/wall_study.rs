@@ -145,6 +145,12 @@ pub struct Bed {
     pub boundary_forces: Vec<f64>,
     /// Translational kinetic energy at the end, J.
     pub kinetic_energy: f64,
+    /// Particles whose centre ended below the boundary spheres' centres:
+    /// through the gaps of a tiling whose touching spheres leave a hole
+    /// wider than a particle (r > 2.414 square, 6.464 hexagonal), where
+    /// the floor is not a wall. They are counted in `particles` and the
+    /// weight but carried by nothing.
+    pub fell_through: usize,
     /// Side view: (x, z, R) of each particle, m.
     pub spheres: Vec<(f64, f64, f64)>,
     /// (x, z, R) of the floor's boundary particles.
@@ -647,6 +653,10 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
         pressure_fluctuation: var.sqrt() / mean,
         boundary_forces,
         kinetic_energy: kinetic,
+        fell_through: match floor {
+            Floor::Particles { .. } => free.iter().filter(|p| p[2] < -rb).count(),
+            _ => 0,
+        },
         spheres,
         floor_spheres,
     })

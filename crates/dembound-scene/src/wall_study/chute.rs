@@ -178,11 +178,11 @@ impl Chute {
         self.cell[0] * self.cell[1]
     }
 
-    /// Is the bed's mean velocity steady: its two half-window means within
-    /// `tolerance` (relative).
+    /// Is the flow steady: the bed's mean acceleration over the window
+    /// below `tolerance` × g sin θ, so that the floor carries that share
+    /// of the weight component or more (momentum balance).
     pub fn steady(&self, tolerance: f64) -> bool {
-        let [a, b] = self.velocity_halves;
-        (b - a).abs() <= tolerance * a.abs().max(b.abs())
+        self.acceleration.abs() <= tolerance * G * self.angle.to_radians().sin()
     }
 }
 
