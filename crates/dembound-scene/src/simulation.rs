@@ -24,7 +24,7 @@ use crate::setup::{RunLength, SceneSetup, Scheme, TimeStep, WallSetup};
 /// Bodies larger than this many times the smallest free sphere are paired
 /// outside the cell grid (boundary spheres of r = 100 would otherwise make
 /// every cell as large as they are).
-const LARGE_FACTOR: f64 = 4.0;
+pub const LARGE_FACTOR: f64 = 4.0;
 
 /// How the time step came about.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

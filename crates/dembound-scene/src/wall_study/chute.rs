@@ -19,13 +19,15 @@
 //! `max_particles` particles, or whose touching boundary spheres leave a
 //! hole a particle passes through (the square tiling's gap between four
 //! spheres has radius (√2 − 1) R_b, the hexagonal one's between three
-//! (2/√3 − 1) R_b: r > 2.414 and r > 6.464), is not run, and the reason is
-//! returned instead.
+//! (2/√3 − 1) R_b: r > 2.414 and r > 6.464), or whose boundary spheres are
+//! larger than the engine's periodic cells take (r > 4), is not run, and
+//! the reason is returned instead.
 
 use std::f64::consts::PI;
 
 use super::{add_floor, base_setup, cell, Floor, StudyConfig};
 use crate::setup::SphereInit;
+use crate::simulation::LARGE_FACTOR;
 use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::Pattern;
 use crate::{SceneError, Simulation};
@@ -108,10 +110,23 @@ pub fn plan(c: &StudyConfig, cc: &ChuteConfig, floor: Floor) -> Result<ChutePlan
                 gap * radius_ratio
             ));
         }
+        if radius_ratio > LARGE_FACTOR {
+            return Err(format!(
+                "the engine's periodic cells take boundary spheres up to {LARGE_FACTOR} R (r = \
+                 {radius_ratio})"
+            ));
+        }
     }
     let period = cell(floor, r);
+    // The engine's shortest periodic box: 2 × (largest diameter + skin),
+    // the skin 0.2 R by default.
+    let largest = match floor {
+        Floor::Particles { radius_ratio, .. } => radius_ratio.max(1.0) * r,
+        _ => r,
+    };
+    let shortest = 2.0 * (2.0 * largest + 0.2 * r) * (1.0 + 1e-9);
     let side = |k: usize| {
-        let min = cc.min_cell[k] * r;
+        let min = (cc.min_cell[k] * r).max(shortest);
         if period[k] > 0.0 {
             (min / period[k]).ceil().max(1.0) * period[k]
         } else {
@@ -349,4 +364,89 @@ pub fn build(
     s.friction = c.friction_setup(&s, floor_wall, &[]);
     let threads = if n >= 5000 { 2 } else { 1 };
     Simulation::new(s, threads)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dembound_physics::contact::tangential::TangentialKind;
+    use dembound_physics::material::Material;
+
+    fn study() -> StudyConfig {
+        StudyConfig {
+            material: Material {
+                density: 1000.0,
+                youngs_modulus: 1.0e7,
+                poisson_ratio: 0.3,
+            },
+            radius: 0.5e-3,
+            restitution: 0.5,
+            friction: 0.5,
+            tangential: TangentialKind::Mindlin,
+            rolling_friction: 0.0,
+            floors: vec![],
+            impacts: 0,
+            speed: 1.0,
+            angles: vec![0.0],
+            bed_particles: 0,
+            eta: 0.05,
+            settle_time: 0.1,
+            seed: 1,
+            floor_friction: None,
+            chute: None,
+        }
+    }
+
+    fn floor(radius_ratio: f64, pattern: Pattern) -> Floor {
+        Floor::Particles {
+            radius_ratio,
+            modulus_ratio: 100.0,
+            pattern,
+        }
+    }
+
+    #[test]
+    fn plans_whole_periods_and_refuses_floors_that_are_not_walls() {
+        let c = study();
+        let cc = ChuteConfig {
+            angle: 24.0,
+            layers: 5.0,
+            min_cell: [20.0, 12.0],
+            duration: 0.5,
+            max_particles: 3000,
+        };
+        let r = c.radius;
+        // The plane: the minimum cell, N = 0.58 × 20 R × 12 R × 10 R/(4/3 π R³).
+        let p = plan(&c, &cc, Floor::Plane).unwrap();
+        assert_eq!(p.cell, [20.0 * r, 12.0 * r]);
+        assert_eq!(
+            p.particles,
+            (0.58 * 2400.0 / (4.0 / 3.0 * PI)).round() as usize
+        );
+        // r = 2 hexagonal: periods 4 R and 4√3 R: 5 and 2 of them.
+        let p = plan(&c, &cc, floor(2.0, Pattern::Hexagonal)).unwrap();
+        assert!((p.cell[0] / (20.0 * r) - 1.0).abs() < 1e-12);
+        assert!((p.cell[1] / (8.0 * 3f64.sqrt() * r) - 1.0).abs() < 1e-12);
+        // Gaps wider than a particle: r = 2.5 square (gap 1.036 R), 7
+        // hexagonal (1.083 R), and the paper's r = 100.
+        for f in [
+            floor(2.5, Pattern::Square),
+            floor(7.0, Pattern::Hexagonal),
+            floor(100.0, Pattern::Square),
+        ] {
+            let why = plan(&c, &cc, f).unwrap_err();
+            assert!(why.starts_with("not a wall"), "{why}");
+        }
+        // r = 2.4 square is a wall; r = 5 hexagonal too but beyond the
+        // engine's periodic cells.
+        assert!(plan(&c, &cc, floor(2.4, Pattern::Square)).is_ok());
+        let why = plan(&c, &cc, floor(5.0, Pattern::Hexagonal)).unwrap_err();
+        assert!(why.contains("periodic cells"), "{why}");
+        // The cap.
+        let small = ChuteConfig {
+            max_particles: 100,
+            ..cc
+        };
+        assert!(plan(&c, &small, Floor::Plane).unwrap_err().contains("cap"));
+    }
 }
