@@ -747,6 +747,19 @@ fn report(
             .find_map(|r| r.bed.as_ref().map(|b| b.weight_pressure))
             .unwrap_or(f64::NAN)
     );
+    for r in results {
+        if let Some(b) = r.bed.as_ref().filter(|b| b.fell_through > 0) {
+            let _ = writeln!(
+                s,
+                "**{}: {} of {} particles fell through the gaps between the touching boundary \
+                 spheres** (wider than a particle for r > 2.414 square, r > 6.464 hexagonal): this \
+                 floor is not a wall, and its floor pressure counts only the rest.\n",
+                r.floor.label(),
+                b.fell_through,
+                b.particles
+            );
+        }
+    }
     let _ = writeln!(
         s,
         "Normal force on each loaded boundary particle under the settled bed:\n"
