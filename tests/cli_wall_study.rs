@@ -32,11 +32,17 @@ fn quick_study_writes_its_files() {
         "packing_profile.png",
         "bed_side.svg",
         "bed_side.png",
+        "chute.csv",
+        "chute_profile.svg",
+        "chute_profile.png",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## Recommendation"));
+    assert!(report.contains("## Chute flow"));
+    // r = 100 touching spheres leave gaps a particle falls through: no chute.
+    assert!(report.contains("not run: not a wall"));
     assert!(report.contains("r=100 zeta=100 square"));
     // The settled bed's floor carries its weight on every floor: the
     // summary's floor pressure within 1 % of the weight per area (0.05 s
@@ -70,6 +76,9 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--friction=-1"], "--friction"),
         (vec!["--tangential", "hooke"], "--tangential"),
         (vec!["--angles", "95"], "--angles"),
+        (vec!["--chute-angle", "95"], "--chute-angle"),
+        (vec!["--chute-layers", "0.5"], "--chute-layers"),
+        (vec!["--floor-friction=-1"], "--floor-friction"),
     ] {
         let run = dembound()
             .args(["wall-study", "--quick", "--quiet", "--out"])

@@ -11,6 +11,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{self, LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
+use crate::dynamics::spring_energy;
 use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
 use crate::error::SceneError;
 use crate::geometry::domain::Domain;
@@ -23,7 +24,7 @@ use crate::setup::{RunLength, SceneSetup, Scheme, TimeStep, WallSetup};
 /// Bodies larger than this many times the smallest free sphere are paired
 /// outside the cell grid (boundary spheres of r = 100 would otherwise make
 /// every cell as large as they are).
-const LARGE_FACTOR: f64 = 4.0;
+pub const LARGE_FACTOR: f64 = 4.0;
 
 /// How the time step came about.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -49,7 +50,8 @@ pub struct Observation {
     pub time: f64,
     /// J.
     pub kinetic_energy: f64,
-    /// Stored in contacts (pairs and walls), J.
+    /// Stored in contacts (pairs and walls), J: the normal law's, and with
+    /// friction the tangential and rolling springs' (½ k_t |δ|², ½ |M_r|²/k_r).
     pub elastic_energy: f64,
     /// −Σ m g·x over free bodies, J.
     pub potential_energy: f64,
@@ -647,7 +649,8 @@ impl Simulation {
         e
     }
 
-    /// Energy stored in the contacts (pairs and plane walls), J.
+    /// Energy stored in the contacts (pairs and plane walls), J, friction
+    /// springs included ([`Observation::elastic_energy`]).
     pub fn elastic_energy(&self) -> f64 {
         self.observe().elastic_energy
     }
@@ -731,9 +734,23 @@ impl Simulation {
                 }
             }
         }
+        let springs = match &w.friction {
+            Some(table) => spring_energy::spring_energy(
+                &w.bodies,
+                &w.ghosts,
+                &w.list,
+                &w.laws,
+                table,
+                &w.shear,
+                &w.planes,
+                &w.wall_shear,
+                &self.workers,
+            ),
+            None => 0.0,
+        };
         let kinetic = self.kinetic_energy();
         let potential = self.potential_energy();
-        let elastic = pe + plane_energy;
+        let elastic = pe + plane_energy + springs;
         Observation {
             step: w.steps_done,
             time: w.time(),

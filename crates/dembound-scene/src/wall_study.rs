@@ -20,6 +20,9 @@ use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::{Extent, Pattern, Tiling};
 use crate::{SceneError, Simulation};
 
+pub mod chute;
+pub use chute::{Chute, ChuteConfig};
+
 /// A floor under study.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Floor {
@@ -86,6 +89,12 @@ pub struct StudyConfig {
     /// time from the top of the insertion region, is added).
     pub settle_time: f64,
     pub seed: u64,
+    /// μ of the floor's surface (planes and boundary particles); a pair's
+    /// μ is the geometric mean of its surfaces', so the particle–floor μ
+    /// is √(μ μ_floor). `None`: μ.
+    pub floor_friction: Option<f64>,
+    /// The chute flow over each floor (`None`: none).
+    pub chute: Option<ChuteConfig>,
 }
 
 /// One single impact.
@@ -136,6 +145,12 @@ pub struct Bed {
     pub boundary_forces: Vec<f64>,
     /// Translational kinetic energy at the end, J.
     pub kinetic_energy: f64,
+    /// Particles whose centre ended below the boundary spheres' centres:
+    /// through the gaps of a tiling whose touching spheres leave a hole
+    /// wider than a particle (r > 2.414 square, 6.464 hexagonal), where
+    /// the floor is not a wall. They are counted in `particles` and the
+    /// weight but carried by nothing.
+    pub fell_through: usize,
     /// Side view: (x, z, R) of each particle, m.
     pub spheres: Vec<(f64, f64, f64)>,
     /// (x, z, R) of the floor's boundary particles.
@@ -148,6 +163,8 @@ pub struct FloorResult {
     pub floor: Floor,
     pub impacts: Vec<Impact>,
     pub bed: Option<Bed>,
+    /// The chute flow, or why it was not run.
+    pub chute: Option<Result<Chute, String>>,
     /// s.
     pub dt: f64,
 }
@@ -218,6 +235,14 @@ impl StudyConfig {
                 }
             }
         }
+        if let Some(mu) = self.floor_friction {
+            if !(mu.is_finite() && mu >= 0.0) {
+                return Err(invalid("--floor-friction", mu, "finite and ≥ 0"));
+            }
+        }
+        if let Some(chute) = &self.chute {
+            chute.validate()?;
+        }
         if self.impacts > 100_000 {
             return Err(invalid("--impacts", self.impacts, "at most 100000"));
         }
@@ -227,10 +252,28 @@ impl StudyConfig {
         Ok(())
     }
 
-    fn friction_setup(&self, walls: usize, frictionless: &[usize]) -> Option<FrictionSetup> {
-        let mut w = vec![None; walls];
+    /// The friction of a scene whose floor is wall `floor` (its surface
+    /// μ [`Self::floor_friction`]), with the walls `frictionless` smooth.
+    fn friction_setup(
+        &self,
+        s: &SceneSetup,
+        floor: usize,
+        frictionless: &[usize],
+    ) -> Option<FrictionSetup> {
+        let mut w = vec![None; s.walls.len()];
         for &k in frictionless {
             w[k] = Some((0.0, 0.0));
+        }
+        let mut materials = Vec::new();
+        if let Some(mu) = self.floor_friction {
+            match s.walls[floor] {
+                WallSetup::Plane { .. } => w[floor] = Some((mu, self.rolling_friction)),
+                WallSetup::BoundaryParticles { first_body, .. } => {
+                    let m = s.spheres[first_body].material;
+                    materials = vec![None; s.materials.len()];
+                    materials[m] = Some((mu, self.rolling_friction));
+                }
+            }
         }
         Some(FrictionSetup {
             model: FrictionModel {
@@ -238,7 +281,7 @@ impl StudyConfig {
                 friction: self.friction,
                 rolling_friction: self.rolling_friction,
             },
-            materials: Vec::new(),
+            materials,
             walls: w,
         })
     }
@@ -268,6 +311,7 @@ fn add_floor(
     hi: [f64; 2],
     centre: [f64; 2],
     radius: f64,
+    periodic: bool,
 ) -> Result<usize, SceneError> {
     let w = s.walls.len();
     match floor {
@@ -312,7 +356,7 @@ fn add_floor(
             let extent = Extent {
                 lower: [lo[0], lo[1], -2.0 * rb],
                 upper: [hi[0], hi[1], 0.0],
-                periodic: [false; 3],
+                periodic: [periodic, periodic, false],
             };
             let made = tiling.spheres(&extent, "floor")?;
             let first = s.spheres.len();
@@ -394,7 +438,7 @@ fn impact(
         [hi[0], hi[1], 10.0 * r + 2.5 * rb],
         dt,
     );
-    add_floor(&mut s, floor, lo, hi, [0.0, 0.0], r)?;
+    let floor_wall = add_floor(&mut s, floor, lo, hi, [0.0, 0.0], r, false)?;
     let th = angle.to_radians();
     let (vn, vt) = (c.speed * th.cos(), c.speed * th.sin());
     let gap = 0.05 * r;
@@ -415,7 +459,7 @@ fn impact(
             *first_body += 1;
         }
     }
-    s.friction = c.friction_setup(s.walls.len(), &[]);
+    s.friction = c.friction_setup(&s, floor_wall, &[]);
     s.collisions = true;
     let mut sim = Simulation::new(s, 1)?;
     // Until the sphere has left every contact, moving away, and the log
@@ -524,8 +568,9 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
         [side, side],
         [0.5 * side, 0.5 * side],
         r,
+        false,
     )?;
-    s.friction = c.friction_setup(s.walls.len(), &[0, 1, 2, 3]);
+    s.friction = c.friction_setup(&s, floor_wall, &[0, 1, 2, 3]);
     let threads = if n >= 5000 { 2 } else { 1 };
     let mut sim = Simulation::new(s, threads)?;
     // The fall from the top of the insertion region, then the settling.
@@ -608,6 +653,10 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
         pressure_fluctuation: var.sqrt() / mean,
         boundary_forces,
         kinetic_energy: kinetic,
+        fell_through: match floor {
+            Floor::Particles { .. } => free.iter().filter(|p| p[2] < -rb).count(),
+            _ => 0,
+        },
         spheres,
         floor_spheres,
     })
@@ -641,10 +690,18 @@ pub fn run(
         } else {
             None
         };
+        let chute = match &c.chute {
+            Some(cc) => Some(match chute::plan(c, cc, floor) {
+                Ok(plan) => Ok(chute::run(c, cc, floor, &plan)?),
+                Err(why) => Err(why),
+            }),
+            None => None,
+        };
         out.push(FloorResult {
             floor,
             impacts,
             bed,
+            chute,
             dt: c.dt(),
         });
     }

@@ -22,6 +22,25 @@
 //!   so that the normal impulse is ∫|F_n| dt, which the sliding limit
 //!   assumes), k_t = 8 G* √(R h) (G* = E/(2(1+ν))/(2(2 − ν))), tangential
 //!   damping η_t = 2 √(5/6) ξ √(k_t m).
+//!
+//! **The Coulomb boundary with a dashpot** (the 1.4e-3 gap of session 4,
+//! found in session 5). While the contact unloads, μ F_n can fall faster
+//! than the spring relaxes, so the spring rides on the limit, cut back at
+//! every instant. The engine (LIGGGHTS `tangential_model_history`) moves
+//! the spring by the slip first and then compares, so there it slides:
+//! F_t = μ F_n, no dashpot. A reference that cuts δ after each step and
+//! then tests the cut spring with `k_t |δ| > μ F_n` finds equality, calls
+//! it sticking and adds −η_t v_slip (capped): a different selection on the
+//! boundary of the same differential inclusion. The two agree exactly
+//! without damping (e = 1: 1e-8 at every angle) and differ by 1.3e-3 in e_t
+//! at 5° and 2.9e-4 at 30° with e = 0.98, both converged; the trace at 5°
+//! parts at 78 % of the contact, where the spring first meets the falling
+//! limit. The reference now takes the engine's selection in its continuous
+//! form: on the boundary it slides while d(k_t |δ|)/dt > d(μ F_n)/dt under
+//! dδ/dt = v_slip, with dF_n/dt = (3/2) k h^(1/2) ḣ + γ (ḣ²/(4 h^(3/4)) +
+//! h^(1/4) ḧ) and dk_t/dt = 4 G* √R ḣ/√h. Neither selection is "the"
+//! Mindlin theory, which has no dashpot: this is LIGGGHTS's (and EDEM's)
+//! damped Hertz–Mindlin, the model the engine claims.
 
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::{
@@ -71,7 +90,7 @@ fn reference(theta: f64) -> (f64, f64, f64) {
     let g_star = E / (2.0 * (1.0 + NU)) / (2.0 * (2.0 - NU));
     let vn0 = SPEED * theta.cos();
     let vt0 = SPEED * theta.sin();
-    // Converged: T_c/200,000 changes e_t by < 2e-6 (measured).
+    // Converged: T_c/200,000 changes e_t by < 1e-6 (measured, 7e-7 at 5°).
     let dt = contact_time(vn0) / 20_000.0;
     // y = [h, ḣ, v_t, ω, δ]; ḣ > 0 approaching.
     let forces = |y: [f64; 5]| -> (f64, f64, f64) {
@@ -81,7 +100,28 @@ fn reference(theta: f64) -> (f64, f64, f64) {
         let slip = y[2] - R * y[3];
         let limit = MU * fn_.abs();
         let mut delta = y[4];
-        let ft = if kt * delta.abs() > limit {
+        // On the Coulomb boundary (the spring was cut to it after the last
+        // step), sliding goes on if the spring would outgrow the limit
+        // under sticking, d(k_t |δ|)/dt > d(μ F_n)/dt with dδ/dt = slip:
+        // the continuous form of the engine's (LIGGGHTS's) order, which
+        // moves the spring by the slip first and then compares. Testing
+        // the cut spring alone (`>`) would call it sticking and add the
+        // dashpot there (module doc).
+        let on_boundary = delta != 0.0 && h > 0.0 && kt * delta.abs() >= limit * (1.0 - 1e-12);
+        let outgrows = on_boundary && {
+            let rate_n = y[1];
+            let elastic_damped = k * h * h.sqrt() + gamma * h.sqrt().sqrt() * rate_n;
+            let limit_rate = if elastic_damped > 0.0 {
+                let accel_n = -elastic_damped / m;
+                MU * (1.5 * k * h.sqrt() * rate_n
+                    + gamma * (0.25 * rate_n * rate_n / h.powf(0.75) + h.sqrt().sqrt() * accel_n))
+            } else {
+                0.0
+            };
+            let kt_rate = 4.0 * g_star * R.sqrt() * rate_n / h.sqrt();
+            kt_rate * delta.abs() + kt * delta.signum() * slip > limit_rate
+        };
+        let ft = if kt * delta.abs() > limit || outgrows {
             delta = delta.signum() * limit / kt;
             -kt * delta
         } else {
@@ -194,7 +234,7 @@ fn test4_against_the_independent_integration_and_the_sliding_limit() {
         let theta = f64::to_radians(deg);
         let vt0 = SPEED * theta.sin();
         let (rn, rt, rw) = reference(theta);
-        let (en, et, ew) = engine(theta, 2000.0);
+        let (en, et, ew) = engine(theta, 100_000.0);
         let et_ref = tangential_restitution(vt0, rt, rw);
         let et_eng = tangential_restitution(vt0, et, ew);
         println!("{deg},{et_eng},{et_ref},{ew},{rw}");
@@ -206,7 +246,7 @@ fn test4_against_the_independent_integration_and_the_sliding_limit() {
             "{deg}°: v_n' {en} vs {rn} m/s"
         );
         worst_et = worst_et.max((et_eng - et_ref).abs());
-        worst_w = worst_w.max((ew - rw).abs() / rw.abs());
+        worst_w = worst_w.max(R * (ew - rw).abs() / vt0);
         // Gross sliding (tan θ > 3.5 μ (1 + e) = 0.638, θ > 32.5°, with a
         // margin for the spring's build-up): the analytical limit, with the
         // run's own normal restitution; the engine transmits exactly μ F_n
@@ -226,14 +266,15 @@ fn test4_against_the_independent_integration_and_the_sliding_limit() {
             );
         }
     }
-    // The engine at Δt = T_c/2000 against the reference. Measured: the
-    // engine converges (T_c/2000 → T_c/10,000 moves e_t by < 7e-5 except
-    // at 2°, 7e-6 there) but not quite onto the reference where sticking
-    // and sliding alternate: |Δe_t| = 1.3e-3 at 5°, 2.9e-4 at 30°, 2e-5
-    // elsewhere; Δω'/ω' = 7.6e-3 at 5°, 2.6e-4 at 30°. The cause is not
-    // found (doubtful: the order of the Coulomb cut within the step); the
-    // bounds below are those measurements with a margin of 1.5.
-    println!("worst |Δe_t| = {worst_et:e}, worst relative Δω' = {worst_w:e}");
-    assert!(worst_et < 2e-3, "{worst_et}");
-    assert!(worst_w < 1.2e-2, "{worst_w}");
+    // The engine at Δt = T_c/100,000 against the reference, 1e-6 of the
+    // incident tangential speed, the bound, on e_t and on R ω'.
+    // Measured: |Δe_t| ≤ 4.8e-7 (2°), R |Δω'|/v_t ≤ 3.4e-7. What is left is
+    // the engine's time step: it converges at first order (the dashpots
+    // see the half-step velocity, and η_t ∝ h^(1/4) has an unbounded slope
+    // at the onset), e_t at 5° moving by 6.9e-5 from T_c/2000 to /20,000,
+    // 5e-6 from there to /100,000, and /200,000 is 3.7e-7 from /4,000,000;
+    // the reference moves by 7e-7 from T_c/20,000 to /200,000.
+    println!("worst |Δe_t| = {worst_et:e}, worst R|Δω'|/v_t = {worst_w:e}");
+    assert!(worst_et < 1e-6, "{worst_et}");
+    assert!(worst_w < 1e-6, "{worst_w}");
 }

@@ -6,4 +6,5 @@ pub mod contacts;
 pub mod friction;
 pub mod integrate;
 pub mod kinks;
+pub mod spring_energy;
 pub mod walls;

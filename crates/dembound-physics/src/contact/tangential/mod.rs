@@ -385,6 +385,42 @@ impl FrictionPair {
         f
     }
 
+    /// Energy held by the contact's springs at overlap `overlap` (m), J:
+    /// ½ k_t(h) |δ|² for the tangential displacement `shear` (m) and
+    /// ½ |M_r|²/k_r for the rolling spring's torque `rolling` (N m),
+    /// k_r = 2.25 k_n μ_r² R_eff² with k_n the normal law's secant
+    /// stiffness ([`super::rolling::Epsd2`]). The tangential term is the
+    /// spring's potential while k_t is constant (linear; Mindlin at a fixed
+    /// overlap): a Mindlin spring whose overlap changes does work
+    /// −½ (dk_t/dh) |δ|² dh that no potential holds (LIGGGHTS and LAMMPS
+    /// report the same ½ F_t²/k_t).
+    pub fn spring_energy(
+        &self,
+        law: &PairLaw,
+        overlap: f64,
+        shear: &[f64; 3],
+        rolling: &[f64; 3],
+    ) -> f64 {
+        if overlap <= 0.0 {
+            return 0.0;
+        }
+        let k_t = self.tangential.stiffness(overlap);
+        let mut e = 0.5 * k_t * dot(*shear, *shear);
+        let m2 = dot(*rolling, *rolling);
+        if m2 > 0.0 && self.rolling.coefficient > 0.0 {
+            let secant = law
+                .normal()
+                .force(overlap, 0.0, &super::ContactHistory::default())
+                / overlap;
+            let r = self.rolling.radius * self.rolling.coefficient;
+            let k_r = 2.25 * secant * r * r;
+            if k_r > 0.0 {
+                e += 0.5 * m2 / k_r;
+            }
+        }
+        e
+    }
+
     /// Rolling-resistance torque on body 1 (N m) at overlap `overlap` (m)
     /// with normal force `normal_force` (N), for the relative angular
     /// velocity ω₁ − ω₂ (rad/s) of bodies of effective rolling inertia

@@ -226,3 +226,47 @@ fn sliding_with_damping_transmits_exactly_the_limit_along_the_slip() {
         assert!(shear[0] > 0.0);
     }
 }
+
+#[test]
+fn spring_energy_closed_forms() {
+    // Tangential: ½ k_t(h) |δ|² (Mindlin k_t = 8 G* √(R h)); rolling:
+    // ½ |M_r|²/k_r, k_r = 2.25 (F_n(h)/h) μ_r² R² with Hertz F_n = k h^(3/2),
+    // k = E_eff √R. A few roundings: 1e-14.
+    let (law, f) = setup(
+        NormalLaw::Hertz,
+        Damping::NONE,
+        TangentialKind::Mindlin,
+        0.5,
+    );
+    let h: f64 = 2.0e-6;
+    let r = 1.0e-3;
+    let shear = [3.0e-7, -4.0e-7, 0.0];
+    let k_t = 8.0 * effective_shear_modulus(&GLASS, &GLASS) * (r * h).sqrt();
+    let expected = 0.5 * k_t * 25.0e-14;
+    let e = f.spring_energy(&law, h, &shear, &[0.0; 3]);
+    assert!((e / expected - 1.0).abs() < 1e-14, "{e} vs {expected}");
+    // Apart: nothing stored.
+    assert_eq!(f.spring_energy(&law, -1.0e-9, &shear, &[0.0; 3]), 0.0);
+    // Rolling spring.
+    let m = GLASS.sphere_mass(r);
+    let pair = PairProperties::sphere_plane(r, m, &GLASS, &GLASS);
+    let mu_r = 0.2;
+    let f = FrictionModel {
+        tangential: TangentialKind::Mindlin,
+        friction: 0.5,
+        rolling_friction: mu_r,
+    }
+    .pair(
+        &law,
+        &pair,
+        effective_shear_modulus(&GLASS, &GLASS),
+        0.5,
+        mu_r,
+    );
+    let k = effective_modulus(&GLASS, &GLASS) * r.sqrt();
+    let k_r = 2.25 * (k * h.sqrt()) * mu_r * mu_r * r * r;
+    let torque = [0.0, 2.0e-6, 0.0];
+    let e = f.spring_energy(&law, h, &[0.0; 3], &torque);
+    let expected = 0.5 * 4.0e-12 / k_r;
+    assert!((e / expected - 1.0).abs() < 1e-14, "{e} vs {expected}");
+}

@@ -1,0 +1,114 @@
+//! Energy held by the friction springs (issue 13): the tangential spring
+//! ½ k_t |δ|² and the rolling spring ½ |M_r|²/k_r of every touching pair
+//! and sphere–plane contact, at the bodies' current state
+//! ([`dembound_physics::contact::tangential::FrictionPair::spring_energy`]).
+//! Part of the observables' elastic energy, so that an elastic contact
+//! that sticks conserves kinetic + elastic + potential energy.
+
+use super::contacts::{extended, touching, LawTable};
+use super::friction::{FrictionTable, PairShear, WallShear};
+use super::walls::{plane_overlap, PlaneWall};
+use crate::bodies::Bodies;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+use crate::parallel::Workers;
+
+fn halves(s: &[f64; 6]) -> ([f64; 3], [f64; 3]) {
+    ([s[0], s[1], s[2]], [s[3], s[4], s[5]])
+}
+
+/// Σ over touching pairs and sphere–plane contacts, J. Sums per body in
+/// fixed chunks ([`Workers::sum`]): the same bits on any thread count.
+#[allow(clippy::too_many_arguments)]
+pub fn spring_energy(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    laws: &LawTable,
+    friction: &FrictionTable,
+    shear: &PairShear,
+    planes: &[PlaneWall],
+    wall_shear: &[WallShear],
+    workers: &Workers,
+) -> f64 {
+    let n = bodies.len();
+    let np = planes.len();
+    let pairs_ok = list.start.len() == n + 1
+        && shear.main.len() == list.j.len()
+        && shear.extra.len() == list.extra.len();
+    let walls_ok = np > 0 && wall_shear.len() == n * np;
+    let [main] = workers.sum(n, |i| {
+        let mut e = 0.0;
+        if pairs_ok {
+            for k in list.start[i] as usize..list.start[i + 1] as usize {
+                let s = &shear.main[k];
+                if *s == [0.0; 6] {
+                    continue;
+                }
+                let j = list.j[k] as usize;
+                if let Some(g) = touching(
+                    bodies.position[i],
+                    bodies.velocity[i],
+                    bodies.radius[i],
+                    bodies.position[j],
+                    bodies.velocity[j],
+                    bodies.radius[j],
+                ) {
+                    let (t, r) = halves(s);
+                    let law = laws.pair(bodies, i, j);
+                    e += friction
+                        .pair(laws, bodies, i, j)
+                        .spring_energy(&law, g.overlap, &t, &r);
+                }
+            }
+        }
+        if walls_ok && !bodies.fixed[i] {
+            for (p, plane) in planes.iter().enumerate() {
+                let s = &wall_shear[i * np + p].shear;
+                if *s == [0.0; 6] {
+                    continue;
+                }
+                let (h, _) = plane_overlap(
+                    plane,
+                    bodies.position[i],
+                    bodies.velocity[i],
+                    bodies.radius[i],
+                );
+                if h > 0.0 {
+                    let (t, r) = halves(s);
+                    let law = laws.plane(bodies, i, p);
+                    e += friction
+                        .plane(laws, bodies, i, p)
+                        .spring_energy(&law, h, &t, &r);
+                }
+            }
+        }
+        [e]
+    });
+    let mut extra = 0.0;
+    if pairs_ok {
+        for (k, &(i, j)) in list.extra.iter().enumerate() {
+            let s = &shear.extra[k];
+            if *s == [0.0; 6] {
+                continue;
+            }
+            let (i, j) = (i as usize, j as usize);
+            let (xj, vj, owner) = extended(bodies, ghosts, j);
+            if let Some(g) = touching(
+                bodies.position[i],
+                bodies.velocity[i],
+                bodies.radius[i],
+                xj,
+                vj,
+                bodies.radius[owner],
+            ) {
+                let (t, r) = halves(s);
+                let law = laws.pair(bodies, i, owner);
+                extra += friction
+                    .pair(laws, bodies, i, owner)
+                    .spring_energy(&law, g.overlap, &t, &r);
+            }
+        }
+    }
+    main + extra
+}
