@@ -355,7 +355,9 @@ impl Pipeline {
         }
         world.histories = PairHistories { main, extra };
         if world.friction.is_some() {
-            world.shear = friction::restore_shear(bodies, &world.ghosts, list, &saved_shear);
+            let rolling = world.friction.as_ref().is_some_and(|t| t.rolling());
+            world.shear =
+                friction::restore_shear(bodies, &world.ghosts, list, &saved_shear, rolling);
         }
         // Tracked contacts that are still open but no longer listed (they
         // separated by more than the skin within one step) stay listed, as
@@ -402,7 +404,7 @@ impl Pipeline {
                 world.histories.extra.push(ContactHistory::default());
             }
             if world.friction.is_some() {
-                world.shear.extra.push([0.0; 6]);
+                world.shear.push_extra();
             }
             if let Some(tracks) = world.tracks.as_mut() {
                 tracks.extra.push(t);

@@ -959,7 +959,8 @@ impl Simulation {
         if w.friction.is_some() {
             let saved: HashMap<(u32, u32), friction::Springs> =
                 c.pair_shear.iter().map(|&(a, b, s)| ((a, b), s)).collect();
-            w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved);
+            let rolling = w.friction.as_ref().is_some_and(|t| t.rolling());
+            w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved, rolling);
         }
         let np = w.planes.len();
         let at = w.bodies.index_of_ids();
