@@ -559,124 +559,42 @@ pub fn add_pair_forces(
     );
     // Rows lie within j (start is nondecreasing, the list's construction).
     assert!(list.start[n] as usize <= list.j.len());
-    let f_ptr = SharedMut(force.as_mut_ptr());
-    let t_ptr = SharedMut(torque.as_mut_ptr());
-    let h_ptr = SharedMut(histories.main.as_mut_ptr());
-    let s_ptr = SharedMut(shear.main.as_mut_ptr());
-    let r_ptr = SharedMut(shear.roll_main.as_mut_ptr());
-    let blocks = list.blocks.len().saturating_sub(1);
-    // Local slices: the compiler cannot hoist loads of the vectors' headers
-    // past the raw-pointer writes below (as the frictionless loop).
-    let (position, velocity, radius, spin, inverse_inertia, class) = (
-        &bodies.position[..],
-        &bodies.velocity[..],
-        &bodies.radius[..],
-        &bodies.angular_velocity[..],
-        &bodies.inverse_inertia[..],
-        &bodies.class[..],
-    );
-    let (start, js) = (&list.start[..], &list.j[..]);
-    // The class table (one row per class pair) when there is one.
-    let (table, classes) = (&friction.pairs[..], friction.classes);
-    let run_block = |b: usize| {
-        let (f_ptr, t_ptr, h_ptr, s_ptr, r_ptr) = (f_ptr, t_ptr, h_ptr, s_ptr, r_ptr);
-        let lo = list.blocks[b] as usize;
-        let hi = list.blocks[b + 1] as usize;
-        for i in lo..hi {
-            let (s, e) = (start[i] as usize, start[i + 1] as usize);
-            if s == e {
-                continue;
-            }
-            let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
-            let a = Side {
-                v: vi,
-                w: spin[i],
-                r: ri,
-                inv_inertia: inverse_inertia[i],
-            };
-            let ci = class[i] as usize;
-            let mut fi = [0.0; 3];
-            let mut ti = [0.0; 3];
-            for k in s..e {
-                // SAFETY (the unchecked reads): k < js.len() (rows lie
-                // within j, asserted via start[n]), and every j < n (the
-                // list's construction); body arrays of length n asserted
-                // above.
-                let j = unsafe { *js.get_unchecked(k) } as usize;
-                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
-                // SAFETY (every pointer below): entry k belongs to row i,
-                // which only this block visits; j lies in this block or the
-                // next, and blocks of one parity are two apart (the
-                // frictionless loop's argument, `contacts::add_pair_forces`).
-                let sh = unsafe { &mut *s_ptr.0.add(k) };
-                // The velocity is read only for touching pairs.
-                let vj = || unsafe { *velocity.get_unchecked(j) };
-                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
-                    let mut scratch = NO_HISTORY;
-                    let hist = if keep {
-                        unsafe { &mut *h_ptr.0.add(k) }
-                    } else {
-                        &mut scratch
-                    };
-                    let b = unsafe {
-                        Side {
-                            v: *velocity.get_unchecked(j),
-                            w: *spin.get_unchecked(j),
-                            r: rj,
-                            inv_inertia: *inverse_inertia.get_unchecked(j),
-                        }
-                    };
-                    let mut computed = None;
-                    let fl = if classes > 0 {
-                        // SAFETY: classes are < `classes` when the table
-                        // exists (`FrictionTable::new`), so the row is in
-                        // the table of classes² rows.
-                        unsafe {
-                            table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize)
-                        }
-                    } else {
-                        friction.pair(laws, bodies, i, j, &mut computed)
-                    };
-                    let roll = if rolling {
-                        Some(unsafe { &mut *r_ptr.0.add(k) })
-                    } else {
-                        None
-                    };
-                    let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, dt);
-                    sub(&mut fi, fj);
-                    add(&mut ti, tqi);
-                    unsafe {
-                        add(&mut *f_ptr.0.add(j), fj);
-                        add(&mut *t_ptr.0.add(j), tqj);
-                    }
-                } else {
-                    // An untouched pair: relax its springs (a read and a
-                    // compare when they are relaxed already).
-                    if keep {
-                        let hist = unsafe { &mut *h_ptr.0.add(k) };
-                        if *hist != ContactHistory::default() {
-                            *hist = ContactHistory::default();
-                        }
-                    }
-                    if *sh != [0.0; 3] {
-                        *sh = [0.0; 3];
-                    }
-                    if rolling {
-                        let r = unsafe { &mut *r_ptr.0.add(k) };
-                        if *r != [0.0; 3] {
-                            *r = [0.0; 3];
-                        }
-                    }
-                }
-            }
-            // SAFETY: i is in this block.
-            unsafe {
-                add(&mut *f_ptr.0.add(i), fi);
-                add(&mut *t_ptr.0.add(i), ti);
-            }
-        }
+    let (spin, inverse_inertia) = (&bodies.angular_velocity[..], &bodies.inverse_inertia[..]);
+    let main = MainPairs {
+        bodies,
+        laws,
+        friction,
+        list,
+        position: &bodies.position,
+        velocity: &bodies.velocity,
+        radius: &bodies.radius,
+        spin,
+        inverse_inertia,
+        class: &bodies.class,
+        start: &list.start,
+        js: &list.j,
+        table: &friction.pairs,
+        classes: friction.classes,
+        force: SharedMut(force.as_mut_ptr()),
+        torque: SharedMut(torque.as_mut_ptr()),
+        history: SharedMut(histories.main.as_mut_ptr()),
+        shear: SharedMut(shear.main.as_mut_ptr()),
+        roll: SharedMut(shear.roll_main.as_mut_ptr()),
+        dt,
     };
-    run_blocks(workers, blocks, run_block);
+    // One loop per setting, so that the per-contact code has no branch on
+    // them (the compiler does not unswitch the loop by itself).
+    let table = friction.classes > 0;
+    match (keep, rolling, table) {
+        (false, false, true) => main.run::<false, false, true>(workers),
+        (false, false, false) => main.run::<false, false, false>(workers),
+        (false, true, true) => main.run::<false, true, true>(workers),
+        (false, true, false) => main.run::<false, true, false>(workers),
+        (true, false, true) => main.run::<true, false, true>(workers),
+        (true, false, false) => main.run::<true, false, false>(workers),
+        (true, true, true) => main.run::<true, true, true>(workers),
+        (true, true, false) => main.run::<true, true, false>(workers),
+    }
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = extended(bodies, ghosts, j);
@@ -730,6 +648,152 @@ pub fn add_pair_forces(
                 if let Some(r) = roll {
                     *r = [0.0; 3];
                 }
+            }
+        }
+    }
+}
+
+/// What the loop over the list's main pairs reads and writes (slices, so
+/// that the compiler does not reload the vectors' headers after the raw
+/// writes, as in the frictionless loop).
+struct MainPairs<'a> {
+    bodies: &'a Bodies,
+    laws: &'a LawTable,
+    friction: &'a FrictionTable,
+    list: &'a PairList,
+    position: &'a [[f64; 3]],
+    velocity: &'a [[f64; 3]],
+    radius: &'a [f64],
+    spin: &'a [[f64; 3]],
+    inverse_inertia: &'a [f64],
+    class: &'a [u16],
+    start: &'a [u32],
+    js: &'a [u32],
+    /// The class table (one row per class pair) when there is one.
+    table: &'a [FrictionLaw],
+    classes: usize,
+    force: SharedMut<[f64; 3]>,
+    torque: SharedMut<[f64; 3]>,
+    history: SharedMut<ContactHistory>,
+    shear: SharedMut<[f64; 3]>,
+    roll: SharedMut<[f64; 3]>,
+    dt: f64,
+}
+
+impl MainPairs<'_> {
+    /// Every block of main pairs. `KEEP`: the normal law keeps histories;
+    /// `ROLL`: rolling springs are kept; `TABLE`: laws come from the class
+    /// table. The caller has checked the lengths (`add_pair_forces`).
+    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, workers: &Workers) {
+        let blocks = self.list.blocks.len().saturating_sub(1);
+        run_blocks(workers, blocks, |b| self.block::<KEEP, ROLL, TABLE>(b));
+    }
+
+    #[inline(always)]
+    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+        let (position, velocity, radius, spin, inverse_inertia, class) = (
+            self.position,
+            self.velocity,
+            self.radius,
+            self.spin,
+            self.inverse_inertia,
+            self.class,
+        );
+        let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
+        let lo = self.list.blocks[b] as usize;
+        let hi = self.list.blocks[b + 1] as usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s == e {
+                continue;
+            }
+            let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+            let a = Side {
+                v: vi,
+                w: spin[i],
+                r: ri,
+                inv_inertia: inverse_inertia[i],
+            };
+            let ci = if TABLE { class[i] as usize } else { 0 };
+            let mut fi = [0.0; 3];
+            let mut ti = [0.0; 3];
+            for k in s..e {
+                // SAFETY (the unchecked reads): k < js.len() (rows lie
+                // within j, asserted via start[n]), and every j < n (the
+                // list's construction); body arrays of length n asserted
+                // by the caller.
+                let j = unsafe { *js.get_unchecked(k) } as usize;
+                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+                // SAFETY (every pointer below): entry k belongs to row i,
+                // which only this block visits; j lies in this block or the
+                // next, and blocks of one parity are two apart (the
+                // frictionless loop's argument, `contacts::add_pair_forces`).
+                let sh = unsafe { &mut *self.shear.0.add(k) };
+                // The velocity is read only for touching pairs.
+                let vj = || unsafe { *velocity.get_unchecked(j) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    let mut scratch = NO_HISTORY;
+                    let hist = if KEEP {
+                        unsafe { &mut *self.history.0.add(k) }
+                    } else {
+                        &mut scratch
+                    };
+                    let b = unsafe {
+                        Side {
+                            v: *velocity.get_unchecked(j),
+                            w: *spin.get_unchecked(j),
+                            r: rj,
+                            inv_inertia: *inverse_inertia.get_unchecked(j),
+                        }
+                    };
+                    let mut computed = None;
+                    let fl = if TABLE {
+                        // SAFETY: classes are < `classes` when the table
+                        // exists (`FrictionTable::new`), so the row is in
+                        // the table of classes² rows.
+                        unsafe {
+                            table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize)
+                        }
+                    } else {
+                        self.friction
+                            .pair(self.laws, self.bodies, i, j, &mut computed)
+                    };
+                    let roll = if ROLL {
+                        Some(unsafe { &mut *self.roll.0.add(k) })
+                    } else {
+                        None
+                    };
+                    let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                    sub(&mut fi, fj);
+                    add(&mut ti, tqi);
+                    unsafe {
+                        add(&mut *self.force.0.add(j), fj);
+                        add(&mut *self.torque.0.add(j), tqj);
+                    }
+                } else {
+                    // An untouched pair: relax its springs (a read and a
+                    // compare when they are relaxed already).
+                    if KEEP {
+                        let hist = unsafe { &mut *self.history.0.add(k) };
+                        if *hist != ContactHistory::default() {
+                            *hist = ContactHistory::default();
+                        }
+                    }
+                    if *sh != [0.0; 3] {
+                        *sh = [0.0; 3];
+                    }
+                    if ROLL {
+                        let r = unsafe { &mut *self.roll.0.add(k) };
+                        if *r != [0.0; 3] {
+                            *r = [0.0; 3];
+                        }
+                    }
+                }
+            }
+            // SAFETY: i is in this block.
+            unsafe {
+                add(&mut *self.force.0.add(i), fi);
+                add(&mut *self.torque.0.add(i), ti);
             }
         }
     }
