@@ -716,7 +716,7 @@ impl Simulation {
                 &w.planes,
                 &w.laws,
                 table,
-                &w.wall_contacts.history,
+                &w.wall_contacts,
                 &w.wall_shear,
             ),
             None => Vec::new(),

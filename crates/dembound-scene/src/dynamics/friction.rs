@@ -29,7 +29,7 @@ use super::contacts::{
     extended, run_blocks, touching, touching_lazy, LawTable, PairGeometry, PairHistories, NO_CLASS,
     NO_HISTORY,
 };
-use super::walls::{plane_overlap, PlaneWall, WallContactsMut};
+use super::walls::{plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::bodies::Bodies;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
@@ -394,7 +394,10 @@ pub fn restore_shear(
     let mut main = vec![[0.0; 3]; list.j.len()];
     let mut extra = vec![[0.0; 3]; list.extra.len()];
     let (mut roll_main, mut roll_extra) = if rolling {
-        (vec![[0.0; 3]; list.j.len()], vec![[0.0; 3]; list.extra.len()])
+        (
+            vec![[0.0; 3]; list.j.len()],
+            vec![[0.0; 3]; list.extra.len()],
+        )
     } else {
         (Vec::new(), Vec::new())
     };
@@ -476,9 +479,7 @@ fn contact(
         a.v[2] - b.v[2] + spin[2],
     ];
     let vt = tangential(slip, n);
-    let ft = fl
-        .friction
-        .tangential_force(g.overlap, f, n, vt, dt, shear);
+    let ft = fl.friction.tangential_force(g.overlap, f, n, vt, dt, shear);
     let nxf = cross(n, ft);
     let mut ti = scale(a.r, nxf);
     let mut tj = scale(b.r, nxf);
@@ -547,7 +548,8 @@ pub fn add_pair_forces(
     assert!(shear.main.len() == list.j.len() && shear.extra.len() == list.extra.len());
     assert!(
         !rolling
-            || (shear.roll_main.len() == list.j.len() && shear.roll_extra.len() == list.extra.len())
+            || (shear.roll_main.len() == list.j.len()
+                && shear.roll_extra.len() == list.extra.len())
     );
     assert!(
         bodies.position.len() == n
@@ -686,7 +688,28 @@ impl MainPairs<'_> {
     /// table. The caller has checked the lengths (`add_pair_forces`).
     fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, workers: &Workers) {
         let blocks = self.list.blocks.len().saturating_sub(1);
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (just checked).
+            run_blocks(workers, blocks, |b| unsafe {
+                self.block_avx2::<KEEP, ROLL, TABLE>(b)
+            });
+            return;
+        }
         run_blocks(workers, blocks, |b| self.block::<KEEP, ROLL, TABLE>(b));
+    }
+
+    /// [`Self::block`] compiled for AVX2: three-operand (VEX) arithmetic,
+    /// about a fifth fewer instructions than the baseline's SSE2 copies.
+    /// The same operations in the same order, and no fused multiply–add
+    /// (Rust does not contract a·b + c): the same bits as the baseline.
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    unsafe fn block_avx2<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+        self.block::<KEEP, ROLL, TABLE>(b)
     }
 
     #[inline(always)]
@@ -914,16 +937,23 @@ pub fn plane_tangential_forces(
     planes: &[PlaneWall],
     laws: &LawTable,
     friction: &FrictionTable,
-    histories: &[ContactHistory],
+    walls: &WallContacts,
     shear: &[WallShear],
 ) -> Vec<[f64; 3]> {
     let np = planes.len();
+    let n = bodies.len();
     let mut out = vec![[0.0; 3]; np];
-    if np == 0 || shear.len() != bodies.len() * np {
+    if np == 0 || shear.len() != n * np || walls.near.len() != n || walls.touching.len() != n {
         return out;
     }
-    for i in 0..bodies.len() {
+    for i in 0..n {
         if bodies.fixed[i] {
+            continue;
+        }
+        // Only the planes the force pass looks at: a body touches no other
+        // (the list is rebuilt before it could), so the sum is the same.
+        let mut todo = walls.near[i] | walls.touching[i];
+        if todo == 0 {
             continue;
         }
         let (x, v, w, r) = (
@@ -932,7 +962,10 @@ pub fn plane_tangential_forces(
             bodies.angular_velocity[i],
             bodies.radius[i],
         );
-        for (p, plane) in planes.iter().enumerate() {
+        while todo != 0 {
+            let p = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            let plane = &planes[p];
             let (h, rate) = plane_overlap(plane, x, v, r);
             if h <= 0.0 {
                 continue;
@@ -940,7 +973,7 @@ pub fn plane_tangential_forces(
             let mut computed = None;
             let fl = friction.plane(laws, bodies, i, p, &mut computed);
             let (law, fr) = (&fl.law, &fl.friction);
-            let hist = histories.get(i * np + p).unwrap_or(&NO_HISTORY);
+            let hist = walls.history.get(i * np + p).unwrap_or(&NO_HISTORY);
             let fw = law.force(h, rate, hist);
             let n = scale(-1.0, plane.normal);
             let s = cross(scale(r, w), n);
