@@ -781,15 +781,21 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
         let (xi, vi, wi) = (c.x.at(i), c.v.at(i), c.spin.at(i));
         let dtfm = half_dt / b.mass[i];
         let dtfi = half_dt * b.inverse_inertia[i];
+        // Kicks and drift on copies, stored once: written and read back
+        // through memory, the halves of a vector store do not forward to
+        // the next load and each body stalled on it. The same operations
+        // in the same order.
+        let (mut x, mut v, mut w, f0, t0) = (*xi, *vi, *wi, *fi, *ti);
         if c.pending {
-            integrate::half_kick(vi, *fi, dtfm);
-            integrate::half_kick(wi, *ti, dtfi);
+            integrate::half_kick(&mut v, f0, dtfm);
+            integrate::half_kick(&mut w, t0, dtfi);
         }
-        integrate::half_kick(vi, *fi, dtfm);
-        integrate::half_kick(wi, *ti, dtfi);
-        integrate::drift(xi, *vi, c.dt);
-        m = m.max(integrate::displacement2(*xi, c.reference[i]));
-        let (f, t) = friction::body_force(&input, i, (*xi, *vi, *wi), &c.walls, c.wall_shear);
+        integrate::half_kick(&mut v, f0, dtfm);
+        integrate::half_kick(&mut w, t0, dtfi);
+        integrate::drift(&mut x, v, c.dt);
+        (*xi, *vi, *wi) = (x, v, w);
+        m = m.max(integrate::displacement2(x, c.reference[i]));
+        let (f, t) = friction::body_force(&input, i, (x, v, w), &c.walls, c.wall_shear);
         *fi = f;
         *ti = t;
     }

@@ -329,7 +329,8 @@ impl FrictionPair {
     ) -> [f64; 3] {
         let k_t = self.tangential.stiffness(overlap);
         // 1. The contact frame turned: δ back into the tangent plane, its
-        // length kept (one root: √(|δ|²/|p|²), not |δ|/|p|).
+        // length kept: p = δ − (δ·n) n scaled by |δ|/|p| = 1/√(1 − x), with
+        // x = (δ·n)²/|δ|² the squared sine of the turn since the last step.
         let along = dot(*shear, normal);
         if along != 0.0 {
             let before = dot(*shear, *shear);
@@ -338,11 +339,21 @@ impl FrictionPair {
                 shear[1] - along * normal[1],
                 shear[2] - along * normal[2],
             ];
-            let after = dot(p, p);
-            let scale = if after > 0.0 {
-                (before / after).sqrt()
+            let along2 = along * along;
+            let scale = if along2 < 1.0e-8 * before {
+                // A small turn (every step of a resolved contact):
+                // 1/√(1 − x) = 1 + x/2 to rounding (the next term, 3x²/8,
+                // is below 4e-17). No root and no division after the
+                // normal is known (1/|δ|² depends on the stored spring
+                // only), which shortens each contact's chain of latencies.
+                1.0 + 0.5 * (along2 * (1.0 / before))
             } else {
-                0.0
+                let after = dot(p, p);
+                if after > 0.0 {
+                    (before / after).sqrt()
+                } else {
+                    0.0
+                }
             };
             for x in &mut p {
                 *x *= scale;
