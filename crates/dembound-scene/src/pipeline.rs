@@ -459,7 +459,9 @@ impl Pipeline {
         }
         world.histories = PairHistories { main, extra };
         if world.friction.is_some() {
-            world.shear = friction::restore_shear(bodies, &world.ghosts, list, &saved_shear);
+            let rolling = world.friction.as_ref().is_some_and(|t| t.rolling());
+            world.shear =
+                friction::restore_shear(bodies, &world.ghosts, list, &saved_shear, rolling);
         }
         // Tracked contacts that are still open but no longer listed (they
         // separated by more than the skin within one step) stay listed, as
@@ -506,7 +508,7 @@ impl Pipeline {
                 world.histories.extra.push(ContactHistory::default());
             }
             if world.friction.is_some() {
-                world.shear.extra.push([0.0; 6]);
+                world.shear.push_extra();
             }
             if let Some(tracks) = world.tracks.as_mut() {
                 tracks.extra.push(t);
@@ -834,6 +836,29 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
 /// As [`verlet_chunk`].
 #[inline(never)]
 unsafe fn verlet_chunk_friction(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2 (just checked); the rest as ours.
+        return verlet_chunk_friction_avx2(c, lo, hi);
+    }
+    verlet_chunk_friction_body(c, lo, hi)
+}
+
+/// [`verlet_chunk_friction`] compiled for AVX2 (the same operations in
+/// the same order, no fused multiply–add: the same bits).
+///
+/// # Safety
+/// As [`verlet_chunk`], and the processor must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2")]
+unsafe fn verlet_chunk_friction_avx2(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+    verlet_chunk_friction_body(c, lo, hi)
+}
+
+/// # Safety
+/// As [`verlet_chunk`].
+#[inline(always)]
+unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
     let b = c.bodies;
     let half_dt = 0.5 * c.dt;
     let mut m = 0.0f64;
@@ -860,15 +885,21 @@ unsafe fn verlet_chunk_friction(c: &AdvanceContext, lo: usize, hi: usize) -> f64
         let (xi, vi, wi) = (c.x.at(i), c.v.at(i), c.spin.at(i));
         let dtfm = half_dt / b.mass[i];
         let dtfi = half_dt * b.inverse_inertia[i];
+        // Kicks and drift on copies, stored once: written and read back
+        // through memory, the halves of a vector store do not forward to
+        // the next load and each body stalled on it. The same operations
+        // in the same order.
+        let (mut x, mut v, mut w, f0, t0) = (*xi, *vi, *wi, *fi, *ti);
         if c.pending {
-            integrate::half_kick(vi, *fi, dtfm);
-            integrate::half_kick(wi, *ti, dtfi);
+            integrate::half_kick(&mut v, f0, dtfm);
+            integrate::half_kick(&mut w, t0, dtfi);
         }
-        integrate::half_kick(vi, *fi, dtfm);
-        integrate::half_kick(wi, *ti, dtfi);
-        integrate::drift(xi, *vi, c.dt);
-        m = m.max(integrate::displacement2(*xi, c.reference[i]));
-        let (f, t) = friction::body_force(&input, i, (*xi, *vi, *wi), &c.walls, c.wall_shear);
+        integrate::half_kick(&mut v, f0, dtfm);
+        integrate::half_kick(&mut w, t0, dtfi);
+        integrate::drift(&mut x, v, c.dt);
+        (*xi, *vi, *wi) = (x, v, w);
+        m = m.max(integrate::displacement2(x, c.reference[i]));
+        let (f, t) = friction::body_force(&input, i, (x, v, w), &c.walls, c.wall_shear);
         *fi = f;
         *ti = t;
     }

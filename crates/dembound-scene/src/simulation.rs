@@ -719,7 +719,7 @@ impl Simulation {
                 &w.planes,
                 &w.laws,
                 table,
-                &w.wall_contacts.history,
+                &w.wall_contacts,
                 &w.wall_shear,
             ),
             None => Vec::new(),
@@ -976,7 +976,8 @@ impl Simulation {
         if w.friction.is_some() {
             let saved: HashMap<(u32, u32), friction::Springs> =
                 c.pair_shear.iter().map(|&(a, b, s)| ((a, b), s)).collect();
-            w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved);
+            let rolling = w.friction.as_ref().is_some_and(|t| t.rolling());
+            w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved, rolling);
         }
         let np = w.planes.len();
         let at = w.bodies.index_of_ids();

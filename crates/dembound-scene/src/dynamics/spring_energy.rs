@@ -17,6 +17,19 @@ fn halves(s: &[f64; 6]) -> ([f64; 3], [f64; 3]) {
     ([s[0], s[1], s[2]], [s[3], s[4], s[5]])
 }
 
+/// The tangential and rolling springs of listed pair k (`extra`: of the
+/// extra pairs), `None` when both are relaxed.
+fn pair_springs(shear: &PairShear, k: usize, extra: bool) -> Option<([f64; 3], [f64; 3])> {
+    let (t, r) = if extra {
+        (&shear.extra, &shear.roll_extra)
+    } else {
+        (&shear.main, &shear.roll_main)
+    };
+    let t = t[k];
+    let r = if shear.rolling { r[k] } else { [0.0; 3] };
+    (t != [0.0; 3] || r != [0.0; 3]).then_some((t, r))
+}
+
 /// Σ over touching pairs and sphere–plane contacts, J. Sums per body in
 /// fixed chunks ([`Workers::sum`]): the same bits on any thread count.
 #[allow(clippy::too_many_arguments)]
@@ -41,10 +54,9 @@ pub fn spring_energy(
         let mut e = 0.0;
         if pairs_ok {
             for k in list.start[i] as usize..list.start[i + 1] as usize {
-                let s = &shear.main[k];
-                if *s == [0.0; 6] {
+                let Some((t, r)) = pair_springs(shear, k, false) else {
                     continue;
-                }
+                };
                 let j = list.j[k] as usize;
                 if let Some(g) = touching(
                     bodies.position[i],
@@ -54,11 +66,9 @@ pub fn spring_energy(
                     bodies.velocity[j],
                     bodies.radius[j],
                 ) {
-                    let (t, r) = halves(s);
-                    let law = laws.pair(bodies, i, j);
-                    e += friction
-                        .pair(laws, bodies, i, j)
-                        .spring_energy(&law, g.overlap, &t, &r);
+                    let mut scratch = None;
+                    let fl = friction.pair(laws, bodies, i, j, &mut scratch);
+                    e += fl.friction.spring_energy(&fl.law, g.overlap, &t, &r);
                 }
             }
         }
@@ -76,10 +86,9 @@ pub fn spring_energy(
                 );
                 if h > 0.0 {
                     let (t, r) = halves(s);
-                    let law = laws.plane(bodies, i, p);
-                    e += friction
-                        .plane(laws, bodies, i, p)
-                        .spring_energy(&law, h, &t, &r);
+                    let mut scratch = None;
+                    let fl = friction.plane(laws, bodies, i, p, &mut scratch);
+                    e += fl.friction.spring_energy(&fl.law, h, &t, &r);
                 }
             }
         }
@@ -88,10 +97,9 @@ pub fn spring_energy(
     let mut extra = 0.0;
     if pairs_ok {
         for (k, &(i, j)) in list.extra.iter().enumerate() {
-            let s = &shear.extra[k];
-            if *s == [0.0; 6] {
+            let Some((t, r)) = pair_springs(shear, k, true) else {
                 continue;
-            }
+            };
             let (i, j) = (i as usize, j as usize);
             let (xj, vj, owner) = extended(bodies, ghosts, j);
             if let Some(g) = touching(
@@ -102,11 +110,9 @@ pub fn spring_energy(
                 vj,
                 bodies.radius[owner],
             ) {
-                let (t, r) = halves(s);
-                let law = laws.pair(bodies, i, owner);
-                extra += friction
-                    .pair(laws, bodies, i, owner)
-                    .spring_energy(&law, g.overlap, &t, &r);
+                let mut scratch = None;
+                let fl = friction.pair(laws, bodies, i, owner, &mut scratch);
+                extra += fl.friction.spring_energy(&fl.law, g.overlap, &t, &r);
             }
         }
     }

@@ -24,6 +24,8 @@ impl TangentialSubModel for Mindlin {
 
     #[inline(always)]
     fn stiffness(&self, overlap: f64) -> f64 {
-        self.coefficient * overlap.max(0.0).sqrt()
+        // |h| = h in contact: the same root as the Hertz force of the
+        // pair, which the compiler then takes once.
+        self.coefficient * overlap.abs().sqrt()
     }
 }

@@ -270,11 +270,6 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-#[inline(always)]
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
 impl FrictionPair {
     /// μ of the pair.
     pub fn friction(&self) -> f64 {
@@ -334,17 +329,32 @@ impl FrictionPair {
     ) -> [f64; 3] {
         let k_t = self.tangential.stiffness(overlap);
         // 1. The contact frame turned: δ back into the tangent plane, its
-        // length kept.
+        // length kept: p = δ − (δ·n) n scaled by |δ|/|p| = 1/√(1 − x), with
+        // x = (δ·n)²/|δ|² the squared sine of the turn since the last step.
         let along = dot(*shear, normal);
         if along != 0.0 {
-            let before = norm(*shear);
+            let before = dot(*shear, *shear);
             let mut p = [
                 shear[0] - along * normal[0],
                 shear[1] - along * normal[1],
                 shear[2] - along * normal[2],
             ];
-            let after = norm(p);
-            let scale = if after > 0.0 { before / after } else { 0.0 };
+            let along2 = along * along;
+            let scale = if along2 < 1.0e-8 * before {
+                // A small turn (every step of a resolved contact):
+                // 1/√(1 − x) = 1 + x/2 to rounding (the next term, 3x²/8,
+                // is below 4e-17). No root and no division after the
+                // normal is known (1/|δ|² depends on the stored spring
+                // only), which shortens each contact's chain of latencies.
+                1.0 + 0.5 * (along2 * (1.0 / before))
+            } else {
+                let after = dot(p, p);
+                if after > 0.0 {
+                    (before / after).sqrt()
+                } else {
+                    0.0
+                }
+            };
             for x in &mut p {
                 *x *= scale;
             }
@@ -358,26 +368,34 @@ impl FrictionPair {
         // 3. Coulomb on the spring (LIGGGHTS `tangential_model_history`):
         // sliding when the spring alone exceeds μ |F_n|; the spring is cut
         // back to the limit and the force is the limit, without damping.
+        // Compared squared (both sides ≥ 0), so a sticking contact takes no
+        // root.
         let limit = self.friction * normal_force.abs();
-        let spring = k_t * norm(*shear);
-        if spring > limit {
-            let s = if spring > 0.0 { limit / spring } else { 0.0 };
+        let stretch = dot(*shear, *shear);
+        if k_t * k_t * stretch > limit * limit {
+            // > 0: it exceeds limit² ≥ 0.
+            let spring = k_t * stretch.sqrt();
+            let s = limit / spring;
             for x in shear.iter_mut() {
                 *x *= s;
             }
             return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
         }
         // 4. Sticking: spring and dashpot, the total still capped at μ |F_n|
-        // (the spring kept).
+        // (the spring kept). Undamped, the force is the spring's, within
+        // the limit already.
         let eta = self.damping_coefficient(overlap, k_t);
+        if eta == 0.0 {
+            return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
+        }
         let mut f = [
             -k_t * shear[0] - eta * v[0],
             -k_t * shear[1] - eta * v[1],
             -k_t * shear[2] - eta * v[2],
         ];
-        let magnitude = norm(f);
-        if magnitude > limit {
-            let s = limit / magnitude;
+        let magnitude2 = dot(f, f);
+        if magnitude2 > limit * limit {
+            let s = limit / magnitude2.sqrt();
             for x in &mut f {
                 *x *= s;
             }

@@ -4,6 +4,10 @@ use super::*;
 use crate::contact::{Calibration, ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use crate::material::{effective_modulus, Material, PairProperties};
 
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
 const GLASS: Material = Material {
     density: 2500.0,
     youngs_modulus: 7.0e10,
