@@ -1,7 +1,7 @@
 //! Load balance between the workers of one process: which blocks of the
 //! force loop, and so which bodies, each worker takes. Scheduling only:
 //! the results never depend on it (the force loop's order of additions is
-//! set by the blocks, see `contacts::run_blocks`).
+//! set by the blocks, see `contacts::run_blocks_then`).
 //!
 //! A worker keeps its share from stage to stage (the bodies stay in its
 //! core's cache). The shares start from an estimate (bodies and listed
@@ -217,7 +217,7 @@ mod tests {
 
     /// Runs the shares' orders as workers taking turns one block at a time
     /// (a block runs only when its even neighbours are done, as in
-    /// `contacts::run_blocks`): every block runs once, no worker is stuck.
+    /// `contacts::run_blocks_then`): every block runs once, no worker is stuck.
     fn schedule(cuts: &[usize], count: usize) -> Vec<usize> {
         let orders: Vec<Vec<usize>> = cuts
             .windows(2)

@@ -147,10 +147,7 @@ impl Pipeline {
                 // The fused form does the same operations on each body in
                 // the same order: the same bits. It needs every pair in
                 // the blocks (no extra pairs) and no per-step observers.
-                let fuse = more
-                    && world.tracks.is_none()
-                    && world.friction.is_none()
-                    && world.list.extra.is_empty();
+                let fuse = more && world.tracks.is_none() && world.list.extra.is_empty();
                 if fuse {
                     let moved2 = self.pair_forces_then_advance(world, workers);
                     world.list.rebalance();
@@ -228,7 +225,14 @@ impl Pipeline {
                 && world.bodies.fixed.len() == n
                 && world.bodies.force.len() == n
         );
+        let n_planes = world.planes.len();
+        if world.friction.is_some() {
+            world.bodies.torque.resize(n, [0.0; 3]);
+            world.wall_shear.resize(n * n_planes, WallShear::default());
+        }
         let f = SharedMut::new(&mut world.bodies.force);
+        let torque = SharedMut::new(&mut world.bodies.torque);
+        let spin = SharedMut::new(&mut world.bodies.angular_velocity);
         let ctx = AdvanceContext {
             x: SharedMut::new(&mut world.bodies.position),
             v: SharedMut::new(&mut world.bodies.velocity),
@@ -242,18 +246,41 @@ impl Pipeline {
             dt: world.dt,
             // This step's closing half kick, not applied yet.
             pending: true,
-            spin: SharedMut::new(&mut []),
-            torque: SharedMut::new(&mut []),
-            wall_shear: SharedMut::new(&mut []),
-            friction: None,
+            spin,
+            torque,
+            wall_shear: SharedMut::new(&mut world.wall_shear),
+            friction: world.friction.as_ref(),
+            // The next step's forces.
             step: world.steps_done + 2,
         };
-        // SAFETY: each block's bodies lo..hi are given once, to one worker,
-        // when their forces are complete and no block still reads them
-        // (run_blocks_then); lengths asserted.
+        // SAFETY (the follow-ups): each block's bodies lo..hi are given
+        // once, to one worker, when their forces (and torques) are complete
+        // and no block still reads them (run_blocks_then); lengths asserted.
         let follow = |lo: usize, hi: usize| unsafe { verlet_chunk(&ctx, lo, hi) };
-        // SAFETY: `f` holds one force per body; only the force loop and the
-        // follow-up touch them, under the blocks' rule.
+        let follow_friction = |lo: usize, hi: usize| unsafe { verlet_chunk_friction(&ctx, lo, hi) };
+        if let Some(table) = world.friction.as_ref() {
+            // SAFETY: `f` and `torque` hold one entry per body; only the
+            // force loop and the follow-up touch them, under the blocks'
+            // rule.
+            return unsafe {
+                friction::add_pair_forces_then(
+                    &friction::PairForceInput {
+                        bodies: &world.bodies,
+                        ghosts: &world.ghosts,
+                        list: &world.list,
+                        laws: &world.laws,
+                        friction: table,
+                        dt: world.dt,
+                    },
+                    &mut world.histories,
+                    &mut world.shear,
+                    (f, torque),
+                    workers,
+                    Some(&follow_friction),
+                )
+            };
+        }
+        // SAFETY: as above, for the forces.
         unsafe {
             contacts::add_pair_forces_then(
                 &world.bodies,

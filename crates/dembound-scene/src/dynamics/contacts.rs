@@ -463,15 +463,8 @@ pub(crate) type FollowUp<'a> = &'a (dyn Fn(usize, usize) -> f64 + Sync);
 /// bodies it advanced: their data stay in its core's cache; each block's
 /// time goes to the shares' balance. The blocks a neighbouring share waits
 /// for run first ([`share_order`]), so waits across workers are short.
-pub(crate) fn run_blocks(
-    workers: &Workers,
-    list: &PairList,
-    run_block: impl Fn(usize) + Sync + Send,
-) {
-    run_blocks_then(workers, list, run_block, None);
-}
-
-/// [`run_blocks`], and `follow` on each block's bodies as soon as its
+///
+/// With `follow`, also runs it on each block's bodies as soon as its
 /// forces are complete: block b's pairs and block b − 1's are done (no
 /// other block writes b's forces or reads b's positions and velocities, so
 /// `follow` may change them). Returns the maximum of `follow`'s values (0

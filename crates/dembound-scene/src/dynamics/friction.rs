@@ -26,8 +26,8 @@ use dembound_physics::material::{Material, PairProperties};
 use serde::{Deserialize, Serialize};
 
 use super::contacts::{
-    extended, run_blocks, touching, touching_lazy, LawTable, PairGeometry, PairHistories, NO_CLASS,
-    NO_HISTORY,
+    extended, run_blocks_then, touching, touching_lazy, FollowUp, LawTable, PairGeometry,
+    PairHistories, NO_CLASS, NO_HISTORY,
 };
 use super::walls::{plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::bodies::Bodies;
@@ -532,6 +532,37 @@ pub fn add_pair_forces(
     torque: &mut [[f64; 3]],
     workers: &Workers,
 ) {
+    let n = input.bodies.len();
+    assert!(force.len() == n && torque.len() == n);
+    // SAFETY: one force and one torque per body (asserted), borrowed
+    // mutably here.
+    unsafe {
+        add_pair_forces_then(
+            input,
+            histories,
+            shear,
+            (SharedMut::new(force), SharedMut::new(torque)),
+            workers,
+            None,
+        )
+    };
+}
+
+/// [`add_pair_forces`] with a follow-up on each block's bodies once their
+/// forces and torques are complete (as `contacts::add_pair_forces_then`:
+/// no extra pairs). Returns the follow-ups' maximum.
+///
+/// # Safety
+/// As `contacts::add_pair_forces_then`, for the forces and the torques
+/// (and the spins, which `follow` may write like the velocities).
+pub(crate) unsafe fn add_pair_forces_then(
+    input: &PairForceInput,
+    histories: &mut PairHistories,
+    shear: &mut PairShear,
+    (force, torque): (SharedMut<[f64; 3]>, SharedMut<[f64; 3]>),
+    workers: &Workers,
+    follow: Option<FollowUp>,
+) -> f64 {
     let PairForceInput {
         bodies,
         ghosts,
@@ -543,7 +574,8 @@ pub fn add_pair_forces(
     let n = bodies.len();
     let keep = laws.history;
     let rolling = friction.rolling;
-    assert!(force.len() == n && torque.len() == n && list.start.len() == n + 1);
+    assert!(list.start.len() == n + 1);
+    assert!(follow.is_none() || list.extra.is_empty());
     assert!(!keep || histories.main.len() == list.j.len());
     assert!(shear.main.len() == list.j.len() && shear.extra.len() == list.extra.len());
     assert!(
@@ -577,8 +609,8 @@ pub fn add_pair_forces(
         js: &list.j,
         table: &friction.pairs,
         classes: friction.classes,
-        force: SharedMut(force.as_mut_ptr()),
-        torque: SharedMut(torque.as_mut_ptr()),
+        force,
+        torque,
         history: SharedMut(histories.main.as_mut_ptr()),
         shear: SharedMut(shear.main.as_mut_ptr()),
         roll: SharedMut(shear.roll_main.as_mut_ptr()),
@@ -587,16 +619,16 @@ pub fn add_pair_forces(
     // One loop per setting, so that the per-contact code has no branch on
     // them (the compiler does not unswitch the loop by itself).
     let table = friction.classes > 0;
-    match (keep, rolling, table) {
-        (false, false, true) => main.run::<false, false, true>(workers),
-        (false, false, false) => main.run::<false, false, false>(workers),
-        (false, true, true) => main.run::<false, true, true>(workers),
-        (false, true, false) => main.run::<false, true, false>(workers),
-        (true, false, true) => main.run::<true, false, true>(workers),
-        (true, false, false) => main.run::<true, false, false>(workers),
-        (true, true, true) => main.run::<true, true, true>(workers),
-        (true, true, false) => main.run::<true, true, false>(workers),
-    }
+    let value = match (keep, rolling, table) {
+        (false, false, true) => main.run::<false, false, true>(workers, follow),
+        (false, false, false) => main.run::<false, false, false>(workers, follow),
+        (false, true, true) => main.run::<false, true, true>(workers, follow),
+        (false, true, false) => main.run::<false, true, false>(workers, follow),
+        (true, false, true) => main.run::<true, false, true>(workers, follow),
+        (true, false, false) => main.run::<true, false, false>(workers, follow),
+        (true, true, true) => main.run::<true, true, true>(workers, follow),
+        (true, true, false) => main.run::<true, true, false>(workers, follow),
+    };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = extended(bodies, ghosts, j);
@@ -639,10 +671,13 @@ pub fn add_pair_forces(
                     },
                     dt,
                 );
-                sub(&mut force[i], fj);
-                add(&mut force[owner], fj);
-                add(&mut torque[i], tqi);
-                add(&mut torque[owner], tqj);
+                // SAFETY: i and owner are bodies; the blocks are done.
+                unsafe {
+                    sub(force.at(i), fj);
+                    add(force.at(owner), fj);
+                    add(torque.at(i), tqi);
+                    add(torque.at(owner), tqj);
+                }
             }
             None => {
                 *hist = ContactHistory::default();
@@ -653,6 +688,7 @@ pub fn add_pair_forces(
             }
         }
     }
+    value
 }
 
 /// What the loop over the list's main pairs reads and writes (slices, so
@@ -686,16 +722,27 @@ impl MainPairs<'_> {
     /// Every block of main pairs. `KEEP`: the normal law keeps histories;
     /// `ROLL`: rolling springs are kept; `TABLE`: laws come from the class
     /// table. The caller has checked the lengths (`add_pair_forces`).
-    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, workers: &Workers) {
+    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+        &self,
+        workers: &Workers,
+        follow: Option<FollowUp>,
+    ) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2 (just checked).
-            run_blocks(workers, self.list, |b| unsafe {
-                self.block_avx2::<KEEP, ROLL, TABLE>(b)
-            });
-            return;
+            return run_blocks_then(
+                workers,
+                self.list,
+                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE>(b) },
+                follow,
+            );
         }
-        run_blocks(workers, self.list, |b| self.block::<KEEP, ROLL, TABLE>(b));
+        run_blocks_then(
+            workers,
+            self.list,
+            |b| self.block::<KEEP, ROLL, TABLE>(b),
+            follow,
+        )
     }
 
     /// [`Self::block`] compiled for AVX2: three-operand (VEX) arithmetic,
