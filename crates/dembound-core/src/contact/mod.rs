@@ -7,29 +7,28 @@
 //! (positive while the spheres approach). It knows nothing of gravity, the
 //! integrator or the number of bodies, so dissipative laws (spring–dashpot,
 //! Tsuji, Kuwabara–Kono, hysteretic) plug in without touching either.
-
 //!
-//! Dissipative laws ([`LinearDashpot`], [`HertzTsuji`], [`HertzViscoelastic`],
-//! [`WaltonBraun`]) are separate concrete types; forbidding an attractive
-//! force is the wrapper [`NoAttraction`]. [`crate::calibration::with_model`]
-//! picks the type, so the elastic laws' inner loop is unchanged.
+//! The damped laws are the physics crate's normal and damping sub-models
+//! combined by one model object, [`Damped`], which applies the
+//! no-attraction clamp (a type parameter, so the elastic laws' inner loop
+//! is unchanged); [`crate::calibration::with_model`] picks the types.
 
-mod dashpot;
-mod no_attraction;
+mod damped;
 mod physics_laws;
-mod tsuji;
-mod viscoelastic;
 
-pub use dashpot::{
-    damping_ratio_for, free_restitution, restitution_to_damping_ratio, LinearDashpot,
+pub use damped::{BounceDamping, Damped};
+pub use dembound_physics::contact::damping::{
+    none::NoDamping, tsuji::Tsuji, viscoelastic::Viscoelastic, viscous::Viscous,
 };
 pub use dembound_physics::contact::normal::{
-    hertz::Hertz, hooke::Hooke, linear::Linear as LinearSpring, power::PowerLaw,
+    hertz::Hertz, hertz_kn::HertzKn, hooke::Hooke, linear::Linear as LinearSpring, power::PowerLaw,
     walton_braun::WaltonBraun,
 };
-pub use no_attraction::NoAttraction;
-pub use tsuji::{tsuji_beta, HertzTsuji};
-pub use viscoelastic::HertzViscoelastic;
+/// The closed-form e(ξ) relations and their inverses, and LIGGGHTS' β,
+/// from the physics crate (where they are documented).
+pub use dembound_physics::contact::{
+    damping_ratio_for, free_restitution, restitution_to_damping_ratio, tsuji_beta,
+};
 
 /// What a Walton–Braun contact remembers: the physics crate's one
 /// per-pair history (largest overlap, unloading flag).
@@ -296,6 +295,14 @@ pub enum Calibration {
 }
 
 impl Calibration {
+    /// The same choice as the physics crate names it.
+    pub fn to_physics(&self) -> dembound_physics::contact::Calibration {
+        match self {
+            Calibration::Exact => dembound_physics::contact::Calibration::Exact,
+            Calibration::Formula => dembound_physics::contact::Calibration::Formula,
+        }
+    }
+
     pub fn name(&self) -> &'static str {
         match self {
             Calibration::Exact => "exact",
@@ -316,16 +323,9 @@ impl Calibration {
     }
 }
 
-/// How strong the dissipation is.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Dissipation {
-    /// A target coefficient of restitution 0 < e ≤ 1 (each law documents
-    /// how it maps e to its coefficient).
-    Restitution(f64),
-    /// The law's raw damping coefficient, ≥ 0: c in N s/m for the dashpot,
-    /// γ in N s/m^(5/4) for Tsuji, A in s for the viscoelastic law.
-    Coefficient(f64),
-}
+/// How strong the dissipation is: a target restitution or the damping's
+/// raw coefficient (the physics crate's type).
+pub use dembound_physics::contact::Dissipation;
 
 /// A complete choice of normal contact model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -374,7 +374,3 @@ pub trait LawVisitor {
 /// Factor on the elastic contact time of a damped Hertz law with damping
 /// ratio ξ, from the physics crate (where it is documented).
 pub use dembound_physics::contact::heavy_damping_scale;
-
-/// Gravity-free contact of the power law F = k h^α at impact speed v for a
-/// body of mass m, (h_max, T_c), from the physics crate.
-pub(crate) use dembound_physics::contact::power_law_free_contact;
