@@ -7,15 +7,17 @@
 //! module sits above both [`crate::contact`] and [`crate::reference`], so
 //! that the laws never import the references that check them.
 
+use crate::contact::registered::missing;
 use crate::contact::{
     with_law, BounceDamping, Calibration, ContactLawKind, ContactModel, Damped, DampingKind,
-    Dissipation, Hertz, LawVisitor, LinearSpring, ModelError, NormalContactLaw, Tsuji,
-    Viscoelastic, Viscous, WaltonBraun,
+    Dissipation, Hertz, Hooke, LawVisitor, LinearSpring, ModelError, NormalContactLaw, Registered,
+    Tsuji, Viscoelastic, Viscous, WaltonBraun,
 };
 use crate::material::ContactPair;
 use crate::reference::dissipative::{damped_hertz, DampedHertz};
 use dembound_physics::contact::damping::{DampingSetup, DampingSubModel};
 use dembound_physics::contact::normal::NormalSubModel;
+use dembound_physics::contact::registry::NormalLaw;
 use dembound_physics::contact::{damping_ratio_for, registry};
 
 /// Calls `f` with the concrete law of `model` for `pair`, a body of `mass`
@@ -42,7 +44,10 @@ pub fn with_model<R>(
                 "law = \"walton-braun\" needs contact.restitution (k2 = k1/e^2)".into(),
             )),
         },
-        (law, DampingKind::None) => Ok(with_law(law, pair, f)),
+        (_, DampingKind::None) => {
+            let normal = model.normal().ok_or_else(|| missing(model))?;
+            Ok(with_law(&normal, pair, mass, f))
+        }
         _ => {
             let coefficient = damping_coefficient(model, pair, mass, impact_speed)?;
             with_damped(model, pair, mass, coefficient, f)
@@ -53,7 +58,9 @@ pub fn with_model<R>(
 /// Calls `f` with the damped law of `model` (its normal law and damping)
 /// for `pair` and `mass` (kg), with the damping's raw `coefficient` (c in
 /// N s/m, γ in N s/m^(5/4) or A in s, [`damping_coefficient`]), clamped
-/// unless `model.attractive`.
+/// unless `model.attractive`. The paper's damped laws are [`Damped`]
+/// (monomorphised, with their exact onset extras); any other combination
+/// the registry allows runs as [`Registered`].
 pub fn with_damped<R>(
     model: &ContactModel,
     pair: &ContactPair,
@@ -86,6 +93,13 @@ pub fn with_damped<R>(
         }
     }
     let attractive = model.attractive;
+    if !model.damping.combines_with(model.law) {
+        return Err(incompatible(model.law, model.damping));
+    }
+    let hooke = match model.normal() {
+        Some(NormalLaw::Hooke { stiffness }) => Some(stiffness),
+        _ => None,
+    };
     match (model.law, model.damping) {
         (ContactLawKind::Linear, DampingKind::Viscous) => Ok(combine::<_, Viscous, _>(
             pair.law::<LinearSpring>(&[]),
@@ -108,7 +122,21 @@ pub fn with_damped<R>(
             attractive,
             f,
         )),
-        (law, damping) => Err(incompatible(law, damping)),
+        // `hooke` is the linear spring with k_n given: the spring–dashpot's
+        // exact onset extras apply.
+        (ContactLawKind::Registry(_), DampingKind::Viscous) if hooke.is_some() => {
+            Ok(combine::<_, Viscous, _>(
+                pair.law::<Hooke>(&[hooke.unwrap_or(f64::NAN)]),
+                mass,
+                coefficient,
+                attractive,
+                f,
+            ))
+        }
+        _ if attractive => {
+            Ok(f.visit(Registered::<false>::damped(model, pair, mass, coefficient)?))
+        }
+        _ => Ok(f.visit(Registered::<true>::damped(model, pair, mass, coefficient)?)),
     }
 }
 
@@ -167,22 +195,22 @@ pub fn damping_coefficient(
         ))
     })?;
     let (calibration, attractive) = (model.calibration, model.attractive);
-    let physics = |stiffness: f64| setup(stiffness, mass, dissipation, calibration, attractive);
-    match (model.law, model.damping) {
-        (ContactLawKind::Linear, DampingKind::Viscous) => {
-            let k = pair.law::<LinearSpring>(&[]).stiffness;
-            Ok(Viscous::new(&physics(k)).coefficient)
-        }
-        (ContactLawKind::Hertz, DampingKind::Tsuji) => {
-            let k = pair.law::<Hertz>(&[]).stiffness;
-            Ok(Tsuji::new(&physics(k)).coefficient)
-        }
-        (ContactLawKind::Hertz, DampingKind::Viscoelastic) => {
-            let k = pair.law::<Hertz>(&[]).stiffness;
+    if !model.damping.combines_with(model.law) {
+        return Err(incompatible(model.law, model.damping));
+    }
+    // The stiffness k of F = k h^α the damping scales with: the normal
+    // law's own for this pair.
+    let normal = model.normal().ok_or_else(|| missing(model))?;
+    let k = normal.resolve(&pair.properties()).stiffness();
+    let physics = setup(k, mass, dissipation, calibration, attractive);
+    match model.damping {
+        DampingKind::Viscous => Ok(Viscous::new(&physics).coefficient),
+        DampingKind::Tsuji => Ok(Tsuji::new(&physics).coefficient),
+        DampingKind::Viscoelastic => {
             let as_run = attractive || calibration == Calibration::Formula;
             viscoelastic_coefficient(k, mass, dissipation, impact_speed, as_run)
         }
-        (law, damping) => Err(incompatible(law, damping)),
+        DampingKind::None => Ok(0.0),
     }
 }
 

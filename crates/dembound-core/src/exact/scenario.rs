@@ -3,13 +3,22 @@
 
 use super::{contacts, ContactProblem, ExactError, Flight};
 use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
+use crate::contact::ContactLawKind;
 
 /// The exact problem of a scenario's pair and law (p² from eqs 10–14).
 pub fn problem(s: &Scenario) -> ContactProblem {
     let alpha = s.contact.law.exponent();
     // p = √(k/m) with the mass of the relative motion (eq 10; the particle's
     // own against a fixed boundary, m* against a free one).
-    let p = (s.pair().power_law_stiffness(alpha) / s.reduced_mass()).sqrt();
+    // The paper's laws: k = E_eff R_eff^(2−α) (eq 4); another registry law
+    // of F = k h^α (`hooke`, `hertz-kn`): its own k for the pair.
+    let k = match s.contact.law {
+        ContactLawKind::Registry(_) => s.contact.model().normal().map_or(f64::NAN, |law| {
+            law.resolve(&s.pair().properties()).stiffness()
+        }),
+        _ => s.pair().power_law_stiffness(alpha),
+    };
+    let p = (k / s.reduced_mass()).sqrt();
     ContactProblem {
         p_squared: p * p,
         alpha,

@@ -351,6 +351,7 @@ pub fn raw_coefficient(
         dissipation: Some(target),
         attractive,
         calibration: mapping,
+        stiffness: None,
     };
     Ok(match law {
         DissipativeLaw::Viscous | DissipativeLaw::Tsuji | DissipativeLaw::Viscoelastic => {
@@ -405,6 +406,7 @@ pub fn simulate_coefficient(
                 dissipation: Some(Dissipation::Coefficient(coefficient)),
                 attractive,
                 calibration: Default::default(),
+                stiffness: None,
             };
             with_damped(&model, &pair, s.reduced_mass(), coefficient, Visit(&s))
                 .map_err(SimulationError::from)
