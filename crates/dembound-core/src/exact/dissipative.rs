@@ -11,7 +11,7 @@
 
 use super::{first_contact_time, ExactError};
 use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
-use crate::calibration::damping_coefficient;
+use crate::calibration::damping_coefficient as calibrated_coefficient;
 use crate::contact::{ContactLawKind, DampingKind, Dissipation, Hertz, LinearSpring, WaltonBraun};
 use crate::reference::dissipative::{
     damped_hertz, damped_hertz_max_force, spring_dashpot, spring_dashpot_max_force, walton_braun,
@@ -29,6 +29,15 @@ type ContactFn<'a> = dyn Fn(f64) -> Result<(ContactReference, f64), ReferenceErr
 /// The reference values of every contact of a dissipative scenario
 /// (`steps` = 0: nothing was integrated by the time loop).
 pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+    dissipative_contacts_with(s, None)
+}
+
+/// As [`dissipative_contacts`], with the damping's raw coefficient already
+/// resolved (by [`crate::bounce::resolve`]: no second calibration).
+pub fn dissipative_contacts_with(
+    s: &Scenario,
+    damping_coefficient: Option<f64>,
+) -> Result<Vec<ContactRecord>, ExactError> {
     let mass = s.reduced_mass();
     let g = s.relative_gravity();
     let pair = s.pair();
@@ -42,9 +51,10 @@ pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactErr
     let attractive = c.attractive;
     // The damping's raw coefficient, calibrated as the run calibrates it
     // (only the viscoelastic calibration, a root solve, can fail).
-    let coefficient = || {
-        damping_coefficient(&model, &pair, mass, s.impact_speed())
-            .map_err(|_| ExactError::Numerical("viscoelastic calibration failed"))
+    let coefficient = || match damping_coefficient {
+        Some(c) => Ok(c),
+        None => calibrated_coefficient(&model, &pair, mass, s.impact_speed())
+            .map_err(|_| ExactError::Numerical("viscoelastic calibration failed")),
     };
     let contact: Box<ContactFn> = match (c.law, c.damping) {
         (ContactLawKind::WaltonBraun, DampingKind::None) => {

@@ -40,8 +40,17 @@ pub fn flight(s: &Scenario) -> Flight {
 /// A dissipative scenario (`contact.damping`, or Walton–Braun) gets the
 /// reference of its own law ([`super::dissipative`]), never the elastic one.
 pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+    scenario_contacts_with(s, None)
+}
+
+/// As [`scenario_contacts`], with a damped law's raw coefficient already
+/// resolved (by [`crate::bounce::resolve`]: no second calibration).
+pub fn scenario_contacts_with(
+    s: &Scenario,
+    damping_coefficient: Option<f64>,
+) -> Result<Vec<ContactRecord>, ExactError> {
     if super::dissipative::is_dissipative(s) {
-        return super::dissipative::dissipative_contacts(s);
+        return super::dissipative::dissipative_contacts_with(s, damping_coefficient);
     }
     let mass = s.reduced_mass();
     let bodies = s.two_body();
