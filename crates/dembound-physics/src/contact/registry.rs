@@ -441,19 +441,6 @@ normal_registry! {
         family: Family::Hertzian,
         capabilities: ELASTIC,
     };
-    /// Demonstration: F = k_n h³.
-    CubicKn { stiffness } => cubic_kn::CubicKn = NormalRow {
-        name: "cubic-kn",
-        formula: "F = k_n h³",
-        params: &[ParamSpec {
-            key: "stiffness",
-            symbol: "k_n",
-            unit: "N/m³",
-            range: Range::POSITIVE,
-        }],
-        family: Family::Power,
-        capabilities: ELASTIC,
-    };
 }
 
 damping_registry! {
