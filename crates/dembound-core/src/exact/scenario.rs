@@ -4,6 +4,7 @@
 use super::{contacts, ContactProblem, ExactError, Flight};
 use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
 use crate::contact::ContactLawKind;
+use dembound_physics::contact::registry::Family;
 
 /// The exact problem of a scenario's pair and law (p² from eqs 10–14).
 pub fn problem(s: &Scenario) -> ContactProblem {
@@ -51,6 +52,18 @@ pub fn scenario_contacts_with(
 ) -> Result<Vec<ContactRecord>, ExactError> {
     if super::dissipative::is_dissipative(s) {
         return super::dissipative::dissipative_contacts_with(s, damping_coefficient);
+    }
+    // The elastic reference is that of F = k h^α: a registry law has it
+    // only when its family fixes α (linear 1, Hertzian 3/2).
+    if let ContactLawKind::Registry(row) = s.contact.law {
+        if !matches!(row.family, Family::Linear | Family::Hertzian) {
+            return Err(ExactError::InvalidParameter {
+                name: "contact.law",
+                value: f64::NAN,
+                requirement: "a law of the linear or Hertzian family (F = k h or k h^(3/2)) \
+                              for the exact elastic reference",
+            });
+        }
     }
     let mass = s.reduced_mass();
     let bodies = s.two_body();
