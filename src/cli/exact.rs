@@ -54,7 +54,7 @@ pub fn exact_contacts(s: &Scenario) -> CliResult<Vec<ContactRecord>> {
     exact::scenario_contacts(s).map_err(exact_error)
 }
 
-fn exact_error(e: ExactError) -> CliError {
+pub(crate) fn exact_error(e: ExactError) -> CliError {
     match e {
         ExactError::Numerical(_) => {
             CliError::failed(anyhow!("the exact reference could not be computed: {e}"))

@@ -124,7 +124,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "contact.law",
             "",
             format!("\"{}\"", d.contact.law.name()),
-            "\"linear\", \"hertz\", \"walton-braun\", { power = α } with 1 ≤ α ≤ 3".into(),
+            law_names(),
             "normal contact law",
         ),
         row(
@@ -147,6 +147,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "none".into(),
             "finite, ≥ 0; instead of restitution".into(),
             "c (viscous), γ (tsuji), A (viscoelastic)",
+        ),
+        row(
+            "contact.stiffness",
+            "N/m (hooke), Pa (hertz-kn)",
+            "none".into(),
+            "finite, > 0; only with a law that takes it".into(),
+            "k_n of a law with a given stiffness",
         ),
         row(
             "contact.attractive",
@@ -271,6 +278,25 @@ pub fn run(args: &KeysArgs) -> CliResult {
     }
     stdout.flush().map_err(CliError::failed)?;
     Ok(())
+}
+
+/// The laws `contact.law` takes, from the physics registry: each name
+/// (the power law as `{ power = α }` with its exponent's range).
+fn law_names() -> String {
+    use dembound_physics::contact::registry::NORMAL_LAWS;
+    NORMAL_LAWS
+        .iter()
+        .map(|row| match row.params {
+            [p] if p.key == "exponent" => format!(
+                "{{ {} = {} }} with {}",
+                row.name,
+                p.symbol,
+                p.range.to_string().replace('x', p.symbol)
+            ),
+            _ => format!("\"{}\"", row.name),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 use anyhow::{anyhow, bail, Result};
 use dembound_core::contact::ContactLawKind;
 use dembound_core::study::restitution::DissipativeLaw;
+use dembound_physics::contact::registry::{normal_row, NORMAL_LAWS};
 
 /// One number, `inf` (also `infinity`) allowed.
 pub fn number(flag: &str, text: &str) -> Result<f64> {
@@ -103,33 +104,77 @@ pub enum AnyLaw {
     Dissipative(DissipativeLaw),
 }
 
-/// Every law name, for messages.
-pub const ALL_LAW_NAMES: &str =
-    "linear, hertz, power=α (1 ≤ α ≤ 3), viscous, tsuji, viscoelastic, walton-braun";
+/// Every law name a `--law` flag takes, for messages, from the physics
+/// registry: the normal laws without parameters, the power law with its
+/// exponent's range (`power=α (1 ≤ α ≤ 3)`), then the dissipative laws of
+/// `restitution`. (Laws with a given stiffness, `hooke` and `hertz-kn`,
+/// take `contact.stiffness` and so are used through a scenario.)
+pub fn all_law_names() -> String {
+    let mut names: Vec<String> = NORMAL_LAWS
+        .iter()
+        .filter_map(|row| match row.params {
+            [] => Some(row.name.to_string()),
+            [p] if p.key == POWER_KEY => Some(format!(
+                "{}={} ({})",
+                row.name,
+                p.symbol,
+                p.range.to_string().replace('x', p.symbol)
+            )),
+            _ => None,
+        })
+        .collect();
+    names.extend(DissipativeLaw::ALL.iter().map(|d| d.name().to_string()));
+    names.join(", ")
+}
 
-/// One contact law: `linear`, `hertz`, a power `α` (`power=1.25`, `1.25`,
-/// 1 ≤ α ≤ 3), or a dissipative law (`viscous`, `tsuji`, `viscoelastic`,
+/// The parameter of the one law written `power=α`.
+const POWER_KEY: &str = "exponent";
+
+/// One contact law: a registry law without parameters (`linear`,
+/// `hertz`), a power `α` (`power=1.25`, `1.25`, in the exponent's registry
+/// range), or a dissipative law (`viscous`, `tsuji`, `viscoelastic`,
 /// `walton-braun`).
 pub fn any_law(flag: &str, text: &str) -> Result<AnyLaw> {
     let t = text.trim().to_ascii_lowercase();
     if let Some(d) = DissipativeLaw::parse(&t) {
         return Ok(AnyLaw::Dissipative(d));
     }
-    let alpha = match t.as_str() {
-        "linear" => return Ok(AnyLaw::Elastic(ContactLawKind::Linear)),
-        "hertz" => return Ok(AnyLaw::Elastic(ContactLawKind::Hertz)),
-        other => other
-            .strip_prefix("power=")
-            .or_else(|| other.strip_prefix("power:"))
-            .unwrap_or(other)
-            .parse::<f64>()
-            .ok(),
-    };
-    match alpha {
-        Some(a) if (1.0..=3.0).contains(&a) => Ok(AnyLaw::Elastic(ContactLawKind::Power(a))),
+    if let Some(row) = normal_row(&t) {
+        if row.params.is_empty() {
+            if let Some(law) = ContactLawKind::from_name(row.name, None) {
+                return Ok(AnyLaw::Elastic(law));
+            }
+        } else if row.params.iter().all(|p| p.key != POWER_KEY) {
+            let keys: Vec<String> = row
+                .params
+                .iter()
+                .map(|p| format!("contact.{}", p.key))
+                .collect();
+            bail!(
+                "invalid value for `{flag}`: law `{}` takes {}, which a `--law` list cannot give \
+                 (use it through a scenario: `dembound run --set contact.law={} --set {}=…`; \
+                 allowed here: {})",
+                row.name,
+                keys.join(", "),
+                row.name,
+                keys[0],
+                all_law_names()
+            );
+        }
+    }
+    let alpha = t
+        .strip_prefix("power=")
+        .or_else(|| t.strip_prefix("power:"))
+        .unwrap_or(&t)
+        .parse::<f64>()
+        .ok();
+    let power = normal_row("power").and_then(|r| r.params.first());
+    match (alpha, power) {
+        (Some(a), Some(p)) if p.range.contains(a) => Ok(AnyLaw::Elastic(ContactLawKind::Power(a))),
         _ => bail!(
-            "invalid value for `{flag}`: unknown law `{}` (allowed: {ALL_LAW_NAMES})",
-            text.trim()
+            "invalid value for `{flag}`: unknown law `{}` (allowed: {})",
+            text.trim(),
+            all_law_names()
         ),
     }
 }

@@ -12,8 +12,10 @@ use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::Args;
 use dembound_core::bounce::{
-    plan, simulate, Problem, RunOutcome, Scenario, SimulationError, Stepping,
+    resolve, simulate_resolved, ContactRecord, Problem, RunOutcome, Scenario, SimulationError,
+    Stepping,
 };
+use dembound_core::exact::ExactError;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -72,8 +74,16 @@ pub fn run(args: &RunArgs) -> CliResult {
         )));
     }
     let scenario = args.scenario.load().map_err(CliError::input)?.resolved();
-    let problem = plan(&scenario).map_err(simulation_error)?;
-    check_rebounds(&scenario)?;
+    // Resolved once: validated, calibrated, Δt chosen (pilot runs with a
+    // tolerance); the run and the reference reuse it.
+    let resolved = resolve(&scenario).map_err(simulation_error)?;
+    let problem = resolved.problem;
+    let coefficient = resolved.damping_coefficient;
+    // The reference, computed once when the rebound check or
+    // --compare-exact needs it.
+    let reference = (args.compare_exact || rebounds_checked(&scenario))
+        .then(|| dembound_core::exact::scenario_contacts_with(&scenario, coefficient));
+    check_rebounds(&scenario, reference.as_ref())?;
     warnings::print(&warnings::inputs(&scenario));
     guard_step_count(&scenario, &problem, args.force)?;
     let out = match &args.out {
@@ -81,10 +91,9 @@ pub fn run(args: &RunArgs) -> CliResult {
         None => None,
     };
     // Before the run, so that a scenario without a reference fails at once.
-    let exact = if args.compare_exact {
-        Some(super::exact::exact_contacts(&scenario)?)
-    } else {
-        None
+    let exact = match reference.filter(|_| args.compare_exact) {
+        Some(reference) => Some(reference.map_err(super::exact::exact_error)?),
+        None => None,
     };
 
     let mut stdout = std::io::stdout().lock();
@@ -105,10 +114,10 @@ pub fn run(args: &RunArgs) -> CliResult {
     });
     let mut bar = progress::wanted(problem.expected_steps(), args.quiet).then(Progress::new);
     let outcome = match (&mut history, &mut bar) {
-        (None, None) => simulate(&scenario, &mut ()),
-        (Some(h), None) => simulate(&scenario, h),
-        (None, Some(p)) => simulate(&scenario, p),
-        (Some(h), Some(p)) => simulate(&scenario, &mut Tee(h, p)),
+        (None, None) => simulate_resolved(&scenario, &resolved, &mut ()),
+        (Some(h), None) => simulate_resolved(&scenario, &resolved, h),
+        (None, Some(p)) => simulate_resolved(&scenario, &resolved, p),
+        (Some(h), Some(p)) => simulate_resolved(&scenario, &resolved, &mut Tee(h, p)),
     };
     if let Some(bar) = bar {
         bar.finish();
@@ -178,14 +187,15 @@ const MAX_CHECKED_CONTACTS: u32 = 1000;
 /// zero), found by the law's reference before the run: the run would spend
 /// its whole step budget on it. Skipped for more than
 /// [`MAX_CHECKED_CONTACTS`] contacts (the run then reports it, exit 1).
-fn check_rebounds(s: &Scenario) -> CliResult {
-    if !dembound_core::exact::dissipative::is_dissipative(s)
-        || s.motion.contacts > MAX_CHECKED_CONTACTS
-    {
+fn check_rebounds(
+    s: &Scenario,
+    reference: Option<&Result<Vec<ContactRecord>, ExactError>>,
+) -> CliResult {
+    if !rebounds_checked(s) {
         return Ok(());
     }
-    match dembound_core::exact::scenario_contacts(s) {
-        Err(dembound_core::exact::ExactError::NoRebound { contact }) if contact > 1 => {
+    match reference {
+        Some(Err(ExactError::NoRebound { contact })) if *contact > 1 => {
             Err(CliError::input(anyhow!(
                 "invalid value for `motion.contacts`: {} (allowed: 1 to {} for this scenario: \
                  contact {contact} would not end, gravity holds the particle on the boundary \
@@ -194,7 +204,7 @@ fn check_rebounds(s: &Scenario) -> CliResult {
                 contact - 1
             )))
         }
-        Err(dembound_core::exact::ExactError::NoRebound { .. }) => Err(CliError::input(anyhow!(
+        Some(Err(ExactError::NoRebound { .. })) => Err(CliError::input(anyhow!(
             "invalid value for `motion.gap`: {} m (the first contact would not end: gravity \
              holds the particle on the boundary; a larger motion.gap, a faster motion.velocity \
              or less damping (contact.restitution) lets it rebound)",
@@ -204,6 +214,13 @@ fn check_rebounds(s: &Scenario) -> CliResult {
         // or not at all: the run itself does not need it.
         _ => Ok(()),
     }
+}
+
+/// Whether [`check_rebounds`] looks at the reference: a dissipative
+/// scenario of at most [`MAX_CHECKED_CONTACTS`] contacts.
+fn rebounds_checked(s: &Scenario) -> bool {
+    dembound_core::exact::dissipative::is_dissipative(s)
+        && s.motion.contacts <= MAX_CHECKED_CONTACTS
 }
 
 /// Refuses runs of more than [`MAX_STEPS_WITHOUT_FORCE`] steps without `--force`.

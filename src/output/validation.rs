@@ -58,11 +58,12 @@ fn scheme_label(s: Scheme) -> &'static str {
     }
 }
 
+/// The law's registry name (with its exponent for a power law), Hertz's
+/// capitalised as a person's name.
 fn law_label(law: ContactLawKind) -> String {
-    match law {
-        ContactLawKind::Linear => "linear".into(),
-        ContactLawKind::Hertz => "Hertz".into(),
-        other => other.name(),
+    match law.name() {
+        name if name == "hertz" => "Hertz".into(),
+        name => name,
     }
 }
 

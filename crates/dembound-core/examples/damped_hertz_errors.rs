@@ -14,9 +14,8 @@
 //! in e, T_c and h_max per scheme and attraction setting.
 
 use dembound_core::bounce::{simulate, Scenario, Stepping};
-use dembound_core::contact::{
-    Calibration, ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic,
-};
+use dembound_core::calibration::damping_coefficient;
+use dembound_core::contact::{Calibration, ContactLawKind, DampingKind, Dissipation};
 use dembound_core::integrate::Scheme;
 use dembound_core::reference::dissipative::{damped_hertz, DampedHertz};
 
@@ -87,29 +86,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             let speed = s.impact_speed();
                             let target = Dissipation::Restitution(e);
                             let exact = Calibration::Exact;
+                            let mut model = s.contact.model();
+                            (model.dissipation, model.calibration) = (Some(target), exact);
+                            let coefficient = damping_coefficient(&model, &s.pair(), m, speed)?;
                             let model = match damping {
                                 DampingKind::Tsuji => DampedHertz::Tsuji {
                                     stiffness: k,
-                                    damping: HertzTsuji::calibrated(
-                                        &s.pair(),
-                                        m,
-                                        target,
-                                        exact,
-                                        attractive,
-                                    )
-                                    .damping,
+                                    damping: coefficient,
                                 },
                                 _ => DampedHertz::Viscoelastic {
                                     stiffness: k,
-                                    a: HertzViscoelastic::calibrated(
-                                        &s.pair(),
-                                        m,
-                                        target,
-                                        speed,
-                                        exact,
-                                        attractive,
-                                    )?
-                                    .a,
+                                    a: coefficient,
                                 },
                             };
                             let r = damped_hertz(model, m, speed, g, attractive)?;

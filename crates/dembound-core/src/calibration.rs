@@ -7,24 +7,29 @@
 //! module sits above both [`crate::contact`] and [`crate::reference`], so
 //! that the laws never import the references that check them.
 
+use crate::contact::registered::missing;
 use crate::contact::{
-    with_law, Calibration, ContactLawKind, ContactModel, DampingKind, Dissipation, HertzTsuji,
-    HertzViscoelastic, LawVisitor, LinearDashpot, ModelError, NoAttraction, NormalContactLaw,
-    WaltonBraun,
+    with_law, BounceDamping, Calibration, ContactLawKind, ContactModel, Damped, DampingKind,
+    Dissipation, Hertz, Hooke, LawVisitor, LinearSpring, ModelError, NormalContactLaw, Registered,
+    Tsuji, Viscoelastic, Viscous, WaltonBraun,
 };
 use crate::material::ContactPair;
 use crate::reference::dissipative::{damped_hertz, DampedHertz};
-use dembound_physics::contact::registry;
+use dembound_physics::contact::damping::{DampingSetup, DampingSubModel};
+use dembound_physics::contact::normal::NormalSubModel;
+use dembound_physics::contact::registry::NormalLaw;
+use dembound_physics::contact::{damping_ratio_for, registry};
 
 /// Calls `f` with the concrete law of `model` for `pair`, a body of `mass`
 /// (kg; the particle's own mass against a fixed boundary) and first impact
 /// speed `impact_speed` (m/s; used only to calibrate the viscoelastic law
 /// to a target restitution). A target restitution becomes the law's
-/// coefficient as `model.calibration` says.
+/// coefficient as `model.calibration` says ([`damping_coefficient`]).
 ///
-/// Each dissipative law is its own type and the no-attraction clamp is the
-/// wrapper [`NoAttraction`]; elastic models go through [`with_law`]
-/// unchanged (their force is ≥ 0 for h ≥ 0, so the clamp would be a no-op).
+/// A damped model is the physics crate's normal and damping sub-models
+/// combined by [`Damped`], which applies the no-attraction clamp; elastic
+/// models go through [`with_law`] unchanged (their force is ≥ 0 for h ≥ 0,
+/// so the clamp would be a no-op).
 pub fn with_model<R>(
     model: &ContactModel,
     pair: &ContactPair,
@@ -32,62 +37,180 @@ pub fn with_model<R>(
     impact_speed: f64,
     f: impl LawVisitor<Output = R>,
 ) -> Result<R, ModelError> {
-    fn clamp<L: NormalContactLaw, R>(
-        law: L,
-        attractive: bool,
-        f: impl LawVisitor<Output = R>,
-    ) -> R {
-        if attractive {
-            f.visit(law)
-        } else {
-            f.visit(NoAttraction(law))
-        }
-    }
-    let need = || {
-        model.dissipation.ok_or_else(|| {
-            ModelError(format!(
-                "contact.damping = \"{}\" needs contact.restitution or contact.damping_coefficient",
-                model.damping.name()
-            ))
-        })
-    };
-    let (attractive, calibration) = (model.attractive, model.calibration);
     match (model.law, model.damping) {
-        (ContactLawKind::WaltonBraun, DampingKind::None) => match need() {
-            Ok(Dissipation::Restitution(e)) => Ok(f.visit(pair.law::<WaltonBraun>(&[e]))),
+        (ContactLawKind::WaltonBraun, DampingKind::None) => match model.dissipation {
+            Some(Dissipation::Restitution(e)) => Ok(f.visit(pair.law::<WaltonBraun>(&[e]))),
             _ => Err(ModelError(
                 "law = \"walton-braun\" needs contact.restitution (k2 = k1/e^2)".into(),
             )),
         },
-        (law, DampingKind::None) => Ok(with_law(law, pair, f)),
-        (ContactLawKind::Linear, DampingKind::Viscous) => Ok(clamp(
-            LinearDashpot::calibrated(pair, mass, need()?, calibration, attractive),
+        (_, DampingKind::None) => {
+            let normal = model.normal().ok_or_else(|| missing(model))?;
+            Ok(with_law(&normal, pair, mass, f))
+        }
+        _ => {
+            let coefficient = damping_coefficient(model, pair, mass, impact_speed)?;
+            with_damped(model, pair, mass, coefficient, f)
+        }
+    }
+}
+
+/// Calls `f` with the damped law of `model` (its normal law and damping)
+/// for `pair` and `mass` (kg), with the damping's raw `coefficient` (c in
+/// N s/m, γ in N s/m^(5/4) or A in s, [`damping_coefficient`]), clamped
+/// unless `model.attractive`. The paper's damped laws are [`Damped`]
+/// (monomorphised, with their exact onset extras); any other combination
+/// the registry allows runs as [`Registered`].
+pub fn with_damped<R>(
+    model: &ContactModel,
+    pair: &ContactPair,
+    mass: f64,
+    coefficient: f64,
+    f: impl LawVisitor<Output = R>,
+) -> Result<R, ModelError> {
+    fn combine<N, D, R>(
+        normal: N,
+        mass: f64,
+        coefficient: f64,
+        attractive: bool,
+        f: impl LawVisitor<Output = R>,
+    ) -> R
+    where
+        N: NormalContactLaw + NormalSubModel,
+        D: BounceDamping,
+    {
+        let damping = D::new(&setup(
+            NormalSubModel::stiffness(&normal),
+            mass,
+            Dissipation::Coefficient(coefficient),
+            Calibration::Exact,
+            attractive,
+        ));
+        if attractive {
+            f.visit(Damped::<N, D, false> { normal, damping })
+        } else {
+            f.visit(Damped::<N, D, true> { normal, damping })
+        }
+    }
+    let attractive = model.attractive;
+    if !model.damping.combines_with(model.law) {
+        return Err(incompatible(model.law, model.damping));
+    }
+    let hooke = match model.normal() {
+        Some(NormalLaw::Hooke { stiffness }) => Some(stiffness),
+        _ => None,
+    };
+    match (model.law, model.damping) {
+        (ContactLawKind::Linear, DampingKind::Viscous) => Ok(combine::<_, Viscous, _>(
+            pair.law::<LinearSpring>(&[]),
+            mass,
+            coefficient,
             attractive,
             f,
         )),
-        (ContactLawKind::Hertz, DampingKind::Tsuji) => Ok(clamp(
-            HertzTsuji::calibrated(pair, mass, need()?, calibration, attractive),
+        (ContactLawKind::Hertz, DampingKind::Tsuji) => Ok(combine::<_, Tsuji, _>(
+            pair.law::<Hertz>(&[]),
+            mass,
+            coefficient,
             attractive,
             f,
         )),
-        (ContactLawKind::Hertz, DampingKind::Viscoelastic) => Ok(clamp(
-            HertzViscoelastic::calibrated(
-                pair,
+        (ContactLawKind::Hertz, DampingKind::Viscoelastic) => Ok(combine::<_, Viscoelastic, _>(
+            pair.law::<Hertz>(&[]),
+            mass,
+            coefficient,
+            attractive,
+            f,
+        )),
+        // `hooke` is the linear spring with k_n given: the spring–dashpot's
+        // exact onset extras apply.
+        (ContactLawKind::Registry(_), DampingKind::Viscous) if hooke.is_some() => {
+            Ok(combine::<_, Viscous, _>(
+                pair.law::<Hooke>(&[hooke.unwrap_or(f64::NAN)]),
                 mass,
-                need()?,
-                impact_speed,
-                calibration,
+                coefficient,
                 attractive,
-            )?,
-            attractive,
-            f,
-        )),
-        (law, damping) => Err(ModelError(format!(
-            "contact.damping = \"{}\" does not go with law = \"{}\" (allowed with it: {})",
-            damping.name(),
-            law.row().name,
-            registry::dampings_for(law.row())
-        ))),
+                f,
+            ))
+        }
+        _ if attractive => {
+            Ok(f.visit(Registered::<false>::damped(model, pair, mass, coefficient)?))
+        }
+        _ => Ok(f.visit(Registered::<true>::damped(model, pair, mass, coefficient)?)),
+    }
+}
+
+fn incompatible(law: ContactLawKind, damping: DampingKind) -> ModelError {
+    ModelError(format!(
+        "contact.damping = \"{}\" does not go with law = \"{}\" (allowed with it: {})",
+        damping.name(),
+        law.row().name,
+        registry::dampings_for(law.row())
+    ))
+}
+
+/// The physics crate's damping setup for a normal law of stiffness
+/// `stiffness` (N/m^α) and `mass` (kg).
+fn setup(
+    stiffness: f64,
+    mass: f64,
+    dissipation: Dissipation,
+    calibration: Calibration,
+    attractive: bool,
+) -> DampingSetup {
+    let clamped_ratio = match (dissipation, calibration, attractive) {
+        (Dissipation::Restitution(e), Calibration::Exact, false) if e > 0.0 && e <= 1.0 => {
+            damping_ratio_for(e, false)
+        }
+        _ => f64::NAN,
+    };
+    DampingSetup {
+        stiffness,
+        mass,
+        dissipation,
+        calibration: calibration.to_physics(),
+        attractive,
+        reference_speed: None,
+        clamped_ratio,
+    }
+}
+
+/// The damping's raw coefficient of a damped `model` for `pair` and `mass`
+/// (kg): c (N s/m) of the spring–dashpot, γ (N s/m^(5/4)) of Tsuji's, A
+/// (s) of the viscoelastic law. Given as `contact.damping_coefficient`, or
+/// solved for a target restitution as `model.calibration` says: the closed
+/// forms of the physics sub-models for the spring–dashpot and Tsuji, the
+/// adaptive reference integration at `impact_speed` (m/s) for the
+/// viscoelastic law ([`viscoelastic_coefficient`]).
+pub fn damping_coefficient(
+    model: &ContactModel,
+    pair: &ContactPair,
+    mass: f64,
+    impact_speed: f64,
+) -> Result<f64, ModelError> {
+    let dissipation = model.dissipation.ok_or_else(|| {
+        ModelError(format!(
+            "contact.damping = \"{}\" needs contact.restitution or contact.damping_coefficient",
+            model.damping.name()
+        ))
+    })?;
+    let (calibration, attractive) = (model.calibration, model.attractive);
+    if !model.damping.combines_with(model.law) {
+        return Err(incompatible(model.law, model.damping));
+    }
+    // The stiffness k of F = k h^α the damping scales with: the normal
+    // law's own for this pair.
+    let normal = model.normal().ok_or_else(|| missing(model))?;
+    let k = normal.resolve(&pair.properties()).stiffness();
+    let physics = setup(k, mass, dissipation, calibration, attractive);
+    match model.damping {
+        DampingKind::Viscous => Ok(Viscous::new(&physics).coefficient),
+        DampingKind::Tsuji => Ok(Tsuji::new(&physics).coefficient),
+        DampingKind::Viscoelastic => {
+            let as_run = attractive || calibration == Calibration::Formula;
+            viscoelastic_coefficient(k, mass, dissipation, impact_speed, as_run)
+        }
+        DampingKind::None => Ok(0.0),
     }
 }
 
@@ -106,76 +229,61 @@ pub fn viscoelastic_restitution(
         .map_err(|e| ModelError(format!("viscoelastic calibration: {e}")))
 }
 
-impl HertzViscoelastic {
-    /// As [`Self::for_pair`], calibrating for the law as run
-    /// ([`Calibration::Exact`]) or for the unclamped law
-    /// ([`Calibration::Formula`]).
-    pub fn calibrated(
-        pair: &ContactPair,
-        mass: f64,
-        dissipation: Dissipation,
-        impact_speed: f64,
-        calibration: Calibration,
-        attractive: bool,
-    ) -> Result<Self, ModelError> {
-        let as_run = attractive || calibration == Calibration::Formula;
-        Self::for_pair(pair, mass, dissipation, impact_speed, as_run)
-    }
-
-    /// A from a target restitution at `impact_speed` (see the module doc),
-    /// or A given (s).
-    pub fn for_pair(
-        pair: &ContactPair,
-        mass: f64,
-        dissipation: Dissipation,
-        impact_speed: f64,
-        attractive: bool,
-    ) -> Result<Self, ModelError> {
-        let stiffness = pair.power_law_stiffness(1.5);
-        let a = match dissipation {
-            Dissipation::Coefficient(a) => a,
-            Dissipation::Restitution(e) if e >= 1.0 => 0.0,
-            Dissipation::Restitution(e) => {
-                if impact_speed.is_nan() || impact_speed <= 0.0 || impact_speed.is_infinite() {
-                    return Err(ModelError(
+/// The viscoelastic law's A (s) for Hertz stiffness `stiffness`
+/// (N/m^(3/2)) and `mass` (kg): given, or solved for a target restitution
+/// at `impact_speed` (m/s) for the law clamped unless `attractive` (see
+/// `reference::dissipative`): e(δ) by the adaptive reference integrator,
+/// inverted by bisection in ln δ, δ = A (k/m)^(2/5) v^(1/5).
+pub fn viscoelastic_coefficient(
+    stiffness: f64,
+    mass: f64,
+    dissipation: Dissipation,
+    impact_speed: f64,
+    attractive: bool,
+) -> Result<f64, ModelError> {
+    let a = match dissipation {
+        Dissipation::Coefficient(a) => a,
+        Dissipation::Restitution(e) if e >= 1.0 => 0.0,
+        Dissipation::Restitution(e) => {
+            if impact_speed.is_nan() || impact_speed <= 0.0 || impact_speed.is_infinite() {
+                return Err(ModelError(
                         "contact.restitution with damping = \"viscoelastic\" needs a first impact speed > 0"
                             .into(),
                     ));
-                }
-                let t = (mass / stiffness).powf(0.4) * impact_speed.powf(-0.2);
-                // A contact that never ends (creeping back under heavy
-                // damping) counts as e = 0: the damping is too strong.
-                let e_of = |ln_delta: f64| {
-                    viscoelastic_restitution(
-                        stiffness,
-                        ln_delta.exp() * t,
-                        mass,
-                        impact_speed,
-                        attractive,
-                    )
-                    .unwrap_or(0.0)
-                };
-                // e decreases with δ: e(1e−9) ≈ 1, e(30) ≈ 0.
-                let (mut lo, mut hi) = ((1e-9_f64).ln(), (30.0_f64).ln());
-                if e_of(lo) < e || e_of(hi) > e {
-                    return Err(ModelError(format!(
+            }
+            let t = (mass / stiffness).powf(0.4) * impact_speed.powf(-0.2);
+            // A contact that never ends (creeping back under heavy
+            // damping) counts as e = 0: the damping is too strong.
+            let e_of = |ln_delta: f64| {
+                viscoelastic_restitution(
+                    stiffness,
+                    ln_delta.exp() * t,
+                    mass,
+                    impact_speed,
+                    attractive,
+                )
+                .unwrap_or(0.0)
+            };
+            // e decreases with δ: e(1e−9) ≈ 1, e(30) ≈ 0.
+            let (mut lo, mut hi) = ((1e-9_f64).ln(), (30.0_f64).ln());
+            if e_of(lo) < e || e_of(hi) > e {
+                return Err(ModelError(format!(
                         "contact.restitution = {e} is out of reach of the viscoelastic law (0 < δ ≤ 30)"
                     )));
-                }
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    if e_of(mid) > e {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                    if hi - lo < 1e-13 {
-                        break;
-                    }
-                }
-                (0.5 * (lo + hi)).exp() * t
             }
-        };
-        Ok(Self { stiffness, a })
-    }
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if e_of(mid) > e {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+                if hi - lo < 1e-13 {
+                    break;
+                }
+            }
+            (0.5 * (lo + hi)).exp() * t
+        }
+    };
+    Ok(a)
 }

@@ -4,9 +4,8 @@
 
 use crate::{num, ExportError};
 use dembound_core::bounce::{plan as dembound_plan, ContactRecord, GravityOn, Scenario};
-use dembound_core::contact::{
-    ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic, LinearDashpot,
-};
+use dembound_core::calibration::damping_coefficient;
+use dembound_core::contact::{ContactLawKind, DampingKind};
 use dembound_core::exact;
 
 /// The mobile sphere.
@@ -151,9 +150,17 @@ impl Plan {
             velocity: s.motion.velocity,
         };
         let c = s.contact;
-        // The damped laws' configuration (no dissipation given: 0).
-        let model = c.model();
-        let dissipation = model.dissipation.unwrap_or(Dissipation::Coefficient(0.0));
+        // The damped laws' configuration (no dissipation given: 0), their
+        // coefficient calibrated as the run calibrates it.
+        let mut model = c.model();
+        model.dissipation = model
+            .dissipation
+            .or(Some(dembound_core::contact::Dissipation::Coefficient(0.0)));
+        let coefficient = || {
+            damping_coefficient(&model, &pair, s.reduced_mass(), s.impact_speed())
+                .map_err(|e| ExportError(e.to_string()))
+        };
+        let clamp = !model.attractive;
         let law = match (c.law, c.damping) {
             (ContactLawKind::Hertz, DampingKind::None) => Law::Hertz {
                 stiffness: pair.power_law_stiffness(1.5),
@@ -161,50 +168,21 @@ impl Plan {
             (ContactLawKind::Linear, DampingKind::None) => Law::Linear {
                 stiffness: pair.power_law_stiffness(1.0),
             },
-            (ContactLawKind::Linear, DampingKind::Viscous) => {
-                let d = LinearDashpot::calibrated(
-                    &pair,
-                    s.reduced_mass(),
-                    dissipation,
-                    model.calibration,
-                    model.attractive,
-                );
-                Law::Dashpot {
-                    stiffness: d.stiffness,
-                    damping: d.damping,
-                    clamp: !model.attractive,
-                }
-            }
-            (ContactLawKind::Hertz, DampingKind::Tsuji) => {
-                let t = HertzTsuji::calibrated(
-                    &pair,
-                    s.reduced_mass(),
-                    dissipation,
-                    model.calibration,
-                    model.attractive,
-                );
-                Law::Tsuji {
-                    stiffness: t.stiffness,
-                    damping: t.damping,
-                    clamp: !model.attractive,
-                }
-            }
-            (ContactLawKind::Hertz, DampingKind::Viscoelastic) => {
-                let v = HertzViscoelastic::calibrated(
-                    &pair,
-                    s.reduced_mass(),
-                    dissipation,
-                    s.impact_speed(),
-                    model.calibration,
-                    model.attractive,
-                )
-                .map_err(|e| ExportError(e.to_string()))?;
-                Law::Viscoelastic {
-                    stiffness: v.stiffness,
-                    a: v.a,
-                    clamp: !model.attractive,
-                }
-            }
+            (ContactLawKind::Linear, DampingKind::Viscous) => Law::Dashpot {
+                stiffness: pair.power_law_stiffness(1.0),
+                damping: coefficient()?,
+                clamp,
+            },
+            (ContactLawKind::Hertz, DampingKind::Tsuji) => Law::Tsuji {
+                stiffness: pair.power_law_stiffness(1.5),
+                damping: coefficient()?,
+                clamp,
+            },
+            (ContactLawKind::Hertz, DampingKind::Viscoelastic) => Law::Viscoelastic {
+                stiffness: pair.power_law_stiffness(1.5),
+                a: coefficient()?,
+                clamp,
+            },
             (law, damping) => {
                 return Err(ExportError(format!(
                     "contact.law = \"{}\" with contact.damping = \"{}\" is not exported yet \

@@ -14,7 +14,7 @@ pub mod tolerance;
 
 pub use batch::simulate_batch;
 pub use problem::{Problem, SimulationError};
-pub use run::{check_resolution, check_step, plan, simulate};
+pub use run::{check_resolution, check_step, plan, resolve, simulate, simulate_resolved, Resolved};
 pub use scenario::{
     BoundarySection, ContactSection, GravityOn, InputError, Integration, Motion, ParticleSection,
     Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,

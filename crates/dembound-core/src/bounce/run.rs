@@ -10,8 +10,8 @@ use super::problem::{Problem, SimulationError};
 use super::simulate::simulate_with;
 use super::tolerance;
 use super::{InputError, Observer, RunOutcome, Scenario, StepRule};
-use crate::calibration::with_model;
-use crate::contact::{LawVisitor, NormalContactLaw};
+use crate::calibration::{damping_coefficient, with_damped, with_model};
+use crate::contact::{DampingKind, LawVisitor, NormalContactLaw};
 use crate::integrate::{Gear5, Scheme, Verlet};
 
 impl Problem {
@@ -194,6 +194,110 @@ pub fn check_resolution(s: &Scenario) -> Result<(), SimulationError> {
     plan(&s).map(|_| ())
 }
 
+/// A scenario resolved once: validated, its damping calibrated (a target
+/// restitution turned into the raw coefficient; for the viscoelastic law
+/// an adaptive root solve) and its numerical problem chosen (Δt, with an
+/// `integration.tolerance` the pilot runs). [`simulate_resolved`] runs it
+/// without redoing any of this.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resolved {
+    /// The numerical problem (Δt, contact-time estimate, expected steps).
+    pub problem: Problem,
+    /// The damping's raw coefficient (c, γ or A), for a damped law.
+    pub damping_coefficient: Option<f64>,
+}
+
+/// Calls `f` with the law of `s`, the damping's coefficient as resolved
+/// (no calibration when it is given).
+fn with_resolved_law<R>(
+    s: &Scenario,
+    damping_coefficient: Option<f64>,
+    f: impl LawVisitor<Output = R>,
+) -> Result<R, SimulationError> {
+    let (model, pair) = (s.contact.model(), s.pair());
+    Ok(match damping_coefficient {
+        Some(c) => with_damped(&model, &pair, s.reduced_mass(), c, f)?,
+        None => with_model(&model, &pair, s.reduced_mass(), s.impact_speed(), f)?,
+    })
+}
+
+/// Resolves `s` once ([`Resolved`]), refusing a step that does not resolve
+/// the contact ([`check_step`]).
+pub fn resolve(s: &Scenario) -> Result<Resolved, SimulationError> {
+    s.validate()?;
+    let model = s.contact.model();
+    let damping_coefficient = if model.damping == DampingKind::None {
+        None
+    } else {
+        Some(damping_coefficient(
+            &model,
+            &s.pair(),
+            s.reduced_mass(),
+            s.impact_speed(),
+        )?)
+    };
+    struct Plan<'a>(&'a Scenario);
+    impl LawVisitor for Plan<'_> {
+        type Output = Result<Problem, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
+            let problem = Problem::new(self.0, &law)?;
+            check_step(self.0, &problem)?;
+            Ok(problem)
+        }
+    }
+    let problem = with_resolved_law(s, damping_coefficient, Plan(s))??;
+    Ok(Resolved {
+        problem,
+        damping_coefficient,
+    })
+}
+
+/// Runs a scenario resolved by [`resolve`] and reports every contact: the
+/// same run as [`simulate`], without validating, calibrating or choosing
+/// the step again.
+pub fn simulate_resolved<O: Observer>(
+    s: &Scenario,
+    resolved: &Resolved,
+    observer: &mut O,
+) -> Result<RunOutcome, SimulationError> {
+    struct Visit<'a, O> {
+        scenario: &'a Scenario,
+        problem: &'a Problem,
+        observer: &'a mut O,
+    }
+    impl<O: Observer> LawVisitor for Visit<'_, O> {
+        type Output = Result<RunOutcome, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
+            run_problem(self.scenario, &law, self.problem, self.observer)
+        }
+    }
+    with_resolved_law(
+        s,
+        resolved.damping_coefficient,
+        Visit {
+            scenario: s,
+            problem: &resolved.problem,
+            observer,
+        },
+    )?
+}
+
+/// The time loop of `law` on `problem`, with the scenario's scheme.
+fn run_problem<L: NormalContactLaw, O: Observer>(
+    s: &Scenario,
+    law: &L,
+    problem: &Problem,
+    observer: &mut O,
+) -> Result<RunOutcome, SimulationError> {
+    match s.integration.scheme {
+        Scheme::Gear5 => {
+            let gear = Gear5::for_force(law.depends_on_rate());
+            simulate_with(law, gear, problem, observer)
+        }
+        Scheme::Verlet => simulate_with(law, Verlet, problem, observer),
+    }
+}
+
 /// Runs a scenario (validated first) and reports every contact.
 pub fn simulate<O: Observer>(
     s: &Scenario,
@@ -208,13 +312,7 @@ pub fn simulate<O: Observer>(
         type Output = Result<RunOutcome, SimulationError>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             let problem = Problem::new(self.scenario, &law)?;
-            match self.scenario.integration.scheme {
-                Scheme::Gear5 => {
-                    let gear = Gear5::for_force(law.depends_on_rate());
-                    simulate_with(&law, gear, &problem, self.observer)
-                }
-                Scheme::Verlet => simulate_with(&law, Verlet, &problem, self.observer),
-            }
+            run_problem(self.scenario, &law, &problem, self.observer)
         }
     }
     with_model(
@@ -233,21 +331,5 @@ pub fn simulate<O: Observer>(
 /// without running it: for step-count guards and progress bars. Refuses a
 /// step that does not resolve the contact ([`check_step`]).
 pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
-    s.validate()?;
-    struct Plan<'a>(&'a Scenario);
-    impl LawVisitor for Plan<'_> {
-        type Output = Result<Problem, SimulationError>;
-        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
-            let problem = Problem::new(self.0, &law)?;
-            check_step(self.0, &problem)?;
-            Ok(problem)
-        }
-    }
-    with_model(
-        &s.contact.model(),
-        &s.pair(),
-        s.reduced_mass(),
-        s.impact_speed(),
-        Plan(s),
-    )?
+    resolve(s).map(|r| r.problem)
 }

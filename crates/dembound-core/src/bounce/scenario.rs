@@ -120,7 +120,8 @@ impl TwoBody {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
-    /// `"linear"`, `"hertz"`, `"walton-braun"` or `{ power = α }`.
+    /// `"linear"`, `"hertz"`, `"walton-braun"`, `{ power = α }`, or any
+    /// other law of the physics registry (`"hooke"`, `"hertz-kn"`).
     pub law: ContactLawKind,
     /// `"none"` (default), `"viscous"` (with `linear`), `"tsuji"` or
     /// `"viscoelastic"` (with `hertz`).
@@ -146,6 +147,10 @@ pub struct ContactSection {
     /// restitution` sets it for the study's targets).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<Calibration>,
+    /// k_n of the registry laws that take a given stiffness: N/m for
+    /// `"hooke"` (F = k_n h), Pa for `"hertz-kn"` (F = k_n √R_eff h^(3/2)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
 }
 
 fn is_default<T: Default + PartialEq>(x: &T) -> bool {
@@ -162,6 +167,7 @@ impl ContactSection {
             damping_coefficient: None,
             attractive: false,
             calibration: None,
+            stiffness: None,
         }
     }
 
@@ -178,6 +184,7 @@ impl ContactSection {
             dissipation,
             attractive: self.attractive,
             calibration: self.calibration.unwrap_or_default(),
+            stiffness: self.stiffness,
         }
     }
 }
@@ -528,6 +535,53 @@ impl Scenario {
     }
 
     /// The `[contact]` keys: ranges, and which combinations make sense.
+    /// The parameters a registry law takes (`contact.stiffness`), from
+    /// its row: each given and in the row's range; and no such key for a
+    /// law that does not take it. (The paper's laws keep their own checks:
+    /// the power law's exponent, Walton–Braun's restitution.)
+    fn validate_law_params(&self) -> Result<(), InputError> {
+        use dembound_physics::contact::registry::NORMAL_LAWS;
+        let c = &self.contact;
+        let row = c.law.row();
+        let model = c.model();
+        if let ContactLawKind::Registry(_) = c.law {
+            for p in row.params {
+                let Some(value) = model.param(p.key) else {
+                    return Err(InputError {
+                        field: format!("contact.{}", p.key),
+                        value: "missing".into(),
+                        allowed: format!(
+                            "{} ({}, {}), required by law = \"{}\"",
+                            p.range, p.symbol, p.unit, row.name
+                        ),
+                    });
+                };
+                p.check(value).map_err(|e| InputError {
+                    field: e.key,
+                    value: e.value,
+                    allowed: e.allowed,
+                })?;
+            }
+        }
+        if let Some(k) = c.stiffness {
+            let takes = |r: &dembound_physics::contact::registry::NormalRow| {
+                r.params.iter().any(|p| p.key == "stiffness")
+            };
+            let laws: Vec<String> = NORMAL_LAWS
+                .iter()
+                .filter(|r| takes(r))
+                .map(|r| format!("\"{}\"", r.name))
+                .collect();
+            check(
+                takes(row),
+                "contact.stiffness",
+                k,
+                format_args!("absent unless law is {}", laws.join(" or ")),
+            )?;
+        }
+        Ok(())
+    }
+
     fn validate_contact(&self) -> Result<(), InputError> {
         let c = &self.contact;
         if let Some(e) = c.restitution {
@@ -553,6 +607,7 @@ impl Scenario {
             )?;
         }
         let quoted = |s: &str| format!("\"{s}\"");
+        self.validate_law_params()?;
         let law = c.law.name();
         match (c.law, c.damping) {
             (ContactLawKind::WaltonBraun, DampingKind::None) => {

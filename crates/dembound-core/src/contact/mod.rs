@@ -7,29 +7,30 @@
 //! (positive while the spheres approach). It knows nothing of gravity, the
 //! integrator or the number of bodies, so dissipative laws (spring–dashpot,
 //! Tsuji, Kuwabara–Kono, hysteretic) plug in without touching either.
-
 //!
-//! Dissipative laws ([`LinearDashpot`], [`HertzTsuji`], [`HertzViscoelastic`],
-//! [`WaltonBraun`]) are separate concrete types; forbidding an attractive
-//! force is the wrapper [`NoAttraction`]. [`crate::calibration::with_model`]
-//! picks the type, so the elastic laws' inner loop is unchanged.
+//! The damped laws are the physics crate's normal and damping sub-models
+//! combined by one model object, [`Damped`], which applies the
+//! no-attraction clamp (a type parameter, so the elastic laws' inner loop
+//! is unchanged); [`crate::calibration::with_model`] picks the types.
 
-mod dashpot;
-mod no_attraction;
+mod damped;
 mod physics_laws;
-mod tsuji;
-mod viscoelastic;
+pub(crate) mod registered;
 
-pub use dashpot::{
-    damping_ratio_for, free_restitution, restitution_to_damping_ratio, LinearDashpot,
+pub use damped::{BounceDamping, Damped};
+pub use dembound_physics::contact::damping::{
+    none::NoDamping, tsuji::Tsuji, viscoelastic::Viscoelastic, viscous::Viscous,
 };
 pub use dembound_physics::contact::normal::{
-    hertz::Hertz, hooke::Hooke, linear::Linear as LinearSpring, power::PowerLaw,
+    hertz::Hertz, hertz_kn::HertzKn, hooke::Hooke, linear::Linear as LinearSpring, power::PowerLaw,
     walton_braun::WaltonBraun,
 };
-pub use no_attraction::NoAttraction;
-pub use tsuji::{tsuji_beta, HertzTsuji};
-pub use viscoelastic::HertzViscoelastic;
+/// The closed-form e(ξ) relations and their inverses, and LIGGGHTS' β,
+/// from the physics crate (where they are documented).
+pub use dembound_physics::contact::{
+    damping_ratio_for, free_restitution, restitution_to_damping_ratio, tsuji_beta,
+};
+pub use registered::Registered;
 
 /// What a Walton–Braun contact remembers: the physics crate's one
 /// per-pair history (largest overlap, unloading flag).
@@ -158,9 +159,14 @@ pub enum Onset {
 }
 
 /// Which contact law a scenario uses (TOML: `law = "linear"`, `"hertz"`,
-/// `"walton-braun"` or `{ power = 1.25 }`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+/// `"walton-braun"`, `{ power = 1.25 }`, or the name of any other law of
+/// the physics registry, `"hooke"`, `"hertz-kn"`, with its parameters as
+/// `contact.` keys named by its row: `contact.stiffness`).
+///
+/// The paper's laws are variants of their own (the studies match on them);
+/// every other registry law is [`ContactLawKind::Registry`], its row: a new
+/// law of the registry is usable here with no edit to this crate.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactLawKind {
     /// α = 1: F = E_eff R_eff h (eq 4).
     Linear,
@@ -170,17 +176,40 @@ pub enum ContactLawKind {
     Power(f64),
     /// Walton & Braun (1986) hysteretic linear law: loading k₁ h with
     /// k₁ = E_eff R_eff, unloading k₂ (h − h₀), k₂ = k₁/e² ([`WaltonBraun`]).
-    #[serde(rename = "walton-braun")]
     WaltonBraun,
+    /// Any other normal law of the physics registry (`hooke`, `hertz-kn`,
+    /// …), by its row; its parameters are `contact.` keys of the row's
+    /// parameter names ([`ContactModel::normal`]).
+    Registry(&'static registry::NormalRow),
 }
 
 impl ContactLawKind {
-    /// The exponent α of eq 4 (1 for Walton–Braun, a linear law).
+    /// The law of registry name `name` (`"power"` with exponent `value`,
+    /// the one law written `{ power = α }`); `None` for an unknown name.
+    pub fn from_name(name: &str, value: Option<f64>) -> Option<Self> {
+        let row = registry::normal_row(name)?;
+        Some(match (row.name, value) {
+            ("linear", None) => ContactLawKind::Linear,
+            ("hertz", None) => ContactLawKind::Hertz,
+            ("power", Some(alpha)) => ContactLawKind::Power(alpha),
+            ("walton-braun", None) => ContactLawKind::WaltonBraun,
+            (_, Some(_)) => return None,
+            ("power", None) => return None,
+            _ => ContactLawKind::Registry(row),
+        })
+    }
+
+    /// The exponent α of F ∝ h^α on loading (eq 4): 1 for the linear
+    /// family (Walton–Braun, `hooke`), 3/2 for the Hertzian one.
     pub fn exponent(&self) -> f64 {
         match *self {
             ContactLawKind::Linear | ContactLawKind::WaltonBraun => 1.0,
             ContactLawKind::Hertz => 1.5,
             ContactLawKind::Power(alpha) => alpha,
+            ContactLawKind::Registry(row) => match row.family {
+                registry::Family::Hertzian => 1.5,
+                _ => 1.0,
+            },
         }
     }
 
@@ -193,38 +222,107 @@ impl ContactLawKind {
         }
     }
 
-    /// The law as the physics crate's registry configures it, with the
-    /// restitution a hysteretic law takes (k₂ = k₁/e²; 1 when absent).
-    pub fn to_physics(&self, restitution: Option<f64>) -> registry::NormalLaw {
-        match *self {
+    /// The law as the physics crate's registry configures it, each
+    /// parameter other than the power law's exponent from `param(key)` (a
+    /// `contact.` key of that name); Walton–Braun's restitution defaults
+    /// to 1 (k₂ = k₁). `None` when a parameter is missing.
+    pub fn to_physics(&self, param: impl Fn(&str) -> Option<f64>) -> Option<registry::NormalLaw> {
+        Some(match *self {
             ContactLawKind::Linear => registry::NormalLaw::Linear,
             ContactLawKind::Hertz => registry::NormalLaw::Hertz,
             ContactLawKind::Power(exponent) => registry::NormalLaw::Power { exponent },
             ContactLawKind::WaltonBraun => registry::NormalLaw::WaltonBraun {
-                restitution: restitution.unwrap_or(1.0),
+                restitution: param(registry::RESTITUTION.key).unwrap_or(1.0),
             },
-        }
+            ContactLawKind::Registry(row) => {
+                let values: Option<Vec<f64>> = row.params.iter().map(|p| param(p.key)).collect();
+                return registry::NormalLaw::from_params(row.name, &values?);
+            }
+        })
     }
 
     /// Its row of the physics registry (name, parameters, family: the
     /// law–damping compatibility table).
     pub fn row(&self) -> &'static registry::NormalRow {
-        self.to_physics(None).row()
+        match *self {
+            ContactLawKind::Linear => registry::NormalLaw::Linear.row(),
+            ContactLawKind::Hertz => registry::NormalLaw::Hertz.row(),
+            ContactLawKind::Power(exponent) => registry::NormalLaw::Power { exponent }.row(),
+            ContactLawKind::WaltonBraun => {
+                registry::NormalLaw::WaltonBraun { restitution: 1.0 }.row()
+            }
+            ContactLawKind::Registry(row) => row,
+        }
     }
 }
 
-/// Calls `f` with the concrete elastic law of `kind` for `pair`, so that the
-/// integration loop is monomorphised for each law (no dynamic dispatch in
-/// the inner loop).
-///
-/// Walton–Braun needs a restitution; here it gets e = 1 (k₂ = k₁: a linear
-/// spring that keeps a history). Use [`with_model`](crate::calibration::with_model) for dissipative models.
-pub fn with_law<R>(kind: ContactLawKind, pair: &ContactPair, f: impl LawVisitor<Output = R>) -> R {
-    match kind {
-        ContactLawKind::Linear => f.visit(pair.law::<LinearSpring>(&[])),
-        ContactLawKind::Hertz => f.visit(pair.law::<Hertz>(&[])),
-        ContactLawKind::Power(alpha) => f.visit(pair.law::<PowerLaw>(&[alpha])),
-        ContactLawKind::WaltonBraun => f.visit(pair.law::<WaltonBraun>(&[1.0])),
+/// Written as the registry name, or `{ power = α }`.
+impl Serialize for ContactLawKind {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        match *self {
+            ContactLawKind::Power(alpha) => {
+                let mut map = serializer.serialize_map(Some(1))?;
+                map.serialize_entry(self.row().name, &alpha)?;
+                map.end()
+            }
+            _ => serializer.serialize_str(self.row().name),
+        }
+    }
+}
+
+/// Read as a registry name, or `{ power = α }`; an unknown name is refused
+/// with the registry's list.
+impl<'de> Deserialize<'de> for ContactLawKind {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Name(String),
+            WithValue(std::collections::BTreeMap<String, f64>),
+        }
+        let unknown = |name: &str| {
+            serde::de::Error::custom(format!(
+                "\"{name}\" is not a law of the registry (allowed: one of {}; the power law as {{ power = α }})",
+                registry::normal_names()
+            ))
+        };
+        match Raw::deserialize(deserializer)? {
+            Raw::Name(name) => ContactLawKind::from_name(&name, None).ok_or_else(|| unknown(&name)),
+            Raw::WithValue(map) => {
+                let mut entries = map.into_iter();
+                match (entries.next(), entries.next()) {
+                    (Some((name, value)), None) => ContactLawKind::from_name(&name, Some(value))
+                        .ok_or_else(|| unknown(&format!("{{ {name} = {value} }}"))),
+                    _ => Err(serde::de::Error::custom(
+                        "contact.law: a law name, or one { power = α }",
+                    )),
+                }
+            }
+        }
+    }
+}
+
+/// Calls `f` with the concrete elastic law `law` (the physics registry's,
+/// with its parameters) for `pair`, so that the integration loop is
+/// monomorphised for each law (no dynamic dispatch in the inner loop). The
+/// laws with the bounce's own extras (`physics_laws`) run as themselves;
+/// any other registry law through [`Registered`], the physics crate's
+/// enum-dispatched per-pair model with the generic extras.
+pub fn with_law<R>(
+    law: &registry::NormalLaw,
+    pair: &ContactPair,
+    mass: f64,
+    f: impl LawVisitor<Output = R>,
+) -> R {
+    use registry::NormalLaw as N;
+    match *law {
+        N::Linear => f.visit(pair.law::<LinearSpring>(&[])),
+        N::Hertz => f.visit(pair.law::<Hertz>(&[])),
+        N::Power { exponent } => f.visit(pair.law::<PowerLaw>(&[exponent])),
+        N::WaltonBraun { restitution } => f.visit(pair.law::<WaltonBraun>(&[restitution])),
+        N::Hooke { stiffness } => f.visit(pair.law::<Hooke>(&[stiffness])),
+        _ => f.visit(Registered::<false>::elastic(law, pair, mass)),
     }
 }
 
@@ -235,12 +333,12 @@ pub enum DampingKind {
     /// Elastic (or the law's own hysteresis: Walton–Braun).
     #[default]
     None,
-    /// Linear spring–dashpot, with `law = "linear"` ([`LinearDashpot`]).
+    /// Linear spring–dashpot, with `law = "linear"` ([`Damped`] with [`Viscous`]).
     Viscous,
-    /// Hertz with Tsuji-type damping (LIGGGHTS/EDEM), with `law = "hertz"` ([`HertzTsuji`]).
+    /// Hertz with Tsuji-type damping (LIGGGHTS/EDEM), with `law = "hertz"` ([`Damped`] with [`Tsuji`]).
     Tsuji,
     /// Hertz with Kuwabara–Kono/Brilliantov viscoelastic damping, with
-    /// `law = "hertz"` ([`HertzViscoelastic`]).
+    /// `law = "hertz"` ([`Damped`] with [`Viscoelastic`]).
     Viscoelastic,
 }
 
@@ -296,6 +394,14 @@ pub enum Calibration {
 }
 
 impl Calibration {
+    /// The same choice as the physics crate names it.
+    pub fn to_physics(&self) -> dembound_physics::contact::Calibration {
+        match self {
+            Calibration::Exact => dembound_physics::contact::Calibration::Exact,
+            Calibration::Formula => dembound_physics::contact::Calibration::Formula,
+        }
+    }
+
     pub fn name(&self) -> &'static str {
         match self {
             Calibration::Exact => "exact",
@@ -316,16 +422,9 @@ impl Calibration {
     }
 }
 
-/// How strong the dissipation is.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Dissipation {
-    /// A target coefficient of restitution 0 < e ≤ 1 (each law documents
-    /// how it maps e to its coefficient).
-    Restitution(f64),
-    /// The law's raw damping coefficient, ≥ 0: c in N s/m for the dashpot,
-    /// γ in N s/m^(5/4) for Tsuji, A in s for the viscoelastic law.
-    Coefficient(f64),
-}
+/// How strong the dissipation is: a target restitution or the damping's
+/// raw coefficient (the physics crate's type).
+pub use dembound_physics::contact::Dissipation;
 
 /// A complete choice of normal contact model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -338,6 +437,9 @@ pub struct ContactModel {
     pub attractive: bool,
     /// How a [`Dissipation::Restitution`] becomes the law's coefficient.
     pub calibration: Calibration,
+    /// `contact.stiffness`: k_n of the registry laws that take one
+    /// (`hooke` N/m, `hertz-kn` Pa).
+    pub stiffness: Option<f64>,
 }
 
 impl ContactModel {
@@ -349,7 +451,27 @@ impl ContactModel {
             dissipation: None,
             attractive: false,
             calibration: Calibration::Exact,
+            stiffness: None,
         }
+    }
+
+    /// The value of the law parameter `key` of the registry (`restitution`
+    /// from the dissipation, `stiffness`), if given.
+    pub fn param(&self, key: &str) -> Option<f64> {
+        match key {
+            "restitution" => match self.dissipation {
+                Some(Dissipation::Restitution(e)) => Some(e),
+                _ => None,
+            },
+            "stiffness" => self.stiffness,
+            _ => None,
+        }
+    }
+
+    /// The normal law as the physics registry configures it, with its
+    /// parameters ([`ContactLawKind::to_physics`]); `None` when one is missing.
+    pub fn normal(&self) -> Option<registry::NormalLaw> {
+        self.law.to_physics(|key| self.param(key))
     }
 }
 
@@ -374,7 +496,3 @@ pub trait LawVisitor {
 /// Factor on the elastic contact time of a damped Hertz law with damping
 /// ratio ξ, from the physics crate (where it is documented).
 pub use dembound_physics::contact::heavy_damping_scale;
-
-/// Gravity-free contact of the power law F = k h^α at impact speed v for a
-/// body of mass m, (h_max, T_c), from the physics crate.
-pub(crate) use dembound_physics::contact::power_law_free_contact;

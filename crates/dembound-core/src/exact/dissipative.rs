@@ -11,10 +11,8 @@
 
 use super::{first_contact_time, ExactError};
 use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
-use crate::contact::{
-    ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic, LinearDashpot,
-    WaltonBraun,
-};
+use crate::calibration::damping_coefficient as calibrated_coefficient;
+use crate::contact::{ContactLawKind, DampingKind, Dissipation, Hertz, LinearSpring, WaltonBraun};
 use crate::reference::dissipative::{
     damped_hertz, damped_hertz_max_force, spring_dashpot, spring_dashpot_max_force, walton_braun,
     ContactReference, DampedHertz, ReferenceError,
@@ -31,6 +29,15 @@ type ContactFn<'a> = dyn Fn(f64) -> Result<(ContactReference, f64), ReferenceErr
 /// The reference values of every contact of a dissipative scenario
 /// (`steps` = 0: nothing was integrated by the time loop).
 pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+    dissipative_contacts_with(s, None)
+}
+
+/// As [`dissipative_contacts`], with the damping's raw coefficient already
+/// resolved (by [`crate::bounce::resolve`]: no second calibration).
+pub fn dissipative_contacts_with(
+    s: &Scenario,
+    damping_coefficient: Option<f64>,
+) -> Result<Vec<ContactRecord>, ExactError> {
     let mass = s.reduced_mass();
     let g = s.relative_gravity();
     let pair = s.pair();
@@ -42,7 +49,13 @@ pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactErr
         requirement: "given (or contact.damping_coefficient) for a dissipative law",
     })?;
     let attractive = c.attractive;
-    let calibration = model.calibration;
+    // The damping's raw coefficient, calibrated as the run calibrates it
+    // (only the viscoelastic calibration, a root solve, can fail).
+    let coefficient = || match damping_coefficient {
+        Some(c) => Ok(c),
+        None => calibrated_coefficient(&model, &pair, mass, s.impact_speed())
+            .map_err(|_| ExactError::Numerical("viscoelastic calibration failed")),
+    };
     let contact: Box<ContactFn> = match (c.law, c.damping) {
         (ContactLawKind::WaltonBraun, DampingKind::None) => {
             let Dissipation::Restitution(e) = dissipation else {
@@ -59,34 +72,24 @@ pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactErr
             })
         }
         (ContactLawKind::Linear, DampingKind::Viscous) => {
-            let law = LinearDashpot::calibrated(&pair, mass, dissipation, calibration, attractive);
+            let (k, c) = (pair.law::<LinearSpring>(&[]).stiffness, coefficient()?);
             Box::new(move |v| {
-                let r = spring_dashpot(law.stiffness, law.damping, mass, v, g, attractive)?;
-                let f = spring_dashpot_max_force(law.stiffness, law.damping, mass, v, g)?;
+                let r = spring_dashpot(k, c, mass, v, g, attractive)?;
+                let f = spring_dashpot_max_force(k, c, mass, v, g)?;
                 Ok((r, f))
             })
         }
         (ContactLawKind::Hertz, DampingKind::Tsuji) => {
-            let law = HertzTsuji::calibrated(&pair, mass, dissipation, calibration, attractive);
             let model = DampedHertz::Tsuji {
-                stiffness: law.stiffness,
-                damping: law.damping,
+                stiffness: pair.law::<Hertz>(&[]).stiffness,
+                damping: coefficient()?,
             };
             Box::new(move |v| damped(model, mass, v, g, attractive))
         }
         (ContactLawKind::Hertz, DampingKind::Viscoelastic) => {
-            let law = HertzViscoelastic::calibrated(
-                &pair,
-                mass,
-                dissipation,
-                s.impact_speed(),
-                calibration,
-                attractive,
-            )
-            .map_err(|_| ExactError::Numerical("viscoelastic calibration failed"))?;
             let model = DampedHertz::Viscoelastic {
-                stiffness: law.stiffness,
-                a: law.a,
+                stiffness: pair.law::<Hertz>(&[]).stiffness,
+                a: coefficient()?,
             };
             Box::new(move |v| damped(model, mass, v, g, attractive))
         }

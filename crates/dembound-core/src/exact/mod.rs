@@ -25,7 +25,7 @@ pub mod paper;
 pub mod power;
 mod scenario;
 
-pub use scenario::{flight, problem, scenario_contacts};
+pub use scenario::{flight, problem, scenario_contacts, scenario_contacts_with};
 
 use std::fmt;
 

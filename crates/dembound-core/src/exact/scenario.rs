@@ -3,13 +3,23 @@
 
 use super::{contacts, ContactProblem, ExactError, Flight};
 use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
+use crate::contact::ContactLawKind;
+use dembound_physics::contact::registry::Family;
 
 /// The exact problem of a scenario's pair and law (p² from eqs 10–14).
 pub fn problem(s: &Scenario) -> ContactProblem {
     let alpha = s.contact.law.exponent();
     // p = √(k/m) with the mass of the relative motion (eq 10; the particle's
     // own against a fixed boundary, m* against a free one).
-    let p = (s.pair().power_law_stiffness(alpha) / s.reduced_mass()).sqrt();
+    // The paper's laws: k = E_eff R_eff^(2−α) (eq 4); another registry law
+    // of F = k h^α (`hooke`, `hertz-kn`): its own k for the pair.
+    let k = match s.contact.law {
+        ContactLawKind::Registry(_) => s.contact.model().normal().map_or(f64::NAN, |law| {
+            law.resolve(&s.pair().properties()).stiffness()
+        }),
+        _ => s.pair().power_law_stiffness(alpha),
+    };
+    let p = (k / s.reduced_mass()).sqrt();
     ContactProblem {
         p_squared: p * p,
         alpha,
@@ -31,8 +41,29 @@ pub fn flight(s: &Scenario) -> Flight {
 /// A dissipative scenario (`contact.damping`, or Walton–Braun) gets the
 /// reference of its own law ([`super::dissipative`]), never the elastic one.
 pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+    scenario_contacts_with(s, None)
+}
+
+/// As [`scenario_contacts`], with a damped law's raw coefficient already
+/// resolved (by [`crate::bounce::resolve`]: no second calibration).
+pub fn scenario_contacts_with(
+    s: &Scenario,
+    damping_coefficient: Option<f64>,
+) -> Result<Vec<ContactRecord>, ExactError> {
     if super::dissipative::is_dissipative(s) {
-        return super::dissipative::dissipative_contacts(s);
+        return super::dissipative::dissipative_contacts_with(s, damping_coefficient);
+    }
+    // The elastic reference is that of F = k h^α: a registry law has it
+    // only when its family fixes α (linear 1, Hertzian 3/2).
+    if let ContactLawKind::Registry(row) = s.contact.law {
+        if !matches!(row.family, Family::Linear | Family::Hertzian) {
+            return Err(ExactError::InvalidParameter {
+                name: "contact.law",
+                value: f64::NAN,
+                requirement: "a law of the linear or Hertzian family (F = k h or k h^(3/2)) \
+                              for the exact elastic reference",
+            });
+        }
     }
     let mass = s.reduced_mass();
     let bodies = s.two_body();

@@ -33,9 +33,10 @@
 //! fixed boundary, simulated with the core's time loop.
 
 use crate::bounce::{simulate_with, ContactRecord, Problem, Scenario, SimulationError};
+use crate::calibration::{damping_coefficient, with_damped};
 use crate::contact::{
-    ContactLawKind, DampingKind, Dissipation, HertzTsuji, HertzViscoelastic, LinearDashpot,
-    NoAttraction, NormalContactLaw, WaltonBraun,
+    ContactLawKind, ContactModel, DampingKind, Dissipation, LawVisitor, NormalContactLaw,
+    WaltonBraun,
 };
 use crate::integrate::{Gear5, Scheme, Verlet};
 use rayon::prelude::*;
@@ -343,30 +344,25 @@ pub fn raw_coefficient(
         s.contact.calibration.unwrap_or_default(),
         s.contact.attractive,
     );
+    let (law_kind, damping) = law.contact();
+    let model = ContactModel {
+        law: law_kind,
+        damping,
+        dissipation: Some(target),
+        attractive,
+        calibration: mapping,
+        stiffness: None,
+    };
     Ok(match law {
-        DissipativeLaw::Viscous => {
-            LinearDashpot::calibrated(&pair, mass, target, mapping, attractive).damping
-        }
-        DissipativeLaw::Tsuji => {
-            HertzTsuji::calibrated(&pair, mass, target, mapping, attractive).damping
-        }
-        DissipativeLaw::Viscoelastic => {
-            HertzViscoelastic::calibrated(
-                &pair,
-                mass,
-                target,
-                s.impact_speed(),
-                mapping,
-                attractive,
-            )
-            // A target the law cannot reach is bad input, not a failed run.
-            .map_err(|error| {
-                RestitutionError::OutOfReach(format!(
-                    "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
-                    s.boundary.radius_ratio, s.boundary.modulus_ratio
-                ))
-            })?
-            .a
+        DissipativeLaw::Viscous | DissipativeLaw::Tsuji | DissipativeLaw::Viscoelastic => {
+            damping_coefficient(&model, &pair, mass, s.impact_speed())
+                // A target the law cannot reach is bad input, not a failed run.
+                .map_err(|error| {
+                    RestitutionError::OutOfReach(format!(
+                        "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
+                        s.boundary.radius_ratio, s.boundary.modulus_ratio
+                    ))
+                })?
         }
         DissipativeLaw::WaltonBraun => pair.power_law_stiffness(1.0) / (e * e),
     })
@@ -392,32 +388,30 @@ pub fn simulate_coefficient(
     s.validate().map_err(|e| fail(e.into()))?;
     let pair = s.pair();
     let attractive = s.contact.attractive;
-    let (k1, k15) = (pair.power_law_stiffness(1.0), pair.power_law_stiffness(1.5));
+    let k1 = pair.power_law_stiffness(1.0);
+    /// Runs the one contact with the law it is given.
+    struct Visit<'a>(&'a Scenario);
+    impl LawVisitor for Visit<'_> {
+        type Output = Result<ContactRecord, SimulationError>;
+        fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
+            run(self.0, law)
+        }
+    }
     match law {
-        DissipativeLaw::Viscous => run_clamped(
-            &s,
-            LinearDashpot {
-                stiffness: k1,
-                damping: coefficient,
-            },
-            attractive,
-        ),
-        DissipativeLaw::Tsuji => run_clamped(
-            &s,
-            HertzTsuji {
-                stiffness: k15,
-                damping: coefficient,
-            },
-            attractive,
-        ),
-        DissipativeLaw::Viscoelastic => run_clamped(
-            &s,
-            HertzViscoelastic {
-                stiffness: k15,
-                a: coefficient,
-            },
-            attractive,
-        ),
+        DissipativeLaw::Viscous | DissipativeLaw::Tsuji | DissipativeLaw::Viscoelastic => {
+            let (law, damping) = law.contact();
+            let model = ContactModel {
+                law,
+                damping,
+                dissipation: Some(Dissipation::Coefficient(coefficient)),
+                attractive,
+                calibration: Default::default(),
+                stiffness: None,
+            };
+            with_damped(&model, &pair, s.reduced_mass(), coefficient, Visit(&s))
+                .map_err(SimulationError::from)
+                .and_then(|outcome| outcome)
+        }
         DissipativeLaw::WaltonBraun => run(
             &s,
             WaltonBraun {
@@ -428,18 +422,6 @@ pub fn simulate_coefficient(
         ),
     }
     .map_err(fail)
-}
-
-fn run_clamped<L: NormalContactLaw>(
-    s: &Scenario,
-    law: L,
-    attractive: bool,
-) -> Result<ContactRecord, SimulationError> {
-    if attractive {
-        run(s, law)
-    } else {
-        run(s, NoAttraction(law))
-    }
 }
 
 fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord, SimulationError> {

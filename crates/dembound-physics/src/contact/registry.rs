@@ -5,8 +5,10 @@
 //! one table of which damping combines with which normal laws
 //! ([`DampingRow::combines_with`], by [`Family`]).
 //!
-//! Adding a law is one file under `normal/` (or `damping/`) and one row
-//! here: the macros below generate the configuration enum
+//! Adding a normal law is one file under `normal/` and one row here (the
+//! row names the file's module, which `normal/mod.rs` declares from the
+//! rows: `normal_modules`); a damping is one file under `damping/`, one
+//! row and its `pub mod` line: the macros below generate the configuration enum
 //! ([`NormalLaw`], [`DampingKind`]), the per-pair enum dispatched on the
 //! hot path ([`NormalPair`], [`DampingPair`]: `Copy`, no `dyn`), the row
 //! lookup and the parsing by name from the rows.
@@ -200,7 +202,14 @@ const DAMPED: Capabilities = Capabilities {
 };
 
 macro_rules! normal_registry {
-    ($( $(#[$doc:meta])* $V:ident $({ $($p:ident),+ })? => $T:ty = $row:expr; )+) => {
+    ($( $(#[$doc:meta])* $V:ident $({ $($p:ident),+ })? => $m:ident::$T:ident = $row:expr; )+) => {
+        /// Declares one module per row's file under `normal/` (invoked once
+        /// in `normal/mod.rs`): a law's file is named only by its row.
+        macro_rules! normal_modules {
+            () => { $( pub mod $m; )+ };
+        }
+        pub(crate) use normal_modules;
+
         /// Which normal law, with its parameters (material-independent).
         #[derive(Debug, Clone, Copy, PartialEq)]
         pub enum NormalLaw {
@@ -214,7 +223,7 @@ macro_rules! normal_registry {
         /// dispatches on.
         #[derive(Debug, Clone, Copy, PartialEq)]
         pub enum NormalPair {
-            $( #[allow(missing_docs)] $V($T), )+
+            $( #[allow(missing_docs)] $V(normal::$m::$T), )+
         }
 
         #[allow(non_upper_case_globals)]
@@ -252,7 +261,7 @@ macro_rules! normal_registry {
             pub fn resolve(&self, pair: &PairProperties) -> NormalPair {
                 match *self { $(
                     NormalLaw::$V $({ $($p),+ })? =>
-                        NormalPair::$V(<$T as NormalSubModel>::new(&[$($($p),+)?], pair)),
+                        NormalPair::$V(<normal::$m::$T as NormalSubModel>::new(&[$($($p),+)?], pair)),
                 )+ }
             }
         }
@@ -366,7 +375,7 @@ macro_rules! damping_registry {
 
 normal_registry! {
     /// α = 1: F = E_eff R_eff h (eq 4).
-    Linear => normal::linear::Linear = NormalRow {
+    Linear => linear::Linear = NormalRow {
         name: "linear",
         formula: "F = k h, k = E_eff R_eff (eq 4, α = 1)",
         params: &[],
@@ -374,7 +383,7 @@ normal_registry! {
         capabilities: ELASTIC,
     };
     /// α = 3/2: F = E_eff √R_eff h^(3/2) (eq 4).
-    Hertz => normal::hertz::Hertz = NormalRow {
+    Hertz => hertz::Hertz = NormalRow {
         name: "hertz",
         formula: "F = k h^(3/2), k = E_eff √R_eff (eq 4, α = 3/2)",
         params: &[],
@@ -382,7 +391,7 @@ normal_registry! {
         capabilities: ELASTIC,
     };
     /// General exponent: F = E_eff R_eff^(2−α) h^α (eq 4).
-    Power { exponent } => normal::power::PowerLaw = NormalRow {
+    Power { exponent } => power::PowerLaw = NormalRow {
         name: "power",
         formula: "F = k h^α, k = E_eff R_eff^(2−α) (eq 4)",
         params: &[ParamSpec {
@@ -395,7 +404,7 @@ normal_registry! {
         capabilities: ELASTIC,
     };
     /// Walton–Braun hysteretic linear law, k₁ = E_eff R_eff, k₂ = k₁/e².
-    WaltonBraun { restitution } => normal::walton_braun::WaltonBraun = NormalRow {
+    WaltonBraun { restitution } => walton_braun::WaltonBraun = NormalRow {
         name: "walton-braun",
         formula: "F = k₁ h loading, k₂ (h − h₀) unloading, ≥ 0; k₁ = E_eff R_eff, k₂ = k₁/e²",
         params: &[RESTITUTION],
@@ -407,7 +416,7 @@ normal_registry! {
         },
     };
     /// LAMMPS/LIGGGHTS `hooke`: F = k_n h with k_n given.
-    Hooke { stiffness } => normal::hooke::Hooke = NormalRow {
+    Hooke { stiffness } => hooke::Hooke = NormalRow {
         name: "hooke",
         formula: "F = k_n h, k_n given (LAMMPS/LIGGGHTS hooke)",
         params: &[ParamSpec {
@@ -420,7 +429,7 @@ normal_registry! {
         capabilities: ELASTIC,
     };
     /// LAMMPS GRANULAR `hertz`: F = k_n √R_eff h^(3/2) with k_n given.
-    HertzKn { stiffness } => normal::hertz_kn::HertzKn = NormalRow {
+    HertzKn { stiffness } => hertz_kn::HertzKn = NormalRow {
         name: "hertz-kn",
         formula: "F = k_n √R_eff h^(3/2), k_n given (LAMMPS granular hertz)",
         params: &[ParamSpec {

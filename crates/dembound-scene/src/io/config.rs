@@ -88,6 +88,10 @@ pub struct ContactSection {
     pub damping_coefficient: Option<f64>,
     #[serde(default)]
     pub attractive: bool,
+    /// k_n of the registry laws that take a given stiffness (`"hooke"`
+    /// N/m, `"hertz-kn"` Pa), as `dembound run`'s `contact.stiffness`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
     /// Coulomb friction coefficient μ ≥ 0 of every surface (issue 13):
     /// with friction (here, on a material or on a wall) the spheres rotate
     /// and each contact carries a tangential spring.
@@ -120,6 +124,7 @@ impl Default for ContactSection {
             calibration: exact(),
             damping_coefficient: None,
             attractive: false,
+            stiffness: None,
             friction: None,
             tangential: None,
             rolling_friction: None,
@@ -157,6 +162,9 @@ impl ContactSection {
                 }
             }
         };
+        if let Some(k) = self.stiffness {
+            spec.law_params.push(("stiffness".into(), k));
+        }
         spec.damping = self.damping.clone();
         spec.restitution = self.restitution;
         spec.damping_coefficient = self.damping_coefficient;

@@ -96,6 +96,11 @@ pub trait DampingSubModel: Copy + std::fmt::Debug {
     /// overlap rate ḣ (m/s).
     fn force(&self, overlap: f64, overlap_rate: f64) -> f64;
 
+    /// The same model with every force multiplied by `factor` (a loop that
+    /// reads accelerations uses `scaled(1/m)`). [`Self::time_factor`] is
+    /// unchanged: it still refers to the unscaled forces and the true mass.
+    fn scaled(&self, factor: f64) -> Self;
+
     /// Factor on the normal law's elastic contact time (≤ 1 beyond heavy
     /// damping), for a pair of effective `mass` (kg) hit at `impact_speed` (m/s).
     fn time_factor(&self, _mass: f64, _impact_speed: f64) -> f64 {

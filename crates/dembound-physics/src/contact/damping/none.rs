@@ -16,4 +16,8 @@ impl DampingSubModel for NoDamping {
     fn force(&self, _overlap: f64, _overlap_rate: f64) -> f64 {
         0.0
     }
+
+    fn scaled(&self, _factor: f64) -> Self {
+        NoDamping
+    }
 }

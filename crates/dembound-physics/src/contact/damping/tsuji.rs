@@ -52,6 +52,13 @@ impl DampingSubModel for Tsuji {
         self.coefficient * overlap.abs().sqrt().sqrt() * overlap_rate
     }
 
+    fn scaled(&self, factor: f64) -> Self {
+        Self {
+            coefficient: self.coefficient * factor,
+            ..*self
+        }
+    }
+
     /// 1 up to ξ = 1/√2, 1/(√2 ξ) beyond ([`heavy_damping_scale`]).
     fn time_factor(&self, _mass: f64, _impact_speed: f64) -> f64 {
         heavy_damping_scale(self.ratio)

@@ -77,6 +77,14 @@ impl DampingSubModel for Viscoelastic {
         self.rate_stiffness * overlap.abs().sqrt() * overlap_rate
     }
 
+    /// (3/2) k A times `factor`; A, and the k of [`Self::time_factor`], unchanged.
+    fn scaled(&self, factor: f64) -> Self {
+        Self {
+            rate_stiffness: self.rate_stiffness * factor,
+            ..*self
+        }
+    }
+
     /// 1 up to an equivalent damping ratio ξ = 1/√2, 1/(√2 ξ) beyond
     /// ([`heavy_damping_scale`]); ξ is Tsuji's γ h^(1/4)/(√5 √(k m)) with
     /// the damping rate (3/2) k A h^(1/2)/m of this law at the elastic h_max:

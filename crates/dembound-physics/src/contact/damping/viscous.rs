@@ -34,6 +34,13 @@ impl DampingSubModel for Viscous {
         self.coefficient * overlap_rate
     }
 
+    fn scaled(&self, factor: f64) -> Self {
+        Self {
+            coefficient: self.coefficient * factor,
+            ..*self
+        }
+    }
+
     /// The damped half period π/(ω√(1−ξ²)) up to ξ = 1/√2, beyond it
     /// π/(ω(ξ + √(max(ξ² − 1, 0)))), continuous there, which follows the
     /// fast rate of the overdamped oscillator instead of the half period

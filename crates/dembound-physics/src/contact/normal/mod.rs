@@ -6,12 +6,9 @@
 use super::ContactHistory;
 use crate::material::PairProperties;
 
-pub mod hertz;
-pub mod hertz_kn;
-pub mod hooke;
-pub mod linear;
-pub mod power;
-pub mod walton_braun;
+// One `pub mod` per registry row, named by the row (`hooke::Hooke` is
+// `normal/hooke.rs`): a new law is its file and its row, nothing here.
+super::registry::normal_modules!();
 
 /// A normal law resolved for one pair of bodies.
 pub trait NormalSubModel: Copy + std::fmt::Debug {
