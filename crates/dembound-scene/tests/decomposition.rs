@@ -1,0 +1,156 @@
+//! Domain decomposition (issue 16) with ranks as threads
+//! (`comm::threads::ThreadTransport`): the same code as under MPI, only the
+//! transport differs. The MPI runs themselves: tests/mpi.rs at the root
+//! (feature `mpi`) and tests/mpi/run.sh.
+
+mod common;
+
+use dembound_scene::comm::threads::ThreadTransport;
+use dembound_scene::comm::DistributedSimulation;
+use dembound_scene::{Observation, SceneSetup, Simulation};
+
+/// Positions, velocities, the final observation, bodies per rank.
+type Run = (Vec<[f64; 3]>, Vec<[f64; 3]>, Observation, Vec<usize>);
+
+/// Runs `setup` on `ranks` thread-ranks with `grid` for `steps` steps;
+/// returns rank 0's gathered positions and velocities (input order), the
+/// final observation and the bodies each rank owns.
+fn run(
+    setup: &SceneSetup,
+    ranks: usize,
+    grid: Option<[usize; 3]>,
+    steps: u64,
+) -> Run {
+    let handles: Vec<_> = ThreadTransport::group(ranks)
+        .into_iter()
+        .map(|t| {
+            let setup = setup.clone();
+            std::thread::spawn(move || {
+                let mut d = DistributedSimulation::new(&setup, 1, grid, t).expect("valid scene");
+                d.step(steps);
+                let o = d.observe();
+                let reports = d.rank_reports();
+                let state = d.gather_state();
+                (state, o, reports)
+            })
+        })
+        .collect();
+    let mut out = None;
+    for h in handles {
+        let (state, o, reports) = h.join().expect("rank finished");
+        if let Some(s) = state {
+            out = Some((
+                s.position,
+                s.velocity,
+                o,
+                reports.iter().map(|r| r.owned).collect(),
+            ));
+        }
+    }
+    out.expect("rank 0 gathers")
+}
+
+/// 1, 2 and 3 ranks (and a 2 × 2 × 1 grid), 4,000 steps of a small
+/// lattice drop: the same positions and velocities to the bit, because
+/// each body's force is summed in an order fixed by the partners' ids.
+/// The contact count is an integer; the energies are sums over the ranks
+/// in a rank-dependent order, so they agree to round-off (1e-12
+/// relative: a few ulps times the number of ranks).
+#[test]
+fn positions_are_bit_identical_on_1_2_3_ranks() {
+    let setup = common::lattice_drop(6, 8, 2.0e-6, 4000);
+    let (x1, v1, o1, owned1) = run(&setup, 1, None, 4000);
+    assert_eq!(owned1, vec![288]);
+    // The spheres have fallen and touch (the test means something).
+    assert!(o1.particle_contacts > 100, "{o1:?}");
+    // The spheres sit in the bottom 5 mm of a 30 mm box: the grids cut x
+    // and y (the default, least surface, would cut z above them all).
+    for (ranks, grid) in [
+        (2, Some([2, 1, 1])),
+        (3, Some([1, 3, 1])),
+        (4, Some([2, 2, 1])),
+    ] {
+        let (x, v, o, owned) = run(&setup, ranks, grid, 4000);
+        assert_eq!(owned.iter().sum::<usize>(), 288);
+        assert!(owned.iter().all(|&k| k > 0), "{owned:?}");
+        for k in 0..x1.len() {
+            for a in 0..3 {
+                assert_eq!(
+                    x[k][a].to_bits(),
+                    x1[k][a].to_bits(),
+                    "{ranks} ranks, body {k}"
+                );
+                assert_eq!(
+                    v[k][a].to_bits(),
+                    v1[k][a].to_bits(),
+                    "{ranks} ranks, body {k}"
+                );
+            }
+        }
+        assert_eq!(o.particle_contacts, o1.particle_contacts);
+        assert_eq!(o.wall_contacts, o1.wall_contacts);
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+        assert!(rel(o.kinetic_energy, o1.kinetic_energy) < 1e-12);
+        assert!(rel(o.elastic_energy, o1.elastic_energy) < 1e-12);
+        for (f, g) in o.wall_forces.iter().zip(&o1.wall_forces) {
+            for a in 0..3 {
+                assert!(
+                    (f[a] - g[a]).abs() <= 1e-12 * g[a].abs().max(1e-12),
+                    "{f:?} {g:?}"
+                );
+            }
+        }
+    }
+}
+
+/// One rank against the engine itself: the same physics, the force sums
+/// in another order. After 300 steps (before the drop's contacts become
+/// chaotic) positions agree to 1e-12 m (round-off of 1e-16 relative
+/// amplified by the contacts; a missing pair or a wrong sign would move a
+/// sphere by its overlap, ~1e-6 m).
+#[test]
+fn one_rank_matches_the_engine() {
+    let setup = common::lattice_drop(6, 8, 2.0e-6, 2000);
+    let mut sim = Simulation::new(setup.clone(), 1).expect("valid scene");
+    sim.step(2000);
+    let (x, _, o, _) = run(&setup, 1, None, 2000);
+    let (x2, _, o2, owned) = run(&setup, 2, Some([2, 1, 1]), 2000);
+    assert_eq!(owned, vec![144, 144]);
+    let xs = sim.positions();
+    let mut worst = 0.0f64;
+    for k in 0..xs.len() {
+        for a in 0..3 {
+            worst = worst.max((x[k][a] - xs[k][a]).abs());
+            assert_eq!(x2[k][a].to_bits(), x[k][a].to_bits());
+        }
+    }
+    assert!(worst < 1e-12, "{worst}");
+    assert_eq!(o.particle_contacts, sim.particle_contacts());
+    assert_eq!(o2.wall_contacts, sim.wall_contacts());
+    assert!((o.kinetic_energy - sim.kinetic_energy()).abs() < 1e-9 * sim.kinetic_energy());
+}
+
+/// A grid that does not match the ranks, and friction, are refused with
+/// the key named.
+#[test]
+fn bad_grid_and_friction_are_refused() {
+    let setup = common::lattice_drop(4, 4, 2.0e-6, 10);
+    let t = ThreadTransport::group(1).pop().expect("one rank");
+    let e = DistributedSimulation::new(&setup, 1, Some([1, 1, 2]), t)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("parallel.grid"), "{e}");
+    let mut f = setup.clone();
+    f.friction = Some(dembound_scene::setup::FrictionSetup::uniform(
+        dembound_physics::contact::tangential::FrictionModel {
+            tangential: dembound_physics::contact::tangential::TangentialKind::Mindlin,
+            friction: 0.5,
+            rolling_friction: 0.0,
+        },
+    ));
+    let t = ThreadTransport::group(1).pop().expect("one rank");
+    let e = DistributedSimulation::new(&f, 1, None, t)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("contact.friction"), "{e}");
+}
