@@ -15,12 +15,7 @@ type Run = (Vec<[f64; 3]>, Vec<[f64; 3]>, Observation, Vec<usize>);
 /// Runs `setup` on `ranks` thread-ranks with `grid` for `steps` steps;
 /// returns rank 0's gathered positions and velocities (input order), the
 /// final observation and the bodies each rank owns.
-fn run(
-    setup: &SceneSetup,
-    ranks: usize,
-    grid: Option<[usize; 3]>,
-    steps: u64,
-) -> Run {
+fn run(setup: &SceneSetup, ranks: usize, grid: Option<[usize; 3]>, steps: u64) -> Run {
     let handles: Vec<_> = ThreadTransport::group(ranks)
         .into_iter()
         .map(|t| {

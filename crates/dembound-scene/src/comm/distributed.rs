@@ -46,6 +46,10 @@ use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
 
+/// The error of a rank whose setup was fine when another rank's was not
+/// (that rank's error says why).
+pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
+
 /// One incident pair of a body: where its force is and with which sign.
 #[derive(Debug, Clone, Copy)]
 struct Incident {
@@ -124,7 +128,7 @@ fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
         return Err(SceneError::invalid(
             "contact.friction",
             "> 0",
-            "0 (no friction or rolling friction) on more than one MPI rank: the tangential \
+            "0 under MPI (no friction or rolling friction): the tangential \
              springs do not migrate between ranks yet; run without mpirun",
         ));
     }
@@ -171,10 +175,31 @@ impl<T: Transport> DistributedSimulation<T> {
         grid: Option<[usize; 3]>,
         transport: T,
     ) -> Result<Self, SceneError> {
-        refuse_unsupported(setup)?;
-        let mut sim = Simulation::prepare(setup, threads)?;
+        let checked = refuse_unsupported(setup)
+            .and_then(|()| Simulation::prepare(setup, threads))
+            .and_then(|sim| {
+                let w = &sim.world;
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for x in &w.bodies.position {
+                    let x = w.domain.wrap(*x);
+                    for a in 0..3 {
+                        lo[a] = lo[a].min(x[a]);
+                        hi[a] = hi[a].max(x[a]);
+                    }
+                }
+                let extent = Some((lo, hi));
+                let d = Decomposition::new(w.domain, transport.size(), grid, w.cell_size, extent)?;
+                Ok((sim, d))
+            });
+        // Every rank learns whether any refused, before the first exchange.
+        let refused = transport.max(if checked.is_err() { 1.0 } else { 0.0 });
+        let (mut sim, decomposition) = match checked {
+            Err(e) => return Err(e),
+            Ok(_) if refused > 0.0 => return Err(SceneError::input(PEER_REFUSED)),
+            Ok(c) => c,
+        };
         let w = &mut sim.world;
-        let decomposition = Decomposition::new(w.domain, transport.size(), grid, w.cell_size)?;
         let largest_radius = w.bodies.radius.iter().copied().fold(0.0, f64::max);
         let rank = transport.rank();
         let mut mine = Vec::new();

@@ -41,3 +41,34 @@ pub trait Transport {
     /// Ends every rank with this exit code (MPI_Abort).
     fn abort(&self, code: i32) -> !;
 }
+
+/// A borrowed transport is a transport (the caller keeps MPI alive).
+impl<T: Transport + ?Sized> Transport for &T {
+    fn rank(&self) -> usize {
+        (**self).rank()
+    }
+    fn size(&self) -> usize {
+        (**self).size()
+    }
+    fn exchange(&self, sends: &[(usize, Vec<u8>)], from: &[usize]) -> Vec<Vec<u8>> {
+        (**self).exchange(sends, from)
+    }
+    fn who_sends(&self, to: &[bool]) -> Vec<bool> {
+        (**self).who_sends(to)
+    }
+    fn max(&self, x: f64) -> f64 {
+        (**self).max(x)
+    }
+    fn sum(&self, x: &[f64]) -> Vec<f64> {
+        (**self).sum(x)
+    }
+    fn all_gather(&self, x: f64) -> Vec<f64> {
+        (**self).all_gather(x)
+    }
+    fn gather(&self, bytes: Vec<u8>) -> Option<Vec<Vec<u8>>> {
+        (**self).gather(bytes)
+    }
+    fn abort(&self, code: i32) -> ! {
+        (**self).abort(code)
+    }
+}

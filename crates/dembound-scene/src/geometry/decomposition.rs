@@ -7,13 +7,19 @@
 use super::domain::Domain;
 use crate::SceneError;
 
-/// A box cut into `grid[0] × grid[1] × grid[2]` equal sub-domains; rank
+/// A region cut into `grid[0] × grid[1] × grid[2]` equal sub-domains; rank
 /// r sits at grid coordinates (r mod gx, (r / gx) mod gy, r / (gx gy))
-/// (x fastest, like LAMMPS's default `processors` map).
+/// (x fastest, like LAMMPS's default `processors` map). The region is the
+/// box, or on non-periodic axes the bodies' extent at the start (a bed at
+/// the bottom of a tall box is cut where the bodies are); the edge
+/// sub-domains reach past it without bound.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Decomposition {
     pub domain: Domain,
     pub grid: [usize; 3],
+    /// The region cut, m.
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
 }
 
 impl Decomposition {
@@ -21,13 +27,26 @@ impl Decomposition {
     /// grid has `ranks` cells, splits no periodic axis and leaves every
     /// sub-domain at least `min_width` m wide on a split axis (so that a
     /// body's halo reaches only the neighbouring sub-domains' layer).
+    ///
+    /// `extent`: the bodies' bounding box (used on non-periodic axes where
+    /// it is not flat).
     pub fn new(
         domain: Domain,
         ranks: usize,
         grid: Option<[usize; 3]>,
         min_width: f64,
+        extent: Option<([f64; 3], [f64; 3])>,
     ) -> Result<Self, SceneError> {
-        let len = domain.length();
+        let (mut lower, mut upper) = (domain.lower, domain.upper);
+        if let Some((lo, hi)) = extent {
+            for a in 0..3 {
+                if !domain.periodic[a] && lo[a].is_finite() && hi[a].is_finite() && hi[a] > lo[a] {
+                    lower[a] = lo[a];
+                    upper[a] = hi[a];
+                }
+            }
+        }
+        let len = [0, 1, 2].map(|a| upper[a] - lower[a]);
         let grid = match grid {
             Some(g) => {
                 if g.contains(&0) || g[0] * g[1] * g[2] != ranks {
@@ -57,14 +76,19 @@ impl Decomposition {
                     format!("{grid:?}"),
                     format!(
                         "sub-domains at least {min_width} m (largest diameter + skin) wide: \
-                         axis {a} is {} m long, at most {} sub-domains",
+                         the bodies span {} m along axis {a}, at most {} sub-domains",
                         len[a],
                         ((len[a] / min_width).floor() as usize).max(1)
                     ),
                 ));
             }
         }
-        Ok(Self { domain, grid })
+        Ok(Self {
+            domain,
+            grid,
+            lower,
+            upper,
+        })
     }
 
     pub fn ranks(&self) -> usize {
@@ -91,8 +115,8 @@ impl Decomposition {
     }
 
     fn cut(&self, a: usize, k: usize) -> f64 {
-        let l = self.domain.upper[a] - self.domain.lower[a];
-        self.domain.lower[a] + l * (k as f64) / (self.grid[a] as f64)
+        let l = self.upper[a] - self.lower[a];
+        self.lower[a] + l * (k as f64) / (self.grid[a] as f64)
     }
 
     /// Rank owning point x: the sub-domain containing it, points outside
@@ -232,7 +256,7 @@ mod tests {
 
     #[test]
     fn owner_and_bounds_agree() {
-        let d = Decomposition::new(unit_box([false; 3]), 6, Some([1, 2, 3]), 0.1).unwrap();
+        let d = Decomposition::new(unit_box([false; 3]), 6, Some([1, 2, 3]), 0.1, None).unwrap();
         for r in 0..6 {
             let (lo, hi) = d.bounds(r);
             let mid = [
@@ -262,14 +286,33 @@ mod tests {
 
     #[test]
     fn bad_grids_are_refused() {
-        let err = |g| Decomposition::new(unit_box([false; 3]), 4, Some(g), 0.1).unwrap_err();
+        let err = |g| Decomposition::new(unit_box([false; 3]), 4, Some(g), 0.1, None).unwrap_err();
         assert!(err([1, 1, 3]).to_string().contains("parallel.grid"));
         assert!(err([0, 2, 2]).to_string().contains("product"));
         // Sub-domains 1/40 wide, narrower than 0.1.
-        let e = Decomposition::new(unit_box([false; 3]), 40, Some([40, 1, 1]), 0.1).unwrap_err();
+        let e =
+            Decomposition::new(unit_box([false; 3]), 40, Some([40, 1, 1]), 0.1, None).unwrap_err();
         assert!(e.to_string().contains("at least 0.1 m"), "{e}");
-        let e = Decomposition::new(unit_box([true, false, false]), 2, Some([2, 1, 1]), 0.1)
-            .unwrap_err();
+        let e = Decomposition::new(
+            unit_box([true, false, false]),
+            2,
+            Some([2, 1, 1]),
+            0.1,
+            None,
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("periodic"), "{e}");
+    }
+
+    /// A bed in the bottom tenth of a tall box: cut where the bodies are.
+    #[test]
+    fn cuts_follow_the_bodies() {
+        let extent = Some(([0.0, 0.0, 0.0], [1.0, 1.0, 0.2]));
+        let d = Decomposition::new(unit_box([false; 3]), 2, None, 0.01, extent).unwrap();
+        // 1 × 1 × 0.2: halving x or y leaves 0.5·1 + 1·0.2 + 0.5·0.2 = 0.8,
+        // halving z 1 + 2·0.1 = 1.2.
+        assert_eq!(d.grid, [2, 1, 1]);
+        assert_eq!(d.bounds(0).1[0], 0.5);
+        assert_eq!(d.owner([0.7, 0.5, 1.9]), 1);
     }
 }
