@@ -483,7 +483,7 @@ impl Pipeline {
 
     /// Adds the pair forces (and torques, with friction; the springs move
     /// by `dt` s of slip).
-    fn pair_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
+    pub(crate) fn pair_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
         if let Some(table) = world.friction.as_ref() {
             let mut force = std::mem::take(&mut world.bodies.force);
             let mut torque = std::mem::take(&mut world.bodies.torque);

@@ -119,6 +119,8 @@ pub struct DistributedSimulation<T: Transport> {
     rebuild_bytes: u64,
     steps_run: u64,
     stepping: f64,
+    /// The engine's half-list sums instead (order set by the local list).
+    plain_sums: bool,
 }
 
 /// Decomposed runs are frictionless Verlet without the collision log (for
@@ -229,6 +231,7 @@ impl<T: Transport> DistributedSimulation<T> {
             rebuild_bytes: 0,
             steps_run: 0,
             stepping: 0.0,
+            plain_sums: false,
         };
         me.rebuild();
         let sim = &mut me.sim;
@@ -241,6 +244,13 @@ impl<T: Transport> DistributedSimulation<T> {
 
     pub fn rank(&self) -> usize {
         self.transport.rank()
+    }
+
+    /// Experiment (tests/decomposition.rs): sum the pair forces with the
+    /// engine's half lists, in the order of each rank's own list, instead
+    /// of by partner id. No boundary-particle wall forces then.
+    pub fn use_plain_sums(&mut self) {
+        self.plain_sums = true;
     }
 
     pub fn ranks(&self) -> usize {
@@ -469,6 +479,12 @@ impl<T: Transport> DistributedSimulation<T> {
     /// Every listed pair's force (history updated), then each owned free
     /// body's sum in partner-id order, added to its gravity and wall force.
     fn pair_forces(&mut self) {
+        if self.plain_sums {
+            let sim = &mut self.sim;
+            let dt = sim.world.dt;
+            sim.pipeline.pair_forces(&mut sim.world, &sim.workers, dt);
+            return;
+        }
         let sim = &mut self.sim;
         let world = &mut sim.world;
         let workers = &sim.workers;
