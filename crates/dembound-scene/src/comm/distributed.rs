@@ -37,7 +37,7 @@ use dembound_physics::contact::ContactHistory;
 use super::pack::{self, Reader, Writer};
 use super::Transport;
 use crate::bodies::{Bodies, NO_GROUP};
-use crate::dynamics::contacts::{extended, touching, NO_HISTORY};
+use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
 use crate::dynamics::walls;
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::{SharedMut, STEP_CHUNK};
@@ -49,6 +49,9 @@ use crate::{Observation, SceneError};
 /// The error of a rank whose setup was fine when another rank's was not
 /// (that rank's error says why).
 pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
+
+/// Bit of an incidence: the body is the pair's i.
+const NEGATIVE: u32 = 1 << 31;
 
 /// One incident pair of a body: where its force is and with which sign.
 #[derive(Debug, Clone, Copy)]
@@ -110,8 +113,14 @@ pub struct DistributedSimulation<T: Transport> {
     /// each rank, in arrival order.
     receives: Vec<(usize, Vec<u32>)>,
     incidence_start: Vec<u32>,
-    incidence: Vec<Incident>,
+    /// Each body's incident pair entries in partner-id order: entry index,
+    /// bit 31 set when the body is the pair's i (it gets minus the force).
+    incidence: Vec<u32>,
+    /// (incidence, wall) of the pairs with a boundary particle.
+    walled: Vec<(u32, u32)>,
     pair_force: Vec<[f64; 3]>,
+    /// The pair of each entry touches (its force is set).
+    hit: Vec<bool>,
     /// Force on each wall from this rank's free bodies' pairs with its
     /// boundary particles (file order; planes zero), N.
     particle_wall_force: Vec<[f64; 3]>,
@@ -225,7 +234,9 @@ impl<T: Transport> DistributedSimulation<T> {
             receives: Vec::new(),
             incidence_start: Vec::new(),
             incidence: Vec::new(),
+            walled: Vec::new(),
             pair_force: Vec::new(),
+            hit: Vec::new(),
             particle_wall_force: Vec::new(),
             bytes_sent: 0,
             rebuild_bytes: 0,
@@ -473,7 +484,13 @@ impl<T: Transport> DistributedSimulation<T> {
             inc[count[k] as usize..count[k + 1] as usize].sort_by_key(|x| x.partner);
         }
         self.incidence_start = count;
-        self.incidence = inc;
+        let code = |x: &Incident| x.entry | if x.negative { NEGATIVE } else { 0 };
+        self.walled = inc
+            .iter()
+            .filter(|x| x.group != NO_GROUP)
+            .map(|x| (code(x), x.group))
+            .collect();
+        self.incidence = inc.iter().map(code).collect();
     }
 
     /// Every listed pair's force (history updated), then each owned free
@@ -494,6 +511,7 @@ impl<T: Transport> DistributedSimulation<T> {
         let laws = &world.laws;
         let keep = laws.history;
         self.pair_force.resize(m + list.extra.len(), [0.0; 3]);
+        self.hit.resize(m + list.extra.len(), false);
         let mut force = std::mem::take(&mut world.bodies.force);
         let b = &world.bodies;
         assert!(list.start.len() == n + 1 && (!keep || world.histories.main.len() == m));
@@ -521,30 +539,36 @@ impl<T: Transport> DistributedSimulation<T> {
                 }
             }
         };
+        let hit = SharedMut::new(&mut self.hit);
+        let (position, velocity, radius) = (&b.position[..], &b.velocity[..], &b.radius[..]);
         workers.run(n.div_ceil(STEP_CHUNK), |c| {
             for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+                let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
                 for k in list.start[i] as usize..list.start[i + 1] as usize {
                     let j = list.j[k] as usize;
-                    let mut scratch = NO_HISTORY;
+                    // The partner's velocity and the law only in contact
+                    // (as the engine's loop).
+                    let g = touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j]);
                     // SAFETY: entry k belongs to row i, in this chunk only.
-                    let h = if keep {
-                        unsafe { hist.at(k) }
-                    } else {
-                        &mut scratch
-                    };
-                    let law = laws.pair(b, i, j);
-                    let f = pair(
-                        b.position[i],
-                        b.velocity[i],
-                        b.radius[i],
-                        b.position[j],
-                        b.velocity[j],
-                        b.radius[j],
-                        &law,
-                        h,
-                    );
-                    // SAFETY: as above.
-                    unsafe { *pf.at(k) = f };
+                    unsafe {
+                        match g {
+                            Some(g) => {
+                                let mut scratch = NO_HISTORY;
+                                let h = if keep { hist.at(k) } else { &mut scratch };
+                                let law = laws.pair(b, i, j);
+                                let f = law.force(g.overlap, g.overlap_rate, h);
+                                law.update(g.overlap, g.overlap_rate, h);
+                                *pf.at(k) = [f * g.normal[0], f * g.normal[1], f * g.normal[2]];
+                                *hit.at(k) = true;
+                            }
+                            None => {
+                                *hit.at(k) = false;
+                                if keep && *hist.at(k) != ContactHistory::default() {
+                                    *hist.at(k) = ContactHistory::default();
+                                }
+                            }
+                        }
+                    }
                 }
             }
         });
@@ -558,6 +582,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 &mut scratch
             };
             let law = laws.pair(b, i, owner);
+            self.hit[m + q] = true;
             self.pair_force[m + q] = pair(
                 b.position[i],
                 b.velocity[i],
@@ -569,7 +594,12 @@ impl<T: Transport> DistributedSimulation<T> {
                 h,
             );
         }
-        let (start, inc, pf) = (&self.incidence_start, &self.incidence, &self.pair_force);
+        let (start, inc, pf, hit) = (
+            &self.incidence_start,
+            &self.incidence,
+            &self.pair_force,
+            &self.hit,
+        );
         let f_ptr = SharedMut::new(&mut force);
         workers.run(n.div_ceil(STEP_CHUNK), |c| {
             for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
@@ -579,9 +609,15 @@ impl<T: Transport> DistributedSimulation<T> {
                 }
                 // SAFETY: one body per iteration, chunks disjoint.
                 let f = unsafe { f_ptr.at(i) };
-                for x in &inc[s..e] {
-                    let p = pf[x.entry as usize];
-                    if x.negative {
+                for &x in &inc[s..e] {
+                    let entry = (x & !NEGATIVE) as usize;
+                    // Pairs apart add nothing (f + 0 = f: skipping them
+                    // changes no bit).
+                    if !hit[entry] {
+                        continue;
+                    }
+                    let p = pf[entry];
+                    if x & NEGATIVE != 0 {
                         f[0] -= p[0];
                         f[1] -= p[1];
                         f[2] -= p[2];
@@ -595,13 +631,14 @@ impl<T: Transport> DistributedSimulation<T> {
         });
         // The boundary particles' reaction, from the free side.
         let mut wf = vec![[0.0; 3]; world.walls.len()];
-        for x in inc {
-            if x.group != NO_GROUP {
-                let p = pf[x.entry as usize];
+        for &(x, group) in &self.walled {
+            let entry = (x & !NEGATIVE) as usize;
+            if hit[entry] {
+                let p = pf[entry];
                 // The free body got ∓p; the boundary particle gets ±p.
-                let s = if x.negative { 1.0 } else { -1.0 };
+                let s = if x & NEGATIVE != 0 { 1.0 } else { -1.0 };
                 for a in 0..3 {
-                    wf[x.group as usize][a] += s * p[a];
+                    wf[group as usize][a] += s * p[a];
                 }
             }
         }
