@@ -196,3 +196,67 @@ fn plain_half_list_sums_drift_apart() {
     }
     assert!(last > 0.0);
 }
+
+/// Migration with pair histories: the grid cuts x in the middle, and the
+/// spheres, given random velocities, cross the cut and change rank while
+/// in contact; with Walton–Braun (a hysteretic law: each
+/// contact's largest overlap and branch travel with it) the end state of
+/// 2 ranks is the same bits as 1 rank.
+#[test]
+fn bodies_migrate_with_their_pair_histories() {
+    let mut setup = common::lattice_drop(6, 8, 2.0e-6, 6000);
+    setup.contact = dembound_physics::contact::ContactModel::elastic(
+        dembound_physics::contact::NormalLaw::WaltonBraun { restitution: 0.5 },
+    );
+    // Random velocities up to 0.3 m/s per axis: up to 3.6 mm in the run,
+    // many spheres cross the cut (at x = 3.9 mm) while in contact.
+    let mut rng = common::Rng(16);
+    for s in &mut setup.spheres {
+        s.velocity = [
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+        ];
+    }
+    let (x1, v1, o1, _) = run(&setup, 1, None, 6000);
+    let handles: Vec<_> = ThreadTransport::group(2)
+        .into_iter()
+        .map(|t| {
+            let setup = setup.clone();
+            std::thread::spawn(move || {
+                let mut d =
+                    DistributedSimulation::new(&setup, 1, Some([2, 1, 1]), t).expect("valid");
+                d.step(6000);
+                let moved = d.migrated();
+                (d.gather_state(), d.observe(), moved)
+            })
+        })
+        .collect();
+    let mut moved = Vec::new();
+    let mut state = None;
+    let mut o2 = None;
+    for h in handles {
+        let (s, o, m) = h.join().expect("rank");
+        moved.push(m);
+        if s.is_some() {
+            state = s;
+            o2 = Some(o);
+        }
+    }
+    // Bodies went both ways.
+    assert!(moved.iter().all(|&m| m >= 5), "{moved:?}");
+    let s = state.expect("rank 0");
+    for k in 0..x1.len() {
+        for a in 0..3 {
+            assert_eq!(s.position[k][a].to_bits(), x1[k][a].to_bits(), "body {k}");
+            assert_eq!(s.velocity[k][a].to_bits(), v1[k][a].to_bits(), "body {k}");
+        }
+    }
+    let o2 = o2.expect("rank 0");
+    assert_eq!(o2.particle_contacts, o1.particle_contacts);
+    // Energy was lost in the hysteresis loops: histories were in play.
+    assert!(
+        o1.dissipated_energy > 1e-3 * o1.kinetic_energy.max(1e-12),
+        "{o1:?}"
+    );
+}

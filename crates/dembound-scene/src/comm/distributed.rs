@@ -128,6 +128,8 @@ pub struct DistributedSimulation<T: Transport> {
     rebuild_bytes: u64,
     steps_run: u64,
     stepping: f64,
+    /// Bodies this rank has sent to new owners.
+    migrated: u64,
     /// The engine's half-list sums instead (order set by the local list).
     plain_sums: bool,
 }
@@ -243,6 +245,7 @@ impl<T: Transport> DistributedSimulation<T> {
             steps_run: 0,
             stepping: 0.0,
             plain_sums: false,
+            migrated: 0,
         };
         me.rebuild();
         let sim = &mut me.sim;
@@ -337,6 +340,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 stay.push(k as u32);
                 continue;
             }
+            self.migrated += 1;
             let w = out.entry(dest).or_default();
             pack::write_body(w, &world.bodies, &world.wall_contacts, keep, k);
             let hs = by_body.get(&world.bodies.id[k]).map_or(&[][..], |v| &v[..]);
@@ -822,6 +826,11 @@ impl<T: Transport> DistributedSimulation<T> {
                 rebuild_bytes_per_step: rebuild[r],
             })
             .collect()
+    }
+
+    /// Bodies this rank has handed to other ranks so far.
+    pub fn migrated(&self) -> u64 {
+        self.migrated
     }
 
     /// Seconds this rank spent stepping.
