@@ -740,37 +740,41 @@ impl<T: Transport> DistributedSimulation<T> {
             !self.halo[lead]
         };
         let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
-        let m = w.list.j.len();
-        let mut visit = |i: usize, j_ext: usize, h: &ContactHistory| {
-            let (xj, vj, owner) = extended(b, &w.ghosts, j_ext);
+        let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
+            // The contact test first: most listed pairs are apart.
+            let Some(g) = touching(
+                b.position[i],
+                [0.0; 3],
+                b.radius[i],
+                xj,
+                [0.0; 3],
+                b.radius[owner],
+            ) else {
+                return;
+            };
             if !counted_here(i, owner) {
                 return;
             }
-            if let Some(g) = touching(
-                b.position[i],
-                b.velocity[i],
-                b.radius[i],
-                xj,
-                vj,
-                b.radius[owner],
-            ) {
-                if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
-                    wc += 1.0;
-                } else {
-                    pc += 1.0;
-                }
-                energy += w
-                    .laws
-                    .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
+            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
+                wc += 1.0;
+            } else {
+                pc += 1.0;
             }
+            energy += w
+                .laws
+                .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
         };
-        for (i, k) in w.list.entries() {
-            visit(i, w.list.j[k] as usize, w.histories.main(k));
+        let list = &w.list;
+        for i in 0..b.len() {
+            for k in list.start[i] as usize..list.start[i + 1] as usize {
+                let j = list.j[k] as usize;
+                visit(i, b.position[j], j, w.histories.main(k));
+            }
         }
-        for (q, &(i, j)) in w.list.extra.iter().enumerate() {
-            visit(i as usize, j as usize, w.histories.extra(q));
+        for (q, &(i, j)) in list.extra.iter().enumerate() {
+            let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
+            visit(i as usize, xj, owner, w.histories.extra(q));
         }
-        let _ = m;
         let walls_n = w.walls.len();
         let mut v = vec![
             kinetic,
