@@ -23,10 +23,11 @@ pub struct Decomposition {
 }
 
 impl Decomposition {
-    /// `grid` given (`parallel.grid`) or chosen for `ranks`; checks that the
-    /// grid has `ranks` cells, splits no periodic axis and leaves every
-    /// sub-domain at least `min_width` m wide on a split axis (so that a
-    /// body's halo reaches only the neighbouring sub-domains' layer).
+    /// `grid` given (`parallel.grid`) or chosen for `ranks` (preferring
+    /// sub-domains at least `min_width` m wide, so that a body's copies go
+    /// to the neighbouring sub-domains only; narrower ones work, the copies
+    /// then reach further); checks that the grid has `ranks` cells and
+    /// splits no periodic axis.
     ///
     /// `extent`: the bodies' bounding box (used on non-periodic axes where
     /// it is not flat).
@@ -67,18 +68,6 @@ impl Decomposition {
                     format!("{grid:?}"),
                     format!(
                         "1 sub-domain along periodic axis {a} (periodic axes are not split yet)"
-                    ),
-                ));
-            }
-            if grid[a] > 1 && len[a] / (grid[a] as f64) < min_width {
-                return Err(SceneError::invalid(
-                    "parallel.grid",
-                    format!("{grid:?}"),
-                    format!(
-                        "sub-domains at least {min_width} m (largest diameter + skin) wide: \
-                         the bodies span {} m along axis {a}, at most {} sub-domains",
-                        len[a],
-                        ((len[a] / min_width).floor() as usize).max(1)
                     ),
                 ));
             }
@@ -289,10 +278,15 @@ mod tests {
         let err = |g| Decomposition::new(unit_box([false; 3]), 4, Some(g), 0.1, None).unwrap_err();
         assert!(err([1, 1, 3]).to_string().contains("parallel.grid"));
         assert!(err([0, 2, 2]).to_string().contains("product"));
-        // Sub-domains 1/40 wide, narrower than 0.1.
-        let e =
-            Decomposition::new(unit_box([false; 3]), 40, Some([40, 1, 1]), 0.1, None).unwrap_err();
-        assert!(e.to_string().contains("at least 0.1 m"), "{e}");
+        // Sub-domains 1/40 wide, narrower than 0.1: allowed, a body's
+        // copies then reach further than the next sub-domain (x = 0.5 is
+        // owned by slab 20, [0.5, 0.525); within 0.06 are slabs 17–19,
+        // 0.05, 0.025 and 0 away, and 21, 22, 0.025 and 0.05 away).
+        let d = Decomposition::new(unit_box([false; 3]), 40, Some([40, 1, 1]), 0.1, None).unwrap();
+        assert_eq!(
+            d.ranks_within([0.5, 0.5, 0.5], 0.06),
+            vec![17, 18, 19, 21, 22]
+        );
         let e = Decomposition::new(
             unit_box([true, false, false]),
             2,
