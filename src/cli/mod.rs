@@ -13,6 +13,8 @@ pub mod recommend;
 pub mod restitution;
 pub mod run;
 pub mod scene;
+#[cfg(feature = "mpi")]
+mod scene_mpi;
 pub mod sweep;
 pub mod validate;
 pub mod wall_study;

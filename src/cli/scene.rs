@@ -62,7 +62,7 @@ pub struct SceneArgs {
 }
 
 /// Bad input exits 2, anything else 1.
-fn scene_error(e: SceneError) -> CliError {
+pub(super) fn scene_error(e: SceneError) -> CliError {
     if e.is_input() {
         CliError::input(e)
     } else {
@@ -71,6 +71,10 @@ fn scene_error(e: SceneError) -> CliError {
 }
 
 pub fn run(args: &SceneArgs) -> CliResult {
+    #[cfg(feature = "mpi")]
+    if dembound_scene::comm::mpi::MpiTransport::launched() {
+        return super::scene_mpi::run(args);
+    }
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
     let base = args.file.parent().unwrap_or(Path::new("."));
     let resolved = resolve(&file, base).map_err(scene_error)?;
@@ -196,7 +200,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
     stdout.flush().map_err(CliError::failed)
 }
 
-fn progress_bar(steps: u64, quiet: bool) -> Option<ProgressBar> {
+pub(super) fn progress_bar(steps: u64, quiet: bool) -> Option<ProgressBar> {
     if quiet || !std::io::stderr().is_terminal() {
         return None;
     }
@@ -255,38 +259,38 @@ fn finish_outputs(
 
 /// The `--json` object.
 #[derive(Debug, Serialize)]
-struct Report {
-    particles: usize,
-    free_particles: usize,
-    fixed_particles: usize,
+pub(super) struct Report {
+    pub(super) particles: usize,
+    pub(super) free_particles: usize,
+    pub(super) fixed_particles: usize,
     /// Steps since t = 0 (a restart continues the count).
-    steps: u64,
-    steps_this_run: u64,
-    time: f64,
-    dt: f64,
-    contact_time_estimate: Option<f64>,
-    impact_speed: Option<f64>,
-    rayleigh_time: Option<f64>,
-    kinetic_energy: f64,
-    elastic_energy: f64,
-    potential_energy: f64,
-    dissipated_energy: f64,
-    particle_contacts: usize,
-    wall_contacts: usize,
-    wall_forces: Vec<[f64; 3]>,
+    pub(super) steps: u64,
+    pub(super) steps_this_run: u64,
+    pub(super) time: f64,
+    pub(super) dt: f64,
+    pub(super) contact_time_estimate: Option<f64>,
+    pub(super) impact_speed: Option<f64>,
+    pub(super) rayleigh_time: Option<f64>,
+    pub(super) kinetic_energy: f64,
+    pub(super) elastic_energy: f64,
+    pub(super) potential_energy: f64,
+    pub(super) dissipated_energy: f64,
+    pub(super) particle_contacts: usize,
+    pub(super) wall_contacts: usize,
+    pub(super) wall_forces: Vec<[f64; 3]>,
     /// Seconds spent stepping (output excluded).
-    wall_clock: f64,
+    pub(super) wall_clock: f64,
     /// Seconds of the whole loop, sampling and snapshots included.
-    wall_clock_total: f64,
-    particle_steps_per_second: f64,
-    threads: usize,
-    neighbour_list_builds: u64,
+    pub(super) wall_clock_total: f64,
+    pub(super) particle_steps_per_second: f64,
+    pub(super) threads: usize,
+    pub(super) neighbour_list_builds: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
-    collisions: Option<Vec<CollisionRow>>,
+    pub(super) collisions: Option<Vec<CollisionRow>>,
 }
 
 #[derive(Debug, Serialize)]
-struct CollisionRow {
+pub(super) struct CollisionRow {
     i: usize,
     /// A sphere's input index, or "wall:K".
     j: serde_json::Value,

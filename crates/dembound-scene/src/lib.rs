@@ -15,6 +15,7 @@
 
 pub mod balance;
 pub mod bodies;
+pub mod comm;
 pub mod dynamics;
 pub mod error;
 pub mod geometry;

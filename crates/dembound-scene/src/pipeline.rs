@@ -88,7 +88,7 @@ pub struct Pipeline {
     pub reference: Vec<[f64; 3]>,
     grid: CellGrid,
     /// Verlet's last half kick of the previous step is still to apply.
-    pending_kick: bool,
+    pub(crate) pending_kick: bool,
     /// Verlet: this step's first half (kicks, drift, per-body forces) is
     /// done: it was fused into the last step's force stage.
     advanced: bool,
@@ -299,7 +299,7 @@ impl Pipeline {
     /// kick and drift of this one, and the body's gravity and wall forces
     /// at its new position. Returns the largest squared displacement since
     /// the last list build, m².
-    fn verlet_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
+    pub(crate) fn verlet_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
         let n = world.bodies.len();
         let pending = self.pending_kick;
         self.pending_kick = false;
@@ -370,22 +370,19 @@ impl Pipeline {
     /// Stage "neighbours": wrap into the box, sort bodies by cell, rebuild
     /// the ghost layer and the lists, carry every pair's history over.
     pub fn neighbours(&mut self, world: &mut World, workers: &Workers) {
+        let saved = save_pairs(world);
+        self.rebuild(world, workers, saved);
+    }
+
+    /// [`Self::neighbours`] from pair state saved by [`save_pairs`] (a
+    /// domain decomposition changes the bodies in between: migration).
+    pub(crate) fn rebuild(&mut self, world: &mut World, workers: &Workers, saved: SavedPairs) {
         world.rebuilds += 1;
-        // Histories (and collision tracks) by input ids.
-        let saved: HashMap<(u32, u32), ContactHistory> =
-            contacts::active_histories(&world.bodies, &world.ghosts, &world.list, &world.histories)
-                .into_iter()
-                .map(|(a, b, h)| ((a, b), h))
-                .collect();
-        let saved_tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
-        let saved_shear: HashMap<(u32, u32), friction::Springs> = if world.friction.is_some() {
-            friction::active_shear(&world.bodies, &world.ghosts, &world.list, &world.shear)
-                .into_iter()
-                .map(|(a, b, s)| ((a, b), s))
-                .collect()
-        } else {
-            HashMap::new()
-        };
+        let SavedPairs {
+            histories: saved,
+            tracks: saved_tracks,
+            shear: saved_shear,
+        } = saved;
 
         let n = world.bodies.len();
         for k in 0..n {
@@ -554,7 +551,7 @@ impl Pipeline {
 
     /// Gravity and plane walls: sets each body's force (and torque, with
     /// friction; the springs move by `dt` s of slip).
-    fn body_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
+    pub(crate) fn body_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
         world.bodies.force.resize(world.bodies.len(), [0.0; 3]);
         if world.friction.is_some() {
             self.body_forces_friction(world, workers, dt);
@@ -619,7 +616,7 @@ impl Pipeline {
 
     /// Adds the pair forces (and torques, with friction; the springs move
     /// by `dt` s of slip).
-    fn pair_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
+    pub(crate) fn pair_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
         if let Some(table) = world.friction.as_ref() {
             let mut force = std::mem::take(&mut world.bodies.force);
             let mut torque = std::mem::take(&mut world.bodies.torque);
@@ -798,6 +795,38 @@ impl Pipeline {
     }
 }
 
+/// Pair state by input ids (a < b), carried across a list rebuild.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SavedPairs {
+    pub histories: HashMap<(u32, u32), ContactHistory>,
+    pub tracks: Option<HashMap<(u32, u32), Track>>,
+    pub shear: HashMap<(u32, u32), friction::Springs>,
+}
+
+/// Histories, collision tracks and tangential springs of the listed
+/// pairs, by input ids.
+pub(crate) fn save_pairs(world: &World) -> SavedPairs {
+    let histories =
+        contacts::active_histories(&world.bodies, &world.ghosts, &world.list, &world.histories)
+            .into_iter()
+            .map(|(a, b, h)| ((a, b), h))
+            .collect();
+    let tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
+    let shear = if world.friction.is_some() {
+        friction::active_shear(&world.bodies, &world.ghosts, &world.list, &world.shear)
+            .into_iter()
+            .map(|(a, b, s)| ((a, b), s))
+            .collect()
+    } else {
+        HashMap::new()
+    };
+    SavedPairs {
+        histories,
+        tracks,
+        shear,
+    }
+}
+
 /// What [`verlet_chunk`] needs. `bodies` is read only for radius, mass,
 /// fixed flag and class; positions, velocities and forces go through the
 /// raw pointers.
@@ -965,7 +994,7 @@ fn nearest_image(bodies: &Bodies, ghosts: &Ghosts, i: usize, j: usize) -> usize 
 }
 
 /// A body moved more than half the skin (or a position is not finite).
-fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
+pub(crate) fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
     moved2.is_nan() || moved2 > half_skin * half_skin
 }
 

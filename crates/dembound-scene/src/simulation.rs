@@ -67,12 +67,12 @@ pub struct Observation {
 
 /// A running scene.
 pub struct Simulation {
-    world: World,
-    pipeline: Pipeline,
-    workers: Workers,
+    pub(crate) world: World,
+    pub(crate) pipeline: Pipeline,
+    pub(crate) workers: Workers,
     total_steps: u64,
     time_step: TimeStepReport,
-    initial_energy: f64,
+    pub(crate) initial_energy: f64,
 }
 
 fn finite3(v: [f64; 3]) -> bool {
@@ -93,7 +93,7 @@ impl Simulation {
         Ok(sim)
     }
 
-    fn prepare(setup: &SceneSetup, threads: usize) -> Result<Self, SceneError> {
+    pub(crate) fn prepare(setup: &SceneSetup, threads: usize) -> Result<Self, SceneError> {
         if threads == 0 {
             return Err(SceneError::invalid("threads", 0, "at least 1"));
         }

@@ -2,6 +2,7 @@
 //! Verlet lists and the ghost layer.
 
 pub mod cells;
+pub mod decomposition;
 pub mod domain;
 pub mod ghosts;
 pub mod neighbour;

@@ -33,6 +33,27 @@ pub struct SceneFile {
     pub integration: IntegrationSection,
     #[serde(default)]
     pub output: OutputSection,
+    /// `[parallel]` (addition, issue 16): the MPI decomposition.
+    #[serde(default, skip_serializing_if = "ParallelSection::is_default")]
+    pub parallel: ParallelSection,
+}
+
+/// `[parallel]` (addition, issue 16): how `mpirun -np N dembound scene`
+/// (feature `mpi`) cuts the box. Ignored by runs on one process.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelSection {
+    /// Sub-domains along x, y, z; their product must be the number of
+    /// ranks, and periodic axes are not split. Default: the grid of least
+    /// sub-domain surface for the box.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<[usize; 3]>,
+}
+
+impl ParallelSection {
+    pub fn is_default(&self) -> bool {
+        self == &Self::default()
+    }
 }
 
 /// `[domain]`: the box, m.
@@ -532,6 +553,14 @@ impl SceneFile {
         if let Some(every) = o.series_every {
             check(every >= 1, "output.series_every", every, "≥ 1 step")?;
         }
+        if let Some(g) = self.parallel.grid {
+            check(
+                g.iter().all(|&k| (1..=1 << 20).contains(&k)),
+                "parallel.grid",
+                format!("{g:?}"),
+                "three sub-domain counts, each ≥ 1 (their product: the number of MPI ranks)",
+            )?;
+        }
         Ok(())
     }
 
@@ -823,7 +852,7 @@ pub fn parse_value(raw: &str) -> Value {
 }
 
 /// The top-level keys of a scene file.
-const SECTIONS: [&str; 8] = [
+const SECTIONS: [&str; 9] = [
     "domain",
     "material",
     "contact",
@@ -832,10 +861,18 @@ const SECTIONS: [&str; 8] = [
     "motion",
     "integration",
     "output",
+    "parallel",
 ];
 
 /// The sections that are one table (a `--set` may create them).
-const TABLE_SECTIONS: [&str; 5] = ["domain", "contact", "motion", "integration", "output"];
+const TABLE_SECTIONS: [&str; 6] = [
+    "domain",
+    "contact",
+    "motion",
+    "integration",
+    "output",
+    "parallel",
+];
 
 /// Keys of which only one may be given: setting one drops the other.
 const EXCLUSIVE: [(&str, &str); 2] = [("dt", "eta"), ("steps", "duration")];

@@ -115,6 +115,10 @@ fn validation_table() {
             "domain.upper",
             "> domain.lower",
         ),
+        // Issue 16's `[parallel]` (a --set may create the section).
+        ("parallel.grid=[0, 1, 2]", "parallel.grid", "each ≥ 1"),
+        ("parallel.grid=[1, 2]", "parallel.grid", "3"),
+        ("parallel.ranks=2", "parallel.ranks", "grid"),
         ("domain.lower=[0.0, nan, 0.0]", "domain.lower", "finite"),
         ("domain.periodic=[true]", "domain.periodic", "3"),
         (

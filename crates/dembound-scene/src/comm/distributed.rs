@@ -1,0 +1,892 @@
+//! One rank's share of a decomposed scene (issue 16).
+//!
+//! Each rank owns the bodies inside its sub-domain
+//! ([`Decomposition::owner`]) and holds a *halo*: copies of the other
+//! ranks' bodies that come within (own radius + largest radius + skin) of
+//! its sub-domain, so that every listed pair with an owned body has both
+//! bodies on the rank. Halo copies are stored in the engine's body store
+//! flagged `fixed` (never integrated, never paired with each other, no
+//! wall forces); the engine's periodic ghost layer is left as it is
+//! (periodic axes are not split).
+//!
+//! What crosses ranks, and when:
+//! - every step: position and velocity of each free halo body, 48 bytes,
+//!   from its owner to each rank holding a copy;
+//! - at a list rebuild (decided on the largest displacement over all
+//!   ranks, so every rank rebuilds at the same step): bodies that left
+//!   their sub-domain move to their new owner as whole records
+//!   ([`pack::write_body`]) with their pair histories, then the halo is
+//!   sent again as whole records;
+//! - reductions: the rebuild test (one max per step), the observables
+//!   (sums, when observed).
+//!
+//! Forces: a pair across two sub-domains is computed on both ranks
+//! (LAMMPS's `newton off`): no force goes back to the owner, at the price
+//! of computing those pairs twice. Each owned body's force is summed in an
+//! order fixed by the partners' input ids, the pair values being the same
+//! bits on either side (the pair geometry is antisymmetric to the bit),
+//! so the trajectory does not depend on the decomposition: 1, 2 or 3
+//! ranks give bit-identical positions (without periodic axes, where an
+//! image's shifted coordinates round differently on either side).
+
+use std::collections::{BTreeMap, HashMap};
+use std::time::Instant;
+
+use dembound_physics::contact::ContactHistory;
+
+use super::pack::{self, Reader, Writer};
+use super::Transport;
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
+use crate::dynamics::walls;
+use crate::geometry::decomposition::Decomposition;
+use crate::parallel::{SharedMut, STEP_CHUNK};
+use crate::pipeline::{needs_rebuild, save_pairs, WallKind, World};
+use crate::setup::{SceneSetup, Scheme};
+use crate::simulation::Simulation;
+use crate::{Observation, SceneError};
+
+/// The error of a rank whose setup was fine when another rank's was not
+/// (that rank's error says why).
+pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
+
+/// Bit of an incidence: the body is the pair's i.
+const NEGATIVE: u32 = 1 << 31;
+
+/// One incident pair of a body: where its force is and with which sign.
+#[derive(Debug, Clone, Copy)]
+struct Incident {
+    /// Input id of the partner (the summation order).
+    partner: u32,
+    /// Index into the pair forces (main entries, then extra).
+    entry: u32,
+    /// The body is the pair's i (it gets minus the stored force on j).
+    negative: bool,
+    /// The partner's boundary-particle wall, or [`NO_GROUP`].
+    group: u32,
+}
+
+/// Per-rank figures of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RankReport {
+    /// Bodies owned, at the end.
+    pub owned: usize,
+    /// Halo copies held, at the end.
+    pub halo: usize,
+    /// Seconds per step spent stepping.
+    pub seconds_per_step: f64,
+    /// Bytes this rank sent per step: halo updates, migration and halo
+    /// rebuilds (reductions not counted).
+    pub bytes_per_step: f64,
+    /// Of which at list rebuilds (migration and new halo), per step.
+    pub rebuild_bytes_per_step: f64,
+}
+
+/// The end state gathered at rank 0, input order.
+#[derive(Debug, Clone, Default)]
+pub struct GatheredState {
+    pub position: Vec<[f64; 3]>,
+    pub velocity: Vec<[f64; 3]>,
+    pub force: Vec<[f64; 3]>,
+    pub radius: Vec<f64>,
+    pub fixed: Vec<bool>,
+    pub material: Vec<u32>,
+    /// Rank owning each body.
+    pub rank: Vec<u32>,
+}
+
+/// One rank of a decomposed scene.
+pub struct DistributedSimulation<T: Transport> {
+    sim: Simulation,
+    transport: T,
+    decomposition: Decomposition,
+    /// Largest radius of the scene, m.
+    largest_radius: f64,
+    /// Input index → the body is fixed (halo copies are flagged fixed
+    /// locally; this is the truth).
+    fixed_by_id: Vec<bool>,
+    /// Local body → a halo copy.
+    halo: Vec<bool>,
+    /// Every step: local indices of the free bodies sent to each rank.
+    sends: Vec<(usize, Vec<u32>)>,
+    /// Every step: local indices of the free halo bodies received from
+    /// each rank, in arrival order.
+    receives: Vec<(usize, Vec<u32>)>,
+    incidence_start: Vec<u32>,
+    /// Each body's incident pair entries in partner-id order: entry index,
+    /// bit 31 set when the body is the pair's i (it gets minus the force).
+    incidence: Vec<u32>,
+    /// (incidence, wall) of the pairs with a boundary particle.
+    walled: Vec<(u32, u32)>,
+    pair_force: Vec<[f64; 3]>,
+    /// The pair of each entry touches (its force is set).
+    hit: Vec<bool>,
+    /// Force on each wall from this rank's free bodies' pairs with its
+    /// boundary particles (file order; planes zero), N.
+    particle_wall_force: Vec<[f64; 3]>,
+    bytes_sent: u64,
+    rebuild_bytes: u64,
+    steps_run: u64,
+    stepping: f64,
+    /// Bodies this rank has sent to new owners.
+    migrated: u64,
+    /// The engine's half-list sums instead (order set by the local list).
+    plain_sums: bool,
+}
+
+/// Decomposed runs are frictionless Verlet without the collision log (for
+/// now): anything else is refused (exit 2).
+fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
+    if setup.friction.is_some() {
+        return Err(SceneError::invalid(
+            "contact.friction",
+            "> 0",
+            "0 under MPI (no friction or rolling friction): the tangential \
+             springs do not migrate between ranks yet; run without mpirun",
+        ));
+    }
+    if setup.integration.scheme != Scheme::Verlet {
+        return Err(SceneError::invalid(
+            "integration.scheme",
+            "\"gear5\"",
+            "\"verlet\" under MPI (Gear5 is not decomposed yet)",
+        ));
+    }
+    if setup.collisions {
+        return Err(SceneError::invalid(
+            "output.collisions",
+            true,
+            "false under MPI (the collision log is not merged across ranks yet)",
+        ));
+    }
+    Ok(())
+}
+
+/// Keeps bodies `order` (in that order) and their plane-wall state.
+fn select(world: &mut World, order: &[u32]) {
+    world.bodies.permute(order);
+    let wc = &mut world.wall_contacts;
+    let p = wc.planes;
+    if p > 0 && !wc.history.is_empty() {
+        let mut h = Vec::with_capacity(order.len() * p);
+        for &o in order {
+            h.extend_from_slice(&wc.history[o as usize * p..(o as usize + 1) * p]);
+        }
+        wc.history = h;
+    }
+    wc.touching = order.iter().map(|&o| wc.touching[o as usize]).collect();
+    wc.near = order.iter().map(|&o| wc.near[o as usize]).collect();
+}
+
+impl<T: Transport> DistributedSimulation<T> {
+    /// Validates `setup` (every rank reads the whole scene), keeps this
+    /// rank's bodies, builds the halo and the lists and evaluates the
+    /// first forces. `grid`: `parallel.grid`, else chosen from the ranks.
+    pub fn new(
+        setup: &SceneSetup,
+        threads: usize,
+        grid: Option<[usize; 3]>,
+        transport: T,
+    ) -> Result<Self, SceneError> {
+        let checked = refuse_unsupported(setup)
+            .and_then(|()| Simulation::prepare(setup, threads))
+            .and_then(|sim| {
+                let w = &sim.world;
+                let mut lo = [f64::INFINITY; 3];
+                let mut hi = [f64::NEG_INFINITY; 3];
+                for x in &w.bodies.position {
+                    let x = w.domain.wrap(*x);
+                    for a in 0..3 {
+                        lo[a] = lo[a].min(x[a]);
+                        hi[a] = hi[a].max(x[a]);
+                    }
+                }
+                let extent = Some((lo, hi));
+                let d = Decomposition::new(w.domain, transport.size(), grid, w.cell_size, extent)?;
+                Ok((sim, d))
+            });
+        // Every rank learns whether any refused, before the first exchange.
+        let refused = transport.max(if checked.is_err() { 1.0 } else { 0.0 });
+        let (mut sim, decomposition) = match checked {
+            Err(e) => return Err(e),
+            Ok(_) if refused > 0.0 => return Err(SceneError::input(PEER_REFUSED)),
+            Ok(c) => c,
+        };
+        let w = &mut sim.world;
+        let largest_radius = w.bodies.radius.iter().copied().fold(0.0, f64::max);
+        let rank = transport.rank();
+        let mut mine = Vec::new();
+        for k in 0..w.bodies.len() {
+            let x = w.domain.wrap(w.bodies.position[k]);
+            w.bodies.position[k] = x;
+            if decomposition.owner(x) == rank {
+                mine.push(k as u32);
+            }
+        }
+        select(w, &mine);
+        let n = w.bodies.len();
+        let mut me = Self {
+            sim,
+            transport,
+            decomposition,
+            largest_radius,
+            fixed_by_id: setup.spheres.iter().map(|s| s.fixed).collect(),
+            halo: vec![false; n],
+            sends: Vec::new(),
+            receives: Vec::new(),
+            incidence_start: Vec::new(),
+            incidence: Vec::new(),
+            walled: Vec::new(),
+            pair_force: Vec::new(),
+            hit: Vec::new(),
+            particle_wall_force: Vec::new(),
+            bytes_sent: 0,
+            rebuild_bytes: 0,
+            steps_run: 0,
+            stepping: 0.0,
+            plain_sums: false,
+            migrated: 0,
+        };
+        me.rebuild();
+        let sim = &mut me.sim;
+        sim.pipeline.body_forces(&mut sim.world, &sim.workers, 0.0);
+        me.pair_forces();
+        let o = me.observe();
+        me.sim.initial_energy = o.kinetic_energy + o.elastic_energy + o.potential_energy;
+        Ok(me)
+    }
+
+    pub fn rank(&self) -> usize {
+        self.transport.rank()
+    }
+
+    /// Experiment (tests/decomposition.rs): sum the pair forces with the
+    /// engine's half lists, in the order of each rank's own list, instead
+    /// of by partner id. No boundary-particle wall forces then.
+    pub fn use_plain_sums(&mut self) {
+        self.plain_sums = true;
+    }
+
+    pub fn ranks(&self) -> usize {
+        self.transport.size()
+    }
+
+    pub fn transport(&self) -> &T {
+        &self.transport
+    }
+
+    pub fn grid(&self) -> [usize; 3] {
+        self.decomposition.grid
+    }
+
+    /// The local engine (owned bodies and halo copies).
+    pub fn local(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// Bodies this rank owns.
+    pub fn owned(&self) -> usize {
+        self.halo.iter().filter(|&&h| !h).count()
+    }
+
+    /// Sends whole-body messages (`out[rank]`) and returns what the other
+    /// ranks sent here, in rank order. Collective.
+    fn send_records(&mut self, out: BTreeMap<usize, Writer>) -> Vec<(usize, Vec<u8>)> {
+        let size = self.transport.size();
+        let mut to = vec![false; size];
+        for r in out.keys() {
+            to[*r] = true;
+        }
+        let from: Vec<usize> = self
+            .transport
+            .who_sends(&to)
+            .iter()
+            .enumerate()
+            .filter_map(|(r, &s)| s.then_some(r))
+            .collect();
+        let sends: Vec<(usize, Vec<u8>)> = out.into_iter().map(|(r, w)| (r, w.0)).collect();
+        let bytes: u64 = sends.iter().map(|(_, b)| b.len() as u64).sum();
+        self.bytes_sent += bytes;
+        self.rebuild_bytes += bytes;
+        let got = self.transport.exchange(&sends, &from);
+        from.into_iter().zip(got).collect()
+    }
+
+    /// Migration, a new halo and new lists. Collective.
+    fn rebuild(&mut self) {
+        let rank = self.transport.rank();
+        let world = &mut self.sim.world;
+        let mut saved = save_pairs(world);
+        let keep = world.laws.history;
+        // Pair histories by body, for the bodies that leave.
+        let mut by_body: HashMap<u32, Vec<(u32, u32, ContactHistory)>> = HashMap::new();
+        if keep {
+            for (&(a, b), h) in &saved.histories {
+                by_body.entry(a).or_default().push((a, b, *h));
+                by_body.entry(b).or_default().push((a, b, *h));
+            }
+        }
+        // 1. Migration: owned bodies outside the sub-domain go to its owner.
+        let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
+        let mut stay = Vec::new();
+        for k in 0..world.bodies.len() {
+            if self.halo.get(k).copied().unwrap_or(false) {
+                continue;
+            }
+            let x = world.domain.wrap(world.bodies.position[k]);
+            world.bodies.position[k] = x;
+            let dest = self.decomposition.owner(x);
+            if dest == rank {
+                stay.push(k as u32);
+                continue;
+            }
+            self.migrated += 1;
+            let w = out.entry(dest).or_default();
+            pack::write_body(w, &world.bodies, &world.wall_contacts, keep, k);
+            let hs = by_body.get(&world.bodies.id[k]).map_or(&[][..], |v| &v[..]);
+            w.u32(hs.len() as u32);
+            for (a, b, h) in hs {
+                w.u32(*a);
+                w.u32(*b);
+                w.history(h);
+            }
+        }
+        select(world, &stay);
+        for (_, bytes) in self.send_records(out) {
+            let world = &mut self.sim.world;
+            let mut r = Reader::new(&bytes);
+            while !r.done() {
+                pack::read_body(&mut r, &mut world.bodies, &mut world.wall_contacts, keep);
+                for _ in 0..r.u32() {
+                    let (a, b, h) = (r.u32(), r.u32(), r.history());
+                    saved.histories.insert((a, b), h);
+                }
+            }
+        }
+        // 2. The halo: every owned body to the ranks within its reach.
+        let world = &mut self.sim.world;
+        let owned = world.bodies.len();
+        let reach = self.largest_radius + world.skin;
+        let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
+        let mut sent_ids: BTreeMap<usize, Vec<u32>> = BTreeMap::new();
+        for k in 0..owned {
+            let b = &world.bodies;
+            for r in self
+                .decomposition
+                .ranks_within(b.position[k], b.radius[k] + reach)
+            {
+                pack::write_body(out.entry(r).or_default(), b, &world.wall_contacts, keep, k);
+                sent_ids.entry(r).or_default().push(b.id[k]);
+            }
+        }
+        let mut got_ids: Vec<(usize, Vec<u32>)> = Vec::new();
+        for (from, bytes) in self.send_records(out) {
+            let world = &mut self.sim.world;
+            let mut r = Reader::new(&bytes);
+            let mut ids = Vec::new();
+            while !r.done() {
+                ids.push(pack::read_body(
+                    &mut r,
+                    &mut world.bodies,
+                    &mut world.wall_contacts,
+                    keep,
+                ));
+                if let Some(f) = world.bodies.fixed.last_mut() {
+                    *f = true;
+                }
+            }
+            got_ids.push((from, ids));
+        }
+        // 3. The lists (bodies re-sorted by cell), pair state restored.
+        let sim = &mut self.sim;
+        sim.pipeline.rebuild(&mut sim.world, &sim.workers, saved);
+        // 4. Per-step plans by the new local indices.
+        let b = &sim.world.bodies;
+        let at: HashMap<u32, u32> =
+            b.id.iter()
+                .enumerate()
+                .map(|(k, &id)| (id, k as u32))
+                .collect();
+        let free = |id: &u32| !self.fixed_by_id[*id as usize];
+        let local = |ids: &[u32]| -> Vec<u32> {
+            ids.iter()
+                .filter(|id| free(id))
+                .filter_map(|id| at.get(id).copied())
+                .collect()
+        };
+        self.halo = vec![false; b.len()];
+        for (_, ids) in &got_ids {
+            for id in ids {
+                if let Some(&k) = at.get(id) {
+                    self.halo[k as usize] = true;
+                }
+            }
+        }
+        self.sends = sent_ids
+            .iter()
+            .map(|(&r, ids)| (r, local(ids)))
+            .filter(|(_, v)| !v.is_empty())
+            .collect();
+        self.receives = got_ids
+            .iter()
+            .map(|(r, ids)| (*r, local(ids)))
+            .filter(|(_, v)| !v.is_empty())
+            .collect();
+        self.build_incidence();
+    }
+
+    /// Each owned free body's pairs, by partner id.
+    fn build_incidence(&mut self) {
+        let world = &self.sim.world;
+        let b = &world.bodies;
+        let n = b.len();
+        let list = &world.list;
+        let wanted = |k: usize| !self.halo[k] && !b.fixed[k];
+        let m = list.j.len();
+        let mut count = vec![0u32; n + 1];
+        let pairs = list
+            .entries()
+            .map(|(i, k)| (i, list.j[k] as usize, k))
+            .chain(list.extra.iter().enumerate().map(|(q, &(i, j))| {
+                let (_, _, owner) = extended(b, &world.ghosts, j as usize);
+                (i as usize, owner, m + q)
+            }));
+        let pairs: Vec<(usize, usize, usize)> = pairs.collect();
+        for &(i, j, _) in &pairs {
+            if wanted(i) {
+                count[i + 1] += 1;
+            }
+            if wanted(j) {
+                count[j + 1] += 1;
+            }
+        }
+        for k in 0..n {
+            count[k + 1] += count[k];
+        }
+        let mut fill = count.clone();
+        let blank = Incident {
+            partner: 0,
+            entry: 0,
+            negative: false,
+            group: NO_GROUP,
+        };
+        let mut inc = vec![blank; count[n] as usize];
+        for &(i, j, e) in &pairs {
+            for (me, other, negative) in [(i, j, true), (j, i, false)] {
+                if wanted(me) {
+                    inc[fill[me] as usize] = Incident {
+                        partner: b.id[other],
+                        entry: e as u32,
+                        negative,
+                        group: b.group[other],
+                    };
+                    fill[me] += 1;
+                }
+            }
+        }
+        for k in 0..n {
+            inc[count[k] as usize..count[k + 1] as usize].sort_by_key(|x| x.partner);
+        }
+        self.incidence_start = count;
+        let code = |x: &Incident| x.entry | if x.negative { NEGATIVE } else { 0 };
+        self.walled = inc
+            .iter()
+            .filter(|x| x.group != NO_GROUP)
+            .map(|x| (code(x), x.group))
+            .collect();
+        self.incidence = inc.iter().map(code).collect();
+    }
+
+    /// Every listed pair's force (history updated), then each owned free
+    /// body's sum in partner-id order, added to its gravity and wall force.
+    fn pair_forces(&mut self) {
+        if self.plain_sums {
+            let sim = &mut self.sim;
+            let dt = sim.world.dt;
+            sim.pipeline.pair_forces(&mut sim.world, &sim.workers, dt);
+            return;
+        }
+        let sim = &mut self.sim;
+        let world = &mut sim.world;
+        let workers = &sim.workers;
+        let n = world.bodies.len();
+        let list = &world.list;
+        let m = list.j.len();
+        let laws = &world.laws;
+        let keep = laws.history;
+        self.pair_force.resize(m + list.extra.len(), [0.0; 3]);
+        self.hit.resize(m + list.extra.len(), false);
+        let mut force = std::mem::take(&mut world.bodies.force);
+        let b = &world.bodies;
+        assert!(list.start.len() == n + 1 && (!keep || world.histories.main.len() == m));
+        let pf = SharedMut::new(&mut self.pair_force);
+        let hist = SharedMut::new(&mut world.histories.main);
+        let pair = |xi,
+                    vi,
+                    ri,
+                    xj,
+                    vj,
+                    rj,
+                    law: &dembound_physics::contact::PairLaw,
+                    h: &mut ContactHistory| {
+            match touching(xi, vi, ri, xj, vj, rj) {
+                Some(g) => {
+                    let f = law.force(g.overlap, g.overlap_rate, h);
+                    law.update(g.overlap, g.overlap_rate, h);
+                    [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
+                }
+                None => {
+                    if *h != ContactHistory::default() {
+                        *h = ContactHistory::default();
+                    }
+                    [0.0; 3]
+                }
+            }
+        };
+        let hit = SharedMut::new(&mut self.hit);
+        let (position, velocity, radius) = (&b.position[..], &b.velocity[..], &b.radius[..]);
+        workers.run(n.div_ceil(STEP_CHUNK), |c| {
+            for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+                let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+                for k in list.start[i] as usize..list.start[i + 1] as usize {
+                    let j = list.j[k] as usize;
+                    // The partner's velocity and the law only in contact
+                    // (as the engine's loop).
+                    let g = touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j]);
+                    // SAFETY: entry k belongs to row i, in this chunk only.
+                    unsafe {
+                        match g {
+                            Some(g) => {
+                                let mut scratch = NO_HISTORY;
+                                let h = if keep { hist.at(k) } else { &mut scratch };
+                                let law = laws.pair(b, i, j);
+                                let f = law.force(g.overlap, g.overlap_rate, h);
+                                law.update(g.overlap, g.overlap_rate, h);
+                                *pf.at(k) = [f * g.normal[0], f * g.normal[1], f * g.normal[2]];
+                                *hit.at(k) = true;
+                            }
+                            None => {
+                                *hit.at(k) = false;
+                                if keep && *hist.at(k) != ContactHistory::default() {
+                                    *hist.at(k) = ContactHistory::default();
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        for (q, &(i, j)) in list.extra.iter().enumerate() {
+            let (i, j) = (i as usize, j as usize);
+            let (xj, vj, owner) = extended(b, &world.ghosts, j);
+            let mut scratch = NO_HISTORY;
+            let h = if keep {
+                &mut world.histories.extra[q]
+            } else {
+                &mut scratch
+            };
+            let law = laws.pair(b, i, owner);
+            self.hit[m + q] = true;
+            self.pair_force[m + q] = pair(
+                b.position[i],
+                b.velocity[i],
+                b.radius[i],
+                xj,
+                vj,
+                b.radius[owner],
+                &law,
+                h,
+            );
+        }
+        let (start, inc, pf, hit) = (
+            &self.incidence_start,
+            &self.incidence,
+            &self.pair_force,
+            &self.hit,
+        );
+        let f_ptr = SharedMut::new(&mut force);
+        workers.run(n.div_ceil(STEP_CHUNK), |c| {
+            for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+                let (s, e) = (start[i] as usize, start[i + 1] as usize);
+                if s == e {
+                    continue;
+                }
+                // SAFETY: one body per iteration, chunks disjoint.
+                let f = unsafe { f_ptr.at(i) };
+                for &x in &inc[s..e] {
+                    let entry = (x & !NEGATIVE) as usize;
+                    // Pairs apart add nothing (f + 0 = f: skipping them
+                    // changes no bit).
+                    if !hit[entry] {
+                        continue;
+                    }
+                    let p = pf[entry];
+                    if x & NEGATIVE != 0 {
+                        f[0] -= p[0];
+                        f[1] -= p[1];
+                        f[2] -= p[2];
+                    } else {
+                        f[0] += p[0];
+                        f[1] += p[1];
+                        f[2] += p[2];
+                    }
+                }
+            }
+        });
+        // The boundary particles' reaction, from the free side.
+        let mut wf = vec![[0.0; 3]; world.walls.len()];
+        for &(x, group) in &self.walled {
+            let entry = (x & !NEGATIVE) as usize;
+            if hit[entry] {
+                let p = pf[entry];
+                // The free body got ∓p; the boundary particle gets ±p.
+                let s = if x & NEGATIVE != 0 { 1.0 } else { -1.0 };
+                for a in 0..3 {
+                    wf[group as usize][a] += s * p[a];
+                }
+            }
+        }
+        self.particle_wall_force = wf;
+        world.bodies.force = force;
+    }
+
+    /// Position and velocity of every free halo body from its owner.
+    fn halo_update(&mut self) {
+        let b = &self.sim.world.bodies;
+        let sends: Vec<(usize, Vec<u8>)> = self
+            .sends
+            .iter()
+            .map(|(r, idx)| {
+                let mut w = Writer(Vec::with_capacity(idx.len() * 48));
+                for &k in idx {
+                    w.vec3(b.position[k as usize]);
+                    w.vec3(b.velocity[k as usize]);
+                }
+                (*r, w.0)
+            })
+            .collect();
+        self.bytes_sent += sends.iter().map(|(_, s)| s.len() as u64).sum::<u64>();
+        let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
+        let got = self.transport.exchange(&sends, &from);
+        let b = &mut self.sim.world.bodies;
+        for ((_, idx), bytes) in self.receives.iter().zip(got) {
+            let mut r = Reader::new(&bytes);
+            for &k in idx {
+                b.position[k as usize] = r.vec3();
+                b.velocity[k as usize] = r.vec3();
+            }
+        }
+    }
+
+    /// Advances `n` steps (velocity Verlet, as the engine's). Collective.
+    pub fn step(&mut self, n: u64) {
+        let clock = Instant::now();
+        for _ in 0..n {
+            let sim = &mut self.sim;
+            let dt = sim.world.dt;
+            let moved2 = sim.pipeline.verlet_advance(&mut sim.world, &sim.workers);
+            let moved2 = self.transport.max(moved2);
+            if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
+                self.rebuild();
+                let sim = &mut self.sim;
+                // The wall masks are new (as the engine's step).
+                sim.pipeline.body_forces(&mut sim.world, &sim.workers, dt);
+            } else {
+                self.halo_update();
+                let sim = &mut self.sim;
+                sim.pipeline.ghosts(&mut sim.world);
+            }
+            self.pair_forces();
+            self.sim.pipeline.pending_kick = true;
+            self.sim.world.steps_done += 1;
+        }
+        let sim = &mut self.sim;
+        sim.pipeline.finish(&mut sim.world, &sim.workers);
+        self.steps_run += n;
+        self.stepping += clock.elapsed().as_secs_f64();
+    }
+
+    pub fn steps_done(&self) -> u64 {
+        self.sim.world.steps_done
+    }
+
+    pub fn total_steps(&self) -> u64 {
+        self.sim.total_steps()
+    }
+
+    /// The global observables (sums over the ranks). Collective.
+    pub fn observe(&self) -> Observation {
+        let sim = &self.sim;
+        let w = &sim.world;
+        let b = &w.bodies;
+        let kinetic = sim.kinetic_energy();
+        let potential = sim.potential_energy();
+        let (plane_forces, plane_contacts, plane_energy) =
+            walls::plane_observables(b, &w.planes, &w.wall_contacts, &w.laws, &sim.workers);
+        // A pair is counted on the rank owning its free body of lower id.
+        let counted_here = |i: usize, j: usize| {
+            let (a, c) = (b.id[i], b.id[j]);
+            let lead = match (self.fixed_by_id[a as usize], self.fixed_by_id[c as usize]) {
+                (false, false) => {
+                    if a < c {
+                        i
+                    } else {
+                        j
+                    }
+                }
+                (false, true) => i,
+                _ => j,
+            };
+            !self.halo[lead]
+        };
+        let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
+        let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
+            // The contact test first: most listed pairs are apart.
+            let Some(g) = touching(
+                b.position[i],
+                [0.0; 3],
+                b.radius[i],
+                xj,
+                [0.0; 3],
+                b.radius[owner],
+            ) else {
+                return;
+            };
+            if !counted_here(i, owner) {
+                return;
+            }
+            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
+                wc += 1.0;
+            } else {
+                pc += 1.0;
+            }
+            energy += w
+                .laws
+                .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
+        };
+        let list = &w.list;
+        for i in 0..b.len() {
+            for k in list.start[i] as usize..list.start[i + 1] as usize {
+                let j = list.j[k] as usize;
+                visit(i, b.position[j], j, w.histories.main(k));
+            }
+        }
+        for (q, &(i, j)) in list.extra.iter().enumerate() {
+            let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
+            visit(i as usize, xj, owner, w.histories.extra(q));
+        }
+        let walls_n = w.walls.len();
+        let mut v = vec![
+            kinetic,
+            potential,
+            energy + plane_energy,
+            pc,
+            wc + plane_contacts as f64,
+        ];
+        for (wi, kind) in w.walls.iter().enumerate() {
+            let f = match kind {
+                WallKind::Plane(p) => plane_forces[*p],
+                WallKind::Particles => self
+                    .particle_wall_force
+                    .get(wi)
+                    .copied()
+                    .unwrap_or([0.0; 3]),
+            };
+            v.extend_from_slice(&f);
+        }
+        let s = self.transport.sum(&v);
+        let wall_forces = (0..walls_n)
+            .map(|k| [s[5 + 3 * k], s[6 + 3 * k], s[7 + 3 * k]])
+            .collect();
+        Observation {
+            step: w.steps_done,
+            time: w.time(),
+            kinetic_energy: s[0],
+            elastic_energy: s[2],
+            potential_energy: s[1],
+            dissipated_energy: sim.initial_energy - (s[0] + s[2] + s[1]),
+            particle_contacts: s[3].round() as usize,
+            wall_contacts: s[4].round() as usize,
+            wall_forces,
+        }
+    }
+
+    /// This rank's figures, gathered for every rank (rank order). Collective.
+    pub fn rank_reports(&self) -> Vec<RankReport> {
+        let steps = self.steps_run.max(1) as f64;
+        let owned = self.transport.all_gather(self.owned() as f64);
+        let halo = self
+            .transport
+            .all_gather(self.halo.iter().filter(|&&h| h).count() as f64);
+        let secs = self.transport.all_gather(self.stepping / steps);
+        let bytes = self.transport.all_gather(self.bytes_sent as f64 / steps);
+        let rebuild = self.transport.all_gather(self.rebuild_bytes as f64 / steps);
+        (0..self.transport.size())
+            .map(|r| RankReport {
+                owned: owned[r] as usize,
+                halo: halo[r] as usize,
+                seconds_per_step: secs[r],
+                bytes_per_step: bytes[r],
+                rebuild_bytes_per_step: rebuild[r],
+            })
+            .collect()
+    }
+
+    /// Bodies this rank has handed to other ranks so far.
+    pub fn migrated(&self) -> u64 {
+        self.migrated
+    }
+
+    /// Seconds this rank spent stepping.
+    pub fn stepping_seconds(&self) -> f64 {
+        self.stepping
+    }
+
+    /// The owned bodies of every rank at rank 0, input order (`None`
+    /// elsewhere). Collective.
+    pub fn gather_state(&self) -> Option<GatheredState> {
+        let b: &Bodies = &self.sim.world.bodies;
+        let mut w = Writer::default();
+        for k in 0..b.len() {
+            if self.halo[k] {
+                continue;
+            }
+            w.u32(b.id[k]);
+            w.vec3(b.position[k]);
+            w.vec3(b.velocity[k]);
+            w.vec3(b.force[k]);
+            w.f64(b.radius[k]);
+            w.u8(u8::from(b.fixed[k]));
+            w.u32(b.material[k]);
+        }
+        let parts = self.transport.gather(w.0)?;
+        let n = self.fixed_by_id.len();
+        let mut s = GatheredState {
+            position: vec![[0.0; 3]; n],
+            velocity: vec![[0.0; 3]; n],
+            force: vec![[0.0; 3]; n],
+            radius: vec![0.0; n],
+            fixed: vec![false; n],
+            material: vec![0; n],
+            rank: vec![u32::MAX; n],
+        };
+        for (rank, bytes) in parts.iter().enumerate() {
+            let mut r = Reader::new(bytes);
+            while !r.done() {
+                let id = r.u32() as usize;
+                let (x, v, f, rad, fixed, mat) =
+                    (r.vec3(), r.vec3(), r.vec3(), r.f64(), r.u8() != 0, r.u32());
+                if id < n {
+                    s.position[id] = x;
+                    s.velocity[id] = v;
+                    s.force[id] = f;
+                    s.radius[id] = rad;
+                    s.fixed[id] = fixed;
+                    s.material[id] = mat;
+                    s.rank[id] = rank as u32;
+                }
+            }
+        }
+        Some(s)
+    }
+}

@@ -1,0 +1,171 @@
+//! The byte layout of what crosses ranks: little-endian, fixed-size
+//! fields. A body record is every per-body array of the engine
+//! ([`Bodies`] and its plane-wall state), so that a body continues on its
+//! new rank bit for bit.
+
+use dembound_physics::contact::ContactHistory;
+
+use crate::bodies::Bodies;
+use crate::dynamics::walls::WallContacts;
+
+/// Appends fixed-size little-endian fields.
+#[derive(Debug, Default)]
+pub struct Writer(pub Vec<u8>);
+
+impl Writer {
+    pub fn u8(&mut self, v: u8) {
+        self.0.push(v);
+    }
+    pub fn u16(&mut self, v: u16) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn u32(&mut self, v: u32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn u64(&mut self, v: u64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn f64(&mut self, v: f64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    pub fn vec3(&mut self, v: [f64; 3]) {
+        for x in v {
+            self.f64(x);
+        }
+    }
+    pub fn history(&mut self, h: &ContactHistory) {
+        self.f64(h.max_overlap);
+        self.u8(u8::from(h.unloading));
+    }
+}
+
+/// Reads what a [`Writer`] wrote. Messages come from ranks of the same
+/// program, so a short message is a bug: reads past the end give zeros.
+#[derive(Debug)]
+pub struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    pub fn new(bytes: &'a [u8]) -> Self {
+        Self { bytes, at: 0 }
+    }
+    pub fn done(&self) -> bool {
+        self.at >= self.bytes.len()
+    }
+    fn take<const N: usize>(&mut self) -> [u8; N] {
+        let mut out = [0u8; N];
+        if let Some(s) = self.bytes.get(self.at..self.at + N) {
+            out.copy_from_slice(s);
+        }
+        self.at += N;
+        out
+    }
+    pub fn u8(&mut self) -> u8 {
+        self.take::<1>()[0]
+    }
+    pub fn u16(&mut self) -> u16 {
+        u16::from_le_bytes(self.take())
+    }
+    pub fn u32(&mut self) -> u32 {
+        u32::from_le_bytes(self.take())
+    }
+    pub fn u64(&mut self) -> u64 {
+        u64::from_le_bytes(self.take())
+    }
+    pub fn f64(&mut self) -> f64 {
+        f64::from_le_bytes(self.take())
+    }
+    pub fn vec3(&mut self) -> [f64; 3] {
+        [self.f64(), self.f64(), self.f64()]
+    }
+    pub fn history(&mut self) -> ContactHistory {
+        ContactHistory {
+            max_overlap: self.f64(),
+            unloading: self.u8() != 0,
+        }
+    }
+}
+
+/// Writes body k: every array of [`Bodies`] (Gear5's `higher` excepted:
+/// decomposed runs are Verlet) and its plane-wall contact state.
+/// `wall_history`: the law keeps contact histories (`LawTable::history`).
+pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history: bool, k: usize) {
+    // Destructured so that a new per-body array fails to compile here.
+    let Bodies {
+        position,
+        velocity,
+        force,
+        radius,
+        mass,
+        inverse_mass,
+        material,
+        fixed,
+        id,
+        group,
+        class,
+        higher: _,
+        angular_velocity,
+        torque,
+        inverse_inertia,
+    } = b;
+    w.u32(id[k]);
+    w.vec3(position[k]);
+    w.vec3(velocity[k]);
+    w.vec3(force[k]);
+    w.f64(radius[k]);
+    w.f64(mass[k]);
+    w.f64(inverse_mass[k]);
+    w.u32(material[k]);
+    w.u8(u8::from(fixed[k]));
+    w.u32(group[k]);
+    w.u16(class[k]);
+    w.vec3(angular_velocity[k]);
+    w.vec3(torque[k]);
+    w.f64(inverse_inertia[k]);
+    w.u64(walls.touching[k]);
+    let p = walls.planes;
+    if wall_history {
+        for q in 0..p {
+            w.history(&walls.history.get(k * p + q).copied().unwrap_or_default());
+        }
+    }
+}
+
+/// Appends a body written by [`write_body`]; returns its id.
+pub fn read_body(
+    r: &mut Reader,
+    b: &mut Bodies,
+    walls: &mut WallContacts,
+    wall_history: bool,
+) -> u32 {
+    let id = r.u32();
+    b.id.push(id);
+    b.position.push(r.vec3());
+    b.velocity.push(r.vec3());
+    b.force.push(r.vec3());
+    b.radius.push(r.f64());
+    b.mass.push(r.f64());
+    b.inverse_mass.push(r.f64());
+    b.material.push(r.u32());
+    b.fixed.push(r.u8() != 0);
+    b.group.push(r.u32());
+    b.class.push(r.u16());
+    b.angular_velocity.push(r.vec3());
+    b.torque.push(r.vec3());
+    b.inverse_inertia.push(r.f64());
+    walls.touching.push(r.u64());
+    walls.near.push(0);
+    if wall_history {
+        for _ in 0..walls.planes {
+            walls.history.push(r.history());
+        }
+    }
+    id
+}
+
+/// Bytes of one body record with `planes` plane walls.
+pub fn body_bytes(planes: usize, wall_history: bool) -> usize {
+    4 + 9 * 8 + 3 * 8 + 4 + 1 + 4 + 2 + 6 * 8 + 8 + 8 + if wall_history { 9 * planes } else { 0 }
+}

@@ -1,0 +1,262 @@
+//! Domain decomposition (issue 16) with ranks as threads
+//! (`comm::threads::ThreadTransport`): the same code as under MPI, only the
+//! transport differs. The MPI runs themselves: tests/mpi.rs at the root
+//! (feature `mpi`) and tests/mpi/run.sh.
+
+mod common;
+
+use dembound_scene::comm::threads::ThreadTransport;
+use dembound_scene::comm::DistributedSimulation;
+use dembound_scene::{Observation, SceneSetup, Simulation};
+
+/// Positions, velocities, the final observation, bodies per rank.
+type Run = (Vec<[f64; 3]>, Vec<[f64; 3]>, Observation, Vec<usize>);
+
+/// Runs `setup` on `ranks` thread-ranks with `grid` for `steps` steps;
+/// returns rank 0's gathered positions and velocities (input order), the
+/// final observation and the bodies each rank owns.
+fn run(setup: &SceneSetup, ranks: usize, grid: Option<[usize; 3]>, steps: u64) -> Run {
+    let handles: Vec<_> = ThreadTransport::group(ranks)
+        .into_iter()
+        .map(|t| {
+            let setup = setup.clone();
+            std::thread::spawn(move || {
+                let mut d = DistributedSimulation::new(&setup, 1, grid, t).expect("valid scene");
+                d.step(steps);
+                let o = d.observe();
+                let reports = d.rank_reports();
+                let state = d.gather_state();
+                (state, o, reports)
+            })
+        })
+        .collect();
+    let mut out = None;
+    for h in handles {
+        let (state, o, reports) = h.join().expect("rank finished");
+        if let Some(s) = state {
+            out = Some((
+                s.position,
+                s.velocity,
+                o,
+                reports.iter().map(|r| r.owned).collect(),
+            ));
+        }
+    }
+    out.expect("rank 0 gathers")
+}
+
+/// 1, 2 and 3 ranks (and a 2 × 2 × 1 grid), 4,000 steps of a small
+/// lattice drop: the same positions and velocities to the bit, because
+/// each body's force is summed in an order fixed by the partners' ids.
+/// The contact count is an integer; the energies are sums over the ranks
+/// in a rank-dependent order, so they agree to round-off (1e-12
+/// relative: a few ulps times the number of ranks).
+#[test]
+fn positions_are_bit_identical_on_1_2_3_ranks() {
+    let setup = common::lattice_drop(6, 8, 2.0e-6, 4000);
+    let (x1, v1, o1, owned1) = run(&setup, 1, None, 4000);
+    assert_eq!(owned1, vec![288]);
+    // The spheres have fallen and touch (the test means something).
+    assert!(o1.particle_contacts > 100, "{o1:?}");
+    // The spheres sit in the bottom 5 mm of a 30 mm box: the grids cut x
+    // and y (the default, least surface, would cut z above them all).
+    for (ranks, grid) in [
+        (2, Some([2, 1, 1])),
+        (3, Some([1, 3, 1])),
+        (4, Some([2, 2, 1])),
+    ] {
+        let (x, v, o, owned) = run(&setup, ranks, grid, 4000);
+        assert_eq!(owned.iter().sum::<usize>(), 288);
+        assert!(owned.iter().all(|&k| k > 0), "{owned:?}");
+        for k in 0..x1.len() {
+            for a in 0..3 {
+                assert_eq!(
+                    x[k][a].to_bits(),
+                    x1[k][a].to_bits(),
+                    "{ranks} ranks, body {k}"
+                );
+                assert_eq!(
+                    v[k][a].to_bits(),
+                    v1[k][a].to_bits(),
+                    "{ranks} ranks, body {k}"
+                );
+            }
+        }
+        assert_eq!(o.particle_contacts, o1.particle_contacts);
+        assert_eq!(o.wall_contacts, o1.wall_contacts);
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
+        assert!(rel(o.kinetic_energy, o1.kinetic_energy) < 1e-12);
+        assert!(rel(o.elastic_energy, o1.elastic_energy) < 1e-12);
+        for (f, g) in o.wall_forces.iter().zip(&o1.wall_forces) {
+            for a in 0..3 {
+                assert!(
+                    (f[a] - g[a]).abs() <= 1e-12 * g[a].abs().max(1e-12),
+                    "{f:?} {g:?}"
+                );
+            }
+        }
+    }
+}
+
+/// One rank against the engine itself: the same physics, the force sums
+/// in another order. After 300 steps (before the drop's contacts become
+/// chaotic) positions agree to 1e-12 m (round-off of 1e-16 relative
+/// amplified by the contacts; a missing pair or a wrong sign would move a
+/// sphere by its overlap, ~1e-6 m).
+#[test]
+fn one_rank_matches_the_engine() {
+    let setup = common::lattice_drop(6, 8, 2.0e-6, 2000);
+    let mut sim = Simulation::new(setup.clone(), 1).expect("valid scene");
+    sim.step(2000);
+    let (x, _, o, _) = run(&setup, 1, None, 2000);
+    let (x2, _, o2, owned) = run(&setup, 2, Some([2, 1, 1]), 2000);
+    assert_eq!(owned, vec![144, 144]);
+    let xs = sim.positions();
+    let mut worst = 0.0f64;
+    for k in 0..xs.len() {
+        for a in 0..3 {
+            worst = worst.max((x[k][a] - xs[k][a]).abs());
+            assert_eq!(x2[k][a].to_bits(), x[k][a].to_bits());
+        }
+    }
+    assert!(worst < 1e-12, "{worst}");
+    assert_eq!(o.particle_contacts, sim.particle_contacts());
+    assert_eq!(o2.wall_contacts, sim.wall_contacts());
+    assert!((o.kinetic_energy - sim.kinetic_energy()).abs() < 1e-9 * sim.kinetic_energy());
+}
+
+/// A grid that does not match the ranks, and friction, are refused with
+/// the key named.
+#[test]
+fn bad_grid_and_friction_are_refused() {
+    let setup = common::lattice_drop(4, 4, 2.0e-6, 10);
+    let t = ThreadTransport::group(1).pop().expect("one rank");
+    let e = DistributedSimulation::new(&setup, 1, Some([1, 1, 2]), t)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("parallel.grid"), "{e}");
+    let mut f = setup.clone();
+    f.friction = Some(dembound_scene::setup::FrictionSetup::uniform(
+        dembound_physics::contact::tangential::FrictionModel {
+            tangential: dembound_physics::contact::tangential::TangentialKind::Mindlin,
+            friction: 0.5,
+            rolling_friction: 0.0,
+        },
+    ));
+    let t = ThreadTransport::group(1).pop().expect("one rank");
+    let e = DistributedSimulation::new(&f, 1, None, t)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("contact.friction"), "{e}");
+}
+
+/// The experiment behind the partner-id order: with the engine's own
+/// half-list sums, whose order follows each rank's list, 1 and 2 ranks
+/// drift apart by round-off that the drop's contacts amplify. Prints the
+/// largest relative position difference at a few step counts
+/// (`cargo test --release -p dembound-scene --test decomposition plain
+/// -- --ignored --nocapture`); asserts only that it is not zero (else the
+/// partner-id order would not be needed).
+#[test]
+#[ignore = "an experiment; prints its figures"]
+fn plain_half_list_sums_drift_apart() {
+    let setup = common::lattice_drop(8, 10, 2.0e-6, 10_000);
+    let run_plain = |ranks: usize, grid: Option<[usize; 3]>, steps: u64| {
+        let handles: Vec<_> = ThreadTransport::group(ranks)
+            .into_iter()
+            .map(|t| {
+                let setup = setup.clone();
+                std::thread::spawn(move || {
+                    let mut d = DistributedSimulation::new(&setup, 1, grid, t).expect("valid");
+                    d.use_plain_sums();
+                    d.step(steps);
+                    d.gather_state()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .filter_map(|h| h.join().expect("rank"))
+            .next()
+            .expect("rank 0")
+            .position
+    };
+    let mut last = 0.0;
+    for steps in [1000, 2000, 4000, 6000, 8000, 10_000] {
+        let a = run_plain(1, None, steps);
+        let b = run_plain(2, Some([2, 1, 1]), steps);
+        let mut worst = 0.0f64;
+        for k in 0..a.len() {
+            for c in 0..3 {
+                worst = worst.max((a[k][c] - b[k][c]).abs() / a[k][c].abs().max(1e-3));
+            }
+        }
+        println!("plain half lists, 1 vs 2 ranks, {steps} steps: max relative position difference {worst:.3e}");
+        last = worst;
+    }
+    assert!(last > 0.0);
+}
+
+/// Migration with pair histories: the grid cuts x in the middle, and the
+/// spheres, given random velocities, cross the cut and change rank while
+/// in contact; with Walton–Braun (a hysteretic law: each
+/// contact's largest overlap and branch travel with it) the end state of
+/// 2 ranks is the same bits as 1 rank.
+#[test]
+fn bodies_migrate_with_their_pair_histories() {
+    let mut setup = common::lattice_drop(6, 8, 2.0e-6, 6000);
+    setup.contact = dembound_physics::contact::ContactModel::elastic(
+        dembound_physics::contact::NormalLaw::WaltonBraun { restitution: 0.5 },
+    );
+    // Random velocities up to 0.3 m/s per axis: up to 3.6 mm in the run,
+    // many spheres cross the cut (at x = 3.9 mm) while in contact.
+    let mut rng = common::Rng(16);
+    for s in &mut setup.spheres {
+        s.velocity = [
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+        ];
+    }
+    let (x1, v1, o1, _) = run(&setup, 1, None, 6000);
+    let handles: Vec<_> = ThreadTransport::group(2)
+        .into_iter()
+        .map(|t| {
+            let setup = setup.clone();
+            std::thread::spawn(move || {
+                let mut d =
+                    DistributedSimulation::new(&setup, 1, Some([2, 1, 1]), t).expect("valid");
+                d.step(6000);
+                let moved = d.migrated();
+                (d.gather_state(), d.observe(), moved)
+            })
+        })
+        .collect();
+    let mut moved = Vec::new();
+    let mut state = None;
+    let mut o2 = None;
+    for h in handles {
+        let (s, o, m) = h.join().expect("rank");
+        moved.push(m);
+        if s.is_some() {
+            state = s;
+            o2 = Some(o);
+        }
+    }
+    // Bodies went both ways.
+    assert!(moved.iter().all(|&m| m >= 5), "{moved:?}");
+    let s = state.expect("rank 0");
+    for k in 0..x1.len() {
+        for a in 0..3 {
+            assert_eq!(s.position[k][a].to_bits(), x1[k][a].to_bits(), "body {k}");
+            assert_eq!(s.velocity[k][a].to_bits(), v1[k][a].to_bits(), "body {k}");
+        }
+    }
+    let o2 = o2.expect("rank 0");
+    assert_eq!(o2.particle_contacts, o1.particle_contacts);
+    // Energy was lost in the hysteresis loops: histories were in play.
+    assert!(
+        o1.dissipated_energy > 1e-3 * o1.kinetic_energy.max(1e-12),
+        "{o1:?}"
+    );
+}

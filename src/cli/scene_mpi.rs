@@ -1,0 +1,353 @@
+//! `mpirun -np N dembound scene FILE.toml …` (feature `mpi`, issue 16):
+//! one scene on N ranks through `dembound_scene::comm`. Every rank reads
+//! the scene file; rank 0 alone prints and writes files (gathered from
+//! the others), all or nothing through [`AtomicDir`].
+//!
+//! Errors: a setup error on any rank ends every rank (the ranks agree on
+//! it before the first exchange; the lowest failing rank prints it; exit 2
+//! for bad input); an output error at rank 0 after the run ends the run
+//! with MPI_Abort (exit 1).
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::anyhow;
+use dembound_scene::comm::distributed::{GatheredState, PEER_REFUSED};
+use dembound_scene::comm::mpi::MpiTransport;
+use dembound_scene::comm::{DistributedSimulation, Transport};
+use dembound_scene::io::resolve::{resolve, ResolvedScene};
+use dembound_scene::io::{config, series, vtk};
+use dembound_scene::Observation;
+use serde::Serialize;
+
+use super::scene::{progress_bar, scene_error, Report, SceneArgs, PARALLEL_MIN_PARTICLES};
+use super::{CliError, CliResult};
+use crate::output::files::AtomicDir;
+
+/// How a rank ends on error: with an error to print, or silently with
+/// the run's exit code (the message printed already).
+enum Fail {
+    Print(CliError),
+    Silent(u8),
+}
+
+type RankResult<T> = Result<T, Fail>;
+
+pub fn run(args: &SceneArgs) -> CliResult {
+    let Some(t) = MpiTransport::init() else {
+        return Err(CliError::failed(anyhow!("MPI was initialised twice")));
+    };
+    let result = run_rank(args, &t);
+    // MPI_Finalize on every rank, also after an error.
+    drop(t);
+    match result {
+        Ok(()) => Ok(()),
+        Err(Fail::Print(e)) => Err(e),
+        Err(Fail::Silent(code)) => std::process::exit(i32::from(code)),
+    }
+}
+
+/// Agreement on a per-rank result: Ok on every rank, or every rank fails
+/// (the lowest rank with an error of its own prints it).
+fn agree<T>(t: &MpiTransport, r: Result<T, CliError>) -> RankResult<T> {
+    let own = match &r {
+        Ok(_) => 0.0,
+        Err(e) if e.error().to_string() == PEER_REFUSED => -1.0,
+        Err(e) => f64::from(e.exit_code()),
+    };
+    let codes = t.all_gather(own);
+    if codes.iter().all(|&c| c == 0.0) {
+        return r.map_err(Fail::Print);
+    }
+    let code = codes.iter().copied().fold(1.0, f64::max) as u8;
+    let printer = codes.iter().position(|&c| c >= 1.0);
+    if let Err(e) = r {
+        if printer == Some(t.rank()) {
+            eprintln!("error: {:#}", e.error());
+        }
+    }
+    // Nobody exits before the message is out: mpirun ends the remaining
+    // ranks as soon as one exits with an error.
+    t.all_gather(0.0);
+    Err(Fail::Silent(code))
+}
+
+/// What every rank reads: the scene, the thread count, and at rank 0 the
+/// output directory.
+fn prepare(
+    args: &SceneArgs,
+    rank: usize,
+) -> Result<(ResolvedScene, usize, Option<AtomicDir>), CliError> {
+    if args.restart.is_some() {
+        return Err(CliError::input(anyhow!(
+            "--restart is not available under MPI yet (checkpoints are written and read by \
+             one process): run the restart without mpirun"
+        )));
+    }
+    let file = config::read(&args.file, &args.set).map_err(scene_error)?;
+    let base = args.file.parent().unwrap_or(Path::new("."));
+    let resolved = resolve(&file, base).map_err(scene_error)?;
+    // One thread per rank unless asked: ranks already fill the cores.
+    let threads = args.threads.map_or(1, usize::from);
+    let _ = PARALLEL_MIN_PARTICLES;
+    let out = match (&args.out, rank) {
+        (Some(dir), 0) => Some(super::output_dir(dir, "scene")?),
+        _ => None,
+    };
+    Ok((resolved, threads, out))
+}
+
+/// The `--json` object: the one-process run's keys, plus the ranks'.
+#[derive(Debug, Serialize)]
+struct MpiReport {
+    #[serde(flatten)]
+    report: Report,
+    ranks: usize,
+    /// Sub-domains along x, y, z.
+    grid: [usize; 3],
+    /// Bodies owned by each rank at the end.
+    rank_particles: Vec<usize>,
+    /// Halo copies held by each rank at the end.
+    rank_halo_particles: Vec<usize>,
+    /// s per step, each rank's own stepping time.
+    rank_seconds_per_step: Vec<f64>,
+    /// Bytes each rank sent per step (halo updates, migration, halo
+    /// rebuilds; reductions not counted).
+    rank_bytes_per_step: Vec<f64>,
+    /// Of which at neighbour-list rebuilds.
+    rank_rebuild_bytes_per_step: Vec<f64>,
+}
+
+fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
+    let rank = t.rank();
+    let (resolved, threads, mut out) = agree(t, prepare(args, rank))?;
+    let grid = resolved.file.parallel.grid;
+    let built = DistributedSimulation::new(&resolved.setup, threads, grid, t);
+    let mut sim = agree(t, built.map_err(scene_error))?;
+
+    let total = sim.total_steps();
+    let start = sim.steps_done();
+    let span = total.saturating_sub(start);
+    let every = resolved.file.output.every.unwrap_or((span / 20).max(1));
+    let series_every = resolved
+        .file
+        .output
+        .series_every
+        .unwrap_or((span / 1000).max(1));
+    let mut rows: Vec<Observation> = Vec::new();
+    let mut snapshots: Vec<(f64, String)> = Vec::new();
+    let bar = if rank == 0 {
+        progress_bar(span, args.quiet)
+    } else {
+        None
+    };
+    let tick = (span / 200).max(1);
+    let clock = Instant::now();
+    let dt = resolved_dt(&sim);
+    let write_failed = |e: anyhow::Error| -> ! {
+        eprintln!("error: {e:#}");
+        t.abort(1)
+    };
+    loop {
+        let step = sim.steps_done();
+        if (step - start) % series_every == 0 || step == total {
+            rows.push(sim.observe());
+        }
+        if args.out.is_some() && ((step - start) % every == 0 || step == total) {
+            let state = sim.gather_state();
+            if let (Some(out), Some(state)) = (out.as_mut(), state) {
+                let time = step as f64 * dt;
+                if let Err(e) = write_snapshot(out, &state, step, time, snapshots.len()) {
+                    write_failed(e);
+                }
+                snapshots.push((time, vtk::snapshot_name(snapshots.len())));
+            }
+        }
+        if step >= total {
+            break;
+        }
+        let mut next = total.min(step + tick);
+        for interval in [
+            series_every,
+            if args.out.is_some() { every } else { u64::MAX },
+        ] {
+            let k = (step - start) / interval + 1;
+            next = next.min(start.saturating_add(k.saturating_mul(interval)));
+        }
+        sim.step(next - step);
+        if let Some(bar) = &bar {
+            bar.set_position(next - start);
+        }
+    }
+    let wall_total = t.max(clock.elapsed().as_secs_f64());
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let stepping = t.max(sim.stepping_seconds());
+    let reports = sim.rank_reports();
+    let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
+    let final_state = sim.gather_state();
+    if rank != 0 {
+        return Ok(());
+    }
+    let spheres = &resolved.setup.spheres;
+    let n = spheres.len();
+    let report = Report {
+        particles: n,
+        free_particles: spheres.iter().filter(|s| !s.fixed).count(),
+        fixed_particles: spheres.iter().filter(|s| s.fixed).count(),
+        steps: sim.steps_done(),
+        steps_this_run: span,
+        time: sim.steps_done() as f64 * dt,
+        dt,
+        contact_time_estimate: sim.local().time_step().contact_time,
+        impact_speed: sim.local().time_step().impact_speed,
+        rayleigh_time: sim.local().time_step().rayleigh_time,
+        kinetic_energy: last.kinetic_energy,
+        elastic_energy: last.elastic_energy,
+        potential_energy: last.potential_energy,
+        dissipated_energy: last.dissipated_energy,
+        particle_contacts: last.particle_contacts,
+        wall_contacts: last.wall_contacts,
+        wall_forces: last.wall_forces.clone(),
+        wall_clock: stepping,
+        wall_clock_total: wall_total,
+        particle_steps_per_second: if stepping > 0.0 {
+            n as f64 * span as f64 / stepping
+        } else {
+            0.0
+        },
+        threads,
+        neighbour_list_builds: sim.local().list_builds(),
+        collisions: None,
+    };
+    let doc = MpiReport {
+        report,
+        ranks: t.size(),
+        grid: sim.grid(),
+        rank_particles: reports.iter().map(|r| r.owned).collect(),
+        rank_halo_particles: reports.iter().map(|r| r.halo).collect(),
+        rank_seconds_per_step: reports.iter().map(|r| r.seconds_per_step).collect(),
+        rank_bytes_per_step: reports.iter().map(|r| r.bytes_per_step).collect(),
+        rank_rebuild_bytes_per_step: reports.iter().map(|r| r.rebuild_bytes_per_step).collect(),
+    };
+    let written = match (out, final_state) {
+        (Some(out), Some(state)) => {
+            match finish_outputs(out, &resolved, &rows, &snapshots, &state) {
+                Ok(w) => w,
+                Err(e) => write_failed(e),
+            }
+        }
+        _ => Vec::new(),
+    };
+    let mut stdout = std::io::stdout().lock();
+    let text = if args.json {
+        super::json_text(&doc).map_err(Fail::Print)?
+    } else {
+        let mut s = format!(
+            "{} spheres on {} MPI ranks (grid {:?}; per rank {:?} owned); ran {} steps to t = {} s \
+             in {:.3} s ({:.3e} particle-steps/s)\n\
+             energy: kinetic {:.6e} J, elastic {:.6e} J, potential {:.6e} J, dissipated {:.3e} J\n\
+             contacts now: {} particle–particle, {} particle–wall\n",
+            n,
+            t.size(),
+            doc.grid,
+            doc.rank_particles,
+            span,
+            doc.report.time,
+            stepping,
+            doc.report.particle_steps_per_second,
+            last.kinetic_energy,
+            last.elastic_energy,
+            last.potential_energy,
+            last.dissipated_energy,
+            last.particle_contacts,
+            last.wall_contacts
+        );
+        for (k, f) in last.wall_forces.iter().enumerate() {
+            s += &format!(
+                "wall {k}: force [{:.4e}, {:.4e}, {:.4e}] N\n",
+                f[0], f[1], f[2]
+            );
+        }
+        for p in &written {
+            s += &format!("wrote {}\n", p.display());
+        }
+        s
+    };
+    write!(stdout, "{text}")
+        .and_then(|()| stdout.flush())
+        .map_err(|e| Fail::Print(CliError::failed(e)))
+}
+
+fn resolved_dt<T: Transport>(sim: &DistributedSimulation<T>) -> f64 {
+    sim.local().dt()
+}
+
+fn write_snapshot(
+    out: &mut AtomicDir,
+    s: &GatheredState,
+    step: u64,
+    time: f64,
+    k: usize,
+) -> anyhow::Result<()> {
+    let materials: Vec<usize> = s.material.iter().map(|&m| m as usize).collect();
+    let spins = vec![[0.0; 3]; s.position.len()];
+    out.write(&vtk::snapshot_name(k), |w| {
+        Ok(vtk::write_snapshot(
+            w,
+            &vtk::Snapshot {
+                time,
+                step,
+                positions: &s.position,
+                radii: &s.radius,
+                velocities: &s.velocity,
+                forces: &s.force,
+                fixed: &s.fixed,
+                materials: &materials,
+                angular_velocities: &spins,
+            },
+        )?)
+    })
+}
+
+/// The series, the gathered end state, the resolved scene; then
+/// everything renamed into place.
+fn finish_outputs(
+    mut out: AtomicDir,
+    resolved: &ResolvedScene,
+    rows: &[Observation],
+    snapshots: &[(f64, String)],
+    state: &GatheredState,
+) -> anyhow::Result<Vec<std::path::PathBuf>> {
+    out.write("snapshots.pvd", |w| Ok(vtk::write_series(w, snapshots)?))?;
+    let walls = resolved.setup.walls.len();
+    out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))?;
+    out.write("state.csv", |w| {
+        let mut c = csv::Writer::from_writer(w);
+        c.write_record([
+            "id", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "radius", "fixed", "rank",
+        ])?;
+        for k in 0..state.position.len() {
+            let (x, v, f) = (state.position[k], state.velocity[k], state.force[k]);
+            let mut row = vec![k.to_string()];
+            row.extend(x.iter().chain(&v).chain(&f).map(|a| format!("{a:e}")));
+            row.push(format!("{:e}", state.radius[k]));
+            row.push(u8::from(state.fixed[k]).to_string());
+            row.push(state.rank[k].to_string());
+            c.write_record(&row)?;
+        }
+        c.flush()?;
+        Ok(())
+    })?;
+    let toml = toml::to_string(&resolved.file)?;
+    out.write("scene.toml", |w| {
+        writeln!(
+            w,
+            "# The scene as run: every default written out, source paths absolute."
+        )?;
+        Ok(w.write_all(toml.as_bytes())?)
+    })?;
+    out.commit()
+}

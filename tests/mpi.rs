@@ -1,0 +1,141 @@
+//! `mpirun -np N dembound scene` (feature `mpi`, issue 16): the same
+//! lattice drop on 1, 2 and 3 ranks ends in the same state to the bit,
+//! over shared memory and over TCP on loopback (`--mca btl tcp,self`).
+//! Needs Open MPI's `mpirun` (Debian: openmpi-bin); run with
+//! `cargo test --release --features mpi --test mpi`. Three ranks on a
+//! two-core machine: `--oversubscribe`.
+#![cfg(feature = "mpi")]
+
+use std::path::Path;
+use std::process::Command;
+
+/// A 8 × 8 × 10 lattice drop (640 spheres, the benchmark's spheres and
+/// walls in a box 10.2 mm wide), 10⁴ steps of 2 µs.
+fn scene_args() -> Vec<String> {
+    [
+        "--set",
+        "particles.0.lattice.counts=[8,8,10]",
+        "--set",
+        "domain.upper=[0.0102,0.0102,0.03]",
+        "--set",
+        "wall.1.plane.point=[0.0102,0.0,0.0]",
+        "--set",
+        "wall.3.plane.point=[0.0,0.0102,0.0]",
+        "--set",
+        "integration.steps=10000",
+        "--quiet",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect()
+}
+
+fn mpirun(ranks: usize, mca: &[&str], extra: &[&str], out: &Path) -> serde_json::Value {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml");
+    let mut cmd = Command::new("mpirun");
+    cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .args(["--oversubscribe", "-np", &ranks.to_string()])
+        .args(mca)
+        .arg(env!("CARGO_BIN_EXE_dembound"))
+        .arg("scene")
+        .arg(&scene)
+        .args(scene_args())
+        .args(extra)
+        .arg("--json")
+        .arg("--out")
+        .arg(out);
+    let o = cmd.output().expect("mpirun runs (Debian: openmpi-bin)");
+    assert!(
+        o.status.success(),
+        "{ranks} ranks: {}\n{}",
+        o.status,
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("one JSON object")
+}
+
+/// The end state's positions and velocities (columns 1..7 of state.csv,
+/// shortest round-trip text: equal text is equal bits).
+fn state(dir: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(dir.join("state.csv")).expect("state.csv");
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').take(7).collect::<Vec<_>>().join(","))
+        .collect()
+}
+
+fn same_run(mca: &[&str]) {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let d1 = tmp.path().join("r1");
+    let j1 = mpirun(1, mca, &[], &d1);
+    let s1 = state(&d1);
+    assert_eq!(s1.len(), 640);
+    // The drop has happened: many contacts, spheres on the floor.
+    assert!(j1["particle_contacts"].as_u64().unwrap_or(0) > 100, "{j1}");
+    for (ranks, extra) in [
+        (2, vec![]),
+        (3, vec![]),
+        (3, vec!["--set", "parallel.grid=[1,3,1]"]),
+    ] {
+        let d = tmp.path().join(format!("r{ranks}{}", extra.len()));
+        let j = mpirun(ranks, mca, &extra, &d);
+        assert_eq!(j["ranks"], ranks);
+        let owned: Vec<u64> = j["rank_particles"]
+            .as_array()
+            .expect("per-rank counts")
+            .iter()
+            .filter_map(|v| v.as_u64())
+            .collect();
+        assert_eq!(owned.iter().sum::<u64>(), 640);
+        assert!(owned.iter().all(|&k| k > 0), "{owned:?}");
+        let s = state(&d);
+        for (k, (a, b)) in s.iter().zip(&s1).enumerate() {
+            assert_eq!(a, b, "{ranks} ranks {extra:?}: body {k}");
+        }
+        // Integers exactly; the energies are sums over ranks in another
+        // order: 1e-12 relative.
+        assert_eq!(j["particle_contacts"], j1["particle_contacts"]);
+        assert_eq!(j["wall_contacts"], j1["wall_contacts"]);
+        for key in ["kinetic_energy", "elastic_energy"] {
+            let (a, b) = (
+                j[key].as_f64().unwrap_or(0.0),
+                j1[key].as_f64().unwrap_or(1.0),
+            );
+            assert!((a - b).abs() <= 1e-12 * b.abs(), "{key}: {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn one_two_three_ranks_same_state_shared_memory() {
+    same_run(&[]);
+}
+
+#[test]
+fn one_two_three_ranks_same_state_over_tcp() {
+    same_run(&["--mca", "pml", "ob1", "--mca", "btl", "tcp,self"]);
+}
+
+/// Bad input on every rank: one message, exit 2, no output directory.
+#[test]
+fn bad_grid_exits_2_with_one_message() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let out = tmp.path().join("never");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml");
+    let o = Command::new("mpirun")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .args(["--oversubscribe", "-np", "2"])
+        .arg(env!("CARGO_BIN_EXE_dembound"))
+        .arg("scene")
+        .arg(&scene)
+        .args(["--set", "parallel.grid=[1,1,3]", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("error: parallel.grid").count(), 1, "{err}");
+    assert!(!out.exists());
+}
