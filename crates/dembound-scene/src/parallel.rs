@@ -40,6 +40,11 @@ const YIELDS: u32 = 1 << 12;
 pub struct Workers {
     team: Option<Team>,
     threads: usize,
+    /// Worker t's bodies `cuts[t]..cuts[t + 1]` in the force stage (set
+    /// by the pipeline from the shares): the per-body passes give worker t
+    /// the chunks that start there, so a body stays in one core's cache.
+    /// Scheduling only: sums are combined in chunk order whatever the cuts.
+    cuts: std::sync::RwLock<Vec<usize>>,
 }
 
 /// Why the workers could not start.
@@ -65,6 +70,7 @@ impl Workers {
         Ok(Self {
             team,
             threads: threads.max(1),
+            cuts: std::sync::RwLock::new(Vec::new()),
         })
     }
 
@@ -114,6 +120,69 @@ impl Workers {
         }
     }
 
+    /// Sets the workers' shares of the bodies (`threads + 1` cuts from 0
+    /// to the body count; anything else: even shares of the chunks).
+    pub fn set_body_cuts(&self, cuts: &[usize]) {
+        if self.team.is_none() {
+            return;
+        }
+        if let Ok(mut c) = self.cuts.write() {
+            c.clear();
+            c.extend_from_slice(cuts);
+        }
+    }
+
+    /// The chunks of `chunk` bodies (of `n`) worker t takes: those that
+    /// start in its share of the bodies, or an even split of the chunks.
+    fn body_chunks(&self, t: usize, n: usize, chunk: usize) -> std::ops::Range<usize> {
+        let chunks = n.div_ceil(chunk.max(1));
+        let threads = self.threads;
+        if let Ok(c) = self.cuts.read() {
+            if c.len() == threads + 1 && c[threads] == n {
+                return c[t].div_ceil(chunk)..c[t + 1].div_ceil(chunk);
+            }
+        }
+        chunks * t / threads..chunks * (t + 1) / threads
+    }
+
+    /// Runs `f(k)` for every chunk k of `chunk` bodies of `n`, each on the
+    /// worker whose share holds the chunk's first body.
+    pub fn run_bodies(&self, n: usize, chunk: usize, f: impl Fn(usize) + Sync + Send) {
+        let chunks = n.div_ceil(chunk.max(1));
+        match &self.team {
+            Some(team) if chunks > 1 => {
+                team.run(&|t| {
+                    for k in self.body_chunks(t, n, chunk) {
+                        f(k);
+                    }
+                });
+            }
+            _ => (0..chunks).for_each(f),
+        }
+    }
+
+    /// `f(k)` for every chunk of `chunk` bodies of `n` (as
+    /// [`Workers::run_bodies`]), collected in chunk order.
+    pub fn map_bodies<T: Send>(
+        &self,
+        n: usize,
+        chunk: usize,
+        f: impl Fn(usize) -> T + Sync + Send,
+    ) -> Vec<T> {
+        let chunks = n.div_ceil(chunk.max(1));
+        match &self.team {
+            Some(_) if chunks > 1 => {
+                let mut slots: Vec<Option<T>> = (0..chunks).map(|_| None).collect();
+                let out = SharedMut::new(&mut slots);
+                // SAFETY: chunk k is run once, by one worker, and writes
+                // slot k only.
+                self.run_bodies(n, chunk, |k| unsafe { *out.at(k) = Some(f(k)) });
+                slots.into_iter().flatten().collect()
+            }
+            _ => (0..chunks).map(f).collect(),
+        }
+    }
+
     /// `f(k)` for every chunk, collected in chunk order.
     pub fn map<T: Send>(&self, chunks: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
         match &self.team {
@@ -135,7 +204,7 @@ impl Workers {
         n: usize,
         f: impl Fn(usize) -> [f64; D] + Sync + Send,
     ) -> [f64; D] {
-        let partial = self.map(n.div_ceil(BODY_CHUNK), |c| {
+        let partial = self.map_bodies(n, BODY_CHUNK, |c| {
             let mut s = [0.0; D];
             for k in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
                 let v = f(k);

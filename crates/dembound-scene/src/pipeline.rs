@@ -151,6 +151,7 @@ impl Pipeline {
                 if fuse {
                     let moved2 = self.pair_forces_then_advance(world, workers);
                     world.list.rebalance();
+                    self.share_cuts(world, workers);
                     world.steps_done += 1;
                     self.advanced = true;
                     self.after_advance(world, workers, moved2);
@@ -158,6 +159,7 @@ impl Pipeline {
                 }
                 self.pair_forces(world, workers, dt);
                 world.list.rebalance();
+                self.share_cuts(world, workers);
                 if world.tracks.is_some() {
                     integrate::verlet_kick(&mut world.bodies, dt, workers);
                     if world.friction.is_some() {
@@ -177,6 +179,7 @@ impl Pipeline {
                 }
                 self.forces(world, workers);
                 world.list.rebalance();
+                self.share_cuts(world, workers);
                 // At the predicted state, before the corrector moves it.
                 self.kinks.collect(
                     &world.bodies,
@@ -196,6 +199,23 @@ impl Pipeline {
             self.ghosts(world);
             self.observe(world);
         }
+    }
+
+    /// Hands the shares' body cuts to the workers' per-body passes.
+    fn share_cuts(&self, world: &World, workers: &Workers) {
+        let threads = workers.threads();
+        if threads < 2 {
+            return;
+        }
+        let mut cuts = Vec::with_capacity(threads + 1);
+        for t in 0..threads {
+            match world.list.share(t, threads) {
+                Some((lo, _)) => cuts.push(lo),
+                None => return,
+            }
+        }
+        cuts.push(world.bodies.len());
+        workers.set_body_cuts(&cuts);
     }
 
     /// After Verlet's first half: the lists again if a body moved more
@@ -592,7 +612,7 @@ impl Pipeline {
                 dt,
             };
             let b = &world.bodies;
-            workers.run(n.div_ceil(crate::parallel::BODY_CHUNK), |c| {
+            workers.run_bodies(n, crate::parallel::BODY_CHUNK, |c| {
                 let chunk = crate::parallel::BODY_CHUNK;
                 for i in c * chunk..((c + 1) * chunk).min(n) {
                     // SAFETY: chunks are disjoint ranges of bodies.
@@ -967,7 +987,7 @@ fn friction_spin_kick(bodies: &mut Bodies, dt: f64, workers: &Workers) {
     let n = bodies.len();
     let w = SharedMut::new(&mut bodies.angular_velocity);
     let (torque, inv, fixed) = (&bodies.torque, &bodies.inverse_inertia, &bodies.fixed);
-    workers.run(n.div_ceil(STEP_CHUNK), |c| {
+    workers.run_bodies(n, STEP_CHUNK, |c| {
         for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
             if !fixed[i] {
                 // SAFETY: one body per iteration.

@@ -50,7 +50,7 @@ pub fn drift(x: &mut [f64; 3], v: [f64; 3], dt: f64) {
 
 /// Per-body loop over chunks of bodies.
 fn for_bodies(workers: &Workers, n: usize, f: impl Fn(usize) + Sync + Send) {
-    workers.run(n.div_ceil(BODY_CHUNK), |c| {
+    workers.run_bodies(n, BODY_CHUNK, |c| {
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
             f(i);
         }

@@ -194,7 +194,7 @@ pub fn start_forces(
     let n = bodies.len();
     let w = walls.shared();
     let f = SharedMut::new(force);
-    workers.run(n.div_ceil(BODY_CHUNK), |c| {
+    workers.run_bodies(n, BODY_CHUNK, |c| {
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
             // SAFETY: chunks are disjoint ranges of bodies.
             unsafe {
@@ -230,7 +230,7 @@ pub fn plane_observables(
     }
     // Layout of a partial sum: 3 per plane, then count, then energy.
     let width = 3 * np + 2;
-    let partial: Vec<Vec<f64>> = workers.map(n.div_ceil(BODY_CHUNK), |c| {
+    let partial: Vec<Vec<f64>> = workers.map_bodies(n, BODY_CHUNK, |c| {
         let mut s = vec![0.0; width];
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
             // Fixed bodies never touch a plane (both are fixed), as in
