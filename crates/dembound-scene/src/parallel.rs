@@ -15,6 +15,7 @@
 //! a body's data stays in one core's cache (see `PairList::shares`).
 
 use std::cell::UnsafeCell;
+use std::ops::Range;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -107,17 +108,31 @@ impl Workers {
     /// contiguous run of chunks: the same bodies as in the other stages
     /// when the chunks are bodies).
     pub fn run(&self, chunks: usize, f: impl Fn(usize) + Sync + Send) {
-        match &self.team {
-            Some(team) if chunks > 1 => {
-                let threads = self.threads;
-                team.run(&|t| {
-                    for k in chunks * t / threads..chunks * (t + 1) / threads {
-                        f(k);
-                    }
-                });
-            }
-            _ => (0..chunks).for_each(f),
-        }
+        self.run_split(chunks, |t| even_split(t, self.threads, chunks), f);
+    }
+
+    /// `f(k)` for every chunk, collected in chunk order.
+    pub fn map<T: Send>(&self, chunks: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+        self.map_split(chunks, |t| even_split(t, self.threads, chunks), f)
+    }
+
+    /// Runs `f(k)` for every chunk k of `chunk` bodies of `n`, each on the
+    /// worker whose share holds the chunk's first body.
+    pub fn run_bodies(&self, n: usize, chunk: usize, f: impl Fn(usize) + Sync + Send) {
+        let chunks = n.div_ceil(chunk.max(1));
+        self.run_split(chunks, |t| self.body_chunks(t, n, chunk), f);
+    }
+
+    /// `f(k)` for every chunk of `chunk` bodies of `n` (as
+    /// [`Workers::run_bodies`]), collected in chunk order.
+    pub fn map_bodies<T: Send>(
+        &self,
+        n: usize,
+        chunk: usize,
+        f: impl Fn(usize) -> T + Sync + Send,
+    ) -> Vec<T> {
+        let chunks = n.div_ceil(chunk.max(1));
+        self.map_split(chunks, |t| self.body_chunks(t, n, chunk), f)
     }
 
     /// Sets the workers' shares of the bodies (`threads + 1` cuts from 0
@@ -134,68 +149,47 @@ impl Workers {
 
     /// The chunks of `chunk` bodies (of `n`) worker t takes: those that
     /// start in its share of the bodies, or an even split of the chunks.
-    fn body_chunks(&self, t: usize, n: usize, chunk: usize) -> std::ops::Range<usize> {
-        let chunks = n.div_ceil(chunk.max(1));
+    fn body_chunks(&self, t: usize, n: usize, chunk: usize) -> Range<usize> {
         let threads = self.threads;
         if let Ok(c) = self.cuts.read() {
             if c.len() == threads + 1 && c[threads] == n {
                 return c[t].div_ceil(chunk)..c[t + 1].div_ceil(chunk);
             }
         }
-        chunks * t / threads..chunks * (t + 1) / threads
+        even_split(t, threads, n.div_ceil(chunk.max(1)))
     }
 
-    /// Runs `f(k)` for every chunk k of `chunk` bodies of `n`, each on the
-    /// worker whose share holds the chunk's first body.
-    pub fn run_bodies(&self, n: usize, chunk: usize, f: impl Fn(usize) + Sync + Send) {
-        let chunks = n.div_ceil(chunk.max(1));
+    /// Runs `f(k)` for every chunk k in 0..chunks, worker t the chunks
+    /// `split(t)` (the splits cover 0..chunks once).
+    fn run_split(
+        &self,
+        chunks: usize,
+        split: impl Fn(usize) -> Range<usize> + Sync,
+        f: impl Fn(usize) + Sync + Send,
+    ) {
         match &self.team {
-            Some(team) if chunks > 1 => {
-                team.run(&|t| {
-                    for k in self.body_chunks(t, n, chunk) {
-                        f(k);
-                    }
-                });
-            }
+            Some(team) if chunks > 1 => team.run(&|t| split(t).for_each(&f)),
             _ => (0..chunks).for_each(f),
         }
     }
 
-    /// `f(k)` for every chunk of `chunk` bodies of `n` (as
-    /// [`Workers::run_bodies`]), collected in chunk order.
-    pub fn map_bodies<T: Send>(
+    /// [`Self::run_split`], the results collected in chunk order.
+    fn map_split<T: Send>(
         &self,
-        n: usize,
-        chunk: usize,
+        chunks: usize,
+        split: impl Fn(usize) -> Range<usize> + Sync,
         f: impl Fn(usize) -> T + Sync + Send,
     ) -> Vec<T> {
-        let chunks = n.div_ceil(chunk.max(1));
-        match &self.team {
-            Some(_) if chunks > 1 => {
-                let mut slots: Vec<Option<T>> = (0..chunks).map(|_| None).collect();
-                let out = SharedMut::new(&mut slots);
-                // SAFETY: chunk k is run once, by one worker, and writes
-                // slot k only.
-                self.run_bodies(n, chunk, |k| unsafe { *out.at(k) = Some(f(k)) });
-                slots.into_iter().flatten().collect()
-            }
-            _ => (0..chunks).map(f).collect(),
+        if self.team.is_none() || chunks <= 1 {
+            return (0..chunks).map(f).collect();
         }
-    }
-
-    /// `f(k)` for every chunk, collected in chunk order.
-    pub fn map<T: Send>(&self, chunks: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
-        match &self.team {
-            Some(_) if chunks > 1 => {
-                let mut slots: Vec<Option<T>> = (0..chunks).map(|_| None).collect();
-                let out = SharedMut::new(&mut slots);
-                // SAFETY: chunk k is run once, by one worker, and writes
-                // slot k only.
-                self.run(chunks, |k| unsafe { *out.at(k) = Some(f(k)) });
-                slots.into_iter().flatten().collect()
-            }
-            _ => (0..chunks).map(f).collect(),
-        }
+        let mut slots: Vec<Option<T>> = (0..chunks).map(|_| None).collect();
+        let out = SharedMut::new(&mut slots);
+        // SAFETY: chunk k is run once, by one worker, and writes slot k
+        // only. Every slot is set when `run_split` returns (a panic is
+        // re-raised there).
+        self.run_split(chunks, split, |k| unsafe { *out.at(k) = Some(f(k)) });
+        slots.into_iter().flatten().collect()
     }
 
     /// Σ f(k) over 0..n in chunks of [`BODY_CHUNK`], summed in chunk order.
@@ -378,6 +372,11 @@ fn work(s: &Shared, t: usize) {
         }
         s.pending.fetch_sub(1, Ordering::Release);
     }
+}
+
+/// Worker t's even share of `chunks` chunks among `threads`.
+fn even_split(t: usize, threads: usize, chunks: usize) -> Range<usize> {
+    chunks * t / threads..chunks * (t + 1) / threads
 }
 
 /// A raw pointer that may cross threads; every use states why the accesses
