@@ -94,6 +94,48 @@ pub struct Pipeline {
     advanced: bool,
     /// Gear5: the contacts that began or ended inside the step.
     kinks: Kinks,
+    /// Set by a domain decomposition before each list build: the whole
+    /// scene's grid, so that every rank sorts its bodies by the same cells
+    /// (and by input id within a cell) and adds each body's pair forces in
+    /// that order, whatever part of the scene it holds.
+    pub(crate) whole_grid: Option<WholeGrid>,
+}
+
+/// The cell grid of the whole scene (every rank's bodies).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct WholeGrid {
+    /// Extent of the celled bodies of all ranks (the box on periodic
+    /// axes), m.
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
+    /// Bodies of all ranks.
+    pub bodies: usize,
+}
+
+/// The extent the cell grid spans: the celled bodies' (wrapped) positions,
+/// the box on periodic axes; `None` on an axis no celled body has.
+pub(crate) fn celled_extent(world: &World) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for k in 0..world.bodies.len() {
+        if world.bodies.radius[k] > world.large_radius {
+            continue;
+        }
+        let x = world.bodies.position[k];
+        for a in 0..3 {
+            if x[a].is_finite() {
+                lo[a] = lo[a].min(x[a]);
+                hi[a] = hi[a].max(x[a]);
+            }
+        }
+    }
+    for a in 0..3 {
+        if world.domain.periodic[a] {
+            lo[a] = world.domain.lower[a];
+            hi[a] = world.domain.upper[a];
+        }
+    }
+    (lo, hi)
 }
 
 impl Pipeline {
@@ -237,7 +279,7 @@ impl Pipeline {
     /// (`contacts::run_blocks_then`), by the worker that forced them. One
     /// hand-off between the workers per step instead of two. Returns the
     /// largest squared displacement since the last list build, m².
-    fn pair_forces_then_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
+    pub(crate) fn pair_forces_then_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
         let n = world.bodies.len();
         assert!(
             self.reference.len() == n
@@ -410,30 +452,41 @@ impl Pipeline {
         }
         // Grid bounds: the box on periodic axes, the celled bodies' extent elsewhere.
         let large = world.large_radius;
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for k in 0..n {
-            if world.bodies.radius[k] > large {
-                continue;
-            }
-            let x = world.bodies.position[k];
-            for a in 0..3 {
-                if x[a].is_finite() {
-                    lo[a] = lo[a].min(x[a]);
-                    hi[a] = hi[a].max(x[a]);
-                }
-            }
-        }
+        let (mut lo, mut hi) = celled_extent(world);
         for a in 0..3 {
-            if world.domain.periodic[a] {
-                lo[a] = world.domain.lower[a];
-                hi[a] = world.domain.upper[a];
-            } else if lo[a] > hi[a] {
+            if lo[a] > hi[a] {
                 lo[a] = 0.0;
                 hi[a] = 0.0;
             }
         }
-        self.grid = CellGrid::new(lo, hi, world.cell_size, (2 * n).max(64));
+        self.grid = match self.whole_grid {
+            None => CellGrid::new(lo, hi, world.cell_size, (2 * n).max(64)),
+            Some(whole) => {
+                // The whole scene's grid, cropped to the cells of this
+                // rank's bodies.
+                let mut lower = whole.lower;
+                let mut upper = whole.upper;
+                for a in 0..3 {
+                    if lower[a] > upper[a] {
+                        lower[a] = 0.0;
+                        upper[a] = 0.0;
+                    }
+                }
+                let g = CellGrid::new(lower, upper, world.cell_size, (2 * whole.bodies).max(64));
+                let mut c_lo = [usize::MAX; 3];
+                let mut c_hi = [0usize; 3];
+                for k in 0..n {
+                    if world.bodies.radius[k] <= large {
+                        let c = g.whole_coords(world.bodies.position[k]);
+                        for a in 0..3 {
+                            c_lo[a] = c_lo[a].min(c[a]);
+                            c_hi[a] = c_hi[a].max(c[a]);
+                        }
+                    }
+                }
+                g.crop(c_lo, c_hi)
+            }
+        };
         let cells = self.grid.count();
         let cell: Vec<u32> = (0..n)
             .map(|k| {
@@ -444,7 +497,15 @@ impl Pipeline {
                 }
             })
             .collect();
-        let (order, start) = sort_by_cell(&cell, cells);
+        let (mut order, start) = sort_by_cell(&cell, cells);
+        if self.whole_grid.is_some() {
+            // By input id within a cell: the order is the whole scene's,
+            // not this rank's history of arrivals.
+            let id = &world.bodies.id;
+            for c in 0..=cells {
+                order[start[c] as usize..start[c + 1] as usize].sort_unstable_by_key(|&o| id[o as usize]);
+            }
+        }
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
         friction::permute_wall_shear(&mut world.wall_shear, world.planes.len(), &order);
@@ -480,6 +541,8 @@ impl Pipeline {
             },
             workers,
         );
+        // A decomposed run adds each body's pair forces in body order.
+        world.list.sequential = self.whole_grid.is_some();
         let list = &world.list;
         let key = |i: usize, j_ext: usize| {
             let (_, _, owner) = extended(bodies, &world.ghosts, j_ext);

@@ -41,7 +41,7 @@ use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
 use crate::dynamics::walls;
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::{SharedMut, STEP_CHUNK};
-use crate::pipeline::{needs_rebuild, save_pairs, WallKind, World};
+use crate::pipeline::{celled_extent, needs_rebuild, save_pairs, WallKind, WholeGrid, World};
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
@@ -132,6 +132,13 @@ pub struct DistributedSimulation<T: Transport> {
     migrated: u64,
     /// The engine's half-list sums instead (order set by the local list).
     plain_sums: bool,
+    /// The forces are summed by the engine's own loop over the rows in
+    /// whole-scene cell order ([`crate::pipeline::WholeGrid`]); otherwise
+    /// (some rank lists extra pairs: periodic images, large bodies) by the
+    /// incidences in partner-id order.
+    in_cell_order: bool,
+    /// This step's first half is done (fused into the last force stage).
+    advanced: bool,
 }
 
 /// Decomposed runs are frictionless Verlet without the collision log (for
@@ -246,6 +253,8 @@ impl<T: Transport> DistributedSimulation<T> {
             stepping: 0.0,
             plain_sums: false,
             migrated: 0,
+            in_cell_order: false,
+            advanced: false,
         };
         me.rebuild();
         let sim = &mut me.sim;
@@ -265,6 +274,9 @@ impl<T: Transport> DistributedSimulation<T> {
     /// of by partner id. No boundary-particle wall forces then.
     pub fn use_plain_sums(&mut self) {
         self.plain_sums = true;
+        self.in_cell_order = false;
+        self.sim.pipeline.whole_grid = None;
+        self.sim.world.list.sequential = false;
     }
 
     pub fn ranks(&self) -> usize {
@@ -397,9 +409,18 @@ impl<T: Transport> DistributedSimulation<T> {
             }
             got_ids.push((from, ids));
         }
-        // 3. The lists (bodies re-sorted by cell), pair state restored.
+        // 3. The lists (bodies re-sorted by the whole scene's cells), pair
+        // state restored.
+        self.sim.pipeline.whole_grid = if self.plain_sums {
+            None
+        } else {
+            Some(self.whole_grid())
+        };
         let sim = &mut self.sim;
         sim.pipeline.rebuild(&mut sim.world, &sim.workers, saved);
+        let extra = !sim.world.list.extra.is_empty();
+        self.in_cell_order =
+            !self.plain_sums && self.transport.max(if extra { 1.0 } else { 0.0 }) == 0.0;
         // 4. Per-step plans by the new local indices.
         let b = &sim.world.bodies;
         let at: HashMap<u32, u32> =
@@ -432,7 +453,32 @@ impl<T: Transport> DistributedSimulation<T> {
             .map(|(r, ids)| (*r, local(ids)))
             .filter(|(_, v)| !v.is_empty())
             .collect();
-        self.build_incidence();
+        if self.in_cell_order {
+            self.incidence_start.clear();
+            self.incidence.clear();
+            self.walled.clear();
+        } else {
+            self.build_incidence();
+        }
+    }
+
+    /// The whole scene's cell grid: the extent of every rank's celled
+    /// bodies and their number. Collective.
+    fn whole_grid(&self) -> WholeGrid {
+        let world = &self.sim.world;
+        let (lo, hi) = celled_extent(world);
+        let owned = self.halo.iter().filter(|&&h| !h).count() as f64;
+        let mut whole = WholeGrid {
+            lower: [0.0; 3],
+            upper: [0.0; 3],
+            bodies: self.transport.sum(&[owned])[0] as usize,
+        };
+        for a in 0..3 {
+            // min(x) = −max(−x), exactly.
+            whole.lower[a] = -self.transport.max(-lo[a]);
+            whole.upper[a] = self.transport.max(hi[a]);
+        }
+        whole
     }
 
     /// Each owned free body's pairs, by partner id.
@@ -504,6 +550,13 @@ impl<T: Transport> DistributedSimulation<T> {
             let sim = &mut self.sim;
             let dt = sim.world.dt;
             sim.pipeline.pair_forces(&mut sim.world, &sim.workers, dt);
+            return;
+        }
+        if self.in_cell_order {
+            let sim = &mut self.sim;
+            let dt = sim.world.dt;
+            sim.pipeline.pair_forces(&mut sim.world, &sim.workers, dt);
+            self.particle_wall_force = self.boundary_particle_forces();
             return;
         }
         let sim = &mut self.sim;
@@ -650,6 +703,47 @@ impl<T: Transport> DistributedSimulation<T> {
         world.bodies.force = force;
     }
 
+    /// The force on each boundary-particle wall from this rank's pairs:
+    /// the forces its boundary particles (owned ones and halo copies) got
+    /// in the last force stage. A pair of a free body with a boundary
+    /// particle is listed only on the rank owning the free body (two
+    /// bodies flagged fixed, a halo copy being one, are never paired), so
+    /// the sum over the ranks counts each pair once.
+    fn boundary_particle_forces(&self) -> Vec<[f64; 3]> {
+        let world = &self.sim.world;
+        let b = &world.bodies;
+        let mut wf = vec![[0.0; 3]; world.walls.len()];
+        for k in 0..b.len() {
+            let g = b.group[k];
+            if g != NO_GROUP && b.fixed[k] {
+                if let Some(w) = wf.get_mut(g as usize) {
+                    for a in 0..3 {
+                        w[a] += b.force[k][a];
+                    }
+                }
+            }
+        }
+        wf
+    }
+
+    /// After Verlet's first half: whether any rank's body moved more than
+    /// half the skin (then migration, a new halo and lists, and the
+    /// per-body forces again: the wall masks are new), else the halo and
+    /// the ghosts follow their owners. Collective.
+    fn after_advance(&mut self, moved2: f64) {
+        let moved2 = self.transport.max(moved2);
+        if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
+            self.rebuild();
+            let sim = &mut self.sim;
+            let dt = sim.world.dt;
+            sim.pipeline.body_forces(&mut sim.world, &sim.workers, dt);
+        } else {
+            self.halo_update();
+            let sim = &mut self.sim;
+            sim.pipeline.ghosts(&mut sim.world);
+        }
+    }
+
     /// Position and velocity of every free halo body from its owner.
     fn halo_update(&mut self) {
         let b = &self.sim.world.bodies;
@@ -679,22 +773,28 @@ impl<T: Transport> DistributedSimulation<T> {
     }
 
     /// Advances `n` steps (velocity Verlet, as the engine's). Collective.
+    ///
+    /// Summing in whole-scene cell order, each step but the last fuses
+    /// the next step's first half into its force stage as the engine does
+    /// (the same operations in the same order: the same bits); the halo
+    /// exchange then sits between the fused stages.
     pub fn step(&mut self, n: u64) {
         let clock = Instant::now();
-        for _ in 0..n {
-            let sim = &mut self.sim;
-            let dt = sim.world.dt;
-            let moved2 = sim.pipeline.verlet_advance(&mut sim.world, &sim.workers);
-            let moved2 = self.transport.max(moved2);
-            if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
-                self.rebuild();
+        for k in 0..n {
+            if !std::mem::take(&mut self.advanced) {
                 let sim = &mut self.sim;
-                // The wall masks are new (as the engine's step).
-                sim.pipeline.body_forces(&mut sim.world, &sim.workers, dt);
-            } else {
-                self.halo_update();
+                let moved2 = sim.pipeline.verlet_advance(&mut sim.world, &sim.workers);
+                self.after_advance(moved2);
+            }
+            if self.in_cell_order && k + 1 < n {
                 let sim = &mut self.sim;
-                sim.pipeline.ghosts(&mut sim.world);
+                let moved2 = sim
+                    .pipeline
+                    .pair_forces_then_advance(&mut sim.world, &sim.workers);
+                sim.world.steps_done += 1;
+                self.advanced = true;
+                self.after_advance(moved2);
+                continue;
             }
             self.pair_forces();
             self.sim.pipeline.pending_kick = true;

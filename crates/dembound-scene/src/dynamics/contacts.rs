@@ -464,6 +464,9 @@ pub(crate) type FollowUp<'a> = &'a (dyn Fn(usize, usize) -> f64 + Sync);
 /// time goes to the shares' balance. The blocks a neighbouring share waits
 /// for run first ([`share_order`]), so waits across workers are short.
 ///
+/// A list marked [`PairList::sequential`] runs its blocks in order on the
+/// calling thread.
+///
 /// With `follow`, also runs it on each block's bodies as soon as its
 /// forces are complete: block b's pairs and block b − 1's are done (no
 /// other block writes b's forces or reads b's positions and velocities, so
@@ -478,7 +481,7 @@ pub(crate) fn run_blocks_then(
     let blocks = list.blocks.len().saturating_sub(1);
     let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
     let threads = workers.threads();
-    let shared = list.shares.blocks(0, threads).is_some();
+    let shared = !list.sequential && list.shares.blocks(0, threads).is_some();
     let timed = |b: usize, f: &dyn Fn() -> f64| -> f64 {
         if shared {
             // The block's own time, waits excluded.
@@ -492,7 +495,7 @@ pub(crate) fn run_blocks_then(
         }
     };
     let run = |b: usize| {
-        if b % 2 == 1 {
+        if b % 2 == 1 && !list.sequential {
             wait_for(&done[b - 1]);
             if let Some(d) = done.get(b + 1) {
                 wait_for(d);
@@ -539,6 +542,12 @@ pub(crate) fn run_blocks_then(
         }
         value
     };
+    if list.sequential {
+        // A decomposed run: the rows in body order, so each body gets the
+        // forces of its partners in their order (rows before it, then its
+        // own row's sum), whatever the blocks of this rank's list.
+        return work(0, blocks, (0..blocks).collect());
+    }
     if shared {
         return workers
             .broadcast(|t| {

@@ -3,11 +3,21 @@
 
 /// A grid over a box; points outside are clamped into the edge cells
 /// (a neighbour search stays correct, only slower, for strays).
+///
+/// A grid may be a crop of a larger one ([`CellGrid::crop`]): the cells
+/// are the same (same origin and size, coordinates computed on the whole
+/// grid, then shifted by an integer offset), so a body falls in the same
+/// cell of the whole grid whatever part of it a process holds: the cell
+/// order is the same on every rank of a domain decomposition.
 #[derive(Debug, Clone, Default)]
 pub struct CellGrid {
     pub origin: [f64; 3],
     pub inverse_size: [f64; 3],
     pub dims: [usize; 3],
+    /// The crop's first cell in the whole grid (0 when not cropped).
+    pub offset: [usize; 3],
+    /// The whole grid's dimensions (`dims` when not cropped).
+    pub whole: [usize; 3],
 }
 
 impl CellGrid {
@@ -32,6 +42,8 @@ impl CellGrid {
                     origin: lower,
                     inverse_size,
                     dims,
+                    offset: [0; 3],
+                    whole: dims,
                 };
             }
             size *= 1.25;
@@ -42,20 +54,43 @@ impl CellGrid {
         self.dims[0] * self.dims[1] * self.dims[2]
     }
 
-    /// Cell coordinates of `x`, clamped into the grid.
+    /// Cell coordinates of `x` in the whole grid, clamped into it.
     #[inline]
-    pub fn coords(&self, x: [f64; 3]) -> [usize; 3] {
+    pub fn whole_coords(&self, x: [f64; 3]) -> [usize; 3] {
         let mut c = [0usize; 3];
         for a in 0..3 {
             let f = ((x[a] - self.origin[a]) * self.inverse_size[a]).floor();
             // NaN and negatives go to 0.
             c[a] = if f > 0.0 {
-                (f as usize).min(self.dims[a] - 1)
+                (f as usize).min(self.whole[a] - 1)
             } else {
                 0
             };
         }
         c
+    }
+
+    /// Cell coordinates of `x`, clamped into the grid (the crop).
+    #[inline]
+    pub fn coords(&self, x: [f64; 3]) -> [usize; 3] {
+        let mut c = self.whole_coords(x);
+        for a in 0..3 {
+            c[a] = c[a].saturating_sub(self.offset[a]).min(self.dims[a] - 1);
+        }
+        c
+    }
+
+    /// The cells `lower..=upper` (whole-grid coordinates, clamped into
+    /// it) of this grid, as a grid of their own with the same cells.
+    pub fn crop(&self, lower: [usize; 3], upper: [usize; 3]) -> Self {
+        let mut g = self.clone();
+        for a in 0..3 {
+            let hi = upper[a].min(self.whole[a] - 1);
+            let lo = lower[a].min(hi);
+            g.offset[a] = lo;
+            g.dims[a] = hi - lo + 1;
+        }
+        g
     }
 
     #[inline]
@@ -104,5 +139,31 @@ mod tests {
         assert_eq!(g.coords([-5.0, 0.55, 7.0]), [0, 5, 9]);
         let capped = CellGrid::new([0.0; 3], [1.0, 1.0, 1.0], 0.01, 1000);
         assert!(capped.count() <= 1000);
+    }
+
+    #[test]
+    fn a_crop_keeps_the_cells_and_their_order() {
+        let g = CellGrid::new([0.0; 3], [1.0, 1.0, 1.0], 0.1, 1000);
+        let c = g.crop([2, 3, 4], [5, 3, 9]);
+        assert_eq!(c.dims, [4, 1, 6]);
+        // A point's cell is the whole grid's, shifted (no float rounding
+        // of a shifted origin can move it across a face).
+        for x in [[0.25, 0.35, 0.45], [0.5, 0.3, 0.9999], [0.2, 0.3, 0.4]] {
+            let (w, k) = (g.coords(x), c.coords(x));
+            assert_eq!([k[0] + 2, k[1] + 3, k[2] + 4], w);
+        }
+        // The crop's linear order is the whole grid's order restricted.
+        let mut last = None;
+        for z in 4..=9 {
+            for y in 3..=3 {
+                for x in 2..=5 {
+                    let (whole, crop) = (g.index([x, y, z]), c.index([x - 2, y - 3, z - 4]));
+                    if let Some((w0, c0)) = last {
+                        assert!(whole > w0 && crop > c0);
+                    }
+                    last = Some((whole, crop));
+                }
+            }
+        }
     }
 }

@@ -52,6 +52,10 @@ pub struct PairList {
     pub extra: Vec<(u32, u32)>,
     /// Force-loop block boundaries: block k is bodies `blocks[k]..blocks[k+1]`.
     pub blocks: Vec<u32>,
+    /// The force loop runs the rows in body order on one thread (a domain
+    /// decomposition: each body's additions then come in its partners'
+    /// order, whatever the blocks).
+    pub sequential: bool,
     /// Which blocks (and so which bodies) each worker takes, in the force
     /// loop and the per-body stages: scheduling only, the results do not
     /// depend on it.
@@ -231,6 +235,7 @@ impl PairList {
             j,
             extra,
             blocks,
+            sequential: false,
             shares,
         }
     }
