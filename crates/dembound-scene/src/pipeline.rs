@@ -503,7 +503,8 @@ impl Pipeline {
             // not this rank's history of arrivals.
             let id = &world.bodies.id;
             for c in 0..=cells {
-                order[start[c] as usize..start[c + 1] as usize].sort_unstable_by_key(|&o| id[o as usize]);
+                order[start[c] as usize..start[c + 1] as usize]
+                    .sort_unstable_by_key(|&o| id[o as usize]);
             }
         }
         world.bodies.permute(&order);

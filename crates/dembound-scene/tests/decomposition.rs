@@ -47,7 +47,8 @@ fn run(setup: &SceneSetup, ranks: usize, grid: Option<[usize; 3]>, steps: u64) -
 
 /// 1, 2 and 3 ranks (and a 2 × 2 × 1 grid), 4,000 steps of a small
 /// lattice drop: the same positions and velocities to the bit, because
-/// each body's force is summed in an order fixed by the partners' ids.
+/// each body's force is summed in an order fixed by the whole scene (its
+/// partners' cells of the whole scene's grid, then their ids).
 /// The contact count is an integer; the energies are sums over the ranks
 /// in a rank-dependent order, so they agree to round-off (1e-12
 /// relative: a few ulps times the number of ranks).
@@ -94,6 +95,168 @@ fn positions_are_bit_identical_on_1_2_3_ranks() {
                     "{f:?} {g:?}"
                 );
             }
+        }
+    }
+}
+
+/// Each rank, ranks as threads: (gathered state at rank 0, observation,
+/// whether every rank summed in cell order).
+fn run_states(
+    setup: &SceneSetup,
+    ranks: usize,
+    grid: Option<[usize; 3]>,
+    steps: u64,
+) -> (
+    dembound_scene::comm::distributed::GatheredState,
+    Observation,
+    bool,
+) {
+    let handles: Vec<_> = ThreadTransport::group(ranks)
+        .into_iter()
+        .map(|t| {
+            let setup = setup.clone();
+            std::thread::spawn(move || {
+                let mut d = DistributedSimulation::new(&setup, 1, grid, t).expect("valid scene");
+                // In pieces, as the CLI observes: the last step of each is
+                // not fused.
+                let mut done = 0;
+                while done < steps {
+                    let n = (steps - done).min(700);
+                    d.step(n);
+                    done += n;
+                }
+                let cell_order = d.sums_in_cell_order();
+                (d.gather_state(), d.observe(), cell_order)
+            })
+        })
+        .collect();
+    let mut out = None;
+    let mut all_cell_order = true;
+    for h in handles {
+        let (state, o, cell_order) = h.join().expect("rank finished");
+        all_cell_order &= cell_order;
+        if let Some(s) = state {
+            out = Some((s, o));
+        }
+    }
+    let (s, o) = out.expect("rank 0 gathers");
+    (s, o, all_cell_order)
+}
+
+/// Enough bodies that each rank's force loop has several blocks (of at
+/// least 512 bodies): the rows run in order, the sums are the whole
+/// scene's, and the end state is the same bits on 1, 2 and 3 ranks.
+#[test]
+fn many_blocks_are_bit_identical_on_1_2_3_ranks() {
+    let setup = common::lattice_drop(16, 8, 2.0e-6, 2100);
+    let (s1, o1, c1) = run_states(&setup, 1, None, 2100);
+    assert!(c1, "summed in cell order");
+    assert!(o1.particle_contacts > 500, "{o1:?}");
+    for (ranks, grid) in [(2, Some([2, 1, 1])), (3, Some([1, 3, 1]))] {
+        let (s, o, c) = run_states(&setup, ranks, grid, 2100);
+        assert!(c);
+        for k in 0..s1.position.len() {
+            for a in 0..3 {
+                assert_eq!(
+                    s.position[k][a].to_bits(),
+                    s1.position[k][a].to_bits(),
+                    "{ranks}: {k}"
+                );
+                assert_eq!(
+                    s.velocity[k][a].to_bits(),
+                    s1.velocity[k][a].to_bits(),
+                    "{ranks}: {k}"
+                );
+            }
+        }
+        assert_eq!(o.particle_contacts, o1.particle_contacts);
+    }
+}
+
+/// A floor of boundary particles (fixed spheres of the grains' size, a
+/// touching square layer under the lattice drop, instead of the plane
+/// floor), Tsuji-damped: the floor force, summed over the ranks from the
+/// forces the floor particles got, balances the grains' momentum: force
+/// on the floor = N m g − Σ (force on each grain), the grains' pair
+/// forces cancelling (round-off of the ~1e-3 N sums: 1e-9 of N m g is
+/// far above it, and far below a missed or double-counted contact, which
+/// carries ~1e-6 N). The same on 1, 2 and 3 ranks to round-off of the
+/// rank sums (1e-12 relative), and the state to the bit.
+#[test]
+fn a_boundary_particle_floor_carries_the_grains_on_any_ranks() {
+    let mut setup = common::lattice_drop(8, 4, 2.0e-6, 4000);
+    setup.contact = dembound_physics::contact::ContactModel::damped(
+        dembound_physics::contact::NormalLaw::Hertz,
+        dembound_physics::contact::Damping::new(
+            dembound_physics::contact::DampingKind::Tsuji,
+            dembound_physics::contact::Dissipation::Restitution(0.3),
+        ),
+    );
+    // Walls: x−, x+, y−, y+, z−, z+ planes; the z− plane goes.
+    let upper = match &setup.walls[5] {
+        dembound_scene::setup::WallSetup::Plane { point, .. } => *point,
+        _ => unreachable!("lattice_drop's walls are planes"),
+    };
+    setup.walls.remove(4);
+    let grains = setup.spheres.len();
+    let r = 0.5e-3;
+    let per_side = ((upper[0] - 2.0 * r) / (2.0 * r)).floor() as usize + 1;
+    let wall = setup.walls.len();
+    for j in 0..per_side {
+        for i in 0..per_side {
+            setup.spheres.push(dembound_scene::setup::SphereInit {
+                position: [r + 2.0 * r * i as f64, r + 2.0 * r * j as f64, -r],
+                velocity: [0.0; 3],
+                radius: r,
+                material: 0,
+                fixed: true,
+                group: Some(wall),
+            });
+        }
+    }
+    setup
+        .walls
+        .push(dembound_scene::setup::WallSetup::BoundaryParticles {
+            first_body: grains,
+            count: per_side * per_side,
+        });
+    let steps = 4000;
+    let (s1, o1, c1) = run_states(&setup, 1, None, steps);
+    assert!(c1, "summed in cell order");
+    assert!(
+        o1.wall_contacts > 50,
+        "the first layer sits on the floor: {o1:?}"
+    );
+    let mass = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let weight = grains as f64 * mass * 9.81;
+    let grain_force: f64 = (0..grains).map(|k| s1.force[k][2]).sum();
+    let floor = o1.wall_forces[wall][2];
+    // Force on the floor (downward, negative) = −N m g − Σ f_z.
+    assert!(
+        (floor - (-weight - grain_force)).abs() < 1e-9 * weight,
+        "floor {floor} N, weight {weight} N, grains' net {grain_force} N"
+    );
+    for (ranks, grid) in [(2, Some([2, 1, 1])), (3, Some([1, 3, 1]))] {
+        let (s, o, c) = run_states(&setup, ranks, grid, steps);
+        assert!(c);
+        for k in 0..s1.position.len() {
+            for a in 0..3 {
+                assert_eq!(
+                    s.position[k][a].to_bits(),
+                    s1.position[k][a].to_bits(),
+                    "{ranks}: {k}"
+                );
+            }
+        }
+        assert_eq!(o.wall_contacts, o1.wall_contacts);
+        let f = o.wall_forces[wall];
+        for a in 0..3 {
+            let g = o1.wall_forces[wall][a];
+            assert!(
+                (f[a] - g).abs() <= 1e-12 * weight,
+                "{ranks}: {f:?} {:?}",
+                o1.wall_forces[wall]
+            );
         }
     }
 }

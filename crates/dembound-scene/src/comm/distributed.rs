@@ -296,6 +296,13 @@ impl<T: Transport> DistributedSimulation<T> {
         &self.sim
     }
 
+    /// Whether the pair forces are summed by the engine's loop in
+    /// whole-scene cell order (else by partner id: some rank lists extra
+    /// pairs). Either order is independent of the decomposition.
+    pub fn sums_in_cell_order(&self) -> bool {
+        self.in_cell_order
+    }
+
     /// Bodies this rank owns.
     pub fn owned(&self) -> usize {
         self.halo.iter().filter(|&&h| !h).count()
