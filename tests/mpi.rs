@@ -1,5 +1,6 @@
 //! `mpirun -np N dembound scene` (feature `mpi`, issue 16): the same
-//! lattice drop on 1, 2 and 3 ranks ends in the same state to the bit,
+//! lattice drop (also with friction) on 1, 2 and 3 ranks ends in the same
+//! state to the bit,
 //! over shared memory and over TCP on loopback (`--mca btl tcp,self`).
 //! Needs Open MPI's `mpirun` (Debian: openmpi-bin); run with
 //! `cargo test --release --features mpi --test mpi`. Three ranks on a
@@ -66,9 +67,14 @@ fn state(dir: &Path) -> Vec<String> {
 }
 
 fn same_run(mca: &[&str]) {
+    same_run_with(mca, &[]);
+}
+
+/// `same_run` with `more` arguments on every run.
+fn same_run_with(mca: &[&str], more: &[&str]) {
     let tmp = tempfile::tempdir().expect("temp dir");
     let d1 = tmp.path().join("r1");
-    let j1 = mpirun(1, mca, &[], &d1);
+    let j1 = mpirun(1, mca, more, &d1);
     let s1 = state(&d1);
     assert_eq!(s1.len(), 640);
     // The drop has happened: many contacts, spheres on the floor.
@@ -79,6 +85,7 @@ fn same_run(mca: &[&str]) {
         (3, vec!["--set", "parallel.grid=[1,3,1]"]),
     ] {
         let d = tmp.path().join(format!("r{ranks}{}", extra.len()));
+        let extra: Vec<&str> = extra.into_iter().chain(more.iter().copied()).collect();
         let j = mpirun(ranks, mca, &extra, &d);
         assert_eq!(j["ranks"], ranks);
         let owned: Vec<u64> = j["rank_particles"]
@@ -115,6 +122,24 @@ fn one_two_three_ranks_same_state_shared_memory() {
 #[test]
 fn one_two_three_ranks_same_state_over_tcp() {
     same_run(&["--mca", "pml", "ob1", "--mca", "btl", "tcp,self"]);
+}
+
+/// With friction and rolling friction (Mindlin, μ = 0.5, μ_r = 0.05):
+/// spins in the halo, springs migrating with their bodies; the same bits
+/// on 1, 2 and 3 ranks.
+#[test]
+fn friction_one_two_three_ranks_same_state() {
+    same_run_with(
+        &[],
+        &[
+            "--set",
+            "contact.friction=0.5",
+            "--set",
+            "contact.tangential=\"mindlin\"",
+            "--set",
+            "contact.rolling_friction=0.05",
+        ],
+    );
 }
 
 /// Bad input on every rank: one message, exit 2, no output directory.

@@ -38,7 +38,8 @@ use super::pack::{self, Reader, Writer};
 use super::Transport;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
-use crate::dynamics::walls;
+use crate::dynamics::friction::{self, Springs};
+use crate::dynamics::{spring_energy, walls};
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::{SharedMut, STEP_CHUNK};
 use crate::pipeline::{celled_extent, needs_rebuild, save_pairs, WallKind, WholeGrid, World};
@@ -141,17 +142,9 @@ pub struct DistributedSimulation<T: Transport> {
     advanced: bool,
 }
 
-/// Decomposed runs are frictionless Verlet without the collision log (for
-/// now): anything else is refused (exit 2).
+/// Decomposed runs are Verlet without the collision log (for now):
+/// anything else is refused (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
-    if setup.friction.is_some() {
-        return Err(SceneError::invalid(
-            "contact.friction",
-            "> 0",
-            "0 under MPI (no friction or rolling friction): the tangential \
-             springs do not migrate between ranks yet; run without mpirun",
-        ));
-    }
     if setup.integration.scheme != Scheme::Verlet {
         return Err(SceneError::invalid(
             "integration.scheme",
@@ -164,6 +157,41 @@ fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
             "output.collisions",
             true,
             "false under MPI (the collision log is not merged across ranks yet)",
+        ));
+    }
+    Ok(())
+}
+
+/// Friction under MPI needs every pair in the cell-ordered force loop
+/// (the partner-id sums carry no torques): no periodic axis (images are
+/// extra pairs) and no body too large for the cells.
+fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
+    if world.friction.is_none() {
+        return Ok(());
+    }
+    if world.domain.periodic.iter().any(|&p| p) {
+        return Err(SceneError::invalid(
+            "contact.friction",
+            "> 0 with a periodic axis",
+            "0 under MPI when an axis is periodic (the periodic images' pairs \
+             carry no torques across ranks yet); run without mpirun",
+        ));
+    }
+    if let Some(r) = world
+        .bodies
+        .radius
+        .iter()
+        .find(|&&r| r > world.large_radius)
+    {
+        return Err(SceneError::invalid(
+            "contact.friction",
+            format!("> 0 with a body of radius {r:e} m"),
+            format!(
+                "0 under MPI when a body is larger than the cells allow ({:e} m): \
+                 such bodies are paired outside the cells, without torques across \
+                 ranks yet; run without mpirun",
+                world.large_radius
+            ),
         ));
     }
     Ok(())
@@ -183,6 +211,7 @@ fn select(world: &mut World, order: &[u32]) {
     }
     wc.touching = order.iter().map(|&o| wc.touching[o as usize]).collect();
     wc.near = order.iter().map(|&o| wc.near[o as usize]).collect();
+    friction::permute_wall_shear(&mut world.wall_shear, world.planes.len(), order);
 }
 
 impl<T: Transport> DistributedSimulation<T> {
@@ -197,6 +226,7 @@ impl<T: Transport> DistributedSimulation<T> {
     ) -> Result<Self, SceneError> {
         let checked = refuse_unsupported(setup)
             .and_then(|()| Simulation::prepare(setup, threads))
+            .and_then(|sim| refuse_unsupported_world(&sim.world).map(|()| sim))
             .and_then(|sim| {
                 let w = &sim.world;
                 let mut lo = [f64::INFINITY; 3];
@@ -337,13 +367,20 @@ impl<T: Transport> DistributedSimulation<T> {
         let world = &mut self.sim.world;
         let mut saved = save_pairs(world);
         let keep = world.laws.history;
-        // Pair histories by body, for the bodies that leave.
+        let spin = world.friction.is_some();
+        let np = world.planes.len();
+        // Pair histories (and springs) by body, for the bodies that leave.
         let mut by_body: HashMap<u32, Vec<(u32, u32, ContactHistory)>> = HashMap::new();
         if keep {
             for (&(a, b), h) in &saved.histories {
                 by_body.entry(a).or_default().push((a, b, *h));
                 by_body.entry(b).or_default().push((a, b, *h));
             }
+        }
+        let mut springs_by_body: HashMap<u32, Vec<(u32, u32, Springs)>> = HashMap::new();
+        for (&(a, b), sp) in &saved.shear {
+            springs_by_body.entry(a).or_default().push((a, b, *sp));
+            springs_by_body.entry(b).or_default().push((a, b, *sp));
         }
         // 1. Migration: owned bodies outside the sub-domain go to its owner.
         let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
@@ -369,6 +406,20 @@ impl<T: Transport> DistributedSimulation<T> {
                 w.u32(*b);
                 w.history(h);
             }
+            if spin {
+                pack::write_wall_shear(w, &world.wall_shear, np, k);
+                let ss = springs_by_body
+                    .get(&world.bodies.id[k])
+                    .map_or(&[][..], |v| &v[..]);
+                w.u32(ss.len() as u32);
+                for (a, b, sp) in ss {
+                    w.u32(*a);
+                    w.u32(*b);
+                    for x in sp {
+                        w.f64(*x);
+                    }
+                }
+            }
         }
         select(world, &stay);
         for (_, bytes) in self.send_records(out) {
@@ -379,6 +430,17 @@ impl<T: Transport> DistributedSimulation<T> {
                 for _ in 0..r.u32() {
                     let (a, b, h) = (r.u32(), r.u32(), r.history());
                     saved.histories.insert((a, b), h);
+                }
+                if spin {
+                    pack::read_wall_shear(&mut r, &mut world.wall_shear, np);
+                    for _ in 0..r.u32() {
+                        let (a, b) = (r.u32(), r.u32());
+                        let mut sp = [0.0; 6];
+                        for x in &mut sp {
+                            *x = r.f64();
+                        }
+                        saved.shear.insert((a, b), sp);
+                    }
                 }
             }
         }
@@ -412,6 +474,11 @@ impl<T: Transport> DistributedSimulation<T> {
                 ));
                 if let Some(f) = world.bodies.fixed.last_mut() {
                     *f = true;
+                }
+                if spin {
+                    // A halo copy touches no plane here (it is fixed).
+                    let n = world.wall_shear.len();
+                    world.wall_shear.resize(n + np, Default::default());
                 }
             }
             got_ids.push((from, ids));
@@ -724,8 +791,8 @@ impl<T: Transport> DistributedSimulation<T> {
             let g = b.group[k];
             if g != NO_GROUP && b.fixed[k] {
                 if let Some(w) = wf.get_mut(g as usize) {
-                    for a in 0..3 {
-                        w[a] += b.force[k][a];
+                    for (w, f) in w.iter_mut().zip(b.force[k]) {
+                        *w += f;
                     }
                 }
             }
@@ -753,15 +820,19 @@ impl<T: Transport> DistributedSimulation<T> {
 
     /// Position and velocity of every free halo body from its owner.
     fn halo_update(&mut self) {
+        let spin = self.sim.world.friction.is_some();
         let b = &self.sim.world.bodies;
         let sends: Vec<(usize, Vec<u8>)> = self
             .sends
             .iter()
             .map(|(r, idx)| {
-                let mut w = Writer(Vec::with_capacity(idx.len() * 48));
+                let mut w = Writer(Vec::with_capacity(idx.len() * if spin { 72 } else { 48 }));
                 for &k in idx {
                     w.vec3(b.position[k as usize]);
                     w.vec3(b.velocity[k as usize]);
+                    if spin {
+                        w.vec3(b.angular_velocity[k as usize]);
+                    }
                 }
                 (*r, w.0)
             })
@@ -775,6 +846,9 @@ impl<T: Transport> DistributedSimulation<T> {
             for &k in idx {
                 b.position[k as usize] = r.vec3();
                 b.velocity[k as usize] = r.vec3();
+                if spin {
+                    b.angular_velocity[k as usize] = r.vec3();
+                }
             }
         }
     }
@@ -831,9 +905,10 @@ impl<T: Transport> DistributedSimulation<T> {
         let (plane_forces, plane_contacts, plane_energy) =
             walls::plane_observables(b, &w.planes, &w.wall_contacts, &w.laws, &sim.workers);
         // A pair is counted on the rank owning its free body of lower id.
+        let (fixed_by_id, halo) = (&self.fixed_by_id, &self.halo);
         let counted_here = |i: usize, j: usize| {
             let (a, c) = (b.id[i], b.id[j]);
-            let lead = match (self.fixed_by_id[a as usize], self.fixed_by_id[c as usize]) {
+            let lead = match (fixed_by_id[a as usize], fixed_by_id[c as usize]) {
                 (false, false) => {
                     if a < c {
                         i
@@ -844,7 +919,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 (false, true) => i,
                 _ => j,
             };
-            !self.halo[lead]
+            !halo[lead]
         };
         let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
         let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
@@ -882,17 +957,52 @@ impl<T: Transport> DistributedSimulation<T> {
             let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
             visit(i as usize, xj, owner, w.histories.extra(q));
         }
+        // The friction springs' energy and the planes' tangential forces
+        // (halo copies are fixed: they touch no plane here).
+        let (springs, tangential) = match &w.friction {
+            Some(table) => (
+                spring_energy::spring_energy_counted(
+                    b,
+                    &w.ghosts,
+                    &w.list,
+                    &w.laws,
+                    table,
+                    &w.shear,
+                    &w.planes,
+                    &w.wall_shear,
+                    &sim.workers,
+                    counted_here,
+                ),
+                friction::plane_tangential_forces(
+                    b,
+                    &w.planes,
+                    &w.laws,
+                    table,
+                    &w.wall_contacts,
+                    &w.wall_shear,
+                ),
+            ),
+            None => (0.0, Vec::new()),
+        };
         let walls_n = w.walls.len();
         let mut v = vec![
             kinetic,
             potential,
-            energy + plane_energy,
+            energy + plane_energy + springs,
             pc,
             wc + plane_contacts as f64,
         ];
         for (wi, kind) in w.walls.iter().enumerate() {
             let f = match kind {
-                WallKind::Plane(p) => plane_forces[*p],
+                WallKind::Plane(p) => {
+                    let mut f = plane_forces[*p];
+                    if let Some(t) = tangential.get(*p) {
+                        for a in 0..3 {
+                            f[a] += t[a];
+                        }
+                    }
+                    f
+                }
                 WallKind::Particles => self
                     .particle_wall_force
                     .get(wi)

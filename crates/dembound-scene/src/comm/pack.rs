@@ -6,6 +6,7 @@
 use dembound_physics::contact::ContactHistory;
 
 use crate::bodies::Bodies;
+use crate::dynamics::friction::WallShear;
 use crate::dynamics::walls::WallContacts;
 
 /// Appends fixed-size little-endian fields.
@@ -163,6 +164,30 @@ pub fn read_body(
         }
     }
     id
+}
+
+/// Writes a friction run's per-plane springs of body k (`planes` of
+/// them, `shear[k * planes..]`; relaxed if the array is not sized yet).
+pub fn write_wall_shear(w: &mut Writer, shear: &[WallShear], planes: usize, k: usize) {
+    for q in 0..planes {
+        let s = shear.get(k * planes + q).copied().unwrap_or_default();
+        for x in s.shear.iter().chain(&s.before) {
+            w.f64(*x);
+        }
+        w.u64(s.stamp);
+    }
+}
+
+/// Appends what [`write_wall_shear`] wrote.
+pub fn read_wall_shear(r: &mut Reader, shear: &mut Vec<WallShear>, planes: usize) {
+    for _ in 0..planes {
+        let mut s = WallShear::default();
+        for x in s.shear.iter_mut().chain(s.before.iter_mut()) {
+            *x = r.f64();
+        }
+        s.stamp = r.u64();
+        shear.push(s);
+    }
 }
 
 /// Bytes of one body record with `planes` plane walls.

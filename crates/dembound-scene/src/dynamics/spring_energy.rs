@@ -44,6 +44,35 @@ pub fn spring_energy(
     wall_shear: &[WallShear],
     workers: &Workers,
 ) -> f64 {
+    spring_energy_counted(
+        bodies,
+        ghosts,
+        list,
+        laws,
+        friction,
+        shear,
+        planes,
+        wall_shear,
+        workers,
+        |_, _| true,
+    )
+}
+
+/// [`spring_energy`] over the pairs (i, partner) that `counted` keeps (a
+/// domain decomposition counts a pair held by two ranks once).
+#[allow(clippy::too_many_arguments)]
+pub fn spring_energy_counted(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    laws: &LawTable,
+    friction: &FrictionTable,
+    shear: &PairShear,
+    planes: &[PlaneWall],
+    wall_shear: &[WallShear],
+    workers: &Workers,
+    counted: impl Fn(usize, usize) -> bool + Sync,
+) -> f64 {
     let n = bodies.len();
     let np = planes.len();
     let pairs_ok = list.start.len() == n + 1
@@ -58,6 +87,9 @@ pub fn spring_energy(
                     continue;
                 };
                 let j = list.j[k] as usize;
+                if !counted(i, j) {
+                    continue;
+                }
                 if let Some(g) = touching(
                     bodies.position[i],
                     bodies.velocity[i],
@@ -102,6 +134,9 @@ pub fn spring_energy(
             };
             let (i, j) = (i as usize, j as usize);
             let (xj, vj, owner) = extended(bodies, ghosts, j);
+            if !counted(i, owner) {
+                continue;
+            }
             if let Some(g) = touching(
                 bodies.position[i],
                 bodies.velocity[i],

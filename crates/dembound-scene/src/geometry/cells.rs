@@ -74,8 +74,8 @@ impl CellGrid {
     #[inline]
     pub fn coords(&self, x: [f64; 3]) -> [usize; 3] {
         let mut c = self.whole_coords(x);
-        for a in 0..3 {
-            c[a] = c[a].saturating_sub(self.offset[a]).min(self.dims[a] - 1);
+        for ((c, offset), dims) in c.iter_mut().zip(self.offset).zip(self.dims) {
+            *c = c.saturating_sub(offset).min(dims - 1);
         }
         c
     }
