@@ -8,6 +8,21 @@ use super::{Integrator, Kinematics, State};
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Verlet;
 
+/// Verlet's half kick v + `scale` · `rate`: (Δt/2) a, or (Δt/2m) F in a
+/// many-body loop that keeps forces (LAMMPS `nve` scales the force by
+/// dtf/m, one rounding fewer than forming a first). Any state: the bounce's
+/// scalar, a body's 3-vector ([`super::Vec3`]: the scene engine's kicks).
+#[inline(always)]
+pub fn half_kick<S: State>(v: S, rate: S, scale: f64) -> S {
+    v + rate * scale
+}
+
+/// Verlet's drift x + Δt v (v the half-step velocity).
+#[inline(always)]
+pub fn drift<S: State>(x: S, v: S, dt: f64) -> S {
+    x + v * dt
+}
+
 /// Verlet's state: x, v, a and the step size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VerletStep<S> {
@@ -40,8 +55,8 @@ impl<S: State> Integrator<S> for Verlet {
     /// x₁ = x₀ + Δt (v₀ + (Δt/2) a₀), v_½ = v₀ + (Δt/2) a₀.
     #[inline(always)]
     fn predict(&self, s: &mut VerletStep<S>) -> (S, S) {
-        s.x = s.x + (s.v + s.a * (0.5 * s.dt)) * s.dt;
-        s.v = s.v + s.a * (0.5 * s.dt);
+        s.v = half_kick(s.v, s.a, 0.5 * s.dt);
+        s.x = drift(s.x, s.v, s.dt);
         (s.x, s.v)
     }
 
@@ -49,7 +64,7 @@ impl<S: State> Integrator<S> for Verlet {
     #[inline(always)]
     fn correct(&self, s: &mut VerletStep<S>, acceleration: S) {
         s.a = acceleration;
-        s.v = s.v + acceleration * (0.5 * s.dt);
+        s.v = half_kick(s.v, acceleration, 0.5 * s.dt);
     }
 
     fn kinematics(&self, s: &VerletStep<S>) -> Kinematics<S> {

@@ -1,27 +1,30 @@
-//! The integrators, per body (so parallel and exact for any thread count).
+//! The integrators, per body (so parallel and exact for any thread count),
+//! over the physics crate's generic ones (`dembound_physics::integrate`,
+//! on a body's [`Vec3`]):
 //!
 //! - Velocity Verlet (kick–drift–kick): v ← v + Δt/2 a; x ← x + Δt v; new
-//!   forces; v ← v + Δt/2 a. Second order, symplectic.
+//!   forces; v ← v + Δt/2 a. Second order, symplectic. The kick and drift
+//!   are [`verlet::half_kick`] and [`verlet::drift`].
 //! - The paper's Gear5 predictor–corrector (eqs 18–19) in its many-body
 //!   form: every body carries x, v and the scaled derivatives r₂..r₅
-//!   (r_k = Δt^k x⁽ᵏ⁾/k!); predict all bodies (Pascal's triangle), evaluate
-//!   forces at the predicted state, correct with Δ = Δt² a/2 − r₂ᵖ and
-//!   c = (3/16 or 3/20, 251/360, 1, 11/18, 1/6, 1/60) (Allen & Tildesley
-//!   1987, table E.2; the bounce's `integrate::gear5`). Hand-written: the
-//!   schemes are what the paper studies.
+//!   (r_k = Δt^k x⁽ᵏ⁾/k!); predict all bodies ([`pascal`], Pascal's
+//!   triangle), evaluate forces at the predicted state, correct with
+//!   Δ = Δt² a/2 − r₂ᵖ and c = (3/16 or 3/20, 251/360, 1, 11/18, 1/6,
+//!   1/60) ([`Gear5::for_force`]; Allen & Tildesley 1987, table E.2). The
+//!   corrector is written here: the engine keeps v, not r₁ = Δt v, and
+//!   the contacts that begin or end inside a step correct it
+//!   (`dynamics::kinks`).
+
+use dembound_physics::integrate::gear5::{pascal, Gear5};
+use dembound_physics::integrate::{verlet, Vec3};
 
 use crate::bodies::Bodies;
 use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
 
 /// Gear5 corrector coefficients for a force that does or does not depend
-/// on the velocity (c₀ = 3/20 or 3/16).
+/// on the velocity (c₀ = 3/20 or 3/16): the physics crate's.
 pub fn gear5_corrector(depends_on_velocity: bool) -> [f64; 6] {
-    let c0 = if depends_on_velocity {
-        3.0 / 20.0
-    } else {
-        3.0 / 16.0
-    };
-    [c0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0]
+    Gear5::for_force(depends_on_velocity).corrector
 }
 
 /// Squared distance, m².
@@ -35,17 +38,13 @@ pub fn displacement2(x: [f64; 3], r: [f64; 3]) -> f64 {
 /// (Δt/2)/m (the LAMMPS `nve` rounding).
 #[inline(always)]
 pub fn half_kick(v: &mut [f64; 3], f: [f64; 3], dtfm: f64) {
-    v[0] += dtfm * f[0];
-    v[1] += dtfm * f[1];
-    v[2] += dtfm * f[2];
+    *v = verlet::half_kick(Vec3(*v), Vec3(f), dtfm).0;
 }
 
 /// Verlet drift of one body.
 #[inline(always)]
 pub fn drift(x: &mut [f64; 3], v: [f64; 3], dt: f64) {
-    x[0] += dt * v[0];
-    x[1] += dt * v[1];
-    x[2] += dt * v[2];
+    *x = verlet::drift(Vec3(*x), Vec3(v), dt).0;
 }
 
 /// Per-body loop over chunks of bodies.
@@ -118,15 +117,21 @@ pub fn gear5_predict(
         }
         // SAFETY: one body per iteration.
         let (x, v, r) = unsafe { (x.at(i), v.at(i), r.at(i)) };
-        for a in 0..3 {
-            let (r2, r3, r4, r5) = (r[0][a], r[1][a], r[2][a], r[3][a]);
-            let r1 = v[a] * dt;
-            x[a] += (r1 + r2) + (r3 + r4) + r5;
-            v[a] = (r1 + 2.0 * r2 + 3.0 * r3 + 4.0 * r4 + 5.0 * r5) * inv_dt;
-            r[0][a] = r2 + 3.0 * r3 + 6.0 * r4 + 10.0 * r5;
-            r[1][a] = r3 + 4.0 * r4 + 10.0 * r5;
-            r[2][a] = r4 + 5.0 * r5;
-        }
+        // The Nordsieck vector of the body (r₁ = Δt v) through the
+        // physics crate's Pascal predictor.
+        let p = pascal(&[
+            Vec3(*x),
+            Vec3(*v) * dt,
+            Vec3(r[0]),
+            Vec3(r[1]),
+            Vec3(r[2]),
+            Vec3(r[3]),
+        ]);
+        *x = p[0].0;
+        *v = (p[1] * inv_dt).0;
+        r[0] = p[2].0;
+        r[1] = p[3].0;
+        r[2] = p[4].0;
         displacement2(*x, reference[i])
     })
 }
