@@ -10,24 +10,38 @@
 //! (periodic axes are not split).
 //!
 //! What crosses ranks, and when:
-//! - every step: position and velocity of each free halo body, 48 bytes,
-//!   from its owner to each rank holding a copy;
+//! - every step: position and velocity (and spin, with friction) of each
+//!   free halo body, 48 (72) bytes, from its owner to each rank holding a
+//!   copy;
 //! - at a list rebuild (decided on the largest displacement over all
 //!   ranks, so every rank rebuilds at the same step): bodies that left
 //!   their sub-domain move to their new owner as whole records
-//!   ([`pack::write_body`]) with their pair histories, then the halo is
-//!   sent again as whole records;
-//! - reductions: the rebuild test (one max per step), the observables
-//!   (sums, when observed).
+//!   ([`pack::write_body`]) with their pair histories (and friction
+//!   springs), then the halo is sent again as whole records;
+//! - reductions: the rebuild test (one max per step), the whole scene's
+//!   cell grid at rebuilds, the observables (sums, when observed).
 //!
 //! Forces: a pair across two sub-domains is computed on both ranks
 //! (LAMMPS's `newton off`): no force goes back to the owner, at the price
-//! of computing those pairs twice. Each owned body's force is summed in an
-//! order fixed by the partners' input ids, the pair values being the same
-//! bits on either side (the pair geometry is antisymmetric to the bit),
-//! so the trajectory does not depend on the decomposition: 1, 2 or 3
-//! ranks give bit-identical positions (without periodic axes, where an
-//! image's shifted coordinates round differently on either side).
+//! of computing those pairs twice. The trajectory does not depend on the
+//! decomposition: 1, 2 or 3 ranks give bit-identical positions, because
+//! each owned body's force is summed in an order the whole scene fixes:
+//! - normally (no extra pairs on any rank) every rank sorts its bodies by
+//!   the cells of one grid over the whole scene
+//!   ([`crate::pipeline::WholeGrid`], cropped to the rank's bodies), and
+//!   by input id within a cell, and runs the engine's own force loop with
+//!   its rows in order ([`crate::geometry::neighbour::PairList::sequential`]).
+//!   A pair is listed in the row of whichever body comes first in that
+//!   order — the same on every rank — so each body gets the forces of the
+//!   partners before it, in order, then its own row's sum of the partners
+//!   after it: the same additions in the same order on any rank. This is
+//!   the engine's loop (and its fused Verlet step), at the engine's speed;
+//! - with extra pairs (periodic images, bodies too large for the cells)
+//!   the pair forces are stored and each body's sum is gathered in the
+//!   order of its partners' input ids (the pair values being the same
+//!   bits on either side: the pair geometry is antisymmetric to the bit);
+//!   without periodic axes only, where an image's shifted coordinates
+//!   round differently on either side. Friction needs the first way.
 
 use std::collections::{BTreeMap, HashMap};
 use std::time::Instant;
