@@ -28,7 +28,7 @@
 //! each owned body's force is summed in an order the whole scene fixes:
 //! - normally (no extra pairs on any rank) every rank sorts its bodies by
 //!   the cells of one grid over the whole scene
-//!   ([`crate::pipeline::WholeGrid`], cropped to the rank's bodies), and
+//!   (`pipeline::WholeGrid`, cropped to the rank's bodies), and
 //!   by input id within a cell, and runs the engine's own force loop with
 //!   its rows in order ([`crate::geometry::neighbour::PairList::sequential`]).
 //!   A pair is listed in the row of whichever body comes first in that
