@@ -148,7 +148,7 @@ pub struct DistributedSimulation<T: Transport> {
     /// The engine's half-list sums instead (order set by the local list).
     plain_sums: bool,
     /// The forces are summed by the engine's own loop over the rows in
-    /// whole-scene cell order ([`crate::pipeline::WholeGrid`]); otherwise
+    /// whole-scene cell order (`pipeline::WholeGrid`); otherwise
     /// (some rank lists extra pairs: periodic images, large bodies) by the
     /// incidences in partner-id order.
     in_cell_order: bool,
