@@ -222,18 +222,7 @@ impl Pipeline {
                 self.forces(world, workers);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
-                // At the predicted state, before the corrector moves it.
-                self.kinks.collect(
-                    &world.bodies,
-                    &world.ghosts,
-                    &world.list,
-                    &world.planes,
-                    &world.laws,
-                    dt,
-                );
-                let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
-                integrate::gear5_correct(&mut world.bodies, dt, c, workers);
-                self.kinks.apply(&mut world.bodies, dt, c);
+                self.gear5_correct(world, workers);
             }
         }
         world.steps_done += 1;
@@ -241,6 +230,25 @@ impl Pipeline {
             self.ghosts(world);
             self.observe(world);
         }
+    }
+
+    /// Gear5's corrector with the forces at the predicted state, the
+    /// contacts that began or ended inside the step integrated exactly
+    /// ([`Kinks`]).
+    pub(crate) fn gear5_correct(&mut self, world: &mut World, workers: &Workers) {
+        let dt = world.dt;
+        // At the predicted state, before the corrector moves it.
+        self.kinks.collect(
+            &world.bodies,
+            &world.ghosts,
+            &world.list,
+            &world.planes,
+            &world.laws,
+            dt,
+        );
+        let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
+        integrate::gear5_correct(&mut world.bodies, dt, c, workers);
+        self.kinks.apply(&mut world.bodies, dt, c);
     }
 
     /// Hands the shares' body cuts to the workers' per-body passes.

@@ -53,7 +53,7 @@ use super::Transport;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
 use crate::dynamics::friction::{self, Springs};
-use crate::dynamics::{spring_energy, walls};
+use crate::dynamics::{integrate, spring_energy, walls};
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::{SharedMut, STEP_CHUNK};
 use crate::pipeline::{celled_extent, needs_rebuild, save_pairs, WallKind, WholeGrid, World};
@@ -156,16 +156,9 @@ pub struct DistributedSimulation<T: Transport> {
     advanced: bool,
 }
 
-/// Decomposed runs are Verlet without the collision log (for now):
-/// anything else is refused (exit 2). Friction: see [`refuse_unsupported_world`].
+/// Decomposed runs are without the collision log (for now): it is
+/// refused (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
-    if setup.integration.scheme != Scheme::Verlet {
-        return Err(SceneError::invalid(
-            "integration.scheme",
-            "\"gear5\"",
-            "\"verlet\" under MPI (Gear5 is not decomposed yet)",
-        ));
-    }
     if setup.collisions {
         return Err(SceneError::invalid(
             "output.collisions",
@@ -176,19 +169,32 @@ fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Friction under MPI needs every pair in the cell-ordered force loop
-/// (the partner-id sums carry no torques): no periodic axis (images are
-/// extra pairs) and no body too large for the cells.
+/// Friction and Gear5 under MPI need every pair in the cell-ordered force
+/// loop (the partner-id sums carry no torques, and Gear5's corrections of
+/// the contacts that begin or end inside a step are added in list order):
+/// no periodic axis (images are extra pairs) and no body too large for
+/// the cells.
 fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
-    if world.friction.is_none() {
+    let (key, value, what) = if world.friction.is_some() {
+        (
+            "contact.friction",
+            "> 0",
+            "the periodic images' pairs and the large bodies' carry no torques across ranks yet",
+        )
+    } else if world.scheme == Scheme::Gear5 {
+        (
+            "integration.scheme",
+            "\"gear5\"",
+            "Gear5's corrections of those pairs are not ordered across ranks yet",
+        )
+    } else {
         return Ok(());
-    }
+    };
     if world.domain.periodic.iter().any(|&p| p) {
         return Err(SceneError::invalid(
-            "contact.friction",
-            "> 0 with a periodic axis",
-            "0 under MPI when an axis is periodic (the periodic images' pairs \
-             carry no torques across ranks yet); run without mpirun",
+            key,
+            format!("{value} with a periodic axis"),
+            format!("not under MPI when an axis is periodic ({what}); run without mpirun"),
         ));
     }
     if let Some(r) = world
@@ -198,12 +204,11 @@ fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
         .find(|&&r| r > world.large_radius)
     {
         return Err(SceneError::invalid(
-            "contact.friction",
-            format!("> 0 with a body of radius {r:e} m"),
+            key,
+            format!("{value} with a body of radius {r:e} m"),
             format!(
-                "0 under MPI when a body is larger than the cells allow ({:e} m): \
-                 such bodies are paired outside the cells, without torques across \
-                 ranks yet; run without mpirun",
+                "not under MPI when a body is larger than the cells allow ({:e} m: such \
+                 bodies are paired outside the cells, and {what}); run without mpirun",
                 world.large_radius
             ),
         ));
@@ -304,6 +309,12 @@ impl<T: Transport> DistributedSimulation<T> {
         let sim = &mut me.sim;
         sim.pipeline.body_forces(&mut sim.world, &sim.workers, 0.0);
         me.pair_forces();
+        let w = &mut me.sim.world;
+        if w.scheme == Scheme::Gear5 {
+            // r₂ = Δt² a/2 from the first forces (summed as every step's:
+            // the same bits on any rank), r₃..r₅ = 0, as the engine starts.
+            integrate::gear5_start(&mut w.bodies, w.dt);
+        }
         let o = me.observe();
         me.sim.initial_energy = o.kinetic_energy + o.elastic_energy + o.potential_energy;
         Ok(me)
@@ -382,6 +393,7 @@ impl<T: Transport> DistributedSimulation<T> {
         let mut saved = save_pairs(world);
         let keep = world.laws.history;
         let spin = world.friction.is_some();
+        let gear5 = world.scheme == Scheme::Gear5;
         let np = world.planes.len();
         // Pair histories (and springs) by body, for the bodies that leave.
         let mut by_body: HashMap<u32, Vec<(u32, u32, ContactHistory)>> = HashMap::new();
@@ -420,6 +432,9 @@ impl<T: Transport> DistributedSimulation<T> {
                 w.u32(*b);
                 w.history(h);
             }
+            if gear5 {
+                pack::write_higher(w, &world.bodies.higher, k);
+            }
             if spin {
                 pack::write_wall_shear(w, &world.wall_shear, np, k);
                 let ss = springs_by_body
@@ -444,6 +459,14 @@ impl<T: Transport> DistributedSimulation<T> {
                 for _ in 0..r.u32() {
                     let (a, b, h) = (r.u32(), r.u32(), r.history());
                     saved.histories.insert((a, b), h);
+                }
+                if gear5 {
+                    let mut higher = Vec::with_capacity(1);
+                    pack::read_higher(&mut r, &mut higher);
+                    // Before the first forces (gear5_start) there are none.
+                    if world.bodies.higher.len() + 1 == world.bodies.len() {
+                        world.bodies.higher.extend(higher);
+                    }
                 }
                 if spin {
                     pack::read_wall_shear(&mut r, &mut world.wall_shear, np);
@@ -493,6 +516,10 @@ impl<T: Transport> DistributedSimulation<T> {
                     // A halo copy touches no plane here (it is fixed).
                     let n = world.wall_shear.len();
                     world.wall_shear.resize(n + np, Default::default());
+                }
+                if gear5 && world.bodies.higher.len() + 1 == world.bodies.len() {
+                    // Nor is it integrated.
+                    world.bodies.higher.push(Default::default());
                 }
             }
             got_ids.push((from, ids));
@@ -875,6 +902,14 @@ impl<T: Transport> DistributedSimulation<T> {
     /// exchange then sits between the fused stages.
     pub fn step(&mut self, n: u64) {
         let clock = Instant::now();
+        if self.sim.world.scheme == Scheme::Gear5 {
+            for _ in 0..n {
+                self.gear5_step();
+            }
+            self.steps_run += n;
+            self.stepping += clock.elapsed().as_secs_f64();
+            return;
+        }
         for k in 0..n {
             if !std::mem::take(&mut self.advanced) {
                 let sim = &mut self.sim;
@@ -899,6 +934,36 @@ impl<T: Transport> DistributedSimulation<T> {
         sim.pipeline.finish(&mut sim.world, &sim.workers);
         self.steps_run += n;
         self.stepping += clock.elapsed().as_secs_f64();
+    }
+
+    /// One Gear5 step, as the engine's: predict the owned bodies, the
+    /// halo (or a rebuild), forces at the predicted state, correct. The
+    /// contacts that began or ended inside the step are collected in list
+    /// order, which in whole-scene cell order adds each body's corrections
+    /// in the same order on any rank. Collective.
+    fn gear5_step(&mut self) {
+        let sim = &mut self.sim;
+        let dt = sim.world.dt;
+        let moved2 = integrate::gear5_predict(
+            &mut sim.world.bodies,
+            &sim.pipeline.reference,
+            dt,
+            &sim.workers,
+        );
+        let moved2 = self.transport.max(moved2);
+        if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
+            self.rebuild();
+        } else {
+            self.halo_update();
+            let sim = &mut self.sim;
+            sim.pipeline.ghosts(&mut sim.world);
+        }
+        let sim = &mut self.sim;
+        sim.pipeline.body_forces(&mut sim.world, &sim.workers, 0.0);
+        self.pair_forces();
+        let sim = &mut self.sim;
+        sim.pipeline.gear5_correct(&mut sim.world, &sim.workers);
+        sim.world.steps_done += 1;
     }
 
     pub fn steps_done(&self) -> u64 {

@@ -190,6 +190,19 @@ pub fn read_wall_shear(r: &mut Reader, shear: &mut Vec<WallShear>, planes: usize
     }
 }
 
+/// Writes a Gear5 run's scaled derivatives r₂..r₅ of body k (zeros if
+/// the array is not sized).
+pub fn write_higher(w: &mut Writer, higher: &[[[f64; 3]; 4]], k: usize) {
+    for r in higher.get(k).copied().unwrap_or_default() {
+        w.vec3(r);
+    }
+}
+
+/// Appends what [`write_higher`] wrote.
+pub fn read_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
+    higher.push([r.vec3(), r.vec3(), r.vec3(), r.vec3()]);
+}
+
 /// Bytes of one body record with `planes` plane walls.
 pub fn body_bytes(planes: usize, wall_history: bool) -> usize {
     4 + 9 * 8 + 3 * 8 + 4 + 1 + 4 + 2 + 6 * 8 + 8 + 8 + if wall_history { 9 * planes } else { 0 }
