@@ -143,6 +143,42 @@ fn run_states(
     (s, o, all_cell_order)
 }
 
+/// Random velocities of up to 0.3 m/s per axis (seeded): spheres cross
+/// the cuts while in contact and contacts begin and end throughout.
+fn shake(setup: &mut SceneSetup, seed: u64) {
+    let mut rng = common::Rng(seed);
+    for s in &mut setup.spheres {
+        s.velocity = [
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+            0.3 * rng.symmetric(),
+        ];
+    }
+}
+
+/// The same positions and velocities to the bit.
+fn assert_same_bits(
+    s: &dembound_scene::comm::distributed::GatheredState,
+    s1: &dembound_scene::comm::distributed::GatheredState,
+    ranks: usize,
+) {
+    assert_eq!(s.position.len(), s1.position.len());
+    for k in 0..s1.position.len() {
+        for a in 0..3 {
+            assert_eq!(
+                s.position[k][a].to_bits(),
+                s1.position[k][a].to_bits(),
+                "{ranks}: {k}"
+            );
+            assert_eq!(
+                s.velocity[k][a].to_bits(),
+                s1.velocity[k][a].to_bits(),
+                "{ranks}: {k}"
+            );
+        }
+    }
+}
+
 /// Enough bodies that each rank's force loop has several blocks (of at
 /// least 512 bodies): the rows run in order, the sums are the whole
 /// scene's, and the end state is the same bits on 1, 2 and 3 ranks.
@@ -155,20 +191,7 @@ fn many_blocks_are_bit_identical_on_1_2_3_ranks() {
     for (ranks, grid) in [(2, Some([2, 1, 1])), (3, Some([1, 3, 1]))] {
         let (s, o, c) = run_states(&setup, ranks, grid, 2100);
         assert!(c);
-        for k in 0..s1.position.len() {
-            for a in 0..3 {
-                assert_eq!(
-                    s.position[k][a].to_bits(),
-                    s1.position[k][a].to_bits(),
-                    "{ranks}: {k}"
-                );
-                assert_eq!(
-                    s.velocity[k][a].to_bits(),
-                    s1.velocity[k][a].to_bits(),
-                    "{ranks}: {k}"
-                );
-            }
-        }
+        assert_same_bits(&s, &s1, ranks);
         assert_eq!(o.particle_contacts, o1.particle_contacts);
     }
 }
@@ -333,48 +356,14 @@ fn friction_is_bit_identical_on_1_2_3_ranks() {
         dembound_physics::contact::NormalLaw::WaltonBraun { restitution: 0.5 },
     );
     setup.friction = Some(friction(0.5, 0.05));
-    let mut rng = common::Rng(7);
-    for s in &mut setup.spheres {
-        s.velocity = [
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-        ];
-    }
+    shake(&mut setup, 7);
     let (s1, o1, c1) = run_states(&setup, 1, None, 3000);
     assert!(c1);
     assert!(o1.particle_contacts > 20, "{o1:?}");
     for (ranks, grid) in [(2, Some([2, 1, 1])), (3, Some([1, 3, 1]))] {
         let (s, o, _) = run_states(&setup, ranks, grid, 3000);
-        for k in 0..s1.position.len() {
-            for a in 0..3 {
-                assert_eq!(
-                    s.position[k][a].to_bits(),
-                    s1.position[k][a].to_bits(),
-                    "{ranks}: {k}"
-                );
-                assert_eq!(
-                    s.velocity[k][a].to_bits(),
-                    s1.velocity[k][a].to_bits(),
-                    "{ranks}: {k}"
-                );
-            }
-        }
-        assert_eq!(o.particle_contacts, o1.particle_contacts);
-        let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
-        assert!(rel(o.kinetic_energy, o1.kinetic_energy) < 1e-12);
-        assert!(
-            rel(o.elastic_energy, o1.elastic_energy) < 1e-12,
-            "{o:?} {o1:?}"
-        );
-        for (f, g) in o.wall_forces.iter().zip(&o1.wall_forces) {
-            for a in 0..3 {
-                assert!(
-                    (f[a] - g[a]).abs() <= 1e-12 * g[a].abs().max(1e-9),
-                    "{f:?} {g:?}"
-                );
-            }
-        }
+        assert_same_bits(&s, &s1, ranks);
+        assert_observables_agree(&o, &o1, 1e-12);
     }
 }
 
@@ -402,18 +391,21 @@ fn friction_on_one_and_two_ranks_matches_the_engine() {
     }
     assert!(worst < 1e-12, "{worst}");
     assert!(o2.particle_contacts > 100, "{o2:?}");
-    assert_eq!(o2.particle_contacts, e.particle_contacts);
-    assert_eq!(o2.wall_contacts, e.wall_contacts);
+    assert_observables_agree(&o2, &e, 1e-9);
+}
+
+/// Contact counts equal; energies and wall forces (each component, or
+/// 1e-9 N where it is smaller) to `tol` relative.
+fn assert_observables_agree(o: &Observation, e: &Observation, tol: f64) {
+    assert_eq!(o.particle_contacts, e.particle_contacts);
+    assert_eq!(o.wall_contacts, e.wall_contacts);
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
-    assert!(rel(o2.kinetic_energy, e.kinetic_energy) < 1e-9);
-    assert!(
-        rel(o2.elastic_energy, e.elastic_energy) < 1e-9,
-        "{o2:?} {e:?}"
-    );
-    for (f, g) in o2.wall_forces.iter().zip(&e.wall_forces) {
+    assert!(rel(o.kinetic_energy, e.kinetic_energy) < tol, "{o:?} {e:?}");
+    assert!(rel(o.elastic_energy, e.elastic_energy) < tol, "{o:?} {e:?}");
+    for (f, g) in o.wall_forces.iter().zip(&e.wall_forces) {
         for a in 0..3 {
             assert!(
-                (f[a] - g[a]).abs() <= 1e-9 * g[a].abs().max(1e-9),
+                (f[a] - g[a]).abs() <= tol * g[a].abs().max(1e-9),
                 "{f:?} {g:?}"
             );
         }
@@ -431,34 +423,14 @@ fn friction_on_one_and_two_ranks_matches_the_engine() {
 fn gear5_is_bit_identical_on_1_2_3_ranks_and_follows_the_engine() {
     let mut setup = common::lattice_drop(8, 6, 2.0e-6, 2000);
     setup.integration.scheme = dembound_scene::setup::Scheme::Gear5;
-    let mut rng = common::Rng(11);
-    for s in &mut setup.spheres {
-        s.velocity = [
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-        ];
-    }
+    shake(&mut setup, 11);
     let (s1, o1, c1) = run_states(&setup, 1, None, 2000);
     assert!(c1);
     // Contacts at the end (16 of them: the spheres fly apart and collide).
     assert!(o1.particle_contacts > 8, "{o1:?}");
     for (ranks, grid) in [(2, Some([2, 1, 1])), (3, Some([1, 3, 1]))] {
         let (s, o, _) = run_states(&setup, ranks, grid, 2000);
-        for k in 0..s1.position.len() {
-            for a in 0..3 {
-                assert_eq!(
-                    s.position[k][a].to_bits(),
-                    s1.position[k][a].to_bits(),
-                    "{ranks}: {k}"
-                );
-                assert_eq!(
-                    s.velocity[k][a].to_bits(),
-                    s1.velocity[k][a].to_bits(),
-                    "{ranks}: {k}"
-                );
-            }
-        }
+        assert_same_bits(&s, &s1, ranks);
         assert_eq!(o.particle_contacts, o1.particle_contacts);
     }
     let mut sim = Simulation::new(setup.clone(), 1).expect("valid scene");
@@ -532,14 +504,7 @@ fn bodies_migrate_with_their_pair_histories() {
     );
     // Random velocities up to 0.3 m/s per axis: up to 3.6 mm in the run,
     // many spheres cross the cut (at x = 3.9 mm) while in contact.
-    let mut rng = common::Rng(16);
-    for s in &mut setup.spheres {
-        s.velocity = [
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-            0.3 * rng.symmetric(),
-        ];
-    }
+    shake(&mut setup, 16);
     let (x1, v1, o1, _) = run(&setup, 1, None, 6000);
     let handles: Vec<_> = ThreadTransport::group(2)
         .into_iter()
