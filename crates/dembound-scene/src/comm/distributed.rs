@@ -46,6 +46,11 @@ use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
 
+// Checkpoint and restart on any number of ranks, load re-balancing
+// (child modules: they reach this rank's private state).
+pub mod balance;
+mod checkpoint;
+
 /// The error of a rank whose setup was fine when another rank's was not
 /// (that rank's error says why).
 pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
@@ -132,6 +137,8 @@ pub struct DistributedSimulation<T: Transport> {
     migrated: u64,
     /// The engine's half-list sums instead (order set by the local list).
     plain_sums: bool,
+    /// Load re-balancing ([`balance`]).
+    balance: balance::Balance,
 }
 
 /// Decomposed runs are frictionless Verlet without the collision log (for
@@ -246,6 +253,7 @@ impl<T: Transport> DistributedSimulation<T> {
             stepping: 0.0,
             plain_sums: false,
             migrated: 0,
+            balance: balance::Balance::default(),
         };
         me.rebuild();
         let sim = &mut me.sim;
@@ -314,6 +322,8 @@ impl<T: Transport> DistributedSimulation<T> {
 
     /// Migration, a new halo and new lists. Collective.
     fn rebuild(&mut self) {
+        // Re-balancing may move the cuts first (the migration follows).
+        self.rebalance();
         let rank = self.transport.rank();
         let world = &mut self.sim.world;
         let mut saved = save_pairs(world);
