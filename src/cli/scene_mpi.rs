@@ -3,6 +3,10 @@
 //! the scene file; rank 0 alone prints and writes files (gathered from
 //! the others), all or nothing through [`AtomicDir`].
 //!
+//! `--out` writes `checkpoint.cbor` (gathered at rank 0, bodies in input
+//! order, the one-process engine's format); `--restart` reads it on every
+//! rank and continues on any number of ranks (or without mpirun).
+//!
 //! Errors: a setup error on any rank ends every rank (the ranks agree on
 //! it before the first exchange; the lowest failing rank prints it; exit 2
 //! for bad input); an output error at rank 0 after the run ends the run
@@ -13,12 +17,14 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::anyhow;
+use dembound_scene::comm::distributed::balance::{imbalance, DEFAULT_REBALANCE_THRESHOLD};
 use dembound_scene::comm::distributed::{GatheredState, PEER_REFUSED};
 use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
+use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, ResolvedScene};
 use dembound_scene::io::{config, series, vtk};
-use dembound_scene::Observation;
+use dembound_scene::{Checkpoint, Observation};
 use serde::Serialize;
 
 use super::scene::{progress_bar, scene_error, Report, SceneArgs, PARALLEL_MIN_PARTICLES};
@@ -75,16 +81,7 @@ fn agree<T>(t: &MpiTransport, r: Result<T, CliError>) -> RankResult<T> {
 
 /// What every rank reads: the scene, the thread count, and at rank 0 the
 /// output directory.
-fn prepare(
-    args: &SceneArgs,
-    rank: usize,
-) -> Result<(ResolvedScene, usize, Option<AtomicDir>), CliError> {
-    if args.restart.is_some() {
-        return Err(CliError::input(anyhow!(
-            "--restart is not available under MPI yet (checkpoints are written and read by \
-             one process): run the restart without mpirun"
-        )));
-    }
+fn prepare(args: &SceneArgs, rank: usize) -> Result<Prepared, CliError> {
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
     let base = args.file.parent().unwrap_or(Path::new("."));
     let resolved = resolve(&file, base).map_err(scene_error)?;
@@ -95,8 +92,18 @@ fn prepare(
         (Some(dir), 0) => Some(super::output_dir(dir, "scene")?),
         _ => None,
     };
-    Ok((resolved, threads, out))
+    // Every rank reads the checkpoint (as it reads the scene file) and
+    // keeps its own bodies of it.
+    let restart = match &args.restart {
+        Some(path) => Some(checkpoint::read(path).map_err(scene_error)?.state),
+        None => None,
+    };
+    Ok((resolved, threads, out, restart))
 }
+
+/// The scene, the threads per rank, the output directory (rank 0) and
+/// the checkpoint to continue.
+type Prepared = (ResolvedScene, usize, Option<AtomicDir>, Option<Checkpoint>);
 
 /// The `--json` object: the one-process run's keys, plus the ranks'.
 #[derive(Debug, Serialize)]
@@ -117,14 +124,32 @@ struct MpiReport {
     rank_bytes_per_step: Vec<f64>,
     /// Of which at neighbour-list rebuilds.
     rank_rebuild_bytes_per_step: Vec<f64>,
+    /// Free bodies owned by each rank at the end, at the first list build
+    /// of this run, and just before the last re-partition (empty if none).
+    rank_free_particles: Vec<usize>,
+    rank_free_particles_start: Vec<usize>,
+    rank_free_particles_before_rebalance: Vec<usize>,
+    /// Largest over mean of `rank_free_particles`.
+    imbalance: f64,
+    /// `parallel.rebalance_threshold` (null: never).
+    rebalance_threshold: Option<f64>,
+    /// Re-partitions in this run.
+    rebalances: u64,
+    /// The sub-domain cuts along x, y and z at the end, m.
+    cuts: [Vec<f64>; 3],
 }
 
 fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let rank = t.rank();
-    let (resolved, threads, mut out) = agree(t, prepare(args, rank))?;
+    let (resolved, threads, mut out, restart) = agree(t, prepare(args, rank))?;
     let grid = resolved.file.parallel.grid;
-    let built = DistributedSimulation::new(&resolved.setup, threads, grid, t);
+    let built = match &restart {
+        Some(c) => DistributedSimulation::restore(&resolved.setup, c, threads, grid, t),
+        None => DistributedSimulation::new(&resolved.setup, threads, grid, t),
+    };
     let mut sim = agree(t, built.map_err(scene_error))?;
+    let threshold = resolved.file.parallel.rebalance_threshold;
+    sim.set_rebalance_threshold(threshold.unwrap_or(DEFAULT_REBALANCE_THRESHOLD));
 
     let total = sim.total_steps();
     let start = sim.steps_done();
@@ -186,8 +211,19 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     }
     let stepping = t.max(sim.stepping_seconds());
     let reports = sim.rank_reports();
+    let free = sim.free_counts();
+    let balance = sim.balance_report();
     let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
     let final_state = sim.gather_state();
+    // The checkpoint, gathered at rank 0 in input order (collective).
+    let saved = if args.out.is_some() {
+        match sim.checkpoint() {
+            Ok(c) => c,
+            Err(e) => write_failed(e.into()),
+        }
+    } else {
+        None
+    };
     if rank != 0 {
         return Ok(());
     }
@@ -231,10 +267,17 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         rank_seconds_per_step: reports.iter().map(|r| r.seconds_per_step).collect(),
         rank_bytes_per_step: reports.iter().map(|r| r.bytes_per_step).collect(),
         rank_rebuild_bytes_per_step: reports.iter().map(|r| r.rebuild_bytes_per_step).collect(),
+        imbalance: imbalance(&free),
+        rank_free_particles: free,
+        rank_free_particles_start: balance.free_at_start,
+        rank_free_particles_before_rebalance: balance.free_before_last,
+        rebalance_threshold: balance.threshold.is_finite().then_some(balance.threshold),
+        rebalances: balance.rebalances,
+        cuts: balance.cuts,
     };
     let written = match (out, final_state) {
         (Some(out), Some(state)) => {
-            match finish_outputs(out, &resolved, &rows, &snapshots, &state) {
+            match finish_outputs(out, &resolved, &rows, &snapshots, &state, saved) {
                 Ok(w) => w,
                 Err(e) => write_failed(e),
             }
@@ -246,14 +289,15 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         super::json_text(&doc).map_err(Fail::Print)?
     } else {
         let mut s = format!(
-            "{} spheres on {} MPI ranks (grid {:?}; per rank {:?} owned); ran {} steps to t = {} s \
-             in {:.3} s ({:.3e} particle-steps/s)\n\
+            "{} spheres on {} MPI ranks (grid {:?}; per rank {:?} owned, {} re-partitions); ran {} \
+             steps to t = {} s in {:.3} s ({:.3e} particle-steps/s)\n\
              energy: kinetic {:.6e} J, elastic {:.6e} J, potential {:.6e} J, dissipated {:.3e} J\n\
              contacts now: {} particle–particle, {} particle–wall\n",
             n,
             t.size(),
             doc.grid,
             doc.rank_particles,
+            doc.rebalances,
             span,
             doc.report.time,
             stepping,
@@ -320,6 +364,7 @@ fn finish_outputs(
     rows: &[Observation],
     snapshots: &[(f64, String)],
     state: &GatheredState,
+    saved: Option<Checkpoint>,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     out.write("snapshots.pvd", |w| Ok(vtk::write_series(w, snapshots)?))?;
     let walls = resolved.setup.walls.len();
@@ -349,5 +394,13 @@ fn finish_outputs(
         )?;
         Ok(w.write_all(toml.as_bytes())?)
     })?;
+    // The engine's checkpoint format: `--restart` continues it on any
+    // number of ranks, or without mpirun.
+    if let Some(c) = saved {
+        let file = CheckpointFile::new(resolved.file.clone(), c);
+        out.write("checkpoint.cbor", |w| {
+            checkpoint::write(w, &file).map_err(|e| anyhow!(e))
+        })?;
+    }
     out.commit()
 }

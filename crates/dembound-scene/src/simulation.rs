@@ -928,9 +928,22 @@ impl Simulation {
             w.bodies.torque.clone_from(&c.torque);
         }
         sim.pipeline.neighbours(w, &sim.workers);
-        w.bodies.position.clone_from(&c.position);
-        w.bodies.force.clone_from(&c.force);
-        w.bodies.higher.clone_from(&c.higher);
+        // The build sorts the bodies by cell: a checkpoint written in the
+        // engine's order is already sorted (the order stays), one in
+        // another order (a decomposed run's, input order) is not; the
+        // arrays not moved with the bodies are taken by id.
+        let mut entry = vec![0usize; n];
+        for (k, &id) in c.order.iter().enumerate() {
+            entry[id as usize] = k;
+        }
+        let by_id = |k: usize| entry[w.bodies.id[k] as usize];
+        w.bodies.position = (0..n).map(|k| c.position[by_id(k)]).collect();
+        w.bodies.force = (0..n).map(|k| c.force[by_id(k)]).collect();
+        w.bodies.higher = if c.higher.is_empty() {
+            Vec::new()
+        } else {
+            (0..n).map(|k| c.higher[by_id(k)]).collect()
+        };
         w.ghosts.update(&w.bodies.position, &w.bodies.velocity);
         w.steps_done = c.steps_done;
         w.rebuilds = c.list_builds;

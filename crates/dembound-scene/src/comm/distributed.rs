@@ -61,6 +61,11 @@ use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
 
+// Checkpoint and restart on any number of ranks, load re-balancing
+// (child modules: they reach this rank's private state).
+pub mod balance;
+mod checkpoint;
+
 /// The error of a rank whose setup was fine when another rank's was not
 /// (that rank's error says why).
 pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
@@ -154,6 +159,8 @@ pub struct DistributedSimulation<T: Transport> {
     in_cell_order: bool,
     /// This step's first half is done (fused into the last force stage).
     advanced: bool,
+    /// Load re-balancing ([`balance`]).
+    balance: balance::Balance,
 }
 
 /// Decomposed runs are without the collision log (for now): it is
@@ -304,6 +311,7 @@ impl<T: Transport> DistributedSimulation<T> {
             migrated: 0,
             in_cell_order: false,
             advanced: false,
+            balance: balance::Balance::default(),
         };
         me.rebuild();
         let sim = &mut me.sim;
@@ -388,6 +396,8 @@ impl<T: Transport> DistributedSimulation<T> {
 
     /// Migration, a new halo and new lists. Collective.
     fn rebuild(&mut self) {
+        // Re-balancing may move the cuts first (the migration follows).
+        self.rebalance();
         let rank = self.transport.rank();
         let world = &mut self.sim.world;
         let mut saved = save_pairs(world);

@@ -20,6 +20,10 @@ pub struct Decomposition {
     /// The region cut, m.
     pub lower: [f64; 3],
     pub upper: [f64; 3],
+    /// Along each axis the grid[a] + 1 cut positions, m, lower to upper:
+    /// even at first (lower + k L / g), moved by [`Self::set_cuts`] when
+    /// the load is re-balanced (the grid stays).
+    cuts: [Vec<f64>; 3],
 }
 
 impl Decomposition {
@@ -72,12 +76,46 @@ impl Decomposition {
                 ));
             }
         }
+        let cuts = [0, 1, 2].map(|a| {
+            let l = upper[a] - lower[a];
+            (0..=grid[a])
+                .map(|k| lower[a] + l * (k as f64) / (grid[a] as f64))
+                .collect()
+        });
         Ok(Self {
             domain,
             grid,
             lower,
             upper,
+            cuts,
         })
+    }
+
+    /// The grid[a] + 1 cut positions along axis a, m.
+    pub fn cuts(&self, a: usize) -> &[f64] {
+        &self.cuts[a]
+    }
+
+    /// Moves the grid[a] − 1 inner cuts along axis a to `inner` (m,
+    /// non-decreasing; an empty sub-domain is allowed). The outer cuts
+    /// stay, widened if an inner one passes them (the edge sub-domains
+    /// reach past the region anyway). Returns false (nothing changed) if
+    /// `inner` has the wrong length, is not finite or decreases.
+    pub fn set_cuts(&mut self, a: usize, inner: &[f64]) -> bool {
+        let g = self.grid[a];
+        let ok = inner.len() + 1 == g
+            && inner.iter().all(|x| x.is_finite())
+            && inner.windows(2).all(|w| w[0] <= w[1]);
+        if !ok {
+            return false;
+        }
+        let c = &mut self.cuts[a];
+        c[1..g].copy_from_slice(inner);
+        if let (Some(&first), Some(&last)) = (inner.first(), inner.last()) {
+            c[0] = c[0].min(first);
+            c[g] = c[g].max(last);
+        }
+        true
     }
 
     pub fn ranks(&self) -> usize {
@@ -90,8 +128,8 @@ impl Decomposition {
         [r % gx, (r / gx) % gy, r / (gx * gy)]
     }
 
-    /// Lower and upper corner of rank r's sub-domain, m. Cuts at
-    /// lower + k L / g (the same arithmetic as [`Self::owner`]).
+    /// Lower and upper corner of rank r's sub-domain, m: between its cuts
+    /// (the same numbers as [`Self::owner`] compares with).
     pub fn bounds(&self, r: usize) -> ([f64; 3], [f64; 3]) {
         let c = self.coords(r);
         let mut lo = [0.0; 3];
@@ -104,8 +142,7 @@ impl Decomposition {
     }
 
     fn cut(&self, a: usize, k: usize) -> f64 {
-        let l = self.upper[a] - self.lower[a];
-        self.lower[a] + l * (k as f64) / (self.grid[a] as f64)
+        self.cuts[a][k]
     }
 
     /// Rank owning point x: the sub-domain containing it, points outside
@@ -296,6 +333,35 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("periodic"), "{e}");
+    }
+
+    /// Moved cuts: owner, bounds and the halo follow them; bad cuts are
+    /// refused and change nothing.
+    #[test]
+    fn moved_cuts() {
+        let mut d =
+            Decomposition::new(unit_box([false; 3]), 3, Some([1, 1, 3]), 0.01, None).unwrap();
+        assert_eq!(d.cuts(2), &[0.0, 2.0 / 3.0, 4.0 / 3.0, 2.0]);
+        assert!(d.set_cuts(2, &[0.1, 0.3]));
+        assert_eq!(d.cuts(2), &[0.0, 0.1, 0.3, 2.0]);
+        assert_eq!(d.owner([0.5, 0.5, 0.05]), 0);
+        assert_eq!(d.owner([0.5, 0.5, 0.1]), 1);
+        assert_eq!(d.owner([0.5, 0.5, 0.29]), 1);
+        assert_eq!(d.owner([0.5, 0.5, 1.5]), 2);
+        assert_eq!(d.bounds(1), ([0.0, 0.0, 0.1], [1.0, 1.0, 0.3]));
+        // 0.25 reaches both neighbours of the middle slab (0.15 and 0.05
+        // away), 0.1 only the upper one.
+        assert_eq!(d.ranks_within([0.5, 0.5, 0.25], 0.16), vec![0, 2]);
+        assert_eq!(d.ranks_within([0.5, 0.5, 0.25], 0.1), vec![2]);
+        // An empty middle slab; a cut below the region widens it.
+        assert!(d.set_cuts(2, &[-0.5, -0.5]));
+        assert_eq!(d.cuts(2), &[-0.5, -0.5, -0.5, 2.0]);
+        assert_eq!(d.owner([0.5, 0.5, -0.5]), 2);
+        assert_eq!(d.owner([0.5, 0.5, -0.6]), 0);
+        for bad in [&[0.3, 0.1][..], &[0.1][..], &[0.1, f64::NAN][..]] {
+            assert!(!d.set_cuts(2, bad));
+        }
+        assert_eq!(d.cuts(2), &[-0.5, -0.5, -0.5, 2.0]);
     }
 
     /// A bed in the bottom tenth of a tall box: cut where the bodies are.

@@ -48,6 +48,12 @@ pub struct ParallelSection {
     /// sub-domain surface for the box.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grid: Option<[usize; 3]>,
+    /// Move the cuts between sub-domains (at a neighbour-list rebuild)
+    /// when the largest rank's owned free particles exceed this many times
+    /// the mean; > 1, `inf`: never. Default 1.2
+    /// (`comm::distributed::balance`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rebalance_threshold: Option<f64>,
 }
 
 impl ParallelSection {
@@ -559,6 +565,14 @@ impl SceneFile {
                 "parallel.grid",
                 format!("{g:?}"),
                 "three sub-domain counts, each ≥ 1 (their product: the number of MPI ranks)",
+            )?;
+        }
+        if let Some(t) = self.parallel.rebalance_threshold {
+            check(
+                t > 1.0,
+                "parallel.rebalance_threshold",
+                t,
+                "> 1 (largest over mean of the ranks' free particles; inf: never re-balance)",
             )?;
         }
         Ok(())

@@ -119,6 +119,16 @@ fn validation_table() {
         ("parallel.grid=[0, 1, 2]", "parallel.grid", "each ≥ 1"),
         ("parallel.grid=[1, 2]", "parallel.grid", "3"),
         ("parallel.ranks=2", "parallel.ranks", "grid"),
+        (
+            "parallel.rebalance_threshold=1.0",
+            "parallel.rebalance_threshold",
+            "> 1",
+        ),
+        (
+            "parallel.rebalance_threshold=nan",
+            "parallel.rebalance_threshold",
+            "inf: never",
+        ),
         ("domain.lower=[0.0, nan, 0.0]", "domain.lower", "finite"),
         ("domain.periodic=[true]", "domain.periodic", "3"),
         (
