@@ -760,7 +760,7 @@ impl Simulation {
     /// forces, counts and energy, plane tangential forces, spring energy
     /// (see [`Self::observe`]).
     #[allow(clippy::type_complexity)]
-    fn contact_observables(
+    pub(crate) fn contact_observables(
         &self,
     ) -> (
         usize,
