@@ -11,6 +11,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{self, LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
+use crate::dynamics::friction_observables;
 use crate::dynamics::spring_energy;
 use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
 use crate::error::SceneError;
@@ -686,6 +687,92 @@ impl Simulation {
     /// Every global observable at the current state.
     pub fn observe(&self) -> Observation {
         let w = &self.world;
+        // With friction, one pass gives what the four below give, with
+        // the same bits (`friction_observables`).
+        let fused = w.friction.as_ref().and_then(|table| {
+            friction_observables::observe(
+                &w.bodies,
+                &w.list,
+                &w.histories,
+                table,
+                &w.shear,
+                &w.planes,
+                &w.wall_contacts,
+                &w.wall_shear,
+                &self.workers,
+            )
+        });
+        let (pc, wc, pe, plane_forces, plane_contacts, plane_energy, tangential, springs) =
+            match fused {
+                Some(o) => (
+                    o.particle_contacts,
+                    o.boundary_contacts,
+                    o.pair_energy,
+                    o.plane_forces,
+                    o.plane_contacts,
+                    o.plane_energy,
+                    o.plane_tangential,
+                    o.spring_energy,
+                ),
+                None => self.contact_observables(),
+            };
+        let mut wall_forces = vec![[0.0; 3]; w.walls.len()];
+        // Boundary-particle walls: their spheres in input order.
+        if w.walls.iter().any(|k| !matches!(k, WallKind::Plane(_))) {
+            let force_in = w.bodies.in_input_order(&w.bodies.force);
+            let group_in = w.bodies.in_input_order(&w.bodies.group);
+            for (k, g) in group_in.iter().enumerate() {
+                if *g != NO_GROUP {
+                    let f = &mut wall_forces[*g as usize];
+                    for a in 0..3 {
+                        f[a] += force_in[k][a];
+                    }
+                }
+            }
+        }
+        for (wi, kind) in w.walls.iter().enumerate() {
+            if let WallKind::Plane(p) = kind {
+                wall_forces[wi] = plane_forces[*p];
+                if let Some(t) = tangential.get(*p) {
+                    for a in 0..3 {
+                        wall_forces[wi][a] += t[a];
+                    }
+                }
+            }
+        }
+        let kinetic = self.kinetic_energy();
+        let potential = self.potential_energy();
+        let elastic = pe + plane_energy + springs;
+        Observation {
+            step: w.steps_done,
+            time: w.time(),
+            kinetic_energy: kinetic,
+            elastic_energy: elastic,
+            potential_energy: potential,
+            dissipated_energy: self.initial_energy - (kinetic + elastic + potential),
+            particle_contacts: pc,
+            wall_contacts: wc + plane_contacts,
+            wall_forces,
+        }
+    }
+
+    /// The contact observables pass by pass: pair counts and energy, plane
+    /// forces, counts and energy, plane tangential forces, spring energy
+    /// (see [`Self::observe`]).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn contact_observables(
+        &self,
+    ) -> (
+        usize,
+        usize,
+        f64,
+        Vec<[f64; 3]>,
+        usize,
+        f64,
+        Vec<[f64; 3]>,
+        f64,
+    ) {
+        let w = &self.world;
         let (pc, wc, pe) = contacts::pair_observables(
             &w.bodies,
             &w.ghosts,
@@ -701,18 +788,6 @@ impl Simulation {
             &w.laws,
             &self.workers,
         );
-        let mut wall_forces = vec![[0.0; 3]; w.walls.len()];
-        // Boundary-particle walls: their spheres in input order.
-        let force_in = w.bodies.in_input_order(&w.bodies.force);
-        let group_in = w.bodies.in_input_order(&w.bodies.group);
-        for (k, g) in group_in.iter().enumerate() {
-            if *g != NO_GROUP {
-                let f = &mut wall_forces[*g as usize];
-                for a in 0..3 {
-                    f[a] += force_in[k][a];
-                }
-            }
-        }
         let tangential = match &w.friction {
             Some(table) => friction::plane_tangential_forces(
                 &w.bodies,
@@ -724,16 +799,6 @@ impl Simulation {
             ),
             None => Vec::new(),
         };
-        for (wi, kind) in w.walls.iter().enumerate() {
-            if let WallKind::Plane(p) = kind {
-                wall_forces[wi] = plane_forces[*p];
-                if let Some(t) = tangential.get(*p) {
-                    for a in 0..3 {
-                        wall_forces[wi][a] += t[a];
-                    }
-                }
-            }
-        }
         let springs = match &w.friction {
             Some(table) => spring_energy::spring_energy(
                 &w.bodies,
@@ -748,20 +813,16 @@ impl Simulation {
             ),
             None => 0.0,
         };
-        let kinetic = self.kinetic_energy();
-        let potential = self.potential_energy();
-        let elastic = pe + plane_energy + springs;
-        Observation {
-            step: w.steps_done,
-            time: w.time(),
-            kinetic_energy: kinetic,
-            elastic_energy: elastic,
-            potential_energy: potential,
-            dissipated_energy: self.initial_energy - (kinetic + elastic + potential),
-            particle_contacts: pc,
-            wall_contacts: wc + plane_contacts,
-            wall_forces,
-        }
+        (
+            pc,
+            wc,
+            pe,
+            plane_forces,
+            plane_contacts,
+            plane_energy,
+            tangential,
+            springs,
+        )
     }
 
     /// Completed contacts so far, in the order they ended.

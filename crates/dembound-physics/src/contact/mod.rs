@@ -305,6 +305,7 @@ impl PairLaw {
     /// Elastic energy stored in the contact at `overlap` (J), for energy
     /// balances: the normal law's ([`NormalPair::elastic_energy`]); the
     /// damping stores none.
+    #[inline]
     pub fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64 {
         self.normal.elastic_energy(overlap, history)
     }

@@ -280,6 +280,7 @@ macro_rules! normal_registry {
             }
 
             /// [`NormalSubModel::elastic_energy`].
+            #[inline]
             pub fn elastic_energy(&self, overlap: f64, history: &ContactHistory) -> f64 {
                 match self { $( NormalPair::$V(law) => law.elastic_energy(overlap, history), )+ }
             }

@@ -84,13 +84,14 @@ pub struct FrictionTable {
     materials: Vec<Material>,
     /// Material index and wall index of each plane.
     plane_surfaces: Vec<(u32, usize)>,
-    classes: usize,
+    /// Body classes of the tables (0: no tables).
+    pub(crate) classes: usize,
     /// Per class pair (a · classes + b): the normal law beside its
     /// friction, so that the force loops read both by reference from one
     /// row (no per-contact copies).
-    pairs: Vec<FrictionLaw>,
+    pub(crate) pairs: Vec<FrictionLaw>,
     /// Per class and plane (a · planes + p).
-    planes: Vec<FrictionLaw>,
+    pub(crate) planes: Vec<FrictionLaw>,
     /// Some surface has rolling friction (μ_r > 0): the rolling springs
     /// are stored and evaluated; else they are skipped entirely.
     rolling: bool,

@@ -4,6 +4,7 @@
 pub mod collisions;
 pub mod contacts;
 pub mod friction;
+pub mod friction_observables;
 pub mod integrate;
 pub mod kinks;
 pub mod spring_energy;

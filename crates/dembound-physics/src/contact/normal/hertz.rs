@@ -29,6 +29,7 @@ impl NormalSubModel for Hertz {
     }
 
     /// (2/5) k h^(5/2).
+    #[inline]
     fn elastic_energy(&self, overlap: f64, _history: &ContactHistory) -> f64 {
         0.4 * self.stiffness * overlap * overlap * overlap.abs().sqrt()
     }

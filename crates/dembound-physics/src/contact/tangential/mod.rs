@@ -412,6 +412,7 @@ impl FrictionPair {
     /// overlap): a Mindlin spring whose overlap changes does work
     /// −½ (dk_t/dh) |δ|² dh that no potential holds (LIGGGHTS and LAMMPS
     /// report the same ½ F_t²/k_t).
+    #[inline]
     pub fn spring_energy(
         &self,
         law: &PairLaw,

@@ -1,0 +1,431 @@
+//! The observables of a scene with friction in one pass over the bodies
+//! (issue 13): what `contacts::pair_observables`,
+//! `walls::plane_observables`, `friction::plane_tangential_forces` and
+//! `spring_energy::spring_energy` give, with the same bits.
+//!
+//! Those four passes each test every listed pair or every (body, plane)
+//! again and copy a pair law per contact; at `dembound scene`'s default
+//! cadence (a series row every span/1000 steps: every 10 steps of the
+//! lattice-drop benchmark) they cost 1.6 steps of forces per row. Here each
+//! listed pair is tested once (positions only: the energies need no
+//! velocity), the laws are read by reference from the class table, and the
+//! planes are those the force pass looks at (a body's `near` and `touching`
+//! masks; a body touches no other before the list is rebuilt, as
+//! `plane_tangential_forces` and the force pass rely on).
+//!
+//! Every sum keeps its own accumulator, chunks and order, so each number
+//! is bit for bit the one the separate passes give:
+//! - pair counts, pair elastic energy and spring energy: per body, then
+//!   per chunk of [`BODY_CHUNK`] in body order, then chunks in order
+//!   (`Workers::sum`); a body's spring energy is its pairs' then its
+//!   planes' (in plane order), as in `spring_energy`;
+//! - plane forces, plane contact count and plane elastic energy: into one
+//!   accumulator per chunk in (body, plane) order, then chunks in order
+//!   (`plane_observables`);
+//! - plane tangential forces: one running sum over (body, plane) in order
+//!   (`plane_tangential_forces`): each chunk lists its terms, applied in
+//!   chunk order.
+//!
+//! The fast path needs the class table and a list without extra pairs;
+//! otherwise [`observe`] returns `None` and the caller uses the separate
+//! passes.
+
+use super::contacts::{PairHistories, NO_HISTORY};
+use super::friction::{cross, tangential, FrictionLaw, FrictionTable, PairShear, WallShear};
+use super::walls::{plane_overlap, PlaneWall, WallContacts};
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::geometry::neighbour::PairList;
+use crate::parallel::{Workers, BODY_CHUNK};
+
+/// The observables of the contacts, as the separate passes return them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactObservables {
+    /// Pairs in contact, neither in a boundary-particle wall.
+    pub particle_contacts: usize,
+    /// Pairs in contact with a boundary particle.
+    pub boundary_contacts: usize,
+    /// Normal elastic energy of the touching pairs, J.
+    pub pair_energy: f64,
+    /// Per plane: the normal force on the wall, N.
+    pub plane_forces: Vec<[f64; 3]>,
+    /// Sphere–plane contacts.
+    pub plane_contacts: usize,
+    /// Normal elastic energy of the sphere–plane contacts, J.
+    pub plane_energy: f64,
+    /// Per plane: the tangential force on the wall, N.
+    pub plane_tangential: Vec<[f64; 3]>,
+    /// Energy of the tangential and rolling springs, J.
+    pub spring_energy: f64,
+}
+
+/// What one chunk of bodies adds.
+struct Chunk {
+    /// Σ over the chunk's bodies of (pair count, boundary count, pair
+    /// energy, spring energy), each body's own sum first.
+    pairs: [f64; 4],
+    /// Plane forces (3 per plane), then count, then energy.
+    planes: Vec<f64>,
+    /// (plane, tangential force on the sphere) in (body, plane) order.
+    tangential: Vec<(usize, [f64; 3])>,
+}
+
+/// All of them in one pass; `None` when the fast path does not apply (no
+/// class table, extra pairs, or a list or springs not aligned with the
+/// bodies): then the separate passes give them.
+#[allow(clippy::too_many_arguments)]
+pub fn observe(
+    bodies: &Bodies,
+    list: &PairList,
+    histories: &PairHistories,
+    friction: &FrictionTable,
+    shear: &PairShear,
+    planes: &[PlaneWall],
+    walls: &WallContacts,
+    wall_shear: &[WallShear],
+    workers: &Workers,
+) -> Option<ContactObservables> {
+    let n = bodies.len();
+    let np = planes.len();
+    let classes = friction.classes;
+    let aligned = list.start.len() == n + 1
+        && list.extra.is_empty()
+        && shear.main.len() == list.j.len()
+        && (!shear.rolling || shear.roll_main.len() == list.j.len())
+        && (np == 0
+            || (wall_shear.len() == n * np && walls.near.len() == n && walls.touching.len() == n))
+        && bodies.class.len() == n
+        && bodies.group.len() == n;
+    if classes == 0 || !aligned {
+        return None;
+    }
+    let pass = Pass {
+        bodies,
+        list,
+        histories,
+        shear,
+        planes,
+        walls,
+        wall_shear,
+        table: &friction.pairs,
+        plane_table: &friction.planes,
+        classes,
+    };
+    #[cfg(target_arch = "x86_64")]
+    let avx2 = std::is_x86_feature_detected!("avx2");
+    let partial = workers.map_bodies(n, BODY_CHUNK, |c| {
+        let (lo, hi) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: the processor has AVX2 (checked above).
+            return unsafe { pass.chunk_avx2(lo, hi) };
+        }
+        pass.chunk(lo, hi)
+    });
+    let width = 3 * np + 2;
+    let mut pairs = [0.0; 4];
+    let mut plane_sums = vec![0.0; width];
+    let mut plane_tangential = vec![[0.0; 3]; np];
+    for chunk in partial {
+        for (sum, x) in pairs.iter_mut().zip(chunk.pairs) {
+            *sum += x;
+        }
+        for (sum, x) in plane_sums.iter_mut().zip(&chunk.planes) {
+            *sum += x;
+        }
+        for (p, ft) in chunk.tangential {
+            for a in 0..3 {
+                plane_tangential[p][a] -= ft[a];
+            }
+        }
+    }
+    Some(ContactObservables {
+        particle_contacts: pairs[0] as usize,
+        boundary_contacts: pairs[1] as usize,
+        pair_energy: pairs[2],
+        plane_forces: (0..np)
+            .map(|p| {
+                [
+                    plane_sums[3 * p],
+                    plane_sums[3 * p + 1],
+                    plane_sums[3 * p + 2],
+                ]
+            })
+            .collect(),
+        plane_contacts: plane_sums[3 * np] as usize,
+        plane_energy: plane_sums[3 * np + 1],
+        plane_tangential,
+        spring_energy: pairs[3],
+    })
+}
+
+/// What the pass reads (lengths checked by [`observe`]).
+#[derive(Clone, Copy)]
+struct Pass<'a> {
+    bodies: &'a Bodies,
+    list: &'a PairList,
+    histories: &'a PairHistories,
+    shear: &'a PairShear,
+    planes: &'a [PlaneWall],
+    walls: &'a WallContacts,
+    wall_shear: &'a [WallShear],
+    table: &'a [FrictionLaw],
+    plane_table: &'a [FrictionLaw],
+    classes: usize,
+}
+
+impl Pass<'_> {
+    /// [`Self::chunk`] compiled for AVX2: no fused multiply–add (Rust does
+    /// not contract a·b + c), so the same bits with fewer instructions, as
+    /// the force kernels.
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    unsafe fn chunk_avx2(&self, lo: usize, hi: usize) -> Chunk {
+        self.chunk(lo, hi)
+    }
+
+    /// Bodies lo..hi.
+    #[inline(always)]
+    fn chunk(&self, lo: usize, hi: usize) -> Chunk {
+        let Pass {
+            bodies,
+            list,
+            histories,
+            shear,
+            planes,
+            walls,
+            wall_shear,
+            table,
+            plane_table,
+            classes,
+        } = *self;
+        let np = planes.len();
+        let mut out = Chunk {
+            pairs: [0.0; 4],
+            planes: vec![0.0; 3 * np + 2],
+            tangential: Vec::new(),
+        };
+        let (position, radius, class, group) = (
+            &bodies.position[..],
+            &bodies.radius[..],
+            &bodies.class[..],
+            &bodies.group[..],
+        );
+        for i in lo..hi {
+            let (xi, ri, ci) = (position[i], radius[i], class[i] as usize);
+            let walled_i = group[i] != NO_GROUP;
+            // `pair_observables`'s per-body sums.
+            let (mut count, mut walled, mut energy) = (0.0, 0.0, 0.0);
+            // `spring_energy`'s per-body sum.
+            let mut springs = 0.0;
+            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            for (k, (&j, t)) in (s..e).zip(list.j[s..e].iter().zip(&shear.main[s..e])) {
+                let j = j as usize;
+                let xj = position[j];
+                // `contacts::touching`, without the velocities.
+                let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let sum = ri + radius[j];
+                if r2 >= sum * sum || r2 == 0.0 {
+                    continue;
+                }
+                let overlap = sum - r2.sqrt();
+                let fl = &table[ci * classes + class[j] as usize];
+                if walled_i || group[j] != NO_GROUP {
+                    walled += 1.0;
+                } else {
+                    count += 1.0;
+                }
+                energy += fl.law.elastic_energy(overlap, histories.main(k));
+                let r = if shear.rolling {
+                    shear.roll_main[k]
+                } else {
+                    [0.0; 3]
+                };
+                if *t != [0.0; 3] || r != [0.0; 3] {
+                    springs += fl.friction.spring_energy(&fl.law, overlap, t, &r);
+                }
+            }
+            if np > 0 && !bodies.fixed[i] {
+                let (v, w) = (bodies.velocity[i], bodies.angular_velocity[i]);
+                let mut todo = walls.near[i] | walls.touching[i];
+                while todo != 0 {
+                    let p = todo.trailing_zeros() as usize;
+                    todo &= todo - 1;
+                    let plane = &planes[p];
+                    let (h, rate) = plane_overlap(plane, xi, v, ri);
+                    if h <= 0.0 {
+                        continue;
+                    }
+                    let fl = &plane_table[ci * np + p];
+                    let hist = walls.history.get(i * np + p).unwrap_or(&NO_HISTORY);
+                    // `plane_observables`.
+                    let fw = fl.law.force(h, rate, hist);
+                    for a in 0..3 {
+                        out.planes[3 * p + a] -= fw * plane.normal[a];
+                    }
+                    out.planes[3 * np] += 1.0;
+                    out.planes[3 * np + 1] += fl.law.elastic_energy(h, hist);
+                    // `plane_tangential_forces`, with the same operations:
+                    // n = −normal (exactly its −1·normal), v_t from
+                    // v + (r ω) × n.
+                    let n = plane.normal.map(|x| -x);
+                    let sp = cross([ri * w[0], ri * w[1], ri * w[2]], n);
+                    let vt = tangential([v[0] + sp[0], v[1] + sp[1], v[2] + sp[2]], n);
+                    let stored = &wall_shear[i * np + p].shear;
+                    let mut ds = [stored[0], stored[1], stored[2]];
+                    let ft = fl.friction.tangential_force(h, fw, n, vt, 0.0, &mut ds);
+                    out.tangential.push((p, ft));
+                    // `spring_energy`'s planes.
+                    if *stored != [0.0; 6] {
+                        let t = [stored[0], stored[1], stored[2]];
+                        let r = [stored[3], stored[4], stored[5]];
+                        springs += fl.friction.spring_energy(&fl.law, h, &t, &r);
+                    }
+                }
+            }
+            for (sum, x) in out.pairs.iter_mut().zip([count, walled, energy, springs]) {
+                *sum += x;
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
+    use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
+    use dembound_physics::material::Material;
+
+    use crate::setup::{
+        DomainSetup, FrictionSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+    };
+    use crate::{SceneSetup, Simulation};
+
+    /// A dropping lattice of two sizes (two body classes) in a box of six
+    /// planes, Hertz + Tsuji (e = 0.3), Mindlin μ = 0.5 and rolling
+    /// friction 0.05 everywhere: impacts, sliding and sticking on pairs and
+    /// planes, damping and rolling springs.
+    fn scene() -> SceneSetup {
+        let (side, layers, a, c) = (6, 5, 1.2e-3, 0.54e-3);
+        let upper = [side as f64 * a + 0.5 * a, side as f64 * a + 0.5 * a, 0.02];
+        let mut s = SceneSetup::new(
+            DomainSetup {
+                lower: [0.0; 3],
+                upper,
+                periodic: [false; 3],
+            },
+            ContactModel::damped(
+                NormalLaw::Hertz,
+                Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
+            ),
+            TimeStep::Fixed(2.0e-5),
+            RunLength::Steps(0),
+        );
+        s.gravity = [0.0, 0.0, -9.81];
+        s.neighbour.skin = Some(1.0e-4);
+        s.materials.push(NamedMaterial {
+            name: "grain".into(),
+            material: Material {
+                density: 1000.0,
+                youngs_modulus: 1.0e7,
+                poisson_ratio: 0.3,
+            },
+        });
+        for k in 0..layers {
+            let shift = 0.5 * a * (k % 2) as f64;
+            for j in 0..side {
+                for i in 0..side {
+                    s.spheres.push(SphereInit {
+                        position: [
+                            0.5 * a + i as f64 * a + shift,
+                            0.5 * a + j as f64 * a + shift,
+                            0.505e-3 + k as f64 * c,
+                        ],
+                        velocity: [1.0e-2 * (i as f64 - 2.5), 0.0, 0.0],
+                        radius: if (i + j + k) % 2 == 0 {
+                            0.5e-3
+                        } else {
+                            0.45e-3
+                        },
+                        material: 0,
+                        fixed: false,
+                        group: None,
+                    });
+                }
+            }
+        }
+        for axis in 0..3 {
+            let mut n = [0.0; 3];
+            n[axis] = 1.0;
+            s.walls.push(WallSetup::Plane {
+                point: [0.0; 3],
+                normal: n,
+                material: 0,
+            });
+            n[axis] = -1.0;
+            s.walls.push(WallSetup::Plane {
+                point: upper,
+                normal: n,
+                material: 0,
+            });
+        }
+        s.friction = Some(FrictionSetup {
+            model: FrictionModel {
+                tangential: TangentialKind::Mindlin,
+                friction: 0.5,
+                rolling_friction: 0.05,
+            },
+            materials: Vec::new(),
+            walls: vec![Some((0.5, 0.05)); 6],
+        });
+        s
+    }
+
+    /// The one pass gives the separate passes' numbers bit for bit, along a
+    /// run and on 1 and 2 threads (the expected values are the separate
+    /// passes', an independent computation of the same sums).
+    #[test]
+    fn one_pass_equals_the_separate_passes_bit_for_bit() {
+        for threads in [1, 2] {
+            let mut sim = Simulation::new(scene(), threads).unwrap();
+            let mut checked = 0;
+            for _ in 0..30 {
+                sim.step(50);
+                let w = &sim.world;
+                let one = super::observe(
+                    &w.bodies,
+                    &w.list,
+                    &w.histories,
+                    w.friction.as_ref().unwrap(),
+                    &w.shear,
+                    &w.planes,
+                    &w.wall_contacts,
+                    &w.wall_shear,
+                    &sim.workers,
+                )
+                .expect("the fast path applies: class table, no extra pairs");
+                let (pc, wc, pe, forces, plane_contacts, plane_energy, tangential, springs) =
+                    sim.contact_observables();
+                let bits = |v: &[[f64; 3]]| -> Vec<u64> {
+                    v.iter().flatten().map(|x| x.to_bits()).collect()
+                };
+                assert_eq!((one.particle_contacts, one.boundary_contacts), (pc, wc));
+                assert_eq!(one.plane_contacts, plane_contacts);
+                assert_eq!(one.pair_energy.to_bits(), pe.to_bits());
+                assert_eq!(one.plane_energy.to_bits(), plane_energy.to_bits());
+                assert_eq!(one.spring_energy.to_bits(), springs.to_bits());
+                assert_eq!(bits(&one.plane_forces), bits(&forces));
+                assert_eq!(bits(&one.plane_tangential), bits(&tangential));
+                if pc > 0 && plane_contacts > 0 && springs > 0.0 {
+                    checked += 1;
+                }
+            }
+            // Most checks see pair and plane contacts with loaded springs.
+            assert!(checked > 20, "{checked}");
+        }
+    }
+}
