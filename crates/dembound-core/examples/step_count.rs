@@ -2,10 +2,14 @@
 //!
 //! `step_count steps SCHEME LAW N` runs N in-contact steps (as
 //! `benches/steps.rs` does); `step_count case STEPPING N` runs the
-//! validation case N times. Instructions per step = difference of two
-//! callgrind totals at different N, divided by the difference in N.
+//! validation case N times; `step_count damped MODEL ETA` runs one damped
+//! three-contact scenario at η = ETA through `simulate` (MODEL: `tsuji`,
+//! `viscous`, `viscoelastic`, all clamped, or `viscous-attractive`) and
+//! prints its step count. Instructions per step = difference of two
+//! callgrind totals at different N (or η), divided by the difference in N
+//! (or in steps).
 use dembound_core::bounce::{simulate, Scenario, Stepping};
-use dembound_core::contact::{Hertz, LinearSpring, NormalContactLaw};
+use dembound_core::contact::{ContactLawKind, DampingKind, Hertz, LinearSpring, NormalContactLaw};
 use dembound_core::integrate::{Gear5, Integrator, Scheme, Verlet};
 use dembound_core::material::{Boundary, ContactPair, Particle};
 use std::hint::black_box;
@@ -31,7 +35,30 @@ fn run_steps<I: Integrator, L: NormalContactLaw<History = ()>>(
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let usage =
-        "usage: step_count steps gear5|verlet hertz|linear N | step_count case event|event-verlet|fixed N";
+        "usage: step_count steps gear5|verlet hertz|linear N | step_count case event|event-verlet|fixed N \
+         | step_count damped tsuji|viscous|viscoelastic|viscous-attractive ETA";
+    if args.get(1).map(String::as_str) == Some("damped") {
+        let eta: f64 = args.get(3).and_then(|a| a.parse().ok()).expect(usage);
+        let mut s = Scenario::default();
+        s.motion.contacts = 3;
+        s.integration.eta = Some(eta);
+        let c = &mut s.contact;
+        (c.law, c.damping, c.restitution) = match args[2].as_str() {
+            "tsuji" => (ContactLawKind::Hertz, DampingKind::Tsuji, Some(0.5)),
+            "viscous" | "viscous-attractive" => {
+                (ContactLawKind::Linear, DampingKind::Viscous, Some(0.5))
+            }
+            "viscoelastic" => (ContactLawKind::Hertz, DampingKind::Viscoelastic, None),
+            _ => panic!("{usage}"),
+        };
+        if c.restitution.is_none() {
+            c.damping_coefficient = Some(1e-6);
+        }
+        c.attractive = args[2] == "viscous-attractive";
+        let steps = simulate(black_box(&s), &mut ()).map(|o| o.steps);
+        println!("{steps:?} steps");
+        return;
+    }
     let n: u64 = args.last().and_then(|a| a.parse().ok()).expect(usage);
     let pair = ContactPair::new(Particle::PAPER, Boundary::PAPER);
     let mass = Particle::PAPER.mass();

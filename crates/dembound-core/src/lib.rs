@@ -19,6 +19,8 @@ pub mod contact;
 pub mod exact;
 pub mod integrate;
 pub mod material;
+pub mod record;
 pub mod reference;
+pub mod scenario;
 mod serde_inf;
 pub mod study;

@@ -10,13 +10,14 @@
 //! that shares nothing with the Gear/Verlet time loop or the law types.
 
 use super::{first_contact_time, ExactError};
-use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
 use crate::calibration::damping_coefficient as calibrated_coefficient;
 use crate::contact::{ContactLawKind, DampingKind, Dissipation, Hertz, LinearSpring, WaltonBraun};
+use crate::record::{BodyVelocities, ContactRecord};
 use crate::reference::dissipative::{
     damped_hertz, damped_hertz_max_force, spring_dashpot, spring_dashpot_max_force, walton_braun,
     ContactReference, DampedHertz, ReferenceError,
 };
+use crate::scenario::Scenario;
 
 /// True when `s` has a dissipative contact (damping, or Walton–Braun).
 pub fn is_dissipative(s: &Scenario) -> bool {

@@ -2,8 +2,9 @@
 //! record the integrator produces, so that the two compare field by field.
 
 use super::{contacts, ContactProblem, ExactError, Flight};
-use crate::bounce::{BodyVelocities, ContactRecord, Scenario};
 use crate::contact::ContactLawKind;
+use crate::record::{BodyVelocities, ContactRecord};
+use crate::scenario::Scenario;
 use dembound_physics::contact::registry::Family;
 
 /// The exact problem of a scenario's pair and law (p² from eqs 10–14).
