@@ -233,12 +233,10 @@ impl<T: Transport> DistributedSimulation<T> {
         {
             let w = &mut me.sim.world;
             let b = &mut w.bodies;
-            for k in 0..b.len() {
-                let s = slot[b.id[k] as usize];
-                b.position[k] = c.reference[s];
-                b.velocity[k] = c.velocity[s];
-                b.force[k] = c.force[s];
-            }
+            let entries: Vec<usize> = b.id.iter().map(|&id| slot[id as usize]).collect();
+            b.position = entries.iter().map(|&s| c.reference[s]).collect();
+            b.velocity = entries.iter().map(|&s| c.velocity[s]).collect();
+            b.force = entries.iter().map(|&s| c.force[s]).collect();
             let wc = &mut w.wall_contacts;
             wc.history.fill(ContactHistory::default());
             wc.touching.fill(0);
@@ -290,12 +288,10 @@ impl<T: Transport> DistributedSimulation<T> {
         // The checkpointed step itself (halo copies too: every rank has
         // the whole checkpoint).
         let b = &mut w.bodies;
-        for k in 0..b.len() {
-            let s = slot[b.id[k] as usize];
-            b.position[k] = c.position[s];
-            b.velocity[k] = c.velocity[s];
-            b.force[k] = c.force[s];
-        }
+        let entries: Vec<usize> = b.id.iter().map(|&id| slot[id as usize]).collect();
+        b.position = entries.iter().map(|&s| c.position[s]).collect();
+        b.velocity = entries.iter().map(|&s| c.velocity[s]).collect();
+        b.force = entries.iter().map(|&s| c.force[s]).collect();
         me.sim.pipeline.ghosts(w);
         w.steps_done = c.steps_done;
         w.rebuilds = c.list_builds;
