@@ -226,3 +226,73 @@ fn checkpoint_on_two_ranks_restarts_on_three_and_one() {
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(j["steps"], 4000);
 }
+
+/// Load re-balancing through `mpirun` (examples/scenes/settling_bed.toml:
+/// 360 spheres thrown onto the floor, z cut in three): the JSON reports
+/// each rank's free spheres at the start, before the last re-partition
+/// and at the end; with re-balancing the end is within the threshold,
+/// without it the bed sits in the bottom two sub-domains; the end state is
+/// the same bits either way. A threshold ≤ 1 is refused (exit 2, the key
+/// named, nothing written).
+#[test]
+fn settling_bed_rebalances_under_mpirun() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/settling_bed.toml");
+    let run = |threshold: &str, name: &str| {
+        let out = tmp.path().join(name);
+        let o = Command::new("mpirun")
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .args(["--oversubscribe", "-np", "3"])
+            .arg(env!("CARGO_BIN_EXE_dembound"))
+            .arg("scene")
+            .arg(&scene)
+            .args([
+                "--set",
+                &format!("parallel.rebalance_threshold={threshold}"),
+            ])
+            .args(["--quiet", "--json", "--out"])
+            .arg(&out)
+            .output()
+            .expect("mpirun runs");
+        (o, out)
+    };
+    let counts = |j: &serde_json::Value, key: &str| -> Vec<u64> {
+        j[key]
+            .as_array()
+            .expect(key)
+            .iter()
+            .filter_map(|v| v.as_u64())
+            .collect()
+    };
+    let (o, d_moved) = run("1.2", "moved");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let moved: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let (o, d_still) = run("inf", "still");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let still: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    // Layers 0–2, 3–5 and 6–9 of the cloud (cuts at 5.1 and 9.6 mm).
+    assert_eq!(counts(&moved, "rank_free_particles_start"), [108, 108, 144]);
+    assert!(moved["rebalances"].as_u64().unwrap_or(0) >= 1, "{moved}");
+    let before = counts(&moved, "rank_free_particles_before_rebalance");
+    assert_eq!(before.iter().sum::<u64>(), 360);
+    let end = counts(&moved, "rank_free_particles");
+    assert_eq!(end.iter().sum::<u64>(), 360);
+    assert!(moved["imbalance"].as_f64().unwrap_or(9.0) <= 1.2, "{moved}");
+    assert_eq!(still["rebalances"], 0);
+    assert!(still["imbalance"].as_f64().unwrap_or(0.0) > 2.0, "{still}");
+    assert_eq!(state(&d_moved), state(&d_still));
+    assert_eq!(moved["particle_contacts"], still["particle_contacts"]);
+
+    let (o, d_bad) = run("1.0", "bad");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(
+        err.matches("invalid value for `parallel.rebalance_threshold`: 1")
+            .count(),
+        1,
+        "{err}"
+    );
+    assert!(err.contains("> 1"), "{err}");
+    assert!(!d_bad.exists());
+}

@@ -188,7 +188,7 @@ fn restarts_bit_for_bit(setup: &SceneSetup) -> Checkpoint {
 /// A checkpoint of the one-process engine loads under the decomposition
 /// and the decomposition's checkpoint loads in the engine. The engine
 /// sums each body's forces in the order of its own list, the
-/// decomposition in partner-id order: the continuations agree to
+/// decomposition in whole-scene cell order: the continuations agree to
 /// round-off, not to the bit. After 300 steps of this dense, colliding
 /// bed, 1e-12 m (round-off of 1e-16 relative amplified by the contacts; a
 /// lost history or a wrong position would move a sphere by its overlap,

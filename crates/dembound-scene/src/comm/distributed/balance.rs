@@ -177,11 +177,11 @@ impl<T: Transport> DistributedSimulation<T> {
                 .map(|&m| xs.partition_point(|&x| x < m) as f64)
                 .collect();
             let below = self.transport.sum(&below);
-            for k in 0..g - 1 {
-                if below[k] < target[k] {
-                    low[k] = mid[k];
+            for (k, (&count, &m)) in below.iter().zip(&mid).enumerate() {
+                if count < target[k] {
+                    low[k] = m;
                 } else {
-                    high[k] = mid[k];
+                    high[k] = m;
                 }
             }
         }
