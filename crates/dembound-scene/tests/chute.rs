@@ -77,6 +77,13 @@ fn a_smooth_floor_lets_the_bed_slide_as_a_block_at_g_sin_theta() {
         flow.acceleration
     );
     assert!(flow.floor_shear_force.abs() < 1e-12 * flow.weight_components[0]);
+    // The profile extrapolated to the wall: a block has no shear, so the
+    // line's value at the floor is the bed's velocity.
+    let fit = flow.slip_fit.unwrap();
+    println!(
+        "smooth: mean {} m/s, first layer {} m/s, fit {fit:?}",
+        flow.mean_velocity, flow.slip_velocity
+    );
 }
 
 #[test]
@@ -94,6 +101,12 @@ fn slip_falls_from_smooth_to_frictional_plane_to_boundary_particles() {
         "slip velocity: smooth {} m/s, plane {} m/s, r = 1 square {} m/s",
         smooth.slip_velocity, plane.slip_velocity, bumpy.slip_velocity
     );
+    for (name, f) in [("smooth", &smooth), ("plane", &plane), ("bumpy", &bumpy)] {
+        println!(
+            "{name}: mean {} m/s, fit {:?}",
+            f.mean_velocity, f.slip_fit
+        );
+    }
     // Measured at 0.15 s: 0.50, 0.17 and 0.0002 m/s (window means). The
     // smooth plane's is the block's, g sin θ t; a frictional plane's first layer
     // rolls (its contact points stick) and is sheared by the layers above,
