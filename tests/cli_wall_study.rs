@@ -60,8 +60,12 @@ fn quick_study_writes_its_files() {
     // with a verdict.
     let csv = std::fs::read_to_string(out.join("recommendation.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).collect();
-    assert!(rows.iter().any(|l| l.starts_with("r=1 zeta=100 square,true,")));
-    assert!(rows.iter().any(|l| l.starts_with("r=100 zeta=100 square,false,")));
+    assert!(rows
+        .iter()
+        .any(|l| l.starts_with("r=1 zeta=100 square,true,")));
+    assert!(rows
+        .iter()
+        .any(|l| l.starts_with("r=100 zeta=100 square,false,")));
     assert!(rows
         .iter()
         .all(|l| l.ends_with(",yes") || l.ends_with(",no") || l.ends_with(",not measured")));

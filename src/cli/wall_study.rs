@@ -1013,7 +1013,10 @@ fn compact_table(s: &mut String, c: &StudyConfig, results: &[FloorResult]) {
 /// within it, the floors within every measured one, and the floors that
 /// are not walls (with the paper's r = 100).
 fn recommendation_section(s: &mut String, verdicts: &[FloorVerdict], t: &Tolerances) {
-    let _ = writeln!(s, "## Recommendation: floors within tolerance of the plane\n");
+    let _ = writeln!(
+        s,
+        "## Recommendation: floors within tolerance of the plane\n"
+    );
     let _ = writeln!(
         s,
         "Tolerances against the plane of the particles' own material: mean e_n and e_t ± {} \
@@ -1036,7 +1039,10 @@ fn recommendation_section(s: &mut String, verdicts: &[FloorVerdict], t: &Toleran
         let _ = writeln!(s, "No floor besides the plane.\n");
         return;
     };
-    let _ = writeln!(s, "| quantity | tolerance | plane | floors within (walls) |");
+    let _ = writeln!(
+        s,
+        "| quantity | tolerance | plane | floors within (walls) |"
+    );
     let _ = writeln!(s, "|---|---|---|---|");
     for (k, q) in first.verdicts.iter().enumerate() {
         let within: Vec<String> = verdicts
@@ -1085,8 +1091,7 @@ fn recommendation_section(s: &mut String, verdicts: &[FloorVerdict], t: &Toleran
         .iter()
         .filter(|f| {
             f.not_a_wall.is_none()
-                && f
-                    .verdicts
+                && f.verdicts
                     .iter()
                     .filter(|v| !v.quantity.starts_with("chute"))
                     .all(|v| v.within != Some(false))
@@ -1154,7 +1159,11 @@ fn recommendation_section(s: &mut String, verdicts: &[FloorVerdict], t: &Toleran
     );
     let here: Vec<String> = verdicts
         .iter()
-        .filter_map(|f| f.not_a_wall.as_ref().map(|w| format!("- {}: {w}", f.floor.label())))
+        .filter_map(|f| {
+            f.not_a_wall
+                .as_ref()
+                .map(|w| format!("- {}: {w}", f.floor.label()))
+        })
         .collect();
     if here.is_empty() {
         let _ = writeln!(s, "Every floor of this run is a wall.\n");

@@ -315,10 +315,7 @@ mod tests {
     #[test]
     fn each_quantity_is_judged_by_its_own_tolerance() {
         let t = Tolerances::default();
-        let plane = result(
-            Floor::Plane,
-            vec![impact(0.0, 0.5, f64::NAN, 100e-6); 3],
-        );
+        let plane = result(Floor::Plane, vec![impact(0.0, 0.5, f64::NAN, 100e-6); 3]);
         let floor = |r: f64| Floor::Particles {
             radius_ratio: r,
             modulus_ratio: 10.0,
@@ -347,7 +344,8 @@ mod tests {
         let holes = result(floor(3.0), vec![impact(0.0, 0.5, f64::NAN, 100e-6); 3]);
         let v = recommend(&[plane, close, rough, holes], &[0.0], &t);
         assert_eq!(v.len(), 3);
-        let within = |k: usize| -> Vec<Option<bool>> { v[k].verdicts.iter().map(|x| x.within).collect() };
+        let within =
+            |k: usize| -> Vec<Option<bool>> { v[k].verdicts.iter().map(|x| x.within).collect() };
         // Order: e_n, its spread, the median contact time.
         assert_eq!(within(0), [Some(true), Some(true), Some(true)]);
         assert!(v[0].within_all_measured());
