@@ -1176,7 +1176,9 @@ fn fmt(v: f64, sd: f64) -> String {
     if !v.is_finite() {
         return "–".into();
     }
-    if sd > 0.0 {
+    // A spread at round-off of the mean (identical impacts on a plane,
+    // ~1e-16) is none.
+    if sd > 1e-12 * v.abs() {
         format!("{} ± {}", sig(v), sig(sd))
     } else {
         sig(v)
