@@ -35,6 +35,7 @@ fn quick_study_writes_its_files() {
         "chute.csv",
         "chute_profile.svg",
         "chute_profile.png",
+        "recommendation.csv",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
@@ -44,6 +45,30 @@ fn quick_study_writes_its_files() {
     // r = 100 touching spheres leave gaps a particle falls through: no chute.
     assert!(report.contains("not run: not a wall"));
     assert!(report.contains("r=100 zeta=100 square"));
+    // ... and is named as not a wall, with the paper's hole of
+    // (√2 − 1) × 100 R = 41.4 R, and never recommended.
+    assert!(report.contains("### Floors that are not walls"));
+    assert!(report.contains("holes of 41.4 R (square) and 15.5 R (hexagonal)"));
+    assert!(report.contains("- r=100 zeta=100 square (not a wall):"));
+    let within = report
+        .split("**Within every measured quantity:**")
+        .nth(1)
+        .and_then(|s| s.lines().next())
+        .unwrap();
+    assert!(!within.contains("r=100"), "{within}");
+    // Every floor and compared quantity has a row in recommendation.csv,
+    // with a verdict.
+    let csv = std::fs::read_to_string(out.join("recommendation.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert!(rows
+        .iter()
+        .any(|l| l.starts_with("r=1 zeta=100 square,true,")));
+    assert!(rows
+        .iter()
+        .any(|l| l.starts_with("r=100 zeta=100 square,false,")));
+    assert!(rows
+        .iter()
+        .all(|l| l.ends_with(",yes") || l.ends_with(",no") || l.ends_with(",not measured")));
     // The settled bed's floor carries its weight on every floor: the
     // summary's floor pressure within 1 % of the weight per area (0.05 s
     // of settling after the pour; the residual motion is ~1e-3 g).
@@ -63,7 +88,8 @@ fn quick_study_writes_its_files() {
         assert!((p / weight - 1.0).abs() < 0.01, "{line} vs {weight} Pa");
         floors += 1;
     }
-    assert_eq!(floors, 3);
+    // plane, rigid plane, r = 1 and r = 100 square.
+    assert_eq!(floors, 4);
 }
 
 #[test]
@@ -79,6 +105,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--chute-angle", "95"], "--chute-angle"),
         (vec!["--chute-layers", "0.5"], "--chute-layers"),
         (vec!["--floor-friction=-1"], "--floor-friction"),
+        (vec!["--tol-packing=-0.1"], "--tol-packing"),
     ] {
         let run = dembound()
             .args(["wall-study", "--quick", "--quiet", "--out"])

@@ -14,7 +14,8 @@ use clap::Args;
 use dembound_physics::contact::tangential::TangentialKind;
 use dembound_physics::material::Material;
 use dembound_scene::sources::tiling::Pattern;
-use dembound_scene::wall_study::{self, ChuteConfig, Floor, FloorResult, StudyConfig};
+use dembound_scene::wall_study::recommend::{self, mean, median, std_dev as std, FloorVerdict};
+use dembound_scene::wall_study::{self, ChuteConfig, Floor, FloorResult, StudyConfig, Tolerances};
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -24,20 +25,22 @@ pub struct WallStudyArgs {
     /// Output directory (CSV, figures, report.md); all or nothing
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Small and fast: 150 particles, 4 impacts per angle, r = ζ = 100
-    /// square only (unless given), 0.05 s of settling after the pour
+    /// Small and fast: 150 particles, 4 impacts per angle, r = 1 and the
+    /// paper's r = 100 (not a wall), ζ = 100, square only (unless given),
+    /// 0.05 s of settling after the pour
     #[arg(long)]
     pub quick: bool,
-    /// Particles in the bed (default 2000; 150 with --quick; 0: no bed)
+    /// Particles in the bed (default 1000; 150 with --quick; 0: no bed)
     #[arg(long)]
     pub particles: Option<usize>,
     /// Impacts per floor and angle (default 20; 4 with --quick)
     #[arg(long)]
     pub impacts: Option<usize>,
-    /// Radius ratios r = R_b/R (default 1,10,100; 100 with --quick)
+    /// Radius ratios r = R_b/R, for every tiling (default: the walls
+    /// 0.5,1,2,2.4 square and 0.5,1,2,4,6 hexagonal; 1,100 with --quick)
     #[arg(long, value_delimiter = ',')]
     pub radius_ratios: Option<Vec<f64>>,
-    /// Modulus ratios ζ = E_b/E (default 1,100; 100 with --quick)
+    /// Modulus ratios ζ = E_b/E (default 1,10,100; 100 with --quick)
     #[arg(long, value_delimiter = ',')]
     pub modulus_ratios: Option<Vec<f64>>,
     /// Tilings: square, hexagonal (default both; square with --quick)
@@ -98,9 +101,25 @@ pub struct WallStudyArgs {
     /// 20 R × 12 R) needs more particles are not run
     #[arg(long, default_value_t = 3000)]
     pub chute_max_particles: usize,
-    /// Relative tolerance of the recommendation (each quantity against the plane)
-    #[arg(long, default_value_t = 0.05)]
-    pub tolerance: f64,
+    /// Recommendation: absolute tolerance on mean e_n and e_t, and on their
+    /// spread (sd) beyond the plane's
+    #[arg(long, default_value_t = Tolerances::default().restitution)]
+    pub tol_restitution: f64,
+    /// Recommendation: relative tolerance on the median contact time
+    #[arg(long, default_value_t = Tolerances::default().contact_time)]
+    pub tol_contact_time: f64,
+    /// Recommendation: absolute tolerance on the packing fraction 0–2R
+    #[arg(long, default_value_t = Tolerances::default().packing)]
+    pub tol_packing: f64,
+    /// Recommendation: relative tolerance on the floor pressure against N m g/A
+    #[arg(long, default_value_t = Tolerances::default().pressure)]
+    pub tol_pressure: f64,
+    /// Recommendation: absolute tolerance on the floor-force fluctuation (sd/mean)
+    #[arg(long, default_value_t = Tolerances::default().fluctuation)]
+    pub tol_fluctuation: f64,
+    /// Recommendation: absolute tolerance on the chute's slip / mean velocity
+    #[arg(long, default_value_t = Tolerances::default().slip)]
+    pub tol_slip: f64,
     /// Seed of the impact points and the bed's insertion
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -113,17 +132,45 @@ fn input(key: &str, value: impl std::fmt::Display, allowed: &str) -> CliError {
     CliError::input(anyhow::anyhow!("{key} = {value}: allowed {allowed}"))
 }
 
+/// The default grid's radius ratios: walls only. Square: r ≤ 2.414 (a
+/// particle passes between touching spheres beyond), hexagonal r ≤ 6.464;
+/// each from r = 0.5 (boundary spheres smaller than the particles: the
+/// fine end) through 1 and 2 to the largest wall of the tiling short of
+/// its limit (2.4, gap radius 0.994 R; 6, 0.928 R), with r = 4 between
+/// (the largest hexagonal floor the periodic chute takes).
+const SQUARE_RATIOS: [f64; 4] = [0.5, 1.0, 2.0, 2.4];
+const HEXAGONAL_RATIOS: [f64; 5] = [0.5, 1.0, 2.0, 4.0, 6.0];
+
+fn tolerances(a: &WallStudyArgs) -> CliResult<Tolerances> {
+    for (key, v) in [
+        ("--tol-restitution", a.tol_restitution),
+        ("--tol-contact-time", a.tol_contact_time),
+        ("--tol-packing", a.tol_packing),
+        ("--tol-pressure", a.tol_pressure),
+        ("--tol-fluctuation", a.tol_fluctuation),
+        ("--tol-slip", a.tol_slip),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(input(key, v, "finite and ≥ 0"));
+        }
+    }
+    Ok(Tolerances {
+        restitution: a.tol_restitution,
+        contact_time: a.tol_contact_time,
+        packing: a.tol_packing,
+        pressure: a.tol_pressure,
+        fluctuation: a.tol_fluctuation,
+        slip: a.tol_slip,
+    })
+}
+
 fn config(a: &WallStudyArgs) -> CliResult<StudyConfig> {
     let q = a.quick;
-    let radius_ratios = a.radius_ratios.clone().unwrap_or(if q {
+    let modulus_ratios = a.modulus_ratios.clone().unwrap_or(if q {
         vec![100.0]
     } else {
         vec![1.0, 10.0, 100.0]
     });
-    let modulus_ratios =
-        a.modulus_ratios
-            .clone()
-            .unwrap_or(if q { vec![100.0] } else { vec![1.0, 100.0] });
     let tilings = a.tilings.clone().unwrap_or(if q {
         vec!["square".into()]
     } else {
@@ -143,6 +190,14 @@ fn config(a: &WallStudyArgs) -> CliResult<StudyConfig> {
             }
         });
     }
+    let radius_ratios = |pattern: Pattern| -> Vec<f64> {
+        match (&a.radius_ratios, q, pattern) {
+            (Some(r), _, _) => r.clone(),
+            (None, true, _) => vec![1.0, 100.0],
+            (None, false, Pattern::Square) => SQUARE_RATIOS.to_vec(),
+            (None, false, Pattern::Hexagonal) => HEXAGONAL_RATIOS.to_vec(),
+        }
+    };
     let tangential = TangentialKind::from_name(&a.tangential).ok_or_else(|| {
         input(
             "--tangential",
@@ -150,15 +205,12 @@ fn config(a: &WallStudyArgs) -> CliResult<StudyConfig> {
             "\"mindlin\", \"linear\"",
         )
     })?;
-    if !(a.tolerance.is_finite() && a.tolerance > 0.0) {
-        return Err(input("--tolerance", a.tolerance, "finite and > 0"));
-    }
     if a.angles.is_empty() {
         return Err(input("--angles", "[]", "at least one angle"));
     }
     let mut floors = vec![Floor::Plane, Floor::Rigid];
     for &pattern in &patterns {
-        for &radius_ratio in &radius_ratios {
+        for radius_ratio in radius_ratios(pattern) {
             for &modulus_ratio in &modulus_ratios {
                 floors.push(Floor::Particles {
                     radius_ratio,
@@ -190,7 +242,7 @@ fn config(a: &WallStudyArgs) -> CliResult<StudyConfig> {
         impacts: a.impacts.unwrap_or(if q { 4 } else { 20 }),
         speed: a.speed,
         angles: a.angles.clone(),
-        bed_particles: a.particles.unwrap_or(if q { 150 } else { 2000 }),
+        bed_particles: a.particles.unwrap_or(if q { 150 } else { 1000 }),
         eta: a.eta,
         settle_time: a.settle_time.unwrap_or(if q { 0.05 } else { 0.1 }),
         seed: a.seed,
@@ -206,37 +258,6 @@ fn config(a: &WallStudyArgs) -> CliResult<StudyConfig> {
             })
         },
     })
-}
-
-fn mean(v: &[f64]) -> f64 {
-    let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.iter().sum::<f64>() / v.len() as f64
-}
-
-fn median(v: &[f64]) -> f64 {
-    let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let k = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[k]
-    } else {
-        0.5 * (v[k - 1] + v[k])
-    }
-}
-
-fn std(v: &[f64]) -> f64 {
-    let m = mean(v);
-    let v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.len() < 2 {
-        return 0.0;
-    }
-    (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
 }
 
 /// The quantities compared with the plane, per floor.
@@ -293,6 +314,17 @@ fn summarise(r: &FloorResult, angles: &[f64]) -> Summary {
     }
     if let Some(Ok(ch)) = &r.chute {
         values.push(("chute slip velocity (m/s)".into(), ch.slip_velocity, 0.0));
+        let fit = ch.slip_fit;
+        values.push((
+            "chute extrapolated slip velocity (m/s)".into(),
+            fit.map_or(f64::NAN, |f| f.slip_velocity),
+            0.0,
+        ));
+        values.push((
+            "chute slip length (mm)".into(),
+            fit.map_or(f64::NAN, |f| f.slip_length * 1e3),
+            0.0,
+        ));
         values.push(("chute mean velocity (m/s)".into(), ch.mean_velocity, 0.0));
         values.push((
             "chute slip fraction, slip/mean velocity (1)".into(),
@@ -308,6 +340,8 @@ fn summarise(r: &FloorResult, angles: &[f64]) -> Summary {
     } else if r.chute.is_some() {
         for name in [
             "chute slip velocity (m/s)",
+            "chute extrapolated slip velocity (m/s)",
+            "chute slip length (mm)",
             "chute mean velocity (m/s)",
             "chute slip fraction, slip/mean velocity (1)",
             "chute acceleration (m/s²)",
@@ -324,6 +358,7 @@ fn summarise(r: &FloorResult, angles: &[f64]) -> Summary {
 
 pub fn run(args: &WallStudyArgs) -> CliResult {
     let c = config(args)?;
+    let tolerances = tolerances(args)?;
     c.validate().map_err(CliError::input)?;
     let mut out = super::output_dir(&args.out, "wall-study")?;
     let quiet = args.quiet;
@@ -343,7 +378,7 @@ pub fn run(args: &WallStudyArgs) -> CliResult {
             CliError::failed(e)
         }
     })?;
-    write_all(&mut out, &c, &results, args.tolerance).map_err(CliError::failed)?;
+    write_all(&mut out, &c, &results, &tolerances).map_err(CliError::failed)?;
     let files = out.commit().map_err(CliError::failed)?;
     println!(
         "wall-study: {} floors, {} files in {} ({:.1} s)",
@@ -359,7 +394,7 @@ fn write_all(
     out: &mut AtomicDir,
     c: &StudyConfig,
     results: &[FloorResult],
-    tolerance: f64,
+    tolerances: &Tolerances,
 ) -> anyhow::Result<()> {
     // impacts.csv
     out.write("impacts.csv", |w| {
@@ -553,7 +588,39 @@ fn write_all(
         }
         fig.write_into(out, "chute_profile")?;
     }
-    let report = report(c, results, &summaries, tolerance);
+    let verdicts = recommend::recommend(results, &c.angles, tolerances);
+    out.write("recommendation.csv", |w| {
+        let mut csv = csv::Writer::from_writer(w);
+        csv.write_record([
+            "floor",
+            "wall",
+            "quantity",
+            "tolerance",
+            "plane",
+            "value",
+            "within",
+        ])?;
+        for f in &verdicts {
+            for v in &f.verdicts {
+                csv.write_record([
+                    f.floor.label(),
+                    f.not_a_wall.is_none().to_string(),
+                    v.quantity.clone(),
+                    v.tolerance.clone(),
+                    format!("{:e}", v.plane),
+                    format!("{:e}", v.value),
+                    match v.within {
+                        Some(true) => "yes".into(),
+                        Some(false) => "no".into(),
+                        None => "not measured".to_string(),
+                    },
+                ])?;
+            }
+        }
+        csv.flush()?;
+        Ok(())
+    })?;
+    let report = report(c, results, &summaries, &verdicts, tolerances);
     out.write("report.md", |w| Ok(w.write_all(report.as_bytes())?))?;
     Ok(())
 }
@@ -676,7 +743,8 @@ fn report(
     c: &StudyConfig,
     results: &[FloorResult],
     summaries: &[Summary],
-    tolerance: f64,
+    verdicts: &[FloorVerdict],
+    tolerances: &Tolerances,
 ) -> String {
     let mut s = String::new();
     let m = &c.material;
@@ -709,6 +777,7 @@ fn report(
     for (k, r) in results.iter().enumerate() {
         let _ = writeln!(s, "{k}. {}", r.floor.label());
     }
+    compact_table(&mut s, c, results);
     let _ = writeln!(s, "\n## Results (mean ± standard deviation)\n");
     let Some(reference) = summaries.iter().find(|x| x.label == "plane") else {
         return s;
@@ -787,69 +856,14 @@ fn report(
          direction: on a bumpy floor a particle hitting the flank of a boundary sphere rebounds \
          sideways or down, so e_n may be negative and the rebound angle above 90°.\n"
     );
-    let _ = writeln!(
-        s,
-        "## Recommendation (tolerance {} relative to the plane)\n",
-        tolerance
-    );
-    let compared = |name: &str| {
-        name.starts_with("e_n")
-            || name.starts_with("e_t")
-            || name.starts_with("rebound angle")
-            || name.starts_with("median contact time")
-            || name.starts_with("bed height")
-            || name.starts_with("packing fraction 0")
-            || name.starts_with("chute slip fraction")
-    };
-    let mut passing = Vec::new();
-    for x in summaries.iter().filter(|x| x.label != "plane") {
-        let mut fails = Vec::new();
-        for (name, p, _) in &reference.values {
-            if !compared(name) || !p.is_finite() {
-                continue;
-            }
-            let v = x
-                .values
-                .iter()
-                .find(|(n, _, _)| n == name)
-                .map_or(f64::NAN, |q| q.1);
-            if v.is_nan() {
-                fails.push(format!("{name}: not measured"));
-                continue;
-            }
-            let rel = (v - p).abs() / p.abs().max(1e-300);
-            if rel.is_nan() || rel > tolerance {
-                fails.push(format!("{name}: {:.3} % off", 100.0 * rel));
-            }
-        }
-        if fails.is_empty() {
-            passing.push(x.label.clone());
-            let _ = writeln!(
-                s,
-                "- **{}**: every compared quantity within {}.",
-                x.label, tolerance
-            );
-        } else {
-            let _ = writeln!(s, "- {}: {}", x.label, fails.join("; "));
-        }
-    }
-    let _ = writeln!(
-        s,
-        "\nFloors that keep e_n, e_t, the rebound angle, the median contact time, the bed height and the \
-         first-layer packing fraction (and the chute's slip fraction) within {tolerance} of the \
-         plane: {}.\n",
-        if passing.is_empty() {
-            "none".to_string()
-        } else {
-            passing.join(", ")
-        }
-    );
+    recommendation_section(&mut s, verdicts, tolerances);
     let _ = writeln!(
         s,
         "Files: impacts.csv (every impact), summary.csv, profile.csv (packing fraction in slabs of \
          R/4), boundary_forces.csv (N), restitution.svg/png, contact_time.svg/png, \
          packing_profile.svg/png, bed_side.svg/png (the bed drawn from its final state), \
-         chute.csv and chute_profile.svg/png (the chute's velocity profiles)."
+         chute.csv and chute_profile.svg/png (the chute's velocity profiles), \
+         recommendation.csv (every floor and quantity against the plane)."
     );
     s
 }
@@ -915,11 +929,256 @@ fn chute_section(s: &mut String, c: &StudyConfig, results: &[FloorResult]) {
     );
 }
 
+/// One row per floor, the plane first: the numbers the recommendation
+/// compares, side by side.
+fn compact_table(s: &mut String, c: &StudyConfig, results: &[FloorResult]) {
+    let _ = writeln!(s, "\n## Each floor against the plane\n");
+    let oblique = c.angles.iter().copied().find(|&a| a > 0.0);
+    let normal = c.angles.first().copied().unwrap_or(0.0);
+    let _ = write!(s, "| floor | e_n at {normal}° (mean ± sd) |");
+    if let Some(a) = oblique {
+        let _ = write!(s, " e_n at {a}° | e_t at {a}° |");
+    }
+    let _ = writeln!(
+        s,
+        " median contact time at {normal}° (µs) | packing 0–2R | floor pressure / N m g/A | \
+         fluctuation | fell through | first-layer slip (m/s) | extrapolated slip (m/s) | slip \
+         length (mm) | mean velocity (m/s) |"
+    );
+    let columns = 11 + if oblique.is_some() { 2 } else { 0 };
+    let _ = writeln!(s, "|{}", "---|".repeat(columns));
+    let stats = |r: &FloorResult, a: f64, f: fn(&wall_study::Impact) -> f64| {
+        let v: Vec<f64> = r.impacts.iter().filter(|i| i.angle == a).map(f).collect();
+        (mean(&v), std(&v), median(&v))
+    };
+    for r in results {
+        let (en, sd, _) = stats(r, normal, |i| i.normal_restitution);
+        let _ = write!(s, "| {} | {} |", r.floor.label(), fmt(en, sd));
+        if let Some(a) = oblique {
+            let (en, sd, _) = stats(r, a, |i| i.normal_restitution);
+            let (et, sdt, _) = stats(r, a, |i| i.tangential_restitution);
+            let _ = write!(s, " {} | {} |", fmt(en, sd), fmt(et, sdt));
+        }
+        let (_, _, tc) = stats(r, normal, |i| i.contact_time * 1e6);
+        let _ = write!(s, " {} |", fmt(tc, 0.0));
+        match &r.bed {
+            Some(b) => {
+                let _ = write!(
+                    s,
+                    " {} | {} | {} | {} |",
+                    sig(b.wall_packing),
+                    sig(b.floor_pressure / b.weight_pressure),
+                    sig(b.pressure_fluctuation),
+                    b.fell_through
+                );
+            }
+            None => {
+                let _ = write!(s, " – | – | – | – |");
+            }
+        }
+        match &r.chute {
+            Some(Ok(ch)) => {
+                let fit = ch.slip_fit;
+                let _ = writeln!(
+                    s,
+                    " {} | {} | {} | {} |",
+                    sig(ch.slip_velocity),
+                    fmt(fit.map_or(f64::NAN, |f| f.slip_velocity), 0.0),
+                    fmt(fit.map_or(f64::NAN, |f| f.slip_length * 1e3), 0.0),
+                    sig(ch.mean_velocity)
+                );
+            }
+            Some(Err(_)) => {
+                let _ = writeln!(s, " not run | | | |");
+            }
+            None => {
+                let _ = writeln!(s, " – | – | – | – |");
+            }
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\nImpacts: {} per angle at random points of the tiling's cell. Floor pressure against the \
+         weight of all the bed's particles per area; fluctuation: sd/mean of the floor force over \
+         the last fifth of the run. Slip: the chute's first layer (centres below 1.5 R), and the \
+         line through the profile's slabs with mean centre 0 ≤ z ≤ min({} R, half the bed height) \
+         extrapolated to the floor's contact plane (z = 0); slip length = that slip / the line's \
+         shear rate (infinite: a block). Why a chute was not run: the chute section.",
+        c.impacts,
+        wall_study::chute::SLIP_FIT_TOP
+    );
+}
+
+/// The recommendation: the tolerances, for each quantity the floors
+/// within it, the floors within every measured one, and the floors that
+/// are not walls (with the paper's r = 100).
+fn recommendation_section(s: &mut String, verdicts: &[FloorVerdict], t: &Tolerances) {
+    let _ = writeln!(
+        s,
+        "## Recommendation: floors within tolerance of the plane\n"
+    );
+    let _ = writeln!(
+        s,
+        "Tolerances against the plane of the particles' own material: mean e_n and e_t ± {} \
+         (absolute), their spread over the impact points (sd) at most the plane's + {}; median \
+         contact time ± {} %; packing fraction 0–2R ± {} (absolute); floor pressure ± {} % of \
+         the plane's (which is N m g/A), and no particle through the floor; floor-force \
+         fluctuation (sd/mean) ± {} (absolute); the chute's slip velocity, first layer and \
+         extrapolated, as a fraction of the bed's mean velocity ± {} (absolute). A floor that is \
+         not a wall is never recommended. Options `--tol-restitution`, `--tol-contact-time`, \
+         `--tol-packing`, `--tol-pressure`, `--tol-fluctuation`, `--tol-slip`.\n",
+        t.restitution,
+        t.restitution,
+        100.0 * t.contact_time,
+        t.packing,
+        100.0 * t.pressure,
+        t.fluctuation,
+        t.slip
+    );
+    let Some(first) = verdicts.first() else {
+        let _ = writeln!(s, "No floor besides the plane.\n");
+        return;
+    };
+    let _ = writeln!(
+        s,
+        "| quantity | tolerance | plane | floors within (walls) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|");
+    for (k, q) in first.verdicts.iter().enumerate() {
+        let within: Vec<String> = verdicts
+            .iter()
+            .filter(|f| f.not_a_wall.is_none() && f.verdicts[k].within == Some(true))
+            .map(|f| f.floor.label())
+            .collect();
+        let walls = verdicts.iter().filter(|f| f.not_a_wall.is_none()).count();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} of {walls}: {} |",
+            q.quantity,
+            q.tolerance,
+            sig(q.plane),
+            within.len(),
+            if within.is_empty() {
+                "none".to_string()
+            } else {
+                within.join(", ")
+            }
+        );
+    }
+    let all: Vec<String> = verdicts
+        .iter()
+        .filter(|f| f.within_all_measured())
+        .map(|f| {
+            let missing = f.unmeasured();
+            if missing.is_empty() {
+                f.floor.label()
+            } else {
+                format!("{} (not measured: {})", f.floor.label(), missing.join(", "))
+            }
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "\n**Within every measured quantity:** {}.\n",
+        if all.is_empty() {
+            "none".to_string()
+        } else {
+            all.join("; ")
+        }
+    );
+    // Without the chute: a floor for beds at rest and impacts.
+    let static_only: Vec<String> = verdicts
+        .iter()
+        .filter(|f| {
+            f.not_a_wall.is_none()
+                && f.verdicts
+                    .iter()
+                    .filter(|v| !v.quantity.starts_with("chute"))
+                    .all(|v| v.within != Some(false))
+        })
+        .map(|f| f.floor.label())
+        .collect();
+    let _ = writeln!(
+        s,
+        "Within every quantity but the chute's slip (impacts and the bed at rest): {}.\n",
+        if static_only.is_empty() {
+            "none".to_string()
+        } else {
+            static_only.join(", ")
+        }
+    );
+    let _ = writeln!(s, "Per floor, the quantities outside their tolerance:\n");
+    for f in verdicts {
+        let out: Vec<String> = f
+            .verdicts
+            .iter()
+            .filter(|v| v.within == Some(false))
+            .map(|v| format!("{} {} (plane {})", v.quantity, sig(v.value), sig(v.plane)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "- {}{}: {}",
+            f.floor.label(),
+            if f.not_a_wall.is_some() {
+                " (not a wall)"
+            } else {
+                ""
+            },
+            if out.is_empty() {
+                "none".to_string()
+            } else {
+                out.join("; ")
+            }
+        );
+    }
+    let _ = writeln!(s, "\n### Floors that are not walls\n");
+    let sq = Floor::wall_limit(Pattern::Square);
+    let hex = Floor::wall_limit(Pattern::Hexagonal);
+    let paper = |pattern| {
+        Floor::Particles {
+            radius_ratio: 100.0,
+            modulus_ratio: 100.0,
+            pattern,
+        }
+        .gap_radius()
+        .unwrap_or(f64::NAN)
+    };
+    let _ = writeln!(
+        s,
+        "Touching boundary spheres of radius r R leave a hole through which a sphere of radius \
+         (√2 − 1) r R passes (square tiling, between four) or (2/√3 − 1) r R (hexagonal, between \
+         three). A single layer of them is a wall for the particles only for r ≤ {sq:.3} \
+         (square) and r ≤ {hex:.3} (hexagonal). The paper's recommendation r = ζ = 100 leaves \
+         holes of {:.1} R (square) and {:.1} R (hexagonal): the bed falls through, so it cannot \
+         be tested as a floor of touching spheres, and the default grid stops at the largest \
+         walls, r = 2.4 (square) and 6 (hexagonal). Floors above the limit are still run when \
+         asked for (`--radius-ratios`): their impacts are measured, their bed counts the \
+         particles that fell through, their chute is not run, and they are never recommended.\n",
+        paper(Pattern::Square),
+        paper(Pattern::Hexagonal)
+    );
+    let here: Vec<String> = verdicts
+        .iter()
+        .filter_map(|f| {
+            f.not_a_wall
+                .as_ref()
+                .map(|w| format!("- {}: {w}", f.floor.label()))
+        })
+        .collect();
+    if here.is_empty() {
+        let _ = writeln!(s, "Every floor of this run is a wall.\n");
+    } else {
+        let _ = writeln!(s, "In this run:\n\n{}\n", here.join("\n"));
+    }
+}
+
 fn fmt(v: f64, sd: f64) -> String {
     if !v.is_finite() {
         return "–".into();
     }
-    if sd > 0.0 {
+    // A spread at round-off of the mean (identical impacts on a plane,
+    // ~1e-16) is none.
+    if sd > 1e-12 * v.abs() {
         format!("{} ± {}", sig(v), sig(sd))
     } else {
         sig(v)

@@ -21,7 +21,9 @@ use crate::sources::tiling::{Extent, Pattern, Tiling};
 use crate::{SceneError, Simulation};
 
 pub mod chute;
-pub use chute::{Chute, ChuteConfig};
+pub mod recommend;
+pub use chute::{Chute, ChuteConfig, SlipFit};
+pub use recommend::{recommend, Tolerances};
 
 /// A floor under study.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,6 +58,52 @@ impl Floor {
                 }
             ),
         }
+    }
+}
+
+impl Floor {
+    /// The radius of the largest sphere that fits through the hole between
+    /// touching boundary spheres, in particle radii R: (√2 − 1) r for the
+    /// square tiling (the hole between four spheres), (2/√3 − 1) r for the
+    /// hexagonal one (between three). `None` for planes.
+    pub fn gap_radius(&self) -> Option<f64> {
+        match *self {
+            Floor::Particles {
+                radius_ratio,
+                pattern,
+                ..
+            } => Some(radius_ratio * Self::gap_factor(pattern)),
+            _ => None,
+        }
+    }
+
+    fn gap_factor(pattern: Pattern) -> f64 {
+        match pattern {
+            Pattern::Square => 2f64.sqrt() - 1.0,
+            Pattern::Hexagonal => 2.0 / 3f64.sqrt() - 1.0,
+        }
+    }
+
+    /// The largest radius ratio whose touching spheres hold a particle:
+    /// 1/(√2 − 1) = 2.414 (square), 1/(2/√3 − 1) = 6.464 (hexagonal).
+    pub fn wall_limit(pattern: Pattern) -> f64 {
+        1.0 / Self::gap_factor(pattern)
+    }
+
+    /// Why this floor is not a wall (a particle passes between its
+    /// touching boundary spheres), or `None` when it is one.
+    pub fn not_a_wall(&self) -> Option<String> {
+        let gap = self.gap_radius()?;
+        let Floor::Particles { pattern, .. } = *self else {
+            return None;
+        };
+        (gap > 1.0).then(|| {
+            format!(
+                "not a wall: a particle passes between the touching boundary spheres (gap radius \
+                 {gap:.3} R > R; r ≤ {:.3} for this tiling)",
+                Self::wall_limit(pattern)
+            )
+        })
     }
 }
 

@@ -94,6 +94,29 @@ fn slip_falls_from_smooth_to_frictional_plane_to_boundary_particles() {
         "slip velocity: smooth {} m/s, plane {} m/s, r = 1 square {} m/s",
         smooth.slip_velocity, plane.slip_velocity, bumpy.slip_velocity
     );
+    for (name, f) in [("smooth", &smooth), ("plane", &plane), ("bumpy", &bumpy)] {
+        println!("{name}: mean {} m/s, fit {:?}", f.mean_velocity, f.slip_fit);
+    }
+    // The profile's lower part extrapolated to the wall. The smooth floor's
+    // bed slides as a block: no shear, so the line's value at the floor is
+    // the bed's mean velocity (measured 1e-4 apart at 0.15 s: what is
+    // left of the pour's collisions; 1 %). A frictional plane's bed is
+    // sheared: the extrapolated slip is below the mean (measured 0.13 vs
+    // 0.23 m/s) with a positive slip length; boundary particles hold the
+    // line near zero at the floor (measured −0.005 m/s): below a fifth of
+    // the plane's, as the first-layer slip.
+    let s = smooth.slip_fit.unwrap();
+    assert!(
+        (s.slip_velocity / smooth.mean_velocity - 1.0).abs() < 0.01,
+        "{s:?}"
+    );
+    let p = plane.slip_fit.unwrap();
+    assert!(
+        p.slip_velocity < plane.mean_velocity && p.slip_length > 0.0,
+        "{p:?}"
+    );
+    let b = bumpy.slip_fit.unwrap();
+    assert!(b.slip_velocity.abs() < 0.2 * p.slip_velocity, "{b:?}");
     // Measured at 0.15 s: 0.50, 0.17 and 0.0002 m/s (window means). The
     // smooth plane's is the block's, g sin θ t; a frictional plane's first layer
     // rolls (its contact points stick) and is sheared by the layers above,

@@ -29,7 +29,6 @@ use super::{add_floor, base_setup, cell, Floor, StudyConfig};
 use crate::setup::SphereInit;
 use crate::simulation::LARGE_FACTOR;
 use crate::sources::random::RandomInsertion;
-use crate::sources::tiling::Pattern;
 use crate::{SceneError, Simulation};
 
 /// Gravitational acceleration, m/s² (the bed study's).
@@ -93,23 +92,10 @@ pub struct ChutePlan {
 /// The cell and particle count on `floor`, or why the floor is not run.
 pub fn plan(c: &StudyConfig, cc: &ChuteConfig, floor: Floor) -> Result<ChutePlan, String> {
     let r = c.radius;
-    if let Floor::Particles {
-        radius_ratio,
-        pattern,
-        ..
-    } = floor
-    {
-        let (gap, limit) = match pattern {
-            Pattern::Square => (2f64.sqrt() - 1.0, "2.414"),
-            Pattern::Hexagonal => (2.0 / 3f64.sqrt() - 1.0, "6.464"),
-        };
-        if gap * radius_ratio > 1.0 {
-            return Err(format!(
-                "not a wall: a particle passes between the touching boundary spheres (gap radius \
-                 {:.3} R > R; r ≤ {limit} for this tiling)",
-                gap * radius_ratio
-            ));
-        }
+    if let Some(why) = floor.not_a_wall() {
+        return Err(why);
+    }
+    if let Floor::Particles { radius_ratio, .. } = floor {
         if radius_ratio > LARGE_FACTOR {
             return Err(format!(
                 "the engine's periodic cells take boundary spheres up to {LARGE_FACTOR} R (r = \
@@ -168,6 +154,11 @@ pub struct Chute {
     pub profile: Vec<(f64, f64, usize)>,
     /// Mean v_x of the first layer (centres below 1.5 R), m/s.
     pub slip_velocity: f64,
+    /// The profile's lower part fitted by a line and extrapolated to the
+    /// floor's contact plane ([`fit_slip`] over slabs with mean centre
+    /// height 0 ≤ z ≤ min(5 R, half the bed height)); `None` when fewer
+    /// than two slabs lie there.
+    pub slip_fit: Option<SlipFit>,
     /// Mean v_x of the bed, m/s.
     pub mean_velocity: f64,
     /// Mean v_x of the bed over the first and second half of the window, m/s.
@@ -199,6 +190,65 @@ impl Chute {
     pub fn steady(&self, tolerance: f64) -> bool {
         self.acceleration.abs() <= tolerance * G * self.angle.to_radians().sin()
     }
+}
+
+/// The top of the profile's lower part fitted for the slip, particle radii.
+pub const SLIP_FIT_TOP: f64 = 5.0;
+
+/// A straight line v_x = slip_velocity + shear_rate z through the lower
+/// part of a velocity profile, z from the floor's contact plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipFit {
+    /// The line's value at z = 0, m/s: the slip velocity extrapolated to
+    /// the wall.
+    pub slip_velocity: f64,
+    /// dv_x/dz, 1/s.
+    pub shear_rate: f64,
+    /// Slip length b = slip_velocity/shear_rate, m: the depth below the
+    /// contact plane where the line reaches zero (Navier's slip
+    /// condition v = b dv/dz at the wall); infinite (signed) for a flat
+    /// profile, a block sliding.
+    pub slip_length: f64,
+    /// Slabs fitted, and the height range of their mean centres, m.
+    pub slabs: usize,
+    pub range: [f64; 2],
+}
+
+/// Least-squares line through the slabs of `profile` ((mean centre z, m;
+/// mean v_x, m/s; samples), as [`Chute::profile`]) whose mean centre lies
+/// in [lo, hi], each slab weighted by its samples: a slab's mean velocity
+/// is the mean over its samples, so this is the line through every sample
+/// of the window's particles at their slab's mean height. Written out
+/// (two sums) rather than taken from a crate: it is four lines.
+/// `None` when fewer than two slabs, or slabs all at one height, lie there.
+pub fn fit_slip(profile: &[(f64, f64, usize)], lo: f64, hi: f64) -> Option<SlipFit> {
+    let used: Vec<(f64, f64, f64)> = profile
+        .iter()
+        .filter(|p| p.2 > 0 && p.0 >= lo && p.0 <= hi)
+        .map(|&(z, v, k)| (z, v, k as f64))
+        .collect();
+    if used.len() < 2 {
+        return None;
+    }
+    let w: f64 = used.iter().map(|p| p.2).sum();
+    let zm = used.iter().map(|p| p.2 * p.0).sum::<f64>() / w;
+    let vm = used.iter().map(|p| p.2 * p.1).sum::<f64>() / w;
+    let szz: f64 = used.iter().map(|p| p.2 * (p.0 - zm) * (p.0 - zm)).sum();
+    let szv: f64 = used.iter().map(|p| p.2 * (p.0 - zm) * (p.1 - vm)).sum();
+    if szz <= 0.0 {
+        return None;
+    }
+    let shear_rate = szv / szz;
+    let slip_velocity = vm - shear_rate * zm;
+    let z0 = used.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    let z1 = used.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
+    Some(SlipFit {
+        slip_velocity,
+        shear_rate,
+        slip_length: slip_velocity / shear_rate,
+        slabs: used.len(),
+        range: [z0, z1],
+    })
 }
 
 /// One sample of the running chute.
@@ -284,18 +334,21 @@ pub fn run(
     let mut tops: Vec<f64> = x[..n].iter().map(|p| p[2] + r).collect();
     tops.sort_by(f64::total_cmp);
     let bed_height = tops.get(tops.len() * 95 / 100).copied().unwrap_or(0.0);
+    let profile: Vec<(f64, f64, usize)> = slabs
+        .iter()
+        .filter(|s| s.2 > 0)
+        .map(|&(z, vx, k)| (z / k as f64, vx / k as f64, k))
+        .collect();
+    let slip_fit = fit_slip(&profile, 0.0, (SLIP_FIT_TOP * r).min(0.5 * bed_height));
     Ok(Chute {
         angle: cc.angle,
         particles: n,
         cell: plan.cell,
         duration: sim.time(),
         window: [t0, t1],
-        profile: slabs
-            .iter()
-            .filter(|s| s.2 > 0)
-            .map(|&(z, vx, k)| (z / k as f64, vx / k as f64, k))
-            .collect(),
+        profile,
         slip_velocity: slip_sum / slip_count.max(1) as f64,
+        slip_fit,
         mean_velocity: mean(&means),
         velocity_halves: [mean(&means[..half]), mean(&means[half..])],
         acceleration,
@@ -369,6 +422,43 @@ pub fn build(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sources::tiling::Pattern;
+
+    #[test]
+    fn a_linear_profile_gives_its_intercept_and_slip_length() {
+        // v = 0.3 m/s + 200 /s × z, sampled at uneven heights with uneven
+        // counts, plus slabs outside the window that would bend the line:
+        // the fit returns the line exactly (round-off: 1e-12).
+        let line = |z: f64| 0.3 + 200.0 * z;
+        let mut profile: Vec<(f64, f64, usize)> = [0.2e-3, 0.7e-3, 1.1e-3, 1.9e-3, 2.4e-3]
+            .iter()
+            .zip([5, 40, 17, 3, 60])
+            .map(|(&z, k)| (z, line(z), k))
+            .collect();
+        profile.push((-0.4e-3, 0.0, 100));
+        profile.push((4.0e-3, 9.0, 100));
+        let f = fit_slip(&profile, 0.0, 2.5e-3).unwrap();
+        assert_eq!(f.slabs, 5);
+        assert!((f.slip_velocity - 0.3).abs() < 1e-12, "{f:?}");
+        assert!((f.shear_rate - 200.0).abs() < 1e-9, "{f:?}");
+        // b = 0.3/200 = 1.5 mm below the contact plane.
+        assert!((f.slip_length - 1.5e-3).abs() < 1e-15, "{f:?}");
+        assert_eq!(f.range, [0.2e-3, 2.4e-3]);
+    }
+
+    #[test]
+    fn a_block_has_a_flat_profile_and_an_infinite_slip_length() {
+        // Every slab at the block's velocity: the extrapolated slip is the
+        // block's velocity, the shear rate zero, the slip length infinite.
+        let profile = [(0.5e-3, 1.25, 10), (1.5e-3, 1.25, 30), (2.5e-3, 1.25, 7)];
+        let f = fit_slip(&profile, 0.0, 3e-3).unwrap();
+        assert_eq!(f.slip_velocity, 1.25);
+        assert_eq!(f.shear_rate, 0.0);
+        assert!(f.slip_length.is_infinite());
+        // One slab, or none, in the window: no line.
+        assert!(fit_slip(&profile, 0.0, 1e-3).is_none());
+        assert!(fit_slip(&profile, 5e-3, 6e-3).is_none());
+    }
     use dembound_physics::contact::tangential::TangentialKind;
     use dembound_physics::material::Material;
 
