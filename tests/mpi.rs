@@ -142,6 +142,29 @@ fn friction_one_two_three_ranks_same_state() {
     );
 }
 
+/// The collision log through `mpirun`: `collisions.csv` of 2 and 3 ranks
+/// is the same text as 1 rank's (shortest round-trip numbers: the same
+/// bits), and not empty.
+#[test]
+fn collision_log_is_the_same_on_one_two_three_ranks() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let extra = [
+        "--set",
+        "output.collisions=true",
+        "--set",
+        "integration.steps=3000",
+    ];
+    let read = |ranks: usize| {
+        let d = tmp.path().join(format!("c{ranks}"));
+        mpirun(ranks, &[], &extra, &d);
+        std::fs::read_to_string(d.join("collisions.csv")).expect("collisions.csv")
+    };
+    let one = read(1);
+    assert!(one.lines().count() > 20, "{one}");
+    assert_eq!(read(2), one);
+    assert_eq!(read(3), one);
+}
+
 /// Bad input on every rank: one message, exit 2, no output directory.
 #[test]
 fn bad_grid_exits_2_with_one_message() {

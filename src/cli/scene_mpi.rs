@@ -24,10 +24,12 @@ use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, ResolvedScene};
 use dembound_scene::io::{config, series, vtk};
-use dembound_scene::{Checkpoint, Observation};
+use dembound_scene::{Checkpoint, Collision, Observation};
 use serde::Serialize;
 
-use super::scene::{progress_bar, scene_error, Report, SceneArgs, PARALLEL_MIN_PARTICLES};
+use super::scene::{
+    progress_bar, scene_error, CollisionRow, Report, SceneArgs, PARALLEL_MIN_PARTICLES,
+};
 use super::{CliError, CliResult};
 use crate::output::files::AtomicDir;
 
@@ -215,6 +217,12 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let balance = sim.balance_report();
     let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
     let final_state = sim.gather_state();
+    // The collision log, merged at rank 0 (collective).
+    let log = if resolved.file.output.collisions {
+        sim.collisions()
+    } else {
+        None
+    };
     // The checkpoint, gathered at rank 0 in input order (collective).
     let saved = if args.out.is_some() {
         match sim.checkpoint() {
@@ -256,7 +264,9 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         },
         threads,
         neighbour_list_builds: sim.local().list_builds(),
-        collisions: None,
+        collisions: log
+            .as_ref()
+            .map(|l| l.iter().map(CollisionRow::from).collect()),
     };
     let doc = MpiReport {
         report,
@@ -277,7 +287,15 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     };
     let written = match (out, final_state) {
         (Some(out), Some(state)) => {
-            match finish_outputs(out, &resolved, &rows, &snapshots, &state, saved) {
+            match finish_outputs(
+                out,
+                &resolved,
+                &rows,
+                &snapshots,
+                &state,
+                saved,
+                log.as_deref(),
+            ) {
                 Ok(w) => w,
                 Err(e) => write_failed(e),
             }
@@ -365,8 +383,12 @@ fn finish_outputs(
     snapshots: &[(f64, String)],
     state: &GatheredState,
     saved: Option<Checkpoint>,
+    log: Option<&[Collision]>,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
     out.write("snapshots.pvd", |w| Ok(vtk::write_series(w, snapshots)?))?;
+    if let Some(log) = log {
+        out.write("collisions.csv", |w| Ok(series::write_collisions(w, log)?))?;
+    }
     let walls = resolved.setup.walls.len();
     out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))?;
     out.write("state.csv", |w| {

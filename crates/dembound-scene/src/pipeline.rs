@@ -607,9 +607,21 @@ impl Pipeline {
                 .map(|(key, t)| (*key, *t))
                 .collect();
             open.sort_by_key(|(key, _)| *key);
-            let at = bodies.index_of_ids();
+            // By input id (a rank of a decomposed run holds some bodies
+            // only: a pair with one elsewhere is kept by the other rank).
+            let at: HashMap<u32, usize> = bodies
+                .id
+                .iter()
+                .enumerate()
+                .map(|(k, &id)| (id, k))
+                .collect();
             for ((a, b), t) in open {
-                let (i, j) = (at[a as usize] as usize, at[b as usize] as usize);
+                let (Some(&i), Some(&j)) = (at.get(&a), at.get(&b)) else {
+                    continue;
+                };
+                if bodies.fixed[i] && bodies.fixed[j] {
+                    continue;
+                }
                 kept.push((
                     i as u32,
                     nearest_image(bodies, &world.ghosts, i, j) as u32,
@@ -1090,7 +1102,7 @@ pub(crate) fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
     moved2.is_nan() || moved2 > half_skin * half_skin
 }
 
-fn partner_key(p: Partner) -> (u8, usize) {
+pub(crate) fn partner_key(p: Partner) -> (u8, usize) {
     match p {
         Partner::Body(j) => (0, j),
         Partner::Wall(w) => (1, w),

@@ -127,6 +127,18 @@ fn friction_and_gear5_checkpoints_continue_bit_for_bit() {
     assert_eq!(c.higher.len(), c.position.len());
 }
 
+/// The same with the collision log on: the tracks of open contacts and
+/// the log so far go through the checkpoint, and the continued log equals
+/// the uninterrupted one.
+#[test]
+fn collision_log_checkpoints_continue_bit_for_bit() {
+    let mut logged = scene();
+    logged.collisions = true;
+    let c = restarts_bit_for_bit(&logged);
+    assert!(c.collisions.len() > 50, "{}", c.collisions.len());
+    assert!(!c.pair_tracks.is_empty());
+}
+
 /// The must-show's steps for `setup`; returns the straight run's end.
 fn restarts_bit_for_bit(setup: &SceneSetup) -> Checkpoint {
     let setup = setup.clone();
@@ -180,6 +192,19 @@ fn restarts_bit_for_bit(setup: &SceneSetup) -> Checkpoint {
         assert_eq!(r.list_builds, s.list_builds, "{ranks} ranks");
         assert_eq!(resumed.list_builds, straight.list_builds);
         assert_eq!(resumed.particle_contacts, straight.particle_contacts);
+        assert_eq!(r.pair_tracks, s.pair_tracks, "{ranks} ranks: pair tracks");
+        assert_eq!(
+            r.plane_tracks, s.plane_tracks,
+            "{ranks} ranks: plane tracks"
+        );
+        assert_eq!(
+            r.collisions.len(),
+            s.collisions.len(),
+            "{ranks} ranks: log length"
+        );
+        for (k, (a, b)) in r.collisions.iter().zip(&s.collisions).enumerate() {
+            assert_eq!(a, b, "{ranks} ranks: collision {k}");
+        }
         assert_eq!(r, s, "{ranks} ranks: the whole checkpoint");
     }
     straight.checkpoint

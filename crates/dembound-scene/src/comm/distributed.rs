@@ -51,12 +51,15 @@ use dembound_physics::contact::ContactHistory;
 use super::pack::{self, Reader, Writer};
 use super::Transport;
 use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
 use crate::dynamics::friction::{self, Springs};
 use crate::dynamics::{integrate, spring_energy, walls};
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::{SharedMut, STEP_CHUNK};
-use crate::pipeline::{celled_extent, needs_rebuild, save_pairs, WallKind, WholeGrid, World};
+use crate::pipeline::{
+    celled_extent, needs_rebuild, partner_key, save_pairs, WallKind, WholeGrid, World,
+};
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
@@ -159,18 +162,27 @@ pub struct DistributedSimulation<T: Transport> {
     in_cell_order: bool,
     /// This step's first half is done (fused into the last force stage).
     advanced: bool,
+    /// Input index → this rank owns the body (the collision log's owner).
+    owned_by_id: Vec<bool>,
+    /// The step at which each entry of the local collision log was
+    /// completed (the merged log's order).
+    collision_steps: Vec<u64>,
+    /// The first entries of the local log came from a checkpoint (rank 0).
+    restored_collisions: usize,
     /// Load re-balancing ([`balance`]).
     balance: balance::Balance,
 }
 
-/// Decomposed runs are without the collision log (for now): it is
-/// refused (exit 2). Friction: see [`refuse_unsupported_world`].
+/// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
-    if setup.collisions {
+    if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
+    {
         return Err(SceneError::invalid(
             "output.collisions",
             true,
-            "false under MPI (the collision log is not merged across ranks yet)",
+            "false under MPI with friction or Gear5 (the log keeps contacts that \
+             separated fast as extra pairs, which those runs cannot sum across ranks \
+             yet); run without mpirun",
         ));
     }
     Ok(())
@@ -238,6 +250,16 @@ fn select(world: &mut World, order: &[u32]) {
     wc.touching = order.iter().map(|&o| wc.touching[o as usize]).collect();
     wc.near = order.iter().map(|&o| wc.near[o as usize]).collect();
     friction::permute_wall_shear(&mut world.wall_shear, world.planes.len(), order);
+    let np = world.planes.len();
+    if let Some(t) = world.tracks.as_mut() {
+        if np > 0 && !t.planes.is_empty() {
+            let mut v = Vec::with_capacity(order.len() * np);
+            for &o in order {
+                v.extend_from_slice(&t.planes[o as usize * np..(o as usize + 1) * np]);
+            }
+            t.planes = v;
+        }
+    }
 }
 
 impl<T: Transport> DistributedSimulation<T> {
@@ -311,6 +333,9 @@ impl<T: Transport> DistributedSimulation<T> {
             migrated: 0,
             in_cell_order: false,
             advanced: false,
+            owned_by_id: vec![false; setup.spheres.len()],
+            collision_steps: Vec::new(),
+            restored_collisions: 0,
             balance: balance::Balance::default(),
         };
         me.rebuild();
@@ -413,6 +438,12 @@ impl<T: Transport> DistributedSimulation<T> {
                 by_body.entry(b).or_default().push((a, b, *h));
             }
         }
+        let tracked = world.tracks.is_some();
+        let mut tracks_by_body: HashMap<u32, Vec<(u32, u32, Track)>> = HashMap::new();
+        for (&(a, b), t) in saved.tracks.iter().flatten() {
+            tracks_by_body.entry(a).or_default().push((a, b, *t));
+            tracks_by_body.entry(b).or_default().push((a, b, *t));
+        }
         let mut springs_by_body: HashMap<u32, Vec<(u32, u32, Springs)>> = HashMap::new();
         for (&(a, b), sp) in &saved.shear {
             springs_by_body.entry(a).or_default().push((a, b, *sp));
@@ -445,6 +476,15 @@ impl<T: Transport> DistributedSimulation<T> {
             if gear5 {
                 pack::write_higher(w, &world.bodies.higher, k);
             }
+            if let Some(t) = world.tracks.as_ref().filter(|_| tracked) {
+                // The collision log's tracks: the body's pairs and planes.
+                let id = world.bodies.id[k];
+                let pairs = tracks_by_body.get(&id).cloned().unwrap_or_default();
+                let planes: Vec<Track> = (0..np)
+                    .map(|p| t.planes.get(k * np + p).copied().unwrap_or_default())
+                    .collect();
+                w.blob(&pack::encode(&(pairs, planes)));
+            }
             if spin {
                 pack::write_wall_shear(w, &world.wall_shear, np, k);
                 let ss = springs_by_body
@@ -469,6 +509,20 @@ impl<T: Transport> DistributedSimulation<T> {
                 for _ in 0..r.u32() {
                     let (a, b, h) = (r.u32(), r.u32(), r.history());
                     saved.histories.insert((a, b), h);
+                }
+                if tracked {
+                    type Tracked = (Vec<(u32, u32, Track)>, Vec<Track>);
+                    let (pairs, planes): Tracked = pack::decode(r.blob()).unwrap_or_default();
+                    if let Some(saved) = saved.tracks.as_mut() {
+                        for (a, b, t) in pairs {
+                            saved.insert((a, b), t);
+                        }
+                    }
+                    if let Some(t) = world.tracks.as_mut() {
+                        let mut planes = planes;
+                        planes.resize(np, Track::default());
+                        t.planes.extend(planes);
+                    }
                 }
                 if gear5 {
                     let mut higher = Vec::with_capacity(1);
@@ -527,6 +581,11 @@ impl<T: Transport> DistributedSimulation<T> {
                     let n = world.wall_shear.len();
                     world.wall_shear.resize(n + np, Default::default());
                 }
+                if let Some(t) = world.tracks.as_mut() {
+                    // Nor is it tracked against the planes.
+                    let n = t.planes.len();
+                    t.planes.resize(n + np, Track::default());
+                }
                 if gear5 && world.bodies.higher.len() + 1 == world.bodies.len() {
                     // Nor is it integrated.
                     world.bodies.higher.push(Default::default());
@@ -578,6 +637,14 @@ impl<T: Transport> DistributedSimulation<T> {
             .map(|(r, ids)| (*r, local(ids)))
             .filter(|(_, v)| !v.is_empty())
             .collect();
+        self.owned_by_id.fill(false);
+        for (k, &id) in self.sim.world.bodies.id.iter().enumerate() {
+            if !self.halo[k] {
+                if let Some(o) = self.owned_by_id.get_mut(id as usize) {
+                    *o = true;
+                }
+            }
+        }
         if self.in_cell_order {
             self.incidence_start.clear();
             self.incidence.clear();
@@ -912,6 +979,14 @@ impl<T: Transport> DistributedSimulation<T> {
     /// exchange then sits between the fused stages.
     pub fn step(&mut self, n: u64) {
         let clock = Instant::now();
+        if self.sim.world.tracks.is_some() {
+            for _ in 0..n {
+                self.tracked_step();
+            }
+            self.steps_run += n;
+            self.stepping += clock.elapsed().as_secs_f64();
+            return;
+        }
         if self.sim.world.scheme == Scheme::Gear5 {
             for _ in 0..n {
                 self.gear5_step();
@@ -944,6 +1019,68 @@ impl<T: Transport> DistributedSimulation<T> {
         sim.pipeline.finish(&mut sim.world, &sim.workers);
         self.steps_run += n;
         self.stepping += clock.elapsed().as_secs_f64();
+    }
+
+    /// One Verlet step with the collision log, as the engine's: the
+    /// closing half kick in the step, then the halo again (the copies'
+    /// velocities at the step's end: every rank tracks a pair across a
+    /// cut with the same bits), then the log. A collision is kept by the
+    /// rank owning its sphere i. Collective.
+    fn tracked_step(&mut self) {
+        let sim = &mut self.sim;
+        let moved2 = sim.pipeline.verlet_advance(&mut sim.world, &sim.workers);
+        self.after_advance(moved2);
+        self.pair_forces();
+        let sim = &mut self.sim;
+        let dt = sim.world.dt;
+        integrate::verlet_kick(&mut sim.world.bodies, dt, &sim.workers);
+        sim.world.steps_done += 1;
+        self.halo_update();
+        let sim = &mut self.sim;
+        sim.pipeline.ghosts(&mut sim.world);
+        let w = &mut sim.world;
+        let before = w.collisions.len();
+        sim.pipeline.observe(w);
+        let new = w.collisions.split_off(before);
+        let owned = &self.owned_by_id;
+        w.collisions.extend(
+            new.into_iter()
+                .filter(|c| owned.get(c.i).copied().unwrap_or(false)),
+        );
+        self.collision_steps
+            .resize(w.collisions.len(), w.steps_done);
+    }
+
+    /// Every rank's collision log, merged at rank 0 in the engine's order
+    /// (by the step that completed each, then sphere i and partner);
+    /// `None` elsewhere. Collective.
+    pub fn collisions(&self) -> Option<Vec<Collision>> {
+        let w = &self.sim.world;
+        // The order: a restart's log first, as it was; then by step, sphere
+        // and partner (steps count from 1).
+        type Key = (u64, u64, (u8, usize));
+        let mine: Vec<(Key, Collision)> = self
+            .collision_steps
+            .iter()
+            .zip(&w.collisions)
+            .enumerate()
+            .map(|(k, (&step, c))| {
+                let key = if k < self.restored_collisions {
+                    (0, k as u64, (0, 0))
+                } else {
+                    (step, c.i as u64, partner_key(c.j))
+                };
+                (key, *c)
+            })
+            .collect();
+        let parts = self.transport.gather(pack::encode(&mine))?;
+        let mut all: Vec<(Key, Collision)> = parts
+            .iter()
+            .filter_map(|b| pack::decode::<Vec<(Key, Collision)>>(b))
+            .flatten()
+            .collect();
+        all.sort_by_key(|(key, _)| *key);
+        Some(all.into_iter().map(|(_, c)| c).collect())
     }
 
     /// One Gear5 step, as the engine's: predict the owned bodies, the

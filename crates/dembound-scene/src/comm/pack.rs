@@ -38,6 +38,25 @@ impl Writer {
         self.f64(h.max_overlap);
         self.u8(u8::from(h.unloading));
     }
+    /// A length-prefixed byte string.
+    pub fn blob(&mut self, b: &[u8]) {
+        self.u32(b.len() as u32);
+        self.0.extend_from_slice(b);
+    }
+}
+
+/// A value as CBOR (every f64 bit kept): for the rarer, structured
+/// records (collision tracks, the collision log).
+pub fn encode<T: serde::Serialize>(v: &T) -> Vec<u8> {
+    let mut out = Vec::new();
+    // Writing into a Vec cannot fail for these plain records.
+    let _ = ciborium::into_writer(v, &mut out);
+    out
+}
+
+/// What [`encode`] wrote (`None`: not such a value, a bug).
+pub fn decode<T: serde::de::DeserializeOwned>(b: &[u8]) -> Option<T> {
+    ciborium::from_reader(b).ok()
 }
 
 /// Reads what a [`Writer`] wrote. Messages come from ranks of the same
@@ -86,6 +105,13 @@ impl<'a> Reader<'a> {
             max_overlap: self.f64(),
             unloading: self.u8() != 0,
         }
+    }
+    /// What [`Writer::blob`] wrote.
+    pub fn blob(&mut self) -> &'a [u8] {
+        let n = self.u32() as usize;
+        let s = self.bytes.get(self.at..self.at + n).unwrap_or(&[]);
+        self.at += n;
+        s
     }
 }
 

@@ -35,6 +35,7 @@ use dembound_physics::contact::ContactHistory;
 use super::DistributedSimulation;
 use crate::comm::pack::{self, Reader, Writer};
 use crate::comm::Transport;
+use crate::dynamics::collisions::Track;
 use crate::dynamics::contacts::{self, extended};
 use crate::dynamics::friction::{self, WallShear};
 use crate::setup::{SceneSetup, Scheme};
@@ -133,6 +134,15 @@ impl<T: Transport> DistributedSimulation<T> {
                     pack::write_wall_shear(&mut out, std::slice::from_ref(s), 1, 0);
                 }
             }
+            if let Some(t) = w.tracks.as_ref() {
+                let planes: Vec<(u32, Track)> = (0..np)
+                    .filter_map(|p| {
+                        let tr = t.planes.get(k * np + p).copied()?;
+                        tr.is_known().then_some((p as u32, tr))
+                    })
+                    .collect();
+                out.blob(&pack::encode(&planes));
+            }
             let touching: Vec<(u32, ContactHistory)> = (0..np)
                 .filter_map(|p| {
                     let h = w.wall_contacts.history.get(k * np + p).copied()?;
@@ -154,6 +164,12 @@ impl<T: Transport> DistributedSimulation<T> {
             out.u32(*c);
             out.history(h);
         }
+        if let Some(t) = w.tracks.as_ref() {
+            let m: Vec<((u32, u32), Track)> = crate::pipeline::saved_tracks_public(w, t)
+                .into_iter()
+                .collect();
+            out.blob(&pack::encode(&m));
+        }
         if spin {
             let springs = friction::active_shear(b, &w.ghosts, &w.list, &w.shear);
             out.u32(springs.len() as u32);
@@ -165,6 +181,12 @@ impl<T: Transport> DistributedSimulation<T> {
                 }
             }
         }
+        // The collision log so far, merged (collective, on every rank).
+        let log = if w.tracks.is_some() {
+            self.collisions()
+        } else {
+            None
+        };
         let Some(parts) = self.transport.gather(out.0) else {
             return Ok(None);
         };
@@ -196,6 +218,9 @@ impl<T: Transport> DistributedSimulation<T> {
         };
         let mut plane_shear = BTreeMap::new();
         let mut springs = BTreeMap::new();
+        let tracked = w.tracks.is_some();
+        let mut plane_tracks = BTreeMap::new();
+        let mut pair_tracks = BTreeMap::new();
         let mut seen = vec![false; n];
         let mut planes = BTreeMap::new();
         let mut histories = BTreeMap::new();
@@ -209,6 +234,12 @@ impl<T: Transport> DistributedSimulation<T> {
                     pack::read_higher(&mut r, &mut h);
                     if let (Some(slot), Some(h)) = (c.higher.get_mut(id), h.first()) {
                         *slot = *h;
+                    }
+                }
+                if tracked {
+                    let planes: Vec<(u32, Track)> = pack::decode(r.blob()).unwrap_or_default();
+                    for (p, tr) in planes {
+                        plane_tracks.insert((id as u32, p), tr);
                     }
                 }
                 if spin {
@@ -243,6 +274,10 @@ impl<T: Transport> DistributedSimulation<T> {
                 let (a, b, h) = (r.u32(), r.u32(), r.history());
                 histories.insert((a, b), h);
             }
+            if tracked {
+                let m: Vec<((u32, u32), Track)> = pack::decode(r.blob()).unwrap_or_default();
+                pair_tracks.extend(m);
+            }
             if spin {
                 for _ in 0..r.u32() {
                     let (a, b) = (r.u32(), r.u32());
@@ -255,6 +290,15 @@ impl<T: Transport> DistributedSimulation<T> {
             }
         }
         c.pair_shear = springs.into_iter().map(|((a, b), s)| (a, b, s)).collect();
+        c.pair_tracks = pair_tracks
+            .into_iter()
+            .map(|((a, b), t)| (a, b, t))
+            .collect();
+        c.plane_tracks = plane_tracks
+            .into_iter()
+            .map(|((id, p), t)| (id, p, t))
+            .collect();
+        c.collisions = log.unwrap_or_default();
         c.plane_shear = plane_shear
             .into_iter()
             .map(|((id, p), s)| (id, p, s))
@@ -339,6 +383,20 @@ impl<T: Transport> DistributedSimulation<T> {
                     }
                 }
             }
+            if let Some(t) = w.tracks.as_mut() {
+                // Each body's plane tracks (they migrate with it).
+                t.planes = vec![Track::default(); b.len() * np];
+                let mut local = vec![usize::MAX; n];
+                for (k, &id) in b.id.iter().enumerate() {
+                    local[id as usize] = k;
+                }
+                for &(id, p, tr) in &c.plane_tracks {
+                    let k = local.get(id as usize).copied().unwrap_or(usize::MAX);
+                    if k != usize::MAX && (p as usize) < np {
+                        t.planes[k * np + p as usize] = tr;
+                    }
+                }
+            }
             let wc = &mut w.wall_contacts;
             wc.history.fill(ContactHistory::default());
             wc.touching.fill(0);
@@ -392,6 +450,34 @@ impl<T: Transport> DistributedSimulation<T> {
                 if let Some(h) = pairs.get(&key(i as usize, j as usize)) {
                     w.histories.extra[q] = *h;
                 }
+            }
+        }
+        if let Some(t) = w.tracks.as_mut() {
+            let saved: HashMap<(u32, u32), Track> =
+                c.pair_tracks.iter().map(|&(a, b, t)| ((a, b), t)).collect();
+            let b = &w.bodies;
+            let key = |i: usize, j: usize| {
+                let (_, _, owner) = extended(b, &w.ghosts, j);
+                let (x, y) = (b.id[i], b.id[owner]);
+                (x.min(y), x.max(y))
+            };
+            t.main = vec![Track::default(); w.list.j.len()];
+            t.extra = vec![Track::default(); w.list.extra.len()];
+            for (i, k) in w.list.entries() {
+                if let Some(tr) = saved.get(&key(i, w.list.j[k] as usize)) {
+                    t.main[k] = *tr;
+                }
+            }
+            for (q, &(i, j)) in w.list.extra.iter().enumerate() {
+                if let Some(tr) = saved.get(&key(i as usize, j as usize)) {
+                    t.extra[q] = *tr;
+                }
+            }
+            // The log so far, once: at rank 0.
+            if me.transport.rank() == 0 {
+                w.collisions.clone_from(&c.collisions);
+                me.collision_steps = vec![c.steps_done; c.collisions.len()];
+                me.restored_collisions = c.collisions.len();
             }
         }
         if let Some(table) = w.friction.as_ref() {
