@@ -355,7 +355,6 @@ fn write_snapshot(
     k: usize,
 ) -> anyhow::Result<()> {
     let materials: Vec<usize> = s.material.iter().map(|&m| m as usize).collect();
-    let spins = vec![[0.0; 3]; s.position.len()];
     out.write(&vtk::snapshot_name(k), |w| {
         Ok(vtk::write_snapshot(
             w,
@@ -368,7 +367,7 @@ fn write_snapshot(
                 forces: &s.force,
                 fixed: &s.fixed,
                 materials: &materials,
-                angular_velocities: &spins,
+                angular_velocities: &s.angular_velocity,
             },
         )?)
     })

@@ -114,6 +114,8 @@ pub struct GatheredState {
     pub radius: Vec<f64>,
     pub fixed: Vec<bool>,
     pub material: Vec<u32>,
+    /// rad/s (0 without friction).
+    pub angular_velocity: Vec<[f64; 3]>,
     /// Rank owning each body.
     pub rank: Vec<u32>,
 }
@@ -1301,6 +1303,7 @@ impl<T: Transport> DistributedSimulation<T> {
             w.f64(b.radius[k]);
             w.u8(u8::from(b.fixed[k]));
             w.u32(b.material[k]);
+            w.vec3(b.angular_velocity.get(k).copied().unwrap_or_default());
         }
         let parts = self.transport.gather(w.0)?;
         let n = self.fixed_by_id.len();
@@ -1311,6 +1314,7 @@ impl<T: Transport> DistributedSimulation<T> {
             radius: vec![0.0; n],
             fixed: vec![false; n],
             material: vec![0; n],
+            angular_velocity: vec![[0.0; 3]; n],
             rank: vec![u32::MAX; n],
         };
         for (rank, bytes) in parts.iter().enumerate() {
@@ -1319,7 +1323,9 @@ impl<T: Transport> DistributedSimulation<T> {
                 let id = r.u32() as usize;
                 let (x, v, f, rad, fixed, mat) =
                     (r.vec3(), r.vec3(), r.vec3(), r.f64(), r.u8() != 0, r.u32());
+                let spin = r.vec3();
                 if id < n {
+                    s.angular_velocity[id] = spin;
                     s.position[id] = x;
                     s.velocity[id] = v;
                     s.force[id] = f;

@@ -369,56 +369,50 @@ impl<T: Transport> DistributedSimulation<T> {
                     *a = *ca;
                 }
             }
+            // Body id → local body, and (id, plane) → its per-plane entry.
+            let mut local = vec![usize::MAX; n];
+            for (k, &id) in b.id.iter().enumerate() {
+                local[id as usize] = k;
+            }
+            let entry = |id: u32, p: u32| -> Option<usize> {
+                let k = local
+                    .get(id as usize)
+                    .copied()
+                    .filter(|&k| k != usize::MAX)?;
+                ((p as usize) < np).then_some(k * np + p as usize)
+            };
             if w.friction.is_some() {
                 // Each body's plane springs as saved (they migrate with it).
                 w.wall_shear = vec![WallShear::default(); b.len() * np];
-                let mut local = vec![usize::MAX; n];
-                for (k, &id) in b.id.iter().enumerate() {
-                    local[id as usize] = k;
-                }
                 for &(id, p, sh) in &c.plane_shear {
-                    let k = local.get(id as usize).copied().unwrap_or(usize::MAX);
-                    if k != usize::MAX && (p as usize) < np {
-                        w.wall_shear[k * np + p as usize] = sh;
+                    if let Some(e) = entry(id, p) {
+                        w.wall_shear[e] = sh;
                     }
                 }
             }
             if let Some(t) = w.tracks.as_mut() {
                 // Each body's plane tracks (they migrate with it).
                 t.planes = vec![Track::default(); b.len() * np];
-                let mut local = vec![usize::MAX; n];
-                for (k, &id) in b.id.iter().enumerate() {
-                    local[id as usize] = k;
-                }
                 for &(id, p, tr) in &c.plane_tracks {
-                    let k = local.get(id as usize).copied().unwrap_or(usize::MAX);
-                    if k != usize::MAX && (p as usize) < np {
-                        t.planes[k * np + p as usize] = tr;
+                    if let Some(e) = entry(id, p) {
+                        t.planes[e] = tr;
                     }
                 }
             }
             let wc = &mut w.wall_contacts;
             wc.history.fill(ContactHistory::default());
             wc.touching.fill(0);
-            let mut local = vec![usize::MAX; n];
-            for (k, &id) in b.id.iter().enumerate() {
-                local[id as usize] = k;
-            }
             for &(id, p, h) in &c.plane_histories {
-                let k = local[id as usize];
-                if k == usize::MAX {
-                    continue;
-                }
-                if let Some(slot) = wc.history.get_mut(k * np + p as usize) {
-                    *slot = h.into();
-                    wc.touching[k] |= 1u64 << p;
+                if let Some(e) = entry(id, p) {
+                    if let Some(slot) = wc.history.get_mut(e) {
+                        *slot = h.into();
+                        wc.touching[e / np] |= 1u64 << p;
+                    }
                 }
             }
             for &(id, p, _) in &c.plane_shear {
-                if let Some(&k) = local.get(id as usize) {
-                    if k != usize::MAX && (p as usize) < np {
-                        wc.touching[k] |= 1u64 << p;
-                    }
+                if let Some(e) = entry(id, p) {
+                    wc.touching[e / np] |= 1u64 << p;
                 }
             }
             w.histories.main.fill(ContactHistory::default());
