@@ -517,19 +517,13 @@ impl Pipeline {
         }
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
-        friction::permute_wall_shear(&mut world.wall_shear, world.planes.len(), &order);
+        let np = world.planes.len();
+        walls::permute_per_plane(&mut world.wall_shear, np, &order);
         world
             .wall_contacts
             .update_near(&world.bodies, &world.planes, world.skin);
         if let Some(t) = world.tracks.as_mut() {
-            let p = world.planes.len();
-            if p > 0 {
-                let mut v = Vec::with_capacity(t.planes.len());
-                for &o in &order {
-                    v.extend_from_slice(&t.planes[o as usize * p..(o as usize + 1) * p]);
-                }
-                t.planes = v;
-            }
+            walls::permute_per_plane(&mut t.planes, np, &order);
         }
         let celled = start[cells] as usize;
         let bodies = &world.bodies;

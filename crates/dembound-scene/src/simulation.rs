@@ -968,12 +968,7 @@ impl Simulation {
         w.bodies.permute(&c.order);
         w.wall_contacts.permute(&c.order);
         if let Some(t) = w.tracks.as_mut() {
-            let p = w.planes.len();
-            let mut v = Vec::with_capacity(t.planes.len());
-            for &o in &c.order {
-                v.extend_from_slice(&t.planes[o as usize * p..(o as usize + 1) * p]);
-            }
-            t.planes = v;
+            walls::permute_per_plane(&mut t.planes, w.planes.len(), &c.order);
         }
         // The lists as they were built: from the positions of the last build
         // (already sorted, so the stable sort keeps this order).

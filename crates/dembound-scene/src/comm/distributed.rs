@@ -241,26 +241,13 @@ fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
 fn select(world: &mut World, order: &[u32]) {
     world.bodies.permute(order);
     let wc = &mut world.wall_contacts;
-    let p = wc.planes;
-    if p > 0 && !wc.history.is_empty() {
-        let mut h = Vec::with_capacity(order.len() * p);
-        for &o in order {
-            h.extend_from_slice(&wc.history[o as usize * p..(o as usize + 1) * p]);
-        }
-        wc.history = h;
-    }
-    wc.touching = order.iter().map(|&o| wc.touching[o as usize]).collect();
-    wc.near = order.iter().map(|&o| wc.near[o as usize]).collect();
-    friction::permute_wall_shear(&mut world.wall_shear, world.planes.len(), order);
+    let near: Vec<u64> = order.iter().map(|&o| wc.near[o as usize]).collect();
+    wc.permute(order);
+    wc.near = near;
     let np = world.planes.len();
+    walls::permute_per_plane(&mut world.wall_shear, np, order);
     if let Some(t) = world.tracks.as_mut() {
-        if np > 0 && !t.planes.is_empty() {
-            let mut v = Vec::with_capacity(order.len() * np);
-            for &o in order {
-                v.extend_from_slice(&t.planes[o as usize * np..(o as usize + 1) * np]);
-            }
-            t.planes = v;
-        }
+        walls::permute_per_plane(&mut t.planes, np, order);
     }
 }
 

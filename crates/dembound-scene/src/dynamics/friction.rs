@@ -1033,15 +1033,3 @@ pub fn plane_tangential_forces(
     }
     out
 }
-
-/// Permutes per-(body, plane) records with the bodies.
-pub fn permute_wall_shear(shear: &mut Vec<WallShear>, planes: usize, order: &[u32]) {
-    if planes == 0 || shear.is_empty() {
-        return;
-    }
-    let mut v = Vec::with_capacity(shear.len());
-    for &o in order {
-        v.extend_from_slice(&shear[o as usize * planes..(o as usize + 1) * planes]);
-    }
-    *shear = v;
-}

@@ -35,6 +35,21 @@ pub struct WallContacts {
     pub near: Vec<u64>,
 }
 
+/// Keeps the per-(body, plane) records `v[i * planes + p]` of bodies
+/// `order` (new body k ← old `order[k]`): plane histories, springs and
+/// collision tracks move with their bodies. Nothing to do without planes
+/// or records.
+pub fn permute_per_plane<T: Copy>(v: &mut Vec<T>, planes: usize, order: &[u32]) {
+    if planes == 0 || v.is_empty() {
+        return;
+    }
+    let mut out = Vec::with_capacity(order.len() * planes);
+    for &o in order {
+        out.extend_from_slice(&v[o as usize * planes..(o as usize + 1) * planes]);
+    }
+    *v = out;
+}
+
 impl WallContacts {
     /// `history`: whether the law keeps one (else none is stored).
     pub fn new(bodies: usize, planes: usize, history: bool) -> Self {
@@ -58,18 +73,10 @@ impl WallContacts {
     }
 
     pub fn permute(&mut self, order: &[u32]) {
-        let p = self.planes;
-        if p == 0 {
-            return;
+        permute_per_plane(&mut self.history, self.planes, order);
+        if !self.touching.is_empty() {
+            self.touching = order.iter().map(|&o| self.touching[o as usize]).collect();
         }
-        if !self.history.is_empty() {
-            let mut h = Vec::with_capacity(self.history.len());
-            for &o in order {
-                h.extend_from_slice(&self.history[o as usize * p..(o as usize + 1) * p]);
-            }
-            self.history = h;
-        }
-        self.touching = order.iter().map(|&o| self.touching[o as usize]).collect();
     }
 
     /// Marks the planes within R + `skin` of each free body.
