@@ -91,12 +91,12 @@ impl Decomposition {
         })
     }
 
-    /// The grid[a] + 1 cut positions along axis a, m.
+    /// The `grid[a]` + 1 cut positions along axis a, m.
     pub fn cuts(&self, a: usize) -> &[f64] {
         &self.cuts[a]
     }
 
-    /// Moves the grid[a] − 1 inner cuts along axis a to `inner` (m,
+    /// Moves the `grid[a]` − 1 inner cuts along axis a to `inner` (m,
     /// non-decreasing; an empty sub-domain is allowed). The outer cuts
     /// stay, widened if an inner one passes them (the edge sub-domains
     /// reach past the region anyway). Returns false (nothing changed) if
