@@ -759,8 +759,50 @@ impl MainPairs<'_> {
         self.block::<KEEP, ROLL, TABLE>(b)
     }
 
+    /// Block `b`'s rows, in batches of consecutive rows with at most
+    /// [`BATCH`] entries between them: a first pass over a batch finds the
+    /// touching entries and their geometry without a branch on whether
+    /// they touch (one per entry, a third of them mispredicted in a
+    /// settled bed), so that the square roots and divisions of several
+    /// pairs overlap instead of heading each contact's chain of dependent
+    /// operations; the second pass computes the contacts found. Same
+    /// operations on the same values in the same order as [`Self::row`]
+    /// (the springs of untouched entries set to exactly +0): the same bits.
     #[inline(always)]
     fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+        let start = self.start;
+        let lo = self.list.blocks[b] as usize;
+        let hi = self.list.blocks[b + 1] as usize;
+        let mut found = [Touch::default(); BATCH];
+        let mut ends = [0u16; BATCH];
+        let mut i = lo;
+        while i < hi {
+            let first = start[i] as usize;
+            let mut end = i;
+            while end < hi && end - i < BATCH && start[end + 1] as usize - first <= BATCH {
+                end += 1;
+            }
+            if end == i {
+                // A row longer than a batch (a large body's).
+                self.row::<KEEP, ROLL, TABLE>(i);
+                i += 1;
+            } else {
+                self.batch::<KEEP, ROLL, TABLE>(i, end, &mut found, &mut ends);
+                i = end;
+            }
+        }
+    }
+
+    /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
+    /// entries in all (see [`Self::block`]).
+    #[inline(always)]
+    fn batch<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+        &self,
+        lo: usize,
+        hi: usize,
+        found: &mut [Touch; BATCH],
+        ends: &mut [u16; BATCH],
+    ) {
         let (position, velocity, radius, spin, inverse_inertia, class) = (
             self.position,
             self.velocity,
@@ -770,14 +812,71 @@ impl MainPairs<'_> {
             self.class,
         );
         let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
-        let lo = self.list.blocks[b] as usize;
-        let hi = self.list.blocks[b + 1] as usize;
+        // Pass 1: every entry's geometry ([`touching_lazy`]'s operations
+        // without its branches); the touching ones appended to `found`,
+        // the others' springs relaxed by masking their bits.
+        let mut m = 0usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            let (xi, ri) = (position[i], radius[i]);
+            for k in s..e {
+                // SAFETY: as in [`Self::row`] for k and j; m < BATCH since
+                // at most BATCH entries are visited and m counts some of
+                // those before this one.
+                let j = unsafe { *js.get_unchecked(k) };
+                let (xj, rj) = unsafe {
+                    (
+                        *position.get_unchecked(j as usize),
+                        *radius.get_unchecked(j as usize),
+                    )
+                };
+                let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let sum = ri + rj;
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                let touches = !(r2 >= sum * sum) && r2 != 0.0;
+                let r = r2.sqrt();
+                let inv = 1.0 / r;
+                unsafe {
+                    *found.get_unchecked_mut(m) = Touch {
+                        k: k as u32,
+                        j,
+                        overlap: sum - r,
+                        normal: [d[0] * inv, d[1] * inv, d[2] * inv],
+                    };
+                }
+                m += touches as usize;
+                // All ones when touching: the springs kept bit for bit;
+                // else exactly +0.
+                let keep = (touches as u64).wrapping_neg();
+                let mask = |v: &mut [f64; 3]| {
+                    *v = v.map(|x| f64::from_bits(x.to_bits() & keep));
+                };
+                // SAFETY: entry k belongs to row i of this block (as in
+                // [`Self::row`]).
+                unsafe {
+                    mask(&mut *self.shear.0.add(k));
+                    if KEEP {
+                        let hist = &mut *self.history.0.add(k);
+                        hist.max_overlap = f64::from_bits(hist.max_overlap.to_bits() & keep);
+                        hist.unloading &= touches;
+                    }
+                    if ROLL {
+                        mask(&mut *self.roll.0.add(k));
+                    }
+                }
+            }
+            ends[i - lo] = m as u16;
+        }
+        // Pass 2: the contacts found, row by row, as [`Self::row`] does.
+        let mut from = 0usize;
         for i in lo..hi {
             let (s, e) = (start[i] as usize, start[i + 1] as usize);
             if s == e {
                 continue;
             }
-            let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+            let to = ends[i - lo] as usize;
+            let (vi, ri) = (velocity[i], radius[i]);
             let a = Side {
                 v: vi,
                 w: spin[i],
@@ -787,79 +886,59 @@ impl MainPairs<'_> {
             let ci = if TABLE { class[i] as usize } else { 0 };
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
-            for k in s..e {
-                // SAFETY (the unchecked reads): k < js.len() (rows lie
-                // within j, asserted via start[n]), and every j < n (the
-                // list's construction); body arrays of length n asserted
-                // by the caller.
-                let j = unsafe { *js.get_unchecked(k) } as usize;
-                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
-                // SAFETY (every pointer below): entry k belongs to row i,
-                // which only this block visits; j lies in this block or the
-                // next, and blocks of one parity are two apart (the
-                // frictionless loop's argument, `contacts::add_pair_forces`).
-                let sh = unsafe { &mut *self.shear.0.add(k) };
-                // The velocity is read only for touching pairs.
-                let vj = || unsafe { *velocity.get_unchecked(j) };
-                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
-                    let mut scratch = NO_HISTORY;
-                    let hist = if KEEP {
-                        unsafe { &mut *self.history.0.add(k) }
-                    } else {
-                        &mut scratch
-                    };
-                    let b = unsafe {
+            for t in &found[from..to] {
+                let (k, j) = (t.k as usize, t.j as usize);
+                // SAFETY: k and j as in pass 1.
+                let (vj, b) = unsafe {
+                    let vj = *velocity.get_unchecked(j);
+                    (
+                        vj,
                         Side {
-                            v: *velocity.get_unchecked(j),
+                            v: vj,
                             w: *spin.get_unchecked(j),
-                            r: rj,
+                            r: *radius.get_unchecked(j),
                             inv_inertia: *inverse_inertia.get_unchecked(j),
-                        }
-                    };
-                    let mut computed = None;
-                    let fl = if TABLE {
-                        // SAFETY: classes are < `classes` when the table
-                        // exists (`FrictionTable::new`), so the row is in
-                        // the table of classes² rows.
-                        unsafe {
-                            table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize)
-                        }
-                    } else {
-                        self.friction
-                            .pair(self.laws, self.bodies, i, j, &mut computed)
-                    };
-                    let roll = if ROLL {
-                        Some(unsafe { &mut *self.roll.0.add(k) })
-                    } else {
-                        None
-                    };
-                    let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
-                    sub(&mut fi, fj);
-                    add(&mut ti, tqi);
-                    unsafe {
-                        add(&mut *self.force.0.add(j), fj);
-                        add(&mut *self.torque.0.add(j), tqj);
-                    }
+                        },
+                    )
+                };
+                let n = t.normal;
+                let g = PairGeometry {
+                    overlap: t.overlap,
+                    overlap_rate: (vi[0] - vj[0]) * n[0]
+                        + (vi[1] - vj[1]) * n[1]
+                        + (vi[2] - vj[2]) * n[2],
+                    normal: n,
+                };
+                let mut scratch = NO_HISTORY;
+                // SAFETY: as in [`Self::row`].
+                let hist = if KEEP {
+                    unsafe { &mut *self.history.0.add(k) }
                 } else {
-                    // An untouched pair: relax its springs (a read and a
-                    // compare when they are relaxed already).
-                    if KEEP {
-                        let hist = unsafe { &mut *self.history.0.add(k) };
-                        if *hist != ContactHistory::default() {
-                            *hist = ContactHistory::default();
-                        }
-                    }
-                    if *sh != [0.0; 3] {
-                        *sh = [0.0; 3];
-                    }
-                    if ROLL {
-                        let r = unsafe { &mut *self.roll.0.add(k) };
-                        if *r != [0.0; 3] {
-                            *r = [0.0; 3];
-                        }
-                    }
+                    &mut scratch
+                };
+                let sh = unsafe { &mut *self.shear.0.add(k) };
+                let mut computed = None;
+                let fl = if TABLE {
+                    // SAFETY: as in [`Self::row`].
+                    unsafe { table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize) }
+                } else {
+                    self.friction
+                        .pair(self.laws, self.bodies, i, j, &mut computed)
+                };
+                let roll = if ROLL {
+                    Some(unsafe { &mut *self.roll.0.add(k) })
+                } else {
+                    None
+                };
+                let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                sub(&mut fi, fj);
+                add(&mut ti, tqi);
+                unsafe {
+                    add(&mut *self.force.0.add(j), fj);
+                    add(&mut *self.torque.0.add(j), tqj);
                 }
             }
+            from = to;
             // SAFETY: i is in this block.
             unsafe {
                 add(&mut *self.force.0.add(i), fi);
@@ -867,6 +946,124 @@ impl MainPairs<'_> {
             }
         }
     }
+
+    /// Row i entry by entry (rows longer than a batch).
+    #[inline(always)]
+    fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, i: usize) {
+        let (position, velocity, radius, spin, inverse_inertia, class) = (
+            self.position,
+            self.velocity,
+            self.radius,
+            self.spin,
+            self.inverse_inertia,
+            self.class,
+        );
+        let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
+        let (s, e) = (start[i] as usize, start[i + 1] as usize);
+        if s == e {
+            return;
+        }
+        let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+        let a = Side {
+            v: vi,
+            w: spin[i],
+            r: ri,
+            inv_inertia: inverse_inertia[i],
+        };
+        let ci = if TABLE { class[i] as usize } else { 0 };
+        let mut fi = [0.0; 3];
+        let mut ti = [0.0; 3];
+        for k in s..e {
+            // SAFETY (the unchecked reads): k < js.len() (rows lie
+            // within j, asserted via start[n]), and every j < n (the
+            // list's construction); body arrays of length n asserted
+            // by the caller.
+            let j = unsafe { *js.get_unchecked(k) } as usize;
+            let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+            // SAFETY (every pointer below): entry k belongs to row i,
+            // which only this block visits; j lies in this block or the
+            // next, and blocks of one parity are two apart (the
+            // frictionless loop's argument, `contacts::add_pair_forces`).
+            let sh = unsafe { &mut *self.shear.0.add(k) };
+            // The velocity is read only for touching pairs.
+            let vj = || unsafe { *velocity.get_unchecked(j) };
+            if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                let mut scratch = NO_HISTORY;
+                let hist = if KEEP {
+                    unsafe { &mut *self.history.0.add(k) }
+                } else {
+                    &mut scratch
+                };
+                let b = unsafe {
+                    Side {
+                        v: *velocity.get_unchecked(j),
+                        w: *spin.get_unchecked(j),
+                        r: rj,
+                        inv_inertia: *inverse_inertia.get_unchecked(j),
+                    }
+                };
+                let mut computed = None;
+                let fl = if TABLE {
+                    // SAFETY: classes are < `classes` when the table
+                    // exists (`FrictionTable::new`), so the row is in
+                    // the table of classes² rows.
+                    unsafe { table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize) }
+                } else {
+                    self.friction
+                        .pair(self.laws, self.bodies, i, j, &mut computed)
+                };
+                let roll = if ROLL {
+                    Some(unsafe { &mut *self.roll.0.add(k) })
+                } else {
+                    None
+                };
+                let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                sub(&mut fi, fj);
+                add(&mut ti, tqi);
+                unsafe {
+                    add(&mut *self.force.0.add(j), fj);
+                    add(&mut *self.torque.0.add(j), tqj);
+                }
+            } else {
+                // An untouched pair: relax its springs (a read and a
+                // compare when they are relaxed already).
+                if KEEP {
+                    let hist = unsafe { &mut *self.history.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
+                    }
+                }
+                if *sh != [0.0; 3] {
+                    *sh = [0.0; 3];
+                }
+                if ROLL {
+                    let r = unsafe { &mut *self.roll.0.add(k) };
+                    if *r != [0.0; 3] {
+                        *r = [0.0; 3];
+                    }
+                }
+            }
+        }
+        // SAFETY: i is in this block.
+        unsafe {
+            add(&mut *self.force.0.add(i), fi);
+            add(&mut *self.torque.0.add(i), ti);
+        }
+    }
+}
+
+/// Entries per batch of [`MainPairs::block`] (2.5 kB of [`Touch`] on the
+/// stack).
+const BATCH: usize = 64;
+
+/// A touching entry found by the first pass of [`MainPairs::batch`]: its
+/// index in the list, its partner, its overlap (m) and unit normal.
+#[derive(Clone, Copy, Default)]
+struct Touch {
+    k: u32,
+    j: u32,
+    overlap: f64,
+    normal: [f64; 3],
 }
 
 /// What the per-body friction pass reads.
