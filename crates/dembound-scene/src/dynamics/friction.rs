@@ -773,8 +773,7 @@ impl MainPairs<'_> {
         let start = self.start;
         let lo = self.list.blocks[b] as usize;
         let hi = self.list.blocks[b + 1] as usize;
-        let mut found = [Touch::default(); BATCH];
-        let mut ends = [0u16; BATCH];
+        let mut scratch = Batch::default();
         let mut i = lo;
         while i < hi {
             let first = start[i] as usize;
@@ -787,7 +786,7 @@ impl MainPairs<'_> {
                 self.row::<KEEP, ROLL, TABLE>(i);
                 i += 1;
             } else {
-                self.batch::<KEEP, ROLL, TABLE>(i, end, &mut found, &mut ends);
+                self.batch::<KEEP, ROLL, TABLE>(i, end, &mut scratch);
                 i = end;
             }
         }
@@ -800,8 +799,7 @@ impl MainPairs<'_> {
         &self,
         lo: usize,
         hi: usize,
-        found: &mut [Touch; BATCH],
-        ends: &mut [u16; BATCH],
+        scratch: &mut Batch,
     ) {
         let (position, velocity, radius, spin, inverse_inertia, class) = (
             self.position,
@@ -813,42 +811,58 @@ impl MainPairs<'_> {
         );
         let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
         // Pass 1: every entry's geometry ([`touching_lazy`]'s operations
-        // without its branches); the touching ones appended to `found`,
-        // the others' springs relaxed by masking their bits.
-        let mut m = 0usize;
+        // without its branches): the partners gathered, then the roots and
+        // divisions of all entries in one loop over arrays (vectorised:
+        // IEEE square root and division per lane, the same bits), then the
+        // touching entries listed in `found` and the others' springs
+        // relaxed by masking their bits.
+        let first = start[lo] as usize;
+        let count = start[hi] as usize - first;
+        let g = &mut *scratch;
         for i in lo..hi {
             let (s, e) = (start[i] as usize, start[i + 1] as usize);
             let (xi, ri) = (position[i], radius[i]);
             for k in s..e {
-                // SAFETY: as in [`Self::row`] for k and j; m < BATCH since
-                // at most BATCH entries are visited and m counts some of
-                // those before this one.
-                let j = unsafe { *js.get_unchecked(k) };
-                let (xj, rj) = unsafe {
-                    (
-                        *position.get_unchecked(j as usize),
-                        *radius.get_unchecked(j as usize),
-                    )
-                };
-                let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
-                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                let sum = ri + rj;
-                #[allow(clippy::neg_cmp_op_on_partial_ord)]
-                let touches = !(r2 >= sum * sum) && r2 != 0.0;
-                let r = r2.sqrt();
-                let inv = 1.0 / r;
+                // SAFETY: as in [`Self::row`] for k and j; k − first <
+                // count ≤ BATCH (the batch's construction).
                 unsafe {
-                    *found.get_unchecked_mut(m) = Touch {
-                        k: k as u32,
-                        j,
-                        overlap: sum - r,
-                        normal: [d[0] * inv, d[1] * inv, d[2] * inv],
-                    };
+                    let q = k - first;
+                    let j = *js.get_unchecked(k);
+                    let xj = *position.get_unchecked(j as usize);
+                    *g.partner.get_unchecked_mut(q) = j;
+                    *g.dx.get_unchecked_mut(q) = xj[0] - xi[0];
+                    *g.dy.get_unchecked_mut(q) = xj[1] - xi[1];
+                    *g.dz.get_unchecked_mut(q) = xj[2] - xi[2];
+                    *g.sum.get_unchecked_mut(q) = ri + *radius.get_unchecked(j as usize);
                 }
+            }
+        }
+        let count = count.min(BATCH);
+        for q in 0..count {
+            let (x, y, z, sum) = (g.dx[q], g.dy[q], g.dz[q], g.sum[q]);
+            let r2 = x * x + y * y + z * z;
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let touches = !(r2 >= sum * sum) && r2 != 0.0;
+            g.touches[q] = touches as u64;
+            let r = r2.sqrt();
+            let inv = 1.0 / r;
+            g.overlap[q] = sum - r;
+            g.nx[q] = x * inv;
+            g.ny[q] = y * inv;
+            g.nz[q] = z * inv;
+        }
+        let mut m = 0usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            for k in s..e {
+                let q = k - first;
+                // SAFETY: q < count ≤ BATCH; m ≤ q.
+                let touches = unsafe { *g.touches.get_unchecked(q) };
+                unsafe { *g.found.get_unchecked_mut(m) = q as u8 };
                 m += touches as usize;
                 // All ones when touching: the springs kept bit for bit;
                 // else exactly +0.
-                let keep = (touches as u64).wrapping_neg();
+                let keep = touches.wrapping_neg();
                 let mask = |v: &mut [f64; 3]| {
                     *v = v.map(|x| f64::from_bits(x.to_bits() & keep));
                 };
@@ -859,14 +873,14 @@ impl MainPairs<'_> {
                     if KEEP {
                         let hist = &mut *self.history.0.add(k);
                         hist.max_overlap = f64::from_bits(hist.max_overlap.to_bits() & keep);
-                        hist.unloading &= touches;
+                        hist.unloading &= touches != 0;
                     }
                     if ROLL {
                         mask(&mut *self.roll.0.add(k));
                     }
                 }
             }
-            ends[i - lo] = m as u16;
+            g.ends[i - lo] = m as u8;
         }
         // Pass 2: the contacts found, row by row, as [`Self::row`] does.
         let mut from = 0usize;
@@ -875,7 +889,7 @@ impl MainPairs<'_> {
             if s == e {
                 continue;
             }
-            let to = ends[i - lo] as usize;
+            let to = g.ends[i - lo] as usize;
             let (vi, ri) = (velocity[i], radius[i]);
             let a = Side {
                 v: vi,
@@ -886,8 +900,9 @@ impl MainPairs<'_> {
             let ci = if TABLE { class[i] as usize } else { 0 };
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
-            for t in &found[from..to] {
-                let (k, j) = (t.k as usize, t.j as usize);
+            for &q in &g.found[from..to] {
+                let q = q as usize;
+                let (k, j) = (first + q, g.partner[q] as usize);
                 // SAFETY: k and j as in pass 1.
                 let (vj, b) = unsafe {
                     let vj = *velocity.get_unchecked(j);
@@ -901,9 +916,9 @@ impl MainPairs<'_> {
                         },
                     )
                 };
-                let n = t.normal;
-                let g = PairGeometry {
-                    overlap: t.overlap,
+                let n = [g.nx[q], g.ny[q], g.nz[q]];
+                let geometry = PairGeometry {
+                    overlap: g.overlap[q],
                     overlap_rate: (vi[0] - vj[0]) * n[0]
                         + (vi[1] - vj[1]) * n[1]
                         + (vi[2] - vj[2]) * n[2],
@@ -930,7 +945,7 @@ impl MainPairs<'_> {
                 } else {
                     None
                 };
-                let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                let (fj, tqi, tqj) = contact(fl, &geometry, hist, sh, roll, a, b, self.dt);
                 sub(&mut fi, fj);
                 add(&mut ti, tqi);
                 unsafe {
@@ -1052,18 +1067,46 @@ impl MainPairs<'_> {
     }
 }
 
-/// Entries per batch of [`MainPairs::block`] (2.5 kB of [`Touch`] on the
-/// stack).
+/// Entries per batch of [`MainPairs::block`] (≤ 256: indices are `u8`).
 const BATCH: usize = 64;
 
-/// A touching entry found by the first pass of [`MainPairs::batch`]: its
-/// index in the list, its partner, its overlap (m) and unit normal.
-#[derive(Clone, Copy, Default)]
-struct Touch {
-    k: u32,
-    j: u32,
-    overlap: f64,
-    normal: [f64; 3],
+/// The first pass's results for one batch of [`MainPairs::batch`], by
+/// entry (its index in the list minus the batch's first): the partner,
+/// the difference of centres (m) and sum of radii (m), whether it
+/// touches, the overlap (m) and unit normal; `found`: the touching
+/// entries in order; `ends`: where each row's end in `found`.
+struct Batch {
+    partner: [u32; BATCH],
+    dx: [f64; BATCH],
+    dy: [f64; BATCH],
+    dz: [f64; BATCH],
+    sum: [f64; BATCH],
+    touches: [u64; BATCH],
+    overlap: [f64; BATCH],
+    nx: [f64; BATCH],
+    ny: [f64; BATCH],
+    nz: [f64; BATCH],
+    found: [u8; BATCH],
+    ends: [u8; BATCH],
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        Self {
+            partner: [0; BATCH],
+            dx: [0.0; BATCH],
+            dy: [0.0; BATCH],
+            dz: [0.0; BATCH],
+            sum: [0.0; BATCH],
+            touches: [0; BATCH],
+            overlap: [0.0; BATCH],
+            nx: [0.0; BATCH],
+            ny: [0.0; BATCH],
+            nz: [0.0; BATCH],
+            found: [0; BATCH],
+            ends: [0; BATCH],
+        }
+    }
 }
 
 /// What the per-body friction pass reads.
