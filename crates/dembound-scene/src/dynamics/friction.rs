@@ -781,8 +781,9 @@ impl MainPairs<'_> {
             while end < hi && end - i < BATCH && start[end + 1] as usize - first <= BATCH {
                 end += 1;
             }
-            if end == i {
-                // A row longer than a batch (a large body's).
+            if end == i || !TABLE {
+                // A row longer than a batch (a large body's), or laws
+                // computed per pair (no class table).
                 self.row::<KEEP, ROLL, TABLE>(i);
                 i += 1;
             } else {
@@ -858,7 +859,10 @@ impl MainPairs<'_> {
                 let q = k - first;
                 // SAFETY: q < count ≤ BATCH; m ≤ q.
                 let touches = unsafe { *g.touches.get_unchecked(q) };
-                unsafe { *g.found.get_unchecked_mut(m) = q as u8 };
+                unsafe {
+                    *g.found.get_unchecked_mut(m) = q as u8;
+                    *g.row.get_unchecked_mut(m) = (i - lo) as u8;
+                }
                 m += touches as usize;
                 // All ones when touching: the springs kept bit for bit;
                 // else exactly +0.
@@ -882,72 +886,131 @@ impl MainPairs<'_> {
             }
             g.ends[i - lo] = m as u8;
         }
-        // Pass 2: the contacts found, row by row, as [`Self::row`] does.
+        // Pass 2, in stages over the contacts found, each a short loop
+        // whose iterations are independent, so that the processor overlaps
+        // the chains of dependent operations of several contacts (one
+        // contact's chain, root to Coulomb test, is longer than its
+        // window); the forces summed last, in [`Self::row`]'s order. The
+        // same operations on the same values as [`contact`]: the same bits.
+        let found = m.min(BATCH);
+        let row_law = |i: usize, j: usize| -> &FrictionLaw {
+            // SAFETY: classes are < `classes` when the table exists
+            // (`FrictionTable::new`), so the row is in the table of
+            // classes² rows; i and j are bodies (pass 1).
+            unsafe {
+                table.get_unchecked(
+                    *class.get_unchecked(i) as usize * classes + *class.get_unchecked(j) as usize,
+                )
+            }
+        };
+        // 2a: overlap rates and tangential slip velocities.
+        for t in 0..found {
+            let q = g.found[t] as usize;
+            let (i, j) = (lo + g.row[t] as usize, g.partner[q] as usize);
+            // SAFETY: i and j are bodies (pass 1).
+            let (vi, wi, ri, vj, wj, rj) = unsafe {
+                (
+                    *velocity.get_unchecked(i),
+                    *spin.get_unchecked(i),
+                    *radius.get_unchecked(i),
+                    *velocity.get_unchecked(j),
+                    *spin.get_unchecked(j),
+                    *radius.get_unchecked(j),
+                )
+            };
+            let n = [g.nx[q], g.ny[q], g.nz[q]];
+            g.rate[t] = (vi[0] - vj[0]) * n[0] + (vi[1] - vj[1]) * n[1] + (vi[2] - vj[2]) * n[2];
+            let arm = [
+                ri * wi[0] + rj * wj[0],
+                ri * wi[1] + rj * wj[1],
+                ri * wi[2] + rj * wj[2],
+            ];
+            let spin = cross(arm, n);
+            let slip = [
+                vi[0] - vj[0] + spin[0],
+                vi[1] - vj[1] + spin[1],
+                vi[2] - vj[2] + spin[2],
+            ];
+            g.slip[t] = tangential(slip, n);
+        }
+        // 2b: normal forces (histories updated).
+        for t in 0..found {
+            let q = g.found[t] as usize;
+            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
+            let law = &row_law(i, j).law;
+            let mut scratch = NO_HISTORY;
+            // SAFETY: entry k belongs to row i of this block.
+            let hist = if KEEP {
+                unsafe { &mut *self.history.0.add(k) }
+            } else {
+                &mut scratch
+            };
+            let (h, rate) = (g.overlap[q], g.rate[t]);
+            g.force[t] = law.force(h, rate, hist);
+            law.update(h, rate, hist);
+        }
+        // 2c: tangential forces (springs moved) and rolling torques.
+        for t in 0..found {
+            let q = g.found[t] as usize;
+            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
+            let fl = row_law(i, j);
+            let n = [g.nx[q], g.ny[q], g.nz[q]];
+            // SAFETY: entry k belongs to row i of this block.
+            let sh = unsafe { &mut *self.shear.0.add(k) };
+            g.tangential[t] =
+                fl.friction
+                    .tangential_force(g.overlap[q], g.force[t], n, g.slip[t], self.dt, sh);
+            if ROLL {
+                // SAFETY: as the spring; i and j are bodies.
+                let (roll, wi, wj, inv) = unsafe {
+                    (
+                        &mut *self.roll.0.add(k),
+                        *spin.get_unchecked(i),
+                        *spin.get_unchecked(j),
+                        *inverse_inertia.get_unchecked(i) + *inverse_inertia.get_unchecked(j),
+                    )
+                };
+                g.rolling[t] = fl.friction.rolling_torque(
+                    &fl.law,
+                    g.overlap[q],
+                    g.force[t],
+                    n,
+                    [wi[0] - wj[0], wi[1] - wj[1], wi[2] - wj[2]],
+                    inertia(inv),
+                    self.dt,
+                    roll,
+                );
+            }
+        }
+        // 2d: forces and torques summed row by row.
         let mut from = 0usize;
         for i in lo..hi {
             let (s, e) = (start[i] as usize, start[i + 1] as usize);
             if s == e {
                 continue;
             }
-            let to = g.ends[i - lo] as usize;
-            let (vi, ri) = (velocity[i], radius[i]);
-            let a = Side {
-                v: vi,
-                w: spin[i],
-                r: ri,
-                inv_inertia: inverse_inertia[i],
-            };
-            let ci = if TABLE { class[i] as usize } else { 0 };
+            let to = (g.ends[i - lo] as usize).min(found);
+            let ri = radius[i];
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
-            for &q in &g.found[from..to] {
-                let q = q as usize;
-                let (k, j) = (first + q, g.partner[q] as usize);
-                // SAFETY: k and j as in pass 1.
-                let (vj, b) = unsafe {
-                    let vj = *velocity.get_unchecked(j);
-                    (
-                        vj,
-                        Side {
-                            v: vj,
-                            w: *spin.get_unchecked(j),
-                            r: *radius.get_unchecked(j),
-                            inv_inertia: *inverse_inertia.get_unchecked(j),
-                        },
-                    )
-                };
-                let n = [g.nx[q], g.ny[q], g.nz[q]];
-                let geometry = PairGeometry {
-                    overlap: g.overlap[q],
-                    overlap_rate: (vi[0] - vj[0]) * n[0]
-                        + (vi[1] - vj[1]) * n[1]
-                        + (vi[2] - vj[2]) * n[2],
-                    normal: n,
-                };
-                let mut scratch = NO_HISTORY;
-                // SAFETY: as in [`Self::row`].
-                let hist = if KEEP {
-                    unsafe { &mut *self.history.0.add(k) }
-                } else {
-                    &mut scratch
-                };
-                let sh = unsafe { &mut *self.shear.0.add(k) };
-                let mut computed = None;
-                let fl = if TABLE {
-                    // SAFETY: as in [`Self::row`].
-                    unsafe { table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize) }
-                } else {
-                    self.friction
-                        .pair(self.laws, self.bodies, i, j, &mut computed)
-                };
-                let roll = if ROLL {
-                    Some(unsafe { &mut *self.roll.0.add(k) })
-                } else {
-                    None
-                };
-                let (fj, tqi, tqj) = contact(fl, &geometry, hist, sh, roll, a, b, self.dt);
+            for t in from..to {
+                let q = g.found[t] as usize;
+                let j = g.partner[q] as usize;
+                // SAFETY: j is a body (pass 1).
+                let rj = unsafe { *radius.get_unchecked(j) };
+                let (n, f, ft) = ([g.nx[q], g.ny[q], g.nz[q]], g.force[t], g.tangential[t]);
+                let nxf = cross(n, ft);
+                let mut tqi = scale(ri, nxf);
+                let mut tqj = scale(rj, nxf);
+                if ROLL {
+                    add(&mut tqi, g.rolling[t]);
+                    sub(&mut tqj, g.rolling[t]);
+                }
+                let fj = [f * n[0] - ft[0], f * n[1] - ft[1], f * n[2] - ft[2]];
                 sub(&mut fi, fj);
                 add(&mut ti, tqi);
+                // SAFETY: j lies in this block or the next (the list's
+                // blocks, as in [`Self::row`]).
                 unsafe {
                     add(&mut *self.force.0.add(j), fj);
                     add(&mut *self.torque.0.add(j), tqj);
@@ -1088,6 +1151,16 @@ struct Batch {
     nz: [f64; BATCH],
     found: [u8; BATCH],
     ends: [u8; BATCH],
+    /// By contact found (index into `found`): its row (minus the
+    /// batch's first), overlap rate (m/s), tangential slip velocity
+    /// (m/s), normal force (N), tangential force (N) and rolling torque
+    /// (N m).
+    row: [u8; BATCH],
+    rate: [f64; BATCH],
+    slip: [[f64; 3]; BATCH],
+    force: [f64; BATCH],
+    tangential: [[f64; 3]; BATCH],
+    rolling: [[f64; 3]; BATCH],
 }
 
 impl Default for Batch {
@@ -1105,6 +1178,12 @@ impl Default for Batch {
             nz: [0.0; BATCH],
             found: [0; BATCH],
             ends: [0; BATCH],
+            row: [0; BATCH],
+            rate: [0.0; BATCH],
+            slip: [[0.0; 3]; BATCH],
+            force: [0.0; BATCH],
+            tangential: [[0.0; 3]; BATCH],
+            rolling: [[0.0; 3]; BATCH],
         }
     }
 }
