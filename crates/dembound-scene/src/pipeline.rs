@@ -1029,6 +1029,10 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
         dt: c.dt,
     };
     for i in lo..hi {
+        if i + WALL_PREFETCH < hi {
+            // SAFETY: a body of this chunk.
+            friction::prefetch_wall_springs(i + WALL_PREFETCH, &c.walls, c.wall_shear);
+        }
         let fi = c.f.at(i);
         let ti = c.torque.at(i);
         if b.fixed[i] {
@@ -1059,6 +1063,10 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
     }
     m
 }
+
+/// How many bodies ahead the friction body pass fetches the plane springs
+/// ([`friction::prefetch_wall_springs`]).
+const WALL_PREFETCH: usize = 8;
 
 /// Verlet's last half kick of the spins: ω ← ω + Δt/2 · τ/I.
 fn friction_spin_kick(bodies: &mut Bodies, dt: f64, workers: &Workers) {

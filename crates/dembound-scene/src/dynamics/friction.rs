@@ -1295,6 +1295,42 @@ pub unsafe fn body_force(
     (acc, torque)
 }
 
+/// Asks the processor to fetch body i's plane springs (and histories) for
+/// the planes it is near or touches, so that [`body_force`] a few bodies
+/// later finds them in cache: the springs are stored per (body, plane),
+/// 104 bytes each, far more than the caches hold at 10⁴ bodies, and only
+/// the few bodies near a wall read theirs, too sparse a pattern for the
+/// hardware prefetcher. A hint only: nothing is read or written.
+///
+/// # Safety
+/// i < the body count of `walls` and `shear`.
+#[inline(always)]
+pub unsafe fn prefetch_wall_springs(
+    i: usize,
+    walls: &WallContactsMut,
+    shear: SharedMut<WallShear>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let mut todo = *walls.near.at(i) | *walls.touching.at(i);
+        while todo != 0 {
+            let p = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            let at = shear.0.add(i * walls.planes + p) as *const i8;
+            // Its first and last byte: the lines it spans (≤ 3 of 64 B).
+            _mm_prefetch::<_MM_HINT_T0>(at);
+            _mm_prefetch::<_MM_HINT_T0>(at.add(64));
+            _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<WallShear>() - 1));
+            if walls.keep {
+                _mm_prefetch::<_MM_HINT_T0>(walls.history.0.add(i * walls.planes + p) as *const i8);
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (i, walls, shear);
+}
+
 /// The tangential force (N) each plane takes from the spheres touching it
 /// at their current state, from the stored displacements (not moved):
 /// added to the wall forces of the observables.
