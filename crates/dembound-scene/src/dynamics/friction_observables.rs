@@ -295,7 +295,7 @@ impl Pass<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
     use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
     use dembound_physics::material::Material;
@@ -309,7 +309,7 @@ mod tests {
     /// planes, Hertz + Tsuji (e = 0.3), Mindlin μ = 0.5 and rolling
     /// friction 0.05 everywhere: impacts, sliding and sticking on pairs and
     /// planes, damping and rolling springs.
-    fn scene() -> SceneSetup {
+    pub(crate) fn scene() -> SceneSetup {
         let (side, layers, a, c) = (6, 5, 1.2e-3, 0.54e-3);
         let upper = [side as f64 * a + 0.5 * a, side as f64 * a + 0.5 * a, 0.02];
         let mut s = SceneSetup::new(
