@@ -18,8 +18,9 @@ use clap::{Args, ValueEnum};
 use dembound_core::bounce::Scenario;
 use dembound_core::study::restitution::{
     required_restitution, restitution_sweep, Calibration, DissipativeLaw, RequiredRestitution,
-    RestitutionError, RestitutionSpec, RestitutionStudy, DEFAULT_RATIOS, DEFAULT_TARGETS,
+    RestitutionSpec, RestitutionStudy, DEFAULT_RATIOS, DEFAULT_TARGETS,
 };
+use dembound_core::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -135,14 +136,10 @@ pub fn run(args: &RestitutionArgs) -> CliResult {
     }
 }
 
-fn study_error(e: RestitutionError) -> CliError {
+fn study_error(e: Error) -> CliError {
     match e {
-        RestitutionError::Input(_) | RestitutionError::OutOfReach(_) => {
-            CliError::input(anyhow!("{e}"))
-        }
-        e @ RestitutionError::Simulation { .. } => {
-            CliError::failed(anyhow!("the study failed: {e}"))
-        }
+        Error::Request(_) | Error::OutOfReach(_) => CliError::input(anyhow!("{e}")),
+        e => CliError::failed(anyhow!("the study failed: {e}")),
     }
 }
 

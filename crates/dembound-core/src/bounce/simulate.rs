@@ -14,13 +14,12 @@
 
 use super::events::{locate, locate_where, time_to_surface, Crossing};
 use super::limits;
-use super::problem::{Problem, SimulationError};
+use super::problem::Problem;
 use super::schedule::{GradedSteps, Grading, SingularMesh};
-use super::{
-    BodyVelocities, ContactRecord, InputError, Observer, RunOutcome, Sample, Stepping, TwoBody,
-};
+use super::{BodyVelocities, ContactRecord, Observer, RunOutcome, Sample, Stepping, TwoBody};
 use crate::contact::{NormalContactLaw, Onset};
 use crate::integrate::{Integrator, Kinematics};
+use crate::{Error, Result};
 
 const PROGRESS_EVERY: u64 = 1 << 16;
 
@@ -30,7 +29,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
     integrator: I,
     problem: &Problem,
     observer: &mut O,
-) -> Result<RunOutcome, SimulationError> {
+) -> Result<RunOutcome> {
     let mut run = Run {
         law,
         acceleration_law: law.scaled(1.0 / problem.mass),
@@ -393,12 +392,12 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// Free flight in closed form between contacts; only contacts integrated.
-    fn event_stepping(&mut self) -> Result<Vec<ContactRecord>, SimulationError> {
+    fn event_stepping(&mut self) -> Result<Vec<ContactRecord>> {
         let g = self.problem.gravity;
         let (mut t, mut x, mut v) = (0.0, self.problem.gap, self.problem.velocity);
         let mut records = Vec::with_capacity(self.problem.contacts as usize);
         for n in 1..=self.problem.contacts {
-            let tau = time_to_surface(x, v, g).ok_or(SimulationError::NeverReachesBoundary)?;
+            let tau = time_to_surface(x, v, g).ok_or(Error::NeverReachesBoundary)?;
             if O::ACTIVE {
                 self.flight_samples(t, x, v, tau);
             }
@@ -416,7 +415,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// One constant Δt on a fixed grid t_k = k Δt through the whole path.
-    fn fixed_stepping(&mut self) -> Result<Vec<ContactRecord>, SimulationError> {
+    fn fixed_stepping(&mut self) -> Result<Vec<ContactRecord>> {
         let g = self.problem.gravity;
         let dt = self.problem.dt;
         let it = self.integrator;
@@ -445,11 +444,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 }
                 if after.position < 0.0 {
                     let tau = time_to_surface(before.position, before.velocity, g)
-                        .ok_or(SimulationError::NeverReachesBoundary)?;
+                        .ok_or(Error::NeverReachesBoundary)?;
                     break (k as f64 * dt + tau, before.velocity - g * tau, Some(k + 1));
                 }
                 if g == 0.0 && after.velocity >= 0.0 {
-                    return Err(SimulationError::NeverReachesBoundary);
+                    return Err(Error::NeverReachesBoundary);
                 }
                 k += 1;
             };
@@ -479,7 +478,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// law) until gravity dominates it: g T_c/|v_c| above
     /// [`limits::MAX_GRAVITY_SHARE`], where the rebound cannot be resolved
     /// (see [`limits`]; the first contact is checked before the run).
-    fn check_gravity_share(&self, n: u32, v_c: f64) -> Result<(), SimulationError> {
+    fn check_gravity_share(&self, n: u32, v_c: f64) -> Result<()> {
         let g = self.problem.gravity;
         if n == 1 || g == 0.0 {
             return Ok(());
@@ -493,7 +492,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         if share <= limits::MAX_GRAVITY_SHARE {
             return Ok(());
         }
-        Err(SimulationError::Input(InputError {
+        Err(Error::Input {
             field: "motion.contacts".into(),
             value: self.problem.contacts.to_string(),
             allowed: format!(
@@ -503,7 +502,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 n - 1,
                 limits::MAX_GRAVITY_SHARE
             ),
-        }))
+        })
     }
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
@@ -524,7 +523,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         t_c: f64,
         v_c: f64,
         schedule: Schedule,
-    ) -> Result<ContactEnd, SimulationError> {
+    ) -> Result<ContactEnd> {
         let it = self.integrator;
         let m = self.problem.mass;
         let g = self.problem.gravity;
@@ -674,7 +673,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             };
             if steps > self.contact_budget {
                 self.steps += steps;
-                return Err(SimulationError::NoRebound {
+                return Err(Error::NoRebound {
                     contact: number,
                     steps,
                 });

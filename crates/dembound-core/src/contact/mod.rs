@@ -39,7 +39,6 @@ pub type WaltonBraunHistory = dembound_physics::contact::ContactHistory;
 use crate::material::ContactPair;
 use dembound_physics::contact::registry;
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// A normal contact law for one pair of spheres.
 pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
@@ -474,18 +473,6 @@ impl ContactModel {
         self.law.to_physics(|key| self.param(key))
     }
 }
-
-/// Why a contact model cannot be built (a message naming the keys).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ModelError(pub String);
-
-impl fmt::Display for ModelError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for ModelError {}
 
 /// A generic computation over a concrete law type (see [`with_law`]).
 pub trait LawVisitor {

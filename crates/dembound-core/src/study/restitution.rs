@@ -32,13 +32,14 @@
 //! validation drop: 5 mm under g, Gear5, η = 1/50, event stepping) against a
 //! fixed boundary, simulated with the core's time loop.
 
-use crate::bounce::{simulate_with, ContactRecord, Problem, Scenario, SimulationError};
+use crate::bounce::{simulate_with, ContactRecord, Problem, Scenario};
 use crate::calibration::{damping_coefficient, with_damped};
 use crate::contact::{
     ContactLawKind, ContactModel, DampingKind, Dissipation, LawVisitor, NormalContactLaw,
     WaltonBraun,
 };
 use crate::integrate::{Gear5, Scheme, Verlet};
+use crate::{Error, Result};
 use rayon::prelude::*;
 use roots::{find_root_brent, Convergency};
 use serde::Serialize;
@@ -253,43 +254,8 @@ impl RestitutionStudy {
     }
 }
 
-/// Why a study cannot be done.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RestitutionError {
-    /// Bad input (a target, a ratio, the base scenario), with a message.
-    Input(String),
-    /// The requested rebound cannot be reached (reverse question).
-    OutOfReach(String),
-    /// A simulation failed.
-    Simulation {
-        law: DissipativeLaw,
-        radius_ratio: f64,
-        modulus_ratio: f64,
-        error: SimulationError,
-    },
-}
-
-impl fmt::Display for RestitutionError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RestitutionError::Input(m) | RestitutionError::OutOfReach(m) => f.write_str(m),
-            RestitutionError::Simulation {
-                law,
-                radius_ratio,
-                modulus_ratio,
-                error,
-            } => write!(
-                f,
-                "{law} at r = {radius_ratio}, ζ = {modulus_ratio}: {error}"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for RestitutionError {}
-
-fn input(msg: impl Into<String>) -> RestitutionError {
-    RestitutionError::Input(msg.into())
+fn input(msg: impl Into<String>) -> Error {
+    Error::Request(msg.into())
 }
 
 /// The base scenario with the pair (r, ζ) and one contact.
@@ -302,7 +268,7 @@ fn pair_scenario(base: &Scenario, radius_ratio: f64, modulus_ratio: f64) -> Scen
 }
 
 /// Checks the base scenario: valid, fixed boundary.
-fn check_base(base: &Scenario) -> Result<(), RestitutionError> {
+fn check_base(base: &Scenario) -> Result<()> {
     base.validate()
         .map_err(|e| input(format!("base scenario: {e}")))?;
     if !base.boundary.fixed {
@@ -313,7 +279,7 @@ fn check_base(base: &Scenario) -> Result<(), RestitutionError> {
     Ok(())
 }
 
-fn check_ratio(name: &str, x: f64) -> Result<(), RestitutionError> {
+fn check_ratio(name: &str, x: f64) -> Result<()> {
     if x > 0.0 && !x.is_nan() {
         Ok(())
     } else {
@@ -331,7 +297,7 @@ pub fn raw_coefficient(
     e: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
-) -> Result<f64, RestitutionError> {
+) -> Result<f64> {
     let s = match calibration {
         Calibration::Wall => pair_scenario(base, f64::INFINITY, f64::INFINITY),
         Calibration::Pair => pair_scenario(base, radius_ratio, modulus_ratio),
@@ -358,7 +324,7 @@ pub fn raw_coefficient(
             damping_coefficient(&model, &pair, mass, s.impact_speed())
                 // A target the law cannot reach is bad input, not a failed run.
                 .map_err(|error| {
-                    RestitutionError::OutOfReach(format!(
+                    Error::OutOfReach(format!(
                         "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
                         s.boundary.radius_ratio, s.boundary.modulus_ratio
                     ))
@@ -377,22 +343,22 @@ pub fn simulate_coefficient(
     coefficient: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
-) -> Result<ContactRecord, RestitutionError> {
+) -> Result<ContactRecord> {
     let s = pair_scenario(base, radius_ratio, modulus_ratio);
-    let fail = |error: SimulationError| RestitutionError::Simulation {
+    let fail = |error: Error| Error::StudyRun {
         law,
         radius_ratio,
         modulus_ratio,
-        error,
+        error: Box::new(error),
     };
-    s.validate().map_err(|e| fail(e.into()))?;
+    s.validate().map_err(fail)?;
     let pair = s.pair();
     let attractive = s.contact.attractive;
     let k1 = pair.power_law_stiffness(1.0);
     /// Runs the one contact with the law it is given.
     struct Visit<'a>(&'a Scenario);
     impl LawVisitor for Visit<'_> {
-        type Output = Result<ContactRecord, SimulationError>;
+        type Output = Result<ContactRecord>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             run(self.0, law)
         }
@@ -409,7 +375,6 @@ pub fn simulate_coefficient(
                 stiffness: None,
             };
             with_damped(&model, &pair, s.reduced_mass(), coefficient, Visit(&s))
-                .map_err(SimulationError::from)
                 .and_then(|outcome| outcome)
         }
         DissipativeLaw::WaltonBraun => run(
@@ -424,7 +389,7 @@ pub fn simulate_coefficient(
     .map_err(fail)
 }
 
-fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord, SimulationError> {
+fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord> {
     let problem = Problem::new(s, &law)?;
     let outcome = match s.integration.scheme {
         Scheme::Gear5 => {
@@ -440,10 +405,7 @@ fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord, Simul
 /// `spec`, on the base scenario `base` (its particle, motion, integration
 /// and `contact.attractive`; its contact law and boundary ratios are
 /// replaced). Points run in parallel (rayon).
-pub fn restitution_sweep(
-    base: &Scenario,
-    spec: &RestitutionSpec,
-) -> Result<RestitutionStudy, RestitutionError> {
+pub fn restitution_sweep(base: &Scenario, spec: &RestitutionSpec) -> Result<RestitutionStudy> {
     check_base(base)?;
     let lists = [
         ("--law", spec.laws.is_empty()),
@@ -525,7 +487,7 @@ pub fn restitution_sweep(
                 contact,
             })
         })
-        .collect::<Result<Vec<_>, RestitutionError>>()?;
+        .collect::<Result<Vec<_>>>()?;
     Ok(RestitutionStudy {
         scenario: *base,
         spec: spec.clone(),
@@ -579,7 +541,7 @@ pub fn required_restitution(
     target: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
-) -> Result<RequiredRestitution, RestitutionError> {
+) -> Result<RequiredRestitution> {
     check_base(base)?;
     if !(target > 0.0 && target < 1.0) {
         return Err(input(format!(
@@ -588,35 +550,34 @@ pub fn required_restitution(
     }
     check_ratio("r", radius_ratio)?;
     check_ratio("ζ", modulus_ratio)?;
-    let rebound = |e: f64| -> Result<(f64, f64), RestitutionError> {
+    let rebound = |e: f64| -> Result<(f64, f64)> {
         let c = raw_coefficient(base, law, calibration, e, radius_ratio, modulus_ratio)?;
         match simulate_coefficient(base, law, c, radius_ratio, modulus_ratio) {
             Ok(contact) => Ok((contact.restitution, c)),
             // Damped so hard the particle never leaves: no rebound at all.
-            Err(RestitutionError::Simulation {
-                error: SimulationError::NoRebound { .. },
-                ..
-            }) => Ok((0.0, c)),
+            Err(Error::StudyRun { error, .. }) if matches!(*error, Error::NoRebound { .. }) => {
+                Ok((0.0, c))
+            }
             Err(e) => Err(e),
         }
     };
     let (top, _) = rebound(1.0)?;
     if top <= target {
-        return Err(RestitutionError::OutOfReach(format!(
+        return Err(Error::OutOfReach(format!(
             "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
              {law} with {calibration} calibration: even e = 1 gives {top:.6}"
         )));
     }
     // Bracket [lo, hi] with rebound(lo) < E < rebound(hi), halving e from E.
     let unreachable = |why: String| {
-        RestitutionError::OutOfReach(format!(
+        Error::OutOfReach(format!(
             "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
              {law} with {calibration} calibration: {why}"
         ))
     };
     let naive = match rebound(target) {
         Ok((e, _)) => e,
-        Err(RestitutionError::OutOfReach(why)) => return Err(unreachable(why)),
+        Err(Error::OutOfReach(why)) => return Err(unreachable(why)),
         Err(e) => return Err(e),
     };
     let (mut lo, mut hi) = (target, 1.0);
@@ -635,7 +596,7 @@ pub fn required_restitution(
             // A calibration that fails at small e (viscoelastic δ out of range) is out of reach too.
             let e_lo = match rebound(lo) {
                 Ok((e, _)) => e,
-                Err(RestitutionError::OutOfReach(why)) => return Err(unreachable(why)),
+                Err(Error::OutOfReach(why)) => return Err(unreachable(why)),
                 Err(e) => return Err(e),
             };
             if e_lo < target {
@@ -657,7 +618,7 @@ pub fn required_restitution(
         return Err(err);
     }
     let enter = root.map_err(|e| {
-        RestitutionError::OutOfReach(format!(
+        Error::OutOfReach(format!(
             "the root search for E = {target} ({law}, {calibration}) failed: {e}"
         ))
     })?;
