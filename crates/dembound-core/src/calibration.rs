@@ -169,7 +169,7 @@ fn setup(
         stiffness,
         mass,
         dissipation,
-        calibration: calibration.to_physics(),
+        calibration,
         attractive,
         reference_speed: None,
         clamped_ratio,

@@ -12,7 +12,7 @@ use super::indicators::{
 };
 use super::recommend::{deviation, deviations, smallest, Deviations, Limit};
 use super::restitution::{
-    restitution_sweep, Calibration, DissipativeLaw, RestitutionSpec, RestitutionStudy,
+    restitution_sweep, CalibrationSite, DissipativeLaw, RestitutionSpec, RestitutionStudy,
 };
 use super::sweep::{sweep, SweepResult, SweepSpec};
 use super::validation::{
@@ -235,7 +235,7 @@ pub fn closing_spec() -> RestitutionSpec {
         targets: vec![0.5, 0.9],
         radius_ratios: vec![100.0, f64::INFINITY],
         modulus_ratios: vec![100.0, f64::INFINITY],
-        calibrations: Calibration::ALL.to_vec(),
+        calibrations: CalibrationSite::ALL.to_vec(),
     }
 }
 

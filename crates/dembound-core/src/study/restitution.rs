@@ -9,7 +9,7 @@
 //! coefficient using the effective properties of a pair (its stiffness k,
 //! the mass, for the viscoelastic law the impact speed):
 //!
-//! - [`Calibration::Pair`]: the coefficient is computed for each
+//! - [`CalibrationSite::Pair`]: the coefficient is computed for each
 //!   particle–boundary pair itself. Then e does not depend on r and ζ for
 //!   the linear dashpot, Tsuji and Walton–Braun laws (their e is a function
 //!   of a dimensionless damping ratio that the calibration holds fixed) nor,
@@ -17,7 +17,7 @@
 //!   the small effect of gravity during the contact (and, with the base
 //!   scenario's `contact.calibration = "formula"`, that of the
 //!   no-attraction clamp, which the default `"exact"` calibrates away).
-//! - [`Calibration::Wall`]: the coefficient is computed once on the rigid
+//! - [`CalibrationSite::Wall`]: the coefficient is computed once on the rigid
 //!   half-space r = ζ = ∞ and the *same raw number* is reused on the
 //!   boundary particle, as happens when a DEM code's material table is
 //!   calibrated against a wall and then applied to boundary particles. The
@@ -128,23 +128,25 @@ impl fmt::Display for DissipativeLaw {
     }
 }
 
-/// Where the raw damping coefficient is calibrated (see the module doc).
+/// Where the raw damping coefficient is calibrated, on the rigid wall or on
+/// the pair itself (see the module doc; not the mapping from e to the
+/// coefficient, which is [`crate::contact::Calibration`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Calibration {
+pub enum CalibrationSite {
     /// On the rigid half-space r = ζ = ∞; the raw coefficient is reused on the pair.
     Wall,
     /// On each particle–boundary pair itself.
     Pair,
 }
 
-impl Calibration {
-    pub const ALL: [Calibration; 2] = [Calibration::Wall, Calibration::Pair];
+impl CalibrationSite {
+    pub const ALL: [CalibrationSite; 2] = [CalibrationSite::Wall, CalibrationSite::Pair];
 
     pub fn name(&self) -> &'static str {
         match self {
-            Calibration::Wall => "wall",
-            Calibration::Pair => "pair",
+            CalibrationSite::Wall => "wall",
+            CalibrationSite::Pair => "pair",
         }
     }
 
@@ -155,17 +157,17 @@ impl Calibration {
     /// One line saying what the calibration means.
     pub fn description(&self) -> &'static str {
         match self {
-            Calibration::Wall => {
+            CalibrationSite::Wall => {
                 "raw coefficient calibrated for e on the rigid wall (r = ζ = ∞), reused unchanged on the boundary particle"
             }
-            Calibration::Pair => {
+            CalibrationSite::Pair => {
                 "raw coefficient calibrated for e on each particle–boundary pair's own effective properties"
             }
         }
     }
 }
 
-impl fmt::Display for Calibration {
+impl fmt::Display for CalibrationSite {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
@@ -187,7 +189,7 @@ pub struct RestitutionSpec {
     pub radius_ratios: Vec<f64>,
     /// ζ values (> 0, or ∞).
     pub modulus_ratios: Vec<f64>,
-    pub calibrations: Vec<Calibration>,
+    pub calibrations: Vec<CalibrationSite>,
 }
 
 impl Default for RestitutionSpec {
@@ -197,7 +199,7 @@ impl Default for RestitutionSpec {
             targets: DEFAULT_TARGETS.to_vec(),
             radius_ratios: DEFAULT_RATIOS.to_vec(),
             modulus_ratios: DEFAULT_RATIOS.to_vec(),
-            calibrations: Calibration::ALL.to_vec(),
+            calibrations: CalibrationSite::ALL.to_vec(),
         }
     }
 }
@@ -206,7 +208,7 @@ impl Default for RestitutionSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RestitutionPoint {
     pub law: DissipativeLaw,
-    pub calibration: Calibration,
+    pub calibration: CalibrationSite,
     /// The target e the coefficient was calibrated for.
     pub target: f64,
     pub radius_ratio: f64,
@@ -239,7 +241,7 @@ impl RestitutionStudy {
     pub fn point(
         &self,
         law: DissipativeLaw,
-        calibration: Calibration,
+        calibration: CalibrationSite,
         target: f64,
         radius_ratio: f64,
         modulus_ratio: f64,
@@ -288,19 +290,19 @@ fn check_ratio(name: &str, x: f64) -> Result<()> {
 }
 
 /// The raw coefficient of `law` calibrated for restitution `e` on the pair
-/// (r, ζ) of `base` ([`Calibration::Pair`]) or on the rigid wall
-/// ([`Calibration::Wall`]).
+/// (r, ζ) of `base` ([`CalibrationSite::Pair`]) or on the rigid wall
+/// ([`CalibrationSite::Wall`]).
 pub fn raw_coefficient(
     base: &Scenario,
     law: DissipativeLaw,
-    calibration: Calibration,
+    calibration: CalibrationSite,
     e: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
 ) -> Result<f64> {
     let s = match calibration {
-        Calibration::Wall => pair_scenario(base, f64::INFINITY, f64::INFINITY),
-        Calibration::Pair => pair_scenario(base, radius_ratio, modulus_ratio),
+        CalibrationSite::Wall => pair_scenario(base, f64::INFINITY, f64::INFINITY),
+        CalibrationSite::Pair => pair_scenario(base, radius_ratio, modulus_ratio),
     };
     let pair = s.pair();
     let mass = s.reduced_mass();
@@ -444,7 +446,7 @@ pub fn restitution_sweep(base: &Scenario, spec: &RestitutionSpec) -> Result<Rest
     }
     // Wall coefficients once per (law, target): the viscoelastic one is a root search.
     let mut walls: Vec<((DissipativeLaw, u64), f64)> = Vec::new();
-    if spec.calibrations.contains(&Calibration::Wall) {
+    if spec.calibrations.contains(&CalibrationSite::Wall) {
         let keys: Vec<(DissipativeLaw, f64)> = spec
             .laws
             .iter()
@@ -456,7 +458,7 @@ pub fn restitution_sweep(base: &Scenario, spec: &RestitutionSpec) -> Result<Rest
                 raw_coefficient(
                     base,
                     law,
-                    Calibration::Wall,
+                    CalibrationSite::Wall,
                     e,
                     f64::INFINITY,
                     f64::INFINITY,
@@ -469,12 +471,12 @@ pub fn restitution_sweep(base: &Scenario, spec: &RestitutionSpec) -> Result<Rest
         .into_par_iter()
         .map(|(law, calibration, target, r, z)| {
             let coefficient = match calibration {
-                Calibration::Wall => walls
+                CalibrationSite::Wall => walls
                     .iter()
                     .find(|(k, _)| *k == (law, target.to_bits()))
                     .map(|(_, c)| *c)
                     .ok_or_else(|| input("internal error: wall coefficient missing"))?,
-                Calibration::Pair => raw_coefficient(base, law, calibration, target, r, z)?,
+                CalibrationSite::Pair => raw_coefficient(base, law, calibration, target, r, z)?,
             };
             let contact = simulate_coefficient(base, law, coefficient, r, z)?;
             Ok(RestitutionPoint {
@@ -499,7 +501,7 @@ pub fn restitution_sweep(base: &Scenario, spec: &RestitutionSpec) -> Result<Rest
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RequiredRestitution {
     pub law: DissipativeLaw,
-    pub calibration: Calibration,
+    pub calibration: CalibrationSite,
     /// The rebound wanted on the boundary particle, E.
     pub target: f64,
     pub radius_ratio: f64,
@@ -537,7 +539,7 @@ impl Convergency<f64> for Tight {
 pub fn required_restitution(
     base: &Scenario,
     law: DissipativeLaw,
-    calibration: Calibration,
+    calibration: CalibrationSite,
     target: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
@@ -649,7 +651,7 @@ mod tests {
             DissipativeLaw::Viscoelastic,
         ] {
             let base = Scenario::default();
-            let c = raw_coefficient(&base, law, Calibration::Wall, 0.6, 30.0, 10.0).unwrap();
+            let c = raw_coefficient(&base, law, CalibrationSite::Wall, 0.6, 30.0, 10.0).unwrap();
             let study = simulate_coefficient(&base, law, c, 30.0, 10.0).unwrap();
             let mut s = pair_scenario(&base, 30.0, 10.0);
             (s.contact.law, s.contact.damping) = law.contact();
@@ -667,7 +669,7 @@ mod tests {
         base.motion.gravity = 0.0;
         base.motion.velocity = -0.313;
         let e_of = |law, r, z| {
-            let c = raw_coefficient(&base, law, Calibration::Pair, 0.7, r, z).unwrap();
+            let c = raw_coefficient(&base, law, CalibrationSite::Pair, 0.7, r, z).unwrap();
             simulate_coefficient(&base, law, c, r, z)
                 .unwrap()
                 .restitution
@@ -686,7 +688,7 @@ mod tests {
         let c = raw_coefficient(
             &base,
             DissipativeLaw::WaltonBraun,
-            Calibration::Wall,
+            CalibrationSite::Wall,
             0.7,
             3.0,
             10.0,
