@@ -209,6 +209,15 @@ impl StepEnds {
     /// τ at the end of the step that starts at `tau_start`; `remaining` is
     /// the estimated time from `tau_start` to a singular end (see
     /// [`Self::grades_end`]), `None` otherwise.
+    ///
+    /// `#[inline]`, like the other per-step helpers of the contact loop
+    /// ([`time_to_exit`], `GradedSteps::next`, `SingularMesh::onset_step` and
+    /// `end_step`): `Run::contact` is generic, so the crate that runs a
+    /// scenario (the CLI) compiles its own instance, and a call into this
+    /// crate's code each step clobbers every XMM register of the loop
+    /// (−8 … −18 % instructions per damped step, BENCHMARKS.md "#11 rest,
+    /// session 7").
+    #[inline]
     fn next(&mut self, tau_start: f64, remaining: Option<f64>) -> f64 {
         match self {
             StepEnds::Grid {
@@ -717,6 +726,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
 /// attraction decelerating the exit; it fades as h^(1/4) near h = 0, so the
 /// exit comes anyway). Only shapes the step mesh: its error costs steps,
 /// not accuracy.
+#[inline]
 fn time_to_exit(k: &Kinematics) -> f64 {
     let (x, v, a) = (k.position, k.velocity, k.acceleration);
     let disc = v * v - 2.0 * a * x;
