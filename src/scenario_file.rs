@@ -79,7 +79,7 @@ pub fn load(file: Option<(&Path, &str)>, sets: &[String]) -> Result<Scenario> {
         // A range error on a ratio the user gave in SI names both forms.
         let mut msg = e.to_string();
         for (key, ratio_field, text) in &given {
-            if e.field == *ratio_field {
+            if e.field() == Some(ratio_field.as_str()) {
                 msg.push_str(&format!(" (from `boundary.{key}` = {text})"));
             }
         }

@@ -10,7 +10,8 @@ use anyhow::anyhow;
 use clap::Args;
 use dembound_core::bounce::{ContactRecord, Scenario};
 use dembound_core::contact::ContactLawKind;
-use dembound_core::exact::{self, paper, ExactError};
+use dembound_core::exact::{self, paper};
+use dembound_core::Error;
 use serde::Serialize;
 use std::io::Write;
 
@@ -54,9 +55,9 @@ pub fn exact_contacts(s: &Scenario) -> CliResult<Vec<ContactRecord>> {
     exact::scenario_contacts(s).map_err(exact_error)
 }
 
-pub(crate) fn exact_error(e: ExactError) -> CliError {
+pub(crate) fn exact_error(e: Error) -> CliError {
     match e {
-        ExactError::Numerical(_) => {
+        Error::Numerical(_) => {
             CliError::failed(anyhow!("the exact reference could not be computed: {e}"))
         }
         e => CliError::input(anyhow!("no exact reference for this scenario: {e}")),
@@ -107,7 +108,7 @@ pub fn paper_estimates(s: &Scenario) -> CliResult<Vec<PaperEstimate>> {
     })
     .p_squared;
 
-    let make = |equation, quantity, law, value: Result<f64, ExactError>, exact: f64, note: &str| {
+    let make = |equation, quantity, law, value: Result<f64, Error>, exact: f64, note: &str| {
         let (value, note) = match value {
             Ok(x) => (Some(x), note.to_string()),
             Err(e) => (None, format!("no value: {e}")),

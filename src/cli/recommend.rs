@@ -16,10 +16,10 @@ use dembound_core::bounce::Scenario;
 use dembound_core::contact::ContactLawKind;
 use dembound_core::study::recommend::{
     check_tolerance, deviations_from, poisson_factor, smallest_against, tradeoff, Deviations,
-    Limit, Outcome, RecommendError, Reference, Tradeoff, TradeoffPoint, MAX_TOLERANCE,
-    MIN_TOLERANCE,
+    Limit, Outcome, Reference, Tradeoff, TradeoffPoint, MAX_TOLERANCE, MIN_TOLERANCE,
 };
 use dembound_core::study::{Axis, Quantity};
+use dembound_core::Error;
 use serde::Serialize;
 use std::io::Write;
 
@@ -176,18 +176,20 @@ pub const PICK_RULE: &str = "balanced: r alone and ζ alone each cost the same s
     tolerance, (1 + T_s)² = 1 + T (h_max, T_c) or (1 − T_s)² = 1 − T (a_max); to first order \
     in T the point of the curve with the smallest r·ζ";
 
-fn core_error(e: RecommendError) -> CliError {
+fn core_error(e: Error) -> CliError {
     match e {
-        RecommendError::Input(i) => {
-            let flag = match i.field.as_str() {
+        Error::Input {
+            field,
+            value,
+            allowed,
+        } => {
+            let flag = match field.as_str() {
                 "zeta" => "--zeta".to_string(),
                 other if other.contains('.') => other.to_string(),
                 other => format!("--{other}"),
             };
             CliError::input(anyhow!(
-                "invalid value for `{flag}`: {} (allowed: {})",
-                i.value,
-                i.allowed
+                "invalid value for `{flag}`: {value} (allowed: {allowed})"
             ))
         }
         e => CliError::failed(e),

@@ -17,9 +17,10 @@ use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use dembound_core::bounce::Scenario;
 use dembound_core::study::restitution::{
-    required_restitution, restitution_sweep, Calibration, DissipativeLaw, RequiredRestitution,
-    RestitutionError, RestitutionSpec, RestitutionStudy, DEFAULT_RATIOS, DEFAULT_TARGETS,
+    required_restitution, restitution_sweep, CalibrationSite, DissipativeLaw, RequiredRestitution,
+    RestitutionSpec, RestitutionStudy, DEFAULT_RATIOS, DEFAULT_TARGETS,
 };
+use dembound_core::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -35,11 +36,11 @@ pub enum CalibrateArg {
 }
 
 impl CalibrateArg {
-    fn calibrations(self) -> Vec<Calibration> {
+    fn calibrations(self) -> Vec<CalibrationSite> {
         match self {
-            CalibrateArg::Wall => vec![Calibration::Wall],
-            CalibrateArg::Pair => vec![Calibration::Pair],
-            CalibrateArg::Both => Calibration::ALL.to_vec(),
+            CalibrateArg::Wall => vec![CalibrationSite::Wall],
+            CalibrateArg::Pair => vec![CalibrationSite::Pair],
+            CalibrateArg::Both => CalibrationSite::ALL.to_vec(),
         }
     }
 }
@@ -135,14 +136,10 @@ pub fn run(args: &RestitutionArgs) -> CliResult {
     }
 }
 
-fn study_error(e: RestitutionError) -> CliError {
+fn study_error(e: Error) -> CliError {
     match e {
-        RestitutionError::Input(_) | RestitutionError::OutOfReach(_) => {
-            CliError::input(anyhow!("{e}"))
-        }
-        e @ RestitutionError::Simulation { .. } => {
-            CliError::failed(anyhow!("the study failed: {e}"))
-        }
+        Error::Request(_) | Error::OutOfReach(_) => CliError::input(anyhow!("{e}")),
+        e => CliError::failed(anyhow!("the study failed: {e}")),
     }
 }
 
@@ -382,7 +379,7 @@ fn write_answer(
                 (k1 / a.coefficient).sqrt()
             )
         }
-        (_, Calibration::Pair) => writeln!(
+        (_, CalibrationSite::Pair) => writeln!(
             w,
             "  scenario: --set contact.law={} --set contact.damping={} --set contact.restitution={:.9}{}",
             l.name(),
@@ -393,7 +390,7 @@ fn write_answer(
                 None => String::new(),
             }
         ),
-        (_, Calibration::Wall) => writeln!(
+        (_, CalibrationSite::Wall) => writeln!(
             w,
             "  scenario: --set contact.law={} --set contact.damping={} --set contact.damping_coefficient={}",
             l.name(),

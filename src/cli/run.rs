@@ -12,10 +12,9 @@ use crate::scenario_file::ScenarioArgs;
 use anyhow::anyhow;
 use clap::Args;
 use dembound_core::bounce::{
-    resolve, simulate_resolved, ContactRecord, Problem, RunOutcome, Scenario, SimulationError,
-    Stepping,
+    resolve, simulate_resolved, ContactRecord, Problem, RunOutcome, Scenario, Stepping,
 };
-use dembound_core::exact::ExactError;
+use dembound_core::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -172,9 +171,9 @@ pub fn run(args: &RunArgs) -> CliResult {
 }
 
 /// Input errors exit 2; a run that fails exits 1.
-fn simulation_error(e: SimulationError) -> CliError {
+fn simulation_error(e: Error) -> CliError {
     match e {
-        SimulationError::Input(e) => CliError::input(e),
+        e @ Error::Input { .. } => CliError::input(e),
         e => CliError::failed(anyhow!("the run failed: {e}")),
     }
 }
@@ -189,13 +188,13 @@ const MAX_CHECKED_CONTACTS: u32 = 1000;
 /// [`MAX_CHECKED_CONTACTS`] contacts (the run then reports it, exit 1).
 fn check_rebounds(
     s: &Scenario,
-    reference: Option<&Result<Vec<ContactRecord>, ExactError>>,
+    reference: Option<&Result<Vec<ContactRecord>, Error>>,
 ) -> CliResult {
     if !rebounds_checked(s) {
         return Ok(());
     }
     match reference {
-        Some(Err(ExactError::NoRebound { contact })) if *contact > 1 => {
+        Some(Err(Error::NoExactRebound { contact })) if *contact > 1 => {
             Err(CliError::input(anyhow!(
                 "invalid value for `motion.contacts`: {} (allowed: 1 to {} for this scenario: \
                  contact {contact} would not end, gravity holds the particle on the boundary \
@@ -204,7 +203,7 @@ fn check_rebounds(
                 contact - 1
             )))
         }
-        Some(Err(ExactError::NoRebound { .. })) => Err(CliError::input(anyhow!(
+        Some(Err(Error::NoExactRebound { .. })) => Err(CliError::input(anyhow!(
             "invalid value for `motion.gap`: {} m (the first contact would not end: gravity \
              holds the particle on the boundary; a larger motion.gap, a faster motion.velocity \
              or less damping (contact.restitution) lets it rebound)",

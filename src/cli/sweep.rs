@@ -14,8 +14,9 @@ use crate::scenario_file::ScenarioArgs;
 use anyhow::{anyhow, Result};
 use clap::Args;
 use dembound_core::contact::ContactLawKind;
-use dembound_core::study::sweep::{sweep, SweepError, SweepResult, SweepSpec, Values, Variant};
+use dembound_core::study::sweep::{sweep, SweepResult, SweepSpec, Values, Variant};
 use dembound_core::study::Quantity;
+use dembound_core::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -207,7 +208,7 @@ pub fn run(args: &SweepArgs) -> CliResult {
         b.finish_and_clear();
     }
     let result = result.map_err(|e| match e {
-        SweepError::Input { .. } | SweepError::Empty(_) => CliError::input(e),
+        Error::CaseInput { .. } | Error::NothingToSweep(_) => CliError::input(e),
         e => CliError::failed(e),
     })?;
 

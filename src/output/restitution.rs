@@ -8,9 +8,9 @@ use crate::output::table::{markdown_escape, Cell, Column, Table};
 use crate::plot::{Figure, Mark, Series, BLACK};
 use anyhow::Result;
 use dembound_core::bounce::StepRule;
-use dembound_core::contact::Calibration as ContactCalibration;
+use dembound_core::contact::Calibration;
 use dembound_core::study::restitution::{
-    Calibration, DissipativeLaw, RestitutionPoint, RestitutionStudy,
+    CalibrationSite, DissipativeLaw, RestitutionPoint, RestitutionStudy,
 };
 use std::fmt::Write as _;
 use std::io::Write;
@@ -173,8 +173,8 @@ pub fn closing_table(exact: &RestitutionStudy, formula: &RestitutionStudy) -> St
          (on the pair itself, or on the wall and reused). Regenerate with \
          `cargo run --release -p dembound-core --example restitution_table`.\n",
         drop_text(exact),
-        ContactCalibration::Exact.name(),
-        ContactCalibration::Formula.name(),
+        Calibration::Exact.name(),
+        Calibration::Formula.name(),
     );
     let mut columns = vec![Column::text("law"), Column::text("e")];
     for mapping in ["exact", "formula"] {
@@ -189,9 +189,9 @@ pub fn closing_table(exact: &RestitutionStudy, formula: &RestitutionStudy) -> St
             let mut row = vec![Cell::text(law.name()), Cell::text(e.to_string())];
             for study in [exact, formula] {
                 for (cal, r) in [
-                    (Calibration::Pair, inf),
-                    (Calibration::Pair, 100.0),
-                    (Calibration::Wall, 100.0),
+                    (CalibrationSite::Pair, inf),
+                    (CalibrationSite::Pair, 100.0),
+                    (CalibrationSite::Wall, 100.0),
                 ] {
                     row.push(Cell::Text(
                         study
@@ -296,12 +296,12 @@ fn figure(
                 })
                 .collect();
             let (mark, label) = match (cal, calibrations.len()) {
-                (Calibration::Wall, _) | (_, 1) => (
+                (CalibrationSite::Wall, _) | (_, 1) => (
                     Mark::LinePoints,
                     format!("{curve_name} = {}", ratio_text(c)),
                 ),
                 // The wall series carries the legend entry of this colour.
-                (Calibration::Pair, _) => (Mark::Dashed, String::new()),
+                (CalibrationSite::Pair, _) => (Mark::Dashed, String::new()),
             };
             // Black is kept for the legend entries of the line styles.
             let color = if i >= BLACK { i + 1 } else { i };

@@ -13,9 +13,9 @@
 //! `cargo run --release -p dembound-core --example restitution_table`
 
 use dembound_core::bounce::Scenario;
-use dembound_core::contact::Calibration as Mapping;
+use dembound_core::contact::Calibration;
 use dembound_core::study::restitution::{
-    raw_coefficient, simulate_coefficient, Calibration, DissipativeLaw,
+    raw_coefficient, simulate_coefficient, CalibrationSite, DissipativeLaw,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -29,14 +29,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for law in DissipativeLaw::ALL {
         for e in [0.5, 0.9] {
             let mut cells = Vec::new();
-            for mapping in [Mapping::Exact, Mapping::Formula] {
+            for mapping in [Calibration::Exact, Calibration::Formula] {
                 let mut base = Scenario::default();
                 base.contact.calibration = Some(mapping);
                 let inf = f64::INFINITY;
                 for (cal, r) in [
-                    (Calibration::Pair, inf),
-                    (Calibration::Pair, 100.0),
-                    (Calibration::Wall, 100.0),
+                    (CalibrationSite::Pair, inf),
+                    (CalibrationSite::Pair, 100.0),
+                    (CalibrationSite::Wall, 100.0),
                 ] {
                     let c = raw_coefficient(&base, law, cal, e, r, r)?;
                     cells.push(simulate_coefficient(&base, law, c, r, r)?.restitution);

@@ -10,11 +10,12 @@
 use crate::contact::registered::missing;
 use crate::contact::{
     with_law, BounceDamping, Calibration, ContactLawKind, ContactModel, Damped, DampingKind,
-    Dissipation, Hertz, Hooke, LawVisitor, LinearSpring, ModelError, NormalContactLaw, Registered,
-    Tsuji, Viscoelastic, Viscous, WaltonBraun,
+    Dissipation, Hertz, Hooke, LawVisitor, LinearSpring, NormalContactLaw, Registered, Tsuji,
+    Viscoelastic, Viscous, WaltonBraun,
 };
 use crate::material::ContactPair;
 use crate::reference::dissipative::{damped_hertz, DampedHertz};
+use crate::{Error, Result};
 use dembound_physics::contact::damping::{DampingSetup, DampingSubModel};
 use dembound_physics::contact::normal::NormalSubModel;
 use dembound_physics::contact::registry::NormalLaw;
@@ -36,11 +37,11 @@ pub fn with_model<R>(
     mass: f64,
     impact_speed: f64,
     f: impl LawVisitor<Output = R>,
-) -> Result<R, ModelError> {
+) -> Result<R> {
     match (model.law, model.damping) {
         (ContactLawKind::WaltonBraun, DampingKind::None) => match model.dissipation {
             Some(Dissipation::Restitution(e)) => Ok(f.visit(pair.law::<WaltonBraun>(&[e]))),
-            _ => Err(ModelError(
+            _ => Err(Error::Model(
                 "law = \"walton-braun\" needs contact.restitution (k2 = k1/e^2)".into(),
             )),
         },
@@ -67,7 +68,7 @@ pub fn with_damped<R>(
     mass: f64,
     coefficient: f64,
     f: impl LawVisitor<Output = R>,
-) -> Result<R, ModelError> {
+) -> Result<R> {
     fn combine<N, D, R>(
         normal: N,
         mass: f64,
@@ -140,8 +141,8 @@ pub fn with_damped<R>(
     }
 }
 
-fn incompatible(law: ContactLawKind, damping: DampingKind) -> ModelError {
-    ModelError(format!(
+fn incompatible(law: ContactLawKind, damping: DampingKind) -> Error {
+    Error::Model(format!(
         "contact.damping = \"{}\" does not go with law = \"{}\" (allowed with it: {})",
         damping.name(),
         law.row().name,
@@ -168,7 +169,7 @@ fn setup(
         stiffness,
         mass,
         dissipation,
-        calibration: calibration.to_physics(),
+        calibration,
         attractive,
         reference_speed: None,
         clamped_ratio,
@@ -187,9 +188,9 @@ pub fn damping_coefficient(
     pair: &ContactPair,
     mass: f64,
     impact_speed: f64,
-) -> Result<f64, ModelError> {
+) -> Result<f64> {
     let dissipation = model.dissipation.ok_or_else(|| {
-        ModelError(format!(
+        Error::Model(format!(
             "contact.damping = \"{}\" needs contact.restitution or contact.damping_coefficient",
             model.damping.name()
         ))
@@ -222,11 +223,11 @@ pub fn viscoelastic_restitution(
     mass: f64,
     speed: f64,
     attractive: bool,
-) -> Result<f64, ModelError> {
+) -> Result<f64> {
     let model = DampedHertz::Viscoelastic { stiffness, a };
     damped_hertz(model, mass, speed, 0.0, attractive)
         .map(|r| r.restitution)
-        .map_err(|e| ModelError(format!("viscoelastic calibration: {e}")))
+        .map_err(|e| Error::Model(format!("viscoelastic calibration: {e}")))
 }
 
 /// The viscoelastic law's A (s) for Hertz stiffness `stiffness`
@@ -240,13 +241,13 @@ pub fn viscoelastic_coefficient(
     dissipation: Dissipation,
     impact_speed: f64,
     attractive: bool,
-) -> Result<f64, ModelError> {
+) -> Result<f64> {
     let a = match dissipation {
         Dissipation::Coefficient(a) => a,
         Dissipation::Restitution(e) if e >= 1.0 => 0.0,
         Dissipation::Restitution(e) => {
             if impact_speed.is_nan() || impact_speed <= 0.0 || impact_speed.is_infinite() {
-                return Err(ModelError(
+                return Err(Error::Model(
                         "contact.restitution with damping = \"viscoelastic\" needs a first impact speed > 0"
                             .into(),
                     ));
@@ -267,7 +268,7 @@ pub fn viscoelastic_coefficient(
             // e decreases with δ: e(1e−9) ≈ 1, e(30) ≈ 0.
             let (mut lo, mut hi) = ((1e-9_f64).ln(), (30.0_f64).ln());
             if e_of(lo) < e || e_of(hi) > e {
-                return Err(ModelError(format!(
+                return Err(Error::Model(format!(
                         "contact.restitution = {e} is out of reach of the viscoelastic law (0 < δ ≤ 30)"
                     )));
             }

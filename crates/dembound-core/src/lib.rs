@@ -10,12 +10,14 @@
 //!   the numerics they check;
 //! - [`reference`](mod@reference): independent references for the dissipative laws;
 //! - [`study`]: validation, convergence and parametric studies;
+//! - [`error`]: the crate's one error type, [`Error`];
 //! - [`calibration`]: from a configured model to the concrete law, a target
 //!   restitution turned into its coefficient (above `contact` and `reference`).
 
 pub mod bounce;
 pub mod calibration;
 pub mod contact;
+pub mod error;
 pub mod exact;
 pub mod integrate;
 pub mod material;
@@ -24,3 +26,5 @@ pub mod reference;
 pub mod scenario;
 mod serde_inf;
 pub mod study;
+
+pub use error::{Error, Result};

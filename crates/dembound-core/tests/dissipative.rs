@@ -742,7 +742,7 @@ fn scenario_keys_parse_with_defaults_and_reject_nonsense() {
     let bad = |contact: &str, field: &str| {
         let s = parse(contact).unwrap();
         let err = s.validate().unwrap_err();
-        assert_eq!(err.field, field, "{contact}: {err}");
+        assert_eq!(err.field(), Some(field), "{contact}: {err}");
     };
     bad(
         r#"law = "hertz"

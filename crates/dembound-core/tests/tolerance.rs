@@ -82,7 +82,10 @@ fn tolerance_excludes_eta_and_dt() {
     let mut s = Scenario::default();
     s.integration.tolerance = Some(1e-8);
     s.integration.eta = Some(0.01);
-    assert_eq!(s.validate().unwrap_err().field, "integration.tolerance");
+    assert_eq!(
+        s.validate().unwrap_err().field(),
+        Some("integration.tolerance")
+    );
 }
 
 #[test]

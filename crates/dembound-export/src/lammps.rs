@@ -18,7 +18,7 @@
 //!   damping, as dembound does).
 
 use crate::plan::{Boundary, Law, Plan};
-use crate::{num, ExportError, Pitfall};
+use crate::{num, Error, Pitfall, Result};
 use std::fmt::Write;
 
 /// The granular model arguments of the pre-mixed law.
@@ -32,10 +32,10 @@ pub fn tsuji_alpha(e: f64) -> f64 {
 
 /// The e to give LAMMPS's `damping tsuji` so that its α is `alpha`
 /// (bisection on [0, 1], where the polynomial falls from 1.2728 to 0.0006).
-pub(crate) fn tsuji_input(alpha: f64) -> Result<f64, ExportError> {
+pub(crate) fn tsuji_input(alpha: f64) -> Result<f64> {
     let (mut lo, mut hi) = (0.0, 1.0);
     if !(tsuji_alpha(hi)..=tsuji_alpha(lo)).contains(&alpha) {
-        return Err(ExportError(format!(
+        return Err(Error::Export(format!(
             "the Tsuji damping asks LAMMPS for alpha = {alpha}, outside what its polynomial in e \
              gives on [0, 1] ({} to {})",
             tsuji_alpha(hi),
@@ -53,7 +53,7 @@ pub(crate) fn tsuji_input(alpha: f64) -> Result<f64, ExportError> {
     Ok(0.5 * (lo + hi))
 }
 
-fn model(plan: &Plan) -> Result<String, ExportError> {
+fn model(plan: &Plan) -> Result<String> {
     // The mass LAMMPS puts in its damping: the particle's against a frozen
     // atom or a wall, the reduced mass of two free atoms.
     let m = plan.reduced_mass;
@@ -100,7 +100,7 @@ fn model(plan: &Plan) -> Result<String, ExportError> {
 }
 
 /// The LAMMPS input of `plan` (`pitfall`: a known-wrong variant).
-pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError> {
+pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String> {
     let p = &plan.particle;
     let mut d = String::new();
     for line in plan.provenance() {
@@ -113,7 +113,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         }
         (b @ Boundary::Sphere { .. }, _) => (Some(b), None),
         (Boundary::Plane { .. }, Some(Pitfall::AutoMix)) => {
-            return Err(ExportError(
+            return Err(Error::Export(
                 "--pitfall auto-mix needs a boundary sphere (boundary.radius_ratio finite)".into(),
             ))
         }
@@ -139,7 +139,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         )
         .ok();
         if pf == Pitfall::AutoMix && !e_b.is_finite() {
-            return Err(ExportError(
+            return Err(Error::Export(
                 "--pitfall auto-mix needs a finite boundary modulus".into(),
             ));
         }

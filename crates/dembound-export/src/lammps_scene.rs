@@ -27,7 +27,7 @@
 //! for the Tsuji damping), and `neigh_modify exclude group frozen frozen`
 //! (two fixed spheres never interact, as in dembound).
 
-use crate::{lammps::tsuji_input, num, Code, Deck, DeckFile, ExportError};
+use crate::{lammps::tsuji_input, num, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
 use dembound_physics::material::{effective_modulus, Material, PairProperties};
 use dembound_scene::io::resolve::ResolvedScene;
@@ -88,10 +88,10 @@ fn normal_coefficient(law: &NormalLaw, modulus: f64) -> (&'static str, f64) {
 }
 
 /// The deck of a resolved scene: `in.lammps` and [`DATA_FILE`].
-pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
+pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let setup = &scene.setup;
     let model = &setup.contact;
-    let refuse = |s: String| Err(ExportError(s));
+    let refuse = |s: String| Err(Error::Export(s));
     if setup.integration.scheme != Scheme::Verlet {
         return refuse(
             "integration.scheme = \"gear5\" cannot be exported: LAMMPS integrates with velocity \
@@ -122,7 +122,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
         }
     }
     // The engine validates the setup and fixes Δt and the run length.
-    let sim = Simulation::new(setup.clone(), 1).map_err(|e| ExportError(e.to_string()))?;
+    let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
     let dt = sim.dt();
     let steps = sim.total_steps();
 
@@ -214,12 +214,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck, ExportError> {
     };
 
     // Every type pair that meets: E_eff finite.
-    let pair_modulus = |a: &AtomType, b: &AtomType| -> Result<f64, ExportError> {
+    let pair_modulus = |a: &AtomType, b: &AtomType| -> Result<f64> {
         let e = effective_modulus(material(a.material), material(b.material));
         if e.is_finite() && e > 0.0 {
             Ok(e)
         } else {
-            Err(ExportError(format!(
+            Err(Error::Export(format!(
                 "materials \"{}\" and \"{}\" are both rigid: their contact has no finite stiffness",
                 name(a.material),
                 name(b.material)
@@ -695,7 +695,7 @@ dt = 1.0e-6
 steps = 10
 "#;
 
-    fn exported(sets: &[&str]) -> Result<Deck, ExportError> {
+    fn exported(sets: &[&str]) -> Result<Deck> {
         let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
         let file = config::load(SCENE, "test", &sets).expect("a valid scene");
         let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
@@ -774,7 +774,7 @@ steps = 10
             (vec!["contact.friction=0.5"], "contact.friction"),
         ] {
             let e = exported(&sets).expect_err("refused");
-            assert!(e.0.contains(key), "{sets:?}: {e}");
+            assert!(e.to_string().contains(key), "{sets:?}: {e}");
         }
     }
 }

@@ -21,7 +21,6 @@ pub mod trace;
 pub mod yade;
 
 use dembound_core::bounce::Scenario;
-use std::fmt;
 
 /// The codes a scenario can be exported to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -112,26 +111,25 @@ pub struct Deck {
     pub files: Vec<DeckFile>,
 }
 
-/// Why a scenario cannot be exported (a message naming the key or the
-/// code's limitation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ExportError(pub String);
-
-impl fmt::Display for ExportError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
+/// The crate's one error type. Each variant carries the message users see
+/// (it names the key, the code's limitation or the trace's line).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A scenario or scene that cannot be exported: a value out of range
+    /// or a feature the code lacks.
+    #[error("{0}")]
+    Export(String),
+    /// A trace that cannot be read or measured ([`trace`]).
+    #[error("{0}")]
+    Trace(String),
 }
 
-impl std::error::Error for ExportError {}
+/// `Result` with the crate's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
-pub fn export(
-    code: Code,
-    scenario: &Scenario,
-    pitfall: Option<Pitfall>,
-) -> Result<Deck, ExportError> {
+pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {
     let plan = plan::Plan::new(scenario)?;
     let for_code = match pitfall {
         None => code,
@@ -139,7 +137,7 @@ pub fn export(
         Some(Pitfall::YadeWall | Pitfall::CundallDamping) => Code::Yade,
     };
     if for_code != code {
-        return Err(ExportError(format!(
+        return Err(Error::Export(format!(
             "--pitfall {} is a {} pitfall, not one of {} (see docs/export-{}.md)",
             pitfall.map_or("", |p| p.name()),
             for_code.name(),

@@ -15,10 +15,10 @@
 //! - Moduli above 1e9 Pa need `hard_particles yes`.
 
 use crate::plan::{Boundary, Law, Plan};
-use crate::{num, ExportError};
+use crate::{num, Error, Result};
 use std::fmt::Write;
 
-pub fn deck(plan: &Plan) -> Result<String, ExportError> {
+pub fn deck(plan: &Plan) -> Result<String> {
     let p = &plan.particle;
     let (e_b, nu_b) = match plan.boundary {
         Boundary::Sphere {
@@ -32,14 +32,14 @@ pub fn deck(plan: &Plan) -> Result<String, ExportError> {
         } => (youngs_modulus, poisson_ratio),
     };
     if !e_b.is_finite() && matches!(plan.law, Law::Hertz { .. }) {
-        return Err(ExportError(
+        return Err(Error::Export(
             "boundary.modulus_ratio = inf: LIGGGHTS needs a finite Young's modulus per type \
              (give e.g. boundary.modulus_ratio = 1e6: E_eff then differs by 1e-6)"
                 .into(),
         ));
     }
     if matches!(plan.law, Law::Tsuji { .. } | Law::Viscoelastic { .. }) {
-        return Err(ExportError(
+        return Err(Error::Export(
             "Hertz with tsuji or viscoelastic damping is exported to LAMMPS only so far".into(),
         ));
     }

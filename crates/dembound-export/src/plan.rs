@@ -2,7 +2,7 @@
 //! with where it comes from (the deck's comment block is written from
 //! [`Plan::provenance`]).
 
-use crate::{num, ExportError};
+use crate::{num, Error, Result};
 use dembound_core::bounce::{plan as dembound_plan, ContactRecord, GravityOn, Scenario};
 use dembound_core::calibration::damping_coefficient;
 use dembound_core::contact::{ContactLawKind, DampingKind};
@@ -111,12 +111,12 @@ const MARGIN_STEPS: u64 = 12;
 const LATER_MARGIN: f64 = 0.02;
 
 impl Plan {
-    pub fn new(scenario: &Scenario) -> Result<Self, ExportError> {
+    pub fn new(scenario: &Scenario) -> Result<Self> {
         let s = scenario.resolved();
-        s.validate().map_err(|e| ExportError(e.to_string()))?;
-        let problem = dembound_plan(&s).map_err(|e| ExportError(e.to_string()))?;
+        s.validate().map_err(|e| Error::Export(e.to_string()))?;
+        let problem = dembound_plan(&s).map_err(|e| Error::Export(e.to_string()))?;
         let exact = exact::scenario_contacts(&s)
-            .map_err(|e| ExportError(format!("no exact reference for this scenario: {e}")))?;
+            .map_err(|e| Error::Export(format!("no exact reference for this scenario: {e}")))?;
         let pair = s.pair();
         let p = s.particle;
         let nu_b = pair.boundary_poisson_ratio();
@@ -158,7 +158,7 @@ impl Plan {
             .or(Some(dembound_core::contact::Dissipation::Coefficient(0.0)));
         let coefficient = || {
             damping_coefficient(&model, &pair, s.reduced_mass(), s.impact_speed())
-                .map_err(|e| ExportError(e.to_string()))
+                .map_err(|e| Error::Export(e.to_string()))
         };
         let clamp = !model.attractive;
         let law = match (c.law, c.damping) {
@@ -184,7 +184,7 @@ impl Plan {
                 clamp,
             },
             (law, damping) => {
-                return Err(ExportError(format!(
+                return Err(Error::Export(format!(
                     "contact.law = \"{}\" with contact.damping = \"{}\" is not exported yet \
                      (exported: hertz, linear, linear with viscous damping, hertz with tsuji or \
                      viscoelastic damping to LAMMPS)",

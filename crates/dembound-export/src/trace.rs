@@ -20,7 +20,7 @@
 //! - h_max: the vertex of the parabola through the largest sample and its
 //!   two neighbours.
 
-use std::fmt;
+use crate::{Error, Result};
 
 /// One line of a trace.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,20 +59,9 @@ pub struct MeasuredContact {
     pub restitution: f64,
 }
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct TraceError(pub String);
-
-impl fmt::Display for TraceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for TraceError {}
-
 impl Trace {
     /// Parses the text of a trace: `#` comments, then four numbers a line.
-    pub fn parse(text: &str) -> Result<Self, TraceError> {
+    pub fn parse(text: &str) -> Result<Self> {
         let mut samples = Vec::new();
         let mut offset = 0.0;
         let mut scenario = None;
@@ -91,7 +80,7 @@ impl Trace {
                 if let Some((key, value)) = comment.split_once('=') {
                     if key.trim() == "velocity_time_offset_s" {
                         offset = value.trim().parse().map_err(|_| {
-                            TraceError(format!("line {}: bad velocity_time_offset_s", n + 1))
+                            Error::Trace(format!("line {}: bad velocity_time_offset_s", n + 1))
                         })?;
                     }
                 }
@@ -101,9 +90,9 @@ impl Trace {
                 .split_whitespace()
                 .map(str::parse)
                 .collect::<Result<_, _>>()
-                .map_err(|_| TraceError(format!("line {}: not four numbers: `{line}`", n + 1)))?;
+                .map_err(|_| Error::Trace(format!("line {}: not four numbers: `{line}`", n + 1)))?;
             if fields.len() != 4 || fields.iter().any(|x| !x.is_finite()) {
-                return Err(TraceError(format!(
+                return Err(Error::Trace(format!(
                     "line {}: expected four finite numbers (time, overlap, velocity, force), got `{line}`",
                     n + 1
                 )));
@@ -116,7 +105,7 @@ impl Trace {
             });
         }
         if samples.len() < 8 {
-            return Err(TraceError(format!(
+            return Err(Error::Trace(format!(
                 "{} samples: too few to hold a contact",
                 samples.len()
             )));
@@ -129,7 +118,7 @@ impl Trace {
     }
 
     /// Every complete contact, in time order.
-    pub fn contacts(&self) -> Result<Vec<MeasuredContact>, TraceError> {
+    pub fn contacts(&self) -> Result<Vec<MeasuredContact>> {
         let mut out = Vec::new();
         for window in self.windows() {
             let s = &self.samples[window.0..window.1];
@@ -145,7 +134,7 @@ impl Trace {
                 }
                 let j = i;
                 if k < 3 || j + 3 > s.len() {
-                    return Err(TraceError(format!(
+                    return Err(Error::Trace(format!(
                         "the contact at t = {} s is cut by the end of its window (3 free steps are \
                          needed on each side)",
                         s[k].time
@@ -155,7 +144,7 @@ impl Trace {
             }
         }
         if out.is_empty() {
-            return Err(TraceError("no contact (overlap > 0) in the trace".into()));
+            return Err(Error::Trace("no contact (overlap > 0) in the trace".into()));
         }
         Ok(out)
     }
@@ -293,6 +282,6 @@ mod tests {
     #[test]
     fn bad_lines_are_named() {
         let e = Trace::parse("# x\n1 2 3\n").unwrap_err();
-        assert!(e.0.contains("line 2"), "{e}");
+        assert!(matches!(&e, Error::Trace(m) if m.contains("line 2")), "{e}");
     }
 }

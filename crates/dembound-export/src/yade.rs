@@ -20,13 +20,13 @@
 //!   and the trace says its velocities are at t − Δt/2.
 
 use crate::plan::{Boundary, Law, Plan};
-use crate::{num, ExportError, Pitfall};
+use crate::{num, Error, Pitfall, Result};
 use std::fmt::Write;
 
 /// The radius ratio of the sphere that stands in for a plane.
 pub const PLANE_RADIUS_RATIO: f64 = 1e6;
 
-pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError> {
+pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String> {
     let p = &plan.particle;
     let (e_b, nu_b) = match plan.boundary {
         Boundary::Sphere {
@@ -40,21 +40,21 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
         } => (youngs_modulus, poisson_ratio),
     };
     if !e_b.is_finite() && matches!(plan.law, Law::Hertz { .. }) {
-        return Err(ExportError(
+        return Err(Error::Export(
             "boundary.modulus_ratio = inf: Yade's FrictMat needs a finite Young's modulus \
              (give e.g. boundary.modulus_ratio = 1e6: E_eff then differs by 1e-6)"
                 .into(),
         ));
     }
     if let Law::Dashpot { clamp: false, .. } = plan.law {
-        return Err(ExportError(
+        return Err(Error::Export(
             "contact.attractive = true: Yade's ViscElMat law always clamps the normal force at \
              zero; export with contact.attractive = false"
                 .into(),
         ));
     }
     if matches!(plan.law, Law::Tsuji { .. } | Law::Viscoelastic { .. }) {
-        return Err(ExportError(
+        return Err(Error::Export(
             "Hertz with tsuji or viscoelastic damping is exported to LAMMPS only so far".into(),
         ));
     }
@@ -73,7 +73,7 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String, ExportError
     }
     let yade_wall = pitfall == Some(Pitfall::YadeWall);
     if yade_wall && !matches!(plan.boundary, Boundary::Plane { .. }) {
-        return Err(ExportError(
+        return Err(Error::Export(
             "--pitfall yade-wall needs boundary.radius_ratio = inf (a plane)".into(),
         ));
     }

@@ -6,7 +6,8 @@ use clap::Parser;
 use dembound::cli::{capture_json, capture_warnings, dispatch, Cli};
 use dembound::output::history::HistoryRecorder;
 use dembound::scenario_file::ScenarioArgs;
-use dembound_core::bounce::{simulate, simulate_batch, ContactRecord, Scenario, SimulationError};
+use dembound_core::bounce::{simulate, simulate_batch, ContactRecord, Scenario};
+use dembound_core::Error;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::{PyRuntimeError, PyUserWarning};
 use pyo3::prelude::*;
@@ -56,9 +57,9 @@ fn scenario(path: Option<String>, sets: Vec<String>) -> Result<Scenario, Failure
     args.load().map_err(|e| Failure::Input(format!("{e:#}")))
 }
 
-fn simulation_failure(e: SimulationError) -> Failure {
+fn simulation_failure(e: Error) -> Failure {
     match e {
-        SimulationError::Input(e) => Failure::Input(e.to_string()),
+        e @ Error::Input { .. } => Failure::Input(e.to_string()),
         e => Failure::Failed(format!("the run failed: {e}")),
     }
 }

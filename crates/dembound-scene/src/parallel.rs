@@ -14,6 +14,7 @@
 //! long idle spell), and worker t is the same OS thread in every stage, so
 //! a body's data stays in one core's cache (see `PairList::shares`).
 
+use crate::error::SceneError;
 use std::cell::UnsafeCell;
 use std::ops::Range;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
@@ -48,21 +49,9 @@ pub struct Workers {
     cuts: std::sync::RwLock<Vec<usize>>,
 }
 
-/// Why the workers could not start.
-#[derive(Debug)]
-pub struct WorkersError(pub String);
-
-impl std::fmt::Display for WorkersError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for WorkersError {}
-
 impl Workers {
     /// `threads` ≥ 1 workers (1: the caller's thread alone).
-    pub fn new(threads: usize) -> Result<Self, WorkersError> {
+    pub fn new(threads: usize) -> Result<Self, SceneError> {
         let team = if threads > 1 {
             Some(Team::new(threads)?)
         } else {
@@ -254,7 +243,7 @@ struct Team {
 }
 
 impl Team {
-    fn new(threads: usize) -> Result<Self, WorkersError> {
+    fn new(threads: usize) -> Result<Self, SceneError> {
         let shared = Arc::new(Shared {
             epoch: AtomicU64::new(0),
             job: UnsafeCell::new(None),
@@ -274,7 +263,7 @@ impl Team {
             let handle = std::thread::Builder::new()
                 .name(format!("dembound-worker-{t}"))
                 .spawn(move || work(&shared, t))
-                .map_err(|e| WorkersError(format!("cannot start worker thread {t}: {e}")))?;
+                .map_err(|e| SceneError::Threads(format!("cannot start worker thread {t}: {e}")))?;
             // Dropping `team` on an error stops the workers started so far.
             team.handles.push(handle);
         }

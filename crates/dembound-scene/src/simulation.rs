@@ -434,7 +434,7 @@ impl Simulation {
                 s as u64
             }
         };
-        let workers = Workers::new(threads).map_err(|e| SceneError::Threads(e.to_string()))?;
+        let workers = Workers::new(threads)?;
         let np = planes.len();
         let world = World {
             wall_contacts: WallContacts::new(n, np, laws.history),

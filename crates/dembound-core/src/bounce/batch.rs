@@ -51,9 +51,10 @@
 //! enabled for the compiler, which does not contract on its own), or the
 //! baseline SSE2 build. Measurements: BENCHMARKS.md, `benches/batch.rs`.
 
-use super::{simulate, RunOutcome, Scenario, SimulationError, Stepping};
+use super::{simulate, RunOutcome, Scenario, Stepping};
 use crate::contact::{ContactLawKind, DampingKind, Hertz, LinearSpring};
 use crate::integrate::Scheme;
+use crate::{Error, Result};
 use kernel::run_kernel;
 use queue::{Queue, Slot};
 use rayon::prelude::*;
@@ -132,16 +133,13 @@ const LANES_BASELINE: usize = 2 * GROUP_BASELINE;
 /// Hertz or linear law, fixed boundary) in SIMD lanes, the others one by
 /// one with [`simulate`]; results in the order of `scenarios`, each as
 /// `simulate(s, &mut ())` would give it. Runs in the current rayon pool.
-pub fn simulate_batch(scenarios: &[Scenario]) -> Vec<Result<RunOutcome, SimulationError>> {
+pub fn simulate_batch(scenarios: &[Scenario]) -> Vec<Result<RunOutcome>> {
     simulate_batch_with(scenarios, Isa::detect())
 }
 
 /// [`simulate_batch`] with a chosen instruction set (falls back to the
 /// baseline if the CPU lacks it): for tests and benchmarks.
-pub fn simulate_batch_with(
-    scenarios: &[Scenario],
-    isa: Isa,
-) -> Vec<Result<RunOutcome, SimulationError>> {
+pub fn simulate_batch_with(scenarios: &[Scenario], isa: Isa) -> Vec<Result<RunOutcome>> {
     let isa = if isa.available() { isa } else { Isa::Baseline };
     let mut hertz = Vec::new();
     let mut linear = Vec::new();
@@ -153,11 +151,8 @@ pub fn simulate_batch_with(
             None => scalar.push(index),
         }
     }
-    let placeholders = |n: usize| -> Vec<Slot> {
-        (0..n)
-            .map(|_| Err(SimulationError::NeverReachesBoundary))
-            .collect()
-    };
+    let placeholders =
+        |n: usize| -> Vec<Slot> { (0..n).map(|_| Err(Error::NeverReachesBoundary)).collect() };
     let (mut hertz_out, mut linear_out) = (placeholders(hertz.len()), placeholders(linear.len()));
     let groups = (hertz.len() + linear.len()).div_ceil(isa.lanes());
     let tasks = rayon::current_num_threads().min(groups);

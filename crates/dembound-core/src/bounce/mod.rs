@@ -14,11 +14,11 @@ pub mod tolerance;
 
 pub use crate::record::{BodyVelocities, ContactRecord};
 pub use crate::scenario::{
-    BoundarySection, ContactSection, GravityOn, InputError, Integration, Motion, ParticleSection,
-    Scenario, StepRule, Stepping, TwoBody, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,
+    BoundarySection, ContactSection, GravityOn, Integration, Motion, ParticleSection, Scenario,
+    StepRule, Stepping, TwoBody, DEFAULT_ETA, MAX_TOLERANCE, MIN_TOLERANCE,
 };
 pub use batch::simulate_batch;
-pub use problem::{Problem, SimulationError};
+pub use problem::Problem;
 pub use run::{check_resolution, check_step, plan, resolve, simulate, simulate_resolved, Resolved};
 pub use simulate::simulate_with;
 

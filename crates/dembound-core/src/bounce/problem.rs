@@ -1,56 +1,11 @@
 //! The numerical problem a run solves (one degree of freedom, its mass,
-//! gravity, Δt and contact-time estimate) and why a run can fail: the data
+//! gravity, Δt and contact-time estimate): the data
 //! shared by the time loop ([`super::simulate`]), the step choice for an
 //! accuracy target ([`super::tolerance`]) and the resolution of a scenario
 //! ([`super::run`]), which sit above it.
 
 use super::events::time_to_surface;
-use super::{InputError, Stepping, TwoBody};
-use crate::contact::ModelError;
-use std::fmt;
-
-/// Why a run could not finish.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SimulationError {
-    /// A scenario field is out of range.
-    Input(InputError),
-    /// The particle never reaches the boundary.
-    NeverReachesBoundary,
-    /// A contact did not end within its step budget.
-    NoRebound { contact: u32, steps: u64 },
-    /// The contact model could not be built (e.g. a restitution out of reach).
-    Model(ModelError),
-}
-
-impl fmt::Display for SimulationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimulationError::Input(e) => e.fmt(f),
-            SimulationError::NeverReachesBoundary => {
-                f.write_str("the particle never reaches the boundary (check motion.velocity and motion.gravity)")
-            }
-            SimulationError::NoRebound { contact, steps } => write!(
-                f,
-                "contact {contact} did not end after {steps} steps (the particle came to rest on the boundary?)"
-            ),
-            SimulationError::Model(e) => e.fmt(f),
-        }
-    }
-}
-
-impl std::error::Error for SimulationError {}
-
-impl From<ModelError> for SimulationError {
-    fn from(e: ModelError) -> Self {
-        SimulationError::Model(e)
-    }
-}
-
-impl From<InputError> for SimulationError {
-    fn from(e: InputError) -> Self {
-        SimulationError::Input(e)
-    }
-}
+use super::{Stepping, TwoBody};
 
 /// The numerical problem a run solves, resolved from a [`Scenario`](super::Scenario) and its law.
 ///

@@ -6,19 +6,20 @@
 //! neither imports the other's caller.
 
 use super::limits;
-use super::problem::{Problem, SimulationError};
+use super::problem::Problem;
 use super::simulate::simulate_with;
 use super::tolerance;
-use super::{InputError, Observer, RunOutcome, Scenario, StepRule};
+use super::{Observer, RunOutcome, Scenario, StepRule};
 use crate::calibration::{damping_coefficient, with_damped, with_model};
 use crate::contact::{DampingKind, LawVisitor, NormalContactLaw};
 use crate::integrate::{Gear5, Scheme, Verlet};
+use crate::{Error, Result};
 
 impl Problem {
     /// Resolves Δt for `law` (Δt = η T_c with the law's estimate at the
     /// first impact speed, Δt as given, or Δt for an accuracy target from
     /// pilot runs: [`super::tolerance`]).
-    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Result<Self, SimulationError> {
+    pub fn new(s: &Scenario, law: &impl NormalContactLaw) -> Result<Self> {
         let mass = s.reduced_mass();
         let g = s.relative_gravity();
         let mut speed = s.impact_speed();
@@ -72,11 +73,7 @@ impl Problem {
 /// gravity-free). There e = v_r/|v_c| is ill-conditioned and the integrator
 /// cannot resolve it (measurements in [`limits`]). The message names
 /// `motion.gap` with the smallest gap that would do.
-fn check_gravity_share(
-    s: &Scenario,
-    law: &impl NormalContactLaw,
-    mass: f64,
-) -> Result<(), InputError> {
+fn check_gravity_share(s: &Scenario, law: &impl NormalContactLaw, mass: f64) -> Result<()> {
     let g = s.relative_gravity();
     if g == 0.0 {
         return Ok(());
@@ -112,7 +109,7 @@ fn check_gravity_share(
         // The first impact is fine, a later slower one is not.
         let e = s.contact.restitution.unwrap_or(1.0);
         let most = 1.0 + ((v_first / v_min).ln() / (1.0 / e).ln()).floor();
-        return Err(InputError {
+        return Err(Error::Input {
             field: "motion.contacts".into(),
             value: s.motion.contacts.to_string(),
             allowed: format!(
@@ -127,7 +124,7 @@ fn check_gravity_share(
     let v_needed = v_min / slowing;
     let v0 = s.relative_velocity();
     let gap_needed = (v_needed * v_needed - v0 * v0) / (2.0 * g);
-    Err(InputError {
+    Err(Error::Input {
         field: "motion.gap".into(),
         value: format!("{} m", limits::show(s.motion.gap)),
         allowed: format!(
@@ -148,11 +145,11 @@ fn check_gravity_share(
 /// that is not finite. Called by [`plan`], not by [`simulate`]: studies of
 /// the integrator itself (the convergence study runs η = 0.2) may step
 /// coarser.
-pub fn check_step(s: &Scenario, problem: &Problem) -> Result<(), InputError> {
+pub fn check_step(s: &Scenario, problem: &Problem) -> Result<()> {
     let limit = limits::MAX_ETA * problem.contact_time_estimate;
     if let Some(dt) = s.integration.dt {
         if dt.is_nan() || dt > limit {
-            return Err(InputError {
+            return Err(Error::Input {
                 field: "integration.dt".into(),
                 value: format!("{} s", limits::show(dt)),
                 allowed: format!(
@@ -167,7 +164,7 @@ pub fn check_step(s: &Scenario, problem: &Problem) -> Result<(), InputError> {
     }
     let steps = problem.expected_steps();
     if !(steps.is_finite() && problem.dt > 0.0 && problem.contact_time_estimate > 0.0) {
-        return Err(InputError {
+        return Err(Error::Input {
             field: "integration.dt".into(),
             value: format!("{} s", problem.dt),
             allowed: format!(
@@ -186,7 +183,7 @@ pub fn check_step(s: &Scenario, problem: &Problem) -> Result<(), InputError> {
 /// the step, with an `integration.tolerance` replaced by η = 1/50 (its
 /// pilot runs are not needed to know that the contact can be resolved;
 /// the step it chooses is finer still).
-pub fn check_resolution(s: &Scenario) -> Result<(), SimulationError> {
+pub fn check_resolution(s: &Scenario) -> Result<()> {
     let mut s = *s;
     if s.integration.tolerance.take().is_some() {
         s.integration.eta = Some(super::DEFAULT_ETA);
@@ -213,7 +210,7 @@ fn with_resolved_law<R>(
     s: &Scenario,
     damping_coefficient: Option<f64>,
     f: impl LawVisitor<Output = R>,
-) -> Result<R, SimulationError> {
+) -> Result<R> {
     let (model, pair) = (s.contact.model(), s.pair());
     Ok(match damping_coefficient {
         Some(c) => with_damped(&model, &pair, s.reduced_mass(), c, f)?,
@@ -223,7 +220,7 @@ fn with_resolved_law<R>(
 
 /// Resolves `s` once ([`Resolved`]), refusing a step that does not resolve
 /// the contact ([`check_step`]).
-pub fn resolve(s: &Scenario) -> Result<Resolved, SimulationError> {
+pub fn resolve(s: &Scenario) -> Result<Resolved> {
     s.validate()?;
     let model = s.contact.model();
     let damping_coefficient = if model.damping == DampingKind::None {
@@ -238,7 +235,7 @@ pub fn resolve(s: &Scenario) -> Result<Resolved, SimulationError> {
     };
     struct Plan<'a>(&'a Scenario);
     impl LawVisitor for Plan<'_> {
-        type Output = Result<Problem, SimulationError>;
+        type Output = Result<Problem>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             let problem = Problem::new(self.0, &law)?;
             check_step(self.0, &problem)?;
@@ -259,14 +256,14 @@ pub fn simulate_resolved<O: Observer>(
     s: &Scenario,
     resolved: &Resolved,
     observer: &mut O,
-) -> Result<RunOutcome, SimulationError> {
+) -> Result<RunOutcome> {
     struct Visit<'a, O> {
         scenario: &'a Scenario,
         problem: &'a Problem,
         observer: &'a mut O,
     }
     impl<O: Observer> LawVisitor for Visit<'_, O> {
-        type Output = Result<RunOutcome, SimulationError>;
+        type Output = Result<RunOutcome>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             run_problem(self.scenario, &law, self.problem, self.observer)
         }
@@ -288,7 +285,7 @@ fn run_problem<L: NormalContactLaw, O: Observer>(
     law: &L,
     problem: &Problem,
     observer: &mut O,
-) -> Result<RunOutcome, SimulationError> {
+) -> Result<RunOutcome> {
     match s.integration.scheme {
         Scheme::Gear5 => {
             let gear = Gear5::for_force(law.depends_on_rate());
@@ -299,17 +296,14 @@ fn run_problem<L: NormalContactLaw, O: Observer>(
 }
 
 /// Runs a scenario (validated first) and reports every contact.
-pub fn simulate<O: Observer>(
-    s: &Scenario,
-    observer: &mut O,
-) -> Result<RunOutcome, SimulationError> {
+pub fn simulate<O: Observer>(s: &Scenario, observer: &mut O) -> Result<RunOutcome> {
     s.validate()?;
     struct Visit<'a, O> {
         scenario: &'a Scenario,
         observer: &'a mut O,
     }
     impl<O: Observer> LawVisitor for Visit<'_, O> {
-        type Output = Result<RunOutcome, SimulationError>;
+        type Output = Result<RunOutcome>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             let problem = Problem::new(self.scenario, &law)?;
             run_problem(self.scenario, &law, &problem, self.observer)
@@ -330,6 +324,6 @@ pub fn simulate<O: Observer>(
 /// Resolves a scenario into its numerical problem (Δt, expected steps)
 /// without running it: for step-count guards and progress bars. Refuses a
 /// step that does not resolve the contact ([`check_step`]).
-pub fn plan(s: &Scenario) -> Result<Problem, SimulationError> {
+pub fn plan(s: &Scenario) -> Result<Problem> {
     resolve(s).map(|r| r.problem)
 }

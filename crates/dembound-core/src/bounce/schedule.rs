@@ -174,6 +174,7 @@ impl GradedSteps {
     }
 
     /// Size of step number `j` (0-based) of the contact.
+    #[inline]
     pub fn next(&mut self, j: u64) -> f64 {
         self.next_with(j, |region, _, n, k| graded_step(region, n, k))
     }
@@ -253,6 +254,7 @@ impl SingularMesh {
 
     /// Size of the step that starts `tau` (s) after the onset:
     /// min(Δt, ρτ, Δt (τ/s_g)^(1 − 1/q)), the first one [`SINGULAR_FIRST`].
+    #[inline]
     pub fn onset_step(&self, tau: f64) -> f64 {
         if tau <= 0.0 {
             return self.first;
@@ -269,6 +271,7 @@ impl SingularMesh {
     /// away: to the next point s_g ((j − 1)/N)^q of the power mesh, j the
     /// continuous index of `remaining`; from j ≤ 2 on, one step of twice
     /// the time left, which crosses the end (located on its polynomial).
+    #[inline]
     pub fn end_step(&self, remaining: f64) -> f64 {
         if remaining.is_nan() || remaining >= self.region {
             return self.dt;

@@ -14,13 +14,12 @@
 
 use super::events::{locate, locate_where, time_to_surface, Crossing};
 use super::limits;
-use super::problem::{Problem, SimulationError};
+use super::problem::Problem;
 use super::schedule::{GradedSteps, Grading, SingularMesh};
-use super::{
-    BodyVelocities, ContactRecord, InputError, Observer, RunOutcome, Sample, Stepping, TwoBody,
-};
+use super::{BodyVelocities, ContactRecord, Observer, RunOutcome, Sample, Stepping, TwoBody};
 use crate::contact::{NormalContactLaw, Onset};
 use crate::integrate::{Integrator, Kinematics};
+use crate::{Error, Result};
 
 const PROGRESS_EVERY: u64 = 1 << 16;
 
@@ -30,7 +29,7 @@ pub fn simulate_with<L: NormalContactLaw, I: Integrator, O: Observer>(
     integrator: I,
     problem: &Problem,
     observer: &mut O,
-) -> Result<RunOutcome, SimulationError> {
+) -> Result<RunOutcome> {
     let mut run = Run {
         law,
         acceleration_law: law.scaled(1.0 / problem.mass),
@@ -210,6 +209,15 @@ impl StepEnds {
     /// τ at the end of the step that starts at `tau_start`; `remaining` is
     /// the estimated time from `tau_start` to a singular end (see
     /// [`Self::grades_end`]), `None` otherwise.
+    ///
+    /// `#[inline]`, like the other per-step helpers of the contact loop
+    /// ([`time_to_exit`], `GradedSteps::next`, `SingularMesh::onset_step` and
+    /// `end_step`): `Run::contact` is generic, so the crate that runs a
+    /// scenario (the CLI) compiles its own instance, and a call into this
+    /// crate's code each step clobbers every XMM register of the loop
+    /// (−8 … −18 % instructions per damped step, BENCHMARKS.md "#11 rest,
+    /// session 7").
+    #[inline]
     fn next(&mut self, tau_start: f64, remaining: Option<f64>) -> f64 {
         match self {
             StepEnds::Grid {
@@ -393,12 +401,12 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// Free flight in closed form between contacts; only contacts integrated.
-    fn event_stepping(&mut self) -> Result<Vec<ContactRecord>, SimulationError> {
+    fn event_stepping(&mut self) -> Result<Vec<ContactRecord>> {
         let g = self.problem.gravity;
         let (mut t, mut x, mut v) = (0.0, self.problem.gap, self.problem.velocity);
         let mut records = Vec::with_capacity(self.problem.contacts as usize);
         for n in 1..=self.problem.contacts {
-            let tau = time_to_surface(x, v, g).ok_or(SimulationError::NeverReachesBoundary)?;
+            let tau = time_to_surface(x, v, g).ok_or(Error::NeverReachesBoundary)?;
             if O::ACTIVE {
                 self.flight_samples(t, x, v, tau);
             }
@@ -416,7 +424,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     }
 
     /// One constant Δt on a fixed grid t_k = k Δt through the whole path.
-    fn fixed_stepping(&mut self) -> Result<Vec<ContactRecord>, SimulationError> {
+    fn fixed_stepping(&mut self) -> Result<Vec<ContactRecord>> {
         let g = self.problem.gravity;
         let dt = self.problem.dt;
         let it = self.integrator;
@@ -445,11 +453,11 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 }
                 if after.position < 0.0 {
                     let tau = time_to_surface(before.position, before.velocity, g)
-                        .ok_or(SimulationError::NeverReachesBoundary)?;
+                        .ok_or(Error::NeverReachesBoundary)?;
                     break (k as f64 * dt + tau, before.velocity - g * tau, Some(k + 1));
                 }
                 if g == 0.0 && after.velocity >= 0.0 {
-                    return Err(SimulationError::NeverReachesBoundary);
+                    return Err(Error::NeverReachesBoundary);
                 }
                 k += 1;
             };
@@ -479,7 +487,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
     /// law) until gravity dominates it: g T_c/|v_c| above
     /// [`limits::MAX_GRAVITY_SHARE`], where the rebound cannot be resolved
     /// (see [`limits`]; the first contact is checked before the run).
-    fn check_gravity_share(&self, n: u32, v_c: f64) -> Result<(), SimulationError> {
+    fn check_gravity_share(&self, n: u32, v_c: f64) -> Result<()> {
         let g = self.problem.gravity;
         if n == 1 || g == 0.0 {
             return Ok(());
@@ -493,7 +501,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         if share <= limits::MAX_GRAVITY_SHARE {
             return Ok(());
         }
-        Err(SimulationError::Input(InputError {
+        Err(Error::Input {
             field: "motion.contacts".into(),
             value: self.problem.contacts.to_string(),
             allowed: format!(
@@ -503,7 +511,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
                 n - 1,
                 limits::MAX_GRAVITY_SHARE
             ),
-        }))
+        })
     }
 
     /// Integrates one contact from its onset (h = 0, velocity `v_c`) to the
@@ -524,7 +532,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         t_c: f64,
         v_c: f64,
         schedule: Schedule,
-    ) -> Result<ContactEnd, SimulationError> {
+    ) -> Result<ContactEnd> {
         let it = self.integrator;
         let m = self.problem.mass;
         let g = self.problem.gravity;
@@ -674,7 +682,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
             };
             if steps > self.contact_budget {
                 self.steps += steps;
-                return Err(SimulationError::NoRebound {
+                return Err(Error::NoRebound {
                     contact: number,
                     steps,
                 });
@@ -718,6 +726,7 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
 /// attraction decelerating the exit; it fades as h^(1/4) near h = 0, so the
 /// exit comes anyway). Only shapes the step mesh: its error costs steps,
 /// not accuracy.
+#[inline]
 fn time_to_exit(k: &Kinematics) -> f64 {
     let (x, v, a) = (k.position, k.velocity, k.acceleration);
     let disc = v * v - 2.0 * a * x;

@@ -33,11 +33,12 @@
 //! accurate); in fixed stepping the pilot's onset lies on a grid point,
 //! while the run's lies anywhere in a step.
 
-use super::problem::{Problem, SimulationError};
+use super::problem::Problem;
 use super::simulate::simulate_with;
 use super::{ContactRecord, Scenario, Stepping};
 use crate::contact::{NormalContactLaw, Onset};
 use crate::integrate::{Gear5, Scheme, Verlet};
+use crate::Result;
 
 /// η₁ and η₂ of the pilot runs.
 pub const PILOT_ETAS: [f64; 2] = [0.02, 0.01];
@@ -90,9 +91,9 @@ pub(crate) fn choose_step<L: NormalContactLaw>(
     law: &L,
     tolerance: f64,
     base: &Problem,
-) -> Result<ToleranceStep, SimulationError> {
+) -> Result<ToleranceStep> {
     let scheme = s.integration.scheme;
-    let pilot = |eta: f64| -> Result<(ContactRecord, u64), SimulationError> {
+    let pilot = |eta: f64| -> Result<(ContactRecord, u64)> {
         let p = Problem {
             gap: 0.0,
             velocity: -s.impact_speed(),

@@ -39,7 +39,6 @@ pub type WaltonBraunHistory = dembound_physics::contact::ContactHistory;
 use crate::material::ContactPair;
 use dembound_physics::contact::registry;
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// A normal contact law for one pair of spheres.
 pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
@@ -371,56 +370,16 @@ impl DampingKind {
 }
 
 /// How a target restitution becomes a damping coefficient (TOML
-/// `contact.calibration`). Both aim at one gravity-free contact; gravity
-/// during the contact moves the rebound slightly either way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Calibration {
-    /// The coefficient solves the law's exact relation e(coefficient) for
-    /// the law as it is run, with or without the no-attraction clamp: a
-    /// gravity-free contact rebounds with exactly the target (the closed
-    /// form of [`free_restitution`] inverted by root finding for the
-    /// spring–dashpot and Tsuji; the adaptive reference integration for
-    /// the viscoelastic law, at the scenario's first impact speed).
-    #[default]
-    Exact,
-    /// The published mapping, exact only when attraction is allowed, as
-    /// LIGGGHTS and LAMMPS use it with the clamp too: for the
-    /// spring–dashpot and Tsuji ξ = −β = −ln e/√(ln² e + π²) (a clamped
-    /// contact then rebounds faster, 0.550 for a target of 0.5); for the
-    /// viscoelastic law, which has no closed form, A solved for the
-    /// unclamped law.
-    Formula,
-}
-
-impl Calibration {
-    /// The same choice as the physics crate names it.
-    pub fn to_physics(&self) -> dembound_physics::contact::Calibration {
-        match self {
-            Calibration::Exact => dembound_physics::contact::Calibration::Exact,
-            Calibration::Formula => dembound_physics::contact::Calibration::Formula,
-        }
-    }
-
-    pub fn name(&self) -> &'static str {
-        match self {
-            Calibration::Exact => "exact",
-            Calibration::Formula => "formula",
-        }
-    }
-
-    /// One line saying what the calibration means.
-    pub fn description(&self) -> &'static str {
-        match self {
-            Calibration::Exact => {
-                "the law's exact gravity-free relation, solved for the law as run (clamped or not): one gravity-free contact rebounds with exactly e"
-            }
-            Calibration::Formula => {
-                "the published mapping (LIGGGHTS/LAMMPS), exact only with attraction allowed: with the clamp e = 0.5 rebounds with 0.550"
-            }
-        }
-    }
-}
+/// `contact.calibration`, `"exact"` or `"formula"`; the physics crate's
+/// type). In the bounce study, `Exact` inverts the closed form of
+/// [`free_restitution`] by root finding for the spring–dashpot and Tsuji
+/// and runs the adaptive reference integration for the viscoelastic law,
+/// at the scenario's first impact speed; `Formula` is ξ = −β =
+/// −ln e/√(ln² e + π²) for the spring–dashpot and Tsuji (a clamped contact
+/// then rebounds faster, 0.550 for a target of 0.5) and, for the
+/// viscoelastic law, which has no closed form, A solved for the unclamped
+/// law.
+pub use dembound_physics::contact::Calibration;
 
 /// How strong the dissipation is: a target restitution or the damping's
 /// raw coefficient (the physics crate's type).
@@ -474,18 +433,6 @@ impl ContactModel {
         self.law.to_physics(|key| self.param(key))
     }
 }
-
-/// Why a contact model cannot be built (a message naming the keys).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ModelError(pub String);
-
-impl fmt::Display for ModelError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for ModelError {}
 
 /// A generic computation over a concrete law type (see [`with_law`]).
 pub trait LawVisitor {

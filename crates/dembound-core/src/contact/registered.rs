@@ -13,8 +13,9 @@
 //! laws and `hooke` have exact extras of their own (`physics_laws`,
 //! [`super::Damped`]).
 
-use super::{ContactModel, Dissipation, ModelError, NormalContactLaw, Onset};
+use super::{ContactModel, Dissipation, NormalContactLaw, Onset};
 use crate::material::ContactPair;
+use crate::{Error, Result};
 use dembound_physics::contact::registry::NormalLaw;
 use dembound_physics::contact::{self as physics, ContactHistory, Damping, PairLaw};
 
@@ -43,7 +44,7 @@ impl<const CLAMPED: bool> Registered<CLAMPED> {
         pair: &ContactPair,
         mass: f64,
         coefficient: f64,
-    ) -> Result<Self, ModelError> {
+    ) -> Result<Self> {
         let normal = model.normal().ok_or_else(|| missing(model))?;
         let physics_model = physics::ContactModel {
             normal,
@@ -70,14 +71,14 @@ impl<const CLAMPED: bool> Registered<CLAMPED> {
 }
 
 /// The error of a law whose parameter is missing.
-pub(crate) fn missing(model: &ContactModel) -> ModelError {
+pub(crate) fn missing(model: &ContactModel) -> Error {
     let row = model.law.row();
     let keys: Vec<String> = row
         .params
         .iter()
         .map(|p| format!("contact.{} ({}, {})", p.key, p.range, p.unit))
         .collect();
-    ModelError(format!(
+    Error::Model(format!(
         "law = \"{}\" needs {}",
         row.name,
         keys.join(" and ")

@@ -9,15 +9,16 @@
 //! run uses ([`crate::contact`]); the contact itself is integrated by code
 //! that shares nothing with the Gear/Verlet time loop or the law types.
 
-use super::{first_contact_time, ExactError};
+use super::first_contact_time;
 use crate::calibration::damping_coefficient as calibrated_coefficient;
 use crate::contact::{ContactLawKind, DampingKind, Dissipation, Hertz, LinearSpring, WaltonBraun};
 use crate::record::{BodyVelocities, ContactRecord};
 use crate::reference::dissipative::{
     damped_hertz, damped_hertz_max_force, spring_dashpot, spring_dashpot_max_force, walton_braun,
-    ContactReference, DampedHertz, ReferenceError,
+    ContactReference, DampedHertz,
 };
 use crate::scenario::Scenario;
+use crate::{Error, Result};
 
 /// True when `s` has a dissipative contact (damping, or Walton–Braun).
 pub fn is_dissipative(s: &Scenario) -> bool {
@@ -25,11 +26,11 @@ pub fn is_dissipative(s: &Scenario) -> bool {
 }
 
 /// One contact at impact speed `v` > 0: the reference and the peak force.
-type ContactFn<'a> = dyn Fn(f64) -> Result<(ContactReference, f64), ReferenceError> + 'a;
+type ContactFn<'a> = dyn Fn(f64) -> Result<(ContactReference, f64)> + 'a;
 
 /// The reference values of every contact of a dissipative scenario
 /// (`steps` = 0: nothing was integrated by the time loop).
-pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>> {
     dissipative_contacts_with(s, None)
 }
 
@@ -38,13 +39,13 @@ pub fn dissipative_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactErr
 pub fn dissipative_contacts_with(
     s: &Scenario,
     damping_coefficient: Option<f64>,
-) -> Result<Vec<ContactRecord>, ExactError> {
+) -> Result<Vec<ContactRecord>> {
     let mass = s.reduced_mass();
     let g = s.relative_gravity();
     let pair = s.pair();
     let c = &s.contact;
     let model = c.model();
-    let dissipation = model.dissipation.ok_or(ExactError::InvalidParameter {
+    let dissipation = model.dissipation.ok_or(Error::InvalidParameter {
         name: "contact.restitution",
         value: f64::NAN,
         requirement: "given (or contact.damping_coefficient) for a dissipative law",
@@ -55,12 +56,12 @@ pub fn dissipative_contacts_with(
     let coefficient = || match damping_coefficient {
         Some(c) => Ok(c),
         None => calibrated_coefficient(&model, &pair, mass, s.impact_speed())
-            .map_err(|_| ExactError::Numerical("viscoelastic calibration failed")),
+            .map_err(|_| Error::Numerical("viscoelastic calibration failed")),
     };
     let contact: Box<ContactFn> = match (c.law, c.damping) {
         (ContactLawKind::WaltonBraun, DampingKind::None) => {
             let Dissipation::Restitution(e) = dissipation else {
-                return Err(ExactError::InvalidParameter {
+                return Err(Error::InvalidParameter {
                     name: "contact.restitution",
                     value: f64::NAN,
                     requirement: "given for law = \"walton-braun\"",
@@ -95,7 +96,7 @@ pub fn dissipative_contacts_with(
             Box::new(move |v| damped(model, mass, v, g, attractive))
         }
         _ => {
-            return Err(ExactError::InvalidParameter {
+            return Err(Error::InvalidParameter {
                 name: "contact.damping",
                 value: f64::NAN,
                 requirement: "\"viscous\" with law = \"linear\", \"tsuji\" or \"viscoelastic\" \
@@ -103,8 +104,8 @@ pub fn dissipative_contacts_with(
             })
         }
     };
-    let reference_error = |e: ReferenceError| match e {
-        ReferenceError::Overdamped(xi) => ExactError::InvalidParameter {
+    let reference_error = |e: Error| match e {
+        Error::Overdamped(xi) => Error::InvalidParameter {
             name: if c.restitution.is_some() {
                 "contact.restitution"
             } else {
@@ -114,10 +115,9 @@ pub fn dissipative_contacts_with(
             requirement: "an underdamped contact (damping ratio ξ < 1, the value shown): the \
                           closed-form reference of the spring–dashpot is for ξ < 1",
         },
-        ReferenceError::NoRebound => ExactError::NoRebound { contact: 0 },
-        ReferenceError::Ode(_) => {
-            ExactError::Numerical("the adaptive reference integration failed")
-        }
+        Error::NoReferenceRebound => Error::NoExactRebound { contact: 0 },
+        // Error::Integration: the only other failure of a reference.
+        _ => Error::Numerical("the adaptive reference integration failed"),
     };
 
     let mut t_contact = first_contact_time(&super::scenario::flight(s))?;
@@ -126,12 +126,12 @@ pub fn dissipative_contacts_with(
     let mut out = Vec::with_capacity(s.motion.contacts as usize);
     for n in 0..s.motion.contacts {
         if n > 0 && g == 0.0 {
-            return Err(ExactError::NoFurtherContact {
+            return Err(Error::NoFurtherContact {
                 requested: s.motion.contacts as usize,
             });
         }
         let (r, max_force) = contact(speed).map_err(|e| match e {
-            ReferenceError::NoRebound => ExactError::NoRebound {
+            Error::NoReferenceRebound => Error::NoExactRebound {
                 contact: n as usize + 1,
             },
             e => reference_error(e),
@@ -171,7 +171,7 @@ fn damped(
     v: f64,
     g: f64,
     attractive: bool,
-) -> Result<(ContactReference, f64), ReferenceError> {
+) -> Result<(ContactReference, f64)> {
     let r = damped_hertz(model, mass, v, g, attractive)?;
     Ok((r, damped_hertz_max_force(model, mass, v, g)?))
 }

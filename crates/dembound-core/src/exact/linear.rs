@@ -10,7 +10,8 @@
 //! * `a_max = p² h_max − g = sqrt(g² + v_c² p²)` (eq. 25 with the corrected sign),
 //! * `v_r = |v_c|`.
 
-use super::{check_non_negative, check_positive, check_speed, ContactShape, ExactError};
+use super::{check_non_negative, check_positive, check_speed, ContactShape};
+use crate::{Error, Result};
 use std::f64::consts::PI;
 
 /// State of the particle during a linear contact (eqs. 20–22 b), in the paper's signed
@@ -26,48 +27,40 @@ pub struct LinearState {
     pub acceleration: f64,
 }
 
-fn check(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<(f64, f64, f64), ExactError> {
+fn check(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<(f64, f64, f64)> {
     let p2 = check_positive("p_squared", p_squared)?;
     let g = check_non_negative("gravity", gravity)?;
     let v = check_speed(impact_speed)?;
     if v == 0.0 && g == 0.0 {
-        return Err(ExactError::NoContactDynamics);
+        return Err(Error::NoContactDynamics);
     }
     Ok((p2, g, v))
 }
 
 /// Contact duration `T_c = (π + 2 arctan(g / (|v_c| p))) / p` (ERRATA 6, corrected eq. 26).
 /// For `g = 0` it is `π/p` (eq. 27); for `|v_c| = 0` it is `2π/p`.
-pub fn duration(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<f64, ExactError> {
+pub fn duration(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<f64> {
     let (p2, g, v) = check(p_squared, gravity, impact_speed)?;
     let p = p2.sqrt();
     Ok((PI + 2.0 * g.atan2(v * p)) / p)
 }
 
 /// Maximum overlap `h_max = (g + sqrt(g² + v_c² p²)) / p²` (ERRATA 6, corrected eq. 28).
-pub fn max_overlap(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<f64, ExactError> {
+pub fn max_overlap(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<f64> {
     let (p2, g, v) = check(p_squared, gravity, impact_speed)?;
     Ok((g + g.hypot(v * p2.sqrt())) / p2)
 }
 
 /// Maximum net upward acceleration `a_max = p² h_max − g = sqrt(g² + v_c² p²)`
 /// (eq. 25 with the consistent sign, ERRATA 6).
-pub fn max_acceleration(
-    p_squared: f64,
-    gravity: f64,
-    impact_speed: f64,
-) -> Result<f64, ExactError> {
+pub fn max_acceleration(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<f64> {
     let (p2, g, v) = check(p_squared, gravity, impact_speed)?;
     Ok(g.hypot(v * p2.sqrt()))
 }
 
 /// Gravity-included linear contact (closed form, ERRATA 6), used by [`super::contacts`] for
 /// `α = 1`: duration, time to maximum overlap (`T_c/2`) and `h_max`.
-pub fn contact_shape(
-    p_squared: f64,
-    gravity: f64,
-    impact_speed: f64,
-) -> Result<ContactShape, ExactError> {
+pub fn contact_shape(p_squared: f64, gravity: f64, impact_speed: f64) -> Result<ContactShape> {
     let t = duration(p_squared, gravity, impact_speed)?;
     let h = max_overlap(p_squared, gravity, impact_speed)?;
     Ok(ContactShape {
@@ -83,12 +76,7 @@ pub fn contact_shape(
 /// `ẍ = −g − p² x`. As printed these are consistent with the corrected force direction
 /// (ERRATA 1) because `x ≤ 0` in contact; `cos pτ − 1` is evaluated as `−2 sin²(pτ/2)`.
 /// `tau` may exceed `T_c` by a relative `1e−12` (clamped); the position is clamped to `≤ 0`.
-pub fn state_at(
-    p_squared: f64,
-    gravity: f64,
-    impact_speed: f64,
-    tau: f64,
-) -> Result<LinearState, ExactError> {
+pub fn state_at(p_squared: f64, gravity: f64, impact_speed: f64, tau: f64) -> Result<LinearState> {
     let (p2, g, v) = check(p_squared, gravity, impact_speed)?;
     let t_c = duration(p2, g, v)?;
     let tau = clamp_tau(tau, t_c)?;
@@ -107,16 +95,16 @@ pub fn state_at(
 }
 
 /// Checks `tau ∈ [0, duration]`, tolerating a relative `1e−12` overshoot, and clamps.
-pub(crate) fn clamp_tau(tau: f64, duration: f64) -> Result<f64, ExactError> {
+pub(crate) fn clamp_tau(tau: f64, duration: f64) -> Result<f64> {
     if !tau.is_finite() {
-        return Err(ExactError::InvalidParameter {
+        return Err(Error::InvalidParameter {
             name: "tau",
             value: tau,
             requirement: "finite",
         });
     }
     if tau < 0.0 || tau > duration * (1.0 + 1e-12) {
-        return Err(ExactError::TimeOutOfContact { tau, duration });
+        return Err(Error::TimeOutOfContact { tau, duration });
     }
     Ok(tau.min(duration))
 }

@@ -17,7 +17,7 @@
 //! * [`paper`]: the paper's estimates as printed (eqs. 26–30), for comparison only.
 //!
 //! Nothing here panics, prints or performs I/O; every fallible function returns
-//! [`Result`]`<_, `[`ExactError`]`>`.
+//! [`crate::Result`] (the crate's [`Error`]).
 
 pub mod dissipative;
 pub mod linear;
@@ -27,7 +27,7 @@ mod scenario;
 
 pub use scenario::{flight, problem, scenario_contacts, scenario_contacts_with};
 
-use std::fmt;
+use crate::{Error, Result};
 
 /// Parameters of the contact law `h'' = g − p² h^α` (ERRATA 1, corrected eq. 9).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,97 +87,11 @@ pub struct ContactShape {
     pub max_overlap: f64,
 }
 
-/// Errors of the exact reference module.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ExactError {
-    /// A parameter is NaN, infinite or outside its domain.
-    InvalidParameter {
-        /// Parameter name.
-        name: &'static str,
-        /// Offending value.
-        value: f64,
-        /// What is required.
-        requirement: &'static str,
-    },
-    /// The particle never reaches the boundary (e.g. `g = 0` and it does not move towards it).
-    NeverReachesBoundary,
-    /// Zero impact speed and zero gravity: the particle rests on the boundary without force.
-    NoContactDynamics,
-    /// Without gravity the particle leaves after its first contact: there is no `n`-th contact.
-    NoFurtherContact {
-        /// The number of contacts asked for.
-        requested: usize,
-    },
-    /// `ContactProblem::gravity` and `Flight::gravity` differ.
-    InconsistentGravity {
-        /// Gravity of the contact problem.
-        problem: f64,
-        /// Gravity of the flight.
-        flight: f64,
-    },
-    /// The time inside a contact is outside `[0, T_c]`.
-    TimeOutOfContact {
-        /// Requested time since contact start.
-        tau: f64,
-        /// Contact duration.
-        duration: f64,
-    },
-    /// A numerical step (root bracketing, quadrature, inversion) failed.
-    Numerical(&'static str),
-    /// A dissipative contact that does not end: after the force returns to
-    /// zero gravity pulls the particle back before the overlap closes.
-    NoRebound {
-        /// The contact (1-based).
-        contact: usize,
-    },
-}
-
-impl fmt::Display for ExactError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ExactError::InvalidParameter {
-                name,
-                value,
-                requirement,
-            } => write!(
-                f,
-                "invalid parameter {name} = {value}: must be {requirement}"
-            ),
-            ExactError::NeverReachesBoundary => {
-                write!(f, "the particle never reaches the boundary")
-            }
-            ExactError::NoContactDynamics => write!(
-                f,
-                "zero impact speed and zero gravity: no contact motion to describe"
-            ),
-            ExactError::NoFurtherContact { requested } => write!(
-                f,
-                "without gravity there is only one contact, {requested} were requested"
-            ),
-            ExactError::InconsistentGravity { problem, flight } => write!(
-                f,
-                "contact problem gravity {problem} differs from flight gravity {flight}"
-            ),
-            ExactError::TimeOutOfContact { tau, duration } => write!(
-                f,
-                "time {tau} s since contact start is outside the contact [0, {duration}] s"
-            ),
-            ExactError::Numerical(what) => write!(f, "numerical failure: {what}"),
-            ExactError::NoRebound { contact } => write!(
-                f,
-                "contact {contact} does not end: gravity holds the particle on the boundary"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for ExactError {}
-
-pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<f64, ExactError> {
+pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(ExactError::InvalidParameter {
+        Err(Error::InvalidParameter {
             name,
             value,
             requirement: "finite",
@@ -185,11 +99,11 @@ pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<f64, ExactE
     }
 }
 
-pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64, ExactError> {
+pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(ExactError::InvalidParameter {
+        Err(Error::InvalidParameter {
             name,
             value,
             requirement: "finite and >= 0",
@@ -197,11 +111,11 @@ pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<f64, 
     }
 }
 
-pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64, ExactError> {
+pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(ExactError::InvalidParameter {
+        Err(Error::InvalidParameter {
             name,
             value,
             requirement: "finite and > 0",
@@ -210,11 +124,11 @@ pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64, Exac
 }
 
 /// Validated `(p², α, g)`.
-pub(crate) fn check_problem(problem: &ContactProblem) -> Result<(f64, f64, f64), ExactError> {
+pub(crate) fn check_problem(problem: &ContactProblem) -> Result<(f64, f64, f64)> {
     let p2 = check_positive("p_squared", problem.p_squared)?;
     let alpha = problem.alpha;
     if !(alpha.is_finite() && alpha >= 1.0) {
-        return Err(ExactError::InvalidParameter {
+        return Err(Error::InvalidParameter {
             name: "alpha",
             value: alpha,
             requirement: "finite and >= 1",
@@ -225,7 +139,7 @@ pub(crate) fn check_problem(problem: &ContactProblem) -> Result<(f64, f64, f64),
 }
 
 /// Validated `(H0, v0, g)`.
-fn check_flight(flight: &Flight) -> Result<(f64, f64, f64), ExactError> {
+fn check_flight(flight: &Flight) -> Result<(f64, f64, f64)> {
     let h0 = check_non_negative("gap", flight.gap)?;
     let v0 = check_finite("velocity", flight.velocity)?;
     let g = check_non_negative("gravity", flight.gravity)?;
@@ -233,7 +147,7 @@ fn check_flight(flight: &Flight) -> Result<(f64, f64, f64), ExactError> {
 }
 
 /// Validated impact speed: the sign is ignored (`|v_c|` is used), it must be finite.
-pub(crate) fn check_speed(impact_speed: f64) -> Result<f64, ExactError> {
+pub(crate) fn check_speed(impact_speed: f64) -> Result<f64> {
     check_finite("impact_speed", impact_speed).map(f64::abs)
 }
 
@@ -242,7 +156,7 @@ pub(crate) fn check_speed(impact_speed: f64) -> Result<f64, ExactError> {
 ///
 /// Errors if the particle never reaches the boundary (`g = 0` with `v0 ≥ 0`, unless
 /// `H0 = 0` and `v0 = 0`, which is rejected too as it gives no motion).
-pub fn impact_speed(flight: &Flight) -> Result<f64, ExactError> {
+pub fn impact_speed(flight: &Flight) -> Result<f64> {
     // Validates reachability as well.
     first_contact_time(flight)?;
     let (h0, v0, g) = check_flight(flight)?;
@@ -256,7 +170,7 @@ pub fn impact_speed(flight: &Flight) -> Result<f64, ExactError> {
 ///
 /// `H0 = 0` with `v0 ≤ 0` gives `0` (`g > 0`, or `v0 < 0`); `g = 0` with `v0 ≥ 0` is an error
 /// (the particle never arrives, or rests on the boundary without force).
-pub fn first_contact_time(flight: &Flight) -> Result<f64, ExactError> {
+pub fn first_contact_time(flight: &Flight) -> Result<f64> {
     let (h0, v0, g) = check_flight(flight)?;
     let s = v0.hypot((2.0 * g * h0).sqrt());
     let t = if v0 < 0.0 {
@@ -264,12 +178,12 @@ pub fn first_contact_time(flight: &Flight) -> Result<f64, ExactError> {
     } else if g > 0.0 {
         (v0 + s) / g
     } else {
-        return Err(ExactError::NeverReachesBoundary);
+        return Err(Error::NoImpact);
     };
     if t.is_finite() && t >= 0.0 {
         Ok(t)
     } else {
-        Err(ExactError::Numerical("first contact time is not finite"))
+        Err(Error::Numerical("first contact time is not finite"))
     }
 }
 
@@ -278,10 +192,7 @@ pub fn first_contact_time(flight: &Flight) -> Result<f64, ExactError> {
 /// `α = 1` uses the closed forms of [`linear`] (ERRATA 6); any other `α` the quadrature of
 /// [`power::contact_shape`] (ERRATA 8; for `g = 0` it agrees with the closed forms of
 /// [`power::gravity_free_shape`] to ~1e−16).
-pub fn contact_shape(
-    problem: &ContactProblem,
-    impact_speed: f64,
-) -> Result<ContactShape, ExactError> {
+pub fn contact_shape(problem: &ContactProblem, impact_speed: f64) -> Result<ContactShape> {
     let (p2, alpha, g) = check_problem(problem)?;
     if alpha == 1.0 {
         linear::contact_shape(p2, g, impact_speed)
@@ -300,13 +211,9 @@ pub const MAX_CONTACTS: usize = 10_000_000;
 /// Errors: invalid parameters, different gravities in `problem` and `flight`, a particle that
 /// never reaches the boundary, `n > 1` with `g = 0` (only one contact happens), and
 /// `n >` [`MAX_CONTACTS`].
-pub fn contacts(
-    problem: &ContactProblem,
-    flight: &Flight,
-    n: usize,
-) -> Result<Vec<ExactContact>, ExactError> {
+pub fn contacts(problem: &ContactProblem, flight: &Flight, n: usize) -> Result<Vec<ExactContact>> {
     if n > MAX_CONTACTS {
-        return Err(ExactError::InvalidParameter {
+        return Err(Error::InvalidParameter {
             name: "n",
             value: n as f64,
             requirement: "at most MAX_CONTACTS",
@@ -315,7 +222,7 @@ pub fn contacts(
     let (p2, alpha, g) = check_problem(problem)?;
     let (_, _, gf) = check_flight(flight)?;
     if g != gf {
-        return Err(ExactError::InconsistentGravity {
+        return Err(Error::InconsistentGravity {
             problem: g,
             flight: gf,
         });
@@ -323,7 +230,7 @@ pub fn contacts(
     let t1 = first_contact_time(flight)?;
     let v = impact_speed(flight)?;
     if g == 0.0 && n > 1 {
-        return Err(ExactError::NoFurtherContact { requested: n });
+        return Err(Error::NoFurtherContact { requested: n });
     }
     let shape = contact_shape(problem, v)?;
     let hm = shape.max_overlap;
@@ -369,11 +276,7 @@ pub fn contacts(
 /// Overlap history of one contact: `(h, dh/dt)` at time `tau ∈ [0, T_c]` after contact start
 /// with speed `|impact_speed|`. Exact curve: the closed form (eqs. 20–21 b, `h = −x`) for
 /// `α = 1`, otherwise the inversion of `t(h)` of [`power::overlap_at`] (ERRATA 8).
-pub fn overlap_at(
-    problem: &ContactProblem,
-    impact_speed: f64,
-    tau: f64,
-) -> Result<(f64, f64), ExactError> {
+pub fn overlap_at(problem: &ContactProblem, impact_speed: f64, tau: f64) -> Result<(f64, f64)> {
     let (p2, alpha, g) = check_problem(problem)?;
     if alpha == 1.0 {
         let st = linear::state_at(p2, g, impact_speed, tau)?;

@@ -20,28 +20,28 @@
 use super::linear::clamp_tau;
 use super::{
     check_non_negative, check_positive, check_problem, check_speed, ContactProblem, ContactShape,
-    ExactError,
 };
+use crate::{Error, Result};
 use roots::{find_root_brent, Convergency};
 use std::f64::consts::FRAC_PI_2;
 
 /// Beta function `B(a, b) = Γ(a) Γ(b) / Γ(a + b)` from `libm::tgamma` (a few ulp).
-pub fn beta(a: f64, b: f64) -> Result<f64, ExactError> {
+pub fn beta(a: f64, b: f64) -> Result<f64> {
     check_positive("a", a)?;
     check_positive("b", b)?;
     let value = libm::tgamma(a) * libm::tgamma(b) / libm::tgamma(a + b);
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(ExactError::Numerical("beta function overflow"))
+        Err(Error::Numerical("beta function overflow"))
     }
 }
 
-fn check_alpha(alpha: f64) -> Result<f64, ExactError> {
+fn check_alpha(alpha: f64) -> Result<f64> {
     if alpha.is_finite() && alpha >= 1.0 {
         Ok(alpha)
     } else {
-        Err(ExactError::InvalidParameter {
+        Err(Error::InvalidParameter {
             name: "alpha",
             value: alpha,
             requirement: "finite and >= 1",
@@ -49,25 +49,21 @@ fn check_alpha(alpha: f64) -> Result<f64, ExactError> {
     }
 }
 
-fn finite_positive(value: f64, what: &'static str) -> Result<f64, ExactError> {
+fn finite_positive(value: f64, what: &'static str) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(ExactError::Numerical(what))
+        Err(Error::Numerical(what))
     }
 }
 
 /// Gravity-free maximum overlap `h_max = ((α+1) v²/(2p²))^(1/(α+1))`.
-pub fn max_overlap_gravity_free(
-    p_squared: f64,
-    alpha: f64,
-    impact_speed: f64,
-) -> Result<f64, ExactError> {
+pub fn max_overlap_gravity_free(p_squared: f64, alpha: f64, impact_speed: f64) -> Result<f64> {
     let p2 = check_positive("p_squared", p_squared)?;
     let alpha = check_alpha(alpha)?;
     let v = check_speed(impact_speed)?;
     if v == 0.0 {
-        return Err(ExactError::NoContactDynamics);
+        return Err(Error::NoContactDynamics);
     }
     let base = 0.5 * (alpha + 1.0) * (v / p2.sqrt()).powi(2);
     finite_positive(
@@ -79,11 +75,7 @@ pub fn max_overlap_gravity_free(
 /// Gravity-free contact duration
 /// `T_c = 2 (h_max/|v|) (1/(α+1)) B(1/(α+1), 1/2)` (from `∫₀¹ ds/sqrt(1 − s^n) = B(1/n, 1/2)/n`);
 /// for Hertz `2·0.4·B(0.4, 0.5) ≈ 2.9432`, the coefficient of eq. 30.
-pub fn duration_gravity_free(
-    p_squared: f64,
-    alpha: f64,
-    impact_speed: f64,
-) -> Result<f64, ExactError> {
+pub fn duration_gravity_free(p_squared: f64, alpha: f64, impact_speed: f64) -> Result<f64> {
     let h = max_overlap_gravity_free(p_squared, alpha, impact_speed)?;
     let v = check_speed(impact_speed)?;
     let n = alpha + 1.0;
@@ -92,11 +84,7 @@ pub fn duration_gravity_free(
 }
 
 /// Gravity-free contact shape from the closed forms (`problem.gravity` is ignored).
-pub fn gravity_free_shape(
-    p_squared: f64,
-    alpha: f64,
-    impact_speed: f64,
-) -> Result<ContactShape, ExactError> {
+pub fn gravity_free_shape(p_squared: f64, alpha: f64, impact_speed: f64) -> Result<ContactShape> {
     let t = duration_gravity_free(p_squared, alpha, impact_speed)?;
     Ok(ContactShape {
         duration: t,
@@ -129,7 +117,7 @@ impl Convergency<f64> for RelTol {
 /// root is unique; it is bracketed in `[0, 2 max(h_0, h_g)]` (`h_0` the gravity-free root,
 /// `h_g = ((α+1) g/p²)^(1/α)` the root for `v_c = 0`), found with Brent (`roots`) and polished
 /// with Newton to full precision.
-pub fn max_overlap(problem: &ContactProblem, impact_speed: f64) -> Result<f64, ExactError> {
+pub fn max_overlap(problem: &ContactProblem, impact_speed: f64) -> Result<f64> {
     let (p2, alpha, g) = check_problem(problem)?;
     let v = check_speed(impact_speed)?;
     if g == 0.0 {
@@ -154,7 +142,7 @@ pub fn max_overlap(problem: &ContactProblem, impact_speed: f64) -> Result<f64, E
         max_iter: 400,
     };
     let mut h = find_root_brent(0.0, hi, f, &mut conv)
-        .map_err(|_| ExactError::Numerical("maximum overlap root not bracketed"))?;
+        .map_err(|_| Error::Numerical("maximum overlap root not bracketed"))?;
     // Newton polish, accepting a step only while the residual does not grow.
     let mut r = f(h).abs();
     for _ in 0..4 {
@@ -242,7 +230,7 @@ impl Integrand {
 
     /// `∫₀^angle rate dθ`, measured from the bottom (`from_top = false`, `θ = angle`) or from
     /// the top (`from_top = true`, `θ = π/2 − angle`, i.e. the time from `h(θ)` to `h_max`).
-    fn integral(&self, angle: f64, from_top: bool) -> Result<f64, ExactError> {
+    fn integral(&self, angle: f64, from_top: bool) -> Result<f64> {
         if angle <= 0.0 {
             return Ok(0.0);
         }
@@ -265,13 +253,13 @@ impl Integrand {
         if out.integral.is_finite() && out.integral >= 0.0 && out.error_estimate <= 1e-9 * scale {
             Ok(out.integral)
         } else {
-            Err(ExactError::Numerical("time quadrature did not converge"))
+            Err(Error::Numerical("time quadrature did not converge"))
         }
     }
 
     /// Angle with `integral(angle, from_top) = target`, `0 ≤ target ≤ integral(π/2)`:
     /// Brent (`roots`) then Newton polish.
-    fn invert(&self, target: f64, from_top: bool) -> Result<f64, ExactError> {
+    fn invert(&self, target: f64, from_top: bool) -> Result<f64> {
         if target <= 0.0 {
             return Ok(0.0);
         }
@@ -300,7 +288,7 @@ impl Integrand {
         if let Some(e) = failure {
             return Err(e);
         }
-        let mut a = found.map_err(|_| ExactError::Numerical("time inversion failed to bracket"))?;
+        let mut a = found.map_err(|_| Error::Numerical("time inversion failed to bracket"))?;
         let mut r = self.integral(a, from_top)? - target;
         for _ in 0..3 {
             let d = rate(a);
@@ -324,11 +312,11 @@ impl Integrand {
     }
 }
 
-fn setup(problem: &ContactProblem, impact_speed: f64) -> Result<(Integrand, f64), ExactError> {
+fn setup(problem: &ContactProblem, impact_speed: f64) -> Result<(Integrand, f64)> {
     let (_, alpha, g) = check_problem(problem)?;
     let v = check_speed(impact_speed)?;
     if v == 0.0 && g == 0.0 {
-        return Err(ExactError::NoContactDynamics);
+        return Err(Error::NoContactDynamics);
     }
     let h_max = max_overlap(problem, v)?;
     let integrand = Integrand::new(alpha, h_max, v, g);
@@ -339,10 +327,7 @@ fn setup(problem: &ContactProblem, impact_speed: f64) -> Result<(Integrand, f64)
 /// Contact with gravity by quadrature, any `α ≥ 1` (also `α = 1`, to compare with
 /// [`super::linear`]): `h_max` from [`max_overlap`], `T_c = 2 ∫₀^h_max dh/sqrt(D(h))`
 /// (ERRATA 8), evaluated as described in the module documentation.
-pub fn contact_shape(
-    problem: &ContactProblem,
-    impact_speed: f64,
-) -> Result<ContactShape, ExactError> {
+pub fn contact_shape(problem: &ContactProblem, impact_speed: f64) -> Result<ContactShape> {
     let (integrand, half) = setup(problem, impact_speed)?;
     Ok(ContactShape {
         duration: 2.0 * half,
@@ -352,16 +337,12 @@ pub fn contact_shape(
 }
 
 /// Loading-branch time to reach overlap `h ∈ [0, h_max]`, `t(h) = ∫₀^h dh'/sqrt(D(h'))`.
-pub fn time_to_overlap(
-    problem: &ContactProblem,
-    impact_speed: f64,
-    overlap: f64,
-) -> Result<f64, ExactError> {
+pub fn time_to_overlap(problem: &ContactProblem, impact_speed: f64, overlap: f64) -> Result<f64> {
     let (integrand, half) = setup(problem, impact_speed)?;
     let h = check_non_negative("overlap", overlap)?;
     let ratio = h / integrand.h_max;
     if ratio > 1.0 + 1e-12 {
-        return Err(ExactError::InvalidParameter {
+        return Err(Error::InvalidParameter {
             name: "overlap",
             value: h,
             requirement: "at most the maximum overlap",
@@ -385,11 +366,7 @@ pub fn time_to_overlap(
 /// `T_c/2`), so `h` and `ḣ` keep their relative precision at both ends; the second half follows
 /// from time reversibility, `h(τ) = h(T_c − τ)`, `ḣ(τ) = −ḣ(T_c − τ)`. `tau` may exceed `T_c` by
 /// a relative `1e−12` (clamped); `T_c` here is the quadrature value of [`contact_shape`].
-pub fn overlap_at(
-    problem: &ContactProblem,
-    impact_speed: f64,
-    tau: f64,
-) -> Result<(f64, f64), ExactError> {
+pub fn overlap_at(problem: &ContactProblem, impact_speed: f64, tau: f64) -> Result<(f64, f64)> {
     let (integrand, half) = setup(problem, impact_speed)?;
     let duration = 2.0 * half;
     let tau = clamp_tau(tau, duration)?;

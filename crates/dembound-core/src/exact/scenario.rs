@@ -1,10 +1,11 @@
 //! The exact reference of a whole [`Scenario`], in the same per-contact
 //! record the integrator produces, so that the two compare field by field.
 
-use super::{contacts, ContactProblem, ExactError, Flight};
+use super::{contacts, ContactProblem, Flight};
 use crate::contact::ContactLawKind;
 use crate::record::{BodyVelocities, ContactRecord};
 use crate::scenario::Scenario;
+use crate::{Error, Result};
 use dembound_physics::contact::registry::Family;
 
 /// The exact problem of a scenario's pair and law (p² from eqs 10–14).
@@ -41,7 +42,7 @@ pub fn flight(s: &Scenario) -> Flight {
 ///
 /// A dissipative scenario (`contact.damping`, or Walton–Braun) gets the
 /// reference of its own law ([`super::dissipative`]), never the elastic one.
-pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError> {
+pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>> {
     scenario_contacts_with(s, None)
 }
 
@@ -50,7 +51,7 @@ pub fn scenario_contacts(s: &Scenario) -> Result<Vec<ContactRecord>, ExactError>
 pub fn scenario_contacts_with(
     s: &Scenario,
     damping_coefficient: Option<f64>,
-) -> Result<Vec<ContactRecord>, ExactError> {
+) -> Result<Vec<ContactRecord>> {
     if super::dissipative::is_dissipative(s) {
         return super::dissipative::dissipative_contacts_with(s, damping_coefficient);
     }
@@ -58,7 +59,7 @@ pub fn scenario_contacts_with(
     // only when its family fixes α (linear 1, Hertzian 3/2).
     if let ContactLawKind::Registry(row) = s.contact.law {
         if !matches!(row.family, Family::Linear | Family::Hertzian) {
-            return Err(ExactError::InvalidParameter {
+            return Err(Error::InvalidParameter {
                 name: "contact.law",
                 value: f64::NAN,
                 requirement: "a law of the linear or Hertzian family (F = k h or k h^(3/2)) \

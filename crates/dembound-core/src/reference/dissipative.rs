@@ -11,8 +11,8 @@
 //! (h'' = g − F/m). Times are measured from the onset.
 
 use super::ode::{integrate_to_event, State, Tolerance};
+use crate::{Error, Result};
 use std::f64::consts::PI;
-use std::fmt;
 
 /// One contact, from the onset.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,29 +31,6 @@ pub struct ContactReference {
     /// rebound_speed / v.
     pub restitution: f64,
 }
-
-/// Why a reference cannot be computed.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ReferenceError {
-    /// ξ ≥ 1: the closed form here is for the underdamped oscillator.
-    Overdamped(f64),
-    /// The body never leaves the boundary (gravity wins).
-    NoRebound,
-    /// The adaptive integration failed.
-    Ode(String),
-}
-
-impl fmt::Display for ReferenceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ReferenceError::Overdamped(xi) => write!(f, "overdamped (ξ = {xi} ≥ 1)"),
-            ReferenceError::NoRebound => f.write_str("the body does not rebound"),
-            ReferenceError::Ode(e) => write!(f, "integration failed: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for ReferenceError {}
 
 /// Root of `f` on [a, b] (f(a), f(b) of opposite signs) to the last bit.
 fn bisect(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
@@ -102,11 +79,11 @@ struct DampedOscillator {
 }
 
 impl DampedOscillator {
-    fn new(k: f64, c: f64, m: f64, v: f64, g: f64) -> Result<Self, ReferenceError> {
+    fn new(k: f64, c: f64, m: f64, v: f64, g: f64) -> Result<Self> {
         let omega = (k / m).sqrt();
         let xi = c / (2.0 * (k * m).sqrt());
         if xi >= 1.0 {
-            return Err(ReferenceError::Overdamped(xi));
+            return Err(Error::Overdamped(xi));
         }
         let wd = omega * (1.0 - xi * xi).sqrt();
         let sigma = xi * omega;
@@ -136,7 +113,7 @@ pub fn spring_dashpot(
     v: f64,
     g: f64,
     attractive: bool,
-) -> Result<ContactReference, ReferenceError> {
+) -> Result<ContactReference> {
     let DampedOscillator {
         wd,
         sigma,
@@ -154,7 +131,7 @@ pub fn spring_dashpot(
     let phi_end = phi_mp + PI;
     let h_root = (h(phi_end) < 0.0).then(|| bisect(h, phi_mp, phi_end));
     let (t_force_zero, duration, speed) = if attractive {
-        let phi_r = h_root.ok_or(ReferenceError::NoRebound)?;
+        let phi_r = h_root.ok_or(Error::NoReferenceRebound)?;
         (None, phi_r / wd, -hd(phi_r))
     } else {
         // First sign change of F after the maximum, scanning to the h root.
@@ -170,8 +147,8 @@ pub fn spring_dashpot(
             }
             lo = hi;
         }
-        let phi_f = found.ok_or(ReferenceError::NoRebound)?;
-        let (tau, speed) = flight_out(h(phi_f), hd(phi_f), g).ok_or(ReferenceError::NoRebound)?;
+        let phi_f = found.ok_or(Error::NoReferenceRebound)?;
+        let (tau, speed) = flight_out(h(phi_f), hd(phi_f), g).ok_or(Error::NoReferenceRebound)?;
         (Some(phi_f / wd), phi_f / wd + tau, speed)
     };
     Ok(ContactReference {
@@ -191,13 +168,7 @@ pub fn spring_dashpot(
 /// (else the maximum is the onset's c v). The maximum comes before the
 /// maximum overlap (there dF/dt = c ḧ < 0), so the clamp F ≥ 0 does not
 /// touch it.
-pub fn spring_dashpot_max_force(
-    k: f64,
-    c: f64,
-    m: f64,
-    v: f64,
-    g: f64,
-) -> Result<f64, ReferenceError> {
+pub fn spring_dashpot_max_force(k: f64, c: f64, m: f64, v: f64, g: f64) -> Result<f64> {
     let DampedOscillator {
         wd,
         sigma,
@@ -228,12 +199,7 @@ pub fn spring_dashpot_max_force(
 /// the peak lies between and the clamp F ≥ 0 does not touch it). dF/dt is
 /// written out (ḧ = g − F/m) and multiplied by h^(3/4) (Tsuji) or h^(1/2)
 /// (viscoelastic) to stay finite at h = 0 with the same sign.
-pub fn damped_hertz_max_force(
-    model: DampedHertz,
-    m: f64,
-    v: f64,
-    g: f64,
-) -> Result<f64, ReferenceError> {
+pub fn damped_hertz_max_force(model: DampedHertz, m: f64, v: f64, g: f64) -> Result<f64> {
     let k = model.stiffness();
     let h_s = (1.25 * m * v * v / k).powf(0.4);
     let t_s = h_s / v;
@@ -258,7 +224,7 @@ pub fn damped_hertz_max_force(
         -scaled_rate
     };
     let peak = integrate_to_event(free, [0.0, v], &[&falling], tol, 1e-6 * t_s, 2_000_000)
-        .map_err(|e| ReferenceError::Ode(e.to_string()))?;
+        .map_err(|e| Error::Integration(Box::new(e)))?;
     Ok(model.force(peak.y[0], peak.y[1]))
 }
 
@@ -280,13 +246,7 @@ pub fn spring_dashpot_free_restitution(xi: f64, attractive: bool) -> f64 {
 /// h_max, unloading h'' = g − ω₂² (h − h₀) to the force zero h = h₀, then
 /// free flight to h = 0. With g = 0: e = √(k₁/k₂), h_max = v/ω₁,
 /// t(F = 0) = π/2 (1/ω₁ + 1/ω₂).
-pub fn walton_braun(
-    k1: f64,
-    k2: f64,
-    m: f64,
-    v: f64,
-    g: f64,
-) -> Result<ContactReference, ReferenceError> {
+pub fn walton_braun(k1: f64, k2: f64, m: f64, v: f64, g: f64) -> Result<ContactReference> {
     let (w1, w2) = ((k1 / m).sqrt(), (k2 / m).sqrt());
     let h1 = g / (w1 * w1);
     let h_max = h1 + (h1 * h1 + (v / w1).powi(2)).sqrt();
@@ -295,11 +255,11 @@ pub fn walton_braun(
     let g2 = g / (w2 * w2);
     let amplitude = h_max - (h0 + g2);
     if amplitude < g2 || amplitude <= 0.0 {
-        return Err(ReferenceError::NoRebound);
+        return Err(Error::NoReferenceRebound);
     }
     let tau_f = (-g2 / amplitude).acos() / w2;
     let hd_f = -amplitude * w2 * (w2 * tau_f).sin();
-    let (tau, speed) = flight_out(h0, hd_f, g).ok_or(ReferenceError::NoRebound)?;
+    let (tau, speed) = flight_out(h0, hd_f, g).ok_or(Error::NoReferenceRebound)?;
     Ok(ContactReference {
         t_max_overlap: t_mp,
         max_overlap: h_max,
@@ -358,7 +318,7 @@ pub fn damped_hertz(
     v: f64,
     g: f64,
     attractive: bool,
-) -> Result<ContactReference, ReferenceError> {
+) -> Result<ContactReference> {
     let k = model.stiffness();
     // Scales: the elastic Hertz h_max and its time h_max/v.
     let h_s = (1.25 * m * v * v / k).powf(0.4);
@@ -368,12 +328,12 @@ pub fn damped_hertz(
         atol: [1e-15 * h_s, 1e-15 * v],
     };
     let budget = 2_000_000;
-    let ode = |e: super::ode::OdeError| ReferenceError::Ode(e.to_string());
+    let ode = |e: Error| Error::Integration(Box::new(e));
     // After the maximum overlap, no event within the budget means the body
     // settles on the boundary (gravity against a spent rebound): no rebound.
-    let settles = |e: super::ode::OdeError| match e {
-        super::ode::OdeError::TooManySteps(_) => ReferenceError::NoRebound,
-        e => ReferenceError::Ode(e.to_string()),
+    let settles = |e: Error| match e {
+        Error::TooManySteps(_) => Error::NoReferenceRebound,
+        e => Error::Integration(Box::new(e)),
     };
     let free = |y: &State| [y[1], g - model.force(y[0], y[1]) / m];
     let clamped = |y: &State| [y[1], g - model.force(y[0], y[1]).max(0.0) / m];
@@ -406,7 +366,7 @@ pub fn damped_hertz(
     };
     let speed = -end.1[1];
     if speed <= 0.0 {
-        return Err(ReferenceError::NoRebound);
+        return Err(Error::NoReferenceRebound);
     }
     Ok(ContactReference {
         t_max_overlap: top.t,

@@ -10,7 +10,7 @@
 //! by bisection on the length of a single step taken from the start of the
 //! step that contains it, so its error is that of one step (≤ tolerance).
 
-use std::fmt;
+use crate::{Error, Result};
 
 /// (h, ḣ).
 pub type State = [f64; 2];
@@ -21,26 +21,6 @@ pub struct Tolerance {
     pub rtol: f64,
     pub atol: State,
 }
-
-/// Why an integration failed.
-#[derive(Debug, Clone, PartialEq)]
-pub enum OdeError {
-    /// No event within the step budget.
-    TooManySteps(usize),
-    /// The step size underflowed or the state became non-finite.
-    StepUnderflow(f64),
-}
-
-impl fmt::Display for OdeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            OdeError::TooManySteps(n) => write!(f, "no event after {n} steps"),
-            OdeError::StepUnderflow(t) => write!(f, "step size underflow at t = {t:e}"),
-        }
-    }
-}
-
-impl std::error::Error for OdeError {}
 
 /// The first event reached: its time, state and index in the event list.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -121,13 +101,13 @@ pub fn integrate_to_event(
     tol: Tolerance,
     h0: f64,
     max_steps: usize,
-) -> Result<Event, OdeError> {
+) -> Result<Event> {
     let (mut t, mut y, mut h) = (0.0_f64, y0, h0);
     let mut g: Vec<f64> = events.iter().map(|e| e(&y)).collect();
     for _ in 0..max_steps {
         let tiny = h.is_nan() || h <= 1e-300 * t.abs().max(1.0);
         if tiny || !y.iter().all(|x| x.is_finite()) {
-            return Err(OdeError::StepUnderflow(t));
+            return Err(Error::StepUnderflow(t));
         }
         let k1 = f(&y);
         let (y_new, err) = step(&f, &y, &k1, h);
@@ -187,7 +167,7 @@ pub fn integrate_to_event(
         g = g_new;
         h *= (0.9 * norm.max(1e-10).powf(-0.2)).min(5.0);
     }
-    Err(OdeError::TooManySteps(max_steps))
+    Err(Error::TooManySteps(max_steps))
 }
 
 #[cfg(test)]

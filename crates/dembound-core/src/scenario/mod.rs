@@ -1,7 +1,7 @@
 //! The bouncing-particle scenario: every input of a run (the schema, this
 //! file), with the paper's validation case (section 4.2, ERRATA item 4) as
 //! the default; the checks that turn bad input into an error naming the
-//! field, the value and the allowed range (`validate.rs`, [`InputError`],
+//! field, the value and the allowed range (`validate.rs`, [`Error::Input`](crate::Error::Input),
 //! with the ranges in [`limits`]); the two-body mechanics of a free
 //! boundary (`two_body.rs`: masses, relative motion, each sphere's
 //! velocities).
@@ -18,7 +18,6 @@ use crate::integrate::Scheme;
 use crate::material::{Boundary, ContactPair, Particle};
 use serde::{Deserialize, Serialize};
 pub use two_body::TwoBody;
-pub use validate::InputError;
 
 /// How the run advances in time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -1,33 +1,11 @@
-//! The checks of a [`Scenario`]: each bad input becomes an [`InputError`]
+//! The checks of a [`Scenario`]: each bad input becomes an [`Error::Input`]
 //! naming the key, the value and the allowed range ([`super::limits`]).
 
 use super::limits;
 use super::{GravityOn, Scenario, MAX_TOLERANCE, MIN_TOLERANCE};
 use crate::contact::{ContactLawKind, DampingKind};
+use crate::{Error, Result};
 use std::fmt;
-
-/// A field with a value outside its allowed range.
-#[derive(Debug, Clone, PartialEq)]
-pub struct InputError {
-    /// `section.key`.
-    pub field: String,
-    /// The offending value as the user wrote it.
-    pub value: String,
-    /// The allowed range or set, with units.
-    pub allowed: String,
-}
-
-impl fmt::Display for InputError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "invalid value for `{}`: {} (allowed: {})",
-            self.field, self.value, self.allowed
-        )
-    }
-}
-
-impl std::error::Error for InputError {}
 
 /// `value` and `allowed` are formatted only when the check fails: the
 /// batched sweep validates every case, and formatting the ranges of every
@@ -37,11 +15,11 @@ fn check(
     field: &str,
     value: impl fmt::Display,
     allowed: impl fmt::Display,
-) -> Result<(), InputError> {
+) -> Result<()> {
     if ok {
         Ok(())
     } else {
-        Err(InputError {
+        Err(Error::Input {
             field: field.into(),
             value: value.to_string(),
             allowed: allowed.to_string(),
@@ -49,7 +27,7 @@ fn check(
     }
 }
 
-fn positive(field: &str, x: f64, unit: &str) -> Result<(), InputError> {
+fn positive(field: &str, x: f64, unit: &str) -> Result<()> {
     if x.is_finite() && x > 0.0 {
         return Ok(());
     }
@@ -62,7 +40,7 @@ fn positive(field: &str, x: f64, unit: &str) -> Result<(), InputError> {
 }
 
 /// `range.0 ≤ x ≤ range.1` ([`limits`]).
-fn within(field: &str, x: f64, range: (f64, f64), unit: &str) -> Result<(), InputError> {
+fn within(field: &str, x: f64, range: (f64, f64), unit: &str) -> Result<()> {
     check(
         x >= range.0 && x <= range.1,
         field,
@@ -71,7 +49,7 @@ fn within(field: &str, x: f64, range: (f64, f64), unit: &str) -> Result<(), Inpu
     )
 }
 
-fn ratio(field: &str, x: f64) -> Result<(), InputError> {
+fn ratio(field: &str, x: f64) -> Result<()> {
     check(
         x == f64::INFINITY || (x >= limits::RATIO.0 && x <= limits::RATIO.1),
         field,
@@ -80,13 +58,13 @@ fn ratio(field: &str, x: f64) -> Result<(), InputError> {
     )
 }
 
-fn poisson(field: &str, x: f64) -> Result<(), InputError> {
+fn poisson(field: &str, x: f64) -> Result<()> {
     check(x > -1.0 && x < 0.5, field, x, "-1 < ν < 0.5")
 }
 
 impl Scenario {
     /// Checks every field; the first error names the field, value and range.
-    pub fn validate(&self) -> Result<(), InputError> {
+    pub fn validate(&self) -> Result<()> {
         let p = &self.particle;
         within("particle.radius", p.radius, limits::RADIUS, "m")?;
         within("particle.density", p.density, limits::DENSITY, "kg/m³")?;
@@ -207,7 +185,7 @@ impl Scenario {
 
     /// `boundary.fixed`, `boundary.density`, `boundary.velocity` and
     /// `motion.gravity_on`: ranges and combinations.
-    fn validate_free_boundary(&self) -> Result<(), InputError> {
+    fn validate_free_boundary(&self) -> Result<()> {
         let b = &self.boundary;
         if b.fixed {
             check(
@@ -255,7 +233,7 @@ impl Scenario {
     /// its row: each given and in the row's range; and no such key for a
     /// law that does not take it. (The paper's laws keep their own checks:
     /// the power law's exponent, Walton–Braun's restitution.)
-    fn validate_law_params(&self) -> Result<(), InputError> {
+    fn validate_law_params(&self) -> Result<()> {
         use dembound_physics::contact::registry::NORMAL_LAWS;
         let c = &self.contact;
         let row = c.law.row();
@@ -263,7 +241,7 @@ impl Scenario {
         if let ContactLawKind::Registry(_) = c.law {
             for p in row.params {
                 let Some(value) = model.param(p.key) else {
-                    return Err(InputError {
+                    return Err(Error::Input {
                         field: format!("contact.{}", p.key),
                         value: "missing".into(),
                         allowed: format!(
@@ -272,7 +250,7 @@ impl Scenario {
                         ),
                     });
                 };
-                p.check(value).map_err(|e| InputError {
+                p.check(value).map_err(|e| Error::Input {
                     field: e.key,
                     value: e.value,
                     allowed: e.allowed,
@@ -298,7 +276,7 @@ impl Scenario {
         Ok(())
     }
 
-    fn validate_contact(&self) -> Result<(), InputError> {
+    fn validate_contact(&self) -> Result<()> {
         let c = &self.contact;
         if let Some(e) = c.restitution {
             check(
@@ -523,8 +501,10 @@ mod tests {
         for (field, spoil) in cases {
             let mut s = Scenario::default();
             spoil(&mut s);
-            let err = s.validate().unwrap_err();
-            assert_eq!(err.field, field);
+            match s.validate().unwrap_err() {
+                Error::Input { field: f, .. } => assert_eq!(f, field),
+                other => panic!("{other:?}"),
+            }
         }
     }
 }

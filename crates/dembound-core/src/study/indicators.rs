@@ -11,9 +11,10 @@
 //!   gravity-free theory gives ζ̄^(∓1/(α+1)) and r̄^(∓(2−α)/(α+1)) (− for
 //!   h_max and T_c, + for a_max).
 
-use super::{bar, first_contact, Axis, Model, Quantity, StudyError};
+use super::{bar, first_contact, Axis, Model, Quantity};
 use crate::bounce::Scenario;
 use crate::contact::ContactLawKind;
+use crate::Result;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -70,7 +71,7 @@ pub fn eq32_for(
     max: f64,
     quantity: Quantity,
     model: Model,
-) -> Result<f64, StudyError> {
+) -> Result<f64> {
     let at = |x: f64| {
         let mut s = *base;
         axis.set(&mut s, x);
@@ -121,7 +122,7 @@ impl QuotedIndicator {
 /// parameter at 1000 (any r or ζ gives the same printed digits: gravity
 /// shifts them by < 1e−4 percentage points). `base` gives the particle,
 /// motion and integration (the paper's: [`Scenario::default`]).
-pub fn section5_indicators(base: &Scenario) -> Result<Vec<QuotedIndicator>, StudyError> {
+pub fn section5_indicators(base: &Scenario) -> Result<Vec<QuotedIndicator>> {
     use ContactLawKind::{Hertz, Linear};
     // (law, axis, at, paper value, decimals, printed in the paper)
     let quoted = [
@@ -203,7 +204,7 @@ pub fn fit_exponent(
     quantity: Quantity,
     values: &[f64],
     model: Model,
-) -> Result<ExponentFit, StudyError> {
+) -> Result<ExponentFit> {
     let mut s = *base;
     s.contact.law = law;
     s.boundary.radius_ratio = f64::INFINITY;
@@ -216,7 +217,7 @@ pub fn fit_exponent(
             axis.set(&mut t, x);
             Ok((x, quantity.of(&first_contact(&t, model)?) / q_inf))
         })
-        .collect::<Result<Vec<_>, StudyError>>()?;
+        .collect::<Result<Vec<_>>>()?;
     let xy: Vec<(f64, f64)> = points.iter().map(|&(x, q)| (bar(x).ln(), q.ln())).collect();
     let (fitted, max_residual) = fit_line(&xy);
     Ok(ExponentFit {
@@ -242,7 +243,7 @@ pub fn convergence_exponents(
     base: &Scenario,
     values: &[f64],
     model: Model,
-) -> Result<Vec<ExponentFit>, StudyError> {
+) -> Result<Vec<ExponentFit>> {
     let mut jobs = Vec::new();
     for law in [ContactLawKind::Linear, ContactLawKind::Hertz] {
         for axis in [Axis::Modulus, Axis::Radius] {

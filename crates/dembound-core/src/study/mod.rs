@@ -13,6 +13,7 @@ pub mod sweep;
 pub mod validation;
 
 use crate::bounce::ContactRecord;
+use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -178,53 +179,22 @@ pub enum Model {
     Simulated,
 }
 
-/// Failure of a study computation.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StudyError {
-    Simulation(crate::bounce::SimulationError),
-    Exact(crate::exact::ExactError),
-}
-
-impl fmt::Display for StudyError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            StudyError::Simulation(e) => write!(f, "simulation failed: {e}"),
-            StudyError::Exact(e) => write!(f, "exact reference failed: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for StudyError {}
-
-impl From<crate::bounce::SimulationError> for StudyError {
-    fn from(e: crate::bounce::SimulationError) -> Self {
-        StudyError::Simulation(e)
-    }
-}
-
-impl From<crate::exact::ExactError> for StudyError {
-    fn from(e: crate::exact::ExactError) -> Self {
-        StudyError::Exact(e)
-    }
-}
-
 /// The first contact of a scenario, exact or integrated.
-pub fn first_contact(
-    s: &crate::bounce::Scenario,
-    model: Model,
-) -> Result<ContactRecord, StudyError> {
+pub fn first_contact(s: &crate::bounce::Scenario, model: Model) -> Result<ContactRecord> {
     let mut s = *s;
     s.motion.contacts = 1;
     let contacts = match model {
-        Model::Exact => crate::exact::scenario_contacts(&s)?,
-        Model::Simulated => crate::bounce::simulate(&s, &mut ())?.contacts,
+        Model::Exact => crate::exact::scenario_contacts(&s).map_err(Error::exact)?,
+        Model::Simulated => {
+            crate::bounce::simulate(&s, &mut ())
+                .map_err(Error::simulation)?
+                .contacts
+        }
     };
     contacts
         .into_iter()
         .next()
-        .ok_or(StudyError::Exact(crate::exact::ExactError::Numerical(
-            "no contact",
-        )))
+        .ok_or(Error::exact(Error::Numerical("no contact")))
 }
 
 /// The scenario with gravity switched off and the same impact speed: the

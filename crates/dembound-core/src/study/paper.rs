@@ -10,23 +10,21 @@
 use super::indicators::{
     convergence_exponents, paper_fit_values, section5_indicators, ExponentFit, QuotedIndicator,
 };
-use super::recommend::{deviation, deviations, smallest, Deviations, Limit, RecommendError};
+use super::recommend::{deviation, deviations, smallest, Deviations, Limit};
 use super::restitution::{
-    restitution_sweep, Calibration, DissipativeLaw, RestitutionError, RestitutionSpec,
-    RestitutionStudy,
+    restitution_sweep, CalibrationSite, DissipativeLaw, RestitutionSpec, RestitutionStudy,
 };
-use super::sweep::{sweep, SweepError, SweepResult, SweepSpec};
+use super::sweep::{sweep, SweepResult, SweepSpec};
 use super::validation::{
-    convergence, validation_tables, ConvergencePoint, ValidationError, ValidationTable,
-    CONVERGENCE_ETAS,
+    convergence, validation_tables, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS,
 };
-use super::{first_contact, gravity_free, show, sig, Axis, Model, Quantity, StudyError};
+use super::{first_contact, gravity_free, show, sig, Axis, Model, Quantity};
 use crate::bounce::{simulate, Observer, Sample, Scenario};
 use crate::contact::ContactLawKind;
 use crate::exact;
+use crate::{Error, Result};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::fmt;
 
 const INF: f64 = f64::INFINITY;
 /// The two laws of section 5.
@@ -37,47 +35,6 @@ pub const FIG4_R: [f64; 3] = [1.0, 10.0, 100.0];
 pub const ZETAS: [f64; 4] = [1.0, 10.0, 100.0, 1000.0];
 /// Fig 6's five radii (ERRATA 17).
 pub const RADII: [f64; 5] = [0.5, 1.0, 10.0, 100.0, 1000.0];
-
-/// Failure of the paper's computation: the failing study's own error.
-#[derive(Debug, Clone, PartialEq)]
-pub enum PaperError {
-    Study(StudyError),
-    Sweep(SweepError),
-    Recommend(RecommendError),
-    Validation(ValidationError),
-    Restitution(RestitutionError),
-}
-
-impl fmt::Display for PaperError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            PaperError::Study(e) => e.fmt(f),
-            PaperError::Sweep(e) => e.fmt(f),
-            PaperError::Recommend(e) => e.fmt(f),
-            PaperError::Validation(e) => e.fmt(f),
-            PaperError::Restitution(e) => e.fmt(f),
-        }
-    }
-}
-
-impl std::error::Error for PaperError {}
-
-macro_rules! from_error {
-    ($($variant:ident($ty:ty)),*) => {$(
-        impl From<$ty> for PaperError {
-            fn from(e: $ty) -> Self {
-                PaperError::$variant(e)
-            }
-        }
-    )*};
-}
-from_error!(
-    Study(StudyError),
-    Sweep(SweepError),
-    Recommend(RecommendError),
-    Validation(ValidationError),
-    Restitution(RestitutionError)
-);
 
 /// The paper's scenario for section 5: the validation data (section 4.2,
 /// ERRATA 4), Gear5, η = 1/50, one contact.
@@ -106,7 +63,7 @@ pub struct Scaling {
 }
 
 /// The scaling constants of `base` (ERRATA 13).
-pub fn scaling(base: &Scenario) -> Result<Scaling, StudyError> {
+pub fn scaling(base: &Scenario) -> Result<Scaling> {
     let mut s = *base;
     s.contact.law = ContactLawKind::Hertz;
     s.boundary.radius_ratio = INF;
@@ -155,13 +112,13 @@ pub fn history(
     r: f64,
     zeta: f64,
     sc: &Scaling,
-) -> Result<History, StudyError> {
+) -> Result<History> {
     let mut s = *base;
     s.contact.law = law;
     s.boundary.radius_ratio = r;
     s.boundary.modulus_ratio = zeta;
     let mut trace = Trace(Vec::new());
-    let out = simulate(&s, &mut trace)?;
+    let out = simulate(&s, &mut trace).map_err(Error::simulation)?;
     let c = out.contacts[0];
     let integrator = trace
         .0
@@ -171,14 +128,15 @@ pub fn history(
         .collect();
     let problem = exact::problem(&s);
     let v = s.impact_speed();
-    let shape = exact::contact_shape(&problem, v)?;
+    let shape = exact::contact_shape(&problem, v).map_err(Error::exact)?;
     let n = 160;
     let exact = (0..=n)
         .map(|i| {
             let tau = shape.duration * i as f64 / n as f64;
             exact::overlap_at(&problem, v, tau).map(|(h, _)| (tau / sc.t_nl, h / sc.h_nl))
         })
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<_, _>>()
+        .map_err(Error::exact)?;
     Ok(History {
         law,
         r,
@@ -277,13 +235,13 @@ pub fn closing_spec() -> RestitutionSpec {
         targets: vec![0.5, 0.9],
         radius_ratios: vec![100.0, f64::INFINITY],
         modulus_ratios: vec![100.0, f64::INFINITY],
-        calibrations: Calibration::ALL.to_vec(),
+        calibrations: CalibrationSite::ALL.to_vec(),
     }
 }
 
 /// All the computation, in parallel where it pays. `stage` is told the
 /// name of each stage as it starts (for progress messages).
-pub fn compute(base: &Scenario, stage: &dyn Fn(&str)) -> Result<PaperData, PaperError> {
+pub fn compute(base: &Scenario, stage: &dyn Fn(&str)) -> Result<PaperData> {
     stage("scaling constants, Fig 4 histories");
     let sc = scaling(base)?;
     let mut jobs = Vec::new();
@@ -345,7 +303,7 @@ pub fn compute(base: &Scenario, stage: &dyn Fn(&str)) -> Result<PaperData, Paper
             let d = |law| deviation(base, law, INF, z, Quantity::MaxOverlap, Model::Exact);
             Ok((z, d(ContactLawKind::Linear)?, d(ContactLawKind::Hertz)?))
         })
-        .collect::<Result<Vec<_>, StudyError>>()?;
+        .collect::<Result<Vec<_>>>()?;
 
     stage("Tables 1–2 and the convergence in Δt");
     let (tables, conv) = rayon::join(validation_tables, || convergence(&CONVERGENCE_ETAS));

@@ -34,54 +34,15 @@
 //! 1e−8 and the integrator's (Gear5, η = 1/50, its own reference run) to
 //! 1.2e−7; at T = 1e−10 the integrator's is off by 1e−5.
 
-use super::{bar, first_contact, Axis, Model, Quantity, StudyError};
-use crate::bounce::{InputError, Scenario};
+use super::{bar, first_contact, Axis, Model, Quantity};
+use crate::bounce::Scenario;
 use crate::contact::ContactLawKind;
+use crate::{Error, Result};
 use roots::{find_root_brent, Convergency};
 use serde::Serialize;
-use std::fmt;
 
-/// Why a recommendation could not be computed.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RecommendError {
-    /// A value out of range (names the argument, the value and the range).
-    Input(InputError),
-    /// The exact model or the integrator failed.
-    Study(StudyError),
-    /// Root finding failed.
-    Numerical(&'static str),
-}
-
-impl fmt::Display for RecommendError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RecommendError::Input(e) => e.fmt(f),
-            RecommendError::Study(e) => e.fmt(f),
-            RecommendError::Numerical(what) => write!(f, "root finding failed: {what}"),
-        }
-    }
-}
-
-impl std::error::Error for RecommendError {}
-
-impl From<StudyError> for RecommendError {
-    fn from(e: StudyError) -> Self {
-        RecommendError::Study(e)
-    }
-}
-
-impl From<InputError> for RecommendError {
-    fn from(e: InputError) -> Self {
-        RecommendError::Input(e)
-    }
-}
-
-fn input(field: &str, value: f64, allowed: &str) -> RecommendError {
-    RecommendError::Input(InputError {
-        field: field.into(),
-        value: value.to_string(),
-        allowed: allowed.into(),
-    })
+fn input(field: &str, value: f64, allowed: &str) -> Error {
+    Error::input(field, value.to_string(), allowed)
 }
 
 /// Smallest tolerance accepted (module doc): at it, the exact deviation and
@@ -150,7 +111,7 @@ pub fn deviation(
     zeta: f64,
     quantity: Quantity,
     model: Model,
-) -> Result<f64, StudyError> {
+) -> Result<f64> {
     deviation_from(base, law, r, zeta, quantity, model, Reference::Rigid)
 }
 
@@ -163,7 +124,7 @@ pub fn deviation_from(
     quantity: Quantity,
     model: Model,
     reference: Reference,
-) -> Result<f64, StudyError> {
+) -> Result<f64> {
     let q = |r, z| first_contact(&scenario_for(base, law, r, z), model).map(|c| quantity.of(&c));
     Ok((q(r, zeta)? / q(f64::INFINITY, reference.modulus_ratio(zeta))? - 1.0).abs())
 }
@@ -190,7 +151,7 @@ pub struct Deviations {
     pub quantities: Vec<QuantityDeviation>,
 }
 
-fn check_ratio(field: &str, x: f64) -> Result<(), RecommendError> {
+fn check_ratio(field: &str, x: f64) -> Result<()> {
     if x > 0.0 && !x.is_nan() {
         Ok(())
     } else {
@@ -200,12 +161,7 @@ fn check_ratio(field: &str, x: f64) -> Result<(), RecommendError> {
 
 /// Deviations of every quantity at (r, ζ) from the rigid half-space, exact
 /// and by the integrator.
-pub fn deviations(
-    base: &Scenario,
-    law: ContactLawKind,
-    r: f64,
-    zeta: f64,
-) -> Result<Deviations, RecommendError> {
+pub fn deviations(base: &Scenario, law: ContactLawKind, r: f64, zeta: f64) -> Result<Deviations> {
     deviations_from(base, law, r, zeta, Reference::Rigid)
 }
 
@@ -216,7 +172,7 @@ pub fn deviations_from(
     r: f64,
     zeta: f64,
     reference: Reference,
-) -> Result<Deviations, RecommendError> {
+) -> Result<Deviations> {
     check_ratio("r", r)?;
     check_ratio("zeta", zeta)?;
     scenario_for(base, law, r, zeta).validate()?;
@@ -229,7 +185,7 @@ pub fn deviations_from(
                 simulated: deviation_from(base, law, r, zeta, q, Model::Simulated, reference)?,
             })
         })
-        .collect::<Result<_, StudyError>>()?;
+        .collect::<Result<_>>()?;
     Ok(Deviations {
         law,
         reference,
@@ -367,7 +323,7 @@ pub fn max_overlap_limit_with_gravity(
     tolerance: f64,
     solved: Axis,
     other: f64,
-) -> Result<Option<f64>, StudyError> {
+) -> Result<Option<f64>> {
     max_overlap_limit_with_gravity_for(base, law, tolerance, solved, other, Reference::Rigid)
 }
 
@@ -380,7 +336,7 @@ pub fn max_overlap_limit_with_gravity_for(
     solved: Axis,
     other: f64,
     reference: Reference,
-) -> Result<Option<f64>, StudyError> {
+) -> Result<Option<f64>> {
     let alpha = law.exponent();
     let s = scenario_for(base, law, f64::INFINITY, reference.modulus_ratio(other));
     let h_inf = first_contact(&s, Model::Exact)?.max_overlap;
@@ -422,7 +378,7 @@ pub fn smallest(
     tolerance: f64,
     solved: Axis,
     other: f64,
-) -> Result<Limit, RecommendError> {
+) -> Result<Limit> {
     smallest_against(
         base,
         law,
@@ -444,7 +400,7 @@ pub fn smallest_against(
     solved: Axis,
     other: f64,
     reference: Reference,
-) -> Result<Limit, RecommendError> {
+) -> Result<Limit> {
     check_tolerance(tolerance)?;
     search(base, law, quantity, tolerance, solved, other, reference)
 }
@@ -458,18 +414,17 @@ fn search(
     solved: Axis,
     other: f64,
     reference: Reference,
-) -> Result<Limit, RecommendError> {
+) -> Result<Limit> {
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(input("tolerance", tolerance, "finite and > 0"));
     }
     if reference == Reference::HalfSpace && solved != Axis::Radius {
-        return Err(RecommendError::Input(InputError {
-            field: "reference".into(),
-            value: "half-space".into(),
-            allowed: "rigid when solving for ζ (against a flat wall of the boundary's own \
-                      material only r varies)"
-                .into(),
-        }));
+        return Err(Error::input(
+            "reference",
+            "half-space",
+            "rigid when solving for ζ (against a flat wall of the boundary's own \
+             material only r varies)",
+        ));
     }
     let other_name = match solved.other() {
         Axis::Radius => "r",
@@ -535,7 +490,7 @@ fn search(
         }
         u_hi *= 4.0;
     }
-    let mut error: Option<StudyError> = None;
+    let mut error: Option<Error> = None;
     let f = |u: f64| match dev(1.0 / u, Model::Exact) {
         Ok(d) => d - tolerance,
         Err(e) => {
@@ -545,9 +500,9 @@ fn search(
     };
     let root = find_root_brent(0.0, u_hi, f, &mut RelTol(1e-14));
     if let Some(e) = error {
-        return Err(e.into());
+        return Err(e);
     }
-    let u = root.map_err(|_| RecommendError::Numerical("Brent did not converge"))?;
+    let u = root.map_err(|_| Error::RootFinding("Brent did not converge"))?;
     let value = 1.0 / u;
     limit.outcome = Outcome::Found { value };
     limit.exact_deviation = Some(dev(value, Model::Exact)?);
@@ -615,7 +570,7 @@ pub fn tradeoff(
     law: ContactLawKind,
     quantity: Quantity,
     tolerance: f64,
-) -> Result<Option<Tradeoff>, RecommendError> {
+) -> Result<Option<Tradeoff>> {
     check_tolerance(tolerance)?;
     let inf = f64::INFINITY;
     let rigid = Reference::Rigid;
@@ -624,7 +579,7 @@ pub fn tradeoff(
     let Some(r_min) = r_min.value() else {
         return Ok(None);
     };
-    let point = |r: f64, t: f64| -> Result<Option<TradeoffPoint>, RecommendError> {
+    let point = |r: f64, t: f64| -> Result<Option<TradeoffPoint>> {
         let l = smallest(t, Axis::Modulus, r)?;
         Ok(
             match (l.value(), l.exact_deviation, l.simulated_deviation) {
@@ -651,7 +606,7 @@ pub fn tradeoff(
         None => None,
     };
     let Some(pick) = pick else {
-        return Err(RecommendError::Numerical(
+        return Err(Error::RootFinding(
             "no balanced pick on the trade-off curve",
         ));
     };
@@ -667,7 +622,7 @@ pub fn tradeoff(
 }
 
 /// Refuses a tolerance outside [`MIN_TOLERANCE`] … [`MAX_TOLERANCE`].
-pub fn check_tolerance(tolerance: f64) -> Result<(), RecommendError> {
+pub fn check_tolerance(tolerance: f64) -> Result<()> {
     if tolerance.is_finite() && (MIN_TOLERANCE..=MAX_TOLERANCE).contains(&tolerance) {
         Ok(())
     } else {
@@ -760,9 +715,9 @@ mod tests {
         assert_eq!(any.outcome, Outcome::AnyValue);
         // Bad input names the argument.
         let e = smallest(&g, hertz, Quantity::Duration, -0.1, Axis::Modulus, INF).unwrap_err();
-        assert!(matches!(e, RecommendError::Input(ref i) if i.field == "tolerance"));
+        assert!(matches!(e, Error::Input { ref field, .. } if field == "tolerance"));
         let e = smallest(&g, hertz, Quantity::Duration, 0.1, Axis::Modulus, 0.0).unwrap_err();
-        assert!(matches!(e, RecommendError::Input(ref i) if i.field == "r"));
+        assert!(matches!(e, Error::Input { ref field, .. } if field == "r"));
     }
 
     #[test]
@@ -880,7 +835,7 @@ mod tests {
             Reference::HalfSpace,
         )
         .unwrap_err();
-        assert!(matches!(e, RecommendError::Input(ref i) if i.field == "reference"));
+        assert!(matches!(e, Error::Input { ref field, .. } if field == "reference"));
     }
 
     #[test]
@@ -897,7 +852,7 @@ mod tests {
             )
             .unwrap_err();
             assert!(
-                matches!(e, RecommendError::Input(ref i) if i.field == "tolerance"),
+                matches!(e, Error::Input { ref field, .. } if field == "tolerance"),
                 "{t}"
             );
         }

@@ -9,7 +9,7 @@
 //! coefficient using the effective properties of a pair (its stiffness k,
 //! the mass, for the viscoelastic law the impact speed):
 //!
-//! - [`Calibration::Pair`]: the coefficient is computed for each
+//! - [`CalibrationSite::Pair`]: the coefficient is computed for each
 //!   particle–boundary pair itself. Then e does not depend on r and ζ for
 //!   the linear dashpot, Tsuji and Walton–Braun laws (their e is a function
 //!   of a dimensionless damping ratio that the calibration holds fixed) nor,
@@ -17,7 +17,7 @@
 //!   the small effect of gravity during the contact (and, with the base
 //!   scenario's `contact.calibration = "formula"`, that of the
 //!   no-attraction clamp, which the default `"exact"` calibrates away).
-//! - [`Calibration::Wall`]: the coefficient is computed once on the rigid
+//! - [`CalibrationSite::Wall`]: the coefficient is computed once on the rigid
 //!   half-space r = ζ = ∞ and the *same raw number* is reused on the
 //!   boundary particle, as happens when a DEM code's material table is
 //!   calibrated against a wall and then applied to boundary particles. The
@@ -32,13 +32,14 @@
 //! validation drop: 5 mm under g, Gear5, η = 1/50, event stepping) against a
 //! fixed boundary, simulated with the core's time loop.
 
-use crate::bounce::{simulate_with, ContactRecord, Problem, Scenario, SimulationError};
+use crate::bounce::{simulate_with, ContactRecord, Problem, Scenario};
 use crate::calibration::{damping_coefficient, with_damped};
 use crate::contact::{
     ContactLawKind, ContactModel, DampingKind, Dissipation, LawVisitor, NormalContactLaw,
     WaltonBraun,
 };
 use crate::integrate::{Gear5, Scheme, Verlet};
+use crate::{Error, Result};
 use rayon::prelude::*;
 use roots::{find_root_brent, Convergency};
 use serde::Serialize;
@@ -127,23 +128,25 @@ impl fmt::Display for DissipativeLaw {
     }
 }
 
-/// Where the raw damping coefficient is calibrated (see the module doc).
+/// Where the raw damping coefficient is calibrated, on the rigid wall or on
+/// the pair itself (see the module doc; not the mapping from e to the
+/// coefficient, which is [`crate::contact::Calibration`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Calibration {
+pub enum CalibrationSite {
     /// On the rigid half-space r = ζ = ∞; the raw coefficient is reused on the pair.
     Wall,
     /// On each particle–boundary pair itself.
     Pair,
 }
 
-impl Calibration {
-    pub const ALL: [Calibration; 2] = [Calibration::Wall, Calibration::Pair];
+impl CalibrationSite {
+    pub const ALL: [CalibrationSite; 2] = [CalibrationSite::Wall, CalibrationSite::Pair];
 
     pub fn name(&self) -> &'static str {
         match self {
-            Calibration::Wall => "wall",
-            Calibration::Pair => "pair",
+            CalibrationSite::Wall => "wall",
+            CalibrationSite::Pair => "pair",
         }
     }
 
@@ -154,17 +157,17 @@ impl Calibration {
     /// One line saying what the calibration means.
     pub fn description(&self) -> &'static str {
         match self {
-            Calibration::Wall => {
+            CalibrationSite::Wall => {
                 "raw coefficient calibrated for e on the rigid wall (r = ζ = ∞), reused unchanged on the boundary particle"
             }
-            Calibration::Pair => {
+            CalibrationSite::Pair => {
                 "raw coefficient calibrated for e on each particle–boundary pair's own effective properties"
             }
         }
     }
 }
 
-impl fmt::Display for Calibration {
+impl fmt::Display for CalibrationSite {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
@@ -186,7 +189,7 @@ pub struct RestitutionSpec {
     pub radius_ratios: Vec<f64>,
     /// ζ values (> 0, or ∞).
     pub modulus_ratios: Vec<f64>,
-    pub calibrations: Vec<Calibration>,
+    pub calibrations: Vec<CalibrationSite>,
 }
 
 impl Default for RestitutionSpec {
@@ -196,7 +199,7 @@ impl Default for RestitutionSpec {
             targets: DEFAULT_TARGETS.to_vec(),
             radius_ratios: DEFAULT_RATIOS.to_vec(),
             modulus_ratios: DEFAULT_RATIOS.to_vec(),
-            calibrations: Calibration::ALL.to_vec(),
+            calibrations: CalibrationSite::ALL.to_vec(),
         }
     }
 }
@@ -205,7 +208,7 @@ impl Default for RestitutionSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RestitutionPoint {
     pub law: DissipativeLaw,
-    pub calibration: Calibration,
+    pub calibration: CalibrationSite,
     /// The target e the coefficient was calibrated for.
     pub target: f64,
     pub radius_ratio: f64,
@@ -238,7 +241,7 @@ impl RestitutionStudy {
     pub fn point(
         &self,
         law: DissipativeLaw,
-        calibration: Calibration,
+        calibration: CalibrationSite,
         target: f64,
         radius_ratio: f64,
         modulus_ratio: f64,
@@ -253,43 +256,8 @@ impl RestitutionStudy {
     }
 }
 
-/// Why a study cannot be done.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RestitutionError {
-    /// Bad input (a target, a ratio, the base scenario), with a message.
-    Input(String),
-    /// The requested rebound cannot be reached (reverse question).
-    OutOfReach(String),
-    /// A simulation failed.
-    Simulation {
-        law: DissipativeLaw,
-        radius_ratio: f64,
-        modulus_ratio: f64,
-        error: SimulationError,
-    },
-}
-
-impl fmt::Display for RestitutionError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RestitutionError::Input(m) | RestitutionError::OutOfReach(m) => f.write_str(m),
-            RestitutionError::Simulation {
-                law,
-                radius_ratio,
-                modulus_ratio,
-                error,
-            } => write!(
-                f,
-                "{law} at r = {radius_ratio}, ζ = {modulus_ratio}: {error}"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for RestitutionError {}
-
-fn input(msg: impl Into<String>) -> RestitutionError {
-    RestitutionError::Input(msg.into())
+fn input(msg: impl Into<String>) -> Error {
+    Error::Request(msg.into())
 }
 
 /// The base scenario with the pair (r, ζ) and one contact.
@@ -302,7 +270,7 @@ fn pair_scenario(base: &Scenario, radius_ratio: f64, modulus_ratio: f64) -> Scen
 }
 
 /// Checks the base scenario: valid, fixed boundary.
-fn check_base(base: &Scenario) -> Result<(), RestitutionError> {
+fn check_base(base: &Scenario) -> Result<()> {
     base.validate()
         .map_err(|e| input(format!("base scenario: {e}")))?;
     if !base.boundary.fixed {
@@ -313,7 +281,7 @@ fn check_base(base: &Scenario) -> Result<(), RestitutionError> {
     Ok(())
 }
 
-fn check_ratio(name: &str, x: f64) -> Result<(), RestitutionError> {
+fn check_ratio(name: &str, x: f64) -> Result<()> {
     if x > 0.0 && !x.is_nan() {
         Ok(())
     } else {
@@ -322,19 +290,19 @@ fn check_ratio(name: &str, x: f64) -> Result<(), RestitutionError> {
 }
 
 /// The raw coefficient of `law` calibrated for restitution `e` on the pair
-/// (r, ζ) of `base` ([`Calibration::Pair`]) or on the rigid wall
-/// ([`Calibration::Wall`]).
+/// (r, ζ) of `base` ([`CalibrationSite::Pair`]) or on the rigid wall
+/// ([`CalibrationSite::Wall`]).
 pub fn raw_coefficient(
     base: &Scenario,
     law: DissipativeLaw,
-    calibration: Calibration,
+    calibration: CalibrationSite,
     e: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
-) -> Result<f64, RestitutionError> {
+) -> Result<f64> {
     let s = match calibration {
-        Calibration::Wall => pair_scenario(base, f64::INFINITY, f64::INFINITY),
-        Calibration::Pair => pair_scenario(base, radius_ratio, modulus_ratio),
+        CalibrationSite::Wall => pair_scenario(base, f64::INFINITY, f64::INFINITY),
+        CalibrationSite::Pair => pair_scenario(base, radius_ratio, modulus_ratio),
     };
     let pair = s.pair();
     let mass = s.reduced_mass();
@@ -358,7 +326,7 @@ pub fn raw_coefficient(
             damping_coefficient(&model, &pair, mass, s.impact_speed())
                 // A target the law cannot reach is bad input, not a failed run.
                 .map_err(|error| {
-                    RestitutionError::OutOfReach(format!(
+                    Error::OutOfReach(format!(
                         "{law}, {calibration}-calibrated for r = {}, ζ = {}: {error}",
                         s.boundary.radius_ratio, s.boundary.modulus_ratio
                     ))
@@ -377,22 +345,22 @@ pub fn simulate_coefficient(
     coefficient: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
-) -> Result<ContactRecord, RestitutionError> {
+) -> Result<ContactRecord> {
     let s = pair_scenario(base, radius_ratio, modulus_ratio);
-    let fail = |error: SimulationError| RestitutionError::Simulation {
+    let fail = |error: Error| Error::StudyRun {
         law,
         radius_ratio,
         modulus_ratio,
-        error,
+        error: Box::new(error),
     };
-    s.validate().map_err(|e| fail(e.into()))?;
+    s.validate().map_err(fail)?;
     let pair = s.pair();
     let attractive = s.contact.attractive;
     let k1 = pair.power_law_stiffness(1.0);
     /// Runs the one contact with the law it is given.
     struct Visit<'a>(&'a Scenario);
     impl LawVisitor for Visit<'_> {
-        type Output = Result<ContactRecord, SimulationError>;
+        type Output = Result<ContactRecord>;
         fn visit<L: NormalContactLaw>(self, law: L) -> Self::Output {
             run(self.0, law)
         }
@@ -409,7 +377,6 @@ pub fn simulate_coefficient(
                 stiffness: None,
             };
             with_damped(&model, &pair, s.reduced_mass(), coefficient, Visit(&s))
-                .map_err(SimulationError::from)
                 .and_then(|outcome| outcome)
         }
         DissipativeLaw::WaltonBraun => run(
@@ -424,7 +391,7 @@ pub fn simulate_coefficient(
     .map_err(fail)
 }
 
-fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord, SimulationError> {
+fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord> {
     let problem = Problem::new(s, &law)?;
     let outcome = match s.integration.scheme {
         Scheme::Gear5 => {
@@ -440,10 +407,7 @@ fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord, Simul
 /// `spec`, on the base scenario `base` (its particle, motion, integration
 /// and `contact.attractive`; its contact law and boundary ratios are
 /// replaced). Points run in parallel (rayon).
-pub fn restitution_sweep(
-    base: &Scenario,
-    spec: &RestitutionSpec,
-) -> Result<RestitutionStudy, RestitutionError> {
+pub fn restitution_sweep(base: &Scenario, spec: &RestitutionSpec) -> Result<RestitutionStudy> {
     check_base(base)?;
     let lists = [
         ("--law", spec.laws.is_empty()),
@@ -482,7 +446,7 @@ pub fn restitution_sweep(
     }
     // Wall coefficients once per (law, target): the viscoelastic one is a root search.
     let mut walls: Vec<((DissipativeLaw, u64), f64)> = Vec::new();
-    if spec.calibrations.contains(&Calibration::Wall) {
+    if spec.calibrations.contains(&CalibrationSite::Wall) {
         let keys: Vec<(DissipativeLaw, f64)> = spec
             .laws
             .iter()
@@ -494,7 +458,7 @@ pub fn restitution_sweep(
                 raw_coefficient(
                     base,
                     law,
-                    Calibration::Wall,
+                    CalibrationSite::Wall,
                     e,
                     f64::INFINITY,
                     f64::INFINITY,
@@ -507,12 +471,12 @@ pub fn restitution_sweep(
         .into_par_iter()
         .map(|(law, calibration, target, r, z)| {
             let coefficient = match calibration {
-                Calibration::Wall => walls
+                CalibrationSite::Wall => walls
                     .iter()
                     .find(|(k, _)| *k == (law, target.to_bits()))
                     .map(|(_, c)| *c)
                     .ok_or_else(|| input("internal error: wall coefficient missing"))?,
-                Calibration::Pair => raw_coefficient(base, law, calibration, target, r, z)?,
+                CalibrationSite::Pair => raw_coefficient(base, law, calibration, target, r, z)?,
             };
             let contact = simulate_coefficient(base, law, coefficient, r, z)?;
             Ok(RestitutionPoint {
@@ -525,7 +489,7 @@ pub fn restitution_sweep(
                 contact,
             })
         })
-        .collect::<Result<Vec<_>, RestitutionError>>()?;
+        .collect::<Result<Vec<_>>>()?;
     Ok(RestitutionStudy {
         scenario: *base,
         spec: spec.clone(),
@@ -537,7 +501,7 @@ pub fn restitution_sweep(
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RequiredRestitution {
     pub law: DissipativeLaw,
-    pub calibration: Calibration,
+    pub calibration: CalibrationSite,
     /// The rebound wanted on the boundary particle, E.
     pub target: f64,
     pub radius_ratio: f64,
@@ -575,11 +539,11 @@ impl Convergency<f64> for Tight {
 pub fn required_restitution(
     base: &Scenario,
     law: DissipativeLaw,
-    calibration: Calibration,
+    calibration: CalibrationSite,
     target: f64,
     radius_ratio: f64,
     modulus_ratio: f64,
-) -> Result<RequiredRestitution, RestitutionError> {
+) -> Result<RequiredRestitution> {
     check_base(base)?;
     if !(target > 0.0 && target < 1.0) {
         return Err(input(format!(
@@ -588,35 +552,34 @@ pub fn required_restitution(
     }
     check_ratio("r", radius_ratio)?;
     check_ratio("ζ", modulus_ratio)?;
-    let rebound = |e: f64| -> Result<(f64, f64), RestitutionError> {
+    let rebound = |e: f64| -> Result<(f64, f64)> {
         let c = raw_coefficient(base, law, calibration, e, radius_ratio, modulus_ratio)?;
         match simulate_coefficient(base, law, c, radius_ratio, modulus_ratio) {
             Ok(contact) => Ok((contact.restitution, c)),
             // Damped so hard the particle never leaves: no rebound at all.
-            Err(RestitutionError::Simulation {
-                error: SimulationError::NoRebound { .. },
-                ..
-            }) => Ok((0.0, c)),
+            Err(Error::StudyRun { error, .. }) if matches!(*error, Error::NoRebound { .. }) => {
+                Ok((0.0, c))
+            }
             Err(e) => Err(e),
         }
     };
     let (top, _) = rebound(1.0)?;
     if top <= target {
-        return Err(RestitutionError::OutOfReach(format!(
+        return Err(Error::OutOfReach(format!(
             "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
              {law} with {calibration} calibration: even e = 1 gives {top:.6}"
         )));
     }
     // Bracket [lo, hi] with rebound(lo) < E < rebound(hi), halving e from E.
     let unreachable = |why: String| {
-        RestitutionError::OutOfReach(format!(
+        Error::OutOfReach(format!(
             "a rebound of E = {target} on r = {radius_ratio}, ζ = {modulus_ratio} is out of reach of \
              {law} with {calibration} calibration: {why}"
         ))
     };
     let naive = match rebound(target) {
         Ok((e, _)) => e,
-        Err(RestitutionError::OutOfReach(why)) => return Err(unreachable(why)),
+        Err(Error::OutOfReach(why)) => return Err(unreachable(why)),
         Err(e) => return Err(e),
     };
     let (mut lo, mut hi) = (target, 1.0);
@@ -635,7 +598,7 @@ pub fn required_restitution(
             // A calibration that fails at small e (viscoelastic δ out of range) is out of reach too.
             let e_lo = match rebound(lo) {
                 Ok((e, _)) => e,
-                Err(RestitutionError::OutOfReach(why)) => return Err(unreachable(why)),
+                Err(Error::OutOfReach(why)) => return Err(unreachable(why)),
                 Err(e) => return Err(e),
             };
             if e_lo < target {
@@ -657,7 +620,7 @@ pub fn required_restitution(
         return Err(err);
     }
     let enter = root.map_err(|e| {
-        RestitutionError::OutOfReach(format!(
+        Error::OutOfReach(format!(
             "the root search for E = {target} ({law}, {calibration}) failed: {e}"
         ))
     })?;
@@ -688,7 +651,7 @@ mod tests {
             DissipativeLaw::Viscoelastic,
         ] {
             let base = Scenario::default();
-            let c = raw_coefficient(&base, law, Calibration::Wall, 0.6, 30.0, 10.0).unwrap();
+            let c = raw_coefficient(&base, law, CalibrationSite::Wall, 0.6, 30.0, 10.0).unwrap();
             let study = simulate_coefficient(&base, law, c, 30.0, 10.0).unwrap();
             let mut s = pair_scenario(&base, 30.0, 10.0);
             (s.contact.law, s.contact.damping) = law.contact();
@@ -706,7 +669,7 @@ mod tests {
         base.motion.gravity = 0.0;
         base.motion.velocity = -0.313;
         let e_of = |law, r, z| {
-            let c = raw_coefficient(&base, law, Calibration::Pair, 0.7, r, z).unwrap();
+            let c = raw_coefficient(&base, law, CalibrationSite::Pair, 0.7, r, z).unwrap();
             simulate_coefficient(&base, law, c, r, z)
                 .unwrap()
                 .restitution
@@ -725,7 +688,7 @@ mod tests {
         let c = raw_coefficient(
             &base,
             DissipativeLaw::WaltonBraun,
-            Calibration::Wall,
+            CalibrationSite::Wall,
             0.7,
             3.0,
             10.0,

@@ -7,11 +7,10 @@
 //! Pure computation: cases run in parallel with rayon, progress is reported
 //! through a callback, the result serialises with serde.
 
-use crate::bounce::{
-    simulate_batch, ContactRecord, InputError, RunOutcome, Scenario, SimulationError,
-};
+use crate::bounce::{simulate_batch, ContactRecord, RunOutcome, Scenario};
 use crate::contact::ContactLawKind;
-use crate::exact::{scenario_contacts, ExactError};
+use crate::exact::scenario_contacts;
+use crate::{Error, Result};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -270,54 +269,19 @@ impl SweepResult {
     }
 }
 
-/// Why a sweep failed.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SweepError {
-    /// Nothing to sweep (an empty list).
-    Empty(&'static str),
-    /// A case's scenario is invalid.
-    Input { case: String, error: InputError },
-    /// A run failed.
-    Simulation {
-        case: String,
-        error: SimulationError,
-    },
-    /// The exact reference failed.
-    Exact { case: String, error: ExactError },
-}
-
-impl fmt::Display for SweepError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SweepError::Empty(what) => write!(f, "nothing to sweep: no {what} given"),
-            SweepError::Input { case, error } => write!(f, "{case}: {error}"),
-            SweepError::Simulation { case, error } => write!(f, "{case}: the run failed: {error}"),
-            SweepError::Exact { case, error } => {
-                write!(f, "{case}: the exact reference failed: {error}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for SweepError {}
-
 /// Per-contact values of one scenario: (integrator, exact, steps).
 type Run = (Vec<Values>, Vec<Values>, u64);
 
 /// A case's values from its run (`outcome`, from [`simulate_batch`]) and
 /// its exact reference.
-fn run_case(
-    s: &Scenario,
-    outcome: Result<RunOutcome, SimulationError>,
-    label: &str,
-) -> Result<Run, SweepError> {
-    let out = outcome.map_err(|error| SweepError::Simulation {
+fn run_case(s: &Scenario, outcome: Result<RunOutcome>, label: &str) -> Result<Run> {
+    let out = outcome.map_err(|error| Error::CaseRun {
         case: label.to_string(),
-        error,
+        error: Box::new(error),
     })?;
-    let exact = scenario_contacts(s).map_err(|error| SweepError::Exact {
+    let exact = scenario_contacts(s).map_err(|error| Error::CaseExact {
         case: label.to_string(),
-        error,
+        error: Box::new(error),
     })?;
     Ok((
         out.contacts.iter().map(Values::of).collect(),
@@ -328,18 +292,15 @@ fn run_case(
 
 /// Runs the sweep. `progress(done, total)` is called after every run (from
 /// any thread), the rigid half-space references included in `total`.
-pub fn sweep(
-    spec: &SweepSpec,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<SweepResult, SweepError> {
+pub fn sweep(spec: &SweepSpec, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<SweepResult> {
     if spec.variants.is_empty() {
-        return Err(SweepError::Empty("scenario variants"));
+        return Err(Error::NothingToSweep("scenario variants"));
     }
     if spec.radius_ratios.is_empty() {
-        return Err(SweepError::Empty("radius ratios r"));
+        return Err(Error::NothingToSweep("radius ratios r"));
     }
     if spec.modulus_ratios.is_empty() {
-        return Err(SweepError::Empty("modulus ratios ζ"));
+        return Err(Error::NothingToSweep("modulus ratios ζ"));
     }
     let keys = spec.cases();
     // References: one rigid half-space run per (variant, law).
@@ -362,16 +323,16 @@ pub fn sweep(
         // The range of every key, and a step that resolves the contact.
         match crate::bounce::check_resolution(&spec.scenario(k)) {
             Ok(()) => {}
-            Err(SimulationError::Input(error)) => {
-                return Err(SweepError::Input {
+            Err(error @ Error::Input { .. }) => {
+                return Err(Error::CaseInput {
                     case: k.to_string(),
-                    error,
+                    error: Box::new(error),
                 })
             }
             Err(error) => {
-                return Err(SweepError::Simulation {
+                return Err(Error::CaseRun {
                     case: k.to_string(),
-                    error,
+                    error: Box::new(error),
                 })
             }
         }
@@ -410,7 +371,7 @@ pub fn sweep(
                 exact,
             })
         })
-        .collect::<Result<_, SweepError>>()?;
+        .collect::<Result<_>>()?;
     let cases = keys
         .iter()
         .zip(runs)
@@ -442,7 +403,7 @@ pub fn sweep(
                 contacts,
             })
         })
-        .collect::<Result<_, SweepError>>()?;
+        .collect::<Result<_>>()?;
     Ok(SweepResult {
         variants: spec.variants.clone(),
         references,
@@ -553,9 +514,10 @@ mod tests {
         let mut bad = spec.clone();
         bad.radius_ratios = vec![-1.0];
         match sweep(&bad, &|_, _| {}) {
-            Err(SweepError::Input { error, .. }) => {
-                assert_eq!(error.field, "boundary.radius_ratio")
-            }
+            Err(Error::CaseInput { error, .. }) => match *error {
+                Error::Input { field, .. } => assert_eq!(field, "boundary.radius_ratio"),
+                other => panic!("{other:?}"),
+            },
             other => panic!("{other:?}"),
         }
     }

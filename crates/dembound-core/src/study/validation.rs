@@ -9,13 +9,13 @@
 //! printed?) and the observed orders of the convergence study are computed
 //! here too; the CLI renders them.
 
-use crate::bounce::{simulate, ContactRecord, Scenario, SimulationError, Stepping};
+use crate::bounce::{simulate, ContactRecord, Scenario, Stepping};
 use crate::contact::ContactLawKind;
-use crate::exact::{scenario_contacts, ExactError};
+use crate::exact::scenario_contacts;
 use crate::integrate::Scheme;
+use crate::{Error, Result};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::fmt;
 
 /// The four quality indicators of Tables 1–2, SI: t_r (s), h_max (m, positive),
 /// a_max (m/s²), v_r (m/s).
@@ -40,36 +40,6 @@ pub enum StepBasis {
     Paper,
     /// The exact contact time of the case (with gravity).
     Exact,
-}
-
-/// Failure of a validation computation.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ValidationError {
-    Simulation(SimulationError),
-    Exact(ExactError),
-}
-
-impl fmt::Display for ValidationError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ValidationError::Simulation(e) => write!(f, "simulation failed: {e}"),
-            ValidationError::Exact(e) => write!(f, "exact reference failed: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for ValidationError {}
-
-impl From<SimulationError> for ValidationError {
-    fn from(e: SimulationError) -> Self {
-        ValidationError::Simulation(e)
-    }
-}
-
-impl From<ExactError> for ValidationError {
-    fn from(e: ExactError) -> Self {
-        ValidationError::Exact(e)
-    }
 }
 
 fn indicators(c: &ContactRecord) -> [f64; 4] {
@@ -150,12 +120,12 @@ fn run_row(
     basis: StepBasis,
     contact_time: f64,
     exact: [f64; 4],
-) -> Result<NumericalRow, ValidationError> {
+) -> Result<NumericalRow> {
     let mut s = validation_scenario(law);
     s.integration.scheme = scheme;
     s.integration.stepping = stepping;
     s.integration.dt = Some(eta * contact_time);
-    let out = simulate(&s, &mut ())?;
+    let out = simulate(&s, &mut ()).map_err(Error::simulation)?;
     let values = indicators(&out.contacts[1]);
     Ok(NumericalRow {
         scheme,
@@ -227,12 +197,12 @@ pub const PAPER_ETAS: [f64; 2] = [0.1, 0.02];
 /// Tables 1 and 2: every combination of η (1/10, 1/50), Δt basis (paper,
 /// exact), scheme (Gear5, Verlet) and stepping (fixed, event), against the
 /// exact reference, with the paper's printed rows. Runs in parallel.
-pub fn validation_tables() -> Result<Vec<ValidationTable>, ValidationError> {
+pub fn validation_tables() -> Result<Vec<ValidationTable>> {
     [ContactLawKind::Linear, ContactLawKind::Hertz]
         .into_iter()
         .map(|law| {
             let s = validation_scenario(law);
-            let exact_contacts = scenario_contacts(&s)?;
+            let exact_contacts = scenario_contacts(&s).map_err(Error::exact)?;
             let exact = indicators(&exact_contacts[1]);
             let exact_contact_time = exact_contacts[1].duration;
             let paper_contact_time = match law {
@@ -290,11 +260,11 @@ pub const CONVERGENCE_ETAS: [f64; 9] = [0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002
 /// The error of every quantity against η for every law, scheme and stepping
 /// mode (Δt from the exact T_c). Runs in parallel; the fixed-step runs at
 /// small η dominate the cost (~10⁸ steps for the linear law at η = 1/2000).
-pub fn convergence(etas: &[f64]) -> Result<Vec<ConvergencePoint>, ValidationError> {
+pub fn convergence(etas: &[f64]) -> Result<Vec<ConvergencePoint>> {
     let mut jobs = Vec::new();
     for law in [ContactLawKind::Linear, ContactLawKind::Hertz] {
         let s = validation_scenario(law);
-        let exact = scenario_contacts(&s)?;
+        let exact = scenario_contacts(&s).map_err(Error::exact)?;
         for scheme in [Scheme::Gear5, Scheme::Verlet] {
             for stepping in [Stepping::Fixed, Stepping::Event] {
                 for &eta in etas {

@@ -14,8 +14,9 @@ use super::steps::{Mesh, Tables};
 use super::{Isa, GROUP_AVX2, GROUP_AVX512, GROUP_BASELINE};
 use crate::bounce::events::{time_to_surface, Crossing};
 use crate::bounce::schedule::{GradedSteps, Grading};
-use crate::bounce::{ContactRecord, RunOutcome, Scenario, SimulationError};
+use crate::bounce::{ContactRecord, RunOutcome, Scenario};
 use crate::integrate::{pascal, Gear5, Integrator, Kinematics};
+use crate::{Error, Result};
 
 /// Rows of the step-size ring (a power of two).
 pub(super) const RING: usize = 64;
@@ -465,7 +466,7 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
             }
             let lc = &self.lane[l];
             if let Some(c) = &lc.case {
-                let error = SimulationError::NoRebound {
+                let error = Error::NoRebound {
                     contact: lc.contact,
                     steps: now + 1 - lc.first,
                 };
@@ -531,14 +532,14 @@ impl<'a, 'q, L: LaneLaw, S: Simd, const G: usize> Kernel<'a, 'q, L, S, G> {
     /// The flight to the next onset and the contact's first step
     /// (`Run::event_stepping` and the start of `Run::contact`); the step
     /// is taken in the next iteration.
-    pub(super) fn start_contact(&mut self, l: usize) -> Result<(), SimulationError> {
+    pub(super) fn start_contact(&mut self, l: usize) -> Result<()> {
         let lc = &mut self.lane[l];
         let Some(c) = &lc.case else {
             return Ok(());
         };
         let p = &c.problem;
         let g = p.gravity;
-        let tau = time_to_surface(lc.x, lc.v, g).ok_or(SimulationError::NeverReachesBoundary)?;
+        let tau = time_to_surface(lc.x, lc.v, g).ok_or(Error::NeverReachesBoundary)?;
         let t_c = lc.t + tau;
         let v_c = lc.v - g * tau;
         lc.t_contact = t_c;

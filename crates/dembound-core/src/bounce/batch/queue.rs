@@ -3,11 +3,12 @@
 //! that takes it.
 
 use super::laws::{LaneLaw, Planned};
-use crate::bounce::{plan, Problem, RunOutcome, Scenario, SimulationError, StepRule};
+use crate::bounce::{plan, Problem, RunOutcome, Scenario, StepRule};
+use crate::Result;
 use std::sync::Mutex;
 
 /// A run's result.
-pub(super) type Slot = Result<RunOutcome, SimulationError>;
+pub(super) type Slot = Result<RunOutcome>;
 
 /// Cases a kernel takes from its queue at a time.
 pub(super) const CHUNK: usize = 32;
@@ -77,7 +78,7 @@ pub(super) struct Case {
 /// Resolves a case as [`plan`] does (same checks, same errors, same bits),
 /// with the law built once and its contact-time estimate's constant factor
 /// computed once per law ([`LaneLaw::estimate`]).
-pub(super) fn plan_case<L: LaneLaw>(slot: SlotId, s: &Scenario) -> Result<Case, SimulationError> {
+pub(super) fn plan_case<L: LaneLaw>(slot: SlotId, s: &Scenario) -> Result<Case> {
     s.validate()?;
     let law = L::for_pair(&s.pair());
     let problem = match s.step_rule() {

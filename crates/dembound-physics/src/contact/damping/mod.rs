@@ -24,8 +24,17 @@ pub enum Dissipation {
     Coefficient(f64),
 }
 
-/// How a target restitution becomes a damping coefficient.
+/// How a target restitution becomes a damping coefficient (configured as
+/// `contact.calibration = "exact"` or `"formula"`: with the `serde`
+/// feature it reads and writes those lowercase names). Both aim at one
+/// gravity-free contact; gravity during the contact moves the rebound
+/// slightly either way.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum Calibration {
     /// The model's exact gravity-free relation for the law as it is run,
     /// clamped or not: one gravity-free contact rebounds with exactly e
@@ -52,6 +61,18 @@ impl Calibration {
     /// The calibration called `name`, if any.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|c| c.name() == name)
+    }
+
+    /// One line saying what the calibration means (for lists and reports).
+    pub fn description(&self) -> &'static str {
+        match self {
+            Calibration::Exact => {
+                "the law's exact gravity-free relation, solved for the law as run (clamped or not): one gravity-free contact rebounds with exactly e"
+            }
+            Calibration::Formula => {
+                "the published mapping (LIGGGHTS/LAMMPS), exact only with attraction allowed: with the clamp e = 0.5 rebounds with 0.550"
+            }
+        }
     }
 }
 
