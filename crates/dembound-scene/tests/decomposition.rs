@@ -331,6 +331,19 @@ fn bad_grid_and_periodic_friction_are_refused() {
         .err()
         .expect("refused");
     assert!(e.to_string().contains("contact.friction"), "{e}");
+    // Gear5 with friction: the one-process engine runs it; decomposed runs
+    // refuse it, naming the key (the spins' Gear5 derivatives do not
+    // migrate between ranks yet).
+    let mut g = setup.clone();
+    g.friction = Some(friction(0.5, 0.0));
+    g.integration.scheme = dembound_scene::setup::Scheme::Gear5;
+    assert!(Simulation::new(g.clone(), 1).is_ok());
+    let t = ThreadTransport::group(1).pop().expect("one rank");
+    let e = DistributedSimulation::new(&g, 1, None, t)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("integration.scheme"), "{e}");
+    assert!(e.is_input(), "{e}");
 }
 
 fn friction(mu: f64, mu_r: f64) -> dembound_scene::setup::FrictionSetup {

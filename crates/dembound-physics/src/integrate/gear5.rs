@@ -57,6 +57,25 @@ impl Gear5 {
     }
 }
 
+/// Gear's corrector coefficients for a first-order equation ẏ = f(y) with
+/// six values, the Nordsieck vector rₖ = Δtᵏ y⁽ᵏ⁾/k!, k = 0…5 (Gear 1971;
+/// Allen & Tildesley, *Computer Simulation of Liquids*, 1987, appendix E,
+/// table E.1): c = (95/288, 1, 25/24, 35/72, 5/48, 1/120), applied as
+/// rₖ += cₖ Δ with Δ = Δt f(yᵖ) − r₁ᵖ after the same Pascal predictor.
+/// c₁ = 1 makes r₁ = Δt f(yᵖ); c₂…c₅ are those of the 6-value
+/// Adams–Moulton method in Nordsieck form; c₀ is Gear's choice, 475/1440,
+/// the leading coefficient of the next-order Adams–Moulton formula (as
+/// c₀ = 3/16 is Gear's for the second-order equation). The
+/// scene engine integrates the spins with them (dω/dt = τ/I).
+pub const FIRST_ORDER_CORRECTOR: [f64; 6] = [
+    95.0 / 288.0,
+    1.0,
+    25.0 / 24.0,
+    35.0 / 72.0,
+    5.0 / 48.0,
+    1.0 / 120.0,
+];
+
 /// The Pascal-matrix predictor P r (a Taylor step of the Nordsieck
 /// vector), summed pairwise: the same bits for every state type, scalar or
 /// SIMD lanes (the bounce's batch uses it on lane vectors).

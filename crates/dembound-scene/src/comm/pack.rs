@@ -115,8 +115,10 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Writes body k: every array of [`Bodies`] (Gear5's `higher` excepted:
-/// decomposed runs are Verlet) and its plane-wall contact state.
+/// Writes body k: every array of [`Bodies`] (Gear5's `higher` and
+/// `angular_higher` excepted: [`write_higher`] sends the first, and
+/// decomposed runs refuse Gear5 with friction) and its plane-wall contact
+/// state.
 /// `wall_history`: the law keeps contact histories (`LawTable::history`).
 pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history: bool, k: usize) {
     // Destructured so that a new per-body array fails to compile here.
@@ -136,6 +138,7 @@ pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history
         angular_velocity,
         torque,
         inverse_inertia,
+        angular_higher: _,
     } = b;
     w.u32(id[k]);
     w.vec3(position[k]);

@@ -215,6 +215,8 @@ impl<T: Transport> DistributedSimulation<T> {
             torque: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
             pair_shear: Vec::new(),
             plane_shear: Vec::new(),
+            // Gear5 with friction is refused under MPI.
+            angular_higher: Vec::new(),
         };
         let mut plane_shear = BTreeMap::new();
         let mut springs = BTreeMap::new();
