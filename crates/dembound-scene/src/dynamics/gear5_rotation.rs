@@ -61,8 +61,14 @@ pub fn predict(bodies: &mut Bodies, workers: &Workers) {
     );
     let fixed = &bodies.fixed;
     workers.run_bodies(n, BODY_CHUNK, |c| {
-        for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
-            if fixed[i] {
+        let lo = c * BODY_CHUNK;
+        for (i, &is_fixed) in fixed
+            .iter()
+            .enumerate()
+            .take(n.min(lo + BODY_CHUNK))
+            .skip(lo)
+        {
+            if is_fixed {
                 continue;
             }
             // SAFETY: one body per iteration, i < n (asserted lengths).
