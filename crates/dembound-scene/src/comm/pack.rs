@@ -116,9 +116,9 @@ impl<'a> Reader<'a> {
 }
 
 /// Writes body k: every array of [`Bodies`] (Gear5's `higher` and
-/// `angular_higher` excepted: [`write_higher`] sends the first, and
-/// decomposed runs refuse Gear5 with friction) and its plane-wall contact
-/// state.
+/// `angular_higher` excepted: [`write_higher`] and
+/// [`write_angular_higher`] send them when they migrate) and its
+/// plane-wall contact state.
 /// `wall_history`: the law keeps contact histories (`LawTable::history`).
 pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history: bool, k: usize) {
     // Destructured so that a new per-body array fails to compile here.
@@ -230,6 +230,19 @@ pub fn write_higher(w: &mut Writer, higher: &[[[f64; 3]; 4]], k: usize) {
 /// Appends what [`write_higher`] wrote.
 pub fn read_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
     higher.push([r.vec3(), r.vec3(), r.vec3(), r.vec3()]);
+}
+
+/// Writes a Gear5 run's spin derivatives r₁..r₅ of body k (friction;
+/// zeros if the array is not sized).
+pub fn write_angular_higher(w: &mut Writer, higher: &[[[f64; 3]; 5]], k: usize) {
+    for r in higher.get(k).copied().unwrap_or_default() {
+        w.vec3(r);
+    }
+}
+
+/// Appends what [`write_angular_higher`] wrote.
+pub fn read_angular_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 5]>) {
+    higher.push([r.vec3(), r.vec3(), r.vec3(), r.vec3(), r.vec3()]);
 }
 
 /// Bytes of one body record with `planes` plane walls.
