@@ -616,6 +616,9 @@ fn gear5_friction_restart_continues_bit_for_bit() {
     let mut b = Simulation::restore(setup.clone(), &read.state, 1).unwrap();
     b.step(1000);
     assert!(straight.list_builds() > 1);
+    // Finite (a blown-up run would compare equal as NaN text).
+    assert!(straight.positions().iter().flatten().all(|x| x.is_finite()));
+    assert!(straight.kinetic_energy().is_finite());
     assert_eq!(state(&straight), state(&b));
     // A checkpoint without the spins' derivatives is refused, not guessed.
     let mut partial = read.state.clone();
@@ -634,5 +637,6 @@ fn gear5_friction_runs_are_bit_identical_on_one_and_two_threads() {
     one.step(2000);
     two.step(2000);
     assert!(one.list_builds() > 1);
+    assert!(one.positions().iter().flatten().all(|x| x.is_finite()));
     assert_eq!(state(&one), state(&two));
 }
