@@ -1167,10 +1167,10 @@ pub struct Checkpoint {
     /// (input id, plane index, displacement record).
     #[serde(default)]
     pub plane_shear: Vec<(u32, u32, WallShear)>,
-    /// Gear5 with friction: the spins' scaled derivatives r₁..r₅, rad/s,
+    /// Gear5 with friction: the spins' scaled derivatives r₁..r₄, rad/s,
     /// engine order (empty otherwise; `dynamics::gear5_rotation`).
     #[serde(default)]
-    pub angular_higher: Vec<[[f64; 3]; 5]>,
+    pub angular_higher: Vec<[[f64; 3]; 4]>,
 }
 
 /// Distinct (radius, material, fixed) classes of the scene, at most a few

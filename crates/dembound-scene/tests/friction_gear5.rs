@@ -249,9 +249,11 @@ fn gear5_oblique_impact_in_gross_sliding_matches_the_closed_forms() {
             w[1] / w_expected - 1.0
         );
         // The exact calibration gives e for the continuous law; Gear5 at
-        // Δt = T_c/20000 resolves it (the kinks at onset and end
-        // corrected); what is left enters v_t' scaled by μ v_n/v_t' and ω'
-        // by 1: 1e-6 is the bound.
+        // Δt = T_c/20000 resolves it (the normal force's kinks at onset
+        // corrected): measured e 2.1e-9 off. The tangential force μ F_n
+        // has the same kink at onset, which is not corrected (`kinks` is
+        // normal only): measured v_t' 6.5e-8 and ω' 5.4e-7 off (the spin
+        // takes 5/2 of the relative change). 1e-6 is the bound.
         assert!(
             (measured_e / e - 1.0).abs() < 5e-7,
             "{kind:?}: e = {measured_e}"
@@ -401,16 +403,15 @@ fn sliding_change(scheme: Scheme, steps: u64) -> [f64; 3] {
 /// limit, F_t = μ F_n) Gear5 keeps a high order. Errors of the changes
 /// against the same scheme at 16 × the finest step, at 96, 192, 384 steps
 /// per ms (56, 112, 225 per normal period), measured:
-/// Gear5 in R Δω_y 3.1e-10, 1.8e-11, 8.1e-13 m/s (orders 4.1, 4.5; at
+/// Gear5 in R Δω_y 2.9e-10, 1.7e-11, 7.5e-13 m/s (orders 4.1, 4.5; at
 /// 768 steps the reference's round-off, ~1e-13, is reached), in Δv_x
 /// 1.1e-10, 6.7e-12, 3.0e-13 m/s (the same orders); Verlet in R Δω_y
 /// 1.2e-7, 2.9e-8, 7.2e-9 m/s (orders 2.03, 2.01).
 /// Asserted: Gear5's orders above 3.5 (a low-order part would pull them
 /// towards 2 or 1), Verlet's within 0.1 of 2. And the impulses' relation
 /// Δv_x = −(2/5) R Δω_y (one tangential impulse, lever arm R,
-/// I = 2/5 m R²): Gear5 integrates the centre (a second-order equation)
-/// and the spin (first-order) with different coefficients, so it holds to
-/// their errors: 2.3e-14 m/s measured at 384 steps, asserted below 1e-12.
+/// I = 2/5 m R²): the spin's corrector is the velocity's, so it holds to
+/// round-off: 1.1e-15 m/s measured at 384 steps, asserted below 1e-12.
 #[test]
 fn sliding_under_a_smooth_normal_load_gear5_order() {
     let steps = [96u64, 192, 384];
@@ -517,18 +518,18 @@ fn bed_difference(a: &[[f64; 9]], b: &[[f64; 9]]) -> (f64, f64) {
 /// Gear5 and Verlet on the small bed converge to one answer as Δt → 0.
 /// Largest difference of their states after 2 ms (velocities and R ω),
 /// measured at Δt = 4e-7 … 1.25e-8 s (T_c/160 … T_c/5200, T_c ≈ 65 µs at
-/// 0.05 m/s): 7.7e-4, 3.2e-4, 2.9e-4, 1.5e-4, 8.7e-5, 3.7e-5 m/s
-/// (positions 5.6e-7 … 2.9e-8 m): a factor 21 over 32 in Δt, order 0.9.
-/// Each against Verlet at 6.25e-9 s: Gear5 8.7e-4 … 4.1e-5 m/s (order
-/// 0.9), Verlet 1.6e-4 … 6.7e-6 m/s (order 0.9–1.2): both first order on
-/// this bed (stick–slip transitions and the Tsuji damping's onsets are
-/// not smooth; Gear5's sticking springs are first order,
-/// `sticking_contact_oscillation_orders`), Gear5 5–10 × Verlet's error at
-/// the same Δt. Asserted: the difference never grows as Δt halves, falls
-/// by more than 10 over the range (21 measured), and ends below 1e-3 of
-/// the throw speed 0.05 m/s (7.4e-4 measured) and 1e-4 R in position
-/// (5.7e-5 measured); Gear5's error against the reference falls by more
-/// than 10 too (21 measured).
+/// 0.05 m/s): 4.3e-4, 3.5e-4, 1.8e-4, 9.1e-5, 4.8e-5, 1.2e-5 m/s
+/// (positions 2.8e-7 … 8.0e-9 m): a factor 37 over 32 in Δt, order 1.0.
+/// Each against Verlet at 6.25e-9 s: Gear5 4.7e-4 … 1.2e-5 m/s (order
+/// 1.1), Verlet 1.6e-4 … 6.7e-6 m/s (order 0.9–1.2, the last step nearing
+/// the reference's own error): both first order on this bed (stick–slip
+/// transitions and the Tsuji damping's onsets are not smooth; Gear5's
+/// sticking springs are first order, `sticking_contact_oscillation_orders`),
+/// Gear5 2–5 × Verlet's error at the same Δt. Asserted: the difference
+/// never grows as Δt halves, falls by more than 10 over the range (37
+/// measured), and ends below 1e-3 of the throw speed 0.05 m/s (2.3e-4
+/// measured) and 1e-4 R in position (1.6e-5 measured); Gear5's error
+/// against the reference falls by more than 10 too (40 measured).
 #[test]
 fn gear5_and_verlet_converge_together_on_a_frictional_bed() {
     let duration = 2.0e-3;
@@ -581,13 +582,14 @@ fn state(sim: &Simulation) -> String {
     )
 }
 
-/// A dropping lattice with friction and rolling friction under Gear5, the
-/// collision log on: impacts, sliding, list rebuilds and reordering.
-fn gear5_drop() -> SceneSetup {
+/// A dropping lattice (8 × 8 × 6) with friction and rolling friction
+/// under Gear5, Tsuji e = `e`, the collision log on: impacts, sliding,
+/// list rebuilds and reordering.
+fn gear5_drop(e: f64) -> SceneSetup {
     let mut s = small_bed(Scheme::Gear5, 2.0e-6);
     let mut lattice = common::lattice_drop(8, 6, 2.0e-6, 0);
     lattice.materials = s.materials.clone();
-    lattice.contact = s.contact;
+    lattice.contact = tsuji(e);
     lattice.integration = s.integration;
     lattice.friction = s.friction.take();
     lattice.collisions = true;
@@ -596,7 +598,7 @@ fn gear5_drop() -> SceneSetup {
 
 #[test]
 fn gear5_friction_restart_continues_bit_for_bit() {
-    let setup = gear5_drop();
+    let setup = gear5_drop(0.6);
     let mut straight = Simulation::new(setup.clone(), 1).unwrap();
     straight.step(2500);
     let mut a = Simulation::new(setup.clone(), 2).unwrap();
@@ -604,7 +606,7 @@ fn gear5_friction_restart_continues_bit_for_bit() {
     let cp = a.checkpoint();
     assert!(!cp.pair_shear.is_empty() || !cp.plane_shear.is_empty());
     assert_eq!(cp.angular_higher.len(), cp.position.len());
-    assert!(cp.angular_higher.iter().any(|r| r != &[[0.0; 3]; 5]));
+    assert!(cp.angular_higher.iter().any(|r| r != &[[0.0; 3]; 4]));
     // Through the checkpoint file's CBOR too (every f64 kept).
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples/scenes/lattice_drop.toml");
@@ -631,7 +633,7 @@ fn gear5_friction_restart_continues_bit_for_bit() {
 
 #[test]
 fn gear5_friction_runs_are_bit_identical_on_one_and_two_threads() {
-    let setup = gear5_drop();
+    let setup = gear5_drop(0.6);
     let mut one = Simulation::new(setup.clone(), 1).unwrap();
     let mut two = Simulation::new(setup, 2).unwrap();
     one.step(2000);
@@ -639,4 +641,25 @@ fn gear5_friction_runs_are_bit_identical_on_one_and_two_threads() {
     assert!(one.list_builds() > 1);
     assert!(one.positions().iter().flatten().all(|x| x.is_finite()));
     assert_eq!(state(&one), state(&two));
+}
+
+/// The known limit (README, `dynamics::gear5_rotation`): the same drop
+/// strongly damped (Tsuji e = 0.3, as `friction_bed.rs`) blows up under
+/// Gear5 with friction: measured at Δt = 2 µs after 1,540 steps, at 1 µs
+/// after 3,200, slowly at 0.25 µs; Verlet, frictionless Gear5, elastic or
+/// e ≥ 0.6 contacts stay finite. Ignored until it is understood: run with
+/// `--ignored` to see it.
+#[test]
+#[ignore = "known: Gear5 with friction blows up on a strongly damped dense bed"]
+fn gear5_strongly_damped_lattice_stays_finite() {
+    let mut sim = Simulation::new(gear5_drop(0.3), 1).unwrap();
+    for _ in 0..25 {
+        sim.step(100);
+        let e = sim.kinetic_energy();
+        assert!(
+            e.is_finite() && e < 1e-6,
+            "{} steps: kinetic energy {e} J",
+            sim.steps_done()
+        );
+    }
 }

@@ -232,17 +232,15 @@ pub fn read_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
     higher.push([r.vec3(), r.vec3(), r.vec3(), r.vec3()]);
 }
 
-/// Writes a Gear5 run's spin derivatives r₁..r₅ of body k (friction;
+/// Writes a Gear5 run's spin derivatives r₁..r₄ of body k (friction;
 /// zeros if the array is not sized).
-pub fn write_angular_higher(w: &mut Writer, higher: &[[[f64; 3]; 5]], k: usize) {
-    for r in higher.get(k).copied().unwrap_or_default() {
-        w.vec3(r);
-    }
+pub fn write_angular_higher(w: &mut Writer, higher: &[[[f64; 3]; 4]], k: usize) {
+    write_higher(w, higher, k);
 }
 
 /// Appends what [`write_angular_higher`] wrote.
-pub fn read_angular_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 5]>) {
-    higher.push([r.vec3(), r.vec3(), r.vec3(), r.vec3(), r.vec3()]);
+pub fn read_angular_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
+    read_higher(r, higher);
 }
 
 /// Bytes of one body record with `planes` plane walls.

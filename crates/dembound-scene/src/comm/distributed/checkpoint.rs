@@ -226,7 +226,7 @@ impl<T: Transport> DistributedSimulation<T> {
             pair_shear: Vec::new(),
             plane_shear: Vec::new(),
             angular_higher: if gear5 && spin {
-                vec![[[0.0; 3]; 5]; n]
+                vec![[[0.0; 3]; 4]; n]
             } else {
                 Vec::new()
             },
