@@ -127,7 +127,7 @@ fn friction_and_gear5_checkpoints_continue_bit_for_bit() {
     assert_eq!(c.higher.len(), c.position.len());
 }
 
-/// Gear5 with friction (the spins' derivatives r₁..r₅ migrate with their
+/// Gear5 with friction (the spins' derivatives r₁..r₄ migrate with their
 /// bodies and go through the checkpoint): the same restarts, to the bit.
 #[test]
 fn gear5_friction_checkpoints_continue_bit_for_bit() {
