@@ -42,6 +42,9 @@ pub struct Bodies {
     pub torque: Vec<[f64; 3]>,
     /// 1/I with I = 2/5 m R² (a solid sphere), 1/(kg m²); 0 for a fixed body.
     pub inverse_inertia: Vec<f64>,
+    /// Gear5 with friction only: the spin's scaled derivatives r₁..r₄
+    /// (r_k = Δt^k ω⁽ᵏ⁾/k!, rad/s; `dynamics::gear5_rotation`).
+    pub angular_higher: Vec<[[f64; 3]; 4]>,
 }
 
 impl Bodies {
@@ -77,6 +80,7 @@ impl Bodies {
         gather(&mut self.angular_velocity, order);
         gather(&mut self.torque, order);
         gather(&mut self.inverse_inertia, order);
+        gather(&mut self.angular_higher, order);
     }
 
     /// Body index of each input index (the inverse of `id`).

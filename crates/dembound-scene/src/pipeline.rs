@@ -12,6 +12,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Motion, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
+use crate::dynamics::gear5_rotation;
 use crate::dynamics::integrate;
 use crate::dynamics::kinks::Kinks;
 use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
@@ -146,6 +147,12 @@ impl Pipeline {
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
+        if world.scheme == Scheme::Gear5
+            && world.friction.is_some()
+            && world.bodies.angular_higher.len() != world.bodies.len()
+        {
+            gear5_rotation::start(&mut world.bodies, world.dt);
+        }
     }
 
     /// `n` steps. Verlet's last half kick of a step is fused with the first
@@ -214,12 +221,22 @@ impl Pipeline {
             Scheme::Gear5 => {
                 let moved2 =
                     integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
+                if world.friction.is_some() {
+                    gear5_rotation::predict(&mut world.bodies, workers);
+                }
                 if needs_rebuild(moved2, half_skin) {
                     self.neighbours(world, workers);
                 } else {
                     self.ghosts(world);
                 }
-                self.forces(world, workers);
+                if world.friction.is_some() {
+                    // At the predicted state; the springs move by Δt of
+                    // the predicted slip (`gear5_rotation`).
+                    self.body_forces(world, workers, dt);
+                    self.pair_forces(world, workers, dt);
+                } else {
+                    self.forces(world, workers);
+                }
                 world.list.rebalance();
                 self.share_cuts(world, workers);
                 self.gear5_correct(world, workers);
@@ -249,6 +266,9 @@ impl Pipeline {
         let c = integrate::gear5_corrector(world.laws.model.depends_on_rate());
         integrate::gear5_correct(&mut world.bodies, dt, c, workers);
         self.kinks.apply(&mut world.bodies, dt, c);
+        if world.friction.is_some() {
+            gear5_rotation::correct(&mut world.bodies, dt, workers);
+        }
     }
 
     /// Hands the shares' body cuts to the workers' per-body passes.
@@ -641,7 +661,8 @@ impl Pipeline {
 
     /// Stage "forces": gravity and plane walls per body, then the pairs.
     /// With friction the tangential springs do not move (LAMMPS's setup):
-    /// used at the start only (Gear5 runs no friction).
+    /// used at the start only (Gear5 with friction steps with
+    /// [`Self::body_forces`] and [`Self::pair_forces`] over Δt).
     pub fn forces(&mut self, world: &mut World, workers: &Workers) {
         self.body_forces(world, workers, 0.0);
         self.pair_forces(world, workers, 0.0);

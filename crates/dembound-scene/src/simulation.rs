@@ -896,6 +896,7 @@ impl Simulation {
             } else {
                 Vec::new()
             },
+            angular_higher: b.angular_higher.clone(),
             torque: if w.friction.is_some() {
                 b.torque.clone()
             } else {
@@ -982,6 +983,16 @@ impl Simulation {
             }
             w.bodies.angular_velocity.clone_from(&c.angular_velocity);
             w.bodies.torque.clone_from(&c.torque);
+            if w.scheme == Scheme::Gear5 {
+                if !same_len(c.angular_higher.len()) {
+                    return Err(SceneError::Checkpoint(
+                        "it holds no Gear5 spin derivatives: it was written by a run \
+                         without friction or with Verlet"
+                            .into(),
+                    ));
+                }
+                w.bodies.angular_higher.clone_from(&c.angular_higher);
+            }
         }
         sim.pipeline.neighbours(w, &sim.workers);
         // The build sorts the bodies by cell: a checkpoint written in the
@@ -1156,6 +1167,10 @@ pub struct Checkpoint {
     /// (input id, plane index, displacement record).
     #[serde(default)]
     pub plane_shear: Vec<(u32, u32, WallShear)>,
+    /// Gear5 with friction: the spins' scaled derivatives r₁..r₄, rad/s,
+    /// engine order (empty otherwise; `dynamics::gear5_rotation`).
+    #[serde(default)]
+    pub angular_higher: Vec<[[f64; 3]; 4]>,
 }
 
 /// Distinct (radius, material, fixed) classes of the scene, at most a few
@@ -1191,7 +1206,7 @@ fn classes(setup: &SceneSetup) -> Vec<(f64, usize, bool)> {
     v
 }
 
-/// Friction coefficients finite and ≥ 0; no friction with Gear5.
+/// Friction coefficients finite and ≥ 0.
 fn validate_friction(setup: &SceneSetup) -> Result<(), SceneError> {
     let Some(f) = &setup.friction else {
         return Ok(());
@@ -1216,14 +1231,6 @@ fn validate_friction(setup: &SceneSetup) -> Result<(), SceneError> {
             check_coefficient(&format!("walls[{k}].rolling_friction"), *roll, "μ_r")
                 .map_err(invalid)?;
         }
-    }
-    if setup.integration.scheme == Scheme::Gear5 {
-        return Err(SceneError::invalid(
-            "integration.scheme",
-            "\"gear5\"",
-            "\"verlet\" with friction (contact.friction or contact.rolling_friction > 0): \
-             the scene's Gear5 has no rotation",
-        ));
     }
     Ok(())
 }

@@ -127,6 +127,28 @@ fn friction_and_gear5_checkpoints_continue_bit_for_bit() {
     assert_eq!(c.higher.len(), c.position.len());
 }
 
+/// Gear5 with friction (the spins' derivatives r₁..r₄ migrate with their
+/// bodies and go through the checkpoint): the same restarts, to the bit.
+#[test]
+fn gear5_friction_checkpoints_continue_bit_for_bit() {
+    let mut setup = scene();
+    setup.contact = ContactModel::elastic(NormalLaw::Hertz);
+    setup.integration.scheme = dembound_scene::setup::Scheme::Gear5;
+    setup.friction = Some(dembound_scene::setup::FrictionSetup::uniform(
+        dembound_physics::contact::tangential::FrictionModel {
+            tangential: dembound_physics::contact::tangential::TangentialKind::Mindlin,
+            friction: 0.5,
+            rolling_friction: 0.05,
+        },
+    ));
+    let c = restarts_bit_for_bit(&setup);
+    assert_eq!(c.angular_higher.len(), c.position.len());
+    assert!(c.angular_higher.iter().any(|r| r != &[[0.0; 3]; 4]));
+    assert!(c.pair_shear.len() > 10, "{}", c.pair_shear.len());
+    // Finite to the end (Gear5 with stiff springs at this Δt is stable).
+    assert!(c.position.iter().flatten().all(|x| x.is_finite()));
+}
+
 /// The same with the collision log on: the tracks of open contacts and
 /// the log so far go through the checkpoint, and the continued log equals
 /// the uninterrupted one.
@@ -221,7 +243,26 @@ fn restarts_bit_for_bit(setup: &SceneSetup) -> Checkpoint {
 /// same bits.
 #[test]
 fn engine_checkpoints_load_under_the_decomposition_and_back() {
-    let setup = scene();
+    engine_and_decomposition_checkpoints(scene());
+}
+
+/// The same with Gear5 and friction (the spins' derivatives go both ways).
+#[test]
+fn gear5_friction_engine_checkpoints_load_under_the_decomposition_and_back() {
+    let mut setup = scene();
+    setup.contact = ContactModel::elastic(NormalLaw::Hertz);
+    setup.integration.scheme = dembound_scene::setup::Scheme::Gear5;
+    setup.friction = Some(dembound_scene::setup::FrictionSetup::uniform(
+        dembound_physics::contact::tangential::FrictionModel {
+            tangential: dembound_physics::contact::tangential::TangentialKind::Mindlin,
+            friction: 0.5,
+            rolling_friction: 0.05,
+        },
+    ));
+    engine_and_decomposition_checkpoints(setup);
+}
+
+fn engine_and_decomposition_checkpoints(setup: SceneSetup) {
     let mut sim = Simulation::new(setup.clone(), 1).expect("valid scene");
     sim.step(1500);
     let serial = through_file(&sim.checkpoint());

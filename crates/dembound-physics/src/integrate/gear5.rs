@@ -57,6 +57,23 @@ impl Gear5 {
     }
 }
 
+/// Gear's corrector coefficients for a first-order equation ẏ = f(y) with
+/// five values, the Nordsieck vector rₖ = Δtᵏ y⁽ᵏ⁾/k!, k = 0…4 (Gear 1971;
+/// Allen & Tildesley, *Computer Simulation of Liquids*, 1987, appendix E,
+/// table E.1): c = (251/720, 1, 11/12, 1/3, 1/24), applied as rₖ += cₖ Δ
+/// with Δ = Δt f(yᵖ) − r₁ᵖ after the same Pascal predictor. They are the
+/// velocity part of the second-order corrector above (c₁…c₅ = 251/360,
+/// 1, 11/18, 1/6, 1/60 in the velocity's own scaling): a quantity
+/// integrated with them behaves as Gear5's velocities do, with the same
+/// stability for ẏ = λy (|λΔt| < 0.17 on the negative real axis, 0.23 on
+/// the imaginary axis; the six-value set (95/288, 1, 25/24, 35/72, 5/48,
+/// 1/120) of the same table: 0.09 and 0.12, found by iterating the
+/// scheme on ẏ = λy). The scene engine integrates the spins with them
+/// (dω/dt = τ/I), so that a sphere's spin and its centre's velocity are
+/// advanced alike.
+pub const FIRST_ORDER_CORRECTOR: [f64; 5] =
+    [251.0 / 720.0, 1.0, 11.0 / 12.0, 1.0 / 3.0, 1.0 / 24.0];
+
 /// The Pascal-matrix predictor P r (a Taylor step of the Nordsieck
 /// vector), summed pairwise: the same bits for every state type, scalar or
 /// SIMD lanes (the bounce's batch uses it on lane vectors).

@@ -17,7 +17,8 @@
 //!   ranks, so every rank rebuilds at the same step): bodies that left
 //!   their sub-domain move to their new owner as whole records
 //!   ([`pack::write_body`]) with their pair histories (and friction
-//!   springs), then the halo is sent again as whole records;
+//!   springs; with Gear5 their Nordsieck vectors, with friction the
+//!   spins' too), then the halo is sent again as whole records;
 //! - reductions: the rebuild test (one max per step), the whole scene's
 //!   cell grid at rebuilds, the observables (sums, when observed).
 //!
@@ -54,7 +55,7 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
 use crate::dynamics::friction::{self, Springs};
-use crate::dynamics::{integrate, spring_energy, walls};
+use crate::dynamics::{gear5_rotation, integrate, spring_energy, walls};
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::{SharedMut, STEP_CHUNK};
 use crate::pipeline::{
@@ -336,6 +337,9 @@ impl<T: Transport> DistributedSimulation<T> {
             // r₂ = Δt² a/2 from the first forces (summed as every step's:
             // the same bits on any rank), r₃..r₅ = 0, as the engine starts.
             integrate::gear5_start(&mut w.bodies, w.dt);
+            if w.friction.is_some() {
+                gear5_rotation::start(&mut w.bodies, w.dt);
+            }
         }
         let o = me.observe();
         me.sim.initial_energy = o.kinetic_energy + o.elastic_energy + o.potential_energy;
@@ -464,6 +468,9 @@ impl<T: Transport> DistributedSimulation<T> {
             }
             if gear5 {
                 pack::write_higher(w, &world.bodies.higher, k);
+                if spin {
+                    pack::write_angular_higher(w, &world.bodies.angular_higher, k);
+                }
             }
             if let Some(t) = world.tracks.as_ref().filter(|_| tracked) {
                 // The collision log's tracks: the body's pairs and planes.
@@ -519,6 +526,13 @@ impl<T: Transport> DistributedSimulation<T> {
                     // Before the first forces (gear5_start) there are none.
                     if world.bodies.higher.len() + 1 == world.bodies.len() {
                         world.bodies.higher.extend(higher);
+                    }
+                    if spin {
+                        let mut higher = Vec::with_capacity(1);
+                        pack::read_angular_higher(&mut r, &mut higher);
+                        if world.bodies.angular_higher.len() + 1 == world.bodies.len() {
+                            world.bodies.angular_higher.extend(higher);
+                        }
                     }
                 }
                 if spin {
@@ -578,6 +592,9 @@ impl<T: Transport> DistributedSimulation<T> {
                 if gear5 && world.bodies.higher.len() + 1 == world.bodies.len() {
                     // Nor is it integrated.
                     world.bodies.higher.push(Default::default());
+                }
+                if gear5 && spin && world.bodies.angular_higher.len() + 1 == world.bodies.len() {
+                    world.bodies.angular_higher.push(Default::default());
                 }
             }
             got_ids.push((from, ids));
@@ -1086,6 +1103,10 @@ impl<T: Transport> DistributedSimulation<T> {
             dt,
             &sim.workers,
         );
+        let friction = sim.world.friction.is_some();
+        if friction {
+            gear5_rotation::predict(&mut sim.world.bodies, &sim.workers);
+        }
         let moved2 = self.transport.max(moved2);
         if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
             self.rebuild();
@@ -1095,7 +1116,11 @@ impl<T: Transport> DistributedSimulation<T> {
             sim.pipeline.ghosts(&mut sim.world);
         }
         let sim = &mut self.sim;
-        sim.pipeline.body_forces(&mut sim.world, &sim.workers, 0.0);
+        // With friction the springs move by Δt of the predicted slip, as
+        // the engine's (`pair_forces` moves the pairs' by Δt already).
+        let springs_dt = if friction { dt } else { 0.0 };
+        sim.pipeline
+            .body_forces(&mut sim.world, &sim.workers, springs_dt);
         self.pair_forces();
         let sim = &mut self.sim;
         sim.pipeline.gear5_correct(&mut sim.world, &sim.workers);

@@ -115,8 +115,10 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Writes body k: every array of [`Bodies`] (Gear5's `higher` excepted:
-/// decomposed runs are Verlet) and its plane-wall contact state.
+/// Writes body k: every array of [`Bodies`] (Gear5's `higher` and
+/// `angular_higher` excepted: [`write_higher`] and
+/// [`write_angular_higher`] send them when they migrate) and its
+/// plane-wall contact state.
 /// `wall_history`: the law keeps contact histories (`LawTable::history`).
 pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history: bool, k: usize) {
     // Destructured so that a new per-body array fails to compile here.
@@ -136,6 +138,7 @@ pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history
         angular_velocity,
         torque,
         inverse_inertia,
+        angular_higher: _,
     } = b;
     w.u32(id[k]);
     w.vec3(position[k]);
@@ -227,6 +230,17 @@ pub fn write_higher(w: &mut Writer, higher: &[[[f64; 3]; 4]], k: usize) {
 /// Appends what [`write_higher`] wrote.
 pub fn read_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
     higher.push([r.vec3(), r.vec3(), r.vec3(), r.vec3()]);
+}
+
+/// Writes a Gear5 run's spin derivatives r₁..r₄ of body k (friction;
+/// zeros if the array is not sized).
+pub fn write_angular_higher(w: &mut Writer, higher: &[[[f64; 3]; 4]], k: usize) {
+    write_higher(w, higher, k);
+}
+
+/// Appends what [`write_angular_higher`] wrote.
+pub fn read_angular_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
+    read_higher(r, higher);
 }
 
 /// Bytes of one body record with `planes` plane walls.

@@ -5,6 +5,7 @@ pub mod collisions;
 pub mod contacts;
 pub mod friction;
 pub mod friction_observables;
+pub mod gear5_rotation;
 pub mod integrate;
 pub mod kinks;
 pub mod spring_energy;

@@ -598,7 +598,7 @@ impl SceneFile {
     }
 
     /// The friction keys (issue 13): each coefficient finite and ≥ 0, the
-    /// tangential model a registry name, no friction with Gear5.
+    /// tangential model a registry name (with Verlet or Gear5).
     fn validate_friction(&self) -> Result<(), SceneError> {
         let coefficient = |key: &str, v: Option<f64>, symbol: &str| -> Result<(), SceneError> {
             match v {
@@ -637,15 +637,6 @@ impl SceneFile {
                 w.rolling_friction,
                 "μ_r",
             )?;
-        }
-        if self.has_friction() && self.integration.scheme == Scheme::Gear5 {
-            return Err(invalid(
-                "integration.scheme",
-                "\"gear5\"",
-                "\"verlet\" with friction (contact.friction, contact.tangential, \
-                 contact.rolling_friction or a material's or wall's friction given): \
-                 the scene's Gear5 has no rotation",
-            ));
         }
         Ok(())
     }

@@ -71,6 +71,13 @@ fn check(c: &Checkpoint, n: usize, gear5: bool, friction: bool) -> Result<Vec<us
             "it holds no spins: it was written by a run without friction".into(),
         ));
     }
+    if gear5 && friction && c.angular_higher.len() != n {
+        return Err(SceneError::Checkpoint(
+            "it holds no Gear5 spin derivatives: it was written by a run without friction \
+             or with Verlet"
+                .into(),
+        ));
+    }
     if !friction && (!c.angular_velocity.is_empty() || !c.pair_shear.is_empty()) {
         return Err(SceneError::Checkpoint(
             "it was written by a run with friction; the scene has none".into(),
@@ -118,6 +125,9 @@ impl<T: Transport> DistributedSimulation<T> {
             out.vec3(reference.get(k).copied().unwrap_or(b.position[k]));
             if gear5 {
                 pack::write_higher(&mut out, &b.higher, k);
+                if spin {
+                    pack::write_angular_higher(&mut out, &b.angular_higher, k);
+                }
             }
             if spin {
                 out.vec3(b.angular_velocity[k]);
@@ -215,6 +225,11 @@ impl<T: Transport> DistributedSimulation<T> {
             torque: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
             pair_shear: Vec::new(),
             plane_shear: Vec::new(),
+            angular_higher: if gear5 && spin {
+                vec![[[0.0; 3]; 4]; n]
+            } else {
+                Vec::new()
+            },
         };
         let mut plane_shear = BTreeMap::new();
         let mut springs = BTreeMap::new();
@@ -234,6 +249,13 @@ impl<T: Transport> DistributedSimulation<T> {
                     pack::read_higher(&mut r, &mut h);
                     if let (Some(slot), Some(h)) = (c.higher.get_mut(id), h.first()) {
                         *slot = *h;
+                    }
+                    if spin {
+                        let mut h = Vec::with_capacity(1);
+                        pack::read_angular_higher(&mut r, &mut h);
+                        if let (Some(slot), Some(h)) = (c.angular_higher.get_mut(id), h.first()) {
+                            *slot = *h;
+                        }
                     }
                 }
                 if tracked {
@@ -365,6 +387,10 @@ impl<T: Transport> DistributedSimulation<T> {
                 }
                 if let (Some(a), Some(ca)) =
                     (b.angular_velocity.get_mut(k), c.angular_velocity.get(s))
+                {
+                    *a = *ca;
+                }
+                if let (Some(a), Some(ca)) = (b.angular_higher.get_mut(k), c.angular_higher.get(s))
                 {
                     *a = *ca;
                 }
