@@ -207,6 +207,39 @@ fn bad_input_exits_2_naming_the_key() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/scene.toml"));
 }
 
+/// A time step far beyond the contact time blows the run up: exit 2
+/// naming `integration.dt` and the step, no numbers printed, no output
+/// directory (instead of NaN energies and forces, as before).
+#[test]
+fn a_blown_up_run_exits_2_without_numbers_or_files() {
+    let dir = std::env::temp_dir().join(format!("dembound-blowup-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for scheme in ["verlet", "gear5"] {
+        let out = dembound()
+            .arg("scene")
+            .arg(scene("bed_particle_floor.toml"))
+            .args([
+                "--set",
+                "integration.dt=1e-3",
+                "--set",
+                "integration.steps=400",
+            ])
+            .args(["--set", &format!("integration.scheme={scheme}"), "--json"])
+            .arg("--out")
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{scheme}: {err}");
+        assert!(
+            err.contains("integration.dt = 1e-3 s") && err.contains("unstable by step"),
+            "{scheme}: {err}"
+        );
+        assert!(out.stdout.is_empty(), "{scheme}: nothing printed");
+        assert!(!dir.exists(), "{scheme}: no output directory");
+    }
+}
+
 fn files(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()

@@ -119,3 +119,12 @@ def test_scene_from_dict_with_bodies_and_walls_from_arrays():
 def test_scene_bad_input_is_value_error():
     with pytest.raises(ValueError, match="integration"):
         dembound.Scene.from_toml(VALIDATION, ["integration.eta=5"])
+
+
+def test_a_blown_up_run_is_value_error_not_nan():
+    # A step 500x the bed's (2 µs): the state overflows within tens of
+    # steps; stepping raises instead of leaving NaN in the arrays.
+    bed = REPO / "examples" / "scenes" / "bed_particle_floor.toml"
+    scene = dembound.Scene.from_toml(bed, ["integration.dt=1e-3"])
+    with pytest.raises(ValueError, match=r"integration.dt = 1e-3 s .* unstable by step"):
+        scene.step(400)

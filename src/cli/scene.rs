@@ -137,7 +137,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
             next = next.min(start.saturating_add(k.saturating_mul(interval)));
         }
         let t0 = Instant::now();
-        sim.step(next - step);
+        sim.step_checked(next - step).map_err(scene_error)?;
         stepping += t0.elapsed().as_secs_f64();
         if let Some(bar) = &bar {
             bar.set_position(next - start);

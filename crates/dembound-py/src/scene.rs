@@ -232,12 +232,7 @@ impl Scene {
     /// Advances `n` steps (GIL released).
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
         let sim = &mut self.sim;
-        Ok(py.detach(|| {
-            guarded(|| {
-                sim.step(n);
-                Ok(())
-            })
-        })?)
+        Ok(py.detach(|| guarded(|| sim.step_checked(n).map_err(scene_failure)))?)
     }
 
     /// Runs for `duration` s (rounded to whole steps), or to the scene's

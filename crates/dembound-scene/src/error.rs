@@ -23,6 +23,19 @@ pub enum SceneError {
     /// (`io`, `sources`): the message names the key or the file and
     /// line, the value and what is allowed.
     Input(String),
+    /// The run blew up: a body's position, velocity or spin is no longer
+    /// finite after `step` (the time step is too large for the contacts;
+    /// input: the CLI exits 2).
+    Unstable {
+        /// The step after which the state was found not finite.
+        step: u64,
+        /// Its time, s.
+        time: f64,
+        /// The time step, s.
+        dt: f64,
+        /// The integration scheme (`verlet`, `gear5`).
+        scheme: String,
+    },
     /// A file that could not be read or written.
     Io {
         path: std::path::PathBuf,
@@ -63,7 +76,10 @@ impl SceneError {
     pub fn is_input(&self) -> bool {
         matches!(
             self,
-            SceneError::Invalid { .. } | SceneError::Checkpoint(_) | SceneError::Input(_)
+            SceneError::Invalid { .. }
+                | SceneError::Checkpoint(_)
+                | SceneError::Input(_)
+                | SceneError::Unstable { .. }
         )
     }
 }
@@ -81,6 +97,22 @@ impl fmt::Display for SceneError {
             SceneError::Checkpoint(why) => write!(f, "checkpoint does not fit the scene: {why}"),
             SceneError::Threads(why) => write!(f, "cannot start the worker threads: {why}"),
             SceneError::Input(message) => f.write_str(message),
+            SceneError::Unstable {
+                step,
+                time,
+                dt,
+                scheme,
+            } => write!(
+                f,
+                "integration.dt = {dt:e} s is too large for this scene ({scheme}): the run became \
+                 unstable by step {step} (t = {time:.6e} s), a position, velocity or spin is no \
+                 longer finite; allowed: a smaller step (integration.dt or integration.eta){}",
+                if scheme == "gear5" {
+                    ", or scheme = \"verlet\" (its stable steps are several times longer than Gear5's)"
+                } else {
+                    ""
+                }
+            ),
             SceneError::Io { path, message } => write!(f, "`{}`: {message}", path.display()),
         }
     }

@@ -492,6 +492,34 @@ impl Simulation {
         self.pipeline.steps(&mut self.world, &self.workers, n);
     }
 
+    /// [`Self::step`], then the state checked: an error
+    /// ([`SceneError::Unstable`]) when a position, velocity or spin is no
+    /// longer finite, so that a blown-up run is never reported as numbers.
+    pub fn step_checked(&mut self, n: u64) -> Result<(), SceneError> {
+        self.step(n);
+        self.check_finite()
+    }
+
+    /// An error when a body's position, velocity or spin is not finite
+    /// (one pass over the bodies).
+    pub fn check_finite(&self) -> Result<(), SceneError> {
+        let b = &self.world.bodies;
+        let finite = |v: &[[f64; 3]]| v.iter().flatten().all(|x| x.is_finite());
+        if finite(&b.position) && finite(&b.velocity) && finite(&b.angular_velocity) {
+            return Ok(());
+        }
+        Err(SceneError::Unstable {
+            step: self.world.steps_done,
+            time: self.time(),
+            dt: self.world.dt,
+            scheme: match self.world.scheme {
+                Scheme::Verlet => "verlet",
+                Scheme::Gear5 => "gear5",
+            }
+            .to_string(),
+        })
+    }
+
     /// Steps until the setup's run length is reached.
     pub fn run_to_end(&mut self) {
         self.step(self.remaining_steps());
