@@ -1049,11 +1049,14 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
         step: c.step,
         dt: c.dt,
     };
+    // Two passes over the chunk: the integration and the weights of all
+    // bodies, then the plane walls' forces of the few near a wall. One
+    // pass spilled the wall code's registers on every body. Each body gets
+    // the same operations in the same order: the same bits.
     for i in lo..hi {
-        if i + WALL_PREFETCH < hi {
-            // SAFETY: a body of this chunk.
-            friction::prefetch_wall_springs(i + WALL_PREFETCH, &c.walls, c.wall_shear);
-        }
+        // SAFETY: a body of this chunk; its springs are read in the
+        // second pass.
+        friction::prefetch_wall_springs(i, &c.walls, c.wall_shear);
         let fi = c.f.at(i);
         let ti = c.torque.at(i);
         if b.fixed[i] {
@@ -1078,16 +1081,21 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
         integrate::drift(&mut x, v, c.dt);
         (*xi, *vi, *wi) = (x, v, w);
         m = m.max(integrate::displacement2(x, c.reference[i]));
-        let (f, t) = friction::body_force(&input, i, (x, v, w), &c.walls, c.wall_shear);
-        *fi = f;
-        *ti = t;
+        *fi = friction::gravity_force(&input, i);
+        *ti = [0.0; 3];
+    }
+    for i in lo..hi {
+        if b.fixed[i] || (*c.walls.near.at(i) | *c.walls.touching.at(i)) == 0 {
+            continue;
+        }
+        let (fi, ti) = (c.f.at(i), c.torque.at(i));
+        let (mut f, mut t) = (*fi, *ti);
+        let state = (*c.x.at(i), *c.v.at(i), *c.spin.at(i));
+        friction::add_plane_forces(&input, i, state, &c.walls, c.wall_shear, &mut f, &mut t);
+        (*fi, *ti) = (f, t);
     }
     m
 }
-
-/// How many bodies ahead the friction body pass fetches the plane springs
-/// ([`friction::prefetch_wall_springs`]).
-const WALL_PREFETCH: usize = 8;
 
 /// Verlet's last half kick of the spins: ω ← ω + Δt/2 · τ/I.
 fn friction_spin_kick(bodies: &mut Bodies, dt: f64, workers: &Workers) {

@@ -1237,10 +1237,37 @@ pub unsafe fn body_force(
     if bodies.fixed[i] {
         return ([0.0; 3], [0.0; 3]);
     }
-    let m = bodies.mass[i];
-    let g = c.gravity;
-    let mut acc = [m * g[0], m * g[1], m * g[2]];
+    let mut acc = gravity_force(c, i);
     let mut torque = [0.0; 3];
+    add_plane_forces(c, i, (x, v, w), walls, shear, &mut acc, &mut torque);
+    (acc, torque)
+}
+
+/// Body i's weight m g, N.
+#[inline(always)]
+pub fn gravity_force(c: &BodyForceInput, i: usize) -> [f64; 3] {
+    let m = c.bodies.mass[i];
+    let g = c.gravity;
+    [m * g[0], m * g[1], m * g[2]]
+}
+
+/// Adds the plane walls' forces (with friction) onto `acc` and their
+/// torques onto `torque`, for free body i at (x, v, w) ([`body_force`]
+/// without the weight).
+///
+/// # Safety
+/// As [`body_force`].
+#[inline(always)]
+pub unsafe fn add_plane_forces(
+    c: &BodyForceInput,
+    i: usize,
+    (x, v, w): ([f64; 3], [f64; 3], [f64; 3]),
+    walls: &WallContactsMut,
+    shear: SharedMut<WallShear>,
+    acc: &mut [f64; 3],
+    torque: &mut [f64; 3],
+) {
+    let bodies = c.bodies;
     let mask = walls.touching.at(i);
     let mut todo = *walls.near.at(i) | *mask;
     let r = bodies.radius[i];
@@ -1298,9 +1325,9 @@ pub unsafe fn body_force(
             for a in 0..3 {
                 acc[a] += fw * plane.normal[a] + ft[a];
             }
-            add(&mut torque, scale(r, cross(n, ft)));
+            add(torque, scale(r, cross(n, ft)));
             if let Some(rolling) = rolling {
-                add(&mut torque, rolling);
+                add(torque, rolling);
             }
         } else if *mask & bit != 0 {
             *hist = ContactHistory::default();
@@ -1308,7 +1335,6 @@ pub unsafe fn body_force(
             *mask &= !bit;
         }
     }
-    (acc, torque)
 }
 
 /// Asks the processor to fetch body i's plane springs (and histories) for
