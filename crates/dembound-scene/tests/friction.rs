@@ -11,12 +11,10 @@
 
 mod common;
 
-use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
+use dembound_physics::contact::tangential::TangentialKind;
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_physics::material::Material;
-use dembound_scene::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
-};
+use dembound_scene::setup::Scheme;
 use dembound_scene::{SceneSetup, Simulation};
 
 const R: f64 = 1.0e-3;
@@ -40,44 +38,20 @@ fn sphere_on_plane(
     friction: Option<(TangentialKind, f64, f64)>,
     dt: f64,
 ) -> SceneSetup {
-    let mut s = SceneSetup::new(
-        DomainSetup {
-            lower: [-1.0, -1.0, -0.01],
-            upper: [1.0, 1.0, 1.0],
-            periodic: [false; 3],
-        },
-        ContactModel::damped(
-            NormalLaw::Hertz,
-            Damping::new(DampingKind::Tsuji, Dissipation::Restitution(e)),
-        ),
-        TimeStep::Fixed(dt),
-        RunLength::Steps(0),
+    let contact = ContactModel::damped(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(e)),
     );
-    s.materials.push(NamedMaterial {
-        name: "grain".into(),
-        material: material(),
-    });
-    s.spheres.push(SphereInit {
+    common::sphere_on_plane(
+        R,
+        material(),
         position,
         velocity,
-        radius: R,
-        material: 0,
-        fixed: false,
-        group: None,
-    });
-    s.walls.push(WallSetup::Plane {
-        point: [0.0; 3],
-        normal: [0.0, 0.0, 1.0],
-        material: 0,
-    });
-    s.friction = friction.map(|(tangential, mu, roll)| {
-        FrictionSetup::uniform(FrictionModel {
-            tangential,
-            friction: mu,
-            rolling_friction: roll,
-        })
-    });
-    s
+        contact,
+        friction,
+        Scheme::Verlet,
+        dt,
+    )
 }
 
 /// Hertz contact time of a sphere of radius R on a plane of its own

@@ -19,9 +19,7 @@ use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation,
 use dembound_physics::material::Material;
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::config;
-use dembound_scene::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
-};
+use dembound_scene::setup::{FrictionSetup, Scheme};
 use dembound_scene::{SceneSetup, Simulation};
 
 const R: f64 = 1.0e-3;
@@ -61,42 +59,16 @@ fn sphere_on_plane(
     friction: Option<(TangentialKind, f64, f64)>,
     dt: f64,
 ) -> SceneSetup {
-    let mut s = SceneSetup::new(
-        DomainSetup {
-            lower: [-1.0, -1.0, -0.01],
-            upper: [1.0, 1.0, 1.0],
-            periodic: [false; 3],
-        },
-        contact,
-        TimeStep::Fixed(dt),
-        RunLength::Steps(0),
-    );
-    s.integration.scheme = Scheme::Gear5;
-    s.materials.push(NamedMaterial {
-        name: "grain".into(),
-        material: material(),
-    });
-    s.spheres.push(SphereInit {
+    common::sphere_on_plane(
+        R,
+        material(),
         position,
         velocity,
-        radius: R,
-        material: 0,
-        fixed: false,
-        group: None,
-    });
-    s.walls.push(WallSetup::Plane {
-        point: [0.0; 3],
-        normal: [0.0, 0.0, 1.0],
-        material: 0,
-    });
-    s.friction = friction.map(|(tangential, mu, roll)| {
-        FrictionSetup::uniform(FrictionModel {
-            tangential,
-            friction: mu,
-            rolling_friction: roll,
-        })
-    });
-    s
+        contact,
+        friction,
+        Scheme::Gear5,
+        dt,
+    )
 }
 
 fn tsuji(e: f64) -> ContactModel {

@@ -1,10 +1,11 @@
 //! Scenes shared by the integration tests.
 #![allow(dead_code)]
 
+use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::{ContactModel, NormalLaw};
 use dembound_physics::material::Material;
 use dembound_scene::setup::{
-    DomainSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+    DomainSetup, FrictionSetup, NamedMaterial, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
 };
 use dembound_scene::SceneSetup;
 
@@ -144,5 +145,58 @@ pub fn periodic_gas(per_side: usize, eta: f64, speed: f64, seed: u64) -> SceneSe
             }
         }
     }
+    s
+}
+
+/// One sphere of `radius` and `material` at `position` with `velocity`
+/// over the plane z = 0 of the same material, normal law `contact`,
+/// friction (kind, μ, μ_r) on everything (`None`: no friction at all),
+/// `scheme`, Δt given (the friction tests' single-contact scene).
+#[allow(clippy::too_many_arguments)]
+pub fn sphere_on_plane(
+    radius: f64,
+    material: Material,
+    position: [f64; 3],
+    velocity: [f64; 3],
+    contact: ContactModel,
+    friction: Option<(TangentialKind, f64, f64)>,
+    scheme: Scheme,
+    dt: f64,
+) -> SceneSetup {
+    let mut s = SceneSetup::new(
+        DomainSetup {
+            lower: [-1.0, -1.0, -0.01],
+            upper: [1.0, 1.0, 1.0],
+            periodic: [false; 3],
+        },
+        contact,
+        TimeStep::Fixed(dt),
+        RunLength::Steps(0),
+    );
+    s.integration.scheme = scheme;
+    s.materials.push(NamedMaterial {
+        name: "grain".into(),
+        material,
+    });
+    s.spheres.push(SphereInit {
+        position,
+        velocity,
+        radius,
+        material: 0,
+        fixed: false,
+        group: None,
+    });
+    s.walls.push(WallSetup::Plane {
+        point: [0.0; 3],
+        normal: [0.0, 0.0, 1.0],
+        material: 0,
+    });
+    s.friction = friction.map(|(tangential, mu, roll)| {
+        FrictionSetup::uniform(FrictionModel {
+            tangential,
+            friction: mu,
+            rolling_friction: roll,
+        })
+    });
     s
 }
