@@ -224,6 +224,43 @@ fn bad_grid_exits_2_with_one_message() {
     assert!(!out.exists());
 }
 
+/// A run that blows up under MPI (a step far beyond the contact time)
+/// stops on every rank with one message naming `integration.dt`, exit 2,
+/// no output directory (instead of NaN energies).
+#[test]
+fn a_blown_up_run_exits_2_with_one_message() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let out = tmp.path().join("never");
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/bed_particle_floor.toml");
+    let o = Command::new("mpirun")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .args(["--oversubscribe", "-np", "2"])
+        .arg(env!("CARGO_BIN_EXE_dembound"))
+        .arg("scene")
+        .arg(&scene)
+        .args([
+            "--set",
+            "integration.dt=1e-3",
+            "--set",
+            "integration.steps=400",
+        ])
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(
+        err.matches("error: integration.dt = 1e-3 s").count(),
+        1,
+        "{err}"
+    );
+    assert!(err.contains("unstable by step"), "{err}");
+    assert!(!out.exists());
+}
+
 /// `--out` under MPI writes the engine's checkpoint; `--restart` continues
 /// it on any number of ranks. The lattice drop with Walton–Braun (every
 /// contact's largest overlap is state): 2000 steps on 2 ranks and a

@@ -203,6 +203,8 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             next = next.min(start.saturating_add(k.saturating_mul(interval)));
         }
         sim.step(next - step);
+        // A blown-up run stops on every rank with one message (exit 2).
+        agree(t, sim.check_finite().map_err(scene_error))?;
         if let Some(bar) = &bar {
             bar.set_position(next - start);
         }

@@ -1131,6 +1131,13 @@ impl<T: Transport> DistributedSimulation<T> {
         self.sim.world.steps_done
     }
 
+    /// This rank's bodies (owned and halo copies) finite
+    /// ([`Simulation::check_finite`]); not collective: the caller agrees
+    /// on the outcome across the ranks.
+    pub fn check_finite(&self) -> Result<(), SceneError> {
+        self.sim.check_finite()
+    }
+
     pub fn total_steps(&self) -> u64 {
         self.sim.total_steps()
     }
