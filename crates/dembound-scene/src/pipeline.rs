@@ -661,8 +661,8 @@ impl Pipeline {
 
     /// Stage "forces": gravity and plane walls per body, then the pairs.
     /// With friction the tangential springs do not move (LAMMPS's setup):
-    /// used at the start only (Gear5 with friction steps with
-    /// [`Self::body_forces`] and [`Self::pair_forces`] over Δt).
+    /// used at the start only (Gear5 with friction steps with the body
+    /// and pair force stages over Δt).
     pub fn forces(&mut self, world: &mut World, workers: &Workers) {
         self.body_forces(world, workers, 0.0);
         self.pair_forces(world, workers, 0.0);
