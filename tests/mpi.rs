@@ -31,8 +31,12 @@ fn scene_args() -> Vec<String> {
     .collect()
 }
 
-fn mpirun(ranks: usize, mca: &[&str], extra: &[&str], out: &Path) -> serde_json::Value {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml");
+/// `mpirun --oversubscribe -np RANKS [MCA] dembound scene examples/scenes/SCENE`
+/// (allowed as root), arguments to follow.
+fn mpirun_scene(ranks: usize, mca: &[&str], scene: &str) -> Command {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/scenes")
+        .join(scene);
     let mut cmd = Command::new("mpirun");
     cmd.env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
@@ -40,8 +44,13 @@ fn mpirun(ranks: usize, mca: &[&str], extra: &[&str], out: &Path) -> serde_json:
         .args(mca)
         .arg(env!("CARGO_BIN_EXE_dembound"))
         .arg("scene")
-        .arg(&scene)
-        .args(scene_args())
+        .arg(scene);
+    cmd
+}
+
+fn mpirun(ranks: usize, mca: &[&str], extra: &[&str], out: &Path) -> serde_json::Value {
+    let mut cmd = mpirun_scene(ranks, mca, "lattice_drop.toml");
+    cmd.args(scene_args())
         .args(extra)
         .arg("--json")
         .arg("--out")
@@ -206,14 +215,7 @@ fn collision_log_is_the_same_on_one_two_three_ranks() {
 fn bad_grid_exits_2_with_one_message() {
     let tmp = tempfile::tempdir().expect("temp dir");
     let out = tmp.path().join("never");
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml");
-    let o = Command::new("mpirun")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .args(["--oversubscribe", "-np", "2"])
-        .arg(env!("CARGO_BIN_EXE_dembound"))
-        .arg("scene")
-        .arg(&scene)
+    let o = mpirun_scene(2, &[], "lattice_drop.toml")
         .args(["--set", "parallel.grid=[1,1,3]", "--quiet", "--out"])
         .arg(&out)
         .output()
@@ -231,15 +233,7 @@ fn bad_grid_exits_2_with_one_message() {
 fn a_blown_up_run_exits_2_with_one_message() {
     let tmp = tempfile::tempdir().expect("temp dir");
     let out = tmp.path().join("never");
-    let scene =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/bed_particle_floor.toml");
-    let o = Command::new("mpirun")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .args(["--oversubscribe", "-np", "2"])
-        .arg(env!("CARGO_BIN_EXE_dembound"))
-        .arg("scene")
-        .arg(&scene)
+    let o = mpirun_scene(2, &[], "bed_particle_floor.toml")
         .args([
             "--set",
             "integration.dt=1e-3",
@@ -333,16 +327,9 @@ fn checkpoint_on_two_ranks_restarts_on_three_and_one() {
 #[test]
 fn settling_bed_rebalances_under_mpirun() {
     let tmp = tempfile::tempdir().expect("temp dir");
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/settling_bed.toml");
     let run = |threshold: &str, name: &str| {
         let out = tmp.path().join(name);
-        let o = Command::new("mpirun")
-            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-            .args(["--oversubscribe", "-np", "3"])
-            .arg(env!("CARGO_BIN_EXE_dembound"))
-            .arg("scene")
-            .arg(&scene)
+        let o = mpirun_scene(3, &[], "settling_bed.toml")
             .args([
                 "--set",
                 &format!("parallel.rebalance_threshold={threshold}"),
