@@ -42,15 +42,15 @@
 //! Mindlin theory, which has no dashpot: this is LIGGGHTS's (and EDEM's)
 //! damped Hertz–Mindlin, the model the engine claims.
 
-use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
+mod common;
+
+use dembound_physics::contact::tangential::TangentialKind;
 use dembound_physics::contact::{
     Calibration, ContactModel, Damping, DampingKind, Dissipation, NormalLaw,
 };
 use dembound_physics::material::Material;
-use dembound_scene::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
-};
-use dembound_scene::{SceneSetup, Simulation};
+use dembound_scene::setup::Scheme;
+use dembound_scene::Simulation;
 use std::f64::consts::PI;
 
 const R: f64 = 2.5e-3;
@@ -176,42 +176,20 @@ fn engine(theta: f64, per_contact: f64) -> (f64, f64, f64) {
             Damping::new(DampingKind::Tsuji, Dissipation::Restitution(REST)),
         )
     };
-    let mut s = SceneSetup::new(
-        DomainSetup {
-            lower: [-1.0, -1.0, -0.01],
-            upper: [1.0, 1.0, 1.0],
-            periodic: [false; 3],
-        },
-        model,
-        TimeStep::Fixed(dt),
-        RunLength::Steps(0),
-    );
-    s.materials.push(NamedMaterial {
-        name: "alumina".into(),
-        material: Material {
+    let s = common::sphere_on_plane(
+        R,
+        Material {
             density: RHO,
             youngs_modulus: E,
             poisson_ratio: NU,
         },
-    });
-    s.spheres.push(SphereInit {
-        position: [0.0, 0.0, R + 3.0 * dt * vn],
-        velocity: [vt, 0.0, -vn],
-        radius: R,
-        material: 0,
-        fixed: false,
-        group: None,
-    });
-    s.walls.push(WallSetup::Plane {
-        point: [0.0; 3],
-        normal: [0.0, 0.0, 1.0],
-        material: 0,
-    });
-    s.friction = Some(FrictionSetup::uniform(FrictionModel {
-        tangential: TangentialKind::Mindlin,
-        friction: MU,
-        rolling_friction: 0.0,
-    }));
+        [0.0, 0.0, R + 3.0 * dt * vn],
+        [vt, 0.0, -vn],
+        model,
+        Some((TangentialKind::Mindlin, MU, 0.0)),
+        Scheme::Verlet,
+        dt,
+    );
     let mut sim = Simulation::new(s, 1).unwrap();
     sim.step((1.5 * per_contact) as u64 + 10);
     let v = sim.velocities()[0];
