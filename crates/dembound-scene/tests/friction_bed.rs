@@ -6,9 +6,7 @@
 
 mod common;
 
-use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
-use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
-use dembound_scene::setup::{FrictionSetup, SphereInit, WallSetup};
+use dembound_scene::setup::{SphereInit, WallSetup};
 use dembound_scene::{SceneSetup, Simulation};
 
 const G: f64 = 9.81;
@@ -21,24 +19,7 @@ const FLOOR: usize = 4;
 /// carry no vertical force (with friction they would hold part of the
 /// weight, Janssen's effect, and the floor would carry less than N m g).
 fn bed() -> SceneSetup {
-    let mut s = common::lattice_drop(4, 4, 2.0e-6, 0);
-    s.materials[0].material.youngs_modulus = 1.0e8;
-    s.contact = ContactModel::damped(
-        NormalLaw::Hertz,
-        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
-    );
-    let mut walls = vec![Some((0.0, 0.0)); 6];
-    walls[FLOOR] = None;
-    s.friction = Some(FrictionSetup {
-        model: FrictionModel {
-            tangential: TangentialKind::Mindlin,
-            friction: 0.5,
-            rolling_friction: 0.05,
-        },
-        materials: Vec::new(),
-        walls,
-    });
-    s
+    common::frictional_bed(4, 4, 2.0e-6)
 }
 
 /// The bed with its floor replaced by a touching square tiling of fixed

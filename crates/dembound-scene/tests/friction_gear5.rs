@@ -14,12 +14,12 @@
 
 mod common;
 
-use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
+use dembound_physics::contact::tangential::TangentialKind;
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_physics::material::Material;
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::config;
-use dembound_scene::setup::{FrictionSetup, Scheme};
+use dembound_scene::setup::Scheme;
 use dembound_scene::{SceneSetup, Simulation};
 
 const R: f64 = 1.0e-3;
@@ -420,21 +420,8 @@ fn sliding_under_a_smooth_normal_load_gear5_order() {
 /// (≤ 50 rad/s), for 2 ms: impacts, sliding, sticking and rolling
 /// contacts among the grains and on the floor.
 fn small_bed(scheme: Scheme, dt: f64) -> SceneSetup {
-    let mut s = common::lattice_drop(2, 2, dt, 0);
-    s.materials[0].material.youngs_modulus = 1.0e8;
-    s.contact = tsuji(0.3);
+    let mut s = common::frictional_bed(2, 2, dt);
     s.integration.scheme = scheme;
-    let mut walls = vec![Some((0.0, 0.0)); 6];
-    walls[4] = None;
-    s.friction = Some(FrictionSetup {
-        model: FrictionModel {
-            tangential: TangentialKind::Mindlin,
-            friction: 0.5,
-            rolling_friction: 0.05,
-        },
-        materials: Vec::new(),
-        walls,
-    });
     let mut rng = common::Rng(7);
     for sphere in &mut s.spheres {
         sphere.velocity = std::array::from_fn(|_| 0.05 * rng.symmetric());

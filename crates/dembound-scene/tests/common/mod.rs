@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
-use dembound_physics::contact::{ContactModel, NormalLaw};
+use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_physics::material::Material;
 use dembound_scene::setup::{
     DomainSetup, FrictionSetup, NamedMaterial, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
@@ -197,6 +197,31 @@ pub fn sphere_on_plane(
             friction: mu,
             rolling_friction: roll,
         })
+    });
+    s
+}
+
+/// The frictional bed of `friction_bed.rs`: `lattice_drop(side, layers)`
+/// with E = 1e8 Pa, Hertz + Tsuji e = 0.3, Mindlin μ = 0.5 and μ_r = 0.05
+/// on the grains and the floor (wall 4), the side walls and the lid
+/// frictionless (with friction they would hold part of the weight).
+pub fn frictional_bed(side: usize, layers: usize, dt: f64) -> SceneSetup {
+    let mut s = lattice_drop(side, layers, dt, 0);
+    s.materials[0].material.youngs_modulus = 1.0e8;
+    s.contact = ContactModel::damped(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
+    );
+    let mut walls = vec![Some((0.0, 0.0)); 6];
+    walls[4] = None;
+    s.friction = Some(FrictionSetup {
+        model: FrictionModel {
+            tangential: TangentialKind::Mindlin,
+            friction: 0.5,
+            rolling_friction: 0.05,
+        },
+        materials: Vec::new(),
+        walls,
     });
     s
 }
