@@ -1,13 +1,9 @@
 //! Friction and rotation under the paper's Gear5 (issue 13;
-//! `dynamics::gear5_rotation`): the closed forms of `friction.rs` again,
-//! Gear5 against Verlet as Δt → 0, Gear5's measured order, and
-//! restarts and thread counts to the bit.
+//! `dynamics::gear5_rotation`): Gear5 against Verlet as Δt → 0, Gear5's
+//! measured order, and restarts and thread counts to the bit. The closed
+//! forms (incline, oblique impact) run under both schemes in
+//! `friction.rs`.
 //!
-//! - A sphere on an incline: μ < (2/7) tan θ slides at g (sin θ − μ cos θ);
-//!   μ > tan θ rolls without slip at (5/7) g sin θ; with rolling
-//!   resistance μ_r > tan θ too it stays put.
-//! - Oblique impact on a plane in gross sliding: v_t' = v_t − μ (1 + e) v_n
-//!   and ω' = (5/2) μ (1 + e) v_n/R.
 //! - A sticking contact (linear spring) oscillates with Ω² = (7/2) k_t/m:
 //!   closed form; a sliding contact under a smooth normal oscillation:
 //!   self-convergence. Gear5's orders are measured on both.
@@ -78,189 +74,13 @@ fn tsuji(e: f64) -> ContactModel {
     )
 }
 
-/// Hertz contact time of a sphere of radius R on a plane of its own
-/// material at speed v (eq 29–30: T_c = 2.9432 h_max/v,
-/// h_max = (5 m v²/(4 k))^(2/5)).
-fn hertz_contact_time(v: f64) -> f64 {
-    let h_max = (1.25 * mass() * v * v / hertz_k()).powf(0.4);
-    2.943_275_184_3 * h_max / v
-}
-
 /// Static Hertz overlap under the load `weight` (N), m.
 fn static_overlap(weight: f64) -> f64 {
     (weight / hertz_k()).powf(2.0 / 3.0)
 }
 
 // ---------------------------------------------------------------------
-// (a) The incline.
-
-/// A sphere resting on the plane z = 0 under gravity tilted by θ (x down
-/// the slope), started at its static overlap, Gear5 at Δt = T_c/50 (the
-/// Verlet test's step).
-fn incline(theta: f64, mu: f64, roll: f64) -> (Simulation, f64) {
-    let dt = hertz_contact_time((G * R).sqrt()) / 50.0;
-    let h0 = static_overlap(mass() * G * theta.cos());
-    let mut s = sphere_on_plane(
-        [0.0, 0.0, R - h0],
-        [0.0; 3],
-        tsuji(0.5),
-        Some((TangentialKind::Mindlin, mu, roll)),
-        dt,
-    );
-    s.gravity = [G * theta.sin(), 0.0, -G * theta.cos()];
-    (Simulation::new(s, 1).unwrap(), dt)
-}
-
-#[test]
-fn gear5_incline_sliding_accelerates_at_g_sin_minus_mu_cos() {
-    let theta = 20f64.to_radians();
-    // Sliding needs μ < (2/7) tan θ = 0.104.
-    let mu = 0.05;
-    let (mut sim, dt) = incline(theta, mu, 0.0);
-    let settle = (0.05 / dt) as u64;
-    sim.step(settle);
-    let (v1, t1) = (sim.velocities()[0][0], sim.time());
-    sim.step(settle);
-    let a = (sim.velocities()[0][0] - v1) / (sim.time() - t1);
-    let expected = G * (theta.sin() - mu * theta.cos());
-    eprintln!("Gear5 sliding: a = {a} m/s², closed form {expected} m/s²");
-    // Steady sliding: F_t = μ F_n with F_n = m g cos θ once the normal
-    // transient has decayed (50 ms, e = 0.5: e^(-hundreds)); the
-    // acceleration is then constant and Gear5 integrates it exactly (a
-    // polynomial of degree 0): round-off over the interval. 1e-6 is the
-    // issue's bound.
-    assert!(
-        (a / expected - 1.0).abs() < 1e-6,
-        "a = {a} m/s², closed form {expected} m/s²"
-    );
-}
-
-#[test]
-fn gear5_incline_rolling_without_slip_accelerates_at_five_sevenths_g_sin() {
-    let theta = 20f64.to_radians();
-    // μ = 0.5 > tan θ = 0.364: no slip; a free sphere rolls.
-    let (mut sim, dt) = incline(theta, 0.5, 0.0);
-    sim.step((0.05 / dt) as u64);
-    let (x1, v1, w1, t1) = (
-        sim.positions()[0][0],
-        sim.velocities()[0][0],
-        sim.angular_velocities()[0][1],
-        sim.time(),
-    );
-    sim.step((1.0 / dt).round() as u64);
-    let span = sim.time() - t1;
-    let (x2, v2, w2) = (
-        sim.positions()[0][0],
-        sim.velocities()[0][0],
-        sim.angular_velocities()[0][1],
-    );
-    let a = (v2 - v1) / span;
-    let expected = 5.0 / 7.0 * G * theta.sin();
-    eprintln!("Gear5 rolling: a = {a} m/s², closed form {expected} m/s²");
-    // The spring holds a constant (2/7) m g sin θ once its damped
-    // transient is gone: the rolling closed form to the transient's
-    // remains, 1e-6 (the issue's bound).
-    assert!(
-        (a / expected - 1.0).abs() < 1e-6,
-        "a = {a} m/s², rolling closed form {expected} m/s²"
-    );
-    // Contact-point slip over 1 s, Δx − R ∫ω dt (ω linear in t).
-    let slip = (x2 - x1) - R * 0.5 * (w1 + w2) * span;
-    eprintln!("Gear5 rolling: contact-point slip {slip} m over {span} s");
-    assert!(slip.abs() < 1e-9, "slip {slip} m over {span} s");
-}
-
-#[test]
-fn gear5_incline_with_rolling_resistance_above_tan_theta_holds() {
-    let theta = 20f64.to_radians();
-    let (mut sim, dt) = incline(theta, 0.5, 0.5);
-    sim.step((0.05 / dt) as u64);
-    let (x1, t1) = (sim.positions()[0], sim.time());
-    sim.step((1.0 / dt).round() as u64);
-    let x2 = sim.positions()[0];
-    let d = ((x2[0] - x1[0]).powi(2) + (x2[1] - x1[1]).powi(2) + (x2[2] - x1[2]).powi(2)).sqrt();
-    eprintln!("Gear5 held: displacement {d} m over {} s", sim.time() - t1);
-    // The issue's bound: below 1e-9 m over 1 s.
-    assert!(d < 1e-9, "moved {d} m in {} s", sim.time() - t1);
-}
-
-// ---------------------------------------------------------------------
-// (b) Oblique impact.
-
-/// An impact from just above the plane until well after it, Gear5 at
-/// Δt = T_c/20000 (the Verlet test's step).
-fn impact(vn: f64, vt: f64, e: f64, friction: Option<(TangentialKind, f64, f64)>) -> Simulation {
-    let per_contact = 20000;
-    let dt = hertz_contact_time(vn) / per_contact as f64;
-    let gap = 10.0 * dt * vn;
-    let s = sphere_on_plane([0.0, 0.0, R + gap], [vt, 0.0, -vn], tsuji(e), friction, dt);
-    let mut sim = Simulation::new(s, 1).unwrap();
-    sim.step(3 * per_contact);
-    sim
-}
-
-#[test]
-fn gear5_oblique_impact_in_gross_sliding_matches_the_closed_forms() {
-    let (vn, vt, e, mu) = (0.5, 2.5, 0.8, 0.3);
-    // Gross sliding throughout: v_t > (7/2) μ (1 + e) v_n = 0.945 m/s.
-    for kind in [TangentialKind::Mindlin, TangentialKind::Linear] {
-        let sim = impact(vn, vt, e, Some((kind, mu, 0.0)));
-        let v = sim.velocities()[0];
-        let w = sim.angular_velocities()[0];
-        assert!(v[2] > 0.0, "rebounding: {v:?}");
-        let measured_e = v[2] / vn;
-        let vt_expected = vt - mu * (1.0 + e) * vn;
-        let w_expected = 2.5 * mu * (1.0 + e) * vn / R;
-        eprintln!(
-            "Gear5 {kind:?}: e = {measured_e} (rel. {:e}), v_t' = {} m/s (rel. {:e}), \
-             ω' = {} rad/s (rel. {:e})",
-            measured_e / e - 1.0,
-            v[0],
-            v[0] / vt_expected - 1.0,
-            w[1],
-            w[1] / w_expected - 1.0
-        );
-        // The exact calibration gives e for the continuous law; Gear5 at
-        // Δt = T_c/20000 resolves it (the normal force's kinks at onset
-        // corrected): measured e 2.1e-9 off. The tangential force μ F_n
-        // has the same kink at onset, which is not corrected (`kinks` is
-        // normal only): measured v_t' 6.5e-8 and ω' 5.4e-7 off (the spin
-        // takes 5/2 of the relative change). 1e-6 is the issue's bound.
-        assert!(
-            (measured_e / e - 1.0).abs() < 5e-7,
-            "{kind:?}: e = {measured_e}"
-        );
-        assert!(
-            (v[0] / vt_expected - 1.0).abs() < 1e-6,
-            "{kind:?}: v_t' = {} m/s, closed form {vt_expected} m/s",
-            v[0]
-        );
-        assert!(
-            (w[1] / w_expected - 1.0).abs() < 1e-6,
-            "{kind:?}: ω' = {} rad/s, closed form {w_expected} rad/s",
-            w[1]
-        );
-        assert_eq!(v[1], 0.0);
-        assert_eq!(w[0], 0.0);
-        assert_eq!(w[2], 0.0);
-    }
-}
-
-#[test]
-fn gear5_without_friction_spin_is_untouched_and_vt_unchanged() {
-    let (vn, vt, e) = (0.5, 2.5, 0.8);
-    // The rotation machinery on, μ = 0: no tangential force, exactly (the
-    // predictor carries a constant v_t and the corrector adds 0).
-    let sim = impact(vn, vt, e, Some((TangentialKind::Mindlin, 0.0, 0.0)));
-    assert_eq!(sim.velocities()[0][0], vt);
-    assert_eq!(sim.angular_velocities()[0], [0.0; 3]);
-    // No friction at all: the same normal motion, bit for bit.
-    let plain = impact(vn, vt, e, None);
-    assert_eq!(plain.velocities()[0], sim.velocities()[0]);
-}
-
-// ---------------------------------------------------------------------
-// (c) Orders and convergence.
+// Orders and convergence.
 
 /// log₂ of successive error ratios (Δt halved each time).
 fn orders(errors: &[f64]) -> Vec<f64> {
@@ -526,7 +346,7 @@ fn gear5_and_verlet_converge_together_on_a_frictional_bed() {
 }
 
 // ---------------------------------------------------------------------
-// (d) Restarts and threads, to the bit.
+// Restarts and threads, to the bit.
 
 fn state(sim: &Simulation) -> String {
     format!(
