@@ -6,11 +6,17 @@
 //!   very code the binary runs, so the same documents bit for bit; the
 //!   trajectory of a run and a batched SIMD sweep as NumPy arrays.
 //! - `scene`: the many-particle engine as the `Scene` class.
+//! - `args`, `dict`: arguments and scene dicts checked by hand, so that
+//!   any bad value (None, bytes, NumPy scalars and arrays of any dtype,
+//!   negative or huge integers, deep nesting) is a `ValueError` naming
+//!   the argument or key.
 //! - `errors`: bad input → `ValueError`, a failed run → `RuntimeError`;
 //!   every call runs inside `catch_unwind`, so no panic reaches Python.
 //!
 //! Every call that computes releases the GIL.
 
+mod args;
+mod dict;
 mod errors;
 mod scene;
 mod studies;

@@ -2,6 +2,7 @@
 //! scene file or a dict, add spheres and plane walls from arrays, step,
 //! read the state as NumPy arrays, write VTK snapshots and checkpoints.
 
+use crate::args;
 use crate::errors::{guarded, Failure};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::config::{self, SceneFile};
@@ -9,7 +10,7 @@ use dembound_scene::io::resolve::resolve;
 use dembound_scene::io::vtk;
 use dembound_scene::setup::{SceneSetup, SphereInit, WallSetup};
 use dembound_scene::{Partner, SceneError, Simulation};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 use std::path::{Path, PathBuf};
@@ -51,6 +52,12 @@ impl Scene {
         })
     }
 
+    /// Advances `n` steps with the GIL released.
+    fn advance(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let sim = &mut self.sim;
+        Ok(py.detach(|| guarded(|| sim.step_checked(n).map_err(scene_failure)))?)
+    }
+
     /// Rebuilds the simulation after the setup changed (only before the
     /// first step).
     fn rebuild(&mut self, what: &str) -> Result<(), Failure> {
@@ -65,14 +72,16 @@ impl Scene {
     }
 }
 
-fn threads_or_one(threads: Option<usize>) -> Result<usize, Failure> {
-    match threads {
-        None => Ok(1),
-        Some(0) => Err(Failure::Input(
-            "threads: 0 (allowed: 1 or more)".to_string(),
-        )),
-        Some(n) => Ok(n),
-    }
+/// The most steps one `step()` or `run()` call takes (1e15 steps of the
+/// smallest useful Δt are far beyond any run that ends).
+const MAX_CALL_STEPS: u64 = 1_000_000_000_000_000;
+
+/// The material index of a body or wall added from Python.
+fn material_index(material: &Bound<'_, PyAny>, count: usize) -> Result<usize, Failure> {
+    args::index(material, "material", 0, count.saturating_sub(1)).map_err(|e| match e {
+        Failure::Input(m) => Failure::Input(format!("{m}: the scene's materials in file order")),
+        other => other,
+    })
 }
 
 #[pymethods]
@@ -82,17 +91,19 @@ impl Scene {
     /// the file's directory. `threads`: worker threads (results do not
     /// depend on it), default 1.
     #[classmethod]
-    #[pyo3(signature = (path, sets = Vec::new(), threads = None))]
+    #[pyo3(signature = (path, sets = None, threads = None))]
     fn from_toml(
         _cls: &Bound<'_, PyType>,
         py: Python<'_>,
-        path: PathBuf,
-        sets: Vec<String>,
-        threads: Option<usize>,
+        path: &Bound<'_, PyAny>,
+        sets: Option<&Bound<'_, PyAny>>,
+        threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Scene> {
+        let path = args::path(path, "path")?;
+        let sets = args::sets(sets)?;
+        let threads = args::threads(threads)?;
         Ok(py.detach(|| {
             guarded(|| {
-                let threads = threads_or_one(threads)?;
                 let file = config::read(&path, &sets).map_err(scene_failure)?;
                 let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
                 Scene::build(file, &base, threads)
@@ -107,15 +118,18 @@ impl Scene {
     fn from_dict(
         _cls: &Bound<'_, PyType>,
         py: Python<'_>,
-        scene: &Bound<'_, PyDict>,
-        base_dir: Option<PathBuf>,
-        threads: Option<usize>,
+        scene: &Bound<'_, PyAny>,
+        base_dir: Option<&Bound<'_, PyAny>>,
+        threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Scene> {
-        let table: toml::Table = pythonize::depythonize(scene.as_any())
-            .map_err(|e| Failure::Input(format!("scene dict: {e}")))?;
+        let table = crate::dict::table(scene)?;
+        let base_dir = match base_dir.filter(|b| !b.is_none()) {
+            Some(b) => Some(args::path(b, "base_dir")?),
+            None => None,
+        };
+        let threads = args::threads(threads)?;
         Ok(py.detach(|| {
             guarded(|| {
-                let threads = threads_or_one(threads)?;
                 let file = config::from_table(table, "<dict>").map_err(scene_failure)?;
                 let base = base_dir.unwrap_or_else(|| PathBuf::from("."));
                 Scene::build(file, &base, threads)
@@ -131,12 +145,13 @@ impl Scene {
     fn from_checkpoint(
         _cls: &Bound<'_, PyType>,
         py: Python<'_>,
-        path: PathBuf,
-        threads: Option<usize>,
+        path: &Bound<'_, PyAny>,
+        threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Scene> {
+        let path = args::path(path, "path")?;
+        let threads = args::threads(threads)?;
         Ok(py.detach(|| {
             guarded(|| {
-                let threads = threads_or_one(threads)?;
                 let saved = checkpoint::read(&path).map_err(scene_failure)?;
                 let mut scene = Scene::build(saved.scene, Path::new("."), threads)?;
                 scene.sim = Simulation::restore(scene.setup.clone(), &saved.state, threads)
@@ -149,57 +164,44 @@ impl Scene {
     /// Adds spheres before the first step: `positions` (n, 3) m, `radii`
     /// (n,) m, optional `velocities` (n, 3) m/s, `fixed` (n,) bool and the
     /// material index (in the scene's `[[material]]` order).
-    #[pyo3(signature = (positions, radii, velocities = None, fixed = None, material = 0))]
+    #[pyo3(signature = (positions, radii, velocities = None, fixed = None, material = None))]
     fn add_particles(
         &mut self,
-        positions: PyReadonlyArray2<'_, f64>,
-        radii: PyReadonlyArray1<'_, f64>,
-        velocities: Option<PyReadonlyArray2<'_, f64>>,
-        fixed: Option<PyReadonlyArray1<'_, bool>>,
-        material: usize,
+        positions: &Bound<'_, PyAny>,
+        radii: &Bound<'_, PyAny>,
+        velocities: Option<&Bound<'_, PyAny>>,
+        fixed: Option<&Bound<'_, PyAny>>,
+        material: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let p = positions.as_array();
-        let r = radii.as_array();
+        let (r, _) = args::floats(radii, "radii", &[None])?;
         let n = r.len();
-        let shape_error = |what: &str, got: &[usize], want: String| {
-            Failure::Input(format!("{what}: shape {got:?}, expected {want}"))
+        let (p, _) = args::floats(positions, "positions", &[Some(n), Some(3)])?;
+        let v = match velocities.filter(|v| !v.is_none()) {
+            Some(v) => Some(args::floats(v, "velocities", &[Some(n), Some(3)])?.0),
+            None => None,
         };
-        if p.shape() != [n, 3] {
-            return Err(shape_error("positions", p.shape(), format!("({n}, 3)")).into());
-        }
-        let v = velocities.as_ref().map(|v| v.as_array());
-        if let Some(v) = &v {
-            if v.shape() != [n, 3] {
-                return Err(shape_error("velocities", v.shape(), format!("({n}, 3)")).into());
-            }
-        }
-        let f = fixed.as_ref().map(|f| f.as_array());
-        if let Some(f) = &f {
-            if f.len() != n {
-                return Err(shape_error("fixed", f.shape(), format!("({n},)")).into());
-            }
-        }
-        if material >= self.setup.materials.len() {
-            return Err(Failure::Input(format!(
-                "material: {material} (allowed: 0 to {}, the scene's materials in file order)",
-                self.setup.materials.len().saturating_sub(1)
-            ))
-            .into());
-        }
+        let f = match fixed.filter(|f| !f.is_none()) {
+            Some(f) => Some(args::flags(f, "fixed", n)?),
+            None => None,
+        };
+        let material = match material {
+            Some(m) => material_index(m, self.setup.materials.len())?,
+            None => 0,
+        };
         let before = self.setup.spheres.len();
         for i in 0..n {
             self.setup.spheres.push(SphereInit {
-                position: [p[[i, 0]], p[[i, 1]], p[[i, 2]]],
+                position: [p[3 * i], p[3 * i + 1], p[3 * i + 2]],
                 velocity: v
                     .as_ref()
-                    .map_or([0.0; 3], |v| [v[[i, 0]], v[[i, 1]], v[[i, 2]]]),
+                    .map_or([0.0; 3], |v| [v[3 * i], v[3 * i + 1], v[3 * i + 2]]),
                 radius: r[i],
                 material,
                 fixed: f.as_ref().is_some_and(|f| f[i]),
                 group: None,
             });
         }
-        if let Err(e) = self.rebuild("add_particles") {
+        if let Err(e) = guarded(|| self.rebuild("add_particles")) {
             self.setup.spheres.truncate(before);
             return Err(e.into());
         }
@@ -208,31 +210,39 @@ impl Scene {
 
     /// Adds a fixed plane wall before the first step: through `point` (m)
     /// with `normal` pointing into the domain, of material index `material`.
-    #[pyo3(signature = (point, normal, material = 0))]
-    fn add_plane(&mut self, point: [f64; 3], normal: [f64; 3], material: usize) -> PyResult<()> {
-        if material >= self.setup.materials.len() {
-            return Err(Failure::Input(format!(
-                "material: {material} (allowed: 0 to {}, the scene's materials in file order)",
-                self.setup.materials.len().saturating_sub(1)
-            ))
-            .into());
-        }
+    #[pyo3(signature = (point, normal, material = None))]
+    fn add_plane(
+        &mut self,
+        point: &Bound<'_, PyAny>,
+        normal: &Bound<'_, PyAny>,
+        material: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let three = |obj, name| -> Result<[f64; 3], Failure> {
+            let (x, _) = args::floats(obj, name, &[Some(3)])?;
+            Ok([x[0], x[1], x[2]])
+        };
+        let point = three(point, "point")?;
+        let normal = three(normal, "normal")?;
+        let material = match material {
+            Some(m) => material_index(m, self.setup.materials.len())?,
+            None => 0,
+        };
         self.setup.walls.push(WallSetup::Plane {
             point,
             normal,
             material,
         });
-        if let Err(e) = self.rebuild("add_plane") {
+        if let Err(e) = guarded(|| self.rebuild("add_plane")) {
             self.setup.walls.pop();
             return Err(e.into());
         }
         Ok(())
     }
 
-    /// Advances `n` steps (GIL released).
-    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let sim = &mut self.sim;
-        Ok(py.detach(|| guarded(|| sim.step_checked(n).map_err(scene_failure)))?)
+    /// Advances `n` steps (0 to 1e15; GIL released).
+    fn step(&mut self, py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<()> {
+        let n = args::whole(n, "n", 0, MAX_CALL_STEPS)?;
+        self.advance(py, n)
     }
 
     /// Runs for `duration` s (rounded to whole steps), or to the scene's
@@ -243,14 +253,29 @@ impl Scene {
     fn run(
         &mut self,
         py: Python<'_>,
-        duration: Option<f64>,
+        duration: Option<&Bound<'_, PyAny>>,
         progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<u64> {
+        let progress = progress.filter(|p| !p.is_none());
+        if let Some(p) = &progress {
+            if !p.is_callable() {
+                return Err(Failure::Input(format!(
+                    "progress: {} of type {} (allowed: a callable progress(done, total), or None)",
+                    args::repr(p),
+                    args::type_name(p)
+                ))
+                .into());
+            }
+        }
+        let duration = match duration.filter(|d| !d.is_none()) {
+            Some(d) => Some(args::real(d, "duration")?),
+            None => None,
+        };
         let total = match duration {
             None => self.sim.remaining_steps(),
             Some(d) if d.is_finite() && d >= 0.0 => {
                 let steps = (d / self.sim.dt()).round();
-                if steps > 1e15 {
+                if steps > MAX_CALL_STEPS as f64 {
                     return Err(Failure::Input(format!(
                         "duration: {d} s is {steps:e} steps of Δt = {} s (allowed: up to 1e15 steps)",
                         self.sim.dt()
@@ -270,7 +295,7 @@ impl Scene {
         let mut done = 0;
         while done < total {
             let n = chunk.min(total - done);
-            self.step(py, n)?;
+            self.advance(py, n)?;
             done += n;
             if let Some(callback) = &progress {
                 callback.call1((done, total))?;
@@ -408,7 +433,8 @@ impl Scene {
 
     /// Writes a VTK PolyData snapshot (`snapshot_STEP.vtp`, ParaView) into
     /// `directory` (created if missing) and returns its path.
-    fn write_vtk(&self, py: Python<'_>, directory: PathBuf) -> PyResult<PathBuf> {
+    fn write_vtk(&self, py: Python<'_>, directory: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
+        let directory = args::path(directory, "directory")?;
         let sim = &self.sim;
         let path = directory.join(format!("snapshot_{:09}.vtp", sim.steps_done()));
         Ok(py.detach(|| {
@@ -429,7 +455,8 @@ impl Scene {
 
     /// Writes a checkpoint (CBOR, the CLI's format) to `path`: the run goes
     /// on bit for bit from it with `restore()` or `Scene.from_checkpoint()`.
-    fn checkpoint(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    fn checkpoint(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = args::path(path, "path")?;
         let saved = CheckpointFile::new(self.file.clone(), self.sim.checkpoint());
         Ok(py.detach(|| {
             guarded(|| {
@@ -445,7 +472,8 @@ impl Scene {
 
     /// Replaces the state with a checkpoint of this same scene (same
     /// bodies and Δt).
-    fn restore(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    fn restore(&mut self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = args::path(path, "path")?;
         let setup = self.setup.clone();
         let threads = self.threads;
         let sim = py.detach(|| {
