@@ -25,8 +25,8 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Mapping
-from typing import Any, Callable, Iterable, Optional, Union
+from collections.abc import Iterable, Mapping
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
@@ -59,9 +59,32 @@ ScenarioLike = Union[None, str, "os.PathLike[str]", Mapping[str, Any]]
 ListLike = Union[str, float, Iterable[float]]
 
 
-def _toml(value: Any) -> str:
-    """A Python value as the VALUE of ``--set SECTION.KEY=VALUE`` (TOML)."""
-    if isinstance(value, bool):
+# The deepest nesting of dicts and lists in one value (as the scene dicts
+# of :class:`Scene`; a scenario value needs 2: ``law = {power = 1.25}``).
+_MAX_DEPTH = 32
+
+_ALLOWED = "allowed: a number, a bool, a str, a list or a dict"
+
+
+def _refuse(key: str, value: Any, allowed: str = _ALLOWED, argument: bool = False) -> ValueError:
+    """The ValueError for ``value`` at scenario key ```key``` (or, with
+    ``argument``, the function argument ``key``)."""
+    text = repr(value)
+    if len(text) > 80:
+        text = text[:80] + "…"
+    name = key if argument else f"`{key}`"
+    return ValueError(f"{name}: {text} of type {type(value).__name__} ({allowed})")
+
+
+def _toml(value: Any, key: str = "value", depth: int = 1) -> str:
+    """A Python value as the VALUE of ``--set SECTION.KEY=VALUE`` (TOML).
+    NumPy scalars are the numbers they hold (float32 → float64 exactly),
+    NumPy arrays of integers, floats or booleans are lists; anything else
+    (None, bytes, complex, NumPy complex, object or string arrays) is a
+    ValueError naming ``key``."""
+    if depth > _MAX_DEPTH:
+        raise ValueError(f"`{key}`: nested deeper than {_MAX_DEPTH} levels of dicts and lists")
+    if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
     if isinstance(value, (int, np.integer)):
         return str(int(value))
@@ -74,18 +97,26 @@ def _toml(value: Any) -> str:
         return repr(x)  # shortest text that reads back as the same double
     if isinstance(value, str):
         return value  # a bare word, as on the command line
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "biuf":
+            raise _refuse(key, value, f"allowed: an array of integers, floats or booleans, not dtype {value.dtype}")
+        return _toml(value.tolist(), key, depth)
     if isinstance(value, Mapping):
-        items = ", ".join(f"{k} = {_toml_quoted(v)}" for k, v in value.items())
-        return "{" + items + "}"
+        items = []
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise _refuse(f"{key}.{k!r}", k, "allowed: str keys")
+            items.append(f"{k} = {_toml_quoted(v, f'{key}.{k}', depth + 1)}")
+        return "{" + ", ".join(items) + "}"
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_toml_quoted(v) for v in value) + "]"
-    raise ValueError(f"cannot use {value!r} ({type(value).__name__}) as a scenario value")
+        return "[" + ", ".join(_toml_quoted(v, f"{key}[{i}]", depth + 1) for i, v in enumerate(value)) + "]"
+    raise _refuse(key, value)
 
 
-def _toml_quoted(value: Any) -> str:
+def _toml_quoted(value: Any, key: str, depth: int) -> str:
     if isinstance(value, str):
         return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    return _toml(value)
+    return _toml(value, key, depth)
 
 
 def _flatten(prefix: str, value: Any, out: list[str]) -> None:
@@ -93,9 +124,37 @@ def _flatten(prefix: str, value: Any, out: list[str]) -> None:
     # still one value, so nesting stops at section.key.
     if isinstance(value, Mapping) and prefix.count(".") < 1:
         for k, v in value.items():
-            _flatten(f"{prefix}.{k}" if prefix else str(k), v, out)
+            if not isinstance(k, str):
+                raise _refuse(f"{prefix}.{k!r}" if prefix else repr(k), k, "allowed: str keys")
+            _flatten(f"{prefix}.{k}" if prefix else k, v, out)
     else:
-        out.append(f"{prefix}={_toml(value)}")
+        out.append(f"{prefix}={_toml(value, prefix)}")
+
+
+def _whole(name: str, value: Any, minimum: int, maximum: int) -> int:
+    """An int (or NumPy integer) in ``minimum..=maximum``; a bool, a float
+    (even a whole one) or anything else is a ValueError naming ``name``."""
+    allowed = f"allowed: a whole number from {minimum} to {maximum}"
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise _refuse(name, value, allowed, argument=True)
+    if not minimum <= int(value) <= maximum:
+        raise ValueError(f"{name}: {int(value)} ({allowed})")
+    return int(value)
+
+
+def _real(name: str, value: Any) -> float:
+    """An int or float (or NumPy integer or floating) as a float; a bool,
+    a complex or anything else is a ValueError naming ``name``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise _refuse(name, value, "allowed: a real number", argument=True)
+    return float(value)
+
+
+# The most rows of a trajectory (history, points): 1e9 rows of 7 columns
+# are 56 GB, beyond any machine the rows would be plotted on.
+_MAX_ROWS = 1_000_000_000
+# The most worker threads (as `dembound scene --threads`).
+_MAX_THREADS = 1024
 
 
 def _scenario_args(scenario: ScenarioLike, keys: Mapping[str, Any]) -> tuple[Optional[str], list[str]]:
@@ -127,19 +186,33 @@ def _argv(command: str, scenario: ScenarioLike, keys: Mapping[str, Any]) -> list
     return argv
 
 
-def _list(value: ListLike) -> str:
+def _list(value: ListLike, name: str = "list") -> str:
     """A list option (``--r``, ``--zeta``, ``--law``…): text as on the
     command line (``"1,10,inf"``, ``"log:0.5:1000:13"``) or numbers."""
     if isinstance(value, str):
         return value
+    if isinstance(value, (bool, np.bool_)):
+        raise _refuse(name, value, "allowed: numbers, a list of them or the CLI's list text")
     if isinstance(value, (int, float, np.integer, np.floating)):
-        return _toml(float(value)) if not isinstance(value, (int, np.integer)) else str(value)
-    return ",".join(_toml(float(x)) if not isinstance(x, str) else x for x in np.ravel(np.asarray(value, dtype=object)))
+        return _toml(float(value), name) if not isinstance(value, (int, np.integer)) else str(value)
+    if isinstance(value, np.ndarray) and value.dtype.kind not in "iuf":
+        raise _refuse(name, value, f"allowed: an array of integers or floats, not dtype {value.dtype}")
+    if isinstance(value, (bytes, bytearray, Mapping)) or not isinstance(value, Iterable):
+        raise _refuse(name, value, "allowed: numbers, a list of them or the CLI's list text")
+    items = []
+    for x in np.ravel(np.asarray(list(value), dtype=object)):
+        if isinstance(x, str):
+            items.append(x)
+        elif isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.integer, np.floating)):
+            raise _refuse(name, x, "allowed: numbers or str items")
+        else:
+            items.append(_toml(float(x), name))
+    return ",".join(items)
 
 
 def _option(argv: list[str], flag: str, value: Any) -> None:
     if value is not None:
-        argv += [flag, _list(value)]
+        argv += [flag, _list(value, flag.lstrip("-"))]
 
 
 def run(
@@ -165,12 +238,11 @@ def run(
         argv.append("--compare-exact")
     if force:
         argv.append("--force")
+    rows = None if history is None else _whole("history", history, 1, _MAX_ROWS)
     doc = _cli(argv)
-    if history is not None:
-        if int(history) < 1:
-            raise ValueError(f"history: {history} rows (allowed: 1 or more)")
+    if rows is not None:
         path, sets = _scenario_args(scenario, keys)
-        doc["history"] = _native.history(path, sets, int(history))
+        doc["history"] = _native.history(path, sets, rows)
     return doc
 
 
@@ -179,11 +251,10 @@ def history(scenario: ScenarioLike = None, *, points: int = 10_000, **keys: Any)
     (the CLI's history.csv): ``t`` (s), ``x`` (m, gap, upward positive),
     ``v`` (m/s), ``a`` (m/s²), ``overlap`` (m), ``force`` (N), ``in_contact``.
     The scenario is checked as :func:`run` checks it."""
+    rows = _whole("points", points, 1, _MAX_ROWS)
     run(scenario, **keys)  # the CLI's checks (ranges, rebounds, step budget)
     path, sets = _scenario_args(scenario, keys)
-    if int(points) < 1:
-        raise ValueError(f"points: {points} (allowed: 1 or more)")
-    return _native.history(path, sets, int(points))
+    return _native.history(path, sets, rows)
 
 
 def exact(scenario: ScenarioLike = None, **keys: Any) -> dict:
@@ -224,7 +295,7 @@ def sweep(
     _option(argv, "--zeta", zeta)
     _option(argv, "--law", law)
     for key, values in (vary or {}).items():
-        argv += ["--vary", f"{key.replace('__', '.')}={_list(values)}"]
+        argv += ["--vary", f"{key.replace('__', '.')}={_list(values, key.replace('__', '.'))}"]
     return _cli(argv)
 
 
@@ -246,7 +317,7 @@ def recommend(
     ratios and in SI (m, Pa)."""
     argv = _argv("recommend", scenario, keys)
     if tolerance is not None:
-        argv += ["--tolerance", tolerance if isinstance(tolerance, str) else _toml(float(tolerance))]
+        argv += ["--tolerance", tolerance if isinstance(tolerance, str) else _toml(_real("tolerance", tolerance))]
     if reference is not None:
         argv += ["--reference", reference]
     _option(argv, "--law", law)
@@ -273,7 +344,7 @@ def restitution(
     calibration). The restitution *sweep* has no JSON document in the CLI
     (it writes CSV with ``--out``) and is not offered here."""
     argv = _argv("restitution", scenario, keys)
-    argv += ["--target", _toml(float(target))]
+    argv += ["--target", _toml(_real("target", target))]
     _option(argv, "--law", law)
     _option(argv, "--r", r)
     _option(argv, "--zeta", zeta)
@@ -295,9 +366,9 @@ def scene(path: Union[str, "os.PathLike[str]"], *, threads: Optional[int] = None
     :class:`Scene`."""
     argv = ["scene", "--json", "--quiet", os.fspath(path)]
     for name, value in keys.items():
-        argv += ["--set", f"{name.replace('__', '.')}={_toml(value)}"]
+        argv += ["--set", f"{name.replace('__', '.')}={_toml(value, name.replace('__', '.'))}"]
     if threads is not None:
-        argv += ["--threads", str(int(threads))]
+        argv += ["--threads", str(_whole("threads", threads, 1, _MAX_THREADS))]
     return _cli(argv)
 
 
@@ -334,9 +405,14 @@ def batch(scenario: ScenarioLike = None, **keys: Any) -> dict[str, np.ndarray]:
                     f"`{key}` cannot vary case by case in batch(); the keys that can: {', '.join(allowed)}"
                 )
             try:
-                varying[key] = np.asarray(value, dtype=np.float64)
+                array = np.asarray(value)
             except (TypeError, ValueError) as e:
                 raise ValueError(f"`{key}`: the values must be numbers ({e})") from None
+            if array.dtype.kind not in "iuf":
+                # Complex would lose its imaginary part, bool would be 0/1,
+                # object and string arrays are not numbers.
+                raise _refuse(key, value, f"allowed: integers or floats, not dtype {array.dtype}")
+            varying[key] = array.astype(np.float64)
         else:
             fixed[key] = value
     shape: tuple[int, ...] = ()

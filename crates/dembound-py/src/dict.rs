@@ -12,9 +12,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyMapping, PyTuple};
 
 /// The deepest nesting of tables and lists accepted (the root table is
-/// level 1). A scene file needs 5: the root, `particles`, one group,
-/// its `spheres`, one sphere's `position`; 32 leaves room for any
-/// future key and is far below what the stack holds.
+/// level 1). A scene file needs 6: the root, the `particles` list, one
+/// group, its `spheres` list, one sphere, its `position`; 32 leaves room
+/// for any future key and is far below what the stack holds (each level
+/// takes a few hundred bytes of the thread's stack, which is at least
+/// 2 MiB).
 pub const MAX_DEPTH: usize = 32;
 
 const ALLOWED: &str = "allowed: a number, a bool, a str, a list or a dict; leave a key out for its default";
@@ -57,7 +59,7 @@ fn shown(path: &str) -> &str {
 
 fn too_deep(path: &str) -> Failure {
     Failure::Input(format!(
-        "scene dict: `{}…` is nested deeper than {MAX_DEPTH} levels of dicts and lists (a scene needs at most 5)",
+        "scene dict: `{}…` is nested deeper than {MAX_DEPTH} levels of dicts and lists (a scene needs at most 6)",
         path.chars().take(120).collect::<String>()
     ))
 }
