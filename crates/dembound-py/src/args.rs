@@ -7,7 +7,9 @@
 //! (complex, object, strings).
 
 use crate::errors::Failure;
-use numpy::{PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{
+    PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyFloat, PyInt, PyString};
 use std::path::PathBuf;
@@ -135,7 +137,9 @@ pub fn path(obj: &Bound<'_, PyAny>, name: &str) -> Result<PathBuf, Failure> {
     }
     let path: PathBuf = obj.extract().map_err(|_| refuse())?;
     if path.as_os_str().is_empty() {
-        return Err(Failure::Input(format!("{name}: '' (allowed: a non-empty path)")));
+        return Err(Failure::Input(format!(
+            "{name}: '' (allowed: a non-empty path)"
+        )));
     }
     Ok(path)
 }
@@ -152,7 +156,11 @@ pub fn sets(obj: Option<&Bound<'_, PyAny>>) -> Result<Vec<String>, Failure> {
             repr(obj)
         )));
     }
-    let refuse = |why: String| Failure::Input(format!("sets: {why} (allowed: a list of `key=value` strings)"));
+    let refuse = |why: String| {
+        Failure::Input(format!(
+            "sets: {why} (allowed: a list of `key=value` strings)"
+        ))
+    };
     let items = obj
         .try_iter()
         .map_err(|_| refuse(format!("{} of type {}", repr(obj), type_name(obj))))?;
@@ -180,7 +188,10 @@ fn numeric_kind(kind: u8) -> bool {
 
 /// `numpy.asarray(obj)`, refusing what NumPy cannot make an array of
 /// (ragged lists).
-fn as_array<'py>(obj: &Bound<'py, PyAny>, name: &str) -> Result<Bound<'py, PyUntypedArray>, Failure> {
+fn as_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+) -> Result<Bound<'py, PyUntypedArray>, Failure> {
     let np = obj
         .py()
         .import("numpy")
@@ -221,11 +232,17 @@ pub fn floats(
     if !numeric_kind(dtype.kind()) {
         return Err(Failure::Input(format!(
             "{name}: an array of dtype {} (allowed: integers or floats, converted to float64)",
-            dtype.str().map_or_else(|_| "?".to_string(), |s| s.to_string())
+            dtype
+                .str()
+                .map_or_else(|_| "?".to_string(), |s| s.to_string())
         )));
     }
     let got = array.shape().to_vec();
-    let fits = got.len() == shape.len() && got.iter().zip(shape).all(|(g, w)| w.is_none_or(|w| *g == w));
+    let fits = got.len() == shape.len()
+        && got
+            .iter()
+            .zip(shape)
+            .all(|(g, w)| w.is_none_or(|w| *g == w));
     if !fits {
         return Err(Failure::Input(format!(
             "{name}: shape {got:?}, expected {want}"

@@ -19,7 +19,8 @@ use pyo3::types::{PyDict, PyList, PyMapping, PyTuple};
 /// 2 MiB).
 pub const MAX_DEPTH: usize = 32;
 
-const ALLOWED: &str = "allowed: a number, a bool, a str, a list or a dict; leave a key out for its default";
+const ALLOWED: &str =
+    "allowed: a number, a bool, a str, a list or a dict; leave a key out for its default";
 
 fn refuse(path: &str, why: String) -> Failure {
     Failure::Input(format!("scene dict: `{path}`: {why}"))
@@ -36,7 +37,9 @@ pub fn table(scene: &Bound<'_, PyAny>) -> Result<toml::Table, Failure> {
     }
     match value(scene, "", 1)? {
         toml::Value::Table(t) => Ok(t),
-        _ => Err(Failure::Failed("scene dict: the root is not a table".into())),
+        _ => Err(Failure::Failed(
+            "scene dict: the root is not a table".into(),
+        )),
     }
 }
 
@@ -95,7 +98,9 @@ fn value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<toml::Value
             .call_method0("tolist")
             .map_err(|e| Failure::Failed(format!("scene dict: `{path}`: tolist(): {e}")))?;
         if list.cast::<PyUntypedArray>().is_ok() {
-            return Err(Failure::Failed(format!("scene dict: `{path}`: tolist() gave an array")));
+            return Err(Failure::Failed(format!(
+                "scene dict: `{path}`: tolist() gave an array"
+            )));
         }
         return value(&list, path, depth);
     }
@@ -117,7 +122,8 @@ fn value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<toml::Value
             .try_iter()
             .map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
         for item in items {
-            let item = item.map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
+            let item =
+                item.map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
             let (key, v): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item
                 .extract()
                 .map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
@@ -145,7 +151,8 @@ fn value(obj: &Bound<'_, PyAny>, path: &str, depth: usize) -> Result<toml::Value
             .try_iter()
             .map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
         for (i, item) in items.enumerate() {
-            let item = item.map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
+            let item =
+                item.map_err(|e| refuse(shown(path), format!("cannot read its items: {e}")))?;
             array.push(value(&item, &format!("{path}[{i}]"), depth + 1)?);
         }
         return Ok(toml::Value::Array(array));
