@@ -150,6 +150,30 @@ def _real(name: str, value: Any) -> float:
     return float(value)
 
 
+def _flag(name: str, value: Any) -> bool:
+    """A bool (or NumPy bool); anything else is a ValueError naming ``name``."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise _refuse(name, value, "allowed: True or False", argument=True)
+    return bool(value)
+
+
+def _text(name: str, value: Any) -> str:
+    """A str; anything else is a ValueError naming ``name``."""
+    if not isinstance(value, str):
+        raise _refuse(name, value, "allowed: a str", argument=True)
+    return value
+
+
+def _path(name: str, value: Any) -> str:
+    """A str or os.PathLike path; anything else is a ValueError naming ``name``."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise _refuse(name, value, "allowed: a path, str or os.PathLike", argument=True)
+    path = os.fspath(value)
+    if not isinstance(path, str) or not path:
+        raise _refuse(name, value, "allowed: a non-empty path, str or os.PathLike", argument=True)
+    return path
+
+
 # The most rows of a trajectory (history, points): 1e9 rows of 7 columns
 # are 56 GB, beyond any machine the rows would be plotted on.
 _MAX_ROWS = 1_000_000_000
@@ -164,7 +188,7 @@ def _scenario_args(scenario: ScenarioLike, keys: Mapping[str, Any]) -> tuple[Opt
     if scenario is None:
         pass
     elif isinstance(scenario, (str, os.PathLike)):
-        path = os.fspath(scenario)
+        path = _path("scenario", scenario)
     elif isinstance(scenario, Mapping):
         _flatten("", scenario, sets)
     else:
@@ -234,9 +258,9 @@ def run(
     that is not in the CLI's document.
     """
     argv = _argv("run", scenario, keys) + ["--quiet"]
-    if compare_exact:
+    if _flag("compare_exact", compare_exact):
         argv.append("--compare-exact")
-    if force:
+    if _flag("force", force):
         argv.append("--force")
     rows = None if history is None else _whole("history", history, 1, _MAX_ROWS)
     doc = _cli(argv)
@@ -319,7 +343,7 @@ def recommend(
     if tolerance is not None:
         argv += ["--tolerance", tolerance if isinstance(tolerance, str) else _toml(_real("tolerance", tolerance))]
     if reference is not None:
-        argv += ["--reference", reference]
+        argv += ["--reference", _text("reference", reference)]
     _option(argv, "--law", law)
     _option(argv, "--quantity", quantity)
     _option(argv, "--r", r)
@@ -349,7 +373,7 @@ def restitution(
     _option(argv, "--r", r)
     _option(argv, "--zeta", zeta)
     if calibrate is not None:
-        argv += ["--calibrate", calibrate]
+        argv += ["--calibrate", _text("calibrate", calibrate)]
     return _cli(argv)
 
 
@@ -364,7 +388,7 @@ def scene(path: Union[str, "os.PathLike[str]"], *, threads: Optional[int] = None
     J, wall forces N, timings s). ``keys``: scene ``--set`` overrides,
     ``integration__steps=500``. For stepping, arrays and checkpoints use
     :class:`Scene`."""
-    argv = ["scene", "--json", "--quiet", os.fspath(path)]
+    argv = ["scene", "--json", "--quiet", _path("path", path)]
     for name, value in keys.items():
         argv += ["--set", f"{name.replace('__', '.')}={_toml(value, name.replace('__', '.'))}"]
     if threads is not None:

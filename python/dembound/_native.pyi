@@ -44,10 +44,17 @@ def batch(
 
 class Scene:
     """A many-particle scene: spheres, plane walls, walls of boundary
-    particles. SI: m, m/s, N, J, s."""
+    particles. SI: m, m/s, N, J, s.
+
+    Every argument is checked: a bad one (None, bytes, complex, a float
+    where a whole number is expected, a negative or huge integer, an array
+    of a dtype that is not integer or float, a dict nested deeper than 32
+    levels) raises ValueError naming it; NumPy scalars and integer or
+    float32 arrays are converted to float64. A failure that is not the
+    input's (a file that cannot be written) raises RuntimeError."""
 
     @classmethod
-    def from_toml(cls, path: _Path, sets: list[str] = ..., threads: Optional[int] = None) -> Scene:
+    def from_toml(cls, path: _Path, sets: Optional[list[str]] = None, threads: Optional[int] = None) -> Scene:
         """A scene from a scene file with ``--set``-style overrides
         (``["integration.steps=500"]``); ``threads`` (default 1) does not
         change the results."""
@@ -65,15 +72,16 @@ class Scene:
         radii: npt.NDArray[np.float64],
         velocities: Optional[npt.NDArray[np.float64]] = None,
         fixed: Optional[npt.NDArray[np.bool_]] = None,
-        material: int = 0,
+        material: Optional[int] = None,
     ) -> None:
         """Adds spheres before the first step: positions (n, 3) m, radii (n,)
-        m, velocities (n, 3) m/s, fixed (n,) bool, material index."""
-    def add_plane(self, point: tuple[float, float, float] | list[float], normal: tuple[float, float, float] | list[float], material: int = 0) -> None:
+        m, velocities (n, 3) m/s, fixed (n,) bool (or 0/1), material index
+        (default 0). Arrays of any integer or float dtype, or lists."""
+    def add_plane(self, point: tuple[float, float, float] | list[float], normal: tuple[float, float, float] | list[float], material: Optional[int] = None) -> None:
         """Adds a fixed plane wall through ``point`` (m), ``normal`` into the
         domain, before the first step."""
     def step(self, n: int) -> None:
-        """Advances n steps of Δt (GIL released)."""
+        """Advances n steps of Δt, 0 ≤ n ≤ 1e15 (GIL released)."""
     def run(
         self, duration: Optional[float] = None, progress: Optional[Callable[[int, int], Any]] = None
     ) -> int:

@@ -511,3 +511,22 @@ def test_batch_converts_integer_and_float32_arrays():
         got = dembound.batch(r=np.array([1, 2, 4], dtype=dtype), zeta=100.0)
         for key, value in expected.items():
             assert np.array_equal(got[key], value, equal_nan=True), (dtype, key)
+
+
+@pytest.mark.parametrize("value", [None, 1, "yes", 1.0], ids=repr)
+def test_flags_are_bools(value):
+    refused(lambda: dembound.run(compare_exact=value), "compare_exact: ")
+    refused(lambda: dembound.run(force=value), "force: ")
+
+
+@pytest.mark.parametrize("value", [1, b"rigid", 0.5], ids=repr)
+def test_text_options_are_strings(value):
+    refused(lambda: dembound.recommend(reference=value), "reference: ")
+    refused(lambda: dembound.restitution(target=0.5, calibrate=value), "calibrate: ")
+
+
+@pytest.mark.parametrize("path", [None, 42, b"scene.toml", ""], ids=repr)
+def test_scene_and_scenario_paths_are_checked(path):
+    refused(lambda: dembound.scene(path), "path: ")
+    if path not in (None, 42):  # None is the default scenario; 42 is "not a scenario"
+        refused(lambda: dembound.run(path), "scenario")
