@@ -379,7 +379,8 @@ impl Scene {
     /// Energies (J), contact counts and wall forces (N) now, as the CLI's
     /// series.csv row: a dict.
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        Ok(pythonize::pythonize(py, &self.sim.observe())?)
+        let observation = guarded(|| Ok(self.sim.observe()))?;
+        Ok(pythonize::pythonize(py, &observation)?)
     }
 
     /// The collision log (completed contacts; needs `output.collisions =
@@ -457,7 +458,12 @@ impl Scene {
     /// on bit for bit from it with `restore()` or `Scene.from_checkpoint()`.
     fn checkpoint(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
         let path = args::path(path, "path")?;
-        let saved = CheckpointFile::new(self.file.clone(), self.sim.checkpoint());
+        let saved = guarded(|| {
+            Ok(CheckpointFile::new(
+                self.file.clone(),
+                self.sim.checkpoint(),
+            ))
+        })?;
         Ok(py.detach(|| {
             guarded(|| {
                 let mut w = std::io::BufWriter::new(std::fs::File::create(&path).map_err(|e| {
