@@ -27,7 +27,8 @@
 //! for the Tsuji damping), and `neigh_modify exclude group frozen frozen`
 //! (two fixed spheres never interact, as in dembound).
 
-use crate::{lammps::tsuji_input, num, Code, Deck, DeckFile, Error, Result};
+use crate::lammps_friction::{self, Surface};
+use crate::{lammps::tsuji_input, lammps_output, num, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
 use dembound_physics::material::{effective_modulus, Material, PairProperties};
 use dembound_scene::io::resolve::ResolvedScene;
@@ -50,20 +51,25 @@ struct AtomType {
 }
 
 /// The contact model's arguments for one pair of the deck.
-fn model_args(normal: &str, modulus: f64, damping: &Damping) -> String {
+/// `tangential`: the `tangential … [rolling …]` arguments
+/// ([`FRICTIONLESS`] without friction).
+fn model_args(normal: &str, modulus: f64, damping: &Damping, tangential: &str) -> String {
     match damping {
         Damping::None => format!(
-            "{normal} {} 0.0 tangential linear_nohistory 0.0 0.0 damping velocity",
+            "{normal} {} 0.0 {tangential} damping velocity",
             num(modulus)
         ),
         Damping::Tsuji { e_input, clamp } => format!(
-            "{normal} {} {} tangential linear_nohistory 0.0 0.0 damping tsuji{}",
+            "{normal} {} {} {tangential} damping tsuji{}",
             num(modulus),
             num(*e_input),
             if *clamp { " limit_damping" } else { "" }
         ),
     }
 }
+
+/// The tangential arguments of a frictionless pair.
+const FRICTIONLESS: &str = "tangential linear_nohistory 0.0 0.0";
 
 /// The damping as the deck writes it (the same for every pair).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,16 +106,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    if let Some(friction) = &setup.friction {
-        // Merged after the scene export was written: friction, rotation
-        // and rolling resistance are not mapped to LAMMPS yet, and a deck
-        // without them would not be the scene dembound runs.
-        return refuse(format!(
-            "contact.friction = {} (friction and rotation) cannot be exported for scenes yet: \
-             the deck would be frictionless (allowed: a scene without friction keys: contact.friction, contact.tangential, contact.rolling_friction, or a material's or wall's friction)",
-            friction.model.friction
-        ));
-    }
+    // Friction (lammps_friction.rs): None for a frictionless deck.
+    let friction = lammps_friction::plan(setup)?;
     match model.normal {
         NormalLaw::Hertz | NormalLaw::Hooke { .. } => {}
         other => {
@@ -125,6 +123,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
     let dt = sim.dt();
     let steps = sim.total_steps();
+    let every = lammps_output::series_every(scene.file.output.series_every, steps);
 
     // Atom types: the free materials in material order, then the fixed ones.
     let mut types: Vec<AtomType> = Vec::new();
@@ -149,6 +148,29 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         |s: &SphereInit| -> usize { 1 + types.iter().position(|t| *t == kind(s)).unwrap_or(0) };
     let material = |k: usize| -> &Material { &setup.materials[k].material };
     let name = |k: usize| -> &str { &setup.materials[k].name };
+    // Each type's one radius, if all its spheres share it (the linear
+    // tangential spring's R_eff per type pair).
+    let radius: Vec<Option<f64>> = types
+        .iter()
+        .map(|t| {
+            let mut radii = setup
+                .spheres
+                .iter()
+                .filter(|s| kind(s) == *t)
+                .map(|s| s.radius);
+            let first = radii.next();
+            first.filter(|r| radii.all(|q| q == *r))
+        })
+        .collect();
+    let surface = |t: usize| Surface {
+        material: material(types[t].material),
+        coefficients: setup
+            .friction
+            .as_ref()
+            .map_or((0.0, 0.0), |f| f.of_material(types[t].material)),
+        radius: radius[t],
+        plane: false,
+    };
 
     // The damping, the same for every pair, or a refusal naming the key.
     let damping = match (model.damping.kind(), model.damping.dissipation()) {
@@ -457,19 +479,26 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     "pair_coeff   {} {} {}   # frozen-frozen: excluded, never computed",
                     a + 1,
                     b + 1,
-                    model_args("hertz", 1.0, &Damping::None)
+                    model_args("hertz", 1.0, &Damping::None, FRICTIONLESS)
                 )
                 .ok();
                 continue;
             }
             let e = pair_modulus(ta, tb)?;
             let (law, k) = normal_coefficient(&model.normal, e);
+            let (tangential, about) = match &friction {
+                Some(f) => {
+                    let (args, about) = f.pair_args(&surface(a), &surface(b))?;
+                    (args, format!("; {about}"))
+                }
+                None => (FRICTIONLESS.to_string(), String::new()),
+            };
             writeln!(
                 x,
-                "pair_coeff   {} {} {}   # \"{}\"{} - \"{}\"{}: E_eff = {} Pa",
+                "pair_coeff   {} {} {}   # \"{}\"{} - \"{}\"{}: E_eff = {} Pa{about}",
                 a + 1,
                 b + 1,
-                model_args(law, k, &damping),
+                model_args(law, k, &damping, &tangential),
                 name(ta.material),
                 if ta.fixed { " (fixed)" } else { "" },
                 name(tb.material),
@@ -531,6 +560,19 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 },
             )?;
             let (law, k) = normal_coefficient(&model.normal, e);
+            let (tangential, about) = match (&friction, &setup.friction) {
+                (Some(f), Some(fs)) => {
+                    let wall = Surface {
+                        material: material(p.material),
+                        coefficients: fs.of_wall(p.index, p.material),
+                        radius: None,
+                        plane: true,
+                    };
+                    let (args, about) = f.pair_args(&surface(t), &wall)?;
+                    (args, format!("\n# wall[{}] friction: {about}", p.index))
+                }
+                _ => (FRICTIONLESS.to_string(), String::new()),
+            };
             let geometry = match p.axis {
                 Some(axis) if p.normal[axis] > 0.0 => {
                     format!("{} {} NULL", axis_name[axis], num(p.point[axis]))
@@ -541,8 +583,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             writeln!(
                 x,
                 "# wall[{}]: plane of \"{}\" against \"{}\": the pre-mixed E_eff = {} Pa (R_eff = R); not\n\
-                 # hertz/material, which would mix the wall as if it had the sphere's material\n\
-                 fix          wall{}_t{} t{} wall/gran{} granular {} {}",
+                 # hertz/material, which would mix the wall as if it had the sphere's material{about}\n\
+                 fix          wall{}_t{} t{} wall/gran{} granular {} {} contacts",
                 p.index,
                 name(p.material),
                 name(ty.material),
@@ -551,7 +593,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 t + 1,
                 t + 1,
                 if p.axis.is_some() { "" } else { "/region" },
-                model_args(law, k, &damping),
+                model_args(law, k, &damping, &tangential),
                 geometry
             )
             .ok();
@@ -559,6 +601,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     writeln!(x, "\nfix          integrate free nve/sphere").ok();
     if !fixed_types.is_empty() {
+        x.push_str(&lammps_output::before_freeze(setup));
         writeln!(
             x,
             "fix          freeze frozen freeze   # zero force on the frozen spheres; pair granular then uses m_eff = m_free"
@@ -631,6 +674,19 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     if wall_terms.is_empty() {
         wall_terms.push("0".into());
     }
+    let plane_fixes: Vec<(usize, Vec<String>)> = planes
+        .iter()
+        .map(|p| {
+            (
+                p.index,
+                free_types
+                    .iter()
+                    .map(|t| format!("wall{}_t{}", p.index, t + 1))
+                    .collect(),
+            )
+        })
+        .collect();
+    x.push_str(&lammps_output::output(setup, every, &plane_fixes));
     writeln!(
         x,
         "variable     pw equal {}\n\
@@ -771,7 +827,14 @@ steps = 10
                 "contact.damping_coefficient",
             ),
             (vec!["contact.law=linear"], "contact.law"),
-            (vec!["contact.friction=0.5"], "contact.friction"),
+            (
+                vec![
+                    "contact.friction=0.5",
+                    "contact.damping=tsuji",
+                    "contact.restitution=0.5",
+                ],
+                "contact.damping",
+            ),
         ] {
             let e = exported(&sets).expect_err("refused");
             assert!(e.to_string().contains(key), "{sets:?}: {e}");

@@ -14,6 +14,8 @@
 //! contact force on the particle (N, upward positive)`, `#` comments.
 
 pub mod lammps;
+mod lammps_friction;
+pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
 pub mod plan;
