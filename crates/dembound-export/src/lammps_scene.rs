@@ -418,6 +418,20 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             ));
         }
     }
+    match &friction {
+        None => c(
+            &mut x,
+            "friction: none (no friction keys, or every surface's mu = 0): the spheres do not spin"
+                .into(),
+        ),
+        Some(_) => {
+            c(&mut x, "friction: each pair's `tangential` (and `rolling`) arguments, written per type pair with dembound's mixing".into());
+            c(&mut x, "  mu = sqrt(mu_a mu_b), mindlin k_t = 8 G* (LAMMPS multiplies by a = sqrt(R delta)), undamped (x_gamma,t = 0);".into());
+            c(&mut x, "  one difference stays: LAMMPS applies the tangential torque at R - delta/2 from a sphere's centre in".into());
+            c(&mut x, "  sphere-sphere pairs, dembound at R (relative size delta/(2R)); plane walls use R in both (docs/export-lammps.md)".into());
+        }
+    }
+    c(&mut x, lammps_output::about(every, dt));
     c(&mut x, format!("step: dt = {} s (integration.dt, or eta x the smallest contact-time estimate), {} steps, velocity Verlet (fix nve/sphere) as dembound's verlet", num(dt), steps));
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
@@ -793,7 +807,7 @@ steps = 10
             .parse()
             .expect("a number");
         assert!((k / (4.0 / 3.0 * 1.0e7 / 0.91) - 1.0).abs() < 1e-15);
-        assert!(wall.ends_with("zplane 0 NULL"));
+        assert!(wall.ends_with("zplane 0 NULL contacts"));
         assert!(input.contains("group        frozen type 2"));
         assert!(input.contains("fix          freeze frozen freeze"));
         assert!(input.contains("timestep     1e-6") && input.contains("run          10"));
@@ -816,6 +830,43 @@ steps = 10
         );
         assert_eq!(atoms[1][4], 0.004000000000000001);
         assert!(data.contains("\n1 1e-1 0 0 0 0 0\n") && data.contains("\n2 0 0 0 0 0 0\n"));
+    }
+
+    #[test]
+    fn friction_coefficients_are_dembounds() {
+        let d = exported(&[
+            "contact.friction=0.4",
+            "material.1.friction=0.9",
+            "wall.0.friction=0.1",
+        ])
+        .expect("exports");
+        let input = &d.files[0].text;
+        let line = |start: &str| -> Vec<String> {
+            input
+                .lines()
+                .find(|l| l.starts_with(start))
+                .expect("the line")
+                .split_whitespace()
+                .map(String::from)
+                .collect()
+        };
+        let after = |w: &[String], key: &str, k: usize| -> f64 {
+            let i = w.iter().position(|x| x == key).expect("the keyword");
+            w[i + k].parse().expect("a number")
+        };
+        // G = E/(2(1 + nu)); G* = 1/((2 - nu_a)/G_a + (2 - nu_b)/G_b).
+        let g = |e: f64, nu: f64| e / (2.0 * (1.0 + nu));
+        let (ga, gb) = (g(1.0e7, 0.3), g(5.0e7, 0.2));
+        let ab = line("pair_coeff   1 2 ");
+        assert!((after(&ab, "mindlin", 1) / (8.0 / (1.7 / ga + 1.8 / gb)) - 1.0).abs() < 1e-14);
+        assert!((after(&ab, "mindlin", 3) - (0.4f64 * 0.9).sqrt()).abs() < 1e-15);
+        // The rigid floor: G* = G_a/(2 - nu_a); mu = sqrt(0.4 x 0.1) = 0.2.
+        let wall = line("fix          wall0_t1 ");
+        assert!((after(&wall, "mindlin", 1) / (8.0 * ga / 1.7) - 1.0).abs() < 1e-14);
+        assert!((after(&wall, "mindlin", 3) - 0.2).abs() < 1e-15);
+        // mu = 0 everywhere: the frictionless deck.
+        let none = exported(&["contact.friction=0"]).expect("exports");
+        assert!(!none.files[0].text.contains("mindlin"));
     }
 
     #[test]
