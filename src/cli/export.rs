@@ -157,7 +157,8 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     }
     writeln!(
         stdout,
-        "run it:  cd {} && {}\nthe last thermo line (step time ke pp pw) is the state `dembound scene {} --json` ends in",
+        "run it:  cd {} && {}\nthe last thermo line (step time ke pp pw) is the state `dembound scene {} --json` ends in; \
+         particles.dump and walls.txt hold every sphere's state and each wall's force at the series cadence",
         args.out.display(),
         code.command(),
         path.display()
