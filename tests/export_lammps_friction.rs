@@ -351,6 +351,80 @@ fn frictional_bed_on_a_plane_floor() {
     }
 }
 
+/// Rolling resistance under `hooke` (k = 50 N/m, μ_r = 0.1): `rolling sds
+/// 2.25 k μ_r² 0 μ_r`. Step 50 as in the Hertz case: only sphere–plane
+/// contacts, sliding and rolling against the floor, to round-off.
+#[test]
+fn rolling_bed_under_hooke_on_a_plane_floor() {
+    if !have_lmp() {
+        return;
+    }
+    let rows = compare(
+        PLANE_FLOOR,
+        &["contact.law={hooke=50.0}", "contact.rolling_friction=0.1"],
+    );
+    let early = rows
+        .iter()
+        .find(|r| r.step == 50)
+        .expect("the row at step 50");
+    assert!(early.contacts >= 64, "contacts {}", early.contacts);
+    assert!(early.torque > 1e-9, "no tangential force: {}", early.torque);
+    for (what, d) in [
+        ("position", early.position),
+        ("velocity", early.velocity),
+        ("spin", early.spin),
+        ("wall force", early.wall_force),
+    ] {
+        assert!(d < 1e-12, "step 50: {what} differs by {d:e}");
+    }
+    // Not vacuous: the rolling spring changes the spins at step 50 by far
+    // more than the 1e-12 the codes agree to.
+    let spins = |rolling: &str| {
+        let text = BED.replace("FLOOR", PLANE_FLOOR);
+        let sets = ["contact.law={hooke=50.0}".to_string(), rolling.to_string()];
+        let file = config::load(&text, "bed", &sets).expect("a valid scene");
+        let resolved = resolve(&file, Path::new(".")).expect("resolves");
+        let mut sim = Simulation::new(resolved.setup.clone(), 1).expect("runs");
+        sim.step(50);
+        sim.angular_velocities()
+    };
+    let (with, without) = (
+        spins("contact.rolling_friction=0.1"),
+        spins("contact.rolling_friction=0"),
+    );
+    let change = with
+        .iter()
+        .zip(&without)
+        .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
+        .fold(0.0, f64::max);
+    let largest = with
+        .iter()
+        .flat_map(|a| a.iter().map(|c| c.abs()))
+        .fold(0.0, f64::max);
+    assert!(
+        change > 1e-6 * largest,
+        "rolling changes the spins by {change:e} of {largest:e} rad/s"
+    );
+}
+
+/// The linear (Cundall–Strack) spring, k_t = (2/7) E_eff R_eff as
+/// `linear_history k_t` per type pair and wall: step 50 as above.
+#[test]
+fn linear_tangential_bed_on_a_plane_floor() {
+    if !have_lmp() {
+        return;
+    }
+    let rows = compare(PLANE_FLOOR, &["contact.tangential=linear"]);
+    let early = rows
+        .iter()
+        .find(|r| r.step == 50)
+        .expect("the row at step 50");
+    assert!(early.contacts >= 64 && early.torque > 1e-9);
+    for d in [early.position, early.velocity, early.spin, early.wall_force] {
+        assert!(d < 1e-12, "step 50 differs by {d:e}");
+    }
+}
+
 /// Boundary-particle floor (hexagonal, r = 4, ζ = 10): every contact is a
 /// pair of `pair granular`, so the torque-arm difference (R − δ/2 against
 /// R) acts from the first contact: no round-off agreement to test, but a
