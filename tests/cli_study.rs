@@ -41,7 +41,8 @@ fn sweep_reports_every_case_and_writes_its_files() {
     // (ERRATA 6, written out here: p² = ζ̄ r̄ c² / (π (1 − ν²) R_m²),
     // ζ̄ = ζ/(1+ζ), r̄ = r/(1+r), both spheres ν = 0.3, c² = E/ρ = 1e7
     // m²/s², R_m = 0.5 mm; h_max = (g + √(g² + v² p²))/p², T_c = (π + 2
-    // atan(g/(v p)))/p, v = √(2 g gap)), and for Hertz against the case's
+    // atan(g/(v p)))/p, v = √(2 g gap)), for Hertz's h_max against the
+    // energy balance solved here, and for Hertz's T_c against the case's
     // exact value. The report must agree with the recomputation to 1e−11
     // (the exact reference meets the closed forms to 1e−12, cli_exact.rs),
     // and the error must not be zero: Gear5 at η = 1/50 errs by ~1e−8
@@ -69,6 +70,22 @@ fn sweep_reports_every_case_and_writes_its_files() {
                     } else {
                         (std::f64::consts::PI + 2.0 * (g / (v * p2.sqrt())).atan()) / p2.sqrt()
                     }
+                } else if q == "max_overlap" {
+                    // Hertz: energy at the deepest point, g gap + g h =
+                    // (2/5)(k/m) h^(5/2), k/m = c² ζ̄ √r̄ / ((1 − ν²) π
+                    // R_m^(5/2)); solved by bisection to the last bit.
+                    let km = ratio("modulus_ratio") * ratio("radius_ratio").sqrt() * 1e7
+                        / ((1.0 - 0.09) * std::f64::consts::PI * 0.5e-3f64.powf(2.5));
+                    let (mut lo, mut hi) = (0.0f64, 1e-3f64);
+                    for _ in 0..200 {
+                        let mid = 0.5 * (lo + hi);
+                        if 0.4 * km * mid.powf(2.5) > g * (gap + mid) {
+                            hi = mid;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    lo
                 } else {
                     contact["exact"][q].as_f64().expect("a number")
                 };
