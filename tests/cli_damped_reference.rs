@@ -266,7 +266,10 @@ fn sweep_uses_the_damped_reference() {
                 assert!(x.abs() < 1e-5, "{k}: {x}");
                 // Recomputed, and not suspiciously zero (as `compare`).
                 let mine = get(&contact["numerical"], k) / get(&contact["exact"], k) - 1.0;
-                assert!((mine - x).abs() < 1e-12, "{k}: reported {x:e}, recomputed {mine:e}");
+                assert!(
+                    (mine - x).abs() < 1e-12,
+                    "{k}: reported {x:e}, recomputed {mine:e}"
+                );
                 assert!(mine.abs() > 1e-10, "{k}: error {mine:e}");
             }
         }
