@@ -48,10 +48,11 @@ fn fingerprint(sim: &Simulation) -> (Vec<Vec<[u64; 3]>>, String) {
 /// Each worker's share over a run, sampled every `SAMPLE` steps.
 struct ShareLog {
     /// Per worker: the smallest and largest bodies held, the smallest
-    /// block count held.
+    /// block count held, the samples at which it held a block.
     bodies_min: Vec<usize>,
     bodies_max: Vec<usize>,
     blocks_min: Vec<usize>,
+    held: Vec<usize>,
     /// Force blocks at each sample (all workers).
     blocks_total_min: usize,
     samples: usize,
@@ -64,6 +65,7 @@ fn run(setup: &SceneSetup, threads: usize, steps: u64) -> (Simulation, ShareLog)
         bodies_min: vec![usize::MAX; threads],
         bodies_max: vec![0; threads],
         blocks_min: vec![usize::MAX; threads],
+        held: vec![0; threads],
         blocks_total_min: usize::MAX,
         samples: 0,
     };
@@ -85,6 +87,7 @@ fn run(setup: &SceneSetup, threads: usize, steps: u64) -> (Simulation, ShareLog)
             log.bodies_min[t] = log.bodies_min[t].min(bodies);
             log.bodies_max[t] = log.bodies_max[t].max(bodies);
             log.blocks_min[t] = log.blocks_min[t].min(blocks);
+            log.held[t] += usize::from(blocks > 0);
         }
         let total: usize = shares.iter().map(|s| s.0).sum();
         log.blocks_total_min = log.blocks_total_min.min(total);
@@ -122,12 +125,14 @@ fn assert_split_and_identical(setup: SceneSetup, steps: u64, what: &str) {
         let (sim, log) = run(&setup, threads, steps);
         eprintln!(
             "{what}, {threads} threads, {} samples: blocks ≥ {} in all; per worker \
-             bodies min {:?}, max {:?}, blocks min {:?} (of {} bodies)",
+             bodies min {:?}, max {:?}, blocks min {:?}, samples with a block {:?} \
+             (of {} bodies)",
             log.samples,
             log.blocks_total_min,
             log.bodies_min,
             log.bodies_max,
             log.blocks_min,
+            log.held,
             sim.body_count()
         );
         assert!(
@@ -135,10 +140,15 @@ fn assert_split_and_identical(setup: SceneSetup, steps: u64, what: &str) {
             "{what}: {} force blocks for {threads} threads",
             log.blocks_total_min
         );
+        // The shares follow measured block times (scheduling only), so a
+        // worker preempted on a busy machine may lose its blocks for a
+        // while: each must hold a block in at least 3/4 of the samples
+        // (measured: in all of them, also with five builds running).
         assert!(
-            log.blocks_min.iter().all(|&b| b >= 1),
-            "{what}, {threads} threads: a worker was left without a block: {:?}",
-            log.bodies_min
+            log.held.iter().all(|&h| 4 * h >= 3 * log.samples),
+            "{what}, {threads} threads: a worker was left without a block: held at {:?} of {} samples",
+            log.held,
+            log.samples
         );
         assert!(
             fingerprint(&sim) == reference,
