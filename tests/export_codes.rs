@@ -5,7 +5,10 @@
 //! the deck writer and of the trace reader).
 //!
 //! Each test skips, saying so on stderr, only when its code's binary is not
-//! on PATH (.ci/run installs all three).
+//! on PATH (.ci/run installs all three) — except under CI (`CI` set to
+//! anything but `false`/`0`, as CI services and .ci/run set it), where a
+//! missing code FAILS the test: the harness hides a skip's message, so a
+//! skip would let CI pass without checking anything.
 //!
 //! Tolerances: 0.1 % in h_max, T_c and v_r and 1e-3 in e (issue 15), for
 //! velocity Verlet (LAMMPS, LIGGGHTS) and leapfrog (Yade) at dembound's
@@ -29,6 +32,55 @@ fn on_path(name: &str) -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
+/// Whether the peer codes are required (a missing one fails the test):
+/// the environment variable `CI` set to anything but empty, `0` or `false`.
+fn codes_required(ci: Option<&str>) -> bool {
+    ci.is_some_and(|v| !matches!(v.trim().to_ascii_lowercase().as_str(), "" | "0" | "false"))
+}
+
+/// True when `bin` (Debian package `code`) is missing, so the caller must
+/// skip `what`: says so on stderr. Under CI it panics instead, so CI cannot
+/// pass without running the peer code.
+fn missing(bin: &str, code: &str, what: &str) -> bool {
+    let required = codes_required(std::env::var("CI").ok().as_deref());
+    on_path(bin).is_none() && skip_or_fail(bin, code, what, required)
+}
+
+/// The missing-code branch of `missing`: fails when `required`, else says
+/// why the check is skipped and returns true.
+fn skip_or_fail(bin: &str, code: &str, what: &str, required: bool) -> bool {
+    assert!(
+        !required,
+        "`{bin}` is not on PATH (Debian package {code}) and CI is set: {what} must be \
+         checked under CI (.ci/run installs it)"
+    );
+    eprintln!(
+        "SKIPPED: `{bin}` is not on PATH (Debian package {code}; .ci/run installs it), \
+         so {what} is not checked here"
+    );
+    true
+}
+
+/// Under CI a missing peer code fails; outside it skips. (The skip itself
+/// cannot be seen through the harness, hence this test of the rule.)
+#[test]
+fn a_missing_code_fails_under_ci_and_skips_elsewhere() {
+    for ci in ["true", "1", "yes", "TRUE"] {
+        assert!(codes_required(Some(ci)), "CI={ci}");
+    }
+    for ci in [None, Some(""), Some("0"), Some("false"), Some("False")] {
+        assert!(!codes_required(ci), "CI={ci:?}");
+    }
+    let bin = "dembound-no-such-peer-code";
+    assert!(on_path(bin).is_none());
+    assert!(skip_or_fail(bin, "none", "nothing", false));
+    let failed = std::panic::catch_unwind(|| skip_or_fail(bin, "none", "nothing", true));
+    assert!(
+        failed.is_err(),
+        "a missing code under CI must fail the test"
+    );
+}
+
 /// The binary of `code` and its arguments to run the deck in a directory.
 fn runner(code: &str) -> (&'static str, Vec<&'static str>) {
     match code {
@@ -46,11 +98,7 @@ fn runner(code: &str) -> (&'static str, Vec<&'static str>) {
 /// message) when the code is not installed.
 fn run_case(code: &str, sets: &[&str], extra: &[&str]) -> Option<Value> {
     let (bin, args) = runner(code);
-    if on_path(bin).is_none() {
-        eprintln!(
-            "SKIPPED: `{bin}` is not on PATH (Debian package {code}; .ci/run installs it), \
-             so the {code} export is not checked here"
-        );
+    if missing(bin, code, &format!("the {code} export")) {
         return None;
     }
     let dir = tempfile::tempdir().expect("a temporary directory");
@@ -485,11 +533,7 @@ mod lammps_scenes {
     /// --json`, and checks the end states agree; returns the relative
     /// kinetic-energy difference. None when `lmp` is missing.
     fn agree(scene: &Path, sets: &[&str], what: &str) -> Option<f64> {
-        if on_path("lmp").is_none() {
-            eprintln!(
-                "SKIPPED: `lmp` is not on PATH (Debian package lammps; .ci/run installs it), \
-                 so the scene export is not checked here"
-            );
+        if missing("lmp", "lammps", "the scene export") {
             return None;
         }
         let dir = tempfile::tempdir().expect("a temporary directory");

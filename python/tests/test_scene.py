@@ -77,6 +77,71 @@ def test_checkpoint_and_restart_are_bit_for_bit(tmp_path):
     assert np.array_equal(loaded.positions, straight.positions)
 
 
+LATTICE = REPO / "examples" / "scenes" / "lattice_drop.toml"
+# lattice_drop.toml cut to 8 x 8 x 6 spheres in a 10.2 mm box, Mindlin
+# friction 0.5 and rolling friction 0.05 on grains and walls, dt = 20 us:
+# the lattice lands on the floor from step ~50 and bounces.
+FRICTIONAL_LATTICE = [
+    "particles.0.lattice.counts=[8,8,6]",
+    "domain.upper=[0.0102,0.0102,0.03]",
+    "wall.1.plane.point=[0.0102,0.0,0.0]",
+    "wall.3.plane.point=[0.0,0.0102,0.0]",
+    "contact.friction=0.5",
+    "contact.rolling_friction=0.05",
+    "integration.dt=2e-5",
+    "output.collisions=true",
+]
+
+
+@pytest.mark.parametrize(
+    "scheme",
+    [
+        ["integration.scheme=verlet"],
+        # Gear5 at 2 us (its stable step with friction on this bed), Tsuji
+        # e = 0.6, E = 1e8 Pa: the lattice lands from step ~500.
+        [
+            "integration.scheme=gear5",
+            "integration.dt=2e-6",
+            "material.0.youngs_modulus=1e8",
+            "contact.damping=tsuji",
+            "contact.restitution=0.6",
+        ],
+    ],
+    ids=["verlet", "gear5"],
+)
+def test_restart_in_the_middle_of_contacts_is_bit_for_bit(tmp_path, scheme):
+    sets = FRICTIONAL_LATTICE + scheme
+    n = 1000 if scheme[0].endswith("verlet") else 4000
+    straight = dembound.Scene.from_toml(LATTICE, sets)
+    straight.step(n)
+    first = dembound.Scene.from_toml(LATTICE, sets)
+    first.step(n // 2)
+    # Not vacuous: contacts on pairs and on the floor are live at the
+    # checkpoint, and friction is loaded there: the floor (wall 4, a plane
+    # with friction) carries a tangential force, which without its
+    # tangential springs it could not (elastic contacts: no damping), and
+    # spheres spin.
+    at = first.observe()
+    assert at["particle_contacts"] > 0 and at["wall_contacts"] > 0, at
+    assert np.any(first.wall_forces[4, :2] != 0.0), first.wall_forces[4]
+    assert np.any(first.angular_velocities != 0.0)
+    first.checkpoint(tmp_path / "c.cbor")
+    for restarted in (
+        dembound.Scene.from_toml(LATTICE, sets, threads=2),
+        dembound.Scene.from_checkpoint(tmp_path / "c.cbor"),
+    ):
+        if restarted.steps_done == 0:
+            restarted.restore(tmp_path / "c.cbor")
+        assert restarted.steps_done == n // 2
+        restarted.step(n - n // 2)
+        for name in ("positions", "velocities", "angular_velocities", "forces", "wall_forces"):
+            assert np.array_equal(getattr(restarted, name), getattr(straight, name)), name
+        assert_same(restarted.observe(), straight.observe())
+        for key, column in straight.collisions.items():
+            assert np.array_equal(restarted.collisions[key], column), key
+    assert np.all(np.isfinite(straight.positions))
+
+
 def test_write_vtk(tmp_path):
     scene = dembound.Scene.from_toml(VALIDATION)
     path = scene.write_vtk(tmp_path / "vtk")

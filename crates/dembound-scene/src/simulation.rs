@@ -566,6 +566,14 @@ impl Simulation {
         self.world.rebuilds
     }
 
+    /// Each worker's share of the force loop now, (force blocks, bodies),
+    /// worker order; empty when the loop is not shared (one thread, a
+    /// decomposed run). Test-visible: shows that a run splits its work.
+    #[doc(hidden)]
+    pub fn worker_shares(&self) -> Vec<(usize, usize)> {
+        self.world.list.worker_shares(self.workers.threads())
+    }
+
     /// Listed pairs (with skin) now.
     pub fn listed_pairs(&self) -> usize {
         self.world.list.pair_count()

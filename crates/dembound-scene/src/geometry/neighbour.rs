@@ -246,6 +246,23 @@ impl PairList {
         Some((self.blocks[first] as usize, self.blocks[end] as usize))
     }
 
+    /// Each worker's share of the force loop now, (blocks, bodies), for
+    /// tests that must show the work is split; empty when the loop is not
+    /// shared among `threads` workers (one thread, a decomposed run).
+    pub fn worker_shares(&self, threads: usize) -> Vec<(usize, usize)> {
+        if self.sequential {
+            return Vec::new();
+        }
+        (0..threads)
+            .map(|t| {
+                let (first, end) = self.shares.blocks(t, threads)?;
+                let (lo, hi) = self.share(t, threads)?;
+                Some((end - first, hi - lo))
+            })
+            .collect::<Option<Vec<_>>>()
+            .unwrap_or_default()
+    }
+
     /// Folds the step's measured costs into the shares.
     pub fn rebalance(&mut self) {
         self.shares.rebalance(&self.blocks);
