@@ -355,25 +355,29 @@ fn pair_overlaps(
         .collect();
     let (order, start) = sort_by_cell(&cell, grid.count());
     let members = |c: usize| order[start[c] as usize..start[c + 1] as usize].iter();
-    // Neighbour cell offsets per axis, each distinct cell once.
-    let offsets = |a: usize, at: usize| -> Vec<usize> {
+    // Neighbour cells per axis and coordinate, each distinct cell once.
+    let neighbours: [Vec<Vec<usize>>; 3] = std::array::from_fn(|a| {
         let n = grid.dims[a];
-        let mut v = Vec::with_capacity(3);
-        for o in [-1i64, 0, 1] {
-            let c = at as i64 + o;
-            let c = if d.periodic[a] {
-                c.rem_euclid(n as i64)
-            } else if c < 0 || c >= n as i64 {
-                continue;
-            } else {
-                c
-            } as usize;
-            if !v.contains(&c) {
-                v.push(c);
-            }
-        }
-        v
-    };
+        (0..n)
+            .map(|at| {
+                let mut v = Vec::with_capacity(3);
+                for o in [-1i64, 0, 1] {
+                    let c = at as i64 + o;
+                    let c = if d.periodic[a] {
+                        c.rem_euclid(n as i64)
+                    } else if c < 0 || c >= n as i64 {
+                        continue;
+                    } else {
+                        c
+                    } as usize;
+                    if !v.contains(&c) {
+                        v.push(c);
+                    }
+                }
+                v
+            })
+            .collect()
+    });
     for z in 0..grid.dims[2] {
         for y in 0..grid.dims[1] {
             for x in 0..grid.dims[0] {
@@ -381,9 +385,9 @@ fn pair_overlaps(
                 if start[here] == start[here + 1] {
                     continue;
                 }
-                for &cz in &offsets(2, z) {
-                    for &cy in &offsets(1, y) {
-                        for &cx in &offsets(0, x) {
+                for &cz in &neighbours[2][z] {
+                    for &cy in &neighbours[1][y] {
+                        for &cx in &neighbours[0][x] {
                             let there = grid.index([cx, cy, cz]);
                             for &a in members(here) {
                                 for &b in members(there) {
