@@ -594,7 +594,8 @@ impl SceneFile {
                 ),
             )?;
             check(
-                m.poisson_ratio > limits::POISSON_RATIO.0 && m.poisson_ratio < limits::POISSON_RATIO.1,
+                m.poisson_ratio > limits::POISSON_RATIO.0
+                    && m.poisson_ratio < limits::POISSON_RATIO.1,
                 &key("poisson_ratio"),
                 m.poisson_ratio,
                 &format!(
