@@ -512,3 +512,31 @@ pub fn markdown() -> String {
     out.push('\n');
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use dembound_core::bounce::limits as bounce;
+    use dembound_scene::limits as scene;
+
+    /// The scene's ranges that the bounce study also has are the same
+    /// numbers (`dembound-scene` does not depend on `dembound-core`, so
+    /// the values are repeated there; this keeps them equal).
+    #[test]
+    fn the_shared_ranges_are_the_bounce_studys() {
+        assert_eq!(scene::RADIUS, bounce::RADIUS);
+        assert_eq!(scene::DENSITY, bounce::DENSITY);
+        assert_eq!(scene::YOUNGS_MODULUS, bounce::YOUNGS_MODULUS);
+        assert_eq!(scene::MAX_SPEED, bounce::MAX_SPEED);
+        assert_eq!(scene::GRAVITY, bounce::GRAVITY);
+        assert_eq!(scene::MODULUS_RATIO, bounce::RATIO);
+    }
+
+    /// Every row has a unit column that is a unit or empty, and a range.
+    #[test]
+    fn every_row_states_its_range() {
+        for k in super::keys() {
+            assert!(!k.allowed.is_empty(), "{}", k.key);
+            assert!(!k.default.is_empty(), "{}", k.key);
+        }
+    }
+}
