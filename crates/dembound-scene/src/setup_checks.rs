@@ -471,3 +471,137 @@ fn pair_overlaps(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::{DomainSetup, NamedMaterial, RunLength, SphereInit, TimeStep};
+    use dembound_physics::contact::{ContactModel, NormalLaw};
+    use dembound_physics::material::Material;
+
+    /// splitmix64 in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Random spheres (radii 0.4–0.6 mm, a few of 2.5 mm and fixed ones
+    /// of 4 mm) in a 10 mm box, x and z periodic.
+    fn scene(seed: u64, n: usize) -> SceneSetup {
+        let mut s = SceneSetup::new(
+            DomainSetup {
+                lower: [0.0; 3],
+                upper: [0.01; 3],
+                periodic: [true, false, true],
+            },
+            ContactModel::elastic(NormalLaw::Hertz),
+            TimeStep::Fixed(1e-6),
+            RunLength::Steps(1),
+        );
+        s.materials.push(NamedMaterial {
+            name: "g".into(),
+            material: Material {
+                density: 1000.0,
+                youngs_modulus: 1e7,
+                poisson_ratio: 0.3,
+            },
+        });
+        let mut rng = Rng(seed);
+        for k in 0..n {
+            let (radius, fixed) = match k % 50 {
+                0 => (2.5e-3, false),
+                1 => (4e-3, true),
+                _ => (4e-4 + 2e-4 * rng.next(), false),
+            };
+            s.spheres.push(SphereInit {
+                position: [
+                    0.01 * rng.next(),
+                    0.012 * rng.next() - 0.001,
+                    0.01 * rng.next(),
+                ],
+                velocity: [0.0; 3],
+                radius,
+                material: 0,
+                fixed,
+                group: None,
+            });
+        }
+        s
+    }
+
+    /// The O(N²) reference: every pair with one free sphere, minimum image
+    /// on the periodic axes; (pairs above the warning level, the largest
+    /// overlap share).
+    fn brute(s: &SceneSetup) -> (usize, f64) {
+        let d = &s.domain;
+        let b = &s.spheres;
+        let (mut count, mut worst) = (0, 0.0_f64);
+        for i in 0..b.len() {
+            for j in i + 1..b.len() {
+                if b[i].fixed && b[j].fixed {
+                    continue;
+                }
+                let mut dist2 = 0.0;
+                for a in 0..3 {
+                    let l = d.upper[a] - d.lower[a];
+                    let mut x = b[j].position[a] - b[i].position[a];
+                    if d.periodic[a] {
+                        x -= l * (x / l).round();
+                    }
+                    dist2 += x * x;
+                }
+                let share =
+                    (b[i].radius + b[j].radius - dist2.sqrt()) / b[i].radius.min(b[j].radius);
+                if share > limits::OVERLAP_WARNING {
+                    count += 1;
+                }
+                worst = worst.max(share);
+            }
+        }
+        (count, worst)
+    }
+
+    #[test]
+    fn the_grid_search_finds_what_the_all_pairs_search_finds() {
+        let mut refused = 0;
+        let mut warned = 0;
+        for seed in 0..80 {
+            let s = scene(seed, 4 + seed as usize);
+            let (count, worst) = brute(&s);
+            let mut w = Vec::new();
+            let result = pair_overlaps(&s, &by_index, &mut w);
+            assert_eq!(
+                result.is_err(),
+                worst > limits::OVERLAP_REFUSAL,
+                "seed {seed}: worst share {worst}: {result:?}"
+            );
+            if result.is_err() {
+                refused += 1;
+                continue;
+            }
+            if count > 0 {
+                warned += 1;
+                assert_eq!(w.len(), 1);
+                assert!(
+                    w[0].starts_with(&format!("{count} sphere pair(s)")),
+                    "seed {seed}: {count} pairs expected: {}",
+                    w[0]
+                );
+                assert!(w[0].contains(&percent(worst)), "seed {seed}: {}", w[0]);
+            } else {
+                assert!(w.is_empty());
+            }
+        }
+        // Both branches exercised.
+        assert!(
+            refused > 0 && warned > 0,
+            "{refused} refused, {warned} warned"
+        );
+    }
+}
