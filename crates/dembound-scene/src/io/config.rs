@@ -208,7 +208,7 @@ impl ContactSection {
         // exponent`); in a scene it is written `law = { power = α }`.
         let key = |k: &str| -> String {
             match &self.law {
-                Law::WithValue(map) if !SCENE_CONTACT_KEYS.iter().any(|c| k == *c) => map
+                Law::WithValue(map) if !SCENE_CONTACT_KEYS.contains(&k) => map
                     .keys()
                     .next()
                     .map_or(k.to_string(), |name| format!("contact.law.{name}")),
