@@ -379,3 +379,26 @@ fn settling_bed_rebalances_under_mpirun() {
     assert!(err.contains("> 1"), "{err}");
     assert!(!d_bad.exists());
 }
+
+/// Issue 24's refusals hold under MPI (every rank resolves and prepares the
+/// whole scene): a floor across a periodic z is refused on 2 ranks with one
+/// message naming the wall and `domain.periodic`, exit 2, no output.
+#[test]
+fn a_wall_across_a_periodic_axis_is_refused_with_one_message() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let out = tmp.path().join("never");
+    let o = mpirun_scene(2, &[], "lattice_drop.toml")
+        .args(["--set", "domain.periodic=[false,false,true]"])
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.matches("error: ").count(), 1, "{err}");
+    assert!(
+        err.contains("wall[4].plane.normal") && err.contains("domain.periodic"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -16,6 +16,9 @@ pub struct KeysArgs {
     /// Print the table as a JSON array of {key, unit, default, allowed, meaning}
     #[arg(long)]
     pub json: bool,
+    /// The keys of a scene file (`dembound scene`) instead of a scenario's
+    #[arg(long)]
+    pub scene: bool,
 }
 
 /// One scenario key.
@@ -250,8 +253,18 @@ pub fn keys() -> Vec<KeyInfo> {
 }
 
 pub fn run(args: &KeysArgs) -> CliResult {
-    let keys = keys();
     let mut stdout = std::io::stdout().lock();
+    if args.scene {
+        let text = if args.json {
+            super::json_text(&super::keys_scene::keys())?
+        } else {
+            super::keys_scene::markdown()
+        };
+        write!(stdout, "{text}").map_err(CliError::failed)?;
+        stdout.flush().map_err(CliError::failed)?;
+        return Ok(());
+    }
+    let keys = keys();
     if args.json {
         write!(stdout, "{}", super::json_text(&keys)?).map_err(CliError::failed)?;
     } else {

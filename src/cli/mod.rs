@@ -7,6 +7,7 @@ pub mod compare;
 pub mod exact;
 pub mod export;
 pub mod keys;
+pub mod keys_scene;
 pub mod lists;
 pub mod paper;
 pub mod recommend;

@@ -78,6 +78,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
     let base = args.file.parent().unwrap_or(Path::new("."));
     let resolved = resolve(&file, base).map_err(scene_error)?;
+    super::warnings::print(&resolved.warnings);
     let free = resolved.setup.spheres.iter().filter(|s| !s.fixed).count();
     let threads = match args.threads {
         Some(n) => usize::from(n),

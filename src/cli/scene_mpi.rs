@@ -87,6 +87,9 @@ fn prepare(args: &SceneArgs, rank: usize) -> Result<Prepared, CliError> {
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
     let base = args.file.parent().unwrap_or(Path::new("."));
     let resolved = resolve(&file, base).map_err(scene_error)?;
+    if rank == 0 {
+        super::warnings::print(&resolved.warnings);
+    }
     // One thread per rank unless asked: ranks already fill the cores.
     let threads = args.threads.map_or(1, usize::from);
     let _ = PARALLEL_MIN_PARTICLES;

@@ -206,12 +206,18 @@ impl Simulation {
                     normal,
                     material,
                 } => {
-                    let len =
+                    let mut len =
                         (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
                             .sqrt();
+                    if !(len.is_finite() && len > 1e-150) {
+                        // Squares that overflow or underflow ([0, 0, 1e300]):
+                        // the scaled norm (the formula above, kept for the
+                        // bits of every other normal).
+                        len = crate::limits::norm(normal);
+                    }
                     if !(len.is_finite() && len > 0.0) {
                         return Err(SceneError::invalid(
-                            format!("walls[{w}].normal"),
+                            format!("wall[{w}].plane.normal"),
                             show3(normal),
                             "finite and non-zero",
                         ));
@@ -280,6 +286,7 @@ impl Simulation {
                 "finite, m/s²",
             ));
         }
+        crate::setup_checks::check(setup, &crate::setup_checks::by_index)?;
 
         // Bodies in input order.
         let n = setup.spheres.len();

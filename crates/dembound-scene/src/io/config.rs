@@ -8,7 +8,7 @@
 //! checks every value: an error names the key, the value and the allowed
 //! range. All errors are [`SceneError::Input`] (exit 2 in the CLI).
 
-use crate::SceneError;
+use crate::{limits, SceneError};
 use dembound_physics::contact::tangential::{tangential_names, TangentialKind};
 use dembound_physics::contact::{ContactModel, ContactSpec};
 use serde::{Deserialize, Serialize};
@@ -101,7 +101,9 @@ pub const RIGID: &str = "rigid";
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
-    /// `"linear"`, `"hertz"`, `"walton-braun"`, … or `{ power = α }`.
+    /// `"linear"`, `"hertz"`, `"walton-braun"`, … or `{ power = α }`
+    /// (default `"hertz"`, also when `[contact]` gives other keys only).
+    #[serde(default = "hertz")]
     pub law: Law,
     /// `"none"`, `"viscous"`, `"tsuji"`, `"viscoelastic"`.
     #[serde(default = "no_damping")]
@@ -134,6 +136,10 @@ pub struct ContactSection {
     pub rolling_friction: Option<f64>,
 }
 
+fn hertz() -> Law {
+    Law::Name("hertz".into())
+}
+
 fn no_damping() -> String {
     "none".into()
 }
@@ -145,7 +151,7 @@ fn exact() -> String {
 impl Default for ContactSection {
     fn default() -> Self {
         Self {
-            law: Law::Name("hertz".into()),
+            law: hertz(),
             damping: no_damping(),
             restitution: None,
             calibration: exact(),
@@ -198,14 +204,44 @@ impl ContactSection {
         spec.calibration = self.calibration.clone();
         spec.attractive = self.attractive;
         spec.reference_speed = reference_speed;
-        let model =
-            ContactModel::from_spec(&spec).map_err(|e| invalid(&e.key, e.value, &e.allowed))?;
+        // The registry names a law's parameter by its own key (`contact.
+        // exponent`); in a scene it is written `law = { power = α }`.
+        let key = |k: &str| -> String {
+            match &self.law {
+                Law::WithValue(map) if !SCENE_CONTACT_KEYS.contains(&k) => map
+                    .keys()
+                    .next()
+                    .map_or(k.to_string(), |name| format!("contact.law.{name}")),
+                _ => k.to_string(),
+            }
+        };
+        let model = ContactModel::from_spec(&spec)
+            .map_err(|e| invalid(&key(&e.key), e.value, &e.allowed))?;
         model
             .validate()
-            .map_err(|e| invalid(&e.key, e.value, &e.allowed))?;
+            .map_err(|e| invalid(&key(&e.key), e.value, &e.allowed))?;
+        let walton_braun = matches!(&self.law, Law::Name(n) if n == "walton-braun");
+        check(
+            !(walton_braun && self.attractive),
+            "contact.attractive",
+            self.attractive,
+            "false for law = \"walton-braun\" (the law has no tensile branch; `dembound run` \
+             refuses it likewise)",
+        )?;
         Ok(model)
     }
 }
+
+/// The `[contact]` keys a registry error may name as they are.
+const SCENE_CONTACT_KEYS: [&str; 7] = [
+    "contact.law",
+    "contact.damping",
+    "contact.restitution",
+    "contact.calibration",
+    "contact.damping_coefficient",
+    "contact.attractive",
+    "contact.stiffness",
+];
 
 /// `[[particles]]`: one group of spheres of one material, from exactly one
 /// source.
@@ -480,6 +516,29 @@ fn finite3(key: &str, v: [f64; 3], unit: &str) -> Result<(), SceneError> {
     )
 }
 
+/// `x` in `range` (both ends included), in `unit`; the ranges are
+/// [`crate::limits`]'s.
+fn ranged(key: &str, x: f64, range: (f64, f64), unit: &str) -> Result<(), SceneError> {
+    check(
+        limits::within(x, range),
+        key,
+        limits::show(x),
+        &limits::describe(range, unit),
+    )
+}
+
+/// A velocity of at most [`limits::MAX_SPEED`].
+fn speed(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
+    finite3(key, v, "m/s")?;
+    let s = limits::norm(v);
+    check(
+        s <= limits::MAX_SPEED,
+        key,
+        format!("{v:?} (|v| = {} m/s)", limits::show(s)),
+        &format!("|v| ≤ {} m/s", limits::show(limits::MAX_SPEED)),
+    )
+}
+
 fn nonzero3(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
     check(
         v.iter().all(|x| x.is_finite()) && v.iter().any(|x| *x != 0.0),
@@ -523,18 +582,27 @@ impl SceneFile {
                 format!("{:?}", m.name),
                 "a name not used by an earlier [[material]]",
             )?;
-            positive(&key("density"), m.density, "kg/m³")?;
+            ranged(&key("density"), m.density, limits::DENSITY, "kg/m³")?;
             check(
-                m.youngs_modulus > 0.0 && !m.youngs_modulus.is_nan(),
+                limits::within(m.youngs_modulus, limits::YOUNGS_MODULUS)
+                    || m.youngs_modulus == f64::INFINITY,
                 &key("youngs_modulus"),
-                m.youngs_modulus,
-                "> 0 in Pa, or inf (rigid)",
+                limits::show(m.youngs_modulus),
+                &format!(
+                    "{}, or inf (rigid)",
+                    limits::describe(limits::YOUNGS_MODULUS, "Pa")
+                ),
             )?;
             check(
-                m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5,
+                m.poisson_ratio > limits::POISSON_RATIO.0
+                    && m.poisson_ratio < limits::POISSON_RATIO.1,
                 &key("poisson_ratio"),
                 m.poisson_ratio,
-                "-1 < ν < 0.5",
+                &format!(
+                    "{} < ν < {} (both ends excluded)",
+                    limits::POISSON_RATIO.0,
+                    limits::POISSON_RATIO.1
+                ),
             )?;
         }
         self.validate_contact()?;
@@ -551,6 +619,13 @@ impl SceneFile {
             self.validate_wall(i, w)?;
         }
         finite3("motion.gravity", self.motion.gravity, "m/s²")?;
+        let g = limits::norm(self.motion.gravity);
+        check(
+            g == 0.0 || limits::within(g, limits::GRAVITY),
+            "motion.gravity",
+            format!("{:?} (|g| = {} m/s²)", self.motion.gravity, limits::show(g)),
+            &format!("|g| = 0 or {}", limits::describe(limits::GRAVITY, "m/s²")),
+        )?;
         self.validate_integration()?;
         let o = &self.output;
         if let Some(every) = o.every {
@@ -601,12 +676,17 @@ impl SceneFile {
     /// tangential model a registry name (with Verlet or Gear5).
     fn validate_friction(&self) -> Result<(), SceneError> {
         let coefficient = |key: &str, v: Option<f64>, symbol: &str| -> Result<(), SceneError> {
+            let range = if symbol == "μ" {
+                limits::FRICTION
+            } else {
+                limits::ROLLING_FRICTION
+            };
             match v {
                 Some(x) => check(
-                    x.is_finite() && x >= 0.0,
+                    limits::within(x, range),
                     key,
                     x,
-                    &format!("finite and ≥ 0 ({symbol}, dimensionless)"),
+                    &format!("{} ({symbol}, dimensionless)", limits::describe(range, "")),
                 ),
                 None => Ok(()),
             }
@@ -683,8 +763,21 @@ impl SceneFile {
                 self.material_names()
             ),
         )?;
+        let radius_range = crate::setup_checks::radius_range(p.fixed);
         if let Some(l) = &p.lattice {
-            finite3(&format!("{key}.lattice.velocity"), l.velocity, "m/s")?;
+            speed(&format!("{key}.lattice.velocity"), l.velocity)?;
+            ranged(
+                &format!("{key}.lattice.radius"),
+                l.radius,
+                radius_range,
+                "m",
+            )?;
+        }
+        if let Some(r) = &p.random {
+            speed(&format!("{key}.random.velocity"), r.velocity)?;
+            for x in r.radius.range() {
+                ranged(&format!("{key}.random.radius"), x, radius_range, "m")?;
+            }
         }
         if let Some(types) = &p.types {
             check(
@@ -721,8 +814,8 @@ impl SceneFile {
             for (j, s) in spheres.iter().enumerate() {
                 let k = format!("{key}.spheres[{j}]");
                 finite3(&format!("{k}.position"), s.position, "m")?;
-                positive(&format!("{k}.radius"), s.radius, "m")?;
-                finite3(&format!("{k}.velocity"), s.velocity, "m/s")?;
+                ranged(&format!("{k}.radius"), s.radius, radius_range, "m")?;
+                speed(&format!("{k}.velocity"), s.velocity)?;
             }
         }
         for (name, path) in [("lammps_data", &p.lammps_data), ("csv", &p.csv)] {
@@ -767,22 +860,45 @@ impl SceneFile {
             let k = |s: &str| format!("{key}.boundary_particles.{s}");
             finite3(&k("point"), b.point, "m")?;
             nonzero3(&k("normal"), b.normal)?;
-            positive(
+            check(
+                limits::within(b.radius_ratio, limits::RADIUS_RATIO),
                 &k("radius_ratio"),
-                b.radius_ratio,
-                "(dimensionless; a plane wall is r = inf)",
+                limits::show(b.radius_ratio),
+                &format!(
+                    "{} (dimensionless; above, the gap's rounding spoils the contact: use a \
+                     plane, r = inf)",
+                    limits::describe(limits::RADIUS_RATIO, "")
+                ),
             )?;
             check(
-                b.modulus_ratio > 0.0 && !b.modulus_ratio.is_nan(),
+                limits::within(b.modulus_ratio, limits::MODULUS_RATIO)
+                    || b.modulus_ratio == f64::INFINITY,
                 &k("modulus_ratio"),
-                b.modulus_ratio,
-                "> 0, or inf (rigid boundary spheres)",
+                limits::show(b.modulus_ratio),
+                &format!(
+                    "{}, or inf (rigid boundary spheres)",
+                    limits::describe(limits::MODULUS_RATIO, "")
+                ),
             )?;
+            for a in 0..3 {
+                check(
+                    !self.domain.periodic[a] || b.normal[a] == 0.0,
+                    &k("normal"),
+                    format!("{:?}", b.normal),
+                    &format!(
+                        "a normal perpendicular to every periodic axis (`domain.periodic` = {:?}: \
+                         component {a} must be 0); a wall bounds the domain along its normal, \
+                         which a periodic axis does not have: make the axis not periodic or \
+                         turn the wall",
+                        self.domain.periodic
+                    ),
+                )?;
+            }
             if let Some(s) = b.spacing {
                 positive(&k("spacing"), s, "m")?;
             }
             if let Some(r) = b.reference_radius {
-                positive(&k("reference_radius"), r, "m")?;
+                ranged(&k("reference_radius"), r, limits::RADIUS, "m")?;
             }
             check(
                 self.material_known(&w.material),
@@ -943,11 +1059,27 @@ pub fn apply_set(table: &mut Table, arg: &str) -> Result<(), SceneError> {
             _ => return Err(malformed(&format!("`{so_far}` is a value, not a table"))),
         };
     }
-    let Value::Table(target) = here else {
-        return Err(malformed(&format!(
-            "`{}` is a list: index it by a number",
-            parents.join(".")
-        )));
+    let target = match here {
+        Value::Table(target) => target,
+        Value::Array(items) => {
+            // The last part indexes the list: replace that entry.
+            let len = items.len();
+            let index: usize = last.parse().map_err(|_| {
+                malformed(&format!(
+                    "`{}` is a list: index it by a number 0..{len}",
+                    parents.join(".")
+                ))
+            })?;
+            let entry = items.get_mut(index).ok_or_else(|| {
+                SceneError::input(format!(
+                    "--set `{arg}`: `{}` has {len} entries, no index {index}",
+                    parents.join(".")
+                ))
+            })?;
+            *entry = parse_value(raw);
+            return Ok(());
+        }
+        _ => return Err(malformed(&format!("`{}` is a value", parents.join(".")))),
     };
     target.insert(last.to_string(), parse_value(raw));
     if parents.len() == 1 && parents[0] == "integration" {

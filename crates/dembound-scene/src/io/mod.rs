@@ -3,6 +3,7 @@
 
 pub mod checkpoint;
 pub mod config;
+pub mod labels;
 pub mod resolve;
 pub mod series;
 pub mod vtk;

@@ -34,6 +34,8 @@ pub struct ResolvedScene {
     /// The file as resolved: every default written out, source paths made
     /// absolute (so that it runs from anywhere).
     pub file: SceneFile,
+    /// Plausibility warnings (large initial overlaps, issue 24), for stderr.
+    pub warnings: Vec<String>,
 }
 
 /// Density given to the reserved `"rigid"` material. It never matters: a
@@ -229,11 +231,13 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         collisions: file.output.collisions,
         friction: friction_setup(&file, &boundary_materials),
     };
+    let warnings = super::labels::check(&setup, &file, &groups, &wall_bodies)?;
     Ok(ResolvedScene {
         setup,
         groups,
         wall_bodies,
         file,
+        warnings,
     })
 }
 

@@ -134,12 +134,12 @@ fn validation_table() {
         (
             "material.0.density=-1",
             "material[0].density",
-            "> 0, in kg/m³",
+            "0.001 to 1e12 kg/m³",
         ),
         (
             "material.0.youngs_modulus=0",
             "material[0].youngs_modulus",
-            "> 0 in Pa",
+            "1000 to 1e13 Pa",
         ),
         (
             "material.0.poisson_ratio=0.5",
@@ -153,7 +153,7 @@ fn validation_table() {
             "unknown field",
         ),
         ("contact.law=cubic", "contact.law", "linear"),
-        ("contact.law.power=4", "contact.exponent", "α"),
+        ("contact.law.power=4", "contact.law.power", "α"),
         ("contact.damping=tsuji", "contact.restitution", "missing"),
         (
             "contact.restitution=0.5",
@@ -175,7 +175,7 @@ fn validation_table() {
         (
             "particles.1.spheres.0.radius=0",
             "particles[1].spheres[0].radius",
-            "> 0, in m",
+            "1e-9 to 10 m",
         ),
         (
             "particles.1.spheres.0.mass=1",
@@ -196,7 +196,7 @@ fn validation_table() {
         (
             "wall.1.boundary_particles.radius_ratio=inf",
             "wall[1].boundary_particles.radius_ratio",
-            "plane wall",
+            "use a plane",
         ),
         (
             "wall.1.boundary_particles.modulus_ratio=-1",

@@ -1,0 +1,607 @@
+//! Refusals before computing (issue 24): the setup checks that catch
+//! inputs which would otherwise run and print impossible numbers.
+//!
+//! - physical ranges of what the spheres and the box carry (radius, speed,
+//!   density of a moving sphere, gravity), from [`crate::limits`];
+//! - a plane wall whose normal has a component along a periodic axis (the
+//!   half-space is not invariant under the period's translation: a sphere
+//!   re-entering through the periodic face lands behind the wall, which
+//!   then pushes it through and creates energy);
+//! - a free sphere whose centre is behind a plane, or that overlaps it by
+//!   more than [`limits::OVERLAP_REFUSAL`] of its radius;
+//! - two spheres (one of them free) overlapping by more than
+//!   [`limits::OVERLAP_REFUSAL`] of the smaller radius, coincident centres
+//!   included (they exert no force on each other: no contact normal).
+//!
+//! Overlaps above [`limits::OVERLAP_WARNING`] are returned as warnings.
+//!
+//! The pair search is a cell grid ([`CellGrid`], [`sort_by_cell`]) over the
+//! spheres of radius ≤ [`LARGE_FACTOR`] × the smallest free radius, as the
+//! engine's neighbour list; larger spheres (big boundary particles) query
+//! that grid over their own extent. Linear in the number of spheres.
+//!
+//! [`check`] runs in `Simulation::prepare` (so under MPI, on every rank, and
+//! from Python) and in `io::resolve`, which names each sphere by its source.
+
+use crate::error::SceneError;
+use crate::geometry::cells::{sort_by_cell, CellGrid};
+use crate::geometry::domain::Domain;
+use crate::limits::{self, describe, metres, norm, show, within};
+use crate::setup::{SceneSetup, WallSetup};
+use crate::simulation::LARGE_FACTOR;
+
+/// How a sphere is named in a message, by its input index.
+pub type Label<'a> = &'a dyn Fn(usize) -> String;
+
+/// The default [`Label`]: the input index only.
+pub fn by_index(k: usize) -> String {
+    format!("sphere {k} (input index)")
+}
+
+fn invalid(key: &str, value: impl std::fmt::Display, allowed: &str) -> SceneError {
+    SceneError::input(format!(
+        "invalid value for `{key}`: {value} (allowed: {allowed})"
+    ))
+}
+
+/// The radius range of a sphere: a free or given sphere's, or a fixed
+/// one's, which may be a boundary particle r = R_b/R_ref times larger.
+pub fn radius_range(fixed: bool) -> (f64, f64) {
+    if fixed {
+        (
+            limits::RADIUS.0 * limits::RADIUS_RATIO.0,
+            limits::RADIUS.1 * limits::RADIUS_RATIO.1,
+        )
+    } else {
+        limits::RADIUS
+    }
+}
+
+/// Checks `setup` (already checked for finiteness and indices by
+/// `Simulation::prepare`); returns the warnings (large initial overlaps)
+/// or the first refusal.
+pub fn check(setup: &SceneSetup, label: Label<'_>) -> Result<Vec<String>, SceneError> {
+    ranges(setup, label)?;
+    let planes = planes(setup)?;
+    let mut warnings = Vec::new();
+    plane_overlaps(setup, &planes, label, &mut warnings)?;
+    pair_overlaps(setup, label, &mut warnings)?;
+    Ok(warnings)
+}
+
+fn ranges(setup: &SceneSetup, label: Label<'_>) -> Result<(), SceneError> {
+    let g = norm(setup.gravity);
+    if !(g == 0.0 || within(g, limits::GRAVITY)) {
+        return Err(invalid(
+            "motion.gravity",
+            format!("{:?} (|g| = {} m/s²)", setup.gravity, show(g)),
+            &format!("|g| = 0 or {}", describe(limits::GRAVITY, "m/s²")),
+        ));
+    }
+    let mut moving_material = vec![false; setup.materials.len()];
+    for (k, s) in setup.spheres.iter().enumerate() {
+        if !s.position.iter().all(|x| x.is_finite()) {
+            return Err(SceneError::input(format!(
+                "{}: invalid position {:?} (allowed: three finite numbers, m)",
+                label(k),
+                s.position
+            )));
+        }
+        let range = radius_range(s.fixed);
+        if !within(s.radius, range) {
+            return Err(SceneError::input(format!(
+                "{}: invalid radius {} m (allowed: {}{}): check the units (SI, m)",
+                label(k),
+                show(s.radius),
+                describe(range, "m"),
+                if s.fixed { " for a fixed sphere" } else { "" }
+            )));
+        }
+        if s.fixed {
+            continue;
+        }
+        if let Some(m) = moving_material.get_mut(s.material) {
+            *m = true;
+        }
+        let speed = norm(s.velocity);
+        if speed > limits::MAX_SPEED {
+            return Err(SceneError::input(format!(
+                "{}: invalid velocity {:?} m/s, |v| = {} m/s (allowed: |v| ≤ {} m/s): check \
+                 the units (SI, m/s)",
+                label(k),
+                s.velocity,
+                show(speed),
+                show(limits::MAX_SPEED)
+            )));
+        }
+    }
+    for (k, m) in setup.materials.iter().enumerate() {
+        // Only a moving sphere's mass enters the run.
+        if moving_material[k] && !within(m.material.density, limits::DENSITY) {
+            return Err(invalid(
+                &format!("material[{k}].density (\"{}\")", m.name),
+                format!("{} kg/m³", show(m.material.density)),
+                &describe(limits::DENSITY, "kg/m³"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A plane as the checks need it: wall index, point, unit normal.
+struct Plane {
+    wall: usize,
+    point: [f64; 3],
+    normal: [f64; 3],
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+fn planes(setup: &SceneSetup) -> Result<Vec<Plane>, SceneError> {
+    let mut out = Vec::new();
+    for (w, wall) in setup.walls.iter().enumerate() {
+        let WallSetup::Plane { point, normal, .. } = *wall else {
+            continue;
+        };
+        let len = norm(normal);
+        let unit = normal.map(|x| x / len);
+        for a in 0..3 {
+            if setup.domain.periodic[a] && unit[a] != 0.0 {
+                return Err(SceneError::input(format!(
+                    "invalid value for `wall[{w}].plane.normal`: {normal:?} has a component along \
+                     {} (n_{} = {}), which `domain.periodic` = {:?} makes periodic (allowed: a \
+                     normal perpendicular to every periodic axis, its component exactly 0 there: \
+                     a sphere leaving through the periodic face would re-enter behind the wall, \
+                     which would push it through and create energy; make the axis not periodic \
+                     or turn the wall)",
+                    AXES[a],
+                    AXES[a],
+                    show(unit[a]),
+                    setup.domain.periodic
+                )));
+            }
+        }
+        out.push(Plane {
+            wall: w,
+            point,
+            normal: unit,
+        });
+    }
+    Ok(out)
+}
+
+fn percent(x: f64) -> String {
+    format!("{:.3} %", 100.0 * x).replace(".000 %", " %")
+}
+
+fn plane_overlaps(
+    setup: &SceneSetup,
+    planes: &[Plane],
+    label: Label<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
+    let mut worst: Option<(f64, usize, usize, f64)> = None;
+    let mut count = 0usize;
+    for p in planes {
+        for (k, s) in setup.spheres.iter().enumerate() {
+            if s.fixed {
+                continue;
+            }
+            let d = [
+                s.position[0] - p.point[0],
+                s.position[1] - p.point[1],
+                s.position[2] - p.point[2],
+            ];
+            let distance = d[0] * p.normal[0] + d[1] * p.normal[1] + d[2] * p.normal[2];
+            let overlap = s.radius - distance;
+            let share = overlap / s.radius;
+            if distance < 0.0 || share > limits::OVERLAP_REFUSAL {
+                let place = if distance < 0.0 {
+                    format!(
+                        "its centre is {} behind the plane (on the side the normal points away \
+                         from)",
+                        metres(-distance)
+                    )
+                } else {
+                    format!(
+                        "it overlaps the plane by {}, {} of its radius {}",
+                        metres(overlap),
+                        percent(share),
+                        metres(s.radius)
+                    )
+                };
+                return Err(SceneError::input(format!(
+                    "{} and `wall[{}].plane`: {place} (allowed: the centre on the normal's side \
+                     and an overlap of at most {} of the radius, {}; a warning above {}): move \
+                     the sphere or the wall, or check the sign of `wall[{}].plane.normal`, which \
+                     points into the domain",
+                    label(k),
+                    p.wall,
+                    percent(limits::OVERLAP_REFUSAL),
+                    metres(limits::OVERLAP_REFUSAL * s.radius),
+                    percent(limits::OVERLAP_WARNING),
+                    p.wall
+                )));
+            }
+            if share > limits::OVERLAP_WARNING {
+                count += 1;
+                if worst.is_none_or(|w| share > w.0) {
+                    worst = Some((share, k, p.wall, overlap));
+                }
+            }
+        }
+    }
+    if let Some((share, k, w, overlap)) = worst {
+        warnings.push(format!(
+            "{count} free sphere(s) start overlapping a plane wall by more than {} of their \
+             radius; the largest: {} and `wall[{w}].plane`, {} ({}). The contact laws are \
+             small-strain theories, and the stored energy is released in the first steps",
+            percent(limits::OVERLAP_WARNING),
+            label(k),
+            metres(overlap),
+            percent(share)
+        ));
+    }
+    Ok(())
+}
+
+/// The worst pair overlap found so far and how many pairs exceed the
+/// warning level.
+#[derive(Default)]
+struct PairScan {
+    count: usize,
+    worst: Option<(f64, usize, usize, f64)>,
+}
+
+/// Sphere-pair overlaps: a cell grid over the spheres of ordinary size,
+/// the large ones queried against it and against each other.
+fn pair_overlaps(
+    setup: &SceneSetup,
+    label: Label<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
+    let s = &setup.spheres;
+    let free_min = s
+        .iter()
+        .filter(|s| !s.fixed)
+        .map(|s| s.radius)
+        .fold(f64::INFINITY, f64::min);
+    if !free_min.is_finite() {
+        return Ok(()); // fixed spheres never interact with each other
+    }
+    let d = &setup.domain;
+    let domain = Domain {
+        lower: d.lower,
+        upper: d.upper,
+        periodic: d.periodic,
+    };
+    let length = domain.length();
+    let position: Vec<[f64; 3]> = s.iter().map(|s| domain.wrap(s.position)).collect();
+    let large_limit = LARGE_FACTOR * free_min;
+    let (small, large): (Vec<usize>, Vec<usize>) =
+        (0..s.len()).partition(|&k| s[k].radius <= large_limit);
+    let mut scan = PairScan::default();
+    let pair = |i: usize, j: usize, scan: &mut PairScan| -> Result<(), SceneError> {
+        if s[i].fixed && s[j].fixed {
+            return Ok(());
+        }
+        let mut dist2 = 0.0;
+        for a in 0..3 {
+            let mut x = position[j][a] - position[i][a];
+            if d.periodic[a] {
+                x -= length[a] * (x / length[a]).round();
+            }
+            dist2 += x * x;
+        }
+        let reach = s[i].radius + s[j].radius;
+        if dist2 >= reach * reach {
+            return Ok(());
+        }
+        let distance = dist2.sqrt();
+        let overlap = reach - distance;
+        let smaller = s[i].radius.min(s[j].radius);
+        let share = overlap / smaller;
+        let (i, j) = (i.min(j), i.max(j));
+        if share > limits::OVERLAP_REFUSAL {
+            return Err(SceneError::input(format!(
+                "{} and {} overlap by {}, {} of the smaller radius {} (centres {} apart{}; \
+                 allowed: at most {} of the smaller radius, a warning above {}): coincident or \
+                 nearly coincident spheres (a duplicated atom, a unit slip?) exert a meaningless \
+                 force or none at all; move or remove one of them",
+                label(i),
+                label(j),
+                metres(overlap),
+                percent(share),
+                metres(smaller),
+                metres(distance),
+                if distance == 0.0 { ": coincident" } else { "" },
+                percent(limits::OVERLAP_REFUSAL),
+                percent(limits::OVERLAP_WARNING)
+            )));
+        }
+        if share > limits::OVERLAP_WARNING {
+            scan.count += 1;
+            if scan.worst.is_none_or(|w| share > w.0) {
+                scan.worst = Some((share, i, j, overlap));
+            }
+        }
+        Ok(())
+    };
+
+    // The grid over the spheres of ordinary size (periodic axes: the box).
+    let max_small = small.iter().map(|&k| s[k].radius).fold(0.0, f64::max);
+    let mut lower = [f64::INFINITY; 3];
+    let mut upper = [f64::NEG_INFINITY; 3];
+    for &k in &small {
+        for a in 0..3 {
+            lower[a] = lower[a].min(position[k][a]);
+            upper[a] = upper[a].max(position[k][a]);
+        }
+    }
+    for a in 0..3 {
+        // Far strays are clamped into the edge cells (the grid's length
+        // must stay finite).
+        lower[a] = lower[a].max(-1e300);
+        upper[a] = upper[a].min(1e300);
+        if d.periodic[a] || small.is_empty() {
+            lower[a] = d.lower[a];
+            upper[a] = d.upper[a];
+        }
+    }
+    let grid = CellGrid::new(lower, upper, 2.0 * max_small, small.len().max(1));
+    let cell: Vec<u32> = small
+        .iter()
+        .map(|&k| grid.index(grid.coords(position[k])) as u32)
+        .collect();
+    let (order, start) = sort_by_cell(&cell, grid.count());
+    let members = |c: usize| order[start[c] as usize..start[c + 1] as usize].iter();
+    // Neighbour cells per axis and coordinate, each distinct cell once.
+    let neighbours: [Vec<Vec<usize>>; 3] = std::array::from_fn(|a| {
+        let n = grid.dims[a];
+        (0..n)
+            .map(|at| {
+                let mut v = Vec::with_capacity(3);
+                for o in [-1i64, 0, 1] {
+                    let c = at as i64 + o;
+                    let c = if d.periodic[a] {
+                        c.rem_euclid(n as i64)
+                    } else if c < 0 || c >= n as i64 {
+                        continue;
+                    } else {
+                        c
+                    } as usize;
+                    if !v.contains(&c) {
+                        v.push(c);
+                    }
+                }
+                v
+            })
+            .collect()
+    });
+    for z in 0..grid.dims[2] {
+        for y in 0..grid.dims[1] {
+            for x in 0..grid.dims[0] {
+                let here = grid.index([x, y, z]);
+                if start[here] == start[here + 1] {
+                    continue;
+                }
+                for &cz in &neighbours[2][z] {
+                    for &cy in &neighbours[1][y] {
+                        for &cx in &neighbours[0][x] {
+                            let there = grid.index([cx, cy, cz]);
+                            for &a in members(here) {
+                                for &b in members(there) {
+                                    if a < b {
+                                        pair(small[a as usize], small[b as usize], &mut scan)?;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    // Large spheres: against the grid over their extent, and each other.
+    for (n, &i) in large.iter().enumerate() {
+        let reach = s[i].radius + max_small;
+        let mut axes: [Vec<usize>; 3] = Default::default();
+        let mut cells = 1usize;
+        for a in 0..3 {
+            let inv = grid.inverse_size[a];
+            let lo = ((position[i][a] - reach - grid.origin[a]) * inv).floor();
+            let hi = ((position[i][a] + reach - grid.origin[a]) * inv).floor();
+            let dims = grid.dims[a] as f64;
+            axes[a] = if d.periodic[a] && hi - lo + 1.0 < dims {
+                (lo as i64..=hi as i64)
+                    .map(|c| c.rem_euclid(dims as i64) as usize)
+                    .collect()
+            } else if d.periodic[a] || inv == 0.0 {
+                (0..grid.dims[a]).collect()
+            } else {
+                let lo = lo.max(0.0);
+                let hi = hi.min(dims - 1.0);
+                if hi < lo {
+                    Vec::new()
+                } else {
+                    (lo as usize..=hi as usize).collect()
+                }
+            };
+            cells = cells.saturating_mul(axes[a].len());
+        }
+        if cells > small.len() {
+            for &j in &small {
+                pair(i, j, &mut scan)?;
+            }
+        } else {
+            for &cz in &axes[2] {
+                for &cy in &axes[1] {
+                    for &cx in &axes[0] {
+                        for &b in members(grid.index([cx, cy, cz])) {
+                            pair(i, small[b as usize], &mut scan)?;
+                        }
+                    }
+                }
+            }
+        }
+        if !s[i].fixed {
+            for &j in large.iter().take(n) {
+                pair(i, j, &mut scan)?;
+            }
+        } else {
+            for &j in large.iter().take(n).filter(|&&j| !s[j].fixed) {
+                pair(i, j, &mut scan)?;
+            }
+        }
+    }
+
+    if let Some((share, i, j, overlap)) = scan.worst {
+        warnings.push(format!(
+            "{} sphere pair(s) start overlapping by more than {} of the smaller radius; the \
+             largest: {} and {}, {} ({}). The contact laws are small-strain theories, and the \
+             stored energy is released in the first steps",
+            scan.count,
+            percent(limits::OVERLAP_WARNING),
+            label(i),
+            label(j),
+            metres(overlap),
+            percent(share)
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::{DomainSetup, NamedMaterial, RunLength, SphereInit, TimeStep};
+    use dembound_physics::contact::{ContactModel, NormalLaw};
+    use dembound_physics::material::Material;
+
+    /// splitmix64 in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Random spheres (radii 0.4–0.6 mm, a few of 2.5 mm and fixed ones
+    /// of 4 mm) in a 10 mm box, x and z periodic.
+    fn scene(seed: u64, n: usize) -> SceneSetup {
+        let mut s = SceneSetup::new(
+            DomainSetup {
+                lower: [0.0; 3],
+                upper: [0.01; 3],
+                periodic: [true, false, true],
+            },
+            ContactModel::elastic(NormalLaw::Hertz),
+            TimeStep::Fixed(1e-6),
+            RunLength::Steps(1),
+        );
+        s.materials.push(NamedMaterial {
+            name: "g".into(),
+            material: Material {
+                density: 1000.0,
+                youngs_modulus: 1e7,
+                poisson_ratio: 0.3,
+            },
+        });
+        let mut rng = Rng(seed);
+        for k in 0..n {
+            let (radius, fixed) = match k % 50 {
+                0 => (2.5e-3, false),
+                1 => (4e-3, true),
+                _ => (4e-4 + 2e-4 * rng.next(), false),
+            };
+            s.spheres.push(SphereInit {
+                position: [
+                    0.01 * rng.next(),
+                    0.012 * rng.next() - 0.001,
+                    0.01 * rng.next(),
+                ],
+                velocity: [0.0; 3],
+                radius,
+                material: 0,
+                fixed,
+                group: None,
+            });
+        }
+        s
+    }
+
+    /// The O(N²) reference: every pair with one free sphere, minimum image
+    /// on the periodic axes; (pairs above the warning level, the largest
+    /// overlap share).
+    fn brute(s: &SceneSetup) -> (usize, f64) {
+        let d = &s.domain;
+        let b = &s.spheres;
+        let (mut count, mut worst) = (0, 0.0_f64);
+        for i in 0..b.len() {
+            for j in i + 1..b.len() {
+                if b[i].fixed && b[j].fixed {
+                    continue;
+                }
+                let mut dist2 = 0.0;
+                for a in 0..3 {
+                    let l = d.upper[a] - d.lower[a];
+                    let mut x = b[j].position[a] - b[i].position[a];
+                    if d.periodic[a] {
+                        x -= l * (x / l).round();
+                    }
+                    dist2 += x * x;
+                }
+                let share =
+                    (b[i].radius + b[j].radius - dist2.sqrt()) / b[i].radius.min(b[j].radius);
+                if share > limits::OVERLAP_WARNING {
+                    count += 1;
+                }
+                worst = worst.max(share);
+            }
+        }
+        (count, worst)
+    }
+
+    #[test]
+    fn the_grid_search_finds_what_the_all_pairs_search_finds() {
+        let mut refused = 0;
+        let mut warned = 0;
+        for seed in 0..80 {
+            let s = scene(seed, 4 + seed as usize);
+            let (count, worst) = brute(&s);
+            let mut w = Vec::new();
+            let result = pair_overlaps(&s, &by_index, &mut w);
+            assert_eq!(
+                result.is_err(),
+                worst > limits::OVERLAP_REFUSAL,
+                "seed {seed}: worst share {worst}: {result:?}"
+            );
+            if result.is_err() {
+                refused += 1;
+                continue;
+            }
+            if count > 0 {
+                warned += 1;
+                assert_eq!(w.len(), 1);
+                assert!(
+                    w[0].starts_with(&format!("{count} sphere pair(s)")),
+                    "seed {seed}: {count} pairs expected: {}",
+                    w[0]
+                );
+                assert!(w[0].contains(&percent(worst)), "seed {seed}: {}", w[0]);
+            } else {
+                assert!(w.is_empty());
+            }
+        }
+        // Both branches exercised.
+        assert!(
+            refused > 0 && warned > 0,
+            "{refused} refused, {warned} warned"
+        );
+    }
+}

@@ -1,0 +1,542 @@
+//! `dembound keys --scene`: every key of a scene file (`dembound scene`)
+//! with its unit, default and allowed range (issue 24). The ranges are the
+//! constants the scene's validation checks ([`dembound_scene::limits`],
+//! `io::config`), so the table cannot drift from them; the README's scene
+//! key table is this command's output (asserted by a test).
+
+use super::keys::KeyInfo;
+use dembound_physics::contact::tangential::tangential_names;
+use dembound_scene::io::config::MAX_STEPS;
+use dembound_scene::limits::{self, describe, show};
+use dembound_scene::setup_checks::radius_range;
+
+/// Every scene key, in file order of the sections.
+pub fn keys() -> Vec<KeyInfo> {
+    let row = |key, unit, default: &str, allowed: String, meaning| KeyInfo {
+        key,
+        unit,
+        default: default.to_string(),
+        allowed,
+        meaning,
+    };
+    let radius = describe(limits::RADIUS, "");
+    let fixed_radius = describe(radius_range(true), "");
+    let speed = format!("finite, \\|v\\| ≤ {}", show(limits::MAX_SPEED));
+    let mu = describe(limits::FRICTION, "");
+    let mu_r = describe(limits::ROLLING_FRICTION, "");
+    let finite3 = || "three finite numbers".to_string();
+    let normal = "finite, non-zero (any length); 0 along every periodic axis".to_string();
+    let ratio_inf = |r: (f64, f64)| format!("{}, or inf", describe(r, ""));
+    vec![
+        row(
+            "domain.lower",
+            "m",
+            "—",
+            finite3(),
+            "the box's lower corner",
+        ),
+        row(
+            "domain.upper",
+            "m",
+            "—",
+            "finite, > domain.lower on each axis".into(),
+            "the box's upper corner",
+        ),
+        row(
+            "domain.periodic",
+            "",
+            "[false, false, false]",
+            "three booleans".into(),
+            "periodic axes (no wall may cross one)",
+        ),
+        row(
+            "material[K].name",
+            "",
+            "—",
+            "unique, not \"rigid\"".into(),
+            "a particle material",
+        ),
+        row(
+            "material[K].density",
+            "kg/m³",
+            "—",
+            describe(limits::DENSITY, ""),
+            "ρ",
+        ),
+        row(
+            "material[K].youngs_modulus",
+            "Pa",
+            "—",
+            ratio_inf(limits::YOUNGS_MODULUS),
+            "E (inf: rigid)",
+        ),
+        row(
+            "material[K].poisson_ratio",
+            "",
+            "—",
+            format!(
+                "{} < ν < {}",
+                limits::POISSON_RATIO.0,
+                limits::POISSON_RATIO.1
+            ),
+            "ν",
+        ),
+        row(
+            "material[K].friction",
+            "",
+            "contact.friction",
+            mu.clone(),
+            "the surface's μ",
+        ),
+        row(
+            "material[K].rolling_friction",
+            "",
+            "contact.rolling_friction",
+            mu_r.clone(),
+            "the surface's μ_r",
+        ),
+        row(
+            "contact.law",
+            "",
+            "\"hertz\"",
+            "a registry law, or { power = α } (`dembound keys`)".into(),
+            "normal contact law",
+        ),
+        row(
+            "contact.law.power",
+            "",
+            "—",
+            "1 ≤ α ≤ 3".into(),
+            "the power law's exponent",
+        ),
+        row(
+            "contact.damping",
+            "",
+            "\"none\"",
+            "\"none\", \"viscous\", \"tsuji\", \"viscoelastic\"".into(),
+            "dissipation",
+        ),
+        row(
+            "contact.restitution",
+            "",
+            "none",
+            "0 < e ≤ 1 (viscoelastic: calibration = \"formula\", 0.8 ≤ e ≤ 1)".into(),
+            "target restitution",
+        ),
+        row(
+            "contact.calibration",
+            "",
+            "\"exact\"",
+            "\"exact\", \"formula\"".into(),
+            "restitution → coefficient",
+        ),
+        row(
+            "contact.damping_coefficient",
+            "N s/m, N s/m^(5/4) or s",
+            "none",
+            "finite, ≥ 0; instead of restitution".into(),
+            "c, γ or A",
+        ),
+        row(
+            "contact.attractive",
+            "",
+            "false",
+            "true, false (not with walton-braun)".into(),
+            "may the damping pull",
+        ),
+        row(
+            "contact.stiffness",
+            "N/m or Pa",
+            "none",
+            "finite, > 0; hooke, hertz-kn".into(),
+            "given k_n",
+        ),
+        row(
+            "contact.friction",
+            "",
+            "0",
+            mu.clone(),
+            "μ of every surface (Coulomb)",
+        ),
+        row(
+            "contact.tangential",
+            "",
+            "\"mindlin\"",
+            tangential_names(),
+            "tangential spring",
+        ),
+        row(
+            "contact.rolling_friction",
+            "",
+            "0",
+            mu_r.clone(),
+            "μ_r (epsd2)",
+        ),
+        row(
+            "particles[K].material",
+            "",
+            "—",
+            "a material name (\"rigid\" with fixed)".into(),
+            "the group's material",
+        ),
+        row(
+            "particles[K].fixed",
+            "",
+            "false",
+            "true, false".into(),
+            "boundary particles: never move",
+        ),
+        row(
+            "particles[K].spheres[J].position",
+            "m",
+            "—",
+            finite3(),
+            "inline sphere's centre",
+        ),
+        row(
+            "particles[K].spheres[J].radius",
+            "m",
+            "—",
+            format!("{radius} ({fixed_radius} if fixed)"),
+            "inline sphere's radius",
+        ),
+        row(
+            "particles[K].spheres[J].velocity",
+            "m/s",
+            "[0, 0, 0]",
+            speed.clone(),
+            "inline sphere's velocity",
+        ),
+        row(
+            "particles[K].lammps_data",
+            "",
+            "—",
+            "a LAMMPS data file (atom_style sphere)".into(),
+            "spheres from LAMMPS",
+        ),
+        row(
+            "particles[K].types",
+            "",
+            "—",
+            "{ \"TYPE\" = material }".into(),
+            "material per atom type",
+        ),
+        row(
+            "particles[K].csv",
+            "",
+            "—",
+            "a CSV file x,y,z,radius[,vx,vy,vz]".into(),
+            "spheres from CSV",
+        ),
+        row(
+            "particles[K].lattice.counts",
+            "",
+            "—",
+            "three counts ≥ 1".into(),
+            "nx, ny, layers",
+        ),
+        row(
+            "particles[K].lattice.spacing",
+            "m",
+            "—",
+            "finite, > 0, no overlap".into(),
+            "ax, ay, c",
+        ),
+        row(
+            "particles[K].lattice.origin",
+            "m",
+            "—",
+            finite3(),
+            "first centre",
+        ),
+        row("particles[K].lattice.radius", "m", "—", radius.clone(), "R"),
+        row(
+            "particles[K].lattice.stagger",
+            "",
+            "true",
+            "true, false".into(),
+            "odd layers shifted",
+        ),
+        row(
+            "particles[K].lattice.velocity",
+            "m/s",
+            "[0, 0, 0]",
+            speed.clone(),
+            "every sphere's",
+        ),
+        row("particles[K].random.count", "", "—", "≥ 1".into(), "N"),
+        row(
+            "particles[K].random.radius",
+            "m",
+            "—",
+            format!("R or [Rmin, Rmax], each {radius}"),
+            "radii",
+        ),
+        row(
+            "particles[K].random.lower",
+            "m",
+            "—",
+            finite3(),
+            "region corner",
+        ),
+        row(
+            "particles[K].random.upper",
+            "m",
+            "—",
+            finite3(),
+            "region corner",
+        ),
+        row(
+            "particles[K].random.seed",
+            "",
+            "0",
+            "0 to 2^64 − 1".into(),
+            "random seed",
+        ),
+        row(
+            "particles[K].random.velocity",
+            "m/s",
+            "[0, 0, 0]",
+            speed.clone(),
+            "every sphere's",
+        ),
+        row(
+            "particles[K].random.max_attempts",
+            "",
+            &dembound_scene::sources::random::DEFAULT_MAX_ATTEMPTS.to_string(),
+            "≥ 1".into(),
+            "tries per sphere",
+        ),
+        row(
+            "wall[K].material",
+            "",
+            "—",
+            "a material name, or \"rigid\" (plane)".into(),
+            "the wall's material",
+        ),
+        row("wall[K].friction", "", "its material's", mu, "the wall's μ"),
+        row(
+            "wall[K].rolling_friction",
+            "",
+            "its material's",
+            mu_r,
+            "the wall's μ_r",
+        ),
+        row(
+            "wall[K].plane.point",
+            "m",
+            "—",
+            finite3(),
+            "a point of the plane",
+        ),
+        row(
+            "wall[K].plane.normal",
+            "",
+            "—",
+            normal.clone(),
+            "into the domain",
+        ),
+        row(
+            "wall[K].boundary_particles.point",
+            "m",
+            "—",
+            finite3(),
+            "a tiling site",
+        ),
+        row(
+            "wall[K].boundary_particles.normal",
+            "",
+            "—",
+            normal,
+            "into the domain",
+        ),
+        row(
+            "wall[K].boundary_particles.radius_ratio",
+            "",
+            "—",
+            describe(limits::RADIUS_RATIO, ""),
+            "r = R_b/R_ref",
+        ),
+        row(
+            "wall[K].boundary_particles.modulus_ratio",
+            "",
+            "—",
+            ratio_inf(limits::MODULUS_RATIO),
+            "ζ = E_b/E",
+        ),
+        row(
+            "wall[K].boundary_particles.tiling",
+            "",
+            "\"square\"",
+            "\"square\", \"hexagonal\"".into(),
+            "site pattern",
+        ),
+        row(
+            "wall[K].boundary_particles.spacing",
+            "m",
+            "2 R_b",
+            "finite, > 0".into(),
+            "site distance",
+        ),
+        row(
+            "wall[K].boundary_particles.reference_radius",
+            "m",
+            "largest free radius",
+            radius,
+            "R_ref",
+        ),
+        row(
+            "motion.gravity",
+            "m/s²",
+            "[0, 0, -9.81]",
+            format!("\\|g\\| = 0 or {}", describe(limits::GRAVITY, "")),
+            "g",
+        ),
+        row(
+            "integration.scheme",
+            "",
+            "\"verlet\"",
+            "\"verlet\", \"gear5\"".into(),
+            "integrator",
+        ),
+        row(
+            "integration.dt",
+            "s",
+            "—",
+            "finite, > 0; or eta".into(),
+            "Δt",
+        ),
+        row(
+            "integration.eta",
+            "",
+            "—",
+            "0 < η ≤ 1; or dt".into(),
+            "Δt = η T_c",
+        ),
+        row(
+            "integration.impact_speed",
+            "m/s",
+            "free fall across the box, or the fastest sphere",
+            "finite, > 0".into(),
+            "speed of T_c",
+        ),
+        row(
+            "integration.steps",
+            "",
+            "—",
+            format!("1 to {}; or duration", show(MAX_STEPS as f64)),
+            "run length",
+        ),
+        row(
+            "integration.duration",
+            "s",
+            "—",
+            "finite, > 0; or steps".into(),
+            "run length",
+        ),
+        row(
+            "integration.skin",
+            "m",
+            "0.2 × smallest free radius",
+            "finite, > 0".into(),
+            "Verlet-list skin",
+        ),
+        row(
+            "output.collisions",
+            "",
+            "false",
+            "true, false".into(),
+            "log every contact",
+        ),
+        row(
+            "output.every",
+            "steps",
+            "run length / 20",
+            "≥ 1".into(),
+            "VTK interval",
+        ),
+        row(
+            "output.series_every",
+            "steps",
+            "run length / 1000",
+            "≥ 1".into(),
+            "series interval",
+        ),
+        row(
+            "parallel.grid",
+            "",
+            "least surface",
+            "three counts ≥ 1, product = ranks".into(),
+            "MPI sub-domains",
+        ),
+        row(
+            "parallel.rebalance_threshold",
+            "",
+            &show(dembound_scene::comm::distributed::balance::DEFAULT_REBALANCE_THRESHOLD),
+            "> 1, or inf".into(),
+            "re-balance trigger",
+        ),
+    ]
+}
+
+/// The rules on the scene as a whole (from the same constants).
+pub fn rules() -> String {
+    let pct = |x: f64| format!("{} %", show(100.0 * x));
+    format!(
+        "Initial overlaps: a free sphere's centre behind a plane wall, or an overlap (with a \
+         plane, or of two spheres one of them free) above {} of the smaller radius, is refused \
+         (exit 2, naming both); above {} it is a warning on stderr. A sphere's \\|v\\| ≤ {} m/s; \
+         a moving sphere's material density {}.",
+        pct(limits::OVERLAP_REFUSAL),
+        pct(limits::OVERLAP_WARNING),
+        show(limits::MAX_SPEED),
+        describe(limits::DENSITY, "kg/m³"),
+    )
+}
+
+/// The table as Markdown: what `dembound keys --scene` prints and the
+/// README holds between its scene-keys markers.
+pub fn markdown() -> String {
+    let mut out = String::from(
+        "| key | unit | default | allowed | meaning |\n| --- | --- | --- | --- | --- |\n",
+    );
+    for k in keys() {
+        let unit = if k.unit.is_empty() { "—" } else { k.unit };
+        out.push_str(&format!(
+            "| `{}` | {} | {} | {} | {} |\n",
+            k.key, unit, k.default, k.allowed, k.meaning
+        ));
+    }
+    out.push('\n');
+    out.push_str(&rules());
+    out.push('\n');
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use dembound_core::bounce::limits as bounce;
+    use dembound_scene::limits as scene;
+
+    /// The scene's ranges that the bounce study also has are the same
+    /// numbers (`dembound-scene` does not depend on `dembound-core`, so
+    /// the values are repeated there; this keeps them equal).
+    #[test]
+    fn the_shared_ranges_are_the_bounce_studys() {
+        assert_eq!(scene::RADIUS, bounce::RADIUS);
+        assert_eq!(scene::DENSITY, bounce::DENSITY);
+        assert_eq!(scene::YOUNGS_MODULUS, bounce::YOUNGS_MODULUS);
+        assert_eq!(scene::MAX_SPEED, bounce::MAX_SPEED);
+        assert_eq!(scene::GRAVITY, bounce::GRAVITY);
+        assert_eq!(scene::MODULUS_RATIO, bounce::RATIO);
+    }
+
+    /// Every row has a unit column that is a unit or empty, and a range.
+    #[test]
+    fn every_row_states_its_range() {
+        for k in super::keys() {
+            assert!(!k.allowed.is_empty(), "{}", k.key);
+            assert!(!k.default.is_empty(), "{}", k.key);
+        }
+    }
+}
