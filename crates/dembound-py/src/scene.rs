@@ -229,10 +229,11 @@ impl Scene {
         Ok(())
     }
 
-    /// Advances `n` steps (GIL released).
+    /// Advances `n` steps (GIL released), then checks the state and the
+    /// energy balance (`Simulation::step_guarded`).
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
         let sim = &mut self.sim;
-        Ok(py.detach(|| guarded(|| sim.step_checked(n).map_err(scene_failure)))?)
+        Ok(py.detach(|| guarded(|| sim.step_guarded(n).map_err(scene_failure)))?)
     }
 
     /// Runs for `duration` s (rounded to whole steps), or to the scene's
