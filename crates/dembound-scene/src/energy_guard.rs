@@ -19,9 +19,10 @@
 //! Why 1e-3 ([`MAX_ENERGY_GAIN`]): the integration error of a sound run
 //! makes D slightly negative on undamped scenes, and that error grows with
 //! Δt/T_c. Measured (`dembound scene --json`, `energy_balance.drift_relative`
-//! over the whole run, see the README): at most 5e-6 on the example scenes
-//! and tests (the undamped lattice drop under Gear5), and 2.4e-4 on the
-//! undamped lattice drop under Verlet at 0.34 T_c (beyond the step bound).
+//! over the whole run, see the README): at most 1.1e-5 on the example
+//! scenes (the validation drop, Gear5), 2.4e-5 on the undamped lattice
+//! drop under Gear5, and 2.4e-4 on it under Verlet at 0.34 T_c (near the
+//! step bound).
 //! The energy-creating scenes of issue 24 gain 1e-2 to 1e13 of the scale.
 //!
 //! The guard checks each observation the run takes (the time series, the
