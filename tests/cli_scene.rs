@@ -215,11 +215,13 @@ fn bad_input_exits_2_naming_the_key() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/scene.toml"));
 }
 
-/// A time step far beyond the contact time blows the run up: exit 2
-/// naming `integration.dt` and the step, no numbers printed, no output
-/// directory (instead of NaN energies and forces, as before).
+/// A time step far beyond the contact time (Δt = 1 ms, 17 × the bed's
+/// contact time) blew the run up; it is now refused before any step
+/// (issue 24): exit 2 naming `integration.dt`, its value and the scheme's
+/// limit, no numbers printed, no output directory. A run that blows up
+/// inside the bound is stopped by the energy guard (`cli_scene_guard.rs`).
 #[test]
-fn a_blown_up_run_exits_2_without_numbers_or_files() {
+fn a_step_far_beyond_the_contact_time_exits_2_without_numbers_or_files() {
     let dir = std::env::temp_dir().join(format!("dembound-blowup-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     for scheme in ["verlet", "gear5"] {
@@ -240,7 +242,8 @@ fn a_blown_up_run_exits_2_without_numbers_or_files() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{scheme}: {err}");
         assert!(
-            err.contains("integration.dt = 1e-3 s") && err.contains("unstable by step"),
+            err.contains("integration.dt = 1e-3 s is out of range: 0 < Δt ≤ ")
+                && err.contains(&format!("under {scheme}")),
             "{scheme}: {err}"
         );
         assert!(out.stdout.is_empty(), "{scheme}: nothing printed");

@@ -226,9 +226,12 @@ fn bad_grid_exits_2_with_one_message() {
     assert!(!out.exists());
 }
 
-/// A run that blows up under MPI (a step far beyond the contact time)
-/// stops on every rank with one message naming `integration.dt`, exit 2,
-/// no output directory (instead of NaN energies).
+/// A step far beyond the contact time is refused under MPI before any
+/// step, one message naming `integration.dt` (issue 24). A run inside the
+/// bound that creates energy (the settling bed under Gear5 with Tsuji
+/// e = 0.3 at 2 µs, see `cli_scene_guard.rs`) stops on every rank with one
+/// message from the energy guard (the ranks see the same summed energies),
+/// exit 2, no output directory (instead of NaN energies).
 #[test]
 fn a_blown_up_run_exits_2_with_one_message() {
     let tmp = tempfile::tempdir().expect("temp dir");
@@ -247,11 +250,22 @@ fn a_blown_up_run_exits_2_with_one_message() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert_eq!(
-        err.matches("error: integration.dt = 1e-3 s").count(),
+        err.matches("error: integration.dt = 1e-3 s is out of range")
+            .count(),
         1,
         "{err}"
     );
-    assert!(err.contains("unstable by step"), "{err}");
+    assert!(!out.exists());
+    let o = mpirun_scene(3, &[], "settling_bed.toml")
+        .args(["--set", "integration.scheme=gear5"])
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.matches("the run created energy").count(), 1, "{err}");
+    assert!(err.contains("likely cause: the step"), "{err}");
     assert!(!out.exists());
 }
 

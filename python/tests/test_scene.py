@@ -196,10 +196,17 @@ def test_scene_bad_input_is_value_error():
         dembound.Scene.from_toml(VALIDATION, ["integration.eta=5"])
 
 
-def test_a_blown_up_run_is_value_error_not_nan():
-    # A step 500x the bed's (2 µs): the state overflows within tens of
-    # steps; stepping raises instead of leaving NaN in the arrays.
+def test_a_step_beyond_the_bound_is_refused_and_energy_creation_stopped():
+    # Δt = 1 ms, 500x the bed's 2 µs and 17x its contact time, is refused
+    # when the scene is built (issue 24; it used to blow up).
     bed = REPO / "examples" / "scenes" / "bed_particle_floor.toml"
-    scene = dembound.Scene.from_toml(bed, ["integration.dt=1e-3"])
-    with pytest.raises(ValueError, match=r"integration.dt = 1e-3 s .* unstable by step"):
-        scene.step(400)
+    with pytest.raises(ValueError, match=r"integration.dt = 1e-3 s is out of range"):
+        dembound.Scene.from_toml(bed, ["integration.dt=1e-3"])
+    # Inside the bound, Gear5 on the strongly damped settling bed creates
+    # energy (and overflows by step 8,200): the energy guard stops it.
+    settling = REPO / "examples" / "scenes" / "settling_bed.toml"
+    scene = dembound.Scene.from_toml(settling, ['integration.scheme="gear5"'])
+    with pytest.raises(ValueError, match=r"the run created energy"):
+        for _ in range(100):
+            scene.step(100)
+    assert scene.steps_done < 8200

@@ -12,7 +12,7 @@ use dembound_scene::io::resolve::{resolve, ResolvedScene};
 use dembound_scene::io::series::{boundary_particle, partner_name};
 use dembound_scene::io::{config, series, vtk};
 use dembound_scene::setup::WallSetup;
-use dembound_scene::{Collision, Observation, SceneError, Simulation};
+use dembound_scene::{Collision, EnergyBalance, Observation, SceneError, Simulation};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use std::io::{IsTerminal, Write};
@@ -121,7 +121,8 @@ pub fn run(args: &SceneArgs) -> CliResult {
     loop {
         let step = sim.steps_done();
         if (step - start) % series_every == 0 || step == total {
-            rows.push(sim.observe());
+            // The energy guard checks every observation (no pass of its own).
+            rows.push(sim.observe_checked().map_err(scene_error)?);
         }
         if let Some(out) = &mut out {
             if (step - start) % every == 0 || step == total {
@@ -165,6 +166,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         elastic_energy: last.elastic_energy,
         potential_energy: last.potential_energy,
         dissipated_energy: last.dissipated_energy,
+        energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
         wall_forces: last.wall_forces.clone(),
@@ -276,6 +278,9 @@ pub(super) struct Report {
     pub(super) elastic_energy: f64,
     pub(super) potential_energy: f64,
     pub(super) dissipated_energy: f64,
+    /// The balance K + E + P + D against the start, and the largest energy
+    /// gain the guard saw (`dembound_scene::energy_guard`).
+    pub(super) energy_balance: EnergyBalance,
     pub(super) particle_contacts: usize,
     pub(super) wall_contacts: usize,
     pub(super) wall_forces: Vec<[f64; 3]>,
@@ -343,6 +348,20 @@ impl From<&Collision> for CollisionRow {
     }
 }
 
+/// The energy balance line of the summaries (J).
+pub(super) fn balance_line(b: &EnergyBalance) -> String {
+    format!(
+        "energy balance: kinetic + elastic + potential + dissipated = {} J (at t = 0: {} J); \
+         largest gain {} J = {} of the scale {} J (allowed {})\n",
+        sig(b.total, 9),
+        sig(b.total_initial, 9),
+        sig(b.drift, 3),
+        sig(b.drift_relative, 3),
+        sig(b.scale, 4),
+        sig(b.drift_allowed, 2)
+    )
+}
+
 fn vector(v: [f64; 3], unit: &str) -> String {
     format!(
         "[{}, {}, {}] {unit}",
@@ -391,6 +410,7 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
         sig(r.potential_energy, 6),
         sig(r.dissipated_energy, 3)
     );
+    s += &balance_line(&r.energy_balance);
     s += &format!(
         "contacts now: {} particle–particle, {} particle–wall\n",
         r.particle_contacts, r.wall_contacts

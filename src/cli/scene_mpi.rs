@@ -182,7 +182,8 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     loop {
         let step = sim.steps_done();
         if (step - start) % series_every == 0 || step == total {
-            rows.push(sim.observe());
+            // Collective; every rank takes the guard's same decision.
+            rows.push(agree(t, sim.observe_checked().map_err(scene_error))?);
         }
         if args.out.is_some() && ((step - start) % every == 0 || step == total) {
             let state = sim.gather_state();
@@ -257,6 +258,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         elastic_energy: last.elastic_energy,
         potential_energy: last.potential_energy,
         dissipated_energy: last.dissipated_energy,
+        energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
         wall_forces: last.wall_forces.clone(),
@@ -332,6 +334,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             last.particle_contacts,
             last.wall_contacts
         );
+        s += &super::scene::balance_line(&doc.report.energy_balance);
         for (k, f) in last.wall_forces.iter().enumerate() {
             s += &format!(
                 "wall {k}: force [{:.4e}, {:.4e}, {:.4e}] N\n",

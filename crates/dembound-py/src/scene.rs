@@ -55,7 +55,7 @@ impl Scene {
     /// Advances `n` steps with the GIL released.
     fn advance(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
         let sim = &mut self.sim;
-        Ok(py.detach(|| guarded(|| sim.step_checked(n).map_err(scene_failure)))?)
+        Ok(py.detach(|| guarded(|| sim.step_guarded(n).map_err(scene_failure)))?)
     }
 
     /// Rebuilds the simulation after the setup changed (only before the
@@ -239,7 +239,8 @@ impl Scene {
         Ok(())
     }
 
-    /// Advances `n` steps (0 to 1e15; GIL released).
+    /// Advances `n` steps (0 to 1e15; GIL released), then checks the state
+    /// and the energy balance (`Simulation::step_guarded`).
     fn step(&mut self, py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<()> {
         let n = args::whole(n, "n", 0, MAX_CALL_STEPS)?;
         self.advance(py, n)

@@ -35,6 +35,9 @@ pub enum SceneError {
         dt: f64,
         /// The integration scheme (`verlet`, `gear5`).
         scheme: String,
+        /// Inputs far out of range, blamed before the step when any
+        /// (`energy_guard`).
+        extreme_inputs: Vec<String>,
     },
     /// A file that could not be read or written.
     Io {
@@ -102,6 +105,20 @@ impl fmt::Display for SceneError {
                 time,
                 dt,
                 scheme,
+                extreme_inputs,
+            } if !extreme_inputs.is_empty() => write!(
+                f,
+                "the run became unstable by step {step} (t = {time:.6e} s, Δt = {dt:e} s, \
+                 {scheme}): a position, velocity or spin is no longer finite; likely cause: an \
+                 extreme input ({}), not the step",
+                extreme_inputs.join("; ")
+            ),
+            SceneError::Unstable {
+                step,
+                time,
+                dt,
+                scheme,
+                ..
             } => write!(
                 f,
                 "integration.dt = {dt:e} s is too large for this scene ({scheme}): the run became \

@@ -4,7 +4,6 @@
 use std::collections::HashMap;
 
 use dembound_physics::contact::ContactHistory;
-use dembound_physics::material::PairProperties;
 use serde::{Deserialize, Serialize};
 
 use crate::bodies::{Bodies, NO_GROUP};
@@ -14,13 +13,15 @@ use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
 use crate::dynamics::friction_observables;
 use crate::dynamics::spring_energy;
 use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
+use crate::energy_guard::{EnergyBalance, EnergyGuard};
 use crate::error::SceneError;
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
 use crate::pipeline::{Pipeline, Tracks, WallKind, World};
-use crate::setup::{RunLength, SceneSetup, Scheme, TimeStep, WallSetup};
+use crate::setup::{RunLength, SceneSetup, Scheme, WallSetup};
+use crate::time_step;
 
 /// Bodies larger than this many times the smallest free sphere are paired
 /// outside the cell grid (boundary spheres of r = 100 would otherwise make
@@ -74,6 +75,8 @@ pub struct Simulation {
     total_steps: u64,
     time_step: TimeStepReport,
     pub(crate) initial_energy: f64,
+    /// The energy balance's run-time check (`energy_guard`).
+    pub(crate) energy_guard: EnergyGuard,
 }
 
 fn finite3(v: [f64; 3]) -> bool {
@@ -381,45 +384,13 @@ impl Simulation {
             ));
         }
 
-        // Time step.
-        let rayleigh_time = rayleigh_time(setup);
-        let (dt, contact_time, impact_speed) = match setup.integration.time_step {
-            TimeStep::Fixed(dt) => {
-                if !(dt.is_finite() && dt > 0.0) {
-                    return Err(SceneError::invalid(
-                        "integration.dt",
-                        dt,
-                        "finite and > 0 s",
-                    ));
-                }
-                (dt, None, None)
-            }
-            TimeStep::Eta { eta, impact_speed } => {
-                if !(eta.is_finite() && eta > 0.0) {
-                    return Err(SceneError::invalid(
-                        "integration.eta",
-                        eta,
-                        "finite and > 0",
-                    ));
-                }
-                if !(impact_speed.is_finite() && impact_speed > 0.0) {
-                    return Err(SceneError::invalid(
-                        "integration.impact_speed",
-                        impact_speed,
-                        "finite and > 0 m/s",
-                    ));
-                }
-                let tc = smallest_contact_time(setup, impact_speed);
-                if !(tc.is_finite() && tc > 0.0) {
-                    return Err(SceneError::invalid(
-                        "integration.eta",
-                        eta,
-                        "a scene with at least one pair of finite stiffness (use integration.dt)",
-                    ));
-                }
-                (eta * tc, Some(tc), Some(impact_speed))
-            }
-        };
+        // Time step (`time_step`: the bound against stability).
+        let rayleigh_time = time_step::rayleigh_time(setup);
+        let time_step::StepChoice {
+            dt,
+            contact_time,
+            impact_speed,
+        } = time_step::choose(setup)?;
         let total_steps = match setup.integration.length {
             RunLength::Steps(s) => s,
             RunLength::Duration(t) => {
@@ -491,6 +462,7 @@ impl Simulation {
                 rayleigh_time,
             },
             initial_energy: 0.0,
+            energy_guard: EnergyGuard::new(setup, dt),
         })
     }
 
@@ -524,7 +496,30 @@ impl Simulation {
                 Scheme::Gear5 => "gear5",
             }
             .to_string(),
+            extreme_inputs: self.energy_guard.extreme_inputs().to_vec(),
         })
+    }
+
+    /// [`Self::observe`], checked by the energy guard: an error when the
+    /// run has created energy beyond the integration error allowed
+    /// (`energy_guard`) or its energies are not finite.
+    pub fn observe_checked(&mut self) -> Result<Observation, SceneError> {
+        let o = self.observe();
+        self.energy_guard.check(&o, self.initial_energy)?;
+        Ok(o)
+    }
+
+    /// [`Self::step_checked`], then one [`Self::observe_checked`] (for
+    /// callers that do not observe between stretches: Python).
+    pub fn step_guarded(&mut self, n: u64) -> Result<(), SceneError> {
+        self.step_checked(n)?;
+        self.observe_checked().map(|_| ())
+    }
+
+    /// The energy balance at observation `o` of this run, with the largest
+    /// gain the guard has seen.
+    pub fn energy_balance(&self, o: &Observation) -> EnergyBalance {
+        self.energy_guard.balance(o, self.initial_energy)
     }
 
     /// Steps until the setup's run length is reached.
@@ -876,7 +871,7 @@ impl Simulation {
     /// The smallest pair contact-time estimate of the scene at
     /// `impact_speed` (m/s), s.
     pub fn contact_time_estimate(setup: &SceneSetup, impact_speed: f64) -> f64 {
-        smallest_contact_time(setup, impact_speed)
+        time_step::smallest_contact_time(setup, impact_speed)
     }
 
     /// The full state, enough to continue bit for bit.
@@ -1216,39 +1211,6 @@ pub struct Checkpoint {
     pub angular_higher: Vec<[[f64; 3]; 4]>,
 }
 
-/// Distinct (radius, material, fixed) classes of the scene, at most a few
-/// hundred (beyond: the extreme radii of each material and kind).
-fn classes(setup: &SceneSetup) -> Vec<(f64, usize, bool)> {
-    let mut out: Vec<(f64, usize, bool)> = Vec::new();
-    for s in &setup.spheres {
-        let key = (s.radius, s.material, s.fixed);
-        if !out.contains(&key) {
-            out.push(key);
-            if out.len() > 256 {
-                break;
-            }
-        }
-    }
-    if out.len() <= 256 {
-        return out;
-    }
-    let mut ext: HashMap<(usize, bool), (f64, f64)> = HashMap::new();
-    for s in &setup.spheres {
-        let e = ext
-            .entry((s.material, s.fixed))
-            .or_insert((s.radius, s.radius));
-        e.0 = e.0.min(s.radius);
-        e.1 = e.1.max(s.radius);
-    }
-    let mut v: Vec<_> = ext
-        .into_iter()
-        .flat_map(|((m, f), (lo, hi))| [(lo, m, f), (hi, m, f)])
-        .collect();
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-    v.dedup();
-    v
-}
-
 /// Friction coefficients finite and ≥ 0.
 fn validate_friction(setup: &SceneSetup) -> Result<(), SceneError> {
     let Some(f) = &setup.friction else {
@@ -1276,81 +1238,4 @@ fn validate_friction(setup: &SceneSetup) -> Result<(), SceneError> {
         }
     }
     Ok(())
-}
-
-fn smallest_contact_time(setup: &SceneSetup, impact_speed: f64) -> f64 {
-    let cl = classes(setup);
-    let mats = &setup.materials;
-    let mass = |r: f64, m: usize, fixed: bool| {
-        if fixed {
-            f64::INFINITY
-        } else {
-            mats[m].material.sphere_mass(r)
-        }
-    };
-    let mut best = f64::INFINITY;
-    // A class paired with itself only when two bodies share it.
-    let count = |c: (f64, usize, bool)| {
-        setup
-            .spheres
-            .iter()
-            .filter(|s| (s.radius, s.material, s.fixed) == c)
-            .take(2)
-            .count()
-    };
-    for &(ra, ma, fa) in cl.iter() {
-        if fa {
-            continue;
-        }
-        for &(rb, mb, fb) in &cl[..] {
-            if (rb, mb, fb) == (ra, ma, fa) && count((ra, ma, fa)) < 2 {
-                continue;
-            }
-            let p = PairProperties::spheres(
-                ra,
-                mass(ra, ma, fa),
-                &mats[ma].material,
-                rb,
-                mass(rb, mb, fb),
-                &mats[mb].material,
-            );
-            let t = setup.contact.pair(&p).contact_time_estimate(impact_speed);
-            if t > 0.0 {
-                best = best.min(t);
-            }
-        }
-        for wall in &setup.walls {
-            if let WallSetup::Plane { material, .. } = *wall {
-                let p = PairProperties::sphere_plane(
-                    ra,
-                    mass(ra, ma, fa),
-                    &mats[ma].material,
-                    &mats[material].material,
-                );
-                let t = setup.contact.pair(&p).contact_time_estimate(impact_speed);
-                if t > 0.0 {
-                    best = best.min(t);
-                }
-            }
-        }
-    }
-    best
-}
-
-fn rayleigh_time(setup: &SceneSetup) -> Option<f64> {
-    let mut best: Option<f64> = None;
-    for (r, m, fixed) in classes(setup) {
-        if fixed {
-            continue;
-        }
-        let mat = &setup.materials[m].material;
-        if !mat.youngs_modulus.is_finite() {
-            continue;
-        }
-        let nu = mat.poisson_ratio;
-        let shear = mat.youngs_modulus / (2.0 * (1.0 + nu));
-        let t = std::f64::consts::PI * r * (mat.density / shear).sqrt() / (0.1631 * nu + 0.8766);
-        best = Some(best.map_or(t, |b: f64| b.min(t)));
-    }
-    best
 }

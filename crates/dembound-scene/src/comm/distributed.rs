@@ -1142,6 +1142,20 @@ impl<T: Transport> DistributedSimulation<T> {
         self.sim.total_steps()
     }
 
+    /// [`Self::observe`] (collective), checked by the energy guard: every
+    /// rank sees the same summed observation and so takes the same
+    /// decision ([`Simulation::observe_checked`]).
+    pub fn observe_checked(&mut self) -> Result<Observation, SceneError> {
+        let o = self.observe();
+        self.sim.energy_guard.check(&o, self.sim.initial_energy)?;
+        Ok(o)
+    }
+
+    /// The energy balance at observation `o` ([`Simulation::energy_balance`]).
+    pub fn energy_balance(&self, o: &Observation) -> crate::energy_guard::EnergyBalance {
+        self.sim.energy_balance(o)
+    }
+
     /// The global observables (sums over the ranks). Collective.
     pub fn observe(&self) -> Observation {
         let sim = &self.sim;
