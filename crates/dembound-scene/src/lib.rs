@@ -18,6 +18,7 @@ pub mod bodies;
 pub mod comm;
 pub mod dynamics;
 pub mod error;
+pub mod fingerprint;
 pub mod geometry;
 pub mod io;
 pub mod parallel;
