@@ -109,14 +109,33 @@ impl AtomicDir {
     /// Where to write the file `name` (relative, may hold subfolders) so
     /// that it is published as `DIR/name`; for writers that take a path
     /// (figures). Missing subfolders are made.
+    ///
+    /// The staging directory itself is never made again here: once the
+    /// signal handler has removed it ([`super::interrupt`]), a writer still
+    /// running fails instead of recreating it (with `create_dir_all` it did,
+    /// between the handler's removal and the process's exit, and left a
+    /// `.dembound-staging-*` with snapshots behind).
     pub fn path(&self, name: &str) -> Result<PathBuf> {
         let rel = relative(name)?;
-        let path = self.staging.join(rel);
-        if let Some(parent) = path.parent() {
-            fs::create_dir_all(parent)
-                .with_context(|| format!("cannot write `{}`", self.dir.join(rel).display()))?;
+        let context = || format!("cannot write `{}`", self.dir.join(rel).display());
+        let mut folder = self.staging.clone();
+        if let Some(parent) = rel.parent() {
+            for part in parent.components() {
+                folder.push(part);
+                match fs::create_dir(&folder) {
+                    Ok(()) => {}
+                    Err(e) if e.kind() == ErrorKind::AlreadyExists && folder.is_dir() => {}
+                    Err(e) => return Err(e).with_context(context),
+                }
+            }
         }
-        Ok(path)
+        if !self.staging.is_dir() {
+            bail!(
+                "{}: the staging directory is gone (stopped by a signal)",
+                context()
+            );
+        }
+        Ok(self.staging.join(rel))
     }
 
     /// Stages the file `name`, its content written by `write`.
@@ -127,6 +146,7 @@ impl AtomicDir {
     ) -> Result<()> {
         let context = || format!("cannot write `{}`", self.dir.join(name).display());
         let path = self.path(name)?;
+        // Fails (ENOENT) once the staging is removed: never recreates it.
         let file = File::create(&path).with_context(context)?;
         let mut w = BufWriter::new(file);
         write(&mut w).with_context(context)?;
