@@ -3,6 +3,7 @@
 
 pub mod checkpoint;
 pub mod config;
+pub mod memory;
 pub mod resolve;
 pub mod series;
 pub mod vtk;
