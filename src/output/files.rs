@@ -377,6 +377,25 @@ mod tests {
     }
 
     #[test]
+    fn a_write_after_the_staging_is_removed_fails_and_makes_nothing() {
+        // The signal handler removes the staging while the main thread may
+        // still be writing snapshots: a write after that must fail, never
+        // make the staging again (the process exits a moment later and a
+        // remade staging would be left behind).
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path();
+        let mut out = AtomicDir::create(dir, "test").unwrap();
+        let staging = out.staging().to_path_buf();
+        fs::remove_dir_all(&staging).unwrap();
+        let write = |out: &mut AtomicDir, name: &str| out.write(name, |w| Ok(w.write_all(b"x")?));
+        assert!(write(&mut out, "snapshot_000001.vtp").is_err());
+        assert!(write(&mut out, "sub/fig.svg").is_err());
+        assert!(!staging.exists());
+        drop(out);
+        assert_eq!(names(dir), Vec::<String>::new());
+    }
+
+    #[test]
     fn only_plain_relative_names() {
         for bad in ["", "/etc/x", "../x", "a/../b", "./a"] {
             assert!(relative(bad).is_err(), "{bad}");
