@@ -104,26 +104,28 @@ fn every_flipped_bit_is_refused() {
     assert_eq!(code, Some(0), "{err}");
     std::fs::remove_dir_all(dir.join("again")).unwrap();
 
-    // 16 positions: the magic, the version, the length, the checksum, the
+    // 17 positions: the magic (bytes 0–25), the version (26–29), the
     // payload's first bytes, its middle (positions, velocities) and its
-    // last byte; each bit of a byte in turn.
+    // last byte, the trailer's length (n − 40 … n − 33) and checksum (the
+    // last 32 bytes); each bit of a byte in turn.
     let n = good.len();
     let positions = [
         0,
         10,
         26,
+        29,
         30,
         34,
-        40,
         60,
-        70,
         80,
         n / 4,
         n / 3,
         n / 2,
         2 * n / 3,
-        3 * n / 4,
-        n - 100,
+        n - 41,
+        n - 40,
+        n - 33,
+        n - 20,
         n - 1,
     ];
     for (k, &at) in positions.iter().enumerate() {

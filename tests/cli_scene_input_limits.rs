@@ -263,7 +263,7 @@ fn runs_beyond_the_step_limit_need_force() {
 fn a_scene_larger_than_the_memory_is_refused_before_it_is_made() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    // 10⁸ spheres (the lattice's own maximum) need 42 GB at 420 B each:
+    // 10⁸ spheres (the lattice's own maximum) need 56 GB at 560 B each:
     // more than any machine this runs on has available (24 GB here).
     let lattice = "lattice = { counts = [1000, 1000, 100], spacing = [1e-3, 1e-3, 1e-3], \
                    origin = [5e-4, 5e-4, 5e-4], radius = 4e-4 }";
@@ -274,7 +274,7 @@ fn a_scene_larger_than_the_memory_is_refused_before_it_is_made() {
     assert!(
         err.contains("particles[0].lattice.counts = [1000, 1000, 100]")
             && err.contains("100000000 spheres")
-            && err.contains("42.000 GB")
+            && err.contains("56.000 GB")
             && err.contains("available"),
         "{err}"
     );

@@ -5,8 +5,10 @@
 //! would have).
 //!
 //! The file is [`MAGIC`], the format version (u32, little-endian), the
-//! payload's length (u64, little-endian), its SHA-256 and the payload (the
-//! CBOR of [`CheckpointFile`]). A file whose checksum or length does not
+//! payload (the CBOR of [`CheckpointFile`]), then the payload's length
+//! (u64, little-endian) and its SHA-256 (the payload is streamed to the
+//! file and hashed on the way, never held twice in memory). A file whose
+//! checksum or length does not
 //! match is refused before anything in it is used: any change to its
 //! bytes (a flipped bit, a cut) is an error, never a different run. A
 //! restart also refuses a scene whose fingerprint or Δt differs from the
@@ -29,8 +31,10 @@ pub const MAGIC: &[u8] = b"dembound-scene checkpoint\n";
 /// Bumped whenever the file layout, [`CheckpointFile`] or [`Checkpoint`]
 /// changes shape. 2: checksum and scene fingerprint.
 pub const VERSION: u32 = 2;
-/// Bytes before the payload: magic, version, length, SHA-256.
-const HEADER: usize = MAGIC.len() + 4 + 8 + 32;
+/// Bytes before the payload: magic, version.
+const HEADER: usize = MAGIC.len() + 4;
+/// Bytes after the payload: its length and SHA-256.
+const TRAILER: usize = 8 + 32;
 
 /// The file's content.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -54,19 +58,40 @@ impl CheckpointFile {
     }
 }
 
-/// Writes `file`: header, checksum, CBOR payload.
+/// Writes `file`: header, CBOR payload, length and checksum.
 pub fn write(w: &mut dyn Write, file: &CheckpointFile) -> Result<(), String> {
-    let mut payload = Vec::new();
-    ciborium::into_writer(file, &mut payload).map_err(|e| e.to_string())?;
-    let digest = Sha256::digest(&payload);
-    let mut header = Vec::with_capacity(HEADER);
-    header.extend_from_slice(MAGIC);
-    header.extend_from_slice(&VERSION.to_le_bytes());
-    header.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    header.extend_from_slice(&digest);
-    w.write_all(&header)
-        .and_then(|()| w.write_all(&payload))
-        .map_err(|e| e.to_string())
+    let fail = |e: std::io::Error| e.to_string();
+    w.write_all(MAGIC).map_err(fail)?;
+    w.write_all(&VERSION.to_le_bytes()).map_err(fail)?;
+    let mut hashed = Hashing {
+        inner: w,
+        hash: Sha256::new(),
+        length: 0,
+    };
+    ciborium::into_writer(file, &mut hashed).map_err(|e| e.to_string())?;
+    let (length, digest) = (hashed.length, hashed.hash.finalize());
+    w.write_all(&length.to_le_bytes()).map_err(fail)?;
+    w.write_all(&digest).map_err(fail)
+}
+
+/// Passes bytes on to `inner`, hashing and counting them.
+struct Hashing<'a> {
+    inner: &'a mut dyn Write,
+    hash: Sha256,
+    length: u64,
+}
+
+impl Write for Hashing<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.hash.update(&buf[..n]);
+        self.length += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
 }
 
 /// The version-1 file (before checksums), to say what an old file is.
@@ -103,30 +128,31 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
             "not a dembound scene checkpoint (its first bytes are not the format's)".into(),
         );
     }
-    if bytes.len() < HEADER {
+    if bytes.len() < HEADER + TRAILER {
         return refuse(format!(
-            "the checkpoint is cut short: {} bytes, its header alone has {HEADER}",
-            bytes.len()
+            "the checkpoint is cut short: {} bytes, its header and trailer alone have {}",
+            bytes.len(),
+            HEADER + TRAILER
         ));
     }
     let at = MAGIC.len();
-    let word = |from: usize, len: usize| &bytes[from..from + len];
-    let version = u32::from_le_bytes(word(at, 4).try_into().unwrap_or([0; 4]));
+    let version = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap_or([0; 4]));
     if version != VERSION {
         return refuse(format!(
             "checkpoint format version {version}, this dembound reads version {VERSION}"
         ));
     }
-    let length = u64::from_le_bytes(word(at + 4, 8).try_into().unwrap_or([0; 8]));
-    let payload = &bytes[HEADER..];
+    let end = bytes.len() - TRAILER;
+    let payload = &bytes[HEADER..end];
+    let length = u64::from_le_bytes(bytes[end..end + 8].try_into().unwrap_or([0; 8]));
     if length != payload.len() as u64 {
         return refuse(format!(
-            "the checkpoint is damaged or cut: its header says {length} bytes of data, the \
+            "the checkpoint is damaged or cut: its trailer says {length} bytes of data, the \
              file holds {}",
             payload.len()
         ));
     }
-    if Sha256::digest(payload).as_slice() != word(at + 12, 32) {
+    if Sha256::digest(payload).as_slice() != &bytes[end + 8..] {
         return refuse(
             "the checkpoint is damaged: its SHA-256 checksum does not match its content".into(),
         );

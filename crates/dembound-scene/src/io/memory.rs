@@ -5,24 +5,26 @@
 //! asked for 8.8 GB at once and ended in SIGABRT).
 //!
 //! The bytes per sphere are measured: the peak resident memory of
-//! `dembound scene` (one thread, two steps, a dense lattice of spheres
-//! 1 % apart, so that each has its 6 lattice neighbours in its list) at
-//! 5·10⁵ and 10⁶ spheres, the difference divided by 5·10⁵:
-//! - Verlet without friction: 223,252 kB and 408,848 kB → 380 B a sphere;
-//! - Gear5 with Mindlin and rolling friction, `--out` (the checkpoint
-//!   written): 485,460 kB and 927,408 kB → 905 B a sphere.
+//! `dembound scene --out` (one thread, two steps, a dense lattice of
+//! spheres 1 % apart, so that each has its 6 lattice neighbours in its
+//! list; the snapshots and the checkpoint written) at 5·10⁵ and 10⁶
+//! spheres, the difference divided by 5·10⁵:
+//! - Verlet without friction: 271,968 kB and 518,080 kB → 504 B a sphere
+//!   (380 B without `--out`);
+//! - Gear5 with Mindlin and rolling friction: 490,364 kB and 948,388 kB
+//!   → 938 B a sphere.
 //!
-//! The estimate rounds these up (by ~10 %, for the checkpoint's encoded
-//! copy and looser packings with more neighbours) and is compared with
-//! the memory the system reports available (`MemAvailable` of
-//! `/proc/meminfo`); where that is not known, nothing is refused.
+//! The estimate rounds these up by ~10 % (looser packings list more
+//! neighbours) and is compared with the memory the system reports
+//! available (`MemAvailable` of `/proc/meminfo`); where that is not
+//! known, nothing is refused.
 
 use crate::SceneError;
 
-/// Bytes a sphere needs, Verlet without friction (measured 380 B).
-pub const BYTES_PER_SPHERE: u64 = 420;
-/// Bytes a sphere needs with Gear5 or friction (measured 905 B for both).
-pub const BYTES_PER_SPHERE_GEAR5_OR_FRICTION: u64 = 1000;
+/// Bytes a sphere needs, Verlet without friction (measured 504 B).
+pub const BYTES_PER_SPHERE: u64 = 560;
+/// Bytes a sphere needs with Gear5 or friction (measured 938 B for both).
+pub const BYTES_PER_SPHERE_GEAR5_OR_FRICTION: u64 = 1040;
 
 /// The memory `count` spheres need, bytes.
 pub fn estimate(count: u64, gear5_or_friction: bool) -> u64 {
@@ -107,7 +109,7 @@ mod tests {
 
     #[test]
     fn the_estimate_is_refused_over_the_available_memory() {
-        // 10⁸ spheres at 420 B: 42 GB, over 24 GB.
+        // 10⁸ spheres at 560 B: 56 GB, over 24 GB.
         let e = check(
             100_000_000,
             false,
@@ -117,7 +119,7 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(
-            e.contains("100000000 spheres") && e.contains("42.000 GB"),
+            e.contains("100000000 spheres") && e.contains("56.000 GB"),
             "{e}"
         );
         assert!(
