@@ -14,6 +14,7 @@ pub mod recommend;
 pub mod restitution;
 pub mod run;
 pub mod scene;
+mod scene_limits;
 #[cfg(feature = "mpi")]
 mod scene_mpi;
 pub mod sweep;

@@ -59,6 +59,11 @@ pub struct SceneArgs {
     /// No progress bar
     #[arg(long, short)]
     pub quiet: bool,
+
+    /// Run even when more than 1e9 integration steps are asked for
+    /// (integration.steps, or integration.duration / Δt)
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Bad input exits 2, anything else 1.
@@ -98,6 +103,14 @@ pub fn run(args: &SceneArgs) -> CliResult {
 
     let total = sim.total_steps();
     let start = sim.steps_done();
+    super::scene_limits::check_run(
+        &resolved.setup,
+        total,
+        start,
+        sim.dt(),
+        args.restart.is_some(),
+        args.force,
+    )?;
     let span = total.saturating_sub(start);
     let every = resolved.file.output.every.unwrap_or((span / 20).max(1));
     let series_every = resolved

@@ -158,6 +158,15 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
 
     let total = sim.total_steps();
     let start = sim.steps_done();
+    let limits = super::scene_limits::check_run(
+        &resolved.setup,
+        total,
+        start,
+        resolved_dt(&sim),
+        args.restart.is_some(),
+        args.force,
+    );
+    agree(t, limits)?;
     let span = total.saturating_sub(start);
     let every = resolved.file.output.every.unwrap_or((span / 20).max(1));
     let series_every = resolved

@@ -109,14 +109,33 @@ impl AtomicDir {
     /// Where to write the file `name` (relative, may hold subfolders) so
     /// that it is published as `DIR/name`; for writers that take a path
     /// (figures). Missing subfolders are made.
+    ///
+    /// The staging directory itself is never made again here: once the
+    /// signal handler has removed it ([`super::interrupt`]), a writer still
+    /// running fails instead of recreating it (with `create_dir_all` it did,
+    /// between the handler's removal and the process's exit, and left a
+    /// `.dembound-staging-*` with snapshots behind).
     pub fn path(&self, name: &str) -> Result<PathBuf> {
         let rel = relative(name)?;
-        let path = self.staging.join(rel);
-        if let Some(parent) = path.parent() {
-            fs::create_dir_all(parent)
-                .with_context(|| format!("cannot write `{}`", self.dir.join(rel).display()))?;
+        let context = || format!("cannot write `{}`", self.dir.join(rel).display());
+        let mut folder = self.staging.clone();
+        if let Some(parent) = rel.parent() {
+            for part in parent.components() {
+                folder.push(part);
+                match fs::create_dir(&folder) {
+                    Ok(()) => {}
+                    Err(e) if e.kind() == ErrorKind::AlreadyExists && folder.is_dir() => {}
+                    Err(e) => return Err(e).with_context(context),
+                }
+            }
         }
-        Ok(path)
+        if !self.staging.is_dir() {
+            bail!(
+                "{}: the staging directory is gone (stopped by a signal)",
+                context()
+            );
+        }
+        Ok(self.staging.join(rel))
     }
 
     /// Stages the file `name`, its content written by `write`.
@@ -127,6 +146,7 @@ impl AtomicDir {
     ) -> Result<()> {
         let context = || format!("cannot write `{}`", self.dir.join(name).display());
         let path = self.path(name)?;
+        // Fails (ENOENT) once the staging is removed: never recreates it.
         let file = File::create(&path).with_context(context)?;
         let mut w = BufWriter::new(file);
         write(&mut w).with_context(context)?;
@@ -354,6 +374,25 @@ mod tests {
         set(dir, &[("a.csv", "1")]).unwrap();
         assert!(!dead.exists());
         assert!(live.staging().exists());
+    }
+
+    #[test]
+    fn a_write_after_the_staging_is_removed_fails_and_makes_nothing() {
+        // The signal handler removes the staging while the main thread may
+        // still be writing snapshots: a write after that must fail, never
+        // make the staging again (the process exits a moment later and a
+        // remade staging would be left behind).
+        let root = tempfile::tempdir().unwrap();
+        let dir = root.path();
+        let mut out = AtomicDir::create(dir, "test").unwrap();
+        let staging = out.staging().to_path_buf();
+        fs::remove_dir_all(&staging).unwrap();
+        let write = |out: &mut AtomicDir, name: &str| out.write(name, |w| Ok(w.write_all(b"x")?));
+        assert!(write(&mut out, "snapshot_000001.vtp").is_err());
+        assert!(write(&mut out, "sub/fig.svg").is_err());
+        assert!(!staging.exists());
+        drop(out);
+        assert_eq!(names(dir), Vec::<String>::new());
     }
 
     #[test]

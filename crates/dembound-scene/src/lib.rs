@@ -19,6 +19,7 @@ pub mod comm;
 pub mod dynamics;
 pub mod energy_guard;
 pub mod error;
+pub mod fingerprint;
 pub mod geometry;
 pub mod io;
 pub mod limits;

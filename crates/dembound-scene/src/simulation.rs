@@ -15,6 +15,7 @@ use crate::dynamics::spring_energy;
 use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
 use crate::energy_guard::{EnergyBalance, EnergyGuard};
 use crate::error::SceneError;
+use crate::fingerprint::Fingerprint;
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
@@ -77,6 +78,8 @@ pub struct Simulation {
     pub(crate) initial_energy: f64,
     /// The energy balance's run-time check (`energy_guard`).
     pub(crate) energy_guard: EnergyGuard,
+    /// The scene as a checkpoint must match it (`crate::fingerprint`).
+    pub(crate) fingerprint: Fingerprint,
 }
 
 fn finite3(v: [f64; 3]) -> bool {
@@ -463,6 +466,7 @@ impl Simulation {
             },
             initial_energy: 0.0,
             energy_guard: EnergyGuard::new(setup, dt),
+            fingerprint: Fingerprint::of(setup),
         })
     }
 
@@ -928,6 +932,7 @@ impl Simulation {
             plane_tracks,
             collisions: w.collisions.clone(),
             initial_energy: self.initial_energy,
+            fingerprint: self.fingerprint.clone(),
             list_builds: w.rebuilds,
             angular_velocity: if w.friction.is_some() {
                 b.angular_velocity.clone()
@@ -969,6 +974,7 @@ impl Simulation {
     ) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
         let c = checkpoint;
+        c.fingerprint.check(&sim.fingerprint)?;
         let n = sim.world.bodies.len();
         let same_len = |len: usize| len == n;
         if !(same_len(c.order.len())
@@ -1191,6 +1197,8 @@ pub struct Checkpoint {
     pub collisions: Vec<Collision>,
     /// J.
     pub initial_energy: f64,
+    /// The scene that wrote it: a restart refuses another.
+    pub fingerprint: Fingerprint,
     pub list_builds: u64,
     /// rad/s, engine order (friction only).
     #[serde(default)]

@@ -4,6 +4,7 @@
 pub mod checkpoint;
 pub mod config;
 pub mod labels;
+pub mod memory;
 pub mod resolve;
 pub mod series;
 pub mod vtk;

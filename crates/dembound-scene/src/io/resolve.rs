@@ -71,7 +71,20 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         materials.len() - 1
     };
 
+    // The memory the generated spheres need, before any is made; the
+    // files' and walls' spheres are counted once read (below).
+    let heavy = file.integration.scheme == SchemeName::Gear5 || has_friction(&file);
+    let available = super::memory::available();
+    let (generated, largest) = generated_count(&file);
+    super::memory::check(generated, heavy, &largest, available)?;
     let mut spheres: Vec<SphereInit> = Vec::new();
+    spheres
+        .try_reserve(usize::try_from(generated).unwrap_or(usize::MAX))
+        .map_err(|e| {
+            SceneError::input(format!(
+                "[[particles]]: cannot allocate {generated} spheres: {e}"
+            ))
+        })?;
     let mut groups = Vec::with_capacity(file.particles.len());
     for (i, group) in file.particles.iter_mut().enumerate() {
         let key = format!("particles[{i}]");
@@ -185,6 +198,8 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         });
         wall_bodies.push(first..spheres.len());
     }
+
+    super::memory::check(spheres.len() as u64, heavy, "the scene", available)?;
 
     let n = &file.integration;
     let impact_speed = match n.impact_speed {
@@ -334,7 +349,7 @@ fn lammps_atoms(
     let full = base_dir.join(&*path);
     let full = std::path::absolute(&full).unwrap_or(full);
     *path = full.display().to_string();
-    let data = LammpsData::read(&full)?;
+    let data = LammpsData::read_for(&full, &format!("{key}.lammps_data"))?;
     let mut by_type = std::collections::HashMap::new();
     for (t, name) in group.types.iter().flatten() {
         // Validated: whole numbers ≥ 1 and known names.
@@ -392,7 +407,7 @@ fn group_spheres(
     if let Some(path) = &mut group.csv {
         let full = absolute(path);
         *path = full.display().to_string();
-        return sources::csv::read(&full);
+        return sources::csv::read_for(&full, &format!("{key}.csv"));
     }
     if let Some(l) = &group.lattice {
         let lattice = Lattice {
@@ -440,6 +455,62 @@ fn group_spheres(
             .collect());
     }
     Err(SceneError::input(format!("`{key}`: no source")))
+}
+
+/// The spheres the lattices, random insertions and inline lists of `file`
+/// make (known before any is made), and the largest group named with its
+/// count. A lattice over its own maximum is left to its validation.
+fn generated_count(file: &SceneFile) -> (u64, String) {
+    let mut count: u64 = 0;
+    let mut largest = (0u64, String::from("[[particles]]"));
+    for (i, group) in file.particles.iter().enumerate() {
+        let (made, key) = if let Some(l) = &group.lattice {
+            let n = l
+                .counts
+                .iter()
+                .fold(1u64, |n, &c| n.saturating_mul(c as u64));
+            let n = if n > crate::sources::lattice::MAX_SPHERES as u64 {
+                0
+            } else {
+                n
+            };
+            (n, format!("particles[{i}].lattice.counts = {:?}", l.counts))
+        } else if let Some(r) = &group.random {
+            (
+                r.count as u64,
+                format!("particles[{i}].random.count = {}", r.count),
+            )
+        } else {
+            let n = group.spheres.as_ref().map_or(0, |s| s.len() as u64);
+            (n, format!("particles[{i}].spheres"))
+        };
+        if made > largest.0 {
+            largest = (made, key);
+        }
+        count = count.saturating_add(made);
+    }
+    let what = if count == largest.0 {
+        largest.1
+    } else {
+        format!("[[particles]] (the largest group: {})", largest.1)
+    };
+    (count, what)
+}
+
+/// Whether `file` asks for friction anywhere (the spheres then carry
+/// spins and springs: more memory each).
+fn has_friction(file: &SceneFile) -> bool {
+    let c = &file.contact;
+    c.friction.is_some()
+        || c.rolling_friction.is_some()
+        || file
+            .materials
+            .iter()
+            .any(|m| m.friction.is_some() || m.rolling_friction.is_some())
+        || file
+            .walls
+            .iter()
+            .any(|w| w.friction.is_some() || w.rolling_friction.is_some())
 }
 
 /// The impact speed of the contact-time estimate when the file gives none:

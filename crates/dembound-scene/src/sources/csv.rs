@@ -11,8 +11,15 @@ const VELOCITY: [&str; 3] = ["vx", "vy", "vz"];
 
 /// Reads the spheres of the CSV file `path`.
 pub fn read(path: &Path) -> Result<Vec<SourceSphere>, SceneError> {
-    let file = std::fs::File::open(path).map_err(|e| SceneError::io(path, e))?;
-    parse(file, &path.display().to_string())
+    read_for(path, "csv")
+}
+
+/// Reads the spheres of the CSV file `path`, the value of the scene key
+/// `key` (named when the file is missing, not a file or over
+/// [`super::MAX_DATA_FILE_BYTES`]).
+pub fn read_for(path: &Path, key: &str) -> Result<Vec<SourceSphere>, SceneError> {
+    let bytes = super::read_data_file(path, key)?;
+    parse(&bytes[..], &path.display().to_string())
 }
 
 /// Parses CSV text from `reader`; `name` is the file named in errors.
@@ -20,10 +27,23 @@ pub fn parse(reader: impl std::io::Read, name: &str) -> Result<Vec<SourceSphere>
     let err = |line: u64, msg: String| {
         SceneError::input(format!("CSV file `{name}`, line {line}: {msg}"))
     };
+    let mut reader = reader;
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut reader, &mut text)
+        .map_err(|e| err(0, format!("cannot read the file as UTF-8 text: {e}")))?;
+    if let Some(line) = super::unterminated_last_line(&text) {
+        return Err(err(
+            line as u64,
+            "the file ends inside this line (no line end after it): it looks cut, and a number \
+             cut short still reads as another number; end the file with a newline if the line \
+             is whole"
+                .into(),
+        ));
+    }
     let mut rdr = ::csv::ReaderBuilder::new()
         .trim(::csv::Trim::All)
         .comment(Some(b'#'))
-        .from_reader(reader);
+        .from_reader(text.as_bytes());
     let headers = rdr
         .headers()
         .map_err(|e| err(1, format!("cannot read the header row: {e}")))?
@@ -125,5 +145,9 @@ mod tests {
         assert!(m.contains("vx,vy,vz"), "{m}");
         let m = msg("x,y,z,radius\n0,0,0\n");
         assert!(m.contains("line 2"), "{m}");
+        // Cut inside the last number: `0.001045` → `0.00`, which parses.
+        let m = msg("x,y,z,radius\n0,0,0,1e-3\n0.1,0.2,0.00");
+        assert!(m.contains("line 3") && m.contains("cut"), "{m}");
+        assert!(parse("x,y,z,radius\n0,0,0.001045,1e-3\n".as_bytes(), "s").is_ok());
     }
 }

@@ -37,8 +37,22 @@ pub struct LammpsData {
 impl LammpsData {
     /// Reads and parses `path`.
     pub fn read(path: &Path) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::io(path, e))?;
-        Self::parse(&text, &path.display().to_string())
+        Self::read_for(path, "lammps_data")
+    }
+
+    /// Reads and parses `path`, the value of the scene key `key` (named
+    /// when the file is missing, not a file or over
+    /// [`super::MAX_DATA_FILE_BYTES`]).
+    pub fn read_for(path: &Path, key: &str) -> Result<Self, SceneError> {
+        let bytes = super::read_data_file(path, key)?;
+        let name = path.display().to_string();
+        let text = String::from_utf8(bytes).map_err(|e| {
+            SceneError::input(format!(
+                "LAMMPS data file `{name}`: not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to()
+            ))
+        })?;
+        Self::parse(&text, &name)
     }
 
     /// The spheres in id order.
@@ -51,6 +65,15 @@ impl LammpsData {
         let err = |line: usize, msg: String| {
             SceneError::input(format!("LAMMPS data file `{name}`, line {line}: {msg}"))
         };
+        if let Some(line) = super::unterminated_last_line(text) {
+            return Err(err(
+                line,
+                "the file ends inside this line (no line end after it): it looks cut, and a \
+                 number cut short still reads as another number; end the file with a newline if \
+                 the line is whole"
+                    .into(),
+            ));
+        }
         let mut n_atoms: Option<usize> = None;
         let mut bounds: [Option<[f64; 2]>; 3] = [None; 3];
         let mut section = Section::Header;
@@ -361,5 +384,30 @@ Atoms # sphere
             .unwrap_err()
             .to_string();
         assert!(e.contains("/nonexistent/x.data"), "{e}");
+    }
+
+    #[test]
+    fn a_file_cut_inside_its_last_line_is_refused() {
+        // SMALL ends with the atom at z = 0.000505 (line 15); cut inside
+        // that number the line still parses (z = 0.0005), so the missing
+        // line end is what tells.
+        let whole = SMALL.trim_end_matches('\n');
+        assert!(whole.ends_with("0.000505"), "{whole}");
+        let lines = whole.lines().count();
+        for cut in [0, 2, 4, 8] {
+            let text = &whole[..whole.len() - cut];
+            let e = LammpsData::parse(text, "cut.data").unwrap_err().to_string();
+            assert!(
+                e.contains("`cut.data`")
+                    && e.contains(&format!("line {lines}"))
+                    && e.contains("cut"),
+                "{e}"
+            );
+        }
+        // The same line with its newline is whole; a last line that is a
+        // comment or blank needs none.
+        assert!(LammpsData::parse(&format!("{whole}\n"), "s").is_ok());
+        assert!(LammpsData::parse(&format!("{whole}\n# end"), "s").is_ok());
+        assert!(LammpsData::parse(&format!("{whole}\n  "), "s").is_ok());
     }
 }

@@ -38,6 +38,7 @@ use crate::comm::Transport;
 use crate::dynamics::collisions::Track;
 use crate::dynamics::contacts::{self, extended};
 use crate::dynamics::friction::{self, WallShear};
+use crate::fingerprint::Fingerprint;
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::{Checkpoint, HistoryRecord};
 use crate::SceneError;
@@ -220,6 +221,7 @@ impl<T: Transport> DistributedSimulation<T> {
             plane_tracks: Vec::new(),
             collisions: Vec::new(),
             initial_energy: self.sim.initial_energy,
+            fingerprint: self.sim.fingerprint.clone(),
             list_builds: w.rebuilds,
             angular_velocity: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
             torque: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
@@ -353,6 +355,7 @@ impl<T: Transport> DistributedSimulation<T> {
     ) -> Result<Self, SceneError> {
         let n = setup.spheres.len();
         let gear5 = setup.integration.scheme == Scheme::Gear5;
+        c.fingerprint.check(&Fingerprint::of(setup))?;
         let slot = check(c, n, gear5, setup.friction.is_some())?;
         let mut me = Self::new(setup, threads, grid, transport)?;
         if c.dt.to_bits() != me.sim.world.dt.to_bits() {

@@ -1,0 +1,211 @@
+//! The scene a checkpoint belongs to, as far as it shapes the trajectory:
+//! each body's radius, material and fixedness, every material, the contact
+//! and friction models, the walls, gravity, the domain, the scheme and the
+//! neighbour skin. A checkpoint carries the [`Fingerprint`] of the scene
+//! that wrote it; a restart refuses a scene whose fingerprint differs and
+//! names the first key that does (a restart with another density or radius
+//! would otherwise run on, with the stored contact histories and energies
+//! of another scene: a negative dissipated energy).
+//!
+//! Not part of it: the initial positions and velocities (the checkpoint's
+//! replace them), the run length and the outputs (a restart may change
+//! them), the time step (checked exactly, from the resolved Δt).
+
+use crate::setup::SceneSetup;
+use crate::SceneError;
+use serde::{Deserialize, Serialize};
+
+/// What a checkpoint must match in the scene that continues it.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Fingerprint {
+    /// (key, value) of each setting, in a fixed order; the values printed
+    /// exactly (f64 in Rust's shortest round-trip form).
+    pub settings: Vec<(String, String)>,
+    /// Each body's radius in input order, m.
+    pub radius: Vec<f64>,
+    /// Each body's material index in input order.
+    pub material: Vec<u32>,
+    /// Each body fixed (boundary particles, `fixed = true`) or free.
+    pub fixed: Vec<bool>,
+}
+
+impl Fingerprint {
+    /// The fingerprint of `setup`.
+    pub fn of(setup: &SceneSetup) -> Self {
+        let mut settings = Vec::new();
+        let mut put = |key: String, value: String| settings.push((key, value));
+        let d = &setup.domain;
+        put("domain.lower".into(), format!("{:?} m", d.lower));
+        put("domain.upper".into(), format!("{:?} m", d.upper));
+        put("domain.periodic".into(), format!("{:?}", d.periodic));
+        put(
+            "materials (count)".into(),
+            setup.materials.len().to_string(),
+        );
+        for (k, m) in setup.materials.iter().enumerate() {
+            let mat = &m.material;
+            put(format!("material.{k}.name"), format!("{:?}", m.name));
+            put(
+                format!("material.{k}.density"),
+                format!("{:?} kg/m³", mat.density),
+            );
+            put(
+                format!("material.{k}.youngs_modulus"),
+                format!("{:?} Pa", mat.youngs_modulus),
+            );
+            put(
+                format!("material.{k}.poisson_ratio"),
+                format!("{:?}", mat.poisson_ratio),
+            );
+        }
+        put("contact".into(), format!("{:?}", setup.contact));
+        put("friction".into(), format!("{:?}", setup.friction));
+        put("walls (count)".into(), setup.walls.len().to_string());
+        for (k, w) in setup.walls.iter().enumerate() {
+            put(format!("wall.{k}"), format!("{w:?}"));
+        }
+        put("motion.gravity".into(), format!("{:?} m/s²", setup.gravity));
+        put(
+            "integration.scheme".into(),
+            format!("{:?}", setup.integration.scheme).to_lowercase(),
+        );
+        put(
+            "neighbour.skin".into(),
+            format!("{:?} m", setup.neighbour.skin),
+        );
+        let s = &setup.spheres;
+        Self {
+            settings,
+            radius: s.iter().map(|b| b.radius).collect(),
+            material: s.iter().map(|b| b.material as u32).collect(),
+            fixed: s.iter().map(|b| b.fixed).collect(),
+        }
+    }
+
+    /// `Ok` when the scene's fingerprint `scene` is this checkpoint's;
+    /// otherwise the first difference, named.
+    pub fn check(&self, scene: &Fingerprint) -> Result<(), SceneError> {
+        let differs = |what: String| Err(SceneError::Checkpoint(what));
+        let (n, m) = (self.radius.len(), scene.radius.len());
+        if n != m {
+            return differs(format!("it holds {n} bodies, the scene {m}"));
+        }
+        for (key, value) in &self.settings {
+            match scene.settings.iter().find(|(k, _)| k == key) {
+                Some((_, now)) if now == value => {}
+                Some((_, now)) => {
+                    return differs(format!(
+                        "{key} differs: the checkpoint's {value}, the scene's {now}"
+                    ))
+                }
+                None => {
+                    return differs(format!("the scene has no {key} (the checkpoint: {value})"))
+                }
+            }
+        }
+        if let Some((key, value)) = scene
+            .settings
+            .iter()
+            .find(|(k, _)| !self.settings.iter().any(|(mine, _)| mine == k))
+        {
+            return differs(format!("the checkpoint has no {key} (the scene: {value})"));
+        }
+        let body = |k: usize| format!("sphere {k} (input order)");
+        for k in 0..n {
+            let (a, b) = (self.radius[k], scene.radius[k]);
+            if a.to_bits() != b.to_bits() {
+                return differs(format!(
+                    "{}: radius differs: the checkpoint's {a:?} m, the scene's {b:?} m",
+                    body(k)
+                ));
+            }
+        }
+        for (k, (a, b)) in self.material.iter().zip(&scene.material).enumerate() {
+            if a != b {
+                return differs(format!(
+                    "{}: material differs: the checkpoint's {a}, the scene's {b}",
+                    body(k)
+                ));
+            }
+        }
+        for (k, (a, b)) in self.fixed.iter().zip(&scene.fixed).enumerate() {
+            if a != b {
+                let kind = |f: bool| if f { "fixed" } else { "free" };
+                return differs(format!(
+                    "{}: the checkpoint's is {}, the scene's {}",
+                    body(k),
+                    kind(*a),
+                    kind(*b)
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::{DomainSetup, NamedMaterial, RunLength, SphereInit, TimeStep};
+    use dembound_physics::contact::{ContactModel, NormalLaw};
+    use dembound_physics::material::Material;
+
+    fn setup(density: f64, radius: f64) -> SceneSetup {
+        let domain = DomainSetup {
+            lower: [0.0; 3],
+            upper: [1.0; 3],
+            periodic: [false; 3],
+        };
+        let mut s = SceneSetup::new(
+            domain,
+            ContactModel::elastic(NormalLaw::Hertz),
+            TimeStep::Fixed(1e-6),
+            RunLength::Steps(10),
+        );
+        s.materials.push(NamedMaterial {
+            name: "grain".into(),
+            material: Material {
+                density,
+                youngs_modulus: 1e7,
+                poisson_ratio: 0.3,
+            },
+        });
+        for k in 0..3 {
+            s.spheres.push(SphereInit {
+                position: [0.1 + 0.2 * k as f64, 0.5, 0.5],
+                velocity: [0.0; 3],
+                radius,
+                material: 0,
+                fixed: false,
+                group: None,
+            });
+        }
+        s
+    }
+
+    #[test]
+    fn the_same_scene_fits_and_another_is_named() {
+        let a = Fingerprint::of(&setup(1000.0, 1e-3));
+        assert!(a.check(&Fingerprint::of(&setup(1000.0, 1e-3))).is_ok());
+        let e = a
+            .check(&Fingerprint::of(&setup(1001.0, 1e-3)))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("material.0.density"), "{e}");
+        assert!(e.contains("1000.0") && e.contains("1001.0"), "{e}");
+        let e = a
+            .check(&Fingerprint::of(&setup(1000.0, 1.1e-3)))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("sphere 0") && e.contains("radius"), "{e}");
+    }
+
+    #[test]
+    fn initial_positions_do_not_count() {
+        let a = setup(1000.0, 1e-3);
+        let mut b = a.clone();
+        b.spheres[1].position[0] += 0.01;
+        b.spheres[1].velocity[2] = 3.0;
+        assert!(Fingerprint::of(&a).check(&Fingerprint::of(&b)).is_ok());
+    }
+}
