@@ -9,6 +9,19 @@ use dembound_physics::contact::tangential::tangential_names;
 use dembound_scene::io::config::MAX_STEPS;
 use dembound_scene::limits::{self, describe, show};
 use dembound_scene::setup_checks::radius_range;
+use dembound_scene::time_step::{
+    GEAR5_DAMPED_MAX_STEP_RATIO, GEAR5_MAX_STEP_RATIO, VERLET_MAX_STEP_RATIO,
+};
+
+/// The largest Δt/T_b of each scheme, as the time-step rule checks them.
+fn step_ratios() -> String {
+    format!(
+        "{} (verlet), {} (gear5), {} (gear5 with damping)",
+        show(VERLET_MAX_STEP_RATIO),
+        show(GEAR5_MAX_STEP_RATIO),
+        show(GEAR5_DAMPED_MAX_STEP_RATIO)
+    )
+}
 
 /// Every scene key, in file order of the sections.
 pub fn keys() -> Vec<KeyInfo> {
@@ -403,14 +416,14 @@ pub fn keys() -> Vec<KeyInfo> {
             "integration.dt",
             "s",
             "—",
-            "finite, > 0; or eta".into(),
-            "Δt",
+            format!("finite, > 0, ≤ c T_b with c = {}; or eta", step_ratios()),
+            "Δt (T_b: the smallest contact-time estimate at the fastest reachable approach)",
         ),
         row(
             "integration.eta",
             "",
             "—",
-            "0 < η ≤ 1; or dt".into(),
+            format!("η > 0 with η T_c ≤ c T_b, c = {}; or dt", step_ratios()),
             "Δt = η T_c",
         ),
         row(
@@ -424,14 +437,21 @@ pub fn keys() -> Vec<KeyInfo> {
             "integration.steps",
             "",
             "—",
-            format!("1 to {}; or duration", show(MAX_STEPS as f64)),
+            format!(
+                "1 to {} (above {} with --force); or duration",
+                show(MAX_STEPS as f64),
+                show(super::scene_limits::MAX_SCENE_STEPS_WITHOUT_FORCE as f64)
+            ),
             "run length",
         ),
         row(
             "integration.duration",
             "s",
             "—",
-            "finite, > 0; or steps".into(),
+            format!(
+                "finite, > 0, at most {} steps of Δt without --force; or steps",
+                show(super::scene_limits::MAX_SCENE_STEPS_WITHOUT_FORCE as f64)
+            ),
             "run length",
         ),
         row(
