@@ -126,6 +126,11 @@ fn gear5_friction_restart_mid_contact_is_bit_identical() {
     }
     let mut probe = Simulation::new(setup.clone(), 1).expect("a valid scene");
     probe.step(1000);
+    // The run is sound, not only repeatable: the energy balance's guard
+    // (no energy created beyond integration error) passes at the checkpoint.
+    probe
+        .observe_checked()
+        .expect("the Gear5 run keeps its energy balance");
     let cp = probe.checkpoint();
     let nonzero = |r: &[[f64; 3]; 4]| r.iter().flatten().any(|x| *x != 0.0);
     assert!(

@@ -72,7 +72,10 @@ fn run(setup: &SceneSetup, threads: usize, steps: u64) -> (Simulation, ShareLog)
     let mut done = 0;
     while done < steps {
         let n = SAMPLE.min(steps - done);
-        sim.step(n);
+        // Guarded: the runs compared must be sound, not only repeatable
+        // (no energy created beyond integration error at any sample).
+        sim.step_guarded(n)
+            .unwrap_or_else(|e| panic!("{threads} threads, step {done}: {e}"));
         done += n;
         if threads < 2 {
             continue;
