@@ -25,8 +25,34 @@ fn run(file: &Path, sets: &[&str], extra: &[&str]) -> Output {
     cmd.args(extra).output().expect("the binary runs")
 }
 
+/// Writes `text` to `dir/name`; the path.
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let file = dir.join(name);
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Runs the settling bed with `sets` (`--json --out`), expecting it
+/// refused: exit 2, nothing printed, no output directory; its stderr.
+fn settling_bed_refused(sets: &[&str]) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let o = run(
+        &scene("settling_bed.toml"),
+        sets,
+        &["--json", "--out", out.to_str().unwrap()],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        o.stdout.is_empty() && !out.exists(),
+        "nothing printed or written"
+    );
+    err
 }
 
 /// The number printed after `prefix` in `text` (up to the next space).
@@ -69,20 +95,8 @@ fn grain_contact_time(v_max: f64) -> f64 {
 /// value and the limit (0.35 T_c under Verlet), nothing printed or written.
 #[test]
 fn settling_bed_at_a_millisecond_is_refused_naming_the_limit() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("never");
-    let o = run(
-        &scene("settling_bed.toml"),
-        &["integration.dt=1e-3"],
-        &["--json", "--out", out.to_str().unwrap()],
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let err = settling_bed_refused(&["integration.dt=1e-3"]);
     assert!(err.contains("integration.dt = 1e-3 s"), "{err}");
-    assert!(
-        o.stdout.is_empty() && !out.exists(),
-        "nothing printed or written"
-    );
     // Thrown down at 1 m/s in a box 20 mm high: v_max = √(1 + 2 g 0.02).
     let tc = grain_contact_time((1.0 + 2.0 * 9.81 * 0.02_f64).sqrt());
     let limit = number_after(&err, "Δt ≤ ");
@@ -179,23 +193,11 @@ fn eta_one_is_refused_under_both_schemes() {
 /// step as the likely cause, nothing printed, no output directory.
 #[test]
 fn a_run_that_creates_energy_is_stopped_by_the_guard() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("never");
-    let o = run(
-        &scene("settling_bed.toml"),
-        &["integration.scheme=gear5"],
-        &["--json", "--out", out.to_str().unwrap()],
-    );
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let err = settling_bed_refused(&["integration.scheme=gear5"]);
     assert!(err.contains("the run created energy"), "{err}");
     assert!(err.contains("likely cause: the step"), "{err}");
     let step = number_after(&err, "by step ");
     assert!(step < 8200.0, "caught before the state overflows: {err}");
-    assert!(
-        o.stdout.is_empty() && !out.exists(),
-        "nothing printed or written"
-    );
 }
 
 /// Colliding rigid spheres (E = inf on two free spheres) said "integration.dt
@@ -203,9 +205,9 @@ fn a_run_that_creates_energy_is_stopped_by_the_guard() {
 #[test]
 fn colliding_rigid_spheres_are_refused_naming_the_modulus() {
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("rigid.toml");
-    std::fs::write(
-        &file,
+    let file = write(
+        dir.path(),
+        "rigid.toml",
         r#"
 [domain]
 lower = [-0.01, -0.01, -0.01]
@@ -227,8 +229,7 @@ gravity = [0.0, 0.0, 0.0]
 dt = 1e-6
 steps = 3000
 "#,
-    )
-    .unwrap();
+    );
     let o = run(&file, &[], &["--json"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
@@ -246,9 +247,9 @@ steps = 3000
 #[test]
 fn the_json_energy_balance_closes() {
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("pair.toml");
-    std::fs::write(
-        &file,
+    let file = write(
+        dir.path(),
+        "pair.toml",
         r#"
 [domain]
 lower = [-0.01, -0.01, -0.01]
@@ -272,8 +273,7 @@ gravity = [0.0, 0.0, -9.81]
 dt = 2e-7
 steps = 12000
 "#,
-    )
-    .unwrap();
+    );
     let o = run(&file, &[], &["--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let j: Value = serde_json::from_slice(&o.stdout).unwrap();

@@ -7,47 +7,22 @@
 
 mod common;
 
-use common::dembound;
+use common::{dembound, grain_floor_scene};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// A scene of `particles` (a `[[particles]]` body) in a 1 m box with a
 /// plane floor, 10 steps of 1 µs unless `integration` says otherwise.
 fn scene(dir: &Path, particles: &str, integration: &str) -> PathBuf {
-    let text = format!(
-        r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [1.0, 1.0, 1.0]
-periodic = [false, false, false]
-
-[[material]]
-name = "grain"
-density = 1000.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz"
-
-[[particles]]
-{particles}
-material = "grain"
-
-[[wall]]
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
-material = "grain"
-
-[motion]
-gravity = [0.0, 0.0, -9.81]
-
-[integration]
-{integration}
-"#
-    );
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    path
+    grain_floor_scene(
+        dir,
+        "scene.toml",
+        "[1.0, 1.0, 1.0]",
+        1000.0,
+        "law = \"hertz\"",
+        particles,
+        integration,
+    )
 }
 
 const SHORT: &str = "scheme = \"verlet\"\ndt = 1.0e-6\nsteps = 10";
@@ -68,6 +43,35 @@ fn run(dir: &Path, file: &Path, args: &[&str]) -> (Option<i32>, String, bool) {
         o.status.code(),
         String::from_utf8_lossy(&o.stderr).into_owned(),
         out.exists(),
+    )
+}
+
+/// Writes the scene of `particles` and `integration`, runs it and asserts
+/// it is refused: exit 2, every one of `needles` in stderr, no output
+/// directory.
+fn refused(dir: &Path, particles: &str, integration: &str, needles: &[&str]) {
+    let file = scene(dir, particles, integration);
+    let (code, err, made) = run(dir, &file, &[]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(needles.iter().all(|n| err.contains(n)), "{err}");
+    assert!(!made);
+}
+
+/// Runs `dembound scene -q ARGS FILE --out DIR/a-file` (a file, which
+/// `--out` refuses after the step guard); (exit code, stderr).
+fn out_refused(dir: &Path, args: &[&str], file: &Path) -> (Option<i32>, String) {
+    std::fs::write(dir.join("a-file"), "x").unwrap();
+    let o = dembound()
+        .args(["scene", "-q"])
+        .args(args)
+        .arg(file)
+        .arg("--out")
+        .arg(dir.join("a-file"))
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
     )
 }
 
@@ -132,11 +136,7 @@ fn a_csv_file_cut_inside_its_last_number_is_refused() {
         "x,y,z,radius\n0.5,0.5,0.001045,5e-4\n0.6,0.5,0.00",
     )
     .unwrap();
-    let file = scene(dir, "csv = \"s.csv\"", SHORT);
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("s.csv") && err.contains("line 3"), "{err}");
-    assert!(!made);
+    refused(dir, "csv = \"s.csv\"", SHORT, &["s.csv", "line 3"]);
 }
 
 #[test]
@@ -144,49 +144,35 @@ fn special_missing_and_oversized_data_files_are_refused() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     // /dev/zero would be read until memory runs out.
-    let file = scene(dir, "lammps_data = \"/dev/zero\"", SHORT);
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("particles[0].lammps_data") && err.contains("/dev/zero"),
-        "{err}"
+    refused(
+        dir,
+        "lammps_data = \"/dev/zero\"",
+        SHORT,
+        &["particles[0].lammps_data", "/dev/zero"],
     );
-    assert!(!made);
     // A directory.
-    let file = scene(
+    refused(
         dir,
         &format!("csv = {:?}", dir.display().to_string()),
         SHORT,
+        &["particles[0].csv", "directory"],
     );
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("particles[0].csv") && err.contains("directory"),
-        "{err}"
-    );
-    assert!(!made);
     // Missing: bad input (exit 2), not a failure of the machine.
-    let file = scene(dir, "lammps_data = \"missing.data\"", SHORT);
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("particles[0].lammps_data") && err.contains("missing.data"),
-        "{err}"
+    refused(
+        dir,
+        "lammps_data = \"missing.data\"",
+        SHORT,
+        &["particles[0].lammps_data", "missing.data"],
     );
-    assert!(!made);
     // Over the limit: a sparse file of 4 GiB + 1 byte (no disk used).
     let big = std::fs::File::create(dir.join("big.data")).unwrap();
     big.set_len((4u64 << 30) + 1).unwrap();
-    let file = scene(dir, "lammps_data = \"big.data\"", SHORT);
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("particles[0].lammps_data")
-            && err.contains("4294967297")
-            && err.contains("4294967296"),
-        "{err}"
+    refused(
+        dir,
+        "lammps_data = \"big.data\"",
+        SHORT,
+        &["particles[0].lammps_data", "4294967297", "4294967296"],
     );
-    assert!(!made);
 }
 
 #[test]
@@ -194,65 +180,42 @@ fn runs_beyond_the_step_limit_need_force() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let one = "spheres = [{ position = [0.5, 0.5, 0.5], radius = 1e-3 }]";
-    let file = scene(
+    refused(
         dir,
         one,
         "scheme = \"verlet\"\ndt = 1.0e-6\nsteps = 1000000000000",
+        &[
+            "integration.steps = 1000000000000",
+            "1000000000 steps",
+            "--force",
+        ],
     );
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("integration.steps = 1000000000000")
-            && err.contains("1000000000 steps")
-            && err.contains("--force"),
-        "{err}"
-    );
-    assert!(!made);
     // A duration of 10⁶ s at Δt = 1 µs: 10¹² steps.
-    let file = scene(
+    refused(
         dir,
         one,
         "scheme = \"verlet\"\ndt = 1.0e-6\nduration = 1.0e6",
+        &[
+            // 10¹² steps, give or take the rounding of 10⁶ s / 1 µs up.
+            "integration.duration = 1000000 s (100000000000",
+            "at most 1000000000 steps",
+        ],
     );
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        // 10¹² steps, give or take the rounding of 10⁶ s / 1 µs up.
-        err.contains("integration.duration = 1000000 s (100000000000")
-            && err.contains("at most 1000000000 steps"),
-        "{err}"
-    );
-    assert!(!made);
     // The limit itself runs without --force: 10⁹ steps are allowed, so
     // the guard must pass them (checked by the --out refusal that comes
     // after it: `--out` a file).
-    std::fs::write(dir.join("a-file"), "x").unwrap();
     let at_limit = scene(
         dir,
         one,
         "scheme = \"verlet\"\ndt = 1.0e-6\nsteps = 1000000000",
     );
-    let o = dembound()
-        .args(["scene", "-q"])
-        .arg(&at_limit)
-        .arg("--out")
-        .arg(dir.join("a-file"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let (code, err) = out_refused(dir, &[], &at_limit);
+    assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("--out") && !err.contains("--force"), "{err}");
     // With --force the step guard passes 10¹² steps too (the same --out
     // refusal comes next).
-    let o = dembound()
-        .args(["scene", "-q", "--force"])
-        .arg(&file)
-        .arg("--out")
-        .arg(dir.join("a-file"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let (code, err) = out_refused(dir, &["--force"], &at_limit);
+    assert_eq!(code, Some(2), "{err}");
     assert!(
         err.contains("--out") && !err.contains("integration.duration"),
         "{err}"
@@ -268,17 +231,17 @@ fn a_scene_larger_than_the_memory_is_refused_before_it_is_made() {
     let lattice = "lattice = { counts = [1000, 1000, 100], spacing = [1e-3, 1e-3, 1e-3], \
                    origin = [5e-4, 5e-4, 5e-4], radius = 4e-4 }";
     let started = std::time::Instant::now();
-    let file = scene(dir, lattice, SHORT);
-    let (code, err, made) = run(dir, &file, &[]);
-    assert_eq!(code, Some(2), "{err}");
-    assert!(
-        err.contains("particles[0].lattice.counts = [1000, 1000, 100]")
-            && err.contains("100000000 spheres")
-            && err.contains("56.000 GB")
-            && err.contains("available"),
-        "{err}"
+    refused(
+        dir,
+        lattice,
+        SHORT,
+        &[
+            "particles[0].lattice.counts = [1000, 1000, 100]",
+            "100000000 spheres",
+            "56.000 GB",
+            "available",
+        ],
     );
-    assert!(!made);
     // Refused before the spheres are made (making them takes seconds).
     assert!(started.elapsed().as_secs_f64() < 5.0);
 }

@@ -49,6 +49,16 @@ impl Scene {
         Self { dir }
     }
 
+    /// BASE with its sphere replaced by the LAMMPS data file `data`
+    /// (`atoms.data`).
+    fn with_lammps_data(data: &str) -> Self {
+        let text = BASE.replace(
+            "spheres = [{ position = [0.005, 0.005, 0.002], radius = 0.0005 }]",
+            "lammps_data = \"atoms.data\"",
+        );
+        Self::new(&text, &[("atoms.data", data)])
+    }
+
     fn path(&self) -> PathBuf {
         self.dir.path().join("scene.toml")
     }
@@ -218,11 +228,7 @@ fn coincident_atoms_of_a_lammps_file_are_refused_naming_the_source() {
     let data = "LAMMPS data\n\n3 atoms\n1 atom types\n\n0 0.01 xlo xhi\n0 0.01 ylo yhi\n0 0.01 zlo zhi\n\n\
                 Atoms # sphere\n\n1 1 1e-3 1000 0.003 0.005 0.002\n2 1 1e-3 1000 0.005 0.005 0.002\n\
                 3 1 1e-3 1000 0.005 0.005 0.002\n";
-    let text = BASE.replace(
-        "spheres = [{ position = [0.005, 0.005, 0.002], radius = 0.0005 }]",
-        "lammps_data = \"atoms.data\"",
-    );
-    let s = Scene::new(&text, &[("atoms.data", data)]);
+    let s = Scene::with_lammps_data(data);
     refused(
         &s,
         &[],
@@ -307,11 +313,7 @@ fn physical_inputs_outside_their_ranges_are_refused_by_their_own_key() {
 fn a_data_file_sphere_out_of_range_is_named_by_its_source() {
     let data = "LAMMPS data\n\n1 atoms\n1 atom types\n\n0 0.01 xlo xhi\n0 0.01 ylo yhi\n0 0.01 zlo zhi\n\n\
                 Atoms # sphere\n\n1 1 2e-300 1000 0.005 0.005 0.002\n";
-    let text = BASE.replace(
-        "spheres = [{ position = [0.005, 0.005, 0.002], radius = 0.0005 }]",
-        "lammps_data = \"atoms.data\"",
-    );
-    let s = Scene::new(&text, &[("atoms.data", data)]);
+    let s = Scene::with_lammps_data(data);
     refused(
         &s,
         &[],

@@ -13,16 +13,13 @@
 
 mod common;
 
-use common::dembound;
+use common::{lattice_drop, scene_summary};
 use dembound_scene::io::config;
 use dembound_scene::io::resolve::resolve;
 use dembound_scene::Simulation;
 use serde_json::Value;
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-
-fn lattice_drop() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml")
-}
 
 /// lattice_drop.toml cut to 8 × 8 × 6 spheres in a 10.2 mm box, with
 /// Mindlin μ = 0.5 and rolling friction 0.05 on grains and walls, the
@@ -47,41 +44,20 @@ fn base_sets(every: u64) -> Vec<String> {
 /// `dembound scene lattice_drop.toml SETS --set integration.steps=STEPS
 /// [--restart CP] --json --out OUT`.
 fn run(sets: &[String], steps: u64, restart: Option<&Path>, out: &Path) -> Value {
-    let mut cmd = dembound();
-    cmd.arg("scene").arg(lattice_drop());
-    for s in sets {
-        cmd.args(["--set", s]);
-    }
-    cmd.args(["--set", &format!("integration.steps={steps}")]);
+    let mut sets = sets.to_vec();
+    sets.push(format!("integration.steps={steps}"));
+    let mut extra: Vec<&OsStr> = Vec::new();
     if let Some(cp) = restart {
-        cmd.arg("--restart").arg(cp);
+        extra.extend([OsStr::new("--restart"), cp.as_os_str()]);
     }
-    let o = cmd
-        .args(["--threads", "1", "--json", "--out"])
-        .arg(out)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        o.status.success(),
-        "{steps} steps: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let text = String::from_utf8(o.stdout).expect("UTF-8");
-    let mut v: Value = serde_json::from_str(&text).expect("one JSON object");
-    v["kinetic_energy_exact"] = exact_number(&text, "kinetic_energy").to_bits().into();
-    v
-}
-
-/// The number `key` of a `--json` summary read exactly from its text
-/// (serde_json's own float parsing may be off by an ulp).
-fn exact_number(json: &str, key: &str) -> f64 {
-    let field = format!("\"{key}\": ");
-    let start = json.find(&field).expect("the key") + field.len();
-    let text: String = json[start..]
-        .chars()
-        .take_while(|c| !matches!(c, ',' | '\n' | '}'))
-        .collect();
-    text.trim().parse().expect("a number")
+    extra.extend([OsStr::new("--threads"), OsStr::new("1")]);
+    scene_summary(
+        &lattice_drop(),
+        &sets,
+        &extra,
+        out,
+        &format!("{steps} steps"),
+    )
 }
 
 /// The same scene through the engine API after `steps`: asserts the

@@ -8,16 +8,13 @@
 
 mod common;
 
-use common::dembound;
+use common::{lattice_drop, scene_summary};
 use dembound_scene::io::config;
 use dembound_scene::io::resolve::resolve;
 use dembound_scene::Simulation;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-
-fn lattice_drop() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml")
-}
+use std::ffi::OsStr;
+use std::path::Path;
 
 /// lattice_drop.toml cut to 12 × 12 × 32 spheres in a 15 mm box, with
 /// Mindlin μ = 0.5 and rolling friction 0.05 on grains and walls, Δt =
@@ -52,37 +49,14 @@ fn files(dir: &Path) -> Vec<String> {
 }
 
 fn run(threads: usize, out: &Path) -> Value {
-    let mut cmd = dembound();
-    cmd.arg("scene").arg(lattice_drop());
-    for s in SETS {
-        cmd.args(["--set", s]);
-    }
-    let o = cmd
-        .args(["--threads", &threads.to_string(), "--json", "--out"])
-        .arg(out)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        o.status.success(),
-        "{threads} threads: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let text = String::from_utf8(o.stdout).expect("UTF-8");
-    let mut v: Value = serde_json::from_str(&text).expect("one JSON object");
-    v["kinetic_energy_exact"] = exact_number(&text, "kinetic_energy").to_bits().into();
-    v
-}
-
-/// The number `key` of a `--json` summary read exactly from its text
-/// (serde_json's own float parsing may be off by an ulp).
-fn exact_number(json: &str, key: &str) -> f64 {
-    let field = format!("\"{key}\": ");
-    let start = json.find(&field).expect("the key") + field.len();
-    let text: String = json[start..]
-        .chars()
-        .take_while(|c| !matches!(c, ',' | '\n' | '}'))
-        .collect();
-    text.trim().parse().expect("a number")
+    let threads = threads.to_string();
+    scene_summary(
+        &lattice_drop(),
+        &SETS,
+        &[OsStr::new("--threads"), OsStr::new(&threads)],
+        out,
+        &format!("{threads} threads"),
+    )
 }
 
 #[test]

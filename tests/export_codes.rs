@@ -20,46 +20,13 @@
 mod common;
 
 use common::dembound;
+use common::peer::{
+    codes_required, export_lammps, lattice_bed, missing, on_path, run_lmp, skip_or_fail,
+    STEEL_PLANE_FLOOR,
+};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// `name` on PATH, if any.
-fn on_path(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|d| d.join(name))
-        .find(|p| p.is_file())
-}
-
-/// Whether the peer codes are required (a missing one fails the test):
-/// the environment variable `CI` set to anything but empty, `0` or `false`.
-fn codes_required(ci: Option<&str>) -> bool {
-    ci.is_some_and(|v| !matches!(v.trim().to_ascii_lowercase().as_str(), "" | "0" | "false"))
-}
-
-/// True when `bin` (Debian package `code`) is missing, so the caller must
-/// skip `what`: says so on stderr. Under CI it panics instead, so CI cannot
-/// pass without running the peer code.
-fn missing(bin: &str, code: &str, what: &str) -> bool {
-    let required = codes_required(std::env::var("CI").ok().as_deref());
-    on_path(bin).is_none() && skip_or_fail(bin, code, what, required)
-}
-
-/// The missing-code branch of `missing`: fails when `required`, else says
-/// why the check is skipped and returns true.
-fn skip_or_fail(bin: &str, code: &str, what: &str, required: bool) -> bool {
-    assert!(
-        !required,
-        "`{bin}` is not on PATH (Debian package {code}) and CI is set: {what} must be \
-         checked under CI (.ci/run installs it)"
-    );
-    eprintln!(
-        "SKIPPED: `{bin}` is not on PATH (Debian package {code}; .ci/run installs it), \
-         so {what} is not checked here"
-    );
-    true
-}
 
 /// Under CI a missing peer code fails; outside it skips. (The skip itself
 /// cannot be seen through the harness, hence this test of the rule.)
@@ -538,33 +505,12 @@ mod lammps_scenes {
         }
         let dir = tempfile::tempdir().expect("a temporary directory");
         let deck = dir.path().join("deck");
+        export_lammps(scene, sets, &deck, what);
+        run_lmp(&deck, what);
         let set_args: Vec<String> = sets
             .iter()
             .flat_map(|s| ["--set".into(), s.to_string()])
             .collect();
-        let out = dembound()
-            .args(["export", "lammps"])
-            .arg(scene)
-            .args(&set_args)
-            .arg("--out")
-            .arg(&deck)
-            .output()
-            .expect("dembound runs");
-        assert!(
-            out.status.success(),
-            "{what}: export failed: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let ran = Command::new("lmp")
-            .args(["-in", "in.lammps", "-log", "log.lammps"])
-            .current_dir(&deck)
-            .output()
-            .expect("lmp runs");
-        assert!(
-            ran.status.success(),
-            "{what}: lmp failed:\n{}",
-            String::from_utf8_lossy(&ran.stdout)
-        );
         let log = std::fs::read_to_string(deck.join("log.lammps")).expect("log.lammps");
         let (ke, pp, pw) = last_thermo(&log);
         let out = dembound()
@@ -608,47 +554,15 @@ mod lammps_scenes {
     /// 384 spheres (the lattice-drop packing) thrown at 0.1 m/s on a steel
     /// plane floor between four plane walls of their own material: elastic
     /// Hertz, 1000 Verlet steps of 2 µs.
-    const BED_ON_STEEL: &str = r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [0.0102, 0.0102, 0.02]
-[[material]]
-name = "grain"
-density = 1000.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-[[material]]
-name = "steel"
-density = 7800.0
-youngs_modulus = 2.0e11
-poisson_ratio = 0.3
-[contact]
-law = "hertz"
-[[particles]]
-lattice = { counts = [8, 8, 6], spacing = [1.2e-3, 1.2e-3, 0.54e-3], origin = [0.6e-3, 0.6e-3, 0.505e-3], radius = 0.5e-3, velocity = [0.0, 0.0, -0.1] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0] }
-material = "steel"
-[[wall]]
-plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0102, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0, 0.0102, 0.0], normal = [0.0, -1.0, 0.0] }
-material = "grain"
-[motion]
-gravity = [0.0, 0.0, -9.81]
-[integration]
-scheme = "verlet"
-dt = 2.0e-6
-steps = 1000
-"#;
+    fn bed_on_steel() -> String {
+        lattice_bed(
+            "law = \"hertz\"",
+            "[0.0, 0.0, -0.1]",
+            STEEL_PLANE_FLOOR,
+            1000,
+            "",
+        )
+    }
 
     /// Two free materials of spread radii (random insertion), a fixed
     /// rigid sphere in their midst, a hexagonal boundary-particle floor
@@ -712,7 +626,7 @@ steps = 4000
     #[test]
     fn elastic_bed_on_a_plane_floor_of_another_material() {
         let dir = tempfile::tempdir().expect("a temporary directory");
-        let scene = write(dir.path(), "bed.toml", BED_ON_STEEL);
+        let scene = write(dir.path(), "bed.toml", &bed_on_steel());
         agree(&scene, &[], "bed on steel, elastic Hertz");
     }
 
@@ -761,7 +675,7 @@ steps = 4000
     #[test]
     fn scene_refusals_name_the_key() {
         let dir = tempfile::tempdir().expect("a temporary directory");
-        let scene = write(dir.path(), "bed.toml", BED_ON_STEEL);
+        let scene = write(dir.path(), "bed.toml", &bed_on_steel());
         let out = dir.path().join("deck");
         let cases: [(&str, &[&str], &str); 6] = [
             ("yade", &[], "LAMMPS only"),

@@ -20,85 +20,33 @@
 mod common;
 
 use common::dembound;
+use common::peer::{export_lammps, lattice_bed, missing, run_lmp, STEEL_PLANE_FLOOR};
 use dembound_scene::io::{config, resolve::resolve};
 use dembound_scene::Simulation;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn on_path(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|d| d.join(name))
-        .find(|p| p.is_file())
-}
+use std::path::Path;
 
 /// True when `lmp` can run; under CI its absence fails the test.
 fn have_lmp() -> bool {
-    if on_path("lmp").is_some() {
-        return true;
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "`lmp` is not on PATH under CI (Debian package lammps)"
-    );
-    eprintln!("SKIPPED: `lmp` is not on PATH (Debian package lammps)");
-    false
+    !missing("lmp", "lammps", "the frictional scene export")
 }
 
 /// A bed of 8 × 8 × 6 spheres (r = 0.5 mm, the lattice-drop packing, odd
 /// layers shifted so that contacts are oblique) thrown down and sideways
 /// at a floor between four plane side walls of their material: undamped
-/// Hertz–Mindlin, μ = 0.5 on every surface. `FLOOR` is replaced by the
-/// floor's `[[wall]]` body.
-const BED: &str = r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [0.0102, 0.0102, 0.02]
-[[material]]
-name = "grain"
-density = 1000.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-[[material]]
-name = "steel"
-density = 7800.0
-youngs_modulus = 2.0e11
-poisson_ratio = 0.3
-[contact]
-law = "hertz"
-damping = "none"
-tangential = "mindlin"
-friction = 0.5
-[[particles]]
-lattice = { counts = [8, 8, 6], spacing = [1.2e-3, 1.2e-3, 0.54e-3], origin = [0.6e-3, 0.6e-3, 0.505e-3], radius = 0.5e-3, velocity = [0.03, 0.02, -0.1] }
-material = "grain"
-[[wall]]
-FLOOR
-[[wall]]
-plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0102, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
-material = "grain"
-[[wall]]
-plane = { point = [0.0, 0.0102, 0.0], normal = [0.0, -1.0, 0.0] }
-material = "grain"
-[motion]
-gravity = [0.0, 0.0, -9.81]
-[integration]
-scheme = "verlet"
-dt = 2.0e-6
-steps = 3000
-[output]
-series_every = 50
-"#;
+/// Hertz–Mindlin, μ = 0.5 on every surface. `floor` is the floor's
+/// `[[wall]]` body.
+fn bed(floor: &str) -> String {
+    lattice_bed(
+        "law = \"hertz\"\ndamping = \"none\"\ntangential = \"mindlin\"\nfriction = 0.5",
+        "[0.03, 0.02, -0.1]",
+        floor,
+        3000,
+        "[output]\nseries_every = 50\n",
+    )
+}
 
-const PLANE_FLOOR: &str =
-    "plane = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0] }\nmaterial = \"steel\"";
+const PLANE_FLOOR: &str = STEEL_PLANE_FLOOR;
 const PARTICLE_FLOOR: &str = "boundary_particles = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0], radius_ratio = 4.0, modulus_ratio = 10.0, tiling = \"hexagonal\" }\nmaterial = \"grain\"";
 
 /// One row of the deck: per sphere (x, v, ω).
@@ -179,35 +127,14 @@ struct Row {
 /// Writes the scene, exports it, runs LAMMPS and the engine; the rows.
 fn compare(floor: &str, sets: &[&str]) -> Vec<Row> {
     let dir = tempfile::tempdir().expect("a temporary directory");
-    let text = BED.replace("FLOOR", floor);
+    let text = bed(floor);
     let scene = dir.path().join("bed.toml");
     std::fs::write(&scene, &text).expect("written");
     let deck = dir.path().join("deck");
-    let out = dembound()
-        .args(["export", "lammps"])
-        .arg(&scene)
-        .args(sets.iter().flat_map(|s| ["--set", s]))
-        .arg("--out")
-        .arg(&deck)
-        .output()
-        .expect("dembound runs");
-    assert!(
-        out.status.success(),
-        "export: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    export_lammps(&scene, sets, &deck, "bed");
     let clock = std::time::Instant::now();
-    let ran = Command::new("lmp")
-        .args(["-in", "in.lammps", "-log", "log.lammps"])
-        .current_dir(&deck)
-        .output()
-        .expect("lmp runs");
+    run_lmp(&deck, "bed");
     let lammps_seconds = clock.elapsed().as_secs_f64();
-    assert!(
-        ran.status.success(),
-        "lmp:\n{}",
-        String::from_utf8_lossy(&ran.stdout)
-    );
     let dump = read_dump(&deck.join("particles.dump"));
     let walls = read_walls(&deck.join("walls.txt"));
 
@@ -301,26 +228,15 @@ fn divergence(rows: &[Row], dt: f64) -> Option<(f64, f64)> {
     Some((a.step as f64 * dt, rate))
 }
 
-/// Plane floor (steel) and plane side walls: the first contacts are
-/// sphere–plane contacts, which LAMMPS's `fix wall/gran granular …
-/// tangential mindlin` computes as dembound does (torque arm R for both).
-/// At step 50 (t = 0.1 ms) the bottom layer (64 spheres) is on the floor,
-/// sliding sideways with its springs loaded (torques non-zero): the two
+/// The row at step 50 (t = 0.1 ms) of a plane-floor run: the bottom layer
+/// (64 spheres) is on the floor, sliding sideways with its springs loaded
+/// (torques non-zero), and only sphere–plane contacts exist, so the two
 /// runs must agree to round-off. Round-off is ~1e-16 per step (sums in
 /// another order, k a δ against E √R h^(3/2)); 50 steps of it, even
 /// amplified 100-fold, stay below 1e-12, while k_t = 8 G* or μ wrong by
 /// 1e-9 moves the spins by ~1e-9 (they are linear in both while sticking
-/// or sliding). After it, sphere–sphere contacts start (step 100), where
-/// LAMMPS puts the tangential torque at R − δ/2 (dembound: R): the spins
-/// then differ by up to δ/(2R), below 1 % here (Hertz, E = 1e7 Pa, 0.1 m/s:
-/// δ/R ≈ 0.018), and the positions follow through the next tangential
-/// forces.
-#[test]
-fn frictional_bed_on_a_plane_floor() {
-    if !have_lmp() {
-        return;
-    }
-    let rows = compare(PLANE_FLOOR, &sets());
+/// or sliding).
+fn agrees_to_round_off_at_step_50(rows: &[Row]) {
     let early = rows
         .iter()
         .find(|r| r.step == 50)
@@ -335,6 +251,25 @@ fn frictional_bed_on_a_plane_floor() {
     ] {
         assert!(d < 1e-12, "step 50: {what} differs by {d:e}");
     }
+}
+
+/// Plane floor (steel) and plane side walls: the first contacts are
+/// sphere–plane contacts, which LAMMPS's `fix wall/gran granular …
+/// tangential mindlin` computes as dembound does (torque arm R for both).
+/// At step 50 the two runs must agree to round-off
+/// (`agrees_to_round_off_at_step_50`). After it, sphere–sphere contacts
+/// start (step 100), where
+/// LAMMPS puts the tangential torque at R − δ/2 (dembound: R): the spins
+/// then differ by up to δ/(2R), below 1 % here (Hertz, E = 1e7 Pa, 0.1 m/s:
+/// δ/R ≈ 0.018), and the positions follow through the next tangential
+/// forces.
+#[test]
+fn frictional_bed_on_a_plane_floor() {
+    if !have_lmp() {
+        return;
+    }
+    let rows = compare(PLANE_FLOOR, &sets());
+    agrees_to_round_off_at_step_50(&rows);
     let next = rows.iter().find(|r| r.step == 100).expect("step 100");
     assert!(
         next.spin < 1e-2,
@@ -363,24 +298,11 @@ fn rolling_bed_under_hooke_on_a_plane_floor() {
         PLANE_FLOOR,
         &["contact.law={hooke=50.0}", "contact.rolling_friction=0.1"],
     );
-    let early = rows
-        .iter()
-        .find(|r| r.step == 50)
-        .expect("the row at step 50");
-    assert!(early.contacts >= 64, "contacts {}", early.contacts);
-    assert!(early.torque > 1e-9, "no tangential force: {}", early.torque);
-    for (what, d) in [
-        ("position", early.position),
-        ("velocity", early.velocity),
-        ("spin", early.spin),
-        ("wall force", early.wall_force),
-    ] {
-        assert!(d < 1e-12, "step 50: {what} differs by {d:e}");
-    }
+    agrees_to_round_off_at_step_50(&rows);
     // Not vacuous: the rolling spring changes the spins at step 50 by far
     // more than the 1e-12 the codes agree to.
     let spins = |rolling: &str| {
-        let text = BED.replace("FLOOR", PLANE_FLOOR);
+        let text = bed(PLANE_FLOOR);
         let sets = ["contact.law={hooke=50.0}".to_string(), rolling.to_string()];
         let file = config::load(&text, "bed", &sets).expect("a valid scene");
         let resolved = resolve(&file, Path::new(".")).expect("resolves");
@@ -464,20 +386,9 @@ fn frictional_bed_on_a_boundary_particle_floor() {
 fn friction_zero_exports_a_frictionless_deck() {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let scene = dir.path().join("bed.toml");
-    std::fs::write(&scene, BED.replace("FLOOR", PLANE_FLOOR)).expect("written");
+    std::fs::write(&scene, bed(PLANE_FLOOR)).expect("written");
     let deck = dir.path().join("deck");
-    let out = dembound()
-        .args(["export", "lammps"])
-        .arg(&scene)
-        .args(["--set", "contact.friction=0", "--out"])
-        .arg(&deck)
-        .output()
-        .expect("dembound runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    export_lammps(&scene, &["contact.friction=0"], &deck, "friction 0");
     let input = std::fs::read_to_string(deck.join("in.lammps")).expect("in.lammps");
     assert!(!input.contains("mindlin") && input.contains("tangential linear_nohistory 0.0 0.0"));
 }
@@ -488,7 +399,7 @@ fn friction_zero_exports_a_frictionless_deck() {
 fn friction_refusals_name_the_key_and_the_code() {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let scene = dir.path().join("bed.toml");
-    std::fs::write(&scene, BED.replace("FLOOR", PLANE_FLOOR)).expect("written");
+    std::fs::write(&scene, bed(PLANE_FLOOR)).expect("written");
     let out = dir.path().join("deck");
     let cases: [(&[&str], &str); 4] = [
         (
@@ -507,7 +418,7 @@ fn friction_refusals_name_the_key_and_the_code() {
     let two_radii = dir.path().join("two_radii.toml");
     std::fs::write(
         &two_radii,
-        BED.replace("FLOOR", PLANE_FLOOR).replace(
+        bed(PLANE_FLOOR).replace(
             "[[wall]]",
             "[[particles]]\nspheres = [ { position = [0.005, 0.005, 0.015], radius = 0.4e-3 } ]\nmaterial = \"grain\"\n[[wall]]",
         ),

@@ -11,6 +11,7 @@
 
 mod common;
 
+use common::state;
 use dembound_physics::contact::tangential::TangentialKind;
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_physics::material::Material;
@@ -348,19 +349,6 @@ fn gear5_and_verlet_converge_together_on_a_frictional_bed() {
 
 // ---------------------------------------------------------------------
 // Restarts, to the bit.
-
-fn state(sim: &Simulation) -> String {
-    format!(
-        "{:?} {:?} {:?} {:?} {:?} {:?} {:?}",
-        sim.positions(),
-        sim.velocities(),
-        sim.angular_velocities(),
-        sim.forces(),
-        sim.torques(),
-        sim.observe(),
-        sim.collisions(),
-    )
-}
 
 /// A dropping lattice (8 × 8 × 6) with friction and rolling friction
 /// under Gear5, Tsuji e = `e`, the collision log on: impacts, sliding,

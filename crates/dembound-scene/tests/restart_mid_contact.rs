@@ -12,23 +12,8 @@
 
 mod common;
 
-use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
-use dembound_scene::setup::Scheme;
+use common::state;
 use dembound_scene::{Checkpoint, SceneSetup, Simulation};
-
-/// Everything a run reports, printed (Debug prints every f64 exactly).
-fn state(sim: &Simulation) -> String {
-    format!(
-        "{:?} {:?} {:?} {:?} {:?} {:?} {:?}",
-        sim.positions(),
-        sim.velocities(),
-        sim.angular_velocities(),
-        sim.forces(),
-        sim.torques(),
-        sim.observe(),
-        sim.collisions(),
-    )
-}
 
 /// Asserts the checkpoint is taken with contacts and springs live.
 fn assert_live(sim: &Simulation, cp: &Checkpoint, what: &str) {
@@ -98,9 +83,7 @@ fn assert_restart_exact(setup: SceneSetup, n: u64, restore_threads: usize, what:
 /// (10 ms) is taken with the bed bouncing on the floor.
 #[test]
 fn verlet_friction_restart_mid_contact_is_bit_identical() {
-    let mut setup = common::lattice_drop(8, 6, 2.0e-5, 0);
-    setup.friction = common::frictional_bed(2, 2, 2.0e-5).friction;
-    setup.collisions = true;
+    let setup = common::frictional_lattice(8, 6, 2.0e-5);
     assert_restart_exact(setup, 1000, 1, "Verlet + friction");
 }
 
@@ -110,20 +93,7 @@ fn verlet_friction_restart_mid_contact_is_bit_identical() {
 /// (2 ms) holds the Gear5 derivatives of positions and spins.
 #[test]
 fn gear5_friction_restart_mid_contact_is_bit_identical() {
-    let mut setup = common::lattice_drop(8, 6, 2.0e-6, 0);
-    let bed = common::frictional_bed(2, 2, 2.0e-6);
-    setup.materials = bed.materials;
-    setup.friction = bed.friction;
-    setup.contact = ContactModel::damped(
-        NormalLaw::Hertz,
-        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.6)),
-    );
-    setup.integration.scheme = Scheme::Gear5;
-    setup.collisions = true;
-    let mut rng = common::Rng(7);
-    for sphere in &mut setup.spheres {
-        sphere.velocity = std::array::from_fn(|_| 0.05 * rng.symmetric());
-    }
+    let setup = common::gear5_frictional_lattice(8, 6, 0.05);
     let mut probe = Simulation::new(setup.clone(), 1).expect("a valid scene");
     probe.step(1000);
     // The run is sound, not only repeatable: the energy balance's guard

@@ -16,8 +16,6 @@
 
 mod common;
 
-use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
-use dembound_scene::setup::Scheme;
 use dembound_scene::{SceneSetup, Simulation};
 
 /// Steps between two samples of the shares.
@@ -166,9 +164,7 @@ fn assert_split_and_identical(setup: SceneSetup, steps: u64, what: &str) {
 /// (the layers start 5 µm apart).
 #[test]
 fn verlet_friction_is_bit_identical_on_1_to_4_threads_with_the_work_split() {
-    let mut setup = common::lattice_drop(12, 32, 2.0e-5, 0);
-    setup.friction = common::frictional_bed(2, 2, 2.0e-5).friction;
-    setup.collisions = true;
+    let setup = common::frictional_lattice(12, 32, 2.0e-5);
     assert_split_and_identical(setup, 400, "Verlet + friction");
 }
 
@@ -182,20 +178,7 @@ fn verlet_friction_is_bit_identical_on_1_to_4_threads_with_the_work_split() {
 /// beds, `friction_gear5.rs`; at 0.01 m/s it stays finite.)
 #[test]
 fn gear5_friction_is_bit_identical_on_1_to_4_threads_with_the_work_split() {
-    let mut setup = common::lattice_drop(12, 32, 2.0e-6, 0);
-    let bed = common::frictional_bed(2, 2, 2.0e-6);
-    setup.materials = bed.materials;
-    setup.friction = bed.friction;
-    setup.contact = ContactModel::damped(
-        NormalLaw::Hertz,
-        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.6)),
-    );
-    setup.integration.scheme = Scheme::Gear5;
+    let mut setup = common::gear5_frictional_lattice(12, 32, 0.01);
     setup.neighbour.skin = Some(1.0e-5);
-    setup.collisions = true;
-    let mut rng = common::Rng(7);
-    for sphere in &mut setup.spheres {
-        sphere.velocity = std::array::from_fn(|_| 0.01 * rng.symmetric());
-    }
     assert_split_and_identical(setup, 500, "Gear5 + friction");
 }

@@ -225,3 +225,51 @@ pub fn frictional_bed(side: usize, layers: usize, dt: f64) -> SceneSetup {
     });
     s
 }
+
+/// `lattice_drop(side, layers, dt)` with the frictional bed's Mindlin
+/// μ = 0.5 and rolling friction 0.05 (grains and floor), the collision log
+/// on; elastic Hertz, E = 1e7 Pa, Verlet.
+pub fn frictional_lattice(side: usize, layers: usize, dt: f64) -> SceneSetup {
+    let mut setup = lattice_drop(side, layers, dt, 0);
+    setup.friction = frictional_bed(2, 2, dt).friction;
+    setup.collisions = true;
+    setup
+}
+
+/// `lattice_drop(side, layers)` under Gear5 at Δt = 2 µs with the
+/// frictional bed's materials (E = 1e8 Pa) and friction, Hertz + Tsuji
+/// e = 0.6, the collision log on, every sphere thrown with a random
+/// velocity of at most `speed` m/s per component (`Rng(7)`).
+pub fn gear5_frictional_lattice(side: usize, layers: usize, speed: f64) -> SceneSetup {
+    let mut setup = lattice_drop(side, layers, 2.0e-6, 0);
+    let bed = frictional_bed(2, 2, 2.0e-6);
+    setup.materials = bed.materials;
+    setup.friction = bed.friction;
+    setup.contact = ContactModel::damped(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.6)),
+    );
+    setup.integration.scheme = Scheme::Gear5;
+    setup.collisions = true;
+    let mut rng = Rng(7);
+    for sphere in &mut setup.spheres {
+        sphere.velocity = std::array::from_fn(|_| speed * rng.symmetric());
+    }
+    setup
+}
+
+/// Everything a run reports, printed (Debug prints every f64 exactly):
+/// positions, velocities, spins, forces, torques, the observables and
+/// the collision log.
+pub fn state(sim: &dembound_scene::Simulation) -> String {
+    format!(
+        "{:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+        sim.positions(),
+        sim.velocities(),
+        sim.angular_velocities(),
+        sim.forces(),
+        sim.torques(),
+        sim.observe(),
+        sim.collisions(),
+    )
+}

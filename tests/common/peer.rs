@@ -1,0 +1,131 @@
+//! Running the other codes (LAMMPS, LIGGGHTS, Yade) on exported decks:
+//! finding them on PATH, the CI rule for a missing one, exporting a scene
+//! and running `lmp` on its deck.
+
+use super::dembound;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// `name` on PATH, if any.
+pub fn on_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+/// Whether the peer codes are required (a missing one fails the test):
+/// the environment variable `CI` set to anything but empty, `0` or `false`.
+pub fn codes_required(ci: Option<&str>) -> bool {
+    ci.is_some_and(|v| !matches!(v.trim().to_ascii_lowercase().as_str(), "" | "0" | "false"))
+}
+
+/// True when `bin` (Debian package `code`) is missing, so the caller must
+/// skip `what`: says so on stderr. Under CI it panics instead, so CI cannot
+/// pass without running the peer code.
+pub fn missing(bin: &str, code: &str, what: &str) -> bool {
+    let required = codes_required(std::env::var("CI").ok().as_deref());
+    on_path(bin).is_none() && skip_or_fail(bin, code, what, required)
+}
+
+/// The missing-code branch of `missing`: fails when `required`, else says
+/// why the check is skipped and returns true.
+pub fn skip_or_fail(bin: &str, code: &str, what: &str, required: bool) -> bool {
+    assert!(
+        !required,
+        "`{bin}` is not on PATH (Debian package {code}) and CI is set: {what} must be \
+         checked under CI (.ci/run installs it)"
+    );
+    eprintln!(
+        "SKIPPED: `{bin}` is not on PATH (Debian package {code}; .ci/run installs it), \
+         so {what} is not checked here"
+    );
+    true
+}
+
+/// `dembound export lammps SCENE --set S… --out DECK`, expecting success
+/// (`what` names the case in the failure message).
+pub fn export_lammps<S: AsRef<str>>(scene: &Path, sets: &[S], deck: &Path, what: &str) {
+    let out = dembound()
+        .args(["export", "lammps"])
+        .arg(scene)
+        .args(sets.iter().flat_map(|s| ["--set", s.as_ref()]))
+        .arg("--out")
+        .arg(deck)
+        .output()
+        .expect("dembound runs");
+    assert!(
+        out.status.success(),
+        "{what}: export failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Runs `lmp` on the deck in `deck` (its log in `log.lammps`), expecting
+/// success.
+pub fn run_lmp(deck: &Path, what: &str) {
+    let ran = Command::new("lmp")
+        .args(["-in", "in.lammps", "-log", "log.lammps"])
+        .current_dir(deck)
+        .output()
+        .expect("lmp runs");
+    assert!(
+        ran.status.success(),
+        "{what}: lmp failed:\n{}",
+        String::from_utf8_lossy(&ran.stdout)
+    );
+}
+
+/// The lattice-drop packing of 384 spheres (8 × 8 × 6, r = 0.5 mm, E =
+/// 1e7 Pa, odd layers shifted) in a 10.2 mm box between four plane side
+/// walls of their material, thrown at `velocity`, under gravity: the
+/// `[contact]` body `contact`, the floor's `[[wall]]` body `floor`,
+/// `steps` Verlet steps of 2 µs, then `tail` (more tables, or nothing).
+pub fn lattice_bed(contact: &str, velocity: &str, floor: &str, steps: u64, tail: &str) -> String {
+    format!(
+        r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.0102, 0.0102, 0.02]
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "steel"
+density = 7800.0
+youngs_modulus = 2.0e11
+poisson_ratio = 0.3
+[contact]
+{contact}
+[[particles]]
+lattice = {{ counts = [8, 8, 6], spacing = [1.2e-3, 1.2e-3, 0.54e-3], origin = [0.6e-3, 0.6e-3, 0.505e-3], radius = 0.5e-3, velocity = {velocity} }}
+material = "grain"
+[[wall]]
+{floor}
+[[wall]]
+plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
+material = "grain"
+[[wall]]
+plane = {{ point = [0.0102, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }}
+material = "grain"
+[[wall]]
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = "grain"
+[[wall]]
+plane = {{ point = [0.0, 0.0102, 0.0], normal = [0.0, -1.0, 0.0] }}
+material = "grain"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+scheme = "verlet"
+dt = 2.0e-6
+steps = {steps}
+{tail}"#
+    )
+}
+
+/// `lattice_bed`'s floor body for a plane of steel under the bed.
+pub const STEEL_PLANE_FLOOR: &str =
+    "plane = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0] }\nmaterial = \"steel\"";
