@@ -414,13 +414,15 @@ fn friction_refusals_name_the_key_and_the_code() {
         (&["contact.tangential=linear"], "contact.tangential"),
     ];
     // The linear spring's k_t = (2/7) E_eff R_eff needs one radius per
-    // material: a second group of another radius.
+    // material: a second group of another radius (one sphere, before the
+    // first wall only: one copy per wall would be coincident spheres).
     let two_radii = dir.path().join("two_radii.toml");
     std::fs::write(
         &two_radii,
-        bed(PLANE_FLOOR).replace(
+        bed(PLANE_FLOOR).replacen(
             "[[wall]]",
             "[[particles]]\nspheres = [ { position = [0.005, 0.005, 0.015], radius = 0.4e-3 } ]\nmaterial = \"grain\"\n[[wall]]",
+            1,
         ),
     )
     .expect("written");
