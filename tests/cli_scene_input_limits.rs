@@ -214,10 +214,15 @@ fn runs_beyond_the_step_limit_need_force() {
     assert!(err.contains("--out") && !err.contains("--force"), "{err}");
     // With --force the step guard passes 10¹² steps too (the same --out
     // refusal comes next).
-    let (code, err) = out_refused(dir, &["--force"], &at_limit);
+    let beyond = scene(
+        dir,
+        one,
+        "scheme = \"verlet\"\ndt = 1.0e-6\nsteps = 1000000000000",
+    );
+    let (code, err) = out_refused(dir, &["--force"], &beyond);
     assert_eq!(code, Some(2), "{err}");
     assert!(
-        err.contains("--out") && !err.contains("integration.duration"),
+        err.contains("--out") && !err.contains("integration.steps"),
         "{err}"
     );
 }
