@@ -363,6 +363,9 @@ impl From<&Collision> for CollisionRow {
 
 /// The energy balance line of the summaries (J).
 pub(super) fn balance_line(b: &EnergyBalance) -> String {
+    if let Some(why) = b.unchecked {
+        return format!("energy balance: not checked ({why}); the finite-state check applies\n");
+    }
     format!(
         "energy balance: kinetic + elastic + potential + dissipated = {} J (at t = 0: {} J); \
          largest gain {} J = {} of the scale {} J (allowed {})\n",
