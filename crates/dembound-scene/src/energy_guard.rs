@@ -26,7 +26,8 @@
 //! The energy-creating scenes of issue 24 gain 1e-2 to 1e13 of the scale.
 //!
 //! The guard checks each observation the run takes (the time series, the
-//! end): no pass of its own.
+//! end): no pass of its own. The CLI, MPI, Python's `step` and the wall
+//! study's impacts, beds and chutes run under it (`Simulation::step_guarded`).
 //!
 //! **Not judged: gravity along a periodic axis** (a periodic chute). P is
 //! computed from positions folded into the box, so a sphere that leaves

@@ -517,7 +517,7 @@ fn impact(
     let max_steps = ((20.0 * c.contact_time() + fall) / dt) as u64 + 100;
     let mut done = 0;
     while done < max_steps {
-        sim.step(50);
+        sim.step_guarded(50)?;
         done += 50;
         let v = sim.velocities()[0];
         if v[2] > 0.0 && sim.wall_contacts() == 0 && !sim.collisions().is_empty() {
@@ -629,7 +629,7 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
     let mut done = 0;
     while done < steps {
         let k = chunk.min(steps - done);
-        sim.step(k);
+        sim.step_guarded(k)?;
         done += k;
         forces.push(-sim.wall_forces()[floor_wall][2]);
     }

@@ -282,7 +282,7 @@ pub fn run(
     let (mut slip_sum, mut slip_count) = (0.0, 0usize);
     while done < steps {
         let k = chunk.min(steps - done);
-        sim.step(k);
+        sim.step_guarded(k)?;
         done += k;
         if done < start {
             continue;
