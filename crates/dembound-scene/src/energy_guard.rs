@@ -40,6 +40,7 @@
 use serde::Serialize;
 
 use crate::error::SceneError;
+use crate::limits;
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Observation;
 use crate::time_step;
@@ -205,23 +206,27 @@ impl EnergyGuard {
     }
 }
 
-/// The inputs far outside the ranges the numerics are known to handle
-/// (`dembound run`'s ranges: dembound-core `scenario::limits`).
+/// The inputs outside the ranges the numerics are known to handle
+/// ([`crate::limits`], which `setup_checks` refuses before a run: so this
+/// list is empty for any accepted scene and only guards a setup that
+/// bypasses those checks).
 fn extreme_inputs(setup: &SceneSetup) -> Vec<String> {
     let mut out = Vec::new();
     let outside = |x: f64, (lo, hi): (f64, f64)| !(x >= lo && x <= hi);
     for (k, m) in setup.materials.iter().enumerate() {
         let m_ = &m.material;
-        if outside(m_.density, (1e-3, 1e12)) {
+        if outside(m_.density, limits::DENSITY) {
             out.push(format!(
-                "materials[{k}].density = {:e} kg/m³, usual 1e-3 to 1e12",
-                m_.density
+                "materials[{k}].density = {:e} kg/m³, usual {}",
+                m_.density,
+                limits::describe(limits::DENSITY, "")
             ));
         }
-        if m_.youngs_modulus.is_finite() && outside(m_.youngs_modulus, (1e3, 1e13)) {
+        if m_.youngs_modulus.is_finite() && outside(m_.youngs_modulus, limits::YOUNGS_MODULUS) {
             out.push(format!(
-                "materials[{k}].youngs_modulus = {:e} Pa, usual 1e3 to 1e13",
-                m_.youngs_modulus
+                "materials[{k}].youngs_modulus = {:e} Pa, usual {}",
+                m_.youngs_modulus,
+                limits::describe(limits::YOUNGS_MODULUS, "")
             ));
         }
     }
@@ -229,27 +234,29 @@ fn extreme_inputs(setup: &SceneSetup) -> Vec<String> {
         .spheres
         .iter()
         .enumerate()
-        .find(|(_, s)| outside(s.radius, (1e-9, 10.0)) && !s.fixed)
+        .find(|(_, s)| outside(s.radius, limits::RADIUS) && !s.fixed)
     {
         out.push(format!(
-            "the radius of sphere {i} = {:e} m, usual 1e-9 to 10",
-            s.radius
+            "the radius of sphere {i} = {:e} m, usual {}",
+            s.radius,
+            limits::describe(limits::RADIUS, "")
         ));
     }
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-    if g_norm > 1e6 {
-        out.push(format!("|gravity| = {g_norm:e} m/s², usual up to 1e6"));
-    }
-    if let Some((i, s)) = setup
-        .spheres
-        .iter()
-        .enumerate()
-        .find(|(_, s)| s.velocity.iter().map(|v| v * v).sum::<f64>().sqrt() > 1e4 && !s.fixed)
-    {
+    if g_norm > limits::GRAVITY.1 {
         out.push(format!(
-            "the speed of sphere {i} = {:e} m/s, usual up to 1e4",
-            s.velocity.iter().map(|v| v * v).sum::<f64>().sqrt()
+            "|gravity| = {g_norm:e} m/s², usual up to {}",
+            limits::show(limits::GRAVITY.1)
+        ));
+    }
+    if let Some((i, s)) = setup.spheres.iter().enumerate().find(|(_, s)| {
+        s.velocity.iter().map(|v| v * v).sum::<f64>().sqrt() > limits::MAX_SPEED && !s.fixed
+    }) {
+        out.push(format!(
+            "the speed of sphere {i} = {:e} m/s, usual up to {}",
+            s.velocity.iter().map(|v| v * v).sum::<f64>().sqrt(),
+            limits::show(limits::MAX_SPEED)
         ));
     }
     out
