@@ -17,12 +17,18 @@
 //!   needs; the law keeps its own [`ContactHistory`] correct from those two
 //!   calls alone (no event location required), so any loop can drive it.
 //!
+//! [`model`] composes the normal law with the tangential and rolling
+//! sub-models ([`tangential`], [`rolling`]) into one contact
+//! ([`ContactLaw::calculate_forces`]), the one place that says what a
+//! contact exerts.
+//!
 //! Sign conventions: overlap h ≥ 0 (m) while in contact, overlap rate ḣ
 //! (m/s) positive while the bodies approach, normal force F (N) repulsive
 //! positive.
 
 pub mod calibration;
 pub mod damping;
+pub mod model;
 pub mod normal;
 pub mod registry;
 mod spec;
@@ -34,6 +40,7 @@ pub use calibration::{
     restitution_to_damping_ratio, tsuji_beta,
 };
 pub use damping::{Calibration, Dissipation};
+pub use model::{ContactForces, ContactLaw, ContactState, Geometry, Side};
 pub use normal::hertz::HERTZ_CONTACT_TIME_FACTOR;
 pub use registry::{DampingKind, DampingPair, NormalLaw, NormalPair};
 pub use spec::ContactSpec;

@@ -9,7 +9,8 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
-use dembound_physics::contact::{ContactHistory, ContactModel, PairLaw};
+use dembound_physics::contact::model::overlap_rate;
+use dembound_physics::contact::{ContactHistory, ContactModel, Geometry, PairLaw};
 use dembound_physics::material::{Material, PairProperties};
 
 /// At most this many body classes (material, radius, fixed) get a
@@ -190,16 +191,10 @@ impl PairHistories {
     }
 }
 
-/// The geometry of one pair at one instant.
-#[derive(Debug, Clone, Copy)]
-pub struct PairGeometry {
-    /// Overlap R_i + R_j − |x_j − x_i|, m (negative apart).
-    pub overlap: f64,
-    /// Overlap rate, m/s, positive while approaching.
-    pub overlap_rate: f64,
-    /// Unit normal from i to j.
-    pub normal: [f64; 3],
-}
+/// The geometry of one pair at one instant: the contact composer's
+/// (overlap R_i + R_j − |x_j − x_i| in m, negative apart; overlap rate in
+/// m/s, positive while approaching; unit normal from i to j).
+pub type PairGeometry = Geometry;
 
 /// Overlap, rate and normal of spheres (x_i, v_i, R_i) and (x_j, v_j, R_j);
 /// `None` when they do not touch.
@@ -258,19 +253,19 @@ fn geometry(d: [f64; 3], r2: f64, s: f64, vi: [f64; 3], vj: [f64; 3]) -> PairGeo
     let r = r2.sqrt();
     let inv = 1.0 / r;
     let n = [d[0] * inv, d[1] * inv, d[2] * inv];
-    let rate = (vi[0] - vj[0]) * n[0] + (vi[1] - vj[1]) * n[1] + (vi[2] - vj[2]) * n[2];
     PairGeometry {
         overlap: s - r,
-        overlap_rate: rate,
+        overlap_rate: overlap_rate(vi, vj, n),
         normal: n,
     }
 }
 
-/// Force on j (N) of a touching pair, updating its history; i gets minus it.
+/// Force on j (N) of a touching frictionless pair, updating its history;
+/// i gets minus it: the contact composer's normal stage alone
+/// ([`PairLaw::normal_stage`]), F_n n.
 #[inline(always)]
 fn contact_force(law: &PairLaw, g: &PairGeometry, history: &mut ContactHistory) -> [f64; 3] {
-    let f = law.force(g.overlap, g.overlap_rate, history);
-    law.update(g.overlap, g.overlap_rate, history);
+    let f = law.normal_stage(g.overlap, g.overlap_rate, history);
     [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
 }
 

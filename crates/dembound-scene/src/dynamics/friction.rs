@@ -20,8 +20,11 @@
 
 use std::collections::HashMap;
 
-use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction, FrictionPair};
-use dembound_physics::contact::{ContactHistory, PairLaw};
+use dembound_physics::contact::model::{
+    assemble, effective_inertia as inertia, overlap_rate, slip_velocity,
+};
+use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction};
+use dembound_physics::contact::{ContactHistory, ContactLaw, ContactState, Side};
 use dembound_physics::material::{Material, PairProperties};
 use serde::{Deserialize, Serialize};
 
@@ -97,12 +100,9 @@ pub struct FrictionTable {
     rolling: bool,
 }
 
-/// The normal law and the friction of one class pair or class–plane.
-#[derive(Debug, Clone, Copy)]
-pub struct FrictionLaw {
-    pub law: PairLaw,
-    pub friction: FrictionPair,
-}
+/// The normal law and the friction of one class pair or class–plane: the
+/// physics crate's contact composer.
+pub type FrictionLaw = ContactLaw;
 
 impl FrictionTable {
     pub fn new(
@@ -438,20 +438,11 @@ pub fn restore_shear(
     }
 }
 
-/// One body of a contact as the friction kernel reads it: velocity, spin,
-/// radius (the lever arm) and inverse moment of inertia.
-#[derive(Clone, Copy)]
-struct Side {
-    v: [f64; 3],
-    w: [f64; 3],
-    r: f64,
-    inv_inertia: f64,
-}
-
-/// Forces on j and torques on i and j of one touching pair with friction;
-/// updates both histories and the springs. The force on i is minus the
-/// returned one. `roll`: the rolling spring, `None` when no surface of the
-/// scene rolls (its torque is then zero and nothing is evaluated).
+/// Forces on j and torques on i and j of one touching pair with friction
+/// ([`ContactLaw::calculate_forces`]); updates both histories and the
+/// springs. The force on i is minus the returned one. `roll`: the rolling
+/// spring, `None` when no surface of the scene rolls (its torque is then
+/// zero and nothing is evaluated).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn contact(
@@ -464,51 +455,29 @@ fn contact(
     b: Side,
     dt: f64,
 ) -> ([f64; 3], [f64; 3], [f64; 3]) {
-    let law = &fl.law;
-    let f = law.force(g.overlap, g.overlap_rate, history);
-    law.update(g.overlap, g.overlap_rate, history);
     let n = g.normal;
-    let arm = [
-        a.r * a.w[0] + b.r * b.w[0],
-        a.r * a.w[1] + b.r * b.w[1],
-        a.r * a.w[2] + b.r * b.w[2],
-    ];
-    let spin = cross(arm, n);
-    let slip = [
-        a.v[0] - b.v[0] + spin[0],
-        a.v[1] - b.v[1] + spin[1],
-        a.v[2] - b.v[2] + spin[2],
-    ];
-    let vt = tangential(slip, n);
-    let ft = fl.friction.tangential_force(g.overlap, f, n, vt, dt, shear);
-    let nxf = cross(n, ft);
-    let mut ti = scale(a.r, nxf);
-    let mut tj = scale(b.r, nxf);
-    if let Some(roll) = roll {
-        let rolling = fl.friction.rolling_torque(
-            law,
-            g.overlap,
-            f,
-            n,
-            [a.w[0] - b.w[0], a.w[1] - b.w[1], a.w[2] - b.w[2]],
-            inertia(a.inv_inertia + b.inv_inertia),
-            dt,
-            roll,
-        );
-        add(&mut ti, rolling);
-        sub(&mut tj, rolling);
-    }
-    let fj = [f * n[0] - ft[0], f * n[1] - ft[1], f * n[2] - ft[2]];
-    (fj, ti, tj)
+    let c = fl.calculate_forces(
+        g,
+        &a,
+        &b,
+        ContactState {
+            history,
+            tangential: shear,
+            rolling: roll,
+        },
+        dt,
+    );
+    (c.on_body2(n), c.torque1(), c.torque2())
 }
 
-/// 1/Σ(1/I), kg m² (0 when both are fixed).
+/// Body i as a side of its contacts.
 #[inline(always)]
-fn inertia(inverse_inertia: f64) -> f64 {
-    if inverse_inertia > 0.0 {
-        1.0 / inverse_inertia
-    } else {
-        0.0
+fn side(bodies: &Bodies, i: usize) -> Side {
+    Side {
+        velocity: bodies.velocity[i],
+        spin: bodies.angular_velocity[i],
+        arm: bodies.radius[i],
+        inverse_inertia: bodies.inverse_inertia[i],
     }
 }
 
@@ -658,17 +627,10 @@ pub(crate) unsafe fn add_pair_forces_then(
                     hist,
                     sh,
                     roll,
+                    side(bodies, i),
                     Side {
-                        v: bodies.velocity[i],
-                        w: spin[i],
-                        r: bodies.radius[i],
-                        inv_inertia: inverse_inertia[i],
-                    },
-                    Side {
-                        v: vj,
-                        w: spin[owner],
-                        r: bodies.radius[owner],
-                        inv_inertia: inverse_inertia[owner],
+                        velocity: vj,
+                        ..side(bodies, owner)
                     },
                     dt,
                 );
@@ -906,35 +868,27 @@ impl MainPairs<'_> {
                 )
             }
         };
+        // The sides of a contact (a body's velocity, spin, lever arm and
+        // inverse inertia; a stage reads the fields it needs).
+        let side = |i: usize| -> Side {
+            // SAFETY: i is a body (pass 1).
+            unsafe {
+                Side {
+                    velocity: *velocity.get_unchecked(i),
+                    spin: *spin.get_unchecked(i),
+                    arm: *radius.get_unchecked(i),
+                    inverse_inertia: *inverse_inertia.get_unchecked(i),
+                }
+            }
+        };
         // 2a: overlap rates and tangential slip velocities.
         for t in 0..found {
             let q = g.found[t] as usize;
             let (i, j) = (lo + g.row[t] as usize, g.partner[q] as usize);
-            // SAFETY: i and j are bodies (pass 1).
-            let (vi, wi, ri, vj, wj, rj) = unsafe {
-                (
-                    *velocity.get_unchecked(i),
-                    *spin.get_unchecked(i),
-                    *radius.get_unchecked(i),
-                    *velocity.get_unchecked(j),
-                    *spin.get_unchecked(j),
-                    *radius.get_unchecked(j),
-                )
-            };
+            let (a, b) = (side(i), side(j));
             let n = [g.nx[q], g.ny[q], g.nz[q]];
-            g.rate[t] = (vi[0] - vj[0]) * n[0] + (vi[1] - vj[1]) * n[1] + (vi[2] - vj[2]) * n[2];
-            let arm = [
-                ri * wi[0] + rj * wj[0],
-                ri * wi[1] + rj * wj[1],
-                ri * wi[2] + rj * wj[2],
-            ];
-            let spin = cross(arm, n);
-            let slip = [
-                vi[0] - vj[0] + spin[0],
-                vi[1] - vj[1] + spin[1],
-                vi[2] - vj[2] + spin[2],
-            ];
-            g.slip[t] = tangential(slip, n);
+            g.rate[t] = overlap_rate(a.velocity, b.velocity, n);
+            g.slip[t] = slip_velocity(&a, &b, n);
         }
         // 2b: normal forces (histories updated).
         for t in 0..found {
@@ -948,9 +902,7 @@ impl MainPairs<'_> {
             } else {
                 &mut scratch
             };
-            let (h, rate) = (g.overlap[q], g.rate[t]);
-            g.force[t] = law.force(h, rate, hist);
-            law.update(h, rate, hist);
+            g.force[t] = law.normal_stage(g.overlap[q], g.rate[t], hist);
         }
         // 2c: tangential forces (springs moved) and rolling torques.
         for t in 0..found {
@@ -961,25 +913,16 @@ impl MainPairs<'_> {
             // SAFETY: entry k belongs to row i of this block.
             let sh = unsafe { &mut *self.shear.0.add(k) };
             g.tangential[t] =
-                fl.friction
-                    .tangential_force(g.overlap[q], g.force[t], n, g.slip[t], self.dt, sh);
+                fl.tangential_stage(g.overlap[q], g.force[t], n, g.slip[t], self.dt, sh);
             if ROLL {
-                // SAFETY: as the spring; i and j are bodies.
-                let (roll, wi, wj, inv) = unsafe {
-                    (
-                        &mut *self.roll.0.add(k),
-                        *spin.get_unchecked(i),
-                        *spin.get_unchecked(j),
-                        *inverse_inertia.get_unchecked(i) + *inverse_inertia.get_unchecked(j),
-                    )
-                };
-                g.rolling[t] = fl.friction.rolling_torque(
-                    &fl.law,
+                // SAFETY: as the spring.
+                let roll = unsafe { &mut *self.roll.0.add(k) };
+                g.rolling[t] = fl.rolling_stage(
                     g.overlap[q],
                     g.force[t],
                     n,
-                    [wi[0] - wj[0], wi[1] - wj[1], wi[2] - wj[2]],
-                    inertia(inv),
+                    &side(i),
+                    &side(j),
                     self.dt,
                     roll,
                 );
@@ -1001,17 +944,12 @@ impl MainPairs<'_> {
                 let j = g.partner[q] as usize;
                 // SAFETY: j is a body (pass 1).
                 let rj = unsafe { *radius.get_unchecked(j) };
-                let (n, f, ft) = ([g.nx[q], g.ny[q], g.nz[q]], g.force[t], g.tangential[t]);
-                let nxf = cross(n, ft);
-                let mut tqi = scale(ri, nxf);
-                let mut tqj = scale(rj, nxf);
-                if ROLL {
-                    add(&mut tqi, g.rolling[t]);
-                    sub(&mut tqj, g.rolling[t]);
-                }
-                let fj = [f * n[0] - ft[0], f * n[1] - ft[1], f * n[2] - ft[2]];
+                let n = [g.nx[q], g.ny[q], g.nz[q]];
+                let rolling = if ROLL { Some(g.rolling[t]) } else { None };
+                let c = assemble(g.force[t], g.tangential[t], rolling, n, ri, rj);
+                let (fj, tqj) = (c.on_body2(n), c.torque2());
                 sub(&mut fi, fj);
-                add(&mut ti, tqi);
+                add(&mut ti, c.torque1());
                 // SAFETY: j lies in this block or the next (the list's
                 // blocks, as in [`Self::row`]).
                 unsafe {
@@ -1046,10 +984,10 @@ impl MainPairs<'_> {
         }
         let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
         let a = Side {
-            v: vi,
-            w: spin[i],
-            r: ri,
-            inv_inertia: inverse_inertia[i],
+            velocity: vi,
+            spin: spin[i],
+            arm: ri,
+            inverse_inertia: inverse_inertia[i],
         };
         let ci = if TABLE { class[i] as usize } else { 0 };
         let mut fi = [0.0; 3];
@@ -1077,10 +1015,10 @@ impl MainPairs<'_> {
                 };
                 let b = unsafe {
                     Side {
-                        v: *velocity.get_unchecked(j),
-                        w: *spin.get_unchecked(j),
-                        r: rj,
-                        inv_inertia: *inverse_inertia.get_unchecked(j),
+                        velocity: *velocity.get_unchecked(j),
+                        spin: *spin.get_unchecked(j),
+                        arm: rj,
+                        inverse_inertia: *inverse_inertia.get_unchecked(j),
                     }
                 };
                 let mut computed = None;

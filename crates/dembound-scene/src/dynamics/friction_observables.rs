@@ -245,7 +245,7 @@ impl Pass<'_> {
                     [0.0; 3]
                 };
                 if *t != [0.0; 3] || r != [0.0; 3] {
-                    springs += fl.friction.spring_energy(&fl.law, overlap, t, &r);
+                    springs += fl.spring_energy(overlap, t, &r);
                 }
             }
             if np > 0 && !bodies.fixed[i] {

@@ -100,7 +100,7 @@ pub fn spring_energy_counted(
                 ) {
                     let mut scratch = None;
                     let fl = friction.pair(laws, bodies, i, j, &mut scratch);
-                    e += fl.friction.spring_energy(&fl.law, g.overlap, &t, &r);
+                    e += fl.spring_energy(g.overlap, &t, &r);
                 }
             }
         }
@@ -147,7 +147,7 @@ pub fn spring_energy_counted(
             ) {
                 let mut scratch = None;
                 let fl = friction.pair(laws, bodies, i, owner, &mut scratch);
-                extra += fl.friction.spring_energy(&fl.law, g.overlap, &t, &r);
+                extra += fl.spring_energy(g.overlap, &t, &r);
             }
         }
     }
