@@ -31,6 +31,7 @@ pub mod simulation;
 pub mod sources;
 pub mod time_step;
 pub mod wall_study;
+pub mod walls;
 
 pub use dynamics::collisions::{Collision, Partner};
 pub use energy_guard::EnergyBalance;

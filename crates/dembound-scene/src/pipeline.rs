@@ -11,23 +11,24 @@ use dembound_physics::contact::ContactHistory;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Motion, Partner, Track};
 use crate::dynamics::contacts::{self, extended, LawTable, PairHistories};
-use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
+use crate::dynamics::friction::{self, FrictionTable, PairShear};
 use crate::dynamics::gear5_rotation;
 use crate::dynamics::integrate;
 use crate::dynamics::kinks::Kinks;
-use crate::dynamics::walls::{self, plane_overlap, PlaneWall, WallContacts, WallContactsMut};
+use crate::dynamics::walls;
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::{PairList, SearchInput};
 use crate::parallel::{SharedMut, Workers, STEP_CHUNK};
 use crate::setup::Scheme;
+use crate::walls::{Surface, WallContacts, WallContactsMut};
 
 /// What a wall in file order is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WallKind {
-    /// Index into [`World::planes`].
-    Plane(usize),
+    /// Index into [`World::surfaces`].
+    Surface(usize),
     /// Boundary particles: the bodies whose group is this wall.
     Particles,
 }
@@ -37,15 +38,17 @@ pub enum WallKind {
 pub struct Tracks {
     pub main: Vec<Track>,
     pub extra: Vec<Track>,
-    /// `planes[i * planes + p]`, permuted with the bodies.
-    pub planes: Vec<Track>,
 }
 
 /// The data set of a simulation.
 #[derive(Debug, Clone)]
 pub struct World {
     pub bodies: Bodies,
-    pub planes: Vec<PlaneWall>,
+    /// The walls other than boundary particles (planes, cylinders), in
+    /// file order.
+    pub surfaces: Vec<Surface>,
+    /// Each body's near wall elements with their contact state (springs
+    /// and collision tracks included).
     pub wall_contacts: WallContacts,
     pub walls: Vec<WallKind>,
     pub domain: Domain,
@@ -72,8 +75,6 @@ pub struct World {
     pub friction: Option<FrictionTable>,
     /// Tangential displacements of the listed pairs (friction only).
     pub shear: PairShear,
-    /// `wall_shear[i * planes + p]`, permuted with the bodies (friction only).
-    pub wall_shear: Vec<WallShear>,
 }
 
 impl World {
@@ -259,7 +260,8 @@ impl Pipeline {
             &world.bodies,
             &world.ghosts,
             &world.list,
-            &world.planes,
+            &world.surfaces,
+            &world.wall_contacts,
             &world.laws,
             dt,
         );
@@ -315,10 +317,8 @@ impl Pipeline {
                 && world.bodies.fixed.len() == n
                 && world.bodies.force.len() == n
         );
-        let n_planes = world.planes.len();
         if world.friction.is_some() {
             world.bodies.torque.resize(n, [0.0; 3]);
-            world.wall_shear.resize(n * n_planes, WallShear::default());
         }
         let f = SharedMut::new(&mut world.bodies.force);
         let torque = SharedMut::new(&mut world.bodies.torque);
@@ -329,7 +329,7 @@ impl Pipeline {
             f,
             walls: world.wall_contacts.shared(),
             bodies: &world.bodies,
-            planes: &world.planes,
+            surfaces: &world.surfaces,
             laws: &world.laws,
             gravity: world.gravity,
             reference: &self.reference,
@@ -338,7 +338,6 @@ impl Pipeline {
             pending: true,
             spin,
             torque,
-            wall_shear: SharedMut::new(&mut world.wall_shear),
             friction: world.friction.as_ref(),
             // The next step's forces.
             step: world.steps_done + 2,
@@ -401,7 +400,7 @@ impl Pipeline {
             f: SharedMut::new(&mut world.bodies.force),
             walls: world.wall_contacts.shared(),
             bodies: &world.bodies,
-            planes: &world.planes,
+            surfaces: &world.surfaces,
             laws: &world.laws,
             gravity: world.gravity,
             reference: &self.reference,
@@ -409,7 +408,6 @@ impl Pipeline {
             pending,
             spin,
             torque,
-            wall_shear: SharedMut::new(&mut world.wall_shear),
             friction: world.friction.as_ref(),
             step: world.steps_done + 1,
         };
@@ -537,14 +535,9 @@ impl Pipeline {
         }
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
-        let np = world.planes.len();
-        walls::permute_per_plane(&mut world.wall_shear, np, &order);
         world
             .wall_contacts
-            .update_near(&world.bodies, &world.planes, world.skin);
-        if let Some(t) = world.tracks.as_mut() {
-            walls::permute_per_plane(&mut t.planes, np, &order);
-        }
+            .refresh(&world.bodies, &world.surfaces, wall_range(world));
         let celled = start[cells] as usize;
         let bodies = &world.bodies;
         world.ghosts = Ghosts::build(&world.domain, &bodies.position, world.cell_size, |k| {
@@ -679,7 +672,7 @@ impl Pipeline {
         let mut force = std::mem::take(&mut world.bodies.force);
         walls::start_forces(
             &world.bodies,
-            &world.planes,
+            &world.surfaces,
             &mut world.wall_contacts,
             &world.laws,
             world.gravity,
@@ -693,17 +686,14 @@ impl Pipeline {
     fn body_forces_friction(&mut self, world: &mut World, workers: &Workers, dt: f64) {
         let n = world.bodies.len();
         world.bodies.torque.resize(n, [0.0; 3]);
-        let np = world.planes.len();
-        world.wall_shear.resize(n * np, WallShear::default());
         let mut force = std::mem::take(&mut world.bodies.force);
         let mut torque = std::mem::take(&mut world.bodies.torque);
         let (f, t) = (SharedMut::new(&mut force), SharedMut::new(&mut torque));
-        let shear = SharedMut::new(&mut world.wall_shear);
         let walls = world.wall_contacts.shared();
         if let Some(table) = world.friction.as_ref() {
             let input = friction::BodyForceInput {
                 bodies: &world.bodies,
-                planes: &world.planes,
+                surfaces: &world.surfaces,
                 laws: &world.laws,
                 friction: table,
                 gravity: world.gravity,
@@ -721,7 +711,6 @@ impl Pipeline {
                             i,
                             (b.position[i], b.velocity[i], b.angular_velocity[i]),
                             &walls,
-                            shear,
                         );
                         *f.at(i) = fi;
                         *t.at(i) = ti;
@@ -852,65 +841,80 @@ impl Pipeline {
                 world.histories.extra(k),
             );
         }
-        let np = world.planes.len();
-        for i in 0..n {
-            if bodies.fixed[i] {
-                continue;
-            }
-            for (p, plane) in world.planes.iter().enumerate() {
-                let (h, rate) = plane_overlap(
-                    plane,
-                    bodies.position[i],
-                    bodies.velocity[i],
-                    bodies.radius[i],
-                );
-                let track = &mut tracks.planes[i * np + p];
-                // Only couples near contact are worth tracking.
-                if h < -world.skin && !track.is_known() {
+        let wc = &mut world.wall_contacts;
+        if wc.bodies() == n && wc.track.len() == wc.key.len() {
+            for i in 0..n {
+                if bodies.fixed[i] {
                     continue;
                 }
-                let law = laws.plane(bodies, i, p);
-                let hist = world
-                    .wall_contacts
-                    .history
-                    .get(i * np + p)
-                    .unwrap_or(&contacts::NO_HISTORY);
-                let v = bodies.velocity[i];
-                let motion = Motion {
-                    tangential: friction::tangential(v, plane.normal),
-                    spin_i: bodies.angular_velocity.get(i).copied().unwrap_or([0.0; 3]),
-                    spin_j: [0.0; 3],
-                };
-                if let Some((c, before, after)) =
-                    track.advance_with_motion(t, dt, h, rate, motion, |h, r| law.force(h, r, hist))
-                {
-                    let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
-                    log.push(Collision {
-                        i: bodies.id[i] as usize,
-                        j: Partner::Wall(plane.wall),
-                        t_start: c.t_start,
-                        t_end: c.t_end,
-                        duration: c.t_end - c.t_start,
-                        max_overlap: c.max_overlap,
-                        max_normal_force: c.max_force,
-                        impact_normal_velocity: c.impact,
-                        rebound_normal_velocity: c.rebound,
-                        impact_tangential_velocity: vt_in,
-                        rebound_tangential_velocity: vt_out,
-                        impact_spin_i: before.spin_i,
-                        rebound_spin_i: after.spin_i,
-                        impact_spin_j: [0.0; 3],
-                        rebound_spin_j: [0.0; 3],
-                    });
-                }
-                if h < -world.skin {
-                    *track = Track::default();
+                for k in wc.range(i) {
+                    let key = wc.key[k];
+                    let surface = &world.surfaces[key.wall as usize];
+                    let c = surface.contact(
+                        key.element,
+                        bodies.position[i],
+                        bodies.velocity[i],
+                        bodies.radius[i],
+                    );
+                    let (h, rate) = (c.overlap, c.rate);
+                    let track = &mut wc.track[k];
+                    // Only couples near contact are worth tracking.
+                    if h < -world.skin && !track.is_known() {
+                        continue;
+                    }
+                    let law = laws.wall(bodies, i, surface.law_slot(key.element));
+                    let hist = wc.history.get(k).unwrap_or(&contacts::NO_HISTORY);
+                    let v = bodies.velocity[i];
+                    let motion = Motion {
+                        tangential: friction::tangential(v, c.normal),
+                        spin_i: bodies.angular_velocity.get(i).copied().unwrap_or([0.0; 3]),
+                        spin_j: [0.0; 3],
+                    };
+                    if let Some((c, before, after)) =
+                        track.advance_with_motion(t, dt, h, rate, motion, |h, r| {
+                            law.force(h, r, hist)
+                        })
+                    {
+                        let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
+                        log.push(Collision {
+                            i: bodies.id[i] as usize,
+                            j: Partner::Wall(surface.file_index()),
+                            t_start: c.t_start,
+                            t_end: c.t_end,
+                            duration: c.t_end - c.t_start,
+                            max_overlap: c.max_overlap,
+                            max_normal_force: c.max_force,
+                            impact_normal_velocity: c.impact,
+                            rebound_normal_velocity: c.rebound,
+                            impact_tangential_velocity: vt_in,
+                            rebound_tangential_velocity: vt_out,
+                            impact_spin_i: before.spin_i,
+                            rebound_spin_i: after.spin_i,
+                            impact_spin_j: [0.0; 3],
+                            rebound_spin_j: [0.0; 3],
+                        });
+                    }
+                    if h < -world.skin {
+                        *track = Track::default();
+                    }
                 }
             }
         }
         // A fixed order within the step: by pair.
         log.sort_by_key(|c| (c.i, partner_key(c.j)));
         world.collisions.extend(log);
+    }
+}
+
+/// The near range of the wall lists, m: the skin; with the collision log
+/// twice the skin, since a track starts at −skin, which a body may reach
+/// from 1.5 skins away at the last build (it moves ≤ skin/2 between
+/// builds).
+pub(crate) fn wall_range(world: &World) -> f64 {
+    if world.wall_contacts.keep_track {
+        2.0 * world.skin
+    } else {
+        world.skin
     }
 }
 
@@ -955,7 +959,7 @@ struct AdvanceContext<'a> {
     f: SharedMut<[f64; 3]>,
     walls: WallContactsMut,
     bodies: &'a Bodies,
-    planes: &'a [PlaneWall],
+    surfaces: &'a [Surface],
     laws: &'a LawTable,
     gravity: [f64; 3],
     reference: &'a [[f64; 3]],
@@ -963,7 +967,6 @@ struct AdvanceContext<'a> {
     pending: bool,
     spin: SharedMut<[f64; 3]>,
     torque: SharedMut<[f64; 3]>,
-    wall_shear: SharedMut<WallShear>,
     friction: Option<&'a FrictionTable>,
     /// The step being made (its forces' stamp).
     step: u64,
@@ -998,7 +1001,7 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         integrate::half_kick(vi, *fi, dtfm);
         integrate::drift(xi, *vi, c.dt);
         m = m.max(integrate::displacement2(*xi, *reference.get_unchecked(i)));
-        *fi = walls::body_force(b, i, *xi, *vi, c.planes, &c.walls, c.laws, c.gravity);
+        *fi = walls::body_force(b, i, *xi, *vi, c.surfaces, &c.walls, c.laws, c.gravity);
     }
     m
 }
@@ -1042,7 +1045,7 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
     };
     let input = friction::BodyForceInput {
         bodies: b,
-        planes: c.planes,
+        surfaces: c.surfaces,
         laws: c.laws,
         friction: table,
         gravity: c.gravity,
@@ -1056,7 +1059,7 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
     for i in lo..hi {
         // SAFETY: a body of this chunk; its springs are read in the
         // second pass.
-        friction::prefetch_wall_springs(i, &c.walls, c.wall_shear);
+        friction::prefetch_wall_springs(i, &c.walls);
         let fi = c.f.at(i);
         let ti = c.torque.at(i);
         if b.fixed[i] {
@@ -1085,13 +1088,14 @@ unsafe fn verlet_chunk_friction_body(c: &AdvanceContext, lo: usize, hi: usize) -
         *ti = [0.0; 3];
     }
     for i in lo..hi {
-        if b.fixed[i] || (*c.walls.near.at(i) | *c.walls.touching.at(i)) == 0 {
+        let (s, e) = c.walls.range(i);
+        if b.fixed[i] || s == e {
             continue;
         }
         let (fi, ti) = (c.f.at(i), c.torque.at(i));
         let (mut f, mut t) = (*fi, *ti);
         let state = (*c.x.at(i), *c.v.at(i), *c.spin.at(i));
-        friction::add_plane_forces(&input, i, state, &c.walls, c.wall_shear, &mut f, &mut t);
+        friction::add_plane_forces(&input, i, state, &c.walls, &mut f, &mut t);
         (*fi, *ti) = (f, t);
     }
     m

@@ -12,7 +12,7 @@ use crate::dynamics::contacts::{self, LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
 use crate::dynamics::friction_observables;
 use crate::dynamics::spring_energy;
-use crate::dynamics::walls::{self, PlaneWall, WallContacts, MAX_PLANES};
+use crate::dynamics::walls;
 use crate::energy_guard::{EnergyBalance, EnergyGuard};
 use crate::error::SceneError;
 use crate::fingerprint::Fingerprint;
@@ -23,6 +23,7 @@ use crate::parallel::Workers;
 use crate::pipeline::{Pipeline, Tracks, WallKind, World};
 use crate::setup::{RunLength, SceneSetup, Scheme, WallSetup};
 use crate::time_step;
+use crate::walls::{Curvature, LawSlot, PlaneWall, Surface, WallContacts, WallElement};
 
 /// Bodies larger than this many times the smallest free sphere are paired
 /// outside the cell grid (boundary spheres of r = 100 would otherwise make
@@ -202,8 +203,8 @@ impl Simulation {
                 "fewer than 2^32 − 1",
             ));
         }
-        let mut planes = Vec::new();
-        let mut plane_materials = Vec::new();
+        let mut planes: Vec<Surface> = Vec::new();
+        let mut slots: Vec<LawSlot> = Vec::new();
         let mut kinds = Vec::new();
         for (w, wall) in setup.walls.iter().enumerate() {
             match *wall {
@@ -242,20 +243,18 @@ impl Simulation {
                             format!("a material index below {nm}"),
                         ));
                     }
-                    if planes.len() >= MAX_PLANES {
-                        return Err(SceneError::invalid(
-                            "walls",
-                            setup.walls.len(),
-                            format!("at most {MAX_PLANES} plane walls"),
-                        ));
-                    }
-                    kinds.push(WallKind::Plane(planes.len()));
-                    planes.push(PlaneWall {
+                    kinds.push(WallKind::Surface(planes.len()));
+                    planes.push(Surface::Plane(PlaneWall {
                         wall: w,
                         point,
                         normal: [normal[0] / len, normal[1] / len, normal[2] / len],
+                        slot: slots.len(),
+                    }));
+                    slots.push(LawSlot {
+                        material: material as u32,
+                        wall: w,
+                        curvature: Curvature::Flat,
                     });
-                    plane_materials.push(material as u32);
                 }
                 WallSetup::BoundaryParticles { first_body, count } => {
                     let end = first_body
@@ -324,11 +323,11 @@ impl Simulation {
             b.group.push(s.group.map_or(NO_GROUP, |g| g as u32));
         }
         let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
-        let laws = LawTable::new(setup.contact, materials, &mut b, plane_materials.clone());
+        let laws = LawTable::new(setup.contact, materials, &mut b, slots);
         let friction = setup
             .friction
             .clone()
-            .map(|f| FrictionTable::new(f, &laws, &b, &planes, &plane_materials));
+            .map(|f| FrictionTable::new(f, &laws, &b));
 
         // Neighbour geometry.
         let free_min = b
@@ -416,16 +415,14 @@ impl Simulation {
             }
         };
         let workers = Workers::new(threads)?;
-        let np = planes.len();
         let world = World {
-            wall_contacts: WallContacts::new(n, np, laws.history),
+            wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {
                 main: Vec::new(),
                 extra: Vec::new(),
-                planes: vec![Track::default(); n * np],
             }),
             bodies: b,
-            planes,
+            surfaces: planes,
             walls: kinds,
             domain: Domain {
                 lower: d.lower,
@@ -445,11 +442,6 @@ impl Simulation {
             ghosts: Ghosts::default(),
             collisions: Vec::new(),
             rebuilds: 0,
-            wall_shear: if friction.is_some() {
-                vec![WallShear::default(); n * np]
-            } else {
-                Vec::new()
-            },
             friction,
             shear: PairShear::default(),
         };
@@ -738,9 +730,8 @@ impl Simulation {
                 &w.histories,
                 table,
                 &w.shear,
-                &w.planes,
+                &w.surfaces,
                 &w.wall_contacts,
-                &w.wall_shear,
                 &self.workers,
             )
         });
@@ -760,7 +751,7 @@ impl Simulation {
             };
         let mut wall_forces = vec![[0.0; 3]; w.walls.len()];
         // Boundary-particle walls: their spheres in input order.
-        if w.walls.iter().any(|k| !matches!(k, WallKind::Plane(_))) {
+        if w.walls.iter().any(|k| !matches!(k, WallKind::Surface(_))) {
             let force_in = w.bodies.in_input_order(&w.bodies.force);
             let group_in = w.bodies.in_input_order(&w.bodies.group);
             for (k, g) in group_in.iter().enumerate() {
@@ -773,7 +764,7 @@ impl Simulation {
             }
         }
         for (wi, kind) in w.walls.iter().enumerate() {
-            if let WallKind::Plane(p) = kind {
+            if let WallKind::Surface(p) = kind {
                 wall_forces[wi] = plane_forces[*p];
                 if let Some(t) = tangential.get(*p) {
                     for a in 0..3 {
@@ -825,7 +816,7 @@ impl Simulation {
         );
         let (plane_forces, plane_contacts, plane_energy) = walls::plane_observables(
             &w.bodies,
-            &w.planes,
+            &w.surfaces,
             &w.wall_contacts,
             &w.laws,
             &self.workers,
@@ -833,11 +824,10 @@ impl Simulation {
         let tangential = match &w.friction {
             Some(table) => friction::plane_tangential_forces(
                 &w.bodies,
-                &w.planes,
+                &w.surfaces,
                 &w.laws,
                 table,
                 &w.wall_contacts,
-                &w.wall_shear,
             ),
             None => Vec::new(),
         };
@@ -849,8 +839,8 @@ impl Simulation {
                 &w.laws,
                 table,
                 &w.shear,
-                &w.planes,
-                &w.wall_shear,
+                &w.surfaces,
+                &w.wall_contacts,
                 &self.workers,
             ),
             None => 0.0,
@@ -886,36 +876,53 @@ impl Simulation {
             .into_iter()
             .map(|(a, c, h)| (a, c, HistoryRecord::from(h)))
             .collect();
-        let np = w.planes.len();
+        // Wall state by (input id, wall), bodies in the engine's order,
+        // walls ascending: element 0 in the plane records, other elements
+        // in `element_records`.
+        let wc = &w.wall_contacts;
         let mut plane_histories = Vec::new();
-        for i in 0..b.len() {
-            for p in 0..np {
-                let h = w
-                    .wall_contacts
-                    .history
-                    .get(i * np + p)
-                    .copied()
-                    .unwrap_or_default();
-                if h != ContactHistory::default() {
-                    plane_histories.push((b.id[i], p as u32, HistoryRecord::from(h)));
+        let mut plane_tracks = Vec::new();
+        let mut plane_shear = Vec::new();
+        let mut element_records = Vec::new();
+        if wc.bodies() == b.len() {
+            for i in 0..b.len() {
+                for k in wc.range(i) {
+                    let e = wc.entry(k);
+                    let (id, p) = (b.id[i], e.key.wall);
+                    if e.key.element != 0 {
+                        if e.history != ContactHistory::default()
+                            || e.shear != WallShear::default()
+                            || e.track != Track::default()
+                        {
+                            element_records.push(ElementRecord {
+                                id,
+                                key: e.key,
+                                history: HistoryRecord::from(e.history),
+                                shear: e.shear,
+                                track: e.track,
+                            });
+                        }
+                        continue;
+                    }
+                    if e.history != ContactHistory::default() {
+                        plane_histories.push((id, p, HistoryRecord::from(e.history)));
+                    }
+                    if e.track != Track::default() {
+                        plane_tracks.push((id, p, e.track));
+                    }
+                    if e.shear != WallShear::default() {
+                        plane_shear.push((id, p, e.shear));
+                    }
                 }
             }
         }
-        let (mut pair_tracks, mut plane_tracks) = (Vec::new(), Vec::new());
+        let mut pair_tracks = Vec::new();
         if let Some(t) = &w.tracks {
             let mut m: Vec<_> = crate::pipeline::saved_tracks_public(w, t)
                 .into_iter()
                 .collect();
             m.sort_by_key(|(k, _)| *k);
             pair_tracks = m.into_iter().map(|((a, c), t)| (a, c, t)).collect();
-            for i in 0..b.len() {
-                for p in 0..np {
-                    let tr = t.planes[i * np + p];
-                    if tr != Track::default() {
-                        plane_tracks.push((b.id[i], p as u32, tr));
-                    }
-                }
-            }
         }
         Checkpoint {
             steps_done: w.steps_done,
@@ -950,19 +957,8 @@ impl Simulation {
             } else {
                 Vec::new()
             },
-            plane_shear: {
-                let mut v = Vec::new();
-                for i in 0..b.len() {
-                    for p in 0..np {
-                        if let Some(s) = w.wall_shear.get(i * np + p) {
-                            if *s != WallShear::default() {
-                                v.push((b.id[i], p as u32, *s));
-                            }
-                        }
-                    }
-                }
-                v
-            },
+            plane_shear,
+            element_records,
         }
     }
 
@@ -1012,9 +1008,6 @@ impl Simulation {
         let w = &mut sim.world;
         w.bodies.permute(&c.order);
         w.wall_contacts.permute(&c.order);
-        if let Some(t) = w.tracks.as_mut() {
-            walls::permute_per_plane(&mut t.planes, w.planes.len(), &c.order);
-        }
         // The lists as they were built: from the positions of the last build
         // (already sorted, so the stable sort keeps this order).
         w.bodies.position.clone_from(&c.reference);
@@ -1103,46 +1096,111 @@ impl Simulation {
             let rolling = w.friction.as_ref().is_some_and(|t| t.rolling());
             w.shear = friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &saved, rolling);
         }
-        let np = w.planes.len();
-        let at = w.bodies.index_of_ids();
-        for &(id, p, h) in &c.plane_histories {
-            if id as usize >= n || p as usize >= np {
-                return Err(SceneError::Checkpoint(format!(
-                    "wall history of body {id}, plane {p} out of range"
-                )));
-            }
-            let i = at[id as usize] as usize;
-            if let Some(slot) = w.wall_contacts.history.get_mut(i * np + p as usize) {
-                *slot = h.into();
-                w.wall_contacts.touching[i] |= 1u64 << p;
-            }
-        }
-        for &(id, p, sh) in &c.plane_shear {
-            if id as usize >= n || p as usize >= np {
-                return Err(SceneError::Checkpoint(format!(
-                    "wall displacement of body {id}, plane {p} out of range"
-                )));
-            }
-            let i = at[id as usize] as usize;
-            if let Some(slot) = w.wall_shear.get_mut(i * np + p as usize) {
-                *slot = sh;
-                w.wall_contacts.touching[i] |= 1u64 << p;
-            }
-        }
         if let Some(t) = w.tracks.as_mut() {
             t.main = tmain;
             t.extra = textra;
-            for &(id, p, tr) in &c.plane_tracks {
-                if id as usize >= n || p as usize >= np {
-                    return Err(SceneError::Checkpoint(format!(
-                        "wall track of body {id}, plane {p} out of range"
-                    )));
-                }
-                t.planes[at[id as usize] as usize * np + p as usize] = tr;
-            }
         }
+        let at: Vec<usize> = w
+            .bodies
+            .index_of_ids()
+            .into_iter()
+            .map(|k| k as usize)
+            .collect();
+        restore_wall_records(w, c, &at)?;
         Ok(sim)
     }
+}
+
+/// Puts a checkpoint's wall records (histories, springs, tracks by input
+/// id and wall) into the lists just built; `local[id]`: the body's index
+/// here (`usize::MAX`: held by another rank, its records skipped).
+pub(crate) fn restore_wall_records(
+    w: &mut World,
+    c: &Checkpoint,
+    local: &[usize],
+) -> Result<(), SceneError> {
+    let np = w.surfaces.len() as u32;
+    let tracked = w.tracks.is_some();
+    let plane = |p: u32| WallElement {
+        wall: p,
+        element: 0,
+    };
+    type Record = (
+        u32,
+        WallElement,
+        Option<HistoryRecord>,
+        Option<WallShear>,
+        Option<Track>,
+    );
+    let mut records: Vec<(Record, &str)> = Vec::new();
+    for &(id, p, h) in &c.plane_histories {
+        records.push(((id, plane(p), Some(h), None, None), "history"));
+    }
+    for &(id, p, sh) in &c.plane_shear {
+        records.push(((id, plane(p), None, Some(sh), None), "displacement"));
+    }
+    if tracked {
+        for &(id, p, tr) in &c.plane_tracks {
+            records.push(((id, plane(p), None, None, Some(tr)), "track"));
+        }
+    }
+    for r in &c.element_records {
+        let history =
+            (ContactHistory::from(r.history) != ContactHistory::default()).then_some(r.history);
+        let shear = (r.shear != WallShear::default()).then_some(r.shear);
+        let track = (tracked && r.track != Track::default()).then_some(r.track);
+        records.push(((r.id, r.key, history, shear, track), "record"));
+    }
+    let wc = &mut w.wall_contacts;
+    // Every entry first (an insertion moves the later ones), then the state.
+    for ((id, key, ..), what) in &records {
+        let (id, key) = (*id, *key);
+        let Some(&i) = local.get(id as usize).filter(|_| key.wall < np) else {
+            return Err(SceneError::Checkpoint(format!(
+                "wall {what} of body {id}, plane {} out of range",
+                key.wall
+            )));
+        };
+        if i != usize::MAX {
+            wc.insert(i, key);
+        }
+    }
+    for ((id, key, h, sh, tr), _) in records {
+        let i = local[id as usize];
+        let Some(k) = (i != usize::MAX).then(|| wc.find(i, key)).flatten() else {
+            continue;
+        };
+        if let Some(h) = h {
+            if let Some(slot) = wc.history.get_mut(k) {
+                *slot = h.into();
+                wc.touching[k] = true;
+            }
+        }
+        if let Some(sh) = sh {
+            if let Some(slot) = wc.shear.get_mut(k) {
+                *slot = sh;
+                wc.touching[k] = true;
+            }
+        }
+        if let Some(tr) = tr {
+            if let Some(slot) = wc.track.get_mut(k) {
+                *slot = tr;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A wall element's state other than a plane's (element > 0) as stored in
+/// a checkpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ElementRecord {
+    /// Input id of the body.
+    pub id: u32,
+    pub key: WallElement,
+    pub history: HistoryRecord,
+    pub shear: WallShear,
+    pub track: Track,
 }
 
 /// A contact history as stored in a checkpoint.
@@ -1217,6 +1275,12 @@ pub struct Checkpoint {
     /// engine order (empty otherwise; `dynamics::gear5_rotation`).
     #[serde(default)]
     pub angular_higher: Vec<[[f64; 3]; 4]>,
+    /// The state of wall elements other than element 0 (a cylinder's
+    /// caps), in the engine's body order, walls and elements ascending
+    /// (absent from the file when empty: scenes of planes keep their
+    /// bytes).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub element_records: Vec<ElementRecord>,
 }
 
 /// Friction coefficients finite and ≥ 0.

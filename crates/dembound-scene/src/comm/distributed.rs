@@ -241,15 +241,7 @@ fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
 /// Keeps bodies `order` (in that order) and their plane-wall state.
 fn select(world: &mut World, order: &[u32]) {
     world.bodies.permute(order);
-    let wc = &mut world.wall_contacts;
-    let near: Vec<u64> = order.iter().map(|&o| wc.near[o as usize]).collect();
-    wc.permute(order);
-    wc.near = near;
-    let np = world.planes.len();
-    walls::permute_per_plane(&mut world.wall_shear, np, order);
-    if let Some(t) = world.tracks.as_mut() {
-        walls::permute_per_plane(&mut t.planes, np, order);
-    }
+    world.wall_contacts.permute(order);
 }
 
 impl<T: Transport> DistributedSimulation<T> {
@@ -422,7 +414,6 @@ impl<T: Transport> DistributedSimulation<T> {
         let keep = world.laws.history;
         let spin = world.friction.is_some();
         let gear5 = world.scheme == Scheme::Gear5;
-        let np = world.planes.len();
         // Pair histories (and springs) by body, for the bodies that leave.
         let mut by_body: HashMap<u32, Vec<(u32, u32, ContactHistory)>> = HashMap::new();
         if keep {
@@ -458,7 +449,7 @@ impl<T: Transport> DistributedSimulation<T> {
             }
             self.migrated += 1;
             let w = out.entry(dest).or_default();
-            pack::write_body(w, &world.bodies, &world.wall_contacts, keep, k);
+            pack::write_body(w, &world.bodies, Some(&world.wall_contacts), k);
             let hs = by_body.get(&world.bodies.id[k]).map_or(&[][..], |v| &v[..]);
             w.u32(hs.len() as u32);
             for (a, b, h) in hs {
@@ -472,17 +463,14 @@ impl<T: Transport> DistributedSimulation<T> {
                     pack::write_angular_higher(w, &world.bodies.angular_higher, k);
                 }
             }
-            if let Some(t) = world.tracks.as_ref().filter(|_| tracked) {
-                // The collision log's tracks: the body's pairs and planes.
+            if tracked {
+                // The collision log's tracks of the body's pairs (its wall
+                // tracks travel in its body record).
                 let id = world.bodies.id[k];
                 let pairs = tracks_by_body.get(&id).cloned().unwrap_or_default();
-                let planes: Vec<Track> = (0..np)
-                    .map(|p| t.planes.get(k * np + p).copied().unwrap_or_default())
-                    .collect();
-                w.blob(&pack::encode(&(pairs, planes)));
+                w.blob(&pack::encode(&pairs));
             }
             if spin {
-                pack::write_wall_shear(w, &world.wall_shear, np, k);
                 let ss = springs_by_body
                     .get(&world.bodies.id[k])
                     .map_or(&[][..], |v| &v[..]);
@@ -501,23 +489,17 @@ impl<T: Transport> DistributedSimulation<T> {
             let world = &mut self.sim.world;
             let mut r = Reader::new(&bytes);
             while !r.done() {
-                pack::read_body(&mut r, &mut world.bodies, &mut world.wall_contacts, keep);
+                pack::read_body(&mut r, &mut world.bodies, &mut world.wall_contacts);
                 for _ in 0..r.u32() {
                     let (a, b, h) = (r.u32(), r.u32(), r.history());
                     saved.histories.insert((a, b), h);
                 }
                 if tracked {
-                    type Tracked = (Vec<(u32, u32, Track)>, Vec<Track>);
-                    let (pairs, planes): Tracked = pack::decode(r.blob()).unwrap_or_default();
+                    let pairs: Vec<(u32, u32, Track)> = pack::decode(r.blob()).unwrap_or_default();
                     if let Some(saved) = saved.tracks.as_mut() {
                         for (a, b, t) in pairs {
                             saved.insert((a, b), t);
                         }
-                    }
-                    if let Some(t) = world.tracks.as_mut() {
-                        let mut planes = planes;
-                        planes.resize(np, Track::default());
-                        t.planes.extend(planes);
                     }
                 }
                 if gear5 {
@@ -536,7 +518,6 @@ impl<T: Transport> DistributedSimulation<T> {
                     }
                 }
                 if spin {
-                    pack::read_wall_shear(&mut r, &mut world.wall_shear, np);
                     for _ in 0..r.u32() {
                         let (a, b) = (r.u32(), r.u32());
                         let mut sp = [0.0; 6];
@@ -560,7 +541,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 .decomposition
                 .ranks_within(b.position[k], b.radius[k] + reach)
             {
-                pack::write_body(out.entry(r).or_default(), b, &world.wall_contacts, keep, k);
+                pack::write_body(out.entry(r).or_default(), b, None, k);
                 sent_ids.entry(r).or_default().push(b.id[k]);
             }
         }
@@ -574,20 +555,9 @@ impl<T: Transport> DistributedSimulation<T> {
                     &mut r,
                     &mut world.bodies,
                     &mut world.wall_contacts,
-                    keep,
                 ));
                 if let Some(f) = world.bodies.fixed.last_mut() {
                     *f = true;
-                }
-                if spin {
-                    // A halo copy touches no plane here (it is fixed).
-                    let n = world.wall_shear.len();
-                    world.wall_shear.resize(n + np, Default::default());
-                }
-                if let Some(t) = world.tracks.as_mut() {
-                    // Nor is it tracked against the planes.
-                    let n = t.planes.len();
-                    t.planes.resize(n + np, Track::default());
                 }
                 if gear5 && world.bodies.higher.len() + 1 == world.bodies.len() {
                     // Nor is it integrated.
@@ -1164,7 +1134,7 @@ impl<T: Transport> DistributedSimulation<T> {
         let kinetic = sim.kinetic_energy();
         let potential = sim.potential_energy();
         let (plane_forces, plane_contacts, plane_energy) =
-            walls::plane_observables(b, &w.planes, &w.wall_contacts, &w.laws, &sim.workers);
+            walls::plane_observables(b, &w.surfaces, &w.wall_contacts, &w.laws, &sim.workers);
         // A pair is counted on the rank owning its free body of lower id.
         let (fixed_by_id, halo) = (&self.fixed_by_id, &self.halo);
         let counted_here = |i: usize, j: usize| {
@@ -1229,19 +1199,12 @@ impl<T: Transport> DistributedSimulation<T> {
                     &w.laws,
                     table,
                     &w.shear,
-                    &w.planes,
-                    &w.wall_shear,
+                    &w.surfaces,
+                    &w.wall_contacts,
                     &sim.workers,
                     counted_here,
                 ),
-                friction::plane_tangential_forces(
-                    b,
-                    &w.planes,
-                    &w.laws,
-                    table,
-                    &w.wall_contacts,
-                    &w.wall_shear,
-                ),
+                friction::plane_tangential_forces(b, &w.surfaces, &w.laws, table, &w.wall_contacts),
             ),
             None => (0.0, Vec::new()),
         };
@@ -1255,7 +1218,7 @@ impl<T: Transport> DistributedSimulation<T> {
         ];
         for (wi, kind) in w.walls.iter().enumerate() {
             let f = match kind {
-                WallKind::Plane(p) => {
+                WallKind::Surface(p) => {
                     let mut f = plane_forces[*p];
                     if let Some(t) = tangential.get(*p) {
                         for a in 0..3 {

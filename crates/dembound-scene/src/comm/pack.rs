@@ -7,7 +7,8 @@ use dembound_physics::contact::ContactHistory;
 
 use crate::bodies::Bodies;
 use crate::dynamics::friction::WallShear;
-use crate::dynamics::walls::WallContacts;
+use crate::walls::near::NearEntry;
+use crate::walls::{WallContacts, WallElement};
 
 /// Appends fixed-size little-endian fields.
 #[derive(Debug, Default)]
@@ -118,9 +119,9 @@ impl<'a> Reader<'a> {
 /// Writes body k: every array of [`Bodies`] (Gear5's `higher` and
 /// `angular_higher` excepted: [`write_higher`] and
 /// [`write_angular_higher`] send them when they migrate) and its
-/// plane-wall contact state.
-/// `wall_history`: the law keeps contact histories (`LawTable::history`).
-pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history: bool, k: usize) {
+/// near wall elements with their contact state (`walls`: `None` for a
+/// halo copy, which touches no wall here: none are sent).
+pub fn write_body(w: &mut Writer, b: &Bodies, walls: Option<&WallContacts>, k: usize) {
     // Destructured so that a new per-body array fails to compile here.
     let Bodies {
         position,
@@ -154,22 +155,30 @@ pub fn write_body(w: &mut Writer, b: &Bodies, walls: &WallContacts, wall_history
     w.vec3(angular_velocity[k]);
     w.vec3(torque[k]);
     w.f64(inverse_inertia[k]);
-    w.u64(walls.touching[k]);
-    let p = walls.planes;
-    if wall_history {
-        for q in 0..p {
-            w.history(&walls.history.get(k * p + q).copied().unwrap_or_default());
+    let Some(walls) = walls.filter(|c| k < c.bodies()) else {
+        w.u64(0);
+        return;
+    };
+    // A u64: a body with no entries takes the 8 bytes the old bit mask did.
+    w.u64(walls.range(k).len() as u64);
+    for e in walls.entries(k) {
+        w.u32(e.key.wall);
+        w.u32(e.key.element);
+        w.u8(u8::from(e.touching));
+        if walls.keep_history {
+            w.history(&e.history);
+        }
+        if walls.keep_shear {
+            write_wall_shear(w, std::slice::from_ref(&e.shear), 1, 0);
+        }
+        if walls.keep_track {
+            w.blob(&encode(&e.track));
         }
     }
 }
 
 /// Appends a body written by [`write_body`]; returns its id.
-pub fn read_body(
-    r: &mut Reader,
-    b: &mut Bodies,
-    walls: &mut WallContacts,
-    wall_history: bool,
-) -> u32 {
+pub fn read_body(r: &mut Reader, b: &mut Bodies, walls: &mut WallContacts) -> u32 {
     let id = r.u32();
     b.id.push(id);
     b.position.push(r.vec3());
@@ -185,13 +194,31 @@ pub fn read_body(
     b.angular_velocity.push(r.vec3());
     b.torque.push(r.vec3());
     b.inverse_inertia.push(r.f64());
-    walls.touching.push(r.u64());
-    walls.near.push(0);
-    if wall_history {
-        for _ in 0..walls.planes {
-            walls.history.push(r.history());
+    let count = r.u64();
+    let mut entries = Vec::with_capacity(count.min(1 << 16) as usize);
+    for _ in 0..count {
+        let mut e = NearEntry {
+            key: WallElement {
+                wall: r.u32(),
+                element: r.u32(),
+            },
+            touching: r.u8() != 0,
+            ..NearEntry::default()
+        };
+        if walls.keep_history {
+            e.history = r.history();
         }
+        if walls.keep_shear {
+            let mut s = Vec::with_capacity(1);
+            read_wall_shear(r, &mut s, 1);
+            e.shear = s.first().copied().unwrap_or_default();
+        }
+        if walls.keep_track {
+            e.track = decode(r.blob()).unwrap_or_default();
+        }
+        entries.push(e);
     }
+    walls.push_body(&entries);
     id
 }
 
@@ -243,7 +270,17 @@ pub fn read_angular_higher(r: &mut Reader, higher: &mut Vec<[[f64; 3]; 4]>) {
     read_higher(r, higher);
 }
 
-/// Bytes of one body record with `planes` plane walls.
-pub fn body_bytes(planes: usize, wall_history: bool) -> usize {
-    4 + 9 * 8 + 3 * 8 + 4 + 1 + 4 + 2 + 6 * 8 + 8 + 8 + if wall_history { 9 * planes } else { 0 }
+/// Bytes of one body record with `entries` near wall entries (without
+/// springs or tracks).
+pub fn body_bytes(entries: usize, wall_history: bool) -> usize {
+    4 + 9 * 8
+        + 3 * 8
+        + 4
+        + 1
+        + 4
+        + 2
+        + 6 * 8
+        + 8
+        + 8
+        + entries * (9 + if wall_history { 9 } else { 0 })
 }

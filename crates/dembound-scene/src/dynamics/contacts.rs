@@ -13,6 +13,8 @@ use dembound_physics::contact::model::overlap_rate;
 use dembound_physics::contact::{ContactHistory, ContactModel, Geometry, PairLaw};
 use dembound_physics::material::{Material, PairProperties};
 
+use crate::walls::LawSlot;
+
 /// At most this many body classes (material, radius, fixed) get a
 /// precomputed table of pair laws; beyond, laws are computed per contact.
 const MAX_CLASSES: usize = 64;
@@ -31,7 +33,8 @@ pub struct LawTable {
     classes: usize,
     pairs: Vec<PairLaw>,
     planes: Vec<PairLaw>,
-    plane_materials: Vec<u32>,
+    /// The wall rows (`crate::walls::LawSlot`).
+    pub slots: Vec<LawSlot>,
 }
 
 impl LawTable {
@@ -40,7 +43,7 @@ impl LawTable {
         model: ContactModel,
         materials: Vec<Material>,
         bodies: &mut Bodies,
-        plane_materials: Vec<u32>,
+        slots: Vec<LawSlot>,
     ) -> Self {
         let mut keys: Vec<(u64, u64, u32)> = Vec::new();
         let mut class = Vec::with_capacity(bodies.len());
@@ -71,7 +74,7 @@ impl LawTable {
             classes: 0,
             pairs: Vec::new(),
             planes: Vec::new(),
-            plane_materials,
+            slots,
         };
         if too_many {
             bodies.class = vec![NO_CLASS; bodies.len()];
@@ -93,7 +96,7 @@ impl LawTable {
             }
         }
         for a in 0..c {
-            for p in 0..table.plane_materials.len() {
+            for p in 0..table.slots.len() {
                 let (ra, ma, mata) = info(a);
                 table.planes.push(table.compute_plane(ra, ma, mata, p));
             }
@@ -116,9 +119,10 @@ impl LawTable {
         self.model.pair(&props)
     }
 
-    fn compute_plane(&self, r: f64, m: f64, mat: usize, plane: usize) -> PairLaw {
-        let wall = &self.materials[self.plane_materials[plane] as usize];
-        let props = PairProperties::sphere_plane(r, m, &self.materials[mat], wall);
+    fn compute_plane(&self, r: f64, m: f64, mat: usize, slot: usize) -> PairLaw {
+        let row = &self.slots[slot];
+        let wall = &self.materials[row.material as usize];
+        let props = row.properties(r, m, &self.materials[mat], wall);
         self.model.pair(&props)
     }
 
@@ -140,11 +144,11 @@ impl LawTable {
         }
     }
 
-    /// The law of body i against plane wall `plane`.
+    /// The law of body i against wall row `plane` (`Wall::law_slot`).
     #[inline]
-    pub fn plane(&self, bodies: &Bodies, i: usize, plane: usize) -> PairLaw {
+    pub fn wall(&self, bodies: &Bodies, i: usize, plane: usize) -> PairLaw {
         if self.classes > 0 {
-            self.planes[bodies.class[i] as usize * self.plane_materials.len() + plane]
+            self.planes[bodies.class[i] as usize * self.slots.len() + plane]
         } else {
             self.compute_plane(
                 bodies.radius[i],

@@ -32,12 +32,12 @@ use super::contacts::{
     extended, run_blocks_then, touching, touching_lazy, FollowUp, LawTable, PairGeometry,
     PairHistories, NO_CLASS, NO_HISTORY,
 };
-use super::walls::{plane_overlap, PlaneWall, WallContacts, WallContactsMut};
 use crate::bodies::Bodies;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
 use crate::setup::FrictionSetup;
+use crate::walls::{Surface, WallContacts, WallContactsMut};
 
 #[inline(always)]
 pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -85,8 +85,8 @@ pub fn tangential(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
 pub struct FrictionTable {
     pub setup: FrictionSetup,
     materials: Vec<Material>,
-    /// Material index and wall index of each plane.
-    plane_surfaces: Vec<(u32, usize)>,
+    /// The wall rows of the law table (material, wall, curvature).
+    plane_surfaces: Vec<crate::walls::LawSlot>,
     /// Body classes of the tables (0: no tables).
     pub(crate) classes: usize,
     /// Per class pair (a · classes + b): the normal law beside its
@@ -105,18 +105,8 @@ pub struct FrictionTable {
 pub type FrictionLaw = ContactLaw;
 
 impl FrictionTable {
-    pub fn new(
-        setup: FrictionSetup,
-        laws: &LawTable,
-        bodies: &Bodies,
-        planes: &[PlaneWall],
-        plane_materials: &[u32],
-    ) -> Self {
-        let plane_surfaces: Vec<(u32, usize)> = plane_materials
-            .iter()
-            .zip(planes)
-            .map(|(&m, p)| (m, p.wall))
-            .collect();
+    pub fn new(setup: FrictionSetup, laws: &LawTable, bodies: &Bodies) -> Self {
+        let plane_surfaces = laws.slots.clone();
         let rolling = setup.model.rolling_friction != 0.0
             || setup.materials.iter().flatten().any(|&(_, r)| r != 0.0)
             || setup.walls.iter().flatten().any(|&(_, r)| r != 0.0);
@@ -205,12 +195,13 @@ impl FrictionTable {
         mat: usize,
         plane: usize,
     ) -> FrictionLaw {
-        let (wall_material, wall) = self.plane_surfaces[plane];
+        let row = self.plane_surfaces[plane];
+        let (wall_material, wall) = (row.material, row.wall);
         let (a, w) = (
             &self.materials[mat],
             &self.materials[wall_material as usize],
         );
-        let props = PairProperties::sphere_plane(r, m, a, w);
+        let props = row.properties(r, m, a, w);
         let law = laws.model.pair(&props);
         let (mu_a, roll_a) = self.setup.of_material(mat);
         let (mu_w, roll_w) = self.setup.of_wall(wall, wall_material as usize);
@@ -1149,7 +1140,7 @@ impl Default for Batch {
 #[derive(Clone, Copy)]
 pub struct BodyForceInput<'a> {
     pub bodies: &'a Bodies,
-    pub planes: &'a [PlaneWall],
+    pub surfaces: &'a [Surface],
     pub laws: &'a LawTable,
     pub friction: &'a FrictionTable,
     pub gravity: [f64; 3],
@@ -1172,7 +1163,6 @@ pub unsafe fn body_force(
     i: usize,
     (x, v, w): ([f64; 3], [f64; 3], [f64; 3]),
     walls: &WallContactsMut,
-    shear: SharedMut<WallShear>,
 ) -> ([f64; 3], [f64; 3]) {
     let bodies = c.bodies;
     if bodies.fixed[i] {
@@ -1180,7 +1170,7 @@ pub unsafe fn body_force(
     }
     let mut acc = gravity_force(c, i);
     let mut torque = [0.0; 3];
-    add_plane_forces(c, i, (x, v, w), walls, shear, &mut acc, &mut torque);
+    add_plane_forces(c, i, (x, v, w), walls, &mut acc, &mut torque);
     (acc, torque)
 }
 
@@ -1192,9 +1182,9 @@ pub fn gravity_force(c: &BodyForceInput, i: usize) -> [f64; 3] {
     [m * g[0], m * g[1], m * g[2]]
 }
 
-/// Adds the plane walls' forces (with friction) onto `acc` and their
-/// torques onto `torque`, for free body i at (x, v, w) ([`body_force`]
-/// without the weight).
+/// Adds the walls' forces (with friction) onto `acc` and their torques
+/// onto `torque`, for free body i at (x, v, w) ([`body_force`] without
+/// the weight), over its near entries.
 ///
 /// # Safety
 /// As [`body_force`].
@@ -1204,36 +1194,35 @@ pub unsafe fn add_plane_forces(
     i: usize,
     (x, v, w): ([f64; 3], [f64; 3], [f64; 3]),
     walls: &WallContactsMut,
-    shear: SharedMut<WallShear>,
     acc: &mut [f64; 3],
     torque: &mut [f64; 3],
 ) {
     let bodies = c.bodies;
-    let mask = walls.touching.at(i);
-    let mut todo = *walls.near.at(i) | *mask;
+    let (s, e) = walls.range(i);
     let r = bodies.radius[i];
-    while todo != 0 {
-        let p = todo.trailing_zeros() as usize;
-        todo &= todo - 1;
-        let plane = &c.planes[p];
-        let (h, rate) = plane_overlap(plane, x, v, r);
-        let bit = 1u64 << p;
+    for k in s..e {
+        let key = *walls.key.at(k);
+        let surface = c.surfaces.get_unchecked(key.wall as usize);
+        let p = surface.contact(key.element, x, v, r);
+        let (h, rate) = (p.overlap, p.rate);
+        let touching = walls.touching.at(k);
         let mut scratch = NO_HISTORY;
         let hist = if walls.keep {
-            walls.history.at(i * walls.planes + p)
+            walls.history.at(k)
         } else {
             &mut scratch
         };
-        let sh = shear.at(i * walls.planes + p);
+        let sh = walls.shear.at(k);
         if h > 0.0 {
             let mut computed = None;
-            let fl = c.friction.plane(c.laws, bodies, i, p, &mut computed);
+            let slot = surface.law_slot(key.element);
+            let fl = c.friction.plane(c.laws, bodies, i, slot, &mut computed);
             let (law, fr) = (&fl.law, &fl.friction);
             let fw = law.force(h, rate, hist);
             law.update(h, rate, hist);
-            *mask |= bit;
+            *touching = true;
             // From the sphere to the wall.
-            let n = scale(-1.0, plane.normal);
+            let n = scale(-1.0, p.normal);
             let vt = tangential(
                 {
                     let s = cross(scale(r, w), n);
@@ -1264,109 +1253,99 @@ pub unsafe fn add_plane_forces(
             };
             sh.shear = d;
             for a in 0..3 {
-                acc[a] += fw * plane.normal[a] + ft[a];
+                acc[a] += fw * p.normal[a] + ft[a];
             }
             add(torque, scale(r, cross(n, ft)));
             if let Some(rolling) = rolling {
                 add(torque, rolling);
             }
-        } else if *mask & bit != 0 {
+        } else if *touching {
             *hist = ContactHistory::default();
             *sh = WallShear::default();
-            *mask &= !bit;
+            *touching = false;
         }
     }
 }
 
-/// Asks the processor to fetch body i's plane springs (and histories) for
-/// the planes it is near or touches, so that [`body_force`] a few bodies
-/// later finds them in cache: the springs are stored per (body, plane),
-/// 104 bytes each, far more than the caches hold at 10⁴ bodies, and only
-/// the few bodies near a wall read theirs, too sparse a pattern for the
+/// Asks the processor to fetch body i's wall springs (and histories), so
+/// that [`body_force`] a few bodies later finds them in cache: only the
+/// few bodies near a wall read theirs, too sparse a pattern for the
 /// hardware prefetcher. A hint only: nothing is read or written.
 ///
 /// # Safety
-/// i < the body count of `walls` and `shear`.
+/// i < the body count of `walls`.
 #[inline(always)]
-pub unsafe fn prefetch_wall_springs(
-    i: usize,
-    walls: &WallContactsMut,
-    shear: SharedMut<WallShear>,
-) {
+pub unsafe fn prefetch_wall_springs(i: usize, walls: &WallContactsMut) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let mut todo = *walls.near.at(i) | *walls.touching.at(i);
-        while todo != 0 {
-            let p = todo.trailing_zeros() as usize;
-            todo &= todo - 1;
-            let at = shear.0.add(i * walls.planes + p) as *const i8;
+        let (s, e) = walls.range(i);
+        for k in s..e {
+            let at = walls.shear.0.add(k) as *const i8;
             // Its first and last byte: the lines it spans (≤ 3 of 64 B).
             _mm_prefetch::<_MM_HINT_T0>(at);
             _mm_prefetch::<_MM_HINT_T0>(at.add(64));
             _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<WallShear>() - 1));
             if walls.keep {
-                _mm_prefetch::<_MM_HINT_T0>(walls.history.0.add(i * walls.planes + p) as *const i8);
+                _mm_prefetch::<_MM_HINT_T0>(walls.history.0.add(k) as *const i8);
             }
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (i, walls, shear);
+    let _ = (i, walls);
 }
 
-/// The tangential force (N) each plane takes from the spheres touching it
-/// at their current state, from the stored displacements (not moved):
-/// added to the wall forces of the observables.
+/// The tangential force (N) each wall (surface index) takes from the
+/// spheres touching it at their current state, from the stored
+/// displacements (not moved): added to the wall forces of the
+/// observables.
 pub fn plane_tangential_forces(
     bodies: &Bodies,
-    planes: &[PlaneWall],
+    surfaces: &[Surface],
     laws: &LawTable,
     friction: &FrictionTable,
     walls: &WallContacts,
-    shear: &[WallShear],
 ) -> Vec<[f64; 3]> {
-    let np = planes.len();
+    let np = surfaces.len();
     let n = bodies.len();
     let mut out = vec![[0.0; 3]; np];
-    if np == 0 || shear.len() != n * np || walls.near.len() != n || walls.touching.len() != n {
+    if np == 0 || walls.bodies() != n || walls.shear.len() != walls.key.len() {
         return out;
     }
     for i in 0..n {
         if bodies.fixed[i] {
             continue;
         }
-        // Only the planes the force pass looks at: a body touches no other
-        // (the list is rebuilt before it could), so the sum is the same.
-        let mut todo = walls.near[i] | walls.touching[i];
-        if todo == 0 {
-            continue;
-        }
+        // Only the entries the force pass looks at: a body touches no
+        // other (the list is rebuilt before it could), so the sum is the
+        // same.
         let (x, v, w, r) = (
             bodies.position[i],
             bodies.velocity[i],
             bodies.angular_velocity[i],
             bodies.radius[i],
         );
-        while todo != 0 {
-            let p = todo.trailing_zeros() as usize;
-            todo &= todo - 1;
-            let plane = &planes[p];
-            let (h, rate) = plane_overlap(plane, x, v, r);
+        for k in walls.range(i) {
+            let key = walls.key[k];
+            let surface = &surfaces[key.wall as usize];
+            let c = surface.contact(key.element, x, v, r);
+            let (h, rate) = (c.overlap, c.rate);
             if h <= 0.0 {
                 continue;
             }
             let mut computed = None;
-            let fl = friction.plane(laws, bodies, i, p, &mut computed);
+            let slot = surface.law_slot(key.element);
+            let fl = friction.plane(laws, bodies, i, slot, &mut computed);
             let (law, fr) = (&fl.law, &fl.friction);
-            let hist = walls.history.get(i * np + p).unwrap_or(&NO_HISTORY);
+            let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
             let fw = law.force(h, rate, hist);
-            let n = scale(-1.0, plane.normal);
+            let n = scale(-1.0, c.normal);
             let s = cross(scale(r, w), n);
             let vt = tangential([v[0] + s[0], v[1] + s[1], v[2] + s[2]], n);
-            let mut d = shear[i * np + p].shear;
+            let mut d = walls.shear[k].shear;
             let (ds, _) = split(&mut d);
             let ft = fr.tangential_force(h, fw, n, vt, 0.0, ds);
-            sub(&mut out[p], ft);
+            sub(&mut out[key.wall as usize], ft);
         }
     }
     out

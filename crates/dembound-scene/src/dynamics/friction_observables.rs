@@ -31,11 +31,11 @@
 //! passes.
 
 use super::contacts::{PairHistories, NO_HISTORY};
-use super::friction::{cross, tangential, FrictionLaw, FrictionTable, PairShear, WallShear};
-use super::walls::{plane_overlap, PlaneWall, WallContacts};
+use super::friction::{cross, tangential, FrictionLaw, FrictionTable, PairShear};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{Workers, BODY_CHUNK};
+use crate::walls::{Surface, WallContacts};
 
 /// The observables of the contacts, as the separate passes return them.
 #[derive(Debug, Clone, PartialEq)]
@@ -79,20 +79,18 @@ pub fn observe(
     histories: &PairHistories,
     friction: &FrictionTable,
     shear: &PairShear,
-    planes: &[PlaneWall],
+    surfaces: &[Surface],
     walls: &WallContacts,
-    wall_shear: &[WallShear],
     workers: &Workers,
 ) -> Option<ContactObservables> {
     let n = bodies.len();
-    let np = planes.len();
+    let np = surfaces.len();
     let classes = friction.classes;
     let aligned = list.start.len() == n + 1
         && list.extra.is_empty()
         && shear.main.len() == list.j.len()
         && (!shear.rolling || shear.roll_main.len() == list.j.len())
-        && (np == 0
-            || (wall_shear.len() == n * np && walls.near.len() == n && walls.touching.len() == n))
+        && (np == 0 || (walls.bodies() == n && walls.shear.len() == walls.key.len()))
         && bodies.class.len() == n
         && bodies.group.len() == n;
     if classes == 0 || !aligned {
@@ -103,9 +101,8 @@ pub fn observe(
         list,
         histories,
         shear,
-        planes,
+        surfaces,
         walls,
-        wall_shear,
         table: &friction.pairs,
         plane_table: &friction.planes,
         classes,
@@ -165,9 +162,8 @@ struct Pass<'a> {
     list: &'a PairList,
     histories: &'a PairHistories,
     shear: &'a PairShear,
-    planes: &'a [PlaneWall],
+    surfaces: &'a [Surface],
     walls: &'a WallContacts,
-    wall_shear: &'a [WallShear],
     table: &'a [FrictionLaw],
     plane_table: &'a [FrictionLaw],
     classes: usize,
@@ -194,14 +190,14 @@ impl Pass<'_> {
             list,
             histories,
             shear,
-            planes,
+            surfaces,
             walls,
-            wall_shear,
             table,
             plane_table,
             classes,
         } = *self;
-        let np = planes.len();
+        let np = surfaces.len();
+        let slots = plane_table.len() / classes.max(1);
         let mut out = Chunk {
             pairs: [0.0; 4],
             planes: vec![0.0; 3 * np + 2],
@@ -250,31 +246,31 @@ impl Pass<'_> {
             }
             if np > 0 && !bodies.fixed[i] {
                 let (v, w) = (bodies.velocity[i], bodies.angular_velocity[i]);
-                let mut todo = walls.near[i] | walls.touching[i];
-                while todo != 0 {
-                    let p = todo.trailing_zeros() as usize;
-                    todo &= todo - 1;
-                    let plane = &planes[p];
-                    let (h, rate) = plane_overlap(plane, xi, v, ri);
+                for k in walls.range(i) {
+                    let key = walls.key[k];
+                    let p = key.wall as usize;
+                    let surface = &surfaces[p];
+                    let c = surface.contact(key.element, xi, v, ri);
+                    let (h, rate) = (c.overlap, c.rate);
                     if h <= 0.0 {
                         continue;
                     }
-                    let fl = &plane_table[ci * np + p];
-                    let hist = walls.history.get(i * np + p).unwrap_or(&NO_HISTORY);
+                    let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
+                    let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
                     // `plane_observables`.
                     let fw = fl.law.force(h, rate, hist);
                     for a in 0..3 {
-                        out.planes[3 * p + a] -= fw * plane.normal[a];
+                        out.planes[3 * p + a] -= fw * c.normal[a];
                     }
                     out.planes[3 * np] += 1.0;
                     out.planes[3 * np + 1] += fl.law.elastic_energy(h, hist);
                     // `plane_tangential_forces`, with the same operations:
                     // n = −normal (exactly its −1·normal), v_t from
                     // v + (r ω) × n.
-                    let n = plane.normal.map(|x| -x);
+                    let n = c.normal.map(|x| -x);
                     let sp = cross([ri * w[0], ri * w[1], ri * w[2]], n);
                     let vt = tangential([v[0] + sp[0], v[1] + sp[1], v[2] + sp[2]], n);
-                    let stored = &wall_shear[i * np + p].shear;
+                    let stored = &walls.shear[k].shear;
                     let mut ds = [stored[0], stored[1], stored[2]];
                     let ft = fl.friction.tangential_force(h, fw, n, vt, 0.0, &mut ds);
                     out.tangential.push((p, ft));
@@ -402,9 +398,8 @@ pub(crate) mod tests {
                     &w.histories,
                     w.friction.as_ref().unwrap(),
                     &w.shear,
-                    &w.planes,
+                    &w.surfaces,
                     &w.wall_contacts,
-                    &w.wall_shear,
                     &sim.workers,
                 )
                 .expect("the fast path applies: class table, no extra pairs");

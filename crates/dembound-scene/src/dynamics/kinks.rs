@@ -43,9 +43,9 @@
 
 use crate::bodies::Bodies;
 use crate::dynamics::contacts::{extended, separation, LawTable};
-use crate::dynamics::walls::{plane_overlap, PlaneWall};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
+use crate::walls::{Surface, WallContacts};
 use dembound_physics::contact::{ContactHistory, PairLaw};
 
 /// One body's corrections for the step (N for `removed`, m and m/s for
@@ -155,7 +155,8 @@ impl Kinks {
         bodies: &Bodies,
         ghosts: &Ghosts,
         list: &PairList,
-        planes: &[PlaneWall],
+        surfaces: &[Surface],
+        walls: &WallContacts,
         laws: &LawTable,
         dt: f64,
     ) {
@@ -206,19 +207,25 @@ impl Kinks {
             if bodies.fixed[i] {
                 continue;
             }
-            for (p, plane) in planes.iter().enumerate() {
-                let (h, rate) = plane_overlap(
-                    plane,
+            if walls.bodies() != n {
+                continue;
+            }
+            for e in walls.range(i) {
+                let key = walls.key[e];
+                let surface = &surfaces[key.wall as usize];
+                let c = surface.contact(
+                    key.element,
                     bodies.position[i],
                     bodies.velocity[i],
                     bodies.radius[i],
                 );
+                let (h, rate) = (c.overlap, c.rate);
                 if h < -rate.abs() * dt {
                     continue;
                 }
-                let law = laws.plane(bodies, i, p);
+                let law = laws.wall(bodies, i, surface.law_slot(key.element));
                 if let Some(k) = kink(&law, h, rate) {
-                    self.add(bodies, i, plane.normal, &k);
+                    self.add(bodies, i, c.normal, &k);
                 }
             }
         }

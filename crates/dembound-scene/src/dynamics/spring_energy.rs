@@ -6,12 +6,12 @@
 //! that sticks conserves kinetic + elastic + potential energy.
 
 use super::contacts::{extended, touching, LawTable};
-use super::friction::{FrictionTable, PairShear, WallShear};
-use super::walls::{plane_overlap, PlaneWall};
+use super::friction::{FrictionTable, PairShear};
 use crate::bodies::Bodies;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
+use crate::walls::{Surface, WallContacts};
 
 fn halves(s: &[f64; 6]) -> ([f64; 3], [f64; 3]) {
     ([s[0], s[1], s[2]], [s[3], s[4], s[5]])
@@ -40,8 +40,8 @@ pub fn spring_energy(
     laws: &LawTable,
     friction: &FrictionTable,
     shear: &PairShear,
-    planes: &[PlaneWall],
-    wall_shear: &[WallShear],
+    surfaces: &[Surface],
+    walls: &WallContacts,
     workers: &Workers,
 ) -> f64 {
     spring_energy_counted(
@@ -51,8 +51,8 @@ pub fn spring_energy(
         laws,
         friction,
         shear,
-        planes,
-        wall_shear,
+        surfaces,
+        walls,
         workers,
         |_, _| true,
     )
@@ -68,17 +68,17 @@ pub fn spring_energy_counted(
     laws: &LawTable,
     friction: &FrictionTable,
     shear: &PairShear,
-    planes: &[PlaneWall],
-    wall_shear: &[WallShear],
+    surfaces: &[Surface],
+    walls: &WallContacts,
     workers: &Workers,
     counted: impl Fn(usize, usize) -> bool + Sync,
 ) -> f64 {
     let n = bodies.len();
-    let np = planes.len();
+    let np = surfaces.len();
     let pairs_ok = list.start.len() == n + 1
         && shear.main.len() == list.j.len()
         && shear.extra.len() == list.extra.len();
-    let walls_ok = np > 0 && wall_shear.len() == n * np;
+    let walls_ok = np > 0 && walls.bodies() == n && walls.shear.len() == walls.key.len();
     let [main] = workers.sum(n, |i| {
         let mut e = 0.0;
         if pairs_ok {
@@ -105,21 +105,26 @@ pub fn spring_energy_counted(
             }
         }
         if walls_ok && !bodies.fixed[i] {
-            for (p, plane) in planes.iter().enumerate() {
-                let s = &wall_shear[i * np + p].shear;
+            for k in walls.range(i) {
+                let s = &walls.shear[k].shear;
                 if *s == [0.0; 6] {
                     continue;
                 }
-                let (h, _) = plane_overlap(
-                    plane,
-                    bodies.position[i],
-                    bodies.velocity[i],
-                    bodies.radius[i],
-                );
+                let key = walls.key[k];
+                let surface = &surfaces[key.wall as usize];
+                let h = surface
+                    .contact(
+                        key.element,
+                        bodies.position[i],
+                        bodies.velocity[i],
+                        bodies.radius[i],
+                    )
+                    .overlap;
                 if h > 0.0 {
                     let (t, r) = halves(s);
                     let mut scratch = None;
-                    let fl = friction.plane(laws, bodies, i, p, &mut scratch);
+                    let slot = surface.law_slot(key.element);
+                    let fl = friction.plane(laws, bodies, i, slot, &mut scratch);
                     e += fl.friction.spring_energy(&fl.law, h, &t, &r);
                 }
             }

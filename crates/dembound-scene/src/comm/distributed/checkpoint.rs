@@ -40,7 +40,9 @@ use crate::dynamics::contacts::{self, extended};
 use crate::dynamics::friction::{self, WallShear};
 use crate::fingerprint::Fingerprint;
 use crate::setup::{SceneSetup, Scheme};
+use crate::simulation::ElementRecord;
 use crate::simulation::{Checkpoint, HistoryRecord};
+use crate::walls::near::NearEntry;
 use crate::SceneError;
 
 /// Checks a checkpoint against the scene before anything is exchanged
@@ -112,7 +114,16 @@ impl<T: Transport> DistributedSimulation<T> {
     pub fn checkpoint(&self) -> Result<Option<Checkpoint>, SceneError> {
         let w = &self.sim.world;
         let b = &w.bodies;
-        let np = w.planes.len();
+        let wc = &w.wall_contacts;
+        let elements = w.surfaces.iter().any(|s| s.wall().elements() > 1);
+        // Body k's element-0 entries (wall, state) and its other ones.
+        let entries = |k: usize| -> Vec<NearEntry> {
+            if k < wc.bodies() {
+                wc.entries(k)
+            } else {
+                Vec::new()
+            }
+        };
         let (spin, gear5) = (w.friction.is_some(), w.scheme == Scheme::Gear5);
         let reference = &self.sim.pipeline.reference;
         let mut out = Writer::default();
@@ -133,11 +144,10 @@ impl<T: Transport> DistributedSimulation<T> {
             if spin {
                 out.vec3(b.angular_velocity[k]);
                 out.vec3(b.torque.get(k).copied().unwrap_or_default());
-                let moved: Vec<(u32, WallShear)> = (0..np)
-                    .filter_map(|p| {
-                        let s = w.wall_shear.get(k * np + p).copied()?;
-                        (s != WallShear::default()).then_some((p as u32, s))
-                    })
+                let moved: Vec<(u32, WallShear)> = entries(k)
+                    .into_iter()
+                    .filter(|e| e.key.element == 0 && e.shear != WallShear::default())
+                    .map(|e| (e.key.wall, e.shear))
                     .collect();
                 out.u32(moved.len() as u32);
                 for (p, s) in &moved {
@@ -145,26 +155,46 @@ impl<T: Transport> DistributedSimulation<T> {
                     pack::write_wall_shear(&mut out, std::slice::from_ref(s), 1, 0);
                 }
             }
-            if let Some(t) = w.tracks.as_ref() {
-                let planes: Vec<(u32, Track)> = (0..np)
-                    .filter_map(|p| {
-                        let tr = t.planes.get(k * np + p).copied()?;
-                        tr.is_known().then_some((p as u32, tr))
-                    })
+            if w.tracks.is_some() {
+                let planes: Vec<(u32, Track)> = entries(k)
+                    .into_iter()
+                    .filter(|e| e.key.element == 0 && e.track.is_known())
+                    .map(|e| (e.key.wall, e.track))
                     .collect();
                 out.blob(&pack::encode(&planes));
             }
-            let touching: Vec<(u32, ContactHistory)> = (0..np)
-                .filter_map(|p| {
-                    let h = w.wall_contacts.history.get(k * np + p).copied()?;
-                    (h != ContactHistory::default()).then_some((p as u32, h))
-                })
+            let touching: Vec<(u32, ContactHistory)> = entries(k)
+                .into_iter()
+                .filter(|e| e.key.element == 0 && e.history != ContactHistory::default())
+                .map(|e| (e.key.wall, e.history))
                 .collect();
             out.u32(touching.len() as u32);
             for (p, h) in &touching {
                 out.u32(*p);
                 out.history(h);
             }
+            // Elements other than 0 (a cylinder's caps), when a wall has
+            // them.
+            if !elements {
+                continue;
+            }
+            let others: Vec<ElementRecord> = entries(k)
+                .into_iter()
+                .filter(|e| {
+                    e.key.element != 0
+                        && (e.history != ContactHistory::default()
+                            || e.shear != WallShear::default()
+                            || e.track.is_known())
+                })
+                .map(|e| ElementRecord {
+                    id: b.id[k],
+                    key: e.key,
+                    history: HistoryRecord::from(e.history),
+                    shear: e.shear,
+                    track: e.track,
+                })
+                .collect();
+            out.blob(&pack::encode(&others));
         }
         // Every listed pair has an owned body: a pair across a cut comes
         // from both its ranks, the same bits.
@@ -227,6 +257,7 @@ impl<T: Transport> DistributedSimulation<T> {
             torque: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
             pair_shear: Vec::new(),
             plane_shear: Vec::new(),
+            element_records: Vec::new(),
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -241,6 +272,8 @@ impl<T: Transport> DistributedSimulation<T> {
         let mut seen = vec![false; n];
         let mut planes = BTreeMap::new();
         let mut histories = BTreeMap::new();
+        let mut elements = BTreeMap::new();
+        let multi = w.surfaces.iter().any(|s| s.wall().elements() > 1);
         for bytes in &parts {
             let mut r = Reader::new(bytes);
             for _ in 0..r.u32() {
@@ -285,6 +318,12 @@ impl<T: Transport> DistributedSimulation<T> {
                 for _ in 0..r.u32() {
                     let (p, h) = (r.u32(), r.history());
                     planes.insert((id as u32, p), h);
+                }
+                if multi {
+                    let others: Vec<ElementRecord> = pack::decode(r.blob()).unwrap_or_default();
+                    for e in others {
+                        elements.insert((e.id, e.key), e);
+                    }
                 }
                 if let Some(s) = seen.get_mut(id) {
                     *s = true;
@@ -332,6 +371,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 "checkpoint: body {id} is owned by no rank (a bug)"
             )));
         }
+        c.element_records = elements.into_values().collect();
         c.plane_histories = planes
             .into_iter()
             .map(|((id, p), h)| (id, p, HistoryRecord::from(h)))
@@ -364,7 +404,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 c.dt, me.sim.world.dt
             )));
         }
-        let np = me.sim.world.planes.len();
+        let np = me.sim.world.surfaces.len();
         if let Some(&(id, p, _)) = c
             .plane_histories
             .iter()
@@ -398,52 +438,14 @@ impl<T: Transport> DistributedSimulation<T> {
                     *a = *ca;
                 }
             }
-            // Body id → local body, and (id, plane) → its per-plane entry.
+            // Body id → local body; each body's wall records as saved
+            // (they migrate with it).
             let mut local = vec![usize::MAX; n];
             for (k, &id) in b.id.iter().enumerate() {
                 local[id as usize] = k;
             }
-            let entry = |id: u32, p: u32| -> Option<usize> {
-                let k = local
-                    .get(id as usize)
-                    .copied()
-                    .filter(|&k| k != usize::MAX)?;
-                ((p as usize) < np).then_some(k * np + p as usize)
-            };
-            if w.friction.is_some() {
-                // Each body's plane springs as saved (they migrate with it).
-                w.wall_shear = vec![WallShear::default(); b.len() * np];
-                for &(id, p, sh) in &c.plane_shear {
-                    if let Some(e) = entry(id, p) {
-                        w.wall_shear[e] = sh;
-                    }
-                }
-            }
-            if let Some(t) = w.tracks.as_mut() {
-                // Each body's plane tracks (they migrate with it).
-                t.planes = vec![Track::default(); b.len() * np];
-                for &(id, p, tr) in &c.plane_tracks {
-                    if let Some(e) = entry(id, p) {
-                        t.planes[e] = tr;
-                    }
-                }
-            }
-            let wc = &mut w.wall_contacts;
-            wc.history.fill(ContactHistory::default());
-            wc.touching.fill(0);
-            for &(id, p, h) in &c.plane_histories {
-                if let Some(e) = entry(id, p) {
-                    if let Some(slot) = wc.history.get_mut(e) {
-                        *slot = h.into();
-                        wc.touching[e / np] |= 1u64 << p;
-                    }
-                }
-            }
-            for &(id, p, _) in &c.plane_shear {
-                if let Some(e) = entry(id, p) {
-                    wc.touching[e / np] |= 1u64 << p;
-                }
-            }
+            w.wall_contacts.relax();
+            crate::simulation::restore_wall_records(w, c, &local)?;
             w.histories.main.fill(ContactHistory::default());
             w.histories.extra.fill(ContactHistory::default());
         }

@@ -1,0 +1,169 @@
+//! Walls other than boundary particles: one interface ([`Wall`]), one
+//! record per wall ([`Surface`]), and the sparse per-body list of the wall
+//! elements each sphere is near ([`near::WallContacts`]).
+//!
+//! A wall answers, for a sphere near it, its contact points: one per
+//! element (a plane has one; a cylinder with caps three; a triangle mesh
+//! one per triangle), each with overlap, unit normal, overlap rate and
+//! the wall's surface velocity there, keyed by (wall, element) so that
+//! each keeps its contact history, springs and collision track. The
+//! force, the friction and every observable of a wall contact are then
+//! the same code for every wall type (`dynamics::walls`,
+//! `dynamics::friction`).
+//!
+//! Memory is per near (body, element) entry, never per (body × element):
+//! the list is rebuilt with the pair list, from each wall's
+//! [`Wall::near_elements`], and carried across rebuilds, reordering,
+//! migration and checkpoints by (input id, wall, element).
+//!
+//! Adding a wall type takes: one file here with its geometry (a type
+//! implementing [`Wall`]), one variant of [`Surface`] (this file), one
+//! variant of the scene file's `[[wall]]` (`io/config.rs`, resolved in
+//! `io/resolve.rs` into `setup::WallSetup`), its construction in
+//! `simulation.rs`, its placement checks (`setup_checks.rs`) and its
+//! fingerprint (`fingerprint.rs`): six files besides its own, none of
+//! them in the force, friction, observable, checkpoint or migration code.
+
+pub mod near;
+pub mod plane;
+
+pub use near::{WallContacts, WallContactsMut, WallElement};
+pub use plane::{plane_overlap, PlaneWall};
+
+/// One contact point of a sphere with a wall element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WallPoint {
+    /// Overlap h (m): positive in contact.
+    pub overlap: f64,
+    /// Overlap rate ḣ (m/s) of the sphere's centre relative to the
+    /// wall's surface velocity there.
+    pub rate: f64,
+    /// Unit normal from the wall into the sphere (the direction of the
+    /// wall's push).
+    pub normal: [f64; 3],
+}
+
+/// How a wall element curves, for the contact law's effective radius.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Curvature {
+    /// Flat: R_eff = R (an elastic half-space).
+    Flat,
+    /// A sphere of this signed radius (m) as seen by the contact law:
+    /// R_eff = R ρ/(ρ + R); negative ρ is concave (the inside of a tube:
+    /// ρ = −R_c gives R R_c/(R_c − R), LAMMPS `wall/gran` cylinders).
+    Radius(f64),
+}
+
+/// One row of the wall law tables: a material and a curvature of one
+/// wall (a plane has one row; a capped cylinder two: tube and caps).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawSlot {
+    /// Material index of the wall.
+    pub material: u32,
+    /// Index of the wall in file order (its friction coefficients).
+    pub wall: usize,
+    pub curvature: Curvature,
+}
+
+impl LawSlot {
+    /// The pair properties of a sphere of `radius` (m), `mass` (kg) and
+    /// material `a` against this row's surface of material `w`.
+    pub fn properties(
+        &self,
+        radius: f64,
+        mass: f64,
+        a: &dembound_physics::material::Material,
+        w: &dembound_physics::material::Material,
+    ) -> dembound_physics::material::PairProperties {
+        use dembound_physics::material::PairProperties;
+        let flat = PairProperties::sphere_plane(radius, mass, a, w);
+        match self.curvature {
+            Curvature::Flat => flat,
+            Curvature::Radius(rho) => PairProperties {
+                radius: radius * rho / (rho + radius),
+                ..flat
+            },
+        }
+    }
+}
+
+/// What a wall type implements.
+pub trait Wall {
+    /// Index of the wall in file order (the `[[wall]]` entry).
+    fn file_index(&self) -> usize;
+    /// Elements of the wall (1 for a plane).
+    fn elements(&self) -> u32;
+    /// Calls `found` with each element whose surface is within `range`
+    /// (m) of the surface of a sphere at `x` of radius `r` (overlap
+    /// > −range), ascending: the near test of a list build.
+    fn near_elements(&self, x: [f64; 3], r: f64, range: f64, found: &mut dyn FnMut(u32));
+    /// The contact point of element `element` with a sphere at `x`,
+    /// velocity `v`, radius `r`.
+    fn contact(&self, element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint;
+    /// The wall's surface velocity at point `at` of element `element`,
+    /// m/s (zero: fixed walls; the hook for moving walls).
+    fn surface_velocity(&self, _element: u32, _at: [f64; 3]) -> [f64; 3] {
+        [0.0; 3]
+    }
+    /// Lower and upper corners of the wall's bounding box, m (infinite
+    /// where it is unbounded).
+    fn bounding_box(&self) -> ([f64; 3], [f64; 3]);
+    /// The point its torque is taken about, m.
+    fn torque_point(&self) -> [f64; 3];
+    /// The row of the law tables of element `element` (`LawTable`,
+    /// `FrictionTable`: one per material and curvature).
+    fn law_slot(&self, element: u32) -> usize;
+}
+
+/// Every wall type, as the engine stores it (an enum: the force loops
+/// dispatch by a match, inlined, not through a pointer).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Surface {
+    Plane(PlaneWall),
+}
+
+impl Surface {
+    /// [`Wall::contact`], inlined into the force loops.
+    #[inline(always)]
+    pub fn contact(&self, element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint {
+        match self {
+            Surface::Plane(p) => {
+                let _ = element;
+                let (overlap, rate) = plane_overlap(p, x, v, r);
+                WallPoint {
+                    overlap,
+                    rate,
+                    normal: p.normal,
+                }
+            }
+        }
+    }
+
+    /// [`Wall::law_slot`].
+    #[inline(always)]
+    pub fn law_slot(&self, element: u32) -> usize {
+        match self {
+            Surface::Plane(p) => p.law_slot(element),
+        }
+    }
+
+    /// The wall's interface.
+    pub fn wall(&self) -> &dyn Wall {
+        match self {
+            Surface::Plane(p) => p,
+        }
+    }
+
+    /// Index of the wall in file order.
+    pub fn file_index(&self) -> usize {
+        self.wall().file_index()
+    }
+}
+
+/// Force (N) and torque (N m, about [`Wall::torque_point`]) a wall takes
+/// from the spheres at one instant.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WallLoad {
+    pub force: [f64; 3],
+    pub torque: [f64; 3],
+}
