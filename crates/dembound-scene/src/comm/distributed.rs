@@ -51,77 +51,31 @@ use dembound_physics::contact::ContactHistory;
 
 use super::pack::{self, Reader, Writer};
 use super::Transport;
-use crate::bodies::{Bodies, NO_GROUP};
-use crate::dynamics::collisions::{Collision, Track};
-use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
-use crate::dynamics::friction::{self, Springs};
-use crate::dynamics::friction_observables::ContactObservables;
-use crate::dynamics::{gear5_rotation, integrate, spring_energy, walls};
+use crate::dynamics::collisions::Track;
+use crate::dynamics::friction::Springs;
+use crate::dynamics::{gear5_rotation, integrate};
 use crate::geometry::decomposition::Decomposition;
-use crate::parallel::{SharedMut, Workers, STEP_CHUNK};
-use crate::pipeline::observe::{self, ObserveHooks};
-use crate::pipeline::{
-    celled_extent, partner_key, save_pairs, Pipeline, StepHooks, WholeGrid, World,
-};
+use crate::parallel::Workers;
+use crate::pipeline::observe::observation;
+use crate::pipeline::{celled_extent, save_pairs, Pipeline, StepHooks, WholeGrid, World};
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
 
-// Checkpoint and restart on any number of ranks, load re-balancing
-// (child modules: they reach this rank's private state).
+// Checkpoint and restart on any number of ranks, load re-balancing, the
+// contacts a rank counts when observed, what a run reports, the order of
+// the pair sums (child modules: they reach this rank's private state).
 pub mod balance;
 mod checkpoint;
+mod observe;
+mod report;
+mod sums;
+
+pub use report::{GatheredState, RankReport};
 
 /// The error of a rank whose setup was fine when another rank's was not
 /// (that rank's error says why).
 pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
-
-/// Bit of an incidence: the body is the pair's i.
-const NEGATIVE: u32 = 1 << 31;
-
-/// One incident pair of a body: where its force is and with which sign.
-#[derive(Debug, Clone, Copy)]
-struct Incident {
-    /// Input id of the partner (the summation order).
-    partner: u32,
-    /// Index into the pair forces (main entries, then extra).
-    entry: u32,
-    /// The body is the pair's i (it gets minus the stored force on j).
-    negative: bool,
-    /// The partner's boundary-particle wall, or [`NO_GROUP`].
-    group: u32,
-}
-
-/// Per-rank figures of a run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RankReport {
-    /// Bodies owned, at the end.
-    pub owned: usize,
-    /// Halo copies held, at the end.
-    pub halo: usize,
-    /// Seconds per step spent stepping.
-    pub seconds_per_step: f64,
-    /// Bytes this rank sent per step: halo updates, migration and halo
-    /// rebuilds (reductions not counted).
-    pub bytes_per_step: f64,
-    /// Of which at list rebuilds (migration and new halo), per step.
-    pub rebuild_bytes_per_step: f64,
-}
-
-/// The end state gathered at rank 0, input order.
-#[derive(Debug, Clone, Default)]
-pub struct GatheredState {
-    pub position: Vec<[f64; 3]>,
-    pub velocity: Vec<[f64; 3]>,
-    pub force: Vec<[f64; 3]>,
-    pub radius: Vec<f64>,
-    pub fixed: Vec<bool>,
-    pub material: Vec<u32>,
-    /// rad/s (0 without friction).
-    pub angular_velocity: Vec<[f64; 3]>,
-    /// Rank owning each body.
-    pub rank: Vec<u32>,
-}
 
 /// One rank of a decomposed scene: the engine ([`Simulation`], whose
 /// pipeline steps the rank's bodies) and what a rank adds to it
@@ -660,250 +614,6 @@ impl<T: Transport> RankComm<T> {
         whole
     }
 
-    /// Each owned free body's pairs, by partner id.
-    fn build_incidence(&mut self, world: &World) {
-        let b = &world.bodies;
-        let n = b.len();
-        let list = &world.list;
-        let wanted = |k: usize| !self.halo[k] && !b.fixed[k];
-        let m = list.j.len();
-        let mut count = vec![0u32; n + 1];
-        let pairs = list
-            .entries()
-            .map(|(i, k)| (i, list.j[k] as usize, k))
-            .chain(list.extra.iter().enumerate().map(|(q, &(i, j))| {
-                let (_, _, owner) = extended(b, &world.ghosts, j as usize);
-                (i as usize, owner, m + q)
-            }));
-        let pairs: Vec<(usize, usize, usize)> = pairs.collect();
-        for &(i, j, _) in &pairs {
-            if wanted(i) {
-                count[i + 1] += 1;
-            }
-            if wanted(j) {
-                count[j + 1] += 1;
-            }
-        }
-        for k in 0..n {
-            count[k + 1] += count[k];
-        }
-        let mut fill = count.clone();
-        let blank = Incident {
-            partner: 0,
-            entry: 0,
-            negative: false,
-            group: NO_GROUP,
-        };
-        let mut inc = vec![blank; count[n] as usize];
-        for &(i, j, e) in &pairs {
-            for (me, other, negative) in [(i, j, true), (j, i, false)] {
-                if wanted(me) {
-                    inc[fill[me] as usize] = Incident {
-                        partner: b.id[other],
-                        entry: e as u32,
-                        negative,
-                        group: b.group[other],
-                    };
-                    fill[me] += 1;
-                }
-            }
-        }
-        for k in 0..n {
-            inc[count[k] as usize..count[k + 1] as usize].sort_by_key(|x| x.partner);
-        }
-        self.incidence_start = count;
-        let code = |x: &Incident| x.entry | if x.negative { NEGATIVE } else { 0 };
-        self.walled = inc
-            .iter()
-            .filter(|x| x.group != NO_GROUP)
-            .map(|x| (code(x), x.group))
-            .collect();
-        self.incidence = inc.iter().map(code).collect();
-    }
-
-    /// Every listed pair's force (history updated), then each owned free
-    /// body's sum in partner-id order, added to its gravity and wall force.
-    fn sum_pair_forces(
-        &mut self,
-        pipeline: &mut Pipeline,
-        world: &mut World,
-        workers: &Workers,
-        dt: f64,
-    ) {
-        if self.plain_sums {
-            pipeline.pair_forces(world, workers, dt);
-            return;
-        }
-        if self.in_cell_order {
-            pipeline.pair_forces(world, workers, dt);
-            self.particle_wall_force = self.boundary_particle_forces(world);
-            return;
-        }
-        let world = world;
-        let workers = workers;
-        let n = world.bodies.len();
-        let list = &world.list;
-        let m = list.j.len();
-        let laws = &world.laws;
-        let keep = laws.history;
-        self.pair_force.resize(m + list.extra.len(), [0.0; 3]);
-        self.hit.resize(m + list.extra.len(), false);
-        let mut force = std::mem::take(&mut world.bodies.force);
-        let b = &world.bodies;
-        assert!(list.start.len() == n + 1 && (!keep || world.histories.main.len() == m));
-        let pf = SharedMut::new(&mut self.pair_force);
-        let hist = SharedMut::new(&mut world.histories.main);
-        let pair = |xi,
-                    vi,
-                    ri,
-                    xj,
-                    vj,
-                    rj,
-                    law: &dembound_physics::contact::PairLaw,
-                    h: &mut ContactHistory| {
-            match touching(xi, vi, ri, xj, vj, rj) {
-                Some(g) => {
-                    let f = law.force(g.overlap, g.overlap_rate, h);
-                    law.update(g.overlap, g.overlap_rate, h);
-                    [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
-                }
-                None => {
-                    if *h != ContactHistory::default() {
-                        *h = ContactHistory::default();
-                    }
-                    [0.0; 3]
-                }
-            }
-        };
-        let hit = SharedMut::new(&mut self.hit);
-        let (position, velocity, radius) = (&b.position[..], &b.velocity[..], &b.radius[..]);
-        workers.run(n.div_ceil(STEP_CHUNK), |c| {
-            for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
-                let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
-                for k in list.start[i] as usize..list.start[i + 1] as usize {
-                    let j = list.j[k] as usize;
-                    // The partner's velocity and the law only in contact
-                    // (as the engine's loop).
-                    let g = touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j]);
-                    // SAFETY: entry k belongs to row i, in this chunk only.
-                    unsafe {
-                        match g {
-                            Some(g) => {
-                                let mut scratch = NO_HISTORY;
-                                let h = if keep { hist.at(k) } else { &mut scratch };
-                                let law = laws.pair(b, i, j);
-                                let f = law.force(g.overlap, g.overlap_rate, h);
-                                law.update(g.overlap, g.overlap_rate, h);
-                                *pf.at(k) = [f * g.normal[0], f * g.normal[1], f * g.normal[2]];
-                                *hit.at(k) = true;
-                            }
-                            None => {
-                                *hit.at(k) = false;
-                                if keep && *hist.at(k) != ContactHistory::default() {
-                                    *hist.at(k) = ContactHistory::default();
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        });
-        for (q, &(i, j)) in list.extra.iter().enumerate() {
-            let (i, j) = (i as usize, j as usize);
-            let (xj, vj, owner) = extended(b, &world.ghosts, j);
-            let mut scratch = NO_HISTORY;
-            let h = if keep {
-                &mut world.histories.extra[q]
-            } else {
-                &mut scratch
-            };
-            let law = laws.pair(b, i, owner);
-            self.hit[m + q] = true;
-            self.pair_force[m + q] = pair(
-                b.position[i],
-                b.velocity[i],
-                b.radius[i],
-                xj,
-                vj,
-                b.radius[owner],
-                &law,
-                h,
-            );
-        }
-        let (start, inc, pf, hit) = (
-            &self.incidence_start,
-            &self.incidence,
-            &self.pair_force,
-            &self.hit,
-        );
-        let f_ptr = SharedMut::new(&mut force);
-        workers.run(n.div_ceil(STEP_CHUNK), |c| {
-            for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
-                let (s, e) = (start[i] as usize, start[i + 1] as usize);
-                if s == e {
-                    continue;
-                }
-                // SAFETY: one body per iteration, chunks disjoint.
-                let f = unsafe { f_ptr.at(i) };
-                for &x in &inc[s..e] {
-                    let entry = (x & !NEGATIVE) as usize;
-                    // Pairs apart add nothing (f + 0 = f: skipping them
-                    // changes no bit).
-                    if !hit[entry] {
-                        continue;
-                    }
-                    let p = pf[entry];
-                    if x & NEGATIVE != 0 {
-                        f[0] -= p[0];
-                        f[1] -= p[1];
-                        f[2] -= p[2];
-                    } else {
-                        f[0] += p[0];
-                        f[1] += p[1];
-                        f[2] += p[2];
-                    }
-                }
-            }
-        });
-        // The boundary particles' reaction, from the free side.
-        let mut wf = vec![[0.0; 3]; world.walls.len()];
-        for &(x, group) in &self.walled {
-            let entry = (x & !NEGATIVE) as usize;
-            if hit[entry] {
-                let p = pf[entry];
-                // The free body got ∓p; the boundary particle gets ±p.
-                let s = if x & NEGATIVE != 0 { 1.0 } else { -1.0 };
-                for a in 0..3 {
-                    wf[group as usize][a] += s * p[a];
-                }
-            }
-        }
-        self.particle_wall_force = wf;
-        world.bodies.force = force;
-    }
-
-    /// The force on each boundary-particle wall from this rank's pairs:
-    /// the forces its boundary particles (owned ones and halo copies) got
-    /// in the last force stage. A pair of a free body with a boundary
-    /// particle is listed only on the rank owning the free body (two
-    /// bodies flagged fixed, a halo copy being one, are never paired), so
-    /// the sum over the ranks counts each pair once.
-    fn boundary_particle_forces(&self, world: &World) -> Vec<[f64; 3]> {
-        let b = &world.bodies;
-        let mut wf = vec![[0.0; 3]; world.walls.len()];
-        for k in 0..b.len() {
-            let g = b.group[k];
-            if g != NO_GROUP && b.fixed[k] {
-                if let Some(w) = wf.get_mut(g as usize) {
-                    for (w, f) in w.iter_mut().zip(b.force[k]) {
-                        *w += f;
-                    }
-                }
-            }
-        }
-        wf
-    }
-
     /// Position and velocity of every free halo body from its owner.
     fn halo_update(&mut self, world: &mut World) {
         let spin = world.friction.is_some();
@@ -968,39 +678,6 @@ impl<T: Transport> DistributedSimulation<T> {
             .sum_pair_forces(&mut sim.pipeline, &mut sim.world, &sim.workers, dt);
     }
 
-    /// Every rank's collision log, merged at rank 0 in the engine's order
-    /// (by the step that completed each, then sphere i and partner);
-    /// `None` elsewhere. Collective.
-    pub fn collisions(&self) -> Option<Vec<Collision>> {
-        let w = &self.sim.world;
-        // The order: a restart's log first, as it was; then by step, sphere
-        // and partner (steps count from 1).
-        type Key = (u64, u64, (u8, usize));
-        let mine: Vec<(Key, Collision)> = self
-            .comm
-            .collision_steps
-            .iter()
-            .zip(&w.collisions)
-            .enumerate()
-            .map(|(k, (&step, c))| {
-                let key = if k < self.comm.restored_collisions {
-                    (0, k as u64, (0, 0))
-                } else {
-                    (step, c.i as u64, partner_key(c.j))
-                };
-                (key, *c)
-            })
-            .collect();
-        let parts = self.comm.transport.gather(pack::encode(&mine))?;
-        let mut all: Vec<(Key, Collision)> = parts
-            .iter()
-            .filter_map(|b| pack::decode::<Vec<(Key, Collision)>>(b))
-            .flatten()
-            .collect();
-        all.sort_by_key(|(key, _)| *key);
-        Some(all.into_iter().map(|(_, c)| c).collect())
-    }
-
     pub fn steps_done(&self) -> u64 {
         self.sim.world.steps_done
     }
@@ -1033,97 +710,7 @@ impl<T: Transport> DistributedSimulation<T> {
     /// The global observables (sums over the ranks). Collective.
     pub fn observe(&self) -> Observation {
         let sim = &self.sim;
-        observe::observation(&sim.world, &sim.workers, sim.initial_energy, &self.comm)
-    }
-
-    /// This rank's figures, gathered for every rank (rank order). Collective.
-    pub fn rank_reports(&self) -> Vec<RankReport> {
-        let steps = self.steps_run.max(1) as f64;
-        let owned = self.comm.transport.all_gather(self.owned() as f64);
-        let halo = self
-            .comm
-            .transport
-            .all_gather(self.comm.halo.iter().filter(|&&h| h).count() as f64);
-        let secs = self.comm.transport.all_gather(self.stepping / steps);
-        let bytes = self
-            .comm
-            .transport
-            .all_gather(self.comm.bytes_sent as f64 / steps);
-        let rebuild = self
-            .comm
-            .transport
-            .all_gather(self.comm.rebuild_bytes as f64 / steps);
-        (0..self.comm.transport.size())
-            .map(|r| RankReport {
-                owned: owned[r] as usize,
-                halo: halo[r] as usize,
-                seconds_per_step: secs[r],
-                bytes_per_step: bytes[r],
-                rebuild_bytes_per_step: rebuild[r],
-            })
-            .collect()
-    }
-
-    /// Bodies this rank has handed to other ranks so far.
-    pub fn migrated(&self) -> u64 {
-        self.comm.migrated
-    }
-
-    /// Seconds this rank spent stepping.
-    pub fn stepping_seconds(&self) -> f64 {
-        self.stepping
-    }
-
-    /// The owned bodies of every rank at rank 0, input order (`None`
-    /// elsewhere). Collective.
-    pub fn gather_state(&self) -> Option<GatheredState> {
-        let b: &Bodies = &self.sim.world.bodies;
-        let mut w = Writer::default();
-        for k in 0..b.len() {
-            if self.comm.halo[k] {
-                continue;
-            }
-            w.u32(b.id[k]);
-            w.vec3(b.position[k]);
-            w.vec3(b.velocity[k]);
-            w.vec3(b.force[k]);
-            w.f64(b.radius[k]);
-            w.u8(u8::from(b.fixed[k]));
-            w.u32(b.material[k]);
-            w.vec3(b.angular_velocity.get(k).copied().unwrap_or_default());
-        }
-        let parts = self.comm.transport.gather(w.0)?;
-        let n = self.comm.fixed_by_id.len();
-        let mut s = GatheredState {
-            position: vec![[0.0; 3]; n],
-            velocity: vec![[0.0; 3]; n],
-            force: vec![[0.0; 3]; n],
-            radius: vec![0.0; n],
-            fixed: vec![false; n],
-            material: vec![0; n],
-            angular_velocity: vec![[0.0; 3]; n],
-            rank: vec![u32::MAX; n],
-        };
-        for (rank, bytes) in parts.iter().enumerate() {
-            let mut r = Reader::new(bytes);
-            while !r.done() {
-                let id = r.u32() as usize;
-                let (x, v, f, rad, fixed, mat) =
-                    (r.vec3(), r.vec3(), r.vec3(), r.f64(), r.u8() != 0, r.u32());
-                let spin = r.vec3();
-                if id < n {
-                    s.angular_velocity[id] = spin;
-                    s.position[id] = x;
-                    s.velocity[id] = v;
-                    s.force[id] = f;
-                    s.radius[id] = rad;
-                    s.fixed[id] = fixed;
-                    s.material[id] = mat;
-                    s.rank[id] = rank as u32;
-                }
-            }
-        }
-        Some(s)
+        observation(&sim.world, &sim.workers, sim.initial_energy, &self.comm)
     }
 }
 
@@ -1173,109 +760,5 @@ impl<T: Transport> StepHooks for RankComm<T> {
         );
         self.collision_steps
             .resize(world.collisions.len(), world.steps_done);
-    }
-}
-
-impl<T: Transport> ObserveHooks for RankComm<T> {
-    /// A pair is counted on the rank owning its free body of lower id (a
-    /// pair across a cut is listed on both); summed pair by pair in list
-    /// order.
-    fn contacts(&self, w: &World, workers: &Workers) -> ContactObservables {
-        let b = &w.bodies;
-        let (plane_forces, plane_contacts, plane_energy) =
-            walls::plane_observables(b, &w.surfaces, &w.wall_contacts, &w.laws, workers);
-        // A pair is counted on the rank owning its free body of lower id.
-        let (fixed_by_id, halo) = (&self.fixed_by_id, &self.halo);
-        let counted_here = |i: usize, j: usize| {
-            let (a, c) = (b.id[i], b.id[j]);
-            let lead = match (fixed_by_id[a as usize], fixed_by_id[c as usize]) {
-                (false, false) => {
-                    if a < c {
-                        i
-                    } else {
-                        j
-                    }
-                }
-                (false, true) => i,
-                _ => j,
-            };
-            !halo[lead]
-        };
-        let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
-        let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
-            // The contact test first: most listed pairs are apart.
-            let Some(g) = touching(
-                b.position[i],
-                [0.0; 3],
-                b.radius[i],
-                xj,
-                [0.0; 3],
-                b.radius[owner],
-            ) else {
-                return;
-            };
-            if !counted_here(i, owner) {
-                return;
-            }
-            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
-                wc += 1.0;
-            } else {
-                pc += 1.0;
-            }
-            energy += w
-                .laws
-                .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
-        };
-        let list = &w.list;
-        for i in 0..b.len() {
-            for k in list.start[i] as usize..list.start[i + 1] as usize {
-                let j = list.j[k] as usize;
-                visit(i, b.position[j], j, w.histories.main(k));
-            }
-        }
-        for (q, &(i, j)) in list.extra.iter().enumerate() {
-            let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
-            visit(i as usize, xj, owner, w.histories.extra(q));
-        }
-        // The friction springs' energy and the planes' tangential forces
-        // (halo copies are fixed: they touch no plane here).
-        let (springs, tangential) = match &w.friction {
-            Some(table) => (
-                spring_energy::spring_energy_counted(
-                    b,
-                    &w.ghosts,
-                    &w.list,
-                    &w.laws,
-                    table,
-                    &w.shear,
-                    &w.surfaces,
-                    &w.wall_contacts,
-                    workers,
-                    counted_here,
-                ),
-                friction::plane_tangential_forces(b, &w.surfaces, &w.laws, table, &w.wall_contacts),
-            ),
-            None => (0.0, Vec::new()),
-        };
-        ContactObservables {
-            particle_contacts: pc as usize,
-            boundary_contacts: wc as usize,
-            pair_energy: energy,
-            plane_forces,
-            plane_contacts,
-            plane_energy,
-            plane_tangential: tangential,
-            spring_energy: springs,
-        }
-    }
-
-    /// From this rank's pair stage: each pair of a free body with a
-    /// boundary particle counted on one rank.
-    fn particle_wall_forces(&self, _world: &World) -> Vec<[f64; 3]> {
-        self.particle_wall_force.clone()
-    }
-
-    fn sum(&self, values: Vec<f64>) -> Vec<f64> {
-        self.transport.sum(&values)
     }
 }
