@@ -3,6 +3,8 @@
 //! scratch (the reference positions of the displacement check and the
 //! cell grid).
 
+pub(crate) mod observe;
+
 use std::collections::HashMap;
 use std::time::Instant;
 
@@ -114,6 +116,64 @@ pub(crate) struct WholeGrid {
     pub bodies: usize,
 }
 
+/// What differs between one process and one rank of a decomposed scene
+/// (`comm::distributed`), called by the step at fixed points: what fills
+/// the halo, what a list rebuild migrates, in which order a body's pair
+/// forces are summed, which logged collisions a process keeps. The stages
+/// themselves (integration, per-body forces, the collision log) are the
+/// pipeline's, the same for both.
+pub(crate) trait StepHooks {
+    /// The largest squared displacement since the last list build over
+    /// every process (all rebuild at the same step), m².
+    fn max_moved2(&mut self, moved2: f64) -> f64;
+    /// New lists (a rank first migrates bodies and rebuilds its halo).
+    fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers);
+    /// Halo copies take their owners' state (before the ghosts follow).
+    fn halo(&mut self, world: &mut World);
+    /// Adds the pair forces (springs moved by `dt` s of slip) to each
+    /// body's force, in the order this kind of run fixes.
+    fn pair_forces(
+        &mut self,
+        pipeline: &mut Pipeline,
+        world: &mut World,
+        workers: &Workers,
+        dt: f64,
+    );
+    /// Verlet may fuse the next step's first half into the force stage
+    /// (every pair in the force blocks, summed by the engine's loop).
+    fn fusable(&self, world: &World) -> bool;
+    /// The collision log got entries `before..` this step.
+    fn logged(&mut self, world: &mut World, before: usize);
+}
+
+/// One process: no halo beyond the periodic ghosts, no migration, the
+/// engine's own sums.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Local;
+
+impl StepHooks for Local {
+    fn max_moved2(&mut self, moved2: f64) -> f64 {
+        moved2
+    }
+    fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
+        pipeline.neighbours(world, workers);
+    }
+    fn halo(&mut self, _world: &mut World) {}
+    fn pair_forces(
+        &mut self,
+        pipeline: &mut Pipeline,
+        world: &mut World,
+        workers: &Workers,
+        dt: f64,
+    ) {
+        pipeline.pair_forces(world, workers, dt);
+    }
+    fn fusable(&self, world: &World) -> bool {
+        world.list.extra.is_empty()
+    }
+    fn logged(&mut self, _world: &mut World, _before: usize) {}
+}
+
 /// The extent the cell grid spans: the celled bodies' (wrapped) positions,
 /// the box on periodic axes; `None` on an axis no celled body has.
 pub(crate) fn celled_extent(world: &World) -> ([f64; 3], [f64; 3]) {
@@ -159,14 +219,19 @@ impl Pipeline {
     /// `n` steps. Verlet's last half kick of a step is fused with the first
     /// of the next (the same operations in the same order as two passes:
     /// the same bits however the steps are grouped); the state is complete
-    /// again when this returns.
-    pub fn steps(&mut self, world: &mut World, workers: &Workers, n: u64) {
-        workers.install(|| {
-            for k in 0..n {
-                self.step(world, workers, k + 1 < n);
-            }
-            self.finish(world, workers);
-        });
+    /// again when this returns. `hooks`: what one process or one rank of a
+    /// decomposed scene does at the points where they differ ([`StepHooks`]).
+    pub(crate) fn steps(
+        &mut self,
+        world: &mut World,
+        workers: &Workers,
+        n: u64,
+        hooks: &mut impl StepHooks,
+    ) {
+        for k in 0..n {
+            self.step(world, workers, k + 1 < n, hooks);
+        }
+        self.finish(world, workers);
     }
 
     /// Applies a pending half kick.
@@ -183,31 +248,36 @@ impl Pipeline {
 
     /// One step; `more`: another follows in this call (Verlet may then
     /// fuse the next step's first half into this one's force stage).
-    fn step(&mut self, world: &mut World, workers: &Workers, more: bool) {
+    fn step(
+        &mut self,
+        world: &mut World,
+        workers: &Workers,
+        more: bool,
+        hooks: &mut impl StepHooks,
+    ) {
         let dt = world.dt;
-        let half_skin = 0.5 * world.skin;
         match world.scheme {
             Scheme::Verlet => {
                 // Stages integrate (first half) and forces (per body:
                 // gravity, walls) in one pass over the bodies.
                 if !std::mem::take(&mut self.advanced) {
                     let moved2 = self.verlet_advance(world, workers);
-                    self.after_advance(world, workers, moved2);
+                    self.after_advance(world, workers, moved2, hooks);
                 }
                 // The fused form does the same operations on each body in
                 // the same order: the same bits. It needs every pair in
                 // the blocks (no extra pairs) and no per-step observers.
-                let fuse = more && world.tracks.is_none() && world.list.extra.is_empty();
+                let fuse = more && world.tracks.is_none() && hooks.fusable(world);
                 if fuse {
                     let moved2 = self.pair_forces_then_advance(world, workers);
                     world.list.rebalance();
                     self.share_cuts(world, workers);
                     world.steps_done += 1;
                     self.advanced = true;
-                    self.after_advance(world, workers, moved2);
+                    self.after_advance(world, workers, moved2, hooks);
                     return;
                 }
-                self.pair_forces(world, workers, dt);
+                hooks.pair_forces(self, world, workers, dt);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
                 if world.tracks.is_some() {
@@ -222,22 +292,23 @@ impl Pipeline {
             Scheme::Gear5 => {
                 let moved2 =
                     integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
-                if world.friction.is_some() {
+                let friction = world.friction.is_some();
+                if friction {
                     gear5_rotation::predict(&mut world.bodies, workers);
                 }
-                if needs_rebuild(moved2, half_skin) {
-                    self.neighbours(world, workers);
+                let moved2 = hooks.max_moved2(moved2);
+                if needs_rebuild(moved2, 0.5 * world.skin) {
+                    hooks.rebuild(self, world, workers);
                 } else {
+                    hooks.halo(world);
                     self.ghosts(world);
                 }
-                if world.friction.is_some() {
-                    // At the predicted state; the springs move by Δt of
-                    // the predicted slip (`gear5_rotation`).
-                    self.body_forces(world, workers, dt);
-                    self.pair_forces(world, workers, dt);
-                } else {
-                    self.forces(world, workers);
-                }
+                // At the predicted state. With friction the springs move
+                // by Δt of the predicted slip (`gear5_rotation`); without,
+                // Δt plays no part in the forces.
+                let springs_dt = if friction { dt } else { 0.0 };
+                self.body_forces(world, workers, springs_dt);
+                hooks.pair_forces(self, world, workers, springs_dt);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
                 self.gear5_correct(world, workers);
@@ -245,8 +316,13 @@ impl Pipeline {
         }
         world.steps_done += 1;
         if world.tracks.is_some() {
+            // The copies' state at the step's end: every process tracks a
+            // pair with the same bits.
+            hooks.halo(world);
             self.ghosts(world);
+            let before = world.collisions.len();
             self.observe(world);
+            hooks.logged(world, before);
         }
     }
 
@@ -290,15 +366,24 @@ impl Pipeline {
         workers.set_body_cuts(&cuts);
     }
 
-    /// After Verlet's first half: the lists again if a body moved more
-    /// than half the skin since they were built (then the per-body forces
-    /// again: the wall masks are new; the same state, so history updates
-    /// are idempotent), else the ghosts follow their owners.
-    fn after_advance(&mut self, world: &mut World, workers: &Workers, moved2: f64) {
+    /// After Verlet's first half: the lists again if a body (of any
+    /// process) moved more than half the skin since they were built (then
+    /// the per-body forces again: the wall masks are new; the same state,
+    /// so history updates are idempotent), else the halo and the ghosts
+    /// follow their owners.
+    fn after_advance(
+        &mut self,
+        world: &mut World,
+        workers: &Workers,
+        moved2: f64,
+        hooks: &mut impl StepHooks,
+    ) {
+        let moved2 = hooks.max_moved2(moved2);
         if needs_rebuild(moved2, 0.5 * world.skin) {
-            self.neighbours(world, workers);
+            hooks.rebuild(self, world, workers);
             self.body_forces(world, workers, world.dt);
         } else {
+            hooks.halo(world);
             self.ghosts(world);
         }
     }

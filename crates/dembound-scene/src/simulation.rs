@@ -10,9 +10,6 @@ use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{self, LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear, WallShear};
-use crate::dynamics::friction_observables;
-use crate::dynamics::spring_energy;
-use crate::dynamics::walls;
 use crate::energy_guard::{EnergyBalance, EnergyGuard};
 use crate::error::SceneError;
 use crate::fingerprint::Fingerprint;
@@ -20,7 +17,7 @@ use crate::geometry::domain::Domain;
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
-use crate::pipeline::{Pipeline, Tracks, WallKind, World};
+use crate::pipeline::{observe, Local, Pipeline, Tracks, WallKind, World};
 use crate::setup::{RunLength, SceneSetup, Scheme, WallSetup};
 use crate::time_step;
 use crate::walls::{Curvature, LawSlot, PlaneWall, Surface, WallContacts, WallElement};
@@ -464,7 +461,8 @@ impl Simulation {
 
     /// Advances `n` steps.
     pub fn step(&mut self, n: u64) {
-        self.pipeline.steps(&mut self.world, &self.workers, n);
+        self.pipeline
+            .steps(&mut self.world, &self.workers, n, &mut Local);
     }
 
     /// [`Self::step`], then the state checked: an error
@@ -621,21 +619,7 @@ impl Simulation {
 
     /// Σ ½ m v² over free bodies, plus Σ ½ I ω² with friction, J.
     pub fn kinetic_energy(&self) -> f64 {
-        let b = &self.world.bodies;
-        let spin = self.world.friction.is_some();
-        let [e] = self.workers.sum(b.len(), |k| {
-            if b.fixed[k] {
-                return [0.0];
-            }
-            let v = b.velocity[k];
-            let mut e = 0.5 * b.mass[k] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-            if spin {
-                let w = b.angular_velocity[k];
-                e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / b.inverse_inertia[k];
-            }
-            [e]
-        });
-        e
+        observe::kinetic_energy(&self.world, &self.workers)
     }
 
     /// Angular velocity of each body, rad/s, input order (0 without friction).
@@ -672,16 +656,7 @@ impl Simulation {
 
     /// −Σ m g·x over free bodies, J.
     pub fn potential_energy(&self) -> f64 {
-        let b = &self.world.bodies;
-        let g = self.world.gravity;
-        let [e] = self.workers.sum(b.len(), |k| {
-            if b.fixed[k] {
-                return [0.0];
-            }
-            let x = b.position[k];
-            [-b.mass[k] * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2])]
-        });
-        e
+        observe::potential_energy(&self.world, &self.workers)
     }
 
     /// Energy stored in the contacts (pairs and plane walls), J, friction
@@ -720,78 +695,13 @@ impl Simulation {
 
     /// Every global observable at the current state.
     pub fn observe(&self) -> Observation {
-        let w = &self.world;
-        // With friction, one pass gives what the four below give, with
-        // the same bits (`friction_observables`).
-        let fused = w.friction.as_ref().and_then(|table| {
-            friction_observables::observe(
-                &w.bodies,
-                &w.list,
-                &w.histories,
-                table,
-                &w.shear,
-                &w.surfaces,
-                &w.wall_contacts,
-                &self.workers,
-            )
-        });
-        let (pc, wc, pe, plane_forces, plane_contacts, plane_energy, tangential, springs) =
-            match fused {
-                Some(o) => (
-                    o.particle_contacts,
-                    o.boundary_contacts,
-                    o.pair_energy,
-                    o.plane_forces,
-                    o.plane_contacts,
-                    o.plane_energy,
-                    o.plane_tangential,
-                    o.spring_energy,
-                ),
-                None => self.contact_observables(),
-            };
-        let mut wall_forces = vec![[0.0; 3]; w.walls.len()];
-        // Boundary-particle walls: their spheres in input order.
-        if w.walls.iter().any(|k| !matches!(k, WallKind::Surface(_))) {
-            let force_in = w.bodies.in_input_order(&w.bodies.force);
-            let group_in = w.bodies.in_input_order(&w.bodies.group);
-            for (k, g) in group_in.iter().enumerate() {
-                if *g != NO_GROUP {
-                    let f = &mut wall_forces[*g as usize];
-                    for a in 0..3 {
-                        f[a] += force_in[k][a];
-                    }
-                }
-            }
-        }
-        for (wi, kind) in w.walls.iter().enumerate() {
-            if let WallKind::Surface(p) = kind {
-                wall_forces[wi] = plane_forces[*p];
-                if let Some(t) = tangential.get(*p) {
-                    for a in 0..3 {
-                        wall_forces[wi][a] += t[a];
-                    }
-                }
-            }
-        }
-        let kinetic = self.kinetic_energy();
-        let potential = self.potential_energy();
-        let elastic = pe + plane_energy + springs;
-        Observation {
-            step: w.steps_done,
-            time: w.time(),
-            kinetic_energy: kinetic,
-            elastic_energy: elastic,
-            potential_energy: potential,
-            dissipated_energy: self.initial_energy - (kinetic + elastic + potential),
-            particle_contacts: pc,
-            wall_contacts: wc + plane_contacts,
-            wall_forces,
-        }
+        observe::observation(&self.world, &self.workers, self.initial_energy, &Local)
     }
 
     /// The contact observables pass by pass: pair counts and energy, plane
     /// forces, counts and energy, plane tangential forces, spring energy
-    /// (see [`Self::observe`]).
+    /// (see [`Self::observe`]); for the test of the fused pass.
+    #[cfg(test)]
     #[allow(clippy::type_complexity)]
     pub(crate) fn contact_observables(
         &self,
@@ -805,55 +715,16 @@ impl Simulation {
         Vec<[f64; 3]>,
         f64,
     ) {
-        let w = &self.world;
-        let (pc, wc, pe) = contacts::pair_observables(
-            &w.bodies,
-            &w.ghosts,
-            &w.list,
-            &w.histories,
-            &w.laws,
-            &self.workers,
-        );
-        let (plane_forces, plane_contacts, plane_energy) = walls::plane_observables(
-            &w.bodies,
-            &w.surfaces,
-            &w.wall_contacts,
-            &w.laws,
-            &self.workers,
-        );
-        let tangential = match &w.friction {
-            Some(table) => friction::plane_tangential_forces(
-                &w.bodies,
-                &w.surfaces,
-                &w.laws,
-                table,
-                &w.wall_contacts,
-            ),
-            None => Vec::new(),
-        };
-        let springs = match &w.friction {
-            Some(table) => spring_energy::spring_energy(
-                &w.bodies,
-                &w.ghosts,
-                &w.list,
-                &w.laws,
-                table,
-                &w.shear,
-                &w.surfaces,
-                &w.wall_contacts,
-                &self.workers,
-            ),
-            None => 0.0,
-        };
+        let c = observe::contact_passes(&self.world, &self.workers);
         (
-            pc,
-            wc,
-            pe,
-            plane_forces,
-            plane_contacts,
-            plane_energy,
-            tangential,
-            springs,
+            c.particle_contacts,
+            c.boundary_contacts,
+            c.pair_energy,
+            c.plane_forces,
+            c.plane_contacts,
+            c.plane_energy,
+            c.plane_tangential,
+            c.spring_energy,
         )
     }
 

@@ -51,79 +51,45 @@ use dembound_physics::contact::ContactHistory;
 
 use super::pack::{self, Reader, Writer};
 use super::Transport;
-use crate::bodies::{Bodies, NO_GROUP};
-use crate::dynamics::collisions::{Collision, Track};
-use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
-use crate::dynamics::friction::{self, Springs};
-use crate::dynamics::{gear5_rotation, integrate, spring_energy, walls};
+use crate::dynamics::collisions::Track;
+use crate::dynamics::friction::Springs;
+use crate::dynamics::{gear5_rotation, integrate};
 use crate::geometry::decomposition::Decomposition;
-use crate::parallel::{SharedMut, STEP_CHUNK};
-use crate::pipeline::{
-    celled_extent, needs_rebuild, partner_key, save_pairs, WallKind, WholeGrid, World,
-};
+use crate::parallel::Workers;
+use crate::pipeline::observe::observation;
+use crate::pipeline::{celled_extent, save_pairs, Pipeline, StepHooks, WholeGrid, World};
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::{Observation, SceneError};
 
-// Checkpoint and restart on any number of ranks, load re-balancing
-// (child modules: they reach this rank's private state).
+// Checkpoint and restart on any number of ranks, load re-balancing, the
+// contacts a rank counts when observed, what a run reports, the order of
+// the pair sums (child modules: they reach this rank's private state).
 pub mod balance;
 mod checkpoint;
+mod observe;
+mod report;
+mod sums;
+
+pub use report::{GatheredState, RankReport};
 
 /// The error of a rank whose setup was fine when another rank's was not
 /// (that rank's error says why).
 pub const PEER_REFUSED: &str = "another MPI rank refused the scene";
 
-/// Bit of an incidence: the body is the pair's i.
-const NEGATIVE: u32 = 1 << 31;
-
-/// One incident pair of a body: where its force is and with which sign.
-#[derive(Debug, Clone, Copy)]
-struct Incident {
-    /// Input id of the partner (the summation order).
-    partner: u32,
-    /// Index into the pair forces (main entries, then extra).
-    entry: u32,
-    /// The body is the pair's i (it gets minus the stored force on j).
-    negative: bool,
-    /// The partner's boundary-particle wall, or [`NO_GROUP`].
-    group: u32,
-}
-
-/// Per-rank figures of a run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RankReport {
-    /// Bodies owned, at the end.
-    pub owned: usize,
-    /// Halo copies held, at the end.
-    pub halo: usize,
-    /// Seconds per step spent stepping.
-    pub seconds_per_step: f64,
-    /// Bytes this rank sent per step: halo updates, migration and halo
-    /// rebuilds (reductions not counted).
-    pub bytes_per_step: f64,
-    /// Of which at list rebuilds (migration and new halo), per step.
-    pub rebuild_bytes_per_step: f64,
-}
-
-/// The end state gathered at rank 0, input order.
-#[derive(Debug, Clone, Default)]
-pub struct GatheredState {
-    pub position: Vec<[f64; 3]>,
-    pub velocity: Vec<[f64; 3]>,
-    pub force: Vec<[f64; 3]>,
-    pub radius: Vec<f64>,
-    pub fixed: Vec<bool>,
-    pub material: Vec<u32>,
-    /// rad/s (0 without friction).
-    pub angular_velocity: Vec<[f64; 3]>,
-    /// Rank owning each body.
-    pub rank: Vec<u32>,
-}
-
-/// One rank of a decomposed scene.
+/// One rank of a decomposed scene: the engine ([`Simulation`], whose
+/// pipeline steps the rank's bodies) and what a rank adds to it
+/// ([`RankComm`]: halo, migration, the order of sums).
 pub struct DistributedSimulation<T: Transport> {
     sim: Simulation,
+    comm: RankComm<T>,
+    steps_run: u64,
+    stepping: f64,
+}
+
+/// What one rank adds to the engine's step: the pipeline's
+/// [`StepHooks`] of a decomposed scene.
+pub(crate) struct RankComm<T: Transport> {
     transport: T,
     decomposition: Decomposition,
     /// Largest radius of the scene, m.
@@ -152,8 +118,6 @@ pub struct DistributedSimulation<T: Transport> {
     particle_wall_force: Vec<[f64; 3]>,
     bytes_sent: u64,
     rebuild_bytes: u64,
-    steps_run: u64,
-    stepping: f64,
     /// Bodies this rank has sent to new owners.
     migrated: u64,
     /// The engine's half-list sums instead (order set by the local list).
@@ -163,8 +127,6 @@ pub struct DistributedSimulation<T: Transport> {
     /// (some rank lists extra pairs: periodic images, large bodies) by the
     /// incidences in partner-id order.
     in_cell_order: bool,
-    /// This step's first half is done (fused into the last force stage).
-    advanced: bool,
     /// Input index → this rank owns the body (the collision log's owner).
     owned_by_id: Vec<bool>,
     /// The step at which each entry of the local collision log was
@@ -292,8 +254,7 @@ impl<T: Transport> DistributedSimulation<T> {
         }
         select(w, &mine);
         let n = w.bodies.len();
-        let mut me = Self {
-            sim,
+        let comm = RankComm {
             transport,
             decomposition,
             largest_radius,
@@ -309,16 +270,19 @@ impl<T: Transport> DistributedSimulation<T> {
             particle_wall_force: Vec::new(),
             bytes_sent: 0,
             rebuild_bytes: 0,
-            steps_run: 0,
-            stepping: 0.0,
             plain_sums: false,
             migrated: 0,
             in_cell_order: false,
-            advanced: false,
             owned_by_id: vec![false; setup.spheres.len()],
             collision_steps: Vec::new(),
             restored_collisions: 0,
             balance: balance::Balance::default(),
+        };
+        let mut me = Self {
+            sim,
+            comm,
+            steps_run: 0,
+            stepping: 0.0,
         };
         me.rebuild();
         let sim = &mut me.sim;
@@ -339,29 +303,29 @@ impl<T: Transport> DistributedSimulation<T> {
     }
 
     pub fn rank(&self) -> usize {
-        self.transport.rank()
+        self.comm.transport.rank()
     }
 
     /// Experiment (tests/decomposition.rs): sum the pair forces with the
     /// engine's half lists, in the order of each rank's own list, instead
     /// of by partner id. No boundary-particle wall forces then.
     pub fn use_plain_sums(&mut self) {
-        self.plain_sums = true;
-        self.in_cell_order = false;
+        self.comm.plain_sums = true;
+        self.comm.in_cell_order = false;
         self.sim.pipeline.whole_grid = None;
         self.sim.world.list.sequential = false;
     }
 
     pub fn ranks(&self) -> usize {
-        self.transport.size()
+        self.comm.transport.size()
     }
 
     pub fn transport(&self) -> &T {
-        &self.transport
+        &self.comm.transport
     }
 
     pub fn grid(&self) -> [usize; 3] {
-        self.decomposition.grid
+        self.comm.decomposition.grid
     }
 
     /// The local engine (owned bodies and halo copies).
@@ -373,14 +337,16 @@ impl<T: Transport> DistributedSimulation<T> {
     /// whole-scene cell order (else by partner id: some rank lists extra
     /// pairs). Either order is independent of the decomposition.
     pub fn sums_in_cell_order(&self) -> bool {
-        self.in_cell_order
+        self.comm.in_cell_order
     }
 
     /// Bodies this rank owns.
     pub fn owned(&self) -> usize {
-        self.halo.iter().filter(|&&h| !h).count()
+        self.comm.halo.iter().filter(|&&h| !h).count()
     }
+}
 
+impl<T: Transport> RankComm<T> {
     /// Sends whole-body messages (`out[rank]`) and returns what the other
     /// ranks sent here, in rank order. Collective.
     fn send_records(&mut self, out: BTreeMap<usize, Writer>) -> Vec<(usize, Vec<u8>)> {
@@ -405,11 +371,15 @@ impl<T: Transport> DistributedSimulation<T> {
     }
 
     /// Migration, a new halo and new lists. Collective.
-    fn rebuild(&mut self) {
+    fn migrate_and_rebuild(
+        &mut self,
+        pipeline: &mut Pipeline,
+        world: &mut World,
+        workers: &Workers,
+    ) {
         // Re-balancing may move the cuts first (the migration follows).
-        self.rebalance();
+        self.rebalance(world);
         let rank = self.transport.rank();
-        let world = &mut self.sim.world;
         let mut saved = save_pairs(world);
         let keep = world.laws.history;
         let spin = world.friction.is_some();
@@ -486,7 +456,6 @@ impl<T: Transport> DistributedSimulation<T> {
         }
         select(world, &stay);
         for (_, bytes) in self.send_records(out) {
-            let world = &mut self.sim.world;
             let mut r = Reader::new(&bytes);
             while !r.done() {
                 pack::read_body(&mut r, &mut world.bodies, &mut world.wall_contacts);
@@ -530,7 +499,6 @@ impl<T: Transport> DistributedSimulation<T> {
             }
         }
         // 2. The halo: every owned body to the ranks within its reach.
-        let world = &mut self.sim.world;
         let owned = world.bodies.len();
         let reach = self.largest_radius + world.skin;
         let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
@@ -547,7 +515,6 @@ impl<T: Transport> DistributedSimulation<T> {
         }
         let mut got_ids: Vec<(usize, Vec<u32>)> = Vec::new();
         for (from, bytes) in self.send_records(out) {
-            let world = &mut self.sim.world;
             let mut r = Reader::new(&bytes);
             let mut ids = Vec::new();
             while !r.done() {
@@ -571,18 +538,17 @@ impl<T: Transport> DistributedSimulation<T> {
         }
         // 3. The lists (bodies re-sorted by the whole scene's cells), pair
         // state restored.
-        self.sim.pipeline.whole_grid = if self.plain_sums {
+        pipeline.whole_grid = if self.plain_sums {
             None
         } else {
-            Some(self.whole_grid())
+            Some(self.whole_grid(world))
         };
-        let sim = &mut self.sim;
-        sim.pipeline.rebuild(&mut sim.world, &sim.workers, saved);
-        let extra = !sim.world.list.extra.is_empty();
+        pipeline.rebuild(world, workers, saved);
+        let extra = !world.list.extra.is_empty();
         self.in_cell_order =
             !self.plain_sums && self.transport.max(if extra { 1.0 } else { 0.0 }) == 0.0;
         // 4. Per-step plans by the new local indices.
-        let b = &sim.world.bodies;
+        let b = &world.bodies;
         let at: HashMap<u32, u32> =
             b.id.iter()
                 .enumerate()
@@ -614,7 +580,7 @@ impl<T: Transport> DistributedSimulation<T> {
             .filter(|(_, v)| !v.is_empty())
             .collect();
         self.owned_by_id.fill(false);
-        for (k, &id) in self.sim.world.bodies.id.iter().enumerate() {
+        for (k, &id) in world.bodies.id.iter().enumerate() {
             if !self.halo[k] {
                 if let Some(o) = self.owned_by_id.get_mut(id as usize) {
                     *o = true;
@@ -626,14 +592,13 @@ impl<T: Transport> DistributedSimulation<T> {
             self.incidence.clear();
             self.walled.clear();
         } else {
-            self.build_incidence();
+            self.build_incidence(world);
         }
     }
 
     /// The whole scene's cell grid: the extent of every rank's celled
     /// bodies and their number. Collective.
-    fn whole_grid(&self) -> WholeGrid {
-        let world = &self.sim.world;
+    fn whole_grid(&self, world: &World) -> WholeGrid {
         let (lo, hi) = celled_extent(world);
         let owned = self.halo.iter().filter(|&&h| !h).count() as f64;
         let mut whole = WholeGrid {
@@ -649,273 +614,10 @@ impl<T: Transport> DistributedSimulation<T> {
         whole
     }
 
-    /// Each owned free body's pairs, by partner id.
-    fn build_incidence(&mut self) {
-        let world = &self.sim.world;
-        let b = &world.bodies;
-        let n = b.len();
-        let list = &world.list;
-        let wanted = |k: usize| !self.halo[k] && !b.fixed[k];
-        let m = list.j.len();
-        let mut count = vec![0u32; n + 1];
-        let pairs = list
-            .entries()
-            .map(|(i, k)| (i, list.j[k] as usize, k))
-            .chain(list.extra.iter().enumerate().map(|(q, &(i, j))| {
-                let (_, _, owner) = extended(b, &world.ghosts, j as usize);
-                (i as usize, owner, m + q)
-            }));
-        let pairs: Vec<(usize, usize, usize)> = pairs.collect();
-        for &(i, j, _) in &pairs {
-            if wanted(i) {
-                count[i + 1] += 1;
-            }
-            if wanted(j) {
-                count[j + 1] += 1;
-            }
-        }
-        for k in 0..n {
-            count[k + 1] += count[k];
-        }
-        let mut fill = count.clone();
-        let blank = Incident {
-            partner: 0,
-            entry: 0,
-            negative: false,
-            group: NO_GROUP,
-        };
-        let mut inc = vec![blank; count[n] as usize];
-        for &(i, j, e) in &pairs {
-            for (me, other, negative) in [(i, j, true), (j, i, false)] {
-                if wanted(me) {
-                    inc[fill[me] as usize] = Incident {
-                        partner: b.id[other],
-                        entry: e as u32,
-                        negative,
-                        group: b.group[other],
-                    };
-                    fill[me] += 1;
-                }
-            }
-        }
-        for k in 0..n {
-            inc[count[k] as usize..count[k + 1] as usize].sort_by_key(|x| x.partner);
-        }
-        self.incidence_start = count;
-        let code = |x: &Incident| x.entry | if x.negative { NEGATIVE } else { 0 };
-        self.walled = inc
-            .iter()
-            .filter(|x| x.group != NO_GROUP)
-            .map(|x| (code(x), x.group))
-            .collect();
-        self.incidence = inc.iter().map(code).collect();
-    }
-
-    /// Every listed pair's force (history updated), then each owned free
-    /// body's sum in partner-id order, added to its gravity and wall force.
-    fn pair_forces(&mut self) {
-        if self.plain_sums {
-            let sim = &mut self.sim;
-            let dt = sim.world.dt;
-            sim.pipeline.pair_forces(&mut sim.world, &sim.workers, dt);
-            return;
-        }
-        if self.in_cell_order {
-            let sim = &mut self.sim;
-            let dt = sim.world.dt;
-            sim.pipeline.pair_forces(&mut sim.world, &sim.workers, dt);
-            self.particle_wall_force = self.boundary_particle_forces();
-            return;
-        }
-        let sim = &mut self.sim;
-        let world = &mut sim.world;
-        let workers = &sim.workers;
-        let n = world.bodies.len();
-        let list = &world.list;
-        let m = list.j.len();
-        let laws = &world.laws;
-        let keep = laws.history;
-        self.pair_force.resize(m + list.extra.len(), [0.0; 3]);
-        self.hit.resize(m + list.extra.len(), false);
-        let mut force = std::mem::take(&mut world.bodies.force);
-        let b = &world.bodies;
-        assert!(list.start.len() == n + 1 && (!keep || world.histories.main.len() == m));
-        let pf = SharedMut::new(&mut self.pair_force);
-        let hist = SharedMut::new(&mut world.histories.main);
-        let pair = |xi,
-                    vi,
-                    ri,
-                    xj,
-                    vj,
-                    rj,
-                    law: &dembound_physics::contact::PairLaw,
-                    h: &mut ContactHistory| {
-            match touching(xi, vi, ri, xj, vj, rj) {
-                Some(g) => {
-                    let f = law.force(g.overlap, g.overlap_rate, h);
-                    law.update(g.overlap, g.overlap_rate, h);
-                    [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
-                }
-                None => {
-                    if *h != ContactHistory::default() {
-                        *h = ContactHistory::default();
-                    }
-                    [0.0; 3]
-                }
-            }
-        };
-        let hit = SharedMut::new(&mut self.hit);
-        let (position, velocity, radius) = (&b.position[..], &b.velocity[..], &b.radius[..]);
-        workers.run(n.div_ceil(STEP_CHUNK), |c| {
-            for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
-                let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
-                for k in list.start[i] as usize..list.start[i + 1] as usize {
-                    let j = list.j[k] as usize;
-                    // The partner's velocity and the law only in contact
-                    // (as the engine's loop).
-                    let g = touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j]);
-                    // SAFETY: entry k belongs to row i, in this chunk only.
-                    unsafe {
-                        match g {
-                            Some(g) => {
-                                let mut scratch = NO_HISTORY;
-                                let h = if keep { hist.at(k) } else { &mut scratch };
-                                let law = laws.pair(b, i, j);
-                                let f = law.force(g.overlap, g.overlap_rate, h);
-                                law.update(g.overlap, g.overlap_rate, h);
-                                *pf.at(k) = [f * g.normal[0], f * g.normal[1], f * g.normal[2]];
-                                *hit.at(k) = true;
-                            }
-                            None => {
-                                *hit.at(k) = false;
-                                if keep && *hist.at(k) != ContactHistory::default() {
-                                    *hist.at(k) = ContactHistory::default();
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        });
-        for (q, &(i, j)) in list.extra.iter().enumerate() {
-            let (i, j) = (i as usize, j as usize);
-            let (xj, vj, owner) = extended(b, &world.ghosts, j);
-            let mut scratch = NO_HISTORY;
-            let h = if keep {
-                &mut world.histories.extra[q]
-            } else {
-                &mut scratch
-            };
-            let law = laws.pair(b, i, owner);
-            self.hit[m + q] = true;
-            self.pair_force[m + q] = pair(
-                b.position[i],
-                b.velocity[i],
-                b.radius[i],
-                xj,
-                vj,
-                b.radius[owner],
-                &law,
-                h,
-            );
-        }
-        let (start, inc, pf, hit) = (
-            &self.incidence_start,
-            &self.incidence,
-            &self.pair_force,
-            &self.hit,
-        );
-        let f_ptr = SharedMut::new(&mut force);
-        workers.run(n.div_ceil(STEP_CHUNK), |c| {
-            for i in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
-                let (s, e) = (start[i] as usize, start[i + 1] as usize);
-                if s == e {
-                    continue;
-                }
-                // SAFETY: one body per iteration, chunks disjoint.
-                let f = unsafe { f_ptr.at(i) };
-                for &x in &inc[s..e] {
-                    let entry = (x & !NEGATIVE) as usize;
-                    // Pairs apart add nothing (f + 0 = f: skipping them
-                    // changes no bit).
-                    if !hit[entry] {
-                        continue;
-                    }
-                    let p = pf[entry];
-                    if x & NEGATIVE != 0 {
-                        f[0] -= p[0];
-                        f[1] -= p[1];
-                        f[2] -= p[2];
-                    } else {
-                        f[0] += p[0];
-                        f[1] += p[1];
-                        f[2] += p[2];
-                    }
-                }
-            }
-        });
-        // The boundary particles' reaction, from the free side.
-        let mut wf = vec![[0.0; 3]; world.walls.len()];
-        for &(x, group) in &self.walled {
-            let entry = (x & !NEGATIVE) as usize;
-            if hit[entry] {
-                let p = pf[entry];
-                // The free body got ∓p; the boundary particle gets ±p.
-                let s = if x & NEGATIVE != 0 { 1.0 } else { -1.0 };
-                for a in 0..3 {
-                    wf[group as usize][a] += s * p[a];
-                }
-            }
-        }
-        self.particle_wall_force = wf;
-        world.bodies.force = force;
-    }
-
-    /// The force on each boundary-particle wall from this rank's pairs:
-    /// the forces its boundary particles (owned ones and halo copies) got
-    /// in the last force stage. A pair of a free body with a boundary
-    /// particle is listed only on the rank owning the free body (two
-    /// bodies flagged fixed, a halo copy being one, are never paired), so
-    /// the sum over the ranks counts each pair once.
-    fn boundary_particle_forces(&self) -> Vec<[f64; 3]> {
-        let world = &self.sim.world;
-        let b = &world.bodies;
-        let mut wf = vec![[0.0; 3]; world.walls.len()];
-        for k in 0..b.len() {
-            let g = b.group[k];
-            if g != NO_GROUP && b.fixed[k] {
-                if let Some(w) = wf.get_mut(g as usize) {
-                    for (w, f) in w.iter_mut().zip(b.force[k]) {
-                        *w += f;
-                    }
-                }
-            }
-        }
-        wf
-    }
-
-    /// After Verlet's first half: whether any rank's body moved more than
-    /// half the skin (then migration, a new halo and lists, and the
-    /// per-body forces again: the wall masks are new), else the halo and
-    /// the ghosts follow their owners. Collective.
-    fn after_advance(&mut self, moved2: f64) {
-        let moved2 = self.transport.max(moved2);
-        if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
-            self.rebuild();
-            let sim = &mut self.sim;
-            let dt = sim.world.dt;
-            sim.pipeline.body_forces(&mut sim.world, &sim.workers, dt);
-        } else {
-            self.halo_update();
-            let sim = &mut self.sim;
-            sim.pipeline.ghosts(&mut sim.world);
-        }
-    }
-
     /// Position and velocity of every free halo body from its owner.
-    fn halo_update(&mut self) {
-        let spin = self.sim.world.friction.is_some();
-        let b = &self.sim.world.bodies;
+    fn halo_update(&mut self, world: &mut World) {
+        let spin = world.friction.is_some();
+        let b = &world.bodies;
         let sends: Vec<(usize, Vec<u8>)> = self
             .sends
             .iter()
@@ -934,7 +636,7 @@ impl<T: Transport> DistributedSimulation<T> {
         self.bytes_sent += sends.iter().map(|(_, s)| s.len() as u64).sum::<u64>();
         let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
         let got = self.transport.exchange(&sends, &from);
-        let b = &mut self.sim.world.bodies;
+        let b = &mut world.bodies;
         for ((_, idx), bytes) in self.receives.iter().zip(got) {
             let mut r = Reader::new(&bytes);
             for &k in idx {
@@ -946,155 +648,34 @@ impl<T: Transport> DistributedSimulation<T> {
             }
         }
     }
+}
 
-    /// Advances `n` steps (velocity Verlet, as the engine's). Collective.
-    ///
-    /// Summing in whole-scene cell order, each step but the last fuses
-    /// the next step's first half into its force stage as the engine does
-    /// (the same operations in the same order: the same bits); the halo
-    /// exchange then sits between the fused stages.
+impl<T: Transport> DistributedSimulation<T> {
+    /// Advances `n` steps: the engine's pipeline with this rank's hooks
+    /// (halo, migration, sums in an order the whole scene fixes).
+    /// Collective.
     pub fn step(&mut self, n: u64) {
         let clock = Instant::now();
-        if self.sim.world.tracks.is_some() {
-            for _ in 0..n {
-                self.tracked_step();
-            }
-            self.steps_run += n;
-            self.stepping += clock.elapsed().as_secs_f64();
-            return;
-        }
-        if self.sim.world.scheme == Scheme::Gear5 {
-            for _ in 0..n {
-                self.gear5_step();
-            }
-            self.steps_run += n;
-            self.stepping += clock.elapsed().as_secs_f64();
-            return;
-        }
-        for k in 0..n {
-            if !std::mem::take(&mut self.advanced) {
-                let sim = &mut self.sim;
-                let moved2 = sim.pipeline.verlet_advance(&mut sim.world, &sim.workers);
-                self.after_advance(moved2);
-            }
-            if self.in_cell_order && k + 1 < n {
-                let sim = &mut self.sim;
-                let moved2 = sim
-                    .pipeline
-                    .pair_forces_then_advance(&mut sim.world, &sim.workers);
-                sim.world.steps_done += 1;
-                self.advanced = true;
-                self.after_advance(moved2);
-                continue;
-            }
-            self.pair_forces();
-            self.sim.pipeline.pending_kick = true;
-            self.sim.world.steps_done += 1;
-        }
         let sim = &mut self.sim;
-        sim.pipeline.finish(&mut sim.world, &sim.workers);
+        sim.pipeline
+            .steps(&mut sim.world, &sim.workers, n, &mut self.comm);
         self.steps_run += n;
         self.stepping += clock.elapsed().as_secs_f64();
     }
 
-    /// One Verlet step with the collision log, as the engine's: the
-    /// closing half kick in the step, then the halo again (the copies'
-    /// velocities at the step's end: every rank tracks a pair across a
-    /// cut with the same bits), then the log. A collision is kept by the
-    /// rank owning its sphere i. Collective.
-    fn tracked_step(&mut self) {
+    /// Migration, a new halo and new lists. Collective.
+    fn rebuild(&mut self) {
         let sim = &mut self.sim;
-        let moved2 = sim.pipeline.verlet_advance(&mut sim.world, &sim.workers);
-        self.after_advance(moved2);
-        self.pair_forces();
-        let sim = &mut self.sim;
-        let dt = sim.world.dt;
-        integrate::verlet_kick(&mut sim.world.bodies, dt, &sim.workers);
-        sim.world.steps_done += 1;
-        self.halo_update();
-        let sim = &mut self.sim;
-        sim.pipeline.ghosts(&mut sim.world);
-        let w = &mut sim.world;
-        let before = w.collisions.len();
-        sim.pipeline.observe(w);
-        let new = w.collisions.split_off(before);
-        let owned = &self.owned_by_id;
-        w.collisions.extend(
-            new.into_iter()
-                .filter(|c| owned.get(c.i).copied().unwrap_or(false)),
-        );
-        self.collision_steps
-            .resize(w.collisions.len(), w.steps_done);
+        self.comm
+            .migrate_and_rebuild(&mut sim.pipeline, &mut sim.world, &sim.workers);
     }
 
-    /// Every rank's collision log, merged at rank 0 in the engine's order
-    /// (by the step that completed each, then sphere i and partner);
-    /// `None` elsewhere. Collective.
-    pub fn collisions(&self) -> Option<Vec<Collision>> {
-        let w = &self.sim.world;
-        // The order: a restart's log first, as it was; then by step, sphere
-        // and partner (steps count from 1).
-        type Key = (u64, u64, (u8, usize));
-        let mine: Vec<(Key, Collision)> = self
-            .collision_steps
-            .iter()
-            .zip(&w.collisions)
-            .enumerate()
-            .map(|(k, (&step, c))| {
-                let key = if k < self.restored_collisions {
-                    (0, k as u64, (0, 0))
-                } else {
-                    (step, c.i as u64, partner_key(c.j))
-                };
-                (key, *c)
-            })
-            .collect();
-        let parts = self.transport.gather(pack::encode(&mine))?;
-        let mut all: Vec<(Key, Collision)> = parts
-            .iter()
-            .filter_map(|b| pack::decode::<Vec<(Key, Collision)>>(b))
-            .flatten()
-            .collect();
-        all.sort_by_key(|(key, _)| *key);
-        Some(all.into_iter().map(|(_, c)| c).collect())
-    }
-
-    /// One Gear5 step, as the engine's: predict the owned bodies, the
-    /// halo (or a rebuild), forces at the predicted state, correct. The
-    /// contacts that began or ended inside the step are collected in list
-    /// order, which in whole-scene cell order adds each body's corrections
-    /// in the same order on any rank. Collective.
-    fn gear5_step(&mut self) {
+    /// The pair stage as a step runs it. Collective.
+    fn pair_forces(&mut self) {
         let sim = &mut self.sim;
         let dt = sim.world.dt;
-        let moved2 = integrate::gear5_predict(
-            &mut sim.world.bodies,
-            &sim.pipeline.reference,
-            dt,
-            &sim.workers,
-        );
-        let friction = sim.world.friction.is_some();
-        if friction {
-            gear5_rotation::predict(&mut sim.world.bodies, &sim.workers);
-        }
-        let moved2 = self.transport.max(moved2);
-        if needs_rebuild(moved2, 0.5 * self.sim.world.skin) {
-            self.rebuild();
-        } else {
-            self.halo_update();
-            let sim = &mut self.sim;
-            sim.pipeline.ghosts(&mut sim.world);
-        }
-        let sim = &mut self.sim;
-        // With friction the springs move by Δt of the predicted slip, as
-        // the engine's (`pair_forces` moves the pairs' by Δt already).
-        let springs_dt = if friction { dt } else { 0.0 };
-        sim.pipeline
-            .body_forces(&mut sim.world, &sim.workers, springs_dt);
-        self.pair_forces();
-        let sim = &mut self.sim;
-        sim.pipeline.gear5_correct(&mut sim.world, &sim.workers);
-        sim.world.steps_done += 1;
+        self.comm
+            .sum_pair_forces(&mut sim.pipeline, &mut sim.world, &sim.workers, dt);
     }
 
     pub fn steps_done(&self) -> u64 {
@@ -1129,209 +710,55 @@ impl<T: Transport> DistributedSimulation<T> {
     /// The global observables (sums over the ranks). Collective.
     pub fn observe(&self) -> Observation {
         let sim = &self.sim;
-        let w = &sim.world;
-        let b = &w.bodies;
-        let kinetic = sim.kinetic_energy();
-        let potential = sim.potential_energy();
-        let (plane_forces, plane_contacts, plane_energy) =
-            walls::plane_observables(b, &w.surfaces, &w.wall_contacts, &w.laws, &sim.workers);
-        // A pair is counted on the rank owning its free body of lower id.
-        let (fixed_by_id, halo) = (&self.fixed_by_id, &self.halo);
-        let counted_here = |i: usize, j: usize| {
-            let (a, c) = (b.id[i], b.id[j]);
-            let lead = match (fixed_by_id[a as usize], fixed_by_id[c as usize]) {
-                (false, false) => {
-                    if a < c {
-                        i
-                    } else {
-                        j
-                    }
-                }
-                (false, true) => i,
-                _ => j,
-            };
-            !halo[lead]
-        };
-        let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
-        let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
-            // The contact test first: most listed pairs are apart.
-            let Some(g) = touching(
-                b.position[i],
-                [0.0; 3],
-                b.radius[i],
-                xj,
-                [0.0; 3],
-                b.radius[owner],
-            ) else {
-                return;
-            };
-            if !counted_here(i, owner) {
-                return;
-            }
-            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
-                wc += 1.0;
-            } else {
-                pc += 1.0;
-            }
-            energy += w
-                .laws
-                .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
-        };
-        let list = &w.list;
-        for i in 0..b.len() {
-            for k in list.start[i] as usize..list.start[i + 1] as usize {
-                let j = list.j[k] as usize;
-                visit(i, b.position[j], j, w.histories.main(k));
-            }
-        }
-        for (q, &(i, j)) in list.extra.iter().enumerate() {
-            let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
-            visit(i as usize, xj, owner, w.histories.extra(q));
-        }
-        // The friction springs' energy and the planes' tangential forces
-        // (halo copies are fixed: they touch no plane here).
-        let (springs, tangential) = match &w.friction {
-            Some(table) => (
-                spring_energy::spring_energy_counted(
-                    b,
-                    &w.ghosts,
-                    &w.list,
-                    &w.laws,
-                    table,
-                    &w.shear,
-                    &w.surfaces,
-                    &w.wall_contacts,
-                    &sim.workers,
-                    counted_here,
-                ),
-                friction::plane_tangential_forces(b, &w.surfaces, &w.laws, table, &w.wall_contacts),
-            ),
-            None => (0.0, Vec::new()),
-        };
-        let walls_n = w.walls.len();
-        let mut v = vec![
-            kinetic,
-            potential,
-            energy + plane_energy + springs,
-            pc,
-            wc + plane_contacts as f64,
-        ];
-        for (wi, kind) in w.walls.iter().enumerate() {
-            let f = match kind {
-                WallKind::Surface(p) => {
-                    let mut f = plane_forces[*p];
-                    if let Some(t) = tangential.get(*p) {
-                        for a in 0..3 {
-                            f[a] += t[a];
-                        }
-                    }
-                    f
-                }
-                WallKind::Particles => self
-                    .particle_wall_force
-                    .get(wi)
-                    .copied()
-                    .unwrap_or([0.0; 3]),
-            };
-            v.extend_from_slice(&f);
-        }
-        let s = self.transport.sum(&v);
-        let wall_forces = (0..walls_n)
-            .map(|k| [s[5 + 3 * k], s[6 + 3 * k], s[7 + 3 * k]])
-            .collect();
-        Observation {
-            step: w.steps_done,
-            time: w.time(),
-            kinetic_energy: s[0],
-            elastic_energy: s[2],
-            potential_energy: s[1],
-            dissipated_energy: sim.initial_energy - (s[0] + s[2] + s[1]),
-            particle_contacts: s[3].round() as usize,
-            wall_contacts: s[4].round() as usize,
-            wall_forces,
-        }
+        observation(&sim.world, &sim.workers, sim.initial_energy, &self.comm)
+    }
+}
+
+impl<T: Transport> StepHooks for RankComm<T> {
+    /// One max per step over the ranks: every rank rebuilds at the same
+    /// step.
+    fn max_moved2(&mut self, moved2: f64) -> f64 {
+        self.transport.max(moved2)
     }
 
-    /// This rank's figures, gathered for every rank (rank order). Collective.
-    pub fn rank_reports(&self) -> Vec<RankReport> {
-        let steps = self.steps_run.max(1) as f64;
-        let owned = self.transport.all_gather(self.owned() as f64);
-        let halo = self
-            .transport
-            .all_gather(self.halo.iter().filter(|&&h| h).count() as f64);
-        let secs = self.transport.all_gather(self.stepping / steps);
-        let bytes = self.transport.all_gather(self.bytes_sent as f64 / steps);
-        let rebuild = self.transport.all_gather(self.rebuild_bytes as f64 / steps);
-        (0..self.transport.size())
-            .map(|r| RankReport {
-                owned: owned[r] as usize,
-                halo: halo[r] as usize,
-                seconds_per_step: secs[r],
-                bytes_per_step: bytes[r],
-                rebuild_bytes_per_step: rebuild[r],
-            })
-            .collect()
+    /// Migration, a new halo and new lists.
+    fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
+        self.migrate_and_rebuild(pipeline, world, workers);
     }
 
-    /// Bodies this rank has handed to other ranks so far.
-    pub fn migrated(&self) -> u64 {
-        self.migrated
+    /// Position and velocity (and spin) of every free halo body from its
+    /// owner.
+    fn halo(&mut self, world: &mut World) {
+        self.halo_update(world);
     }
 
-    /// Seconds this rank spent stepping.
-    pub fn stepping_seconds(&self) -> f64 {
-        self.stepping
+    fn pair_forces(
+        &mut self,
+        pipeline: &mut Pipeline,
+        world: &mut World,
+        workers: &Workers,
+        dt: f64,
+    ) {
+        self.sum_pair_forces(pipeline, world, workers, dt);
     }
 
-    /// The owned bodies of every rank at rank 0, input order (`None`
-    /// elsewhere). Collective.
-    pub fn gather_state(&self) -> Option<GatheredState> {
-        let b: &Bodies = &self.sim.world.bodies;
-        let mut w = Writer::default();
-        for k in 0..b.len() {
-            if self.halo[k] {
-                continue;
-            }
-            w.u32(b.id[k]);
-            w.vec3(b.position[k]);
-            w.vec3(b.velocity[k]);
-            w.vec3(b.force[k]);
-            w.f64(b.radius[k]);
-            w.u8(u8::from(b.fixed[k]));
-            w.u32(b.material[k]);
-            w.vec3(b.angular_velocity.get(k).copied().unwrap_or_default());
-        }
-        let parts = self.transport.gather(w.0)?;
-        let n = self.fixed_by_id.len();
-        let mut s = GatheredState {
-            position: vec![[0.0; 3]; n],
-            velocity: vec![[0.0; 3]; n],
-            force: vec![[0.0; 3]; n],
-            radius: vec![0.0; n],
-            fixed: vec![false; n],
-            material: vec![0; n],
-            angular_velocity: vec![[0.0; 3]; n],
-            rank: vec![u32::MAX; n],
-        };
-        for (rank, bytes) in parts.iter().enumerate() {
-            let mut r = Reader::new(bytes);
-            while !r.done() {
-                let id = r.u32() as usize;
-                let (x, v, f, rad, fixed, mat) =
-                    (r.vec3(), r.vec3(), r.vec3(), r.f64(), r.u8() != 0, r.u32());
-                let spin = r.vec3();
-                if id < n {
-                    s.angular_velocity[id] = spin;
-                    s.position[id] = x;
-                    s.velocity[id] = v;
-                    s.force[id] = f;
-                    s.radius[id] = rad;
-                    s.fixed[id] = fixed;
-                    s.material[id] = mat;
-                    s.rank[id] = rank as u32;
-                }
-            }
-        }
-        Some(s)
+    /// Summing in whole-scene cell order, the engine's fused Verlet step
+    /// runs as it is (the halo exchange then sits between the fused
+    /// stages).
+    fn fusable(&self, _world: &World) -> bool {
+        self.in_cell_order
+    }
+
+    /// A collision is kept by the rank owning its sphere i; each entry
+    /// remembers its step (the merged log's order).
+    fn logged(&mut self, world: &mut World, before: usize) {
+        let new = world.collisions.split_off(before);
+        let owned = &self.owned_by_id;
+        world.collisions.extend(
+            new.into_iter()
+                .filter(|c| owned.get(c.i).copied().unwrap_or(false)),
+        );
+        self.collision_steps
+            .resize(world.collisions.len(), world.steps_done);
     }
 }

@@ -26,8 +26,9 @@
 //! partner-id order), so a re-balanced run is the same bits as one that
 //! never re-balances (tests/decomposition_balance.rs).
 
-use super::DistributedSimulation;
+use super::{DistributedSimulation, RankComm};
 use crate::comm::Transport;
+use crate::pipeline::World;
 
 /// Bisection steps per cut: the cut is then within 2⁻⁵⁰ of the bodies'
 /// extent of the quantile (closer than any two distinct coordinates of a
@@ -92,33 +93,40 @@ impl<T: Transport> DistributedSimulation<T> {
     /// `threshold` (> 1; ∞: never, the default of the library). Every
     /// rank sets the same.
     pub fn set_rebalance_threshold(&mut self, threshold: f64) {
-        self.balance.threshold = threshold;
+        self.comm.balance.threshold = threshold;
     }
 
     /// What the re-partitioning did so far.
     pub fn balance_report(&self) -> BalanceReport {
-        let b = &self.balance;
+        let b = &self.comm.balance;
         BalanceReport {
             threshold: b.threshold,
             rebalances: b.rebalances,
             free_at_start: b.start.clone(),
             free_before_last: b.before.clone(),
-            cuts: [0, 1, 2].map(|a| self.decomposition.cuts(a).to_vec()),
+            cuts: [0, 1, 2].map(|a| self.comm.decomposition.cuts(a).to_vec()),
         }
     }
 
     /// Each rank's owned free bodies, rank order. Collective.
     pub fn free_counts(&self) -> Vec<usize> {
+        self.comm.free_counts(&self.sim.world)
+    }
+}
+
+impl<T: Transport> RankComm<T> {
+    /// Each rank's owned free bodies, rank order. Collective.
+    fn free_counts(&self, world: &World) -> Vec<usize> {
         self.transport
-            .all_gather(self.owned_free() as f64)
+            .all_gather(self.owned_free(world) as f64)
             .iter()
             .map(|&c| c as usize)
             .collect()
     }
 
     /// Owned free bodies of this rank.
-    fn owned_free(&self) -> usize {
-        let fixed = &self.sim.world.bodies.fixed;
+    fn owned_free(&self, world: &World) -> usize {
+        let fixed = &world.bodies.fixed;
         (0..fixed.len())
             .filter(|&k| !fixed[k] && !self.halo.get(k).copied().unwrap_or(false))
             .count()
@@ -127,8 +135,8 @@ impl<T: Transport> DistributedSimulation<T> {
     /// The hook at the start of each list rebuild: moves the cuts if the
     /// imbalance exceeds the threshold (the rebuild then migrates).
     /// Collective.
-    pub(super) fn rebalance(&mut self) {
-        let counts = self.free_counts();
+    pub(super) fn rebalance(&mut self, world: &World) {
+        let counts = self.free_counts(world);
         if self.balance.start.is_empty() {
             self.balance.start.clone_from(&counts);
         }
@@ -138,7 +146,7 @@ impl<T: Transport> DistributedSimulation<T> {
         let total: usize = counts.iter().sum();
         for a in 0..3 {
             if self.decomposition.grid[a] > 1 {
-                let inner = self.quantile_cuts(a, total);
+                let inner = self.quantile_cuts(world, a, total);
                 self.decomposition.set_cuts(a, &inner);
             }
         }
@@ -148,9 +156,9 @@ impl<T: Transport> DistributedSimulation<T> {
 
     /// Inner cuts along axis a at the quantiles k/g of the `total` free
     /// bodies' coordinates (bisection on global counts). Collective.
-    fn quantile_cuts(&self, a: usize, total: usize) -> Vec<f64> {
+    fn quantile_cuts(&self, world: &World, a: usize, total: usize) -> Vec<f64> {
         let g = self.decomposition.grid[a];
-        let b = &self.sim.world.bodies;
+        let b = &world.bodies;
         let mut xs: Vec<f64> = (0..b.len())
             .filter(|&k| !b.fixed[k] && !self.halo.get(k).copied().unwrap_or(false))
             .map(|k| b.position[k][a])

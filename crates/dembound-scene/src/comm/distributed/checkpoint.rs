@@ -127,7 +127,7 @@ impl<T: Transport> DistributedSimulation<T> {
         let (spin, gear5) = (w.friction.is_some(), w.scheme == Scheme::Gear5);
         let reference = &self.sim.pipeline.reference;
         let mut out = Writer::default();
-        let owned: Vec<usize> = (0..b.len()).filter(|&k| !self.halo[k]).collect();
+        let owned: Vec<usize> = (0..b.len()).filter(|&k| !self.comm.halo[k]).collect();
         out.u32(owned.len() as u32);
         for &k in &owned {
             out.u32(b.id[k]);
@@ -228,10 +228,10 @@ impl<T: Transport> DistributedSimulation<T> {
         } else {
             None
         };
-        let Some(parts) = self.transport.gather(out.0) else {
+        let Some(parts) = self.comm.transport.gather(out.0) else {
             return Ok(None);
         };
-        let n = self.fixed_by_id.len();
+        let n = self.comm.fixed_by_id.len();
         let mut c = Checkpoint {
             steps_done: w.steps_done,
             dt: w.dt,
@@ -451,7 +451,7 @@ impl<T: Transport> DistributedSimulation<T> {
         }
         // Owners under this rank count, the halo and the lists as built
         // (the re-balancing counts start here).
-        me.balance = super::balance::Balance::default();
+        me.comm.balance = super::balance::Balance::default();
         me.rebuild();
         let w = &mut me.sim.world;
         if w.laws.history {
@@ -499,10 +499,10 @@ impl<T: Transport> DistributedSimulation<T> {
                 }
             }
             // The log so far, once: at rank 0.
-            if me.transport.rank() == 0 {
+            if me.comm.transport.rank() == 0 {
                 w.collisions.clone_from(&c.collisions);
-                me.collision_steps = vec![c.steps_done; c.collisions.len()];
-                me.restored_collisions = c.collisions.len();
+                me.comm.collision_steps = vec![c.steps_done; c.collisions.len()];
+                me.comm.restored_collisions = c.collisions.len();
             }
         }
         if let Some(table) = w.friction.as_ref() {
@@ -552,9 +552,9 @@ impl<T: Transport> DistributedSimulation<T> {
         w.histories = saved.1;
         w.bodies.torque = saved.2;
         w.shear = saved.3;
-        me.bytes_sent = 0;
-        me.rebuild_bytes = 0;
-        me.migrated = 0;
+        me.comm.bytes_sent = 0;
+        me.comm.rebuild_bytes = 0;
+        me.comm.migrated = 0;
         me.steps_run = 0;
         me.stepping = 0.0;
         Ok(me)
