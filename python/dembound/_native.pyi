@@ -80,6 +80,8 @@ class Scene:
     def add_plane(self, point: tuple[float, float, float] | list[float], normal: tuple[float, float, float] | list[float], material: Optional[int] = None) -> None:
         """Adds a fixed plane wall through ``point`` (m), ``normal`` into the
         domain, before the first step."""
+    def add_cylinder(self, point: tuple[float, float, float] | list[float], axis: tuple[float, float, float] | list[float], radius: float, inside: bool = True, length: Optional[float] = None, material: Optional[int] = None) -> None:
+        """A fixed cylinder wall (tube of `radius` m about the axis through `point` along `axis`; `inside`: spheres inside it, else outside a post; `length` m: flat caps at point ± length/2·axis)."""
     def step(self, n: int) -> None:
         """Advances n steps of Δt, 0 ≤ n ≤ 1e15 (GIL released)."""
     def run(

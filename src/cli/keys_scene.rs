@@ -324,7 +324,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "wall[K].material",
             "",
             "—",
-            "a material name, or \"rigid\" (plane)".into(),
+            "a material name, or \"rigid\" (plane, cylinder)".into(),
             "the wall's material",
         ),
         row("wall[K].friction", "", "its material's", mu, "the wall's μ"),
@@ -348,6 +348,41 @@ pub fn keys() -> Vec<KeyInfo> {
             "—",
             normal.clone(),
             "into the domain",
+        ),
+        row(
+            "wall[K].cylinder.point",
+            "m",
+            "—",
+            finite3(),
+            "a point of the axis (a capped tube's middle)",
+        ),
+        row(
+            "wall[K].cylinder.axis",
+            "",
+            "—",
+            "a finite non-zero vector; along every periodic axis".into(),
+            "the axis direction",
+        ),
+        row(
+            "wall[K].cylinder.radius",
+            "m",
+            "—",
+            "> 0; above the largest free radius (inside)".into(),
+            "R_c",
+        ),
+        row(
+            "wall[K].cylinder.inside",
+            "",
+            "true",
+            "true, false".into(),
+            "spheres inside the tube, or outside a post",
+        ),
+        row(
+            "wall[K].cylinder.length",
+            "m",
+            "infinite",
+            "> 0; tubes only, no periodic axis".into(),
+            "caps: discs at point ± length/2 · axis",
         ),
         row(
             "wall[K].boundary_particles.point",
@@ -503,8 +538,9 @@ pub fn keys() -> Vec<KeyInfo> {
 pub fn rules() -> String {
     let pct = |x: f64| format!("{} %", show(100.0 * x));
     format!(
-        "Initial overlaps: a free sphere's centre behind a plane wall, or an overlap (with a \
-         plane, or of two spheres one of them free) above {} of the smaller radius, is refused \
+        "Initial overlaps: a free sphere's centre behind a plane wall or on the wrong side of a \
+         cylinder (outside a tube or its caps, inside a post), or an overlap (with a plane or a \
+         cylinder, or of two spheres one of them free) above {} of the smaller radius, is refused \
          (exit 2, naming both); above {} it is a warning on stderr. A sphere's \\|v\\| ≤ {} m/s; \
          a moving sphere's material density {}.",
         pct(limits::OVERLAP_REFUSAL),

@@ -434,6 +434,9 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
     for (k, (f, wall)) in r.wall_forces.iter().zip(&resolved.setup.walls).enumerate() {
         let kind = match wall {
             WallSetup::Plane { .. } => "plane".to_string(),
+            WallSetup::Cylinder { inside, .. } => {
+                if *inside { "cylinder" } else { "post" }.to_string()
+            }
             WallSetup::BoundaryParticles { count, .. } => format!("{count} boundary particles"),
         };
         s += &format!("wall {k} ({kind}): force {}\n", vector(*f, "N"));

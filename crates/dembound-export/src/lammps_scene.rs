@@ -106,6 +106,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
+    if let Some(w) = setup
+        .walls
+        .iter()
+        .position(|w| matches!(w, WallSetup::Cylinder { .. }))
+    {
+        return refuse(format!(
+            "`wall[{w}].cylinder` cannot be exported yet: LAMMPS's `fix wall/gran ... \
+             zcylinder` is a tube about the z axis through x = y = 0 only, and dembound's \
+             caps and posts have no `wall/gran` counterpart; remove the cylinder (or replace it \
+             by planes) to export the scene"
+        ));
+    }
     // Friction (lammps_friction.rs): None for a frictionless deck.
     let friction = lammps_friction::plan(setup)?;
     match model.normal {

@@ -239,6 +239,52 @@ impl Scene {
         Ok(())
     }
 
+    /// Adds a fixed cylinder wall before the first step: a tube of
+    /// `radius` (m) about the axis through `point` (m) along `axis`, the
+    /// spheres `inside` it (else outside a post), closed by flat discs at
+    /// point ± length/2 · axis when `length` (m) is given; of material index
+    /// `material`.
+    #[pyo3(signature = (point, axis, radius, inside = true, length = None, material = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_cylinder(
+        &mut self,
+        point: &Bound<'_, PyAny>,
+        axis: &Bound<'_, PyAny>,
+        radius: &Bound<'_, PyAny>,
+        inside: bool,
+        length: Option<&Bound<'_, PyAny>>,
+        material: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let three = |obj, name| -> Result<[f64; 3], Failure> {
+            let (x, _) = args::floats(obj, name, &[Some(3)])?;
+            Ok([x[0], x[1], x[2]])
+        };
+        let point = three(point, "point")?;
+        let axis = three(axis, "axis")?;
+        let radius = args::real(radius, "radius")?;
+        let length = match length.filter(|l| !l.is_none()) {
+            Some(l) => Some(args::real(l, "length")?),
+            None => None,
+        };
+        let material = match material {
+            Some(m) => material_index(m, self.setup.materials.len())?,
+            None => 0,
+        };
+        self.setup.walls.push(WallSetup::Cylinder {
+            point,
+            axis,
+            radius,
+            inside,
+            length,
+            material,
+        });
+        if let Err(e) = guarded(|| self.rebuild("add_cylinder")) {
+            self.setup.walls.pop();
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
     /// Advances `n` steps (0 to 1e15; GIL released), then checks the state
     /// and the energy balance (`Simulation::step_guarded`).
     fn step(&mut self, py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<()> {

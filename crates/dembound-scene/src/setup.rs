@@ -128,6 +128,19 @@ pub enum WallSetup {
         normal: [f64; 3],
         material: usize,
     },
+    /// A fixed cylinder (`crate::walls::cylinder`): axis through `point`
+    /// (m) along `axis` (any length > 0), radius `radius` (m); the spheres
+    /// are `inside` the tube (else outside a post); `length` (m): a tube
+    /// closed by flat discs at point ± length/2 · axis (`None`: infinite).
+    /// Of `material`, like a plane.
+    Cylinder {
+        point: [f64; 3],
+        axis: [f64; 3],
+        radius: f64,
+        inside: bool,
+        length: Option<f64>,
+        material: usize,
+    },
     /// A wall of boundary particles: spheres `first_body..first_body+count`
     /// of [`SceneSetup::spheres`], all fixed, with `group` = this wall.
     BoundaryParticles { first_body: usize, count: usize },

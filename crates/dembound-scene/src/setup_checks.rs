@@ -9,6 +9,12 @@
 //!   then pushes it through and creates energy);
 //! - a free sphere whose centre is behind a plane, or that overlaps it by
 //!   more than [`limits::OVERLAP_REFUSAL`] of its radius;
+//! - a cylinder wall (`crate::walls::cylinder`) not along every periodic
+//!   axis, or capped while the domain is periodic; an inside tube no wider
+//!   than the largest free sphere; a free sphere whose centre is on the
+//!   wrong side (outside an inside tube or its caps, inside a post) or
+//!   that overlaps the tube or a cap by more than
+//!   [`limits::OVERLAP_REFUSAL`] of its radius;
 //! - two spheres (one of them free) overlapping by more than
 //!   [`limits::OVERLAP_REFUSAL`] of the smaller radius, coincident centres
 //!   included (they exert no force on each other: no contact normal).
@@ -65,6 +71,7 @@ pub fn check(setup: &SceneSetup, label: Label<'_>) -> Result<Vec<String>, SceneE
     let planes = planes(setup)?;
     let mut warnings = Vec::new();
     plane_overlaps(setup, &planes, label, &mut warnings)?;
+    cylinder_checks(setup, label, &mut warnings)?;
     pair_overlaps(setup, label, &mut warnings)?;
     Ok(warnings)
 }
@@ -236,6 +243,139 @@ fn plane_overlaps(
             "{count} free sphere(s) start overlapping a plane wall by more than {} of their \
              radius; the largest: {} and `wall[{w}].plane`, {} ({}). The contact laws are \
              small-strain theories, and the stored energy is released in the first steps",
+            percent(limits::OVERLAP_WARNING),
+            label(k),
+            metres(overlap),
+            percent(share)
+        ));
+    }
+    Ok(())
+}
+
+/// The cylinder walls' refusals and warnings (see the module doc).
+fn cylinder_checks(
+    setup: &SceneSetup,
+    label: Label<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
+    let mut worst: Option<(f64, usize, usize, f64)> = None;
+    let mut count = 0usize;
+    let largest_free = setup
+        .spheres
+        .iter()
+        .filter(|s| !s.fixed)
+        .map(|s| s.radius)
+        .fold(0.0f64, f64::max);
+    for (w, wall) in setup.walls.iter().enumerate() {
+        let WallSetup::Cylinder {
+            point,
+            axis,
+            radius,
+            inside,
+            length,
+            ..
+        } = *wall
+        else {
+            continue;
+        };
+        let key = format!("wall[{w}].cylinder");
+        let len = norm(axis);
+        let a = axis.map(|x| x / len);
+        for k in 0..3 {
+            if setup.domain.periodic[k]
+                && (length.is_some() || (0..3).any(|b| b != k && a[b] != 0.0))
+            {
+                return Err(invalid(
+                    &format!("{key}.axis"),
+                    format!("{axis:?}"),
+                    &format!(
+                        "along every periodic axis and infinite (`domain.periodic` = {:?}: an                          axis along {} only, no length): a tube that crosses a periodic face at                          an angle, or ends, is not invariant under the period's translation",
+                        setup.domain.periodic, AXES[k]
+                    ),
+                ));
+            }
+        }
+        if inside && radius <= largest_free {
+            return Err(invalid(
+                &format!("{key}.radius"),
+                metres(radius),
+                &format!(
+                    "above the largest free sphere's radius {} for a tube the spheres are                      inside: no free sphere fits",
+                    metres(largest_free)
+                ),
+            ));
+        }
+        let half = length.map(|l| 0.5 * l);
+        for (k, sp) in setup.spheres.iter().enumerate() {
+            if sp.fixed {
+                continue;
+            }
+            let d = [
+                sp.position[0] - point[0],
+                sp.position[1] - point[1],
+                sp.position[2] - point[2],
+            ];
+            let along = d[0] * a[0] + d[1] * a[1] + d[2] * a[2];
+            let rho = [
+                d[0] - along * a[0],
+                d[1] - along * a[1],
+                d[2] - along * a[2],
+            ];
+            let r = norm(rho);
+            let wrong_side = if inside {
+                r >= radius || half.is_some_and(|h| along.abs() >= h)
+            } else {
+                r <= radius
+            };
+            if wrong_side {
+                return Err(SceneError::input(format!(
+                    "{} and `{key}`: its centre is {} the {} (at {} from the axis, R_c = {})                      (allowed: the centre {}): move the sphere or the wall, or check `{key}.inside`",
+                    label(k),
+                    if inside { "outside" } else { "inside" },
+                    if inside { "tube and its caps" } else { "post" },
+                    metres(r),
+                    metres(radius),
+                    if inside {
+                        "inside the tube, between its caps"
+                    } else {
+                        "outside the post"
+                    }
+                )));
+            }
+            // The largest overlap with the tube and the caps.
+            let mut overlap = if inside {
+                sp.radius + r - radius
+            } else {
+                sp.radius + radius - r
+            };
+            if let Some(h) = half {
+                overlap = overlap
+                    .max(sp.radius - (along + h))
+                    .max(sp.radius - (h - along));
+            }
+            let share = overlap / sp.radius;
+            if share > limits::OVERLAP_REFUSAL {
+                return Err(SceneError::input(format!(
+                    "{} and `{key}`: it overlaps the wall by {}, {} of its radius {} (allowed:                      an overlap of at most {} of the radius; a warning above {}): move the                      sphere or the wall",
+                    label(k),
+                    metres(overlap),
+                    percent(share),
+                    metres(sp.radius),
+                    percent(limits::OVERLAP_REFUSAL),
+                    percent(limits::OVERLAP_WARNING)
+                )));
+            }
+            if share > limits::OVERLAP_WARNING {
+                count += 1;
+                if worst.is_none_or(|x| share > x.0) {
+                    worst = Some((share, k, w, overlap));
+                }
+            }
+        }
+    }
+    if let Some((share, k, w, overlap)) = worst {
+        warnings.push(format!(
+            "{count} free sphere(s) start overlapping a cylinder wall by more than {} of their              radius; the largest: {} and `wall[{w}].cylinder`, {} ({}). The contact laws are              small-strain theories, and the stored energy is released in the first steps",
             percent(limits::OVERLAP_WARNING),
             label(k),
             metres(overlap),

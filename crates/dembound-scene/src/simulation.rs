@@ -20,7 +20,9 @@ use crate::parallel::Workers;
 use crate::pipeline::{observe, Local, Pipeline, Tracks, WallKind, World};
 use crate::setup::{RunLength, SceneSetup, Scheme, WallSetup};
 use crate::time_step;
-use crate::walls::{Curvature, LawSlot, PlaneWall, Surface, WallContacts, WallElement};
+use crate::walls::{
+    Curvature, CylinderWall, LawSlot, PlaneWall, Surface, WallContacts, WallElement,
+};
 
 /// Bodies larger than this many times the smallest free sphere are paired
 /// outside the cell grid (boundary spheres of r = 100 would otherwise make
@@ -252,6 +254,37 @@ impl Simulation {
                         wall: w,
                         curvature: Curvature::Flat,
                     });
+                }
+                WallSetup::Cylinder {
+                    point,
+                    axis,
+                    radius,
+                    inside,
+                    length,
+                    material,
+                } => {
+                    let surface = cylinder_wall(w, point, axis, radius, inside, length)?;
+                    if material >= nm {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].material"),
+                            material,
+                            format!("a material index below {nm}"),
+                        ));
+                    }
+                    let surface = CylinderWall {
+                        slot: slots.len(),
+                        ..surface
+                    };
+                    let (tube, caps) = surface.curvatures();
+                    for curvature in std::iter::once(tube).chain(caps) {
+                        slots.push(LawSlot {
+                            material: material as u32,
+                            wall: w,
+                            curvature,
+                        });
+                    }
+                    kinds.push(WallKind::Surface(planes.len()));
+                    planes.push(Surface::Cylinder(surface));
                 }
                 WallSetup::BoundaryParticles { first_body, count } => {
                     let end = first_body
@@ -980,6 +1013,58 @@ impl Simulation {
         restore_wall_records(w, c, &at)?;
         Ok(sim)
     }
+}
+
+/// The cylinder of `wall[w]` (its law row still to set), or the first bad
+/// value named.
+fn cylinder_wall(
+    w: usize,
+    point: [f64; 3],
+    axis: [f64; 3],
+    radius: f64,
+    inside: bool,
+    length: Option<f64>,
+) -> Result<CylinderWall, SceneError> {
+    let key = |k: &str| format!("wall[{w}].cylinder.{k}");
+    let len = crate::limits::norm(axis);
+    if !(finite3(axis) && len.is_finite() && len > 0.0) {
+        return Err(SceneError::invalid(
+            key("axis"),
+            show3(axis),
+            "finite and non-zero",
+        ));
+    }
+    if !finite3(point) {
+        return Err(SceneError::invalid(key("point"), show3(point), "finite, m"));
+    }
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(SceneError::invalid(
+            key("radius"),
+            radius,
+            "finite and > 0 m",
+        ));
+    }
+    if let Some(l) = length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err(SceneError::invalid(key("length"), l, "finite and > 0 m"));
+        }
+        if !inside {
+            return Err(SceneError::invalid(
+                key("length"),
+                l,
+                "none for a post (inside = false): a finite post has rims, which this wall                  does not model; omit length (infinite post)",
+            ));
+        }
+    }
+    Ok(CylinderWall {
+        wall: w,
+        point,
+        axis: axis.map(|x| x / len),
+        radius,
+        inside,
+        half_length: length.map(|l| 0.5 * l),
+        slot: 0,
+    })
 }
 
 /// Puts a checkpoint's wall records (histories, springs, tracks by input

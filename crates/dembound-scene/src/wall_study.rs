@@ -315,7 +315,9 @@ impl StudyConfig {
         let mut materials = Vec::new();
         if let Some(mu) = self.floor_friction {
             match s.walls[floor] {
-                WallSetup::Plane { .. } => w[floor] = Some((mu, self.rolling_friction)),
+                WallSetup::Plane { .. } | WallSetup::Cylinder { .. } => {
+                    w[floor] = Some((mu, self.rolling_friction))
+                }
                 WallSetup::BoundaryParticles { first_body, .. } => {
                     let m = s.spheres[first_body].material;
                     materials = vec![None; s.materials.len()];

@@ -346,7 +346,7 @@ pub struct InlineSphere {
     pub velocity: [f64; 3],
 }
 
-/// `[[wall]]`: a plane or a wall of boundary particles.
+/// `[[wall]]`: a plane, a cylinder or a wall of boundary particles.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallSection {
@@ -354,7 +354,9 @@ pub struct WallSection {
     pub plane: Option<PlaneWall>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub boundary_particles: Option<BoundaryParticlesWall>,
-    /// A plane's material (or `"rigid"`); for boundary particles the
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cylinder: Option<CylinderWall>,
+    /// A plane's or cylinder's material (or `"rigid"`); for boundary particles the
     /// particle material that r and ζ refer to.
     pub material: String,
     /// The wall's own μ (addition, issue 13; default its material's).
@@ -371,6 +373,27 @@ pub struct WallSection {
 pub struct PlaneWall {
     pub point: [f64; 3],
     pub normal: [f64; 3],
+}
+
+/// `cylinder = { point, axis, radius, inside, length }`: a tube of radius
+/// `radius` (m) about the axis through `point` (m) along `axis`; the
+/// spheres are inside it (`inside = true`, the default) or outside a post
+/// (`false`); `length` (m): a tube closed by flat discs at
+/// point ± length/2 · axis (omitted: infinite, no caps).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderWall {
+    pub point: [f64; 3],
+    pub axis: [f64; 3],
+    pub radius: f64,
+    #[serde(default = "default_inside")]
+    pub inside: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+}
+
+fn default_inside() -> bool {
+    true
 }
 
 /// `boundary_particles = { … }`.
@@ -833,16 +856,78 @@ impl SceneFile {
 
     fn validate_wall(&self, i: usize, w: &WallSection) -> Result<(), SceneError> {
         let key = format!("wall[{i}]");
+        let given: Vec<&str> = [
+            ("plane", w.plane.is_some()),
+            ("cylinder", w.cylinder.is_some()),
+            ("boundary_particles", w.boundary_particles.is_some()),
+        ]
+        .iter()
+        .filter(|x| x.1)
+        .map(|x| x.0)
+        .collect();
         check(
-            w.plane.is_some() != w.boundary_particles.is_some(),
+            given.len() == 1,
             &key,
-            if w.plane.is_some() {
-                "plane and boundary_particles"
+            if given.is_empty() {
+                "neither".to_string()
             } else {
-                "neither"
+                given.join(" and ")
             },
-            "exactly one of plane, boundary_particles",
+            "exactly one of plane, cylinder, boundary_particles",
         )?;
+        if let Some(c) = &w.cylinder {
+            let k = |s: &str| format!("{key}.cylinder.{s}");
+            finite3(&k("point"), c.point, "m")?;
+            nonzero3(&k("axis"), c.axis)?;
+            positive(&k("radius"), c.radius, "m")?;
+            if let Some(l) = c.length {
+                positive(&k("length"), l, "m")?;
+                check(
+                    c.inside,
+                    &k("length"),
+                    l,
+                    "none for a post (inside = false): a finite post has rims, which this wall \
+                     does not model; omit length (an infinite post)",
+                )?;
+            }
+            let len = limits::norm(c.axis);
+            for a in 0..3 {
+                if !self.domain.periodic[a] {
+                    continue;
+                }
+                let along = (0..3).all(|b| b == a || c.axis[b] == 0.0);
+                check(
+                    along && c.length.is_none(),
+                    &k("axis"),
+                    format!(
+                        "{:?}{}",
+                        c.axis,
+                        c.length
+                            .map_or(String::new(), |l| format!(" with length = {l}"))
+                    ),
+                    &format!(
+                        "along every periodic axis and infinite (`domain.periodic` = {:?}: an \
+                         axis along {} only, no length): a tube that crosses a periodic face \
+                         at an angle, or ends, is not invariant under the period's \
+                         translation, and a sphere re-entering through the face would land \
+                         in the wall; make the axis not periodic or turn the cylinder \
+                         (|axis| = {})",
+                        self.domain.periodic,
+                        ["x", "y", "z"][a],
+                        limits::show(len)
+                    ),
+                )?;
+            }
+            check(
+                self.material_known(&w.material) || w.material == RIGID,
+                &format!("{key}.material"),
+                format!("{:?}", w.material),
+                &format!(
+                    "a [[material]] name ({}) or \"rigid\"",
+                    self.material_names()
+                ),
+            )?;
+        }
         if let Some(p) = &w.plane {
             finite3(&format!("{key}.plane.point"), p.point, "m")?;
             nonzero3(&format!("{key}.plane.normal"), p.normal)?;

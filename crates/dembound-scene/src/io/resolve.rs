@@ -136,8 +136,20 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
             wall_bodies.push(spheres.len()..spheres.len());
             continue;
         }
+        if let Some(c) = &wall.cylinder {
+            walls.push(WallSetup::Cylinder {
+                point: c.point,
+                axis: c.axis,
+                radius: c.radius,
+                inside: c.inside,
+                length: c.length,
+                material: material_index(&wall.material, &mut materials),
+            });
+            wall_bodies.push(spheres.len()..spheres.len());
+            continue;
+        }
         let Some(b) = &wall.boundary_particles else {
-            continue; // validated: one of the two
+            continue; // validated: one of the three
         };
         let base = materials
             .iter()

@@ -24,9 +24,11 @@
 //! fingerprint (`fingerprint.rs`): six files besides its own, none of
 //! them in the force, friction, observable, checkpoint or migration code.
 
+pub mod cylinder;
 pub mod near;
 pub mod plane;
 
+pub use cylinder::CylinderWall;
 pub use near::{WallContacts, WallContactsMut, WallElement};
 pub use plane::{plane_overlap, PlaneWall};
 
@@ -120,6 +122,7 @@ pub trait Wall {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Surface {
     Plane(PlaneWall),
+    Cylinder(CylinderWall),
 }
 
 impl Surface {
@@ -136,6 +139,7 @@ impl Surface {
                     normal: p.normal,
                 }
             }
+            Surface::Cylinder(c) => c.contact(element, x, v, r),
         }
     }
 
@@ -144,6 +148,7 @@ impl Surface {
     pub fn law_slot(&self, element: u32) -> usize {
         match self {
             Surface::Plane(p) => p.law_slot(element),
+            Surface::Cylinder(c) => c.law_slot(element),
         }
     }
 
@@ -151,6 +156,7 @@ impl Surface {
     pub fn wall(&self) -> &dyn Wall {
         match self {
             Surface::Plane(p) => p,
+            Surface::Cylinder(c) => c,
         }
     }
 
