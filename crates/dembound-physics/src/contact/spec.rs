@@ -80,7 +80,14 @@ impl ContactModel {
                 format!("one of {}", registry::normal_names()),
             )
         })?;
-        for (key, value) in &spec.law_params {
+        for (n, (key, value)) in spec.law_params.iter().enumerate() {
+            if spec.law_params[..n].iter().any(|(k, _)| k == key) {
+                return Err(PhysicsError::new(
+                    format!("contact.{key}"),
+                    value,
+                    format!("given once (law = {{ {} = … }} gives it already)", row.name),
+                ));
+            }
             if !row.params.iter().any(|p| p.key == key) {
                 let allowed = if row.params.is_empty() {
                     format!("no parameters for law = \"{}\"", row.name)
