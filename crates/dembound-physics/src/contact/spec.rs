@@ -258,6 +258,17 @@ mod tests {
         assert_eq!(e.key, "contact.exponent");
         assert!(e.allowed.contains("no parameters"), "{e}");
 
+        // A parameter given twice (`law = { hooke = … }` and the key):
+        // refused, not one of them silently dropped.
+        let mut spec = ContactSpec::law_with_value("hooke", 1.0e5);
+        spec.law_params.push(("stiffness".into(), 2.0e5));
+        let e = err(&spec);
+        assert_eq!(
+            (e.key.as_str(), e.value.as_str()),
+            ("contact.stiffness", "200000")
+        );
+        assert!(e.allowed.contains("given once"), "{e}");
+
         let e = err(&ContactSpec {
             damping: "viscous".into(),
             restitution: Some(0.5),
