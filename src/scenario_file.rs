@@ -324,6 +324,12 @@ fn deserialize(defaults: &Table, merged: &Table) -> Result<Scenario> {
                     Some((head, last)) if last.starts_with("in `") => head.trim_end(),
                     _ => e.trim_end(),
                 };
+                // A law parameter's value (`LawParams`) names its key,
+                // which the message names already.
+                let e = match e.strip_prefix("invalid value for law parameter `") {
+                    Some(rest) => rest.split_once("`: ").map_or(e, |(_, m)| m),
+                    None => e,
+                };
                 if e.starts_with("unknown field") {
                     bail!("unknown key `{section}.{key}`: {e}");
                 }

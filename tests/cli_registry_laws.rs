@@ -120,6 +120,18 @@ fn registry_parameters_are_checked_with_key_value_and_range() {
             "\"tsuji\"",
         ),
         (
+            vec!["contact.law=hooke", "contact.stifness=1e5"],
+            "contact.stifness",
+            "unknown field",
+            "`stiffness`",
+        ),
+        (
+            vec!["contact.law={power=1.25}", "contact.exponent=1.5"],
+            "contact.exponent",
+            "1.5",
+            "no law takes it as a key",
+        ),
+        (
             vec!["contact.law=nope"],
             "contact.law",
             "nope",

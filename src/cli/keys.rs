@@ -8,7 +8,11 @@ use clap::Args;
 use comfy_table::{presets, ContentArrangement, Table};
 use dembound_core::bounce::limits::{self, describe, show};
 use dembound_core::bounce::{Scenario, MAX_TOLERANCE, MIN_TOLERANCE};
+use dembound_core::contact::ContactLawKind;
+use dembound_physics::contact::law_params::given_parameters;
+use dembound_physics::contact::registry::NormalRow;
 use serde::Serialize;
+use std::borrow::Cow;
 use std::io::Write;
 
 #[derive(Debug, Args)]
@@ -25,25 +29,78 @@ pub struct KeysArgs {
 #[derive(Debug, Clone, Serialize)]
 pub struct KeyInfo {
     /// `section.key`, as in the TOML file and `--set`.
-    pub key: &'static str,
+    pub key: Cow<'static, str>,
     /// SI unit, "" when dimensionless.
-    pub unit: &'static str,
+    pub unit: Cow<'static, str>,
     /// The default, or what an omitted key means.
     pub default: String,
     /// The allowed values or range.
     pub allowed: String,
-    pub meaning: &'static str,
+    pub meaning: Cow<'static, str>,
+}
+
+/// The rows of the normal laws' parameters given by key
+/// (`contact.stiffness`), read from the physics registry's rows: each
+/// parameter that some law `takes` as a key, with its symbol, its units by
+/// law and its range.
+pub fn law_parameter_rows(takes: impl Fn(&NormalRow) -> bool) -> Vec<KeyInfo> {
+    use dembound_physics::contact::registry::NORMAL_LAWS;
+    let mut rows = Vec::new();
+    for g in given_parameters() {
+        let p = g.spec;
+        let laws: Vec<&NormalRow> = NORMAL_LAWS
+            .iter()
+            .filter(|r| takes(r) && r.params.iter().any(|q| q.key == p.key))
+            .collect();
+        if laws.is_empty() {
+            continue;
+        }
+        let names: Vec<&str> = laws.iter().map(|r| r.name).collect();
+        let units: Vec<&str> = laws
+            .iter()
+            .filter_map(|r| r.params.iter().find(|q| q.key == p.key))
+            .map(|q| q.unit)
+            .collect();
+        let unit = if units.iter().all(|u| *u == "1") {
+            String::new()
+        } else if units.iter().all(|u| *u == units[0]) {
+            units[0].to_string()
+        } else {
+            units
+                .iter()
+                .zip(&names)
+                .map(|(u, n)| format!("{u} ({n})"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        rows.push(KeyInfo {
+            key: format!("contact.{}", p.key).into(),
+            unit: unit.into(),
+            default: "none".into(),
+            allowed: format!(
+                "{}; only with law = {}",
+                p.range.to_string().replace('x', p.symbol),
+                names.join(", ")
+            ),
+            meaning: format!("{} of {}", p.symbol, names.join(", ")).into(),
+        });
+    }
+    rows
 }
 
 /// Every scenario key.
 pub fn keys() -> Vec<KeyInfo> {
     let d = Scenario::default();
-    let row = |key, unit, default: String, allowed: String, meaning| KeyInfo {
-        key,
-        unit,
+    let row = |key: &'static str,
+               unit: &'static str,
+               default: String,
+               allowed: String,
+               meaning: &'static str| KeyInfo {
+        key: key.into(),
+        unit: unit.into(),
         default,
         allowed,
-        meaning,
+        meaning: meaning.into(),
     };
     let ratio = format!("{}, or \"inf\"", describe(limits::RATIO, ""));
     let speed = format!(
@@ -52,7 +109,7 @@ pub fn keys() -> Vec<KeyInfo> {
         show(limits::MAX_SPEED)
     );
     let poisson = "-1 < ν < 0.5".to_string();
-    vec![
+    let mut rows = vec![
         row(
             "particle.radius",
             "m",
@@ -152,13 +209,6 @@ pub fn keys() -> Vec<KeyInfo> {
             "c (viscous), γ (tsuji), A (viscoelastic)",
         ),
         row(
-            "contact.stiffness",
-            "N/m (hooke), Pa (hertz-kn)",
-            "none".into(),
-            "finite, > 0; only with a law that takes it".into(),
-            "k_n of a law with a given stiffness",
-        ),
-        row(
             "contact.attractive",
             "",
             "false".into(),
@@ -249,7 +299,22 @@ pub fn keys() -> Vec<KeyInfo> {
             "\"event\", \"fixed\"".into(),
             "exact flight, or one Δt through the whole path",
         ),
-    ]
+    ];
+    // The registry laws' parameters given by key (`contact.stiffness`),
+    // before `contact.attractive`: those of the laws a scenario names by
+    // name alone (the power law's exponent is written law = { power = α }).
+    let at = rows
+        .iter()
+        .position(|k| k.key == "contact.attractive")
+        .unwrap_or(rows.len());
+    let params = law_parameter_rows(|r| {
+        matches!(
+            ContactLawKind::from_name(r.name, None),
+            Some(ContactLawKind::Registry(_))
+        )
+    });
+    rows.splice(at..at, params);
+    rows
 }
 
 pub fn run(args: &KeysArgs) -> CliResult {
@@ -275,11 +340,11 @@ pub fn run(args: &KeysArgs) -> CliResult {
             .set_header(["key", "unit", "default", "allowed", "meaning"]);
         for k in &keys {
             table.add_row([
-                k.key,
-                k.unit,
+                k.key.as_ref(),
+                k.unit.as_ref(),
                 k.default.as_str(),
                 k.allowed.as_str(),
-                k.meaning,
+                k.meaning.as_ref(),
             ]);
         }
         writeln!(
@@ -322,8 +387,16 @@ mod tests {
         // with every optional key set.
         let mut s = Scenario::default().resolved();
         s.boundary.poisson_ratio = Some(0.3);
+        // Every law parameter given by key (`stiffness`): listed from the
+        // registry rows.
+        let hooke = dembound_physics::contact::registry::normal_row("hooke").unwrap();
+        s.contact.law = ContactLawKind::Registry(hooke);
+        for p in hooke.params {
+            assert!(s.contact.params.set(p.key, 1.0));
+        }
         let value = toml::Value::try_from(s).unwrap();
-        let listed: Vec<&str> = keys().iter().map(|k| k.key).collect();
+        let keys = keys();
+        let listed: Vec<&str> = keys.iter().map(|k| k.key.as_ref()).collect();
         for (section, table) in value.as_table().unwrap() {
             for key in table.as_table().unwrap().keys() {
                 let name = format!("{section}.{key}");

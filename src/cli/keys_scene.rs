@@ -4,7 +4,7 @@
 //! `io::config`), so the table cannot drift from them; the README's scene
 //! key table is this command's output (asserted by a test).
 
-use super::keys::KeyInfo;
+use super::keys::{law_parameter_rows, KeyInfo};
 use dembound_physics::contact::tangential::tangential_names;
 use dembound_scene::io::config::MAX_STEPS;
 use dembound_scene::limits::{self, describe, show};
@@ -25,12 +25,16 @@ fn step_ratios() -> String {
 
 /// Every scene key, in file order of the sections.
 pub fn keys() -> Vec<KeyInfo> {
-    let row = |key, unit, default: &str, allowed: String, meaning| KeyInfo {
-        key,
-        unit,
+    let row = |key: &'static str,
+               unit: &'static str,
+               default: &str,
+               allowed: String,
+               meaning: &'static str| KeyInfo {
+        key: key.into(),
+        unit: unit.into(),
         default: default.to_string(),
         allowed,
-        meaning,
+        meaning: meaning.into(),
     };
     let radius = describe(limits::RADIUS, "");
     let fixed_radius = describe(radius_range(true), "");
@@ -40,7 +44,7 @@ pub fn keys() -> Vec<KeyInfo> {
     let finite3 = || "three finite numbers".to_string();
     let normal = "finite, non-zero (any length); 0 along every periodic axis".to_string();
     let ratio_inf = |r: (f64, f64)| format!("{}, or inf", describe(r, ""));
-    vec![
+    let mut rows = vec![
         row(
             "domain.lower",
             "m",
@@ -156,13 +160,6 @@ pub fn keys() -> Vec<KeyInfo> {
             "false",
             "true, false (not with walton-braun)".into(),
             "may the damping pull",
-        ),
-        row(
-            "contact.stiffness",
-            "N/m or Pa",
-            "none",
-            "finite, > 0; hooke, hertz-kn".into(),
-            "given k_n",
         ),
         row(
             "contact.friction",
@@ -531,7 +528,15 @@ pub fn keys() -> Vec<KeyInfo> {
             "> 1, or inf".into(),
             "re-balance trigger",
         ),
-    ]
+    ];
+    // The registry laws' parameters given by key (`contact.stiffness`,
+    // `contact.exponent`), before `contact.friction`.
+    let at = rows
+        .iter()
+        .position(|k| k.key == "contact.friction")
+        .unwrap_or(rows.len());
+    rows.splice(at..at, law_parameter_rows(|_| true));
+    rows
 }
 
 /// The rules on the scene as a whole (from the same constants).
@@ -557,7 +562,7 @@ pub fn markdown() -> String {
         "| key | unit | default | allowed | meaning |\n| --- | --- | --- | --- | --- |\n",
     );
     for k in keys() {
-        let unit = if k.unit.is_empty() { "—" } else { k.unit };
+        let unit = if k.unit.is_empty() { "—" } else { &k.unit };
         out.push_str(&format!(
             "| `{}` | {} | {} | {} | {} |\n",
             k.key, unit, k.default, k.allowed, k.meaning

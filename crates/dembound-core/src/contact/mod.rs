@@ -385,6 +385,9 @@ pub use dembound_physics::contact::Calibration;
 /// raw coefficient (the physics crate's type).
 pub use dembound_physics::contact::Dissipation;
 
+/// The registry laws' parameters given by key (the physics crate's type).
+pub use dembound_physics::contact::LawParams;
+
 /// A complete choice of normal contact model.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactModel {
@@ -396,9 +399,9 @@ pub struct ContactModel {
     pub attractive: bool,
     /// How a [`Dissipation::Restitution`] becomes the law's coefficient.
     pub calibration: Calibration,
-    /// `contact.stiffness`: k_n of the registry laws that take one
-    /// (`hooke` N/m, `hertz-kn` Pa).
-    pub stiffness: Option<f64>,
+    /// The registry laws' parameters given by key (`contact.stiffness`:
+    /// k_n of `hooke` in N/m, of `hertz-kn` in Pa).
+    pub params: LawParams,
 }
 
 impl ContactModel {
@@ -410,20 +413,21 @@ impl ContactModel {
             dissipation: None,
             attractive: false,
             calibration: Calibration::Exact,
-            stiffness: None,
+            params: LawParams::default(),
         }
     }
 
-    /// The value of the law parameter `key` of the registry (`restitution`
-    /// from the dissipation, `stiffness`), if given.
+    /// The value of the law parameter `key` of the registry (the
+    /// restitution from the dissipation, any other from [`Self::params`]),
+    /// if given.
     pub fn param(&self, key: &str) -> Option<f64> {
-        match key {
-            "restitution" => match self.dissipation {
+        if key == registry::RESTITUTION.key {
+            match self.dissipation {
                 Some(Dissipation::Restitution(e)) => Some(e),
                 _ => None,
-            },
-            "stiffness" => self.stiffness,
-            _ => None,
+            }
+        } else {
+            self.params.get(key)
         }
     }
 

@@ -13,7 +13,9 @@ pub mod limits;
 mod two_body;
 mod validate;
 
-use crate::contact::{Calibration, ContactLawKind, ContactModel, DampingKind, Dissipation};
+use crate::contact::{
+    Calibration, ContactLawKind, ContactModel, DampingKind, Dissipation, LawParams,
+};
 use crate::integrate::Scheme;
 use crate::material::{Boundary, ContactPair, Particle};
 use serde::{Deserialize, Serialize};
@@ -97,9 +99,10 @@ impl GravityOn {
 }
 
 /// `[contact]`: the normal contact law and its dissipation. Every key but
-/// `law` has a default, so elastic scenarios need only `law`.
+/// `law` has a default, so elastic scenarios need only `law`. Unknown keys
+/// are refused by [`LawParams`], which takes the rest of the table (a
+/// flattened field cannot be combined with `deny_unknown_fields`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct ContactSection {
     /// `"linear"`, `"hertz"`, `"walton-braun"`, `{ power = α }`, or any
     /// other law of the physics registry (`"hooke"`, `"hertz-kn"`).
@@ -128,10 +131,11 @@ pub struct ContactSection {
     /// restitution` sets it for the study's targets).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<Calibration>,
-    /// k_n of the registry laws that take a given stiffness: N/m for
-    /// `"hooke"` (F = k_n h), Pa for `"hertz-kn"` (F = k_n √R_eff h^(3/2)).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stiffness: Option<f64>,
+    /// The registry laws' parameters, by the keys of their rows
+    /// (`stiffness`: k_n, N/m for `"hooke"` (F = k_n h), Pa for
+    /// `"hertz-kn"` (F = k_n √R_eff h^(3/2))).
+    #[serde(flatten)]
+    pub params: LawParams,
 }
 
 fn is_default<T: Default + PartialEq>(x: &T) -> bool {
@@ -148,7 +152,7 @@ impl ContactSection {
             damping_coefficient: None,
             attractive: false,
             calibration: None,
-            stiffness: None,
+            params: LawParams::default(),
         }
     }
 
@@ -165,7 +169,7 @@ impl ContactSection {
             dissipation,
             attractive: self.attractive,
             calibration: self.calibration.unwrap_or_default(),
-            stiffness: self.stiffness,
+            params: self.params,
         }
     }
 }

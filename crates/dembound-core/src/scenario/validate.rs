@@ -257,21 +257,28 @@ impl Scenario {
                 })?;
             }
         }
-        if let Some(k) = c.stiffness {
+        // A parameter given by key belongs to a registry law that takes
+        // it by key (the paper's laws spell theirs otherwise: the power
+        // law's exponent as law = { power = α }).
+        for (key, value) in c.params.iter() {
             let takes = |r: &dembound_physics::contact::registry::NormalRow| {
-                r.params.iter().any(|p| p.key == "stiffness")
+                r.params.iter().any(|p| p.key == key)
+                    && matches!(
+                        ContactLawKind::from_name(r.name, None),
+                        Some(ContactLawKind::Registry(_))
+                    )
             };
             let laws: Vec<String> = NORMAL_LAWS
                 .iter()
                 .filter(|r| takes(r))
                 .map(|r| format!("\"{}\"", r.name))
                 .collect();
-            check(
-                takes(row),
-                "contact.stiffness",
-                k,
-                format_args!("absent unless law is {}", laws.join(" or ")),
-            )?;
+            let allowed = if laws.is_empty() {
+                "absent: no law takes it as a key of its own".to_string()
+            } else {
+                format!("absent unless law is {}", laws.join(" or "))
+            };
+            check(takes(row), &format!("contact.{key}"), value, allowed)?;
         }
         Ok(())
     }

@@ -319,7 +319,7 @@ pub fn raw_coefficient(
         dissipation: Some(target),
         attractive,
         calibration: mapping,
-        stiffness: None,
+        params: Default::default(),
     };
     Ok(match law {
         DissipativeLaw::Viscous | DissipativeLaw::Tsuji | DissipativeLaw::Viscoelastic => {
@@ -374,7 +374,7 @@ pub fn simulate_coefficient(
                 dissipation: Some(Dissipation::Coefficient(coefficient)),
                 attractive,
                 calibration: Default::default(),
-                stiffness: None,
+                params: Default::default(),
             };
             with_damped(&model, &pair, s.reduced_mass(), coefficient, Visit(&s))
                 .and_then(|outcome| outcome)

@@ -28,6 +28,7 @@
 
 pub mod calibration;
 pub mod damping;
+pub mod law_params;
 pub mod model;
 pub mod normal;
 pub mod registry;
@@ -40,6 +41,7 @@ pub use calibration::{
     restitution_to_damping_ratio, tsuji_beta,
 };
 pub use damping::{Calibration, Dissipation};
+pub use law_params::LawParams;
 pub use model::{ContactForces, ContactLaw, ContactState, Geometry, Side};
 pub use normal::hertz::HERTZ_CONTACT_TIME_FACTOR;
 pub use registry::{DampingKind, DampingPair, NormalLaw, NormalPair};

@@ -80,7 +80,14 @@ impl ContactModel {
                 format!("one of {}", registry::normal_names()),
             )
         })?;
-        for (key, value) in &spec.law_params {
+        for (n, (key, value)) in spec.law_params.iter().enumerate() {
+            if spec.law_params[..n].iter().any(|(k, _)| k == key) {
+                return Err(PhysicsError::new(
+                    format!("contact.{key}"),
+                    value,
+                    format!("given once (law = {{ {} = … }} gives it already)", row.name),
+                ));
+            }
             if !row.params.iter().any(|p| p.key == key) {
                 let allowed = if row.params.is_empty() {
                     format!("no parameters for law = \"{}\"", row.name)
@@ -250,6 +257,17 @@ mod tests {
         });
         assert_eq!(e.key, "contact.exponent");
         assert!(e.allowed.contains("no parameters"), "{e}");
+
+        // A parameter given twice (`law = { hooke = … }` and the key):
+        // refused, not one of them silently dropped.
+        let mut spec = ContactSpec::law_with_value("hooke", 1.0e5);
+        spec.law_params.push(("stiffness".into(), 2.0e5));
+        let e = err(&spec);
+        assert_eq!(
+            (e.key.as_str(), e.value.as_str()),
+            ("contact.stiffness", "200000")
+        );
+        assert!(e.allowed.contains("given once"), "{e}");
 
         let e = err(&ContactSpec {
             damping: "viscous".into(),

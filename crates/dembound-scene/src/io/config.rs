@@ -10,7 +10,7 @@
 
 use crate::{limits, SceneError};
 use dembound_physics::contact::tangential::{tangential_names, TangentialKind};
-use dembound_physics::contact::{ContactModel, ContactSpec};
+use dembound_physics::contact::{ContactModel, ContactSpec, LawParams};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use toml::{Table, Value};
@@ -97,9 +97,12 @@ pub struct MaterialSection {
 pub const RIGID: &str = "rigid";
 
 /// `[contact]`: the keys of `dembound run`'s `[contact]`, checked against
-/// the physics crate's registry ([`ContactSection::model`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// the physics crate's registry ([`ContactSection::model`]). Unknown keys
+/// are refused by [`LawParams`], which takes the rest of the table (a
+/// flattened field cannot be combined with `deny_unknown_fields`).
+/// Written by hand ([`Serialize`] below) as the struct it was before the
+/// parameters came from the registry, so that checkpoints keep their bytes.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 pub struct ContactSection {
     /// `"linear"`, `"hertz"`, `"walton-braun"`, … or `{ power = α }`
     /// (default `"hertz"`, also when `[contact]` gives other keys only).
@@ -117,10 +120,11 @@ pub struct ContactSection {
     pub damping_coefficient: Option<f64>,
     #[serde(default)]
     pub attractive: bool,
-    /// k_n of the registry laws that take a given stiffness (`"hooke"`
-    /// N/m, `"hertz-kn"` Pa), as `dembound run`'s `contact.stiffness`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stiffness: Option<f64>,
+    /// The normal laws' parameters by their registry keys
+    /// (`contact.stiffness`: k_n of `"hooke"` in N/m, of `"hertz-kn"` in
+    /// Pa; `contact.exponent`: α of `"power"`), as `dembound run`'s.
+    #[serde(flatten)]
+    pub params: LawParams,
     /// Coulomb friction coefficient μ ≥ 0 of every surface (issue 13):
     /// with friction (here, on a material or on a wall) the spheres rotate
     /// and each contact carries a tangential spring.
@@ -134,6 +138,49 @@ pub struct ContactSection {
     /// μ_r R_eff |F_n| against rolling).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rolling_friction: Option<f64>,
+}
+
+/// A struct of the fields in declaration order, each optional one only
+/// when given, the law parameters where `contact.stiffness` stood (after
+/// `attractive`): what `#[derive(Serialize)]` wrote without the flattened
+/// map (a flattened field makes it a map of unknown length, other bytes in
+/// a checkpoint).
+impl Serialize for ContactSection {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let given = |o: bool| o as usize;
+        let len = 4
+            + given(self.restitution.is_some())
+            + given(self.damping_coefficient.is_some())
+            + self.params.iter().count()
+            + given(self.friction.is_some())
+            + given(self.tangential.is_some())
+            + given(self.rolling_friction.is_some());
+        let mut s = serializer.serialize_struct("ContactSection", len)?;
+        s.serialize_field("law", &self.law)?;
+        s.serialize_field("damping", &self.damping)?;
+        if let Some(e) = &self.restitution {
+            s.serialize_field("restitution", e)?;
+        }
+        s.serialize_field("calibration", &self.calibration)?;
+        if let Some(c) = &self.damping_coefficient {
+            s.serialize_field("damping_coefficient", c)?;
+        }
+        s.serialize_field("attractive", &self.attractive)?;
+        for (key, value) in self.params.iter() {
+            s.serialize_field(key, &value)?;
+        }
+        if let Some(mu) = &self.friction {
+            s.serialize_field("friction", mu)?;
+        }
+        if let Some(t) = &self.tangential {
+            s.serialize_field("tangential", t)?;
+        }
+        if let Some(mu_r) = &self.rolling_friction {
+            s.serialize_field("rolling_friction", mu_r)?;
+        }
+        s.end()
+    }
 }
 
 fn hertz() -> Law {
@@ -157,7 +204,7 @@ impl Default for ContactSection {
             calibration: exact(),
             damping_coefficient: None,
             attractive: false,
-            stiffness: None,
+            params: LawParams::default(),
             friction: None,
             tangential: None,
             rolling_friction: None,
@@ -195,9 +242,8 @@ impl ContactSection {
                 }
             }
         };
-        if let Some(k) = self.stiffness {
-            spec.law_params.push(("stiffness".into(), k));
-        }
+        spec.law_params
+            .extend(self.params.iter().map(|(k, v)| (k.to_string(), v)));
         spec.damping = self.damping.clone();
         spec.restitution = self.restitution;
         spec.damping_coefficient = self.damping_coefficient;
@@ -205,10 +251,14 @@ impl ContactSection {
         spec.attractive = self.attractive;
         spec.reference_speed = reference_speed;
         // The registry names a law's parameter by its own key (`contact.
-        // exponent`); in a scene it is written `law = { power = α }`.
+        // exponent`), as a scene may write it; or the scene wrote it
+        // `law = { power = α }`.
         let key = |k: &str| -> String {
+            let given = k
+                .strip_prefix("contact.")
+                .is_some_and(|p| self.params.get(p).is_some());
             match &self.law {
-                Law::WithValue(map) if !SCENE_CONTACT_KEYS.contains(&k) => map
+                Law::WithValue(map) if !given && !SCENE_CONTACT_KEYS.contains(&k) => map
                     .keys()
                     .next()
                     .map_or(k.to_string(), |name| format!("contact.law.{name}")),
@@ -233,14 +283,13 @@ impl ContactSection {
 }
 
 /// The `[contact]` keys a registry error may name as they are.
-const SCENE_CONTACT_KEYS: [&str; 7] = [
+const SCENE_CONTACT_KEYS: [&str; 6] = [
     "contact.law",
     "contact.damping",
     "contact.restitution",
     "contact.calibration",
     "contact.damping_coefficient",
     "contact.attractive",
-    "contact.stiffness",
 ];
 
 /// `[[particles]]`: one group of spheres of one material, from exactly one
@@ -1200,9 +1249,24 @@ pub fn read(path: &Path, sets: &[String]) -> Result<SceneFile, SceneError> {
 /// Deserialises and validates a scene table.
 pub fn from_table(table: Table, name: &str) -> Result<SceneFile, SceneError> {
     let scene: SceneFile = serde_path_to_error::deserialize(Value::Table(table)).map_err(|e| {
-        let path = e.path().to_string();
+        let mut path = e.path().to_string();
         let inner = e.inner().to_string();
-        let inner = inner.trim_end();
+        let mut inner = inner.trim_end();
+        // A `[contact]` key that is neither the section's nor a law
+        // parameter is refused by the flattened `LawParams`, whose error
+        // names the key: the path gets it.
+        if let Some(rest) = inner.strip_prefix("invalid value for law parameter `") {
+            if let Some((key, message)) = rest.split_once("`: ") {
+                path = format!("{path}.{key}");
+                inner = message.lines().next().unwrap_or(message);
+            }
+        } else if let Some(rest) = inner.strip_prefix("unknown field `") {
+            if let Some((key, _)) = rest.split_once('`') {
+                if !path.ends_with(&format!(".{key}")) && path != key {
+                    path = format!("{path}.{key}");
+                }
+            }
+        }
         if inner.starts_with("unknown field") {
             SceneError::input(format!(
                 "in scene file `{name}`: unknown key `{path}`: {inner}"

@@ -226,6 +226,13 @@ fn validation_table() {
         ("integration.skin=-1", "integration.skin", "> 0, in m"),
         ("output.every=0", "output.every", "≥ 1"),
         ("output.pictures=true", "output.pictures", "unknown field"),
+        ("contact.frction=0.3", "contact.frction", "unknown field"),
+        ("contact.stiffness=abc", "contact.stiffness", "expected f64"),
+        (
+            "contact.stiffness=5",
+            "contact.stiffness",
+            "no parameters for law = \"hertz\"",
+        ),
         ("nosuch.key=1", "nosuch", "`domain`"),
     ];
     for (set, key, allowed) in cases {
@@ -288,4 +295,38 @@ fn a_resolved_scene_round_trips_through_toml() {
     .unwrap();
     let text = toml::to_string(&s).unwrap();
     assert_eq!(load(&text, "round.toml", &[]).unwrap(), s);
+}
+
+/// `[contact]` takes the normal laws' parameters by the keys of their
+/// registry rows (`stiffness` of `hooke`, `exponent` of `power`), not by
+/// keys of its own; a key given twice (by name and in the law's
+/// `{ name = value }` form) is refused with its key and value.
+#[test]
+fn law_parameters_are_read_by_the_registry_rows_keys() {
+    use dembound_physics::contact::NormalLaw;
+    let scene = |args: &[&str]| load(ISSUE_EXAMPLE, "issue.toml", &sets(args));
+    let hooke = scene(&["contact.law=hooke", "contact.stiffness=1e5"]).unwrap();
+    let model = hooke.contact.model(None).unwrap();
+    assert_eq!(model.normal, NormalLaw::Hooke { stiffness: 1.0e5 });
+    // Written back as a key of `[contact]`, read back the same.
+    let text = toml::to_string(&hooke).unwrap();
+    assert!(text.contains("stiffness = 100000.0"), "{text}");
+    assert_eq!(load(&text, "round.toml", &[]).unwrap(), hooke);
+    // The power law by its parameter's key or in the law's value form.
+    let by_key = scene(&["contact.law=power", "contact.exponent=1.25"]).unwrap();
+    let by_value = scene(&["contact.law.power=1.25"]).unwrap();
+    assert_eq!(
+        by_key.contact.model(None).unwrap().normal,
+        NormalLaw::Power { exponent: 1.25 }
+    );
+    assert_eq!(
+        by_key.contact.model(None).unwrap(),
+        by_value.contact.model(None).unwrap()
+    );
+    let e = scene(&["contact.law.hooke=1e5", "contact.stiffness=2e5"])
+        .expect_err("given twice")
+        .to_string();
+    for part in ["contact.stiffness", "200000", "given once"] {
+        assert!(e.contains(part), "{part} not in {e}");
+    }
 }
