@@ -281,7 +281,7 @@ fn cylinder_checks(
         let key = format!("wall[{w}].cylinder");
         let len = norm(axis);
         let a = axis.map(|x| x / len);
-        for k in 0..3 {
+        for (k, name) in AXES.iter().enumerate() {
             if setup.domain.periodic[k]
                 && (length.is_some() || (0..3).any(|b| b != k && a[b] != 0.0))
             {
@@ -289,8 +289,10 @@ fn cylinder_checks(
                     &format!("{key}.axis"),
                     format!("{axis:?}"),
                     &format!(
-                        "along every periodic axis and infinite (`domain.periodic` = {:?}: an                          axis along {} only, no length): a tube that crosses a periodic face at                          an angle, or ends, is not invariant under the period's translation",
-                        setup.domain.periodic, AXES[k]
+                        "along every periodic axis and infinite (`domain.periodic` = {:?}: an \
+                         axis along {} only, no length): a tube that crosses a periodic face at \
+                         an angle, or ends, is not invariant under the period's translation",
+                        setup.domain.periodic, name
                     ),
                 ));
             }
@@ -300,7 +302,8 @@ fn cylinder_checks(
                 &format!("{key}.radius"),
                 metres(radius),
                 &format!(
-                    "above the largest free sphere's radius {} for a tube the spheres are                      inside: no free sphere fits",
+                    "above the largest free sphere's radius {} for a tube the spheres are inside: \
+                     no free sphere fits",
                     metres(largest_free)
                 ),
             ));
@@ -329,7 +332,9 @@ fn cylinder_checks(
             };
             if wrong_side {
                 return Err(SceneError::input(format!(
-                    "{} and `{key}`: its centre is {} the {} (at {} from the axis, R_c = {})                      (allowed: the centre {}): move the sphere or the wall, or check `{key}.inside`",
+                    "{} and `{key}`: its centre is {} the {} (at {} from the axis, R_c = {}) \
+                     (allowed: the centre {}): move the sphere or the wall, or check \
+                     `{key}.inside`",
                     label(k),
                     if inside { "outside" } else { "inside" },
                     if inside { "tube and its caps" } else { "post" },
@@ -356,7 +361,9 @@ fn cylinder_checks(
             let share = overlap / sp.radius;
             if share > limits::OVERLAP_REFUSAL {
                 return Err(SceneError::input(format!(
-                    "{} and `{key}`: it overlaps the wall by {}, {} of its radius {} (allowed:                      an overlap of at most {} of the radius; a warning above {}): move the                      sphere or the wall",
+                    "{} and `{key}`: it overlaps the wall by {}, {} of its radius {} (allowed: an \
+                     overlap of at most {} of the radius; a warning above {}): move the sphere or \
+                     the wall",
                     label(k),
                     metres(overlap),
                     percent(share),
@@ -375,7 +382,9 @@ fn cylinder_checks(
     }
     if let Some((share, k, w, overlap)) = worst {
         warnings.push(format!(
-            "{count} free sphere(s) start overlapping a cylinder wall by more than {} of their              radius; the largest: {} and `wall[{w}].cylinder`, {} ({}). The contact laws are              small-strain theories, and the stored energy is released in the first steps",
+            "{count} free sphere(s) start overlapping a cylinder wall by more than {} of their \
+             radius; the largest: {} and `wall[{w}].cylinder`, {} ({}). The contact laws are \
+             small-strain theories, and the stored energy is released in the first steps",
             percent(limits::OVERLAP_WARNING),
             label(k),
             metres(overlap),

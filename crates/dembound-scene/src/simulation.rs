@@ -1052,7 +1052,8 @@ fn cylinder_wall(
             return Err(SceneError::invalid(
                 key("length"),
                 l,
-                "none for a post (inside = false): a finite post has rims, which this wall                  does not model; omit length (infinite post)",
+                "none for a post (inside = false): a finite post has rims, which this wall does \
+                 not model; omit length (infinite post)",
             ));
         }
     }

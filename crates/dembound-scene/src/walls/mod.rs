@@ -16,13 +16,17 @@
 //! [`Wall::near_elements`], and carried across rebuilds, reordering,
 //! migration and checkpoints by (input id, wall, element).
 //!
-//! Adding a wall type takes: one file here with its geometry (a type
-//! implementing [`Wall`]), one variant of [`Surface`] (this file), one
-//! variant of the scene file's `[[wall]]` (`io/config.rs`, resolved in
-//! `io/resolve.rs` into `setup::WallSetup`), its construction in
-//! `simulation.rs`, its placement checks (`setup_checks.rs`) and its
-//! fingerprint (`fingerprint.rs`): six files besides its own, none of
-//! them in the force, friction, observable, checkpoint or migration code.
+//! Adding a wall type takes (counted for the cylinder, issue 25): one
+//! file here with its geometry (a type implementing [`Wall`]), one variant
+//! of [`Surface`] (this file), one `[[wall]]` key (`io/config.rs`, read in
+//! `io/resolve.rs` into a `setup::WallSetup` variant, `setup.rs`), its
+//! construction and law rows (`simulation.rs`), its placement checks
+//! (`setup_checks.rs`) and its contact-time row (`time_step.rs`), and
+//! the one exhaustive match on `WallSetup` in `wall_study.rs`: nine files
+//! of the scene crate, none of them in the force, friction,
+//! observable, collision-log, checkpoint or MPI code (the fingerprint
+//! takes it from the setup as it is). Outside the crate: the CLI summary
+//! and keys table, the export's refusal, Python's `add_cylinder`.
 
 pub mod cylinder;
 pub mod near;
