@@ -8,7 +8,7 @@ use super::RankComm;
 use crate::bodies::NO_GROUP;
 use crate::comm::Transport;
 use crate::dynamics::contacts::{extended, touching};
-use crate::dynamics::friction::{self};
+use crate::dynamics::friction;
 use crate::dynamics::friction_observables::ContactObservables;
 use crate::dynamics::{spring_energy, walls};
 use crate::parallel::Workers;

@@ -109,8 +109,6 @@ impl<T: Transport> RankComm<T> {
             self.particle_wall_force = self.boundary_particle_forces(world);
             return;
         }
-        let world = world;
-        let workers = workers;
         let n = world.bodies.len();
         let list = &world.list;
         let m = list.j.len();

@@ -1,0 +1,352 @@
+//! Stages "ghosts" and "neighbours": the ghost layer follows its owners;
+//! a list build wraps the bodies into the box, sorts them by cell (a
+//! decomposed run: by the whole scene's cells), rebuilds the ghosts and
+//! the lists and carries every pair's state (histories, springs,
+//! collision tracks) over by input ids.
+
+use std::collections::HashMap;
+
+use dembound_physics::contact::ContactHistory;
+
+use super::{Pipeline, Tracks, World};
+use crate::bodies::Bodies;
+use crate::dynamics::collisions::Track;
+use crate::dynamics::contacts::{self, extended, PairHistories};
+use crate::dynamics::friction;
+use crate::geometry::cells::{sort_by_cell, CellGrid};
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::{PairList, SearchInput};
+use crate::parallel::Workers;
+
+/// The cell grid of the whole scene (every rank's bodies).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct WholeGrid {
+    /// Extent of the celled bodies of all ranks (the box on periodic
+    /// axes), m.
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
+    /// Bodies of all ranks.
+    pub bodies: usize,
+}
+
+/// The extent the cell grid spans: the celled bodies' (wrapped) positions,
+/// the box on periodic axes; `None` on an axis no celled body has.
+pub(crate) fn celled_extent(world: &World) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for k in 0..world.bodies.len() {
+        if world.bodies.radius[k] > world.large_radius {
+            continue;
+        }
+        let x = world.bodies.position[k];
+        for a in 0..3 {
+            if x[a].is_finite() {
+                lo[a] = lo[a].min(x[a]);
+                hi[a] = hi[a].max(x[a]);
+            }
+        }
+    }
+    for a in 0..3 {
+        if world.domain.periodic[a] {
+            lo[a] = world.domain.lower[a];
+            hi[a] = world.domain.upper[a];
+        }
+    }
+    (lo, hi)
+}
+
+/// Pair state by input ids (a < b), carried across a list rebuild.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SavedPairs {
+    pub histories: HashMap<(u32, u32), ContactHistory>,
+    pub tracks: Option<HashMap<(u32, u32), Track>>,
+    pub shear: HashMap<(u32, u32), friction::Springs>,
+}
+
+/// Histories, collision tracks and tangential springs of the listed
+/// pairs, by input ids.
+pub(crate) fn save_pairs(world: &World) -> SavedPairs {
+    let histories =
+        contacts::active_histories(&world.bodies, &world.ghosts, &world.list, &world.histories)
+            .into_iter()
+            .map(|(a, b, h)| ((a, b), h))
+            .collect();
+    let tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
+    let shear = if world.friction.is_some() {
+        friction::active_shear(&world.bodies, &world.ghosts, &world.list, &world.shear)
+            .into_iter()
+            .map(|(a, b, s)| ((a, b), s))
+            .collect()
+    } else {
+        HashMap::new()
+    };
+    SavedPairs {
+        histories,
+        tracks,
+        shear,
+    }
+}
+
+/// Extended index of body j's image nearest to body i: j itself or one of
+/// its ghosts.
+fn nearest_image(bodies: &Bodies, ghosts: &Ghosts, i: usize, j: usize) -> usize {
+    let d2 = |x: [f64; 3]| crate::dynamics::integrate::displacement2(x, bodies.position[i]);
+    let mut best = (d2(bodies.position[j]), j);
+    for (g, &owner) in ghosts.owner.iter().enumerate() {
+        if owner as usize == j {
+            let d = d2(ghosts.position[g]);
+            if d < best.0 {
+                best = (d, bodies.len() + g);
+            }
+        }
+    }
+    best.1
+}
+
+/// The tracks of the listed couples that have a previous step, by input ids.
+pub(crate) fn saved_tracks_public(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+    saved_tracks(world, tracks)
+}
+
+fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+    let bodies = &world.bodies;
+    let list = &world.list;
+    let mut out = HashMap::new();
+    if tracks.main.len() != list.j.len() || list.start.len() != bodies.len() + 1 {
+        return out;
+    }
+    for i in 0..bodies.len() {
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            if tracks.main[k].is_known() {
+                let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
+                out.insert((a.min(b), a.max(b)), tracks.main[k]);
+            }
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        if tracks.extra.get(k).is_some_and(|t| t.is_known()) {
+            let (_, _, owner) = extended(bodies, &world.ghosts, j as usize);
+            let (a, b) = (bodies.id[i as usize], bodies.id[owner]);
+            out.insert((a.min(b), a.max(b)), tracks.extra[k]);
+        }
+    }
+    out
+}
+
+impl Pipeline {
+    /// Stage "ghosts": images follow their owners.
+    pub fn ghosts(&mut self, world: &mut World) {
+        world
+            .ghosts
+            .update(&world.bodies.position, &world.bodies.velocity);
+    }
+
+    /// Stage "neighbours": wrap into the box, sort bodies by cell, rebuild
+    /// the ghost layer and the lists, carry every pair's history over.
+    pub fn neighbours(&mut self, world: &mut World, workers: &Workers) {
+        let saved = save_pairs(world);
+        self.rebuild(world, workers, saved);
+    }
+
+    /// [`Self::neighbours`] from pair state saved by [`save_pairs`] (a
+    /// domain decomposition changes the bodies in between: migration).
+    pub(crate) fn rebuild(&mut self, world: &mut World, workers: &Workers, saved: SavedPairs) {
+        world.rebuilds += 1;
+        let SavedPairs {
+            histories: saved,
+            tracks: saved_tracks,
+            shear: saved_shear,
+        } = saved;
+
+        let n = world.bodies.len();
+        for k in 0..n {
+            world.bodies.position[k] = world.domain.wrap(world.bodies.position[k]);
+        }
+        // Grid bounds: the box on periodic axes, the celled bodies' extent elsewhere.
+        let large = world.large_radius;
+        let (mut lo, mut hi) = celled_extent(world);
+        for a in 0..3 {
+            if lo[a] > hi[a] {
+                lo[a] = 0.0;
+                hi[a] = 0.0;
+            }
+        }
+        self.grid = match self.whole_grid {
+            None => CellGrid::new(lo, hi, world.cell_size, (2 * n).max(64)),
+            Some(whole) => {
+                // The whole scene's grid, cropped to the cells of this
+                // rank's bodies.
+                let mut lower = whole.lower;
+                let mut upper = whole.upper;
+                for a in 0..3 {
+                    if lower[a] > upper[a] {
+                        lower[a] = 0.0;
+                        upper[a] = 0.0;
+                    }
+                }
+                let g = CellGrid::new(lower, upper, world.cell_size, (2 * whole.bodies).max(64));
+                let mut c_lo = [usize::MAX; 3];
+                let mut c_hi = [0usize; 3];
+                for k in 0..n {
+                    if world.bodies.radius[k] <= large {
+                        let c = g.whole_coords(world.bodies.position[k]);
+                        for a in 0..3 {
+                            c_lo[a] = c_lo[a].min(c[a]);
+                            c_hi[a] = c_hi[a].max(c[a]);
+                        }
+                    }
+                }
+                g.crop(c_lo, c_hi)
+            }
+        };
+        let cells = self.grid.count();
+        let cell: Vec<u32> = (0..n)
+            .map(|k| {
+                if world.bodies.radius[k] > large {
+                    cells as u32
+                } else {
+                    self.grid.index(self.grid.coords(world.bodies.position[k])) as u32
+                }
+            })
+            .collect();
+        let (mut order, start) = sort_by_cell(&cell, cells);
+        if self.whole_grid.is_some() {
+            // By input id within a cell: the order is the whole scene's,
+            // not this rank's history of arrivals.
+            let id = &world.bodies.id;
+            for c in 0..=cells {
+                order[start[c] as usize..start[c + 1] as usize]
+                    .sort_unstable_by_key(|&o| id[o as usize]);
+            }
+        }
+        world.bodies.permute(&order);
+        world.wall_contacts.permute(&order);
+        world
+            .wall_contacts
+            .refresh(&world.bodies, &world.surfaces, wall_range(world));
+        let celled = start[cells] as usize;
+        let bodies = &world.bodies;
+        world.ghosts = Ghosts::build(&world.domain, &bodies.position, world.cell_size, |k| {
+            bodies.radius[k] > large
+        });
+        world.ghosts.update(&bodies.position, &bodies.velocity);
+        world.list = PairList::build(
+            &SearchInput {
+                position: &bodies.position,
+                radius: &bodies.radius,
+                fixed: &bodies.fixed,
+                celled,
+                grid: &self.grid,
+                cell_start: &start,
+                ghosts: &world.ghosts,
+                skin: world.skin,
+            },
+            workers,
+        );
+        // A decomposed run adds each body's pair forces in body order.
+        world.list.sequential = self.whole_grid.is_some();
+        let list = &world.list;
+        let key = |i: usize, j_ext: usize| {
+            let (_, _, owner) = extended(bodies, &world.ghosts, j_ext);
+            let (a, b) = (bodies.id[i], bodies.id[owner]);
+            (a.min(b), a.max(b))
+        };
+        let keep = world.laws.history;
+        let mut main = vec![ContactHistory::default(); if keep { list.j.len() } else { 0 }];
+        let mut extra = vec![ContactHistory::default(); if keep { list.extra.len() } else { 0 }];
+        if keep && !saved.is_empty() {
+            for (i, k) in list.entries() {
+                if let Some(h) = saved.get(&key(i, list.j[k] as usize)) {
+                    main[k] = *h;
+                }
+            }
+            for (k, &(i, j)) in list.extra.iter().enumerate() {
+                if let Some(h) = saved.get(&key(i as usize, j as usize)) {
+                    extra[k] = *h;
+                }
+            }
+        }
+        world.histories = PairHistories { main, extra };
+        if world.friction.is_some() {
+            let rolling = world.friction.as_ref().is_some_and(|t| t.rolling());
+            world.shear =
+                friction::restore_shear(bodies, &world.ghosts, list, &saved_shear, rolling);
+        }
+        // Tracked contacts that are still open but no longer listed (they
+        // separated by more than the skin within one step) stay listed, as
+        // extra pairs, until the log has seen them end.
+        let mut kept: Vec<(u32, u32, Track)> = Vec::new();
+        if let (Some(saved), Some(tracks)) = (saved_tracks, world.tracks.as_mut()) {
+            tracks.main = vec![Track::default(); list.j.len()];
+            tracks.extra = vec![Track::default(); list.extra.len()];
+            let mut found = std::collections::HashSet::new();
+            for (i, k) in list.entries() {
+                let key = key(i, list.j[k] as usize);
+                if let Some(t) = saved.get(&key) {
+                    tracks.main[k] = *t;
+                    found.insert(key);
+                }
+            }
+            for (k, &(i, j)) in list.extra.iter().enumerate() {
+                let key = key(i as usize, j as usize);
+                if let Some(t) = saved.get(&key) {
+                    tracks.extra[k] = *t;
+                    found.insert(key);
+                }
+            }
+            let mut open: Vec<_> = saved
+                .iter()
+                .filter(|(key, t)| t.in_contact() && !found.contains(*key))
+                .map(|(key, t)| (*key, *t))
+                .collect();
+            open.sort_by_key(|(key, _)| *key);
+            // By input id (a rank of a decomposed run holds some bodies
+            // only: a pair with one elsewhere is kept by the other rank).
+            let at: HashMap<u32, usize> = bodies
+                .id
+                .iter()
+                .enumerate()
+                .map(|(k, &id)| (id, k))
+                .collect();
+            for ((a, b), t) in open {
+                let (Some(&i), Some(&j)) = (at.get(&a), at.get(&b)) else {
+                    continue;
+                };
+                if bodies.fixed[i] && bodies.fixed[j] {
+                    continue;
+                }
+                kept.push((
+                    i as u32,
+                    nearest_image(bodies, &world.ghosts, i, j) as u32,
+                    t,
+                ));
+            }
+        }
+        for (i, j, t) in kept {
+            world.list.extra.push((i, j));
+            if world.laws.history {
+                // A contact that separated keeps no history worth carrying.
+                world.histories.extra.push(ContactHistory::default());
+            }
+            if world.friction.is_some() {
+                world.shear.push_extra();
+            }
+            if let Some(tracks) = world.tracks.as_mut() {
+                tracks.extra.push(t);
+            }
+        }
+        self.reference.clone_from(&world.bodies.position);
+    }
+}
+
+/// The near range of the wall lists, m: the skin; with the collision log
+/// twice the skin, since a track starts at −skin, which a body may reach
+/// from 1.5 skins away at the last build (it moves ≤ skin/2 between
+/// builds).
+pub(crate) fn wall_range(world: &World) -> f64 {
+    if world.wall_contacts.keep_track {
+        2.0 * world.skin
+    } else {
+        world.skin
+    }
+}

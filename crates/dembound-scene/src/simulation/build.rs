@@ -1,0 +1,507 @@
+//! Building a [`Simulation`] from a [`SceneSetup`]: the setup validated
+//! (every bad value named with its key and range), the bodies, walls,
+//! contact laws and friction tables made, the skin and cells chosen, Δt
+//! from the time-step rule.
+
+use super::{Simulation, TimeStepReport, LARGE_FACTOR};
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::contacts::{LawTable, PairHistories};
+use crate::dynamics::friction::{FrictionTable, PairShear};
+use crate::energy_guard::EnergyGuard;
+use crate::error::SceneError;
+use crate::fingerprint::Fingerprint;
+use crate::geometry::domain::Domain;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+use crate::parallel::Workers;
+use crate::pipeline::{Pipeline, Tracks, WallKind, World};
+use crate::setup::{RunLength, SceneSetup, WallSetup};
+use crate::time_step;
+use crate::walls::{Curvature, CylinderWall, LawSlot, PlaneWall, Surface, WallContacts};
+
+impl Simulation {
+    /// Validates `setup` and builds the run without its first forces
+    /// ([`Simulation::new`] adds them; a decomposed run first keeps its
+    /// rank's bodies).
+    pub(crate) fn prepare(setup: &SceneSetup, threads: usize) -> Result<Self, SceneError> {
+        if threads == 0 {
+            return Err(SceneError::invalid("threads", 0, "at least 1"));
+        }
+        setup.contact.validate().map_err(|e| SceneError::Invalid {
+            key: e.key,
+            value: e.value,
+            allowed: e.allowed,
+        })?;
+        validate_friction(setup)?;
+        let d = &setup.domain;
+        for a in 0..3 {
+            if !(d.lower[a].is_finite() && d.upper[a].is_finite() && d.lower[a] < d.upper[a]) {
+                return Err(SceneError::invalid(
+                    format!("domain.upper[{a}]"),
+                    d.upper[a],
+                    format!("finite and above domain.lower[{a}] = {} m", d.lower[a]),
+                ));
+            }
+        }
+        for (k, m) in setup.materials.iter().enumerate() {
+            let m = &m.material;
+            if !(m.density.is_finite() && m.density > 0.0) {
+                return Err(SceneError::invalid(
+                    format!("materials[{k}].density"),
+                    m.density,
+                    "finite and > 0 kg/m³",
+                ));
+            }
+            if m.youngs_modulus.is_nan() || m.youngs_modulus <= 0.0 {
+                return Err(SceneError::invalid(
+                    format!("materials[{k}].youngs_modulus"),
+                    m.youngs_modulus,
+                    "> 0 Pa (inf for rigid)",
+                ));
+            }
+            if !(m.poisson_ratio > -1.0 && m.poisson_ratio <= 0.5) {
+                return Err(SceneError::invalid(
+                    format!("materials[{k}].poisson_ratio"),
+                    m.poisson_ratio,
+                    "in (-1, 0.5]",
+                ));
+            }
+        }
+        let nm = setup.materials.len();
+        for (k, s) in setup.spheres.iter().enumerate() {
+            if !(s.radius.is_finite() && s.radius > 0.0) {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].radius"),
+                    s.radius,
+                    "finite and > 0 m",
+                ));
+            }
+            if !finite3(s.position) {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].position"),
+                    show3(s.position),
+                    "finite, m",
+                ));
+            }
+            if !finite3(s.velocity) {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].velocity"),
+                    show3(s.velocity),
+                    "finite, m/s",
+                ));
+            }
+            if s.material >= nm {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].material"),
+                    s.material,
+                    format!("a material index below {nm}"),
+                ));
+            }
+            if let Some(g) = s.group {
+                let ok = matches!(
+                    setup.walls.get(g),
+                    Some(WallSetup::BoundaryParticles { .. })
+                );
+                if !ok || !s.fixed {
+                    return Err(SceneError::invalid(
+                        format!("spheres[{k}].group"),
+                        g,
+                        "the index of a boundary-particle wall, on a fixed sphere",
+                    ));
+                }
+            }
+            if !s.fixed && !setup.materials[s.material].material.density.is_finite() {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].material"),
+                    s.material,
+                    "a finite density",
+                ));
+            }
+        }
+        if setup.spheres.len() >= u32::MAX as usize {
+            return Err(SceneError::invalid(
+                "spheres",
+                setup.spheres.len(),
+                "fewer than 2^32 − 1",
+            ));
+        }
+        let mut planes: Vec<Surface> = Vec::new();
+        let mut slots: Vec<LawSlot> = Vec::new();
+        let mut kinds = Vec::new();
+        for (w, wall) in setup.walls.iter().enumerate() {
+            match *wall {
+                WallSetup::Plane {
+                    point,
+                    normal,
+                    material,
+                } => {
+                    let mut len =
+                        (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
+                            .sqrt();
+                    if !(len.is_finite() && len > 1e-150) {
+                        // Squares that overflow or underflow ([0, 0, 1e300]):
+                        // the scaled norm (the formula above, kept for the
+                        // bits of every other normal).
+                        len = crate::limits::norm(normal);
+                    }
+                    if !(len.is_finite() && len > 0.0) {
+                        return Err(SceneError::invalid(
+                            format!("wall[{w}].plane.normal"),
+                            show3(normal),
+                            "finite and non-zero",
+                        ));
+                    }
+                    if !finite3(point) {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].point"),
+                            show3(point),
+                            "finite, m",
+                        ));
+                    }
+                    if material >= nm {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].material"),
+                            material,
+                            format!("a material index below {nm}"),
+                        ));
+                    }
+                    kinds.push(WallKind::Surface(planes.len()));
+                    planes.push(Surface::Plane(PlaneWall {
+                        wall: w,
+                        point,
+                        normal: [normal[0] / len, normal[1] / len, normal[2] / len],
+                        slot: slots.len(),
+                    }));
+                    slots.push(LawSlot {
+                        material: material as u32,
+                        wall: w,
+                        curvature: Curvature::Flat,
+                    });
+                }
+                WallSetup::Cylinder {
+                    point,
+                    axis,
+                    radius,
+                    inside,
+                    length,
+                    material,
+                } => {
+                    let surface = cylinder_wall(w, point, axis, radius, inside, length)?;
+                    if material >= nm {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].material"),
+                            material,
+                            format!("a material index below {nm}"),
+                        ));
+                    }
+                    let surface = CylinderWall {
+                        slot: slots.len(),
+                        ..surface
+                    };
+                    let (tube, caps) = surface.curvatures();
+                    for curvature in std::iter::once(tube).chain(caps) {
+                        slots.push(LawSlot {
+                            material: material as u32,
+                            wall: w,
+                            curvature,
+                        });
+                    }
+                    kinds.push(WallKind::Surface(planes.len()));
+                    planes.push(Surface::Cylinder(surface));
+                }
+                WallSetup::BoundaryParticles { first_body, count } => {
+                    let end = first_body
+                        .checked_add(count)
+                        .filter(|&e| e <= setup.spheres.len());
+                    let Some(end) = end else {
+                        return Err(SceneError::invalid(
+                            format!("walls[{w}].count"),
+                            count,
+                            format!(
+                                "spheres {first_body}.. within the {} spheres",
+                                setup.spheres.len()
+                            ),
+                        ));
+                    };
+                    for k in first_body..end {
+                        let s = &setup.spheres[k];
+                        if !s.fixed || s.group != Some(w) {
+                            return Err(SceneError::invalid(
+                                format!("spheres[{k}].group"),
+                                format!("{:?}", s.group),
+                                format!("Some({w}) and fixed: sphere {k} belongs to boundary-particle wall {w}"),
+                            ));
+                        }
+                    }
+                    kinds.push(WallKind::Particles);
+                }
+            }
+        }
+        if !finite3(setup.gravity) {
+            return Err(SceneError::invalid(
+                "motion.gravity",
+                show3(setup.gravity),
+                "finite, m/s²",
+            ));
+        }
+        crate::setup_checks::check(setup, &crate::setup_checks::by_index)?;
+
+        // Bodies in input order.
+        let n = setup.spheres.len();
+        let mut b = Bodies::default();
+        for (k, s) in setup.spheres.iter().enumerate() {
+            let mat = &setup.materials[s.material].material;
+            b.position.push(s.position);
+            b.velocity.push(if s.fixed { [0.0; 3] } else { s.velocity });
+            b.force.push([0.0; 3]);
+            b.radius.push(s.radius);
+            let m = if s.fixed {
+                f64::INFINITY
+            } else {
+                mat.sphere_mass(s.radius)
+            };
+            b.mass.push(m);
+            b.inverse_mass.push(if s.fixed { 0.0 } else { 1.0 / m });
+            b.angular_velocity.push([0.0; 3]);
+            b.torque.push([0.0; 3]);
+            // A solid sphere: I = 2/5 m R².
+            b.inverse_inertia.push(if s.fixed {
+                0.0
+            } else {
+                1.0 / (0.4 * m * s.radius * s.radius)
+            });
+            b.material.push(s.material as u32);
+            b.fixed.push(s.fixed);
+            b.id.push(k as u32);
+            b.group.push(s.group.map_or(NO_GROUP, |g| g as u32));
+        }
+        let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
+        let laws = LawTable::new(setup.contact, materials, &mut b, slots);
+        let friction = setup
+            .friction
+            .clone()
+            .map(|f| FrictionTable::new(f, &laws, &b));
+
+        // Neighbour geometry.
+        let free_min = b
+            .radius
+            .iter()
+            .zip(&b.fixed)
+            .filter(|(_, &f)| !f)
+            .map(|(&r, _)| r)
+            .fold(f64::INFINITY, f64::min);
+        let any_min = b.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        let reference_radius = if free_min.is_finite() {
+            free_min
+        } else {
+            any_min
+        };
+        let skin = match setup.neighbour.skin {
+            Some(s) => {
+                if !(s.is_finite() && s > 0.0) {
+                    return Err(SceneError::invalid("neighbour.skin", s, "finite and > 0 m"));
+                }
+                s
+            }
+            None if reference_radius.is_finite() => 0.2 * reference_radius,
+            None => 1.0e-4,
+        };
+        let large_radius = LARGE_FACTOR * reference_radius;
+        let small_max = b
+            .radius
+            .iter()
+            .copied()
+            .filter(|&r| r <= large_radius)
+            .fold(0.0, f64::max);
+        let cell_size = 2.0 * small_max + skin;
+        let len = [
+            d.upper[0] - d.lower[0],
+            d.upper[1] - d.lower[1],
+            d.upper[2] - d.lower[2],
+        ];
+        for (a, &len) in len.iter().enumerate() {
+            if d.periodic[a] && len < 2.0 * cell_size {
+                return Err(SceneError::invalid(
+                    format!("domain.upper[{a}]"),
+                    d.upper[a],
+                    format!(
+                        "a periodic box at least 2 × (largest diameter + skin) = {} m long on axis {a}",
+                        2.0 * cell_size
+                    ),
+                ));
+            }
+        }
+        if d.periodic.iter().any(|&p| p) && b.radius.iter().any(|&r| r > large_radius) {
+            return Err(SceneError::invalid(
+                "domain.periodic",
+                format!("{:?}", d.periodic),
+                format!("no periodic axis with spheres larger than {LARGE_FACTOR} × the smallest free sphere"),
+            ));
+        }
+
+        // Time step (`time_step`: the bound against stability).
+        let rayleigh_time = time_step::rayleigh_time(setup);
+        let time_step::StepChoice {
+            dt,
+            contact_time,
+            impact_speed,
+        } = time_step::choose(setup)?;
+        let total_steps = match setup.integration.length {
+            RunLength::Steps(s) => s,
+            RunLength::Duration(t) => {
+                if !(t.is_finite() && t >= 0.0) {
+                    return Err(SceneError::invalid(
+                        "integration.duration",
+                        t,
+                        "finite and ≥ 0 s",
+                    ));
+                }
+                let s = (t / dt).ceil();
+                if s > 1.0e15 {
+                    return Err(SceneError::invalid(
+                        "integration.duration",
+                        t,
+                        format!("at most 1e15 steps of {dt} s"),
+                    ));
+                }
+                s as u64
+            }
+        };
+        let workers = Workers::new(threads)?;
+        let world = World {
+            wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
+            tracks: setup.collisions.then(|| Tracks {
+                main: Vec::new(),
+                extra: Vec::new(),
+            }),
+            bodies: b,
+            surfaces: planes,
+            walls: kinds,
+            domain: Domain {
+                lower: d.lower,
+                upper: d.upper,
+                periodic: d.periodic,
+            },
+            laws,
+            gravity: setup.gravity,
+            scheme: setup.integration.scheme,
+            dt,
+            steps_done: 0,
+            skin,
+            cell_size,
+            large_radius,
+            list: PairList::default(),
+            histories: PairHistories::default(),
+            ghosts: Ghosts::default(),
+            collisions: Vec::new(),
+            rebuilds: 0,
+            friction,
+            shear: PairShear::default(),
+        };
+        Ok(Simulation {
+            world,
+            pipeline: Pipeline::default(),
+            workers,
+            total_steps,
+            time_step: TimeStepReport {
+                dt,
+                contact_time,
+                impact_speed,
+                rayleigh_time,
+            },
+            initial_energy: 0.0,
+            energy_guard: EnergyGuard::new(setup, dt),
+            fingerprint: Fingerprint::of(setup),
+        })
+    }
+}
+
+/// The cylinder of `wall[w]` (its law row still to set), or the first bad
+/// value named.
+fn cylinder_wall(
+    w: usize,
+    point: [f64; 3],
+    axis: [f64; 3],
+    radius: f64,
+    inside: bool,
+    length: Option<f64>,
+) -> Result<CylinderWall, SceneError> {
+    let key = |k: &str| format!("wall[{w}].cylinder.{k}");
+    let len = crate::limits::norm(axis);
+    if !(finite3(axis) && len.is_finite() && len > 0.0) {
+        return Err(SceneError::invalid(
+            key("axis"),
+            show3(axis),
+            "finite and non-zero",
+        ));
+    }
+    if !finite3(point) {
+        return Err(SceneError::invalid(key("point"), show3(point), "finite, m"));
+    }
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(SceneError::invalid(
+            key("radius"),
+            radius,
+            "finite and > 0 m",
+        ));
+    }
+    if let Some(l) = length {
+        if !(l.is_finite() && l > 0.0) {
+            return Err(SceneError::invalid(key("length"), l, "finite and > 0 m"));
+        }
+        if !inside {
+            return Err(SceneError::invalid(
+                key("length"),
+                l,
+                "none for a post (inside = false): a finite post has rims, which this wall does \
+                 not model; omit length (infinite post)",
+            ));
+        }
+    }
+    Ok(CylinderWall {
+        wall: w,
+        point,
+        axis: axis.map(|x| x / len),
+        radius,
+        inside,
+        half_length: length.map(|l| 0.5 * l),
+        slot: 0,
+    })
+}
+
+fn finite3(v: [f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+fn show3(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
+}
+
+/// Friction coefficients finite and ≥ 0.
+fn validate_friction(setup: &SceneSetup) -> Result<(), SceneError> {
+    let Some(f) = &setup.friction else {
+        return Ok(());
+    };
+    let invalid = |e: dembound_physics::PhysicsError| SceneError::Invalid {
+        key: e.key,
+        value: e.value,
+        allowed: e.allowed,
+    };
+    f.model.validate().map_err(invalid)?;
+    use dembound_physics::contact::tangential::check_coefficient;
+    for (k, m) in f.materials.iter().enumerate() {
+        if let Some((mu, roll)) = m {
+            check_coefficient(&format!("materials[{k}].friction"), *mu, "μ").map_err(invalid)?;
+            check_coefficient(&format!("materials[{k}].rolling_friction"), *roll, "μ_r")
+                .map_err(invalid)?;
+        }
+    }
+    for (k, w) in f.walls.iter().enumerate() {
+        if let Some((mu, roll)) = w {
+            check_coefficient(&format!("walls[{k}].friction"), *mu, "μ").map_err(invalid)?;
+            check_coefficient(&format!("walls[{k}].rolling_friction"), *roll, "μ_r")
+                .map_err(invalid)?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,104 @@
+//! The scene's energies, contact counts and wall forces
+//! ([`Observation`], computed by `pipeline::observe`), and the energy
+//! guard's check of them.
+
+use super::{Observation, Simulation};
+use crate::energy_guard::EnergyBalance;
+use crate::error::SceneError;
+use crate::pipeline::{observe, Local};
+
+impl Simulation {
+    /// [`Self::observe`], checked by the energy guard: an error when the
+    /// run has created energy beyond the integration error allowed
+    /// (`energy_guard`) or its energies are not finite.
+    pub fn observe_checked(&mut self) -> Result<Observation, SceneError> {
+        let o = self.observe();
+        self.energy_guard.check(&o, self.initial_energy)?;
+        Ok(o)
+    }
+
+    /// The energy balance at observation `o` of this run, with the largest
+    /// gain the guard has seen.
+    pub fn energy_balance(&self, o: &Observation) -> EnergyBalance {
+        self.energy_guard.balance(o, self.initial_energy)
+    }
+
+    /// Σ ½ m v² over free bodies, plus Σ ½ I ω² with friction, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        observe::kinetic_energy(&self.world, &self.workers)
+    }
+
+    /// −Σ m g·x over free bodies, J.
+    pub fn potential_energy(&self) -> f64 {
+        observe::potential_energy(&self.world, &self.workers)
+    }
+
+    /// Energy stored in the contacts (pairs and plane walls), J, friction
+    /// springs included ([`Observation::elastic_energy`]).
+    pub fn elastic_energy(&self) -> f64 {
+        self.observe().elastic_energy
+    }
+
+    /// Energy lost since the start, J: the initial kinetic + elastic +
+    /// potential energy minus the current one (damping and integration
+    /// error).
+    pub fn dissipated_energy(&self) -> f64 {
+        self.observe().dissipated_energy
+    }
+
+    pub(super) fn mechanical_energy(&self) -> f64 {
+        let o = self.observe();
+        o.kinetic_energy + o.elastic_energy + o.potential_energy
+    }
+
+    /// Sphere pairs in contact now (neither a boundary particle).
+    pub fn particle_contacts(&self) -> usize {
+        self.observe().particle_contacts
+    }
+
+    /// Sphere–wall contacts now (planes and boundary particles).
+    pub fn wall_contacts(&self) -> usize {
+        self.observe().wall_contacts
+    }
+
+    /// Force on each wall in file order, N (for a boundary-particle wall
+    /// the sum over its spheres).
+    pub fn wall_forces(&self) -> Vec<[f64; 3]> {
+        self.observe().wall_forces
+    }
+
+    /// Every global observable at the current state.
+    pub fn observe(&self) -> Observation {
+        observe::observation(&self.world, &self.workers, self.initial_energy, &Local)
+    }
+
+    /// The contact observables pass by pass: pair counts and energy, plane
+    /// forces, counts and energy, plane tangential forces, spring energy
+    /// (see [`Self::observe`]); for the test of the fused pass.
+    #[cfg(test)]
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn contact_observables(
+        &self,
+    ) -> (
+        usize,
+        usize,
+        f64,
+        Vec<[f64; 3]>,
+        usize,
+        f64,
+        Vec<[f64; 3]>,
+        f64,
+    ) {
+        let c = observe::contact_passes(&self.world, &self.workers);
+        (
+            c.particle_contacts,
+            c.boundary_contacts,
+            c.pair_energy,
+            c.plane_forces,
+            c.plane_contacts,
+            c.plane_energy,
+            c.plane_tangential,
+            c.spring_energy,
+        )
+    }
+}
