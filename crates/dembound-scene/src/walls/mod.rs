@@ -18,7 +18,7 @@
 //!
 //! Adding a wall type takes (counted for the cylinder, issue 25): one
 //! file here with its geometry (a type implementing [`Wall`]), one variant
-//! of [`Surface`] (this file), one `[[wall]]` key (`io/config.rs`, read in
+//! of [`Surface`] (this file), one `[[wall]]` key (`io/config/walls.rs`, read in
 //! `io/resolve.rs` into a `setup::WallSetup` variant, `setup.rs`), its
 //! construction and law rows (`simulation.rs`), its placement checks
 //! (`setup_checks.rs`) and its contact-time row (`time_step.rs`), and
