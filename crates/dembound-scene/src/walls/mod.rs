@@ -20,7 +20,7 @@
 //! file here with its geometry (a type implementing [`Wall`]), one variant
 //! of [`Surface`] (this file), one `[[wall]]` key (`io/config/walls.rs`, read in
 //! `io/resolve.rs` into a `setup::WallSetup` variant, `setup.rs`), its
-//! construction and law rows (`simulation.rs`), its placement checks
+//! construction and law rows (`simulation/build.rs`), its placement checks
 //! (`setup_checks.rs`) and its contact-time row (`time_step.rs`), and
 //! the one exhaustive match on `WallSetup` in `wall_study.rs`: nine files
 //! of the scene crate, none of them in the force, friction,
