@@ -20,9 +20,7 @@
 
 use std::collections::HashMap;
 
-use dembound_physics::contact::model::{
-    assemble, effective_inertia as inertia, overlap_rate, slip_velocity,
-};
+use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
 use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction};
 use dembound_physics::contact::{ContactHistory, ContactLaw, ContactState, Side};
 use dembound_physics::material::{Material, PairProperties};
@@ -65,11 +63,6 @@ fn sub(a: &mut [f64; 3], b: [f64; 3]) {
     a[0] -= b[0];
     a[1] -= b[1];
     a[2] -= b[2];
-}
-
-#[inline(always)]
-fn scale(s: f64, a: [f64; 3]) -> [f64; 3] {
-    [s * a[0], s * a[1], s * a[2]]
 }
 
 /// The tangential part of `v` for unit normal `n`.
@@ -1204,7 +1197,7 @@ pub unsafe fn add_plane_forces(
         let key = *walls.key.at(k);
         let surface = c.surfaces.get_unchecked(key.wall as usize);
         let p = surface.contact(key.element, x, v, r);
-        let (h, rate) = (p.overlap, p.rate);
+        let h = p.overlap;
         let touching = walls.touching.at(k);
         let mut scratch = NO_HISTORY;
         let hist = if walls.keep {
@@ -1217,46 +1210,39 @@ pub unsafe fn add_plane_forces(
             let mut computed = None;
             let slot = surface.law_slot(key.element);
             let fl = c.friction.plane(c.laws, bodies, i, slot, &mut computed);
-            let (law, fr) = (&fl.law, &fl.friction);
-            let fw = law.force(h, rate, hist);
-            law.update(h, rate, hist);
             *touching = true;
-            // From the sphere to the wall.
-            let n = scale(-1.0, p.normal);
-            let vt = tangential(
-                {
-                    let s = cross(scale(r, w), n);
-                    [v[0] + s[0], v[1] + s[1], v[2] + s[2]]
-                },
-                n,
-            );
             if sh.stamp != c.step {
                 sh.before = sh.shear;
                 sh.stamp = c.step;
             }
             let mut d = sh.before;
             let (ds, dr) = split(&mut d);
-            let ft = fr.tangential_force(h, fw, n, vt, c.dt, ds);
-            let rolling = if c.friction.rolling {
-                Some(fr.rolling_torque(
-                    law,
-                    h,
-                    fw,
-                    n,
-                    w,
-                    inertia(bodies.inverse_inertia[i]),
-                    c.dt,
-                    dr,
-                ))
-            } else {
-                None
+            // The sphere is body 1, the wall body 2 (n from the sphere to
+            // the wall): the composer's whole contact.
+            let g = p.geometry();
+            let sphere = Side {
+                velocity: v,
+                spin: w,
+                arm: r,
+                inverse_inertia: bodies.inverse_inertia[i],
             };
+            let f = fl.calculate_forces(
+                &g,
+                &sphere,
+                &surface.side(key.element, &p, x, r),
+                ContactState {
+                    history: hist,
+                    tangential: ds,
+                    rolling: c.friction.rolling.then_some(dr),
+                },
+                c.dt,
+            );
             sh.shear = d;
-            for a in 0..3 {
-                acc[a] += fw * p.normal[a] + ft[a];
-            }
-            add(torque, scale(r, cross(n, ft)));
-            if let Some(rolling) = rolling {
+            // −F_n n + F_t = F_n (wall normal) + F_t, and the two torque
+            // parts added one after the other.
+            add(acc, f.on_body1(g.normal));
+            add(torque, f.tangential_torque1);
+            if let Some(rolling) = f.rolling {
                 add(torque, rolling);
             }
         } else if *touching {
@@ -1329,22 +1315,31 @@ pub fn plane_tangential_forces(
             let key = walls.key[k];
             let surface = &surfaces[key.wall as usize];
             let c = surface.contact(key.element, x, v, r);
-            let (h, rate) = (c.overlap, c.rate);
+            let h = c.overlap;
             if h <= 0.0 {
                 continue;
             }
             let mut computed = None;
             let slot = surface.law_slot(key.element);
             let fl = friction.plane(laws, bodies, i, slot, &mut computed);
-            let (law, fr) = (&fl.law, &fl.friction);
             let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
-            let fw = law.force(h, rate, hist);
-            let n = scale(-1.0, c.normal);
-            let s = cross(scale(r, w), n);
-            let vt = tangential([v[0] + s[0], v[1] + s[1], v[2] + s[2]], n);
-            let mut d = walls.shear[k].shear;
-            let (ds, _) = split(&mut d);
-            let ft = fr.tangential_force(h, fw, n, vt, 0.0, ds);
+            let sphere = Side {
+                velocity: v,
+                spin: w,
+                arm: r,
+                inverse_inertia: bodies.inverse_inertia[i],
+            };
+            let d = walls.shear[k].shear;
+            let ft = fl
+                .observe(
+                    &c.geometry(),
+                    &sphere,
+                    &surface.side(key.element, &c, x, r),
+                    hist,
+                    [d[0], d[1], d[2]],
+                    None,
+                )
+                .tangential;
             sub(&mut out[key.wall as usize], ft);
         }
     }
