@@ -476,9 +476,7 @@ fn observe_is_calculate_forces_at_zero_dt_on_copies() {
             // The force is the one before the history's update.
             assert_eq!(
                 seen.normal.to_bits(),
-                cl.law
-                    .force(g.overlap, g.overlap_rate, &history)
-                    .to_bits()
+                cl.law.force(g.overlap, g.overlap_rate, &history).to_bits()
             );
         }
     }
