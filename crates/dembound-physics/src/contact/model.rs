@@ -294,6 +294,32 @@ impl ContactLaw {
         assemble(f, ft, rolling, n, a.arm, b.arm)
     }
 
+    /// The contact's forces at its present state, nothing advanced (an
+    /// observation between steps): the stages of [`Self::calculate_forces`]
+    /// with the normal force read from `history` without updating it
+    /// ([`PairLaw::force`]) and the springs, copied, taken through a step
+    /// of zero length (turned into the present tangent plane and capped at
+    /// the present μ |F_n|, their dashpots at the present slip). `rolling`:
+    /// the rolling spring, `None` to skip the rolling stage.
+    #[inline]
+    pub fn observe(
+        &self,
+        g: &Geometry,
+        a: &Side,
+        b: &Side,
+        history: &ContactHistory,
+        tangential: [f64; 3],
+        rolling: Option<[f64; 3]>,
+    ) -> ContactForces {
+        let n = g.normal;
+        let f = self.law.force(g.overlap, g.overlap_rate, history);
+        let vt = slip_velocity(a, b, n);
+        let mut shear = tangential;
+        let ft = self.tangential_stage(g.overlap, f, n, vt, 0.0, &mut shear);
+        let rolling = rolling.map(|mut m| self.rolling_stage(g.overlap, f, n, a, b, 0.0, &mut m));
+        assemble(f, ft, rolling, n, a.arm, b.arm)
+    }
+
     /// Stage 3, the tangential force on body 1 (N) at overlap `overlap`
     /// (m) with normal force `normal_force` (N), unit normal `n` and slip
     /// `slip` ([`slip_velocity`], m/s), after `dt` s; moves the

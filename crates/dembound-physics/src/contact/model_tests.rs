@@ -426,3 +426,58 @@ fn a_wall_is_side_two_with_its_surface_velocity() {
         frictionless.law.normal_stage(1.0e-6, 0.0, &mut h2)
     );
 }
+
+/// An observation is the whole contact evaluated after a step of zero
+/// length on copies of the history and springs: the same forces and
+/// torques, bit for bit, as `calculate_forces` at dt = 0 given copies,
+/// and nothing of the caller's moved (the history, read only; the springs,
+/// passed by value). Random states as above, pairs and moving walls.
+#[test]
+fn observe_is_calculate_forces_at_zero_dt_on_copies() {
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+    for cl in laws() {
+        for step in 0..500 {
+            let g = Geometry {
+                overlap: 5.0e-6 * (1.0 + rng.next()) + 1e-9,
+                overlap_rate: 0.1 * rng.next(),
+                normal: rng.unit(),
+            };
+            let a = sphere(&mut rng, R1);
+            let b = if step % 2 == 1 {
+                Side::wall(rng.vector(0.05))
+            } else {
+                sphere(&mut rng, R2)
+            };
+            let history = ContactHistory {
+                max_overlap: g.overlap * (1.0 + 0.5 * (1.0 + rng.next())),
+                unloading: step % 3 == 0,
+            };
+            let scale = 10f64.powf(-9.0 + 4.0 * rng.next().abs());
+            let shear = rng.vector(scale);
+            let scale = 1.0e-6 * rng.next().abs();
+            let roll = rng.vector(scale);
+            let seen = cl.observe(&g, &a, &b, &history, shear, Some(roll));
+            let (mut h, mut s, mut r) = (history, shear, roll);
+            let whole = cl.calculate_forces(
+                &g,
+                &a,
+                &b,
+                ContactState {
+                    history: &mut h,
+                    tangential: &mut s,
+                    rolling: Some(&mut r),
+                },
+                0.0,
+            );
+            assert_eq!(seen.normal.to_bits(), whole.normal.to_bits());
+            assert_eq!(bits(seen.tangential), bits(whole.tangential));
+            assert_eq!(bits(seen.torque1()), bits(whole.torque1()));
+            assert_eq!(bits(seen.torque2()), bits(whole.torque2()));
+            // The force is the one before the history's update.
+            assert_eq!(
+                seen.normal.to_bits(),
+                cl.law.force(g.overlap, g.overlap_rate, &history).to_bits()
+            );
+        }
+    }
+}

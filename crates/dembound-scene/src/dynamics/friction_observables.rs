@@ -31,7 +31,9 @@
 //! passes.
 
 use super::contacts::{PairHistories, NO_HISTORY};
-use super::friction::{cross, tangential, FrictionLaw, FrictionTable, PairShear};
+use dembound_physics::contact::Side;
+
+use super::friction::{FrictionLaw, FrictionTable, PairShear};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{Workers, BODY_CHUNK};
@@ -251,34 +253,42 @@ impl Pass<'_> {
                     let p = key.wall as usize;
                     let surface = &surfaces[p];
                     let c = surface.contact(key.element, xi, v, ri);
-                    let (h, rate) = (c.overlap, c.rate);
+                    let h = c.overlap;
                     if h <= 0.0 {
                         continue;
                     }
                     let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
                     let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
-                    // `plane_observables`.
-                    let fw = fl.law.force(h, rate, hist);
+                    let stored = &walls.shear[k].shear;
+                    // The composer at this state, springs not moved
+                    // (`plane_tangential_forces`): F_n is
+                    // `plane_observables`' force, F_t the tangential one.
+                    let sphere = Side {
+                        velocity: v,
+                        spin: w,
+                        arm: ri,
+                        inverse_inertia: bodies.inverse_inertia[i],
+                    };
+                    let f = fl.observe(
+                        &c.geometry(),
+                        &sphere,
+                        &surface.side(key.element, &c, xi, ri),
+                        hist,
+                        [stored[0], stored[1], stored[2]],
+                        None,
+                    );
+                    let (fw, ft) = (f.normal, f.tangential);
                     for a in 0..3 {
                         out.planes[3 * p + a] -= fw * c.normal[a];
                     }
                     out.planes[3 * np] += 1.0;
                     out.planes[3 * np + 1] += fl.law.elastic_energy(h, hist);
-                    // `plane_tangential_forces`, with the same operations:
-                    // n = −normal (exactly its −1·normal), v_t from
-                    // v + (r ω) × n.
-                    let n = c.normal.map(|x| -x);
-                    let sp = cross([ri * w[0], ri * w[1], ri * w[2]], n);
-                    let vt = tangential([v[0] + sp[0], v[1] + sp[1], v[2] + sp[2]], n);
-                    let stored = &walls.shear[k].shear;
-                    let mut ds = [stored[0], stored[1], stored[2]];
-                    let ft = fl.friction.tangential_force(h, fw, n, vt, 0.0, &mut ds);
                     out.tangential.push((p, ft));
                     // `spring_energy`'s planes.
                     if *stored != [0.0; 6] {
                         let t = [stored[0], stored[1], stored[2]];
                         let r = [stored[3], stored[4], stored[5]];
-                        springs += fl.friction.spring_energy(&fl.law, h, &t, &r);
+                        springs += fl.spring_energy(h, &t, &r);
                     }
                 }
             }

@@ -125,7 +125,7 @@ pub fn spring_energy_counted(
                     let mut scratch = None;
                     let slot = surface.law_slot(key.element);
                     let fl = friction.plane(laws, bodies, i, slot, &mut scratch);
-                    e += fl.friction.spring_energy(&fl.law, h, &t, &r);
+                    e += fl.spring_energy(h, &t, &r);
                 }
             }
         }

@@ -49,8 +49,10 @@ pub unsafe fn body_force(
         };
         if c.overlap > 0.0 {
             let law = laws.wall(bodies, i, surface.law_slot(key.element));
-            let fw = law.force(c.overlap, c.rate, hist);
-            law.update(c.overlap, c.rate, hist);
+            // The composer's normal stage (a frictionless contact is that
+            // stage alone): the force on the sphere is F_n along the
+            // wall's normal.
+            let fw = law.normal_stage(c.overlap, c.rate, hist);
             *touching = true;
             acc[0] += fw * c.normal[0];
             acc[1] += fw * c.normal[1];

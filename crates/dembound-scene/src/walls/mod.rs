@@ -36,6 +36,8 @@ pub use cylinder::CylinderWall;
 pub use near::{WallContacts, WallContactsMut, WallElement};
 pub use plane::{plane_overlap, PlaneWall};
 
+use dembound_physics::contact::{Geometry, Side};
+
 /// One contact point of a sphere with a wall element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WallPoint {
@@ -47,6 +49,21 @@ pub struct WallPoint {
     /// Unit normal from the wall into the sphere (the direction of the
     /// wall's push).
     pub normal: [f64; 3],
+}
+
+impl WallPoint {
+    /// The contact's geometry as the contact law reads it
+    /// (`dembound_physics::contact::model`): the sphere is body 1, the
+    /// wall body 2, so the normal n runs from the sphere to the wall, the
+    /// reverse of [`Self::normal`].
+    #[inline(always)]
+    pub fn geometry(&self) -> Geometry {
+        Geometry {
+            overlap: self.overlap,
+            overlap_rate: self.rate,
+            normal: self.normal.map(|x| -x),
+        }
+    }
 }
 
 /// How a wall element curves, for the contact law's effective radius.
@@ -145,6 +162,26 @@ impl Surface {
             }
             Surface::Cylinder(c) => c.contact(element, x, v, r),
         }
+    }
+
+    /// [`Wall::surface_velocity`], inlined into the force loops.
+    #[inline(always)]
+    pub fn surface_velocity(&self, element: u32, at: [f64; 3]) -> [f64; 3] {
+        match self {
+            Surface::Plane(p) => p.surface_velocity(element, at),
+            Surface::Cylinder(c) => c.surface_velocity(element, at),
+        }
+    }
+
+    /// The wall as side 2 of its contact `point` with a sphere at `x` of
+    /// radius `r` on element `element`: no spin, lever arm or 1/I, moving
+    /// at its surface velocity at the contact point (x − r n̂, n̂ the
+    /// wall's normal into the sphere).
+    #[inline(always)]
+    pub fn side(&self, element: u32, point: &WallPoint, x: [f64; 3], r: f64) -> Side {
+        let n = point.normal;
+        let at = [x[0] - r * n[0], x[1] - r * n[1], x[2] - r * n[2]];
+        Side::wall(self.surface_velocity(element, at))
     }
 
     /// [`Wall::law_slot`].

@@ -1,0 +1,280 @@
+//! The batched pass of the pair loop ([`MainPairs::batch`]): the
+//! composer's stages over a batch of contacts, one stage at a time, with
+//! the row-by-row loop's bits.
+
+use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
+use dembound_physics::contact::Side;
+
+use super::pairs::MainPairs;
+use super::{add, sub, FrictionLaw};
+use crate::dynamics::contacts::NO_HISTORY;
+
+impl MainPairs<'_> {
+    /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
+    /// entries in all (see [`Self::block`]).
+    #[inline(always)]
+    pub(super) fn batch<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+        &self,
+        lo: usize,
+        hi: usize,
+        scratch: &mut Batch,
+    ) {
+        let (position, velocity, radius, spin, inverse_inertia, class) = (
+            self.position,
+            self.velocity,
+            self.radius,
+            self.spin,
+            self.inverse_inertia,
+            self.class,
+        );
+        let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
+        // Pass 1: every entry's geometry ([`touching_lazy`]'s operations
+        // without its branches): the partners gathered, then the roots and
+        // divisions of all entries in one loop over arrays (vectorised:
+        // IEEE square root and division per lane, the same bits), then the
+        // touching entries listed in `found` and the others' springs
+        // relaxed by masking their bits.
+        let first = start[lo] as usize;
+        let count = start[hi] as usize - first;
+        let g = &mut *scratch;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            let (xi, ri) = (position[i], radius[i]);
+            for k in s..e {
+                // SAFETY: as in [`Self::row`] for k and j; k − first <
+                // count ≤ BATCH (the batch's construction).
+                unsafe {
+                    let q = k - first;
+                    let j = *js.get_unchecked(k);
+                    let xj = *position.get_unchecked(j as usize);
+                    *g.partner.get_unchecked_mut(q) = j;
+                    *g.dx.get_unchecked_mut(q) = xj[0] - xi[0];
+                    *g.dy.get_unchecked_mut(q) = xj[1] - xi[1];
+                    *g.dz.get_unchecked_mut(q) = xj[2] - xi[2];
+                    *g.sum.get_unchecked_mut(q) = ri + *radius.get_unchecked(j as usize);
+                }
+            }
+        }
+        let count = count.min(BATCH);
+        for q in 0..count {
+            let (x, y, z, sum) = (g.dx[q], g.dy[q], g.dz[q], g.sum[q]);
+            let r2 = x * x + y * y + z * z;
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let touches = !(r2 >= sum * sum) && r2 != 0.0;
+            g.touches[q] = touches as u64;
+            let r = r2.sqrt();
+            let inv = 1.0 / r;
+            g.overlap[q] = sum - r;
+            g.nx[q] = x * inv;
+            g.ny[q] = y * inv;
+            g.nz[q] = z * inv;
+        }
+        let mut m = 0usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            for k in s..e {
+                let q = k - first;
+                // SAFETY: q < count ≤ BATCH; m ≤ q.
+                let touches = unsafe { *g.touches.get_unchecked(q) };
+                unsafe {
+                    *g.found.get_unchecked_mut(m) = q as u8;
+                    *g.row.get_unchecked_mut(m) = (i - lo) as u8;
+                }
+                m += touches as usize;
+                // All ones when touching: the springs kept bit for bit;
+                // else exactly +0.
+                let keep = touches.wrapping_neg();
+                let mask = |v: &mut [f64; 3]| {
+                    *v = v.map(|x| f64::from_bits(x.to_bits() & keep));
+                };
+                // SAFETY: entry k belongs to row i of this block (as in
+                // [`Self::row`]).
+                unsafe {
+                    mask(&mut *self.shear.0.add(k));
+                    if KEEP {
+                        let hist = &mut *self.history.0.add(k);
+                        hist.max_overlap = f64::from_bits(hist.max_overlap.to_bits() & keep);
+                        hist.unloading &= touches != 0;
+                    }
+                    if ROLL {
+                        mask(&mut *self.roll.0.add(k));
+                    }
+                }
+            }
+            g.ends[i - lo] = m as u8;
+        }
+        // Pass 2, in stages over the contacts found, each a short loop
+        // whose iterations are independent, so that the processor overlaps
+        // the chains of dependent operations of several contacts (one
+        // contact's chain, root to Coulomb test, is longer than its
+        // window); the forces summed last, in [`Self::row`]'s order. The
+        // same operations on the same values as [`contact`]: the same bits.
+        let found = m.min(BATCH);
+        // Batches run only with the class table ([`Self::block`]).
+        debug_assert!(TABLE && table.len() == classes * classes);
+        let row_law = |i: usize, j: usize| -> &FrictionLaw {
+            // SAFETY: classes are < `classes` when the table exists
+            // (`FrictionTable::new`), so the row is in the table of
+            // classes² rows; i and j are bodies (pass 1).
+            unsafe {
+                table.get_unchecked(
+                    *class.get_unchecked(i) as usize * classes + *class.get_unchecked(j) as usize,
+                )
+            }
+        };
+        // The sides of a contact (a body's velocity, spin, lever arm and
+        // inverse inertia; a stage reads the fields it needs).
+        let side = |i: usize| -> Side {
+            // SAFETY: i is a body (pass 1).
+            unsafe {
+                Side {
+                    velocity: *velocity.get_unchecked(i),
+                    spin: *spin.get_unchecked(i),
+                    arm: *radius.get_unchecked(i),
+                    inverse_inertia: *inverse_inertia.get_unchecked(i),
+                }
+            }
+        };
+        // 2a: overlap rates and tangential slip velocities.
+        for t in 0..found {
+            let q = g.found[t] as usize;
+            let (i, j) = (lo + g.row[t] as usize, g.partner[q] as usize);
+            let (a, b) = (side(i), side(j));
+            let n = [g.nx[q], g.ny[q], g.nz[q]];
+            g.rate[t] = overlap_rate(a.velocity, b.velocity, n);
+            g.slip[t] = slip_velocity(&a, &b, n);
+        }
+        // 2b: normal forces (histories updated).
+        for t in 0..found {
+            let q = g.found[t] as usize;
+            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
+            let law = &row_law(i, j).law;
+            let mut scratch = NO_HISTORY;
+            // SAFETY: entry k belongs to row i of this block.
+            let hist = if KEEP {
+                unsafe { &mut *self.history.0.add(k) }
+            } else {
+                &mut scratch
+            };
+            g.force[t] = law.normal_stage(g.overlap[q], g.rate[t], hist);
+        }
+        // 2c: tangential forces (springs moved) and rolling torques.
+        for t in 0..found {
+            let q = g.found[t] as usize;
+            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
+            let fl = row_law(i, j);
+            let n = [g.nx[q], g.ny[q], g.nz[q]];
+            // SAFETY: entry k belongs to row i of this block.
+            let sh = unsafe { &mut *self.shear.0.add(k) };
+            g.tangential[t] =
+                fl.tangential_stage(g.overlap[q], g.force[t], n, g.slip[t], self.dt, sh);
+            if ROLL {
+                // SAFETY: as the spring.
+                let roll = unsafe { &mut *self.roll.0.add(k) };
+                g.rolling[t] = fl.rolling_stage(
+                    g.overlap[q],
+                    g.force[t],
+                    n,
+                    &side(i),
+                    &side(j),
+                    self.dt,
+                    roll,
+                );
+            }
+        }
+        // 2d: forces and torques summed row by row.
+        let mut from = 0usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s == e {
+                continue;
+            }
+            let to = (g.ends[i - lo] as usize).min(found);
+            let ri = radius[i];
+            let mut fi = [0.0; 3];
+            let mut ti = [0.0; 3];
+            for t in from..to {
+                let q = g.found[t] as usize;
+                let j = g.partner[q] as usize;
+                // SAFETY: j is a body (pass 1).
+                let rj = unsafe { *radius.get_unchecked(j) };
+                let n = [g.nx[q], g.ny[q], g.nz[q]];
+                let rolling = if ROLL { Some(g.rolling[t]) } else { None };
+                let c = assemble(g.force[t], g.tangential[t], rolling, n, ri, rj);
+                let (fj, tqj) = (c.on_body2(n), c.torque2());
+                sub(&mut fi, fj);
+                add(&mut ti, c.torque1());
+                // SAFETY: j lies in this block or the next (the list's
+                // blocks, as in [`Self::row`]).
+                unsafe {
+                    add(&mut *self.force.0.add(j), fj);
+                    add(&mut *self.torque.0.add(j), tqj);
+                }
+            }
+            from = to;
+            // SAFETY: i is in this block.
+            unsafe {
+                add(&mut *self.force.0.add(i), fi);
+                add(&mut *self.torque.0.add(i), ti);
+            }
+        }
+    }
+}
+
+/// Entries per batch of [`MainPairs::block`] (≤ 256: indices are `u8`).
+pub(super) const BATCH: usize = 64;
+
+/// The first pass's results for one batch of [`MainPairs::batch`], by
+/// entry (its index in the list minus the batch's first): the partner,
+/// the difference of centres (m) and sum of radii (m), whether it
+/// touches, the overlap (m) and unit normal; `found`: the touching
+/// entries in order; `ends`: where each row's end in `found`.
+pub(super) struct Batch {
+    partner: [u32; BATCH],
+    dx: [f64; BATCH],
+    dy: [f64; BATCH],
+    dz: [f64; BATCH],
+    sum: [f64; BATCH],
+    touches: [u64; BATCH],
+    overlap: [f64; BATCH],
+    nx: [f64; BATCH],
+    ny: [f64; BATCH],
+    nz: [f64; BATCH],
+    found: [u8; BATCH],
+    ends: [u8; BATCH],
+    /// By contact found (index into `found`): its row (minus the
+    /// batch's first), overlap rate (m/s), tangential slip velocity
+    /// (m/s), normal force (N), tangential force (N) and rolling torque
+    /// (N m).
+    row: [u8; BATCH],
+    rate: [f64; BATCH],
+    slip: [[f64; 3]; BATCH],
+    force: [f64; BATCH],
+    tangential: [[f64; 3]; BATCH],
+    rolling: [[f64; 3]; BATCH],
+}
+
+impl Default for Batch {
+    fn default() -> Self {
+        Self {
+            partner: [0; BATCH],
+            dx: [0.0; BATCH],
+            dy: [0.0; BATCH],
+            dz: [0.0; BATCH],
+            sum: [0.0; BATCH],
+            touches: [0; BATCH],
+            overlap: [0.0; BATCH],
+            nx: [0.0; BATCH],
+            ny: [0.0; BATCH],
+            nz: [0.0; BATCH],
+            found: [0; BATCH],
+            ends: [0; BATCH],
+            row: [0; BATCH],
+            rate: [0.0; BATCH],
+            slip: [[0.0; 3]; BATCH],
+            force: [0.0; BATCH],
+            tangential: [[0.0; 3]; BATCH],
+            rolling: [[0.0; 3]; BATCH],
+        }
+    }
+}

@@ -1,0 +1,532 @@
+//! The pair force loop with friction: each touching pair is the
+//! composer's contact (`ContactLaw::calculate_forces`, or its stages in
+//! the batched pass of `pair_batch.rs`), over the frictionless loop's
+//! blocks and order.
+
+use dembound_physics::contact::{ContactHistory, ContactState, Side};
+
+use super::pair_batch::{Batch, BATCH};
+use super::{add, sub, FrictionLaw, FrictionTable, PairShear};
+use crate::bodies::Bodies;
+use crate::dynamics::contacts::{
+    extended, run_blocks_then, touching, touching_lazy, FollowUp, LawTable, PairGeometry,
+    PairHistories, NO_HISTORY,
+};
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+use crate::parallel::{SharedMut, Workers};
+
+/// Forces on j and torques on i and j of one touching pair with friction
+/// (`ContactLaw::calculate_forces`); updates both histories and the
+/// springs. The force on i is minus the returned one. `roll`: the rolling
+/// spring, `None` when no surface of the scene rolls (its torque is then
+/// zero and nothing is evaluated).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn contact(
+    fl: &FrictionLaw,
+    g: &PairGeometry,
+    history: &mut ContactHistory,
+    shear: &mut [f64; 3],
+    roll: Option<&mut [f64; 3]>,
+    a: Side,
+    b: Side,
+    dt: f64,
+) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    let n = g.normal;
+    let c = fl.calculate_forces(
+        g,
+        &a,
+        &b,
+        ContactState {
+            history,
+            tangential: shear,
+            rolling: roll,
+        },
+        dt,
+    );
+    (c.on_body2(n), c.torque1(), c.torque2())
+}
+
+/// Body i as a side of its contacts.
+#[inline(always)]
+fn side(bodies: &Bodies, i: usize) -> Side {
+    Side {
+        velocity: bodies.velocity[i],
+        spin: bodies.angular_velocity[i],
+        arm: bodies.radius[i],
+        inverse_inertia: bodies.inverse_inertia[i],
+    }
+}
+
+/// What the friction force loop reads and writes.
+pub struct PairForceInput<'a> {
+    pub bodies: &'a Bodies,
+    pub ghosts: &'a Ghosts,
+    pub list: &'a PairList,
+    pub laws: &'a LawTable,
+    pub friction: &'a FrictionTable,
+    /// Time since the last evaluation, s (0: do not move the springs).
+    pub dt: f64,
+}
+
+/// Adds every pair force and torque (the frictionless loop's blocks and
+/// order: deterministic for any thread count).
+pub fn add_pair_forces(
+    input: &PairForceInput,
+    histories: &mut PairHistories,
+    shear: &mut PairShear,
+    force: &mut [[f64; 3]],
+    torque: &mut [[f64; 3]],
+    workers: &Workers,
+) {
+    let n = input.bodies.len();
+    assert!(force.len() == n && torque.len() == n);
+    // SAFETY: one force and one torque per body (asserted), borrowed
+    // mutably here.
+    unsafe {
+        add_pair_forces_then(
+            input,
+            histories,
+            shear,
+            (SharedMut::new(force), SharedMut::new(torque)),
+            workers,
+            None,
+        )
+    };
+}
+
+/// [`add_pair_forces`] with a follow-up on each block's bodies once their
+/// forces and torques are complete (as `contacts::add_pair_forces_then`:
+/// no extra pairs). Returns the follow-ups' maximum.
+///
+/// # Safety
+/// As `contacts::add_pair_forces_then`, for the forces and the torques
+/// (and the spins, which `follow` may write like the velocities).
+pub(crate) unsafe fn add_pair_forces_then(
+    input: &PairForceInput,
+    histories: &mut PairHistories,
+    shear: &mut PairShear,
+    (force, torque): (SharedMut<[f64; 3]>, SharedMut<[f64; 3]>),
+    workers: &Workers,
+    follow: Option<FollowUp>,
+) -> f64 {
+    let PairForceInput {
+        bodies,
+        ghosts,
+        list,
+        laws,
+        friction,
+        dt,
+    } = *input;
+    let n = bodies.len();
+    let keep = laws.history;
+    let rolling = friction.rolling;
+    assert!(list.start.len() == n + 1);
+    assert!(follow.is_none() || list.extra.is_empty());
+    assert!(!keep || histories.main.len() == list.j.len());
+    assert!(shear.main.len() == list.j.len() && shear.extra.len() == list.extra.len());
+    assert!(
+        !rolling
+            || (shear.roll_main.len() == list.j.len()
+                && shear.roll_extra.len() == list.extra.len())
+    );
+    assert!(
+        bodies.position.len() == n
+            && bodies.velocity.len() == n
+            && bodies.radius.len() == n
+            && bodies.angular_velocity.len() == n
+            && bodies.inverse_inertia.len() == n
+            && bodies.class.len() == n
+    );
+    // Rows lie within j (start is nondecreasing, the list's construction).
+    assert!(list.start[n] as usize <= list.j.len());
+    let (spin, inverse_inertia) = (&bodies.angular_velocity[..], &bodies.inverse_inertia[..]);
+    let main = MainPairs {
+        bodies,
+        laws,
+        friction,
+        list,
+        position: &bodies.position,
+        velocity: &bodies.velocity,
+        radius: &bodies.radius,
+        spin,
+        inverse_inertia,
+        class: &bodies.class,
+        start: &list.start,
+        js: &list.j,
+        table: &friction.pairs,
+        classes: friction.classes,
+        force,
+        torque,
+        history: SharedMut(histories.main.as_mut_ptr()),
+        shear: SharedMut(shear.main.as_mut_ptr()),
+        roll: SharedMut(shear.roll_main.as_mut_ptr()),
+        dt,
+    };
+    // One loop per setting, so that the per-contact code has no branch on
+    // them (the compiler does not unswitch the loop by itself).
+    let table = friction.classes > 0;
+    let value = match (keep, rolling, table) {
+        (false, false, true) => main.run::<false, false, true>(workers, follow),
+        (false, false, false) => main.run::<false, false, false>(workers, follow),
+        (false, true, true) => main.run::<false, true, true>(workers, follow),
+        (false, true, false) => main.run::<false, true, false>(workers, follow),
+        (true, false, true) => main.run::<true, false, true>(workers, follow),
+        (true, false, false) => main.run::<true, false, false>(workers, follow),
+        (true, true, true) => main.run::<true, true, true>(workers, follow),
+        (true, true, false) => main.run::<true, true, false>(workers, follow),
+    };
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        let (i, j) = (i as usize, j as usize);
+        let (xj, vj, owner) = extended(bodies, ghosts, j);
+        let mut scratch = NO_HISTORY;
+        let hist = if keep {
+            &mut histories.extra[k]
+        } else {
+            &mut scratch
+        };
+        let sh = &mut shear.extra[k];
+        let roll = shear.roll_extra.get_mut(k);
+        match touching(
+            bodies.position[i],
+            bodies.velocity[i],
+            bodies.radius[i],
+            xj,
+            vj,
+            bodies.radius[owner],
+        ) {
+            Some(g) => {
+                let mut computed = None;
+                let fl = friction.pair(laws, bodies, i, owner, &mut computed);
+                let (fj, tqi, tqj) = contact(
+                    fl,
+                    &g,
+                    hist,
+                    sh,
+                    roll,
+                    side(bodies, i),
+                    Side {
+                        velocity: vj,
+                        ..side(bodies, owner)
+                    },
+                    dt,
+                );
+                // SAFETY: i and owner are bodies; the blocks are done.
+                unsafe {
+                    sub(force.at(i), fj);
+                    add(force.at(owner), fj);
+                    add(torque.at(i), tqi);
+                    add(torque.at(owner), tqj);
+                }
+            }
+            None => {
+                *hist = ContactHistory::default();
+                *sh = [0.0; 3];
+                if let Some(r) = roll {
+                    *r = [0.0; 3];
+                }
+            }
+        }
+    }
+    value
+}
+
+/// What the loop over the list's main pairs reads and writes (slices, so
+/// that the compiler does not reload the vectors' headers after the raw
+/// writes, as in the frictionless loop).
+pub(super) struct MainPairs<'a> {
+    pub(super) bodies: &'a Bodies,
+    pub(super) laws: &'a LawTable,
+    pub(super) friction: &'a FrictionTable,
+    pub(super) list: &'a PairList,
+    pub(super) position: &'a [[f64; 3]],
+    pub(super) velocity: &'a [[f64; 3]],
+    pub(super) radius: &'a [f64],
+    pub(super) spin: &'a [[f64; 3]],
+    pub(super) inverse_inertia: &'a [f64],
+    pub(super) class: &'a [u16],
+    pub(super) start: &'a [u32],
+    pub(super) js: &'a [u32],
+    /// The class table (one row per class pair) when there is one.
+    pub(super) table: &'a [FrictionLaw],
+    pub(super) classes: usize,
+    pub(super) force: SharedMut<[f64; 3]>,
+    pub(super) torque: SharedMut<[f64; 3]>,
+    pub(super) history: SharedMut<ContactHistory>,
+    pub(super) shear: SharedMut<[f64; 3]>,
+    pub(super) roll: SharedMut<[f64; 3]>,
+    pub(super) dt: f64,
+}
+
+impl MainPairs<'_> {
+    /// Every block of main pairs. `KEEP`: the normal law keeps histories;
+    /// `ROLL`: rolling springs are kept; `TABLE`: laws come from the class
+    /// table. The caller has checked the lengths (`add_pair_forces`).
+    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+        &self,
+        workers: &Workers,
+        follow: Option<FollowUp>,
+    ) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (just checked).
+            return run_blocks_then(
+                workers,
+                self.list,
+                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE>(b) },
+                follow,
+            );
+        }
+        run_blocks_then(
+            workers,
+            self.list,
+            |b| self.block::<KEEP, ROLL, TABLE>(b),
+            follow,
+        )
+    }
+
+    /// [`Self::block`] compiled for AVX2: three-operand (VEX) arithmetic,
+    /// about a fifth fewer instructions than the baseline's SSE2 copies.
+    /// The same operations in the same order, and no fused multiply–add
+    /// (Rust does not contract a·b + c): the same bits as the baseline.
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    unsafe fn block_avx2<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+        self.block::<KEEP, ROLL, TABLE>(b)
+    }
+
+    /// Block `b`'s rows, in batches of consecutive rows with at most
+    /// [`BATCH`] entries between them: a first pass over a batch finds the
+    /// touching entries and their geometry without a branch on whether
+    /// they touch (in the settled lattice drop 2/3 of the listed pairs
+    /// touch, 30,446 of 45,157: a branch the processor cannot predict),
+    /// so that the square roots and divisions of several
+    /// pairs overlap instead of heading each contact's chain of dependent
+    /// operations; the second pass computes the contacts found. Same
+    /// operations on the same values in the same order as [`Self::row`]
+    /// (the springs of untouched entries set to exactly +0): the same bits.
+    #[inline(always)]
+    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+        let start = self.start;
+        let lo = self.list.blocks[b] as usize;
+        let hi = self.list.blocks[b + 1] as usize;
+        let mut scratch = Batch::default();
+        let mut i = lo;
+        while i < hi {
+            let first = start[i] as usize;
+            let mut end = i;
+            while end < hi && end - i < BATCH && start[end + 1] as usize - first <= BATCH {
+                end += 1;
+            }
+            if end == i || !TABLE || row_by_row() {
+                // A row longer than a batch (a large body's), or laws
+                // computed per pair (no class table).
+                self.row::<KEEP, ROLL, TABLE>(i);
+                i += 1;
+            } else {
+                self.batch::<KEEP, ROLL, TABLE>(i, end, &mut scratch);
+                i = end;
+            }
+        }
+    }
+
+    /// Row i entry by entry (rows longer than a batch).
+    #[inline(always)]
+    fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, i: usize) {
+        let (position, velocity, radius, spin, inverse_inertia, class) = (
+            self.position,
+            self.velocity,
+            self.radius,
+            self.spin,
+            self.inverse_inertia,
+            self.class,
+        );
+        let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
+        let (s, e) = (start[i] as usize, start[i + 1] as usize);
+        if s == e {
+            return;
+        }
+        let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+        let a = Side {
+            velocity: vi,
+            spin: spin[i],
+            arm: ri,
+            inverse_inertia: inverse_inertia[i],
+        };
+        let ci = if TABLE { class[i] as usize } else { 0 };
+        let mut fi = [0.0; 3];
+        let mut ti = [0.0; 3];
+        for k in s..e {
+            // SAFETY (the unchecked reads): k < js.len() (rows lie
+            // within j, asserted via start[n]), and every j < n (the
+            // list's construction); body arrays of length n asserted
+            // by the caller.
+            let j = unsafe { *js.get_unchecked(k) } as usize;
+            let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+            // SAFETY (every pointer below): entry k belongs to row i,
+            // which only this block visits; j lies in this block or the
+            // next, and blocks of one parity are two apart (the
+            // frictionless loop's argument, `contacts::add_pair_forces`).
+            let sh = unsafe { &mut *self.shear.0.add(k) };
+            // The velocity is read only for touching pairs.
+            let vj = || unsafe { *velocity.get_unchecked(j) };
+            if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                let mut scratch = NO_HISTORY;
+                let hist = if KEEP {
+                    unsafe { &mut *self.history.0.add(k) }
+                } else {
+                    &mut scratch
+                };
+                let b = unsafe {
+                    Side {
+                        velocity: *velocity.get_unchecked(j),
+                        spin: *spin.get_unchecked(j),
+                        arm: rj,
+                        inverse_inertia: *inverse_inertia.get_unchecked(j),
+                    }
+                };
+                let mut computed = None;
+                let fl = if TABLE {
+                    // SAFETY: classes are < `classes` when the table
+                    // exists (`FrictionTable::new`), so the row is in
+                    // the table of classes² rows.
+                    unsafe { table.get_unchecked(ci * classes + *class.get_unchecked(j) as usize) }
+                } else {
+                    self.friction
+                        .pair(self.laws, self.bodies, i, j, &mut computed)
+                };
+                let roll = if ROLL {
+                    Some(unsafe { &mut *self.roll.0.add(k) })
+                } else {
+                    None
+                };
+                let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                sub(&mut fi, fj);
+                add(&mut ti, tqi);
+                unsafe {
+                    add(&mut *self.force.0.add(j), fj);
+                    add(&mut *self.torque.0.add(j), tqj);
+                }
+            } else {
+                // An untouched pair: relax its springs (a read and a
+                // compare when they are relaxed already).
+                if KEEP {
+                    let hist = unsafe { &mut *self.history.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
+                    }
+                }
+                if *sh != [0.0; 3] {
+                    *sh = [0.0; 3];
+                }
+                if ROLL {
+                    let r = unsafe { &mut *self.roll.0.add(k) };
+                    if *r != [0.0; 3] {
+                        *r = [0.0; 3];
+                    }
+                }
+            }
+        }
+        // SAFETY: i is in this block.
+        unsafe {
+            add(&mut *self.force.0.add(i), fi);
+            add(&mut *self.torque.0.add(i), ti);
+        }
+    }
+}
+
+/// Tests: run [`MainPairs::row`] for every row (the reference of the
+/// batched path).
+#[cfg(test)]
+static ROW_BY_ROW: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+#[cfg(test)]
+fn row_by_row() -> bool {
+    ROW_BY_ROW.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+#[cfg(not(test))]
+#[inline(always)]
+fn row_by_row() -> bool {
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::Ordering;
+
+    use dembound_physics::contact::{ContactModel, NormalLaw};
+
+    use super::{add_pair_forces, PairForceInput, ROW_BY_ROW};
+    use crate::dynamics::friction_observables::tests::scene;
+    use crate::setup::TimeStep;
+    use crate::Simulation;
+
+    /// The batched pair loop (two passes, stages) gives the row-by-row
+    /// loop's forces, torques, springs and histories bit for bit (the
+    /// row-by-row loop is the reference: each contact evaluated whole, in
+    /// list order), along a run of impacts, sliding and sticking, with
+    /// rolling springs, with and without contact histories.
+    #[test]
+    fn batched_pairs_equal_row_by_row_bit_for_bit() {
+        for history in [false, true] {
+            let mut setup = scene();
+            if history {
+                // Walton–Braun's linear spring is soft: a step well inside
+                // its contact time (~50 µs).
+                setup.contact = ContactModel::elastic(NormalLaw::WaltonBraun { restitution: 0.5 });
+                setup.integration.time_step = TimeStep::Fixed(2.0e-6);
+            }
+            let mut sim = Simulation::new(setup, 1).unwrap();
+            let mut touching = 0;
+            for _ in 0..30 {
+                sim.step(100);
+                let w = &sim.world;
+                let n = w.bodies.len();
+                let input = PairForceInput {
+                    bodies: &w.bodies,
+                    ghosts: &w.ghosts,
+                    list: &w.list,
+                    laws: &w.laws,
+                    friction: w.friction.as_ref().unwrap(),
+                    dt: sim.dt(),
+                };
+                let run = |rows: bool| {
+                    let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
+                    let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+                    ROW_BY_ROW.store(rows, Ordering::Relaxed);
+                    add_pair_forces(
+                        &input,
+                        &mut histories,
+                        &mut shear,
+                        &mut force,
+                        &mut torque,
+                        &sim.workers,
+                    );
+                    ROW_BY_ROW.store(false, Ordering::Relaxed);
+                    let bits = |v: &[[f64; 3]]| -> Vec<u64> {
+                        v.iter().flatten().map(|x| x.to_bits()).collect()
+                    };
+                    (
+                        bits(&force),
+                        bits(&torque),
+                        bits(&shear.main),
+                        bits(&shear.roll_main),
+                        histories.main,
+                    )
+                };
+                let (batched, rows) = (run(false), run(true));
+                assert!(batched == rows, "history {history}");
+                touching += batched.2.iter().filter(|&&x| x != 0).count();
+            }
+            // Loaded springs were compared: the settling bed has hundreds
+            // of loaded components per check by the end (Walton–Braun's
+            // shorter run, tens; 833 in all when written).
+            assert!(touching > 500, "{touching}");
+        }
+    }
+}

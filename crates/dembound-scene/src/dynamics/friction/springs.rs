@@ -1,0 +1,168 @@
+//! Spring storage: the tangential and rolling springs of the pairs
+//! (aligned with the pair list) and of the wall contacts, and their
+//! transfer across list rebuilds and checkpoints by input ids.
+
+use std::collections::HashMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::bodies::Bodies;
+use crate::dynamics::contacts::extended;
+use crate::geometry::ghosts::Ghosts;
+use crate::geometry::neighbour::PairList;
+
+/// The springs of one contact as saved in checkpoints and carried across
+/// rebuilds: the tangential displacement of body 1's contact point
+/// relative to body 2's (m, components 0..3) and the rolling spring's
+/// torque on body 1 (N m, components 3..6). Seen from body 2 both change
+/// sign.
+pub type Springs = [f64; 6];
+
+fn negate(s: Springs) -> Springs {
+    s.map(|x| -x)
+}
+
+pub(super) fn split(s: &mut Springs) -> (&mut [f64; 3], &mut [f64; 3]) {
+    let (a, b) = s.split_at_mut(3);
+    // Infallible: 6 = 3 + 3.
+    (
+        a.try_into().unwrap_or_else(|_| unreachable!()),
+        b.try_into().unwrap_or_else(|_| unreachable!()),
+    )
+}
+
+/// Contact springs aligned with a [`PairList`] (like [`PairHistories`]),
+/// seen from the row body i: the tangential displacements (`main`,
+/// `extra`) and, only when some surface rolls, the rolling spring torques
+/// (`roll_main`, `roll_extra`; empty otherwise, so that a scene without
+/// rolling friction stores and touches 3 doubles per listed pair, not 6).
+#[derive(Debug, Clone, Default)]
+pub struct PairShear {
+    pub main: Vec<[f64; 3]>,
+    pub extra: Vec<[f64; 3]>,
+    pub roll_main: Vec<[f64; 3]>,
+    pub roll_extra: Vec<[f64; 3]>,
+    /// The rolling springs are kept.
+    pub rolling: bool,
+}
+
+impl PairShear {
+    /// Appends an extra pair with relaxed springs.
+    pub fn push_extra(&mut self) {
+        self.extra.push([0.0; 3]);
+        if self.rolling {
+            self.roll_extra.push([0.0; 3]);
+        }
+    }
+
+    fn springs(shear: [f64; 3], roll: Option<&[f64; 3]>) -> Springs {
+        let r = roll.copied().unwrap_or([0.0; 3]);
+        [shear[0], shear[1], shear[2], r[0], r[1], r[2]]
+    }
+}
+
+/// A sphere–plane contact's springs with the values they had before the
+/// step `stamp` moved them: evaluating the same step's forces twice (the
+/// per-body pass again after a list rebuild) starts again from `before`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct WallShear {
+    pub shear: Springs,
+    pub before: Springs,
+    pub stamp: u64,
+}
+
+/// The springs of the pairs in contact, by input ids (a < b), seen from a.
+pub fn active_shear(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    shear: &PairShear,
+) -> Vec<(u32, u32, Springs)> {
+    let mut out = Vec::new();
+    let n = bodies.len();
+    if list.start.len() != n + 1
+        || shear.main.len() != list.j.len()
+        || shear.extra.len() != list.extra.len()
+    {
+        return out;
+    }
+    let mut push = |i: usize, owner: usize, s: Springs| {
+        if s != [0.0; 6] {
+            let (a, b) = (bodies.id[i], bodies.id[owner]);
+            if a < b {
+                out.push((a, b, s));
+            } else {
+                out.push((b, a, negate(s)));
+            }
+        }
+    };
+    for i in 0..n {
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            let s = PairShear::springs(shear.main[k], shear.roll_main.get(k));
+            push(i, list.j[k] as usize, s);
+        }
+    }
+    for (k, &(i, j)) in list.extra.iter().enumerate() {
+        let (_, _, owner) = extended(bodies, ghosts, j as usize);
+        let s = PairShear::springs(shear.extra[k], shear.roll_extra.get(k));
+        push(i as usize, owner, s);
+    }
+    out.sort_by_key(|x| (x.0, x.1));
+    out
+}
+
+/// Displacements for a new list from `saved` (by input ids, as
+/// [`active_shear`] gives them); `rolling`: keep the rolling springs
+/// ([`FrictionTable::rolling`]).
+pub fn restore_shear(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    saved: &HashMap<(u32, u32), Springs>,
+    rolling: bool,
+) -> PairShear {
+    let mut main = vec![[0.0; 3]; list.j.len()];
+    let mut extra = vec![[0.0; 3]; list.extra.len()];
+    let (mut roll_main, mut roll_extra) = if rolling {
+        (
+            vec![[0.0; 3]; list.j.len()],
+            vec![[0.0; 3]; list.extra.len()],
+        )
+    } else {
+        (Vec::new(), Vec::new())
+    };
+    if !saved.is_empty() {
+        let get = |i: usize, j_ext: usize| -> Option<Springs> {
+            let (_, _, owner) = extended(bodies, ghosts, j_ext);
+            let (a, b) = (bodies.id[i], bodies.id[owner]);
+            if a < b {
+                saved.get(&(a, b)).copied()
+            } else {
+                saved.get(&(b, a)).map(|s| negate(*s))
+            }
+        };
+        let put = |s: Springs, shear: &mut [f64; 3], roll: Option<&mut [f64; 3]>| {
+            *shear = [s[0], s[1], s[2]];
+            if let Some(r) = roll {
+                *r = [s[3], s[4], s[5]];
+            }
+        };
+        for (i, k) in list.entries() {
+            if let Some(s) = get(i, list.j[k] as usize) {
+                put(s, &mut main[k], roll_main.get_mut(k));
+            }
+        }
+        for (k, &(i, j)) in list.extra.iter().enumerate() {
+            if let Some(s) = get(i as usize, j as usize) {
+                put(s, &mut extra[k], roll_extra.get_mut(k));
+            }
+        }
+    }
+    PairShear {
+        main,
+        extra,
+        roll_main,
+        roll_extra,
+        rolling,
+    }
+}
