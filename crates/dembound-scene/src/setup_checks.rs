@@ -238,18 +238,30 @@ fn plane_overlaps(
             }
         }
     }
-    if let Some((share, k, w, overlap)) = worst {
-        warnings.push(format!(
-            "{count} free sphere(s) start overlapping a plane wall by more than {} of their \
-             radius; the largest: {} and `wall[{w}].plane`, {} ({}). The contact laws are \
-             small-strain theories, and the stored energy is released in the first steps",
-            percent(limits::OVERLAP_WARNING),
-            label(k),
-            metres(overlap),
-            percent(share)
-        ));
+    if let Some(worst) = worst {
+        warnings.push(overlap_warning("plane", count, worst, label));
     }
     Ok(())
+}
+
+/// The warning for `count` free spheres starting in a wall of `kind`
+/// ("plane", "cylinder") by more than the warning share; `worst`: (share,
+/// sphere, wall, overlap in m) of the largest.
+fn overlap_warning(
+    kind: &str,
+    count: usize,
+    (share, k, w, overlap): (f64, usize, usize, f64),
+    label: Label<'_>,
+) -> String {
+    format!(
+        "{count} free sphere(s) start overlapping a {kind} wall by more than {} of their \
+         radius; the largest: {} and `wall[{w}].{kind}`, {} ({}). The contact laws are \
+         small-strain theories, and the stored energy is released in the first steps",
+        percent(limits::OVERLAP_WARNING),
+        label(k),
+        metres(overlap),
+        percent(share)
+    )
 }
 
 /// The cylinder walls' refusals and warnings (see the module doc).
@@ -380,16 +392,8 @@ fn cylinder_checks(
             }
         }
     }
-    if let Some((share, k, w, overlap)) = worst {
-        warnings.push(format!(
-            "{count} free sphere(s) start overlapping a cylinder wall by more than {} of their \
-             radius; the largest: {} and `wall[{w}].cylinder`, {} ({}). The contact laws are \
-             small-strain theories, and the stored energy is released in the first steps",
-            percent(limits::OVERLAP_WARNING),
-            label(k),
-            metres(overlap),
-            percent(share)
-        ));
+    if let Some(worst) = worst {
+        warnings.push(overlap_warning("cylinder", count, worst, label));
     }
     Ok(())
 }

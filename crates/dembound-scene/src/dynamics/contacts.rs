@@ -273,15 +273,17 @@ fn contact_force(law: &PairLaw, g: &PairGeometry, history: &mut ContactHistory) 
     [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
 }
 
+/// a ← a + b.
 #[inline(always)]
-fn add(a: &mut [f64; 3], b: [f64; 3]) {
+pub(crate) fn add(a: &mut [f64; 3], b: [f64; 3]) {
     a[0] += b[0];
     a[1] += b[1];
     a[2] += b[2];
 }
 
+/// a ← a − b.
 #[inline(always)]
-fn sub(a: &mut [f64; 3], b: [f64; 3]) {
+pub(crate) fn sub(a: &mut [f64; 3], b: [f64; 3]) {
     a[0] -= b[0];
     a[1] -= b[1];
     a[2] -= b[2];

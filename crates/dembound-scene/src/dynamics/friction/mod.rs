@@ -55,19 +55,8 @@ pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-#[inline(always)]
-fn add(a: &mut [f64; 3], b: [f64; 3]) {
-    a[0] += b[0];
-    a[1] += b[1];
-    a[2] += b[2];
-}
-
-#[inline(always)]
-fn sub(a: &mut [f64; 3], b: [f64; 3]) {
-    a[0] -= b[0];
-    a[1] -= b[1];
-    a[2] -= b[2];
-}
+// The in-place sums, shared with the frictionless loops.
+use super::contacts::{add, sub};
 
 /// The tangential part of `v` for unit normal `n`.
 #[inline(always)]
