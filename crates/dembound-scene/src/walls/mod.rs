@@ -131,7 +131,8 @@ pub trait Wall {
     /// Lower and upper corners of the wall's bounding box, m (infinite
     /// where it is unbounded).
     fn bounding_box(&self) -> ([f64; 3], [f64; 3]);
-    /// The point its torque is taken about, m.
+    /// The point its torque is taken about, m (the plane's `point`; a
+    /// cylinder's axis `point`, the middle of a capped tube).
     fn torque_point(&self) -> [f64; 3];
     /// The row of the law tables of element `element` (`LawTable`,
     /// `FrictionTable`: one per material and curvature).
@@ -184,6 +185,15 @@ impl Surface {
         Side::wall(self.surface_velocity(element, at))
     }
 
+    /// [`Wall::torque_point`], inlined into the force loops.
+    #[inline(always)]
+    pub fn torque_point(&self) -> [f64; 3] {
+        match self {
+            Surface::Plane(p) => p.torque_point(),
+            Surface::Cylinder(c) => c.torque_point(),
+        }
+    }
+
     /// [`Wall::law_slot`].
     #[inline(always)]
     pub fn law_slot(&self, element: u32) -> usize {
@@ -207,10 +217,68 @@ impl Surface {
     }
 }
 
-/// Force (N) and torque (N m, about [`Wall::torque_point`]) a wall takes
-/// from the spheres at one instant.
+/// Force (N) and torque (N m, about the wall's torque point:
+/// [`Wall::torque_point`], or the centroid of a boundary-particle wall's
+/// spheres) a wall takes from the spheres: of one contact in a force pass
+/// ([`Self::of_contact`]), or summed over a wall's contacts.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct WallLoad {
     pub force: [f64; 3],
     pub torque: [f64; 3],
+}
+
+impl WallLoad {
+    /// What the wall takes from one contact whose force on the sphere is
+    /// `on_sphere` (N), applied at the contact point p = x − r n̂ (x the
+    /// sphere's centre, r its radius, n̂ the wall's unit normal into the
+    /// sphere), with `rolling` (N m) the rolling-resistance torque on the
+    /// sphere; the torque about `about` (m).
+    ///
+    /// Action and reaction: the wall takes F_w = −F. The sphere's torque
+    /// about its centre is (p − x) × F + τ_roll (the tangential force's
+    /// lever arm plus the rolling couple), so about c the contact gives
+    /// the sphere (x − c) × F + (p − x) × F + τ_roll = (p − c) × F + τ_roll.
+    /// A contact changes the total angular momentum of sphere and wall by
+    /// nothing, so the wall takes τ_w = −(p − c) × F − τ_roll (the rolling
+    /// torque is a couple between the two surfaces: it acts on the wall
+    /// reversed, whatever the point).
+    #[inline(always)]
+    pub fn of_contact(
+        on_sphere: [f64; 3],
+        rolling: Option<[f64; 3]>,
+        x: [f64; 3],
+        r: f64,
+        normal: [f64; 3],
+        about: [f64; 3],
+    ) -> Self {
+        let arm = [
+            x[0] - r * normal[0] - about[0],
+            x[1] - r * normal[1] - about[1],
+            x[2] - r * normal[2] - about[2],
+        ];
+        let f = on_sphere;
+        let mut torque = [
+            -(arm[1] * f[2] - arm[2] * f[1]),
+            -(arm[2] * f[0] - arm[0] * f[2]),
+            -(arm[0] * f[1] - arm[1] * f[0]),
+        ];
+        if let Some(t) = rolling {
+            for a in 0..3 {
+                torque[a] -= t[a];
+            }
+        }
+        Self {
+            force: [-f[0], -f[1], -f[2]],
+            torque,
+        }
+    }
+
+    /// Adds `other` component by component.
+    #[inline(always)]
+    pub fn add(&mut self, other: &WallLoad) {
+        for a in 0..3 {
+            self.force[a] += other.force[a];
+            self.torque[a] += other.torque[a];
+        }
+    }
 }
