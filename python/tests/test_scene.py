@@ -196,7 +196,7 @@ def test_scene_from_dict_with_bodies_and_walls_from_arrays():
     assert torque[0, 0] == pytest.approx(-0.005 * weight, rel=1e-9)
     assert torque[0, 1] == pytest.approx(0.005 * weight, rel=1e-9)
     assert torque[0, 2] == 0.0
-    assert scene.observe()["wall_torques"] == torque.tolist()
+    assert [list(t) for t in scene.observe()["wall_torques"]] == torque.tolist()
     with pytest.raises(ValueError, match="before the first step"):
         scene.add_plane([0.0, 0.0, 0.01], [0.0, 0.0, -1.0])
     with pytest.raises(ValueError, match="missing field `material`"):

@@ -44,25 +44,30 @@ pub(crate) fn surface_load_records(world: &World) -> Vec<LoadRecord> {
     if wc.bodies() != b.len() || wc.load.len() != wc.key.len() {
         return Vec::new();
     }
-    let mut touching: Vec<(u32, usize)> = (0..b.len())
-        .filter(|&i| !b.fixed[i] && wc.range(i).any(|k| wc.touching[k]))
-        .map(|i| (b.id[i], i))
+    // The touching entries (few: the scan costs per entry, not per body),
+    // each with its body (the last whose entries start at or before it)
+    // and that body's input id; a fixed body (a halo copy) is not
+    // forced: its flags are not this step's.
+    let mut touching: Vec<(u32, usize)> = wc
+        .touching
+        .iter()
+        .enumerate()
+        .filter(|(_, &t)| t)
+        .map(|(k, _)| (wc.start.partition_point(|&s| s as usize <= k) - 1, k))
+        .filter(|&(i, _)| !b.fixed[i])
+        .map(|(i, k)| (b.id[i], k))
         .collect();
-    touching.sort_unstable_by_key(|&(id, _)| id);
-    let mut out = Vec::new();
-    for (id, i) in touching {
-        for k in wc.range(i) {
-            if wc.touching[k] {
-                let surface = &world.surfaces[wc.key[k].wall as usize];
-                out.push(LoadRecord {
-                    id,
-                    wall: surface.file_index() as u32,
-                    load: wc.load[k],
-                });
-            }
-        }
-    }
-    out
+    // By id, then entry: a body's entries are contiguous, ascending by
+    // (wall, element).
+    touching.sort_unstable();
+    touching
+        .into_iter()
+        .map(|(id, k)| LoadRecord {
+            id,
+            wall: world.surfaces[wc.key[k].wall as usize].file_index() as u32,
+            load: wc.load[k],
+        })
+        .collect()
 }
 
 /// The loads of `walls` walls (file order) from `records` in the order
