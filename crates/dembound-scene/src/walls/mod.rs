@@ -9,7 +9,10 @@
 //! each keeps its contact history, springs and collision track. The
 //! force, the friction and every observable of a wall contact are then
 //! the same code for every wall type (`dynamics::walls`,
-//! `dynamics::friction`).
+//! `dynamics::friction`). The force pass records, per touching entry,
+//! the force and torque the wall takes from that contact
+//! ([`WallLoad::of_contact`], about [`Wall::torque_point`]); the
+//! observation sums them per wall (`pipeline::wall_loads`).
 //!
 //! Memory is per near (body, element) entry, never per (body × element):
 //! the list is rebuilt with the pair list, from each wall's
