@@ -285,3 +285,44 @@ impl WallLoad {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::WallLoad;
+
+    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+
+    /// A contact pushing the sphere (centre x = (1, 0, 2), r = 0.5, wall
+    /// normal +z: contact point p = (1, 0, 1.5)) with F = (1, 2, 3) N and
+    /// a rolling torque τ = (0.1, 0, 0) N m: by hand, the wall takes −F and
+    /// −(p × F) − τ = −(−3, −1.5, 2) − τ = (2.9, 1.5, −2) about the origin;
+    /// and sphere plus wall gain no angular momentum about any point
+    /// (the sphere's (x − c) × F + (p − x) × F + τ cancels the wall's).
+    #[test]
+    fn a_contact_gives_the_wall_the_reaction_and_its_moment() {
+        let (f, tau, x) = ([1.0, 2.0, 3.0], [0.1, 0.0, 0.0], [1.0, 0.0, 2.0]);
+        let l = WallLoad::of_contact(f, Some(tau), x, 0.5, [0.0, 0.0, 1.0], [0.0; 3]);
+        assert_eq!(l.force, [-1.0, -2.0, -3.0]);
+        assert_eq!(l.torque, [2.9, 1.5, -2.0]);
+        let c = [0.3, -2.0, 0.7];
+        let l = WallLoad::of_contact(f, Some(tau), x, 0.5, [0.0, 0.0, 1.0], c);
+        let arm = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+        let lever = cross([0.0, 0.0, -0.5], f);
+        let on_sphere = cross(arm, f);
+        for a in 0..3 {
+            let total = on_sphere[a] + lever[a] + tau[a] + l.torque[a];
+            assert!(total.abs() < 1e-14, "{a}: {total}");
+        }
+        // Frictionless: no rolling torque, a normal force through the
+        // centre: the moment of F at the centre.
+        let n = WallLoad::of_contact([0.0, 0.0, 2.0], None, x, 0.5, [0.0, 0.0, 1.0], c);
+        let expected = cross(arm, [0.0, 0.0, 2.0]).map(|t| -t);
+        assert_eq!(n.torque, expected);
+    }
+}
