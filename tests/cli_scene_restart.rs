@@ -142,10 +142,34 @@ fn assert_restart_mid_contact(sets: Vec<String>, n: u64, every: u64, what: &str)
     assert_eq!(ra.len() as u64, 2 + n, "{what}: header and N + 1 rows");
     assert_eq!(rb[..], ra[..rb.len()], "{what}: rows to N/2");
     assert_eq!(rc[0], ra[0], "{what}: header");
+    // The restart step's row: the walls' loads are the force stage's
+    // records, which a checkpoint does not hold; the restarted run
+    // evaluates them at the step's end state (README), so that row's wall
+    // columns differ by the velocity-dependent terms. Every other column
+    // of it, and every later row, the same bits.
+    let walls: Vec<usize> = ra[0]
+        .split(',')
+        .enumerate()
+        .filter(|(_, h)| h.starts_with("wall") && (h.contains("_force_") || h.contains("_torque_")))
+        .map(|(k, _)| k)
+        .collect();
+    assert!(!walls.is_empty(), "{what}: wall columns");
+    let without_walls = |row: &str| -> Vec<String> {
+        row.split(',')
+            .enumerate()
+            .filter(|(k, _)| !walls.contains(k))
+            .map(|(_, v)| v.to_string())
+            .collect()
+    };
     assert_eq!(
-        rc[1..],
-        ra[rb.len() - 1..],
-        "{what}: the restarted run's rows from N/2"
+        without_walls(&rc[1]),
+        without_walls(&ra[rb.len() - 1]),
+        "{what}: the restart step's row"
+    );
+    assert_eq!(
+        rc[2..],
+        ra[rb.len()..],
+        "{what}: the restarted run's rows after N/2"
     );
 }
 

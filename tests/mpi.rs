@@ -1,6 +1,6 @@
 //! `mpirun -np N dembound scene` (feature `mpi`, issue 16): the same
 //! lattice drop (also with friction) on 1, 2 and 3 ranks ends in the same
-//! state to the bit,
+//! state and the same wall forces and torques to the bit,
 //! over shared memory and over TCP on loopback (`--mca btl tcp,self`).
 //! Needs Open MPI's `mpirun` (Debian: openmpi-bin); run with
 //! `cargo test --release --features mpi --test mpi`. Three ranks on a
@@ -110,9 +110,16 @@ fn same_run_with(mca: &[&str], more: &[&str]) {
             assert_eq!(a, b, "{ranks} ranks {extra:?}: body {k}");
         }
         // Integers exactly; the energies are sums over ranks in another
-        // order: 1e-12 relative.
+        // order: 1e-12 relative. The walls' forces and torques are summed
+        // from the force stage's records in input-id order on every rank
+        // count: the same bits (the JSON's shortest round-trip numbers
+        // equal).
         assert_eq!(j["particle_contacts"], j1["particle_contacts"]);
         assert_eq!(j["wall_contacts"], j1["wall_contacts"]);
+        for key in ["wall_forces", "wall_torques", "wall_torque_points"] {
+            assert!(j1[key].as_array().is_some_and(|w| w.len() == 6), "{key}");
+            assert_eq!(j[key], j1[key], "{ranks} ranks {extra:?}: {key}");
+        }
         for key in ["kinetic_energy", "elastic_energy"] {
             let (a, b) = (
                 j[key].as_f64().unwrap_or(0.0),

@@ -119,9 +119,16 @@ class Scene:
     def fixed(self) -> npt.NDArray[np.bool_]: ...
     @property
     def wall_forces(self) -> npt.NDArray[np.float64]:
-        """Force on each wall, (walls, 3) N."""
+        """Force on each wall, (walls, 3) N: what the last force stage applied."""
+    @property
+    def wall_torques(self) -> npt.NDArray[np.float64]:
+        """Torque on each wall about its point in ``wall_torque_points``, (walls, 3) N m."""
+    @property
+    def wall_torque_points(self) -> npt.NDArray[np.float64]:
+        """Each wall's torque point, (walls, 3) m: a plane's point, a cylinder's
+        axis point, the centroid of a boundary-particle wall's spheres."""
     def observe(self) -> dict[str, Any]:
-        """Energies (J), contact counts, wall forces (N) now."""
+        """Energies (J), contact counts, wall forces (N) and torques (N m) now."""
     @property
     def collisions(self) -> dict[str, np.ndarray]:
         """Completed contacts: ``i``, ``j`` (sphere or -1), ``wall`` (or -1),

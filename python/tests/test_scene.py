@@ -185,6 +185,18 @@ def test_scene_from_dict_with_bodies_and_walls_from_arrays():
     assert scene.wall_forces[0, 2] == pytest.approx(-weight, rel=1e-9)
     # A flat floor and spheres with no sideways motion: no sideways force.
     assert scene.wall_forces[0, 0] == 0.0 and scene.wall_forces[0, 1] == 0.0
+    # The torque on the floor about its point (the origin): each sphere's
+    # weight m g = N m g / 2 pressing at its contact point, below its centre
+    # at d = (3, 5) mm and (7, 5) mm: Σ d × (0, 0, −m g) =
+    # (−m g Σ d_y, m g Σ d_x, 0) = (−0.005, 0.005, 0) m × N m g; the z
+    # part exactly 0 (vertical forces). Tolerance as the force's.
+    assert scene.wall_torque_points.tolist() == [[0.0, 0.0, 0.0]]
+    torque = scene.wall_torques
+    assert torque.shape == (1, 3)
+    assert torque[0, 0] == pytest.approx(-0.005 * weight, rel=1e-9)
+    assert torque[0, 1] == pytest.approx(0.005 * weight, rel=1e-9)
+    assert torque[0, 2] == 0.0
+    assert [list(t) for t in scene.observe()["wall_torques"]] == torque.tolist()
     with pytest.raises(ValueError, match="before the first step"):
         scene.add_plane([0.0, 0.0, 0.01], [0.0, 0.0, -1.0])
     with pytest.raises(ValueError, match="missing field `material`"):

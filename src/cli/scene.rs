@@ -183,6 +183,8 @@ pub fn run(args: &SceneArgs) -> CliResult {
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
         wall_forces: last.wall_forces.clone(),
+        wall_torques: last.wall_torques.clone(),
+        wall_torque_points: sim.wall_torque_points(),
         wall_clock: stepping,
         wall_clock_total: wall_total,
         particle_steps_per_second: if stepping > 0.0 {
@@ -296,7 +298,14 @@ pub(super) struct Report {
     pub(super) energy_balance: EnergyBalance,
     pub(super) particle_contacts: usize,
     pub(super) wall_contacts: usize,
+    /// Force on each wall (file order), N: what the last force stage
+    /// applied to it.
     pub(super) wall_forces: Vec<[f64; 3]>,
+    /// Torque on each wall (file order), N m, about its point in
+    /// `wall_torque_points`.
+    pub(super) wall_torques: Vec<[f64; 3]>,
+    /// The point each wall's torque is taken about (file order), m.
+    pub(super) wall_torque_points: Vec<[f64; 3]>,
     /// Seconds spent stepping (output excluded).
     pub(super) wall_clock: f64,
     /// Seconds of the whole loop, sampling and snapshots included.
@@ -431,7 +440,13 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
         "contacts now: {} particle–particle, {} particle–wall\n",
         r.particle_contacts, r.wall_contacts
     );
-    for (k, (f, wall)) in r.wall_forces.iter().zip(&resolved.setup.walls).enumerate() {
+    for (k, ((f, t), wall)) in r
+        .wall_forces
+        .iter()
+        .zip(&r.wall_torques)
+        .zip(&resolved.setup.walls)
+        .enumerate()
+    {
         let kind = match wall {
             WallSetup::Plane { .. } => "plane".to_string(),
             WallSetup::Cylinder { inside, .. } => {
@@ -439,7 +454,13 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
             }
             WallSetup::BoundaryParticles { count, .. } => format!("{count} boundary particles"),
         };
-        s += &format!("wall {k} ({kind}): force {}\n", vector(*f, "N"));
+        let about = r.wall_torque_points.get(k).copied().unwrap_or_default();
+        s += &format!(
+            "wall {k} ({kind}): force {}, torque {} about {}\n",
+            vector(*f, "N"),
+            vector(*t, "N m"),
+            vector(about, "m")
+        );
     }
     if let Some(rows) = &r.collisions {
         s += &format!("{} completed collisions", rows.len());

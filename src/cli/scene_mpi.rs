@@ -271,6 +271,8 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
         wall_forces: last.wall_forces.clone(),
+        wall_torques: last.wall_torques.clone(),
+        wall_torque_points: sim.wall_torque_points(),
         wall_clock: stepping,
         wall_clock_total: wall_total,
         particle_steps_per_second: if stepping > 0.0 {
@@ -344,10 +346,10 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             last.wall_contacts
         );
         s += &super::scene::balance_line(&doc.report.energy_balance);
-        for (k, f) in last.wall_forces.iter().enumerate() {
+        for (k, (f, t)) in last.wall_forces.iter().zip(&last.wall_torques).enumerate() {
             s += &format!(
-                "wall {k}: force [{:.4e}, {:.4e}, {:.4e}] N\n",
-                f[0], f[1], f[2]
+                "wall {k}: force [{:.4e}, {:.4e}, {:.4e}] N, torque [{:.4e}, {:.4e}, {:.4e}] N m\n",
+                f[0], f[1], f[2], t[0], t[1], t[2]
             );
         }
         for p in &written {

@@ -423,8 +423,23 @@ impl Scene {
         rows3(py, self.sim.wall_forces())
     }
 
-    /// Energies (J), contact counts and wall forces (N) now, as the CLI's
-    /// series.csv row: a dict.
+    /// Torque on each wall (file order, then walls added), (walls, 3) N m,
+    /// about its point in `wall_torque_points`.
+    #[getter]
+    fn wall_torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.wall_torques())
+    }
+
+    /// The point each wall's torque is taken about, (walls, 3) m: a
+    /// plane's point, a cylinder's axis point, the centroid of a
+    /// boundary-particle wall's spheres.
+    #[getter]
+    fn wall_torque_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        rows3(py, self.sim.wall_torque_points())
+    }
+
+    /// Energies (J), contact counts, wall forces (N) and torques (N m)
+    /// now, as the CLI's series.csv row: a dict.
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let observation = guarded(|| Ok(self.sim.observe()))?;
         Ok(pythonize::pythonize(py, &observation)?)

@@ -11,13 +11,15 @@
 //! `comm::distributed`. The stages: `neighbours` (ghosts and list
 //! builds), `forces`, `verlet` (the first half fused with the per-body
 //! forces), `collisions` (the collision log), `observe` (the global
-//! observables, with their own hooks).
+//! observables, with their own hooks; `wall_loads` the walls' force and
+//! torque from what the force stage recorded).
 
 mod collisions;
 mod forces;
 mod neighbours;
 pub(crate) mod observe;
 mod verlet;
+pub(crate) mod wall_loads;
 
 pub(crate) use collisions::partner_key;
 pub(crate) use neighbours::{celled_extent, save_pairs, saved_tracks_public, WholeGrid};
@@ -43,8 +45,10 @@ use crate::walls::{Surface, WallContacts};
 pub enum WallKind {
     /// Index into [`World::surfaces`].
     Surface(usize),
-    /// Boundary particles: the bodies whose group is this wall.
-    Particles,
+    /// Boundary particles: the bodies whose group is this wall; their
+    /// loads' torque point is the centroid of their positions at the
+    /// start, m (`wall_loads::particle_wall_torque_point`).
+    Particles { torque_point: [f64; 3] },
 }
 
 /// Collision tracking state, aligned with the lists.

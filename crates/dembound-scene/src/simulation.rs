@@ -63,8 +63,13 @@ pub struct Observation {
     pub particle_contacts: usize,
     /// Sphere–plane contacts plus contacts with boundary particles.
     pub wall_contacts: usize,
-    /// Force on each wall (file order), N.
+    /// Force on each wall (file order), N: what the last force stage
+    /// applied to it (`pipeline::wall_loads`).
     pub wall_forces: Vec<[f64; 3]>,
+    /// Torque on each wall (file order), N m, about its torque point
+    /// (`Simulation::wall_torque_points`: a plane's point, a cylinder's
+    /// axis point, the centroid of a boundary-particle wall's spheres).
+    pub wall_torques: Vec<[f64; 3]>,
 }
 
 /// A running scene.

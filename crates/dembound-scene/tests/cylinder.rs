@@ -301,19 +301,37 @@ fn radial_impact_inside_a_tube_matches_the_curvature_models_single_contact() {
 /// 1e-6 (measured 1e-8; the bed's momentum changes by ~1e-8 N m g over the
 /// window; 4e-9 when written): the issue's 1e-5.
 ///
-/// The observed wall forces (`Observation::wall_forces`) sum to 1 − 1.06e-5
-/// N m g (tolerance 2e-5): they evaluate each contact's velocity-dependent
-/// terms (normal damping at the overlap rate, the tangential dashpot and
-/// Coulomb cap at the slip) at the end-of-step velocities and spins,
-/// while the Verlet force pass applied them at the half-step ones (v and
-/// ω less Δt/2 · F/m and Δt/2 · τ/I). Evaluated at the half-step velocities
-/// the observables give 1 + 5e-8 (with rolling friction, μ_r = 0.2 on
-/// grains and tube: 0.99762 observed, 0.99999977 applied and at the
-/// half-step velocities): the difference is the observation's state, not
-/// an unsettled bed. Not changed here: the observables of every damped
-/// scene would change.
+/// The observed wall forces (`Observation::wall_forces`) are what the
+/// force stage applied to the walls (`pipeline::wall_loads`): floor plus
+/// tube carry N m g to 1e-5 (the issue's tolerance), and they equal the
+/// applied forces of the bed's balance above to 1e-9 N m g (the same
+/// forces summed in another order, the pair forces cancelling to
+/// round-off: ~1e-16 of the ~N m g pair loads per step). (They were
+/// re-evaluated at the end-of-step velocities before: 1 − 1.06e-5 N m g,
+/// 0.99762 with rolling friction.) The same with rolling friction
+/// (μ_r = 0.2 on grains and tube), whose torques do not enter the forces
+/// but whose springs change the history.
 #[test]
 fn bed_in_a_vertical_tube_carries_its_weight_on_floor_and_wall() {
+    let (floor, tube, weight) = tube_bed(0.0);
+    assert!(
+        floor < weight && tube > 0.01 * weight,
+        "{floor} {tube} {weight}"
+    );
+}
+
+/// With rolling friction this pour ends with the tube pulling the bed
+/// down (floor 1.43 N m g, tube −0.43 N m g: the static state depends on
+/// the history, see above); floor and tube still carry N m g.
+#[test]
+fn bed_in_a_vertical_tube_with_rolling_friction_carries_its_weight() {
+    tube_bed(0.2);
+}
+
+/// The Janssen bed with rolling friction `mu_r` on grains and tube,
+/// settled, then averaged over a window: asserts the balances above;
+/// returns the floor's and the tube's vertical loads and N m g, N.
+fn tube_bed(mu_r: f64) -> (f64, f64, f64) {
     let (r, rc, e): (f64, f64, f64) = (1.0e-3, 6.0e-3, 1.0e7);
     let contact = ContactModel::damped(
         NormalLaw::Hertz,
@@ -323,8 +341,8 @@ fn bed_in_a_vertical_tube_carries_its_weight_on_floor_and_wall() {
     s.gravity = [0.0, 0.0, -G];
     // Smooth grains (μ = 0.1), a rough tube (its own μ = 1: 0.32 against
     // a grain, the geometric mean).
-    s.friction = friction(0.1, 0.0).map(|mut f| {
-        f.walls = vec![None, Some((1.0, 0.0))];
+    s.friction = friction(0.1, mu_r).map(|mut f| {
+        f.walls = vec![None, Some((1.0, mu_r))];
         f
     });
     // A loose column poured at once: sites 2.4 R apart across the tube,
@@ -412,12 +430,12 @@ fn bed_in_a_vertical_tube_carries_its_weight_on_floor_and_wall() {
         / weight;
     println!(
         "tube bed of {n}: at {:.3} s the floor carries {:.6} N m g, the tube {:.6} N m g \
-         (sum {:.8} N m g; applied {:.8} N m g; N m g = {weight:.6e} N; ΔP/T = {drift:.1e} N m g)",
+         (sum − 1 = {:.2e}; applied − 1 = {:.2e}; N m g = {weight:.6e} N; ΔP/T = {drift:.1e} N m g)",
         sim.time(),
         floor / weight,
         tube / weight,
-        (floor + tube) / weight,
-        applied / window as f64 / weight
+        (floor + tube) / weight - 1.0,
+        applied / window as f64 / weight - 1.0
     );
     assert!(drift.abs() < 1e-6, "{drift}");
     let applied = applied / window as f64;
@@ -426,11 +444,12 @@ fn bed_in_a_vertical_tube_carries_its_weight_on_floor_and_wall() {
         "{applied} vs {weight}"
     );
     assert!(
-        ((floor + tube) / weight - 1.0).abs() < 2e-5,
+        ((floor + tube) / weight - 1.0).abs() < 1e-5,
         "{floor} + {tube} vs {weight}"
     );
     assert!(
-        floor < weight && tube > 0.01 * weight,
-        "{floor} {tube} {weight}"
+        ((floor + tube) - applied).abs() < 1e-9 * weight,
+        "{floor} + {tube} vs applied {applied}"
     );
+    (floor, tube, weight)
 }

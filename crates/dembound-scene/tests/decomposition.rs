@@ -51,7 +51,8 @@ fn run(setup: &SceneSetup, ranks: usize, grid: Option<[usize; 3]>, steps: u64) -
 /// partners' cells of the whole scene's grid, then their ids).
 /// The contact count is an integer; the energies are sums over the ranks
 /// in a rank-dependent order, so they agree to round-off (1e-12
-/// relative: a few ulps times the number of ranks).
+/// relative: a few ulps times the number of ranks); the walls' forces and
+/// torques are summed in input-id order: the same bits.
 #[test]
 fn positions_are_bit_identical_on_1_2_3_ranks() {
     let setup = common::lattice_drop(6, 8, 2.0e-6, 4000);
@@ -88,14 +89,7 @@ fn positions_are_bit_identical_on_1_2_3_ranks() {
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
         assert!(rel(o.kinetic_energy, o1.kinetic_energy) < 1e-12);
         assert!(rel(o.elastic_energy, o1.elastic_energy) < 1e-12);
-        for (f, g) in o.wall_forces.iter().zip(&o1.wall_forces) {
-            for a in 0..3 {
-                assert!(
-                    (f[a] - g[a]).abs() <= 1e-12 * g[a].abs().max(1e-12),
-                    "{f:?} {g:?}"
-                );
-            }
-        }
+        assert_same_wall_loads(&o, &o1, ranks);
     }
 }
 
@@ -204,7 +198,9 @@ fn many_blocks_are_bit_identical_on_1_2_3_ranks() {
 /// forces cancelling (round-off of the ~1e-3 N sums: 1e-9 of N m g is
 /// far above it, and far below a missed or double-counted contact, which
 /// carries ~1e-6 N). The same on 1, 2 and 3 ranks to round-off of the
-/// rank sums (1e-12 relative), and the state to the bit.
+/// rank sums (1e-12 relative; the floor's torque too, each rank summing
+/// its share of the particles: not the same bits), and the state to the
+/// bit.
 #[test]
 fn a_boundary_particle_floor_carries_the_grains_on_any_ranks() {
     let mut setup = common::lattice_drop(8, 4, 2.0e-6, 4000);
@@ -273,12 +269,21 @@ fn a_boundary_particle_floor_carries_the_grains_on_any_ranks() {
         }
         assert_eq!(o.wall_contacts, o1.wall_contacts);
         let f = o.wall_forces[wall];
+        let t = o.wall_torques[wall];
         for a in 0..3 {
             let g = o1.wall_forces[wall][a];
             assert!(
                 (f[a] - g).abs() <= 1e-12 * weight,
                 "{ranks}: {f:?} {:?}",
                 o1.wall_forces[wall]
+            );
+            // Torques about the floor's centre: lever arms up to the
+            // box's half-width.
+            let g = o1.wall_torques[wall][a];
+            assert!(
+                (t[a] - g).abs() <= 1e-12 * weight * upper[0],
+                "{ranks}: {t:?} {:?}",
+                o1.wall_torques[wall]
             );
         }
     }
@@ -347,8 +352,9 @@ fn friction(mu: f64, mu_r: f64) -> dembound_scene::setup::FrictionSetup {
 /// random velocities and spins so that bodies cross the cuts while in
 /// contact (their springs migrate with them, the halo carries the spins),
 /// Walton–Braun histories: the end state (positions, velocities, spins:
-/// gathered) is the same bits on 1, 2 and 3 ranks; the energies agree to
-/// the round-off of the rank sums (1e-12).
+/// gathered) and the walls' forces and torques are the same bits on 1, 2
+/// and 3 ranks; the energies agree to the round-off of the rank sums
+/// (1e-12).
 #[test]
 fn friction_is_bit_identical_on_1_2_3_ranks() {
     let mut setup = common::lattice_drop(8, 6, 2.0e-6, 3000);
@@ -364,6 +370,7 @@ fn friction_is_bit_identical_on_1_2_3_ranks() {
         let (s, o, _) = run_states(&setup, ranks, grid, 3000);
         assert_same_bits(&s, &s1, ranks);
         assert_observables_agree(&o, &o1, 1e-12);
+        assert_same_wall_loads(&o, &o1, ranks);
     }
 }
 
@@ -392,6 +399,24 @@ fn friction_on_one_and_two_ranks_matches_the_engine() {
     assert!(worst < 1e-12, "{worst}");
     assert!(o2.particle_contacts > 100, "{o2:?}");
     assert_observables_agree(&o2, &e, 1e-9);
+}
+
+/// The walls' loads (forces and torques: every wall here is a plane, its
+/// load summed from the force stage's records by input id) are the same
+/// bits as on one rank.
+fn assert_same_wall_loads(o: &Observation, o1: &Observation, ranks: usize) {
+    let bits = |v: &[[f64; 3]]| -> Vec<u64> { v.iter().flatten().map(|x| x.to_bits()).collect() };
+    assert_eq!(o.wall_forces.len(), o1.wall_forces.len());
+    assert_eq!(
+        bits(&o.wall_forces),
+        bits(&o1.wall_forces),
+        "{ranks} ranks: wall forces"
+    );
+    assert_eq!(
+        bits(&o.wall_torques),
+        bits(&o1.wall_torques),
+        "{ranks} ranks: wall torques"
+    );
 }
 
 /// Contact counts equal; energies and wall forces (each component, or
@@ -432,6 +457,7 @@ fn gear5_is_bit_identical_on_1_2_3_ranks_and_follows_the_engine() {
         let (s, o, _) = run_states(&setup, ranks, grid, 2000);
         assert_same_bits(&s, &s1, ranks);
         assert_eq!(o.particle_contacts, o1.particle_contacts);
+        assert_same_wall_loads(&o, &o1, ranks);
     }
     let mut sim = Simulation::new(setup.clone(), 1).expect("valid scene");
     sim.step(2000);
@@ -474,8 +500,10 @@ fn gear5_friction_is_bit_identical_on_1_2_3_ranks_and_follows_the_engine() {
         // left them, at Gear5's predicted state (frictionless Gear5 too):
         // the pairs across a cut differ by the corrector's move there,
         // 2.6e-9 relative in the elastic energy here; a lost spring would
-        // change it by its whole share (order 1).
+        // change it by its whole share (order 1). The walls' loads are
+        // the force stage's: the same bits.
         assert_observables_agree(&o, &o1, 1e-7);
+        assert_same_wall_loads(&o, &o1, ranks);
     }
     let mut sim = Simulation::new(setup.clone(), 1).expect("valid scene");
     sim.step(2000);

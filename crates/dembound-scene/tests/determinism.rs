@@ -13,8 +13,8 @@ fn bits3(v: &[[f64; 3]]) -> Vec<[u64; 3]> {
         .collect()
 }
 
-/// Positions, velocities and forces as bits, and the observables and
-/// collision log printed.
+/// Positions, velocities and forces as bits, and the observables (the
+/// walls' forces and torques among them) and collision log printed.
 type Fingerprint = (Vec<[u64; 3]>, Vec<[u64; 3]>, Vec<[u64; 3]>, String);
 
 /// Everything a run reports.

@@ -28,7 +28,8 @@ fn bits3(v: &[[f64; 3]]) -> Vec<[u64; 3]> {
 }
 
 /// Everything a run reports: the per-body vectors as bits, the
-/// observables and the collision log printed (Debug prints every f64 so
+/// observables (the walls' forces and torques among them) and the
+/// collision log printed (Debug prints every f64 so
 /// that it reads back to the same bits).
 fn fingerprint(sim: &Simulation) -> (Vec<Vec<[u64; 3]>>, String) {
     (

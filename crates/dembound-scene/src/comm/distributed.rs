@@ -60,6 +60,7 @@ use crate::pipeline::observe::observation;
 use crate::pipeline::{celled_extent, save_pairs, Pipeline, StepHooks, WholeGrid, World};
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
+use crate::walls::WallLoad;
 use crate::{Observation, SceneError};
 
 // Checkpoint and restart on any number of ranks, load re-balancing, the
@@ -108,14 +109,15 @@ pub(crate) struct RankComm<T: Transport> {
     /// Each body's incident pair entries in partner-id order: entry index,
     /// bit 31 set when the body is the pair's i (it gets minus the force).
     incidence: Vec<u32>,
-    /// (incidence, wall) of the pairs with a boundary particle.
-    walled: Vec<(u32, u32)>,
+    /// (incidence, wall, the boundary particle's local index) of the pairs
+    /// with a boundary particle.
+    walled: Vec<(u32, u32, u32)>,
     pair_force: Vec<[f64; 3]>,
     /// The pair of each entry touches (its force is set).
     hit: Vec<bool>,
-    /// Force on each wall from this rank's free bodies' pairs with its
-    /// boundary particles (file order; planes zero), N.
-    particle_wall_force: Vec<[f64; 3]>,
+    /// Load on each wall from this rank's free bodies' pairs with its
+    /// boundary particles (file order; other walls zero), N and N m.
+    particle_wall_load: Vec<WallLoad>,
     bytes_sent: u64,
     rebuild_bytes: u64,
     /// Bodies this rank has sent to new owners.
@@ -267,7 +269,7 @@ impl<T: Transport> DistributedSimulation<T> {
             walled: Vec::new(),
             pair_force: Vec::new(),
             hit: Vec::new(),
-            particle_wall_force: Vec::new(),
+            particle_wall_load: Vec::new(),
             bytes_sent: 0,
             rebuild_bytes: 0,
             plain_sums: false,
@@ -705,6 +707,12 @@ impl<T: Transport> DistributedSimulation<T> {
     /// The energy balance at observation `o` ([`Simulation::energy_balance`]).
     pub fn energy_balance(&self, o: &Observation) -> crate::energy_guard::EnergyBalance {
         self.sim.energy_balance(o)
+    }
+
+    /// The point each wall's torque is taken about (file order), m
+    /// ([`Simulation::wall_torque_points`]).
+    pub fn wall_torque_points(&self) -> Vec<[f64; 3]> {
+        self.sim.wall_torque_points()
     }
 
     /// The global observables (sums over the ranks). Collective.

@@ -1,7 +1,8 @@
 //! The observables of a scene with friction in one pass over the bodies
 //! (issue 13): what `contacts::pair_observables`,
-//! `walls::plane_observables`, `friction::plane_tangential_forces` and
-//! `spring_energy::spring_energy` give, with the same bits.
+//! `walls::plane_observables` and `spring_energy::spring_energy` give,
+//! with the same bits. (The walls' loads are the force pass's records,
+//! `pipeline::wall_loads`.)
 //!
 //! Those four passes each test every listed pair or every (body, plane)
 //! again and copy a pair law per contact; at `dembound scene`'s default
@@ -10,8 +11,8 @@
 //! listed pair is tested once (positions only: the energies need no
 //! velocity), the laws are read by reference from the class table, and the
 //! planes are those the force pass looks at (a body's `near` and `touching`
-//! masks; a body touches no other before the list is rebuilt, as
-//! `plane_tangential_forces` and the force pass rely on).
+//! masks; a body touches no other before the list is rebuilt, as the
+//! force pass relies on).
 //!
 //! Every sum keeps its own accumulator, chunks and order, so each number
 //! is bit for bit the one the separate passes give:
@@ -19,19 +20,15 @@
 //!   per chunk of [`BODY_CHUNK`] in body order, then chunks in order
 //!   (`Workers::sum`); a body's spring energy is its pairs' then its
 //!   planes' (in plane order), as in `spring_energy`;
-//! - plane forces, plane contact count and plane elastic energy: into one
-//!   accumulator per chunk in (body, plane) order, then chunks in order
-//!   (`plane_observables`);
-//! - plane tangential forces: one running sum over (body, plane) in order
-//!   (`plane_tangential_forces`): each chunk lists its terms, applied in
-//!   chunk order.
+//! - wall contact count and wall elastic energy: into one accumulator
+//!   per chunk in (body, entry) order, then chunks in order
+//!   (`plane_observables`).
 //!
 //! The fast path needs the class table and a list without extra pairs;
 //! otherwise [`observe`] returns `None` and the caller uses the separate
 //! passes.
 
 use super::contacts::{PairHistories, NO_HISTORY};
-use dembound_physics::contact::Side;
 
 use super::friction::{FrictionLaw, FrictionTable, PairShear};
 use crate::bodies::{Bodies, NO_GROUP};
@@ -48,14 +45,11 @@ pub struct ContactObservables {
     pub boundary_contacts: usize,
     /// Normal elastic energy of the touching pairs, J.
     pub pair_energy: f64,
-    /// Per plane: the normal force on the wall, N.
-    pub plane_forces: Vec<[f64; 3]>,
-    /// Sphere–plane contacts.
+    /// Sphere–wall contacts (planes, cylinders: every wall but the
+    /// boundary particles).
     pub plane_contacts: usize,
     /// Normal elastic energy of the sphere–plane contacts, J.
     pub plane_energy: f64,
-    /// Per plane: the tangential force on the wall, N.
-    pub plane_tangential: Vec<[f64; 3]>,
     /// Energy of the tangential and rolling springs, J.
     pub spring_energy: f64,
 }
@@ -65,10 +59,8 @@ struct Chunk {
     /// Σ over the chunk's bodies of (pair count, boundary count, pair
     /// energy, spring energy), each body's own sum first.
     pairs: [f64; 4],
-    /// Plane forces (3 per plane), then count, then energy.
-    planes: Vec<f64>,
-    /// (plane, tangential force on the sphere) in (body, plane) order.
-    tangential: Vec<(usize, [f64; 3])>,
+    /// Wall contact count, then energy.
+    planes: [f64; 2],
 }
 
 /// All of them in one pass; `None` when the fast path does not apply (no
@@ -120,39 +112,22 @@ pub fn observe(
         }
         pass.chunk(lo, hi)
     });
-    let width = 3 * np + 2;
     let mut pairs = [0.0; 4];
-    let mut plane_sums = vec![0.0; width];
-    let mut plane_tangential = vec![[0.0; 3]; np];
+    let mut plane_sums = [0.0; 2];
     for chunk in partial {
         for (sum, x) in pairs.iter_mut().zip(chunk.pairs) {
             *sum += x;
         }
-        for (sum, x) in plane_sums.iter_mut().zip(&chunk.planes) {
+        for (sum, x) in plane_sums.iter_mut().zip(chunk.planes) {
             *sum += x;
-        }
-        for (p, ft) in chunk.tangential {
-            for a in 0..3 {
-                plane_tangential[p][a] -= ft[a];
-            }
         }
     }
     Some(ContactObservables {
         particle_contacts: pairs[0] as usize,
         boundary_contacts: pairs[1] as usize,
         pair_energy: pairs[2],
-        plane_forces: (0..np)
-            .map(|p| {
-                [
-                    plane_sums[3 * p],
-                    plane_sums[3 * p + 1],
-                    plane_sums[3 * p + 2],
-                ]
-            })
-            .collect(),
-        plane_contacts: plane_sums[3 * np] as usize,
-        plane_energy: plane_sums[3 * np + 1],
-        plane_tangential,
+        plane_contacts: plane_sums[0] as usize,
+        plane_energy: plane_sums[1],
         spring_energy: pairs[3],
     })
 }
@@ -202,8 +177,7 @@ impl Pass<'_> {
         let slots = plane_table.len() / classes.max(1);
         let mut out = Chunk {
             pairs: [0.0; 4],
-            planes: vec![0.0; 3 * np + 2],
-            tangential: Vec::new(),
+            planes: [0.0; 2],
         };
         let (position, radius, class, group) = (
             &bodies.position[..],
@@ -247,12 +221,12 @@ impl Pass<'_> {
                 }
             }
             if np > 0 && !bodies.fixed[i] {
-                let (v, w) = (bodies.velocity[i], bodies.angular_velocity[i]);
                 for k in walls.range(i) {
                     let key = walls.key[k];
-                    let p = key.wall as usize;
-                    let surface = &surfaces[p];
-                    let c = surface.contact(key.element, xi, v, ri);
+                    let surface = &surfaces[key.wall as usize];
+                    // Positions only: the count and energies need no
+                    // velocity.
+                    let c = surface.contact(key.element, xi, [0.0; 3], ri);
                     let h = c.overlap;
                     if h <= 0.0 {
                         continue;
@@ -260,30 +234,8 @@ impl Pass<'_> {
                     let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
                     let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
                     let stored = &walls.shear[k].shear;
-                    // The composer at this state, springs not moved
-                    // (`plane_tangential_forces`): F_n is
-                    // `plane_observables`' force, F_t the tangential one.
-                    let sphere = Side {
-                        velocity: v,
-                        spin: w,
-                        arm: ri,
-                        inverse_inertia: bodies.inverse_inertia[i],
-                    };
-                    let f = fl.observe(
-                        &c.geometry(),
-                        &sphere,
-                        &surface.side(key.element, &c, xi, ri),
-                        hist,
-                        [stored[0], stored[1], stored[2]],
-                        None,
-                    );
-                    let (fw, ft) = (f.normal, f.tangential);
-                    for a in 0..3 {
-                        out.planes[3 * p + a] -= fw * c.normal[a];
-                    }
-                    out.planes[3 * np] += 1.0;
-                    out.planes[3 * np + 1] += fl.law.elastic_energy(h, hist);
-                    out.tangential.push((p, ft));
+                    out.planes[0] += 1.0;
+                    out.planes[1] += fl.law.elastic_energy(h, hist);
                     // `spring_energy`'s planes.
                     if *stored != [0.0; 6] {
                         let t = [stored[0], stored[1], stored[2]];
@@ -413,18 +365,20 @@ pub(crate) mod tests {
                     &sim.workers,
                 )
                 .expect("the fast path applies: class table, no extra pairs");
-                let (pc, wc, pe, forces, plane_contacts, plane_energy, tangential, springs) =
-                    sim.contact_observables();
-                let bits = |v: &[[f64; 3]]| -> Vec<u64> {
-                    v.iter().flatten().map(|x| x.to_bits()).collect()
-                };
-                assert_eq!((one.particle_contacts, one.boundary_contacts), (pc, wc));
+                let passes = sim.contact_observables();
+                let (pc, plane_contacts, springs) = (
+                    passes.particle_contacts,
+                    passes.plane_contacts,
+                    passes.spring_energy,
+                );
+                assert_eq!(
+                    (one.particle_contacts, one.boundary_contacts),
+                    (pc, passes.boundary_contacts)
+                );
                 assert_eq!(one.plane_contacts, plane_contacts);
-                assert_eq!(one.pair_energy.to_bits(), pe.to_bits());
-                assert_eq!(one.plane_energy.to_bits(), plane_energy.to_bits());
+                assert_eq!(one.pair_energy.to_bits(), passes.pair_energy.to_bits());
+                assert_eq!(one.plane_energy.to_bits(), passes.plane_energy.to_bits());
                 assert_eq!(one.spring_energy.to_bits(), springs.to_bits());
-                assert_eq!(bits(&one.plane_forces), bits(&forces));
-                assert_eq!(bits(&one.plane_tangential), bits(&tangential));
                 if pc > 0 && plane_contacts > 0 && springs > 0.0 {
                     checked += 1;
                 }

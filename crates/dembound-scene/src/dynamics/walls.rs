@@ -7,11 +7,14 @@ use dembound_physics::contact::ContactHistory;
 use super::contacts::{LawTable, NO_HISTORY};
 use crate::bodies::Bodies;
 use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
-pub use crate::walls::{plane_overlap, PlaneWall, Surface, WallContacts, WallContactsMut};
+pub use crate::walls::{
+    plane_overlap, PlaneWall, Surface, WallContacts, WallContactsMut, WallLoad,
+};
 
 /// The force that starts body i's total: gravity (free bodies) plus its
 /// wall forces at position `x` and velocity `v`, updating its wall
-/// near entries (touching flags, histories). Reads of `bodies`: radius, mass, fixed flag, class.
+/// near entries (touching flags, histories, and each touching entry's
+/// [`WallLoad`]: what the wall takes from it). Reads of `bodies`: radius, mass, fixed flag, class.
 ///
 /// # Safety
 /// Body i's entries of `walls` are touched by no other
@@ -54,9 +57,13 @@ pub unsafe fn body_force(
             // wall's normal.
             let fw = law.normal_stage(c.overlap, c.rate, hist);
             *touching = true;
-            acc[0] += fw * c.normal[0];
-            acc[1] += fw * c.normal[1];
-            acc[2] += fw * c.normal[2];
+            let on_sphere = [fw * c.normal[0], fw * c.normal[1], fw * c.normal[2]];
+            acc[0] += on_sphere[0];
+            acc[1] += on_sphere[1];
+            acc[2] += on_sphere[2];
+            // What the wall takes: the observables' wall loads.
+            *walls.load.at(k) =
+                WallLoad::of_contact(on_sphere, None, x, r, c.normal, surface.torque_point());
         } else if *touching {
             *hist = ContactHistory::default();
             *touching = false;
@@ -97,28 +104,23 @@ pub fn start_forces(
     });
 }
 
-/// Per wall (surface index), at the bodies' current state: the force on
-/// the wall (N, the opposite of the force on the spheres), contact count
-/// and elastic energy (J). Chunked sums in chunk order: deterministic.
+/// The wall contacts at the bodies' current state: how many touch, and
+/// their elastic energy (J). Chunked sums in chunk order: deterministic.
+/// (The walls' loads are the force pass's: `WallContacts::load`.)
 pub fn plane_observables(
     bodies: &Bodies,
     surfaces: &[Surface],
     walls: &WallContacts,
     laws: &LawTable,
     workers: &Workers,
-) -> (Vec<[f64; 3]>, usize, f64) {
-    let np = surfaces.len();
+) -> (usize, f64) {
     let n = bodies.len();
-    if np == 0 {
-        return (Vec::new(), 0, 0.0);
+    if surfaces.is_empty() || walls.bodies() != n {
+        return (0, 0.0);
     }
-    if walls.bodies() != n {
-        return (vec![[0.0; 3]; np], 0, 0.0);
-    }
-    // Layout of a partial sum: 3 per wall, then count, then energy.
-    let width = 3 * np + 2;
-    let partial: Vec<Vec<f64>> = workers.map_bodies(n, BODY_CHUNK, |c| {
-        let mut s = vec![0.0; width];
+    let partial: Vec<[f64; 2]> = workers.map_bodies(n, BODY_CHUNK, |c| {
+        // Count, then energy.
+        let mut s = [0.0; 2];
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
             // Fixed bodies never touch a wall (both are fixed), as in
             // the forces (`WallContacts::refresh`).
@@ -135,28 +137,19 @@ pub fn plane_observables(
                     bodies.radius[i],
                 );
                 if c.overlap > 0.0 {
-                    let p = key.wall as usize;
                     let law = laws.wall(bodies, i, surface.law_slot(key.element));
                     let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
-                    let fw = law.force(c.overlap, c.rate, hist);
-                    for a in 0..3 {
-                        s[3 * p + a] -= fw * c.normal[a];
-                    }
-                    s[3 * np] += 1.0;
-                    s[3 * np + 1] += laws.elastic_energy(&law, c.overlap, hist);
+                    s[0] += 1.0;
+                    s[1] += laws.elastic_energy(&law, c.overlap, hist);
                 }
             }
         }
         s
     });
-    let mut total = vec![0.0; width];
+    let mut total = [0.0; 2];
     for p in partial {
-        for k in 0..width {
-            total[k] += p[k];
-        }
+        total[0] += p[0];
+        total[1] += p[1];
     }
-    let forces = (0..np)
-        .map(|p| [total[3 * p], total[3 * p + 1], total[3 * p + 2]])
-        .collect();
-    (forces, total[3 * np] as usize, total[3 * np + 1])
+    (total[0] as usize, total[1])
 }

@@ -1,5 +1,6 @@
 //! The time series (`series.csv`): one row per sampled step with the
-//! energies, the contact counts and the force on each wall; and the
+//! energies, the contact counts, the force on each wall and (after all
+//! the forces) the torque on each wall about its torque point; and the
 //! collision log (`collisions.csv`), one row per completed contact. SI,
 //! units in the column names.
 
@@ -28,6 +29,11 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
             header.push(format!("wall{k}_force_{axis}_N"));
         }
     }
+    for k in 0..walls {
+        for axis in ["x", "y", "z"] {
+            header.push(format!("wall{k}_torque_{axis}_N_m"));
+        }
+    }
     out.write_record(&header)?;
     for o in rows {
         let mut record = vec![
@@ -40,7 +46,7 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
             o.particle_contacts.to_string(),
             o.wall_contacts.to_string(),
         ];
-        for f in &o.wall_forces {
+        for f in o.wall_forces.iter().chain(&o.wall_torques) {
             record.extend(f.iter().map(|x| format!("{x:e}")));
         }
         out.write_record(&record)?;
@@ -131,7 +137,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn header_has_one_force_triple_per_wall_and_rows_follow() {
+    fn header_has_force_then_torque_triples_per_wall_and_rows_follow() {
         let o = Observation {
             step: 10,
             time: 2e-5,
@@ -142,15 +148,16 @@ mod tests {
             particle_contacts: 3,
             wall_contacts: 1,
             wall_forces: vec![[0.0, 0.0, 9.81], [1.0, 0.0, 0.0]],
+            wall_torques: vec![[0.5, 0.0, 0.0], [0.0, -2.0, 0.0]],
         };
         let mut out = Vec::new();
         write_series(&mut out, &[o], 2).unwrap();
         let text = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        assert!(lines[0].ends_with("wall0_force_x_N,wall0_force_y_N,wall0_force_z_N,wall1_force_x_N,wall1_force_y_N,wall1_force_z_N"));
+        assert!(lines[0].ends_with("wall0_force_x_N,wall0_force_y_N,wall0_force_z_N,wall1_force_x_N,wall1_force_y_N,wall1_force_z_N,wall0_torque_x_N_m,wall0_torque_y_N_m,wall0_torque_z_N_m,wall1_torque_x_N_m,wall1_torque_y_N_m,wall1_torque_z_N_m"));
         assert_eq!(
             lines[1],
-            "10,2e-5,1.5e0,0e0,-1e0,0e0,3,1,0e0,0e0,9.81e0,1e0,0e0,0e0"
+            "10,2e-5,1.5e0,0e0,-1e0,0e0,3,1,0e0,0e0,9.81e0,1e0,0e0,0e0,5e-1,0e0,0e0,0e0,-2e0,0e0"
         );
         assert_eq!(partner_name(&Partner::Wall(2)), "wall:2");
         assert_eq!(partner_name(&Partner::Body(5)), "5");

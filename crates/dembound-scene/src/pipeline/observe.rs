@@ -1,26 +1,28 @@
 //! Stage "observe" for the global observables: energies, contact counts,
-//! wall forces, as one [`Observation`]. Computed once here; what a
-//! process counts of the contacts, where its boundary-particle walls'
-//! forces come from and the sum over processes are its
-//! [`ObserveHooks`] (one process: everything, the bodies' forces, no
-//! sum; a rank of a decomposed scene: `comm::distributed`).
+//! wall loads, as one [`Observation`]. Computed once here; what a process
+//! counts of the contacts, how the walls' loads are summed over the
+//! processes (`wall_loads`) and the sum over processes are its
+//! [`ObserveHooks`] (one process: everything, no sum; a rank of a
+//! decomposed scene: `comm::distributed`).
 
-use crate::bodies::NO_GROUP;
 use crate::dynamics::friction_observables::{self, ContactObservables};
-use crate::dynamics::{contacts, friction, spring_energy, walls};
+use crate::dynamics::{contacts, spring_energy, walls};
 use crate::parallel::Workers;
+use crate::walls::WallLoad;
 use crate::Observation;
 
-use super::{Local, WallKind, World};
+use super::{wall_loads, Local, World};
 
 /// What differs between one process and one rank when observing.
 pub(crate) trait ObserveHooks {
     /// The observables of the contacts this process counts (each contact
     /// counted by one process), summed in the order this kind of run fixes.
     fn contacts(&self, world: &World, workers: &Workers) -> ContactObservables;
-    /// This process's share of the force on each wall of boundary
-    /// particles (file order; the planes' entries are not read), N.
-    fn particle_wall_forces(&self, world: &World) -> Vec<[f64; 3]>;
+    /// The load on each wall (file order), over every process: the walls
+    /// of `World::surfaces` from the force stage's records in an order
+    /// that does not depend on the processes (`wall_loads`), the
+    /// boundary-particle walls from their spheres.
+    fn wall_loads(&self, world: &World) -> Vec<WallLoad>;
     /// Element-wise sums over the processes.
     fn sum(&self, values: Vec<f64>) -> Vec<f64>;
 }
@@ -47,26 +49,15 @@ impl ObserveHooks for Local {
             .unwrap_or_else(|| contact_passes(world, workers))
     }
 
-    /// The boundary particles' forces, their spheres in input order.
-    fn particle_wall_forces(&self, world: &World) -> Vec<[f64; 3]> {
-        let mut wall_forces = vec![[0.0; 3]; world.walls.len()];
-        if world
-            .walls
-            .iter()
-            .any(|k| !matches!(k, WallKind::Surface(_)))
-        {
-            let force_in = world.bodies.in_input_order(&world.bodies.force);
-            let group_in = world.bodies.in_input_order(&world.bodies.group);
-            for (k, g) in group_in.iter().enumerate() {
-                if *g != NO_GROUP {
-                    let f = &mut wall_forces[*g as usize];
-                    for a in 0..3 {
-                        f[a] += force_in[k][a];
-                    }
-                }
+    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
+        let records = wall_loads::surface_load_records(world);
+        let mut loads = wall_loads::sum_records(&records, world.walls.len());
+        for (load, particles) in loads.iter_mut().zip(wall_loads::particle_wall_loads(world)) {
+            if let Some(p) = particles {
+                *load = p;
             }
         }
-        wall_forces
+        loads
     }
 
     fn sum(&self, values: Vec<f64>) -> Vec<f64> {
@@ -85,34 +76,16 @@ pub(crate) fn observation(
     let kinetic = kinetic_energy(world, workers);
     let potential = potential_energy(world, workers);
     let c = hooks.contacts(world, workers);
-    let particle_walls = hooks.particle_wall_forces(world);
     // Counts as f64: exact far beyond any scene's.
-    let mut v = vec![
+    let v = vec![
         kinetic,
         potential,
         c.pair_energy + c.plane_energy + c.spring_energy,
         c.particle_contacts as f64,
         (c.boundary_contacts + c.plane_contacts) as f64,
     ];
-    for (wi, kind) in world.walls.iter().enumerate() {
-        let f = match kind {
-            WallKind::Surface(p) => {
-                let mut f = c.plane_forces[*p];
-                if let Some(t) = c.plane_tangential.get(*p) {
-                    for a in 0..3 {
-                        f[a] += t[a];
-                    }
-                }
-                f
-            }
-            WallKind::Particles => particle_walls.get(wi).copied().unwrap_or([0.0; 3]),
-        };
-        v.extend_from_slice(&f);
-    }
     let s = hooks.sum(v);
-    let wall_forces = (0..world.walls.len())
-        .map(|k| [s[5 + 3 * k], s[6 + 3 * k], s[7 + 3 * k]])
-        .collect();
+    let loads = hooks.wall_loads(world);
     Observation {
         step: world.steps_done,
         time: world.time(),
@@ -122,8 +95,15 @@ pub(crate) fn observation(
         dissipated_energy: initial_energy - (s[0] + s[2] + s[1]),
         particle_contacts: s[3].round() as usize,
         wall_contacts: s[4].round() as usize,
-        wall_forces,
+        wall_forces: loads.iter().map(|l| l.force).collect(),
+        wall_torques: loads.iter().map(|l| l.torque).collect(),
     }
+}
+
+/// The torque point of each wall (file order), m: what
+/// [`Observation::wall_torques`] are about.
+pub(crate) fn wall_torque_points(world: &World) -> Vec<[f64; 3]> {
+    wall_loads::torque_points(world)
 }
 
 /// Σ ½ m v² over free bodies, plus Σ ½ I ω² with friction, J.
@@ -159,8 +139,8 @@ pub(crate) fn potential_energy(world: &World, workers: &Workers) -> f64 {
     e
 }
 
-/// The contact observables pass by pass: pair counts and energy, plane
-/// forces, counts and energy, plane tangential forces, spring energy.
+/// The contact observables pass by pass: pair counts and energy, wall
+/// contact counts and energy, spring energy.
 pub(crate) fn contact_passes(world: &World, workers: &Workers) -> ContactObservables {
     let w = world;
     let (pc, wc, pe) = contacts::pair_observables(
@@ -171,18 +151,8 @@ pub(crate) fn contact_passes(world: &World, workers: &Workers) -> ContactObserva
         &w.laws,
         workers,
     );
-    let (plane_forces, plane_contacts, plane_energy) =
+    let (plane_contacts, plane_energy) =
         walls::plane_observables(&w.bodies, &w.surfaces, &w.wall_contacts, &w.laws, workers);
-    let tangential = match &w.friction {
-        Some(table) => friction::plane_tangential_forces(
-            &w.bodies,
-            &w.surfaces,
-            &w.laws,
-            table,
-            &w.wall_contacts,
-        ),
-        None => Vec::new(),
-    };
     let springs = match &w.friction {
         Some(table) => spring_energy::spring_energy(
             &w.bodies,
@@ -201,10 +171,8 @@ pub(crate) fn contact_passes(world: &World, workers: &Workers) -> ContactObserva
         particle_contacts: pc,
         boundary_contacts: wc,
         pair_energy: pe,
-        plane_forces,
         plane_contacts,
         plane_energy,
-        plane_tangential: tangential,
         spring_energy: springs,
     }
 }

@@ -233,7 +233,13 @@ impl Simulation {
                             ));
                         }
                     }
-                    kinds.push(WallKind::Particles);
+                    let at: Vec<[f64; 3]> = setup.spheres[first_body..end]
+                        .iter()
+                        .map(|s| s.position)
+                        .collect();
+                    kinds.push(WallKind::Particles {
+                        torque_point: crate::pipeline::wall_loads::particle_wall_torque_point(&at),
+                    });
                 }
             }
         }

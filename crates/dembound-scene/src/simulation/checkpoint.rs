@@ -257,6 +257,8 @@ impl Simulation {
             .map(|k| k as usize)
             .collect();
         restore_wall_records(w, c, &at)?;
+        // The wall loads are not in the checkpoint.
+        sim.pipeline.record_wall_loads(&mut sim.world, &sim.workers);
         Ok(sim)
     }
 }

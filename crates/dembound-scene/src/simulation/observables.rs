@@ -67,38 +67,31 @@ impl Simulation {
         self.observe().wall_forces
     }
 
+    /// Torque on each wall in file order, N m, about its point
+    /// ([`Self::wall_torque_points`]).
+    pub fn wall_torques(&self) -> Vec<[f64; 3]> {
+        self.observe().wall_torques
+    }
+
+    /// The point each wall's torque is taken about (file order), m: a
+    /// plane's `point`, a cylinder's axis `point` (the middle of a capped
+    /// tube), the centroid of a boundary-particle wall's spheres.
+    pub fn wall_torque_points(&self) -> Vec<[f64; 3]> {
+        observe::wall_torque_points(&self.world)
+    }
+
     /// Every global observable at the current state.
     pub fn observe(&self) -> Observation {
         observe::observation(&self.world, &self.workers, self.initial_energy, &Local)
     }
 
-    /// The contact observables pass by pass: pair counts and energy, plane
-    /// forces, counts and energy, plane tangential forces, spring energy
-    /// (see [`Self::observe`]); for the test of the fused pass.
+    /// The contact observables pass by pass: pair counts and energy, wall
+    /// contact counts and energy, spring energy (see [`Self::observe`]);
+    /// for the test of the fused pass.
     #[cfg(test)]
-    #[allow(clippy::type_complexity)]
     pub(crate) fn contact_observables(
         &self,
-    ) -> (
-        usize,
-        usize,
-        f64,
-        Vec<[f64; 3]>,
-        usize,
-        f64,
-        Vec<[f64; 3]>,
-        f64,
-    ) {
-        let c = observe::contact_passes(&self.world, &self.workers);
-        (
-            c.particle_contacts,
-            c.boundary_contacts,
-            c.pair_energy,
-            c.plane_forces,
-            c.plane_contacts,
-            c.plane_energy,
-            c.plane_tangential,
-            c.spring_energy,
-        )
+    ) -> crate::dynamics::friction_observables::ContactObservables {
+        observe::contact_passes(&self.world, &self.workers)
     }
 }

@@ -9,7 +9,10 @@
 //! each keeps its contact history, springs and collision track. The
 //! force, the friction and every observable of a wall contact are then
 //! the same code for every wall type (`dynamics::walls`,
-//! `dynamics::friction`).
+//! `dynamics::friction`). The force pass records, per touching entry,
+//! the force and torque the wall takes from that contact
+//! ([`WallLoad::of_contact`], about [`Wall::torque_point`]); the
+//! observation sums them per wall (`pipeline::wall_loads`).
 //!
 //! Memory is per near (body, element) entry, never per (body × element):
 //! the list is rebuilt with the pair list, from each wall's
@@ -131,7 +134,8 @@ pub trait Wall {
     /// Lower and upper corners of the wall's bounding box, m (infinite
     /// where it is unbounded).
     fn bounding_box(&self) -> ([f64; 3], [f64; 3]);
-    /// The point its torque is taken about, m.
+    /// The point its torque is taken about, m (the plane's `point`; a
+    /// cylinder's axis `point`, the middle of a capped tube).
     fn torque_point(&self) -> [f64; 3];
     /// The row of the law tables of element `element` (`LawTable`,
     /// `FrictionTable`: one per material and curvature).
@@ -184,6 +188,15 @@ impl Surface {
         Side::wall(self.surface_velocity(element, at))
     }
 
+    /// [`Wall::torque_point`], inlined into the force loops.
+    #[inline(always)]
+    pub fn torque_point(&self) -> [f64; 3] {
+        match self {
+            Surface::Plane(p) => p.torque_point(),
+            Surface::Cylinder(c) => c.torque_point(),
+        }
+    }
+
     /// [`Wall::law_slot`].
     #[inline(always)]
     pub fn law_slot(&self, element: u32) -> usize {
@@ -207,10 +220,109 @@ impl Surface {
     }
 }
 
-/// Force (N) and torque (N m, about [`Wall::torque_point`]) a wall takes
-/// from the spheres at one instant.
+/// Force (N) and torque (N m, about the wall's torque point:
+/// [`Wall::torque_point`], or the centroid of a boundary-particle wall's
+/// spheres) a wall takes from the spheres: of one contact in a force pass
+/// ([`Self::of_contact`]), or summed over a wall's contacts.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct WallLoad {
     pub force: [f64; 3],
     pub torque: [f64; 3],
+}
+
+impl WallLoad {
+    /// What the wall takes from one contact whose force on the sphere is
+    /// `on_sphere` (N), applied at the contact point p = x − r n̂ (x the
+    /// sphere's centre, r its radius, n̂ the wall's unit normal into the
+    /// sphere), with `rolling` (N m) the rolling-resistance torque on the
+    /// sphere; the torque about `about` (m).
+    ///
+    /// Action and reaction: the wall takes F_w = −F. The sphere's torque
+    /// about its centre is (p − x) × F + τ_roll (the tangential force's
+    /// lever arm plus the rolling couple), so about c the contact gives
+    /// the sphere (x − c) × F + (p − x) × F + τ_roll = (p − c) × F + τ_roll.
+    /// A contact changes the total angular momentum of sphere and wall by
+    /// nothing, so the wall takes τ_w = −(p − c) × F − τ_roll (the rolling
+    /// torque is a couple between the two surfaces: it acts on the wall
+    /// reversed, whatever the point).
+    #[inline(always)]
+    pub fn of_contact(
+        on_sphere: [f64; 3],
+        rolling: Option<[f64; 3]>,
+        x: [f64; 3],
+        r: f64,
+        normal: [f64; 3],
+        about: [f64; 3],
+    ) -> Self {
+        let arm = [
+            x[0] - r * normal[0] - about[0],
+            x[1] - r * normal[1] - about[1],
+            x[2] - r * normal[2] - about[2],
+        ];
+        let f = on_sphere;
+        let mut torque = [
+            -(arm[1] * f[2] - arm[2] * f[1]),
+            -(arm[2] * f[0] - arm[0] * f[2]),
+            -(arm[0] * f[1] - arm[1] * f[0]),
+        ];
+        if let Some(t) = rolling {
+            for a in 0..3 {
+                torque[a] -= t[a];
+            }
+        }
+        Self {
+            force: [-f[0], -f[1], -f[2]],
+            torque,
+        }
+    }
+
+    /// Adds `other` component by component.
+    #[inline(always)]
+    pub fn add(&mut self, other: &WallLoad) {
+        for a in 0..3 {
+            self.force[a] += other.force[a];
+            self.torque[a] += other.torque[a];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::WallLoad;
+
+    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+
+    /// A contact pushing the sphere (centre x = (1, 0, 2), r = 0.5, wall
+    /// normal +z: contact point p = (1, 0, 1.5)) with F = (1, 2, 3) N and
+    /// a rolling torque τ = (0.1, 0, 0) N m: by hand, the wall takes −F and
+    /// −(p × F) − τ = −(−3, −1.5, 2) − τ = (2.9, 1.5, −2) about the origin;
+    /// and sphere plus wall gain no angular momentum about any point
+    /// (the sphere's (x − c) × F + (p − x) × F + τ cancels the wall's).
+    #[test]
+    fn a_contact_gives_the_wall_the_reaction_and_its_moment() {
+        let (f, tau, x) = ([1.0, 2.0, 3.0], [0.1, 0.0, 0.0], [1.0, 0.0, 2.0]);
+        let l = WallLoad::of_contact(f, Some(tau), x, 0.5, [0.0, 0.0, 1.0], [0.0; 3]);
+        assert_eq!(l.force, [-1.0, -2.0, -3.0]);
+        assert_eq!(l.torque, [2.9, 1.5, -2.0]);
+        let c = [0.3, -2.0, 0.7];
+        let l = WallLoad::of_contact(f, Some(tau), x, 0.5, [0.0, 0.0, 1.0], c);
+        let arm = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+        let lever = cross([0.0, 0.0, -0.5], f);
+        let on_sphere = cross(arm, f);
+        for a in 0..3 {
+            let total = on_sphere[a] + lever[a] + tau[a] + l.torque[a];
+            assert!(total.abs() < 1e-14, "{a}: {total}");
+        }
+        // Frictionless: no rolling torque, a normal force through the
+        // centre: the moment of F at the centre.
+        let n = WallLoad::of_contact([0.0, 0.0, 2.0], None, x, 0.5, [0.0, 0.0, 1.0], c);
+        let expected = cross(arm, [0.0, 0.0, 2.0]).map(|t| -t);
+        assert_eq!(n.torque, expected);
+    }
 }

@@ -13,7 +13,7 @@
 use dembound_physics::contact::ContactHistory;
 use serde::{Deserialize, Serialize};
 
-use super::Surface;
+use super::{Surface, WallLoad};
 use crate::bodies::Bodies;
 use crate::dynamics::collisions::Track;
 use crate::dynamics::friction::WallShear;
@@ -37,6 +37,10 @@ pub struct NearEntry {
     pub history: ContactHistory,
     pub shear: WallShear,
     pub track: Track,
+    /// What the wall took from this contact in the last force pass (read
+    /// only while `touching`; not saved in checkpoints nor sent to other
+    /// ranks: the next force pass writes it again).
+    pub load: WallLoad,
 }
 
 impl NearEntry {
@@ -59,6 +63,11 @@ pub struct WallContacts {
     pub shear: Vec<WallShear>,
     /// Per entry with the collision log, else empty.
     pub track: Vec<Track>,
+    /// Per entry: the force and torque the wall took from this contact
+    /// in the last force pass that found it touching (written by the
+    /// worker that owns the body; read only where `touching`): the wall
+    /// loads of the observables ([`WallLoad::of_contact`]).
+    pub load: Vec<WallLoad>,
     pub keep_history: bool,
     pub keep_shear: bool,
     pub keep_track: bool,
@@ -95,6 +104,7 @@ impl WallContacts {
             history: self.history.get(k).copied().unwrap_or_default(),
             shear: self.shear.get(k).copied().unwrap_or_default(),
             track: self.track.get(k).copied().unwrap_or_default(),
+            load: self.load[k],
         }
     }
 
@@ -113,6 +123,7 @@ impl WallContacts {
     fn push(&mut self, e: &NearEntry) {
         self.key.push(e.key);
         self.touching.push(e.touching);
+        self.load.push(e.load);
         if self.keep_history {
             self.history.push(e.history);
         }
@@ -131,6 +142,7 @@ impl WallContacts {
         out.start.push(0);
         out.key.reserve(entries);
         out.touching.reserve(entries);
+        out.load.reserve(entries);
         out
     }
 
@@ -232,6 +244,7 @@ impl WallContacts {
         let at = r.start + self.key[r].partition_point(|&x| x < key);
         self.key.insert(at, key);
         self.touching.insert(at, false);
+        self.load.insert(at, WallLoad::default());
         if self.keep_history {
             self.history.insert(at, ContactHistory::default());
         }
@@ -264,6 +277,7 @@ impl WallContacts {
             history: SharedMut::new(&mut self.history),
             touching: SharedMut::new(&mut self.touching),
             shear: SharedMut::new(&mut self.shear),
+            load: SharedMut::new(&mut self.load),
         }
     }
 }
@@ -279,6 +293,7 @@ pub struct WallContactsMut {
     pub history: SharedMut<ContactHistory>,
     pub touching: SharedMut<bool>,
     pub shear: SharedMut<WallShear>,
+    pub load: SharedMut<WallLoad>,
 }
 
 impl WallContactsMut {

@@ -552,6 +552,10 @@ impl<T: Transport> DistributedSimulation<T> {
         w.histories = saved.1;
         w.bodies.torque = saved.2;
         w.shear = saved.3;
+        // The walls' loads (not in the checkpoint), as the note above.
+        me.sim
+            .pipeline
+            .record_wall_loads(&mut me.sim.world, &me.sim.workers);
         me.comm.bytes_sent = 0;
         me.comm.rebuild_bytes = 0;
         me.comm.migrated = 0;

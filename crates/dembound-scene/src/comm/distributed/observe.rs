@@ -1,6 +1,9 @@
 //! What a rank counts when the scene is observed (`pipeline::observe`
-//! computes the observation): each contact on one rank, the boundary
-//! particles' forces from its pair stage, the sums over the ranks.
+//! computes the observation): each contact on one rank, the walls' loads
+//! (every rank sums every rank's records of the force stage in input-id
+//! order: the same bits on any number of ranks; the boundary particles'
+//! loads from its pair stage, summed over the ranks), the sums over the
+//! ranks.
 
 use dembound_physics::contact::ContactHistory;
 
@@ -8,12 +11,13 @@ use super::RankComm;
 use crate::bodies::NO_GROUP;
 use crate::comm::Transport;
 use crate::dynamics::contacts::{extended, touching};
-use crate::dynamics::friction;
 use crate::dynamics::friction_observables::ContactObservables;
 use crate::dynamics::{spring_energy, walls};
 use crate::parallel::Workers;
 use crate::pipeline::observe::ObserveHooks;
-use crate::pipeline::World;
+use crate::pipeline::wall_loads::{self, LoadRecord};
+use crate::pipeline::{WallKind, World};
+use crate::walls::WallLoad;
 
 impl<T: Transport> ObserveHooks for RankComm<T> {
     /// A pair is counted on the rank owning its free body of lower id (a
@@ -21,7 +25,7 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
     /// order.
     fn contacts(&self, w: &World, workers: &Workers) -> ContactObservables {
         let b = &w.bodies;
-        let (plane_forces, plane_contacts, plane_energy) =
+        let (plane_contacts, plane_energy) =
             walls::plane_observables(b, &w.surfaces, &w.wall_contacts, &w.laws, workers);
         // A pair is counted on the rank owning its free body of lower id.
         let (fixed_by_id, halo) = (&self.fixed_by_id, &self.halo);
@@ -76,45 +80,142 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
             let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
             visit(i as usize, xj, owner, w.histories.extra(q));
         }
-        // The friction springs' energy and the planes' tangential forces
-        // (halo copies are fixed: they touch no plane here).
-        let (springs, tangential) = match &w.friction {
-            Some(table) => (
-                spring_energy::spring_energy_counted(
-                    b,
-                    &w.ghosts,
-                    &w.list,
-                    &w.laws,
-                    table,
-                    &w.shear,
-                    &w.surfaces,
-                    &w.wall_contacts,
-                    workers,
-                    counted_here,
-                ),
-                friction::plane_tangential_forces(b, &w.surfaces, &w.laws, table, &w.wall_contacts),
+        // The friction springs' energy (halo copies are fixed: they
+        // touch no wall here).
+        let springs = match &w.friction {
+            Some(table) => spring_energy::spring_energy_counted(
+                b,
+                &w.ghosts,
+                &w.list,
+                &w.laws,
+                table,
+                &w.shear,
+                &w.surfaces,
+                &w.wall_contacts,
+                workers,
+                counted_here,
             ),
-            None => (0.0, Vec::new()),
+            None => 0.0,
         };
         ContactObservables {
             particle_contacts: pc as usize,
             boundary_contacts: wc as usize,
             pair_energy: energy,
-            plane_forces,
             plane_contacts,
             plane_energy,
-            plane_tangential: tangential,
             spring_energy: springs,
         }
     }
 
-    /// From this rank's pair stage: each pair of a free body with a
-    /// boundary particle counted on one rank.
-    fn particle_wall_forces(&self, _world: &World) -> Vec<[f64; 3]> {
-        self.particle_wall_force.clone()
+    /// The walls of `World::surfaces`: every rank's records (its owned
+    /// bodies' touching entries) sent to every rank, merged by input id
+    /// (a body's records come from its one owner, in entry order) and
+    /// summed as on one process. The boundary-particle walls: this rank's
+    /// share from its pair stage (each pair of a free body with a
+    /// boundary particle counted on one rank), summed over the ranks.
+    /// Collective.
+    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
+        let walls = world.walls.len();
+        let mut records = wall_loads::surface_load_records(world);
+        if !world.surfaces.is_empty() {
+            let me = self.transport.rank();
+            let others: Vec<usize> = (0..self.transport.size()).filter(|&r| r != me).collect();
+            let bytes = encode(&records);
+            let sends: Vec<(usize, Vec<u8>)> = others.iter().map(|&r| (r, bytes.clone())).collect();
+            for got in self.transport.exchange(&sends, &others) {
+                records.extend(decode(&got));
+            }
+            // Stable: a body's records keep their entry order.
+            records.sort_by_key(|r| r.id);
+        }
+        let mut loads = wall_loads::sum_records(&records, walls);
+        let particles: Vec<usize> = (0..walls)
+            .filter(|&k| matches!(world.walls[k], WallKind::Particles { .. }))
+            .collect();
+        if !particles.is_empty() {
+            let mut v = Vec::with_capacity(6 * particles.len());
+            for &k in &particles {
+                let l = self.particle_wall_load.get(k).copied().unwrap_or_default();
+                v.extend_from_slice(&l.force);
+                v.extend_from_slice(&l.torque);
+            }
+            let s = self.transport.sum(&v);
+            for (q, &k) in particles.iter().enumerate() {
+                let at = |a: usize| s[6 * q + a];
+                loads[k] = WallLoad {
+                    force: [at(0), at(1), at(2)],
+                    torque: [at(3), at(4), at(5)],
+                };
+            }
+        }
+        loads
     }
 
     fn sum(&self, values: Vec<f64>) -> Vec<f64> {
         self.transport.sum(&values)
+    }
+}
+
+/// Records as bytes: id, wall (u32 each), force and torque (f64 each),
+/// little-endian.
+fn encode(records: &[LoadRecord]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(56 * records.len());
+    for r in records {
+        out.extend_from_slice(&r.id.to_le_bytes());
+        out.extend_from_slice(&r.wall.to_le_bytes());
+        for x in r.load.force.iter().chain(&r.load.torque) {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// [`encode`]'s records (a short tail is ignored).
+fn decode(bytes: &[u8]) -> Vec<LoadRecord> {
+    let u32_at = |c: &[u8], k: usize| u32::from_le_bytes([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+    let f64_at = |c: &[u8], k: usize| {
+        let mut b = [0u8; 8];
+        b.copy_from_slice(&c[k..k + 8]);
+        f64::from_le_bytes(b)
+    };
+    bytes
+        .chunks_exact(56)
+        .map(|c| {
+            let v = |a: usize| f64_at(c, 8 + 8 * a);
+            LoadRecord {
+                id: u32_at(c, 0),
+                wall: u32_at(c, 4),
+                load: WallLoad {
+                    force: [v(0), v(1), v(2)],
+                    torque: [v(3), v(4), v(5)],
+                },
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records survive the byte form bit for bit.
+    #[test]
+    fn records_round_trip() {
+        let r = vec![
+            LoadRecord {
+                id: 7,
+                wall: 2,
+                load: WallLoad {
+                    force: [1.5, -0.0, f64::MIN_POSITIVE],
+                    torque: [1e-300, -3.25, 1e300],
+                },
+            },
+            LoadRecord {
+                id: u32::MAX,
+                wall: 0,
+                load: WallLoad::default(),
+            },
+        ];
+        assert_eq!(decode(&encode(&r)), r);
     }
 }

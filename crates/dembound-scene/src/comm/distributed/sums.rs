@@ -11,7 +11,9 @@ use crate::bodies::NO_GROUP;
 use crate::comm::Transport;
 use crate::dynamics::contacts::{extended, touching, touching_lazy, NO_HISTORY};
 use crate::parallel::{SharedMut, Workers, STEP_CHUNK};
+use crate::pipeline::wall_loads::{add_particle_load, torque_points};
 use crate::pipeline::{Pipeline, World};
+use crate::walls::WallLoad;
 
 /// Bit of an incidence: the body is the pair's i.
 const NEGATIVE: u32 = 1 << 31;
@@ -27,6 +29,8 @@ struct Incident {
     negative: bool,
     /// The partner's boundary-particle wall, or [`NO_GROUP`].
     group: u32,
+    /// The partner's local index.
+    other: u32,
 }
 
 impl<T: Transport> RankComm<T> {
@@ -63,6 +67,7 @@ impl<T: Transport> RankComm<T> {
             entry: 0,
             negative: false,
             group: NO_GROUP,
+            other: 0,
         };
         let mut inc = vec![blank; count[n] as usize];
         for &(i, j, e) in &pairs {
@@ -73,6 +78,7 @@ impl<T: Transport> RankComm<T> {
                         entry: e as u32,
                         negative,
                         group: b.group[other],
+                        other: other as u32,
                     };
                     fill[me] += 1;
                 }
@@ -86,7 +92,7 @@ impl<T: Transport> RankComm<T> {
         self.walled = inc
             .iter()
             .filter(|x| x.group != NO_GROUP)
-            .map(|x| (code(x), x.group))
+            .map(|x| (code(x), x.group, x.other))
             .collect();
         self.incidence = inc.iter().map(code).collect();
     }
@@ -106,7 +112,7 @@ impl<T: Transport> RankComm<T> {
         }
         if self.in_cell_order {
             pipeline.pair_forces(world, workers, dt);
-            self.particle_wall_force = self.boundary_particle_forces(world);
+            self.particle_wall_load = self.boundary_particle_loads(world);
             return;
         }
         let n = world.bodies.len();
@@ -233,39 +239,47 @@ impl<T: Transport> RankComm<T> {
                 }
             }
         });
-        // The boundary particles' reaction, from the free side.
-        let mut wf = vec![[0.0; 3]; world.walls.len()];
-        for &(x, group) in &self.walled {
+        // The boundary particles' reaction, from the free side (no
+        // friction here: no torque on the particle itself).
+        let points = torque_points(world);
+        let mut wf = vec![WallLoad::default(); world.walls.len()];
+        for &(x, group, other) in &self.walled {
             let entry = (x & !NEGATIVE) as usize;
             if hit[entry] {
                 let p = pf[entry];
                 // The free body got ∓p; the boundary particle gets ±p.
                 let s = if x & NEGATIVE != 0 { 1.0 } else { -1.0 };
-                for a in 0..3 {
-                    wf[group as usize][a] += s * p[a];
-                }
+                let g = group as usize;
+                add_particle_load(
+                    &mut wf[g],
+                    world.bodies.position[other as usize],
+                    points[g],
+                    p.map(|c| s * c),
+                    [0.0; 3],
+                );
             }
         }
-        self.particle_wall_force = wf;
+        self.particle_wall_load = wf;
         world.bodies.force = force;
     }
 
-    /// The force on each boundary-particle wall from this rank's pairs:
-    /// the forces its boundary particles (owned ones and halo copies) got
-    /// in the last force stage. A pair of a free body with a boundary
-    /// particle is listed only on the rank owning the free body (two
-    /// bodies flagged fixed, a halo copy being one, are never paired), so
-    /// the sum over the ranks counts each pair once.
-    pub(super) fn boundary_particle_forces(&self, world: &World) -> Vec<[f64; 3]> {
+    /// The load on each boundary-particle wall from this rank's pairs:
+    /// the forces and torques its boundary particles (owned ones and halo
+    /// copies) got in the last force stage (`pipeline::wall_loads`). A
+    /// pair of a free body with a boundary particle is listed only on the
+    /// rank owning the free body (two bodies flagged fixed, a halo copy
+    /// being one, are never paired), so the sum over the ranks counts
+    /// each pair once.
+    pub(super) fn boundary_particle_loads(&self, world: &World) -> Vec<WallLoad> {
         let b = &world.bodies;
-        let mut wf = vec![[0.0; 3]; world.walls.len()];
+        let points = torque_points(world);
+        let mut wf = vec![WallLoad::default(); world.walls.len()];
         for k in 0..b.len() {
             let g = b.group[k];
             if g != NO_GROUP && b.fixed[k] {
                 if let Some(w) = wf.get_mut(g as usize) {
-                    for (w, f) in w.iter_mut().zip(b.force[k]) {
-                        *w += f;
-                    }
+                    let tau = b.torque.get(k).copied().unwrap_or([0.0; 3]);
+                    add_particle_load(w, b.position[k], points[g as usize], b.force[k], tau);
                 }
             }
         }

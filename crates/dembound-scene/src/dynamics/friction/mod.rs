@@ -37,8 +37,7 @@ pub use pairs::{add_pair_forces, PairForceInput};
 pub use springs::{active_shear, restore_shear, PairShear, Springs, WallShear};
 pub use table::{FrictionLaw, FrictionTable};
 pub use walls::{
-    add_plane_forces, body_force, gravity_force, plane_tangential_forces, prefetch_wall_springs,
-    BodyForceInput,
+    add_plane_forces, body_force, gravity_force, prefetch_wall_springs, BodyForceInput,
 };
 
 #[inline(always)]

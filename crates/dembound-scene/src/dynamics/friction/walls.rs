@@ -1,14 +1,14 @@
 //! Wall friction: the per-body pass that adds each wall contact's force
-//! and torques (the composer's contact, the wall as side 2), and the
-//! walls' tangential forces for the observables.
+//! and torques (the composer's contact, the wall as side 2) and records
+//! what the wall took from it (`WallContacts::load`).
 
 use dembound_physics::contact::{ContactHistory, ContactState, Side};
 
 use super::springs::split;
-use super::{add, sub, FrictionTable, WallShear};
+use super::{add, FrictionTable, WallShear};
 use crate::bodies::Bodies;
 use crate::dynamics::contacts::{LawTable, NO_HISTORY};
-use crate::walls::{Surface, WallContacts, WallContactsMut};
+use crate::walls::{Surface, WallContactsMut, WallLoad};
 
 /// What the per-body friction pass reads.
 #[derive(Clone, Copy)]
@@ -121,11 +121,15 @@ pub unsafe fn add_plane_forces(
             sh.shear = d;
             // −F_n n + F_t = F_n (wall normal) + F_t, and the two torque
             // parts added one after the other.
-            add(acc, f.on_body1(g.normal));
+            let on_sphere = f.on_body1(g.normal);
+            add(acc, on_sphere);
             add(torque, f.tangential_torque1);
             if let Some(rolling) = f.rolling {
                 add(torque, rolling);
             }
+            // What the wall takes: the observables' wall loads.
+            *walls.load.at(k) =
+                WallLoad::of_contact(on_sphere, f.rolling, x, r, p.normal, surface.torque_point());
         } else if *touching {
             *hist = ContactHistory::default();
             *sh = WallShear::default();
@@ -160,69 +164,4 @@ pub unsafe fn prefetch_wall_springs(i: usize, walls: &WallContactsMut) {
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = (i, walls);
-}
-
-/// The tangential force (N) each wall (surface index) takes from the
-/// spheres touching it at their current state, from the stored
-/// displacements (not moved): added to the wall forces of the
-/// observables.
-pub fn plane_tangential_forces(
-    bodies: &Bodies,
-    surfaces: &[Surface],
-    laws: &LawTable,
-    friction: &FrictionTable,
-    walls: &WallContacts,
-) -> Vec<[f64; 3]> {
-    let np = surfaces.len();
-    let n = bodies.len();
-    let mut out = vec![[0.0; 3]; np];
-    if np == 0 || walls.bodies() != n || walls.shear.len() != walls.key.len() {
-        return out;
-    }
-    for i in 0..n {
-        if bodies.fixed[i] {
-            continue;
-        }
-        // Only the entries the force pass looks at: a body touches no
-        // other (the list is rebuilt before it could), so the sum is the
-        // same.
-        let (x, v, w, r) = (
-            bodies.position[i],
-            bodies.velocity[i],
-            bodies.angular_velocity[i],
-            bodies.radius[i],
-        );
-        for k in walls.range(i) {
-            let key = walls.key[k];
-            let surface = &surfaces[key.wall as usize];
-            let c = surface.contact(key.element, x, v, r);
-            let h = c.overlap;
-            if h <= 0.0 {
-                continue;
-            }
-            let mut computed = None;
-            let slot = surface.law_slot(key.element);
-            let fl = friction.plane(laws, bodies, i, slot, &mut computed);
-            let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
-            let sphere = Side {
-                velocity: v,
-                spin: w,
-                arm: r,
-                inverse_inertia: bodies.inverse_inertia[i],
-            };
-            let d = walls.shear[k].shear;
-            let ft = fl
-                .observe(
-                    &c.geometry(),
-                    &sphere,
-                    &surface.side(key.element, &c, x, r),
-                    hist,
-                    [d[0], d[1], d[2]],
-                    None,
-                )
-                .tangential;
-            sub(&mut out[key.wall as usize], ft);
-        }
-    }
-    out
 }
