@@ -258,6 +258,62 @@ impl MeshGeometry {
         self.patches.max_deviation
     }
 
+    /// What a user is warned of after loading (empty when the file was
+    /// clean): dropped triangles, open and non-manifold edges, reversed
+    /// triangles, a non-orientable surface.
+    pub fn warnings(&self) -> Vec<String> {
+        let r = &self.report;
+        let mut out = Vec::new();
+        if r.degenerate > 0 {
+            out.push(format!(
+                "{} degenerate triangles dropped (zero area after welding vertices within {:e} m)",
+                r.degenerate, r.weld_tolerance
+            ));
+        }
+        if r.duplicate > 0 {
+            out.push(format!("{} duplicate triangles dropped", r.duplicate));
+        }
+        if r.open_edges > 0 {
+            out.push(format!(
+                "{} open edges (the surface has a free boundary; spheres are pushed off its rim)",
+                r.open_edges
+            ));
+        }
+        if r.non_manifold_edges > 0 {
+            out.push(format!(
+                "{} non-manifold edges (three or more triangles on one edge)",
+                r.non_manifold_edges
+            ));
+        }
+        if r.reoriented > 0 {
+            out.push(format!(
+                "{} triangles reoriented to agree with their neighbours",
+                r.reoriented
+            ));
+        }
+        if r.orientation_conflicts > 0 {
+            out.push(format!(
+                "{} edges left with inconsistent orientation (a non-orientable surface)",
+                r.orientation_conflicts
+            ));
+        }
+        out
+    }
+
+    /// One line: triangles, vertices, patches, area (m²) and flatness.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} triangles ({} read), {} vertices, {} flat patches, area {:e} m², \
+             largest distance of a vertex from its patch's plane {:e} m",
+            self.triangles.len(),
+            self.report.read,
+            self.vertices.len(),
+            self.patch_count(),
+            self.area,
+            self.max_deviation()
+        )
+    }
+
     /// Bytes held (vectors' capacities).
     pub fn bytes(&self) -> usize {
         use std::mem::size_of;

@@ -69,6 +69,13 @@ fn degenerate_duplicate_and_flipped_triangles_are_reported() {
     assert!(consistent(&m.triangles));
     assert_eq!((r.orientation_conflicts, r.open_edges), (0, 0));
     assert!((volume(&m) - 1.0).abs() < 1e-15);
+    let w = m.warnings();
+    assert_eq!(w.len(), 3, "{w:?}");
+    assert!(w[0].starts_with("2 degenerate") && w[1].starts_with("1 duplicate"));
+    assert!(w[2].starts_with("1 triangles reoriented"));
+    assert!(m
+        .summary()
+        .starts_with("12 triangles (15 read), 8 vertices, 6 flat patches"));
     // A whole cube given inward: every triangle reversed to outward.
     let inward: Vec<Triangle> = cube([0.0; 3], [1.0; 3])
         .into_iter()
@@ -216,6 +223,40 @@ fn stl_and_obj_variants_read() {
     let m = load(&obj).unwrap();
     assert_eq!((m.triangles.len(), m.patch_count()), (2, 1));
     assert!((m.area - 1.0).abs() < 1e-15);
+}
+
+/// Coordinates near the f64 limit, a transform that overflows, and
+/// triangles far apart: errors or a mesh, never a panic.
+#[test]
+fn extreme_coordinates_do_not_panic() {
+    let big = 1e308;
+    let soup = vec![[[big, 0.0, 0.0], [-big, 0.0, 0.0], [0.0, big, 0.0]]];
+    let _ = MeshGeometry::from_triangles(
+        Path::new("big.stl"),
+        &soup,
+        &Transform::default(),
+        &MeshOptions::default(),
+    );
+    let t = Transform {
+        scale: 1e300,
+        ..Default::default()
+    };
+    let e = MeshGeometry::from_triangles(Path::new("s.stl"), &soup, &t, &MeshOptions::default());
+    assert!(matches!(e, Err(MeshError::NonFinite { .. })));
+    // Two tiny triangles 1e6 m apart: a coarse grid, still exact answers.
+    let mut far = square(0.0);
+    far.extend(
+        square(0.0)
+            .into_iter()
+            .map(|t| t.map(|v| [v[0] + 1e6, v[1], v[2]])),
+    );
+    let m = mesh(&far);
+    assert_eq!(m.patch_count(), 2);
+    let c = m.patch_contact(1, [1e6 + 0.5, 0.5, 0.01], [0.0; 3], 0.02);
+    assert!((c.overlap - 0.01).abs() < 1e-12, "{c:?}");
+    // A NaN centre: NaN or no contact (the plane gives NaN too), no panic.
+    let c = m.patch_contact(0, [f64::NAN; 3], [0.0; 3], 0.02);
+    assert!(c.overlap.is_nan() || c.overlap < 0.0);
 }
 
 /// 600 broken files (random bytes; valid ASCII, binary and OBJ files

@@ -250,3 +250,37 @@ fn near_elements_lists_the_touching_patches() {
         assert!((c + 0.5).abs() < 1e-15);
     }
 }
+
+/// A sphere inside the closed cube [0, 1]³ (the lattice drop's box as one
+/// 12-triangle mesh): each face patch's contact equals its analytic
+/// plane's (point on the face, normal into the box) bit for bit, at 2000
+/// random centres, touching or not (an interior point projects inside
+/// every face of a box, and −(a·n) is exactly (a·(−n))).
+#[test]
+fn closed_cube_from_inside_is_six_planes() {
+    use rand::{Rng, SeedableRng};
+    let m = mesh(&cube([0.0; 3], [1.0; 3]));
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(6);
+    let planes: Vec<PlaneWall> = (0..m.patch_count())
+        .map(|p| {
+            let q = &m.patches.patches[p as usize];
+            PlaneWall {
+                wall: 0,
+                // The face's centre.
+                point: geometry::add([0.5; 3], geometry::scale(q.normal, 0.5)),
+                normal: q.normal.map(|c| -c),
+                slot: 0,
+            }
+        })
+        .collect();
+    let r = 0.05;
+    for _ in 0..2000 {
+        let x = [0, 1, 2].map(|_| rng.gen_range(0.001..0.999));
+        let v = [0, 1, 2].map(|_| rng.gen_range(-1.0..1.0));
+        for (p, plane) in planes.iter().enumerate() {
+            let c = m.patch_contact(p as u32, x, v, r);
+            let (h, rate) = plane_overlap(plane, x, v, r);
+            assert_eq!((c.overlap, c.rate, c.normal), (h, rate, plane.normal));
+        }
+    }
+}
