@@ -1,7 +1,9 @@
 //! The sphere–patch contact and the one-force rule (see the module doc of
 //! `walls::mesh` for the rules and why).
 
-use super::geometry::{closest_on_segment, closest_on_triangle, dot, norm, scale, sub};
+use super::geometry::{
+    closest_on_segment, closest_on_triangle, dot, norm, scale, segment_meets_triangle, sub,
+};
 use super::MeshGeometry;
 use crate::walls::WallPoint;
 
@@ -170,6 +172,41 @@ impl MeshGeometry {
         true
     }
 
+    /// Is the contact point c of patch p hidden from the centre x by
+    /// another patch: does the segment from x to c meet a triangle of
+    /// another patch farther than the tolerance from c (a sphere does not
+    /// touch a surface through another one: near a sharp vertex of a
+    /// solid, the faces on its far side are within a radius of the centre
+    /// through the solid)?
+    pub fn hidden(&self, p: u32, x: [f64; 3], c: [f64; 3]) -> bool {
+        let lo = [0, 1, 2].map(|k| x[k].min(c[k]));
+        let hi = [0, 1, 2].map(|k| x[k].max(c[k]));
+        let Some(range) = self.grid.range(lo, hi) else {
+            return false;
+        };
+        let tolerance = self.snap_tolerance + 1e-9 * norm(sub(x, c));
+        let mut hidden = false;
+        self.grid.each_cell(&range, |cell| {
+            if hidden {
+                return;
+            }
+            for &t in self.grid.cell_items(cell) {
+                let g = &self.patches.tri[t as usize];
+                if g.patch == p {
+                    continue;
+                }
+                let [a, b, e] = g.corner;
+                if let Some(h) = segment_meets_triangle(x, c, a, b, e) {
+                    if norm(sub(h, c)) > tolerance {
+                        hidden = true;
+                        return;
+                    }
+                }
+            }
+        });
+        hidden
+    }
+
     /// The contact of patch p with a sphere at x, velocity v, radius r.
     pub fn patch_contact(&self, p: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint {
         if p as usize >= self.patches.patches.len() {
@@ -180,7 +217,7 @@ impl MeshGeometry {
             // The plane's contact, two-sided: the normal toward the side
             // the centre is on.
             let n = self.patches.patches[p as usize].normal;
-            return if d >= 0.0 {
+            let point = if d >= 0.0 {
                 WallPoint {
                     overlap: r - d,
                     rate: -(v[0] * n[0] + v[1] * n[1] + v[2] * n[2]),
@@ -194,11 +231,15 @@ impl MeshGeometry {
                     normal: m,
                 }
             };
+            if point.overlap > 0.0 && self.hidden(p, x, sub(x, scale(n, d))) {
+                return NOT_TOUCHING;
+            }
+            return point;
         }
         let Some(b) = self.boundary_closest(p, x, r) else {
             return NOT_TOUCHING;
         };
-        if !self.owns(p, x, r, &b) {
+        if !self.owns(p, x, r, &b) || (r > b.distance && self.hidden(p, x, b.point)) {
             return NOT_TOUCHING;
         }
         let normal = if b.distance > 0.0 {

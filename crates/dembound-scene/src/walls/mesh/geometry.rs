@@ -112,6 +112,44 @@ pub fn closest_on_triangle(x: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -
     }
 }
 
+/// Where the segment from `p` to `q` meets triangle (a, b, c), if it does
+/// (Möller–Trumbore; barycentric coordinates within 1e-12 of the
+/// triangle's so that a segment through a seam meets one of its two
+/// triangles; a segment parallel to the triangle's plane meets nothing).
+pub fn segment_meets_triangle(
+    p: [f64; 3],
+    q: [f64; 3],
+    a: [f64; 3],
+    b: [f64; 3],
+    c: [f64; 3],
+) -> Option<[f64; 3]> {
+    const EPS: f64 = 1e-12;
+    let d = sub(q, p);
+    let e1 = sub(b, a);
+    let e2 = sub(c, a);
+    let pv = cross(d, e2);
+    let det = dot(e1, pv);
+    if !(det.abs() > 1e-14 * norm(e1) * norm(e2) * norm(d)) {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = sub(p, a);
+    let u = dot(s, pv) * inv;
+    if !(-EPS..=1.0 + EPS).contains(&u) {
+        return None;
+    }
+    let qv = cross(s, e1);
+    let v = dot(d, qv) * inv;
+    if v < -EPS || u + v > 1.0 + EPS {
+        return None;
+    }
+    let t = dot(e2, qv) * inv;
+    if !(0.0..=1.0).contains(&t) {
+        return None;
+    }
+    Some(add(p, scale(d, t)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,5 +174,12 @@ mod tests {
         assert!((p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15);
         let (q, t) = closest_on_segment([0.25, 7.0, 0.0], a, b);
         assert_eq!((q, t), ([0.25, 0.0, 0.0], 0.25));
+        // A vertical segment through (0.25, 0.25) meets the triangle
+        // there; one stopping short, or beside it, or in its plane, not.
+        let hit = segment_meets_triangle([0.25, 0.25, 1.0], [0.25, 0.25, -1.0], a, b, c);
+        assert!(hit.is_some_and(|h| h[2].abs() < 1e-16 && (h[0] - 0.25).abs() < 1e-16));
+        assert!(segment_meets_triangle([0.25, 0.25, 1.0], [0.25, 0.25, 0.1], a, b, c).is_none());
+        assert!(segment_meets_triangle([0.9, 0.9, 1.0], [0.9, 0.9, -1.0], a, b, c).is_none());
+        assert!(segment_meets_triangle([-1.0, 0.2, 0.0], [2.0, 0.2, 0.0], a, b, c).is_none());
     }
 }

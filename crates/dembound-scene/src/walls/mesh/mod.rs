@@ -47,6 +47,17 @@
 //! - a concave edge or corner: each face's projection is inside, one face
 //!   contact per patch, as the planes would give.
 //!
+//! One more rule, visibility: a contact (face or boundary) whose point is
+//! hidden from the centre by another patch — the segment from the centre
+//! to the contact point meets a triangle of another patch before it — is
+//! dropped. A sphere does not touch a surface through another one: near a
+//! sharp vertex or along a thin part of a closed solid, faces on the far
+//! side are within a radius of the centre through the solid (a regular
+//! octahedron's faces near a vertex, a slab thinner than a diameter).
+//! Tested only for contacts with a positive overlap, so the common case
+//! (a sphere on a face, no other patch between) costs one walk over the
+//! grid cells of a segment shorter than r.
+//!
 //! This is MercuryDPM's `MeshTriangle::checkInteractions` rule (face
 //! before edge before vertex; of two triangles seeing the same edge or
 //! vertex the lower id keeps it; Hu et al., doi:10.1002/nme.4487), applied
@@ -57,10 +68,12 @@
 //! into one composite force (overlap the largest, normal a weighted mean)
 //! and hide triangles behind convex turns; the flat patches here give
 //! their flat composite exactly (one plane, not a mean), and the closest
-//! feature rule is their convex hiding without the weights. Limits shared
-//! with both: a T-junction (a vertex on another triangle's edge, not
-//! welded) is not a connection, and two surfaces closer than an overlap
-//! (a thin slot) both push.
+//! feature rule is their convex hiding without the weights. LAMMPS warns
+//! that a sphere reaching around a thin feature touches its far side; the
+//! visibility rule removes that. Limits: a T-junction (a vertex on
+//! another triangle's edge, not welded) is not a connection, so a sphere
+//! over it may get two contacts; two surfaces both within reach and in
+//! sight (a narrow slot) both push, as they should.
 //!
 //! Tolerances, with S = max(bounding-box diagonal, largest |coordinate|):
 //! inside 1e-12 S (the round-off of m·(x − a) is ~1e-15 S; shared seam

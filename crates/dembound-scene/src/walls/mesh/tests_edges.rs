@@ -284,3 +284,114 @@ fn closed_cube_from_inside_is_six_planes() {
         }
     }
 }
+
+/// Convex solids seen from outside, not aligned with the axes (a cube
+/// turned 30° about (1, 2, 3), a regular octahedron turned 50° about
+/// (−2, 1, 0.5)): at 20,000 random centres at distance 0.01–0.09 from
+/// the surface (r = 0.1), exactly one patch touches, with overlap r − δ
+/// (δ the brute-force distance to the nearest triangle) to 1e-12 and
+/// normal (x − y)/δ (y that nearest point) to 1e-9 (a direction from
+/// points known to ~1e-12, divided by δ ≥ 0.01).
+#[test]
+fn convex_solids_from_outside_give_exactly_the_closest_point() {
+    use rand::{Rng, SeedableRng};
+    let turn = |soup: Vec<Triangle>, axis: [f64; 3], angle: f64| -> MeshGeometry {
+        let t = Transform {
+            axis,
+            angle_degrees: angle,
+            translate: [0.1, -0.2, 0.3],
+            ..Default::default()
+        };
+        MeshGeometry::from_triangles(Path::new("turned.stl"), &soup, &t, &MeshOptions::default())
+            .unwrap()
+    };
+    let o = |a: usize, s: f64| {
+        let mut p = [0.0; 3];
+        p[a] = s;
+        p
+    };
+    // Octahedron: faces (±x, ±y, ±z) octants, outward.
+    let mut octa = Vec::new();
+    for sx in [1.0, -1.0] {
+        for sy in [1.0, -1.0] {
+            for sz in [1.0, -1.0] {
+                let (a, b, c) = (o(0, sx), o(1, sy), o(2, sz));
+                octa.push(if sx * sy * sz > 0.0 {
+                    [a, b, c]
+                } else {
+                    [a, c, b]
+                });
+            }
+        }
+    }
+    let solids = [
+        (
+            "cube",
+            turn(cube([-0.5; 3], [0.5; 3]), [1.0, 2.0, 3.0], 30.0),
+            6,
+        ),
+        ("octahedron", turn(octa, [-2.0, 1.0, 0.5], 50.0), 8),
+    ];
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2026);
+    let r = 0.1;
+    for (name, m, patches) in &solids {
+        assert_eq!(m.patch_count(), *patches, "{name}");
+        assert_eq!(m.report.open_edges, 0);
+        let mut done = 0;
+        while done < 10_000 {
+            let x = [0, 1, 2].map(|_| rng.gen_range(-1.2..1.2));
+            let (delta, y) = m
+                .patches
+                .tri
+                .iter()
+                .map(|g| {
+                    let y = geometry::closest_on_triangle(x, g.corner[0], g.corner[1], g.corner[2]);
+                    (geometry::norm(geometry::sub(x, y)), y)
+                })
+                .fold(
+                    (f64::INFINITY, [0.0; 3]),
+                    |a, b| if b.0 < a.0 { b } else { a },
+                );
+            // Outside: the nearest point's outward normal faces x.
+            let outside = (0..m.patch_count()).all(|p| {
+                let q = &m.patches.patches[p as usize];
+                geometry::dot(geometry::sub(x, q.point), q.normal) < 0.0
+            });
+            if outside || !(0.01..0.09).contains(&delta) {
+                continue;
+            }
+            done += 1;
+            let t = touching(m, x, r);
+            assert_eq!(t.len(), 1, "{name} at {x:?}: {t:?}");
+            let c = t[0].1;
+            assert!(
+                (c.overlap - (r - delta)).abs() < 1e-12,
+                "{name}: {c:?} δ = {delta}"
+            );
+            let n = geometry::scale(geometry::sub(x, y), 1.0 / delta);
+            assert!(
+                max_diff(c.normal, n) < 1e-9,
+                "{name}: {:?} vs {n:?}",
+                c.normal
+            );
+        }
+    }
+}
+
+/// A closed slab thinner than the sphere (0.02 thick, r = 0.1): a sphere
+/// 0.03 above its top face reaches the bottom face 0.05 away through the
+/// slab; the bottom face is hidden behind the top one, so only the top
+/// pushes (overlap 0.07). Without the slab's top (an open tray, the
+/// bottom a lone plate), the bottom pushes (overlap 0.05).
+#[test]
+fn a_face_behind_another_is_hidden() {
+    let slab = mesh(&cube([0.0, 0.0, 0.0], [1.0, 1.0, 0.02]));
+    let x = [0.5, 0.4, 0.05];
+    let t = touching(&slab, x, 0.1);
+    assert_eq!(t.len(), 1, "{t:?}");
+    assert!((t[0].1.overlap - 0.07).abs() < 1e-15 && t[0].1.normal == [0.0, 0.0, 1.0]);
+    let tray = mesh(&open_box([0.0, 0.0, 0.0], [1.0, 1.0, 0.02]));
+    let t = touching(&tray, x, 0.1);
+    assert_eq!(t.len(), 1, "{t:?}");
+    assert!((t[0].1.overlap - 0.05).abs() < 1e-15 && t[0].1.normal == [0.0, 0.0, 1.0]);
+}
