@@ -129,7 +129,9 @@ pub fn segment_meets_triangle(
     let e2 = sub(c, a);
     let pv = cross(d, e2);
     let det = dot(e1, pv);
-    if !(det.abs() > 1e-14 * norm(e1) * norm(e2) * norm(d)) {
+    // Parallel (or not a number): no crossing.
+    let crossing = det.abs() > 1e-14 * norm(e1) * norm(e2) * norm(d);
+    if !crossing {
         return None;
     }
     let inv = 1.0 / det;
