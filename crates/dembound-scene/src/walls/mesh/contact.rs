@@ -179,6 +179,9 @@ impl MeshGeometry {
     /// solid, the faces on its far side are within a radius of the centre
     /// through the solid)?
     pub fn hidden(&self, p: u32, x: [f64; 3], c: [f64; 3]) -> bool {
+        if self.patches.patches.len() < 2 {
+            return false;
+        }
         let lo = [0, 1, 2].map(|k| x[k].min(c[k]));
         let hi = [0, 1, 2].map(|k| x[k].max(c[k]));
         let Some(range) = self.grid.range(lo, hi) else {
@@ -196,6 +199,14 @@ impl MeshGeometry {
                     continue;
                 }
                 let [a, b, e] = g.corner;
+                // Both ends on one side of the triangle's patch plane: no
+                // crossing (cheap rejection before the exact test; the
+                // triangle lies within the patch's deviation, ≤ 1e-6 of
+                // its extent, of that plane).
+                let n = self.patches.patches[g.patch as usize].normal;
+                if dot(sub(x, a), n) * dot(sub(c, a), n) > 0.0 {
+                    continue;
+                }
                 if let Some(h) = segment_meets_triangle(x, c, a, b, e) {
                     if norm(sub(h, c)) > tolerance {
                         hidden = true;

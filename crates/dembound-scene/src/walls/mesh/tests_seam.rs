@@ -219,3 +219,46 @@ fn ascii_and_binary_stl_read_back_alike() {
         }
     }
 }
+
+/// Cost of a face contact against the plane's (prints ns per call; no
+/// assertion on time): `cargo test --release -p dembound-scene --lib
+/// contact_cost -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn contact_cost() {
+    use std::hint::black_box;
+    use std::time::Instant;
+    let p = plane([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
+    let floor = mesh(&square(0.0));
+    let tray = mesh(&super::fixtures::open_box([0.0; 3], [1.0, 1.0, 0.5]));
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let xs: Vec<[f64; 3]> = (0..4096)
+        .map(|_| {
+            [
+                rng.gen_range(0.1..0.9),
+                rng.gen_range(0.1..0.9),
+                rng.gen_range(0.0..0.02),
+            ]
+        })
+        .collect();
+    let floor_patch = (0..tray.patch_count())
+        .find(|&q| tray.patches.patches[q as usize].normal[2] != 0.0)
+        .unwrap();
+    let reps = 500;
+    let time = |f: &dyn Fn([f64; 3]) -> f64| {
+        let start = Instant::now();
+        let mut s = 0.0;
+        for _ in 0..reps {
+            for x in &xs {
+                s += f(black_box(*x));
+            }
+        }
+        black_box(s);
+        start.elapsed().as_secs_f64() * 1e9 / (reps * xs.len()) as f64
+    };
+    let v = [0.0, 0.0, -1.0];
+    let tp = time(&|x| plane_overlap(&p, x, v, 0.01).0);
+    let tf = time(&|x| floor.patch_contact(0, x, v, 0.01).overlap);
+    let tt = time(&|x| tray.patch_contact(floor_patch, x, v, 0.01).overlap);
+    eprintln!("ns per contact: plane {tp:.1}, 2-triangle floor {tf:.1}, floor of a 10-triangle tray {tt:.1}");
+}
