@@ -58,6 +58,36 @@ pub fn cube(lo: [f64; 3], hi: [f64; 3]) -> Vec<Triangle> {
     out
 }
 
+/// The closed box [lo, hi] with each face an n × n grid of squares, 2
+/// triangles each (12 n² outward triangles; faces of more than 8
+/// triangles are searched through the grid).
+pub fn fine_cube(lo: [f64; 3], hi: [f64; 3], n: usize) -> Vec<Triangle> {
+    let mut out = Vec::new();
+    for axis in 0..3 {
+        for upper in [false, true] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let at = |i: usize, j: usize| {
+                let mut p = [0.0; 3];
+                p[axis] = if upper { hi[axis] } else { lo[axis] };
+                p[u] = lo[u] + (hi[u] - lo[u]) * i as f64 / n as f64;
+                p[v] = lo[v] + (hi[v] - lo[v]) * j as f64 / n as f64;
+                p
+            };
+            for i in 0..n {
+                for j in 0..n {
+                    let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                    if upper {
+                        out.extend([[a, b, c], [a, c, d]]);
+                    } else {
+                        out.extend([[a, c, b], [a, d, c]]);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The box [lo, hi] without its top (+z) face: 10 triangles.
 pub fn open_box(lo: [f64; 3], hi: [f64; 3]) -> Vec<Triangle> {
     let mut t = cube(lo, hi);

@@ -1,6 +1,6 @@
 //! Edges, vertices and concave corners: one force per contact.
 
-use super::fixtures::{cube, mesh, open_box, wedge};
+use super::fixtures::{cube, fine_cube, mesh, open_box, wedge};
 use super::*;
 use crate::walls::{plane_overlap, PlaneWall, WallPoint};
 
@@ -91,6 +91,7 @@ fn offset(w: [f64; 3], lo: [f64; 3], hi: [f64; 3], rho: f64) -> ([f64; 3], [f64;
 }
 
 /// Sweeps of 10⁴ centres at distance ρ = 0.06 from the cube [−1, 0]³
+/// (12 triangles; and 2000 on a cube of 72-triangle faces)
 /// (r = 0.1, so the true overlap is r − ρ = 0.04 everywhere), along a
 /// path w(s) that turns around an edge (then around the corner): the
 /// summed force k Σ h n equals the exact k (r − ρ) n̂ (n̂ the offset
@@ -101,9 +102,20 @@ fn offset(w: [f64; 3], lo: [f64; 3], hi: [f64; 3], rho: f64) -> ([f64; 3], [f64;
 #[test]
 fn force_around_an_edge_and_a_vertex_is_continuous_and_never_doubled() {
     let (lo, hi) = ([-1.0; 3], [0.0; 3]);
-    let m = mesh(&cube(lo, hi));
+    // The 12-triangle cube, 10⁴ centres per path; and a cube whose faces
+    // are 6 × 6 grids (72 triangles a face: the grid-searched path),
+    // 2000 centres per path.
+    for (m, n) in [
+        (mesh(&cube(lo, hi)), 10_000),
+        (mesh(&fine_cube(lo, hi, 6)), 2_000),
+    ] {
+        assert_eq!(m.patch_count(), 6);
+        sweep(&m, lo, hi, n);
+    }
+}
+
+fn sweep(m: &MeshGeometry, lo: [f64; 3], hi: [f64; 3], n: usize) {
     let (r, rho, k) = (0.1, 0.06, 1e4);
-    let n = 10_000;
     let two_pi = std::f64::consts::TAU;
     // Around the edge x = z = 0 (along y): w on a circle of radius 0.05
     // about the edge, from over the face x = 0 (a = −1.2) around to over
@@ -143,10 +155,10 @@ fn force_around_an_edge_and_a_vertex_is_continuous_and_never_doubled() {
             assert!(outside > 0, "{name}: the path must stay outside");
             visited.insert(outside);
             let (x, normal) = offset(w, lo, hi, rho);
-            let t = touching(&m, x, r);
+            let t = touching(m, x, r);
             let total: f64 = t.iter().map(|(_, c)| c.overlap).sum();
             assert!(total <= (r - rho) + 1e-12, "{name} {i}: doubled {t:?}");
-            let f = force(&m, x, r, k);
+            let f = force(m, x, r, k);
             for a in 0..3 {
                 assert!(
                     (f[a] - k * (r - rho) * normal[a]).abs() < 1e-12 * k,
@@ -287,7 +299,9 @@ fn closed_cube_from_inside_is_six_planes() {
 
 /// Convex solids seen from outside, not aligned with the axes (a cube
 /// turned 30° about (1, 2, 3), a regular octahedron turned 50° about
-/// (−2, 1, 0.5)): at 20,000 random centres at distance 0.01–0.09 from
+/// (−2, 1, 0.5), a cube of 5 × 5-grid faces turned 70° about (3, −1, 2),
+/// its faces flat to round-off so one patch each): at 10⁴ random centres
+/// each at distance 0.01–0.09 from
 /// the surface (r = 0.1), exactly one patch touches, with overlap r − δ
 /// (δ the brute-force distance to the nearest triangle) to 1e-12 and
 /// normal (x − y)/δ (y that nearest point) to 1e-9 (a direction from
@@ -331,6 +345,11 @@ fn convex_solids_from_outside_give_exactly_the_closest_point() {
             6,
         ),
         ("octahedron", turn(octa, [-2.0, 1.0, 0.5], 50.0), 8),
+        (
+            "fine cube",
+            turn(fine_cube([-0.5; 3], [0.5; 3], 5), [3.0, -1.0, 2.0], 70.0),
+            6,
+        ),
     ];
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2026);
     let r = 0.1;
