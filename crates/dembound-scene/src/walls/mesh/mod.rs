@@ -21,8 +21,8 @@
 //! distance from the origin)/(its size): 1e-6 rad keeps such faces one
 //! patch while any fold a designer draws (≥ 1e-3 rad) stays an edge. The
 //! patch is then flat to 1e-6 × its extent (reported as
-//! [`MeshGeometry::max_deviation`]). LIGGGHTS's `curvature` (default
-//! cos θ ≥ 1 − 1e-5, θ ≈ 4.5e-3 rad, settable up to 60°) plays the same
+//! [`MeshGeometry::max_deviation`]). LIGGGHTS's `curvature` (by default
+//! cos θ ≥ 1 − 1e-5, θ ≈ 4.5e-3 rad; settable in degrees up to 60°) plays the same
 //! role of telling one surface from an edge, but LIGGGHTS keeps each
 //! triangle's own plane; here the patch is one plane, so a looser
 //! tolerance would move the surface by θ × extent: it is kept tight.
@@ -46,6 +46,12 @@
 //!   only (B's candidate is dropped, A's closest point is inside A);
 //! - a concave edge or corner: each face's projection is inside, one face
 //!   contact per patch, as the planes would give.
+//!
+//! A sphere rolling over a convex edge from A to B is carried by A's face,
+//! then by the edge's owner (the lower of A and B), then by B's face: the
+//! force is continuous but the element, and so the contact history keyed
+//! by it, changes once (carrying a spring across that change is left to
+//! the engine).
 //!
 //! One more rule, visibility: a contact (face or boundary) whose point is
 //! hidden from the centre by another patch — the segment from the centre
@@ -97,13 +103,16 @@
 //! triangle) and 64 B per patch: about 320 B per triangle for a curved
 //! surface where every triangle is its own patch (322 B measured on a
 //! 100,352-triangle mesh, [`MeshGeometry::bytes`]), about 260 B for a part
-//! of large flat faces. The whole mesh is held by every thread (shared,
-//! read-only) and, under MPI, copied to every rank.
+//! of large flat faces. One copy per process, shared read-only by its
+//! threads; under MPI every rank holds a copy.
 //!
 //! The wall is fixed (surface velocity zero) and every patch is flat
 //! (`Curvature::Flat`, one law row). A [`MeshWall`] holds its geometry
 //! behind an `Arc`: cloning it is cheap, but it cannot be `Copy`, so the
-//! engine's `Surface` enum, `Copy` today, must drop `Copy` to hold one.
+//! engine's `Surface` enum, `Copy` today, must drop `Copy` to hold one
+//! (nothing in the workspace relies on `Surface: Copy`: without it and
+//! with a `Mesh(MeshWall)` variant and its four match arms in
+//! `walls/mod.rs`, the workspace builds, MPI feature included).
 
 pub mod clean;
 pub mod contact;
