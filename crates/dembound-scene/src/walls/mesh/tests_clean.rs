@@ -197,7 +197,7 @@ fn bad_files_are_typed_errors_naming_the_file() {
 
 /// A binary STL whose header starts with "solid" (as some exporters
 /// write) is still binary; a bare "solid" line starts a valid ASCII file;
-/// an OBJ quad is two triangles.
+/// Windows line ends read; an OBJ quad is two triangles.
 #[test]
 fn stl_and_obj_variants_read() {
     let dir = tempfile::tempdir().unwrap();
@@ -212,6 +212,9 @@ fn stl_and_obj_variants_read() {
     write_ascii_stl(&ascii, &square(0.0)).unwrap();
     let text = std::fs::read_to_string(&ascii).unwrap();
     std::fs::write(&ascii, text.replacen("solid dembound\n", "solid\n", 1)).unwrap();
+    assert_eq!(load(&ascii).unwrap().triangles.len(), 2);
+    // Windows line ends.
+    std::fs::write(&ascii, text.replace('\n', "\r\n")).unwrap();
     assert_eq!(load(&ascii).unwrap().triangles.len(), 2);
 
     let obj = dir.path().join("quad.obj");
