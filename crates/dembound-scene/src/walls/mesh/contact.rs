@@ -193,20 +193,26 @@ impl MeshGeometry {
             if hidden {
                 return;
             }
+            // A cell's triangles come grouped by patch: one side test per
+            // patch (both ends on one side of its plane: no crossing; its
+            // triangles lie within the patch's deviation, ≤ 1e-6 of its
+            // extent, of that plane), then the exact test per triangle.
+            let mut skip = u32::MAX;
+            let mut open = u32::MAX;
             for &t in self.grid.cell_items(cell) {
                 let g = &self.patches.tri[t as usize];
-                if g.patch == p {
+                if g.patch == p || g.patch == skip {
                     continue;
+                }
+                if g.patch != open {
+                    let q = &self.patches.patches[g.patch as usize];
+                    if dot(sub(x, q.point), q.normal) * dot(sub(c, q.point), q.normal) > 0.0 {
+                        skip = g.patch;
+                        continue;
+                    }
+                    open = g.patch;
                 }
                 let [a, b, e] = g.corner;
-                // Both ends on one side of the triangle's patch plane: no
-                // crossing (cheap rejection before the exact test; the
-                // triangle lies within the patch's deviation, ≤ 1e-6 of
-                // its extent, of that plane).
-                let n = self.patches.patches[g.patch as usize].normal;
-                if dot(sub(x, a), n) * dot(sub(c, a), n) > 0.0 {
-                    continue;
-                }
                 if let Some(h) = segment_meets_triangle(x, c, a, b, e) {
                     if norm(sub(h, c)) > tolerance {
                         hidden = true;

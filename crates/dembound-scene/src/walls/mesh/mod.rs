@@ -245,7 +245,8 @@ impl MeshGeometry {
             })
             .collect();
         let pad = 4.0 * inside_tolerance + patches.max_deviation;
-        let grid = grid::Grid::build(&boxes, pad);
+        let group: Vec<u32> = patches.tri.iter().map(|g| g.patch).collect();
+        let grid = grid::Grid::build(&boxes, &group, pad);
         let mut centroid = [0.0; 3];
         let mut area = 0.0;
         for g in &patches.tri {
