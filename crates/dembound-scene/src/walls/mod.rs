@@ -32,10 +32,12 @@
 //! and keys table, the export's refusal, Python's `add_cylinder`.
 
 pub mod cylinder;
+pub mod mesh;
 pub mod near;
 pub mod plane;
 
 pub use cylinder::CylinderWall;
+pub use mesh::MeshWall;
 pub use near::{WallContacts, WallContactsMut, WallElement};
 pub use plane::{plane_overlap, PlaneWall};
 
