@@ -51,6 +51,10 @@ pub struct WallResolve<'a> {
     pub spheres: &'a mut Vec<SphereInit>,
     /// The box a tiling fills.
     pub extent: Extent,
+    /// The scene file's directory (paths in the file are relative to it).
+    pub base_dir: &'a Path,
+    /// Warnings for stderr (before the setup checks' own).
+    pub warnings: &'a mut Vec<String>,
     /// (material of a wall's boundary spheres, the material it scales,
     /// wall): their friction is the wall's.
     pub boundary_materials: &'a mut Vec<(usize, usize, usize)>,
@@ -150,11 +154,14 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
     // (material of the boundary spheres, the material it scales, wall).
     let mut boundary_materials: Vec<(usize, usize, usize)> = Vec::new();
     let mut wall_bodies = Vec::with_capacity(file.walls.len());
-    for (w, wall) in file.walls.iter().enumerate() {
+    let mut warnings = Vec::new();
+    for (w, wall) in file.walls.iter_mut().enumerate() {
         let mut cx = WallResolve {
             materials: &mut materials,
             spheres: &mut spheres,
             extent,
+            base_dir,
+            warnings: &mut warnings,
             boundary_materials: &mut boundary_materials,
         };
         let setup = wall.resolve(w, &mut cx)?;
@@ -209,7 +216,7 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         collisions: file.output.collisions,
         friction: friction_setup(&file, &boundary_materials),
     };
-    let warnings = super::labels::check(&setup, &file, &groups, &wall_bodies)?;
+    warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
     Ok(ResolvedScene {
         setup,
         groups,

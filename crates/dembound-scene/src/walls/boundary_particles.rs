@@ -128,7 +128,7 @@ impl WallType for BoundaryParticles {
     /// `"NAME:boundary(r=…, zeta=…)"` with E scaled by ζ; R_ref defaults
     /// to the largest free sphere of the named material made so far.
     fn resolve(
-        b: &BoundaryParticlesConfig,
+        b: &mut BoundaryParticlesConfig,
         w: usize,
         material: &str,
         cx: &mut WallResolve<'_>,

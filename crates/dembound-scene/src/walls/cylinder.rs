@@ -136,7 +136,7 @@ impl WallType for Cylinder {
     }
 
     fn resolve(
-        c: &CylinderConfig,
+        c: &mut CylinderConfig,
         _w: usize,
         material: &str,
         cx: &mut WallResolve<'_>,

@@ -53,7 +53,7 @@ impl WallType for Plane {
     }
 
     fn resolve(
-        c: &PlaneConfig,
+        c: &mut PlaneConfig,
         _w: usize,
         material: &str,
         cx: &mut WallResolve<'_>,

@@ -54,9 +54,11 @@ pub trait WallType: Sized + Clone + PartialEq + Debug {
 
     /// The setup of the validated entry of wall `w` (file order) of
     /// `material`; a wall of boundary particles adds its spheres and
-    /// material to `cx`.
+    /// material to `cx`. The entry may be rewritten as resolved (a file
+    /// path made absolute, from `cx.base_dir`: the resolved scene file
+    /// runs from anywhere).
     fn resolve(
-        config: &Self::Config,
+        config: &mut Self::Config,
         w: usize,
         material: &str,
         cx: &mut WallResolve<'_>,
@@ -259,11 +261,11 @@ macro_rules! wall_registry {
 
             /// [`WallType::resolve`] of the type given, as a [`WallSetup`].
             pub(crate) fn resolve(
-                &self,
+                &mut self,
                 w: usize,
                 cx: &mut WallResolve<'_>,
             ) -> Result<WallSetup, SceneError> {
-                $( if let Some(c) = &self.$m {
+                $( if let Some(c) = &mut self.$m {
                     return <super::$m::$T as WallType>::resolve(c, w, &self.material, cx)
                         .map(WallSetup::$V);
                 } )+
@@ -323,7 +325,7 @@ macro_rules! wall_registry {
 
         /// Every wall the force loops meet as a surface (an enum: they
         /// dispatch by a match, inlined, not through a pointer).
-        #[derive(Debug, Clone, Copy, PartialEq)]
+        #[derive(Debug, Clone, PartialEq)]
         pub enum Surface {
             $( $( $V(super::$m::$S), )? )+
         }
@@ -506,6 +508,27 @@ mod tests {
         )
         .unwrap();
         assert_eq!(s.given(), ["plane", "cylinder"]);
+    }
+
+    /// Every registered type shows in the key table (its rows, under its
+    /// own key) and once in the listing.
+    #[test]
+    fn every_type_has_its_keys_and_one_place_in_the_listing() {
+        let table = keys();
+        for key in KEYS {
+            let prefix = format!("wall[K].{key}.");
+            assert!(
+                table.iter().any(|k| k.key.starts_with(&prefix)),
+                "{key}: no key rows"
+            );
+            assert_eq!(
+                listing(KEYS.to_vec()).iter().filter(|k| *k == key).count(),
+                1
+            );
+        }
+        assert!(table
+            .iter()
+            .all(|k| !k.meaning.is_empty() && !k.allowed.is_empty()));
     }
 
     /// The law rows a wall declares (which the time-step rule reads) are
