@@ -42,7 +42,6 @@ pub fn keys() -> Vec<KeyInfo> {
     let mu = describe(limits::FRICTION, "");
     let mu_r = describe(limits::ROLLING_FRICTION, "");
     let finite3 = || "three finite numbers".to_string();
-    let normal = "finite, non-zero (any length); 0 along every periodic axis".to_string();
     let ratio_inf = |r: (f64, f64)| format!("{}, or inf", describe(r, ""));
     let mut rows = vec![
         row(
@@ -321,7 +320,10 @@ pub fn keys() -> Vec<KeyInfo> {
             "wall[K].material",
             "",
             "—",
-            "a material name, or \"rigid\" (plane, cylinder)".into(),
+            format!(
+                "a material name, or \"rigid\" ({})",
+                dembound_scene::walls::registry::surfaces().join(", ")
+            ),
             "the wall's material",
         ),
         row("wall[K].friction", "", "its material's", mu, "the wall's μ"),
@@ -331,104 +333,6 @@ pub fn keys() -> Vec<KeyInfo> {
             "its material's",
             mu_r,
             "the wall's μ_r",
-        ),
-        row(
-            "wall[K].plane.point",
-            "m",
-            "—",
-            finite3(),
-            "a point of the plane",
-        ),
-        row(
-            "wall[K].plane.normal",
-            "",
-            "—",
-            normal.clone(),
-            "into the domain",
-        ),
-        row(
-            "wall[K].cylinder.point",
-            "m",
-            "—",
-            finite3(),
-            "a point of the axis (a capped tube's middle)",
-        ),
-        row(
-            "wall[K].cylinder.axis",
-            "",
-            "—",
-            "a finite non-zero vector; along every periodic axis".into(),
-            "the axis direction",
-        ),
-        row(
-            "wall[K].cylinder.radius",
-            "m",
-            "—",
-            "> 0; above the largest free radius (inside)".into(),
-            "R_c",
-        ),
-        row(
-            "wall[K].cylinder.inside",
-            "",
-            "true",
-            "true, false".into(),
-            "spheres inside the tube, or outside a post",
-        ),
-        row(
-            "wall[K].cylinder.length",
-            "m",
-            "infinite",
-            "> 0; tubes only, no periodic axis".into(),
-            "caps: discs at point ± length/2 · axis",
-        ),
-        row(
-            "wall[K].boundary_particles.point",
-            "m",
-            "—",
-            finite3(),
-            "a tiling site",
-        ),
-        row(
-            "wall[K].boundary_particles.normal",
-            "",
-            "—",
-            normal,
-            "into the domain",
-        ),
-        row(
-            "wall[K].boundary_particles.radius_ratio",
-            "",
-            "—",
-            describe(limits::RADIUS_RATIO, ""),
-            "r = R_b/R_ref",
-        ),
-        row(
-            "wall[K].boundary_particles.modulus_ratio",
-            "",
-            "—",
-            ratio_inf(limits::MODULUS_RATIO),
-            "ζ = E_b/E",
-        ),
-        row(
-            "wall[K].boundary_particles.tiling",
-            "",
-            "\"square\"",
-            "\"square\", \"hexagonal\"".into(),
-            "site pattern",
-        ),
-        row(
-            "wall[K].boundary_particles.spacing",
-            "m",
-            "2 R_b",
-            "finite, > 0".into(),
-            "site distance",
-        ),
-        row(
-            "wall[K].boundary_particles.reference_radius",
-            "m",
-            "largest free radius",
-            radius,
-            "R_ref",
         ),
         row(
             "motion.gravity",
@@ -536,6 +440,24 @@ pub fn keys() -> Vec<KeyInfo> {
         .position(|k| k.key == "contact.friction")
         .unwrap_or(rows.len());
     rows.splice(at..at, law_parameter_rows(|_| true));
+    // Each wall type's keys (its file under the scene crate's `walls/`),
+    // after `wall[K].rolling_friction`.
+    let at = rows
+        .iter()
+        .position(|r| r.key == "wall[K].rolling_friction")
+        .map_or(rows.len(), |k| k + 1);
+    rows.splice(
+        at..at,
+        dembound_scene::walls::registry::keys()
+            .into_iter()
+            .map(|k| KeyInfo {
+                key: k.key.into(),
+                unit: k.unit.into(),
+                default: k.default,
+                allowed: k.allowed,
+                meaning: k.meaning.into(),
+            }),
+    );
     rows
 }
 

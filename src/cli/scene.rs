@@ -11,7 +11,6 @@ use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, ResolvedScene};
 use dembound_scene::io::series::{boundary_particle, partner_name};
 use dembound_scene::io::{config, series, vtk};
-use dembound_scene::setup::WallSetup;
 use dembound_scene::{Collision, EnergyBalance, Observation, SceneError, Simulation};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -447,13 +446,7 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
         .zip(&resolved.setup.walls)
         .enumerate()
     {
-        let kind = match wall {
-            WallSetup::Plane { .. } => "plane".to_string(),
-            WallSetup::Cylinder { inside, .. } => {
-                if *inside { "cylinder" } else { "post" }.to_string()
-            }
-            WallSetup::BoundaryParticles { count, .. } => format!("{count} boundary particles"),
-        };
+        let kind = wall.summary();
         let about = r.wall_torque_points.get(k).copied().unwrap_or_default();
         s += &format!(
             "wall {k} ({kind}): force {}, torque {} about {}\n",

@@ -85,7 +85,7 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<Option<FrictionPlan>> {
         .iter()
         .enumerate()
         .filter_map(|(w, s)| match s {
-            WallSetup::Plane { material, .. } => Some((w, *material)),
+            WallSetup::Plane(p) => Some((w, p.material)),
             _ => None,
         })
         .collect();

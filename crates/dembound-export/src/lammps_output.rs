@@ -53,7 +53,7 @@ pub fn before_freeze(setup: &SceneSetup) -> String {
     let mut x = String::new();
     let mut any = false;
     for (w, wall) in setup.walls.iter().enumerate() {
-        if matches!(wall, WallSetup::Plane { .. }) {
+        if !wall.is_particles() {
             continue;
         }
         let ids: Vec<usize> = (0..setup.spheres.len())
@@ -86,7 +86,7 @@ pub fn output(setup: &SceneSetup, every: u64, planes: &[(usize, Vec<String>)]) -
     let mut x = String::new();
     let mut columns: Vec<String> = Vec::new();
     for (w, wall) in setup.walls.iter().enumerate() {
-        if matches!(wall, WallSetup::Plane { .. }) {
+        if matches!(wall, WallSetup::Plane(_)) {
             let fixes = planes
                 .iter()
                 .find(|(p, _)| *p == w)

@@ -106,17 +106,20 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    if let Some(w) = setup
-        .walls
-        .iter()
-        .position(|w| matches!(w, WallSetup::Cylinder { .. }))
-    {
-        return refuse(format!(
-            "`wall[{w}].cylinder` cannot be exported yet: LAMMPS's `fix wall/gran ... \
-             zcylinder` is a tube about the z axis through x = y = 0 only, and dembound's \
-             caps and posts have no `wall/gran` counterpart; remove the cylinder (or replace it \
-             by planes) to export the scene"
-        ));
+    // The deck writes planes and walls of boundary particles; every other
+    // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
+    for (w, wall) in setup.walls.iter().enumerate() {
+        let written = matches!(wall, WallSetup::Plane(_)) || wall.is_particles();
+        let note = wall.export_note().or_else(|| {
+            (!written).then(|| "the deck has no LAMMPS counterpart for it".to_string())
+        });
+        if let Some(note) = note {
+            let kind = wall.key();
+            return refuse(format!(
+                "`wall[{w}].{kind}` cannot be exported yet: {note}; remove the {kind} (or \
+                 replace it by planes) to export the scene"
+            ));
+        }
     }
     // Friction (lammps_friction.rs): None for a frictionless deck.
     let friction = lammps_friction::plan(setup)?;
@@ -277,11 +280,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     let mut planes = Vec::new();
     for (index, w) in setup.walls.iter().enumerate() {
-        if let WallSetup::Plane {
+        if let WallSetup::Plane(dembound_scene::setup::Plane {
             point,
             normal,
             material,
-        } = *w
+        }) = *w
         {
             let length =
                 (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();

@@ -8,7 +8,7 @@ use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::config::{self, SceneFile};
 use dembound_scene::io::resolve::resolve;
 use dembound_scene::io::vtk;
-use dembound_scene::setup::{SceneSetup, SphereInit, WallSetup};
+use dembound_scene::setup::{Cylinder, Plane, SceneSetup, SphereInit, WallSetup};
 use dembound_scene::{Partner, SceneError, Simulation};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -227,11 +227,11 @@ impl Scene {
             Some(m) => material_index(m, self.setup.materials.len())?,
             None => 0,
         };
-        self.setup.walls.push(WallSetup::Plane {
+        self.setup.walls.push(WallSetup::Plane(Plane {
             point,
             normal,
             material,
-        });
+        }));
         if let Err(e) = guarded(|| self.rebuild("add_plane")) {
             self.setup.walls.pop();
             return Err(e.into());
@@ -270,14 +270,14 @@ impl Scene {
             Some(m) => material_index(m, self.setup.materials.len())?,
             None => 0,
         };
-        self.setup.walls.push(WallSetup::Cylinder {
+        self.setup.walls.push(WallSetup::Cylinder(Cylinder {
             point,
             axis,
             radius,
             inside,
             length,
             material,
-        });
+        }));
         if let Err(e) = guarded(|| self.rebuild("add_cylinder")) {
             self.setup.walls.pop();
             return Err(e.into());

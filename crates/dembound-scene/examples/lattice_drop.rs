@@ -15,7 +15,7 @@ use std::time::Instant;
 use dembound_physics::contact::{ContactModel, NormalLaw};
 use dembound_physics::material::Material;
 use dembound_scene::setup::{
-    DomainSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+    DomainSetup, NamedMaterial, Plane, RunLength, SphereInit, TimeStep, WallSetup,
 };
 use dembound_scene::{SceneSetup, Simulation};
 
@@ -112,17 +112,17 @@ fn main() {
     for a in 0..3 {
         let mut n = [0.0; 3];
         n[a] = 1.0;
-        setup.walls.push(WallSetup::Plane {
+        setup.walls.push(WallSetup::Plane(Plane {
             point: setup.domain.lower,
             normal: n,
             material: 0,
-        });
+        }));
         n[a] = -1.0;
-        setup.walls.push(WallSetup::Plane {
+        setup.walls.push(WallSetup::Plane(Plane {
             point: setup.domain.upper,
             normal: n,
             material: 0,
-        });
+        }));
     }
     let start = Instant::now();
     let mut sim = match Simulation::new(setup, threads) {

@@ -6,6 +6,10 @@ use dembound_physics::contact::tangential::FrictionModel;
 use dembound_physics::contact::ContactModel;
 use dembound_physics::material::Material;
 
+/// A wall, one variant per wall type (`walls::registry`), and each type's
+/// setup (`Plane`, `Cylinder`, `BoundaryParticles`, …).
+pub use crate::walls::registry::setups::*;
+
 /// Everything a scene needs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneSetup {
@@ -114,36 +118,6 @@ pub struct SphereInit {
     /// The wall (index into [`SceneSetup::walls`]) this sphere belongs to,
     /// for a boundary-particle wall.
     pub group: Option<usize>,
-}
-
-/// A wall.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum WallSetup {
-    /// A fixed plane through `point` (m) whose `normal` (any length > 0)
-    /// points into the domain: spheres touch it from the normal's side. It
-    /// is an elastic half-space of `material` (index into
-    /// [`SceneSetup::materials`]): the paper's r = ∞, ζ = E_wall/E.
-    Plane {
-        point: [f64; 3],
-        normal: [f64; 3],
-        material: usize,
-    },
-    /// A fixed cylinder (`crate::walls::cylinder`): axis through `point`
-    /// (m) along `axis` (any length > 0), radius `radius` (m); the spheres
-    /// are `inside` the tube (else outside a post); `length` (m): a tube
-    /// closed by flat discs at point ± length/2 · axis (`None`: infinite).
-    /// Of `material`, like a plane.
-    Cylinder {
-        point: [f64; 3],
-        axis: [f64; 3],
-        radius: f64,
-        inside: bool,
-        length: Option<f64>,
-        material: usize,
-    },
-    /// A wall of boundary particles: spheres `first_body..first_body+count`
-    /// of [`SceneSetup::spheres`], all fixed, with `group` = this wall.
-    BoundaryParticles { first_body: usize, count: usize },
 }
 
 /// Integration scheme.

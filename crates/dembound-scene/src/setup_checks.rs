@@ -3,18 +3,15 @@
 //!
 //! - physical ranges of what the spheres and the box carry (radius, speed,
 //!   density of a moving sphere, gravity), from [`crate::limits`];
-//! - a plane wall whose normal has a component along a periodic axis (the
-//!   half-space is not invariant under the period's translation: a sphere
-//!   re-entering through the periodic face lands behind the wall, which
-//!   then pushes it through and creates energy);
-//! - a free sphere whose centre is behind a plane, or that overlaps it by
-//!   more than [`limits::OVERLAP_REFUSAL`] of its radius;
-//! - a cylinder wall (`crate::walls::cylinder`) not along every periodic
-//!   axis, or capped while the domain is periodic; an inside tube no wider
-//!   than the largest free sphere; a free sphere whose centre is on the
-//!   wrong side (outside an inside tube or its caps, inside a post) or
-//!   that overlaps the tube or a cap by more than
-//!   [`limits::OVERLAP_REFUSAL`] of its radius;
+//! - each wall type's placement checks, in registry order
+//!   (`walls::registry::check_placements`, each type's in its own file):
+//!   a plane whose normal has a component along a periodic axis, a free
+//!   sphere behind a plane or overlapping it by more than
+//!   [`limits::OVERLAP_REFUSAL`] of its radius (`walls::plane`); a
+//!   cylinder not along every periodic axis or capped while the domain is
+//!   periodic, an inside tube no wider than the largest free sphere, a
+//!   free sphere on the wrong side of it or overlapping it too much
+//!   (`walls::cylinder`);
 //! - two spheres (one of them free) overlapping by more than
 //!   [`limits::OVERLAP_REFUSAL`] of the smaller radius, coincident centres
 //!   included (they exert no force on each other: no contact normal).
@@ -33,7 +30,7 @@ use crate::error::SceneError;
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::limits::{self, describe, metres, norm, show, within};
-use crate::setup::{SceneSetup, WallSetup};
+use crate::setup::SceneSetup;
 use crate::simulation::LARGE_FACTOR;
 
 /// How a sphere is named in a message, by its input index.
@@ -44,7 +41,8 @@ pub fn by_index(k: usize) -> String {
     format!("sphere {k} (input index)")
 }
 
-fn invalid(key: &str, value: impl std::fmt::Display, allowed: &str) -> SceneError {
+/// The refusal of `key`'s `value`, naming what is `allowed`.
+pub(crate) fn invalid(key: &str, value: impl std::fmt::Display, allowed: &str) -> SceneError {
     SceneError::input(format!(
         "invalid value for `{key}`: {value} (allowed: {allowed})"
     ))
@@ -68,10 +66,8 @@ pub fn radius_range(fixed: bool) -> (f64, f64) {
 /// or the first refusal.
 pub fn check(setup: &SceneSetup, label: Label<'_>) -> Result<Vec<String>, SceneError> {
     ranges(setup, label)?;
-    let planes = planes(setup)?;
     let mut warnings = Vec::new();
-    plane_overlaps(setup, &planes, label, &mut warnings)?;
-    cylinder_checks(setup, label, &mut warnings)?;
+    crate::walls::registry::check_placements(setup, label, &mut warnings)?;
     pair_overlaps(setup, label, &mut warnings)?;
     Ok(warnings)
 }
@@ -135,119 +131,18 @@ fn ranges(setup: &SceneSetup, label: Label<'_>) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// A plane as the checks need it: wall index, point, unit normal.
-struct Plane {
-    wall: usize,
-    point: [f64; 3],
-    normal: [f64; 3],
-}
+/// The axes' names.
+pub(crate) const AXES: [&str; 3] = ["x", "y", "z"];
 
-const AXES: [&str; 3] = ["x", "y", "z"];
-
-fn planes(setup: &SceneSetup) -> Result<Vec<Plane>, SceneError> {
-    let mut out = Vec::new();
-    for (w, wall) in setup.walls.iter().enumerate() {
-        let WallSetup::Plane { point, normal, .. } = *wall else {
-            continue;
-        };
-        let len = norm(normal);
-        let unit = normal.map(|x| x / len);
-        for a in 0..3 {
-            if setup.domain.periodic[a] && unit[a] != 0.0 {
-                return Err(SceneError::input(format!(
-                    "invalid value for `wall[{w}].plane.normal`: {normal:?} has a component along \
-                     {} (n_{} = {}), which `domain.periodic` = {:?} makes periodic (allowed: a \
-                     normal perpendicular to every periodic axis, its component exactly 0 there: \
-                     a sphere leaving through the periodic face would re-enter behind the wall, \
-                     which would push it through and create energy; make the axis not periodic \
-                     or turn the wall)",
-                    AXES[a],
-                    AXES[a],
-                    show(unit[a]),
-                    setup.domain.periodic
-                )));
-            }
-        }
-        out.push(Plane {
-            wall: w,
-            point,
-            normal: unit,
-        });
-    }
-    Ok(out)
-}
-
-fn percent(x: f64) -> String {
+/// A share as a percentage ("5 %", "0.125 %").
+pub(crate) fn percent(x: f64) -> String {
     format!("{:.3} %", 100.0 * x).replace(".000 %", " %")
-}
-
-fn plane_overlaps(
-    setup: &SceneSetup,
-    planes: &[Plane],
-    label: Label<'_>,
-    warnings: &mut Vec<String>,
-) -> Result<(), SceneError> {
-    let mut worst: Option<(f64, usize, usize, f64)> = None;
-    let mut count = 0usize;
-    for p in planes {
-        for (k, s) in setup.spheres.iter().enumerate() {
-            if s.fixed {
-                continue;
-            }
-            let d = [
-                s.position[0] - p.point[0],
-                s.position[1] - p.point[1],
-                s.position[2] - p.point[2],
-            ];
-            let distance = d[0] * p.normal[0] + d[1] * p.normal[1] + d[2] * p.normal[2];
-            let overlap = s.radius - distance;
-            let share = overlap / s.radius;
-            if distance < 0.0 || share > limits::OVERLAP_REFUSAL {
-                let place = if distance < 0.0 {
-                    format!(
-                        "its centre is {} behind the plane (on the side the normal points away \
-                         from)",
-                        metres(-distance)
-                    )
-                } else {
-                    format!(
-                        "it overlaps the plane by {}, {} of its radius {}",
-                        metres(overlap),
-                        percent(share),
-                        metres(s.radius)
-                    )
-                };
-                return Err(SceneError::input(format!(
-                    "{} and `wall[{}].plane`: {place} (allowed: the centre on the normal's side \
-                     and an overlap of at most {} of the radius, {}; a warning above {}): move \
-                     the sphere or the wall, or check the sign of `wall[{}].plane.normal`, which \
-                     points into the domain",
-                    label(k),
-                    p.wall,
-                    percent(limits::OVERLAP_REFUSAL),
-                    metres(limits::OVERLAP_REFUSAL * s.radius),
-                    percent(limits::OVERLAP_WARNING),
-                    p.wall
-                )));
-            }
-            if share > limits::OVERLAP_WARNING {
-                count += 1;
-                if worst.is_none_or(|w| share > w.0) {
-                    worst = Some((share, k, p.wall, overlap));
-                }
-            }
-        }
-    }
-    if let Some(worst) = worst {
-        warnings.push(overlap_warning("plane", count, worst, label));
-    }
-    Ok(())
 }
 
 /// The warning for `count` free spheres starting in a wall of `kind`
 /// ("plane", "cylinder") by more than the warning share; `worst`: (share,
 /// sphere, wall, overlap in m) of the largest.
-fn overlap_warning(
+pub(crate) fn overlap_warning(
     kind: &str,
     count: usize,
     (share, k, w, overlap): (f64, usize, usize, f64),
@@ -262,140 +157,6 @@ fn overlap_warning(
         metres(overlap),
         percent(share)
     )
-}
-
-/// The cylinder walls' refusals and warnings (see the module doc).
-fn cylinder_checks(
-    setup: &SceneSetup,
-    label: Label<'_>,
-    warnings: &mut Vec<String>,
-) -> Result<(), SceneError> {
-    let mut worst: Option<(f64, usize, usize, f64)> = None;
-    let mut count = 0usize;
-    let largest_free = setup
-        .spheres
-        .iter()
-        .filter(|s| !s.fixed)
-        .map(|s| s.radius)
-        .fold(0.0f64, f64::max);
-    for (w, wall) in setup.walls.iter().enumerate() {
-        let WallSetup::Cylinder {
-            point,
-            axis,
-            radius,
-            inside,
-            length,
-            ..
-        } = *wall
-        else {
-            continue;
-        };
-        let key = format!("wall[{w}].cylinder");
-        let len = norm(axis);
-        let a = axis.map(|x| x / len);
-        for (k, name) in AXES.iter().enumerate() {
-            if setup.domain.periodic[k]
-                && (length.is_some() || (0..3).any(|b| b != k && a[b] != 0.0))
-            {
-                return Err(invalid(
-                    &format!("{key}.axis"),
-                    format!("{axis:?}"),
-                    &format!(
-                        "along every periodic axis and infinite (`domain.periodic` = {:?}: an \
-                         axis along {} only, no length): a tube that crosses a periodic face at \
-                         an angle, or ends, is not invariant under the period's translation",
-                        setup.domain.periodic, name
-                    ),
-                ));
-            }
-        }
-        if inside && radius <= largest_free {
-            return Err(invalid(
-                &format!("{key}.radius"),
-                metres(radius),
-                &format!(
-                    "above the largest free sphere's radius {} for a tube the spheres are inside: \
-                     no free sphere fits",
-                    metres(largest_free)
-                ),
-            ));
-        }
-        let half = length.map(|l| 0.5 * l);
-        for (k, sp) in setup.spheres.iter().enumerate() {
-            if sp.fixed {
-                continue;
-            }
-            let d = [
-                sp.position[0] - point[0],
-                sp.position[1] - point[1],
-                sp.position[2] - point[2],
-            ];
-            let along = d[0] * a[0] + d[1] * a[1] + d[2] * a[2];
-            let rho = [
-                d[0] - along * a[0],
-                d[1] - along * a[1],
-                d[2] - along * a[2],
-            ];
-            let r = norm(rho);
-            let wrong_side = if inside {
-                r >= radius || half.is_some_and(|h| along.abs() >= h)
-            } else {
-                r <= radius
-            };
-            if wrong_side {
-                return Err(SceneError::input(format!(
-                    "{} and `{key}`: its centre is {} the {} (at {} from the axis, R_c = {}) \
-                     (allowed: the centre {}): move the sphere or the wall, or check \
-                     `{key}.inside`",
-                    label(k),
-                    if inside { "outside" } else { "inside" },
-                    if inside { "tube and its caps" } else { "post" },
-                    metres(r),
-                    metres(radius),
-                    if inside {
-                        "inside the tube, between its caps"
-                    } else {
-                        "outside the post"
-                    }
-                )));
-            }
-            // The largest overlap with the tube and the caps.
-            let mut overlap = if inside {
-                sp.radius + r - radius
-            } else {
-                sp.radius + radius - r
-            };
-            if let Some(h) = half {
-                overlap = overlap
-                    .max(sp.radius - (along + h))
-                    .max(sp.radius - (h - along));
-            }
-            let share = overlap / sp.radius;
-            if share > limits::OVERLAP_REFUSAL {
-                return Err(SceneError::input(format!(
-                    "{} and `{key}`: it overlaps the wall by {}, {} of its radius {} (allowed: an \
-                     overlap of at most {} of the radius; a warning above {}): move the sphere or \
-                     the wall",
-                    label(k),
-                    metres(overlap),
-                    percent(share),
-                    metres(sp.radius),
-                    percent(limits::OVERLAP_REFUSAL),
-                    percent(limits::OVERLAP_WARNING)
-                )));
-            }
-            if share > limits::OVERLAP_WARNING {
-                count += 1;
-                if worst.is_none_or(|x| share > x.0) {
-                    worst = Some((share, k, w, overlap));
-                }
-            }
-        }
-    }
-    if let Some(worst) = worst {
-        warnings.push(overlap_warning("cylinder", count, worst, label));
-    }
-    Ok(())
 }
 
 /// The worst pair overlap found so far and how many pairs exceed the

@@ -48,8 +48,8 @@ use std::collections::HashMap;
 use dembound_physics::material::PairProperties;
 
 use crate::error::SceneError;
-use crate::setup::{SceneSetup, Scheme, TimeStep, WallSetup};
-use crate::walls::{Curvature, LawSlot};
+use crate::setup::{SceneSetup, Scheme, TimeStep};
+use crate::walls::LawSlot;
 
 /// The largest Δt / T_b under velocity Verlet (module doc).
 pub const VERLET_MAX_STEP_RATIO: f64 = 0.35;
@@ -279,17 +279,17 @@ fn refuse_rigid_pairs(setup: &SceneSetup) -> Result<(), SceneError> {
     let Some(m) = free_rigid else {
         return Ok(());
     };
-    let rigid_plane = setup.walls.iter().any(|w| match *w {
-        WallSetup::Plane { material, .. } | WallSetup::Cylinder { material, .. } => rigid(material),
-        WallSetup::BoundaryParticles { .. } => false,
-    });
+    let rigid_plane = setup.walls.iter().any(|w| w.material().is_some_and(rigid));
     if free_rigid_count >= 2 || fixed_rigid || rigid_plane {
         let partner = if free_rigid_count >= 2 {
-            "another free sphere of infinite modulus"
+            "another free sphere of infinite modulus".to_string()
         } else if fixed_rigid {
-            "a fixed sphere of infinite modulus"
+            "a fixed sphere of infinite modulus".to_string()
         } else {
-            "a rigid plane or cylinder wall"
+            format!(
+                "a rigid {} wall",
+                crate::walls::registry::surface_kinds_or()
+            )
         };
         return Err(SceneError::invalid(
             format!("materials[{m}].youngs_modulus"),
@@ -409,27 +409,9 @@ fn smallest_contact_time_of(
             }
         }
         for (k, wall) in setup.walls.iter().enumerate() {
-            // A plane's row, or a cylinder's tube and caps (curved and
-            // flat: `walls::cylinder`).
-            let rows: Vec<(usize, Curvature)> = match *wall {
-                WallSetup::Plane { material, .. } => vec![(material, Curvature::Flat)],
-                WallSetup::Cylinder {
-                    material,
-                    radius,
-                    inside,
-                    length,
-                    ..
-                } => {
-                    let rho = if inside { -radius } else { radius };
-                    let mut v = vec![(material, Curvature::Radius(rho))];
-                    if length.is_some() {
-                        v.push((material, Curvature::Flat));
-                    }
-                    v
-                }
-                WallSetup::BoundaryParticles { .. } => Vec::new(),
-            };
-            for (material, curvature) in rows {
+            // The wall's law rows (a plane's one; a cylinder's tube and
+            // caps, curved and flat: `walls::cylinder`).
+            for (material, curvature) in wall.law_rows() {
                 let row = LawSlot {
                     material: material as u32,
                     wall: k,

@@ -13,8 +13,8 @@ use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
 
 use crate::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, SceneSetup, SphereInit, TimeStep,
-    WallSetup,
+    BoundaryParticles, DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, SceneSetup,
+    SphereInit, TimeStep, WallSetup,
 };
 use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::{Extent, Pattern, Tiling};
@@ -314,12 +314,11 @@ impl StudyConfig {
         }
         let mut materials = Vec::new();
         if let Some(mu) = self.floor_friction {
-            match s.walls[floor] {
-                WallSetup::Plane { .. } | WallSetup::Cylinder { .. } => {
-                    w[floor] = Some((mu, self.rolling_friction))
-                }
-                WallSetup::BoundaryParticles { first_body, .. } => {
-                    let m = s.spheres[first_body].material;
+            // A surface's own μ, or its boundary spheres' material's.
+            match s.walls[floor].bodies() {
+                None => w[floor] = Some((mu, self.rolling_friction)),
+                Some(bodies) => {
+                    let m = s.spheres[bodies.start].material;
                     materials = vec![None; s.materials.len()];
                     materials[m] = Some((mu, self.rolling_friction));
                 }
@@ -375,11 +374,11 @@ fn add_floor(
                 });
                 s.materials.len() - 1
             };
-            s.walls.push(WallSetup::Plane {
+            s.walls.push(WallSetup::Plane(Plane {
                 point: [centre[0], centre[1], 0.0],
                 normal: [0.0, 0.0, 1.0],
                 material,
-            });
+            }));
         }
         Floor::Particles {
             radius_ratio,
@@ -420,10 +419,11 @@ fn add_floor(
                     group: Some(w),
                 });
             }
-            s.walls.push(WallSetup::BoundaryParticles {
-                first_body: first,
-                count: s.spheres.len() - first,
-            });
+            s.walls
+                .push(WallSetup::BoundaryParticles(BoundaryParticles {
+                    first_body: first,
+                    count: s.spheres.len() - first,
+                }));
         }
     }
     Ok(w)
@@ -505,8 +505,8 @@ fn impact(
     );
     // The boundary spheres moved one place up in the input order.
     for w in &mut s.walls {
-        if let WallSetup::BoundaryParticles { first_body, .. } = w {
-            *first_body += 1;
+        if let WallSetup::BoundaryParticles(b) = w {
+            b.first_body += 1;
         }
     }
     s.friction = c.friction_setup(&s, floor_wall, &[]);
@@ -605,11 +605,11 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
         ([0.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
         ([0.0, side, 0.0], [0.0, -1.0, 0.0]),
     ] {
-        s.walls.push(WallSetup::Plane {
+        s.walls.push(WallSetup::Plane(Plane {
             point,
             normal,
             material: 0,
-        });
+        }));
     }
     let floor_wall = add_floor(
         &mut s,

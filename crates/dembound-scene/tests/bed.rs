@@ -11,7 +11,7 @@
 mod common;
 
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
-use dembound_scene::setup::{SphereInit, WallSetup};
+use dembound_scene::setup::{BoundaryParticles, SphereInit, WallSetup};
 use dembound_scene::{SceneSetup, Simulation};
 
 const G: f64 = 9.81;
@@ -99,10 +99,12 @@ fn bed_on_a_particle_floor_carries_its_weight() {
             });
         }
     }
-    setup.walls.push(WallSetup::BoundaryParticles {
-        first_body: first,
-        count: side * side,
-    });
+    setup
+        .walls
+        .push(WallSetup::BoundaryParticles(BoundaryParticles {
+            first_body: first,
+            count: side * side,
+        }));
     let wall = setup.walls.len() - 1;
     let sim = settle(setup, wall);
     let floor = sim.wall_forces()[wall];

@@ -11,7 +11,8 @@ use dembound_physics::contact::{
 };
 use dembound_physics::material::{effective_modulus, PairProperties};
 use dembound_scene::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+    Cylinder, DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, SphereInit, TimeStep,
+    WallSetup,
 };
 use dembound_scene::{Partner, SceneSetup, Simulation};
 
@@ -90,14 +91,14 @@ fn sphere_rolling_in_a_tube_oscillates_at_the_rolling_pendulum_frequency() {
         [0.0; 3],
         r,
     ));
-    s.walls.push(WallSetup::Cylinder {
+    s.walls.push(WallSetup::Cylinder(Cylinder {
         point: [0.0; 3],
         axis: [1.0, 0.0, 0.0],
         radius: rc,
         inside: true,
         length: None,
         material: 0,
-    });
+    }));
     let mut sim = Simulation::new(s, 1).unwrap();
     let omega = (5.0 * G / (7.0 * (rc - r))).sqrt();
     let period = 2.0 * std::f64::consts::PI / omega;
@@ -237,14 +238,14 @@ fn radial_impact_inside_a_tube_matches_the_curvature_models_single_contact() {
         // From 1 mm short of the wall along +y (a radius), axis z.
         s.spheres
             .push(sphere([0.0, rc - r - 1e-3, 0.0], [0.0, v, 0.0], r));
-        s.walls.push(WallSetup::Cylinder {
+        s.walls.push(WallSetup::Cylinder(Cylinder {
             point: [0.0; 3],
             axis: [0.0, 0.0, 1.0],
             radius: rc,
             inside: true,
             length: None,
             material: 0,
-        });
+        }));
         let mut sim = Simulation::new(s, 1).unwrap();
         let steps = ((2e-3 / v + 2.0 * t_exact) / dt) as u64;
         sim.step(steps);
@@ -377,19 +378,19 @@ fn tube_bed(mu_r: f64) -> (f64, f64, f64) {
         }
         z += 6.0 * r;
     }
-    s.walls.push(WallSetup::Plane {
+    s.walls.push(WallSetup::Plane(Plane {
         point: [0.0; 3],
         normal: [0.0, 0.0, 1.0],
         material: 0,
-    });
-    s.walls.push(WallSetup::Cylinder {
+    }));
+    s.walls.push(WallSetup::Cylinder(Cylinder {
         point: [0.0, 0.0, 0.08],
         axis: [0.0, 0.0, 1.0],
         radius: rc,
         inside: true,
         length: None,
         material: 0,
-    });
+    }));
     let n = s.spheres.len();
     let m = grain(e);
     let weight = n as f64 * m.density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * G;

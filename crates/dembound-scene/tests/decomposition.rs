@@ -7,6 +7,7 @@ mod common;
 
 use dembound_scene::comm::threads::ThreadTransport;
 use dembound_scene::comm::DistributedSimulation;
+use dembound_scene::setup::{BoundaryParticles, Plane};
 use dembound_scene::{Observation, SceneSetup, Simulation};
 
 /// Positions, velocities, the final observation, bodies per rank.
@@ -213,7 +214,7 @@ fn a_boundary_particle_floor_carries_the_grains_on_any_ranks() {
     );
     // Walls: x−, x+, y−, y+, z−, z+ planes; the z− plane goes.
     let upper = match &setup.walls[5] {
-        dembound_scene::setup::WallSetup::Plane { point, .. } => *point,
+        dembound_scene::setup::WallSetup::Plane(Plane { point, .. }) => *point,
         _ => unreachable!("lattice_drop's walls are planes"),
     };
     setup.walls.remove(4);
@@ -235,10 +236,12 @@ fn a_boundary_particle_floor_carries_the_grains_on_any_ranks() {
     }
     setup
         .walls
-        .push(dembound_scene::setup::WallSetup::BoundaryParticles {
-            first_body: grains,
-            count: per_side * per_side,
-        });
+        .push(dembound_scene::setup::WallSetup::BoundaryParticles(
+            BoundaryParticles {
+                first_body: grains,
+                count: per_side * per_side,
+            },
+        ));
     let steps = 4000;
     let (s1, o1, c1) = run_states(&setup, 1, None, steps);
     assert!(c1, "summed in cell order");

@@ -4,7 +4,7 @@
 
 mod common;
 
-use dembound_scene::setup::{SphereInit, WallSetup};
+use dembound_scene::setup::{BoundaryParticles, SphereInit, WallSetup};
 use dembound_scene::{SceneSetup, Simulation};
 
 fn bits3(v: &[[f64; 3]]) -> Vec<[u64; 3]> {
@@ -77,10 +77,12 @@ fn periodic_gas_with_boundary_particles_is_bit_identical() {
     // issue 24, one overlap was 94 %, a placement the setup now refuses).
     let mut setup = common::lattice_drop(6, 6, 1.0e-5, 300);
     let first = setup.spheres.len();
-    setup.walls.push(WallSetup::BoundaryParticles {
-        first_body: first,
-        count: 2,
-    });
+    setup
+        .walls
+        .push(WallSetup::BoundaryParticles(BoundaryParticles {
+            first_body: first,
+            count: 2,
+        }));
     let wall = setup.walls.len() - 1;
     for x in [2.0e-3, 5.0e-3] {
         setup.spheres.push(SphereInit {

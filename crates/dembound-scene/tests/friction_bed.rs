@@ -6,7 +6,7 @@
 
 mod common;
 
-use dembound_scene::setup::{SphereInit, WallSetup};
+use dembound_scene::setup::{BoundaryParticles, SphereInit, WallSetup};
 use dembound_scene::{SceneSetup, Simulation};
 
 const G: f64 = 9.81;
@@ -45,10 +45,12 @@ fn bed_on_particles() -> (SceneSetup, usize) {
             });
         }
     }
-    setup.walls.push(WallSetup::BoundaryParticles {
-        first_body: first,
-        count: side * side,
-    });
+    setup
+        .walls
+        .push(WallSetup::BoundaryParticles(BoundaryParticles {
+            first_body: first,
+            count: side * side,
+        }));
     let wall = setup.walls.len() - 1;
     (setup, wall)
 }

@@ -14,7 +14,7 @@ use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::{ContactModel, NormalLaw};
 use dembound_physics::material::Material;
 use dembound_scene::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+    DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, SphereInit, TimeStep, WallSetup,
 };
 use dembound_scene::{SceneSetup, Simulation};
 use std::f64::consts::PI;
@@ -62,11 +62,11 @@ fn stack(tangential: TangentialKind, dt: f64) -> Simulation {
             group: None,
         });
     }
-    s.walls.push(WallSetup::Plane {
+    s.walls.push(WallSetup::Plane(Plane {
         point: [0.0; 3],
         normal: [0.0, 0.0, 1.0],
         material: 0,
-    });
+    }));
     s.friction = Some(FrictionSetup::uniform(FrictionModel {
         tangential,
         friction: 10.0,

@@ -18,7 +18,7 @@
 use dembound_physics::contact::{ContactModel, NormalLaw};
 use dembound_physics::material::{Material, PairProperties};
 use dembound_scene::setup::{
-    DomainSetup, NamedMaterial, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
+    DomainSetup, NamedMaterial, Plane, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
 };
 use dembound_scene::{Partner, SceneSetup, Simulation};
 
@@ -145,11 +145,11 @@ fn scene(law: NormalLaw, scheme: Scheme, on_plane: bool) -> (SceneSetup, PairPro
     ];
     let m = grain().sphere_mass(R);
     let props = if on_plane {
-        setup.walls.push(WallSetup::Plane {
+        setup.walls.push(WallSetup::Plane(Plane {
             point: [0.0; 3],
             normal: [0.0, 0.0, 1.0],
             material: 0,
-        });
+        }));
         setup.spheres.push(SphereInit {
             position: [0.0, 0.0, R + start_gap],
             velocity: [0.0, 0.0, -v0],

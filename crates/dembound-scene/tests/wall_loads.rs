@@ -10,7 +10,8 @@ use common::{grain, sphere_on_plane};
 use dembound_physics::contact::tangential::TangentialKind;
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_scene::setup::{
-    DomainSetup, NamedMaterial, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
+    BoundaryParticles, Cylinder, DomainSetup, NamedMaterial, RunLength, Scheme, SphereInit,
+    TimeStep, WallSetup,
 };
 use dembound_scene::{SceneSetup, Simulation};
 
@@ -202,14 +203,14 @@ fn a_sphere_pressed_against_a_tube_loads_it_about_its_axis_point() {
     let mut s = scene([-0.02, -0.02, 0.0], [0.02, 0.02, 0.1]);
     s.gravity = [G, 0.0, 0.0];
     s.spheres.push(sphere([rc - R, 0.0, 0.05 + h], false, None));
-    s.walls.push(WallSetup::Cylinder {
+    s.walls.push(WallSetup::Cylinder(Cylinder {
         point: [0.0, 0.0, 0.05],
         axis: [0.0, 0.0, 1.0],
         radius: rc,
         inside: true,
         length: None,
         material: 0,
-    });
+    }));
     let mut sim = Simulation::new(s, 1).unwrap();
     assert_eq!(sim.wall_torque_points(), vec![[0.0, 0.0, 0.05]]);
     let (f, t) = settled_load(&mut sim, 0, 1e-22, 2_000_000, 1000);
@@ -232,10 +233,11 @@ fn a_sphere_on_a_boundary_particle_floor_loads_it_about_the_centroid() {
         s.spheres.push(sphere(x, true, Some(0)));
     }
     s.spheres.push(sphere([4.0 * R, 0.0, 2.0 * R], false, None));
-    s.walls.push(WallSetup::BoundaryParticles {
-        first_body: 0,
-        count: 3,
-    });
+    s.walls
+        .push(WallSetup::BoundaryParticles(BoundaryParticles {
+            first_body: 0,
+            count: 3,
+        }));
     let mut sim = Simulation::new(s, 1).unwrap();
     let c = sim.wall_torque_points()[0];
     assert_close("centroid", c, [4.0 * R / 3.0, 4.0 * R / 3.0, 0.0], R, 1e-15);

@@ -259,7 +259,8 @@ pub(crate) mod tests {
     use dembound_physics::material::Material;
 
     use crate::setup::{
-        DomainSetup, FrictionSetup, NamedMaterial, RunLength, SphereInit, TimeStep, WallSetup,
+        DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, SphereInit, TimeStep,
+        WallSetup,
     };
     use crate::{SceneSetup, Simulation};
 
@@ -319,17 +320,17 @@ pub(crate) mod tests {
         for axis in 0..3 {
             let mut n = [0.0; 3];
             n[axis] = 1.0;
-            s.walls.push(WallSetup::Plane {
+            s.walls.push(WallSetup::Plane(Plane {
                 point: [0.0; 3],
                 normal: n,
                 material: 0,
-            });
+            }));
             n[axis] = -1.0;
-            s.walls.push(WallSetup::Plane {
+            s.walls.push(WallSetup::Plane(Plane {
                 point: upper,
                 normal: n,
                 material: 0,
-            });
+            }));
         }
         s.friction = Some(FrictionSetup {
             model: FrictionModel {

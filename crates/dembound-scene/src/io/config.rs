@@ -8,7 +8,7 @@
 //! checks every value: an error names the key, the value and the allowed
 //! range. All errors are [`SceneError::Input`] (exit 2 in the CLI).
 
-mod checks;
+pub(crate) mod checks;
 mod contact;
 mod integration;
 mod overrides;
@@ -21,7 +21,8 @@ pub use integration::{
 };
 pub use overrides::{apply_set, parse_value};
 pub use particles::{InlineSphere, LatticeSource, ParticlesSection, RadiusSpec, RandomSource};
-pub use walls::{BoundaryParticlesWall, CylinderWall, PlaneWall, TilingName, WallSection};
+pub(crate) use walls::surface_material;
+pub use walls::{BoundaryParticlesConfig, CylinderConfig, PlaneConfig, TilingName, WallSection};
 
 use crate::{limits, SceneError};
 use checks::{check, finite3, ranged};
@@ -163,11 +164,11 @@ impl SceneFile {
         Ok(())
     }
 
-    fn material_known(&self, name: &str) -> bool {
+    pub(crate) fn material_known(&self, name: &str) -> bool {
         self.materials.iter().any(|m| m.name == name)
     }
 
-    fn material_names(&self) -> String {
+    pub(crate) fn material_names(&self) -> String {
         self.materials
             .iter()
             .map(|m| format!("\"{}\"", m.name))

@@ -38,7 +38,8 @@ pub fn check(
         for (w, range) in wall_bodies.iter().enumerate() {
             if range.contains(&k) {
                 let j = k - range.start;
-                return format!("`wall[{w}].boundary_particles` sphere {j} (input index {k})");
+                let kind = file.walls.get(w).and_then(|x| x.key()).unwrap_or("");
+                return format!("`wall[{w}].{kind}` sphere {j} (input index {k})");
             }
         }
         crate::setup_checks::by_index(k)

@@ -7,15 +7,15 @@
 //! `[[particles]]` groups in file order, each in its source's order, then
 //! the spheres of each `boundary_particles` wall in wall order.
 
-use super::config::{ParticlesSection, SceneFile, Scheme as SchemeName, TilingName, RIGID};
+use super::config::{ParticlesSection, SceneFile, Scheme as SchemeName, RIGID};
 use crate::setup::{
     DomainSetup, FrictionSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength,
-    SceneSetup, Scheme, SphereInit, TimeStep, WallSetup,
+    SceneSetup, Scheme, SphereInit, TimeStep,
 };
 use crate::sources::lammps_data::LammpsData;
 use crate::sources::lattice::Lattice;
 use crate::sources::random::RandomInsertion;
-use crate::sources::tiling::{Extent, Pattern, Tiling};
+use crate::sources::tiling::Extent;
 use crate::sources::{self, SourceSphere};
 use crate::SceneError;
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
@@ -42,6 +42,46 @@ pub struct ResolvedScene {
 /// rigid plane has no mass, and a rigid particle must be fixed.
 const RIGID_DENSITY: f64 = 1000.0;
 
+/// What resolving a `[[wall]]` entry may add to (`walls::WallType::resolve`).
+pub struct WallResolve<'a> {
+    /// The materials so far (a surface's `"rigid"` is added once).
+    pub materials: &'a mut Vec<NamedMaterial>,
+    /// The spheres so far, in input order (a wall of boundary particles
+    /// appends its own).
+    pub spheres: &'a mut Vec<SphereInit>,
+    /// The box a tiling fills.
+    pub extent: Extent,
+    /// The scene file's directory (paths in the file are relative to it).
+    pub base_dir: &'a Path,
+    /// Warnings for stderr (before the setup checks' own).
+    pub warnings: &'a mut Vec<String>,
+    /// (material of a wall's boundary spheres, the material it scales,
+    /// wall): their friction is the wall's.
+    pub boundary_materials: &'a mut Vec<(usize, usize, usize)>,
+}
+
+impl WallResolve<'_> {
+    /// The index of material `name` (validated: a `[[material]]` or
+    /// `"rigid"`).
+    pub fn material_index(&mut self, name: &str) -> usize {
+        material_index(name, self.materials)
+    }
+}
+
+/// The index of material `name`, a `[[material]]` or `"rigid"` (added at
+/// its first use).
+fn material_index(name: &str, materials: &mut Vec<NamedMaterial>) -> usize {
+    if let Some(k) = materials.iter().position(|m| m.name == name) {
+        return k;
+    }
+    // Only "rigid" reaches here (validated).
+    materials.push(NamedMaterial {
+        name: RIGID.into(),
+        material: Material::rigid(RIGID_DENSITY),
+    });
+    materials.len() - 1
+}
+
 /// Resolves `file`; relative source paths are taken from `base_dir` (the
 /// scene file's directory).
 pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, SceneError> {
@@ -59,17 +99,6 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
             },
         })
         .collect();
-    let material_index = |name: &str, materials: &mut Vec<NamedMaterial>| -> usize {
-        if let Some(k) = materials.iter().position(|m| m.name == name) {
-            return k;
-        }
-        // Only "rigid" reaches here (validated).
-        materials.push(NamedMaterial {
-            name: RIGID.into(),
-            material: Material::rigid(RIGID_DENSITY),
-        });
-        materials.len() - 1
-    };
 
     // The memory the generated spheres need, before any is made; the
     // files' and walls' spheres are counted once read (below).
@@ -125,90 +154,19 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
     // (material of the boundary spheres, the material it scales, wall).
     let mut boundary_materials: Vec<(usize, usize, usize)> = Vec::new();
     let mut wall_bodies = Vec::with_capacity(file.walls.len());
-    for (w, wall) in file.walls.iter().enumerate() {
-        let key = format!("wall[{w}]");
-        if let Some(plane) = &wall.plane {
-            walls.push(WallSetup::Plane {
-                point: plane.point,
-                normal: plane.normal,
-                material: material_index(&wall.material, &mut materials),
-            });
-            wall_bodies.push(spheres.len()..spheres.len());
-            continue;
-        }
-        if let Some(c) = &wall.cylinder {
-            walls.push(WallSetup::Cylinder {
-                point: c.point,
-                axis: c.axis,
-                radius: c.radius,
-                inside: c.inside,
-                length: c.length,
-                material: material_index(&wall.material, &mut materials),
-            });
-            wall_bodies.push(spheres.len()..spheres.len());
-            continue;
-        }
-        let Some(b) = &wall.boundary_particles else {
-            continue; // validated: one of the three
+    let mut warnings = Vec::new();
+    for (w, wall) in file.walls.iter_mut().enumerate() {
+        let mut cx = WallResolve {
+            materials: &mut materials,
+            spheres: &mut spheres,
+            extent,
+            base_dir,
+            warnings: &mut warnings,
+            boundary_materials: &mut boundary_materials,
         };
-        let base = materials
-            .iter()
-            .position(|m| m.name == wall.material)
-            .ok_or_else(|| SceneError::input(format!("`{key}.material`: unknown")))?;
-        let reference = match b.reference_radius {
-            Some(r) => r,
-            None => spheres
-                .iter()
-                .filter(|s| !s.fixed && s.material == base)
-                .map(|s| s.radius)
-                .fold(None, |m: Option<f64>, r| Some(m.map_or(r, |m| m.max(r))))
-                .ok_or_else(|| {
-                    SceneError::input(format!(
-                        "`{key}.boundary_particles.reference_radius` is needed: no free particle is made \
-                         of \"{}\" to take R_ref from (give R_ref in m, > 0)",
-                        wall.material
-                    ))
-                })?,
-        };
-        let radius = b.radius_ratio * reference;
-        let tiling = Tiling {
-            point: b.point,
-            normal: b.normal,
-            radius,
-            spacing: b.spacing.unwrap_or(2.0 * radius),
-            pattern: match b.tiling {
-                TilingName::Square => Pattern::Square,
-                TilingName::Hexagonal => Pattern::Hexagonal,
-            },
-        };
-        let made = tiling.spheres(&extent, &key)?;
-        let m = &materials[base].material;
-        materials.push(NamedMaterial {
-            name: format!(
-                "{}:boundary(r={}, zeta={})",
-                wall.material, b.radius_ratio, b.modulus_ratio
-            ),
-            material: Material {
-                youngs_modulus: m.youngs_modulus * b.modulus_ratio,
-                ..*m
-            },
-        });
-        let material = materials.len() - 1;
-        boundary_materials.push((material, base, w));
-        let first = spheres.len();
-        spheres.extend(made.into_iter().map(|s| SphereInit {
-            position: s.position,
-            velocity: [0.0; 3],
-            radius: s.radius,
-            material,
-            fixed: true,
-            group: Some(w),
-        }));
-        walls.push(WallSetup::BoundaryParticles {
-            first_body: first,
-            count: spheres.len() - first,
-        });
-        wall_bodies.push(first..spheres.len());
+        let setup = wall.resolve(w, &mut cx)?;
+        wall_bodies.push(setup.bodies().unwrap_or(spheres.len()..spheres.len()));
+        walls.push(setup);
     }
 
     super::memory::check(spheres.len() as u64, heavy, "the scene", available)?;
@@ -258,7 +216,7 @@ pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, Scene
         collisions: file.output.collisions,
         friction: friction_setup(&file, &boundary_materials),
     };
-    let warnings = super::labels::check(&setup, &file, &groups, &wall_bodies)?;
+    warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
     Ok(ResolvedScene {
         setup,
         groups,

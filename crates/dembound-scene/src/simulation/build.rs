@@ -15,9 +15,10 @@ use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
 use crate::pipeline::{Pipeline, Tracks, WallKind, World};
-use crate::setup::{RunLength, SceneSetup, WallSetup};
+use crate::setup::{RunLength, SceneSetup};
 use crate::time_step;
-use crate::walls::{Curvature, CylinderWall, LawSlot, PlaneWall, Surface, WallContacts};
+use crate::walls::registry::{finite3, show3};
+use crate::walls::{LawSlot, Surface, WallContacts};
 
 impl Simulation {
     /// Validates `setup` and builds the run without its first forces
@@ -98,10 +99,7 @@ impl Simulation {
                 ));
             }
             if let Some(g) = s.group {
-                let ok = matches!(
-                    setup.walls.get(g),
-                    Some(WallSetup::BoundaryParticles { .. })
-                );
+                let ok = setup.walls.get(g).is_some_and(|w| w.is_particles());
                 if !ok || !s.fixed {
                     return Err(SceneError::invalid(
                         format!("spheres[{k}].group"),
@@ -129,77 +127,9 @@ impl Simulation {
         let mut slots: Vec<LawSlot> = Vec::new();
         let mut kinds = Vec::new();
         for (w, wall) in setup.walls.iter().enumerate() {
-            match *wall {
-                WallSetup::Plane {
-                    point,
-                    normal,
-                    material,
-                } => {
-                    let mut len =
-                        (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
-                            .sqrt();
-                    if !(len.is_finite() && len > 1e-150) {
-                        // Squares that overflow or underflow ([0, 0, 1e300]):
-                        // the scaled norm (the formula above, kept for the
-                        // bits of every other normal).
-                        len = crate::limits::norm(normal);
-                    }
-                    if !(len.is_finite() && len > 0.0) {
-                        return Err(SceneError::invalid(
-                            format!("wall[{w}].plane.normal"),
-                            show3(normal),
-                            "finite and non-zero",
-                        ));
-                    }
-                    if !finite3(point) {
-                        return Err(SceneError::invalid(
-                            format!("walls[{w}].point"),
-                            show3(point),
-                            "finite, m",
-                        ));
-                    }
-                    if material >= nm {
-                        return Err(SceneError::invalid(
-                            format!("walls[{w}].material"),
-                            material,
-                            format!("a material index below {nm}"),
-                        ));
-                    }
-                    kinds.push(WallKind::Surface(planes.len()));
-                    planes.push(Surface::Plane(PlaneWall {
-                        wall: w,
-                        point,
-                        normal: [normal[0] / len, normal[1] / len, normal[2] / len],
-                        slot: slots.len(),
-                    }));
-                    slots.push(LawSlot {
-                        material: material as u32,
-                        wall: w,
-                        curvature: Curvature::Flat,
-                    });
-                }
-                WallSetup::Cylinder {
-                    point,
-                    axis,
-                    radius,
-                    inside,
-                    length,
-                    material,
-                } => {
-                    let surface = cylinder_wall(w, point, axis, radius, inside, length)?;
-                    if material >= nm {
-                        return Err(SceneError::invalid(
-                            format!("walls[{w}].material"),
-                            material,
-                            format!("a material index below {nm}"),
-                        ));
-                    }
-                    let surface = CylinderWall {
-                        slot: slots.len(),
-                        ..surface
-                    };
-                    let (tube, caps) = surface.curvatures();
-                    for curvature in std::iter::once(tube).chain(caps) {
+            match wall.build(w, setup, slots.len())? {
+                Some(surface) => {
+                    for (material, curvature) in wall.law_rows() {
                         slots.push(LawSlot {
                             material: material as u32,
                             wall: w,
@@ -207,33 +137,14 @@ impl Simulation {
                         });
                     }
                     kinds.push(WallKind::Surface(planes.len()));
-                    planes.push(Surface::Cylinder(surface));
+                    planes.push(surface);
                 }
-                WallSetup::BoundaryParticles { first_body, count } => {
-                    let end = first_body
-                        .checked_add(count)
-                        .filter(|&e| e <= setup.spheres.len());
-                    let Some(end) = end else {
-                        return Err(SceneError::invalid(
-                            format!("walls[{w}].count"),
-                            count,
-                            format!(
-                                "spheres {first_body}.. within the {} spheres",
-                                setup.spheres.len()
-                            ),
-                        ));
-                    };
-                    for k in first_body..end {
-                        let s = &setup.spheres[k];
-                        if !s.fixed || s.group != Some(w) {
-                            return Err(SceneError::invalid(
-                                format!("spheres[{k}].group"),
-                                format!("{:?}", s.group),
-                                format!("Some({w}) and fixed: sphere {k} belongs to boundary-particle wall {w}"),
-                            ));
-                        }
-                    }
-                    let at: Vec<[f64; 3]> = setup.spheres[first_body..end]
+                None => {
+                    // Built: its spheres are in range (`WallType::build`).
+                    let at: Vec<[f64; 3]> = wall
+                        .bodies()
+                        .and_then(|r| setup.spheres.get(r))
+                        .unwrap_or_default()
                         .iter()
                         .map(|s| s.position)
                         .collect();
@@ -420,67 +331,6 @@ impl Simulation {
             fingerprint: Fingerprint::of(setup),
         })
     }
-}
-
-/// The cylinder of `wall[w]` (its law row still to set), or the first bad
-/// value named.
-fn cylinder_wall(
-    w: usize,
-    point: [f64; 3],
-    axis: [f64; 3],
-    radius: f64,
-    inside: bool,
-    length: Option<f64>,
-) -> Result<CylinderWall, SceneError> {
-    let key = |k: &str| format!("wall[{w}].cylinder.{k}");
-    let len = crate::limits::norm(axis);
-    if !(finite3(axis) && len.is_finite() && len > 0.0) {
-        return Err(SceneError::invalid(
-            key("axis"),
-            show3(axis),
-            "finite and non-zero",
-        ));
-    }
-    if !finite3(point) {
-        return Err(SceneError::invalid(key("point"), show3(point), "finite, m"));
-    }
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(SceneError::invalid(
-            key("radius"),
-            radius,
-            "finite and > 0 m",
-        ));
-    }
-    if let Some(l) = length {
-        if !(l.is_finite() && l > 0.0) {
-            return Err(SceneError::invalid(key("length"), l, "finite and > 0 m"));
-        }
-        if !inside {
-            return Err(SceneError::invalid(
-                key("length"),
-                l,
-                "none for a post (inside = false): a finite post has rims, which this wall does \
-                 not model; omit length (infinite post)",
-            ));
-        }
-    }
-    Ok(CylinderWall {
-        wall: w,
-        point,
-        axis: axis.map(|x| x / len),
-        radius,
-        inside,
-        half_length: length.map(|l| 0.5 * l),
-        slot: 0,
-    })
-}
-
-fn finite3(v: [f64; 3]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
-fn show3(v: [f64; 3]) -> String {
-    format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
 
 /// Friction coefficients finite and ≥ 0.

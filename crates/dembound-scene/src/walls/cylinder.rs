@@ -26,8 +26,417 @@
 //! the sphere-pair formulas and can be compared with LAMMPS.
 //!
 //! The wall is fixed: its surface velocity is zero.
+//!
+//! Everything about the type is here (`walls::registry`): the
+//! `[[wall]] cylinder = { … }` entry and its checks, the setup
+//! ([`Cylinder`]), the placement checks, the law rows, the engine record
+//! ([`CylinderWall`]) and its geometry.
 
-use super::{Curvature, Wall, WallPoint};
+use super::registry::{finite3, show3, WallKey, WallType};
+use super::{Curvature, Surface, Wall, WallPoint};
+use crate::error::SceneError;
+use crate::io::config::checks::{check, finite3 as finite3_key, nonzero3, positive};
+use crate::io::config::SceneFile;
+use crate::io::resolve::WallResolve;
+use crate::limits::{self, metres, norm};
+use crate::setup::SceneSetup;
+use crate::setup_checks::{invalid, overlap_warning, percent, Label, AXES};
+use serde::{Deserialize, Serialize};
+
+/// `cylinder = { point, axis, radius, inside, length }`: a tube of radius
+/// `radius` (m) about the axis through `point` (m) along `axis`; the
+/// spheres are inside it (`inside = true`, the default) or outside a post
+/// (`false`); `length` (m): a tube closed by flat discs at
+/// point ± length/2 · axis (omitted: infinite, no caps).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderConfig {
+    pub point: [f64; 3],
+    pub axis: [f64; 3],
+    pub radius: f64,
+    #[serde(default = "default_inside")]
+    pub inside: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+}
+
+fn default_inside() -> bool {
+    true
+}
+
+/// A fixed cylinder: axis through `point` (m) along `axis` (any
+/// non-zero length), radius `radius` (m); the spheres are `inside` the
+/// tube (else outside a post); `length` (m): a tube closed by flat discs at
+/// point ± length/2 · axis (`None`: infinite). Of `material`, like a
+/// plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cylinder {
+    pub point: [f64; 3],
+    pub axis: [f64; 3],
+    pub radius: f64,
+    pub inside: bool,
+    pub length: Option<f64>,
+    pub material: usize,
+}
+
+impl WallType for Cylinder {
+    const KEY: &'static str = "cylinder";
+    type Config = CylinderConfig;
+
+    fn validate(
+        c: &CylinderConfig,
+        file: &SceneFile,
+        key: &str,
+        material: &str,
+    ) -> Result<(), SceneError> {
+        let k = |s: &str| format!("{key}.cylinder.{s}");
+        finite3_key(&k("point"), c.point, "m")?;
+        nonzero3(&k("axis"), c.axis)?;
+        positive(&k("radius"), c.radius, "m")?;
+        if let Some(l) = c.length {
+            positive(&k("length"), l, "m")?;
+            check(
+                c.inside,
+                &k("length"),
+                l,
+                "none for a post (inside = false): a finite post has rims, which this wall \
+                 does not model; omit length (an infinite post)",
+            )?;
+        }
+        let len = limits::norm(c.axis);
+        let periodic = file.domain.periodic;
+        for a in 0..3 {
+            if !periodic[a] {
+                continue;
+            }
+            let along = (0..3).all(|b| b == a || c.axis[b] == 0.0);
+            check(
+                along && c.length.is_none(),
+                &k("axis"),
+                format!(
+                    "{:?}{}",
+                    c.axis,
+                    c.length
+                        .map_or(String::new(), |l| format!(" with length = {l}"))
+                ),
+                &format!(
+                    "along every periodic axis and infinite (`domain.periodic` = {:?}: an \
+                     axis along {} only, no length): a tube that crosses a periodic face \
+                     at an angle, or ends, is not invariant under the period's \
+                     translation, and a sphere re-entering through the face would land \
+                     in the wall; make the axis not periodic or turn the cylinder \
+                     (|axis| = {})",
+                    periodic,
+                    ["x", "y", "z"][a],
+                    limits::show(len)
+                ),
+            )?;
+        }
+        crate::io::config::surface_material(file, key, material)
+    }
+
+    fn resolve(
+        c: &mut CylinderConfig,
+        _w: usize,
+        material: &str,
+        cx: &mut WallResolve<'_>,
+    ) -> Result<Self, SceneError> {
+        Ok(Cylinder {
+            point: c.point,
+            axis: c.axis,
+            radius: c.radius,
+            inside: c.inside,
+            length: c.length,
+            material: cx.material_index(material),
+        })
+    }
+
+    fn check_placements(
+        walls: &[(usize, &Self)],
+        setup: &SceneSetup,
+        label: Label<'_>,
+        warnings: &mut Vec<String>,
+    ) -> Result<(), SceneError> {
+        placements(walls, setup, label, warnings)
+    }
+
+    fn material(&self) -> Option<usize> {
+        Some(self.material)
+    }
+
+    /// The tube (curved: the module doc's curvature model) and, capped,
+    /// the caps (flat).
+    fn law_rows(&self) -> Vec<(usize, Curvature)> {
+        let rho = if self.inside {
+            -self.radius
+        } else {
+            self.radius
+        };
+        let mut v = vec![(self.material, Curvature::Radius(rho))];
+        if self.length.is_some() {
+            v.push((self.material, Curvature::Flat));
+        }
+        v
+    }
+
+    fn build(
+        &self,
+        w: usize,
+        setup: &SceneSetup,
+        slot: usize,
+    ) -> Result<Option<Surface>, SceneError> {
+        let Cylinder {
+            point,
+            axis,
+            radius,
+            inside,
+            length,
+            material,
+        } = *self;
+        let key = |k: &str| format!("wall[{w}].cylinder.{k}");
+        let len = crate::limits::norm(axis);
+        if !(finite3(axis) && len.is_finite() && len > 0.0) {
+            return Err(SceneError::invalid(
+                key("axis"),
+                show3(axis),
+                "finite and non-zero",
+            ));
+        }
+        if !finite3(point) {
+            return Err(SceneError::invalid(key("point"), show3(point), "finite, m"));
+        }
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(SceneError::invalid(
+                key("radius"),
+                radius,
+                "finite and > 0 m",
+            ));
+        }
+        if let Some(l) = length {
+            if !(l.is_finite() && l > 0.0) {
+                return Err(SceneError::invalid(key("length"), l, "finite and > 0 m"));
+            }
+            if !inside {
+                return Err(SceneError::invalid(
+                    key("length"),
+                    l,
+                    "none for a post (inside = false): a finite post has rims, which this wall \
+                     does not model; omit length (infinite post)",
+                ));
+            }
+        }
+        let nm = setup.materials.len();
+        if material >= nm {
+            return Err(SceneError::invalid(
+                format!("walls[{w}].material"),
+                material,
+                format!("a material index below {nm}"),
+            ));
+        }
+        Ok(Some(Surface::Cylinder(CylinderWall {
+            wall: w,
+            point,
+            axis: axis.map(|x| x / len),
+            radius,
+            inside,
+            half_length: length.map(|l| 0.5 * l),
+            slot,
+        })))
+    }
+
+    fn summary(&self) -> String {
+        if self.inside { "cylinder" } else { "post" }.to_string()
+    }
+
+    fn export_note(&self) -> Option<String> {
+        Some(
+            "LAMMPS's `fix wall/gran ... zcylinder` is a tube about the z axis through x = y = 0 \
+             only, and dembound's caps and posts have no `wall/gran` counterpart"
+                .into(),
+        )
+    }
+
+    fn keys() -> Vec<WallKey> {
+        let row = |name, unit, default, allowed: &str, meaning| {
+            WallKey::new(Self::KEY, name, unit, default, allowed, meaning)
+        };
+        vec![
+            row(
+                "point",
+                "m",
+                "—",
+                "three finite numbers",
+                "a point of the axis (a capped tube's middle)",
+            ),
+            row(
+                "axis",
+                "",
+                "—",
+                "a finite non-zero vector; along every periodic axis",
+                "the axis direction",
+            ),
+            row(
+                "radius",
+                "m",
+                "—",
+                "> 0; above the largest free radius (inside)",
+                "R_c",
+            ),
+            row(
+                "inside",
+                "",
+                "true",
+                "true, false",
+                "spheres inside the tube, or outside a post",
+            ),
+            row(
+                "length",
+                "m",
+                "infinite",
+                "> 0; tubes only, no periodic axis",
+                "caps: discs at point ± length/2 · axis",
+            ),
+        ]
+    }
+}
+
+/// The refusals and warnings of the cylinders (`setup_checks`): one not
+/// along every periodic axis, or capped while the domain is periodic; an
+/// inside tube no wider than the largest free sphere; a free sphere whose
+/// centre is on the wrong side (outside an inside tube or its caps,
+/// inside a post) or that overlaps the tube or a cap by more than
+/// [`limits::OVERLAP_REFUSAL`] of its radius; above
+/// [`limits::OVERLAP_WARNING`] one warning for all cylinders.
+fn placements(
+    walls: &[(usize, &Cylinder)],
+    setup: &SceneSetup,
+    label: Label<'_>,
+    warnings: &mut Vec<String>,
+) -> Result<(), SceneError> {
+    let mut worst: Option<(f64, usize, usize, f64)> = None;
+    let mut count = 0usize;
+    let largest_free = setup
+        .spheres
+        .iter()
+        .filter(|s| !s.fixed)
+        .map(|s| s.radius)
+        .fold(0.0f64, f64::max);
+    for &(w, c) in walls {
+        let Cylinder {
+            point,
+            axis,
+            radius,
+            inside,
+            length,
+            ..
+        } = *c;
+        let key = format!("wall[{w}].cylinder");
+        let len = norm(axis);
+        let a = axis.map(|x| x / len);
+        for (k, name) in AXES.iter().enumerate() {
+            if setup.domain.periodic[k]
+                && (length.is_some() || (0..3).any(|b| b != k && a[b] != 0.0))
+            {
+                return Err(invalid(
+                    &format!("{key}.axis"),
+                    format!("{axis:?}"),
+                    &format!(
+                        "along every periodic axis and infinite (`domain.periodic` = {:?}: an \
+                         axis along {} only, no length): a tube that crosses a periodic face at \
+                         an angle, or ends, is not invariant under the period's translation",
+                        setup.domain.periodic, name
+                    ),
+                ));
+            }
+        }
+        if inside && radius <= largest_free {
+            return Err(invalid(
+                &format!("{key}.radius"),
+                metres(radius),
+                &format!(
+                    "above the largest free sphere's radius {} for a tube the spheres are inside: \
+                     no free sphere fits",
+                    metres(largest_free)
+                ),
+            ));
+        }
+        let half = length.map(|l| 0.5 * l);
+        for (k, sp) in setup.spheres.iter().enumerate() {
+            if sp.fixed {
+                continue;
+            }
+            let d = [
+                sp.position[0] - point[0],
+                sp.position[1] - point[1],
+                sp.position[2] - point[2],
+            ];
+            let along = d[0] * a[0] + d[1] * a[1] + d[2] * a[2];
+            let rho = [
+                d[0] - along * a[0],
+                d[1] - along * a[1],
+                d[2] - along * a[2],
+            ];
+            let r = norm(rho);
+            let wrong_side = if inside {
+                r >= radius || half.is_some_and(|h| along.abs() >= h)
+            } else {
+                r <= radius
+            };
+            if wrong_side {
+                return Err(SceneError::input(format!(
+                    "{} and `{key}`: its centre is {} the {} (at {} from the axis, R_c = {}) \
+                     (allowed: the centre {}): move the sphere or the wall, or check \
+                     `{key}.inside`",
+                    label(k),
+                    if inside { "outside" } else { "inside" },
+                    if inside { "tube and its caps" } else { "post" },
+                    metres(r),
+                    metres(radius),
+                    if inside {
+                        "inside the tube, between its caps"
+                    } else {
+                        "outside the post"
+                    }
+                )));
+            }
+            // The largest overlap with the tube and the caps.
+            let mut overlap = if inside {
+                sp.radius + r - radius
+            } else {
+                sp.radius + radius - r
+            };
+            if let Some(h) = half {
+                overlap = overlap
+                    .max(sp.radius - (along + h))
+                    .max(sp.radius - (h - along));
+            }
+            let share = overlap / sp.radius;
+            if share > limits::OVERLAP_REFUSAL {
+                return Err(SceneError::input(format!(
+                    "{} and `{key}`: it overlaps the wall by {}, {} of its radius {} (allowed: an \
+                     overlap of at most {} of the radius; a warning above {}): move the sphere or \
+                     the wall",
+                    label(k),
+                    metres(overlap),
+                    percent(share),
+                    metres(sp.radius),
+                    percent(limits::OVERLAP_REFUSAL),
+                    percent(limits::OVERLAP_WARNING)
+                )));
+            }
+            if share > limits::OVERLAP_WARNING {
+                count += 1;
+                if worst.is_none_or(|x| share > x.0) {
+                    worst = Some((share, k, w, overlap));
+                }
+            }
+        }
+    }
+    if let Some(worst) = worst {
+        warnings.push(overlap_warning("cylinder", count, worst, label));
+    }
+    Ok(())
+}
 
 /// The tube's element.
 pub const TUBE: u32 = 0;
@@ -177,6 +586,7 @@ impl Wall for CylinderWall {
         self.point
     }
 
+    #[inline(always)]
     fn law_slot(&self, element: u32) -> usize {
         if element == TUBE {
             self.slot

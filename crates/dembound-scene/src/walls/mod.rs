@@ -19,29 +19,38 @@
 //! [`Wall::near_elements`], and carried across rebuilds, reordering,
 //! migration and checkpoints by (input id, wall, element).
 //!
-//! Adding a wall type takes (counted for the cylinder, issue 25): one
-//! file here with its geometry (a type implementing [`Wall`]), one variant
-//! of [`Surface`] (this file), one `[[wall]]` key (`io/config/walls.rs`, read in
-//! `io/resolve.rs` into a `setup::WallSetup` variant, `setup.rs`), its
-//! construction and law rows (`simulation/build.rs`), its placement checks
-//! (`setup_checks.rs`) and its contact-time row (`time_step.rs`), and
-//! the one exhaustive match on `WallSetup` in `wall_study.rs`: nine files
-//! of the scene crate, none of them in the force, friction,
-//! observable, collision-log, checkpoint or MPI code (the fingerprint
-//! takes it from the setup as it is). Outside the crate: the CLI summary
-//! and keys table, the export's refusal, Python's `add_cylinder`.
+//! Every wall type, boundary particles included, is one file here
+//! implementing [`WallType`] (its `[[wall]]` entry and checks, its
+//! resolution to SI, its placement checks, its law rows, its engine
+//! record and a few words for the summary and the exporter) and, when the
+//! force loops meet it as a surface, [`Wall`]; `registry.rs` holds one
+//! row per type, from which [`WallSetup`], [`WallSection`], [`Surface`]
+//! and every dispatch are generated. The scene file, the resolution, the
+//! build, the setup checks, the time-step rule, the wall study, the CLI's
+//! summary and key table and the exporter's refusal go through them and
+//! name no type.
+//!
+//! Adding a wall type takes two files of this crate: its file here and
+//! one row in `registry.rs` (one line, with its `Surface` record: the
+//! variant and its four inlined match arms are generated), plus its
+//! tests; none of the force, friction, observable, collision-log,
+//! checkpoint or MPI code, and nothing outside the crate (the CLI and the
+//! exporter take it from the registry; Python needs a constructor only to
+//! offer one). Before the registry (the cylinder, issue 25) it took nine
+//! files of the crate and three outside.
 
-pub mod cylinder;
 pub mod mesh;
 pub mod near;
-pub mod plane;
+pub mod registry;
+registry::wall_modules!();
 
 pub use cylinder::CylinderWall;
 pub use mesh::MeshWall;
 pub use near::{WallContacts, WallContactsMut, WallElement};
 pub use plane::{plane_overlap, PlaneWall};
+pub use registry::{Surface, WallSection, WallSetup, WallType};
 
-use dembound_physics::contact::{Geometry, Side};
+use dembound_physics::contact::Geometry;
 
 /// One contact point of a sphere with a wall element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -142,84 +151,6 @@ pub trait Wall {
     /// The row of the law tables of element `element` (`LawTable`,
     /// `FrictionTable`: one per material and curvature).
     fn law_slot(&self, element: u32) -> usize;
-}
-
-/// Every wall type, as the engine stores it (an enum: the force loops
-/// dispatch by a match, inlined, not through a pointer).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Surface {
-    Plane(PlaneWall),
-    Cylinder(CylinderWall),
-}
-
-impl Surface {
-    /// [`Wall::contact`], inlined into the force loops.
-    #[inline(always)]
-    pub fn contact(&self, element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint {
-        match self {
-            Surface::Plane(p) => {
-                let _ = element;
-                let (overlap, rate) = plane_overlap(p, x, v, r);
-                WallPoint {
-                    overlap,
-                    rate,
-                    normal: p.normal,
-                }
-            }
-            Surface::Cylinder(c) => c.contact(element, x, v, r),
-        }
-    }
-
-    /// [`Wall::surface_velocity`], inlined into the force loops.
-    #[inline(always)]
-    pub fn surface_velocity(&self, element: u32, at: [f64; 3]) -> [f64; 3] {
-        match self {
-            Surface::Plane(p) => p.surface_velocity(element, at),
-            Surface::Cylinder(c) => c.surface_velocity(element, at),
-        }
-    }
-
-    /// The wall as side 2 of its contact `point` with a sphere at `x` of
-    /// radius `r` on element `element`: no spin, lever arm or 1/I, moving
-    /// at its surface velocity at the contact point (x − r n̂, n̂ the
-    /// wall's normal into the sphere).
-    #[inline(always)]
-    pub fn side(&self, element: u32, point: &WallPoint, x: [f64; 3], r: f64) -> Side {
-        let n = point.normal;
-        let at = [x[0] - r * n[0], x[1] - r * n[1], x[2] - r * n[2]];
-        Side::wall(self.surface_velocity(element, at))
-    }
-
-    /// [`Wall::torque_point`], inlined into the force loops.
-    #[inline(always)]
-    pub fn torque_point(&self) -> [f64; 3] {
-        match self {
-            Surface::Plane(p) => p.torque_point(),
-            Surface::Cylinder(c) => c.torque_point(),
-        }
-    }
-
-    /// [`Wall::law_slot`].
-    #[inline(always)]
-    pub fn law_slot(&self, element: u32) -> usize {
-        match self {
-            Surface::Plane(p) => p.law_slot(element),
-            Surface::Cylinder(c) => c.law_slot(element),
-        }
-    }
-
-    /// The wall's interface.
-    pub fn wall(&self) -> &dyn Wall {
-        match self {
-            Surface::Plane(p) => p,
-            Surface::Cylinder(c) => c,
-        }
-    }
-
-    /// Index of the wall in file order.
-    pub fn file_index(&self) -> usize {
-        self.wall().file_index()
-    }
 }
 
 /// Force (N) and torque (N m, about the wall's torque point:

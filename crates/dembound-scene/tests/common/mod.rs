@@ -5,7 +5,8 @@ use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_physics::material::Material;
 use dembound_scene::setup::{
-    DomainSetup, FrictionSetup, NamedMaterial, RunLength, Scheme, SphereInit, TimeStep, WallSetup,
+    DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, Scheme, SphereInit, TimeStep,
+    WallSetup,
 };
 use dembound_scene::SceneSetup;
 
@@ -81,17 +82,17 @@ pub fn lattice_drop(side: usize, layers: usize, dt: f64, steps: u64) -> SceneSet
     for axis in 0..3 {
         let mut n = [0.0; 3];
         n[axis] = 1.0;
-        s.walls.push(WallSetup::Plane {
+        s.walls.push(WallSetup::Plane(Plane {
             point: [0.0; 3],
             normal: n,
             material: 0,
-        });
+        }));
         n[axis] = -1.0;
-        s.walls.push(WallSetup::Plane {
+        s.walls.push(WallSetup::Plane(Plane {
             point: upper,
             normal: n,
             material: 0,
-        });
+        }));
     }
     s
 }
@@ -186,11 +187,11 @@ pub fn sphere_on_plane(
         fixed: false,
         group: None,
     });
-    s.walls.push(WallSetup::Plane {
+    s.walls.push(WallSetup::Plane(Plane {
         point: [0.0; 3],
         normal: [0.0, 0.0, 1.0],
         material: 0,
-    });
+    }));
     s.friction = friction.map(|(tangential, mu, roll)| {
         FrictionSetup::uniform(FrictionModel {
             tangential,

@@ -3,13 +3,13 @@
 
 use crate::{limits, SceneError};
 
-pub(super) fn invalid(key: &str, value: impl std::fmt::Display, allowed: &str) -> SceneError {
+pub(crate) fn invalid(key: &str, value: impl std::fmt::Display, allowed: &str) -> SceneError {
     SceneError::input(format!(
         "invalid value for `{key}`: {value} (allowed: {allowed})"
     ))
 }
 
-pub(super) fn check(
+pub(crate) fn check(
     ok: bool,
     key: &str,
     value: impl std::fmt::Display,
@@ -22,7 +22,7 @@ pub(super) fn check(
     }
 }
 
-pub(super) fn positive(key: &str, x: f64, unit: &str) -> Result<(), SceneError> {
+pub(crate) fn positive(key: &str, x: f64, unit: &str) -> Result<(), SceneError> {
     check(
         x > 0.0 && x.is_finite(),
         key,
@@ -31,7 +31,7 @@ pub(super) fn positive(key: &str, x: f64, unit: &str) -> Result<(), SceneError> 
     )
 }
 
-pub(super) fn finite3(key: &str, v: [f64; 3], unit: &str) -> Result<(), SceneError> {
+pub(crate) fn finite3(key: &str, v: [f64; 3], unit: &str) -> Result<(), SceneError> {
     check(
         v.iter().all(|x| x.is_finite()),
         key,
@@ -42,7 +42,7 @@ pub(super) fn finite3(key: &str, v: [f64; 3], unit: &str) -> Result<(), SceneErr
 
 /// `x` in `range` (both ends included), in `unit`; the ranges are
 /// [`crate::limits`]'s.
-pub(super) fn ranged(key: &str, x: f64, range: (f64, f64), unit: &str) -> Result<(), SceneError> {
+pub(crate) fn ranged(key: &str, x: f64, range: (f64, f64), unit: &str) -> Result<(), SceneError> {
     check(
         limits::within(x, range),
         key,
@@ -52,7 +52,7 @@ pub(super) fn ranged(key: &str, x: f64, range: (f64, f64), unit: &str) -> Result
 }
 
 /// A velocity of at most [`limits::MAX_SPEED`].
-pub(super) fn speed(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
+pub(crate) fn speed(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
     finite3(key, v, "m/s")?;
     let s = limits::norm(v);
     check(
@@ -63,7 +63,7 @@ pub(super) fn speed(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
     )
 }
 
-pub(super) fn nonzero3(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
+pub(crate) fn nonzero3(key: &str, v: [f64; 3]) -> Result<(), SceneError> {
     check(
         v.iter().all(|x| x.is_finite()) && v.iter().any(|x| *x != 0.0),
         key,
