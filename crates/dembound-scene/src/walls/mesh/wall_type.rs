@@ -297,8 +297,8 @@ impl WallType for Mesh {
 
     fn export_note(&self) -> Option<String> {
         Some(
-            "a triangle-mesh wall is not exported yet (LIGGGHTS `fix mesh/surface` with \
-             `fix wall/gran ... mesh` is planned; LAMMPS's `wall/gran` has no mesh)"
+            "LAMMPS's `fix wall/gran` has no triangle mesh (the planned target is LIGGGHTS's \
+             `fix mesh/surface` with `fix wall/gran ... mesh`, on the same STL)"
                 .into(),
         )
     }
