@@ -475,3 +475,55 @@ fn a_sphere_on_a_convex_edge_or_corner_rebounds_along_the_bisector_like_on_a_pla
         );
     }
 }
+
+/// `common::frictional_lattice(8, 10)` (640 spheres, Mindlin μ = 0.5,
+/// rolling friction 0.05, the collision log on) with its six planes
+/// replaced by one mesh of the box (12 triangles, f64 corners) whose
+/// faces take the model's friction.
+fn frictional_mesh_box() -> SceneSetup {
+    let mut s = common::frictional_lattice(8, 10, 2.0e-6);
+    s.walls = vec![mesh_wall(&cube(s.domain.lower, s.domain.upper))];
+    if let Some(f) = &mut s.friction {
+        f.walls = vec![None];
+    }
+    s
+}
+
+/// Threads: the frictional drop in a mesh box on 1 and 2 threads ends in
+/// the same state to the bit (positions, velocities, spins, forces,
+/// torques, observables with the wall load, collision log).
+#[test]
+fn a_mesh_box_on_one_and_two_threads_is_the_same_to_the_bit() {
+    let s = frictional_mesh_box();
+    let mut one = Simulation::new(s.clone(), 1).unwrap();
+    let mut two = Simulation::new(s, 2).unwrap();
+    one.step(3000);
+    two.step(3000);
+    assert!(one.wall_contacts() > 50, "{}", one.wall_contacts());
+    assert_eq!(common::state(&one), common::state(&two));
+}
+
+/// Checkpoints: the frictional drop in a mesh box stopped after 1,500
+/// steps (on 2 threads), restored from its checkpoint and run 1,500 more
+/// (on 1) is the uninterrupted run to the bit: the springs on the mesh's
+/// patches (elements 0 … 5: the element records) are carried.
+#[test]
+fn a_mesh_box_restarted_from_a_checkpoint_is_the_uninterrupted_run() {
+    let s = frictional_mesh_box();
+    let mut straight = Simulation::new(s.clone(), 1).unwrap();
+    straight.step(3000);
+    let mut first = Simulation::new(s.clone(), 2).unwrap();
+    first.step(1500);
+    let cp = first.checkpoint();
+    // Wall springs on patches other than element 0 are in the checkpoint.
+    assert!(!cp.element_records.is_empty());
+    let mut rest = Simulation::restore(s, &cp, 1).unwrap();
+    rest.step(1500);
+    assert_eq!(common::state(&straight), common::state(&rest));
+    // Another mesh (the box 1 µm wider) is another scene: refused.
+    let mut other = frictional_mesh_box();
+    let (lo, mut hi) = (other.domain.lower, other.domain.upper);
+    hi[0] += 1e-6;
+    other.walls = vec![mesh_wall(&cube(lo, hi))];
+    assert!(Simulation::restore(other, &cp, 1).is_err());
+}
