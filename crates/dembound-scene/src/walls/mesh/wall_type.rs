@@ -126,6 +126,29 @@ impl Mesh {
         }
     }
 
+    /// Refuses (naming `key`, the wall's key) a mesh whose bounding box
+    /// does not meet the domain box [lower, upper]: no sphere can touch
+    /// it (a file in other units, or a wrong translation).
+    pub fn check_meets(&self, lower: [f64; 3], upper: [f64; 3], key: &str) -> Result<(), SceneError> {
+        let g = &self.geometry;
+        let apart = (0..3).find(|&a| g.hi[a] < lower[a] || g.lo[a] > upper[a]);
+        let Some(a) = apart else {
+            return Ok(());
+        };
+        Err(SceneError::input(format!(
+            "`{key}` ({}): the placed mesh's bounding box {} to {} m does not meet the \
+             domain {} to {} m (apart along {}): no sphere can touch it (allowed: a mesh \
+             whose box meets the domain); check `{key}.scale`, `{key}.translate`, \
+             `{key}.rotate` and the file's units",
+            self.file_name(),
+            show3(g.lo),
+            show3(g.hi),
+            show3(lower),
+            show3(upper),
+            ["x", "y", "z"][a]
+        )))
+    }
+
     /// The file's name (its last component), for messages.
     pub fn file_name(&self) -> String {
         self.file
@@ -223,23 +246,8 @@ impl WallType for Mesh {
         let mesh = Mesh::load(&path, c.transform(), material)
             .map_err(|e| SceneError::input(format!("`{key}.file` = {:?}: {e}", c.file)))?;
         c.file = path;
+        mesh.check_meets(cx.extent.lower, cx.extent.upper, &key)?;
         let g = &mesh.geometry;
-        let e = &cx.extent;
-        let apart = (0..3).find(|&a| g.hi[a] < e.lower[a] || g.lo[a] > e.upper[a]);
-        if let Some(a) = apart {
-            return Err(SceneError::input(format!(
-                "`{key}` ({}): the placed mesh's bounding box {} to {} m does not meet the \
-                 domain {} to {} m (apart along {}): no sphere can touch it (allowed: a mesh \
-                 whose box meets the domain); check `{key}.scale`, `{key}.translate`, \
-                 `{key}.rotate` and the file's units",
-                mesh.file_name(),
-                show3(g.lo),
-                show3(g.hi),
-                show3(e.lower),
-                show3(e.upper),
-                ["x", "y", "z"][a]
-            )));
-        }
         for warning in g.warnings() {
             cx.warnings
                 .push(format!("`{key}` ({}): {warning}", mesh.file_name()));
