@@ -449,7 +449,8 @@ fn a_sphere_on_a_convex_edge_or_corner_rebounds_along_the_bisector_like_on_a_pla
         (fine - 1.0).abs() * 3.0 <= (coarse - 1.0).abs() || (fine - 1.0).abs() < 1e-12,
         "second order: {coarse} {fine}"
     );
-    let cases: [(&str, Vec<Triangle>, [f64; 3], [f64; 3]); 2] = [
+    // (name, mesh, a point of the feature, the bisector)
+    let cases = [
         ("wedge edge", wedge(), [0.0, 0.3, 0.0], [s2, 0.0, s2]),
         (
             "cube corner",
