@@ -108,7 +108,7 @@ fn bad_cylinder_input_is_refused_naming_the_key() {
              plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }",
             &[
                 "wall[1]",
-                "exactly one of plane, cylinder, boundary_particles",
+                "exactly one of plane, cylinder, mesh, boundary_particles",
             ],
         ),
     ];

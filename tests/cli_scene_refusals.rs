@@ -431,6 +431,13 @@ fn every_example_scene_is_still_accepted_without_warnings() {
         dir.path().join("lattice_10k.data"),
     )
     .unwrap();
+    // The mesh examples' parts, next to their scenes.
+    for entry in std::fs::read_dir(&examples).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "stl" || e == "obj") {
+            std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
+        }
+    }
     let mut count = 0;
     for entry in std::fs::read_dir(&examples).unwrap() {
         let path = entry.unwrap().path();

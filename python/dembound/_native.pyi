@@ -82,6 +82,8 @@ class Scene:
         domain, before the first step."""
     def add_cylinder(self, point: tuple[float, float, float] | list[float], axis: tuple[float, float, float] | list[float], radius: float, inside: bool = True, length: Optional[float] = None, material: Optional[int] = None) -> None:
         """A fixed cylinder wall (tube of `radius` m about the axis through `point` along `axis`; `inside`: spheres inside it, else outside a post; `length` m: flat caps at point ± length/2·axis)."""
+    def add_mesh(self, path: str | PathLike[str], scale: float = 1.0, translate: Optional[tuple[float, float, float] | list[float]] = None, rotate_axis: Optional[tuple[float, float, float] | list[float]] = None, rotate_angle: float = 0.0, material: Optional[int] = None) -> None:
+        """A fixed triangle-mesh wall: the triangles of ``path`` (STL, binary or ASCII, or OBJ) placed by x' = R(scale·x) + translate, R a rotation of ``rotate_angle`` degrees about ``rotate_axis``; cleaning counts are warnings."""
     def step(self, n: int) -> None:
         """Advances n steps of Δt, 0 ≤ n ≤ 1e15 (GIL released)."""
     def run(

@@ -466,8 +466,8 @@ pub fn rules() -> String {
     let pct = |x: f64| format!("{} %", show(100.0 * x));
     format!(
         "Initial overlaps: a free sphere's centre behind a plane wall or on the wrong side of a \
-         cylinder (outside a tube or its caps, inside a post), or an overlap (with a plane or a \
-         cylinder, or of two spheres one of them free) above {} of the smaller radius, is refused \
+         cylinder (outside a tube or its caps, inside a post), or an overlap (with a plane, a \
+         cylinder or a mesh's faces, or of two spheres one of them free) above {} of the smaller radius, is refused \
          (exit 2, naming both); above {} it is a warning on stderr. A sphere's \\|v\\| ≤ {} m/s; \
          a moving sphere's material density {}.",
         pct(limits::OVERLAP_REFUSAL),

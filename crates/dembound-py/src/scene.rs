@@ -8,7 +8,8 @@ use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::config::{self, SceneFile};
 use dembound_scene::io::resolve::resolve;
 use dembound_scene::io::vtk;
-use dembound_scene::setup::{Cylinder, Plane, SceneSetup, SphereInit, WallSetup};
+use dembound_scene::setup::{Cylinder, Mesh, Plane, SceneSetup, SphereInit, WallSetup};
+use dembound_scene::walls::mesh::Transform;
 use dembound_scene::{Partner, SceneError, Simulation};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -279,6 +280,78 @@ impl Scene {
             material,
         }));
         if let Err(e) = guarded(|| self.rebuild("add_cylinder")) {
+            self.setup.walls.pop();
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
+    /// Adds a fixed triangle-mesh wall before the first step: the
+    /// triangles of `path` (STL, binary or ASCII, or OBJ; relative to the
+    /// working directory) placed by x' = R (scale x) + translate, R the
+    /// rotation by `rotate_angle` degrees about `rotate_axis` through the
+    /// origin; of material index `material`. The cleaning's counts
+    /// (dropped triangles, open edges) are Python warnings.
+    #[pyo3(signature = (path, scale = None, translate = None, rotate_axis = None, rotate_angle = None, material = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_mesh(
+        &mut self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        scale: Option<&Bound<'_, PyAny>>,
+        translate: Option<&Bound<'_, PyAny>>,
+        rotate_axis: Option<&Bound<'_, PyAny>>,
+        rotate_angle: Option<&Bound<'_, PyAny>>,
+        material: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let three = |obj, name| -> Result<[f64; 3], Failure> {
+            let (x, _) = args::floats(obj, name, &[Some(3)])?;
+            Ok([x[0], x[1], x[2]])
+        };
+        let path = args::path(path, "path")?;
+        let mut transform = Transform::default();
+        if let Some(s) = scale.filter(|x| !x.is_none()) {
+            transform.scale = args::real(s, "scale")?;
+        }
+        if let Some(t) = translate.filter(|x| !x.is_none()) {
+            transform.translate = three(t, "translate")?;
+        }
+        if let Some(a) = rotate_axis.filter(|x| !x.is_none()) {
+            transform.axis = three(a, "rotate_axis")?;
+        }
+        if let Some(a) = rotate_angle.filter(|x| !x.is_none()) {
+            transform.angle_degrees = args::real(a, "rotate_angle")?;
+        }
+        // The transform's ranges, named by this method's arguments.
+        if let Err(e) = transform.validate() {
+            let arg = match e {
+                dembound_scene::walls::mesh::MeshError::Transform { key, .. } => {
+                    key.replace("rotate.", "rotate_")
+                }
+                _ => "transform".into(),
+            };
+            return Err(Failure::Input(format!("{arg}: {e}")).into());
+        }
+        let material = match material {
+            Some(m) if !m.is_none() => material_index(m, self.setup.materials.len())?,
+            _ => 0,
+        };
+        let mesh = Mesh::load(&path, transform, material)
+            .map_err(|e| Failure::Input(format!("path: {e}")))?;
+        let d = &self.setup.domain;
+        mesh.check_meets(d.lower, d.upper, "add_mesh")
+            .map_err(scene_failure)?;
+        for w in mesh.geometry.warnings() {
+            let text = format!("add_mesh ({}): {w}", mesh.file_name());
+            PyErr::warn(
+                py,
+                &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+                &std::ffi::CString::new(text).unwrap_or_default(),
+                1,
+            )?;
+        }
+        self.setup.walls.push(WallSetup::Mesh(mesh));
+        if let Err(e) = guarded(|| self.rebuild("add_mesh")) {
             self.setup.walls.pop();
             return Err(e.into());
         }

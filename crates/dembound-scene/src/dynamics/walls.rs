@@ -12,9 +12,7 @@ pub use crate::walls::{
 };
 
 /// The force that starts body i's total: gravity (free bodies) plus its
-/// wall forces at position `x` and velocity `v`, updating its wall
-/// near entries (touching flags, histories, and each touching entry's
-/// [`WallLoad`]: what the wall takes from it). Reads of `bodies`: radius, mass, fixed flag, class.
+/// wall forces at position `x` and velocity `v` ([`add_wall_forces`]).
 ///
 /// # Safety
 /// Body i's entries of `walls` are touched by no other
@@ -37,6 +35,30 @@ pub unsafe fn body_force(
         let m = bodies.mass[i];
         [m * gravity[0], m * gravity[1], m * gravity[2]]
     };
+    add_wall_forces(bodies, i, x, v, surfaces, walls, laws, &mut acc);
+    acc
+}
+
+/// Adds to `acc` free body i's wall forces at position `x` and velocity
+/// `v`, updating its wall near entries (touching flags, histories, and
+/// each touching entry's [`WallLoad`]: what the wall takes from it).
+/// Reads of `bodies`: radius, mass, class.
+///
+/// # Safety
+/// Body i's entries of `walls` are touched by no other
+/// thread meanwhile.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn add_wall_forces(
+    bodies: &Bodies,
+    i: usize,
+    x: [f64; 3],
+    v: [f64; 3],
+    surfaces: &[Surface],
+    walls: &WallContactsMut,
+    laws: &LawTable,
+    acc: &mut [f64; 3],
+) {
     let (s, e) = walls.range(i);
     let r = bodies.radius[i];
     for k in s..e {
@@ -69,7 +91,6 @@ pub unsafe fn body_force(
             *touching = false;
         }
     }
-    acc
 }
 
 /// Sets every body's force to gravity plus its wall forces.

@@ -64,7 +64,34 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         integrate::half_kick(vi, *fi, dtfm);
         integrate::drift(xi, *vi, c.dt);
         m = m.max(integrate::displacement2(*xi, *reference.get_unchecked(i)));
-        *fi = walls::body_force(b, i, *xi, *vi, c.surfaces, &c.walls, c.laws, c.gravity);
+        let mi = *mass.get_unchecked(i);
+        let g = c.gravity;
+        *fi = [mi * g[0], mi * g[1], mi * g[2]];
+    }
+    // Two passes, as `verlet_chunk_friction_body`: the integration and the
+    // weights of all bodies, then the wall forces of the few near a wall
+    // (`walls::body_force` split: the same operations in the same order,
+    // the same bits). In one pass, a wall type whose contact is a call (a
+    // triangle mesh's) made every body spill its registers around it:
+    // +2.7 % instructions on the lattice drop of planes.
+    for i in lo..hi {
+        let (s, e) = c.walls.range(i);
+        if *fixed.get_unchecked(i) || s == e {
+            continue;
+        }
+        let fi = c.f.at(i);
+        let mut acc = *fi;
+        walls::add_wall_forces(
+            b,
+            i,
+            *c.x.at(i),
+            *c.v.at(i),
+            c.surfaces,
+            &c.walls,
+            c.laws,
+            &mut acc,
+        );
+        *fi = acc;
     }
     m
 }

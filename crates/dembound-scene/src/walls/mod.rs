@@ -39,7 +39,6 @@
 //! offer one). Before the registry (the cylinder, issue 25) it took nine
 //! files of the crate and three outside.
 
-pub mod mesh;
 pub mod near;
 pub mod registry;
 registry::wall_modules!();

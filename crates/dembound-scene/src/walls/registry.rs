@@ -418,6 +418,8 @@ wall_registry! {
     BoundaryParticles => boundary_particles::BoundaryParticles;
     /// A fixed cylinder (`walls::cylinder`): a tube or a post.
     Cylinder => cylinder::Cylinder, CylinderWall;
+    /// A fixed triangle mesh (`walls::mesh`): a part read from STL or OBJ.
+    Mesh => mesh::Mesh, MeshWall;
 }
 
 /// Three finite numbers.
@@ -488,17 +490,17 @@ mod tests {
     /// surfaces first.
     #[test]
     fn orders_of_the_keys() {
-        assert_eq!(KEYS, ["plane", "boundary_particles", "cylinder"]);
+        assert_eq!(KEYS, ["plane", "boundary_particles", "cylinder", "mesh"]);
         assert_eq!(
             listing(KEYS.to_vec()),
-            ["plane", "cylinder", "boundary_particles"]
+            ["plane", "cylinder", "mesh", "boundary_particles"]
         );
-        assert_eq!(surface_kinds_or(), "plane or cylinder");
-        let err = toml::from_str::<WallSection>("material = \"g\"\nmesh = 1").unwrap_err();
+        assert_eq!(surface_kinds_or(), "plane, cylinder or mesh");
+        let err = toml::from_str::<WallSection>("material = \"g\"\ncone = 1").unwrap_err();
         assert!(
             err.to_string().contains(
-                "expected one of `plane`, `boundary_particles`, `cylinder`, `material`, \
-                 `friction`, `rolling_friction`"
+                "expected one of `plane`, `boundary_particles`, `cylinder`, `mesh`, \
+                 `material`, `friction`, `rolling_friction`"
             ),
             "{err}"
         );

@@ -121,6 +121,7 @@ pub mod grid;
 pub mod patch;
 pub mod read;
 pub mod transform;
+mod wall_type;
 
 #[cfg(test)]
 mod fixtures;
@@ -137,6 +138,7 @@ use std::sync::Arc;
 pub use clean::CleanReport;
 pub use read::{MeshError, Triangle};
 pub use transform::Transform;
+pub use wall_type::{Mesh, MeshConfig, RotateConfig};
 
 use super::{Wall, WallPoint};
 use geometry::{add, cross, norm, scale, sub};
