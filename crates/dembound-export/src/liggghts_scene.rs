@@ -443,3 +443,106 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         files: all,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dembound_scene::io::{config, resolve::resolve};
+
+    const SCENE: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "b"
+density = 2500.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.2
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.002, 0.005, 0.005], radius = 1.0e-3, velocity = [0.1, 0.0, 0.0] } ]
+material = "a"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.001], normal = [0.0, 0.0, 1.0] }
+material = "b"
+[[wall]]
+plane = { point = [0.01, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
+material = "a"
+[integration]
+dt = 1.0e-6
+steps = 10
+"#;
+
+    fn exported(sets: &[&str]) -> Result<Deck> {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let file = config::load(SCENE, "test", &sets).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        deck(&scene)
+    }
+
+    #[test]
+    fn each_type_keeps_its_material_and_planes_their_type() {
+        let d = exported(&[]).expect("exports");
+        let input = &d.files[0].text;
+        // Material order: "a", "b", then whatever built-ins follow (unused:
+        // the placeholder).
+        let line = input
+            .lines()
+            .find(|l| l.contains("youngsModulus peratomtype"))
+            .expect("the moduli");
+        assert!(line.contains("peratomtype 1e7 5e7"), "{line}");
+        assert!(input.contains("primitive type 2 zplane 1e-3"), "{input}");
+        assert!(input.contains("primitive type 1 xplane 1e-2"), "{input}");
+        assert!(input.contains("timestep     1e-6") && input.contains("run          10"));
+        let data = &d.files[1].text;
+        assert!(data.contains("\n1 1 2e-3 1e3 2e-3 5e-3 5e-3\n"), "{data}");
+        assert!(data.contains("\n1 1e-1 0 0 0 0 0\n"), "{data}");
+    }
+
+    #[test]
+    fn the_stl_reads_back_to_the_same_f64() {
+        let vertices = [
+            [0.1, 1.0 / 3.0, -2e-7],
+            [std::f64::consts::PI, 0.0, 1e-300],
+            [-0.3, 7.0 / 11.0, 5.5],
+        ];
+        let text = ascii_stl("t", &vertices, &[[0, 1, 2]]);
+        let read: Vec<[f64; 3]> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("vertex "))
+            .map(|l| {
+                let v: Vec<f64> = l
+                    .split_whitespace()
+                    .map(|w| w.parse().expect("a number"))
+                    .collect();
+                [v[0], v[1], v[2]]
+            })
+            .collect();
+        assert_eq!(read, vertices);
+        assert!(text.starts_with("solid t\n") && text.ends_with("endsolid t\n"));
+    }
+
+    #[test]
+    fn refusals_name_the_key() {
+        for (sets, key) in [
+            (vec!["integration.scheme=gear5"], "integration.scheme"),
+            (vec!["contact.law=linear"], "contact.law"),
+            (
+                vec!["contact.damping=tsuji", "contact.restitution=0.5"],
+                "contact.damping",
+            ),
+            (vec!["contact.friction=0.2"], "contact.friction"),
+            (vec!["wall.1.plane.normal=[-1.0,0.0,0.1]"], "wall[1].plane"),
+            (vec!["wall.0.material=rigid"], "rigid"),
+        ] {
+            let e = exported(&sets).expect_err("refused");
+            assert!(e.to_string().contains(key), "{sets:?}: {e}");
+        }
+    }
+}
