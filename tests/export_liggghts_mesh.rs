@@ -50,7 +50,7 @@ poisson_ratio = 0.25
 law = "hertz"
 [[particles]]
 material = "grain"
-spheres = [{ position = [0.001, 0.004, 0.0025], radius = 0.001, velocity = [0.0, 0.0, -0.5] }]
+spheres = [{ position = [XY, 0.0025], radius = 0.001, velocity = [0.0, 0.0, -0.5] }]
 [motion]
 gravity = [0.0, 0.0, -9.81]
 [integration]
@@ -196,16 +196,23 @@ fn bounce(t: &Trajectory) -> (f64, f64) {
     (FLOOR_Z + R - min_z, apex)
 }
 
-/// Runs both codes on the scene with `wall`; returns the largest relative
-/// differences (z, speed/V0, overlap, apex).
-fn agree(wall: &str, what: &str) -> Option<[f64; 4]> {
+/// The sphere's x, y: 2.1 mm from the mesh's diagonal seam (one face).
+const ON_A_FACE: &str = "0.001, 0.004";
+
+/// The sphere's x, y on the turned mesh's diagonal seam y = −x (to
+/// round-off in the placement's cos 90°): both triangles touch it.
+const ON_THE_SEAM: &str = "0.001, -0.001";
+
+/// Runs both codes on the scene with `wall` and the sphere at `xy`;
+/// returns the largest relative differences (z, speed/V0, overlap, apex).
+fn agree(wall: &str, xy: &str, what: &str) -> Option<[f64; 4]> {
     if missing("liggghts", "liggghts", what) {
         return None;
     }
     let dir = tempfile::tempdir().expect("a temporary directory");
     std::fs::write(dir.path().join("floor.stl"), FLOOR_STL).expect("written");
     let scene = dir.path().join("bounce.toml");
-    std::fs::write(&scene, format!("{SCENE}{wall}")).expect("written");
+    std::fs::write(&scene, format!("{}{wall}", SCENE.replace("XY", xy))).expect("written");
     let d = run_dembound(&scene, &dir.path().join("run"));
     let l = run_liggghts(&scene, &dir.path().join("deck"));
     assert_eq!(d.len(), 60001, "{what}: dembound rows (steps 0 to 60000)");
@@ -255,12 +262,19 @@ fn agree(wall: &str, what: &str) -> Option<[f64; 4]> {
 
 #[test]
 fn sphere_on_a_two_triangle_stl_floor_bounces_as_in_liggghts() {
-    agree(MESH_WALL, "STL floor (mesh/surface)");
+    agree(MESH_WALL, ON_A_FACE, "STL floor (mesh/surface)");
+}
+
+/// On the seam of the two triangles: one force in both codes (a doubled
+/// force would raise the stiffness by 2^(2/5) in the overlap, 30 %).
+#[test]
+fn sphere_on_the_seam_of_the_stl_floor_bounces_as_in_liggghts() {
+    agree(MESH_WALL, ON_THE_SEAM, "STL floor, on the seam");
 }
 
 #[test]
 fn sphere_on_the_plane_floor_bounces_as_in_liggghts() {
-    agree(PLANE_WALL, "plane floor (wall/gran zplane)");
+    agree(PLANE_WALL, ON_A_FACE, "plane floor (wall/gran zplane)");
 }
 
 /// What the LIGGGHTS scene deck does not hold exits 2 naming the key,
@@ -270,7 +284,8 @@ fn liggghts_scene_refusals_name_the_key() {
     let dir = tempfile::tempdir().expect("a temporary directory");
     std::fs::write(dir.path().join("floor.stl"), FLOOR_STL).expect("written");
     let scene = dir.path().join("bounce.toml");
-    std::fs::write(&scene, format!("{SCENE}{MESH_WALL}")).expect("written");
+    let scene_text = SCENE.replace("XY", ON_A_FACE);
+    std::fs::write(&scene, format!("{scene_text}{MESH_WALL}")).expect("written");
     let out = dir.path().join("deck");
     let cases: [(&[&str], &str); 6] = [
         (&["integration.scheme=gear5"], "integration.scheme"),
@@ -305,7 +320,7 @@ fn liggghts_scene_refusals_name_the_key() {
     std::fs::write(
         &scene,
         format!(
-            "{SCENE}{}",
+            "{scene_text}{}",
             PLANE_WALL.replace("[0.0, 0.0, 1.0]", "[0.1, 0.0, 1.0]")
         ),
     )
