@@ -238,24 +238,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             }
         }
     }
-    let g = setup.gravity;
-    let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-    let v2_max = setup
-        .spheres
-        .iter()
-        .map(|s| s.velocity.iter().map(|v| v * v).sum::<f64>())
-        .fold(0.0, f64::max);
-    let rise = if g_norm > 0.0 { v2_max / g_norm } else { 0.0 };
     for k in 0..3 {
         if d.periodic[k] {
             lo[k] = d.lower[k];
             hi[k] = d.upper[k];
         } else {
-            // A margin so that nothing sits on the box's face, and room
-            // for a sphere's flight: twice the rise |v|²/(2|g|) of the
-            // fastest (LIGGGHTS loses a sphere that leaves the box, even
-            // with shrink-wrapped `m` faces, as measured on 3.8.0).
-            let pad = 1e-3 * (hi[k] - lo[k]) + rise;
+            // A margin so that nothing sits on the box's face; the faces
+            // are shrink-wrapped (`m`), so the box follows a sphere that
+            // flies out of it (with `f` LIGGGHTS loses it).
+            let pad = 1e-3 * (hi[k] - lo[k]);
             lo[k] -= pad;
             hi[k] += pad;
         }
@@ -321,7 +312,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let boundary: Vec<&str> = d
         .periodic
         .iter()
-        .map(|&p| if p { "p" } else { "f" })
+        .map(|&p| if p { "p" } else { "m" })
         .collect();
     writeln!(
         x,
@@ -397,6 +388,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     for line in &wall_lines {
         writeln!(x, "{line}").ok();
     }
+    let g = setup.gravity;
+    let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
     writeln!(x, "\nfix          integrate all nve/sphere").ok();
     if g_norm > 0.0 {
         writeln!(
