@@ -336,3 +336,98 @@ fn liggghts_scene_refusals_name_the_key() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("wall[0].plane"), "{err}");
 }
+
+/// 250 spheres of two materials and spread radii (random insertion) thrown
+/// into a box whose floor is the 2-triangle STL (scaled, moved) and whose
+/// sides are four planes of both materials, elastic Hertz, 2000 Verlet
+/// steps: every sphere–sphere and sphere–wall type pair meets. LIGGGHTS's
+/// last thermo kinetic energy against `dembound scene --json`'s, 1e-9
+/// relative: as for the LAMMPS scene export (tests/export_codes.rs), the
+/// codes differ by round-off (~1e-16 a step, force sums in another
+/// order) amplified by collisions; measured 2e-15. A modulus wrong by
+/// 1e-6 in any pair that touches moves it by more.
+const BED: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.012]
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.22
+[contact]
+law = "hertz"
+[[particles]]
+random = { count = 150, radius = [0.3e-3, 0.6e-3], lower = [0.6e-3, 0.6e-3, 0.7e-3], upper = [9.4e-3, 9.4e-3, 0.0114], seed = 7, velocity = [0.5, -0.3, -2.0] }
+material = "grain"
+[[particles]]
+random = { count = 100, radius = [0.3e-3, 0.5e-3], lower = [0.6e-3, 0.6e-3, 0.7e-3], upper = [9.4e-3, 9.4e-3, 0.0114], seed = 8, velocity = [-0.4, 0.2, 1.0] }
+material = "glass"
+[[wall]]
+mesh = { file = "floor.stl", scale = 0.5, translate = [0.005, 0.005, 0.0] }
+material = "glass"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }
+material = "glass"
+[[wall]]
+plane = { point = [0.01, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0, 0.01, 0.0], normal = [0.0, -1.0, 0.0] }
+material = "glass"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+scheme = "verlet"
+eta = 0.02
+steps = 2000
+"#;
+
+#[test]
+fn bed_of_two_materials_on_the_stl_floor_ends_as_in_liggghts() {
+    let what = "250-sphere bed on the STL floor";
+    if missing("liggghts", "liggghts", what) {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    std::fs::write(dir.path().join("floor.stl"), FLOOR_STL).expect("written");
+    let scene = dir.path().join("bed.toml");
+    std::fs::write(&scene, BED).expect("written");
+    let deck = dir.path().join("deck");
+    run_liggghts(&scene, &deck);
+    let log = std::fs::read_to_string(deck.join("log.liggghts")).expect("log.liggghts");
+    let row = log
+        .lines()
+        .skip_while(|l| l.split_whitespace().collect::<Vec<_>>() != ["Step", "Time", "KinEng"])
+        .nth(2)
+        .expect("the last thermo row");
+    let ke: f64 = row
+        .split_whitespace()
+        .nth(2)
+        .expect("ke")
+        .parse()
+        .expect("a number");
+    let o = dembound()
+        .arg("scene")
+        .arg(&scene)
+        .args(["--json", "--quiet"])
+        .output()
+        .expect("dembound runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    let ke_d = j["kinetic_energy"].as_f64().expect("a number");
+    let contacts = j["particle_contacts"].as_f64().expect("a number")
+        + j["wall_contacts"].as_f64().expect("a number");
+    let rel = ke / ke_d - 1.0;
+    eprintln!("{what}: kinetic energy LIGGGHTS {ke:e} J, dembound {ke_d:e} J (rel {rel:e})");
+    assert!(contacts >= 5.0, "{what}: too few contacts to test anything");
+    assert!(rel.abs() < 1e-9, "{what}: kinetic energy off by {rel:e}");
+}
