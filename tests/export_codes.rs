@@ -678,8 +678,12 @@ steps = 4000
         let scene = write(dir.path(), "bed.toml", &bed_on_steel());
         let out = dir.path().join("deck");
         let cases: [(&str, &[&str], &str); 6] = [
-            ("yade", &[], "LAMMPS only"),
-            ("liggghts", &[], "LAMMPS only"),
+            ("yade", &[], "LAMMPS and LIGGGHTS only"),
+            (
+                "liggghts",
+                &["integration.scheme=gear5"],
+                "integration.scheme",
+            ),
             (
                 "lammps",
                 &["integration.scheme=gear5"],

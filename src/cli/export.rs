@@ -113,16 +113,16 @@ fn is_scene_file(path: &Path) -> bool {
         .is_some_and(|t| t.contains_key("domain") || t.contains_key("particles"))
 }
 
-/// `dembound export lammps SCENE.toml`: the spheres as a data file, the
-/// deck, the resolved scene (docs/export-lammps.md, "Scenes").
+/// `dembound export lammps|liggghts SCENE.toml`: the spheres as a data
+/// file, the deck (and a LIGGGHTS deck's mesh STLs), the resolved scene
+/// (docs/export-lammps.md and docs/export-liggghts.md, "Scenes").
 fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     let code = Code::from(args.code);
-    if code != Code::Lammps {
+    if code == Code::Yade {
         return Err(CliError::input(anyhow!(
-            "scene files are exported to LAMMPS only so far (`dembound export lammps {}`); \
-             {} takes bounce scenarios (SCENARIO.toml)",
-            path.display(),
-            code.name()
+            "scene files are exported to LAMMPS and LIGGGHTS only so far (`dembound export \
+             lammps {}`); yade takes bounce scenarios (SCENARIO.toml)",
+            path.display()
         )));
     }
     if args.pitfall.is_some() {
@@ -141,8 +141,11 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     let base = path.parent().unwrap_or(Path::new("."));
     let resolved = resolve(&file, base).map_err(scene_error)?;
     let mut out = output_dir(&args.out, "export")?;
-    let deck = dembound_export::lammps_scene::deck(&resolved)
-        .map_err(|e| CliError::input(anyhow!("{e}")))?;
+    let deck = match code {
+        Code::Liggghts => dembound_export::liggghts_scene::deck(&resolved),
+        _ => dembound_export::lammps_scene::deck(&resolved),
+    }
+    .map_err(|e| CliError::input(anyhow!("{e}")))?;
     for f in &deck.files {
         out.write(&f.name, |w| Ok(w.write_all(f.text.as_bytes())?))
             .map_err(CliError::failed)?;
@@ -155,13 +158,22 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     for p in written {
         writeln!(stdout, "wrote {}", p.display()).map_err(CliError::failed)?;
     }
+    let what = match code {
+        Code::Liggghts => {
+            "trajectory.txt holds sphere 1 at every step, particles.dump every sphere at the \
+             series cadence, the last thermo line (step time ke) the kinetic energy"
+        }
+        _ => {
+            "the last thermo line (step time ke pp pw) is the state `dembound scene --json` \
+             ends in; particles.dump and walls.txt hold every sphere's state and each wall's \
+             force at the series cadence"
+        }
+    };
     writeln!(
         stdout,
-        "run it:  cd {} && {}\nthe last thermo line (step time ke pp pw) is the state `dembound scene {} --json` ends in; \
-         particles.dump and walls.txt hold every sphere's state and each wall's force at the series cadence",
+        "run it:  cd {} && {}\n{what}",
         args.out.display(),
         code.command(),
-        path.display()
     )
     .map_err(CliError::failed)?;
     Ok(())

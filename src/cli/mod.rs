@@ -72,8 +72,8 @@ enum Command {
     WallStudy(wall_study::WallStudyArgs),
     /// Write a LAMMPS or LIGGGHTS deck or a Yade script that reproduces
     /// the scenario (pre-mixed moduli, damping in the code's convention,
-    /// dembound's Δt, a per-step trace); a scene file (LAMMPS only) as a
-    /// data file and a deck
+    /// dembound's Δt, a per-step trace); a scene file (LAMMPS, LIGGGHTS) as
+    /// a data file and a deck
     Export(export::ExportArgs),
     /// Read the trace an exported deck wrote and print its h_max, T_c,
     /// v_r, e beside dembound's and the exact reference

@@ -18,6 +18,7 @@ mod lammps_friction;
 pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
+pub mod liggghts_scene;
 pub mod plan;
 pub mod trace;
 pub mod yade;

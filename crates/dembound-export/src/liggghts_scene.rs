@@ -1,0 +1,541 @@
+//! A many-particle scene (`dembound scene`'s TOML) as a LIGGGHTS deck
+//! (checked with Debian's LIGGGHTS 3.8.0; docs/export-liggghts.md,
+//! "Scenes"): the spheres as a data file (`atom_style granular`), one atom
+//! type per material, plane walls as `fix wall/gran … primitive`, triangle
+//! meshes as `fix mesh/surface` on an ASCII STL of the placed, cleaned
+//! triangles written next to the deck, and `fix wall/gran … mesh`.
+//!
+//! Why one type per material, with the material's own E and ν: LIGGGHTS's
+//! `model hertz` mixes Y* = 1/((1 − ν_i²)/Y_i + (1 − ν_j²)/Y_j) and uses
+//! F = 4/3 Y* √(R* δ) δ with R* = R_i R_j/(R_i + R_j) (R* = R against a
+//! wall): that is dembound's F = E_eff √R_eff h^(3/2) with eq 6's
+//! E_eff = 4/3 Y*, for every pair, sphere or wall. So unlike LAMMPS no
+//! pre-mixed number is needed: the wall's type carries its material.
+//!
+//! The subset exported (everything else is refused naming the key):
+//! free spheres; `contact.law = "hertz"`, no damping (LIGGGHTS's hertz
+//! damping is derived from a restitution by its own formula, which is none
+//! of dembound's damping models: `coefficientRestitution` 1 makes it
+//! exactly zero); no friction (μ = 0 everywhere, `tangential no_history`
+//! then gives no tangential force); gravity; velocity Verlet
+//! (`nve/sphere`); axis-aligned planes; meshes. Rigid materials (E = ∞)
+//! are refused: LIGGGHTS needs a finite modulus per type.
+
+use crate::{num, Code, Deck, DeckFile, Error, Result};
+use dembound_physics::contact::{DampingKind, NormalLaw};
+use dembound_scene::io::resolve::ResolvedScene;
+use dembound_scene::setup::{Scheme, WallSetup};
+use dembound_scene::Simulation;
+use std::fmt::Write;
+
+/// The data file the deck reads.
+pub const DATA_FILE: &str = "particles.data";
+
+/// The per-step trace of the first sphere: `time (s) x y z (m) vx vy vz
+/// (m/s)`, one line per step from step 1 (`fix print`).
+pub const TRAJECTORY_FILE: &str = "trajectory.txt";
+
+/// The STL file the deck writes for mesh wall `w`.
+pub fn mesh_file(w: usize) -> String {
+    format!("wall{w}.stl")
+}
+
+/// The placed, cleaned triangles of a mesh as ASCII STL, every coordinate
+/// the shortest text that reads back to the same f64 (LIGGGHTS reads
+/// them with `atof`), so that the deck needs no scale, move or rotate
+/// keywords and meets exactly the triangles dembound meets.
+fn ascii_stl(name: &str, vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> String {
+    let mut s = format!("solid {name}\n");
+    for t in triangles {
+        let p = t.map(|k| vertices[k as usize]);
+        let e1 = [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]];
+        let e2 = [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]];
+        let n = [
+            e1[1] * e2[2] - e1[2] * e2[1],
+            e1[2] * e2[0] - e1[0] * e2[2],
+            e1[0] * e2[1] - e1[1] * e2[0],
+        ];
+        let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let n = n.map(|c| if l > 0.0 { c / l } else { 0.0 });
+        writeln!(
+            s,
+            "facet normal {} {} {}\nouter loop",
+            num(n[0]),
+            num(n[1]),
+            num(n[2])
+        )
+        .ok();
+        for v in p {
+            writeln!(s, "vertex {} {} {}", num(v[0]), num(v[1]), num(v[2])).ok();
+        }
+        writeln!(s, "endloop\nendfacet").ok();
+    }
+    writeln!(s, "endsolid {name}").ok();
+    s
+}
+
+/// The deck of a resolved scene: `in.liggghts`, [`DATA_FILE`] and one
+/// STL per mesh wall ([`mesh_file`]).
+pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
+    let setup = &scene.setup;
+    let model = &setup.contact;
+    let refuse = |s: String| Err(Error::Export(s));
+    if setup.integration.scheme != Scheme::Verlet {
+        return refuse(
+            "integration.scheme = \"gear5\" cannot be exported: LIGGGHTS integrates with \
+             velocity Verlet (fix nve/sphere); set integration.scheme = \"verlet\""
+                .into(),
+        );
+    }
+    if !matches!(model.normal, NormalLaw::Hertz) {
+        return refuse(format!(
+            "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
+             LIGGGHTS's `model hertz`)",
+            model.normal.row().name
+        ));
+    }
+    if model.damping.kind() != DampingKind::None {
+        return refuse(format!(
+            "contact.damping = \"{}\" is not exported to LIGGGHTS: its `model hertz` damping \
+             is derived from coefficientRestitution by its own formula, which is none of \
+             dembound's damping models (docs/export-liggghts.md); exported: \"none\" (elastic), \
+             or export to LAMMPS",
+            model.damping.kind().row().name
+        ));
+    }
+    if let Some(f) = &setup.friction {
+        let mut surfaces: Vec<(String, (f64, f64))> = (0..setup.materials.len())
+            .map(|m| {
+                (
+                    format!("material \"{}\"", setup.materials[m].name),
+                    f.of_material(m),
+                )
+            })
+            .collect();
+        for (w, wall) in setup.walls.iter().enumerate() {
+            let m = match wall {
+                WallSetup::Plane(p) => p.material,
+                WallSetup::Mesh(m) => m.material,
+                _ => continue,
+            };
+            surfaces.push((format!("wall[{w}]"), f.of_wall(w, m)));
+        }
+        if let Some((who, (mu, mu_r))) = surfaces
+            .iter()
+            .find(|(_, (mu, mu_r))| *mu != 0.0 || *mu_r != 0.0)
+        {
+            return refuse(format!(
+                "contact.friction: {who} has friction {mu} (rolling {mu_r}); scenes are exported \
+                 to LIGGGHTS frictionless only so far (its `tangential history` has not been \
+                 checked against dembound's tangential model); set every friction to 0 or \
+                 export to LAMMPS"
+            ));
+        }
+    }
+    if setup.spheres.iter().any(|s| s.fixed) {
+        return refuse(
+            "fixed spheres (`fixed = true` or a `boundary_particles` wall) are not exported to \
+             LIGGGHTS yet; export to LAMMPS"
+                .into(),
+        );
+    }
+    if setup.spheres.is_empty() {
+        return refuse("the scene has no free sphere to export".into());
+    }
+    // Walls: axis-aligned planes and meshes.
+    let axis_name = ["xplane", "yplane", "zplane"];
+    let mut wall_lines = Vec::new();
+    let mut files = Vec::new();
+    let mut used = vec![false; setup.materials.len()];
+    let mut lo = setup.domain.lower;
+    let mut hi = setup.domain.upper;
+    for (w, wall) in setup.walls.iter().enumerate() {
+        match wall {
+            WallSetup::Plane(p) => {
+                let nonzero: Vec<usize> = (0..3).filter(|&k| p.normal[k] != 0.0).collect();
+                let [axis] = nonzero[..] else {
+                    return refuse(format!(
+                        "`wall[{w}].plane`: normal {:?} is not along x, y or z; LIGGGHTS's \
+                         `fix wall/gran ... primitive` takes xplane, yplane and zplane only \
+                         (a tilted plane can be given as a 2-triangle `mesh`)",
+                        p.normal
+                    ));
+                };
+                used[p.material] = true;
+                wall_lines.push(format!(
+                    "# wall[{w}]: the plane {} = {} of material \"{}\" (type {})\n\
+                     fix          wall{w} all wall/gran model hertz tangential no_history \
+                     primitive type {} {} {}",
+                    ["x", "y", "z"][axis],
+                    num(p.point[axis]),
+                    setup.materials[p.material].name,
+                    p.material + 1,
+                    p.material + 1,
+                    axis_name[axis],
+                    num(p.point[axis])
+                ));
+            }
+            WallSetup::Mesh(m) => {
+                let g = &m.geometry;
+                used[m.material] = true;
+                for k in 0..3 {
+                    lo[k] = lo[k].min(g.lo[k]);
+                    hi[k] = hi[k].max(g.hi[k]);
+                }
+                let name = mesh_file(w);
+                files.push(DeckFile {
+                    name: name.clone(),
+                    text: ascii_stl(&format!("wall{w}"), &g.vertices, &g.triangles),
+                });
+                wall_lines.push(format!(
+                    "# wall[{w}]: the mesh {} ({} triangles after cleaning), placed by dembound\n\
+                     # (scale, rotate, translate applied) and written to {name}; material \"{}\" (type {})\n\
+                     fix          mesh{w} all mesh/surface file {name} type {}\n\
+                     fix          wall{w} all wall/gran model hertz tangential no_history \
+                     mesh n_meshes 1 meshes mesh{w}",
+                    m.file_name(),
+                    g.triangles.len(),
+                    setup.materials[m.material].name,
+                    m.material + 1,
+                    m.material + 1
+                ));
+            }
+            other => {
+                return refuse(format!(
+                    "`wall[{w}].{}` is not exported to LIGGGHTS (exported: axis-aligned planes \
+                     and meshes); replace it by planes or a mesh",
+                    other.key()
+                ))
+            }
+        }
+    }
+    for s in &setup.spheres {
+        used[s.material] = true;
+    }
+    for (k, m) in setup.materials.iter().enumerate() {
+        if used[k] && !(m.material.youngs_modulus.is_finite() && m.material.youngs_modulus > 0.0) {
+            return refuse(format!(
+                "material \"{}\" is rigid (E = inf): LIGGGHTS needs a finite youngsModulus per \
+                 type; give it a finite modulus (E_eff then changes by E_sphere/E_wall)",
+                m.name
+            ));
+        }
+    }
+    // The engine validates the setup and fixes Δt and the run length.
+    let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
+    let dt = sim.dt();
+    let steps = sim.total_steps();
+    let every = crate::lammps_output::series_every(scene.file.output.series_every, steps);
+
+    // Box: the domain, widened to every sphere and mesh (LIGGGHTS drops
+    // atoms and refuses mesh nodes outside it).
+    let d = &setup.domain;
+    for s in &setup.spheres {
+        for k in 0..3 {
+            if !d.periodic[k] {
+                lo[k] = lo[k].min(s.position[k] - s.radius);
+                hi[k] = hi[k].max(s.position[k] + s.radius);
+            }
+        }
+    }
+    for k in 0..3 {
+        if d.periodic[k] {
+            lo[k] = d.lower[k];
+            hi[k] = d.upper[k];
+        } else {
+            // A margin so that nothing sits on the box's face; the faces
+            // are shrink-wrapped (`m`), so the box follows a sphere that
+            // flies out of it (with `f` LIGGGHTS loses it).
+            let pad = 1e-3 * (hi[k] - lo[k]);
+            lo[k] -= pad;
+            hi[k] += pad;
+        }
+    }
+    let n_types = setup.materials.len();
+    let mut data = String::new();
+    writeln!(
+        data,
+        "LIGGGHTS data file (atom_style granular) written by `dembound export liggghts` from a scene\n\n\
+         {} atoms\n{} atom types\n\n{} {} xlo xhi\n{} {} ylo yhi\n{} {} zlo zhi\n\nAtoms\n",
+        setup.spheres.len(),
+        n_types,
+        num(lo[0]),
+        num(hi[0]),
+        num(lo[1]),
+        num(hi[1]),
+        num(lo[2]),
+        num(hi[2])
+    )
+    .ok();
+    for (i, s) in setup.spheres.iter().enumerate() {
+        let p = s.position;
+        writeln!(
+            data,
+            "{} {} {} {} {} {} {}",
+            i + 1,
+            s.material + 1,
+            num(2.0 * s.radius),
+            num(setup.materials[s.material].material.density),
+            num(p[0]),
+            num(p[1]),
+            num(p[2])
+        )
+        .ok();
+    }
+    writeln!(data, "\nVelocities\n").ok();
+    for (i, s) in setup.spheres.iter().enumerate() {
+        let v = s.velocity;
+        writeln!(
+            data,
+            "{} {} {} {} 0 0 0",
+            i + 1,
+            num(v[0]),
+            num(v[1]),
+            num(v[2])
+        )
+        .ok();
+    }
+
+    let mut x = String::new();
+    writeln!(
+        x,
+        "# Exported by `dembound export liggghts` from a dembound scene (SI units); scene.toml is the scene as resolved.\n\
+         # Run: {}. Every number below comes from dembound.\n\
+         # spheres: {} in {DATA_FILE}, ids in dembound's input order; atom type k = material k (dembound's order).\n\
+         # Hertz: LIGGGHTS mixes Y* = 1/((1-nu_i^2)/Y_i + (1-nu_j^2)/Y_j) and uses F = 4/3 Y* sqrt(R* d) d,\n\
+         # which is dembound's eq 6 E_eff = 4/3 Y*: each type keeps its material's own E and nu, walls too.\n\
+         # Elastic: coefficientRestitution 1 makes LIGGGHTS's hertz damping zero; friction 0: no tangential force.",
+        Code::Liggghts.command(),
+        setup.spheres.len()
+    )
+    .ok();
+    let boundary: Vec<&str> = d
+        .periodic
+        .iter()
+        .map(|&p| if p { "p" } else { "m" })
+        .collect();
+    writeln!(
+        x,
+        "\natom_style   granular\natom_modify  map array\nboundary     {}\nnewton       off\n\
+         communicate  single vel yes\nunits        si\n\
+         hard_particles yes   # allows moduli above 1e9 Pa\n\
+         read_data    {DATA_FILE}",
+        boundary.join(" ")
+    )
+    .ok();
+    let per_type = |f: &dyn Fn(usize) -> f64| -> String {
+        (0..n_types)
+            .map(|k| num(f(k)))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let material = |k: usize| &setup.materials[k].material;
+    // Unused types (a rigid built-in material, say) get a placeholder the
+    // contact never reads: LIGGGHTS wants a positive number for each.
+    let modulus = |k: usize| {
+        let e = material(k).youngs_modulus;
+        if used[k] {
+            e
+        } else {
+            1e9
+        }
+    };
+    let pairs = |v: f64| vec![num(v); n_types * n_types].join(" ");
+    writeln!(x, "\n# materials (type: name, E, nu):").ok();
+    for (k, m) in setup.materials.iter().enumerate() {
+        writeln!(
+            x,
+            "#   {}: \"{}\", E = {} Pa, nu = {}{}",
+            k + 1,
+            m.name,
+            num(m.material.youngs_modulus),
+            num(m.material.poisson_ratio),
+            if used[k] {
+                ""
+            } else {
+                " (unused: a placeholder E)"
+            }
+        )
+        .ok();
+    }
+    writeln!(
+        x,
+        "fix          m1 all property/global youngsModulus peratomtype {}\n\
+         fix          m2 all property/global poissonsRatio peratomtype {}\n\
+         fix          m3 all property/global coefficientRestitution peratomtypepair {n_types} {}\n\
+         fix          m4 all property/global coefficientFriction peratomtypepair {n_types} {}",
+        per_type(&modulus),
+        per_type(&|k| material(k).poisson_ratio),
+        pairs(1.0),
+        pairs(0.0)
+    )
+    .ok();
+    let skin = setup.neighbour.skin.unwrap_or_else(|| {
+        0.2 * setup
+            .spheres
+            .iter()
+            .map(|s| s.radius)
+            .fold(f64::INFINITY, f64::min)
+    });
+    writeln!(
+        x,
+        "\npair_style   gran model hertz tangential no_history\npair_coeff   * *\n\
+         neighbor     {} bin\nneigh_modify delay 0\ntimestep     {}\n",
+        num(skin),
+        num(dt)
+    )
+    .ok();
+    for line in &wall_lines {
+        writeln!(x, "{line}").ok();
+    }
+    let g = setup.gravity;
+    let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+    writeln!(x, "\nfix          integrate all nve/sphere").ok();
+    if g_norm > 0.0 {
+        writeln!(
+            x,
+            "fix          gravity all gravity {} vector {} {} {}",
+            num(g_norm),
+            num(g[0] / g_norm),
+            num(g[1] / g_norm),
+            num(g[2] / g_norm)
+        )
+        .ok();
+    }
+    writeln!(
+        x,
+        "\n# {TRAJECTORY_FILE}: sphere 1 every step: time (s), x y z (m), vx vy vz (m/s)\n\
+         variable     t equal step*dt\n\
+         variable     x1 equal x[1]\nvariable     y1 equal y[1]\nvariable     z1 equal z[1]\n\
+         variable     vx1 equal vx[1]\nvariable     vy1 equal vy[1]\nvariable     vz1 equal vz[1]\n\
+         fix          trajectory all print 1 \"${{t}} ${{x1}} ${{y1}} ${{z1}} ${{vx1}} ${{vy1}} ${{vz1}}\" \
+         file {TRAJECTORY_FILE} title \"# time_s x_m y_m z_m vx_m_s vy_m_s vz_m_s\" screen no\n\
+         # particles.dump: every sphere at the series cadence\n\
+         dump         spheres all custom {every} particles.dump id type radius x y z vx vy vz\n\
+         dump_modify  spheres format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g\"\n\
+         thermo_style custom step time ke\n\
+         thermo_modify norm no format float %.17g\n\
+         thermo       {}\n\
+         run          {steps}",
+        steps.max(1)
+    )
+    .ok();
+    let mut all = vec![
+        DeckFile {
+            name: Code::Liggghts.input_file().into(),
+            text: x,
+        },
+        DeckFile {
+            name: DATA_FILE.into(),
+            text: data,
+        },
+    ];
+    all.extend(files);
+    Ok(Deck {
+        code: Code::Liggghts,
+        files: all,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dembound_scene::io::{config, resolve::resolve};
+
+    const SCENE: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "b"
+density = 2500.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.2
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.002, 0.005, 0.005], radius = 1.0e-3, velocity = [0.1, 0.0, 0.0] } ]
+material = "a"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.001], normal = [0.0, 0.0, 1.0] }
+material = "b"
+[[wall]]
+plane = { point = [0.01, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
+material = "a"
+[integration]
+dt = 1.0e-6
+steps = 10
+"#;
+
+    fn exported(sets: &[&str]) -> Result<Deck> {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let file = config::load(SCENE, "test", &sets).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        deck(&scene)
+    }
+
+    #[test]
+    fn each_type_keeps_its_material_and_planes_their_type() {
+        let d = exported(&[]).expect("exports");
+        let input = &d.files[0].text;
+        // Material order: "a", "b", then whatever built-ins follow (unused:
+        // the placeholder).
+        let line = input
+            .lines()
+            .find(|l| l.contains("youngsModulus peratomtype"))
+            .expect("the moduli");
+        assert!(line.contains("peratomtype 1e7 5e7"), "{line}");
+        assert!(input.contains("primitive type 2 zplane 1e-3"), "{input}");
+        assert!(input.contains("primitive type 1 xplane 1e-2"), "{input}");
+        assert!(input.contains("timestep     1e-6") && input.contains("run          10"));
+        let data = &d.files[1].text;
+        assert!(data.contains("\n1 1 2e-3 1e3 2e-3 5e-3 5e-3\n"), "{data}");
+        assert!(data.contains("\n1 1e-1 0 0 0 0 0\n"), "{data}");
+    }
+
+    #[test]
+    fn the_stl_reads_back_to_the_same_f64() {
+        let vertices = [
+            [0.1, 1.0 / 3.0, -2e-7],
+            [std::f64::consts::PI, 0.0, 1e-300],
+            [-0.3, 7.0 / 11.0, 5.5],
+        ];
+        let text = ascii_stl("t", &vertices, &[[0, 1, 2]]);
+        let read: Vec<[f64; 3]> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("vertex "))
+            .map(|l| {
+                let v: Vec<f64> = l
+                    .split_whitespace()
+                    .map(|w| w.parse().expect("a number"))
+                    .collect();
+                [v[0], v[1], v[2]]
+            })
+            .collect();
+        assert_eq!(read, vertices);
+        assert!(text.starts_with("solid t\n") && text.ends_with("endsolid t\n"));
+    }
+
+    #[test]
+    fn refusals_name_the_key() {
+        for (sets, key) in [
+            (vec!["integration.scheme=gear5"], "integration.scheme"),
+            (vec!["contact.law=linear"], "contact.law"),
+            (
+                vec!["contact.damping=tsuji", "contact.restitution=0.5"],
+                "contact.damping",
+            ),
+            (vec!["contact.friction=0.2"], "contact.friction"),
+            (vec!["wall.1.plane.normal=[-1.0,0.0,0.1]"], "wall[1].plane"),
+            (vec!["wall.0.material=rigid"], "rigid"),
+        ] {
+            let e = exported(&sets).expect_err("refused");
+            assert!(e.to_string().contains(key), "{sets:?}: {e}");
+        }
+    }
+}
