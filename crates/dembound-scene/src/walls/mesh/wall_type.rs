@@ -305,8 +305,8 @@ impl WallType for Mesh {
 
     fn export_note(&self) -> Option<String> {
         Some(
-            "LAMMPS's `fix wall/gran` has no triangle mesh (the planned target is LIGGGHTS's \
-             `fix mesh/surface` with `fix wall/gran ... mesh`, on the same STL)"
+            "LAMMPS's `fix wall/gran` has no triangle mesh (`dembound export liggghts` writes \
+             it as LIGGGHTS's `fix mesh/surface` with `fix wall/gran ... mesh`)"
                 .into(),
         )
     }
