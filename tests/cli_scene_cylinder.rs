@@ -167,3 +167,55 @@ fn export_refuses_the_cylinder_by_name() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("wall[1].cylinder"), "{err}");
 }
+
+/// Small initial overlaps with a plane and a cylinder (1 % < share ≤ 50 %)
+/// run, with one warning line per wall type naming the count and the
+/// largest. By hand: sphere 1 (R = 1 mm) at z = 0.97 mm overlaps the
+/// floor z = 0 by 0.03 mm (3 %), sphere 0 at 0.98 mm by 2 %; sphere 1 is
+/// 3 mm from the axis of a 3.95 mm tube: 3 + 1 − 3.95 = 0.05 mm (5 %),
+/// sphere 0 on the axis does not touch it.
+#[test]
+fn small_initial_overlaps_are_one_warning_per_wall_type() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.005, 0.005, 0.00098], radius = 1.0e-3 }, { position = [0.002, 0.005, 0.00097], radius = 1.0e-3 } ]
+material = "a"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "a"
+[[wall]]
+cylinder = { point = [0.005, 0.005, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.00395 }
+material = "a"
+[integration]
+dt = 1e-6
+steps = 5
+"#;
+    let (code, _, err) = run(text, &[], dir.path());
+    assert_eq!(code, Some(0), "{err}");
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("start overlapping"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{err}");
+    assert!(
+        lines[0].contains("2 free sphere(s) start overlapping a plane wall")
+            && lines[0].contains("input index 1) and `wall[0].plane`, 3.0000e-5 m (3 %)"),
+        "{err}"
+    );
+    assert!(
+        lines[1].contains("1 free sphere(s) start overlapping a cylinder wall")
+            && lines[1].contains("input index 1) and `wall[1].cylinder`, 5.0000e-5 m (5 %)"),
+        "{err}"
+    );
+}

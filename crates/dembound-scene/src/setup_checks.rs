@@ -139,24 +139,43 @@ pub(crate) fn percent(x: f64) -> String {
     format!("{:.3} %", 100.0 * x).replace(".000 %", " %")
 }
 
-/// The warning for `count` free spheres starting in a wall of `kind`
-/// ("plane", "cylinder") by more than the warning share; `worst`: (share,
-/// sphere, wall, overlap in m) of the largest.
-pub(crate) fn overlap_warning(
-    kind: &str,
+/// The free spheres that start overlapping the walls of one type by more
+/// than [`limits::OVERLAP_WARNING`] of their radius: how many, and the
+/// largest (share, sphere, wall, overlap), for one warning line per type.
+#[derive(Default)]
+pub(crate) struct OverlapWarnings {
     count: usize,
-    (share, k, w, overlap): (f64, usize, usize, f64),
-    label: Label<'_>,
-) -> String {
-    format!(
-        "{count} free sphere(s) start overlapping a {kind} wall by more than {} of their \
-         radius; the largest: {} and `wall[{w}].{kind}`, {} ({}). The contact laws are \
-         small-strain theories, and the stored energy is released in the first steps",
-        percent(limits::OVERLAP_WARNING),
-        label(k),
-        metres(overlap),
-        percent(share)
-    )
+    worst: Option<(f64, usize, usize, f64)>,
+}
+
+impl OverlapWarnings {
+    /// Sphere `k` overlaps wall `w` by `overlap` (m), `share` of its radius.
+    pub(crate) fn note(&mut self, share: f64, k: usize, w: usize, overlap: f64) {
+        if share > limits::OVERLAP_WARNING {
+            self.count += 1;
+            if self.worst.is_none_or(|x| share > x.0) {
+                self.worst = Some((share, k, w, overlap));
+            }
+        }
+    }
+
+    /// The one warning for the `kind` walls (`plane`, `cylinder`, …), if
+    /// any sphere was noted.
+    pub(crate) fn push(self, kind: &str, label: Label<'_>, warnings: &mut Vec<String>) {
+        let Some((share, k, w, overlap)) = self.worst else {
+            return;
+        };
+        warnings.push(format!(
+            "{} free sphere(s) start overlapping a {kind} wall by more than {} of their \
+             radius; the largest: {} and `wall[{w}].{kind}`, {} ({}). The contact laws are \
+             small-strain theories, and the stored energy is released in the first steps",
+            self.count,
+            percent(limits::OVERLAP_WARNING),
+            label(k),
+            metres(overlap),
+            percent(share)
+        ));
+    }
 }
 
 /// The worst pair overlap found so far and how many pairs exceed the

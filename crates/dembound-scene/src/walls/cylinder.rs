@@ -40,7 +40,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::limits::{self, metres, norm};
 use crate::setup::SceneSetup;
-use crate::setup_checks::{invalid, overlap_warning, percent, Label, AXES};
+use crate::setup_checks::{invalid, OverlapWarnings, percent, Label, AXES};
 use serde::{Deserialize, Serialize};
 
 /// `cylinder = { point, axis, radius, inside, length }`: a tube of radius
@@ -313,8 +313,7 @@ fn placements(
     label: Label<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<(), SceneError> {
-    let mut worst: Option<(f64, usize, usize, f64)> = None;
-    let mut count = 0usize;
+    let mut tally = OverlapWarnings::default();
     let largest_free = setup
         .spheres
         .iter()
@@ -424,17 +423,10 @@ fn placements(
                     percent(limits::OVERLAP_WARNING)
                 )));
             }
-            if share > limits::OVERLAP_WARNING {
-                count += 1;
-                if worst.is_none_or(|x| share > x.0) {
-                    worst = Some((share, k, w, overlap));
-                }
-            }
+            tally.note(share, k, w, overlap);
         }
     }
-    if let Some(worst) = worst {
-        warnings.push(overlap_warning("cylinder", count, worst, label));
-    }
+    tally.push("cylinder", label, warnings);
     Ok(())
 }
 

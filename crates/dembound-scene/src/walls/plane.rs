@@ -15,7 +15,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::limits::{self, metres, norm, show};
 use crate::setup::SceneSetup;
-use crate::setup_checks::{overlap_warning, percent, Label, AXES};
+use crate::setup_checks::{OverlapWarnings, percent, Label, AXES};
 use serde::{Deserialize, Serialize};
 
 /// `plane = { point, normal }`: the normal points into the domain.
@@ -213,8 +213,7 @@ fn overlaps(
     label: Label<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<(), SceneError> {
-    let mut worst: Option<(f64, usize, usize, f64)> = None;
-    let mut count = 0usize;
+    let mut tally = OverlapWarnings::default();
     for p in planes {
         for (k, s) in setup.spheres.iter().enumerate() {
             if s.fixed {
@@ -256,17 +255,10 @@ fn overlaps(
                     p.wall
                 )));
             }
-            if share > limits::OVERLAP_WARNING {
-                count += 1;
-                if worst.is_none_or(|w| share > w.0) {
-                    worst = Some((share, k, p.wall, overlap));
-                }
-            }
+            tally.note(share, k, p.wall, overlap);
         }
     }
-    if let Some(worst) = worst {
-        warnings.push(overlap_warning("plane", count, worst, label));
-    }
+    tally.push("plane", label, warnings);
     Ok(())
 }
 

@@ -30,7 +30,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::limits::{self, metres};
 use crate::setup::SceneSetup;
-use crate::setup_checks::{overlap_warning, percent, Label};
+use crate::setup_checks::{OverlapWarnings, percent, Label};
 use crate::walls::registry::{show3, WallKey, WallType};
 use crate::walls::{Curvature, Surface};
 
@@ -363,8 +363,7 @@ fn placements(
     label: Label<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<(), SceneError> {
-    let mut worst: Option<(f64, usize, usize, f64)> = None;
-    let mut count = 0usize;
+    let mut tally = OverlapWarnings::default();
     for &(w, m) in walls {
         let g = &m.geometry;
         for (k, sp) in setup.spheres.iter().enumerate() {
@@ -391,16 +390,9 @@ fn placements(
                     percent(limits::OVERLAP_WARNING)
                 )));
             }
-            if share > limits::OVERLAP_WARNING {
-                count += 1;
-                if worst.is_none_or(|x| share > x.0) {
-                    worst = Some((share, k, w, overlap));
-                }
-            }
+            tally.note(share, k, w, overlap);
         }
     }
-    if let Some(worst) = worst {
-        warnings.push(overlap_warning("mesh", count, worst, label));
-    }
+    tally.push("mesh", label, warnings);
     Ok(())
 }
