@@ -454,3 +454,9 @@ def batch(scenario: ScenarioLike = None, **keys: Any) -> dict[str, np.ndarray]:
         _flatten(key, value, sets)
     out = _native.batch(path, sets, columns)
     return {k: v.reshape(shape + v.shape[1:]) for k, v in out.items()}
+
+
+def __dir__() -> list[str]:
+    """``dir(dembound)``: the public names (``__all__``), not the modules
+    and typing names this file imports."""
+    return sorted(__all__)

@@ -62,7 +62,8 @@ class Scene:
     def from_dict(
         cls, scene: dict[str, Any], base_dir: Optional[_Path] = None, threads: Optional[int] = None
     ) -> Scene:
-        """A scene from a dict with the scene file's structure."""
+        """A scene from a dict with the scene file's structure; its
+        ``particles`` may be left out and added with ``add_particles``."""
     @classmethod
     def from_checkpoint(cls, path: _Path, threads: Optional[int] = None) -> Scene:
         """The scene recorded in a checkpoint, continued from it bit for bit."""
@@ -96,7 +97,7 @@ class Scene:
         """Simulated time, s."""
     @property
     def dt(self) -> float:
-        """Δt, s."""
+        """Δt, s (ValueError while the scene has no spheres)."""
     @property
     def steps_done(self) -> int: ...
     @property
@@ -120,6 +121,9 @@ class Scene:
     @property
     def fixed(self) -> npt.NDArray[np.bool_]: ...
     @property
+    def masses(self) -> npt.NDArray[np.float64]:
+        """(n,) kg: 4/3 π r³ ρ of each sphere's material (fixed spheres too)."""
+    @property
     def wall_forces(self) -> npt.NDArray[np.float64]:
         """Force on each wall, (walls, 3) N: what the last force stage applied."""
     @property
@@ -130,7 +134,8 @@ class Scene:
         """Each wall's torque point, (walls, 3) m: a plane's point, a cylinder's
         axis point, the centroid of a boundary-particle wall's spheres."""
     def observe(self) -> dict[str, Any]:
-        """Energies (J), contact counts, wall forces (N) and torques (N m) now."""
+        """The series.csv row now, keyed by its column names (units in the
+        names: ``time_s``, ``kinetic_energy_J``, ``wall0_force_z_N``, …)."""
     @property
     def collisions(self) -> dict[str, np.ndarray]:
         """Completed contacts: ``i``, ``j`` (sphere or -1), ``wall`` (or -1),

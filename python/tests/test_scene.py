@@ -57,7 +57,7 @@ def test_scene_stepping_arrays_and_collision_log():
     assert log["max_overlap"][0] == pytest.approx(524.1905e-9, rel=1e-4)
     assert log["duration"][0] == pytest.approx(4.92579e-6, rel=1e-4)
     energies = scene.observe()
-    assert energies["step"] == scene.steps_done and "kinetic_energy" in energies
+    assert energies["step"] == scene.steps_done and "kinetic_energy_J" in energies
 
 
 def test_checkpoint_and_restart_are_bit_for_bit(tmp_path):
@@ -196,7 +196,9 @@ def test_scene_from_dict_with_bodies_and_walls_from_arrays():
     assert torque[0, 0] == pytest.approx(-0.005 * weight, rel=1e-9)
     assert torque[0, 1] == pytest.approx(0.005 * weight, rel=1e-9)
     assert torque[0, 2] == 0.0
-    assert [list(t) for t in scene.observe()["wall_torques"]] == torque.tolist()
+    row = scene.observe()
+    assert [row[f"wall0_torque_{a}_N_m"] for a in "xyz"] == torque[0].tolist()
+    assert [row[f"wall0_force_{a}_N"] for a in "xyz"] == scene.wall_forces[0].tolist()
     with pytest.raises(ValueError, match="before the first step"):
         scene.add_plane([0.0, 0.0, 0.01], [0.0, 0.0, -1.0])
     with pytest.raises(ValueError, match="missing field `material`"):

@@ -5,9 +5,10 @@
 use crate::args;
 use crate::errors::{guarded, Failure};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
+use dembound_scene::io::config::Particles;
 use dembound_scene::io::config::{self, SceneFile};
-use dembound_scene::io::resolve::resolve;
-use dembound_scene::io::vtk;
+use dembound_scene::io::resolve::resolve_with;
+use dembound_scene::io::{series, vtk};
 use dembound_scene::setup::{Cylinder, Mesh, Plane, SceneSetup, SphereInit, WallSetup};
 use dembound_scene::walls::mesh::Transform;
 use dembound_scene::{Partner, SceneError, Simulation};
@@ -35,7 +36,9 @@ fn rows3<'py>(py: Python<'py>, rows: Vec<[f64; 3]>) -> PyResult<Bound<'py, PyArr
 /// particles). SI throughout: m, m/s, N, J, s.
 #[pyclass(module = "dembound._native")]
 pub struct Scene {
-    sim: Simulation,
+    /// The running scene; None while it has no spheres (a scene built
+    /// from a dict without `[[particles]]`, before `add_particles`).
+    sim: Option<Simulation>,
     setup: SceneSetup,
     file: SceneFile,
     threads: usize,
@@ -43,8 +46,17 @@ pub struct Scene {
 
 impl Scene {
     fn build(file: SceneFile, base: &Path, threads: usize) -> Result<Scene, Failure> {
-        let resolved = resolve(&file, base).map_err(scene_failure)?;
-        let sim = Simulation::new(resolved.setup.clone(), threads).map_err(scene_failure)?;
+        Scene::build_with(file, base, threads, Particles::Required)
+    }
+
+    fn build_with(
+        file: SceneFile,
+        base: &Path,
+        threads: usize,
+        particles: Particles,
+    ) -> Result<Scene, Failure> {
+        let resolved = resolve_with(&file, base, particles).map_err(scene_failure)?;
+        let sim = Scene::start(&resolved.setup, threads)?;
         Ok(Scene {
             sim,
             setup: resolved.setup,
@@ -53,24 +65,55 @@ impl Scene {
         })
     }
 
+    /// The simulation of `setup`, or None when it has no spheres yet.
+    fn start(setup: &SceneSetup, threads: usize) -> Result<Option<Simulation>, Failure> {
+        if setup.spheres.is_empty() {
+            return Ok(None);
+        }
+        Ok(Some(
+            Simulation::new(setup.clone(), threads).map_err(scene_failure)?,
+        ))
+    }
+
+    /// The running simulation, or the error that the scene has no spheres.
+    fn running(&self) -> Result<&Simulation, Failure> {
+        self.sim.as_ref().ok_or_else(no_spheres)
+    }
+
+    /// Rows of the running simulation, none while it has no spheres.
+    fn rows_or_none(&self, rows: fn(&Simulation) -> Vec<[f64; 3]>) -> Vec<[f64; 3]> {
+        self.sim.as_ref().map_or_else(Vec::new, rows)
+    }
+
     /// Advances `n` steps with the GIL released.
     fn advance(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let sim = &mut self.sim;
+        let Some(sim) = self.sim.as_mut() else {
+            return Err(no_spheres().into());
+        };
         Ok(py.detach(|| guarded(|| sim.step_guarded(n).map_err(scene_failure)))?)
     }
 
     /// Rebuilds the simulation after the setup changed (only before the
     /// first step).
     fn rebuild(&mut self, what: &str) -> Result<(), Failure> {
-        if self.sim.steps_done() > 0 {
+        let steps_done = self.sim.as_ref().map_or(0, Simulation::steps_done);
+        if steps_done > 0 {
             return Err(Failure::Input(format!(
-                "{what}: the scene has run {} steps; bodies and walls can be added only before the first step",
-                self.sim.steps_done()
+                "{what}: the scene has run {steps_done} steps; bodies and walls can be added only before the first step"
             )));
         }
-        self.sim = Simulation::new(self.setup.clone(), self.threads).map_err(scene_failure)?;
+        self.sim = Scene::start(&self.setup, self.threads)?;
         Ok(())
     }
+}
+
+/// The error of a call that needs the spheres of a scene that has none yet.
+fn no_spheres() -> Failure {
+    Failure::Input(
+        "the scene has no spheres yet: add them with add_particles() \
+         (or [[particles]] in the scene) first"
+            .into(),
+    )
 }
 
 /// The most steps one `step()` or `run()` call takes (1e15 steps of the
@@ -114,6 +157,8 @@ impl Scene {
 
     /// A scene from a dict with the scene file's structure; relative source
     /// paths are taken from `base_dir` (default: the current directory).
+    /// Unlike a scene file, the dict may leave out `particles`: add the
+    /// spheres with `add_particles()` before the first step.
     #[classmethod]
     #[pyo3(signature = (scene, base_dir = None, threads = None))]
     fn from_dict(
@@ -131,9 +176,10 @@ impl Scene {
         let threads = args::threads(threads)?;
         Ok(py.detach(|| {
             guarded(|| {
-                let file = config::from_table(table, "<dict>").map_err(scene_failure)?;
+                let file = config::from_table_with(table, "<dict>", Particles::Later)
+                    .map_err(scene_failure)?;
                 let base = base_dir.unwrap_or_else(|| PathBuf::from("."));
-                Scene::build(file, &base, threads)
+                Scene::build_with(file, &base, threads, Particles::Later)
             })
         })?)
     }
@@ -155,8 +201,10 @@ impl Scene {
             guarded(|| {
                 let saved = checkpoint::read(&path).map_err(scene_failure)?;
                 let mut scene = Scene::build(saved.scene, Path::new("."), threads)?;
-                scene.sim = Simulation::restore(scene.setup.clone(), &saved.state, threads)
-                    .map_err(scene_failure)?;
+                scene.sim = Some(
+                    Simulation::restore(scene.setup.clone(), &saved.state, threads)
+                        .map_err(scene_failure)?,
+                );
                 Ok(scene)
             })
         })?)
@@ -392,13 +440,13 @@ impl Scene {
             None => None,
         };
         let total = match duration {
-            None => self.sim.remaining_steps(),
+            None => self.running()?.remaining_steps(),
             Some(d) if d.is_finite() && d >= 0.0 => {
-                let steps = (d / self.sim.dt()).round();
+                let dt = self.running()?.dt();
+                let steps = (d / dt).round();
                 if steps > MAX_CALL_STEPS as f64 {
                     return Err(Failure::Input(format!(
-                        "duration: {d} s is {steps:e} steps of Δt = {} s (allowed: up to 1e15 steps)",
-                        self.sim.dt()
+                        "duration: {d} s is {steps:e} steps of Δt = {dt} s (allowed: up to 1e15 steps)"
                     ))
                     .into());
                 }
@@ -425,82 +473,106 @@ impl Scene {
         Ok(done)
     }
 
-    /// Simulated time, s.
+    /// Simulated time, s (0 while the scene has no spheres).
     #[getter]
     fn time(&self) -> f64 {
-        self.sim.time()
+        self.sim.as_ref().map_or(0.0, Simulation::time)
     }
 
-    /// Δt, s.
+    /// Δt, s (an error while the scene has no spheres: the time step
+    /// rule needs them).
     #[getter]
-    fn dt(&self) -> f64 {
-        self.sim.dt()
+    fn dt(&self) -> PyResult<f64> {
+        Ok(self.running()?.dt())
     }
 
     /// Steps taken since the start (restarts included).
     #[getter]
     fn steps_done(&self) -> u64 {
-        self.sim.steps_done()
+        self.sim.as_ref().map_or(0, Simulation::steps_done)
     }
 
-    /// The scene's run length in steps.
+    /// The scene's run length in steps (an error while it has no spheres).
     #[getter]
-    fn total_steps(&self) -> u64 {
-        self.sim.total_steps()
+    fn total_steps(&self) -> PyResult<u64> {
+        Ok(self.running()?.total_steps())
     }
 
     /// Number of spheres (boundary particles included).
     fn __len__(&self) -> usize {
-        self.sim.body_count()
+        self.sim.as_ref().map_or(0, Simulation::body_count)
     }
 
     /// Centres, (n, 3) m, input order.
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.positions())
+        rows3(py, self.rows_or_none(Simulation::positions))
     }
 
     /// Velocities, (n, 3) m/s.
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.velocities())
+        rows3(py, self.rows_or_none(Simulation::velocities))
     }
 
     /// Angular velocities, (n, 3) rad/s (zero without friction).
     #[getter]
     fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.angular_velocities())
+        rows3(py, self.rows_or_none(Simulation::angular_velocities))
     }
 
     /// Force on each sphere at the last force evaluation, (n, 3) N.
     #[getter]
     fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.forces())
+        rows3(py, self.rows_or_none(Simulation::forces))
     }
 
     /// Radii, (n,) m.
     #[getter]
     fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.sim.radii().into_pyarray(py)
+        self.sim
+            .as_ref()
+            .map_or_else(Vec::new, Simulation::radii)
+            .into_pyarray(py)
+    }
+
+    /// Masses, (n,) kg: 4/3 π r³ ρ of each sphere's material (a fixed
+    /// sphere's too, although the dynamics treats it as infinitely heavy).
+    #[getter]
+    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let masses: Vec<f64> = self.sim.as_ref().map_or_else(Vec::new, |sim| {
+            sim.radii()
+                .into_iter()
+                .zip(sim.material_indices())
+                .map(|(r, m)| self.setup.materials[m].material.sphere_mass(r))
+                .collect()
+        });
+        masses.into_pyarray(py)
     }
 
     /// Whether each sphere is fixed, (n,) bool.
     #[getter]
     fn fixed<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
-        self.sim.fixed().into_pyarray(py)
+        self.sim
+            .as_ref()
+            .map_or_else(Vec::new, Simulation::fixed)
+            .into_pyarray(py)
     }
 
     /// Force on each wall (file order, then walls added), (walls, 3) N.
     #[getter]
     fn wall_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.wall_forces())
+        // No spheres: nothing loads the walls.
+        let none = vec![[0.0; 3]; self.setup.walls.len()];
+        rows3(py, self.sim.as_ref().map_or(none, Simulation::wall_forces))
     }
 
     /// Torque on each wall (file order, then walls added), (walls, 3) N m,
     /// about its point in `wall_torque_points`.
     #[getter]
     fn wall_torques<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.wall_torques())
+        let none = vec![[0.0; 3]; self.setup.walls.len()];
+        rows3(py, self.sim.as_ref().map_or(none, Simulation::wall_torques))
     }
 
     /// The point each wall's torque is taken about, (walls, 3) m: a
@@ -508,14 +580,25 @@ impl Scene {
     /// boundary-particle wall's spheres.
     #[getter]
     fn wall_torque_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        rows3(py, self.sim.wall_torque_points())
+        rows3(py, self.running()?.wall_torque_points())
     }
 
     /// Energies (J), contact counts, wall forces (N) and torques (N m)
-    /// now, as the CLI's series.csv row: a dict.
-    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let observation = guarded(|| Ok(self.sim.observe()))?;
-        Ok(pythonize::pythonize(py, &observation)?)
+    /// now: the CLI's series.csv row as a dict, keyed by its column names
+    /// (units in the names: `time_s`, `kinetic_energy_J`,
+    /// `wall0_force_z_N`, …); counts are ints, the rest floats.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let sim = self.running()?;
+        let observation = guarded(|| Ok(sim.observe()))?;
+        let header = series::series_header(observation.wall_forces.len());
+        let out = PyDict::new(py);
+        for (name, cell) in header.into_iter().zip(series::series_cells(&observation)) {
+            match cell {
+                series::Cell::Count(n) => out.set_item(name, n)?,
+                series::Cell::Value(x) => out.set_item(name, x)?,
+            }
+        }
+        Ok(out)
     }
 
     /// The collision log (completed contacts; needs `output.collisions =
@@ -525,7 +608,7 @@ impl Scene {
     /// `impact_normal_velocity`, `rebound_normal_velocity` (m/s).
     #[getter]
     fn collisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let log = self.sim.collisions();
+        let log = self.sim.as_ref().map_or(&[][..], Simulation::collisions);
         let out = PyDict::new(py);
         let ints =
             |f: fn(&dembound_scene::Collision) -> i64| -> Vec<i64> { log.iter().map(f).collect() };
@@ -571,7 +654,7 @@ impl Scene {
     /// `directory` (created if missing) and returns its path.
     fn write_vtk(&self, py: Python<'_>, directory: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
         let directory = args::path(directory, "directory")?;
-        let sim = &self.sim;
+        let sim = self.running()?;
         let path = directory.join(format!("snapshot_{:09}.vtp", sim.steps_done()));
         Ok(py.detach(|| {
             guarded(|| {
@@ -596,7 +679,7 @@ impl Scene {
         let saved = guarded(|| {
             Ok(CheckpointFile::new(
                 self.file.clone(),
-                self.sim.checkpoint(),
+                self.running()?.checkpoint(),
             ))
         })?;
         Ok(py.detach(|| {
@@ -623,19 +706,25 @@ impl Scene {
                 Simulation::restore(setup, &saved.state, threads).map_err(scene_failure)
             })
         })?;
-        self.sim = sim;
+        self.sim = Some(sim);
         Ok(())
     }
 
     fn __repr__(&self) -> String {
-        format!(
-            "Scene({} spheres, {} walls, t = {} s, step {}/{}, dt = {} s)",
-            self.sim.body_count(),
-            self.setup.walls.len(),
-            self.sim.time(),
-            self.sim.steps_done(),
-            self.sim.total_steps(),
-            self.sim.dt()
-        )
+        match &self.sim {
+            Some(sim) => format!(
+                "Scene({} spheres, {} walls, t = {} s, step {}/{}, dt = {} s)",
+                sim.body_count(),
+                self.setup.walls.len(),
+                sim.time(),
+                sim.steps_done(),
+                sim.total_steps(),
+                sim.dt()
+            ),
+            None => format!(
+                "Scene(0 spheres, {} walls, no spheres yet: add_particles() first)",
+                self.setup.walls.len()
+            ),
+        }
     }
 }

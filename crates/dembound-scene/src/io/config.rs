@@ -87,9 +87,24 @@ pub struct MaterialSection {
 /// The reserved material name of a rigid plane wall.
 pub const RIGID: &str = "rigid";
 
+/// Whether a scene must name its spheres: a scene file run by the command
+/// line must (`[[particles]]`); a scene built from code (Python's
+/// `Scene.from_dict`) may get them later (`add_particles`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Particles {
+    Required,
+    Later,
+}
+
 impl SceneFile {
     /// Checks every value; the first error names the key, value and range.
     pub fn validate(&self) -> Result<(), SceneError> {
+        self.validate_with(Particles::Required)
+    }
+
+    /// [`SceneFile::validate`], with `[[particles]]` optional under
+    /// [`Particles::Later`].
+    pub fn validate_with(&self, particles: Particles) -> Result<(), SceneError> {
         let d = &self.domain;
         finite3("domain.lower", d.lower, "m")?;
         finite3("domain.upper", d.upper, "m")?;
@@ -146,7 +161,7 @@ impl SceneFile {
         }
         self.validate_contact()?;
         check(
-            !self.particles.is_empty(),
+            particles == Particles::Later || !self.particles.is_empty(),
             "particles",
             "none",
             "at least one [[particles]] group",
@@ -197,6 +212,15 @@ pub fn read(path: &Path, sets: &[String]) -> Result<SceneFile, SceneError> {
 
 /// Deserialises and validates a scene table.
 pub fn from_table(table: Table, name: &str) -> Result<SceneFile, SceneError> {
+    from_table_with(table, name, Particles::Required)
+}
+
+/// [`from_table`], with `[[particles]]` optional under [`Particles::Later`].
+pub fn from_table_with(
+    table: Table,
+    name: &str,
+    particles: Particles,
+) -> Result<SceneFile, SceneError> {
     let scene: SceneFile = serde_path_to_error::deserialize(Value::Table(table)).map_err(|e| {
         let mut path = e.path().to_string();
         let inner = e.inner().to_string();
@@ -229,7 +253,7 @@ pub fn from_table(table: Table, name: &str) -> Result<SceneFile, SceneError> {
         }
     })?;
     scene
-        .validate()
+        .validate_with(particles)
         .map_err(|e| SceneError::input(format!("in scene file `{name}`: {e}")))?;
     Ok(scene)
 }

@@ -7,7 +7,7 @@
 //! `[[particles]]` groups in file order, each in its source's order, then
 //! the spheres of each `boundary_particles` wall in wall order.
 
-use super::config::{ParticlesSection, SceneFile, Scheme as SchemeName, RIGID};
+use super::config::{Particles, ParticlesSection, SceneFile, Scheme as SchemeName, RIGID};
 use crate::setup::{
     DomainSetup, FrictionSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength,
     SceneSetup, Scheme, SphereInit, TimeStep,
@@ -85,7 +85,17 @@ fn material_index(name: &str, materials: &mut Vec<NamedMaterial>) -> usize {
 /// Resolves `file`; relative source paths are taken from `base_dir` (the
 /// scene file's directory).
 pub fn resolve(file: &SceneFile, base_dir: &Path) -> Result<ResolvedScene, SceneError> {
-    file.validate()?;
+    resolve_with(file, base_dir, Particles::Required)
+}
+
+/// [`resolve`], with `[[particles]]` optional under [`Particles::Later`]
+/// (a scene built from code, whose spheres are added afterwards).
+pub fn resolve_with(
+    file: &SceneFile,
+    base_dir: &Path,
+    particles: Particles,
+) -> Result<ResolvedScene, SceneError> {
+    file.validate_with(particles)?;
     let mut file = file.clone();
     let mut materials: Vec<NamedMaterial> = file
         .materials

@@ -8,9 +8,18 @@ use crate::dynamics::collisions::{Collision, Partner};
 use crate::simulation::Observation;
 use std::io::Write;
 
-/// Writes `rows` (in time order) for a scene of `walls` walls.
-pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> csv::Result<()> {
-    let mut out = csv::Writer::from_writer(w);
+/// One cell of a series row: a count, or an SI value (the unit is in
+/// the column's name).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cell {
+    Count(u64),
+    Value(f64),
+}
+
+/// The column names of a series row for a scene of `walls` walls, units
+/// in the names: the energies, the contact counts, then the force on each
+/// wall and (after all the forces) the torque on each wall.
+pub fn series_header(walls: usize) -> Vec<String> {
     let mut header: Vec<String> = [
         "step",
         "time_s",
@@ -34,22 +43,38 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
             header.push(format!("wall{k}_torque_{axis}_N_m"));
         }
     }
-    out.write_record(&header)?;
+    header
+}
+
+/// The cells of `o`'s row, in [`series_header`]'s order (the scene's
+/// walls are `o.wall_forces.len()`).
+pub fn series_cells(o: &Observation) -> Vec<Cell> {
+    let mut cells = vec![
+        Cell::Count(o.step),
+        Cell::Value(o.time),
+        Cell::Value(o.kinetic_energy),
+        Cell::Value(o.elastic_energy),
+        Cell::Value(o.potential_energy),
+        Cell::Value(o.dissipated_energy),
+        Cell::Count(o.particle_contacts as u64),
+        Cell::Count(o.wall_contacts as u64),
+    ];
+    for f in o.wall_forces.iter().chain(&o.wall_torques) {
+        cells.extend(f.iter().map(|&x| Cell::Value(x)));
+    }
+    cells
+}
+
+/// Writes `rows` (in time order) for a scene of `walls` walls.
+pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> csv::Result<()> {
+    let mut out = csv::Writer::from_writer(w);
+    out.write_record(series_header(walls))?;
     for o in rows {
-        let mut record = vec![
-            o.step.to_string(),
-            format!("{:e}", o.time),
-            format!("{:e}", o.kinetic_energy),
-            format!("{:e}", o.elastic_energy),
-            format!("{:e}", o.potential_energy),
-            format!("{:e}", o.dissipated_energy),
-            o.particle_contacts.to_string(),
-            o.wall_contacts.to_string(),
-        ];
-        for f in o.wall_forces.iter().chain(&o.wall_torques) {
-            record.extend(f.iter().map(|x| format!("{x:e}")));
-        }
-        out.write_record(&record)?;
+        let record = series_cells(o).into_iter().map(|c| match c {
+            Cell::Count(n) => n.to_string(),
+            Cell::Value(x) => format!("{x:e}"),
+        });
+        out.write_record(record)?;
     }
     out.flush()?;
     Ok(())
