@@ -66,6 +66,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "periodic axes (no wall may cross one)",
         ),
         row(
+            "domain.outside",
+            "",
+            "\"error\"",
+            "\"error\" or \"keep\"".into(),
+            "a free sphere lost for good along a non-periodic axis (wholly outside the box grown to hold the fixed spheres, moving away, gravity not bringing it back: one thrown out through an open top that falls back is not lost) stops the run (exit 2 naming the sphere, the step and its position; no output written) or goes on unreported; checked at each series row and at the end",
+        ),
+        row(
             "material[K].name",
             "",
             "—",

@@ -32,6 +32,26 @@ pub struct SceneSetup {
     pub collisions: bool,
     /// Friction and rotation (issue 13); `None`: frictionless, no spin.
     pub friction: Option<FrictionSetup>,
+    /// What a free sphere lost for good outside the box does to the run
+    /// (`domain.outside`, issue 28).
+    pub outside: Outside,
+}
+
+/// What a free sphere lost for good along a non-periodic axis does to
+/// the run (`domain.outside`, issue 28; lost: wholly outside the box grown
+/// to hold the fixed spheres, moving away, gravity not bringing it back).
+/// Outside the box the scene's physics no longer holds (the cell grid
+/// clamps it into its edge cells, nothing stops its fall, its potential
+/// energy goes on falling): by default the run stops rather than report
+/// numbers of a scene that is not the one described.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Outside {
+    /// Stop with an input error (exit 2) naming the sphere, the step and
+    /// its position.
+    #[default]
+    Error,
+    /// Let it go on (the run reports it nowhere).
+    Keep,
 }
 
 /// Friction of a scene: the model and each surface's coefficients.
@@ -189,6 +209,7 @@ impl SceneSetup {
             neighbour: NeighbourSetup::default(),
             collisions: false,
             friction: None,
+            outside: Outside::Error,
         }
     }
 }

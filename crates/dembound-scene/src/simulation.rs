@@ -84,6 +84,12 @@ pub struct Simulation {
     pub(crate) energy_guard: EnergyGuard,
     /// The scene as a checkpoint must match it (`crate::fingerprint`).
     pub(crate) fingerprint: Fingerprint,
+    /// Under `domain.outside = "error"`: the box a free sphere must not
+    /// leave ([`Simulation::check_finite`]): the domain grown to hold every
+    /// fixed sphere (a boundary-particle floor lies below the face its
+    /// tops are on, and a small sphere held in its hollows may sink below
+    /// that face by more than its radius). `None` under `"keep"`.
+    pub(crate) outside_box: Option<([f64; 3], [f64; 3])>,
 }
 
 impl Simulation {
@@ -104,19 +110,23 @@ impl Simulation {
 
     /// [`Self::step`], then the state checked: an error
     /// ([`SceneError::Unstable`]) when a position, velocity or spin is no
-    /// longer finite, so that a blown-up run is never reported as numbers.
+    /// longer finite, so that a blown-up run is never reported as numbers;
+    /// an input error when a free sphere left the box
+    /// ([`Self::check_finite`]).
     pub fn step_checked(&mut self, n: u64) -> Result<(), SceneError> {
         self.step(n);
         self.check_finite()
     }
 
     /// An error when a body's position, velocity or spin is not finite
-    /// (one pass over the bodies).
+    /// (one pass over the bodies), or, under `domain.outside = "error"`,
+    /// when a free sphere's centre is outside the box along a non-periodic
+    /// axis (a second pass).
     pub fn check_finite(&self) -> Result<(), SceneError> {
         let b = &self.world.bodies;
         let finite = |v: &[[f64; 3]]| v.iter().flatten().all(|x| x.is_finite());
         if finite(&b.position) && finite(&b.velocity) && finite(&b.angular_velocity) {
-            return Ok(());
+            return self.check_inside();
         }
         Err(SceneError::Unstable {
             step: self.world.steps_done,
@@ -129,6 +139,72 @@ impl Simulation {
             .to_string(),
             extreme_inputs: self.energy_guard.extreme_inputs().to_vec(),
         })
+    }
+
+    /// Under `domain.outside = "error"`: an input error naming the first
+    /// free sphere (lowest input index) lost for good along a non-periodic
+    /// axis, with the step, its position and the key. Lost: wholly outside
+    /// the box grown to hold the fixed spheres ([`Simulation::outside_box`];
+    /// its centre more than its radius beyond a face), moving away from
+    /// the box or not towards it, and gravity not pulling it back: nothing
+    /// brings it back (a sphere that starts above an open box and falls
+    /// in, or bounces out through an open top and falls back, is not
+    /// lost).
+    fn check_inside(&self) -> Result<(), SceneError> {
+        let Some((lower, upper)) = self.outside_box else {
+            return Ok(());
+        };
+        let b = &self.world.bodies;
+        let periodic = self.world.domain.periodic;
+        let g = self.world.gravity;
+        let lost = |i: usize| {
+            let (x, r, v) = (b.position[i], b.radius[i], b.velocity[i]);
+            (0..3).find(|&a| {
+                let side = if x[a] < lower[a] - r {
+                    -1.0
+                } else if x[a] > upper[a] + r {
+                    1.0
+                } else {
+                    return false;
+                };
+                !periodic[a] && side * v[a] >= 0.0 && side * g[a] >= 0.0
+            })
+        };
+        let first = (0..b.len())
+            .filter(|&i| !b.fixed[i])
+            .filter_map(|i| lost(i).map(|a| (b.id[i], i, a)))
+            .min();
+        let Some((id, i, a)) = first else {
+            return Ok(());
+        };
+        let x = b.position[i];
+        let axis = ["x", "y", "z"][a];
+        let d = &self.world.domain;
+        let grown = if lower[a] < d.lower[a] || upper[a] > d.upper[a] {
+            format!(
+                "the domain along {axis} ([{:e}, {:e}] m) grown to hold the fixed spheres: \
+                 [{:e}, {:e}] m",
+                d.lower[a], d.upper[a], lower[a], upper[a]
+            )
+        } else {
+            format!(
+                "domain.lower..domain.upper along {axis} ([{:e}, {:e}] m)",
+                lower[a], upper[a]
+            )
+        };
+        Err(SceneError::input(format!(
+            "sphere {id} left the domain for good by step {} (t = {:.6e} s): its centre ({:.6e}, \
+             {:.6e}, {:.6e}) m is more than its radius ({:.6e} m) outside {grown}, moving away, \
+             and nothing brings it back; the scene's numbers would no longer describe the scene \
+             given; allowed: walls that keep the spheres in, a larger domain, or \
+             domain.outside = \"keep\" (they go on, unreported)",
+            self.world.steps_done,
+            self.time(),
+            x[0],
+            x[1],
+            x[2],
+            b.radius[i],
+        )))
     }
 
     /// [`Self::step_checked`], then one [`Self::observe_checked`] (for

@@ -61,6 +61,20 @@ pub struct DomainSection {
     pub upper: [f64; 3],
     #[serde(default)]
     pub periodic: [bool; 3],
+    /// What a free sphere lost for good outside the box does (addition,
+    /// issue 28): `"error"` (default) or `"keep"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outside: Option<OutsideName>,
+}
+
+/// `domain.outside`: see [`crate::setup::Outside`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OutsideName {
+    /// Stop with exit 2 naming the sphere, the step and its position.
+    Error,
+    /// Let it go on.
+    Keep,
 }
 
 /// `[[material]]`: a named particle material.

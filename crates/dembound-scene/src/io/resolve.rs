@@ -7,10 +7,12 @@
 //! `[[particles]]` groups in file order, each in its source's order, then
 //! the spheres of each `boundary_particles` wall in wall order.
 
-use super::config::{Particles, ParticlesSection, SceneFile, Scheme as SchemeName, RIGID};
+use super::config::{
+    OutsideName, Particles, ParticlesSection, SceneFile, Scheme as SchemeName, RIGID,
+};
 use crate::setup::{
-    DomainSetup, FrictionSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, RunLength,
-    SceneSetup, Scheme, SphereInit, TimeStep,
+    DomainSetup, FrictionSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, Outside,
+    RunLength, SceneSetup, Scheme, SphereInit, TimeStep,
 };
 use crate::sources::lammps_data::LammpsData;
 use crate::sources::lattice::Lattice;
@@ -225,6 +227,10 @@ pub fn resolve_with(
         neighbour: NeighbourSetup { skin: n.skin },
         collisions: file.output.collisions,
         friction: friction_setup(&file, &boundary_materials),
+        outside: match d.outside {
+            None | Some(OutsideName::Error) => Outside::Error,
+            Some(OutsideName::Keep) => Outside::Keep,
+        },
     };
     warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
     Ok(ResolvedScene {

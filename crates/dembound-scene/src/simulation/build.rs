@@ -15,7 +15,7 @@ use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
 use crate::pipeline::{Pipeline, Tracks, WallKind, World};
-use crate::setup::{RunLength, SceneSetup};
+use crate::setup::{Outside, RunLength, SceneSetup};
 use crate::time_step;
 use crate::walls::registry::{finite3, show3};
 use crate::walls::{LawSlot, Surface, WallContacts};
@@ -329,8 +329,26 @@ impl Simulation {
             initial_energy: 0.0,
             energy_guard: EnergyGuard::new(setup, dt),
             fingerprint: Fingerprint::of(setup),
+            outside_box: outside_box(setup),
         })
     }
+}
+
+/// The box a free sphere must not leave under `domain.outside = "error"`
+/// ([`Simulation::outside_box`]): the domain grown to hold every fixed
+/// sphere; `None` under `"keep"`.
+fn outside_box(setup: &SceneSetup) -> Option<([f64; 3], [f64; 3])> {
+    if setup.outside == Outside::Keep {
+        return None;
+    }
+    let (mut lower, mut upper) = (setup.domain.lower, setup.domain.upper);
+    for s in setup.spheres.iter().filter(|s| s.fixed) {
+        for a in 0..3 {
+            lower[a] = lower[a].min(s.position[a] - s.radius);
+            upper[a] = upper[a].max(s.position[a] + s.radius);
+        }
+    }
+    Some((lower, upper))
 }
 
 /// Friction coefficients finite and ≥ 0.
