@@ -297,7 +297,10 @@ def points_per_metre(fig, ax, lo, hi):
 
 def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, azim=-70.0, title=None,
            size=(9.0, 6.0), dpi=110):
-    """Draws the chosen snapshot of `run` (a directory or a .pvd) into `out`."""
+    """Draws the chosen snapshot of `run` (a directory or a .pvd) into
+    `out`; returns what it drew: {"time": s, "snapshot": path, "spheres":
+    count, "plain_walls": [wall indices], "pressure_walls": {wall index:
+    (min, max) Pa}, "colour_bars": [labels]}."""
     run = Path(run)
     pvd = run if run.suffix == ".pvd" else run / "snapshots.pvd"
     entries = read_pvd(pvd)
@@ -310,7 +313,7 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
     speed = np.linalg.norm(d["point"]["velocity"], axis=1)
     t = float(d["field"]["TIME"][0]) if "TIME" in d["field"] else t
 
-    plain, loaded = {}, {}
+    plain, loaded, labels = {}, {}, []
     if walls:
         loads = wall_load_files(entries, t, number)
         for k, p in loads.items():
@@ -351,6 +354,7 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
         bar = fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.5, pad=0.0, aspect=15,
                            location="left")
         bar.set_label("wall pressure (Pa)")
+        labels.append(bar.ax.get_ylabel())
 
     ax.set_xlim(lo[0], lo[0] + extent[0])
     ax.set_ylim(lo[1], lo[1] + extent[1])
@@ -366,6 +370,7 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
     speed_norm = colors.Normalize(vmin=0.0, vmax=float(speed.max()) if len(x) and speed.max() > 0 else 1.0)
     bar = fig.colorbar(cm.ScalarMappable(norm=speed_norm, cmap="viridis"), ax=ax, shrink=0.5, pad=0.12, aspect=15)
     bar.set_label("speed |v| (m/s)")
+    labels.append(bar.ax.get_ylabel())
     # Markers of the spheres' true size (the colour bars placed first, as
     # they shrink the axes): area in points² = (2 r × points per metre)².
     sizes = (2 * r * points_per_metre(fig, ax, lo, lo + extent)) ** 2
@@ -378,7 +383,14 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
     ax.set_title(title or f"t = {t:.3f} s: {len(x)} spheres")
     fig.savefig(out, bbox_inches="tight")
     plt.close(fig)
-    return out
+    return {
+        "time": t,
+        "snapshot": snap_path,
+        "spheres": len(x),
+        "plain_walls": sorted(plain),
+        "pressure_walls": {k: (float(np.min(p)), float(np.max(p))) for k, (_, p) in loaded.items() if len(p)},
+        "colour_bars": labels,
+    }
 
 
 def main(argv=None):
