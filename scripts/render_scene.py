@@ -296,7 +296,7 @@ def points_per_metre(fig, ax, lo, hi):
 
 
 def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, azim=-70.0, title=None,
-           size=(9.0, 6.0), dpi=110):
+           size=(9.0, 6.0), dpi=110, zoom=1.0):
     """Draws the chosen snapshot of `run` (a directory or a .pvd) into
     `out`; returns what it drew: {"time": s, "snapshot": path, "spheres":
     count, "plain_walls": [wall indices], "pressure_walls": {wall index:
@@ -327,8 +327,11 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
                 if k not in loaded:
                     plain[k] = tris
 
+    # The 3-D axes and the colour bars in fixed places: speed on the
+    # right, wall pressure (if drawn) on the left, outside the 3-D box.
     fig = plt.figure(figsize=size, dpi=dpi)
-    ax = fig.add_subplot(projection="3d", computed_zorder=False)
+    left = 0.1 if loaded else 0.0
+    ax = fig.add_axes((left, 0.0, 0.86 - left, 0.94), projection="3d", computed_zorder=False)
     boxes = [x - r[:, None], x + r[:, None]] if len(x) else []
     for tris in list(plain.values()) + [tr for tr, _ in loaded.values()]:
         if len(tris):
@@ -351,15 +354,16 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
             face[:, 3] = 0.55
             ax.add_collection3d(Poly3DCollection(tris, facecolors=face, edgecolors=(0.2, 0.2, 0.25, 0.25),
                                                  linewidths=0.3, zorder=0))
-        bar = fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.5, pad=0.0, aspect=15,
-                           location="left")
+        bar = fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), cax=fig.add_axes((0.05, 0.22, 0.017, 0.5)))
+        bar.ax.yaxis.set_ticks_position("left")
+        bar.ax.yaxis.set_label_position("left")
         bar.set_label("wall pressure (Pa)")
         labels.append(bar.ax.get_ylabel())
 
     ax.set_xlim(lo[0], lo[0] + extent[0])
     ax.set_ylim(lo[1], lo[1] + extent[1])
     ax.set_zlim(lo[2], lo[2] + extent[2])
-    ax.set_box_aspect(extent)
+    ax.set_box_aspect(extent, zoom=zoom)
     ax.set_proj_type("ortho")
     ax.view_init(elev=elev, azim=azim)
     # About 5 ticks on the longest axis, proportionally fewer (at least 2)
@@ -368,11 +372,11 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
         axis.set_major_locator(ticker.MaxNLocator(nbins=max(2, min(5, int(round(5 * e / extent.max()))))))
 
     speed_norm = colors.Normalize(vmin=0.0, vmax=float(speed.max()) if len(x) and speed.max() > 0 else 1.0)
-    bar = fig.colorbar(cm.ScalarMappable(norm=speed_norm, cmap="viridis"), ax=ax, shrink=0.5, pad=0.12, aspect=15)
+    bar = fig.colorbar(cm.ScalarMappable(norm=speed_norm, cmap="viridis"), cax=fig.add_axes((0.9, 0.22, 0.017, 0.5)))
     bar.set_label("speed |v| (m/s)")
     labels.append(bar.ax.get_ylabel())
-    # Markers of the spheres' true size (the colour bars placed first, as
-    # they shrink the axes): area in points² = (2 r × points per metre)².
+    # Markers of the spheres' true size: area in points² = (2 r × points
+    # per metre)².
     sizes = (2 * r * points_per_metre(fig, ax, lo, lo + extent)) ** 2
     ax.scatter(*x.T, s=sizes, c=speed, cmap="viridis", norm=speed_norm, depthshade=True, edgecolors="none",
                zorder=1)
@@ -408,10 +412,11 @@ def main(argv=None):
     p.add_argument("--size", type=float, nargs=2, default=(9.0, 6.0), metavar=("WIDTH", "HEIGHT"),
                    help="figure size (inches, default 9 6)")
     p.add_argument("--dpi", type=float, default=110.0, help="pixels per inch (default 110)")
+    p.add_argument("--zoom", type=float, default=1.0, help="enlarge the 3-D box in its axes (default 1)")
     args = p.parse_args(argv)
     try:
         render(args.run, args.out, args.index, args.time, args.scene, not args.no_walls, args.elev, args.azim,
-               args.title, tuple(args.size), args.dpi)
+               args.title, tuple(args.size), args.dpi, args.zoom)
     except InputError as e:
         print(f"render_scene.py: {e}", file=sys.stderr)
         return 2
