@@ -39,11 +39,6 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    import tomllib
-except ImportError:  # Python < 3.11
-    import tomli as tomllib
-
 import matplotlib
 
 matplotlib.use("Agg")
@@ -223,6 +218,13 @@ def place(triangles, mesh):
 
 def scene_meshes(scene_path):
     """{wall index: placed (n, 3, 3) triangles} of the scene's mesh walls."""
+    try:
+        import tomllib
+    except ImportError:  # Python < 3.11: the same parser as the package tomli
+        try:
+            import tomli as tomllib
+        except ImportError as e:
+            raise InputError("reading scene.toml needs Python ≥ 3.11 or the package tomli (pip install tomli)") from e
     scene_path = Path(scene_path)
     if not scene_path.is_file():
         raise InputError(f"{scene_path}: no such scene file (name one with --scene, or pass --no-walls)")
