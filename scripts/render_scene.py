@@ -345,8 +345,8 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
     # Walls first (beneath the spheres: matplotlib does not depth-sort
     # between collections), translucent.
     for tris in plain.values():
-        ax.add_collection3d(Poly3DCollection(tris, facecolors=(0.55, 0.58, 0.65, 0.16),
-                                             edgecolors=(0.2, 0.2, 0.25, 0.25), linewidths=0.3, zorder=0))
+        ax.add_collection3d(Poly3DCollection(tris, facecolors=(0.55, 0.58, 0.65, 0.12),
+                                             edgecolors=(0.2, 0.2, 0.25, 0.14), linewidths=0.25, zorder=0))
     if loaded:
         p_max = max((float(np.max(p)) for _, p in loaded.values() if len(p)), default=0.0)
         norm = colors.Normalize(vmin=0.0, vmax=p_max if p_max > 0 else 1.0)
