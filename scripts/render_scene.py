@@ -267,14 +267,12 @@ def choose_snapshot(entries, index=None, time=None):
 
 
 def wall_load_files(entries, time, number):
-    """{wall index: path} of the per-triangle load files of the snapshot
-    (same number NNNNNN, or else the same time)."""
-    out = {}
-    for t, p in entries:
-        m = WALL_LOADS.search(p.name)
-        if m and (int(m.group(2)) == number or math.isclose(t, time, rel_tol=1e-12, abs_tol=1e-300)):
-            out[int(m.group(1))] = p
-    return out
+    """{wall index: path} of the per-triangle load files of the snapshot:
+    those the .pvd lists at the snapshot's time, or else (none there)
+    those numbered as the snapshot (wall_K_NNNNNN.vtp)."""
+    loads = [(t, int(m.group(1)), int(m.group(2)), p) for t, p in entries for m in [WALL_LOADS.search(p.name)] if m]
+    at_time = {k: p for t, k, _, p in loads if math.isclose(t, time, rel_tol=1e-12, abs_tol=1e-300)}
+    return at_time or {k: p for _, k, n, p in loads if n == number}
 
 
 # ------------------------------------------------------------ drawing
@@ -306,18 +304,18 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
     run = Path(run)
     pvd = run if run.suffix == ".pvd" else run / "snapshots.pvd"
     entries = read_pvd(pvd)
-    t, snap_path, number = choose_snapshot(entries, index, time)
+    t_pvd, snap_path, number = choose_snapshot(entries, index, time)
     d = read_vtk(snap_path)
     for name in ("radius", "velocity"):
         if name not in d["point"]:
             raise InputError(f"{snap_path}: no point array {name!r}")
     x, r = d["points"], d["point"]["radius"]
     speed = np.linalg.norm(d["point"]["velocity"], axis=1)
-    t = float(d["field"]["TIME"][0]) if "TIME" in d["field"] else t
+    t = float(d["field"]["TIME"][0]) if "TIME" in d["field"] else t_pvd
 
     plain, loaded, labels = {}, {}, []
     if walls:
-        loads = wall_load_files(entries, t, number)
+        loads = wall_load_files(entries, t_pvd, number)
         for k, p in loads.items():
             v = read_vtk(p)
             if "pressure" not in v["cell"]:

@@ -191,7 +191,8 @@ def test_a_tiny_mesh_scene_renders_to_a_png(cli, tmp_path):
     # The drawing of the same run, in process: the second snapshot (t =
     # 200 steps × 5 µs = 1 ms), its 18 spheres and the floor in grey.
     drawn = render_scene.render(tmp_path / "run", tmp_path / "again.png", index=1)
-    assert math.isclose(drawn["time"], 200 * 5e-6, rel_tol=1e-12)  # the .pvd's time, printed to ~15 digits
+    # The snapshot's TIME: 200 steps of 5 µs, round-off of a few ulp.
+    assert math.isclose(drawn["time"], 200 * 5e-6, rel_tol=1e-12)
     assert drawn["spheres"] == 18
     assert drawn["plain_walls"] == [0] and drawn["pressure_walls"] == {}
     assert drawn["colour_bars"] == ["speed |v| (m/s)"]
@@ -213,6 +214,13 @@ def test_a_wall_with_a_load_file_is_coloured_by_its_pressure(tmp_path):
     # The first snapshot has no load file: both meshes in grey.
     first = render_scene.render(run, tmp_path / "first.png", index=0)
     assert first["pressure_walls"] == {} and first["plain_walls"] == [0, 2]
+    # Listed at another time, the load file is found by its number.
+    write_pvd(
+        run / "snapshots.pvd",
+        [(0.0, 0, "snapshot_000000.vtp"), (0.01, 0, "snapshot_000001.vtp"), (0.0125, 1, "wall_0_000001.vtp")],
+    )
+    assert render_scene.render(run, tmp_path / "by_number.png")["pressure_walls"] == {0: (50.0, 200.0)}
+    assert render_scene.render(run, tmp_path / "first_again.png", index=0)["pressure_walls"] == {}
 
 
 def test_a_load_file_is_read_back_as_written(tmp_path):
