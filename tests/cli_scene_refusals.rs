@@ -431,10 +431,13 @@ fn every_example_scene_is_still_accepted_without_warnings() {
         dir.path().join("lattice_10k.data"),
     )
     .unwrap();
-    // The mesh examples' parts, next to their scenes.
+    // The mesh examples' parts and the sphere files, next to their scenes.
     for entry in std::fs::read_dir(&examples).unwrap() {
         let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "stl" || e == "obj") {
+        if path
+            .extension()
+            .is_some_and(|e| e == "stl" || e == "obj" || e == "csv")
+        {
             std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
         }
     }
@@ -451,5 +454,5 @@ fn every_example_scene_is_still_accepted_without_warnings() {
         assert!(!err.contains("warning"), "{}: {err}", path.display());
         count += 1;
     }
-    assert!(count >= 7, "{count} example scenes");
+    assert!(count >= 9, "{count} example scenes");
 }
