@@ -431,10 +431,13 @@ fn every_example_scene_is_still_accepted_without_warnings() {
         dir.path().join("lattice_10k.data"),
     )
     .unwrap();
-    // The mesh examples' parts, next to their scenes.
+    // The mesh examples' parts and the sphere files, next to their scenes.
     for entry in std::fs::read_dir(&examples).unwrap() {
         let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "stl" || e == "obj") {
+        if path
+            .extension()
+            .is_some_and(|e| e == "stl" || e == "obj" || e == "csv")
+        {
             std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
         }
     }
@@ -448,8 +451,17 @@ fn every_example_scene_is_still_accepted_without_warnings() {
         std::fs::copy(&path, &copy).unwrap();
         let (code, _, err) = run_scene(&copy, &["integration.steps=1"]);
         assert_eq!(code, Some(0), "{}: {err}", path.display());
-        assert!(!err.contains("warning"), "{}: {err}", path.display());
+        // An open part (the hopper's outlet and top, a floor's rim) is
+        // reported by design (issue 26: "open edges reported"); any other
+        // warning fails.
+        let other: Vec<&str> = err
+            .lines()
+            .filter(|l| {
+                l.contains("warning") && !l.contains("open edges (the surface has a free boundary")
+            })
+            .collect();
+        assert!(other.is_empty(), "{}: {err}", path.display());
         count += 1;
     }
-    assert!(count >= 7, "{count} example scenes");
+    assert!(count >= 9, "{count} example scenes");
 }

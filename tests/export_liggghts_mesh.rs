@@ -291,10 +291,17 @@ fn liggghts_scene_refusals_name_the_key() {
         (&["integration.scheme=gear5"], "integration.scheme"),
         (&["contact.law=linear"], "contact.law"),
         (
-            &["contact.damping=tsuji", "contact.restitution=0.5"],
+            &[
+                "contact.damping=tsuji",
+                "contact.restitution=0.5",
+                "contact.friction=0.3",
+            ],
             "contact.damping",
         ),
-        (&["contact.friction=0.3"], "contact.friction"),
+        (
+            &["contact.friction=0.3", "contact.rolling_friction=0.1"],
+            "contact.rolling_friction",
+        ),
         (&["wall.0.material=rigid"], "rigid"),
         (&["particles.0.fixed=true"], "fixed spheres"),
     ];

@@ -18,6 +18,7 @@ mod lammps_friction;
 pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
+mod liggghts_contact;
 pub mod liggghts_scene;
 pub mod plan;
 pub mod trace;

@@ -12,17 +12,18 @@
 //! E_eff = 4/3 Y*, for every pair, sphere or wall. So unlike LAMMPS no
 //! pre-mixed number is needed: the wall's type carries its material.
 //!
-//! The subset exported (everything else is refused naming the key):
-//! free spheres; `contact.law = "hertz"`, no damping (LIGGGHTS's hertz
-//! damping is derived from a restitution by its own formula, which is none
-//! of dembound's damping models: `coefficientRestitution` 1 makes it
-//! exactly zero); no friction (μ = 0 everywhere, `tangential no_history`
-//! then gives no tangential force); gravity; velocity Verlet
+//! The subset exported (everything else is refused naming the key; damping
+//! and friction: `liggghts_contact.rs`):
+//! free spheres; `contact.law = "hertz"` with no damping
+//! (`coefficientRestitution` 1 makes LIGGGHTS's hertz damping exactly zero)
+//! or Tsuji damping given by a restitution; no friction (`tangential
+//! no_history`, μ = 0) or the Mindlin spring with Coulomb friction
+//! (`tangential history`), no rolling friction; gravity; velocity Verlet
 //! (`nve/sphere`); axis-aligned planes; meshes. Rigid materials (E = ∞)
 //! are refused: LIGGGHTS needs a finite modulus per type.
 
 use crate::{num, Code, Deck, DeckFile, Error, Result};
-use dembound_physics::contact::{DampingKind, NormalLaw};
+use dembound_physics::contact::NormalLaw;
 use dembound_scene::io::resolve::ResolvedScene;
 use dembound_scene::setup::{Scheme, WallSetup};
 use dembound_scene::Simulation;
@@ -94,44 +95,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             model.normal.row().name
         ));
     }
-    if model.damping.kind() != DampingKind::None {
-        return refuse(format!(
-            "contact.damping = \"{}\" is not exported to LIGGGHTS: its `model hertz` damping \
-             is derived from coefficientRestitution by its own formula, which is none of \
-             dembound's damping models (docs/export-liggghts.md); exported: \"none\" (elastic), \
-             or export to LAMMPS",
-            model.damping.kind().row().name
-        ));
-    }
-    if let Some(f) = &setup.friction {
-        let mut surfaces: Vec<(String, (f64, f64))> = (0..setup.materials.len())
-            .map(|m| {
-                (
-                    format!("material \"{}\"", setup.materials[m].name),
-                    f.of_material(m),
-                )
-            })
-            .collect();
-        for (w, wall) in setup.walls.iter().enumerate() {
-            let m = match wall {
-                WallSetup::Plane(p) => p.material,
-                WallSetup::Mesh(m) => m.material,
-                _ => continue,
-            };
-            surfaces.push((format!("wall[{w}]"), f.of_wall(w, m)));
-        }
-        if let Some((who, (mu, mu_r))) = surfaces
-            .iter()
-            .find(|(_, (mu, mu_r))| *mu != 0.0 || *mu_r != 0.0)
-        {
-            return refuse(format!(
-                "contact.friction: {who} has friction {mu} (rolling {mu_r}); scenes are exported \
-                 to LIGGGHTS frictionless only so far (its `tangential history` has not been \
-                 checked against dembound's tangential model); set every friction to 0 or \
-                 export to LAMMPS"
-            ));
-        }
-    }
+    let contact = crate::liggghts_contact::plan(setup)?;
+    let words = contact.model_words();
+    let settings = contact.settings();
     if setup.spheres.iter().any(|s| s.fixed) {
         return refuse(
             "fixed spheres (`fixed = true` or a `boundary_particles` wall) are not exported to \
@@ -162,15 +128,13 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     ));
                 };
                 used[p.material] = true;
+                let t = contact.wall_types[w].unwrap_or(p.material) + 1;
                 wall_lines.push(format!(
-                    "# wall[{w}]: the plane {} = {} of material \"{}\" (type {})\n\
-                     fix          wall{w} all wall/gran model hertz tangential no_history \
-                     primitive type {} {} {}",
+                    "# wall[{w}]: the plane {} = {} of material \"{}\" (type {t})\n\
+                     fix          wall{w} all wall/gran {words} primitive type {t} {} {}{settings}",
                     ["x", "y", "z"][axis],
                     num(p.point[axis]),
                     setup.materials[p.material].name,
-                    p.material + 1,
-                    p.material + 1,
                     axis_name[axis],
                     num(p.point[axis])
                 ));
@@ -187,17 +151,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     name: name.clone(),
                     text: ascii_stl(&format!("wall{w}"), &g.vertices, &g.triangles),
                 });
+                let t = contact.wall_types[w].unwrap_or(m.material) + 1;
                 wall_lines.push(format!(
                     "# wall[{w}]: the mesh {} ({} triangles after cleaning), placed by dembound\n\
-                     # (scale, rotate, translate applied) and written to {name}; material \"{}\" (type {})\n\
-                     fix          mesh{w} all mesh/surface file {name} type {}\n\
-                     fix          wall{w} all wall/gran model hertz tangential no_history \
-                     mesh n_meshes 1 meshes mesh{w}",
+                     # (scale, rotate, translate applied) and written to {name}; material \"{}\" (type {t})\n\
+                     fix          mesh{w} all mesh/surface file {name} type {t}\n\
+                     fix          wall{w} all wall/gran {words} mesh n_meshes 1 meshes mesh{w}{settings}",
                     m.file_name(),
                     g.triangles.len(),
                     setup.materials[m.material].name,
-                    m.material + 1,
-                    m.material + 1
                 ));
             }
             other => {
@@ -251,7 +213,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             hi[k] += pad;
         }
     }
-    let n_types = setup.materials.len();
+    let n_types = contact.n_types();
     let mut data = String::new();
     writeln!(
         data,
@@ -304,9 +266,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          # spheres: {} in {DATA_FILE}, ids in dembound's input order; atom type k = material k (dembound's order).\n\
          # Hertz: LIGGGHTS mixes Y* = 1/((1-nu_i^2)/Y_i + (1-nu_j^2)/Y_j) and uses F = 4/3 Y* sqrt(R* d) d,\n\
          # which is dembound's eq 6 E_eff = 4/3 Y*: each type keeps its material's own E and nu, walls too.\n\
-         # Elastic: coefficientRestitution 1 makes LIGGGHTS's hertz damping zero; friction 0: no tangential force.",
+         {}",
         Code::Liggghts.command(),
-        setup.spheres.len()
+        setup.spheres.len(),
+        if contact.notes.is_empty() {
+            "# Elastic: coefficientRestitution 1 makes LIGGGHTS's hertz damping zero; friction 0: no tangential force."
+                .to_string()
+        } else {
+            contact.notes.join("\n")
+        }
     )
     .ok();
     let boundary: Vec<&str> = d
@@ -324,8 +292,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     )
     .ok();
     let per_type = |f: &dyn Fn(usize) -> f64| -> String {
-        (0..n_types)
-            .map(|k| num(f(k)))
+        contact
+            .type_materials
+            .iter()
+            .map(|&k| num(f(k)))
             .collect::<Vec<_>>()
             .join(" ")
     };
@@ -366,8 +336,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          fix          m4 all property/global coefficientFriction peratomtypepair {n_types} {}",
         per_type(&modulus),
         per_type(&|k| material(k).poisson_ratio),
-        pairs(1.0),
-        pairs(0.0)
+        pairs(contact.restitution),
+        contact.friction_pairs().join(" ")
     )
     .ok();
     let skin = setup.neighbour.skin.unwrap_or_else(|| {
@@ -379,7 +349,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     });
     writeln!(
         x,
-        "\npair_style   gran model hertz tangential no_history\npair_coeff   * *\n\
+        "\npair_style   gran {words}{settings}\npair_coeff   * *\n\
          neighbor     {} bin\nneigh_modify delay 0\ntimestep     {}\n",
         num(skin),
         num(dt)
@@ -402,6 +372,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         )
         .ok();
     }
+    // With friction the spheres spin: the dump carries ω too.
+    let (spin_note, spin_columns, spin_format) = if contact.friction.is_some() {
+        (
+            " (omega in rad/s)",
+            " omegax omegay omegaz",
+            " %.17g %.17g %.17g",
+        )
+    } else {
+        ("", "", "")
+    };
     writeln!(
         x,
         "\n# {TRAJECTORY_FILE}: sphere 1 every step: time (s), x y z (m), vx vy vz (m/s)\n\
@@ -410,9 +390,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          variable     vx1 equal vx[1]\nvariable     vy1 equal vy[1]\nvariable     vz1 equal vz[1]\n\
          fix          trajectory all print 1 \"${{t}} ${{x1}} ${{y1}} ${{z1}} ${{vx1}} ${{vy1}} ${{vz1}}\" \
          file {TRAJECTORY_FILE} title \"# time_s x_m y_m z_m vx_m_s vy_m_s vz_m_s\" screen no\n\
-         # particles.dump: every sphere at the series cadence\n\
-         dump         spheres all custom {every} particles.dump id type radius x y z vx vy vz\n\
-         dump_modify  spheres format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g\"\n\
+         # particles.dump: every sphere at the series cadence{spin_note}\n\
+         dump         spheres all custom {every} particles.dump id type radius x y z vx vy vz{spin_columns}\n\
+         dump_modify  spheres format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g{spin_format}\"\n\
          thermo_style custom step time ke\n\
          thermo_modify norm no format float %.17g\n\
          thermo       {}\n\
@@ -521,16 +501,86 @@ steps = 10
         assert!(text.starts_with("solid t\n") && text.ends_with("endsolid t\n"));
     }
 
+    /// Damping alone: the exact calibration's e′ (β(e′) = −ξ of the
+    /// clamped law, the same γ) and `limitForce on` on the pair style and
+    /// after each wall's keywords; the formula calibration writes e itself.
+    /// Friction alone: `tangential history`, μ per type pair mixed as
+    /// √(μ_a μ_b), a wall with its own μ on a type of its own.
+    #[test]
+    fn damping_and_friction_settings() {
+        use dembound_physics::contact::calibration::damping_ratio_for;
+        let d = exported(&["contact.damping=tsuji", "contact.restitution=0.5"]).expect("exports");
+        let input = &d.files[0].text;
+        let e = crate::liggghts_contact::restitution_of_ratio(damping_ratio_for(0.5, false));
+        assert!(e < 0.5 && e > 0.3, "{e}");
+        assert!(
+            input.contains(&format!(
+                "coefficientRestitution peratomtypepair 2 {} ",
+                num(e)
+            )),
+            "{input}"
+        );
+        assert!(input.contains("pair_style   gran model hertz tangential no_history limitForce on"));
+        assert!(
+            input.contains("primitive type 2 zplane 1e-3 limitForce on"),
+            "{input}"
+        );
+        let d = exported(&[
+            "contact.damping=tsuji",
+            "contact.restitution=0.5",
+            "contact.calibration=formula",
+            "contact.attractive=true",
+        ])
+        .expect("exports");
+        let input = &d.files[0].text;
+        assert!(input.contains("coefficientRestitution peratomtypepair 2 5e-1 "));
+        assert!(!input.contains("limitForce"), "{input}");
+        let d = exported(&["contact.friction=0.4", "wall.1.friction=0.1"]).expect("exports");
+        let input = &d.files[0].text;
+        assert!(input.contains("pair_style   gran model hertz tangential history\n"));
+        // Types: a, b, then wall[1]'s own (material a, μ 0.1); μ 0.4 else.
+        let mixed = num((0.4f64 * 0.1).sqrt());
+        assert!(
+            input.contains(&format!(
+                "coefficientFriction peratomtypepair 3 4e-1 4e-1 {mixed} 4e-1 4e-1 {mixed} {mixed} {mixed} 1e-1"
+            )),
+            "{input}"
+        );
+        assert!(
+            input.contains("youngsModulus peratomtype 1e7 5e7 1e7"),
+            "{input}"
+        );
+        assert!(input.contains("primitive type 3 xplane 1e-2"), "{input}");
+        assert!(input.contains("primitive type 2 zplane 1e-3"), "{input}");
+        assert!(input.contains("omegax omegay omegaz"));
+        assert!(d.files[1].text.contains("\n3 atom types\n"));
+    }
+
     #[test]
     fn refusals_name_the_key() {
         for (sets, key) in [
             (vec!["integration.scheme=gear5"], "integration.scheme"),
             (vec!["contact.law=linear"], "contact.law"),
             (
-                vec!["contact.damping=tsuji", "contact.restitution=0.5"],
+                vec!["contact.damping=tsuji", "contact.damping_coefficient=0.5"],
+                "contact.damping_coefficient",
+            ),
+            (
+                vec![
+                    "contact.damping=tsuji",
+                    "contact.restitution=0.5",
+                    "contact.friction=0.2",
+                ],
                 "contact.damping",
             ),
-            (vec!["contact.friction=0.2"], "contact.friction"),
+            (
+                vec!["contact.friction=0.2", "contact.rolling_friction=0.1"],
+                "contact.rolling_friction",
+            ),
+            (
+                vec!["contact.friction=0.2", "contact.tangential=linear"],
+                "contact.tangential",
+            ),
             (vec!["wall.1.plane.normal=[-1.0,0.0,0.1]"], "wall[1].plane"),
             (vec!["wall.0.material=rigid"], "rigid"),
         ] {

@@ -1,0 +1,318 @@
+//! Damping and friction of a scene as LIGGGHTS 3.8 `model hertz
+//! tangential history` settings (docs/export-liggghts.md, "Damping and
+//! friction"), or a refusal naming the key where LIGGGHTS would compute
+//! another law.
+//!
+//! What is the same formula in both codes (LIGGGHTS `normal_model_hertz.h`,
+//! `tangential_model_history.h`, `surface_model_default.h`,
+//! `global_properties.cpp`; dembound `contact::damping::tsuji`,
+//! `contact::tangential`):
+//! - Damping. LIGGGHTS: F_d = −2 √(5/6) β √(S_n m*) v_n, S_n = 2 Y* √(R* δ),
+//!   β = ln e/√(ln² e + π²) from `coefficientRestitution` e. dembound's
+//!   Tsuji: F_d = γ h^(1/4) ḣ with γ = √5 ξ √(k m*), k = E_eff √R_eff =
+//!   (4/3) Y* √R*: then γ h^(1/4) = 2 √(5/6) ξ √(S_n m*), the same force for
+//!   ξ = −β. dembound's ξ is −β(e) itself with `calibration = "formula"` or
+//!   with `attractive = true` (`Tsuji::new` takes the formula branch), so e
+//!   is written as it is; with the default exact calibration of the
+//!   clamped law ξ is the clamped oscillator's ratio
+//!   ([`damping_ratio_for`]) and the deck gets the e′ whose β is −ξ,
+//!   e′ = exp(−π ξ/√(1 − ξ²)) (the inverse of β(e)). The clamp
+//!   F_n = max(F_n, 0) of a non-attractive model is LIGGGHTS's
+//!   `limitForce on`.
+//! - Tangential spring: k_t = 8 G* √(R* δ) in both (`St = 8 Geff sqrtval`),
+//!   G* = 1/(2(2 − ν_i)(1 + ν_i)/Y_i + 2(2 − ν_j)(1 + ν_j)/Y_j) in both
+//!   (`createGeff`), force −k_t δ on the stored displacement.
+//! - Coulomb: sliding when k_t |δ| > μ |F_n| (F_n after the clamp); the
+//!   spring cut back to μ |F_n|/k_t along itself, the force μ |F_n|, no
+//!   dashpot: the same in both.
+//! - Tangential dashpot while sticking: LIGGGHTS γ_t = −2 √(5/6) β
+//!   √(S_t m*); dembound η_t = η_n √(k_t/S_n), the same number (but see
+//!   the refusal below: the two cap it differently).
+//! - μ per type pair: dembound's √(μ_a μ_b) written per pair.
+//!
+//! What differs, and is exported anyway (the deck's header says so):
+//! 1. The lever arm. LIGGGHTS takes R − δ/2 from each centre, in the slip
+//!    velocity and in the torque of F_t; dembound the undeformed R
+//!    (`contact::model`). Relative size δ/(2R) of the spin terms. In gross
+//!    sliding along a fixed direction F_t is μ |F_n| in both and the
+//!    trajectory is the same; only the spin change differs, by
+//!    ∫ (δ/2) μ F_n dt/I.
+//! 2. The spring's rotation: LIGGGHTS projects δ onto the new tangent plane,
+//!    dembound also restores its length (second order in the turn per
+//!    step; none on a flat wall).
+//!
+//! Refused: damping together with friction. dembound caps spring +
+//! dashpot at μ |F_n| while sticking; LIGGGHTS does not cap its sticking
+//! branch, and near a contact's onset the dashpot γ_t v_t (∝ δ^(1/4), like
+//! the normal dashpot that sets μ |F_n| there) exceeds the limit by the
+//! ratio of the slip to the approach speed over μ: measured on the test's
+//! oblique impact (v_t/v_n = 3, μ = 0.3, e = 0.5) LIGGGHTS's sphere leaves
+//! with 12 % more spin and 6 % of the throw speed apart. LIGGGHTS's
+//! `tangential_damping off` removes its dashpot; dembound has no such
+//! switch (its dashpot follows the normal damping), so no setting of either
+//! code gives the other's law. Also refused: rolling friction (LIGGGHTS 3.8's `epsd2` takes k_r = k_t R*²,
+//! no dashpot, no rotation of its history; dembound's epsd2 k_r = 2.25
+//! (F_n/h) μ_r² R_eff² with a dashpot: a different law, and `cdt` is a
+//! constant torque), the linear tangential spring (LIGGGHTS's `hertz`
+//! gives k_t = 8 G* √(R* δ) only), damping models other than Tsuji and a
+//! damping given as a raw coefficient (γ/√(5 k m*) then depends on the
+//! pair's mass, LIGGGHTS takes one e per type pair).
+
+use crate::{num, Error, Result};
+use dembound_physics::contact::calibration::damping_ratio_for;
+use dembound_physics::contact::tangential::{mix_friction, TangentialKind};
+use dembound_physics::contact::{Calibration, DampingKind, Dissipation};
+use dembound_scene::setup::{SceneSetup, WallSetup};
+
+/// The contact settings of a LIGGGHTS scene deck.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ContactPlan {
+    /// `coefficientRestitution` of every type pair.
+    pub restitution: f64,
+    /// `limitForce on` (dembound's clamp F_n ≥ 0 with damping).
+    pub limit_force: bool,
+    /// With friction: μ of each atom type (0-based), `tangential history`.
+    pub friction: Option<Vec<f64>>,
+    /// Atom type (0-based) of each wall in file order (None: not a plane
+    /// or mesh); a wall whose μ differs from its material's gets a type of
+    /// its own after the materials' (its material's E and ν).
+    pub wall_types: Vec<Option<usize>>,
+    /// The material of each type (materials first, then the walls' own).
+    pub type_materials: Vec<usize>,
+    /// Header lines of the deck saying what was mapped.
+    pub notes: Vec<String>,
+}
+
+impl ContactPlan {
+    /// `tangential history` with friction, else `no_history`.
+    pub fn tangential(&self) -> &'static str {
+        if self.friction.is_some() {
+            "history"
+        } else {
+            "no_history"
+        }
+    }
+
+    /// The model words of `pair_style gran` and `fix wall/gran`.
+    pub fn model_words(&self) -> String {
+        format!("model hertz tangential {}", self.tangential())
+    }
+
+    /// The model settings, after the models in `pair_style gran` and at the
+    /// end of `fix wall/gran` (which reads its own keywords first): empty or
+    /// ` limitForce on`.
+    pub fn settings(&self) -> &'static str {
+        if self.limit_force {
+            " limitForce on"
+        } else {
+            ""
+        }
+    }
+
+    /// Number of atom types.
+    pub fn n_types(&self) -> usize {
+        self.type_materials.len()
+    }
+
+    /// `coefficientFriction peratomtypepair` values, row-major.
+    pub fn friction_pairs(&self) -> Vec<String> {
+        let n = self.n_types();
+        let mut v = Vec::with_capacity(n * n);
+        for i in 0..n {
+            for j in 0..n {
+                v.push(num(match &self.friction {
+                    Some(mu) => mix_friction(mu[i], mu[j]),
+                    None => 0.0,
+                }));
+            }
+        }
+        v
+    }
+}
+
+/// e whose β = ln e/√(ln² e + π²) is −ξ (0 ≤ ξ < 1).
+pub(crate) fn restitution_of_ratio(xi: f64) -> f64 {
+    (-std::f64::consts::PI * xi / (1.0 - xi * xi).sqrt()).exp()
+}
+
+/// The damping and friction of `setup` as LIGGGHTS settings, or a refusal
+/// naming the key.
+pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
+    let refuse = |s: String| Err(Error::Export(s));
+    let model = &setup.contact;
+    let mut notes = Vec::new();
+    let (restitution, limit_force) = match (model.damping.kind(), model.damping.dissipation()) {
+        (DampingKind::None, _) | (_, None) => (1.0, false),
+        (DampingKind::Tsuji, Some(Dissipation::Restitution(e))) => {
+            let exact_clamped = model.calibration == Calibration::Exact && !model.attractive;
+            let written = if exact_clamped {
+                let xi = damping_ratio_for(e, false);
+                if !(xi.is_finite() && (0.0..1.0).contains(&xi)) {
+                    return refuse(format!(
+                        "contact.restitution = {e} with calibration = \"exact\" needs the \
+                         damping ratio xi = {xi} of the clamped law, which LIGGGHTS's \
+                         beta = ln e/sqrt(ln^2 e + pi^2) (|beta| < 1) cannot give; use \
+                         contact.calibration = \"formula\" or a larger restitution"
+                    ));
+                }
+                notes.push(format!(
+                    "# Damping: dembound's Tsuji gamma = xi sqrt(5 k m*), xi = {} (exact calibration of the clamped law for e = {}),\n\
+                     # is LIGGGHTS's hertz damping for beta = -xi, i.e. coefficientRestitution e' = exp(-pi xi/sqrt(1 - xi^2)) = {}.",
+                    num(xi),
+                    num(e),
+                    num(restitution_of_ratio(xi))
+                ));
+                restitution_of_ratio(xi)
+            } else {
+                notes.push(format!(
+                    "# Damping: dembound's Tsuji with the published mapping (xi = -beta(e)) is LIGGGHTS's hertz damping for the same e = {}.",
+                    num(e)
+                ));
+                e
+            };
+            if !model.attractive {
+                notes.push(
+                    "# limitForce on: dembound's clamp F_n = max(F_n, 0) (contact.attractive = false)."
+                        .into(),
+                );
+            }
+            (written, !model.attractive)
+        }
+        (DampingKind::Tsuji, Some(Dissipation::Coefficient(g))) => {
+            return refuse(format!(
+                "contact.damping_coefficient = {g} is not exported to LIGGGHTS: its hertz \
+                 damping takes one coefficientRestitution per type pair, and a fixed gamma \
+                 corresponds to a different e for every pair mass; give contact.restitution"
+            ))
+        }
+        (kind, _) => {
+            return refuse(format!(
+                "contact.damping = \"{}\" is not exported to LIGGGHTS: its `model hertz` damping \
+                 is the Tsuji form gamma h^(1/4) dh/dt (dembound's \"tsuji\"), which this model is \
+                 not; exported: \"none\" and \"tsuji\" with contact.restitution",
+                kind.row().name
+            ))
+        }
+    };
+    let n_materials = setup.materials.len();
+    let mut type_materials: Vec<usize> = (0..n_materials).collect();
+    let mut wall_types: Vec<Option<usize>> = setup
+        .walls
+        .iter()
+        .map(|w| match w {
+            WallSetup::Plane(p) => Some(p.material),
+            WallSetup::Mesh(m) => Some(m.material),
+            _ => None,
+        })
+        .collect();
+    let friction = match &setup.friction {
+        None => None,
+        Some(f) => {
+            let mut surfaces: Vec<(String, (f64, f64))> = (0..n_materials)
+                .map(|m| {
+                    (
+                        format!("material \"{}\"", setup.materials[m].name),
+                        f.of_material(m),
+                    )
+                })
+                .collect();
+            for (w, t) in wall_types.iter().enumerate() {
+                if let Some(m) = *t {
+                    surfaces.push((format!("wall[{w}]"), f.of_wall(w, m)));
+                }
+            }
+            if let Some((who, (_, mu_r))) = surfaces.iter().find(|(_, (_, r))| *r != 0.0) {
+                let key = if f.model.rolling_friction != 0.0 {
+                    "contact.rolling_friction".to_string()
+                } else {
+                    format!("rolling_friction of {who}")
+                };
+                return refuse(format!(
+                    "{key} = {mu_r} is not exported to LIGGGHTS: its rolling models are other \
+                     laws (3.8's epsd2 takes k_r = k_t R*^2 with no dashpot, dembound's epsd2 \
+                     k_r = 2.25 (F_n/h) mu_r^2 R_eff^2 with a dashpot; cdt is a constant \
+                     torque); set every rolling friction to 0 or export to LAMMPS"
+                ));
+            }
+            if surfaces.iter().all(|(_, (mu, _))| *mu == 0.0) {
+                None
+            } else {
+                if f.model.tangential != TangentialKind::Mindlin {
+                    return refuse(format!(
+                        "contact.tangential = \"{}\" is not exported to LIGGGHTS: its `model \
+                         hertz tangential history` has the Mindlin spring k_t = 8 G* sqrt(R* d) \
+                         only; use contact.tangential = \"mindlin\"",
+                        f.model.tangential.row().name
+                    ));
+                }
+                if limit_force || restitution != 1.0 {
+                    return refuse(format!(
+                        "contact.damping = \"{}\" with friction (contact.friction = {}) is not \
+                         exported to LIGGGHTS: while a contact sticks LIGGGHTS adds the tangential \
+                         dashpot to the spring without the Coulomb cap that dembound applies, so \
+                         near every contact's onset LIGGGHTS's tangential force exceeds mu |F_n| \
+                         (measured: an oblique impact leaves with 12 % more spin); export damping \
+                         without friction (--set contact.friction=0) or friction without damping \
+                         (--set contact.damping=none)",
+                        model.damping.kind().row().name,
+                        f.model.friction
+                    ));
+                }
+                let mut mu: Vec<f64> = (0..n_materials).map(|m| f.of_material(m).0).collect();
+                for (w, t) in wall_types.iter_mut().enumerate() {
+                    if let Some(m) = *t {
+                        let own = f.of_wall(w, m).0;
+                        if own != mu[m] {
+                            *t = Some(type_materials.len());
+                            type_materials.push(m);
+                            mu.push(own);
+                        }
+                    }
+                }
+                notes.push(
+                    "# Friction: tangential history = dembound's Mindlin spring k_t = 8 G* sqrt(R* d) with the Coulomb cut,\n\
+                     # no damping; mu per type pair = sqrt(mu_a mu_b) as dembound mixes. Differences kept: the lever arm\n\
+                     # (LIGGGHTS R - d/2, dembound R; relative d/2R in the spin terms), the spring's length on a turning normal."
+                        .into(),
+                );
+                Some(mu)
+            }
+        }
+    };
+    if let Some(mu) = &friction {
+        for (t, m) in type_materials.iter().enumerate().skip(n_materials) {
+            notes.push(format!(
+                "# type {}: material \"{}\" of a wall with its own friction {}",
+                t + 1,
+                setup.materials[*m].name,
+                num(mu[t])
+            ));
+        }
+    }
+    Ok(ContactPlan {
+        restitution,
+        limit_force,
+        friction,
+        wall_types,
+        type_materials,
+        notes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dembound_physics::contact::calibration::tsuji_beta;
+
+    /// e′ inverts β(e): β(e′) = −ξ to round-off over the range of ξ.
+    #[test]
+    fn restitution_of_ratio_inverts_the_liggghts_beta() {
+        for xi in [0.0, 1e-6, 0.05, 0.2, 0.5, 0.9, 0.99] {
+            let e = restitution_of_ratio(xi);
+            let beta = e.ln() / (e.ln().powi(2) + std::f64::consts::PI.powi(2)).sqrt();
+            assert!((beta + xi).abs() < 1e-15, "xi {xi}: beta {beta}");
+            assert!((tsuji_beta(e) + xi).abs() < 1e-15, "xi {xi}");
+        }
+        assert_eq!(restitution_of_ratio(0.0), 1.0);
+    }
+}
