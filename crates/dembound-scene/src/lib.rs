@@ -32,6 +32,7 @@ pub mod sources;
 pub mod time_step;
 pub mod wall_study;
 pub mod walls;
+pub mod benchmarks;
 
 pub use dynamics::collisions::{Collision, Partner};
 pub use energy_guard::EnergyBalance;
