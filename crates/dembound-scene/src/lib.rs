@@ -14,6 +14,7 @@
 //! - [`io`]: the scene file, VTK snapshots, the time series, checkpoints.
 
 pub mod balance;
+pub mod benchmarks;
 pub mod bodies;
 pub mod comm;
 pub mod dynamics;
@@ -32,7 +33,6 @@ pub mod sources;
 pub mod time_step;
 pub mod wall_study;
 pub mod walls;
-pub mod benchmarks;
 
 pub use dynamics::collisions::{Collision, Partner};
 pub use energy_guard::EnergyBalance;

@@ -32,6 +32,15 @@ const ASSUMED: &str = "assumed: not found in a source; E and ρ scale out of the
 const SLIDING_BAND: f64 = 1e-6;
 /// Margin over the sliding threshold for the closed-form checks.
 const MARGIN: f64 = 1.3;
+/// Two spheres: the line of centres turns while they slide past each
+/// other, by φ ≈ v_cp T_c/(R₁ + R₂) (≈ 7e-3 rad at 85°: 2 mm on 0.3 m),
+/// while the rigid-body theory and the plane keep the normal fixed; the
+/// turn mixes normal and tangential components by sin φ, so the
+/// deviations are of order φ times the ratio of the components. 1e-3
+/// (a seventh of φ at the largest angle); measured 3.7e-5 against the
+/// closed form and 3.6e-4 against the plane (the recoil tangent, ≈ 18.7
+/// at 85°), at T_c/4000 and T_c/20,000 alike: geometry, not integration.
+const TURNING_BAND: f64 = 1e-3;
 
 fn contact(e: f64) -> ContactModel {
     if e < 1.0 {
@@ -110,7 +119,8 @@ fn worst_against(ours: &[(f64, f64)], published: &[(f64, f64)]) -> (f64, usize) 
 
 fn angles(quick: bool) -> Vec<f64> {
     if quick {
-        vec![10.0, 25.0, 60.0]
+        // One sticking, one near the minimum, two sliding (Tests 4, 6, 8).
+        vec![10.0, 25.0, 60.0, 80.0]
     } else {
         (1..=17).map(|k| 5.0 * k as f64).collect()
     }
@@ -124,7 +134,11 @@ pub(super) fn test4(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
     let mut et_curves = Vec::new();
     let mut w_curves = Vec::new();
     let mut a_curves = Vec::new();
-    let materials: Vec<Named> = if quick { vec![oxide] } else { vec![oxide, alloy] };
+    let materials: Vec<Named> = if quick {
+        vec![oxide]
+    } else {
+        vec![oxide, alloy]
+    };
     for (g, m) in materials.iter().enumerate() {
         let (mut et_pts, mut w_pts, mut a_pts) = (Vec::new(), Vec::new(), Vec::new());
         let mut worst_slide = 0.0f64;
@@ -144,11 +158,16 @@ pub(super) fn test4(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
                 let e_run = vz / vn;
                 let et_cf = 1.0 - mu * (1.0 + e_run) / th.tan();
                 let w_cf = -2.5 * mu * (1.0 + e_run) * vn / r;
-                worst_slide = worst_slide.max((et - et_cf).abs()).max((spin - w_cf).abs() * r / vt);
+                worst_slide = worst_slide
+                    .max((et - et_cf).abs())
+                    .max((spin - w_cf).abs() * r / vt);
             }
         }
         checks.push(Check::new(
-            format!("{}: sliding angles, largest |Δe_t|, |RΔω'|/v_t from the closed form", m.name),
+            format!(
+                "{}: sliding angles, largest |Δe_t|, |RΔω'|/v_t from the closed form",
+                m.name
+            ),
             "1",
             worst_slide,
             0.0,
@@ -160,7 +179,11 @@ pub(super) fn test4(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
             // 0.01 of them in the paper).
             let bands = [(0.03, "1"), (30.0, "rad/s"), (2.0, "degree")];
             for ((what, pts, published), (band, unit)) in [
-                ("e_t = v_t'/v_t", &et_pts, &digitised::T4_TANGENTIAL_RESTITUTION[..]),
+                (
+                    "e_t = v_t'/v_t",
+                    &et_pts,
+                    &digitised::T4_TANGENTIAL_RESTITUTION[..],
+                ),
                 ("ω'", &w_pts, &digitised::T4_SPIN[..]),
                 ("rebound angle", &a_pts, &digitised::T4_REBOUND_ANGLE[..]),
             ]
@@ -178,27 +201,80 @@ pub(super) fn test4(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
                 ));
             }
         }
-        et_curves.push(Curve::new(format!("ours: {}", m.name), et_pts, Style::Ours, g));
-        w_curves.push(Curve::new(format!("ours: {}", m.name), w_pts, Style::Ours, g));
-        a_curves.push(Curve::new(format!("ours: {}", m.name), a_pts, Style::Ours, g));
+        et_curves.push(Curve::new(
+            format!("ours: {}", m.name),
+            et_pts,
+            Style::Ours,
+            g,
+        ));
+        w_curves.push(Curve::new(
+            format!("ours: {}", m.name),
+            w_pts,
+            Style::Ours,
+            g,
+        ));
+        a_curves.push(Curve::new(
+            format!("ours: {}", m.name),
+            a_pts,
+            Style::Ours,
+            g,
+        ));
     }
     // The closed forms over the sliding range, with the target e.
     let th0 = (MARGIN * 3.5 * mu * (1.0 + e)).atan().to_degrees();
-    let sl: Vec<f64> = (0..=40).map(|k| th0 + (89.0 - th0) * k as f64 / 40.0).collect();
+    let sl: Vec<f64> = (0..=40)
+        .map(|k| th0 + (89.0 - th0) * k as f64 / 40.0)
+        .collect();
     let t = |d: f64| d.to_radians();
-    et_curves.push(Curve::new("closed form (sliding)", sl.iter().map(|&d| (d, 1.0 - mu * (1.0 + e) / t(d).tan())).collect(), Style::ClosedForm, 7));
-    w_curves.push(Curve::new("closed form (sliding)", sl.iter().map(|&d| (d, -2.5 * mu * (1.0 + e) * v * t(d).cos() / r)).collect(), Style::ClosedForm, 7));
-    a_curves.push(Curve::new(
+    et_curves.push(Curve::new(
         "closed form (sliding)",
         sl.iter()
-            .map(|&d| (d, ((t(d).tan() - 3.5 * mu * (1.0 + e)) / e).atan().to_degrees()))
+            .map(|&d| (d, 1.0 - mu * (1.0 + e) / t(d).tan()))
             .collect(),
         Style::ClosedForm,
         7,
     ));
-    et_curves.push(Curve::new("paper (digitised)", digitised::T4_TANGENTIAL_RESTITUTION.to_vec(), Style::Published, 6));
-    w_curves.push(Curve::new("paper (digitised)", digitised::T4_SPIN.to_vec(), Style::Published, 6));
-    a_curves.push(Curve::new("paper (digitised)", digitised::T4_REBOUND_ANGLE.to_vec(), Style::Published, 6));
+    w_curves.push(Curve::new(
+        "closed form (sliding)",
+        sl.iter()
+            .map(|&d| (d, -2.5 * mu * (1.0 + e) * v * t(d).cos() / r))
+            .collect(),
+        Style::ClosedForm,
+        7,
+    ));
+    a_curves.push(Curve::new(
+        "closed form (sliding)",
+        sl.iter()
+            .map(|&d| {
+                (
+                    d,
+                    ((t(d).tan() - 3.5 * mu * (1.0 + e)) / e)
+                        .atan()
+                        .to_degrees(),
+                )
+            })
+            .collect(),
+        Style::ClosedForm,
+        7,
+    ));
+    et_curves.push(Curve::new(
+        "paper (digitised)",
+        digitised::T4_TANGENTIAL_RESTITUTION.to_vec(),
+        Style::Published,
+        6,
+    ));
+    w_curves.push(Curve::new(
+        "paper (digitised)",
+        digitised::T4_SPIN.to_vec(),
+        Style::Published,
+        6,
+    ));
+    a_curves.push(Curve::new(
+        "paper (digitised)",
+        digitised::T4_REBOUND_ANGLE.to_vec(),
+        Style::Published,
+        6,
+    ));
     let plot = |stem: &str, title: &str, y: &str, curves| Plot {
         stem: stem.into(),
         title: title.into(),
@@ -241,7 +317,11 @@ pub(super) fn test5(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
     };
     let mut checks = Vec::new();
     let (mut c1, mut c2) = (Vec::new(), Vec::new());
-    let materials: Vec<Named> = if quick { vec![steel] } else { vec![steel, poly] };
+    let materials: Vec<Named> = if quick {
+        vec![steel]
+    } else {
+        vec![steel, poly]
+    };
     for (g, m) in materials.iter().enumerate() {
         let (mut p1, mut p2) = (Vec::new(), Vec::new());
         let mut worst_slide = 0.0f64;
@@ -257,12 +337,17 @@ pub(super) fn test5(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
                 let e_run = vz / vn;
                 let cf1 = (x - 3.5 * (1.0 + e_run)) / e_run;
                 let cf2 = -2.5 * (1.0 + e_run);
-                worst_slide = worst_slide.max((recoil - cf1).abs()).max((spin - cf2).abs());
+                worst_slide = worst_slide
+                    .max((recoil - cf1).abs())
+                    .max((spin - cf2).abs());
             }
         }
         if !quick || g == 0 {
             checks.push(Check::new(
-                format!("{}: sliding, largest |Δψ₂|, |Δ(Rω'/μv_n)| from the closed form", m.name),
+                format!(
+                    "{}: sliding, largest |Δψ₂|, |Δ(Rω'/μv_n)| from the closed form",
+                    m.name
+                ),
                 "1",
                 worst_slide,
                 0.0,
@@ -290,10 +375,30 @@ pub(super) fn test5(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
         c2.push(Curve::new(format!("ours: {}", m.name), p2, Style::Ours, g));
     }
     let x0 = MARGIN * 3.5 * (1.0 + e);
-    c1.push(Curve::new("closed form (sliding)", vec![(x0, x0 - 7.0), (14.0, 7.0)], Style::ClosedForm, 7));
-    c2.push(Curve::new("closed form (sliding)", vec![(x0, -5.0), (20.0, -5.0)], Style::ClosedForm, 7));
-    c1.push(Curve::new("paper: steel (digitised)", digitised::T5_RECOIL_STEEL.to_vec(), Style::Published, 6));
-    c2.push(Curve::new("paper: steel (digitised)", digitised::T5_SPIN_STEEL.to_vec(), Style::Published, 6));
+    c1.push(Curve::new(
+        "closed form (sliding)",
+        vec![(x0, x0 - 7.0), (14.0, 7.0)],
+        Style::ClosedForm,
+        7,
+    ));
+    c2.push(Curve::new(
+        "closed form (sliding)",
+        vec![(x0, -5.0), (20.0, -5.0)],
+        Style::ClosedForm,
+        7,
+    ));
+    c1.push(Curve::new(
+        "paper: steel (digitised)",
+        digitised::T5_RECOIL_STEEL.to_vec(),
+        Style::Published,
+        6,
+    ));
+    c2.push(Curve::new(
+        "paper: steel (digitised)",
+        digitised::T5_SPIN_STEEL.to_vec(),
+        Style::Published,
+        6,
+    ));
     let x_label = "incident slip ψ₁ = v_t/(μ v_n) (1)".to_string();
     Ok(Outcome {
         name: "chung-ooi-5",
@@ -307,7 +412,8 @@ pub(super) fn test5(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
         ],
         notes: vec![
             "The normalised results depend only on ν (and e, μ): E, ρ, R and v_n scale out of the Hertz–Mindlin equations. The ν of steel (0.30) and polyethylene (0.40) are assumed, not taken from the paper.".into(),
-            "Band 0.3 against the digitised curve (5 % of the ψ₂ range −3…6): the paper's codes differ by up to this in the micro-slip region ψ₁ ≈ 2–6.".into(),
+            "Band 0.3 against the digitised curve (5 % of the ψ₂ range −3…6).".into(),
+            "FAIL below the sliding threshold, investigated: the sliding branch matches the closed form to round-off, and in the sticking range ours keeps the sign of the contact point's velocity (ψ₂ ≈ +0.66 at ψ₁ = 1) where the digitised Test 5 curve reverses it (ψ₂ = −0.75). The digitised Test 5 curve contradicts the paper's own Test 4 curve at the same dimensionless incidence: Test 4 at 5° (ψ₁ = tan 5°/0.092 = 0.95, ν = 0.23, e = 0.98, nearly Test 5's problem) has a rebound angle of +3.76°, i.e. ψ₂ = tan 3.76°/0.092 = +0.71, and ours agrees with Test 4 there (within 1.2°). So either Test 5's figure uses another normalisation (Maw et al.'s ψ with the factor 2(1 − ν)/(2 − ν)) or its digitisation's sign; we could not check the paper itself. The spin differs by up to 1.1 in the same range (ours closer to the rigid rolling value (5/7) ψ₁).".into(),
         ],
         checks,
         plots: vec![
@@ -415,11 +521,18 @@ pub(super) fn test6(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
     let (r, vn, mu, e) = (0.1, 0.2, 0.4, 0.5);
     let mut checks = Vec::new();
     let (mut c1, mut c2) = (Vec::new(), Vec::new());
-    let materials: Vec<Named> = if quick { vec![alloy] } else { vec![alloy, nylon] };
+    let materials: Vec<Named> = if quick {
+        vec![alloy]
+    } else {
+        vec![alloy, nylon]
+    };
     for (g, m) in materials.iter().enumerate() {
         let (b1, b2, worst, _) = spinning(m, None, r, vn, mu, e, quick, progress, "chung-ooi-6")?;
         checks.push(Check::new(
-            format!("{}: sliding, largest |Δv_cp'|/v_cp from the closed form", m.name),
+            format!(
+                "{}: sliding, largest |Δv_cp'|/v_cp from the closed form",
+                m.name
+            ),
             "1",
             worst,
             0.0,
@@ -446,10 +559,33 @@ pub(super) fn test6(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
         c2.push(Curve::new(format!("ours: {}", m.name), b2, Style::Ours, g));
     }
     let lim = 3.5 * mu * (1.0 + e);
-    c1.push(Curve::new("closed form (sliding)", vec![(0.0, -1.0), (1.0 / MARGIN, 1.0 / MARGIN - 1.0)], Style::ClosedForm, 7));
-    c2.push(Curve::new("closed form (sliding)", vec![(MARGIN * lim, (MARGIN * lim - lim) / e), (12.0, (12.0 - lim) / e)], Style::ClosedForm, 7));
-    c1.push(Curve::new("paper: Al alloy (digitised)", digitised::T6_BETA_ALLOY.to_vec(), Style::Published, 6));
-    c2.push(Curve::new("paper: Al alloy (digitised)", digitised::T6_RECOIL_ALLOY.to_vec(), Style::Published, 6));
+    c1.push(Curve::new(
+        "closed form (sliding)",
+        vec![(0.0, -1.0), (1.0 / MARGIN, 1.0 / MARGIN - 1.0)],
+        Style::ClosedForm,
+        7,
+    ));
+    c2.push(Curve::new(
+        "closed form (sliding)",
+        vec![
+            (MARGIN * lim, (MARGIN * lim - lim) / e),
+            (12.0, (12.0 - lim) / e),
+        ],
+        Style::ClosedForm,
+        7,
+    ));
+    c1.push(Curve::new(
+        "paper: Al alloy (digitised)",
+        digitised::T6_BETA_ALLOY.to_vec(),
+        Style::Published,
+        6,
+    ));
+    c2.push(Curve::new(
+        "paper: Al alloy (digitised)",
+        digitised::T6_RECOIL_ALLOY.to_vec(),
+        Style::Published,
+        6,
+    ));
     Ok(Outcome {
         name: "chung-ooi-6",
         title: "Impact of a spinning sphere on a rigid plane",
@@ -463,6 +599,7 @@ pub(super) fn test6(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
         notes: vec![
             "Bands against the digitised curves: 0.05 in β (5 % of its range) and 0.15 in the recoil tangent (the digitised curve's kink at v_cp/v_n ≈ 2 makes linear interpolation uncertain there).".into(),
             "The normalised results depend on ν, e and μ only; nylon's E and ρ are assumed.".into(),
+            "FAIL in β for small incident slip (3.5 μ (1 + e) v_n/v_cp > 3), investigated: the sliding side matches the closed form to round-off and the paper within 0.02; for small slip the contact sticks and the tangential spring reverses the contact point's velocity, which our model damps (the tangential dashpot of LIGGGHTS's Hertz–Mindlin, η_t with the normal damping ratio, at e = 0.5) and whose spring force is −k_t(h) δ (total form: stored tangential energy is lost as k_t falls during unloading, unlike Mindlin–Deresiewicz's incremental unloading). Ours tends to β = −0.04, the paper's curve to −0.34. This is the model, not the integration: the result is converged in Δt (T_c/4000 and T_c/20,000 agree to 1e-4).".into(),
         ],
         checks,
         plots: vec![
@@ -491,7 +628,11 @@ pub(super) fn test7(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
     let (r, vn, mu, e) = (0.1, 0.2, 0.4, 0.5);
     let mut checks = Vec::new();
     let (mut c1, mut c2) = (Vec::new(), Vec::new());
-    let materials: Vec<Named> = if quick { vec![alloy] } else { vec![alloy, copper] };
+    let materials: Vec<Named> = if quick {
+        vec![alloy]
+    } else {
+        vec![alloy, copper]
+    };
     for (g, m) in materials.iter().enumerate() {
         let (mut p1, mut p2) = (Vec::new(), Vec::new());
         let (mut worst_v, mut worst_w) = (0.0f64, 0.0f64);
@@ -499,10 +640,21 @@ pub(super) fn test7(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
             progress(&format!("chung-ooi-7: {} at {deg}°", m.name));
             let w0 = vn / r * deg.to_radians().tan();
             let h = hertz_impact(body(m, r), body(m, r), 2.0 * vn);
-            let dt = HERTZ_CONTACT_TIME_FACTOR * h.max_overlap / (2.0 * vn) / steps_per_contact(quick);
+            let dt =
+                HERTZ_CONTACT_TIME_FACTOR * h.max_overlap / (2.0 * vn) / steps_per_contact(quick);
             let out = Impact {
-                ball: Ball { material: m.material, radius: r, velocity: [vn, 0.0, 0.0], spin: [0.0, w0, 0.0] },
-                target: Target::Ball(Ball { material: m.material, radius: r, velocity: [-vn, 0.0, 0.0], spin: [0.0, -w0, 0.0] }),
+                ball: Ball {
+                    material: m.material,
+                    radius: r,
+                    velocity: [vn, 0.0, 0.0],
+                    spin: [0.0, w0, 0.0],
+                },
+                target: Target::Ball(Ball {
+                    material: m.material,
+                    radius: r,
+                    velocity: [-vn, 0.0, 0.0],
+                    spin: [0.0, -w0, 0.0],
+                }),
                 contact: contact(e),
                 friction: Some(mu),
                 dt,
@@ -517,13 +669,32 @@ pub(super) fn test7(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
             worst_v = worst_v.max(vt.abs() / vn);
             worst_w = worst_w.max((w / w0 - 1.0).abs());
         }
-        checks.push(Check::new(format!("{}: largest |v_t'|/v_n", m.name), "1", worst_v, 0.0, Band::Absolute(1e-9), "symmetry: no slip, no tangential force"));
-        checks.push(Check::new(format!("{}: largest |ω'/ω − 1|", m.name), "1", worst_w, 0.0, Band::Absolute(1e-9), "symmetry: no slip, no tangential force"));
+        checks.push(Check::new(
+            format!("{}: largest |v_t'|/v_n", m.name),
+            "1",
+            worst_v,
+            0.0,
+            Band::Absolute(1e-9),
+            "symmetry: no slip, no tangential force",
+        ));
+        checks.push(Check::new(
+            format!("{}: largest |ω'/ω − 1|", m.name),
+            "1",
+            worst_w,
+            0.0,
+            Band::Absolute(1e-9),
+            "symmetry: no slip, no tangential force",
+        ));
         c1.push(Curve::new(format!("ours: {}", m.name), p1, Style::Ours, g));
         c2.push(Curve::new(format!("ours: {}", m.name), p2, Style::Ours, g));
     }
     let wmax = vn / r * 85f64.to_radians().tan();
-    c2.push(Curve::new("published: ω' = ω", vec![(0.0, 0.0), (wmax, wmax)], Style::ClosedForm, 7));
+    c2.push(Curve::new(
+        "published: ω' = ω",
+        vec![(0.0, 0.0), (wmax, wmax)],
+        Style::ClosedForm,
+        7,
+    ));
     Ok(Outcome {
         name: "chung-ooi-7",
         title: "Impact of two identical spinning spheres",
@@ -562,12 +733,67 @@ pub(super) fn test7(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
 pub(super) fn test8(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, SceneError> {
     let alloy = named("aluminium alloy", 7.0e10, 0.33, 2700.0, YADE4);
     let (r, vn, mu, e) = (0.1, 0.2, 0.4, 0.5);
-    let (b1, b2, worst, momentum) = spinning(&alloy, Some(&alloy), r, vn, mu, e, quick, progress, "chung-ooi-8")?;
-    let (p1, p2, _, _) = spinning(&alloy, None, r, vn, mu, e, quick, progress, "chung-ooi-8 (plane)")?;
+    let (b1, b2, worst, momentum) = spinning(
+        &alloy,
+        Some(&alloy),
+        r,
+        vn,
+        mu,
+        e,
+        quick,
+        progress,
+        "chung-ooi-8",
+    )?;
+    let (p1, p2, _, _) = spinning(
+        &alloy,
+        None,
+        r,
+        vn,
+        mu,
+        e,
+        quick,
+        progress,
+        "chung-ooi-8 (plane)",
+    )?;
     let lim = 3.5 * mu * (1.0 + e);
+    // Like Test 6 point by point: for two spheres of one material the
+    // dimensionless contact equations are the plane's (module doc of
+    // Test 8's notes), so β and the recoil agree up to the turning normal.
+    let same = b1
+        .iter()
+        .zip(&p1)
+        .chain(b2.iter().zip(&p2))
+        .map(|(a, b)| (a.1 - b.1).abs() / b.1.abs().max(1.0))
+        .fold(0.0f64, f64::max);
     let checks = vec![
-        Check::new("sliding, largest |Δv_cp'|/v_cp from the closed form", "1", worst, 0.0, Band::Absolute(SLIDING_BAND), "rigid-body sliding limit for two spheres (closed_form.rs)"),
-        Check::new("largest relative error of the linear momentum", "1", momentum, 0.0, Band::Absolute(1e-12), "conservation (equal and opposite contact forces)"),
+        Check::new(
+            "sliding, largest |Δv_cp'|/v_cp from the closed form",
+            "1",
+            worst,
+            0.0,
+            Band::Absolute(TURNING_BAND),
+            "rigid-body sliding limit for two spheres (closed_form.rs)",
+        ),
+        Check::new(
+            "largest |sphere − plane| in β and v_cp'/v_n' (relative beyond 1)",
+            "1",
+            same,
+            0.0,
+            // Quick (T_c/200): each run's own first-order integration error
+            // in the sticking regime (about 1e-3, Test 4's e_t moving by
+            // 7e-5 from T_c/2000 to T_c/20,000) adds to the turn; measured
+            // 3.2e-3.
+            Band::Absolute(if quick { 5e-3 } else { TURNING_BAND }),
+            "Test 6 run here: the same dimensionless equations",
+        ),
+        Check::new(
+            "largest relative error of the linear momentum",
+            "1",
+            momentum,
+            0.0,
+            Band::Absolute(1e-12),
+            "conservation (equal and opposite contact forces; round-off)",
+        ),
     ];
     Ok(Outcome {
         name: "chung-ooi-8",
@@ -579,7 +805,8 @@ pub(super) fn test8(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Sce
             format!("Hertz + Tsuji damping (e exact), Mindlin spring; Δt = T_c/{}", steps_per_contact(quick)),
         ],
         notes: vec![
-            "The sliding limit of two free spheres equals the sphere–plane one (closed_form.rs: Δs = −(7/2) μ (1 + e) v_n for any masses and radii), so the curves meet Test 6's where the contact slides; below the threshold they differ by the compliance of the second sphere.".into(),
+            "The sliding limit of two free spheres equals the sphere–plane one (closed_form.rs: Δs = −(7/2) μ (1 + e) v_n for any masses and radii). More: for two spheres of one material the whole dimensionless problem is the rigid plane's, since the tangential-to-normal mass ratio is 2/7 for both (m_t = 1/Σ(1/m + R²/I) = m*/3.5) and G*/E* is the same ((1 − ν)/(2(2 − ν)) · … for like materials and for a rigid plane), so Test 8's curves must equal Test 6's everywhere, up to the turning line of centres. Kratos's digitised Test 8 \"case A\" lies on Test 6 up to 3.5 μ (1 + e) v_n/v_cp ≈ 6, consistent with this.".into(),
+            "The second sphere's size and material in the paper were not found in a source; R₂ = 2R of the same alloy is our choice, which the equality above makes immaterial for like materials.".into(),
         ],
         checks,
         plots: vec![

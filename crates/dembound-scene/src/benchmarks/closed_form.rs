@@ -128,8 +128,13 @@ mod tests {
         // = (2/5) Γ(2/5) Γ(1/2)/Γ(9/10); Γ(0.4) = 2.218159543757688,
         // Γ(0.9) = 1.068628702119319 (Abramowitz & Stegun table 6.1):
         // 0.4 × 2.218159543757688 × √π/1.068628702119319.
-        let exact = 0.4 * 2.218_159_543_757_688 * std::f64::consts::PI.sqrt() / 1.068_628_702_119_319;
-        assert!((hertz_time_integral() - exact).abs() < 1e-12, "{}", hertz_time_integral());
+        let exact =
+            0.4 * 2.218_159_543_757_688 * std::f64::consts::PI.sqrt() / 1.068_628_702_119_319;
+        assert!(
+            (hertz_time_integral() - exact).abs() < 1e-12,
+            "{}",
+            hertz_time_integral()
+        );
     }
 
     #[test]
@@ -146,7 +151,11 @@ mod tests {
         let e_star: f64 = 4.8e10 / (2.0 * (1.0 - 0.04));
         let (m, r) = (0.5 * glass.mass, 0.005);
         let johnson = 2.868 * (m * m / (r * e_star * e_star * 20.0)).powf(0.2);
-        assert!((h.duration / johnson - 1.0).abs() < 1e-3, "{} vs {johnson}", h.duration);
+        assert!(
+            (h.duration / johnson - 1.0).abs() < 1e-3,
+            "{} vs {johnson}",
+            h.duration
+        );
         // Energy: the work of the Hertz force to h_max is ½ m* v².
         let work = 0.4 * h.max_force * h.max_overlap;
         assert!((work / (0.5 * m * 400.0) - 1.0).abs() < 1e-12);

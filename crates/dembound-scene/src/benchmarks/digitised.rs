@@ -148,7 +148,8 @@ pub const T6_RECOIL_ALLOY: [(f64, f64); 17] = [
 pub fn interpolate(curve: &[(f64, f64)], x: f64) -> Option<f64> {
     curve.windows(2).find_map(|w| {
         let ((x0, y0), (x1, y1)) = (w[0], w[1]);
-        (x >= x0.min(x1) && x <= x0.max(x1) && x1 != x0).then(|| y0 + (y1 - y0) * (x - x0) / (x1 - x0))
+        (x >= x0.min(x1) && x <= x0.max(x1) && x1 != x0)
+            .then(|| y0 + (y1 - y0) * (x - x0) / (x1 - x0))
     })
 }
 

@@ -62,17 +62,19 @@ pub struct Outcome {
     /// Contacts in the log (1 for one clean impact).
     pub contacts: usize,
     pub steps: u64,
+    /// (overlap m, normal force N) at every step in contact, when asked for.
+    pub history: Vec<(f64, f64)>,
 }
 
 impl Impact {
     fn setup(&self) -> SceneSetup {
         let r = self.ball.radius;
         let gap = 3.0 * self.dt * self.approach_speed;
-        let (reach, first, second) = match self.target {
-            Target::Plane(_) => (4.0 * r, [0.0, 0.0, r + gap], None),
+        let (reach, first) = match self.target {
+            Target::Plane(_) => (4.0 * r, [0.0, 0.0, r + gap]),
             Target::Ball(b) => {
                 let d = r + b.radius + gap;
-                (4.0 * (r + b.radius), [-d, 0.0, 0.0], Some(b))
+                (4.0 * (r + b.radius), [-d, 0.0, 0.0])
             }
         };
         let mut s = SceneSetup::new(
@@ -124,7 +126,6 @@ impl Impact {
                 });
             }
         }
-        let _ = second;
         s.friction = self.friction.map(|mu| {
             FrictionSetup::uniform(FrictionModel {
                 tangential: TangentialKind::Mindlin,
@@ -139,6 +140,13 @@ impl Impact {
     /// Runs the impact until the log holds the contact and the bodies
     /// move apart (at most 10 contact times past the approach).
     pub fn run(&self) -> Result<Outcome, SceneError> {
+        self.run_recording(false)
+    }
+
+    /// [`Self::run`], with the force–overlap history of a frictionless
+    /// impact when `record` (one step at a time: the force on the first
+    /// ball is then the contact force).
+    pub fn run_recording(&self, record: bool) -> Result<Outcome, SceneError> {
         let mut sim = Simulation::new(self.setup(), 1)?;
         if self.friction.is_some() {
             sim.set_angular_velocity(0, self.ball.spin);
@@ -147,23 +155,52 @@ impl Impact {
             }
         }
         let max_steps = (10.0 * self.contact_time / self.dt) as u64 + 100;
-        let chunk = ((0.02 * self.contact_time / self.dt) as u64).max(1);
+        let chunk = if record {
+            1
+        } else {
+            ((0.02 * self.contact_time / self.dt) as u64).max(1)
+        };
+        let reach = self.ball.radius
+            + match self.target {
+                Target::Ball(b) => b.radius,
+                Target::Plane(_) => 0.0,
+            };
+        let mut history = Vec::new();
         let mut done = 0;
         loop {
             sim.step_checked(chunk)?;
             done += chunk;
+            if record {
+                let p = sim.positions();
+                let overlap = match self.target {
+                    Target::Plane(_) => reach - p[0][2],
+                    Target::Ball(_) => {
+                        reach
+                            - (0..3)
+                                .map(|k| (p[1][k] - p[0][k]).powi(2))
+                                .sum::<f64>()
+                                .sqrt()
+                    }
+                };
+                if overlap > 0.0 {
+                    let f = sim.forces()[0];
+                    history.push((overlap, (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt()));
+                }
+            }
             let ended = !sim.collisions().is_empty();
             let apart = match self.target {
                 Target::Plane(_) => sim.wall_contacts() == 0 && sim.velocities()[0][2] > 0.0,
                 Target::Ball(_) => {
                     let v = sim.velocities();
                     let p = sim.positions();
-                    let rel: f64 = (0..3).map(|k| (p[1][k] - p[0][k]) * (v[1][k] - v[0][k])).sum();
-                    let dist: f64 = (0..3).map(|k| (p[1][k] - p[0][k]).powi(2)).sum::<f64>().sqrt();
-                    rel > 0.0 && dist > self.ball.radius + match self.target {
-                        Target::Ball(b) => b.radius,
-                        Target::Plane(_) => 0.0,
-                    }
+                    let rel: f64 = (0..3)
+                        .map(|k| (p[1][k] - p[0][k]) * (v[1][k] - v[0][k]))
+                        .sum();
+                    let dist: f64 = (0..3)
+                        .map(|k| (p[1][k] - p[0][k]).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    rel > 0.0 && dist > reach
                 }
             };
             if ended && apart {
@@ -188,6 +225,7 @@ impl Impact {
             max_force: log.iter().map(|c| c.max_normal_force).fold(0.0, f64::max),
             contacts: log.len(),
             steps: done,
+            history,
         })
     }
 }

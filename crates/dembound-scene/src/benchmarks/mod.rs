@@ -7,9 +7,9 @@
 //! Every parameter and every published number carries its source in the
 //! benchmark's `parameters` and `notes`, which the report prints.
 
-pub mod closed_form;
 mod chung_ooi;
 mod chung_ooi_oblique;
+pub mod closed_form;
 mod digitised;
 pub mod impact;
 
@@ -92,7 +92,12 @@ pub struct Curve {
 }
 
 impl Curve {
-    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: Style, group: usize) -> Self {
+    pub fn new(
+        label: impl Into<String>,
+        points: Vec<(f64, f64)>,
+        style: Style,
+        group: usize,
+    ) -> Self {
         Self {
             label: label.into(),
             points,
@@ -140,14 +145,46 @@ type Runner = fn(bool, &dyn Fn(&str)) -> Result<Outcome, SceneError>;
 
 /// The benchmarks: name, one-line title, runner.
 const BENCHMARKS: [(&str, &str, Runner); 8] = [
-    ("chung-ooi-1", "Elastic normal impact of two identical spheres", chung_ooi::test1),
-    ("chung-ooi-2", "Elastic normal impact of a sphere with a rigid plane", chung_ooi::test2),
-    ("chung-ooi-3", "Normal impact with different restitution coefficients", chung_ooi::test3),
-    ("chung-ooi-4", "Oblique impact on a rigid plane: constant speed, varying incident angle", chung_ooi_oblique::test4),
-    ("chung-ooi-5", "Oblique impact on a rigid plane: constant normal, varying tangential velocity", chung_ooi_oblique::test5),
-    ("chung-ooi-6", "Impact of a spinning sphere on a rigid plane", chung_ooi_oblique::test6),
-    ("chung-ooi-7", "Impact of two identical spinning spheres", chung_ooi_oblique::test7),
-    ("chung-ooi-8", "Impact of a spinning sphere on a different sphere", chung_ooi_oblique::test8),
+    (
+        "chung-ooi-1",
+        "Elastic normal impact of two identical spheres",
+        chung_ooi::test1,
+    ),
+    (
+        "chung-ooi-2",
+        "Elastic normal impact of a sphere with a rigid plane",
+        chung_ooi::test2,
+    ),
+    (
+        "chung-ooi-3",
+        "Normal impact with different restitution coefficients",
+        chung_ooi::test3,
+    ),
+    (
+        "chung-ooi-4",
+        "Oblique impact on a rigid plane: constant speed, varying incident angle",
+        chung_ooi_oblique::test4,
+    ),
+    (
+        "chung-ooi-5",
+        "Oblique impact on a rigid plane: constant normal, varying tangential velocity",
+        chung_ooi_oblique::test5,
+    ),
+    (
+        "chung-ooi-6",
+        "Impact of a spinning sphere on a rigid plane",
+        chung_ooi_oblique::test6,
+    ),
+    (
+        "chung-ooi-7",
+        "Impact of two identical spinning spheres",
+        chung_ooi_oblique::test7,
+    ),
+    (
+        "chung-ooi-8",
+        "Impact of a spinning sphere on a different sphere",
+        chung_ooi_oblique::test8,
+    ),
 ];
 
 /// Every benchmark's name, in the report's order.
@@ -194,6 +231,9 @@ mod tests {
     #[test]
     fn an_unknown_name_is_refused_with_the_list() {
         let e = run("nope", true, &|_| {}).unwrap_err().to_string();
-        assert!(e.contains("nope") && e.contains("chung-ooi-1") && e.contains("chung-ooi-8"), "{e}");
+        assert!(
+            e.contains("nope") && e.contains("chung-ooi-1") && e.contains("chung-ooi-8"),
+            "{e}"
+        );
     }
 }
