@@ -3,6 +3,7 @@
 //! Exit codes: 0 success, 1 a run that failed, 2 bad input (including
 //! clap's usage errors). Errors go to stderr as `error: …`.
 
+pub mod benchmarks;
 pub mod compare;
 pub mod exact;
 pub mod export;
@@ -75,6 +76,9 @@ enum Command {
     /// dembound's Δt, a per-step trace); a scene file (LAMMPS, LIGGGHTS) as
     /// a data file and a deck
     Export(export::ExportArgs),
+    /// The validation suite: classic benchmarks with published numbers
+    /// (Chung & Ooi 2011 Tests 1–8), a report with verdicts and figures
+    Benchmarks(benchmarks::BenchmarksArgs),
     /// Read the trace an exported deck wrote and print its h_max, T_c,
     /// v_r, e beside dembound's and the exact reference
     Compare(compare::CompareArgs),
@@ -147,6 +151,7 @@ pub fn dispatch(cli: &Cli) -> CliResult {
         Command::WallStudy(args) => wall_study::run(args),
         Command::Export(args) => export::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Benchmarks(args) => benchmarks::run(args),
     }
 }
 

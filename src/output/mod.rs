@@ -5,6 +5,7 @@ pub mod boundary;
 pub mod files;
 pub mod format;
 pub mod history;
+pub mod html;
 pub mod interrupt;
 pub mod observer;
 pub mod progress;

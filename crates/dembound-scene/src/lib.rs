@@ -14,6 +14,7 @@
 //! - [`io`]: the scene file, VTK snapshots, the time series, checkpoints.
 
 pub mod balance;
+pub mod benchmarks;
 pub mod bodies;
 pub mod comm;
 pub mod dynamics;

@@ -4,10 +4,10 @@
 //! `report.html` and `paper.json`.
 //!
 //! What is computed is [`dembound_core::study::paper`]; here: the command,
-//! the files and the rendering (`figures`, `markdown`, `html`).
+//! the files and the rendering (`figures`, `markdown`; the HTML through
+//! `output::html`).
 
 mod figures;
-mod html;
 mod markdown;
 
 use super::{CliError, CliResult};
@@ -77,7 +77,12 @@ pub fn run(args: &PaperArgs) -> CliResult {
         &restitution_figs,
         compute_seconds,
     );
-    let html = html::report_html(&md, &staging).map_err(CliError::failed)?;
+    let html = crate::output::html::report_html(
+        &md,
+        &staging,
+        "dembound: reproduction of Jasevičius &amp; Kačianauskas (2007)",
+    )
+    .map_err(CliError::failed)?;
     out.write("report.md", |w| Ok(w.write_all(md.as_bytes())?))
         .map_err(CliError::failed)?;
     out.write("report.html", |w| Ok(w.write_all(html.as_bytes())?))

@@ -1,5 +1,6 @@
-//! `report.html`: the Markdown report as one self-contained HTML file
-//! (pulldown-cmark, every PNG embedded as base64).
+//! `report.html`: a Markdown report as one self-contained HTML file
+//! (pulldown-cmark, every PNG embedded as base64), for `paper` and
+//! `benchmarks`.
 
 use anyhow::{anyhow, Result};
 use base64::engine::general_purpose::STANDARD as BASE64;
@@ -7,7 +8,7 @@ use base64::Engine as _;
 use std::path::Path;
 
 /// The report as one HTML file, every PNG embedded.
-pub(super) fn report_html(markdown: &str, dir: &Path) -> Result<String> {
+pub fn report_html(markdown: &str, dir: &Path, page_title: &str) -> Result<String> {
     use pulldown_cmark::{html, Event, Options, Parser, Tag};
     let parser = Parser::new_ext(markdown, Options::ENABLE_TABLES);
     let mut failed = None;
@@ -48,7 +49,7 @@ pub(super) fn report_html(markdown: &str, dir: &Path) -> Result<String> {
     html::push_html(&mut body, events.into_iter());
     Ok(format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>dembound: reproduction of Jasevičius &amp; Kačianauskas (2007)</title>\n<style>\n\
+         <title>{page_title}</title>\n<style>\n\
          body {{ font-family: sans-serif; max-width: 1100px; margin: 2em auto; padding: 0 1em; line-height: 1.45; }}\n\
          table {{ border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }}\n\
          th, td {{ border: 1px solid #bbb; padding: 0.25em 0.5em; }}\n\

@@ -1,0 +1,116 @@
+//! The validation suite's quick versions (`dembound benchmarks --quick`,
+//! T_c/200 and a few points per curve): every check within its band, the
+//! bands stated and justified where each check is made
+//! (`src/benchmarks/`). Two comparisons fail in the full runs too, for
+//! reasons the report states (the tangential model in the sticking regime
+//! of Tests 5 and 6): for those the test holds the deviation to what the
+//! full runs measured, so a change of the engine that moves them shows.
+
+use dembound_scene::benchmarks::{names, run};
+
+/// Checks that fail against the paper's digitised curve, with the largest
+/// deviation the full runs measured (`full` below, T_c/20,000, all
+/// points), plus 5 %: the quick runs' points are a subset, so their
+/// deviation cannot exceed it unless the engine changed.
+const KNOWN_FAILURES: [(&str, &str, f64); 3] = [
+    (
+        "chung-ooi-5",
+        "steel: largest |v_cp'/(μ v_n') − paper|",
+        1.519 * 1.05,
+    ),
+    (
+        "chung-ooi-5",
+        "steel: largest |R ω'/(μ v_n) − paper|",
+        1.087 * 1.05,
+    ),
+    (
+        "chung-ooi-6",
+        "aluminium alloy: largest |β = −v_cp'/v_cp − paper|",
+        0.3011 * 1.05,
+    ),
+];
+
+fn quick(name: &str) {
+    let out = run(name, true, &|_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+    for c in &out.checks {
+        let known = KNOWN_FAILURES
+            .iter()
+            .find(|(n, q, _)| *n == name && c.quantity.starts_with(q));
+        match known {
+            Some((_, _, bound)) => assert!(
+                c.ours <= *bound,
+                "{name}: {} = {} beyond the full runs' {bound}",
+                c.quantity,
+                c.ours
+            ),
+            None => assert!(
+                c.passes(),
+                "{name}: {} = {} vs {} ({:?})",
+                c.quantity,
+                c.ours,
+                c.published,
+                c.band
+            ),
+        }
+    }
+    assert!(out
+        .plots
+        .iter()
+        .all(|p| p.curves.iter().any(|c| c.points.len() >= 2)));
+}
+
+#[test]
+fn chung_ooi_1_to_3_normal_impacts() {
+    for n in ["chung-ooi-1", "chung-ooi-2", "chung-ooi-3"] {
+        quick(n);
+    }
+}
+
+#[test]
+fn chung_ooi_4_to_6_oblique_and_spinning_on_a_plane() {
+    for n in ["chung-ooi-4", "chung-ooi-5", "chung-ooi-6"] {
+        quick(n);
+    }
+}
+
+#[test]
+fn chung_ooi_7_and_8_sphere_pairs() {
+    for n in ["chung-ooi-7", "chung-ooi-8"] {
+        quick(n);
+    }
+}
+
+#[test]
+fn names_are_unique_and_unknown_ones_refused() {
+    let mut n = names();
+    let all = n.len();
+    n.sort();
+    n.dedup();
+    assert_eq!(n.len(), all);
+    let e = run("chung-ooi-9", true, &|_| {}).unwrap_err().to_string();
+    assert!(
+        e.contains("chung-ooi-9") && e.contains("chung-ooi-1"),
+        "{e}"
+    );
+}
+
+/// The full runs, printed: `cargo test --release -p dembound-scene --test
+/// benchmarks full -- --ignored --nocapture` (what KNOWN_FAILURES quotes).
+#[test]
+#[ignore]
+fn full() {
+    for name in names() {
+        let out = run(name, false, &|_| {}).unwrap_or_else(|e| panic!("{name}: {e}"));
+        for c in &out.checks {
+            println!(
+                "{name}: {} = {:e} (published {:e}, {:?}) {}",
+                c.quantity,
+                c.ours,
+                c.published,
+                c.band,
+                if c.passes() { "pass" } else { "FAIL" }
+            );
+        }
+        println!("{name}: {:.2} s", out.seconds);
+    }
+}
