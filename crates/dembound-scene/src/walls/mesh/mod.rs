@@ -118,6 +118,7 @@ pub mod clean;
 pub mod contact;
 pub mod geometry;
 pub mod grid;
+pub mod loads;
 pub mod patch;
 pub mod read;
 pub mod transform;
@@ -136,6 +137,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 pub use clean::CleanReport;
+pub use loads::{TriangleForce, TriangleLoads, TriangleLoadsError};
 pub use read::{MeshError, Triangle};
 pub use transform::Transform;
 pub use wall_type::{Mesh, MeshConfig, RotateConfig};
