@@ -35,7 +35,8 @@ pub struct SceneArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
 
-    /// Write the VTK snapshots (snapshot_*.vtp + snapshots.pvd),
+    /// Write the VTK snapshots (snapshot_*.vtp, wall_K_*.vtp of mesh walls
+    /// with their loads per triangle, snapshots.pvd),
     /// series.csv, collisions.csv (with output.collisions), the resolved
     /// scene.toml and checkpoint.cbor into DIR (all or nothing)
     #[arg(long, value_name = "DIR")]
