@@ -143,6 +143,8 @@ mod tests_clean;
 #[cfg(test)]
 mod tests_edges;
 #[cfg(test)]
+mod tests_loads;
+#[cfg(test)]
 mod tests_seam;
 
 use std::path::Path;
