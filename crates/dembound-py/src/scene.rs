@@ -597,7 +597,7 @@ impl Scene {
             let wall = usize::try_from(k).map_err(|_| {
                 Failure::Input(format!("k: wall {k} does not exist (k must be ≥ 0)"))
             })?;
-            self.sim
+            self.running()?
                 .wall_triangle_loads(wall)
                 .map_err(|e| Failure::Input(format!("k: {e}")))
         })?;
