@@ -133,12 +133,19 @@ class Scene:
     def wall_torque_points(self) -> npt.NDArray[np.float64]:
         """Each wall's torque point, (walls, 3) m: a plane's point, a cylinder's
         axis point, the centroid of a boundary-particle wall's spheres."""
+    def wall_triangle_loads(self, k: int) -> dict[str, npt.NDArray[np.float64]]:
+        """Loads of mesh wall ``k`` per triangle of its cleaned mesh (file order,
+        degenerate and duplicate triangles dropped): ``force`` (n, 3) N on the
+        wall, ``pressure`` (n,) Pa = |F·n|/A, ``shear`` (n,) Pa = |F_t|/A,
+        ``area`` (n,) m², ``centroid`` (n, 3) m. ValueError when wall ``k``
+        does not exist or is not a mesh."""
     def observe(self) -> dict[str, Any]:
         """The series.csv row now, keyed by its column names (units in the
         names: ``time_s``, ``kinetic_energy_J``, ``wall0_force_z_N``, …)."""
     @property
     def collisions(self) -> dict[str, np.ndarray]:
         """Completed contacts: ``i``, ``j`` (sphere or -1), ``wall`` (or -1),
+        ``triangle`` (the mesh triangle of a mesh wall contact, or -1),
         ``t_start``, ``t_end``, ``duration`` (s), ``max_overlap`` (m),
         ``max_normal_force`` (N), ``impact_normal_velocity``,
         ``rebound_normal_velocity`` (m/s)."""

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import dembound
@@ -113,3 +114,41 @@ def test_add_mesh_refuses_naming_the_argument(floor, arguments, names):
     for name in names:
         assert name in str(raised.value), str(raised.value)
     assert s.wall_forces.shape == (0, 3)
+
+
+def test_triangle_loads_of_a_sphere_at_rest(floor):
+    """`Scene.wall_triangle_loads` (issue 26): the sphere at rest at
+    (13, 7) mm is over triangle 0 (below the diagonal y = x), which carries
+    its weight m g (force −m g along z on the wall) and the pressure
+    m g / A; triangle 1 carries nothing. A = ½ (0.02 as f32)² m² (the STL
+    stores f32). Tolerance 1e-9 as above (at rest; the rounding is far
+    below, a wrong triangle or factor far above); triangle 1, the shear and
+    the in-plane components are exactly 0 (no contact there; the floor is
+    exactly z = 0 and the force vertical)."""
+    s = scene()
+    with pytest.warns(UserWarning, match="4 open edges"):
+        s.add_mesh(floor)
+    s.add_plane([0.0, 0.0, 0.02], [0.0, 0.0, -1.0])
+    s.step(20000)
+    loads = s.wall_triangle_loads(0)
+    assert set(loads) == {"force", "pressure", "shear", "area", "centroid"}
+    assert loads["force"].shape == (2, 3) and loads["centroid"].shape == (2, 3)
+    assert loads["pressure"].shape == loads["shear"].shape == loads["area"].shape == (2,)
+    weight = RHO * 4.0 / 3.0 * math.pi * R**3 * G
+    side = float(np.float32(0.02))
+    area = 0.5 * side * side
+    assert loads["area"] == pytest.approx([area, area], rel=1e-15)
+    assert loads["force"][0, 2] == pytest.approx(-weight, rel=1e-9)
+    assert (loads["force"][0, :2] == 0.0).all() and (loads["force"][1] == 0.0).all()
+    assert loads["pressure"][0] == pytest.approx(weight / area, rel=1e-9)
+    assert loads["pressure"][1] == 0.0 and (loads["shear"] == 0.0).all()
+    assert loads["centroid"][0] == pytest.approx([2 * side / 3, side / 3, 0.0], rel=1e-15)
+    # The triangles' forces sum to the wall's (one contact: the same bits).
+    assert (loads["force"].sum(axis=0) == s.wall_forces[0]).all()
+    # Refusals: a plane, a wall that does not exist, a negative index.
+    with pytest.raises(ValueError, match="wall 1 is not a triangle mesh"):
+        s.wall_triangle_loads(1)
+    with pytest.raises(ValueError, match="wall 2 does not exist"):
+        s.wall_triangle_loads(2)
+    with pytest.raises(ValueError, match="wall -1 does not exist"):
+        s.wall_triangle_loads(-1)

@@ -10,7 +10,7 @@ use clap::Args;
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, ResolvedScene};
 use dembound_scene::io::series::{boundary_particle, partner_name};
-use dembound_scene::io::{config, series, vtk};
+use dembound_scene::io::{config, series, vtk, vtk_walls};
 use dembound_scene::{Collision, EnergyBalance, Observation, SceneError, Simulation};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -35,7 +35,8 @@ pub struct SceneArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
 
-    /// Write the VTK snapshots (snapshot_*.vtp + snapshots.pvd),
+    /// Write the VTK snapshots (snapshot_*.vtp, wall_K_*.vtp of mesh walls
+    /// with their loads per triangle, snapshots.pvd),
     /// series.csv, collisions.csv (with output.collisions), the resolved
     /// scene.toml and checkpoint.cbor into DIR (all or nothing)
     #[arg(long, value_name = "DIR")]
@@ -123,7 +124,11 @@ pub fn run(args: &SceneArgs) -> CliResult {
         None => None,
     };
     let mut rows: Vec<Observation> = Vec::new();
-    let mut snapshots: Vec<(f64, String)> = Vec::new();
+    // The `.pvd` entries: (time, file, part): part 0 the spheres, K + 1
+    // mesh wall K (its loads per triangle, `vtk_walls`).
+    let mut snapshots: Vec<(f64, String, usize)> = Vec::new();
+    let mut snapshot_count = 0;
+    let mesh_walls = sim.mesh_walls();
     let bar = progress_bar(span, args.quiet);
     // Progress is updated at least every 1/200 of the run.
     let tick = (span / 200).max(1);
@@ -138,8 +143,14 @@ pub fn run(args: &SceneArgs) -> CliResult {
         }
         if let Some(out) = &mut out {
             if (step - start) % every == 0 || step == total {
-                write_snapshot(out, &sim, snapshots.len()).map_err(CliError::failed)?;
-                snapshots.push((sim.time(), vtk::snapshot_name(snapshots.len())));
+                let k = snapshot_count;
+                write_snapshot(out, &sim, k).map_err(CliError::failed)?;
+                snapshots.push((sim.time(), vtk::snapshot_name(k), 0));
+                for &wall in &mesh_walls {
+                    write_wall_snapshot(out, &sim, wall, k).map_err(CliError::failed)?;
+                    snapshots.push((sim.time(), vtk_walls::wall_name(wall, k), wall + 1));
+                }
+                snapshot_count += 1;
             }
         }
         if step >= total {
@@ -184,6 +195,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         wall_forces: last.wall_forces.clone(),
         wall_torques: last.wall_torques.clone(),
         wall_torque_points: sim.wall_torque_points(),
+        wall_triangle_counts: triangle_counts(sim.wall_triangle_counts()),
         wall_clock: stepping,
         wall_clock_total: wall_total,
         particle_steps_per_second: if stepping > 0.0 {
@@ -236,6 +248,30 @@ fn write_snapshot(out: &mut AtomicDir, sim: &Simulation, k: usize) -> anyhow::Re
     })
 }
 
+/// The `wall_triangle_counts` key: `None` (absent) without a mesh wall.
+pub(super) fn triangle_counts(counts: Vec<Option<usize>>) -> Option<Vec<Option<usize>>> {
+    counts.iter().any(Option::is_some).then_some(counts)
+}
+
+/// Mesh wall `wall`'s loads per triangle at snapshot number `k`.
+fn write_wall_snapshot(
+    out: &mut AtomicDir,
+    sim: &Simulation,
+    wall: usize,
+    k: usize,
+) -> anyhow::Result<()> {
+    let loads = sim.wall_triangle_loads(wall)?;
+    out.write(&vtk_walls::wall_name(wall, k), |w| {
+        Ok(vtk_walls::write_wall(
+            w,
+            wall,
+            sim.time(),
+            sim.steps_done(),
+            &loads,
+        )?)
+    })
+}
+
 /// The series, the collision log, the resolved scene and the checkpoint,
 /// then everything renamed into place.
 fn finish_outputs(
@@ -243,17 +279,23 @@ fn finish_outputs(
     resolved: &ResolvedScene,
     sim: &Simulation,
     rows: &[Observation],
-    snapshots: &[(f64, String)],
+    snapshots: &[(f64, String, usize)],
 ) -> CliResult<Vec<PathBuf>> {
     let failed = CliError::failed;
-    out.write("snapshots.pvd", |w| Ok(vtk::write_series(w, snapshots)?))
-        .map_err(failed)?;
+    out.write("snapshots.pvd", |w| {
+        Ok(vtk::write_series_parts(w, snapshots)?)
+    })
+    .map_err(failed)?;
     let walls = resolved.setup.walls.len();
     out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))
         .map_err(failed)?;
     if resolved.file.output.collisions {
         out.write("collisions.csv", |w| {
-            Ok(series::write_collisions(w, sim.collisions())?)
+            Ok(series::write_collisions(
+                w,
+                sim.collisions(),
+                !sim.mesh_walls().is_empty(),
+            )?)
         })
         .map_err(failed)?;
     }
@@ -305,6 +347,11 @@ pub(super) struct Report {
     pub(super) wall_torques: Vec<[f64; 3]>,
     /// The point each wall's torque is taken about (file order), m.
     pub(super) wall_torque_points: Vec<[f64; 3]>,
+    /// Triangles of each wall's cleaned mesh (null for a wall that is not
+    /// a mesh); absent when the scene has no mesh wall. The per-triangle
+    /// loads are in the `wall_K_*.vtp` files, not here.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) wall_triangle_counts: Option<Vec<Option<usize>>>,
     /// Seconds spent stepping (output excluded).
     pub(super) wall_clock: f64,
     /// Seconds of the whole loop, sampling and snapshots included.
@@ -340,6 +387,9 @@ pub(super) struct CollisionRow {
     rebound_spin_i: [f64; 3],
     impact_spin_j: [f64; 3],
     rebound_spin_j: [f64; 3],
+    /// The mesh triangle a wall contact was on (mesh walls only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    triangle: Option<u32>,
 }
 
 impl From<&Collision> for CollisionRow {
@@ -365,6 +415,7 @@ impl From<&Collision> for CollisionRow {
             rebound_spin_i: c.rebound_spin_i,
             impact_spin_j: c.impact_spin_j,
             rebound_spin_j: c.rebound_spin_j,
+            triangle: c.triangle,
         }
     }
 }

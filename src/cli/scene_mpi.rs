@@ -23,7 +23,7 @@ use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, ResolvedScene};
-use dembound_scene::io::{config, series, vtk};
+use dembound_scene::io::{config, series, vtk, vtk_walls};
 use dembound_scene::{Checkpoint, Collision, Observation};
 use serde::Serialize;
 
@@ -175,7 +175,10 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         .series_every
         .unwrap_or((span / 1000).max(1));
     let mut rows: Vec<Observation> = Vec::new();
-    let mut snapshots: Vec<(f64, String)> = Vec::new();
+    // The `.pvd` entries (time, file, part), as `scene.rs`.
+    let mut snapshots: Vec<(f64, String, usize)> = Vec::new();
+    let mut snapshot_count = 0;
+    let mesh_walls = sim.mesh_walls();
     let bar = if rank == 0 {
         progress_bar(span, args.quiet)
     } else {
@@ -196,13 +199,32 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         }
         if args.out.is_some() && ((step - start) % every == 0 || step == total) {
             let state = sim.gather_state();
+            let k = snapshot_count;
+            let time = step as f64 * dt;
             if let (Some(out), Some(state)) = (out.as_mut(), state) {
-                let time = step as f64 * dt;
-                if let Err(e) = write_snapshot(out, &state, step, time, snapshots.len()) {
+                if let Err(e) = write_snapshot(out, &state, step, time, k) {
                     write_failed(e);
                 }
-                snapshots.push((time, vtk::snapshot_name(snapshots.len())));
+                snapshots.push((time, vtk::snapshot_name(k), 0));
             }
+            for &wall in &mesh_walls {
+                // Collective: every rank sends its records, rank 0 writes.
+                let loads = match sim.wall_triangle_loads(wall) {
+                    Ok(loads) => loads,
+                    Err(e) => write_failed(e.into()),
+                };
+                if let (Some(out), Some(loads)) = (out.as_mut(), loads) {
+                    let name = vtk_walls::wall_name(wall, k);
+                    let written = out.write(&name, |w| {
+                        Ok(vtk_walls::write_wall(w, wall, time, step, &loads)?)
+                    });
+                    if let Err(e) = written {
+                        write_failed(e);
+                    }
+                    snapshots.push((time, name, wall + 1));
+                }
+            }
+            snapshot_count += 1;
         }
         if step >= total {
             break;
@@ -273,6 +295,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         wall_forces: last.wall_forces.clone(),
         wall_torques: last.wall_torques.clone(),
         wall_torque_points: sim.wall_torque_points(),
+        wall_triangle_counts: super::scene::triangle_counts(sim.wall_triangle_counts()),
         wall_clock: stepping,
         wall_clock_total: wall_total,
         particle_steps_per_second: if stepping > 0.0 {
@@ -312,7 +335,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
                 &snapshots,
                 &state,
                 saved,
-                log.as_deref(),
+                log.as_deref().map(|l| (l, !mesh_walls.is_empty())),
             ) {
                 Ok(w) => w,
                 Err(e) => write_failed(e),
@@ -398,14 +421,20 @@ fn finish_outputs(
     mut out: AtomicDir,
     resolved: &ResolvedScene,
     rows: &[Observation],
-    snapshots: &[(f64, String)],
+    snapshots: &[(f64, String, usize)],
     state: &GatheredState,
     saved: Option<Checkpoint>,
-    log: Option<&[Collision]>,
+    // The collision log, and whether it has a triangle column (a scene
+    // with a mesh wall).
+    log: Option<(&[Collision], bool)>,
 ) -> anyhow::Result<Vec<std::path::PathBuf>> {
-    out.write("snapshots.pvd", |w| Ok(vtk::write_series(w, snapshots)?))?;
-    if let Some(log) = log {
-        out.write("collisions.csv", |w| Ok(series::write_collisions(w, log)?))?;
+    out.write("snapshots.pvd", |w| {
+        Ok(vtk::write_series_parts(w, snapshots)?)
+    })?;
+    if let Some((log, mesh_walls)) = log {
+        out.write("collisions.csv", |w| {
+            Ok(series::write_collisions(w, log, mesh_walls)?)
+        })?;
     }
     let walls = resolved.setup.walls.len();
     out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))?;

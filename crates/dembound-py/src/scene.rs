@@ -583,6 +583,33 @@ impl Scene {
         rows3(py, self.running()?.wall_torque_points())
     }
 
+    /// The loads of mesh wall `k` (file order, then walls added) per
+    /// triangle of its cleaned mesh (the file's triangles in file order,
+    /// degenerate and duplicate ones dropped), from the forces the last
+    /// force stage applied, each contact given to one triangle (the one
+    /// under the sphere's centre; on a seam, edge or vertex the lowest id
+    /// holding it): a dict of NumPy arrays `force` (n, 3) N (on the wall),
+    /// `pressure` (n,) Pa (|F·n̂|/A), `shear` (n,) Pa (|F − (F·n̂)n̂|/A),
+    /// `area` (n,) m², `centroid` (n, 3) m. ValueError when wall `k` does
+    /// not exist or is not a mesh.
+    fn wall_triangle_loads<'py>(&self, py: Python<'py>, k: i64) -> PyResult<Bound<'py, PyDict>> {
+        let loads = guarded(|| {
+            let wall = usize::try_from(k).map_err(|_| {
+                Failure::Input(format!("k: wall {k} does not exist (k must be ≥ 0)"))
+            })?;
+            self.running()?
+                .wall_triangle_loads(wall)
+                .map_err(|e| Failure::Input(format!("k: {e}")))
+        })?;
+        let out = PyDict::new(py);
+        out.set_item("force", rows3(py, loads.force)?)?;
+        out.set_item("pressure", loads.pressure.into_pyarray(py))?;
+        out.set_item("shear", loads.shear.into_pyarray(py))?;
+        out.set_item("area", loads.area.into_pyarray(py))?;
+        out.set_item("centroid", rows3(py, loads.centroid)?)?;
+        Ok(out)
+    }
+
     /// Energies (J), contact counts, wall forces (N) and torques (N m)
     /// now: the CLI's series.csv row as a dict, keyed by its column names
     /// (units in the names: `time_s`, `kinetic_energy_J`,
@@ -603,7 +630,8 @@ impl Scene {
 
     /// The collision log (completed contacts; needs `output.collisions =
     /// true` in the scene): arrays `i` (sphere), `j` (sphere, or -1),
-    /// `wall` (plane wall index, or -1), `t_start`, `t_end`, `duration`
+    /// `wall` (plane wall index, or -1), `triangle` (the mesh triangle a
+    /// mesh wall contact was on, or -1), `t_start`, `t_end`, `duration`
     /// (s), `max_overlap` (m), `max_normal_force` (N),
     /// `impact_normal_velocity`, `rebound_normal_velocity` (m/s).
     #[getter]
@@ -628,6 +656,10 @@ impl Scene {
                 _ => -1,
             })
             .into_pyarray(py),
+        )?;
+        out.set_item(
+            "triangle",
+            ints(|c| c.triangle.map_or(-1, i64::from)).into_pyarray(py),
         )?;
         let floats =
             |f: fn(&dembound_scene::Collision) -> f64| -> Vec<f64> { log.iter().map(f).collect() };

@@ -18,6 +18,7 @@ mod collisions;
 mod forces;
 mod neighbours;
 pub(crate) mod observe;
+pub(crate) mod triangle_loads;
 mod verlet;
 pub(crate) mod wall_loads;
 

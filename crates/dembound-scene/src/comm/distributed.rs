@@ -71,6 +71,7 @@ mod checkpoint;
 mod observe;
 mod report;
 mod sums;
+mod triangle_loads;
 
 pub use report::{GatheredState, RankReport};
 

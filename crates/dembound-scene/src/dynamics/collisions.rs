@@ -76,6 +76,15 @@ pub struct Collision {
     pub impact_spin_j: [f64; 3],
     #[serde(default)]
     pub rebound_spin_j: [f64; 3],
+    /// Against a triangle-mesh wall: the triangle (cleaned-mesh id) the
+    /// contact was on, named when the contact ended, from the sphere's
+    /// first contact-free position, by the rule of the per-triangle loads
+    /// (`walls::mesh::loads`: the triangle of the contact's patch under
+    /// the centre, or holding the edge or vertex it touched). `None` for
+    /// every other partner (and absent from a saved log then, so logs
+    /// without mesh walls keep their bytes; issue 26).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub triangle: Option<u32>,
 }
 
 /// The tangential motion of a couple at one instant (collision log).

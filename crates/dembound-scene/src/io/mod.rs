@@ -1,5 +1,6 @@
-//! Files: the scene file ([`config`]), VTK snapshots ([`vtk`]), the time
-//! series ([`series`]) and checkpoints ([`checkpoint`]).
+//! Files: the scene file ([`config`]), VTK snapshots ([`vtk`]; the mesh
+//! walls' loads [`vtk_walls`]), the time series ([`series`]) and
+//! checkpoints ([`checkpoint`]).
 
 pub mod checkpoint;
 pub mod config;
@@ -8,3 +9,4 @@ pub mod memory;
 pub mod resolve;
 pub mod series;
 pub mod vtk;
+pub mod vtk_walls;

@@ -99,13 +99,21 @@ pub fn boundary_particle(j: &Partner) -> Option<usize> {
     }
 }
 
-/// Writes the collision log.
-pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()> {
+/// Writes the collision log; with `triangle_column` (a scene with a
+/// triangle-mesh wall) a `triangle` column after `boundary_particle`: the
+/// mesh triangle a wall contact was on ([`Collision::triangle`]), empty for
+/// other partners. Without it the file is as it was before mesh walls.
+pub fn write_collisions(
+    w: &mut dyn Write,
+    log: &[Collision],
+    triangle_column: bool,
+) -> csv::Result<()> {
     let mut out = csv::Writer::from_writer(w);
-    out.write_record([
-        "i",
-        "j",
-        "boundary_particle",
+    let mut header = vec!["i", "j", "boundary_particle"];
+    if triangle_column {
+        header.push("triangle");
+    }
+    header.extend([
         "t_start_s",
         "t_end_s",
         "duration_s",
@@ -127,12 +135,18 @@ pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()>
         "rebound_spin_j_x_rad_s",
         "rebound_spin_j_y_rad_s",
         "rebound_spin_j_z_rad_s",
-    ])?;
+    ]);
+    out.write_record(&header)?;
     for c in log {
         let mut row = vec![
             c.i.to_string(),
             partner_name(&c.j),
             boundary_particle(&c.j).map_or(String::new(), |b| b.to_string()),
+        ];
+        if triangle_column {
+            row.push(c.triangle.map_or(String::new(), |t| t.to_string()));
+        }
+        row.extend([
             format!("{:e}", c.t_start),
             format!("{:e}", c.t_end),
             format!("{:e}", c.duration),
@@ -142,7 +156,7 @@ pub fn write_collisions(w: &mut dyn Write, log: &[Collision]) -> csv::Result<()>
             format!("{:e}", c.rebound_normal_velocity),
             format!("{:e}", c.impact_tangential_velocity),
             format!("{:e}", c.rebound_tangential_velocity),
-        ];
+        ]);
         for v in [
             c.impact_spin_i,
             c.rebound_spin_i,

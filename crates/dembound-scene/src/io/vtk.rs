@@ -34,7 +34,7 @@ pub struct Snapshot<'a> {
     pub angular_velocities: &'a [[f64; 3]],
 }
 
-fn array(
+pub(crate) fn array(
     w: &mut dyn Write,
     name: &str,
     kind: &str,
@@ -56,11 +56,11 @@ fn array(
     )
 }
 
-fn f64s<'a>(values: impl Iterator<Item = &'a f64>) -> Vec<u8> {
+pub(crate) fn f64s<'a>(values: impl Iterator<Item = &'a f64>) -> Vec<u8> {
     values.flat_map(|x| x.to_le_bytes()).collect()
 }
 
-fn vectors(values: &[[f64; 3]]) -> Vec<u8> {
+pub(crate) fn vectors(values: &[[f64; 3]]) -> Vec<u8> {
     f64s(values.iter().flatten())
 }
 
@@ -142,18 +142,27 @@ pub fn write_snapshot(w: &mut dyn Write, s: &Snapshot) -> io::Result<()> {
     writeln!(w, "</VTKFile>")
 }
 
-/// Writes the `.pvd` collection of `(time in s, file name)` entries.
+/// Writes the `.pvd` collection of `(time in s, file name)` entries, all
+/// part 0 (the spheres).
 pub fn write_series(w: &mut dyn Write, entries: &[(f64, String)]) -> io::Result<()> {
+    let parts: Vec<(f64, String, usize)> =
+        entries.iter().map(|(t, f)| (*t, f.clone(), 0)).collect();
+    write_series_parts(w, &parts)
+}
+
+/// Writes the `.pvd` collection of `(time in s, file name, part)` entries
+/// (part 0: the spheres; part K + 1: mesh wall K, `io::vtk_walls`).
+pub fn write_series_parts(w: &mut dyn Write, entries: &[(f64, String, usize)]) -> io::Result<()> {
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     writeln!(
         w,
         "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">"
     )?;
     writeln!(w, "  <Collection>")?;
-    for (t, file) in entries {
+    for (t, file, part) in entries {
         writeln!(
             w,
-            "    <DataSet timestep=\"{t:e}\" group=\"\" part=\"0\" file=\"{file}\"/>"
+            "    <DataSet timestep=\"{t:e}\" group=\"\" part=\"{part}\" file=\"{file}\"/>"
         )?;
     }
     writeln!(w, "  </Collection>")?;

@@ -102,6 +102,7 @@ impl Pipeline {
                     rebound_spin_i: pick(&after, true),
                     impact_spin_j: pick(&before, false),
                     rebound_spin_j: pick(&after, false),
+                    triangle: None,
                 });
             }
         };
@@ -174,6 +175,9 @@ impl Pipeline {
                             rebound_spin_i: after.spin_i,
                             impact_spin_j: [0.0; 3],
                             rebound_spin_j: [0.0; 3],
+                            triangle: surface.mesh().and_then(|m| {
+                                m.triangle_of(key.element, bodies.position[i], bodies.radius[i])
+                            }),
                         });
                     }
                     if h < -world.skin {

@@ -5,7 +5,8 @@
 use super::{Observation, Simulation};
 use crate::energy_guard::EnergyBalance;
 use crate::error::SceneError;
-use crate::pipeline::{observe, Local};
+use crate::pipeline::{observe, triangle_loads, Local};
+use crate::walls::mesh::{TriangleLoads, TriangleLoadsError};
 
 impl Simulation {
     /// [`Self::observe`], checked by the energy guard: an error when the
@@ -93,5 +94,33 @@ impl Simulation {
         &self,
     ) -> crate::dynamics::friction_observables::ContactObservables {
         observe::contact_passes(&self.world, &self.workers)
+    }
+
+    /// The loads of mesh wall `wall` (file order) per triangle of its
+    /// cleaned mesh: the forces the last force stage applied, each contact
+    /// given to one triangle (`walls::mesh::loads`), with pressure and
+    /// shear stress; the same bits on any thread count. An error when
+    /// there is no such wall or it is not a mesh.
+    pub fn wall_triangle_loads(&self, wall: usize) -> Result<TriangleLoads, TriangleLoadsError> {
+        let mesh = triangle_loads::mesh_of(&self.world, wall)?;
+        let records = triangle_loads::triangle_records(&self.world, wall)?;
+        Ok(TriangleLoads::sum(mesh, &triangle_loads::forces(&records)))
+    }
+
+    /// The file indices of the mesh walls, ascending.
+    pub fn mesh_walls(&self) -> Vec<usize> {
+        triangle_loads::mesh_walls(&self.world)
+    }
+
+    /// Triangles of each wall's cleaned mesh (file order; `None` for a
+    /// wall that is not a mesh).
+    pub fn wall_triangle_counts(&self) -> Vec<Option<usize>> {
+        (0..self.world.walls.len())
+            .map(|k| {
+                triangle_loads::mesh_of(&self.world, k)
+                    .ok()
+                    .map(|m| m.triangles.len())
+            })
+            .collect()
     }
 }

@@ -9,7 +9,7 @@ use crate::walls::WallPoint;
 
 /// Patches of at most this many triangles are tested directly, without
 /// the grid (a flat rectangle is 2).
-const SMALL_PATCH: u32 = 8;
+pub(super) const SMALL_PATCH: u32 = 8;
 
 /// A patch's closest point lies on this feature of its boundary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,7 +40,7 @@ impl MeshGeometry {
     /// Signed distance of x from patch p's plane, with
     /// `walls::plane::plane_overlap`'s arithmetic.
     #[inline(always)]
-    fn plane_distance(&self, p: u32, x: [f64; 3]) -> f64 {
+    pub(super) fn plane_distance(&self, p: u32, x: [f64; 3]) -> f64 {
         let q = &self.patches.patches[p as usize];
         let (n, o) = (q.normal, q.point);
         (x[0] - o[0]) * n[0] + (x[1] - o[1]) * n[1] + (x[2] - o[2]) * n[2]
@@ -49,7 +49,7 @@ impl MeshGeometry {
     /// Is x over triangle t (its projection along the patch normal inside,
     /// within the inside tolerance)?
     #[inline(always)]
-    fn over_triangle(&self, t: u32, x: [f64; 3]) -> bool {
+    pub(super) fn over_triangle(&self, t: u32, x: [f64; 3]) -> bool {
         let g = &self.patches.tri[t as usize];
         let e = -self.inside_tolerance;
         dot(g.inward[0], sub(x, g.corner[0])) >= e

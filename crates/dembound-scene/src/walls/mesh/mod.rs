@@ -106,6 +106,18 @@
 //! of large flat faces. One copy per process, shared read-only by its
 //! threads; under MPI every rank holds a copy.
 //!
+//! # Loads per triangle
+//!
+//! The force pass records each contact's load on its element (the
+//! patch); [`loads`] gives each contact to one triangle of that patch
+//! after the step, from the sphere's position (the triangle under the
+//! centre; on a seam, edge or vertex the lowest triangle id holding it)
+//! and sums the forces per triangle in input-id order, so the per-triangle
+//! loads cost nothing in the force pass and have the same bits on any
+//! number of threads and ranks. Pressure |F·n̂|/A and shear
+//! |F − (F·n̂) n̂|/A per triangle; written as `wall_K_NNNNNN.vtp`
+//! (`io::vtk_walls`), offered to Python as NumPy arrays.
+//!
 //! The wall is fixed (surface velocity zero) and every patch is flat
 //! (`Curvature::Flat`, one law row). A [`MeshWall`] holds its geometry
 //! behind an `Arc`: cloning it is cheap, but it cannot be `Copy`, so the
@@ -118,6 +130,7 @@ pub mod clean;
 pub mod contact;
 pub mod geometry;
 pub mod grid;
+pub mod loads;
 pub mod patch;
 pub mod read;
 pub mod transform;
@@ -130,12 +143,15 @@ mod tests_clean;
 #[cfg(test)]
 mod tests_edges;
 #[cfg(test)]
+mod tests_loads;
+#[cfg(test)]
 mod tests_seam;
 
 use std::path::Path;
 use std::sync::Arc;
 
 pub use clean::CleanReport;
+pub use loads::{TriangleForce, TriangleLoads, TriangleLoadsError};
 pub use read::{MeshError, Triangle};
 pub use transform::Transform;
 pub use wall_type::{Mesh, MeshConfig, RotateConfig};
