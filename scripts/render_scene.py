@@ -296,9 +296,10 @@ def points_per_metre(fig, ax, lo, hi):
 
 
 def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, azim=-70.0, title=None,
-           size=(9.0, 6.0), dpi=110, zoom=1.0):
+           size=(9.0, 6.0), dpi=110, zoom=1.0, spheres=True):
     """Draws the chosen snapshot of `run` (a directory or a .pvd) into
-    `out`; returns what it drew: {"time": s, "snapshot": path, "spheres":
+    `out` (without the spheres when `spheres` is false: the walls'
+    pressure seen unhidden); returns what it drew: {"time": s, "snapshot": path, "spheres":
     count, "plain_walls": [wall indices], "pressure_walls": {wall index:
     (min, max) Pa}, "colour_bars": [labels]}."""
     run = Path(run)
@@ -311,6 +312,9 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
             raise InputError(f"{snap_path}: no point array {name!r}")
     x, r = d["points"], d["point"]["radius"]
     speed = np.linalg.norm(d["point"]["velocity"], axis=1)
+    count = len(x)
+    if not spheres:
+        x, r, speed = x[:0], r[:0], speed[:0]
     t = float(d["field"]["TIME"][0]) if "TIME" in d["field"] else t_pvd
 
     plain, loaded, labels = {}, {}, []
@@ -351,7 +355,7 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
         cmap = plt.get_cmap("YlOrRd")
         for tris, p in loaded.values():
             face = cmap(norm(p))
-            face[:, 3] = 0.55
+            face[:, 3] = 0.55 if spheres else 0.95
             ax.add_collection3d(Poly3DCollection(tris, facecolors=face, edgecolors=(0.2, 0.2, 0.25, 0.25),
                                                  linewidths=0.3, zorder=0))
         bar = fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), cax=fig.add_axes((0.05, 0.22, 0.017, 0.5)))
@@ -371,26 +375,28 @@ def render(run, out, index=None, time=None, scene=None, walls=True, elev=30.0, a
     for axis, e in zip((ax.xaxis, ax.yaxis, ax.zaxis), extent):
         axis.set_major_locator(ticker.MaxNLocator(nbins=max(2, min(5, int(round(5 * e / extent.max()))))))
 
-    speed_norm = colors.Normalize(vmin=0.0, vmax=float(speed.max()) if len(x) and speed.max() > 0 else 1.0)
-    bar = fig.colorbar(cm.ScalarMappable(norm=speed_norm, cmap="viridis"), cax=fig.add_axes((0.9, 0.22, 0.017, 0.5)))
-    bar.set_label("speed |v| (m/s)")
-    labels.append(bar.ax.get_ylabel())
-    # Markers of the spheres' true size: area in points² = (2 r × points
-    # per metre)².
-    sizes = (2 * r * points_per_metre(fig, ax, lo, lo + extent)) ** 2
-    ax.scatter(*x.T, s=sizes, c=speed, cmap="viridis", norm=speed_norm, depthshade=True, edgecolors="none",
-               zorder=1)
+    if spheres:
+        speed_norm = colors.Normalize(vmin=0.0, vmax=float(speed.max()) if len(x) and speed.max() > 0 else 1.0)
+        bar = fig.colorbar(cm.ScalarMappable(norm=speed_norm, cmap="viridis"),
+                           cax=fig.add_axes((0.9, 0.22, 0.017, 0.5)))
+        bar.set_label("speed |v| (m/s)")
+        labels.append(bar.ax.get_ylabel())
+        # Markers of the spheres' true size: area in points² = (2 r ×
+        # points per metre)².
+        sizes = (2 * r * points_per_metre(fig, ax, lo, lo + extent)) ** 2
+        ax.scatter(*x.T, s=sizes, c=speed, cmap="viridis", norm=speed_norm, depthshade=True, edgecolors="none",
+                   zorder=1)
 
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
-    ax.set_title(title or f"t = {t:.3f} s: {len(x)} spheres")
+    ax.set_title(title or (f"t = {t:.3f} s: {count} spheres" + ("" if spheres else " (not drawn)")))
     fig.savefig(out, bbox_inches="tight")
     plt.close(fig)
     return {
         "time": t,
         "snapshot": snap_path,
-        "spheres": len(x),
+        "spheres": count,
         "plain_walls": sorted(plain),
         "pressure_walls": {k: (float(np.min(p)), float(np.max(p))) for k, (_, p) in loaded.items() if len(p)},
         "colour_bars": labels,
@@ -406,6 +412,7 @@ def main(argv=None):
     which.add_argument("--time", type=float, help="the snapshot nearest to this time (s)")
     p.add_argument("--scene", help="the scene file naming the mesh walls (default DIR/scene.toml)")
     p.add_argument("--no-walls", action="store_true", help="draw the spheres only")
+    p.add_argument("--no-spheres", action="store_true", help="draw the walls only (their pressure unhidden)")
     p.add_argument("--elev", type=float, default=30.0, help="view elevation (degrees, default 30)")
     p.add_argument("--azim", type=float, default=-70.0, help="view azimuth (degrees, default −70)")
     p.add_argument("--title", help="the figure's title (default: the time and the sphere count)")
@@ -416,7 +423,7 @@ def main(argv=None):
     args = p.parse_args(argv)
     try:
         render(args.run, args.out, args.index, args.time, args.scene, not args.no_walls, args.elev, args.azim,
-               args.title, tuple(args.size), args.dpi, args.zoom)
+               args.title, tuple(args.size), args.dpi, args.zoom, not args.no_spheres)
     except InputError as e:
         print(f"render_scene.py: {e}", file=sys.stderr)
         return 2

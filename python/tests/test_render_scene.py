@@ -189,13 +189,26 @@ def test_a_tiny_mesh_scene_renders_to_a_png(cli, tmp_path):
     assert done.returncode == 0, done.stderr
     assert_png(png)
     # The drawing of the same run, in process: the second snapshot (t =
-    # 200 steps × 5 µs = 1 ms), its 18 spheres and the floor in grey.
+    # 200 steps × 5 µs = 1 ms), its 18 spheres and the floor coloured by
+    # the pressure of its load file (wall_0_*.vtp, written by the run).
     drawn = render_scene.render(tmp_path / "run", tmp_path / "again.png", index=1)
     # The snapshot's TIME: 200 steps of 5 µs, round-off of a few ulp.
     assert math.isclose(drawn["time"], 200 * 5e-6, rel_tol=1e-12)
     assert drawn["spheres"] == 18
-    assert drawn["plain_walls"] == [0] and drawn["pressure_walls"] == {}
-    assert drawn["colour_bars"] == ["speed |v| (m/s)"]
+    assert drawn["plain_walls"] == [] and list(drawn["pressure_walls"]) == [0]
+    low, high = drawn["pressure_walls"][0]
+    assert 0.0 <= low <= high
+    assert drawn["colour_bars"] == ["wall pressure (Pa)", "speed |v| (m/s)"]
+    # Without the load files (--no-walls aside, a scene file alone): grey.
+    for p in (tmp_path / "run").glob("wall_*.vtp"):
+        p.unlink()
+    write_pvd(
+        tmp_path / "run" / "snapshots.pvd",
+        [(0.0, 0, "snapshot_000000.vtp"), (0.001, 0, "snapshot_000001.vtp")],
+    )
+    grey = render_scene.render(tmp_path / "run", tmp_path / "grey.png", index=1)
+    assert grey["plain_walls"] == [0] and grey["pressure_walls"] == {}
+    assert grey["colour_bars"] == ["speed |v| (m/s)"]
 
 
 def test_a_wall_with_a_load_file_is_coloured_by_its_pressure(tmp_path):
@@ -221,6 +234,13 @@ def test_a_wall_with_a_load_file_is_coloured_by_its_pressure(tmp_path):
     )
     assert render_scene.render(run, tmp_path / "by_number.png")["pressure_walls"] == {0: (50.0, 200.0)}
     assert render_scene.render(run, tmp_path / "first_again.png", index=0)["pressure_walls"] == {}
+    # Without the spheres: the same walls and pressures, no speed bar, the
+    # sphere count still reported.
+    bare = render_scene.render(run, tmp_path / "bare.png", time=0.011, spheres=False)
+    assert bare["pressure_walls"] == {0: (50.0, 200.0)} and bare["plain_walls"] == [2]
+    assert bare["colour_bars"] == ["wall pressure (Pa)"]
+    assert bare["spheres"] == drawn["spheres"]
+    assert_png(tmp_path / "bare.png")
 
 
 def test_a_load_file_is_read_back_as_written(tmp_path):
