@@ -258,6 +258,7 @@ impl<T: Transport> DistributedSimulation<T> {
             pair_shear: Vec::new(),
             plane_shear: Vec::new(),
             element_records: Vec::new(),
+            moving_walls: None,
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
