@@ -145,6 +145,8 @@ mod tests_edges;
 #[cfg(test)]
 mod tests_loads;
 #[cfg(test)]
+mod tests_motion;
+#[cfg(test)]
 mod tests_seam;
 
 use std::path::Path;
