@@ -562,7 +562,10 @@ fn a_moving_floor_one_two_three_ranks_and_restart() {
         for key in ["wall_forces", "wall_torques", "wall_contacts"] {
             assert_eq!(j[key], j1[key], "{ranks} ranks: {key}");
         }
-        assert!((work(&j) - work(&j1)).abs() <= 1e-12 * work(&j1), "{ranks} ranks");
+        assert!(
+            (work(&j) - work(&j1)).abs() <= 1e-12 * work(&j1),
+            "{ranks} ranks"
+        );
     }
     let (half, _) = run(2, "2000", &[], "half");
     let cp = half.join("checkpoint.cbor").to_string_lossy().to_string();
@@ -570,6 +573,9 @@ fn a_moving_floor_one_two_three_ranks_and_restart() {
         let (d, j) = run(ranks, "4000", &["--restart", &cp], &format!("r{ranks}"));
         assert_eq!(j["steps_this_run"], 2000);
         assert_eq!(state(&d), s1, "restart on {ranks} ranks");
-        assert!((work(&j) - work(&j1)).abs() <= 1e-12 * work(&j1), "restart on {ranks}");
+        assert!(
+            (work(&j) - work(&j1)).abs() <= 1e-12 * work(&j1),
+            "restart on {ranks}"
+        );
     }
 }

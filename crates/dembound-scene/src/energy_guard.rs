@@ -212,9 +212,12 @@ impl EnergyGuard {
         EnergyBalance {
             total_initial: initial,
             total: match o.work_by_walls {
-                None => o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy,
+                None => {
+                    o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
+                }
                 Some(w) => {
-                    o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy - w
+                    o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
+                        - w
                 }
             },
             work_by_walls: o.work_by_walls,

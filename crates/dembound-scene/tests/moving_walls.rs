@@ -11,15 +11,15 @@ use common::grain;
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 use dembound_physics::material::Material;
+use dembound_scene::setup::Mesh;
 use dembound_scene::setup::{
     Cylinder, DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, Scheme, SphereInit,
     TimeStep, WallSetup,
 };
-use dembound_scene::setup::Mesh;
 use dembound_scene::walls::mesh::Transform;
 use dembound_scene::walls::motion::WallMotion;
-use std::path::Path;
 use dembound_scene::{SceneSetup, Simulation};
+use std::path::Path;
 
 const G: f64 = 9.81;
 const R: f64 = 1.0e-3;
@@ -163,18 +163,33 @@ fn conveyor(scheme: Scheme, floor: WallSetup) {
         (rolling - 2.0 * v_belt / 7.0) / (2.0 * v_belt / 7.0),
         (work - 2.0 / 7.0 * mass() * v_belt * v_belt) / (2.0 / 7.0 * mass() * v_belt * v_belt)
     );
-    assert!((v_half - sliding).abs() <= 1e-4 * sliding, "{v_half} vs {sliding}");
-    assert!((t_end - t_star).abs() <= 1e-4 * t_star, "{t_end} vs {t_star}");
+    assert!(
+        (v_half - sliding).abs() <= 1e-4 * sliding,
+        "{v_half} vs {sliding}"
+    );
+    assert!(
+        (t_end - t_star).abs() <= 1e-4 * t_star,
+        "{t_end} vs {t_star}"
+    );
     let v_roll = 2.0 * v_belt / 7.0;
-    assert!((rolling - v_roll).abs() <= 1e-4 * v_roll, "{rolling} vs {v_roll}");
+    assert!(
+        (rolling - v_roll).abs() <= 1e-4 * v_roll,
+        "{rolling} vs {v_roll}"
+    );
     // The plate's work: μ m g V over the slide (t*), nothing once the
     // sphere rolls: W = μ m g V t* = 2/7 m V² (the sphere keeps 2/35 m V²,
     // friction took 8/35 m V²). The same lags as above.
     let w_closed = 2.0 / 7.0 * mass() * v_belt * v_belt;
-    assert!((work - w_closed).abs() <= 1e-4 * w_closed, "{work} vs {w_closed}");
+    assert!(
+        (work - w_closed).abs() <= 1e-4 * w_closed,
+        "{work} vs {w_closed}"
+    );
     // And the balance closes on it: K + E + P + D − W = E₀.
     let b = sim.energy_balance(&o);
-    assert!((b.total - b.total_initial).abs() <= 1e-9 * w_closed, "{b:?}");
+    assert!(
+        (b.total - b.total_initial).abs() <= 1e-9 * w_closed,
+        "{b:?}"
+    );
 }
 
 #[test]
@@ -340,7 +355,11 @@ fn drum_drags_the_sphere_along_omega_cross_r() {
         // (the normal is recomputed here from the end-of-step position:
         // 1e-9 of the angle).
         assert!(cos > 1.0 - 1e-9, "cos {cos}");
-        assert!((lt - 0.3 * fn_).abs() <= 1e-6 * fn_, "{lt} vs μ F_n {}", 0.3 * fn_);
+        assert!(
+            (lt - 0.3 * fn_).abs() <= 1e-6 * fn_,
+            "{lt} vs μ F_n {}",
+            0.3 * fn_
+        );
         assert!(o.wall_torques[0][1] * omega[1] < 0.0);
     }
 }

@@ -87,10 +87,7 @@ impl MovingWalls {
 
     /// The drives of `motions` (file order, `None`: fixed) for the
     /// surfaces `surfaces`; `None` when no wall moves.
-    pub fn new(
-        motions: &[Option<WallMotion>],
-        surfaces: &[Surface],
-    ) -> Option<Box<MovingWalls>> {
+    pub fn new(motions: &[Option<WallMotion>], surfaces: &[Surface]) -> Option<Box<MovingWalls>> {
         let drives: Vec<WallDrive> = surfaces
             .iter()
             .enumerate()

@@ -406,7 +406,9 @@ mod tests {
             }
         }
         let s = WallState { rotation: r, ..s };
-        let u = m.angular_velocity.map(|x| x / limits::norm(m.angular_velocity));
+        let u = m
+            .angular_velocity
+            .map(|x| x / limits::norm(m.angular_velocity));
         let ru = s.rotate(u);
         for k in 0..3 {
             assert!((ru[k] - u[k]).abs() < 1e-15);
@@ -445,7 +447,9 @@ mod tests {
         let m = drum();
         let mut seed = 1u64;
         let mut rnd = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
         };
         for (t0, t1) in [(0.0, 0.3), (0.5, 0.51), (1.0, 3.0), (1.9, 2.2)] {

@@ -26,7 +26,11 @@ impl SceneFile {
         w.validate_type(self, &key)?;
         if w.motion.is_some() || w.oscillation.is_some() {
             let kind = w.key().unwrap_or_default();
-            let moved = if w.motion.is_some() { "motion" } else { "oscillation" };
+            let moved = if w.motion.is_some() {
+                "motion"
+            } else {
+                "oscillation"
+            };
             check(
                 !crate::walls::registry::is_particles_key(kind),
                 &format!("{key}.{moved}"),
