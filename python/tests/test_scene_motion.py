@@ -51,12 +51,12 @@ def test_piston_force_and_work_follow_two_hertz_contacts_in_series():
     k = 4.0 / 3.0 * E / (2.0 * (1.0 - NU**2)) * math.sqrt(R)
     force = k * (delta / 2) ** 1.5
     o = s.observe()
-    assert abs(o["wall_forces"][1][2] - force) <= 1e-6 * force
-    assert abs(-o["wall_forces"][0][2] - force) <= 1e-6 * force
+    assert abs(o["wall1_force_z_N"] - force) <= 1e-6 * force
+    assert abs(-o["wall0_force_z_N"] - force) <= 1e-6 * force
     stored = 2 * 0.4 * k * (delta / 2) ** 2.5
-    assert abs(o["work_by_walls"] - stored) <= 1e-6 * stored
+    assert abs(o["work_by_walls_J"] - stored) <= 1e-6 * stored
     # A scene without moving walls reports no work.
-    assert "work_by_walls" not in piston_scene().observe()
+    assert "work_by_walls_J" not in piston_scene().observe()
 
 
 @pytest.mark.parametrize(
@@ -77,4 +77,4 @@ def test_set_wall_motion_refuses_naming_the_argument(arguments, names):
     for name in names:
         assert name in str(raised.value), str(raised.value)
     # Refused: nothing moves.
-    assert "work_by_walls" not in s.observe()
+    assert "work_by_walls_J" not in s.observe()

@@ -413,7 +413,7 @@ impl Scene {
     /// from `start` to `end` (s; default 0 and for ever), plus a
     /// sinusoidal translation `amplitude` sin(2π `frequency` t) (m, Hz)
     /// when both are given. A plane, cylinder or mesh; the work the walls
-    /// do shows in `observe()["work_by_walls"]` (J).
+    /// do shows in `observe()["work_by_walls_J"]`.
     #[pyo3(signature = (k, velocity = None, angular_velocity = None, center = None, start = None, end = None, amplitude = None, frequency = None))]
     #[allow(clippy::too_many_arguments)]
     fn set_wall_motion(
@@ -699,7 +699,10 @@ impl Scene {
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let sim = self.running()?;
         let observation = guarded(|| Ok(sim.observe()))?;
-        let header = series::series_header(observation.wall_forces.len());
+        let header = series::series_header(
+            observation.wall_forces.len(),
+            observation.work_by_walls.is_some(),
+        );
         let out = PyDict::new(py);
         for (name, cell) in header.into_iter().zip(series::series_cells(&observation)) {
             match cell {
