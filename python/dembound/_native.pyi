@@ -85,6 +85,8 @@ class Scene:
         """A fixed cylinder wall (tube of `radius` m about the axis through `point` along `axis`; `inside`: spheres inside it, else outside a post; `length` m: flat caps at point ± length/2·axis)."""
     def add_mesh(self, path: str | PathLike[str], scale: float = 1.0, translate: Optional[tuple[float, float, float] | list[float]] = None, rotate_axis: Optional[tuple[float, float, float] | list[float]] = None, rotate_angle: float = 0.0, material: Optional[int] = None) -> None:
         """A fixed triangle-mesh wall: the triangles of ``path`` (STL, binary or ASCII, or OBJ) placed by x' = R(scale·x) + translate, R a rotation of ``rotate_angle`` degrees about ``rotate_axis``; cleaning counts are warnings."""
+    def set_wall_motion(self, k: int, velocity: Optional[tuple[float, float, float] | list[float]] = None, angular_velocity: Optional[tuple[float, float, float] | list[float]] = None, center: Optional[tuple[float, float, float] | list[float]] = None, start: float = 0.0, end: float = float("inf"), amplitude: Optional[tuple[float, float, float] | list[float]] = None, frequency: Optional[float] = None) -> None:
+        """Prescribed rigid motion of wall ``k`` (a plane, cylinder or mesh) before the first step: ``velocity`` m/s, ``angular_velocity`` rad/s about the axis through ``center`` (m), from ``start`` to ``end`` s, plus ``amplitude``·sin(2π ``frequency`` t) (m, Hz); its work is ``observe()["work_by_walls_J"]``."""
     def step(self, n: int) -> None:
         """Advances n steps of Δt, 0 ≤ n ≤ 1e15 (GIL released)."""
     def run(

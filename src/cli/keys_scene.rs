@@ -342,6 +342,65 @@ pub fn keys() -> Vec<KeyInfo> {
             "the wall's μ_r",
         ),
         row(
+            "wall[K].motion.velocity",
+            "m/s",
+            "[0, 0, 0]",
+            format!("finite, \\|V\\| ≤ {}", show(limits::MAX_SPEED)),
+            "translation of a moving plane, cylinder or mesh",
+        ),
+        row(
+            "wall[K].motion.angular_velocity",
+            "rad/s",
+            "[0, 0, 0]",
+            format!(
+                "finite, \\|ω\\| ≤ {}",
+                show(dembound_scene::walls::motion::MAX_ANGULAR_SPEED)
+            ),
+            "rotation about the axis through center",
+        ),
+        row(
+            "wall[K].motion.center",
+            "m",
+            "[0, 0, 0]",
+            "three finite numbers".into(),
+            "rotation centre at t = 0 (moves with the wall)",
+        ),
+        row(
+            "wall[K].motion.start",
+            "s",
+            "0",
+            "finite, ≥ 0".into(),
+            "the motion begins",
+        ),
+        row(
+            "wall[K].motion.end",
+            "s",
+            "inf",
+            "> start, or inf".into(),
+            "the motion stops (the wall stays where it is)",
+        ),
+        row(
+            "wall[K].oscillation.amplitude",
+            "m",
+            "—",
+            format!(
+                "finite, \\|a\\| ≤ {}; peak speed 2π f \\|a\\| ≤ {} m/s",
+                show(dembound_scene::walls::motion::MAX_AMPLITUDE),
+                show(limits::MAX_SPEED)
+            ),
+            "translation a sin(2π f t), from t = 0",
+        ),
+        row(
+            "wall[K].oscillation.frequency",
+            "Hz",
+            "—",
+            format!(
+                "> 0, ≤ {}",
+                show(dembound_scene::walls::motion::MAX_FREQUENCY)
+            ),
+            "f",
+        ),
+        row(
             "motion.gravity",
             "m/s²",
             "[0, 0, -9.81]",

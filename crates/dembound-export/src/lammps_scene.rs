@@ -106,6 +106,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
+    crate::refuse_moving_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
     for (w, wall) in setup.walls.iter().enumerate() {
@@ -900,6 +901,11 @@ steps = 10
                     "contact.restitution=0.5",
                 ],
                 "contact.damping",
+            ),
+            (vec!["wall.0.motion.velocity=[0,0.1,0]"], "wall[0].motion"),
+            (
+                vec!["wall.0.oscillation={amplitude=[0,1e-4,0],frequency=50}"],
+                "wall[0].oscillation",
             ),
         ] {
             let e = exported(&sets).expect_err("refused");

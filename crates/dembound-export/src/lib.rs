@@ -131,6 +131,27 @@ pub enum Error {
 /// `Result` with the crate's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// The refusal of a scene with a moving wall (issue 27) by the `code`
+/// deck writer, naming the wall's key: the decks write fixed walls only
+/// (LIGGGHTS's `fix move/mesh` and moving `wall/gran` are not written).
+pub(crate) fn refuse_moving_walls(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
+    for (w, m) in setup.wall_motions.iter().enumerate() {
+        if let Some(m) = m {
+            let key = if m.velocity != [0.0; 3] || m.angular_velocity != [0.0; 3] {
+                "motion"
+            } else {
+                "oscillation"
+            };
+            return Err(Error::Export(format!(
+                "`wall[{w}].{key}` cannot be exported: the {code} deck holds fixed walls only \
+                 (moving walls are not written); remove `wall[{w}].motion` and \
+                 `wall[{w}].oscillation` to export the scene"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
 pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {

@@ -88,6 +88,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
+    crate::refuse_moving_walls(setup, "LIGGGHTS")?;
     if !matches!(model.normal, NormalLaw::Hertz) {
         return refuse(format!(
             "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
@@ -583,6 +584,10 @@ steps = 10
             ),
             (vec!["wall.1.plane.normal=[-1.0,0.0,0.1]"], "wall[1].plane"),
             (vec!["wall.0.material=rigid"], "rigid"),
+            (
+                vec!["wall.0.motion.angular_velocity=[0,0,1]"],
+                "wall[0].motion",
+            ),
         ] {
             let e = exported(&sets).expect_err("refused");
             assert!(e.to_string().contains(key), "{sets:?}: {e}");

@@ -406,6 +406,88 @@ impl Scene {
         Ok(())
     }
 
+    /// Gives wall `k` (file order, then walls added) a prescribed rigid
+    /// motion before the first step (`[[wall]] motion` and `oscillation`
+    /// of the scene file): translation at `velocity` (m/s) and rotation at
+    /// `angular_velocity` (rad/s) about the axis through `center` (m),
+    /// from `start` to `end` (s; default 0 and for ever), plus a
+    /// sinusoidal translation `amplitude` sin(2π `frequency` t) (m, Hz)
+    /// when both are given. A plane, cylinder or mesh; the work the walls
+    /// do shows in `observe()["work_by_walls_J"]`.
+    #[pyo3(signature = (k, velocity = None, angular_velocity = None, center = None, start = None, end = None, amplitude = None, frequency = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_wall_motion(
+        &mut self,
+        k: &Bound<'_, PyAny>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        center: Option<&Bound<'_, PyAny>>,
+        start: Option<&Bound<'_, PyAny>>,
+        end: Option<&Bound<'_, PyAny>>,
+        amplitude: Option<&Bound<'_, PyAny>>,
+        frequency: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        use dembound_scene::walls::motion::{self, MotionConfig, OscillationConfig, WallMotion};
+        let walls = self.setup.walls.len();
+        if walls == 0 {
+            return Err(Failure::Input("k: the scene has no wall to move".into()).into());
+        }
+        let k = args::index(k, "k", 0, walls - 1)?;
+        fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
+            o.filter(|x| !x.is_none())
+        }
+        let three = |obj: Option<&Bound<'_, PyAny>>, name| -> Result<[f64; 3], Failure> {
+            match given(obj) {
+                None => Ok([0.0; 3]),
+                Some(obj) => {
+                    let (x, _) = args::floats(obj, name, &[Some(3)])?;
+                    Ok([x[0], x[1], x[2]])
+                }
+            }
+        };
+        let real = |obj: Option<&Bound<'_, PyAny>>, name, default| -> Result<f64, Failure> {
+            given(obj).map_or(Ok(default), |x| args::real(x, name))
+        };
+        let config = MotionConfig {
+            velocity: three(velocity, "velocity")?,
+            angular_velocity: three(angular_velocity, "angular_velocity")?,
+            center: three(center, "center")?,
+            start: real(start, "start", 0.0)?,
+            end: real(end, "end", f64::INFINITY)?,
+        };
+        let oscillation = match (given(amplitude), given(frequency)) {
+            (None, None) => None,
+            (Some(_), Some(_)) => Some(OscillationConfig {
+                amplitude: three(amplitude, "amplitude")?,
+                frequency: real(frequency, "frequency", 0.0)?,
+            }),
+            _ => {
+                return Err(Failure::Input(
+                    "amplitude and frequency: give both (an oscillation) or neither".into(),
+                )
+                .into())
+            }
+        };
+        let key = format!("wall[{k}]");
+        if self.setup.walls[k].is_particles() {
+            return Err(Failure::Input(format!(
+                "invalid value for `{key}.motion`: a `{}` wall (allowed: a plane, cylinder or \
+                 mesh; walls of boundary particles do not move yet)",
+                self.setup.walls[k].key()
+            ))
+            .into());
+        }
+        motion::validate(&key, Some(&config), oscillation.as_ref()).map_err(scene_failure)?;
+        let before = self.setup.wall_motions.clone();
+        self.setup.wall_motions.resize(walls, None);
+        self.setup.wall_motions[k] = WallMotion::from_config(Some(&config), oscillation.as_ref());
+        if let Err(e) = guarded(|| self.rebuild("set_wall_motion")) {
+            self.setup.wall_motions = before;
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
     /// Advances `n` steps (0 to 1e15; GIL released), then checks the state
     /// and the energy balance (`Simulation::step_guarded`).
     fn step(&mut self, py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<()> {
@@ -617,7 +699,10 @@ impl Scene {
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let sim = self.running()?;
         let observation = guarded(|| Ok(sim.observe()))?;
-        let header = series::series_header(observation.wall_forces.len());
+        let header = series::series_header(
+            observation.wall_forces.len(),
+            observation.work_by_walls.is_some(),
+        );
         let out = PyDict::new(py);
         for (name, cell) in header.into_iter().zip(series::series_cells(&observation)) {
             match cell {

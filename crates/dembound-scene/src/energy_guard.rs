@@ -2,7 +2,11 @@
 //! energy stops with an error instead of reporting numbers.
 //!
 //! The balance: kinetic K + elastic E + potential P + dissipated D, with D
-//! the initial K + E + P minus the current one ([`Observation`]). It closes
+//! the initial K + E + P minus the current one ([`Observation`]); with
+//! moving walls (issue 27) plus the work W they did on the spheres, so
+//! that K + E + P + D − W is the initial energy and a drum or a piston
+//! that feeds energy in does not read as a gain. W counts in the scale as
+//! the work of gravity does. It closes
 //! by construction, so what tells a sound run from one that creates energy
 //! is the sign of D: contacts, damping and friction only ever take energy
 //! out; a negative D is energy made by the integration error (a step too
@@ -56,8 +60,13 @@ pub const ROUNDING: f64 = 1e-10;
 pub struct EnergyBalance {
     /// K + E + P at t = 0, J (the reference of `dissipated_energy`).
     pub total_initial: f64,
-    /// K + E + P + D now, J (equal to `total_initial` up to rounding).
+    /// K + E + P + D − W now, J (equal to `total_initial` up to
+    /// rounding; W the moving walls' work, 0 without).
     pub total: f64,
+    /// W: the work done on the spheres by the moving walls, J (absent
+    /// when every wall is fixed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub work_by_walls: Option<f64>,
     /// The guard's scale: the largest K + E + |P − P₀| + |D| seen, J.
     pub scale: f64,
     /// The largest energy gained (−D) at any check, J (0: never).
@@ -124,12 +133,19 @@ impl EnergyGuard {
             self.initial_elastic = e;
             p
         });
-        let finite = [k, e, p, d, initial].iter().all(|x| x.is_finite());
+        let work = o.work_by_walls.unwrap_or(0.0);
+        let finite = [k, e, p, d, initial, work].iter().all(|x| x.is_finite());
         if finite {
-            self.scale = self.scale.max(k + e + (p - p0).abs() + d.abs());
+            // The walls' work is energy put in as gravity's is.
+            let scale = match o.work_by_walls {
+                None => k + e + (p - p0).abs() + d.abs(),
+                Some(w) => k + e + (p - p0).abs() + d.abs() + w.abs(),
+            };
+            self.scale = self.scale.max(scale);
         }
         let gain = -d;
-        let allowed = MAX_ENERGY_GAIN * self.scale + ROUNDING * (k + e + p.abs() + initial.abs());
+        let allowed = MAX_ENERGY_GAIN * self.scale
+            + ROUNDING * (k + e + p.abs() + initial.abs() + work.abs());
         if finite && gain > self.drift {
             self.drift = gain;
         }
@@ -195,7 +211,16 @@ impl EnergyGuard {
     pub fn balance(&self, o: &Observation, initial: f64) -> EnergyBalance {
         EnergyBalance {
             total_initial: initial,
-            total: o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy,
+            total: match o.work_by_walls {
+                None => {
+                    o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
+                }
+                Some(w) => {
+                    o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
+                        - w
+                }
+            },
+            work_by_walls: o.work_by_walls,
             scale: self.scale,
             drift: self.drift,
             drift_relative: self.drift_relative,

@@ -63,6 +63,11 @@ impl Fingerprint {
         put("walls (count)".into(), setup.walls.len().to_string());
         for (k, w) in setup.walls.iter().enumerate() {
             put(format!("wall.{k}"), format!("{w:?}"));
+            // Only a moving wall has the key: fixed walls keep the
+            // fingerprints (and checkpoints) of before.
+            if let Some(Some(m)) = setup.wall_motions.get(k) {
+                put(format!("wall.{k}.motion"), format!("{m:?}"));
+            }
         }
         put("motion.gravity".into(), format!("{:?} m/s²", setup.gravity));
         put(

@@ -16,6 +16,7 @@
 
 mod collisions;
 mod forces;
+pub(crate) mod moving_walls;
 mod neighbours;
 pub(crate) mod observe;
 pub(crate) mod triangle_loads;
@@ -94,6 +95,9 @@ pub struct World {
     pub friction: Option<FrictionTable>,
     /// Tangential displacements of the listed pairs (friction only).
     pub shear: PairShear,
+    /// The moving walls and their work (issue 27, `moving_walls`); `None`
+    /// when every wall is fixed.
+    pub moving: Option<Box<moving_walls::MovingWalls>>,
 }
 
 impl World {
@@ -183,8 +187,10 @@ impl StepHooks for Local {
 impl Pipeline {
     /// Builds the lists and evaluates the first forces.
     pub fn start(&mut self, world: &mut World, workers: &Workers) {
+        world.place_walls(world.steps_done);
         self.neighbours(world, workers);
         self.forces(world, workers);
+        world.account_wall_work(false);
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
@@ -241,6 +247,7 @@ impl Pipeline {
                 // Stages integrate (first half) and forces (per body:
                 // gravity, walls) in one pass over the bodies.
                 if !std::mem::take(&mut self.advanced) {
+                    world.place_walls(world.steps_done + 1);
                     let moved2 = self.verlet_advance(world, workers);
                     self.after_advance(world, workers, moved2, hooks);
                 }
@@ -249,6 +256,8 @@ impl Pipeline {
                 // the blocks (no extra pairs) and no per-step observers.
                 let fuse = more && world.tracks.is_none() && hooks.fusable(world);
                 if fuse {
+                    // The next step's wall forces are evaluated inside.
+                    world.place_walls(world.steps_done + 2);
                     let moved2 = self.pair_forces_then_advance(world, workers);
                     world.list.rebalance();
                     self.share_cuts(world, workers);
@@ -270,6 +279,7 @@ impl Pipeline {
                 }
             }
             Scheme::Gear5 => {
+                world.place_walls(world.steps_done + 1);
                 let moved2 =
                     integrate::gear5_predict(&mut world.bodies, &self.reference, dt, workers);
                 let friction = world.friction.is_some();
@@ -277,7 +287,7 @@ impl Pipeline {
                     gear5_rotation::predict(&mut world.bodies, workers);
                 }
                 let moved2 = hooks.max_moved2(moved2);
-                if needs_rebuild(moved2, 0.5 * world.skin) {
+                if needs_rebuild(moved2, world.rebuild_budget()) {
                     hooks.rebuild(self, world, workers);
                 } else {
                     hooks.halo(world);
@@ -288,6 +298,7 @@ impl Pipeline {
                 // Δt plays no part in the forces.
                 let springs_dt = if friction { dt } else { 0.0 };
                 self.body_forces(world, workers, springs_dt);
+                world.account_wall_work(true);
                 hooks.pair_forces(self, world, workers, springs_dt);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
@@ -359,19 +370,21 @@ impl Pipeline {
         hooks: &mut impl StepHooks,
     ) {
         let moved2 = hooks.max_moved2(moved2);
-        if needs_rebuild(moved2, 0.5 * world.skin) {
+        if needs_rebuild(moved2, world.rebuild_budget()) {
             hooks.rebuild(self, world, workers);
             self.body_forces(world, workers, world.dt);
         } else {
             hooks.halo(world);
             self.ghosts(world);
         }
+        world.account_wall_work(true);
     }
 }
 
-/// A body moved more than half the skin (or a position is not finite).
-pub(crate) fn needs_rebuild(moved2: f64, half_skin: f64) -> bool {
-    moved2.is_nan() || moved2 > half_skin * half_skin
+/// A body moved more than `budget` (half the skin, less what the moving
+/// walls moved: `World::rebuild_budget`), or a position is not finite.
+pub(crate) fn needs_rebuild(moved2: f64, budget: f64) -> bool {
+    moved2.is_nan() || budget <= 0.0 || moved2 > budget * budget
 }
 
 /// Whether body k belongs to a boundary-particle wall.

@@ -35,6 +35,10 @@ pub struct SceneSetup {
     /// What a free sphere lost for good outside the box does to the run
     /// (`domain.outside`, issue 28).
     pub outside: Outside,
+    /// The prescribed motion of each wall in file order (issue 27,
+    /// `walls::motion`); missing entries or `None`: fixed. Empty when no
+    /// wall moves.
+    pub wall_motions: Vec<Option<crate::walls::motion::WallMotion>>,
 }
 
 /// What a free sphere lost for good along a non-periodic axis does to
@@ -210,6 +214,7 @@ impl SceneSetup {
             collisions: false,
             friction: None,
             outside: Outside::Error,
+            wall_motions: Vec::new(),
         }
     }
 }

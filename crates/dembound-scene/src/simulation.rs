@@ -70,6 +70,11 @@ pub struct Observation {
     /// (`Simulation::wall_torque_points`: a plane's point, a cylinder's
     /// axis point, the centroid of a boundary-particle wall's spheres).
     pub wall_torques: Vec<[f64; 3]>,
+    /// Work done on the spheres by the moving walls since t = 0, J
+    /// (`pipeline::moving_walls`); `None` when every wall is fixed. The
+    /// dissipated energy is then E₀ + W − (K + E + P).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work_by_walls: Option<f64>,
 }
 
 /// A running scene.

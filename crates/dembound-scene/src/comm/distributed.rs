@@ -287,9 +287,11 @@ impl<T: Transport> DistributedSimulation<T> {
             steps_run: 0,
             stepping: 0.0,
         };
+        me.sim.world.place_walls(0);
         me.rebuild();
         let sim = &mut me.sim;
         sim.pipeline.body_forces(&mut sim.world, &sim.workers, 0.0);
+        sim.world.account_wall_work(false);
         me.pair_forces();
         let w = &mut me.sim.world;
         if w.scheme == Scheme::Gear5 {

@@ -166,6 +166,7 @@ pub fn resolve_with(
     // (material of the boundary spheres, the material it scales, wall).
     let mut boundary_materials: Vec<(usize, usize, usize)> = Vec::new();
     let mut wall_bodies = Vec::with_capacity(file.walls.len());
+    let mut wall_motions = Vec::with_capacity(file.walls.len());
     let mut warnings = Vec::new();
     for (w, wall) in file.walls.iter_mut().enumerate() {
         let mut cx = WallResolve {
@@ -177,6 +178,10 @@ pub fn resolve_with(
             boundary_materials: &mut boundary_materials,
         };
         let setup = wall.resolve(w, &mut cx)?;
+        wall_motions.push(crate::walls::motion::WallMotion::from_config(
+            wall.motion.as_ref(),
+            wall.oscillation.as_ref(),
+        ));
         wall_bodies.push(setup.bodies().unwrap_or(spheres.len()..spheres.len()));
         walls.push(setup);
     }
@@ -230,6 +235,11 @@ pub fn resolve_with(
         outside: match d.outside {
             None | Some(OutsideName::Error) => Outside::Error,
             Some(OutsideName::Keep) => Outside::Keep,
+        },
+        wall_motions: if wall_motions.iter().any(Option::is_some) {
+            wall_motions
+        } else {
+            Vec::new()
         },
     };
     warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);

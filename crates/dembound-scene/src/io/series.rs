@@ -1,5 +1,6 @@
 //! The time series (`series.csv`): one row per sampled step with the
-//! energies, the contact counts, the force on each wall and (after all
+//! energies (and, when a wall moves, the work the walls did), the
+//! contact counts, the force on each wall and (after all
 //! the forces) the torque on each wall about its torque point; and the
 //! collision log (`collisions.csv`), one row per completed contact. SI,
 //! units in the column names.
@@ -17,9 +18,11 @@ pub enum Cell {
 }
 
 /// The column names of a series row for a scene of `walls` walls, units
-/// in the names: the energies, the contact counts, then the force on each
-/// wall and (after all the forces) the torque on each wall.
-pub fn series_header(walls: usize) -> Vec<String> {
+/// in the names: the energies (with `work`: moving walls, their work
+/// after the dissipated energy; a scene of fixed walls keeps its
+/// columns), the contact counts, then the force on each wall and (after
+/// all the forces) the torque on each wall.
+pub fn series_header(walls: usize, work: bool) -> Vec<String> {
     let mut header: Vec<String> = [
         "step",
         "time_s",
@@ -33,6 +36,9 @@ pub fn series_header(walls: usize) -> Vec<String> {
     .iter()
     .map(|s| s.to_string())
     .collect();
+    if work {
+        header.insert(6, "work_by_walls_J".to_string());
+    }
     for k in 0..walls {
         for axis in ["x", "y", "z"] {
             header.push(format!("wall{k}_force_{axis}_N"));
@@ -47,7 +53,8 @@ pub fn series_header(walls: usize) -> Vec<String> {
 }
 
 /// The cells of `o`'s row, in [`series_header`]'s order (the scene's
-/// walls are `o.wall_forces.len()`).
+/// walls are `o.wall_forces.len()`; the work column when
+/// `o.work_by_walls` is given).
 pub fn series_cells(o: &Observation) -> Vec<Cell> {
     let mut cells = vec![
         Cell::Count(o.step),
@@ -59,6 +66,9 @@ pub fn series_cells(o: &Observation) -> Vec<Cell> {
         Cell::Count(o.particle_contacts as u64),
         Cell::Count(o.wall_contacts as u64),
     ];
+    if let Some(w) = o.work_by_walls {
+        cells.insert(6, Cell::Value(w));
+    }
     for f in o.wall_forces.iter().chain(&o.wall_torques) {
         cells.extend(f.iter().map(|&x| Cell::Value(x)));
     }
@@ -68,7 +78,8 @@ pub fn series_cells(o: &Observation) -> Vec<Cell> {
 /// Writes `rows` (in time order) for a scene of `walls` walls.
 pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> csv::Result<()> {
     let mut out = csv::Writer::from_writer(w);
-    out.write_record(series_header(walls))?;
+    let work = rows.first().is_some_and(|o| o.work_by_walls.is_some());
+    out.write_record(series_header(walls, work))?;
     for o in rows {
         let record = series_cells(o).into_iter().map(|c| match c {
             Cell::Count(n) => n.to_string(),
@@ -188,9 +199,10 @@ mod tests {
             wall_contacts: 1,
             wall_forces: vec![[0.0, 0.0, 9.81], [1.0, 0.0, 0.0]],
             wall_torques: vec![[0.5, 0.0, 0.0], [0.0, -2.0, 0.0]],
+            work_by_walls: None,
         };
         let mut out = Vec::new();
-        write_series(&mut out, &[o], 2).unwrap();
+        write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();
         let text = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].ends_with("wall0_force_x_N,wall0_force_y_N,wall0_force_z_N,wall1_force_x_N,wall1_force_y_N,wall1_force_z_N,wall0_torque_x_N_m,wall0_torque_y_N_m,wall0_torque_z_N_m,wall1_torque_x_N_m,wall1_torque_y_N_m,wall1_torque_z_N_m"));
@@ -198,6 +210,20 @@ mod tests {
             lines[1],
             "10,2e-5,1.5e0,0e0,-1e0,0e0,3,1,0e0,0e0,9.81e0,1e0,0e0,0e0,5e-1,0e0,0e0,0e0,-2e0,0e0"
         );
+        // A moving wall adds its work after the dissipated energy.
+        let moving = Observation {
+            work_by_walls: Some(0.25),
+            ..o
+        };
+        let mut out = Vec::new();
+        write_series(&mut out, &[moving], 2).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].starts_with(
+            "step,time_s,kinetic_energy_J,elastic_energy_J,potential_energy_J,\
+             dissipated_energy_J,work_by_walls_J,particle_contacts,"
+        ));
+        assert!(lines[1].starts_with("10,2e-5,1.5e0,0e0,-1e0,0e0,2.5e-1,3,1,"));
         assert_eq!(partner_name(&Partner::Wall(2)), "wall:2");
         assert_eq!(partner_name(&Partner::Body(5)), "5");
     }

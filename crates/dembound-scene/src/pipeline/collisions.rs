@@ -176,7 +176,11 @@ impl Pipeline {
                             impact_spin_j: [0.0; 3],
                             rebound_spin_j: [0.0; 3],
                             triangle: surface.mesh().and_then(|m| {
-                                m.triangle_of(key.element, bodies.position[i], bodies.radius[i])
+                                // A moving mesh: the centre in its
+                                // reference placement.
+                                let x = bodies.position[i];
+                                let x = surface.moving().map_or(x, |s| s.unplace(x));
+                                m.triangle_of(key.element, x, bodies.radius[i])
                             }),
                         });
                     }

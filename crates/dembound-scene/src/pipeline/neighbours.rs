@@ -224,6 +224,7 @@ impl Pipeline {
         world
             .wall_contacts
             .refresh(&world.bodies, &world.surfaces, wall_range(world));
+        world.walls_listed();
         let celled = start[cells] as usize;
         let bodies = &world.bodies;
         world.ghosts = Ghosts::build(&world.domain, &bodies.position, world.cell_size, |k| {

@@ -77,14 +77,19 @@ pub(crate) fn observation(
     let potential = potential_energy(world, workers);
     let c = hooks.contacts(world, workers);
     // Counts as f64: exact far beyond any scene's.
-    let v = vec![
+    let mut v = vec![
         kinetic,
         potential,
         c.pair_energy + c.plane_energy + c.spring_energy,
         c.particle_contacts as f64,
         (c.boundary_contacts + c.plane_contacts) as f64,
     ];
+    // The moving walls' work, each process's share (`moving_walls`).
+    if let Some(m) = world.moving.as_ref() {
+        v.push(m.work);
+    }
     let s = hooks.sum(v);
+    let work = world.moving.as_ref().map(|_| s[5]);
     let loads = hooks.wall_loads(world);
     Observation {
         step: world.steps_done,
@@ -92,11 +97,16 @@ pub(crate) fn observation(
         kinetic_energy: s[0],
         elastic_energy: s[2],
         potential_energy: s[1],
-        dissipated_energy: initial_energy - (s[0] + s[2] + s[1]),
+        dissipated_energy: match work {
+            None => initial_energy - (s[0] + s[2] + s[1]),
+            // What came in minus what is there: D = E₀ + W − (K + E + P).
+            Some(w) => initial_energy + w - (s[0] + s[2] + s[1]),
+        },
         particle_contacts: s[3].round() as usize,
         wall_contacts: s[4].round() as usize,
         wall_forces: loads.iter().map(|l| l.force).collect(),
         wall_torques: loads.iter().map(|l| l.torque).collect(),
+        work_by_walls: work,
     }
 }
 

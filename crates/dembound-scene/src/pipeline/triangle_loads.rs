@@ -74,6 +74,10 @@ pub(crate) fn triangle_records(
         }
     }
     touching.sort_unstable();
+    // A moving mesh stays in its reference placement: the centre is taken
+    // there (`walls::motion`).
+    let moving = world.surfaces[surface as usize].moving().copied();
+    let at = |x: [f64; 3]| moving.map_or(x, |m| m.unplace(x));
     Ok(touching
         .into_iter()
         .map(|(id, k, i)| TriangleRecord {
@@ -81,7 +85,7 @@ pub(crate) fn triangle_records(
             // Every listed element is a patch of this mesh; the fallback
             // (none) cannot be reached and is dropped by the sum.
             triangle: mesh
-                .triangle_of(wc.key[k].element, b.position[i], b.radius[i])
+                .triangle_of(wc.key[k].element, at(b.position[i]), b.radius[i])
                 .unwrap_or(u32::MAX),
             force: wc.load[k].force,
         })

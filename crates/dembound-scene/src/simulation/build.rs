@@ -285,6 +285,7 @@ impl Simulation {
             }
         };
         let workers = Workers::new(threads)?;
+        let moving = crate::pipeline::moving_walls::MovingWalls::new(&setup.wall_motions, &planes);
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {
@@ -314,6 +315,7 @@ impl Simulation {
             rebuilds: 0,
             friction,
             shear: PairShear::default(),
+            moving,
         };
         Ok(Simulation {
             world,

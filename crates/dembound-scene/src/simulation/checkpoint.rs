@@ -109,6 +109,7 @@ impl Simulation {
             },
             plane_shear,
             element_records,
+            moving_walls: w.moving.as_ref().map(|m| m.record()),
         }
     }
 
@@ -181,6 +182,11 @@ impl Simulation {
                 w.bodies.angular_higher.clone_from(&c.angular_higher);
             }
         }
+        // The walls where the lists were built from these positions.
+        let moving = c.moving_walls.filter(|_| w.moving.is_some());
+        if let Some(m) = moving {
+            w.place_walls(m.built_step);
+        }
         sim.pipeline.neighbours(w, &sim.workers);
         // The build sorts the bodies by cell: a checkpoint written in the
         // engine's order is already sorted (the order stays), one in
@@ -202,6 +208,11 @@ impl Simulation {
         w.steps_done = c.steps_done;
         w.rebuilds = c.list_builds;
         w.collisions.clone_from(&c.collisions);
+        w.place_walls(c.steps_done);
+        if let (Some(r), Some(m)) = (moving, w.moving.as_mut()) {
+            m.work = r.work;
+            m.power = r.power;
+        }
         sim.initial_energy = c.initial_energy;
         // Histories and tracks by input ids.
         let pairs: HashMap<(u32, u32), ContactHistory> = c
@@ -433,4 +444,8 @@ pub struct Checkpoint {
     /// bytes).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub element_records: Vec<ElementRecord>,
+    /// The moving walls' list-build step, work and power (issue 27;
+    /// absent when every wall is fixed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moving_walls: Option<crate::pipeline::moving_walls::MovingWallsRecord>,
 }

@@ -32,6 +32,7 @@
 //! ([`Cylinder`]), the placement checks, the law rows, the engine record
 //! ([`CylinderWall`]) and its geometry.
 
+use super::motion::WallState;
 use super::registry::{finite3, show3, WallKey, WallType};
 use super::{Curvature, Surface, Wall, WallPoint};
 use crate::error::SceneError;
@@ -241,6 +242,7 @@ impl WallType for Cylinder {
             inside,
             half_length: length.map(|l| 0.5 * l),
             slot,
+            moving: None,
         })))
     }
 
@@ -454,6 +456,9 @@ pub struct CylinderWall {
     pub half_length: Option<f64>,
     /// The tube's row of the law tables; the caps' is the next.
     pub slot: usize,
+    /// Its pose and velocities when it moves (`walls::motion`): `point`
+    /// and `axis` are then the placed ones.
+    pub moving: Option<WallState>,
 }
 
 impl CylinderWall {
@@ -545,11 +550,33 @@ impl Wall for CylinderWall {
     #[inline(always)]
     fn contact(&self, element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint {
         let (overlap, n) = self.geometry(element, x, r);
+        let rate = match &self.moving {
+            None => -(v[0] * n[0] + v[1] * n[1] + v[2] * n[2]),
+            // ḣ = −(v − v_w(p))·n, p = x − r n.
+            Some(m) => {
+                let w = m.velocity_at([x[0] - r * n[0], x[1] - r * n[1], x[2] - r * n[2]]);
+                let u = [v[0] - w[0], v[1] - w[1], v[2] - w[2]];
+                -(u[0] * n[0] + u[1] * n[1] + u[2] * n[2])
+            }
+        };
         WallPoint {
             overlap,
-            rate: -(v[0] * n[0] + v[1] * n[1] + v[2] * n[2]),
+            rate,
             normal: n,
         }
+    }
+
+    fn moving(&self) -> Option<&WallState> {
+        self.moving.as_ref()
+    }
+
+    fn posed(&self, state: &WallState) -> Option<Surface> {
+        Some(Surface::Cylinder(CylinderWall {
+            point: state.place(self.point),
+            axis: state.rotate(self.axis),
+            moving: Some(*state),
+            ..*self
+        }))
     }
 
     fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
@@ -601,6 +628,7 @@ mod tests {
             inside,
             half_length,
             slot: 4,
+            moving: None,
         }
     }
 

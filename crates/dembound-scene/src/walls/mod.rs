@@ -39,6 +39,7 @@
 //! offer one). Before the registry (the cylinder, issue 25) it took nine
 //! files of the crate and three outside.
 
+pub mod motion;
 pub mod near;
 pub mod registry;
 registry::wall_modules!();
@@ -137,9 +138,19 @@ pub trait Wall {
     /// velocity `v`, radius `r`.
     fn contact(&self, element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint;
     /// The wall's surface velocity at point `at` of element `element`,
-    /// m/s (zero: fixed walls; the hook for moving walls).
-    fn surface_velocity(&self, _element: u32, _at: [f64; 3]) -> [f64; 3] {
-        [0.0; 3]
+    /// m/s (zero: fixed walls; a moving wall's rigid-body field,
+    /// [`motion::WallState::velocity_at`]).
+    fn surface_velocity(&self, _element: u32, at: [f64; 3]) -> [f64; 3] {
+        self.moving().map_or([0.0; 3], |m| m.velocity_at(at))
+    }
+    /// The pose and velocities of a moving wall now (`None`: fixed).
+    fn moving(&self) -> Option<&motion::WallState> {
+        None
+    }
+    /// This wall, taken as its reference placement (the scene file's),
+    /// moved to `state` (`None`: the type does not move).
+    fn posed(&self, _state: &motion::WallState) -> Option<Surface> {
+        None
     }
     /// Lower and upper corners of the wall's bounding box, m (infinite
     /// where it is unbounded).

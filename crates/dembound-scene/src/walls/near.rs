@@ -318,6 +318,7 @@ mod tests {
             point: [0.0, 0.0, z],
             normal: [0.0, 0.0, 1.0],
             slot: wall,
+            moving: None,
         })
     }
 

@@ -7,6 +7,7 @@
 //! periodic axis; a free sphere behind the plane or overlapping it too
 //! much), the law row, the engine record ([`PlaneWall`]) and its geometry.
 
+use super::motion::WallState;
 use super::registry::{finite3, show3, WallKey, WallType};
 use super::{Curvature, Surface, Wall};
 use crate::error::SceneError;
@@ -128,6 +129,7 @@ impl WallType for Plane {
             point,
             normal: [normal[0] / len, normal[1] / len, normal[2] / len],
             slot,
+            moving: None,
         })))
     }
 
@@ -273,6 +275,9 @@ pub struct PlaneWall {
     pub normal: [f64; 3],
     /// Its row of the law tables.
     pub slot: usize,
+    /// Its pose and velocities when it moves (`walls::motion`): `point`
+    /// and `normal` are then the placed ones.
+    pub moving: Option<WallState>,
 }
 
 /// Overlap (m) and overlap rate (m/s) of a sphere against a plane.
@@ -305,11 +310,33 @@ impl Wall for PlaneWall {
     #[inline(always)]
     fn contact(&self, _element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> super::WallPoint {
         let (overlap, rate) = plane_overlap(self, x, v, r);
+        let n = self.normal;
+        let rate = match &self.moving {
+            None => rate,
+            // ḣ = −(v − v_w(p))·n, p = x − r n.
+            Some(m) => {
+                let w = m.velocity_at([x[0] - r * n[0], x[1] - r * n[1], x[2] - r * n[2]]);
+                rate + (w[0] * n[0] + w[1] * n[1] + w[2] * n[2])
+            }
+        };
         super::WallPoint {
             overlap,
             rate,
-            normal: self.normal,
+            normal: n,
         }
+    }
+
+    fn moving(&self) -> Option<&WallState> {
+        self.moving.as_ref()
+    }
+
+    fn posed(&self, state: &WallState) -> Option<Surface> {
+        Some(Surface::Plane(PlaneWall {
+            point: state.place(self.point),
+            normal: state.rotate(self.normal),
+            moving: Some(*state),
+            ..*self
+        }))
     }
 
     fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
@@ -347,6 +374,7 @@ mod tests {
             point: [0.0, 0.0, 1.0],
             normal: [0.0, 0.0, 1.0],
             slot: 0,
+            moving: None,
         };
         // A sphere of radius 0.5 at height 1.4: 0.1 m of overlap, moving
         // down at 2 m/s (ḣ = +2).

@@ -233,6 +233,12 @@ macro_rules! wall_registry {
             /// The wall's own μ_r (addition; default its material's).
             #[serde(default, skip_serializing_if = "Option::is_none")]
             pub rolling_friction: Option<f64>,
+            /// Prescribed rigid motion (issue 27, `walls::motion`).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub motion: Option<super::motion::MotionConfig>,
+            /// Sinusoidal translation (issue 27, `walls::motion`).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub oscillation: Option<super::motion::OscillationConfig>,
         }
 
         impl WallSection {
@@ -280,7 +286,7 @@ macro_rules! wall_registry {
         pub const KEYS: &[&str] = &[ $( <super::$m::$T as WallType>::KEY ),+ ];
 
         /// Whether type `key` is a wall of boundary particles.
-        fn is_particles_key(key: &str) -> bool {
+        pub(crate) fn is_particles_key(key: &str) -> bool {
             $( if key == <super::$m::$T as WallType>::KEY {
                 return <super::$m::$T as WallType>::PARTICLES;
             } )+
@@ -343,6 +349,12 @@ macro_rules! wall_registry {
                 match self { $( $( Surface::$V(w) => <super::$m::$S as Wall>::surface_velocity(w, element, at), )? )+ }
             }
 
+            /// [`Wall::moving`], inlined into the force loops.
+            #[inline(always)]
+            pub fn moving(&self) -> Option<&super::motion::WallState> {
+                match self { $( $( Surface::$V(w) => <super::$m::$S as Wall>::moving(w), )? )+ }
+            }
+
             /// [`Wall::torque_point`], inlined into the force loops.
             #[inline(always)]
             pub fn torque_point(&self) -> [f64; 3] {
@@ -391,14 +403,29 @@ pub fn surface_kinds_or() -> String {
 
 impl Surface {
     /// The wall as side 2 of its contact `point` with a sphere at `x` of
-    /// radius `r` on element `element`: no spin, lever arm or 1/I, moving
-    /// at its surface velocity at the contact point (x − r n̂, n̂ the
-    /// wall's normal into the sphere).
+    /// radius `r` on element `element`: no lever arm or 1/I, moving at its
+    /// surface velocity at the contact point (x − r n̂, n̂ the wall's
+    /// normal into the sphere) and spinning with the wall (zero for a
+    /// fixed wall): the rolling resistance sees the sphere's spin relative
+    /// to the wall's, so a sphere carried round rigidly by a drum feels
+    /// none.
     #[inline(always)]
     pub fn side(&self, element: u32, point: &WallPoint, x: [f64; 3], r: f64) -> Side {
         let n = point.normal;
         let at = [x[0] - r * n[0], x[1] - r * n[1], x[2] - r * n[2]];
-        Side::wall(self.surface_velocity(element, at))
+        match self.moving() {
+            None => Side::wall(self.surface_velocity(element, at)),
+            Some(m) => Side {
+                spin: m.spin,
+                ..Side::wall(m.velocity_at(at))
+            },
+        }
+    }
+
+    /// This wall (its reference placement) moved to `state`; itself when
+    /// its type does not move.
+    pub fn posed(&self, state: &super::motion::WallState) -> Surface {
+        self.wall().posed(state).unwrap_or_else(|| self.clone())
     }
 
     /// Index of the wall in file order.
@@ -500,7 +527,7 @@ mod tests {
         assert!(
             err.to_string().contains(
                 "expected one of `plane`, `boundary_particles`, `cylinder`, `mesh`, \
-                 `material`, `friction`, `rolling_friction`"
+                 `material`, `friction`, `rolling_friction`, `motion`, `oscillation`"
             ),
             "{err}"
         );

@@ -228,6 +228,16 @@ impl<T: Transport> DistributedSimulation<T> {
         } else {
             None
         };
+        // The moving walls' work and power: each rank's share, summed
+        // (collective, on every rank).
+        let moving = w.moving.as_ref().map(|m| {
+            let s = self.comm.transport.sum(&[m.work, m.power]);
+            crate::pipeline::moving_walls::MovingWallsRecord {
+                built_step: m.built_step,
+                work: s[0],
+                power: s[1],
+            }
+        });
         let Some(parts) = self.comm.transport.gather(out.0) else {
             return Ok(None);
         };
@@ -258,6 +268,7 @@ impl<T: Transport> DistributedSimulation<T> {
             pair_shear: Vec::new(),
             plane_shear: Vec::new(),
             element_records: Vec::new(),
+            moving_walls: moving,
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -452,6 +463,11 @@ impl<T: Transport> DistributedSimulation<T> {
         // Owners under this rank count, the halo and the lists as built
         // (the re-balancing counts start here).
         me.comm.balance = super::balance::Balance::default();
+        // The walls where the lists were built (`Simulation::restore`).
+        let moving = c.moving_walls.filter(|_| me.sim.world.moving.is_some());
+        if let Some(m) = moving {
+            me.sim.world.place_walls(m.built_step);
+        }
         me.rebuild();
         let w = &mut me.sim.world;
         if w.laws.history {
@@ -527,6 +543,13 @@ impl<T: Transport> DistributedSimulation<T> {
         w.steps_done = c.steps_done;
         w.rebuilds = c.list_builds;
         me.sim.initial_energy = c.initial_energy;
+        w.place_walls(c.steps_done);
+        // The work so far and the last power at rank 0, the others' shares
+        // start from zero (the observation sums them).
+        let first = me.comm.transport.rank() == 0;
+        if let (Some(r), Some(m)) = (moving, w.moving.as_mut()) {
+            (m.work, m.power) = if first { (r.work, r.power) } else { (0.0, 0.0) };
+        }
         // The boundary-particle walls' force for the observation at the
         // restart step: a pass of the pair stage whose effects are undone
         // (the forces and histories are the checkpoint's). Its damping

@@ -23,7 +23,25 @@ impl SceneFile {
             },
             &format!("exactly one of {}", listing(KEYS.to_vec()).join(", ")),
         )?;
-        w.validate_type(self, &key)
+        w.validate_type(self, &key)?;
+        if w.motion.is_some() || w.oscillation.is_some() {
+            let kind = w.key().unwrap_or_default();
+            let moved = if w.motion.is_some() {
+                "motion"
+            } else {
+                "oscillation"
+            };
+            check(
+                !crate::walls::registry::is_particles_key(kind),
+                &format!("{key}.{moved}"),
+                format!("given for a `{kind}` wall"),
+                &format!(
+                    "a moving {} (walls of boundary particles do not move yet)",
+                    crate::walls::registry::surface_kinds_or()
+                ),
+            )?;
+        }
+        crate::walls::motion::validate(&key, w.motion.as_ref(), w.oscillation.as_ref())
     }
 }
 

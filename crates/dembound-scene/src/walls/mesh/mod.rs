@@ -145,6 +145,8 @@ mod tests_edges;
 #[cfg(test)]
 mod tests_loads;
 #[cfg(test)]
+mod tests_motion;
+#[cfg(test)]
 mod tests_seam;
 
 use std::path::Path;
@@ -156,6 +158,7 @@ pub use read::{MeshError, Triangle};
 pub use transform::Transform;
 pub use wall_type::{Mesh, MeshConfig, RotateConfig};
 
+use super::motion::WallState;
 use super::{Wall, WallPoint};
 use geometry::{add, cross, norm, scale, sub};
 
@@ -378,6 +381,13 @@ pub struct MeshWall {
     /// Its row of the law tables (one: every patch is flat).
     pub slot: usize,
     pub mesh: Arc<MeshGeometry>,
+    /// Its pose and velocities when it moves (`walls::motion`). The
+    /// triangles, patches and grid stay in the reference placement: a
+    /// sphere's centre is taken into it by the inverse pose and the
+    /// contact's normal turned back, so a moving mesh is never re-gridded
+    /// (a rigid motion keeps every distance, so the overlap is the same
+    /// number in either frame).
+    pub moving: Option<WallState>,
 }
 
 impl std::fmt::Debug for MeshWall {
@@ -401,12 +411,40 @@ impl Wall for MeshWall {
     }
 
     fn near_elements(&self, x: [f64; 3], r: f64, range: f64, found: &mut dyn FnMut(u32)) {
-        self.mesh.patches_within(x, r + range, found);
+        match &self.moving {
+            None => self.mesh.patches_within(x, r + range, found),
+            Some(m) => self.mesh.patches_within(m.unplace(x), r + range, found),
+        }
     }
 
     #[inline]
     fn contact(&self, element: u32, x: [f64; 3], v: [f64; 3], r: f64) -> WallPoint {
-        self.mesh.patch_contact(element, x, v, r)
+        let Some(m) = &self.moving else {
+            return self.mesh.patch_contact(element, x, v, r);
+        };
+        let c = self.mesh.patch_contact(element, m.unplace(x), [0.0; 3], r);
+        if c.overlap == f64::NEG_INFINITY {
+            return c;
+        }
+        let n = m.rotate(c.normal);
+        let w = m.velocity_at([x[0] - r * n[0], x[1] - r * n[1], x[2] - r * n[2]]);
+        let u = [v[0] - w[0], v[1] - w[1], v[2] - w[2]];
+        WallPoint {
+            overlap: c.overlap,
+            rate: -(u[0] * n[0] + u[1] * n[1] + u[2] * n[2]),
+            normal: n,
+        }
+    }
+
+    fn moving(&self) -> Option<&WallState> {
+        self.moving.as_ref()
+    }
+
+    fn posed(&self, state: &WallState) -> Option<crate::walls::Surface> {
+        Some(crate::walls::Surface::Mesh(MeshWall {
+            moving: Some(*state),
+            ..self.clone()
+        }))
     }
 
     fn bounding_box(&self) -> ([f64; 3], [f64; 3]) {
@@ -414,7 +452,10 @@ impl Wall for MeshWall {
     }
 
     fn torque_point(&self) -> [f64; 3] {
-        self.mesh.centroid
+        match &self.moving {
+            None => self.mesh.centroid,
+            Some(m) => m.place(self.mesh.centroid),
+        }
     }
 
     fn law_slot(&self, _element: u32) -> usize {

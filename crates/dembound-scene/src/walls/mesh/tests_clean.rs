@@ -341,6 +341,7 @@ fn hundred_thousand_triangles_load_and_answer() {
         wall: 0,
         slot: 0,
         mesh: std::sync::Arc::new(m),
+        moving: None,
     };
     use crate::walls::Wall;
     for _ in 0..200 {

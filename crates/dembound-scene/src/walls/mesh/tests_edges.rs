@@ -203,6 +203,7 @@ fn concave_corner_gives_the_three_planes() {
                 point: [0.0; 3],
                 normal: n,
                 slot: 0,
+                moving: None,
             };
             let (h, rate) = plane_overlap(&p, x, v, r);
             (h, rate, n)
@@ -241,6 +242,7 @@ fn near_elements_lists_the_touching_patches() {
         wall: 2,
         slot: 7,
         mesh: std::sync::Arc::new(mesh(&cube([-1.0; 3], [0.0; 3]))),
+        moving: None,
     };
     use crate::walls::Wall;
     let x = [0.03, 0.04, -0.5];
@@ -282,6 +284,7 @@ fn closed_cube_from_inside_is_six_planes() {
                 point: geometry::add([0.5; 3], geometry::scale(q.normal, 0.5)),
                 normal: q.normal.map(|c| -c),
                 slot: 0,
+                moving: None,
             }
         })
         .collect();

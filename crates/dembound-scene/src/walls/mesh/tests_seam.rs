@@ -14,6 +14,7 @@ fn plane(point: [f64; 3], normal: [f64; 3]) -> PlaneWall {
         point,
         normal,
         slot: 0,
+        moving: None,
     }
 }
 

@@ -291,6 +291,7 @@ impl WallType for Mesh {
             wall: w,
             slot,
             mesh: Arc::clone(&self.geometry),
+            moving: None,
         })))
     }
 
