@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::dembound;
+use common::{dembound, scene_text};
 use std::path::Path;
 
 /// A sphere (R = 1 mm) at the axis of a horizontal tube (axis x, R_c =
@@ -48,20 +48,7 @@ const TUBE: &str = "cylinder = { point = [0.0, 0.0, 0.0], axis = [1.0, 0.0, 0.0]
 
 /// (exit code, stdout, stderr) of `dembound scene` on `text` with `args`.
 fn run(text: &str, args: &[&str], dir: &Path) -> (Option<i32>, String, String) {
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dembound()
-        .arg("scene")
-        .arg(&path)
-        .args(["--json", "--threads", "1"])
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    scene_text(text, dir, &[&["--json"], args].concat())
 }
 
 #[test]

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::dembound;
+use common::{dembound, scene_text};
 use std::path::Path;
 
 /// A sphere (R = 1 mm, E = 1e7 Pa) dropped from 1 mm onto a floor made
@@ -84,21 +84,7 @@ fn run(text: &str, args: &[&str], dir: &Path) -> (Option<i32>, String, String) {
             .replace("vertex -0.02 0.02 0", "vertex -0.02 -0.02 0"),
     )
     .unwrap();
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dembound()
-        .current_dir(std::env::temp_dir())
-        .arg("scene")
-        .arg(&path)
-        .args(["--json", "--threads", "1"])
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    scene_text(text, dir, &[&["--json"], args].concat())
 }
 
 #[test]

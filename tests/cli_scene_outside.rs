@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::dembound;
+use common::scene_text;
 use std::path::Path;
 
 /// Two spheres (R = 1 mm) in a 10 mm box with no walls; gravity −z. Sphere
@@ -40,20 +40,7 @@ series_every = 1
 
 /// (exit code, stdout, stderr) of `dembound scene` on `text` with `args`.
 fn run(text: &str, args: &[&str], dir: &Path) -> (Option<i32>, String, String) {
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    let out = dembound()
-        .arg("scene")
-        .arg(&path)
-        .args(["--threads", "1"])
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    scene_text(text, dir, args)
 }
 
 #[test]

@@ -12,6 +12,32 @@ pub fn dembound() -> Command {
     Command::new(env!("CARGO_BIN_EXE_dembound"))
 }
 
+/// Writes `text` to `dir/scene.toml` and runs `dembound scene` on it with
+/// one thread and `args`, from the system's temporary directory (so that
+/// relative paths resolve against the scene file): (exit code, stdout,
+/// stderr).
+pub fn scene_text(
+    text: &str,
+    dir: &std::path::Path,
+    args: &[&str],
+) -> (Option<i32>, String, String) {
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = dembound()
+        .current_dir(std::env::temp_dir())
+        .arg("scene")
+        .arg(&path)
+        .args(["--threads", "1"])
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// Runs `dembound ARGS`, expecting success; the parsed stdout.
 pub fn json(args: &[&str]) -> Value {
     let out = dembound().args(args).output().expect("the binary runs");
