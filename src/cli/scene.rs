@@ -175,7 +175,8 @@ pub fn run(args: &SceneArgs) -> CliResult {
     let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
     let particle_steps = sim.body_count() as f64 * span as f64;
     let report = Report {
-        particles: sim.body_count(),
+        // The scene's spheres (those removed included: `deleted_particles`).
+        particles: sim.body_count() + last.removed.map_or(0, |r| r.particles as usize),
         free_particles: free,
         fixed_particles: resolved.setup.spheres.iter().filter(|s| s.fixed).count(),
         steps: sim.steps_done(),
@@ -189,6 +190,8 @@ pub fn run(args: &SceneArgs) -> CliResult {
         elastic_energy: last.elastic_energy,
         potential_energy: last.potential_energy,
         dissipated_energy: last.dissipated_energy,
+        deleted_particles: last.removed.map(|r| r.particles),
+        deleted_mass: last.removed.map(|r| r.mass),
         energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
@@ -334,6 +337,13 @@ pub(super) struct Report {
     pub(super) elastic_energy: f64,
     pub(super) potential_energy: f64,
     pub(super) dissipated_energy: f64,
+    /// Spheres removed so far (`domain.outside = "delete"`; absent
+    /// otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) deleted_particles: Option<u64>,
+    /// Their mass, kg.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) deleted_mass: Option<f64>,
     /// The balance K + E + P + D against the start, and the largest energy
     /// gain the guard saw (`dembound_scene::energy_guard`).
     pub(super) energy_balance: EnergyBalance,
@@ -425,8 +435,14 @@ pub(super) fn balance_line(b: &EnergyBalance) -> String {
     if let Some(why) = b.unchecked {
         return format!("energy balance: not checked ({why}); the finite-state check applies\n");
     }
+    // A scene that removes spheres adds what they carried out.
+    let carried = if b.carried_out_energy.is_some() {
+        " + carried out"
+    } else {
+        ""
+    };
     format!(
-        "energy balance: kinetic + elastic + potential + dissipated = {} J (at t = 0: {} J); \
+        "energy balance: kinetic + elastic + potential + dissipated{carried} = {} J (at t = 0: {} J); \
          largest gain {} J = {} of the scale {} J (allowed {})\n",
         sig(b.total, 9),
         sig(b.total_initial, 9),
@@ -486,6 +502,13 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
         sig(r.dissipated_energy, 3)
     );
     s += &balance_line(&r.energy_balance);
+    if let (Some(n), Some(m)) = (r.deleted_particles, r.deleted_mass) {
+        s += &format!(
+            "deleted: {n} spheres lost outside the box, {} kg, carrying out {} J\n",
+            sig(m, 6),
+            sig(r.energy_balance.carried_out_energy.unwrap_or(0.0), 6)
+        );
+    }
     s += &format!(
         "contacts now: {} particle–particle, {} particle–wall\n",
         r.particle_contacts, r.wall_contacts

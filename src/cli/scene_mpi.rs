@@ -289,6 +289,8 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         elastic_energy: last.elastic_energy,
         potential_energy: last.potential_energy,
         dissipated_energy: last.dissipated_energy,
+        deleted_particles: last.removed.map(|r| r.particles),
+        deleted_mass: last.removed.map(|r| r.mass),
         energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,

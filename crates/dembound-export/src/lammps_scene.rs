@@ -107,6 +107,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         );
     }
     crate::refuse_moving_walls(setup, "LAMMPS")?;
+    crate::refuse_removal(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
     for (w, wall) in setup.walls.iter().enumerate() {
@@ -907,6 +908,7 @@ steps = 10
                 vec!["wall.0.oscillation={amplitude=[0,1e-4,0],frequency=50}"],
                 "wall[0].oscillation",
             ),
+            (vec!["domain.outside=delete"], "domain.outside"),
         ] {
             let e = exported(&sets).expect_err("refused");
             assert!(e.to_string().contains(key), "{sets:?}: {e}");

@@ -152,6 +152,23 @@ pub(crate) fn refuse_moving_walls(setup: &dembound_scene::SceneSetup, code: &str
     Ok(())
 }
 
+/// The refusal of a scene that removes spheres (`domain.outside =
+/// "delete"`, issue 28) by the `code` deck writer: LAMMPS's `thermo_modify
+/// lost ignore` drops an atom the moment it crosses a face of a fixed
+/// boundary, where dembound removes a sphere wholly outside the box grown
+/// to hold the fixed spheres, moving away and touching nothing; the decks
+/// would not run the same scene.
+pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
+    if setup.outside == dembound_scene::setup::Outside::Delete {
+        return Err(Error::Export(format!(
+            "`domain.outside = \"delete\"` cannot be exported: the {code} deck has no removal \
+             of lost spheres by dembound's rule (wholly outside the box, moving away, touching \
+             nothing); set domain.outside to \"error\" or \"keep\" to export the scene"
+        )));
+    }
+    Ok(())
+}
+
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
 pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {

@@ -89,6 +89,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         );
     }
     crate::refuse_moving_walls(setup, "LIGGGHTS")?;
+    crate::refuse_removal(setup, "LIGGGHTS")?;
     if !matches!(model.normal, NormalLaw::Hertz) {
         return refuse(format!(
             "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \

@@ -7,6 +7,9 @@
 /// Marker of "no group" in [`Bodies::group`].
 pub const NO_GROUP: u32 = u32::MAX;
 
+/// Marker of a removed sphere's input index in [`Bodies::index_of_ids`].
+pub const REMOVED: u32 = u32::MAX;
+
 /// Per-body arrays, all of the same length.
 #[derive(Debug, Clone, Default)]
 pub struct Bodies {
@@ -83,21 +86,44 @@ impl Bodies {
         gather(&mut self.angular_higher, order);
     }
 
-    /// Body index of each input index (the inverse of `id`).
+    /// Body index of each input index (the inverse of `id`); after
+    /// spheres were removed (`crate::removal`), [`REMOVED`] at theirs.
     pub fn index_of_ids(&self) -> Vec<u32> {
-        let mut at = vec![0u32; self.len()];
+        let bound = self.id.iter().max().map_or(0, |&m| m as usize + 1);
+        let mut at = vec![REMOVED; bound.max(self.len())];
         for (k, &id) in self.id.iter().enumerate() {
             at[id as usize] = k as u32;
         }
         at
     }
 
-    /// One per-body array in input order.
+    /// Whether every input index below the body count is here (no sphere
+    /// was removed).
+    fn dense(&self) -> bool {
+        let n = self.len();
+        self.id.iter().all(|&id| (id as usize) < n)
+    }
+
+    /// One per-body array in input order (after spheres were removed,
+    /// those still here in input order).
     pub fn in_input_order<T: Copy>(&self, values: &[T]) -> Vec<T> {
+        if !self.dense() {
+            let mut by_id: Vec<usize> = (0..self.len()).collect();
+            by_id.sort_unstable_by_key(|&k| self.id[k]);
+            return by_id.into_iter().map(|k| values[k]).collect();
+        }
         let mut out: Vec<T> = values.to_vec();
         for (k, &id) in self.id.iter().enumerate() {
             out[id as usize] = values[k];
         }
         out
+    }
+
+    /// The input indices of the bodies still here, ascending (all of
+    /// 0..n unless spheres were removed).
+    pub fn ids_in_input_order(&self) -> Vec<u32> {
+        let mut ids = self.id.clone();
+        ids.sort_unstable();
+        ids
     }
 }

@@ -67,6 +67,11 @@ pub struct EnergyBalance {
     /// when every wall is fixed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub work_by_walls: Option<f64>,
+    /// C: the energy the removed spheres carried out, J (`crate::removal`;
+    /// absent when the scene removes none); `total` is then
+    /// K + E + P + D − W + C.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub carried_out_energy: Option<f64>,
     /// The guard's scale: the largest K + E + |P − P₀| + |D| seen, J.
     pub scale: f64,
     /// The largest energy gained (−D) at any check, J (0: never).
@@ -134,18 +139,26 @@ impl EnergyGuard {
             p
         });
         let work = o.work_by_walls.unwrap_or(0.0);
-        let finite = [k, e, p, d, initial, work].iter().all(|x| x.is_finite());
+        // The energy the removed spheres carried out (`crate::removal`).
+        let carried = o.removed.map_or(0.0, |r| r.energy);
+        let finite = [k, e, p, d, initial, work, carried]
+            .iter()
+            .all(|x| x.is_finite());
         if finite {
             // The walls' work is energy put in as gravity's is.
             let scale = match o.work_by_walls {
                 None => k + e + (p - p0).abs() + d.abs(),
                 Some(w) => k + e + (p - p0).abs() + d.abs() + w.abs(),
             };
+            let scale = match o.removed {
+                None => scale,
+                Some(r) => scale + r.energy.abs(),
+            };
             self.scale = self.scale.max(scale);
         }
         let gain = -d;
         let allowed = MAX_ENERGY_GAIN * self.scale
-            + ROUNDING * (k + e + p.abs() + initial.abs() + work.abs());
+            + ROUNDING * (k + e + p.abs() + initial.abs() + work.abs() + carried.abs());
         if finite && gain > self.drift {
             self.drift = gain;
         }
@@ -211,16 +224,22 @@ impl EnergyGuard {
     pub fn balance(&self, o: &Observation, initial: f64) -> EnergyBalance {
         EnergyBalance {
             total_initial: initial,
-            total: match o.work_by_walls {
-                None => {
+            total: match (o.work_by_walls, o.removed) {
+                (None, None) => {
                     o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
                 }
-                Some(w) => {
+                (Some(w), None) => {
                     o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
                         - w
                 }
+                (w, Some(r)) => {
+                    o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
+                        - w.unwrap_or(0.0)
+                        + r.energy
+                }
             },
             work_by_walls: o.work_by_walls,
+            carried_out_energy: o.removed.map(|r| r.energy),
             scale: self.scale,
             drift: self.drift,
             drift_relative: self.drift_relative,

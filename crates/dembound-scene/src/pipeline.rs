@@ -98,6 +98,9 @@ pub struct World {
     /// The moving walls and their work (issue 27, `moving_walls`); `None`
     /// when every wall is fixed.
     pub moving: Option<Box<moving_walls::MovingWalls>>,
+    /// The removal of lost spheres (`domain.outside = "delete"`,
+    /// `crate::removal`); `None` otherwise.
+    pub removal: Option<Box<crate::removal::Removal>>,
 }
 
 impl World {
@@ -166,7 +169,14 @@ impl StepHooks for Local {
         moved2
     }
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
-        pipeline.neighbours(world, workers);
+        if world.removal.is_some() {
+            // The pair state by input ids first: removal resizes the bodies.
+            let saved = save_pairs(world);
+            crate::removal::remove_lost(world);
+            pipeline.rebuild(world, workers, saved);
+        } else {
+            pipeline.neighbours(world, workers);
+        }
     }
     fn halo(&mut self, _world: &mut World) {}
     fn pair_forces(

@@ -56,6 +56,9 @@ pub enum Outside {
     Error,
     /// Let it go on (the run reports it nowhere).
     Keep,
+    /// Remove it, counted, its mass and the energy it carries out booked
+    /// (`crate::removal`).
+    Delete,
 }
 
 /// Friction of a scene: the model and each surface's coefficients.

@@ -75,6 +75,12 @@ pub struct Observation {
     /// dissipated energy is then E₀ + W − (K + E + P).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub work_by_walls: Option<f64>,
+    /// The spheres removed since t = 0, their mass and the energy they
+    /// carried out (`crate::removal`); `None` when the scene removes none
+    /// (`domain.outside` not `"delete"`). The dissipated energy is then
+    /// E₀ + W − C − (K + E + P), C the energy carried out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub removed: Option<crate::removal::Removed>,
 }
 
 /// A running scene.
@@ -164,16 +170,7 @@ impl Simulation {
         let g = self.world.gravity;
         let lost = |i: usize| {
             let (x, r, v) = (b.position[i], b.radius[i], b.velocity[i]);
-            (0..3).find(|&a| {
-                let side = if x[a] < lower[a] - r {
-                    -1.0
-                } else if x[a] > upper[a] + r {
-                    1.0
-                } else {
-                    return false;
-                };
-                !periodic[a] && side * v[a] >= 0.0 && side * g[a] >= 0.0
-            })
+            crate::removal::lost_axis(x, r, v, (lower, upper), periodic, g)
         };
         let first = (0..b.len())
             .filter(|&i| !b.fixed[i])
@@ -341,11 +338,14 @@ impl Simulation {
     /// initial spins, before stepping.
     pub fn set_angular_velocity(&mut self, id: usize, omega: [f64; 3]) -> bool {
         let b = &mut self.world.bodies;
-        if self.world.friction.is_none() || id >= b.len() {
+        if self.world.friction.is_none() {
             return false;
         }
-        let k = b.index_of_ids()[id] as usize;
-        if b.fixed[k] {
+        let Some(&k) = b.index_of_ids().get(id) else {
+            return false;
+        };
+        let k = k as usize;
+        if b.fixed.get(k).is_none_or(|&f| f) {
             return false;
         }
         b.angular_velocity[k] = omega;

@@ -143,6 +143,14 @@ pub(crate) struct RankComm<T: Transport> {
 
 /// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
+    if setup.outside == crate::setup::Outside::Delete {
+        return Err(SceneError::invalid(
+            "domain.outside",
+            "\"delete\"",
+            "\"error\" or \"keep\" under MPI (removing spheres is not carried across ranks \
+             yet); run without mpirun",
+        ));
+    }
     if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
     {
         return Err(SceneError::invalid(

@@ -62,7 +62,7 @@ pub struct DomainSection {
     #[serde(default)]
     pub periodic: [bool; 3],
     /// What a free sphere lost for good outside the box does (addition,
-    /// issue 28): `"error"` (default) or `"keep"`.
+    /// issue 28): `"error"` (default), `"keep"` or `"delete"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub outside: Option<OutsideName>,
 }
@@ -75,6 +75,8 @@ pub enum OutsideName {
     Error,
     /// Let it go on.
     Keep,
+    /// Remove it, counted and reported (`crate::removal`).
+    Delete,
 }
 
 /// `[[material]]`: a named particle material.

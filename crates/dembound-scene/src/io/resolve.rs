@@ -235,6 +235,7 @@ pub fn resolve_with(
         outside: match d.outside {
             None | Some(OutsideName::Error) => Outside::Error,
             Some(OutsideName::Keep) => Outside::Keep,
+            Some(OutsideName::Delete) => Outside::Delete,
         },
         wall_motions: if wall_motions.iter().any(Option::is_some) {
             wall_motions

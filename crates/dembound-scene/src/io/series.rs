@@ -72,14 +72,44 @@ pub fn series_cells(o: &Observation) -> Vec<Cell> {
     for f in o.wall_forces.iter().chain(&o.wall_torques) {
         cells.extend(f.iter().map(|&x| Cell::Value(x)));
     }
+    if let Some(r) = o.removed {
+        cells.extend([
+            Cell::Count(r.particles),
+            Cell::Value(r.mass),
+            Cell::Value(r.energy),
+        ]);
+    }
     cells
+}
+
+/// The columns a scene that removes spheres (`crate::removal`) adds after
+/// the torques: the spheres removed so far, their mass, the energy they
+/// carried out.
+pub const REMOVED_COLUMNS: [&str; 3] = [
+    "deleted_particles",
+    "deleted_mass_kg",
+    "carried_out_energy_J",
+];
+
+/// [`series_header`] for the rows like `o`: with the removal's columns
+/// when `o` has them.
+pub fn series_header_of(o: &Observation) -> Vec<String> {
+    let mut header = series_header(o.wall_forces.len(), o.work_by_walls.is_some());
+    if o.removed.is_some() {
+        header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    }
+    header
 }
 
 /// Writes `rows` (in time order) for a scene of `walls` walls.
 pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> csv::Result<()> {
     let mut out = csv::Writer::from_writer(w);
     let work = rows.first().is_some_and(|o| o.work_by_walls.is_some());
-    out.write_record(series_header(walls, work))?;
+    let mut header = series_header(walls, work);
+    if rows.first().is_some_and(|o| o.removed.is_some()) {
+        header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    }
+    out.write_record(header)?;
     for o in rows {
         let record = series_cells(o).into_iter().map(|c| match c {
             Cell::Count(n) => n.to_string(),
@@ -200,6 +230,7 @@ mod tests {
             wall_forces: vec![[0.0, 0.0, 9.81], [1.0, 0.0, 0.0]],
             wall_torques: vec![[0.5, 0.0, 0.0], [0.0, -2.0, 0.0]],
             work_by_walls: None,
+            removed: None,
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();
@@ -213,6 +244,7 @@ mod tests {
         // A moving wall adds its work after the dissipated energy.
         let moving = Observation {
             work_by_walls: Some(0.25),
+            removed: None,
             ..o
         };
         let mut out = Vec::new();

@@ -88,8 +88,23 @@ pub(crate) fn observation(
     if let Some(m) = world.moving.as_ref() {
         v.push(m.work);
     }
+    // What this process removed (`crate::removal`), after the work.
+    let removed_at = v.len();
+    if let Some(r) = world.removal.as_ref() {
+        v.extend([r.removed.particles as f64, r.removed.mass, r.removed.energy]);
+    }
     let s = hooks.sum(v);
     let work = world.moving.as_ref().map(|_| s[5]);
+    let removed = world.removal.as_ref().map(|_| crate::removal::Removed {
+        particles: s[removed_at].round() as u64,
+        mass: s[removed_at + 1],
+        energy: s[removed_at + 2],
+    });
+    // What came in minus what is there and what left: D = E₀ + W − C − (K + E + P).
+    let carried = |d: f64| match removed {
+        None => d,
+        Some(r) => d - r.energy,
+    };
     let loads = hooks.wall_loads(world);
     Observation {
         step: world.steps_done,
@@ -98,15 +113,16 @@ pub(crate) fn observation(
         elastic_energy: s[2],
         potential_energy: s[1],
         dissipated_energy: match work {
-            None => initial_energy - (s[0] + s[2] + s[1]),
+            None => carried(initial_energy) - (s[0] + s[2] + s[1]),
             // What came in minus what is there: D = E₀ + W − (K + E + P).
-            Some(w) => initial_energy + w - (s[0] + s[2] + s[1]),
+            Some(w) => carried(initial_energy + w) - (s[0] + s[2] + s[1]),
         },
         particle_contacts: s[3].round() as usize,
         wall_contacts: s[4].round() as usize,
         wall_forces: loads.iter().map(|l| l.force).collect(),
         wall_torques: loads.iter().map(|l| l.torque).collect(),
         work_by_walls: work,
+        removed,
     }
 }
 

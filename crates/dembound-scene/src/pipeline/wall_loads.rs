@@ -147,6 +147,9 @@ pub(crate) fn particle_wall_loads(world: &World) -> Vec<Option<WallLoad>> {
     let points = torque_points(world);
     let b = &world.bodies;
     for i in b.index_of_ids() {
+        if i == crate::bodies::REMOVED {
+            continue;
+        }
         let i = i as usize;
         let g = b.group[i];
         if g == NO_GROUP {

@@ -316,6 +316,7 @@ impl Simulation {
             friction,
             shear: PairShear::default(),
             moving,
+            removal: None,
         };
         Ok(Simulation {
             world,
@@ -331,7 +332,26 @@ impl Simulation {
             initial_energy: 0.0,
             energy_guard: EnergyGuard::new(setup, dt),
             fingerprint: Fingerprint::of(setup),
-            outside_box: outside_box(setup),
+            outside_box: None,
+        })
+        .map(|mut sim| {
+            // Lost: outside the box grown to hold the fixed spheres, for
+            // the error and for the removal alike.
+            let lost_box = outside_box(setup);
+            match setup.outside {
+                Outside::Error => sim.outside_box = lost_box,
+                Outside::Keep => {}
+                Outside::Delete => {
+                    sim.world.removal = lost_box.map(|(lower, upper)| {
+                        Box::new(crate::removal::Removal {
+                            lower,
+                            upper,
+                            removed: Default::default(),
+                        })
+                    })
+                }
+            }
+            sim
         })
     }
 }

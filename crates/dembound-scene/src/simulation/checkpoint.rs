@@ -110,6 +110,7 @@ impl Simulation {
             plane_shear,
             element_records,
             moving_walls: w.moving.as_ref().map(|m| m.record()),
+            removed: w.removal.as_ref().map(|r| r.removed),
         }
     }
 
@@ -122,7 +123,19 @@ impl Simulation {
         let mut sim = Self::prepare(&setup, threads)?;
         let c = checkpoint;
         c.fingerprint.check(&sim.fingerprint)?;
-        let n = sim.world.bodies.len();
+        // The scene's bodies (input order), less those the run removed.
+        let all = sim.world.bodies.len();
+        let removed = match (c.removed, sim.world.removal.as_deref_mut()) {
+            (Some(r), Some(removal)) => {
+                removal.removed = r;
+                r.particles
+            }
+            _ => 0,
+        };
+        let n = usize::try_from(removed)
+            .ok()
+            .and_then(|r| all.checked_sub(r))
+            .unwrap_or(usize::MAX);
         let same_len = |len: usize| len == n;
         if !(same_len(c.order.len())
             && same_len(c.position.len())
@@ -132,7 +145,7 @@ impl Simulation {
             && (c.higher.is_empty() || same_len(c.higher.len())))
         {
             return Err(SceneError::Checkpoint(format!(
-                "it holds {} bodies, the scene {n}",
+                "it holds {} bodies, the scene {all} less the {removed} it removed",
                 c.order.len()
             )));
         }
@@ -142,9 +155,9 @@ impl Simulation {
                 c.dt, sim.world.dt
             )));
         }
-        let mut seen = vec![false; n];
+        let mut seen = vec![false; all];
         for &id in &c.order {
-            if id as usize >= n || seen[id as usize] {
+            if id as usize >= all || seen[id as usize] {
                 return Err(SceneError::Checkpoint(format!(
                     "body order has a bad or repeated id {id}"
                 )));
@@ -192,7 +205,7 @@ impl Simulation {
         // engine's order is already sorted (the order stays), one in
         // another order (a decomposed run's, input order) is not; the
         // arrays not moved with the bodies are taken by id.
-        let mut entry = vec![0usize; n];
+        let mut entry = vec![0usize; all];
         for (k, &id) in c.order.iter().enumerate() {
             entry[id as usize] = k;
         }
@@ -265,7 +278,13 @@ impl Simulation {
             .bodies
             .index_of_ids()
             .into_iter()
-            .map(|k| k as usize)
+            .map(|k| {
+                if k == crate::bodies::REMOVED {
+                    usize::MAX
+                } else {
+                    k as usize
+                }
+            })
             .collect();
         restore_wall_records(w, c, &at)?;
         // The wall loads are not in the checkpoint.
@@ -448,4 +467,9 @@ pub struct Checkpoint {
     /// absent when every wall is fixed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moving_walls: Option<crate::pipeline::moving_walls::MovingWallsRecord>,
+    /// The spheres removed so far, their mass and the energy they carried
+    /// out (`crate::removal`; absent when the scene removes none). The
+    /// removed spheres are those whose input index `order` lacks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub removed: Option<crate::removal::Removed>,
 }

@@ -269,6 +269,7 @@ impl<T: Transport> DistributedSimulation<T> {
             plane_shear: Vec::new(),
             element_records: Vec::new(),
             moving_walls: moving,
+            removed: None,
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {

@@ -1,0 +1,295 @@
+//! `domain.outside = "delete"` (issue 28): spheres lost for good are
+//! removed, counted, their mass and the energy they carry out reported
+//! (`--json`, series.csv), and the energy balance closes:
+//! K + E + P + D + C = E₀ (C carried out). The same bits on 1 and 2
+//! threads and across a restart from a checkpoint.
+
+mod common;
+
+use common::{dembound, scene_text};
+use std::path::Path;
+
+/// Two spheres (R = 1 mm, ρ = 2500 kg/m³) in a 10 mm box with no walls,
+/// gravity −z: both fall out through the floor (the default stops the
+/// run: tests/cli_scene_outside.rs).
+const OPEN_BOX: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+outside = "delete"
+
+[[material]]
+name = "g"
+density = 2500.0
+youngs_modulus = 1e7
+poisson_ratio = 0.3
+
+[[particles]]
+material = "g"
+spheres = [{ position = [0.005, 0.005, 0.008], radius = 1e-3 }, { position = [0.002, 0.002, 0.002], radius = 1e-3 }]
+
+[motion]
+gravity = [0.0, 0.0, -9.81]
+
+[integration]
+scheme = "verlet"
+dt = 1e-5
+duration = 0.1
+
+[output]
+series_every = 1
+"#;
+
+fn json(stdout: &str) -> serde_json::Value {
+    serde_json::from_str(stdout).expect("one JSON object")
+}
+
+fn f(j: &serde_json::Value, key: &str) -> f64 {
+    j[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} missing: {j}"))
+}
+
+#[test]
+fn deleted_spheres_are_counted_and_carry_their_energy_out() {
+    // Sphere mass m = ρ 4/3 π R³; at t = 0 both rest (K = 0), so
+    // E₀ = P₀ = m g (z₁ + z₂): what the two carry out once both are gone
+    // (nothing dissipates: they never touch anything).
+    let m = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-9;
+    let e0 = m * 9.81 * (0.008 + 0.002);
+    for scheme in ["verlet", "gear5"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let text = OPEN_BOX.replace("scheme = \"verlet\"", &format!("scheme = \"{scheme}\""));
+        let (code, stdout, stderr) = scene_text(
+            &text,
+            dir.path(),
+            &["--json", "-q", "--out", out.to_str().unwrap()],
+        );
+        assert_eq!(code, Some(0), "{scheme}: {stderr}");
+        let j = json(&stdout);
+        assert_eq!(j["particles"], 2, "{scheme}");
+        assert_eq!(j["deleted_particles"], 2, "{scheme}");
+        // The mass: a sum of two equal f64 (exact to one rounding).
+        let mass = f(&j, "deleted_mass");
+        assert!((mass - 2.0 * m).abs() <= 1e-15 * m, "{scheme}: {mass}");
+        let b = &j["energy_balance"];
+        let carried = f(b, "carried_out_energy");
+        // 1e-9 of E₀: Verlet conserves K + P of a free fall exactly (the
+        // removal completes the half-step velocity by g Δt/2), Gear5's
+        // predictor is exact for a constant acceleration; what remains is
+        // the rounding of 10⁴ steps (~1e-12 relative).
+        assert!(
+            (carried - e0).abs() <= 1e-9 * e0,
+            "{scheme}: {carried} vs {e0}"
+        );
+        assert!(
+            (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * e0,
+            "{scheme}: {b}"
+        );
+        assert!((f(b, "total_initial") - e0).abs() <= 1e-12 * e0, "{b}");
+        let d = f(&j, "dissipated_energy");
+        assert!(d.abs() <= 1e-9 * e0, "{scheme}: D = {d}");
+        assert_eq!(f(&j, "kinetic_energy"), 0.0);
+        assert_eq!(f(&j, "potential_energy"), 0.0);
+        // series.csv: the count, mass and energy columns after the others;
+        // sphere 1 (z₀ = 2 mm) is removed first: no earlier than the step
+        // it is wholly below the floor, n = ⌊√(2 (z₀ + R)/g)/Δt⌋ + 1 = 2474,
+        // at the list rebuild that follows, well before sphere 0
+        // (z₀ = 8 mm) is lost at step 4284 (the same formula).
+        let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
+        let header: Vec<&str> = series.lines().next().unwrap().split(',').collect();
+        assert_eq!(
+            header[header.len() - 3..],
+            [
+                "deleted_particles",
+                "deleted_mass_kg",
+                "carried_out_energy_J"
+            ]
+        );
+        let first_step = |count: &str| {
+            series
+                .lines()
+                .skip(1)
+                .find(|l| l.split(',').nth(header.len() - 3) == Some(count))
+                .and_then(|l| l.split(',').next()?.parse::<u64>().ok())
+                .unwrap_or_else(|| panic!("{scheme}: no row with {count} deleted"))
+        };
+        let lost = |z0: f64| ((2.0 * (z0 + 1e-3) / 9.81f64).sqrt() / 1e-5).floor() as u64 + 1;
+        assert_eq!((lost(0.002), lost(0.008)), (2474, 4284));
+        let (one, two) = (first_step("1"), first_step("2"));
+        assert!((2474..4284).contains(&one), "{scheme}: {one}");
+        assert!(two >= 4284, "{scheme}: {two}");
+    }
+}
+
+/// 360 spheres (R = 0.5 mm) on a 6 × 6 × 10 grid in a 10 mm × 10 mm
+/// shaft of four plane walls, open at the bottom, thrown in random
+/// directions (a fixed linear congruential sequence): they collide with
+/// each other and the walls while falling out.
+fn shaft(dir: &Path) -> String {
+    let mut rows = Vec::new();
+    let mut state: u64 = 12345;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for k in 0..10 {
+        for j in 0..6 {
+            for i in 0..6 {
+                let x = [
+                    1.25e-3 + 1.5e-3 * i as f64,
+                    1.25e-3 + 1.5e-3 * j as f64,
+                    4e-3 + 1.5e-3 * k as f64,
+                ];
+                let v = [0.6 * next(), 0.6 * next(), 0.6 * next()];
+                rows.push(format!(
+                    "{:e},{:e},{:e},5e-4,{:e},{:e},{:e}",
+                    x[0], x[1], x[2], v[0], v[1], v[2]
+                ));
+            }
+        }
+    }
+    let csv = dir.join("shaft.csv");
+    std::fs::write(
+        &csv,
+        "x,y,z,radius,vx,vy,vz\n".to_string() + &rows.join("\n") + "\n",
+    )
+    .unwrap();
+    format!(
+        r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.025]
+outside = "delete"
+
+[[material]]
+name = "g"
+density = 2500.0
+youngs_modulus = 1e7
+poisson_ratio = 0.3
+
+[contact]
+law = "hertz"
+
+[[particles]]
+material = "g"
+csv = "{}"
+
+[[wall]]
+plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
+material = "g"
+[[wall]]
+plane = {{ point = [0.01, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }}
+material = "g"
+[[wall]]
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = "g"
+[[wall]]
+plane = {{ point = [0.0, 0.01, 0.0], normal = [0.0, -1.0, 0.0] }}
+material = "g"
+
+[motion]
+gravity = [0.0, 0.0, -9.81]
+
+[integration]
+scheme = "verlet"
+dt = 2e-6
+steps = 30000
+
+[output]
+series_every = 100
+every = 10000
+"#,
+        csv.display()
+    )
+}
+
+/// `dembound scene DIR/scene.toml --threads T ARGS --json -q --out DIR/NAME`:
+/// the JSON without its timing keys.
+fn run(dir: &Path, threads: &str, name: &str, args: &[&str]) -> serde_json::Value {
+    let out = dembound()
+        .arg("scene")
+        .arg(dir.join("scene.toml"))
+        .args(["--threads", threads, "--json", "-q", "--out"])
+        .arg(dir.join(name))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut j = json(&String::from_utf8_lossy(&out.stdout));
+    for key in [
+        "wall_clock",
+        "wall_clock_total",
+        "particle_steps_per_second",
+        "threads",
+        "steps_this_run",
+    ] {
+        j.as_object_mut().unwrap().remove(key);
+    }
+    j
+}
+
+fn read(dir: &Path, name: &str, file: &str) -> Vec<u8> {
+    std::fs::read(dir.join(name).join(file)).unwrap_or_else(|e| panic!("{name}/{file}: {e}"))
+}
+
+#[test]
+fn one_and_two_threads_and_a_restart_give_the_same_bits() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), shaft(dir.path())).unwrap();
+    let one = run(dir.path(), "1", "one", &[]);
+    // Some spheres fell out, not all, and they met on the way.
+    let deleted = one["deleted_particles"].as_u64().unwrap();
+    assert!((20..360).contains(&deleted), "{one}");
+    assert_eq!(one["particles"], 360);
+    let b = &one["energy_balance"];
+    // The guard's rounding allowance is 1e-10 per joule; 1e-9 of E₀
+    // leaves room for the contacts' integration error (Hertz, no
+    // damping: D is that error only).
+    assert!(
+        (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * f(b, "total_initial"),
+        "{b}"
+    );
+    let two = run(dir.path(), "2", "two", &[]);
+    assert_eq!(one, two);
+    for file in ["series.csv", "snapshot_000003.vtp", "checkpoint.cbor"] {
+        assert!(
+            read(dir.path(), "one", file) == read(dir.path(), "two", file),
+            "{file} differs on 2 threads"
+        );
+    }
+    // Half, then from its checkpoint to the end: the one-go run's end.
+    let half = run(
+        dir.path(),
+        "1",
+        "half",
+        &["--set", "integration.steps=13000"],
+    );
+    // The checkpoint holds some removed spheres, and more go after it.
+    let before = half["deleted_particles"].as_u64().unwrap();
+    assert!(before > 0 && before < deleted, "{before} of {deleted}");
+    let cp = dir.path().join("half").join("checkpoint.cbor");
+    let again = run(
+        dir.path(),
+        "2",
+        "again",
+        &["--restart", cp.to_str().unwrap()],
+    );
+    assert!(
+        read(dir.path(), "again", "checkpoint.cbor") == read(dir.path(), "one", "checkpoint.cbor"),
+        "the restarted run's checkpoint differs"
+    );
+    assert_eq!(again["deleted_particles"], one["deleted_particles"]);
+    assert_eq!(again["deleted_mass"], one["deleted_mass"]);
+    assert_eq!(
+        again["energy_balance"]["carried_out_energy"],
+        one["energy_balance"]["carried_out_energy"]
+    );
+}
