@@ -432,7 +432,10 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
     let k_fit = d_tube / (4.0 * p.wall_friction * lambda);
     // Direct ratios over the wall bands deeper than 2 R (whose σ_zz is the
     // mean of the band's two cuts): Σσ_rr/Σσ_zz and Στ/Σσ_rr.
+    // The plotted ratios over pairs of bands (4 R tall: a band 2 R tall
+    // holds about one layer of wall contacts and its ratio is noisy).
     let mut sums = (0.0, 0.0, 0.0);
+    let mut pair = (0.0, 0.0, 0.0, 0.0, 0);
     let mut k_points = Vec::new();
     let mut mu_points = Vec::new();
     for k in 0..cuts.saturating_sub(1) {
@@ -445,9 +448,19 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
         sums.0 += avg.sigma_rr[k];
         sums.1 += szz;
         sums.2 += avg.tau[k];
-        if szz > 0.0 && avg.sigma_rr[k] > 0.0 {
-            k_points.push((depth * 1e3, avg.sigma_rr[k] / szz));
-            mu_points.push((depth * 1e3, avg.tau[k] / avg.sigma_rr[k]));
+        pair = (
+            pair.0 + avg.sigma_rr[k],
+            pair.1 + szz,
+            pair.2 + avg.tau[k],
+            pair.3 + depth,
+            pair.4 + 1,
+        );
+        if pair.4 == 2 {
+            if pair.1 > 0.0 && pair.0 > 0.0 {
+                k_points.push((pair.3 / 2.0 * 1e3, pair.0 / pair.1));
+                mu_points.push((pair.3 / 2.0 * 1e3, pair.2 / pair.0));
+            }
+            pair = (0.0, 0.0, 0.0, 0.0, 0);
         }
     }
     let k_direct = sums.0 / sums.1;
