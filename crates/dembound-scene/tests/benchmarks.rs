@@ -80,6 +80,54 @@ fn chung_ooi_7_and_8_sphere_pairs() {
     }
 }
 
+/// Janssen's silo, quick (a tube 6 mean diameters wide, 800 spheres):
+/// the bed sliding on the sinking floor follows Janssen's law (σ∞ =
+/// ρ_b g λ, the K of the fit equal to the K measured at the wall, the
+/// floor's stress on the law) within the bands the full run sets
+/// (`janssen.rs`, `Bands`). The mobilised wall friction is below μ_w in
+/// the full run too (the report says why): held between the full run's
+/// share of μ_w less 10 % and μ_w itself, which Coulomb's law bounds
+/// exactly (1e-9 for the sums' round-off).
+#[test]
+fn janssen_silo() {
+    let out = run("janssen", true, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
+    for c in &out.checks {
+        if c.quantity.starts_with("mobilised wall friction") {
+            assert!(
+                c.ours <= c.published * (1.0 + 1e-9)
+                    && c.ours >= (FULL_JANSSEN_MOBILISED - 0.1) * c.published,
+                "{} = {} (μ_w {})",
+                c.quantity,
+                c.ours,
+                c.published
+            );
+        } else {
+            assert!(
+                c.passes(),
+                "{} = {} vs {} ({:?})",
+                c.quantity,
+                c.ours,
+                c.published,
+                c.band
+            );
+        }
+    }
+    assert!(out
+        .plots
+        .iter()
+        .all(|p| p.curves.iter().any(|c| c.points.len() >= 2)));
+}
+
+/// The full run's mobilised wall friction over μ_w (`full` below).
+const FULL_JANSSEN_MOBILISED: f64 = 0.80;
+
+/// The planar column collapse, quick (L0 = 6 mean diameters, a ≈ 1 and
+/// 3.6): run-out and final height within the published laws' band.
+#[test]
+fn column_collapse() {
+    quick("column-collapse");
+}
+
 #[test]
 fn names_are_unique_and_unknown_ones_refused() {
     let mut n = names();

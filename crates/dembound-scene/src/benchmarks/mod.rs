@@ -10,8 +10,11 @@
 mod chung_ooi;
 mod chung_ooi_oblique;
 pub mod closed_form;
+mod column_collapse;
 mod digitised;
+mod granular;
 pub mod impact;
+mod janssen;
 
 use crate::SceneError;
 use std::time::Instant;
@@ -144,7 +147,7 @@ impl Outcome {
 type Runner = fn(bool, &dyn Fn(&str)) -> Result<Outcome, SceneError>;
 
 /// The benchmarks: name, one-line title, runner.
-const BENCHMARKS: [(&str, &str, Runner); 8] = [
+const BENCHMARKS: [(&str, &str, Runner); 10] = [
     (
         "chung-ooi-1",
         "Elastic normal impact of two identical spheres",
@@ -184,6 +187,12 @@ const BENCHMARKS: [(&str, &str, Runner); 8] = [
         "chung-ooi-8",
         "Impact of a spinning sphere on a different sphere",
         chung_ooi_oblique::test8,
+    ),
+    ("janssen", janssen::TITLE, janssen::run),
+    (
+        "column-collapse",
+        column_collapse::TITLE,
+        column_collapse::run,
     ),
 ];
 
