@@ -6,6 +6,7 @@
 pub mod csv;
 pub mod lammps_data;
 pub mod lattice;
+pub mod mesh_tiling;
 pub mod random;
 pub mod tiling;
 
