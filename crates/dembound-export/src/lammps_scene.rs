@@ -107,6 +107,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         );
     }
     crate::refuse_moving_walls(setup, "LAMMPS")?;
+    crate::refuse_servo_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
     for (w, wall) in setup.walls.iter().enumerate() {
@@ -906,6 +907,10 @@ steps = 10
             (
                 vec!["wall.0.oscillation={amplitude=[0,1e-4,0],frequency=50}"],
                 "wall[0].oscillation",
+            ),
+            (
+                vec!["wall.0.servo={force=1,axis=[1,0,0],max_velocity=0.1}"],
+                "wall[0].servo",
             ),
         ] {
             let e = exported(&sets).expect_err("refused");

@@ -75,6 +75,11 @@ pub struct Observation {
     /// dissipated energy is then E₀ + W − (K + E + P).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub work_by_walls: Option<f64>,
+    /// Each moving or force-controlled wall's motion now, wall order
+    /// (issue 27, `pipeline::wall_states`); empty when every wall is
+    /// fixed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wall_motions: Vec<crate::pipeline::wall_states::WallMotionState>,
 }
 
 /// A running scene.

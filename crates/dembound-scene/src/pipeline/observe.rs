@@ -107,6 +107,7 @@ pub(crate) fn observation(
         wall_forces: loads.iter().map(|l| l.force).collect(),
         wall_torques: loads.iter().map(|l| l.torque).collect(),
         work_by_walls: work,
+        wall_motions: world.wall_motion_states(),
     }
 }
 
