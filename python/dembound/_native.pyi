@@ -87,6 +87,8 @@ class Scene:
         """A fixed triangle-mesh wall: the triangles of ``path`` (STL, binary or ASCII, or OBJ) placed by x' = R(scale·x) + translate, R a rotation of ``rotate_angle`` degrees about ``rotate_axis``; cleaning counts are warnings."""
     def set_wall_motion(self, k: int, velocity: Optional[tuple[float, float, float] | list[float]] = None, angular_velocity: Optional[tuple[float, float, float] | list[float]] = None, center: Optional[tuple[float, float, float] | list[float]] = None, start: float = 0.0, end: float = float("inf"), amplitude: Optional[tuple[float, float, float] | list[float]] = None, frequency: Optional[float] = None) -> None:
         """Prescribed rigid motion of wall ``k`` (a plane, cylinder or mesh) before the first step: ``velocity`` m/s, ``angular_velocity`` rad/s about the axis through ``center`` (m), from ``start`` to ``end`` s, plus ``amplitude``·sin(2π ``frequency`` t) (m, Hz); its work is ``observe()["work_by_walls_J"]``."""
+    def set_wall_servo(self, k: int, force: float, axis: tuple[float, float, float] | list[float], max_velocity: float, gain: Optional[float] = None) -> None:
+        """Force control of wall ``k`` (a plane, cylinder or mesh without a motion) before the first step: it moves along ``axis`` at ``gain``·``max_velocity``·(F − N)/F m/s, clamped to ±``max_velocity``, N the spheres' push against ``axis`` (N), F = ``force`` N (LIGGGHTS's servo, kp = ``gain``, default 0.01)."""
     def step(self, n: int) -> None:
         """Advances n steps of Δt, 0 ≤ n ≤ 1e15 (GIL released)."""
     def run(

@@ -401,6 +401,40 @@ pub fn keys() -> Vec<KeyInfo> {
             "f",
         ),
         row(
+            "wall[K].servo.force",
+            "N",
+            "—",
+            format!(
+                "> 0, ≤ {}",
+                show(dembound_scene::walls::servo::MAX_FORCE)
+            ),
+            "push F to hold (plane, cylinder or mesh; not with motion)",
+        ),
+        row(
+            "wall[K].servo.axis",
+            "—",
+            "—",
+            "finite, not all 0".into(),
+            "direction the wall moves to press harder",
+        ),
+        row(
+            "wall[K].servo.max_velocity",
+            "m/s",
+            "—",
+            format!("> 0, ≤ {}", show(limits::MAX_SPEED)),
+            "v_max: the speed clamp",
+        ),
+        row(
+            "wall[K].servo.gain",
+            "—",
+            "0.01",
+            format!(
+                "> 0, ≤ {}",
+                show(dembound_scene::walls::servo::MAX_GAIN)
+            ),
+            "k: v = k v_max (F − N)/F along axis",
+        ),
+        row(
             "motion.gravity",
             "m/s²",
             "[0, 0, -9.81]",

@@ -199,6 +199,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         wall_torques: last.wall_torques.clone(),
         wall_torque_points: sim.wall_torque_points(),
         wall_triangle_counts: triangle_counts(sim.wall_triangle_counts()),
+        wall_motions: last.wall_motions.clone(),
         wall_clock: stepping,
         wall_clock_total: wall_total,
         particle_steps_per_second: if stepping > 0.0 {
@@ -362,6 +363,12 @@ pub(super) struct Report {
     /// loads are in the `wall_K_*.vtp` files, not here.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) wall_triangle_counts: Option<Vec<Option<usize>>>,
+    /// Each moving or force-controlled wall's motion at the end (issue
+    /// 27): `wall` (file order), `position` (its reference point's
+    /// displacement, m), `angle` (rad), `velocity` (m/s),
+    /// `angular_velocity` (rad/s); absent when every wall is fixed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) wall_motions: Vec<dembound_scene::pipeline::wall_states::WallMotionState>,
     /// Seconds spent stepping (output excluded).
     pub(super) wall_clock: f64,
     /// Seconds of the whole loop, sampling and snapshots included.
@@ -527,6 +534,15 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
             vector(*f, "N"),
             vector(*t, "N m"),
             vector(about, "m")
+        );
+    }
+    for m in &r.wall_motions {
+        s += &format!(
+            "wall {} moved: position {}, angle {} rad, velocity {}\n",
+            m.wall,
+            vector(m.position, "m"),
+            sig(m.angle, 6),
+            vector(m.velocity, "m/s")
         );
     }
     if let Some(rows) = &r.collisions {

@@ -108,6 +108,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     crate::refuse_moving_walls(setup, "LAMMPS")?;
     crate::refuse_removal(setup, "LAMMPS")?;
+    crate::refuse_servo_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
     for (w, wall) in setup.walls.iter().enumerate() {
@@ -909,6 +910,10 @@ steps = 10
                 "wall[0].oscillation",
             ),
             (vec!["domain.outside=delete"], "domain.outside"),
+            (
+                vec!["wall.0.servo={force=1,axis=[1,0,0],max_velocity=0.1}"],
+                "wall[0].servo",
+            ),
         ] {
             let e = exported(&sets).expect_err("refused");
             assert!(e.to_string().contains(key), "{sets:?}: {e}");

@@ -169,6 +169,20 @@ pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> 
     Ok(())
 }
 
+/// The refusal of a scene with a force-controlled wall (issue 27,
+/// `[[wall]] servo`) by the `code` deck writer, naming the wall's key:
+/// the decks do not write LIGGGHTS's `servo` mesh module (nor has LAMMPS
+/// one).
+pub(crate) fn refuse_servo_walls(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
+    if let Some(w) = setup.wall_servos.iter().position(Option::is_some) {
+        return Err(Error::Export(format!(
+            "`wall[{w}].servo` cannot be exported: the {code} deck holds no force-controlled \
+             wall (the servo is not written); remove `wall[{w}].servo` to export the scene"
+        )));
+    }
+    Ok(())
+}
+
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
 pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {

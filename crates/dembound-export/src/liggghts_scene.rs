@@ -90,6 +90,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     crate::refuse_moving_walls(setup, "LIGGGHTS")?;
     crate::refuse_removal(setup, "LIGGGHTS")?;
+    crate::refuse_servo_walls(setup, "LIGGGHTS")?;
     if !matches!(model.normal, NormalLaw::Hertz) {
         return refuse(format!(
             "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
@@ -588,6 +589,10 @@ steps = 10
             (
                 vec!["wall.0.motion.angular_velocity=[0,0,1]"],
                 "wall[0].motion",
+            ),
+            (
+                vec!["wall.0.servo={force=1,axis=[1,0,0],max_velocity=0.1}"],
+                "wall[0].servo",
             ),
         ] {
             let e = exported(&sets).expect_err("refused");

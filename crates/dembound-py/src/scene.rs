@@ -478,11 +478,78 @@ impl Scene {
             .into());
         }
         motion::validate(&key, Some(&config), oscillation.as_ref()).map_err(scene_failure)?;
+        if self.setup.wall_servos.get(k).is_some_and(Option::is_some) {
+            return Err(Failure::Input(format!(
+                "invalid value for `{key}.motion`: given to a wall with a servo (allowed: a \
+                 servo or a prescribed motion, not both: the servo sets the wall's velocity)"
+            ))
+            .into());
+        }
         let before = self.setup.wall_motions.clone();
         self.setup.wall_motions.resize(walls, None);
         self.setup.wall_motions[k] = WallMotion::from_config(Some(&config), oscillation.as_ref());
         if let Err(e) = guarded(|| self.rebuild("set_wall_motion")) {
             self.setup.wall_motions = before;
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
+    /// Puts wall `k` (file order, then walls added) under force control
+    /// before the first step (`[[wall]] servo` of the scene file): it
+    /// moves along `axis` at v = `gain` `max_velocity` (F − N)/F, clamped
+    /// to ±`max_velocity` (m/s), N the spheres' push against `axis` (N),
+    /// F = `force` (N); LIGGGHTS's servo with `kp` = `gain` (default
+    /// 0.01). A plane, cylinder or mesh without a prescribed motion; its
+    /// position and velocity show in `observe()["wallK_position_z_m"]`
+    /// and the like.
+    #[pyo3(signature = (k, force, axis, max_velocity, gain = None))]
+    fn set_wall_servo(
+        &mut self,
+        k: &Bound<'_, PyAny>,
+        force: &Bound<'_, PyAny>,
+        axis: &Bound<'_, PyAny>,
+        max_velocity: &Bound<'_, PyAny>,
+        gain: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        use dembound_scene::walls::servo::{self, Servo, ServoConfig, DEFAULT_GAIN};
+        let walls = self.setup.walls.len();
+        if walls == 0 {
+            return Err(Failure::Input("k: the scene has no wall to control".into()).into());
+        }
+        let k = args::index(k, "k", 0, walls - 1)?;
+        let (a, _) = args::floats(axis, "axis", &[Some(3)])?;
+        let config = ServoConfig {
+            force: args::real(force, "force")?,
+            axis: [a[0], a[1], a[2]],
+            max_velocity: args::real(max_velocity, "max_velocity")?,
+            gain: match gain.filter(|g| !g.is_none()) {
+                None => DEFAULT_GAIN,
+                Some(g) => args::real(g, "gain")?,
+            },
+        };
+        let key = format!("wall[{k}]");
+        if self.setup.walls[k].is_particles() {
+            return Err(Failure::Input(format!(
+                "invalid value for `{key}.servo`: a `{}` wall (allowed: a plane, cylinder or \
+                 mesh; walls of boundary particles have no servo)",
+                self.setup.walls[k].key()
+            ))
+            .into());
+        }
+        if self.setup.wall_motions.get(k).is_some_and(Option::is_some) {
+            return Err(Failure::Input(format!(
+                "invalid value for `{key}.servo`: given to a wall with a prescribed motion \
+                 (allowed: a servo or a prescribed motion, not both)"
+            ))
+            .into());
+        }
+        servo::validate(&key, &config).map_err(scene_failure)?;
+        let before = self.setup.wall_servos.clone();
+        self.setup.wall_servos.resize(walls, None);
+        self.setup.wall_servos[k] = Some(Servo::from_config(&config));
+        if let Err(e) = guarded(|| self.rebuild("set_wall_servo")) {
+            self.setup.wall_servos = before;
             return Err(e.into());
         }
         Ok(())
@@ -699,10 +766,7 @@ impl Scene {
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let sim = self.running()?;
         let observation = guarded(|| Ok(sim.observe()))?;
-        let header = series::series_header(
-            observation.wall_forces.len(),
-            observation.work_by_walls.is_some(),
-        );
+        let header = series::series_header_of(&observation);
         let out = PyDict::new(py);
         for (name, cell) in header.into_iter().zip(series::series_cells(&observation)) {
             match cell {

@@ -68,6 +68,9 @@ impl Fingerprint {
             if let Some(Some(m)) = setup.wall_motions.get(k) {
                 put(format!("wall.{k}.motion"), format!("{m:?}"));
             }
+            if let Some(Some(s)) = setup.wall_servos.get(k) {
+                put(format!("wall.{k}.servo"), format!("{s:?}"));
+            }
         }
         put("motion.gravity".into(), format!("{:?} m/s²", setup.gravity));
         put(

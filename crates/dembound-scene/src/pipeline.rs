@@ -19,9 +19,11 @@ mod forces;
 pub(crate) mod moving_walls;
 mod neighbours;
 pub(crate) mod observe;
+pub(crate) mod servo_walls;
 pub(crate) mod triangle_loads;
 mod verlet;
 pub(crate) mod wall_loads;
+pub mod wall_states;
 
 pub(crate) use collisions::partner_key;
 pub(crate) use neighbours::{celled_extent, save_pairs, saved_tracks_public, WholeGrid};
@@ -157,6 +159,10 @@ pub(crate) trait StepHooks {
     fn fusable(&self, world: &World) -> bool;
     /// The collision log got entries `before..` this step.
     fn logged(&mut self, world: &mut World, before: usize);
+    /// The loads on the servo walls (file order; the other walls' zero)
+    /// from the last force stage, summed over every process in input-id
+    /// order (`servo_walls`).
+    fn servo_loads(&mut self, world: &World) -> Vec<crate::walls::WallLoad>;
 }
 
 /// One process: no halo beyond the periodic ghosts, no migration, the
@@ -192,6 +198,11 @@ impl StepHooks for Local {
         world.list.extra.is_empty()
     }
     fn logged(&mut self, _world: &mut World, _before: usize) {}
+    fn servo_loads(&mut self, world: &World) -> Vec<crate::walls::WallLoad> {
+        let walls = servo_walls::servo_file_indices(world);
+        let records = servo_walls::servo_load_records(world, &walls);
+        wall_loads::sum_records(&records, world.walls.len())
+    }
 }
 
 impl Pipeline {
@@ -200,7 +211,7 @@ impl Pipeline {
         world.place_walls(world.steps_done);
         self.neighbours(world, workers);
         self.forces(world, workers);
-        world.account_wall_work(false);
+        walls_measured(world, &mut Local, false);
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
@@ -308,7 +319,7 @@ impl Pipeline {
                 // Δt plays no part in the forces.
                 let springs_dt = if friction { dt } else { 0.0 };
                 self.body_forces(world, workers, springs_dt);
-                world.account_wall_work(true);
+                walls_measured(world, hooks, true);
                 hooks.pair_forces(self, world, workers, springs_dt);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
@@ -387,7 +398,18 @@ impl Pipeline {
             hooks.halo(world);
             self.ghosts(world);
         }
-        world.account_wall_work(true);
+        walls_measured(world, hooks, true);
+    }
+}
+
+/// After the walls' forces of a step (or of the start): the moving walls'
+/// work (`integrate`: of the step) and the servos' speeds from their
+/// loads over every process.
+pub(crate) fn walls_measured(world: &mut World, hooks: &mut impl StepHooks, integrate: bool) {
+    world.account_wall_work(integrate);
+    if world.has_servos() {
+        let loads = hooks.servo_loads(world);
+        world.steer_servos(&loads);
     }
 }
 

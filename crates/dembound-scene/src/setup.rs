@@ -39,6 +39,10 @@ pub struct SceneSetup {
     /// `walls::motion`); missing entries or `None`: fixed. Empty when no
     /// wall moves.
     pub wall_motions: Vec<Option<crate::walls::motion::WallMotion>>,
+    /// The force control of each wall in file order (issue 27,
+    /// `walls::servo`); missing entries or `None`: none. Empty when no
+    /// wall has a servo.
+    pub wall_servos: Vec<Option<crate::walls::servo::Servo>>,
 }
 
 /// What a free sphere lost for good along a non-periodic axis does to
@@ -218,6 +222,7 @@ impl SceneSetup {
             friction: None,
             outside: Outside::Error,
             wall_motions: Vec::new(),
+            wall_servos: Vec::new(),
         }
     }
 }

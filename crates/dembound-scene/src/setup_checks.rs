@@ -128,6 +128,51 @@ fn ranges(setup: &SceneSetup, label: Label<'_>) -> Result<(), SceneError> {
             ));
         }
     }
+    servos(setup)
+}
+
+/// A servo (issue 27, `walls::servo`) on a surface wall without a
+/// prescribed motion, with values in range (the scene file's checks, for
+/// setups built in code).
+fn servos(setup: &SceneSetup) -> Result<(), SceneError> {
+    use crate::walls::servo::{validate, ServoConfig};
+    for (k, servo) in setup.wall_servos.iter().enumerate() {
+        let Some(s) = servo else { continue };
+        let key = format!("wall[{k}]");
+        let wall = setup.walls.get(k).ok_or_else(|| {
+            invalid(
+                &format!("{key}.servo"),
+                "given for a wall the scene does not have",
+                &format!("a wall index below {}", setup.walls.len()),
+            )
+        })?;
+        if wall.is_particles() {
+            return Err(invalid(
+                &format!("{key}.servo"),
+                format!("given for a `{}` wall", wall.key()),
+                &format!(
+                    "a {} (walls of boundary particles have no servo)",
+                    crate::walls::registry::surface_kinds_or()
+                ),
+            ));
+        }
+        if setup.wall_motions.get(k).is_some_and(Option::is_some) {
+            return Err(invalid(
+                &format!("{key}.servo"),
+                format!("given with a motion of `{key}`"),
+                "a servo or a prescribed motion, not both: the servo sets the wall's velocity",
+            ));
+        }
+        validate(
+            &key,
+            &ServoConfig {
+                force: s.force,
+                axis: s.axis,
+                max_velocity: s.max_velocity,
+                gain: s.gain,
+            },
+        )?;
+    }
     Ok(())
 }
 

@@ -81,6 +81,11 @@ pub struct Observation {
     /// E₀ + W − C − (K + E + P), C the energy carried out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub removed: Option<crate::removal::Removed>,
+    /// Each moving or force-controlled wall's motion now, wall order
+    /// (issue 27, `pipeline::wall_states`); empty when every wall is
+    /// fixed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub wall_motions: Vec<crate::pipeline::wall_states::WallMotionState>,
 }
 
 /// A running scene.

@@ -299,7 +299,7 @@ impl<T: Transport> DistributedSimulation<T> {
         me.rebuild();
         let sim = &mut me.sim;
         sim.pipeline.body_forces(&mut sim.world, &sim.workers, 0.0);
-        sim.world.account_wall_work(false);
+        crate::pipeline::walls_measured(&mut sim.world, &mut me.comm, false);
         me.pair_forces();
         let w = &mut me.sim.world;
         if w.scheme == Scheme::Gear5 {
@@ -779,5 +779,14 @@ impl<T: Transport> StepHooks for RankComm<T> {
         );
         self.collision_steps
             .resize(world.collisions.len(), world.steps_done);
+    }
+
+    /// Every rank's records on the servo walls, merged by input id and
+    /// summed as on one process. Collective.
+    fn servo_loads(&mut self, world: &World) -> Vec<crate::walls::WallLoad> {
+        use crate::pipeline::{servo_walls, wall_loads};
+        let walls = servo_walls::servo_file_indices(world);
+        let records = self.merge_records(servo_walls::servo_load_records(world, &walls));
+        wall_loads::sum_records(&records, world.walls.len())
     }
 }

@@ -167,6 +167,7 @@ pub fn resolve_with(
     let mut boundary_materials: Vec<(usize, usize, usize)> = Vec::new();
     let mut wall_bodies = Vec::with_capacity(file.walls.len());
     let mut wall_motions = Vec::with_capacity(file.walls.len());
+    let mut wall_servos = Vec::with_capacity(file.walls.len());
     let mut warnings = Vec::new();
     for (w, wall) in file.walls.iter_mut().enumerate() {
         let mut cx = WallResolve {
@@ -182,6 +183,11 @@ pub fn resolve_with(
             wall.motion.as_ref(),
             wall.oscillation.as_ref(),
         ));
+        wall_servos.push(
+            wall.servo
+                .as_ref()
+                .map(crate::walls::servo::Servo::from_config),
+        );
         wall_bodies.push(setup.bodies().unwrap_or(spheres.len()..spheres.len()));
         walls.push(setup);
     }
@@ -239,6 +245,11 @@ pub fn resolve_with(
         },
         wall_motions: if wall_motions.iter().any(Option::is_some) {
             wall_motions
+        } else {
+            Vec::new()
+        },
+        wall_servos: if wall_servos.iter().any(Option::is_some) {
+            wall_servos
         } else {
             Vec::new()
         },

@@ -52,9 +52,29 @@ pub fn series_header(walls: usize, work: bool) -> Vec<String> {
     header
 }
 
-/// The cells of `o`'s row, in [`series_header`]'s order (the scene's
+/// The columns of a moving or force-controlled wall `k` (issue 27,
+/// after the torques, walls in file order): its reference point's
+/// displacement, the angle it turned, its velocity and angular velocity
+/// (`pipeline::wall_states`).
+pub fn motion_columns(k: usize) -> Vec<String> {
+    let mut out = Vec::with_capacity(10);
+    for axis in ["x", "y", "z"] {
+        out.push(format!("wall{k}_position_{axis}_m"));
+    }
+    out.push(format!("wall{k}_angle_rad"));
+    for axis in ["x", "y", "z"] {
+        out.push(format!("wall{k}_velocity_{axis}_m_s"));
+    }
+    for axis in ["x", "y", "z"] {
+        out.push(format!("wall{k}_angular_velocity_{axis}_rad_s"));
+    }
+    out
+}
+
+/// The cells of `o`'s row, in [`series_header_of`]'s order (the scene's
 /// walls are `o.wall_forces.len()`; the work column when
-/// `o.work_by_walls` is given).
+/// `o.work_by_walls` is given; the removal's columns when `o.removed` is
+/// given; the moving walls' columns last).
 pub fn series_cells(o: &Observation) -> Vec<Cell> {
     let mut cells = vec![
         Cell::Count(o.step),
@@ -79,6 +99,13 @@ pub fn series_cells(o: &Observation) -> Vec<Cell> {
             Cell::Value(r.energy),
         ]);
     }
+    for m in &o.wall_motions {
+        cells.extend(m.position.iter().map(|&x| Cell::Value(x)));
+        cells.push(Cell::Value(m.angle));
+        for v in [m.velocity, m.angular_velocity] {
+            cells.extend(v.iter().map(|&x| Cell::Value(x)));
+        }
+    }
     cells
 }
 
@@ -91,12 +118,16 @@ pub const REMOVED_COLUMNS: [&str; 3] = [
     "carried_out_energy_J",
 ];
 
-/// [`series_header`] for the rows like `o`: with the removal's columns
-/// when `o` has them.
+/// The column names of `o`'s row: [`series_header`] of its walls and
+/// work, then the removal's columns when `o` has them, then
+/// [`motion_columns`] of each wall in `o.wall_motions`.
 pub fn series_header_of(o: &Observation) -> Vec<String> {
     let mut header = series_header(o.wall_forces.len(), o.work_by_walls.is_some());
     if o.removed.is_some() {
         header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    }
+    for m in &o.wall_motions {
+        header.extend(motion_columns(m.wall));
     }
     header
 }
@@ -108,6 +139,9 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
     let mut header = series_header(walls, work);
     if rows.first().is_some_and(|o| o.removed.is_some()) {
         header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    }
+    for m in rows.first().map_or(&[][..], |o| &o.wall_motions[..]) {
+        header.extend(motion_columns(m.wall));
     }
     out.write_record(header)?;
     for o in rows {
@@ -231,6 +265,7 @@ mod tests {
             wall_torques: vec![[0.5, 0.0, 0.0], [0.0, -2.0, 0.0]],
             work_by_walls: None,
             removed: None,
+            wall_motions: Vec::new(),
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();
@@ -248,7 +283,7 @@ mod tests {
             ..o
         };
         let mut out = Vec::new();
-        write_series(&mut out, &[moving], 2).unwrap();
+        write_series(&mut out, std::slice::from_ref(&moving), 2).unwrap();
         let text = String::from_utf8(out).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].starts_with(
@@ -256,6 +291,33 @@ mod tests {
              dissipated_energy_J,work_by_walls_J,particle_contacts,"
         ));
         assert!(lines[1].starts_with("10,2e-5,1.5e0,0e0,-1e0,0e0,2.5e-1,3,1,"));
+        // A moving wall's motion after the torques: position, angle,
+        // velocity, angular velocity.
+        let moving = Observation {
+            wall_motions: vec![crate::pipeline::wall_states::WallMotionState {
+                wall: 1,
+                position: [0.0, 0.0, -2e-3],
+                angle: 0.5,
+                velocity: [0.0, 0.0, -1e-3],
+                angular_velocity: [0.0, 0.0, 0.25],
+            }],
+            ..moving
+        };
+        let mut out = Vec::new();
+        write_series(&mut out, std::slice::from_ref(&moving), 2).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].ends_with(
+            "wall1_torque_z_N_m,wall1_position_x_m,wall1_position_y_m,wall1_position_z_m,\
+             wall1_angle_rad,wall1_velocity_x_m_s,wall1_velocity_y_m_s,wall1_velocity_z_m_s,\
+             wall1_angular_velocity_x_rad_s,wall1_angular_velocity_y_rad_s,\
+             wall1_angular_velocity_z_rad_s"
+        ));
+        assert!(lines[1].ends_with(",0e0,0e0,-2e-3,5e-1,0e0,0e0,-1e-3,0e0,0e0,2.5e-1"));
+        assert_eq!(
+            series_header_of(&moving),
+            lines[0].split(',').collect::<Vec<_>>()
+        );
         assert_eq!(partner_name(&Partner::Wall(2)), "wall:2");
         assert_eq!(partner_name(&Partner::Body(5)), "5");
     }

@@ -36,8 +36,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::servo_walls::{ServoDrive, ServoRecord};
 use super::World;
 use crate::walls::motion::WallMotion;
+use crate::walls::servo::Servo;
 use crate::walls::Surface;
 
 /// A moving surface: its index in `World::surfaces`, its motion and its
@@ -53,6 +55,8 @@ pub struct WallDrive {
 #[derive(Debug, Clone)]
 pub struct MovingWalls {
     pub drives: Vec<WallDrive>,
+    /// The force-controlled walls (`servo_walls`).
+    pub servos: Vec<ServoDrive>,
     /// The step whose time t = step Δt the walls are placed at.
     pub placed_step: u64,
     /// `placed_step` at the last list build.
@@ -66,13 +70,17 @@ pub struct MovingWalls {
 /// What a checkpoint keeps of the moving walls (their pose is a function
 /// of the step): the step of the last list build's pose, the work and
 /// the last power.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MovingWallsRecord {
     pub built_step: u64,
     /// J.
     pub work: f64,
     /// W.
     pub power: f64,
+    /// The servos' state, wall order (absent without: the checkpoints of
+    /// prescribed motions keep their bytes).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub servos: Vec<ServoRecord>,
 }
 
 impl MovingWalls {
@@ -82,12 +90,17 @@ impl MovingWalls {
             built_step: self.built_step,
             work: self.work,
             power: self.power,
+            servos: self.servos.iter().map(ServoDrive::record).collect(),
         }
     }
 
-    /// The drives of `motions` (file order, `None`: fixed) for the
-    /// surfaces `surfaces`; `None` when no wall moves.
-    pub fn new(motions: &[Option<WallMotion>], surfaces: &[Surface]) -> Option<Box<MovingWalls>> {
+    /// The drives of `motions` and `servos` (file order, `None`: fixed)
+    /// for the surfaces `surfaces`; `None` when no wall moves.
+    pub fn new(
+        motions: &[Option<WallMotion>],
+        servos: &[Option<Servo>],
+        surfaces: &[Surface],
+    ) -> Option<Box<MovingWalls>> {
         let drives: Vec<WallDrive> = surfaces
             .iter()
             .enumerate()
@@ -100,9 +113,11 @@ impl MovingWalls {
                 })
             })
             .collect();
-        (!drives.is_empty()).then(|| {
+        let servos = ServoDrive::all(servos, surfaces);
+        (!drives.is_empty() || !servos.is_empty()).then(|| {
             Box::new(MovingWalls {
                 drives,
+                servos,
                 placed_step: 0,
                 built_step: 0,
                 work: 0.0,
@@ -121,6 +136,14 @@ impl World {
         let t = step as f64 * self.dt;
         for d in &m.drives {
             self.surfaces[d.surface] = d.reference.posed(&d.motion.state(t));
+        }
+        for s in &mut m.servos {
+            // The next step: the wall moves by Δt at the speed the last
+            // force evaluation set (`servo_walls`).
+            if step == m.placed_step + 1 {
+                s.offset += self.dt * s.velocity;
+            }
+            self.surfaces[s.surface] = s.reference.posed(&s.state());
         }
         m.placed_step = step;
     }
@@ -155,6 +178,9 @@ impl World {
                 .fold(0.0, f64::max);
             moved = moved.max(d.motion.displacement_bound(from, to, reach));
         }
+        for s in &m.servos {
+            moved = moved.max((s.offset - s.built_offset).abs());
+        }
         half - moved
     }
 
@@ -162,6 +188,9 @@ impl World {
     pub(crate) fn walls_listed(&mut self) {
         if let Some(m) = self.moving.as_mut() {
             m.built_step = m.placed_step;
+            for s in &mut m.servos {
+                s.built_offset = s.offset;
+            }
         }
     }
 

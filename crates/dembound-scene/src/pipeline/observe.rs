@@ -123,6 +123,7 @@ pub(crate) fn observation(
         wall_torques: loads.iter().map(|l| l.torque).collect(),
         work_by_walls: work,
         removed,
+        wall_motions: world.wall_motion_states(),
     }
 }
 

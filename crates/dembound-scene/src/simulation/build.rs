@@ -285,7 +285,11 @@ impl Simulation {
             }
         };
         let workers = Workers::new(threads)?;
-        let moving = crate::pipeline::moving_walls::MovingWalls::new(&setup.wall_motions, &planes);
+        let moving = crate::pipeline::moving_walls::MovingWalls::new(
+            &setup.wall_motions,
+            &setup.wall_servos,
+            &planes,
+        );
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {

@@ -196,8 +196,9 @@ impl Simulation {
             }
         }
         // The walls where the lists were built from these positions.
-        let moving = c.moving_walls.filter(|_| w.moving.is_some());
-        if let Some(m) = moving {
+        let moving = c.moving_walls.clone().filter(|_| w.moving.is_some());
+        if let Some(m) = &moving {
+            w.restore_servos(&m.servos, true, m.built_step);
             w.place_walls(m.built_step);
         }
         sim.pipeline.neighbours(w, &sim.workers);
@@ -221,6 +222,9 @@ impl Simulation {
         w.steps_done = c.steps_done;
         w.rebuilds = c.list_builds;
         w.collisions.clone_from(&c.collisions);
+        if let Some(m) = &moving {
+            w.restore_servos(&m.servos, false, c.steps_done);
+        }
         w.place_walls(c.steps_done);
         if let (Some(r), Some(m)) = (moving, w.moving.as_mut()) {
             m.work = r.work;

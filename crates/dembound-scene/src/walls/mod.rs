@@ -42,6 +42,7 @@
 pub mod motion;
 pub mod near;
 pub mod registry;
+pub mod servo;
 registry::wall_modules!();
 
 pub use cylinder::CylinderWall;

@@ -208,8 +208,8 @@ impl WallMotion {
         d
     }
 
-    /// The angle turned by t, rad.
-    fn angle(&self, t: f64) -> f64 {
+    /// The angle turned by t about ω̂, rad.
+    pub fn angle(&self, t: f64) -> f64 {
         limits::norm(self.angular_velocity) * self.elapsed(t)
     }
 

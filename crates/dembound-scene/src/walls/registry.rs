@@ -239,6 +239,9 @@ macro_rules! wall_registry {
             /// Sinusoidal translation (issue 27, `walls::motion`).
             #[serde(default, skip_serializing_if = "Option::is_none")]
             pub oscillation: Option<super::motion::OscillationConfig>,
+            /// Force control along an axis (issue 27, `walls::servo`).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub servo: Option<super::servo::ServoConfig>,
         }
 
         impl WallSection {
@@ -527,7 +530,7 @@ mod tests {
         assert!(
             err.to_string().contains(
                 "expected one of `plane`, `boundary_particles`, `cylinder`, `mesh`, \
-                 `material`, `friction`, `rolling_friction`, `motion`, `oscillation`"
+                 `material`, `friction`, `rolling_friction`, `motion`, `oscillation`, `servo`"
             ),
             "{err}"
         );

@@ -236,6 +236,8 @@ impl<T: Transport> DistributedSimulation<T> {
                 built_step: m.built_step,
                 work: s[0],
                 power: s[1],
+                // The same on every rank (`servo_walls`).
+                servos: m.servos.iter().map(|d| d.record()).collect(),
             }
         });
         let Some(parts) = self.comm.transport.gather(out.0) else {
@@ -465,8 +467,12 @@ impl<T: Transport> DistributedSimulation<T> {
         // (the re-balancing counts start here).
         me.comm.balance = super::balance::Balance::default();
         // The walls where the lists were built (`Simulation::restore`).
-        let moving = c.moving_walls.filter(|_| me.sim.world.moving.is_some());
-        if let Some(m) = moving {
+        let moving = c
+            .moving_walls
+            .clone()
+            .filter(|_| me.sim.world.moving.is_some());
+        if let Some(m) = &moving {
+            me.sim.world.restore_servos(&m.servos, true, m.built_step);
             me.sim.world.place_walls(m.built_step);
         }
         me.rebuild();
@@ -544,6 +550,9 @@ impl<T: Transport> DistributedSimulation<T> {
         w.steps_done = c.steps_done;
         w.rebuilds = c.list_builds;
         me.sim.initial_energy = c.initial_energy;
+        if let Some(m) = &moving {
+            w.restore_servos(&m.servos, false, c.steps_done);
+        }
         w.place_walls(c.steps_done);
         // The work so far and the last power at rank 0, the others' shares
         // start from zero (the observation sums them).

@@ -118,15 +118,7 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
         let walls = world.walls.len();
         let mut records = wall_loads::surface_load_records(world);
         if !world.surfaces.is_empty() {
-            let me = self.transport.rank();
-            let others: Vec<usize> = (0..self.transport.size()).filter(|&r| r != me).collect();
-            let bytes = encode(&records);
-            let sends: Vec<(usize, Vec<u8>)> = others.iter().map(|&r| (r, bytes.clone())).collect();
-            for got in self.transport.exchange(&sends, &others) {
-                records.extend(decode(&got));
-            }
-            // Stable: a body's records keep their entry order.
-            records.sort_by_key(|r| r.id);
+            records = self.merge_records(records);
         }
         let mut loads = wall_loads::sum_records(&records, walls);
         let particles: Vec<usize> = (0..walls)
@@ -153,6 +145,24 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
 
     fn sum(&self, values: Vec<f64>) -> Vec<f64> {
         self.transport.sum(&values)
+    }
+}
+
+impl<T: Transport> RankComm<T> {
+    /// This rank's load records and every other rank's, merged by input
+    /// id (a body's records come from its one owner, in entry order).
+    /// Collective.
+    pub(crate) fn merge_records(&self, mut records: Vec<LoadRecord>) -> Vec<LoadRecord> {
+        let me = self.transport.rank();
+        let others: Vec<usize> = (0..self.transport.size()).filter(|&r| r != me).collect();
+        let bytes = encode(&records);
+        let sends: Vec<(usize, Vec<u8>)> = others.iter().map(|&r| (r, bytes.clone())).collect();
+        for got in self.transport.exchange(&sends, &others) {
+            records.extend(decode(&got));
+        }
+        // Stable: a body's records keep their entry order.
+        records.sort_by_key(|r| r.id);
+        records
     }
 }
 

@@ -41,7 +41,35 @@ impl SceneFile {
                 ),
             )?;
         }
-        crate::walls::motion::validate(&key, w.motion.as_ref(), w.oscillation.as_ref())
+        crate::walls::motion::validate(&key, w.motion.as_ref(), w.oscillation.as_ref())?;
+        if let Some(servo) = &w.servo {
+            let kind = w.key().unwrap_or_default();
+            check(
+                !crate::walls::registry::is_particles_key(kind),
+                &format!("{key}.servo"),
+                format!("given for a `{kind}` wall"),
+                &format!(
+                    "a {} (walls of boundary particles have no servo)",
+                    crate::walls::registry::surface_kinds_or()
+                ),
+            )?;
+            let moved = if w.motion.is_some() {
+                Some("motion")
+            } else if w.oscillation.is_some() {
+                Some("oscillation")
+            } else {
+                None
+            };
+            if let Some(moved) = moved {
+                return Err(super::checks::invalid(
+                    &format!("{key}.servo"),
+                    format!("given with `{key}.{moved}`"),
+                    "a servo or a prescribed motion, not both: the servo sets the wall's velocity",
+                ));
+            }
+            crate::walls::servo::validate(&key, servo)?;
+        }
+        Ok(())
     }
 }
 
