@@ -189,6 +189,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "μ_r (epsd2)",
         ),
         row(
+            "contact.tangential_damping",
+            "",
+            "true",
+            "true, false (with friction)".into(),
+            "tangential dashpot",
+        ),
+        row(
             "particles[K].material",
             "",
             "—",

@@ -129,3 +129,59 @@ steps = {steps}
 /// `lattice_bed`'s floor body for a plane of steel under the bed.
 pub const STEEL_PLANE_FLOOR: &str =
     "plane = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0] }\nmaterial = \"steel\"";
+
+/// Exports `scene` to `deck` with `dembound export liggghts` and runs
+/// LIGGGHTS there (`in.liggghts`, its log in `log.liggghts`).
+pub fn run_liggghts(scene: &Path, deck: &Path) {
+    let o = dembound()
+        .args(["export", "liggghts"])
+        .arg(scene)
+        .arg("--out")
+        .arg(deck)
+        .output()
+        .expect("dembound runs");
+    assert!(
+        o.status.success(),
+        "export failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let ran = Command::new("liggghts")
+        .args(["-in", "in.liggghts", "-log", "log.liggghts"])
+        .current_dir(deck)
+        .output()
+        .expect("liggghts runs");
+    assert!(
+        ran.status.success(),
+        "liggghts failed: {}",
+        String::from_utf8_lossy(&ran.stdout)
+    );
+}
+
+/// A LIGGGHTS deck's particles.dump: per dump, (step, rows of id type
+/// radius x y z vx vy vz [ωx ωy ωz]) sorted by id.
+pub fn read_liggghts_dump(deck: &Path) -> Vec<(u64, Vec<Vec<f64>>)> {
+    let text = std::fs::read_to_string(deck.join("particles.dump")).expect("particles.dump");
+    text.split("ITEM: TIMESTEP\n")
+        .skip(1)
+        .map(|block| {
+            let mut lines = block.lines();
+            let step: u64 = lines
+                .next()
+                .expect("a step")
+                .trim()
+                .parse()
+                .expect("a step");
+            let mut rows: Vec<Vec<f64>> = lines
+                .skip_while(|l| !l.starts_with("ITEM: ATOMS"))
+                .skip(1)
+                .map(|l| {
+                    l.split_whitespace()
+                        .map(|w| w.parse().expect("a number"))
+                        .collect()
+                })
+                .collect();
+            rows.sort_by(|a, b| a[0].total_cmp(&b[0]));
+            (step, rows)
+        })
+        .collect()
+}

@@ -19,6 +19,7 @@ pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
 mod liggghts_contact;
+mod liggghts_motion;
 pub mod liggghts_scene;
 pub mod plan;
 pub mod trace;

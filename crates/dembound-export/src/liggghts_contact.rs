@@ -41,16 +41,24 @@
 //!    dembound also restores its length (second order in the turn per
 //!    step; none on a flat wall).
 //!
-//! Refused: damping together with friction. dembound caps spring +
+//! Exported with `tangential_damping off`: damping together with friction
+//! under `contact.tangential_damping = false`. Neither code then has a
+//! tangential dashpot: a sticking contact's force is the spring's, −k_t δ,
+//! within μ |F_n| by the sliding test, so the cap question below does not
+//! arise and the law is the same (LIGGGHTS's `normal_model_hertz.h` sets
+//! γ_t = 0 under the setting; the normal damping is untouched).
+//!
+//! Refused: damping together with friction and the dashpot on (dembound's
+//! default). dembound caps spring +
 //! dashpot at μ |F_n| while sticking; LIGGGHTS does not cap its sticking
 //! branch, and near a contact's onset the dashpot γ_t v_t (∝ δ^(1/4), like
 //! the normal dashpot that sets μ |F_n| there) exceeds the limit by the
 //! ratio of the slip to the approach speed over μ: measured on the test's
 //! oblique impact (v_t/v_n = 3, μ = 0.3, e = 0.5) LIGGGHTS's sphere leaves
 //! with 12 % more spin and 6 % of the throw speed apart. LIGGGHTS's
-//! `tangential_damping off` removes its dashpot; dembound has no such
-//! switch (its dashpot follows the normal damping), so no setting of either
-//! code gives the other's law. Also refused: rolling friction (LIGGGHTS 3.8's `epsd2` takes k_r = k_t R*²,
+//! `tangential_damping off` removes its dashpot, dembound's
+//! `contact.tangential_damping = false` its own (above); with the dashpots
+//! on no setting of either code gives the other's law. Also refused: rolling friction (LIGGGHTS 3.8's `epsd2` takes k_r = k_t R*²,
 //! no dashpot, no rotation of its history; dembound's epsd2 k_r = 2.25
 //! (F_n/h) μ_r² R_eff² with a dashpot: a different law, and `cdt` is a
 //! constant torque), the linear tangential spring (LIGGGHTS's `hertz`
@@ -73,6 +81,10 @@ pub(crate) struct ContactPlan {
     pub limit_force: bool,
     /// With friction: μ of each atom type (0-based), `tangential history`.
     pub friction: Option<Vec<f64>>,
+    /// `tangential_damping off`: damping with friction, exported only under
+    /// dembound's `contact.tangential_damping = false` (no dashpot in either
+    /// code).
+    pub tangential_damping_off: bool,
     /// Atom type (0-based) of each wall in file order (None: not a plane
     /// or mesh); a wall whose μ differs from its material's gets a type of
     /// its own after the materials' (its material's E and ν).
@@ -100,13 +112,17 @@ impl ContactPlan {
 
     /// The model settings, after the models in `pair_style gran` and at the
     /// end of `fix wall/gran` (which reads its own keywords first): empty or
-    /// ` limitForce on`.
-    pub fn settings(&self) -> &'static str {
-        if self.limit_force {
-            " limitForce on"
-        } else {
-            ""
+    /// ` limitForce on`, and ` tangential_damping off` when damping and
+    /// friction are exported together.
+    pub fn settings(&self) -> String {
+        let mut s = String::new();
+        if self.tangential_damping_off {
+            s.push_str(" tangential_damping off");
         }
+        if self.limit_force {
+            s.push_str(" limitForce on");
+        }
+        s
     }
 
     /// Number of atom types.
@@ -205,6 +221,7 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
             _ => None,
         })
         .collect();
+    let mut tangential_damping_off = false;
     let friction = match &setup.friction {
         None => None,
         Some(f) => {
@@ -245,15 +262,18 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                         f.model.tangential.row().name
                     ));
                 }
-                if limit_force || restitution != 1.0 {
+                let damped = limit_force || restitution != 1.0;
+                if damped && f.tangential_damping {
                     return refuse(format!(
                         "contact.damping = \"{}\" with friction (contact.friction = {}) is not \
                          exported to LIGGGHTS: while a contact sticks LIGGGHTS adds the tangential \
                          dashpot to the spring without the Coulomb cap that dembound applies, so \
                          near every contact's onset LIGGGHTS's tangential force exceeds mu |F_n| \
-                         (measured: an oblique impact leaves with 12 % more spin); export damping \
-                         without friction (--set contact.friction=0) or friction without damping \
-                         (--set contact.damping=none)",
+                         (measured: an oblique impact leaves with 12 % more spin); set \
+                         contact.tangential_damping = false (no tangential dashpot in dembound, \
+                         LIGGGHTS's `tangential_damping off`: the same law in both), or export \
+                         damping without friction (--set contact.friction=0) or friction without \
+                         damping (--set contact.damping=none)",
                         model.damping.kind().row().name,
                         f.model.friction
                     ));
@@ -268,6 +288,14 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                             mu.push(own);
                         }
                     }
+                }
+                if damped {
+                    tangential_damping_off = true;
+                    notes.push(
+                        "# tangential_damping off: dembound's contact.tangential_damping = false, no tangential dashpot in either code\n\
+                         # (a sticking contact's force is the spring's, -k_t d, within mu |F_n| by the sliding test in both)."
+                            .into(),
+                    );
                 }
                 notes.push(
                     "# Friction: tangential history = dembound's Mindlin spring k_t = 8 G* sqrt(R* d) with the Coulomb cut,\n\
@@ -293,6 +321,7 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
         restitution,
         limit_force,
         friction,
+        tangential_damping_off,
         wall_types,
         type_materials,
         notes,

@@ -88,9 +88,17 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    crate::refuse_moving_walls(setup, "LIGGGHTS")?;
     crate::refuse_removal(setup, "LIGGGHTS")?;
     crate::refuse_servo_walls(setup, "LIGGGHTS")?;
+    // Moving walls: turning meshes as `fix move/mesh rotate`, the rest
+    // refused (liggghts_motion.rs).
+    let mut move_lines: Vec<Option<(String, [f64; 3])>> = vec![None; setup.walls.len()];
+    for (w, m) in setup.wall_motions.iter().enumerate() {
+        if let (Some(m), Some(wall)) = (m, setup.walls.get(w)) {
+            let line = crate::liggghts_motion::move_mesh_line(w, wall, m)?;
+            move_lines[w] = Some((line, m.center));
+        }
+    }
     if !matches!(model.normal, NormalLaw::Hertz) {
         return refuse(format!(
             "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
@@ -164,6 +172,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     g.triangles.len(),
                     setup.materials[m.material].name,
                 ));
+                if let Some((line, center)) = &move_lines[w] {
+                    let (a, b) = crate::liggghts_motion::swept_bounds(&g.vertices, *center);
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(a[k]);
+                        hi[k] = hi[k].max(b[k]);
+                    }
+                    wall_lines.push(line.clone());
+                }
             }
             other => {
                 return refuse(format!(
@@ -280,6 +296,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         }
     )
     .ok();
+    let modulus_of = |k: usize| setup.materials[k].material.youngs_modulus;
     let boundary: Vec<&str> = d
         .periodic
         .iter()
@@ -289,9 +306,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         x,
         "\natom_style   granular\natom_modify  map array\nboundary     {}\nnewton       off\n\
          communicate  single vel yes\nunits        si\n\
-         hard_particles yes   # allows moduli above 1e9 Pa\n\
+         hard_particles yes   # allows moduli above 1e9 Pa\n{}\
          read_data    {DATA_FILE}",
-        boundary.join(" ")
+        boundary.join(" "),
+        // LIGGGHTS refuses E < 5e6 Pa in SI units unless told.
+        if (0..setup.materials.len()).any(|k| used[k] && modulus_of(k) < 5e6) {
+            "soft_particles yes   # allows moduli below 5e6 Pa\n"
+        } else {
+            ""
+        }
     )
     .ok();
     let per_type = |f: &dyn Fn(usize) -> f64| -> String {

@@ -71,7 +71,7 @@ pub enum Outside {
 /// ([`dembound_physics::contact::tangential::mix_friction`]), likewise μ_r.
 /// A sphere's surface is its material's; a plane wall's is its own if
 /// given (`wall`), else its material's.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Clone, PartialEq)]
 pub struct FrictionSetup {
     /// Tangential model and the default μ and μ_r of every surface.
     pub model: FrictionModel,
@@ -82,6 +82,27 @@ pub struct FrictionSetup {
     /// wall's spheres take theirs through their own material); missing or
     /// `None`: its material's.
     pub walls: Vec<Option<(f64, f64)>>,
+    /// The tangential dashpot η_t of a sticking contact
+    /// (`contact.tangential_damping`, default true: η_t has the normal
+    /// contact's damping ratio); false: no tangential dashpot (LIGGGHTS's
+    /// `tangential_damping off`), the rolling spring's damping kept.
+    pub tangential_damping: bool,
+}
+
+/// The derived form, with `tangential_damping` only when false: a
+/// checkpoint's fingerprint holds this text (crate::fingerprint), so the
+/// default keeps the bytes of the checkpoints written before the switch.
+impl std::fmt::Debug for FrictionSetup {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("FrictionSetup");
+        d.field("model", &self.model)
+            .field("materials", &self.materials)
+            .field("walls", &self.walls);
+        if !self.tangential_damping {
+            d.field("tangential_damping", &self.tangential_damping);
+        }
+        d.finish()
+    }
 }
 
 impl FrictionSetup {
@@ -91,6 +112,7 @@ impl FrictionSetup {
             model,
             materials: Vec::new(),
             walls: Vec::new(),
+            tangential_damping: true,
         }
     }
 

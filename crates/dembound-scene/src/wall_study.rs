@@ -332,6 +332,7 @@ impl StudyConfig {
             },
             materials,
             walls: w,
+            tangential_damping: true,
         })
     }
 

@@ -315,6 +315,7 @@ fn friction_setup(
         model,
         materials,
         walls,
+        tangential_damping: c.tangential_damping.unwrap_or(true),
     })
 }
 

@@ -29,7 +29,12 @@
 //! η_t = η_n √(k_t/S_n): the tangential spring gets the damping ratio of the
 //! normal one. For Hertz with Tsuji damping this is LIGGGHTS's
 //! γ_t = 2 √(5/6) β √(S_t m*) exactly (γ_n = 2 √(5/6) β √(S_n m*)); for the
-//! linear spring–dashpot it is η_t = 2 ξ √(k_t m*).
+//! linear spring–dashpot it is η_t = 2 ξ √(k_t m*). A scene may turn the
+//! dashpot off (`contact.tangential_damping = false`,
+//! [`FrictionPair::without_tangential_damping`]; LIGGGHTS's
+//! `tangential_damping off`): a sticking contact's force is then the
+//! spring's alone, which step 3 keeps within μ |F_n|, so the cap of step 4
+//! never acts and the law is the same in both codes.
 //!
 //! Rolling resistance is its own sub-model ([`super::rolling`]).
 //!
@@ -253,6 +258,14 @@ enum TangentialDamping {
         family: Family,
         normal_stiffness: f64,
     },
+    /// No tangential dashpot (`contact.tangential_damping = false`, LIGGGHTS
+    /// `tangential_damping off`); the rolling spring keeps the normal
+    /// contact's damping ratio as under `SameRatio`.
+    RollingOnly {
+        law: PairLaw,
+        family: Family,
+        normal_stiffness: f64,
+    },
 }
 
 /// The friction of one pair: tangential spring with damping and Coulomb
@@ -286,12 +299,32 @@ impl FrictionPair {
         &self.tangential
     }
 
+    /// The same friction without the tangential dashpot (η_t = 0; the
+    /// rolling spring's damping kept): `contact.tangential_damping = false`,
+    /// LIGGGHTS's `tangential_damping off`. A sticking contact's force is
+    /// then the spring's alone, −k_t δ, within μ |F_n| by the sliding test.
+    pub fn without_tangential_damping(self) -> Self {
+        let damping = match self.damping {
+            TangentialDamping::SameRatio {
+                law,
+                family,
+                normal_stiffness,
+            } => TangentialDamping::RollingOnly {
+                law,
+                family,
+                normal_stiffness,
+            },
+            other => other,
+        };
+        Self { damping, ..self }
+    }
+
     /// Tangential damping coefficient η_t at overlap h (m) for stiffness
     /// `k_t` (N/m), N s/m.
     #[inline(always)]
     pub fn damping_coefficient(&self, overlap: f64, k_t: f64) -> f64 {
         match self.damping {
-            TangentialDamping::None => 0.0,
+            TangentialDamping::None | TangentialDamping::RollingOnly { .. } => 0.0,
             TangentialDamping::SameRatio {
                 law,
                 family,
@@ -472,6 +505,11 @@ impl FrictionPair {
         let ratio = match self.damping {
             TangentialDamping::None => 0.0,
             TangentialDamping::SameRatio {
+                family,
+                normal_stiffness,
+                ..
+            }
+            | TangentialDamping::RollingOnly {
                 family,
                 normal_stiffness,
                 ..

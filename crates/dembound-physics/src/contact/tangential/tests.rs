@@ -179,6 +179,65 @@ fn tangential_damping_has_the_normal_damping_ratio() {
 }
 
 #[test]
+fn without_tangential_damping_a_sticking_contact_is_the_spring_alone() {
+    // Hertz + Tsuji (e = 0.5), μ = 0.3: with the dashpot the sticking force
+    // is −k_t δ − η_t v_t; without it exactly −k_t δ (LIGGGHTS
+    // `tangential_damping off`), the rolling damping ratio unchanged.
+    let (law, f) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5)),
+        TangentialKind::Mindlin,
+        0.3,
+    );
+    let off = f.without_tangential_damping();
+    let h = 1.0e-6;
+    let k_t = f.tangential().stiffness(h);
+    assert!(f.damping_coefficient(h, k_t) > 0.0);
+    assert_eq!(off.damping_coefficient(h, k_t), 0.0);
+    // A small slip under a large normal force: sticking in both.
+    let (n, v, dt) = ([0.0, 0.0, 1.0], [1.0e-3, 0.0, 0.0], 1.0e-7);
+    let (mut s_on, mut s_off) = ([0.0; 3], [0.0; 3]);
+    let on = f.tangential_force(h, 10.0, n, v, dt, &mut s_on);
+    let spring = off.tangential_force(h, 10.0, n, v, dt, &mut s_off);
+    assert_eq!(s_on, s_off, "the same spring");
+    assert_eq!(spring, [-k_t * s_off[0], 0.0, 0.0]);
+    let eta = f.damping_coefficient(h, k_t);
+    assert!((on[0] / (-k_t * s_on[0] - eta * v[0]) - 1.0).abs() < 1e-15);
+    // The rolling spring keeps its dashpot: the same torque with μ_r > 0.
+    let r = 1.0e-3;
+    let m = GLASS.sphere_mass(r);
+    let pair = PairProperties::sphere_plane(r, m, &GLASS, &GLASS);
+    let model = FrictionModel {
+        tangential: TangentialKind::Mindlin,
+        friction: 0.3,
+        rolling_friction: 0.1,
+    };
+    let rolling = model.pair(
+        &law,
+        &pair,
+        effective_shear_modulus(&GLASS, &GLASS),
+        0.3,
+        0.1,
+    );
+    let spin = [0.0, 50.0, 0.0];
+    let (mut h_on, mut h_off) = ([0.0; 3], [0.0; 3]);
+    let t_on = rolling.rolling_torque(&law, h, 10.0, n, spin, 1e-12, dt, &mut h_on);
+    let t_off = rolling
+        .without_tangential_damping()
+        .rolling_torque(&law, h, 10.0, n, spin, 1e-12, dt, &mut h_off);
+    assert_eq!(t_on, t_off);
+    assert!(norm(t_on) > 0.0);
+    // Undamped: nothing to remove.
+    let (_, undamped) = setup(
+        NormalLaw::Hertz,
+        Damping::NONE,
+        TangentialKind::Mindlin,
+        0.3,
+    );
+    assert_eq!(undamped.without_tangential_damping(), undamped);
+}
+
+#[test]
 fn registry_names_and_checks() {
     assert_eq!(
         TangentialKind::from_name("mindlin"),

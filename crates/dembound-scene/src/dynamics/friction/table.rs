@@ -2,7 +2,7 @@
 //! of body classes and per class and wall row, or computed per contact
 //! when there are too many classes.
 
-use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction};
+use dembound_physics::contact::tangential::{effective_shear_modulus, mix_friction, FrictionPair};
 use dembound_physics::contact::ContactLaw;
 use dembound_physics::material::{Material, PairProperties};
 
@@ -115,6 +115,7 @@ impl FrictionTable {
             mix_friction(mu_a, mu_b),
             mix_friction(roll_a, roll_b),
         );
+        let friction = self.without_dashpot_if_off(friction);
         FrictionLaw { law, friction }
     }
 
@@ -143,7 +144,18 @@ impl FrictionTable {
             mix_friction(mu_a, mu_w),
             mix_friction(roll_a, roll_w),
         );
+        let friction = self.without_dashpot_if_off(friction);
         FrictionLaw { law, friction }
+    }
+
+    /// `friction` without its tangential dashpot under
+    /// `contact.tangential_damping = false`.
+    fn without_dashpot_if_off(&self, friction: FrictionPair) -> FrictionPair {
+        if self.setup.tangential_damping {
+            friction
+        } else {
+            friction.without_tangential_damping()
+        }
     }
 
     /// Whether any surface has rolling friction.

@@ -50,6 +50,11 @@ pub struct ContactSection {
     /// μ_r R_eff |F_n| against rolling).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rolling_friction: Option<f64>,
+    /// Whether a sticking contact has a tangential dashpot (default true:
+    /// η_t with the normal contact's damping ratio); false: the spring
+    /// alone (LIGGGHTS `tangential_damping off`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential_damping: Option<bool>,
 }
 
 /// A struct of the fields in declaration order, each optional one only
@@ -67,7 +72,8 @@ impl Serialize for ContactSection {
             + self.params.iter().count()
             + given(self.friction.is_some())
             + given(self.tangential.is_some())
-            + given(self.rolling_friction.is_some());
+            + given(self.rolling_friction.is_some())
+            + given(self.tangential_damping.is_some());
         let mut s = serializer.serialize_struct("ContactSection", len)?;
         s.serialize_field("law", &self.law)?;
         s.serialize_field("damping", &self.damping)?;
@@ -90,6 +96,9 @@ impl Serialize for ContactSection {
         }
         if let Some(mu_r) = &self.rolling_friction {
             s.serialize_field("rolling_friction", mu_r)?;
+        }
+        if let Some(on) = &self.tangential_damping {
+            s.serialize_field("tangential_damping", on)?;
         }
         s.end()
     }
@@ -120,6 +129,7 @@ impl Default for ContactSection {
             friction: None,
             tangential: None,
             rolling_friction: None,
+            tangential_damping: None,
         }
     }
 }
@@ -240,6 +250,15 @@ impl SceneFile {
                 "contact.tangential",
                 format!("{name:?}"),
                 &format!("one of {}", tangential_names()),
+            )?;
+        }
+        if let Some(on) = c.tangential_damping {
+            check(
+                self.has_friction(),
+                "contact.tangential_damping",
+                on,
+                "given only with friction (contact.friction or a surface's friction): the \
+                 dashpot acts on the tangential spring",
             )?;
         }
         for (i, m) in self.materials.iter().enumerate() {

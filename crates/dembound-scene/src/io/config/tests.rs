@@ -234,6 +234,16 @@ fn validation_table() {
             "no parameters for law = \"hertz\"",
         ),
         ("nosuch.key=1", "nosuch", "`domain`"),
+        (
+            "contact.tangential_damping=false",
+            "contact.tangential_damping",
+            "given only with friction",
+        ),
+        (
+            "contact.tangential_damping=0",
+            "contact.tangential_damping",
+            "expected a boolean",
+        ),
     ];
     for (set, key, allowed) in cases {
         let e = load(ISSUE_EXAMPLE, "issue.toml", &sets(&[set]))
@@ -329,4 +339,30 @@ fn law_parameters_are_read_by_the_registry_rows_keys() {
     for part in ["contact.stiffness", "200000", "given once"] {
         assert!(e.contains(part), "{part} not in {e}");
     }
+}
+
+/// `contact.tangential_damping` with friction: read, and written back only
+/// when given (a checkpoint of a scene without it keeps its bytes).
+#[test]
+fn tangential_damping_is_read_and_written_only_when_given() {
+    let f = load(
+        ISSUE_EXAMPLE,
+        "issue.toml",
+        &sets(&["contact.friction=0.3", "contact.tangential_damping=false"]),
+    )
+    .expect("valid");
+    assert_eq!(f.contact.tangential_damping, Some(false));
+    assert!(toml::to_string(&f.contact)
+        .expect("serialises")
+        .contains("tangential_damping = false"));
+    let f = load(
+        ISSUE_EXAMPLE,
+        "issue.toml",
+        &sets(&["contact.friction=0.3"]),
+    )
+    .expect("valid");
+    assert_eq!(f.contact.tangential_damping, None);
+    assert!(!toml::to_string(&f.contact)
+        .expect("serialises")
+        .contains("tangential_damping"));
 }

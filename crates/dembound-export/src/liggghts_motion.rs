@@ -1,0 +1,187 @@
+//! Moving walls in a LIGGGHTS deck (issue 27): what of dembound's
+//! `[[wall]] motion` LIGGGHTS 3.8 computes the same way, written as
+//! `fix move/mesh`, and a refusal naming the key for the rest.
+//!
+//! Exported: a mesh turning at a constant ω from t = 0 for ever
+//! (`motion = { angular_velocity = ω, center = c }`, no `velocity`,
+//! `start` = 0, `end` = inf, no `oscillation`) as `fix move/mesh ...
+//! rotate origin c axis ω̂ period 2π/|ω|`. The same motion in both codes:
+//! - the pose: dembound turns the file's mesh by |ω| t about ω̂ through c
+//!   (Rodrigues, from the reference placement: walls/motion.rs);
+//!   LIGGGHTS's `MeshMoverRotate` turns the original nodes by the total
+//!   angle 2π t/period about the same axis (right-handed about `axis`);
+//! - the surface velocity at the contact point: dembound ω × (p − c);
+//!   LIGGGHTS sets each node's velocity to ω × (x − c) and interpolates it
+//!   at the contact point with the barycentric weights, which is exact for
+//!   a field linear in the position (a rigid rotation is);
+//! - both evaluate the wall at the step's time, after moving the spheres.
+//!
+//! Refused, with the key: a translation (`velocity`), a motion that starts
+//! late or stops (`start`, `end`; `fix move/mesh` runs from its creation
+//! for ever), an `oscillation` (not written yet), and any moving plane or
+//! cylinder. A rotating cylinder would be LIGGGHTS's `zcylinder`
+//! primitive with `shear`, whose wall velocity is ω × r at the sphere's
+//! *centre* (`calcRadialDistance` of the centre), not at the contact
+//! point as in dembound: a tangential speed off by the relative r/R of the
+//! sphere in the drum. Give the drum as a mesh instead.
+
+use crate::{num, Error, Result};
+use dembound_scene::setup::WallSetup;
+use dembound_scene::walls::motion::WallMotion;
+
+/// Checks the motion of wall `w` (`Some`: it moves) for a LIGGGHTS deck:
+/// the `fix move/mesh` line of a turning mesh (mesh fix `mesh{w}`), or a
+/// refusal naming the key.
+pub(crate) fn move_mesh_line(w: usize, wall: &WallSetup, motion: &WallMotion) -> Result<String> {
+    let refuse = |s: String| Err(Error::Export(s));
+    let WallSetup::Mesh(_) = wall else {
+        let why = match wall {
+            WallSetup::Cylinder(_) => {
+                "LIGGGHTS's turning cylinder (`zcylinder` primitive with `shear`) moves the wall at \
+                 omega x r of the sphere's centre, dembound at the contact point; give the drum as \
+                 a `mesh` (fix move/mesh rotate is exact)"
+            }
+            _ => "only turning meshes are exported (fix move/mesh rotate); give the wall as a `mesh`",
+        };
+        return refuse(format!(
+            "`wall[{w}].motion` of a `{}` wall is not exported to LIGGGHTS: {why}",
+            wall.key()
+        ));
+    };
+    rotate_line(w, motion)
+}
+
+/// The `fix move/mesh ... rotate` line of mesh `mesh{w}` for `motion`, or a
+/// refusal naming the key when it is not a constant turn from t = 0.
+fn rotate_line(w: usize, motion: &WallMotion) -> Result<String> {
+    let refuse = |s: String| Err(Error::Export(s));
+    if let Some((a, f)) = motion.oscillation {
+        return refuse(format!(
+            "`wall[{w}].oscillation` = {{ amplitude = {a:?}, frequency = {f} }} is not exported to \
+             LIGGGHTS yet (exported: a mesh turning at a constant motion.angular_velocity)"
+        ));
+    }
+    if motion.velocity != [0.0; 3] {
+        return refuse(format!(
+            "`wall[{w}].motion.velocity` = {:?} m/s is not exported to LIGGGHTS (exported: a mesh \
+             turning at a constant motion.angular_velocity about a fixed centre)",
+            motion.velocity
+        ));
+    }
+    if motion.start != 0.0 || motion.end != f64::INFINITY {
+        return refuse(format!(
+            "`wall[{w}].motion` with start = {} s, end = {} s is not exported to LIGGGHTS: its \
+             fix move/mesh turns from t = 0 for ever (start = 0, no end)",
+            motion.start, motion.end
+        ));
+    }
+    let omega = motion.angular_velocity;
+    let speed = (omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2]).sqrt();
+    if speed == 0.0 {
+        return refuse(format!(
+            "`wall[{w}].motion` moves nothing (velocity and angular_velocity 0); remove it to export"
+        ));
+    }
+    let c = motion.center;
+    Ok(format!(
+        "# wall[{w}] turns at |omega| = {} rad/s about the axis through ({}, {}, {}) m along omega\n\
+         # (dembound's motion.angular_velocity; period 2 pi/|omega| s)\n\
+         fix          move{w} all move/mesh mesh mesh{w} rotate origin {} {} {} axis {} {} {} period {}",
+        num(speed),
+        num(c[0]),
+        num(c[1]),
+        num(c[2]),
+        num(c[0]),
+        num(c[1]),
+        num(c[2]),
+        num(omega[0] / speed),
+        num(omega[1] / speed),
+        num(omega[2] / speed),
+        num(2.0 * std::f64::consts::PI / speed)
+    ))
+}
+
+/// The box corners that hold every pose of a mesh of `vertices` turning
+/// about an axis through `center`: the cube around `center` of half side
+/// the farthest node's distance (LIGGGHTS refuses mesh nodes outside its
+/// box).
+pub(crate) fn swept_bounds(vertices: &[[f64; 3]], center: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let reach = vertices
+        .iter()
+        .map(|v| {
+            let d = [v[0] - center[0], v[1] - center[1], v[2] - center[2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        })
+        .fold(0.0, f64::max);
+    (
+        [center[0] - reach, center[1] - reach, center[2] - reach],
+        [center[0] + reach, center[1] + reach, center[2] + reach],
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn turn(omega: [f64; 3]) -> WallMotion {
+        WallMotion {
+            velocity: [0.0; 3],
+            angular_velocity: omega,
+            center: [0.1, 0.2, 0.0],
+            start: 0.0,
+            end: f64::INFINITY,
+            oscillation: None,
+        }
+    }
+
+    /// The period is 2π/|ω| and the axis ω̂: a turn of 2 rad/s about −z.
+    #[test]
+    fn rotate_line_of_a_turning_mesh() {
+        let line = rotate_line(3, &turn([0.0, 0.0, -2.0])).expect("exported");
+        let expected = format!(
+            "fix          move3 all move/mesh mesh mesh3 rotate origin {} {} 0 axis 0 0 {} period {}",
+            num(0.1),
+            num(0.2),
+            num(-1.0),
+            num(std::f64::consts::PI)
+        );
+        assert!(line.ends_with(&expected), "{line}");
+    }
+
+    /// A late start, a translation, an oscillation and a plane are refused
+    /// with their keys.
+    #[test]
+    fn other_motions_are_refused_with_their_keys() {
+        let late = WallMotion {
+            start: 0.5,
+            ..turn([0.0, 0.0, 1.0])
+        };
+        assert!(rotate_line(0, &late)
+            .unwrap_err()
+            .to_string()
+            .contains("start = 0.5"));
+        let sliding = WallMotion {
+            velocity: [1.0, 0.0, 0.0],
+            ..turn([0.0; 3])
+        };
+        let e = rotate_line(1, &sliding).unwrap_err().to_string();
+        assert!(e.contains("wall[1].motion.velocity"), "{e}");
+        let shaking = WallMotion {
+            oscillation: Some(([0.0, 0.0, 1e-3], 50.0)),
+            ..turn([0.0; 3])
+        };
+        let e = rotate_line(2, &shaking).unwrap_err().to_string();
+        assert!(e.contains("wall[2].oscillation"), "{e}");
+        let plane = WallSetup::Plane(dembound_scene::setup::Plane {
+            point: [0.0; 3],
+            normal: [0.0, 0.0, 1.0],
+            material: 0,
+        });
+        let e = move_mesh_line(3, &plane, &turn([0.0, 0.0, 1.0]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("wall[3].motion") && e.contains("mesh"), "{e}");
+        let swept = swept_bounds(&[[0.1, 0.5, 0.0], [0.5, 0.2, 0.0]], [0.1, 0.2, 0.0]);
+        assert!((swept.1[0] - 0.5).abs() < 1e-15 && (swept.0[1] + 0.2).abs() < 1e-15);
+    }
+}
