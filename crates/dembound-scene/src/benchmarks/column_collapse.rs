@@ -432,20 +432,27 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
             .into(),
     ];
     if let Some((l, c)) = &wider {
+        // The run at the same nominal a with the shorter column.
+        let short = runs.get(1);
         notes.push(format!(
             "Grain size: the same a ≈ {:.2} with L0 = {l} diameters ({} spheres) runs out to \
              (L∞ − L0)/L0 = {:.2}, H∞/L0 = {:.2}, against {:.2} and {:.2} at L0 = {} diameters. The \
              deposit ends in a tail one grain thick that adds one or two diameters to L∞ whatever \
              L0: 0.1–0.25 of the normalised run-out at L0 = 8 diameters. The run-out depends on \
              L0/d at small L0/d (Warnett et al. 2014, Granular Matter 16, 115–124; Man et al. 2021, \
-             arXiv:2012.03287); Lube et al.'s columns were hundreds of grains long.",
+             arXiv:2012.03287); Lube et al.'s columns were hundreds of grains long. If the \
+             excess is a fixed length (∝ d/L0), the two lengths extrapolate to {:.2} at \
+             L0/d → ∞ (2 × the wider run's − the shorter's), against 1.2 a = {:.2}.",
             c.a,
             c.spheres,
             c.runout,
             c.height,
-            runs.get(1).map_or(f64::NAN, |r| r.runout),
-            runs.get(1).map_or(f64::NAN, |r| r.height),
-            s.length_diameters
+            short.map_or(f64::NAN, |r| r.runout),
+            short.map_or(f64::NAN, |r| r.height),
+            s.length_diameters,
+            short.map_or(f64::NAN, |r| (l * c.runout - s.length_diameters * r.runout)
+                / (l - s.length_diameters)),
+            1.2 * c.a
         ));
     }
     Ok(Outcome {
