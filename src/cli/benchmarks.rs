@@ -151,7 +151,8 @@ fn markdown(outcomes: &[Outcome], quick: bool, total: f64) -> String {
          run by the many-particle engine (`dembound_scene::Simulation`, one thread, velocity Verlet) \
          and compared with its reference: a closed form derived in \
          `crates/dembound-scene/src/benchmarks/closed_form.rs`, or the publication's curve as \
-         digitised in a cited public repository. A check passes when ours is within the band of \
+         digitised in a cited public repository, or a published law (Janssen's, Lube et al.'s). \
+         A check passes when ours is within the band of \
          the published value.\n",
         if quick { " --quick" } else { "" },
         env!("CARGO_PKG_VERSION"),
