@@ -113,17 +113,39 @@ pub const MAX_COVERING_SPHERES: usize = super::tiling::MAX_WALL_SPHERES;
 /// Smallest m·n_i of a corner or edge that gets a sphere (module doc).
 const SHARPEST: f64 = 0.1;
 
+/// A multiplicative hash of grid cells (the default SipHash took a
+/// third of a covering's time).
+#[derive(Default)]
+pub(crate) struct CellHasher(u64);
+
+impl std::hash::Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 =
+                (self.0.rotate_left(5) ^ u64::from(*b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+        }
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+type CellMap = HashMap<[i64; 3], Vec<u32>, std::hash::BuildHasherDefault<CellHasher>>;
+
 /// A uniform hash grid of points (sphere centres).
 pub(crate) struct PointGrid {
     cell: f64,
-    cells: HashMap<[i64; 3], Vec<u32>>,
+    cells: CellMap,
 }
 
 impl PointGrid {
     pub(crate) fn new(cell: f64) -> Self {
         PointGrid {
             cell,
-            cells: HashMap::new(),
+            cells: CellMap::default(),
         }
     }
 

@@ -14,8 +14,8 @@
 //! window: (√2 − 1) R_b ≈ 0.414 R_b (square: the window's circumradius
 //! s/√2) and (2/√3 − 1) R_b ≈ 0.155 R_b (hexagonal: s/√3). The offset is
 //! sampled: every triangle's offset on a barycentric grid of spacing
-//! h ≤ s/8, every feature edge's ridge and arc (9 directions between the
-//! two faces' normals) every h; samples nearer than R_b (1 − 1e-6) to
+//! h ≤ s/8, every feature edge's ridge and arc (points ≤ h apart, at
+//! most 9, between the two faces' normals) every h; samples nearer than R_b (1 − 1e-6) to
 //! the mesh (less the patches' flatness) are not on the offset and are
 //! skipped. Offsets of corners
 //! (vertex fans) are not sampled beyond their edges' arcs. Since
@@ -56,8 +56,9 @@ pub(crate) fn sample_spacing(c: &Covering) -> f64 {
     c.options.spacing / 8.0
 }
 
-/// Centres grid of cell s, and the nearest-centre distance within 2 s
-/// (else 2 s: "at least").
+/// Centres grid of cell s, and the nearest-centre distance within s
+/// (else s: "at least"; after the fill every sample has a centre within
+/// the window circumradius < s).
 struct Nearest<'a> {
     grid: PointGrid,
     c: &'a Covering,
@@ -73,9 +74,9 @@ impl<'a> Nearest<'a> {
     }
 
     fn distance(&self, y: [f64; 3]) -> f64 {
-        let cap = 2.0 * self.c.options.spacing;
+        let cap = self.c.options.spacing;
         let mut best = cap;
-        self.grid.around(y, 2, |id| {
+        self.grid.around(y, 1, |id| {
             best = best.min(norm(sub(self.c.spheres[id as usize].position, y)));
         });
         best
@@ -159,13 +160,16 @@ pub(crate) fn offset_samples(
             for &q in others {
                 let n2 = scale(mesh.patches.patches[q as usize].normal, sgn);
                 let ridge = super::corner_offset(&[n1, n2]);
+                // Arc points every ≤ h (length θ R_b), at most 8 pieces.
+                let angle = dot(n1, n2).clamp(-1.0, 1.0).acos();
+                let arc = ((angle * r / h).ceil() as usize).clamp(1, 8);
                 for i in 0..=pieces {
                     let x = add(pa, scale(sub(pb, pa), i as f64 / pieces as f64));
                     if let Some(a) = ridge {
                         visit(sub(x, scale(a, r)));
                     }
-                    for w in 1..8 {
-                        let w = w as f64 / 8.0;
+                    for w in 1..arc {
+                        let w = w as f64 / arc as f64;
                         let m = add(scale(n1, 1.0 - w), scale(n2, w));
                         let l = norm(m);
                         if l > 1e-9 {
