@@ -13,6 +13,7 @@ pub mod lists;
 pub mod paper;
 pub mod particle_wall;
 pub mod recommend;
+mod recommend_holes;
 pub mod restitution;
 pub mod run;
 pub mod scene;
