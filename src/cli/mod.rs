@@ -11,7 +11,9 @@ pub mod keys;
 pub mod keys_scene;
 pub mod lists;
 pub mod paper;
+pub mod particle_wall;
 pub mod recommend;
+mod recommend_holes;
 pub mod restitution;
 pub mod run;
 pub mod scene;
@@ -79,6 +81,10 @@ enum Command {
     /// The validation suite: classic benchmarks with published numbers
     /// (Chung & Ooi 2011 Tests 1–8), a report with verdicts and figures
     Benchmarks(benchmarks::BenchmarksArgs),
+    /// Cover a part (STL/OBJ, or a square or cylinder) with boundary
+    /// spheres, tops on its surface: CSV, LAMMPS data, VTK, a picture and
+    /// a report of the count, the largest hole and the bumpiness
+    ParticleWall(particle_wall::ParticleWallArgs),
     /// Read the trace an exported deck wrote and print its h_max, T_c,
     /// v_r, e beside dembound's and the exact reference
     Compare(compare::CompareArgs),
@@ -152,6 +158,7 @@ pub fn dispatch(cli: &Cli) -> CliResult {
         Command::Export(args) => export::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Benchmarks(args) => benchmarks::run(args),
+        Command::ParticleWall(args) => particle_wall::run(args),
     }
 }
 

@@ -349,6 +349,13 @@ pub fn run(args: &RecommendArgs) -> CliResult {
             for tr in &tradeoffs {
                 out.push_str(&tradeoff_text(&base, tr));
             }
+            for l in &limits {
+                if let Some(line) =
+                    answer(l).and_then(|(r, _)| super::recommend_holes::hole_line(r))
+                {
+                    out.push_str(&line);
+                }
+            }
         } else {
             out.push_str(&format!("{}\n", deviations_table(&base, &deviations)));
             out.push_str(&format!(

@@ -2,6 +2,7 @@
 //! CSV and JSON, atomic files, the history recorder and the progress bar.
 
 pub mod boundary;
+pub mod covering_picture;
 pub mod files;
 pub mod format;
 pub mod history;

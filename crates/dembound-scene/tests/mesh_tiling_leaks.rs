@@ -176,6 +176,14 @@ fn check(name: &str, soup: Vec<Triangle>, pattern: Pattern, r: f64, seed: u64) {
         leaks, 0,
         "{name}: {leaks} of {counted} probes of radius {rho:e} m passed"
     );
+    // Closer to the sampled hole (a tenth of R_b above it, well inside the
+    // bound's margin h = R_b/4): still none.
+    let (leaks, _) = probe(&soup, &c, h.hole + 0.1 * r, 20_000, seed + 2);
+    eprintln!("{name}: at hole + 0.1 R_b: {leaks} leaks");
+    assert_eq!(
+        leaks, 0,
+        "{name}: probes of the sampled hole + 0.1 R_b passed"
+    );
     // The probes can see a leak: particles well below the hole pass.
     let (leaks, _) = probe(&soup, &c, 0.5 * h.hole, 20_000, seed + 1);
     assert!(leaks > 0, "{name}: probes of half the hole never passed");

@@ -10,8 +10,10 @@
 //!
 //! **Where the spheres sit: no sphere crosses the surface, every sphere
 //! touches it.** A candidate sphere of radius R_b is kept only if its
-//! centre is at least R_b (1 − 1e-9) from every triangle of the mesh
-//! (no part of it pokes through the surface to the particles' side); the
+//! centre is at least R_b from every triangle of the mesh, less the
+//! patches' flatness (`max_deviation`, the f32 rounding of an STL) and
+//! 1e-9 R_b (no part of it pokes through the surface to the particles'
+//! side); the
 //! candidates are made so that they touch the surface:
 //! 1. *Faces.* Each flat patch (normal n toward the particles) is tiled as
 //!    a plane `boundary_particles` wall ([`super::tiling::Tiling`]) with
@@ -32,6 +34,16 @@
 //!    is thus rounded by R_b, never sharpened by a sphere sticking out; a
 //!    corner sharper than m·n_i < 0.1 (its sphere > 10 R_b deep) gets none.
 //!
+//! 4. *Fill.* Lattices of neighbouring patches meet at arbitrary
+//!    offsets, so windows wider than the face lattice's can remain along
+//!    edges. The centres' surface (the mesh offset inward by R_b,
+//!    [`measure`]) is sampled every s/8; each sample farther than the
+//!    lattice's window circumradius (s/√2 square, s/√3 hexagonal) from
+//!    every centre gets a sphere centred there (it touches the surface
+//!    and crosses none: the sample is R_b from the mesh), in sample order.
+//!    Every sample then has a centre within the window circumradius, so
+//!    the largest hole is the flat lattice's, plus at most the sampling.
+//!
 //! **Concave corners: no pile-ups.** Candidates are taken in the order
 //! faces, corners, edges; one whose centre is closer than s/2 to a sphere
 //! already kept is dropped. At a concave edge the two faces' lattices and
@@ -46,8 +58,8 @@
 //! spheres on the particles' side of their centres and cannot wedge
 //! between two of them.
 //!
-//! Deterministic: no randomness; candidates in patch, vertex and edge
-//! order of the cleaned mesh, itself deterministic.
+//! Deterministic: no randomness; candidates in patch, vertex, edge and
+//! sample order of the cleaned mesh, itself deterministic.
 
 pub mod measure;
 pub mod shapes;
@@ -78,6 +90,8 @@ pub enum Origin {
     Face,
     Corner,
     Edge,
+    /// Added where a hole remained (step 4).
+    Fill,
 }
 
 /// A covered mesh: the spheres and the mesh they cover.
@@ -99,17 +113,39 @@ pub const MAX_COVERING_SPHERES: usize = super::tiling::MAX_WALL_SPHERES;
 /// Smallest m·n_i of a corner or edge that gets a sphere (module doc).
 const SHARPEST: f64 = 0.1;
 
+/// A multiplicative hash of grid cells (the default SipHash took a
+/// third of a covering's time).
+#[derive(Default)]
+pub(crate) struct CellHasher(u64);
+
+impl std::hash::Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 =
+                (self.0.rotate_left(5) ^ u64::from(*b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+        }
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.0 = (self.0.rotate_left(5) ^ v as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+type CellMap = HashMap<[i64; 3], Vec<u32>, std::hash::BuildHasherDefault<CellHasher>>;
+
 /// A uniform hash grid of points (sphere centres).
 pub(crate) struct PointGrid {
     cell: f64,
-    cells: HashMap<[i64; 3], Vec<u32>>,
+    cells: CellMap,
 }
 
 impl PointGrid {
     pub(crate) fn new(cell: f64) -> Self {
         PointGrid {
             cell,
-            cells: HashMap::new(),
+            cells: CellMap::default(),
         }
     }
 
@@ -241,7 +277,11 @@ pub fn cover(
     let side = if options.flip { -1.0 } else { 1.0 };
     let normal_of = |p: u32| scale(mesh.patches.patches[p as usize].normal, side);
     let (radius, s) = (options.radius, options.spacing);
-    let crossing = radius * (1.0 - 1e-9);
+    // A patch's triangles lie within `max_deviation` of its plane (f32
+    // STL rounding, ~1e-9 m on a 2 cm part): a face sphere touching the
+    // plane may be that much nearer to its own triangles.
+    let slack = mesh.patches.max_deviation + mesh.inside_tolerance + 1e-9 * radius;
+    let crossing = radius - slack;
     let merge = 0.5 * s;
     let mut kept = Covering {
         spheres: Vec::new(),
@@ -303,7 +343,7 @@ pub fn cover(
             upper: hi,
             periodic: [false; 3],
         };
-        let on = mesh.inside_tolerance.max(1e-9 * s);
+        let on = mesh.patches.max_deviation + mesh.inside_tolerance + 1e-9 * s;
         // A patch meeting no other keeps the whole plane tiling of its box.
         let isolated = mesh
             .patches
@@ -362,7 +402,51 @@ pub fn cover(
             }
         }
     }
+
+    // 4. Fill: every sample of the centres' surface farther than the face
+    // lattice's window circumradius from all centres gets a sphere there.
+    let window = window_circumradius(options);
+    let h = measure::sample_spacing(&kept);
+    let mut near = PointGrid::new(window);
+    for (i, b) in kept.spheres.iter().enumerate() {
+        near.insert(b.position, i as u32);
+    }
+    let mut fill = Vec::new();
+    measure::offset_samples(&mesh, radius, options.flip, h, |y| {
+        let mut covered = false;
+        near.around(y, 1, |id| {
+            let c = if (id as usize) < kept.spheres.len() {
+                kept.spheres[id as usize].position
+            } else {
+                fill[id as usize - kept.spheres.len()]
+            };
+            covered |= norm(sub(c, y)) <= window * (1.0 + 1e-9);
+        });
+        if !covered {
+            near.insert(y, (kept.spheres.len() + fill.len()) as u32);
+            fill.push(y);
+        }
+    });
+    if kept.spheres.len() + fill.len() > MAX_COVERING_SPHERES {
+        return Err(SceneError::input(format!(
+            "more than {MAX_COVERING_SPHERES} boundary spheres of radius {radius:e} m would cover \
+             the mesh; raise `--radius` or `--spacing`"
+        )));
+    }
+    for y in fill {
+        kept.spheres.push(SourceSphere::at_rest(y, radius));
+        kept.origin.push(Origin::Fill);
+    }
     Ok(kept)
+}
+
+/// The circumradius of a window of the face lattice: s/√2 (square), s/√3
+/// (hexagonal); the largest hole of a flat wall is this minus R_b.
+pub fn window_circumradius(options: &CoveringOptions) -> f64 {
+    match options.pattern {
+        Pattern::Square => options.spacing / 2f64.sqrt(),
+        Pattern::Hexagonal => options.spacing / 3f64.sqrt(),
+    }
 }
 
 #[cfg(test)]

@@ -14,9 +14,10 @@
 //! window: (√2 − 1) R_b ≈ 0.414 R_b (square: the window's circumradius
 //! s/√2) and (2/√3 − 1) R_b ≈ 0.155 R_b (hexagonal: s/√3). The offset is
 //! sampled: every triangle's offset on a barycentric grid of spacing
-//! h ≤ s/8, every feature edge's ridge and arc (9 directions between the
-//! two faces' normals) every h; samples nearer than R_b (1 − 1e-6) to
-//! the mesh are not on the offset and are skipped. Offsets of corners
+//! h ≤ s/8, every feature edge's ridge and arc (points ≤ h apart, at
+//! most 9, between the two faces' normals) every h; samples nearer than R_b (1 − 1e-6) to
+//! the mesh (less the patches' flatness) are not on the offset and are
+//! skipped. Offsets of corners
 //! (vertex fans) are not sampled beyond their edges' arcs. Since
 //! min_i |Y − c_i| changes by at most |ΔY| between samples, the true
 //! maximum is below the sampled one plus the largest distance from an
@@ -51,12 +52,13 @@ pub struct Holes {
 }
 
 /// Sample spacing of the offset: s/8.
-fn sample_spacing(c: &Covering) -> f64 {
+pub(crate) fn sample_spacing(c: &Covering) -> f64 {
     c.options.spacing / 8.0
 }
 
-/// Centres grid of cell s, and the nearest-centre distance within 2 s
-/// (else 2 s: "at least").
+/// Centres grid of cell s, and the nearest-centre distance within s
+/// (else s: "at least"; after the fill every sample has a centre within
+/// the window circumradius < s).
 struct Nearest<'a> {
     grid: PointGrid,
     c: &'a Covering,
@@ -72,9 +74,9 @@ impl<'a> Nearest<'a> {
     }
 
     fn distance(&self, y: [f64; 3]) -> f64 {
-        let cap = 2.0 * self.c.options.spacing;
+        let cap = self.c.options.spacing;
         let mut best = cap;
-        self.grid.around(y, 2, |id| {
+        self.grid.around(y, 1, |id| {
             best = best.min(norm(sub(self.c.spheres[id as usize].position, y)));
         });
         best
@@ -89,58 +91,61 @@ fn side(c: &Covering) -> f64 {
     }
 }
 
-/// Calls `f(triangle, X)` for the barycentric samples of spacing ≤ h of
-/// every triangle.
+/// Calls `f(triangle, X)` for samples of every triangle no farther than h
+/// from any of its points: from a corner of its shortest edge, a grid of
+/// steps ≤ h along that edge and the other edge at that corner (every
+/// point of a grid cell is within h of a cell corner), plus points every
+/// ≤ h along the third edge (the grid's staircase ends within a cell of
+/// it). A sliver triangle gets few samples across, many along.
 fn face_samples(mesh: &MeshGeometry, h: f64, mut f: impl FnMut(usize, [f64; 3])) {
     for (t, g) in mesh.patches.tri.iter().enumerate() {
-        let [a, b, cc] = g.corner;
-        let longest = norm(sub(b, a)).max(norm(sub(cc, b))).max(norm(sub(a, cc)));
-        let m = (longest / h).ceil().max(1.0) as usize;
-        for i in 0..=m {
-            for j in 0..=(m - i) {
-                let x = add(
-                    a,
-                    add(
-                        scale(sub(b, a), i as f64 / m as f64),
-                        scale(sub(cc, a), j as f64 / m as f64),
-                    ),
-                );
-                f(t, x);
+        let c = g.corner;
+        let length = |k: usize| norm(sub(c[(k + 1) % 3], c[k]));
+        let shortest = (0..3)
+            .min_by(|&i, &j| length(i).total_cmp(&length(j)))
+            .unwrap_or(0);
+        // Corner a, its shortest edge to b, its other edge to d.
+        let (a, b, d) = (c[shortest], c[(shortest + 1) % 3], c[(shortest + 2) % 3]);
+        let m1 = (norm(sub(b, a)) / h).ceil().max(1.0) as usize;
+        let m2 = (norm(sub(d, a)) / h).ceil().max(1.0) as usize;
+        for i in 0..=m1 {
+            let u = i as f64 / m1 as f64;
+            for j in 0..=m2 {
+                let v = j as f64 / m2 as f64;
+                if u + v > 1.0 + 1e-12 {
+                    break;
+                }
+                f(t, add(a, add(scale(sub(b, a), u), scale(sub(d, a), v))));
             }
+        }
+        let m3 = (norm(sub(d, b)) / h).ceil().max(1.0) as usize;
+        for k in 1..m3 {
+            f(t, add(b, scale(sub(d, b), k as f64 / m3 as f64)));
         }
     }
 }
 
-/// The largest hole of a covering (module doc).
-pub fn holes(c: &Covering) -> Holes {
-    let mesh = &c.mesh;
-    let r = c.options.radius;
-    let h = sample_spacing(c);
-    let near = Nearest::new(c);
-    let off = r * (1.0 - 1e-6);
-    let sgn = side(c);
-    let mut worst = Holes {
-        hole: f64::NEG_INFINITY,
-        at: [0.0; 3],
-        hole_bound: f64::NEG_INFINITY,
-        spacing: h,
-        samples: 0,
-    };
-    let visit = |y: [f64; 3], worst: &mut Holes| {
-        if any_triangle_within(mesh, y, off) {
-            return;
-        }
-        worst.samples += 1;
-        let hole = near.distance(y) - r;
-        if hole > worst.hole {
-            worst.hole = hole;
-            worst.at = y;
+/// Calls `f(Y)` for the samples of the centres' surface (the inner
+/// offset at depth R_b, module doc) of spacing ≤ h, faces then feature
+/// edges, in mesh order.
+pub(crate) fn offset_samples(
+    mesh: &MeshGeometry,
+    r: f64,
+    flip: bool,
+    h: f64,
+    mut f: impl FnMut([f64; 3]),
+) {
+    let off = r * (1.0 - 1e-6) - mesh.patches.max_deviation - mesh.inside_tolerance;
+    let sgn = if flip { -1.0 } else { 1.0 };
+    let mut visit = |y: [f64; 3]| {
+        if !any_triangle_within(mesh, y, off) {
+            f(y);
         }
     };
     face_samples(mesh, h, |t, x| {
         let p = mesh.patches.tri[t].patch as usize;
         let n = scale(mesh.patches.patches[p].normal, sgn);
-        visit(sub(x, scale(n, r)), &mut worst);
+        visit(sub(x, scale(n, r)));
     });
     // Feature edges: ridge and arc.
     for (t, g) in mesh.patches.tri.iter().enumerate() {
@@ -155,23 +160,48 @@ pub fn holes(c: &Covering) -> Holes {
             for &q in others {
                 let n2 = scale(mesh.patches.patches[q as usize].normal, sgn);
                 let ridge = super::corner_offset(&[n1, n2]);
+                // Arc points every ≤ h (length θ R_b), at most 8 pieces.
+                let angle = dot(n1, n2).clamp(-1.0, 1.0).acos();
+                let arc = ((angle * r / h).ceil() as usize).clamp(1, 8);
                 for i in 0..=pieces {
                     let x = add(pa, scale(sub(pb, pa), i as f64 / pieces as f64));
                     if let Some(a) = ridge {
-                        visit(sub(x, scale(a, r)), &mut worst);
+                        visit(sub(x, scale(a, r)));
                     }
-                    for w in 1..8 {
-                        let w = w as f64 / 8.0;
+                    for w in 1..arc {
+                        let w = w as f64 / arc as f64;
                         let m = add(scale(n1, 1.0 - w), scale(n2, w));
                         let l = norm(m);
                         if l > 1e-9 {
-                            visit(sub(x, scale(m, r / l)), &mut worst);
+                            visit(sub(x, scale(m, r / l)));
                         }
                     }
                 }
             }
         }
     }
+}
+
+/// The largest hole of a covering (module doc).
+pub fn holes(c: &Covering) -> Holes {
+    let r = c.options.radius;
+    let h = sample_spacing(c);
+    let near = Nearest::new(c);
+    let mut worst = Holes {
+        hole: f64::NEG_INFINITY,
+        at: [0.0; 3],
+        hole_bound: f64::NEG_INFINITY,
+        spacing: h,
+        samples: 0,
+    };
+    offset_samples(&c.mesh, r, c.options.flip, h, |y| {
+        worst.samples += 1;
+        let hole = near.distance(y) - r;
+        if hole > worst.hole {
+            worst.hole = hole;
+            worst.at = y;
+        }
+    });
     worst.hole_bound = worst.hole + h;
     worst
 }
