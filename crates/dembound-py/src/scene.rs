@@ -568,6 +568,15 @@ impl Scene {
         Ok(self.running()?.dt())
     }
 
+    /// The spheres removed so far under `domain.outside = "delete"`, as
+    /// `(count, mass in kg, energy carried out in J)`; `None` when the
+    /// scene removes none.
+    #[getter]
+    fn deleted(&self) -> Option<(u64, f64, f64)> {
+        let sim = self.sim.as_ref()?;
+        sim.removed().map(|r| (r.particles, r.mass, r.energy))
+    }
+
     /// Steps taken since the start (restarts included).
     #[getter]
     fn steps_done(&self) -> u64 {
@@ -699,10 +708,7 @@ impl Scene {
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let sim = self.running()?;
         let observation = guarded(|| Ok(sim.observe()))?;
-        let header = series::series_header(
-            observation.wall_forces.len(),
-            observation.work_by_walls.is_some(),
-        );
+        let header = series::series_header_of(&observation);
         let out = PyDict::new(py);
         for (name, cell) in header.into_iter().zip(series::series_cells(&observation)) {
             match cell {
