@@ -103,6 +103,11 @@ class Scene:
     def dt(self) -> float:
         """Δt, s (ValueError while the scene has no spheres)."""
     @property
+    def deleted(self) -> tuple[int, float, float] | None:
+        """Spheres removed so far under ``domain.outside = "delete"``:
+        ``(count, mass in kg, energy carried out in J)``; None when the
+        scene removes none."""
+    @property
     def steps_done(self) -> int: ...
     @property
     def total_steps(self) -> int: ...

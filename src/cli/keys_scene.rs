@@ -70,7 +70,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "",
             "\"error\"",
             "\"error\", \"keep\" or \"delete\"".into(),
-            "a free sphere lost for good along a non-periodic axis (wholly outside the box grown to hold the fixed spheres, moving away, gravity not bringing it back: one thrown out through an open top that falls back is not lost) stops the run (exit 2 naming the sphere, the step and its position; no output written; checked at each series row and at the end), goes on unreported, or is removed at the next neighbour-list rebuild once it touches nothing (counted: --json deleted_particles, deleted_mass, energy_balance.carried_out_energy; series.csv deleted_particles, deleted_mass_kg, carried_out_energy_J; not under MPI yet)",
+            "a free sphere lost for good along a non-periodic axis (wholly outside the box grown to hold the fixed spheres, moving away, gravity not bringing it back: one thrown out through an open top that falls back is not lost) stops the run (exit 2 naming the sphere, the step and its position; no output written; checked at each series row and at the end), goes on unreported, or is removed at the next neighbour-list rebuild once it touches nothing (counted: --json deleted_particles, deleted_mass, energy_balance.carried_out_energy; series.csv deleted_particles, deleted_mass_kg, carried_out_energy_J; the same spheres at the same steps on any number of threads or MPI ranks)",
         ),
         row(
             "material[K].name",

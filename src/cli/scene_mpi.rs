@@ -447,6 +447,10 @@ fn finish_outputs(
             "id", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "radius", "fixed", "rank",
         ])?;
         for k in 0..state.position.len() {
+            if state.rank[k] == u32::MAX {
+                // Removed (`domain.outside = "delete"`): held by no rank.
+                continue;
+            }
             let (x, v, f) = (state.position[k], state.velocity[k], state.force[k]);
             let mut row = vec![k.to_string()];
             row.extend(x.iter().chain(&v).chain(&f).map(|a| format!("{a:e}")));

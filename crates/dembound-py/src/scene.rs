@@ -635,6 +635,15 @@ impl Scene {
         Ok(self.running()?.dt())
     }
 
+    /// The spheres removed so far under `domain.outside = "delete"`, as
+    /// `(count, mass in kg, energy carried out in J)`; `None` when the
+    /// scene removes none.
+    #[getter]
+    fn deleted(&self) -> Option<(u64, f64, f64)> {
+        let sim = self.sim.as_ref()?;
+        sim.removed().map(|r| (r.particles, r.mass, r.energy))
+    }
+
     /// Steps taken since the start (restarts included).
     #[getter]
     fn steps_done(&self) -> u64 {

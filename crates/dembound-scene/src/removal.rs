@@ -60,13 +60,14 @@ pub struct Removal {
 /// towards it, and gravity `g` (m/s²) not pulling it back. A sphere that
 /// starts above an open box and falls in, or bounces out through an open
 /// top and falls back, is not lost.
+#[inline(always)]
 pub(crate) fn lost_axis(
-    x: [f64; 3],
+    x: &[f64; 3],
     r: f64,
-    v: [f64; 3],
-    (lower, upper): ([f64; 3], [f64; 3]),
-    periodic: [bool; 3],
-    g: [f64; 3],
+    v: &[f64; 3],
+    (lower, upper): (&[f64; 3], &[f64; 3]),
+    periodic: &[bool; 3],
+    g: &[f64; 3],
 ) -> Option<usize> {
     (0..3).find(|&a| {
         let side = if x[a] < lower[a] - r {
@@ -80,72 +81,94 @@ pub(crate) fn lost_axis(
     })
 }
 
-/// Removes the lost free spheres that touch nothing (module doc), booking
-/// them in `world.removal` in input-id order; nothing without a removal.
-/// Call before the lists are rebuilt (the contact test reads the old
-/// lists, aligned with the bodies); the pair state to carry over must be
-/// saved before (it is keyed by input ids: a removed sphere's simply finds
-/// no partner).
-pub(crate) fn remove_lost(world: &mut World) {
+/// One removed sphere: its input id, its mass (kg) and the energy it
+/// carries out (J, module doc).
+pub(crate) type Gone = (u32, f64, f64);
+
+/// The lost free spheres that touch nothing (module doc): a flag per body
+/// and their records; nothing without a removal. Reads the lists of the
+/// last build (call before they are rebuilt).
+pub(crate) fn lost_spheres(world: &World) -> (Vec<bool>, Vec<Gone>) {
     let Some(removal) = world.removal.as_deref() else {
-        return;
+        return (Vec::new(), Vec::new());
     };
     let b = &world.bodies;
-    let bounds = (removal.lower, removal.upper);
+    let bounds = (&removal.lower, &removal.upper);
     let (periodic, g) = (world.domain.periodic, world.gravity);
     let mut gone: Vec<bool> = (0..b.len())
         .map(|k| {
             !b.fixed[k]
                 && lost_axis(
-                    b.position[k],
+                    &b.position[k],
                     b.radius[k],
-                    b.velocity[k],
+                    &b.velocity[k],
                     bounds,
-                    periodic,
-                    g,
+                    &periodic,
+                    &g,
                 )
                 .is_some()
         })
         .collect();
     if !gone.iter().any(|&x| x) {
-        return;
+        return (Vec::new(), Vec::new());
     }
     for k in touching_any(world, &gone) {
         gone[k] = false;
     }
-    let mut out: Vec<usize> = (0..b.len()).filter(|&k| gone[k]).collect();
-    if out.is_empty() {
-        return;
-    }
-    // In input-id order: the sums do not depend on the engine's order.
-    out.sort_by_key(|&k| b.id[k]);
     let half = match world.scheme {
         Scheme::Verlet => 0.5 * world.dt,
         Scheme::Gear5 => 0.0,
     };
     let spin = world.friction.is_some();
-    let mut removed = removal.removed;
-    for &k in &out {
-        let m = b.mass[k];
-        let v = b.velocity[k];
-        let v = [v[0] + half * g[0], v[1] + half * g[1], v[2] + half * g[2]];
-        let x = b.position[k];
-        let mut e = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-            - m * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
-        if spin {
-            let w = b.angular_velocity[k];
-            e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / b.inverse_inertia[k];
-        }
-        removed.particles += 1;
-        removed.mass += m;
-        removed.energy += e;
+    let records = (0..b.len())
+        .filter(|&k| gone[k])
+        .map(|k| {
+            let m = b.mass[k];
+            let v = b.velocity[k];
+            let v = [v[0] + half * g[0], v[1] + half * g[1], v[2] + half * g[2]];
+            let x = b.position[k];
+            let mut e = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+                - m * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
+            if spin {
+                let w = b.angular_velocity[k];
+                e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / b.inverse_inertia[k];
+            }
+            (b.id[k], m, e)
+        })
+        .collect();
+    (gone, records)
+}
+
+/// Books the spheres removed at one list build (of every process) in
+/// input-id order: the sums do not depend on the engine's order nor on
+/// which process held them.
+pub(crate) fn book(world: &mut World, mut gone: Vec<Gone>) {
+    let Some(r) = world.removal.as_deref_mut() else {
+        return;
+    };
+    gone.sort_by_key(|&(id, ..)| id);
+    for (_, m, e) in gone {
+        r.removed.particles += 1;
+        r.removed.mass += m;
+        r.removed.energy += e;
     }
-    let keep: Vec<u32> = (0..b.len() as u32).filter(|&k| !gone[k as usize]).collect();
+}
+
+/// One process: removes the lost free spheres that touch nothing (module
+/// doc), booked in `world.removal`. Call before the lists are rebuilt;
+/// the pair state to carry over must be saved before (it is keyed by input
+/// ids: a removed sphere's simply finds no partner).
+pub(crate) fn remove_lost(world: &mut World) {
+    let (gone, records) = lost_spheres(world);
+    if records.is_empty() {
+        return;
+    }
+    book(world, records);
+    let keep: Vec<u32> = (0..gone.len() as u32)
+        .filter(|&k| !gone[k as usize])
+        .collect();
     world.bodies.permute(&keep);
     world.wall_contacts.permute(&keep);
-    if let Some(r) = world.removal.as_deref_mut() {
-        r.removed = removed;
-    }
 }
 
 /// The bodies among `candidates` (flags by body) that touch a sphere or a
@@ -210,7 +233,14 @@ mod tests {
     #[test]
     fn below_an_open_floor_falling_is_lost_along_z() {
         // Centre 0.2 m below the floor, radius 0.1 m: wholly outside.
-        let a = lost_axis([0.5, 0.5, -0.2], 0.1, [0.0, 0.0, -1.0], BOX, [false; 3], G);
+        let a = lost_axis(
+            &[0.5, 0.5, -0.2],
+            0.1,
+            &[0.0, 0.0, -1.0],
+            (&BOX.0, &BOX.1),
+            &[false; 3],
+            &G,
+        );
         assert_eq!(a, Some(2));
     }
 
@@ -218,28 +248,49 @@ mod tests {
     fn partly_inside_or_coming_back_is_not_lost() {
         // Centre 0.05 m below the floor, radius 0.1 m: still overlaps it.
         assert_eq!(
-            lost_axis([0.5, 0.5, -0.05], 0.1, [0.0, 0.0, -1.0], BOX, [false; 3], G),
+            lost_axis(
+                &[0.5, 0.5, -0.05],
+                0.1,
+                &[0.0, 0.0, -1.0],
+                (&BOX.0, &BOX.1),
+                &[false; 3],
+                &G
+            ),
             None
         );
         // Above the top moving up: gravity brings it back.
         assert_eq!(
-            lost_axis([0.5, 0.5, 1.5], 0.1, [0.0, 0.0, 1.0], BOX, [false; 3], G),
+            lost_axis(
+                &[0.5, 0.5, 1.5],
+                0.1,
+                &[0.0, 0.0, 1.0],
+                (&BOX.0, &BOX.1),
+                &[false; 3],
+                &G
+            ),
             None
         );
         // Beside the box moving back towards it.
         assert_eq!(
-            lost_axis([1.5, 0.5, 0.5], 0.1, [-1.0, 0.0, 0.0], BOX, [false; 3], G),
+            lost_axis(
+                &[1.5, 0.5, 0.5],
+                0.1,
+                &[-1.0, 0.0, 0.0],
+                (&BOX.0, &BOX.1),
+                &[false; 3],
+                &G
+            ),
             None
         );
         // Along a periodic axis nothing is ever lost.
         assert_eq!(
             lost_axis(
-                [1.5, 0.5, 0.5],
+                &[1.5, 0.5, 0.5],
                 0.1,
-                [1.0, 0.0, 0.0],
-                BOX,
-                [true, false, false],
-                G
+                &[1.0, 0.0, 0.0],
+                (&BOX.0, &BOX.1),
+                &[true, false, false],
+                &G
             ),
             None
         );

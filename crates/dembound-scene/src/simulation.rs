@@ -174,8 +174,14 @@ impl Simulation {
         let periodic = self.world.domain.periodic;
         let g = self.world.gravity;
         let lost = |i: usize| {
-            let (x, r, v) = (b.position[i], b.radius[i], b.velocity[i]);
-            crate::removal::lost_axis(x, r, v, (lower, upper), periodic, g)
+            crate::removal::lost_axis(
+                &b.position[i],
+                b.radius[i],
+                &b.velocity[i],
+                (&lower, &upper),
+                &periodic,
+                &g,
+            )
         };
         let first = (0..b.len())
             .filter(|&i| !b.fixed[i])
@@ -355,6 +361,13 @@ impl Simulation {
         }
         b.angular_velocity[k] = omega;
         true
+    }
+
+    /// The spheres removed so far, their mass and the energy they carried
+    /// out (`domain.outside = "delete"`, `crate::removal`); `None` when the
+    /// scene removes none.
+    pub fn removed(&self) -> Option<crate::removal::Removed> {
+        self.world.removal.as_ref().map(|r| r.removed)
     }
 
     /// Completed contacts so far, in the order they ended.

@@ -101,6 +101,9 @@ pub(crate) struct RankComm<T: Transport> {
     fixed_by_id: Vec<bool>,
     /// Local body → a halo copy.
     halo: Vec<bool>,
+    /// Local body → removed at this list build (`crate::removal`): it
+    /// neither stays nor migrates.
+    dropping: Vec<bool>,
     /// Every step: local indices of the free bodies sent to each rank.
     sends: Vec<(usize, Vec<u32>)>,
     /// Every step: local indices of the free halo bodies received from
@@ -143,14 +146,6 @@ pub(crate) struct RankComm<T: Transport> {
 
 /// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
-    if setup.outside == crate::setup::Outside::Delete {
-        return Err(SceneError::invalid(
-            "domain.outside",
-            "\"delete\"",
-            "\"error\" or \"keep\" under MPI (removing spheres is not carried across ranks \
-             yet); run without mpirun",
-        ));
-    }
     if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
     {
         return Err(SceneError::invalid(
@@ -271,6 +266,7 @@ impl<T: Transport> DistributedSimulation<T> {
             largest_radius,
             fixed_by_id: setup.spheres.iter().map(|s| s.fixed).collect(),
             halo: vec![false; n],
+            dropping: Vec::new(),
             sends: Vec::new(),
             receives: Vec::new(),
             incidence_start: Vec::new(),
@@ -420,7 +416,9 @@ impl<T: Transport> RankComm<T> {
         let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
         let mut stay = Vec::new();
         for k in 0..world.bodies.len() {
-            if self.halo.get(k).copied().unwrap_or(false) {
+            if self.halo.get(k).copied().unwrap_or(false)
+                || self.dropping.get(k).copied().unwrap_or(false)
+            {
                 continue;
             }
             let x = world.domain.wrap(world.bodies.position[k]);
@@ -740,9 +738,36 @@ impl<T: Transport> StepHooks for RankComm<T> {
         self.transport.max(moved2)
     }
 
-    /// Migration, a new halo and new lists.
+    /// Migration, a new halo and new lists; under `domain.outside =
+    /// "delete"` the lost spheres first leave (`crate::removal`): every
+    /// rank books every rank's removals, in input-id order, so the totals
+    /// are the one process's bits.
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
+        if world.removal.is_some() {
+            let (dropping, gone) = crate::removal::lost_spheres(world);
+            let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
+            if !gone.is_empty() {
+                for r in (0..self.transport.size()).filter(|&r| r != self.transport.rank()) {
+                    let w = out.entry(r).or_default();
+                    for &(id, m, e) in &gone {
+                        w.u32(id);
+                        w.f64(m);
+                        w.f64(e);
+                    }
+                }
+            }
+            let mut all = gone;
+            for (_, bytes) in self.send_records(out) {
+                let mut r = Reader::new(&bytes);
+                while !r.done() {
+                    all.push((r.u32(), r.f64(), r.f64()));
+                }
+            }
+            crate::removal::book(world, all);
+            self.dropping = dropping;
+        }
         self.migrate_and_rebuild(pipeline, world, workers);
+        self.dropping.clear();
     }
 
     /// Position and velocity (and spin) of every free halo body from its

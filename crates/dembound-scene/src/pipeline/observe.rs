@@ -88,18 +88,11 @@ pub(crate) fn observation(
     if let Some(m) = world.moving.as_ref() {
         v.push(m.work);
     }
-    // What this process removed (`crate::removal`), after the work.
-    let removed_at = v.len();
-    if let Some(r) = world.removal.as_ref() {
-        v.extend([r.removed.particles as f64, r.removed.mass, r.removed.energy]);
-    }
     let s = hooks.sum(v);
     let work = world.moving.as_ref().map(|_| s[5]);
-    let removed = world.removal.as_ref().map(|_| crate::removal::Removed {
-        particles: s[removed_at].round() as u64,
-        mass: s[removed_at + 1],
-        energy: s[removed_at + 2],
-    });
+    // What the run removed (`crate::removal`): every process books every
+    // removal (no sum).
+    let removed = world.removal.as_ref().map(|r| r.removed);
     // What came in minus what is there and what left: D = E₀ + W − C − (K + E + P).
     let carried = |d: f64| match removed {
         None => d,

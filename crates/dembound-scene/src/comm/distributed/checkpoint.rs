@@ -47,7 +47,18 @@ use crate::SceneError;
 
 /// Checks a checkpoint against the scene before anything is exchanged
 /// (every rank reads the same file: every rank gives the same answer).
-fn check(c: &Checkpoint, n: usize, gear5: bool, friction: bool) -> Result<Vec<usize>, SceneError> {
+fn check(
+    c: &Checkpoint,
+    all: usize,
+    gear5: bool,
+    friction: bool,
+) -> Result<Vec<usize>, SceneError> {
+    // The scene's bodies less those the run removed (`crate::removal`).
+    let removed = c.removed.map_or(0, |r| r.particles);
+    let n = usize::try_from(removed)
+        .ok()
+        .and_then(|r| all.checked_sub(r))
+        .unwrap_or(usize::MAX);
     let lens = [
         c.order.len(),
         c.position.len(),
@@ -57,7 +68,7 @@ fn check(c: &Checkpoint, n: usize, gear5: bool, friction: bool) -> Result<Vec<us
     ];
     if lens.iter().any(|&l| l != n) {
         return Err(SceneError::Checkpoint(format!(
-            "it holds {} bodies, the scene {n}",
+            "it holds {} bodies, the scene {all} less the {removed} it removed",
             c.order.len()
         )));
     }
@@ -86,8 +97,8 @@ fn check(c: &Checkpoint, n: usize, gear5: bool, friction: bool) -> Result<Vec<us
             "it was written by a run with friction; the scene has none".into(),
         ));
     }
-    // slot[id]: the checkpoint's entry of input body id.
-    let mut slot = vec![usize::MAX; n];
+    // slot[id]: the checkpoint's entry of input body id (MAX: removed).
+    let mut slot = vec![usize::MAX; all];
     for (k, &id) in c.order.iter().enumerate() {
         match slot.get_mut(id as usize) {
             Some(s) if *s == usize::MAX => *s = k,
@@ -99,7 +110,7 @@ fn check(c: &Checkpoint, n: usize, gear5: bool, friction: bool) -> Result<Vec<us
         }
     }
     for &(a, b, _) in &c.pair_histories {
-        if a as usize >= n || b as usize >= n {
+        if a as usize >= all || b as usize >= all {
             return Err(SceneError::Checkpoint(format!(
                 "pair history of bodies {a}, {b} out of range"
             )));
@@ -271,7 +282,7 @@ impl<T: Transport> DistributedSimulation<T> {
             plane_shear: Vec::new(),
             element_records: Vec::new(),
             moving_walls: moving,
-            removed: None,
+            removed: w.removal.as_ref().map(|r| r.removed),
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -380,10 +391,33 @@ impl<T: Transport> DistributedSimulation<T> {
             .into_iter()
             .map(|((id, p), s)| (id, p, s))
             .collect();
-        if let Some(id) = seen.iter().position(|s| !s) {
-            return Err(SceneError::input(format!(
-                "checkpoint: body {id} is owned by no rank (a bug)"
-            )));
+        // The removed spheres are owned by no rank (`crate::removal`): the
+        // checkpoint lists the others.
+        let removed = c.removed.map_or(0, |r| r.particles as usize);
+        if seen.iter().filter(|s| !**s).count() != removed {
+            if let Some(id) = seen.iter().position(|s| !s) {
+                return Err(SceneError::input(format!(
+                    "checkpoint: body {id} is owned by no rank (a bug)"
+                )));
+            }
+        }
+        if removed > 0 {
+            let here = |id: &usize| seen[*id];
+            let ids: Vec<usize> = (0..n).filter(here).collect();
+            fn keep<T: Copy>(v: &mut Vec<T>, ids: &[usize]) {
+                if !v.is_empty() {
+                    *v = ids.iter().map(|&id| v[id]).collect();
+                }
+            }
+            c.order = ids.iter().map(|&id| id as u32).collect();
+            keep(&mut c.position, &ids);
+            keep(&mut c.velocity, &ids);
+            keep(&mut c.force, &ids);
+            keep(&mut c.higher, &ids);
+            keep(&mut c.reference, &ids);
+            keep(&mut c.angular_velocity, &ids);
+            keep(&mut c.torque, &ids);
+            keep(&mut c.angular_higher, &ids);
         }
         c.element_records = elements.into_values().collect();
         c.plane_histories = planes
@@ -427,6 +461,25 @@ impl<T: Transport> DistributedSimulation<T> {
             return Err(SceneError::Checkpoint(format!(
                 "wall history of body {id}, plane {p} out of range"
             )));
+        }
+        // The spheres the run removed leave (`crate::removal`), with the
+        // lists built for them.
+        if let (Some(r), Some(removal)) = (c.removed, me.sim.world.removal.as_deref_mut()) {
+            removal.removed = r;
+            let w = &mut me.sim.world;
+            let keep: Vec<u32> = (0..w.bodies.len() as u32)
+                .filter(|&k| slot[w.bodies.id[k as usize] as usize] != usize::MAX)
+                .collect();
+            if keep.len() != w.bodies.len() {
+                super::select(w, &keep);
+                me.comm.halo = keep.iter().map(|&k| me.comm.halo[k as usize]).collect();
+                w.list = Default::default();
+                w.histories = Default::default();
+                w.shear = Default::default();
+                if let Some(t) = w.tracks.as_mut() {
+                    *t = Default::default();
+                }
+            }
         }
         // Every body at its position of the last list build, its plane
         // histories as saved, no pair history (set after the build).
