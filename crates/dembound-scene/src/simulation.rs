@@ -81,6 +81,9 @@ pub struct Observation {
     /// E₀ + W − C − (K + E + P), C the energy carried out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub removed: Option<crate::removal::Removed>,
+    /// What each outlet removed since t = 0 (file order; empty without
+    /// outlets).
+    pub outlets: Vec<crate::removal::OutletRemoved>,
 }
 
 /// A running scene.

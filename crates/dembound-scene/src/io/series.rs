@@ -109,9 +109,23 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
     if rows.first().is_some_and(|o| o.removed.is_some()) {
         header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
     }
+    // The outlets' columns (`crate::outlets`), only when there are any.
+    let outlets = rows.first().map_or(0, |o| o.outlets.len());
+    for k in 0..outlets {
+        header.extend(crate::outlets::outlet_columns(k));
+    }
     out.write_record(header)?;
-    for o in rows {
-        let record = series_cells(o).into_iter().map(|c| match c {
+    for (i, o) in rows.iter().enumerate() {
+        let mut cells = series_cells(o);
+        for k in 0..outlets {
+            let r = o.outlets.get(k).copied().unwrap_or_default();
+            cells.extend([
+                Cell::Count(r.count),
+                Cell::Value(r.mass),
+                Cell::Value(crate::outlets::rate_at(rows, i, k)),
+            ]);
+        }
+        let record = cells.into_iter().map(|c| match c {
             Cell::Count(n) => n.to_string(),
             Cell::Value(x) => format!("{x:e}"),
         });
@@ -231,6 +245,7 @@ mod tests {
             wall_torques: vec![[0.5, 0.0, 0.0], [0.0, -2.0, 0.0]],
             work_by_walls: None,
             removed: None,
+            outlets: Vec::new(),
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();

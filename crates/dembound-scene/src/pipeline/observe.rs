@@ -116,6 +116,10 @@ pub(crate) fn observation(
         wall_torques: loads.iter().map(|l| l.torque).collect(),
         work_by_walls: work,
         removed,
+        outlets: world
+            .removal
+            .as_ref()
+            .map_or_else(Vec::new, |r| r.by_outlet.clone()),
     }
 }
 
