@@ -73,6 +73,20 @@ pub fn keys() -> Vec<KeyInfo> {
             "a free sphere lost for good along a non-periodic axis (wholly outside the box grown to hold the fixed spheres, moving away, gravity not bringing it back: one thrown out through an open top that falls back is not lost) stops the run (exit 2 naming the sphere, the step and its position; no output written; checked at each series row and at the end), goes on unreported, or is removed at the next neighbour-list rebuild once it touches nothing (counted: --json deleted_particles, deleted_mass, energy_balance.carried_out_energy; series.csv deleted_particles, deleted_mass_kg, carried_out_energy_J; the same spheres at the same steps on any number of threads or MPI ranks)",
         ),
         row(
+            "outlet[K].region.box.lower",
+            "m",
+            "—",
+            finite3(),
+            "an outlet's lower corner: a free sphere whose centre is inside the box (faces included) is removed at the next neighbour-list rebuild once it touches nothing, like a lost sphere under domain.outside = \"delete\" (counted per outlet: --json outlets[K].count, mass, steady_rate and steady_rate_error, the mean mass flow rate over the series intervals of the run's second half and its standard error, kg/s; series.csv outletK_removed, outletK_mass_kg, outletK_rate_kg_per_s; the energy it carries out booked as carried_out_energy)",
+        ),
+        row(
+            "outlet[K].region.box.upper",
+            "m",
+            "—",
+            "finite, > the lower corner on each axis".into(),
+            "an outlet's upper corner",
+        ),
+        row(
             "material[K].name",
             "",
             "—",

@@ -192,6 +192,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         dissipated_energy: last.dissipated_energy,
         deleted_particles: last.removed.map(|r| r.particles),
         deleted_mass: last.removed.map(|r| r.mass),
+        outlets: dembound_scene::outlets::outlet_reports(&rows),
         energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
@@ -345,6 +346,10 @@ pub(super) struct Report {
     /// Their mass, kg.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) deleted_mass: Option<f64>,
+    /// What each outlet removed and its steady mass flow rate (`[[outlet]]`;
+    /// absent without outlets).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) outlets: Vec<dembound_scene::outlets::OutletReport>,
     /// The balance K + E + P + D against the start, and the largest energy
     /// gain the guard saw (`dembound_scene::energy_guard`).
     pub(super) energy_balance: EnergyBalance,
@@ -511,10 +516,25 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
     s += &balance_line(&r.energy_balance);
     if let (Some(n), Some(m)) = (r.deleted_particles, r.deleted_mass) {
         s += &format!(
-            "deleted: {n} spheres lost outside the box, {} kg, carrying out {} J\n",
+            "deleted: {n} spheres (lost outside the box or through outlets), {} kg, carrying out {} J\n",
             sig(m, 6),
             sig(r.energy_balance.carried_out_energy.unwrap_or(0.0), 6)
         );
+    }
+    for (k, o) in r.outlets.iter().enumerate() {
+        s += &format!(
+            "outlet {k}: {} spheres removed, {} kg",
+            o.count,
+            sig(o.mass, 6)
+        );
+        if let (Some(q), Some(e)) = (o.steady_rate, o.steady_rate_error) {
+            s += &format!(
+                ", steady rate {} ± {} kg/s (second half)",
+                sig(q, 4),
+                sig(e, 2)
+            );
+        }
+        s += "\n";
     }
     s += &format!(
         "contacts now: {} particle–particle, {} particle–wall\n",

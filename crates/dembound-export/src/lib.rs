@@ -160,6 +160,13 @@ pub(crate) fn refuse_moving_walls(setup: &dembound_scene::SceneSetup, code: &str
 /// to hold the fixed spheres, moving away and touching nothing; the decks
 /// would not run the same scene.
 pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
+    if !setup.outlets.is_empty() {
+        return Err(Error::Export(format!(
+            "`outlet` cannot be exported: the {code} deck has no removal by dembound's rule \
+             (a centre inside the box, touching nothing); remove the [[outlet]] sections to \
+             export the scene"
+        )));
+    }
     if setup.outside == dembound_scene::setup::Outside::Delete {
         return Err(Error::Export(format!(
             "`domain.outside = \"delete\"` cannot be exported: the {code} deck has no removal \

@@ -24,6 +24,7 @@ pub mod fingerprint;
 pub mod geometry;
 pub mod io;
 pub mod limits;
+pub mod outlets;
 pub mod parallel;
 pub mod pipeline;
 pub mod removal;

@@ -2,7 +2,12 @@
 //! sphere lost outside the box (`domain.outside`), and, under
 //! `domain.outside = "delete"`, their removal with the count, the mass and
 //! the energy they carry out booked, so that the energy balance still
-//! closes: K + E + P + D − W + C = E₀, C the energy carried out.
+//! closes: K + E + P + D − W + C = E₀, C the energy carried out. The same
+//! machinery removes the free spheres whose centres are inside an outlet
+//! box (`[[outlet]]`), counted by outlet. An outlet too removes a sphere
+//! only once it touches nothing: then it carries out K + P only, exactly
+//! (a contact's elastic energy would otherwise leave with it unbooked, or
+//! booked with an error of the step's half kick by the contact force).
 //!
 //! When: at a neighbour-list rebuild of a step (the only place the engine
 //! reorders and resizes its bodies already), just before the lists are
@@ -42,14 +47,46 @@ pub struct Removed {
     pub energy: f64,
 }
 
-/// The removal of lost spheres (`domain.outside = "delete"`).
+/// An outlet (`[[outlet]]`, issue 28): a box, m, that removes the free
+/// spheres whose centres are inside it (once they touch nothing, like a
+/// lost sphere: module doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutletBox {
+    pub lower: [f64; 3],
+    pub upper: [f64; 3],
+}
+
+impl OutletBox {
+    /// The centre `x` (m) is inside (faces included).
+    pub fn holds(&self, x: &[f64; 3]) -> bool {
+        (0..3).all(|a| x[a] >= self.lower[a] && x[a] <= self.upper[a])
+    }
+}
+
+/// What one outlet has removed so far.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct OutletRemoved {
+    /// Spheres removed.
+    pub count: u64,
+    /// Their mass, kg.
+    pub mass: f64,
+}
+
+/// The removal of lost spheres (`domain.outside = "delete"`) and of the
+/// spheres that enter an outlet.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Removal {
+    /// Lost spheres are removed (`domain.outside = "delete"`).
+    pub lost: bool,
     /// The box a free sphere is lost outside of, m: the domain grown to
     /// hold every fixed sphere.
     pub lower: [f64; 3],
     pub upper: [f64; 3],
-    /// So far.
+    /// The outlets (file order).
+    pub outlets: Vec<OutletBox>,
+    /// So far, by outlet (file order).
+    pub by_outlet: Vec<OutletRemoved>,
+    /// So far, in all (lost spheres and outlets).
     pub removed: Removed,
 }
 
@@ -81,9 +118,9 @@ pub(crate) fn lost_axis(
     })
 }
 
-/// One removed sphere: its input id, its mass (kg) and the energy it
-/// carries out (J, module doc).
-pub(crate) type Gone = (u32, f64, f64);
+/// One removed sphere: its input id, its mass (kg), the energy it
+/// carries out (J, module doc) and where it went: 0 lost, K + 1 outlet K.
+pub(crate) type Gone = (u32, f64, f64, u32);
 
 /// The lost free spheres that touch nothing (module doc): a flag per body
 /// and their records; nothing without a removal. Reads the lists of the
@@ -95,9 +132,18 @@ pub(crate) fn lost_spheres(world: &World) -> (Vec<bool>, Vec<Gone>) {
     let b = &world.bodies;
     let bounds = (&removal.lower, &removal.upper);
     let (periodic, g) = (world.domain.periodic, world.gravity);
-    let mut gone: Vec<bool> = (0..b.len())
+    // Where each body goes: 0 lost, K + 1 outlet K (the first that holds
+    // its centre), u32::MAX staying.
+    let stay = u32::MAX;
+    let place: Vec<u32> = (0..b.len())
         .map(|k| {
-            !b.fixed[k]
+            if b.fixed[k] {
+                return stay;
+            }
+            if let Some(o) = removal.outlets.iter().position(|o| o.holds(&b.position[k])) {
+                return o as u32 + 1;
+            }
+            let lost = removal.lost
                 && lost_axis(
                     &b.position[k],
                     b.radius[k],
@@ -106,9 +152,15 @@ pub(crate) fn lost_spheres(world: &World) -> (Vec<bool>, Vec<Gone>) {
                     &periodic,
                     &g,
                 )
-                .is_some()
+                .is_some();
+            if lost {
+                0
+            } else {
+                stay
+            }
         })
         .collect();
+    let mut gone: Vec<bool> = place.iter().map(|&p| p != stay).collect();
     if !gone.iter().any(|&x| x) {
         return (Vec::new(), Vec::new());
     }
@@ -133,7 +185,7 @@ pub(crate) fn lost_spheres(world: &World) -> (Vec<bool>, Vec<Gone>) {
                 let w = b.angular_velocity[k];
                 e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / b.inverse_inertia[k];
             }
-            (b.id[k], m, e)
+            (b.id[k], m, e, place[k])
         })
         .collect();
     (gone, records)
@@ -147,10 +199,17 @@ pub(crate) fn book(world: &mut World, mut gone: Vec<Gone>) {
         return;
     };
     gone.sort_by_key(|&(id, ..)| id);
-    for (_, m, e) in gone {
+    for (_, m, e, place) in gone {
         r.removed.particles += 1;
         r.removed.mass += m;
         r.removed.energy += e;
+        if let Some(o) = (place as usize)
+            .checked_sub(1)
+            .and_then(|k| r.by_outlet.get_mut(k))
+        {
+            o.count += 1;
+            o.mass += m;
+        }
     }
 }
 

@@ -35,6 +35,9 @@ pub struct SceneSetup {
     /// What a free sphere lost for good outside the box does to the run
     /// (`domain.outside`, issue 28).
     pub outside: Outside,
+    /// The outlets (`[[outlet]]`, issue 28; `crate::removal`): boxes that
+    /// remove the free spheres whose centres enter them.
+    pub outlets: Vec<crate::removal::OutletBox>,
     /// The prescribed motion of each wall in file order (issue 27,
     /// `walls::motion`); missing entries or `None`: fixed. Empty when no
     /// wall moves.
@@ -243,6 +246,7 @@ impl SceneSetup {
             collisions: false,
             friction: None,
             outside: Outside::Error,
+            outlets: Vec::new(),
             wall_motions: Vec::new(),
             wall_servos: Vec::new(),
         }

@@ -86,6 +86,9 @@ pub struct Observation {
     /// fixed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub wall_motions: Vec<crate::pipeline::wall_states::WallMotionState>,
+    /// What each outlet removed since t = 0 (file order; empty without
+    /// outlets).
+    pub outlets: Vec<crate::removal::OutletRemoved>,
 }
 
 /// A running scene.

@@ -749,10 +749,11 @@ impl<T: Transport> StepHooks for RankComm<T> {
             if !gone.is_empty() {
                 for r in (0..self.transport.size()).filter(|&r| r != self.transport.rank()) {
                     let w = out.entry(r).or_default();
-                    for &(id, m, e) in &gone {
+                    for &(id, m, e, place) in &gone {
                         w.u32(id);
                         w.f64(m);
                         w.f64(e);
+                        w.u32(place);
                     }
                 }
             }
@@ -760,7 +761,7 @@ impl<T: Transport> StepHooks for RankComm<T> {
             for (_, bytes) in self.send_records(out) {
                 let mut r = Reader::new(&bytes);
                 while !r.done() {
-                    all.push((r.u32(), r.f64(), r.f64()));
+                    all.push((r.u32(), r.f64(), r.f64(), r.u32()));
                 }
             }
             crate::removal::book(world, all);

@@ -11,6 +11,7 @@
 pub(crate) mod checks;
 mod contact;
 mod integration;
+mod outlets;
 mod overrides;
 mod particles;
 mod walls;
@@ -19,6 +20,7 @@ pub use contact::{ContactSection, Law};
 pub use integration::{
     IntegrationSection, MotionSection, OutputSection, ParallelSection, Scheme, MAX_STEPS,
 };
+pub use outlets::{OutletSection, RegionSection};
 pub use overrides::{apply_set, parse_value};
 pub use particles::{InlineSphere, LatticeSource, ParticlesSection, RadiusSpec, RandomSource};
 pub(crate) use walls::surface_material;
@@ -51,6 +53,10 @@ pub struct SceneFile {
     /// `[parallel]` (addition, issue 16): the MPI decomposition.
     #[serde(default, skip_serializing_if = "ParallelSection::is_default")]
     pub parallel: ParallelSection,
+    /// `[[outlet]]` (addition, issue 28): regions that remove the free
+    /// spheres entering them.
+    #[serde(default, rename = "outlet", skip_serializing_if = "Vec::is_empty")]
+    pub outlets: Vec<OutletSection>,
 }
 
 /// `[domain]`: the box, m.
@@ -188,6 +194,7 @@ impl SceneFile {
         for (i, w) in self.walls.iter().enumerate() {
             self.validate_wall(i, w)?;
         }
+        self.validate_outlets()?;
         self.validate_motion()?;
         self.validate_integration()?;
         self.validate_output()?;

@@ -243,6 +243,7 @@ pub fn resolve_with(
             Some(OutsideName::Keep) => Outside::Keep,
             Some(OutsideName::Delete) => Outside::Delete,
         },
+        outlets: file.outlets.iter().map(|o| o.outlet_box()).collect(),
         wall_motions: if wall_motions.iter().any(Option::is_some) {
             wall_motions
         } else {

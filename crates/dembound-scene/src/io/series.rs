@@ -143,9 +143,23 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
     for m in rows.first().map_or(&[][..], |o| &o.wall_motions[..]) {
         header.extend(motion_columns(m.wall));
     }
+    // The outlets' columns (`crate::outlets`), only when there are any.
+    let outlets = rows.first().map_or(0, |o| o.outlets.len());
+    for k in 0..outlets {
+        header.extend(crate::outlets::outlet_columns(k));
+    }
     out.write_record(header)?;
-    for o in rows {
-        let record = series_cells(o).into_iter().map(|c| match c {
+    for (i, o) in rows.iter().enumerate() {
+        let mut cells = series_cells(o);
+        for k in 0..outlets {
+            let r = o.outlets.get(k).copied().unwrap_or_default();
+            cells.extend([
+                Cell::Count(r.count),
+                Cell::Value(r.mass),
+                Cell::Value(crate::outlets::rate_at(rows, i, k)),
+            ]);
+        }
+        let record = cells.into_iter().map(|c| match c {
             Cell::Count(n) => n.to_string(),
             Cell::Value(x) => format!("{x:e}"),
         });
@@ -266,6 +280,7 @@ mod tests {
             work_by_walls: None,
             removed: None,
             wall_motions: Vec::new(),
+            outlets: Vec::new(),
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();

@@ -117,6 +117,10 @@ pub(crate) fn observation(
         work_by_walls: work,
         removed,
         wall_motions: world.wall_motion_states(),
+        outlets: world
+            .removal
+            .as_ref()
+            .map_or_else(Vec::new, |r| r.by_outlet.clone()),
     }
 }
 

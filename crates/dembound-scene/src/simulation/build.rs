@@ -342,18 +342,20 @@ impl Simulation {
             // Lost: outside the box grown to hold the fixed spheres, for
             // the error and for the removal alike.
             let lost_box = outside_box(setup);
-            match setup.outside {
-                Outside::Error => sim.outside_box = lost_box,
-                Outside::Keep => {}
-                Outside::Delete => {
-                    sim.world.removal = lost_box.map(|(lower, upper)| {
-                        Box::new(crate::removal::Removal {
-                            lower,
-                            upper,
-                            removed: Default::default(),
-                        })
-                    })
-                }
+            if setup.outside == Outside::Error {
+                sim.outside_box = lost_box;
+            }
+            let lost = setup.outside == Outside::Delete;
+            if lost || !setup.outlets.is_empty() {
+                let (lower, upper) = lost_box.unwrap_or((setup.domain.lower, setup.domain.upper));
+                sim.world.removal = Some(Box::new(crate::removal::Removal {
+                    lost,
+                    lower,
+                    upper,
+                    outlets: setup.outlets.clone(),
+                    by_outlet: vec![Default::default(); setup.outlets.len()],
+                    removed: Default::default(),
+                }));
             }
             sim
         })

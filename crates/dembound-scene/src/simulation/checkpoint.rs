@@ -111,6 +111,10 @@ impl Simulation {
             element_records,
             moving_walls: w.moving.as_ref().map(|m| m.record()),
             removed: w.removal.as_ref().map(|r| r.removed),
+            outlets: w
+                .removal
+                .as_ref()
+                .map_or_else(Vec::new, |r| r.by_outlet.clone()),
         }
     }
 
@@ -128,6 +132,9 @@ impl Simulation {
         let removed = match (c.removed, sim.world.removal.as_deref_mut()) {
             (Some(r), Some(removal)) => {
                 removal.removed = r;
+                if c.outlets.len() == removal.by_outlet.len() {
+                    removal.by_outlet.clone_from(&c.outlets);
+                }
                 r.particles
             }
             _ => 0,
@@ -476,4 +483,8 @@ pub struct Checkpoint {
     /// removed spheres are those whose input index `order` lacks.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub removed: Option<crate::removal::Removed>,
+    /// What each outlet removed so far (file order; absent without
+    /// outlets).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outlets: Vec<crate::removal::OutletRemoved>,
 }

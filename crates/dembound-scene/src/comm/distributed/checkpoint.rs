@@ -283,6 +283,10 @@ impl<T: Transport> DistributedSimulation<T> {
             element_records: Vec::new(),
             moving_walls: moving,
             removed: w.removal.as_ref().map(|r| r.removed),
+            outlets: w
+                .removal
+                .as_ref()
+                .map_or_else(Vec::new, |r| r.by_outlet.clone()),
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -466,6 +470,9 @@ impl<T: Transport> DistributedSimulation<T> {
         // lists built for them.
         if let (Some(r), Some(removal)) = (c.removed, me.sim.world.removal.as_deref_mut()) {
             removal.removed = r;
+            if c.outlets.len() == removal.by_outlet.len() {
+                removal.by_outlet.clone_from(&c.outlets);
+            }
             let w = &mut me.sim.world;
             let keep: Vec<u32> = (0..w.bodies.len() as u32)
                 .filter(|&k| slot[w.bodies.id[k as usize] as usize] != usize::MAX)
