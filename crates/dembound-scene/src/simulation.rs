@@ -88,6 +88,7 @@ pub struct Observation {
     pub wall_motions: Vec<crate::pipeline::wall_states::WallMotionState>,
     /// What each outlet removed since t = 0 (file order; empty without
     /// outlets).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<crate::removal::OutletRemoved>,
 }
 
