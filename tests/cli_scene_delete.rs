@@ -6,8 +6,8 @@
 
 mod common;
 
-use common::{dembound, scene_text};
-use std::path::Path;
+use common::scene_text;
+use common::shaft::{read_output, run_json, shaft_scene};
 
 /// Two spheres (R = 1 mm, ρ = 2500 kg/m³) in a 10 mm box with no walls,
 /// gravity −z: both fall out through the floor (the default stops the
@@ -123,128 +123,11 @@ fn deleted_spheres_are_counted_and_carry_their_energy_out() {
     }
 }
 
-/// 360 spheres (R = 0.5 mm) on a 6 × 6 × 10 grid in a 10 mm × 10 mm
-/// shaft of four plane walls, open at the bottom, thrown in random
-/// directions (a fixed linear congruential sequence): they collide with
-/// each other and the walls while falling out.
-fn shaft(dir: &Path) -> String {
-    let mut rows = Vec::new();
-    let mut state: u64 = 12345;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    for k in 0..10 {
-        for j in 0..6 {
-            for i in 0..6 {
-                let x = [
-                    1.25e-3 + 1.5e-3 * i as f64,
-                    1.25e-3 + 1.5e-3 * j as f64,
-                    4e-3 + 1.5e-3 * k as f64,
-                ];
-                let v = [0.6 * next(), 0.6 * next(), 0.6 * next()];
-                rows.push(format!(
-                    "{:e},{:e},{:e},5e-4,{:e},{:e},{:e}",
-                    x[0], x[1], x[2], v[0], v[1], v[2]
-                ));
-            }
-        }
-    }
-    let csv = dir.join("shaft.csv");
-    std::fs::write(
-        &csv,
-        "x,y,z,radius,vx,vy,vz\n".to_string() + &rows.join("\n") + "\n",
-    )
-    .unwrap();
-    format!(
-        r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [0.01, 0.01, 0.025]
-outside = "delete"
-
-[[material]]
-name = "g"
-density = 2500.0
-youngs_modulus = 1e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz"
-
-[[particles]]
-material = "g"
-csv = "{}"
-
-[[wall]]
-plane = {{ point = [0.0, 0.0, 0.0], normal = [1.0, 0.0, 0.0] }}
-material = "g"
-[[wall]]
-plane = {{ point = [0.01, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }}
-material = "g"
-[[wall]]
-plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
-material = "g"
-[[wall]]
-plane = {{ point = [0.0, 0.01, 0.0], normal = [0.0, -1.0, 0.0] }}
-material = "g"
-
-[motion]
-gravity = [0.0, 0.0, -9.81]
-
-[integration]
-scheme = "verlet"
-dt = 2e-6
-steps = 30000
-
-[output]
-series_every = 100
-every = 10000
-"#,
-        csv.display()
-    )
-}
-
-/// `dembound scene DIR/scene.toml --threads T ARGS --json -q --out DIR/NAME`:
-/// the JSON without its timing keys.
-fn run(dir: &Path, threads: &str, name: &str, args: &[&str]) -> serde_json::Value {
-    let out = dembound()
-        .arg("scene")
-        .arg(dir.join("scene.toml"))
-        .args(["--threads", threads, "--json", "-q", "--out"])
-        .arg(dir.join(name))
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut j = json(&String::from_utf8_lossy(&out.stdout));
-    for key in [
-        "wall_clock",
-        "wall_clock_total",
-        "particle_steps_per_second",
-        "threads",
-        "steps_this_run",
-    ] {
-        j.as_object_mut().unwrap().remove(key);
-    }
-    j
-}
-
-fn read(dir: &Path, name: &str, file: &str) -> Vec<u8> {
-    std::fs::read(dir.join(name).join(file)).unwrap_or_else(|e| panic!("{name}/{file}: {e}"))
-}
-
 #[test]
 fn one_and_two_threads_and_a_restart_give_the_same_bits() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("scene.toml"), shaft(dir.path())).unwrap();
-    let one = run(dir.path(), "1", "one", &[]);
+    std::fs::write(dir.path().join("scene.toml"), shaft_scene(dir.path(), "")).unwrap();
+    let one = run_json(dir.path(), "1", "one", &[]);
     // Some spheres fell out, not all, and they met on the way.
     let deleted = one["deleted_particles"].as_u64().unwrap();
     assert!((20..360).contains(&deleted), "{one}");
@@ -257,16 +140,16 @@ fn one_and_two_threads_and_a_restart_give_the_same_bits() {
         (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * f(b, "total_initial"),
         "{b}"
     );
-    let two = run(dir.path(), "2", "two", &[]);
+    let two = run_json(dir.path(), "2", "two", &[]);
     assert_eq!(one, two);
     for file in ["series.csv", "snapshot_000003.vtp", "checkpoint.cbor"] {
         assert!(
-            read(dir.path(), "one", file) == read(dir.path(), "two", file),
+            read_output(dir.path(), "one", file) == read_output(dir.path(), "two", file),
             "{file} differs on 2 threads"
         );
     }
     // Half, then from its checkpoint to the end: the one-go run's end.
-    let half = run(
+    let half = run_json(
         dir.path(),
         "1",
         "half",
@@ -276,14 +159,15 @@ fn one_and_two_threads_and_a_restart_give_the_same_bits() {
     let before = half["deleted_particles"].as_u64().unwrap();
     assert!(before > 0 && before < deleted, "{before} of {deleted}");
     let cp = dir.path().join("half").join("checkpoint.cbor");
-    let again = run(
+    let again = run_json(
         dir.path(),
         "2",
         "again",
         &["--restart", cp.to_str().unwrap()],
     );
     assert!(
-        read(dir.path(), "again", "checkpoint.cbor") == read(dir.path(), "one", "checkpoint.cbor"),
+        read_output(dir.path(), "again", "checkpoint.cbor")
+            == read_output(dir.path(), "one", "checkpoint.cbor"),
         "the restarted run's checkpoint differs"
     );
     assert_eq!(again["deleted_particles"], one["deleted_particles"]);
@@ -294,36 +178,12 @@ fn one_and_two_threads_and_a_restart_give_the_same_bits() {
     );
 }
 
-/// `mpirun -np RANKS dembound scene DIR/scene.toml --json -q --out
-/// DIR/NAME ARGS` (allowed as root): the JSON.
-#[cfg(feature = "mpi")]
-fn mpirun(dir: &Path, ranks: usize, name: &str, args: &[&str]) -> serde_json::Value {
-    let o = std::process::Command::new("mpirun")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .args(["--oversubscribe", "-np", &ranks.to_string()])
-        .arg(env!("CARGO_BIN_EXE_dembound"))
-        .arg("scene")
-        .arg(dir.join("scene.toml"))
-        .args(["--json", "-q", "--out"])
-        .arg(dir.join(name))
-        .args(args)
-        .output()
-        .expect("mpirun runs (Debian: openmpi-bin)");
-    assert!(
-        o.status.success(),
-        "{ranks} ranks: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    json(&String::from_utf8_lossy(&o.stdout))
-}
-
 /// The end state's ids, positions and velocities (columns 1..7 of
 /// state.csv, shortest round-trip text: equal text is equal bits; the
 /// last column is the rank).
 #[cfg(feature = "mpi")]
-fn state(dir: &Path, name: &str) -> Vec<String> {
-    let text = String::from_utf8(read(dir, name, "state.csv")).unwrap();
+fn state(dir: &std::path::Path, name: &str) -> Vec<String> {
+    let text = String::from_utf8(read_output(dir, name, "state.csv")).unwrap();
     text.lines()
         .skip(1)
         .map(|l| l.split(',').take(7).collect::<Vec<_>>().join(","))
@@ -339,9 +199,9 @@ fn state(dir: &Path, name: &str) -> Vec<String> {
 #[test]
 fn one_two_three_ranks_remove_the_same_spheres() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("scene.toml"), shaft(dir.path())).unwrap();
-    let local = run(dir.path(), "1", "local", &[]);
-    let one = mpirun(dir.path(), 1, "r1", &[]);
+    std::fs::write(dir.path().join("scene.toml"), shaft_scene(dir.path(), "")).unwrap();
+    let local = run_json(dir.path(), "1", "local", &[]);
+    let one = common::shaft::mpirun_json(dir.path(), 1, "r1", &[]);
     let removed = |j: &serde_json::Value| {
         (
             j["deleted_particles"].clone(),
@@ -355,7 +215,7 @@ fn one_two_three_ranks_remove_the_same_spheres() {
     // The removed spheres are not in the end state.
     assert_eq!(state(dir.path(), "r1").len() as u64, 360 - deleted);
     for ranks in [2, 3] {
-        let j = mpirun(dir.path(), ranks, &format!("r{ranks}"), &[]);
+        let j = common::shaft::mpirun_json(dir.path(), ranks, &format!("r{ranks}"), &[]);
         assert_eq!(removed(&j), removed(&one), "{ranks} ranks");
         assert_eq!(
             state(dir.path(), &format!("r{ranks}")),
@@ -363,10 +223,12 @@ fn one_two_three_ranks_remove_the_same_spheres() {
             "{ranks} ranks"
         );
     }
-    let half = mpirun(dir.path(), 2, "half", &["--set", "integration.steps=13000"]);
+    let half =
+        common::shaft::mpirun_json(dir.path(), 2, "half", &["--set", "integration.steps=13000"]);
     assert!(half["deleted_particles"].as_u64().unwrap() > 0, "{half}");
     let cp = dir.path().join("half").join("checkpoint.cbor");
-    let again = mpirun(dir.path(), 3, "again", &["--restart", cp.to_str().unwrap()]);
+    let again =
+        common::shaft::mpirun_json(dir.path(), 3, "again", &["--restart", cp.to_str().unwrap()]);
     assert_eq!(removed(&again), removed(&one));
     assert_eq!(state(dir.path(), "again"), state(dir.path(), "r1"));
 }

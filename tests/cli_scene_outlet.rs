@@ -6,8 +6,8 @@
 
 mod common;
 
-use common::{dembound, scene_text};
-use std::path::Path;
+use common::scene_text;
+use common::shaft::{read_output, run_json, shaft_scene};
 
 const G: f64 = 9.81;
 /// Sphere radius, m, and density, kg/m³.
@@ -199,130 +199,22 @@ fn outlets_remove_a_free_falling_column_at_the_closed_form_times() {
     }
 }
 
-/// 360 spheres (R = 0.5 mm) on a 6 × 6 × 10 grid in a 10 mm shaft of four
-/// plane walls with no floor, thrown in random directions (a fixed linear
-/// congruential sequence): they collide while falling; the left half of
-/// the shaft's bottom 3 mm is an outlet, what misses it is lost below and
-/// deleted (`domain.outside = "delete"`).
-fn shaft(dir: &Path) -> String {
-    let mut rows = Vec::new();
-    let mut state: u64 = 12345;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    for k in 0..10 {
-        for j in 0..6 {
-            for i in 0..6 {
-                let x = [
-                    1.25e-3 + 1.5e-3 * i as f64,
-                    1.25e-3 + 1.5e-3 * j as f64,
-                    4e-3 + 1.5e-3 * k as f64,
-                ];
-                let v = [0.6 * next(), 0.6 * next(), 0.6 * next()];
-                rows.push(format!(
-                    "{:e},{:e},{:e},5e-4,{:e},{:e},{:e}",
-                    x[0], x[1], x[2], v[0], v[1], v[2]
-                ));
-            }
-        }
-    }
-    let csv = dir.join("shaft.csv");
-    std::fs::write(
-        &csv,
-        "x,y,z,radius,vx,vy,vz\n".to_string() + &rows.join("\n") + "\n",
-    )
-    .unwrap();
-    let mut text = format!(
-        r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [0.01, 0.01, 0.025]
-outside = "delete"
-
-[[material]]
-name = "g"
-density = 2500.0
-youngs_modulus = 1e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz"
-
-[[particles]]
-material = "g"
-csv = "{}"
-
+/// The colliding shaft (tests/common/shaft.rs) with the left half of its
+/// bottom 3 mm an outlet; what misses it is lost below and deleted.
+const SHAFT_OUTLET: &str = r#"
 [[outlet]]
-region = {{ box = {{ lower = [0.0, 0.0, 0.0], upper = [0.005, 0.01, 0.003] }} }}
-
-[motion]
-gravity = [0.0, 0.0, -9.81]
-
-[integration]
-scheme = "verlet"
-dt = 2e-6
-steps = 30000
-
-[output]
-series_every = 100
-every = 10000
-"#,
-        csv.display()
-    );
-    for (point, normal) in [
-        ("[0.0, 0.0, 0.0]", "[1.0, 0.0, 0.0]"),
-        ("[0.01, 0.0, 0.0]", "[-1.0, 0.0, 0.0]"),
-        ("[0.0, 0.0, 0.0]", "[0.0, 1.0, 0.0]"),
-        ("[0.0, 0.01, 0.0]", "[0.0, -1.0, 0.0]"),
-    ] {
-        text += &format!(
-            "[[wall]]\nplane = {{ point = {point}, normal = {normal} }}\nmaterial = \"g\"\n"
-        );
-    }
-    text
-}
-
-/// `dembound scene DIR/scene.toml --threads T ARGS --json -q --out DIR/NAME`:
-/// the JSON without its timing keys.
-fn run(dir: &Path, threads: &str, name: &str, args: &[&str]) -> serde_json::Value {
-    let out = dembound()
-        .arg("scene")
-        .arg(dir.join("scene.toml"))
-        .args(["--threads", threads, "--json", "-q", "--out"])
-        .arg(dir.join(name))
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut j = json(&String::from_utf8_lossy(&out.stdout));
-    for key in [
-        "wall_clock",
-        "wall_clock_total",
-        "particle_steps_per_second",
-        "threads",
-        "steps_this_run",
-    ] {
-        j.as_object_mut().unwrap().remove(key);
-    }
-    j
-}
-
-fn read(dir: &Path, name: &str, file: &str) -> Vec<u8> {
-    std::fs::read(dir.join(name).join(file)).unwrap_or_else(|e| panic!("{name}/{file}: {e}"))
-}
+region = { box = { lower = [0.0, 0.0, 0.0], upper = [0.005, 0.01, 0.003] } }
+"#;
 
 #[test]
 fn an_outlet_in_a_colliding_shaft_gives_the_same_bits_on_threads_and_restart() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("scene.toml"), shaft(dir.path())).unwrap();
-    let one = run(dir.path(), "1", "one", &[]);
+    std::fs::write(
+        dir.path().join("scene.toml"),
+        shaft_scene(dir.path(), SHAFT_OUTLET),
+    )
+    .unwrap();
+    let one = run_json(dir.path(), "1", "one", &[]);
     let deleted = one["deleted_particles"].as_u64().unwrap();
     let through = one["outlets"][0]["count"].as_u64().unwrap();
     // Some went through the outlet, some were lost beside it.
@@ -337,15 +229,15 @@ fn an_outlet_in_a_colliding_shaft_gives_the_same_bits_on_threads_and_restart() {
         (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * f(b, "total_initial"),
         "{b}"
     );
-    let two = run(dir.path(), "2", "two", &[]);
+    let two = run_json(dir.path(), "2", "two", &[]);
     assert_eq!(one, two);
     for file in ["series.csv", "checkpoint.cbor"] {
         assert!(
-            read(dir.path(), "one", file) == read(dir.path(), "two", file),
+            read_output(dir.path(), "one", file) == read_output(dir.path(), "two", file),
             "{file} differs on 2 threads"
         );
     }
-    let half = run(
+    let half = run_json(
         dir.path(),
         "1",
         "half",
@@ -354,40 +246,19 @@ fn an_outlet_in_a_colliding_shaft_gives_the_same_bits_on_threads_and_restart() {
     let before = half["outlets"][0]["count"].as_u64().unwrap();
     assert!(before > 0 && before < through, "{before} of {through}");
     let cp = dir.path().join("half").join("checkpoint.cbor");
-    let again = run(
+    let again = run_json(
         dir.path(),
         "2",
         "again",
         &["--restart", cp.to_str().unwrap()],
     );
     assert!(
-        read(dir.path(), "again", "checkpoint.cbor") == read(dir.path(), "one", "checkpoint.cbor"),
+        read_output(dir.path(), "again", "checkpoint.cbor")
+            == read_output(dir.path(), "one", "checkpoint.cbor"),
         "the restarted run's checkpoint differs"
     );
     assert_eq!(again["outlets"][0]["count"], one["outlets"][0]["count"]);
     assert_eq!(again["outlets"][0]["mass"], one["outlets"][0]["mass"]);
-}
-
-#[cfg(feature = "mpi")]
-fn mpirun(dir: &Path, ranks: usize, name: &str, args: &[&str]) -> serde_json::Value {
-    let o = std::process::Command::new("mpirun")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .args(["--oversubscribe", "-np", &ranks.to_string()])
-        .arg(env!("CARGO_BIN_EXE_dembound"))
-        .arg("scene")
-        .arg(dir.join("scene.toml"))
-        .args(["--json", "-q", "--out"])
-        .arg(dir.join(name))
-        .args(args)
-        .output()
-        .expect("mpirun runs (Debian: openmpi-bin)");
-    assert!(
-        o.status.success(),
-        "{ranks} ranks: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    json(&String::from_utf8_lossy(&o.stdout))
 }
 
 /// Every rank books every rank's removals with their outlet: the per-outlet
@@ -396,8 +267,12 @@ fn mpirun(dir: &Path, ranks: usize, name: &str, args: &[&str]) -> serde_json::Va
 #[test]
 fn one_two_three_ranks_give_the_same_outlet_counts() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("scene.toml"), shaft(dir.path())).unwrap();
-    let local = run(dir.path(), "1", "local", &[]);
+    std::fs::write(
+        dir.path().join("scene.toml"),
+        shaft_scene(dir.path(), SHAFT_OUTLET),
+    )
+    .unwrap();
+    let local = run_json(dir.path(), "1", "local", &[]);
     let removed = |j: &serde_json::Value| {
         (
             j["deleted_particles"].clone(),
@@ -407,7 +282,7 @@ fn one_two_three_ranks_give_the_same_outlet_counts() {
         )
     };
     for ranks in [1, 2, 3] {
-        let j = mpirun(dir.path(), ranks, &format!("r{ranks}"), &[]);
+        let j = common::shaft::mpirun_json(dir.path(), ranks, &format!("r{ranks}"), &[]);
         assert_eq!(removed(&j), removed(&local), "{ranks} ranks");
     }
 }

@@ -24,7 +24,6 @@ mod common;
 use common::dembound;
 use common::peer::missing;
 use std::path::Path;
-use std::process::Command;
 
 /// The sphere: R = 1 mm, ρ = 1000 kg/m³ (material "grain", E = 1e7 Pa,
 /// ν = 0.3), thrown down at 0.5 m/s from 1 mm above the floor at
@@ -145,28 +144,7 @@ fn run_dembound(scene: &Path, out: &Path) -> Trajectory {
 /// Exports the scene, runs LIGGGHTS, reads trajectory.txt (step k on
 /// line k, time k Δt).
 fn run_liggghts(scene: &Path, deck: &Path) -> Trajectory {
-    let o = dembound()
-        .args(["export", "liggghts"])
-        .arg(scene)
-        .arg("--out")
-        .arg(deck)
-        .output()
-        .expect("dembound runs");
-    assert!(
-        o.status.success(),
-        "export failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let ran = Command::new("liggghts")
-        .args(["-in", "in.liggghts", "-log", "log.liggghts"])
-        .current_dir(deck)
-        .output()
-        .expect("liggghts runs");
-    assert!(
-        ran.status.success(),
-        "liggghts failed: {}",
-        String::from_utf8_lossy(&ran.stdout)
-    );
+    common::peer::run_liggghts(scene, deck);
     let text = std::fs::read_to_string(deck.join("trajectory.txt")).expect("trajectory.txt");
     text.lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod peer;
+pub mod shaft;
 
 use assert_cmd::Command;
 use serde_json::Value;
