@@ -109,6 +109,7 @@ mod tests {
             wall_torques: Vec::new(),
             work_by_walls: None,
             removed: None,
+            wall_motions: Vec::new(),
             outlets: vec![OutletRemoved { count: 0, mass }],
         }
     }
