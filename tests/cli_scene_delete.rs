@@ -7,7 +7,7 @@
 mod common;
 
 use common::scene_text;
-use common::shaft::{read_output, run_json, shaft_scene};
+use common::shaft::{number, parse_json, read_output, run_json, shaft_scene};
 
 /// Two spheres (R = 1 mm, ρ = 2500 kg/m³) in a 10 mm box with no walls,
 /// gravity −z: both fall out through the floor (the default stops the
@@ -40,16 +40,6 @@ duration = 0.1
 series_every = 1
 "#;
 
-fn json(stdout: &str) -> serde_json::Value {
-    serde_json::from_str(stdout).expect("one JSON object")
-}
-
-fn f(j: &serde_json::Value, key: &str) -> f64 {
-    j[key]
-        .as_f64()
-        .unwrap_or_else(|| panic!("{key} missing: {j}"))
-}
-
 #[test]
 fn deleted_spheres_are_counted_and_carry_their_energy_out() {
     // Sphere mass m = ρ 4/3 π R³; at t = 0 both rest (K = 0), so
@@ -67,14 +57,14 @@ fn deleted_spheres_are_counted_and_carry_their_energy_out() {
             &["--json", "-q", "--out", out.to_str().unwrap()],
         );
         assert_eq!(code, Some(0), "{scheme}: {stderr}");
-        let j = json(&stdout);
+        let j = parse_json(&stdout);
         assert_eq!(j["particles"], 2, "{scheme}");
         assert_eq!(j["deleted_particles"], 2, "{scheme}");
         // The mass: a sum of two equal f64 (exact to one rounding).
-        let mass = f(&j, "deleted_mass");
+        let mass = number(&j, "deleted_mass");
         assert!((mass - 2.0 * m).abs() <= 1e-15 * m, "{scheme}: {mass}");
         let b = &j["energy_balance"];
-        let carried = f(b, "carried_out_energy");
+        let carried = number(b, "carried_out_energy");
         // 1e-9 of E₀: Verlet conserves K + P of a free fall exactly (the
         // removal completes the half-step velocity by g Δt/2), Gear5's
         // predictor is exact for a constant acceleration; what remains is
@@ -84,14 +74,14 @@ fn deleted_spheres_are_counted_and_carry_their_energy_out() {
             "{scheme}: {carried} vs {e0}"
         );
         assert!(
-            (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * e0,
+            (number(b, "total") - number(b, "total_initial")).abs() <= 1e-9 * e0,
             "{scheme}: {b}"
         );
-        assert!((f(b, "total_initial") - e0).abs() <= 1e-12 * e0, "{b}");
-        let d = f(&j, "dissipated_energy");
+        assert!((number(b, "total_initial") - e0).abs() <= 1e-12 * e0, "{b}");
+        let d = number(&j, "dissipated_energy");
         assert!(d.abs() <= 1e-9 * e0, "{scheme}: D = {d}");
-        assert_eq!(f(&j, "kinetic_energy"), 0.0);
-        assert_eq!(f(&j, "potential_energy"), 0.0);
+        assert_eq!(number(&j, "kinetic_energy"), 0.0);
+        assert_eq!(number(&j, "potential_energy"), 0.0);
         // series.csv: the count, mass and energy columns after the others;
         // sphere 1 (z₀ = 2 mm) is removed first: no earlier than the step
         // it is wholly below the floor, n = ⌊√(2 (z₀ + R)/g)/Δt⌋ + 1 = 2474,
@@ -137,7 +127,8 @@ fn one_and_two_threads_and_a_restart_give_the_same_bits() {
     // leaves room for the contacts' integration error (Hertz, no
     // damping: D is that error only).
     assert!(
-        (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * f(b, "total_initial"),
+        (number(b, "total") - number(b, "total_initial")).abs()
+            <= 1e-9 * number(b, "total_initial"),
         "{b}"
     );
     let two = run_json(dir.path(), "2", "two", &[]);

@@ -7,7 +7,7 @@
 mod common;
 
 use common::scene_text;
-use common::shaft::{read_output, run_json, shaft_scene};
+use common::shaft::{number, parse_json, read_output, run_json, shaft_scene};
 
 const G: f64 = 9.81;
 /// Sphere radius, m, and density, kg/m³.
@@ -75,16 +75,6 @@ series_every = 1
     )
 }
 
-fn json(stdout: &str) -> serde_json::Value {
-    serde_json::from_str(stdout).expect("one JSON object")
-}
-
-fn f(j: &serde_json::Value, key: &str) -> f64 {
-    j[key]
-        .as_f64()
-        .unwrap_or_else(|| panic!("{key} missing: {j}"))
-}
-
 #[test]
 fn outlets_remove_a_free_falling_column_at_the_closed_form_times() {
     let m = RHO * 4.0 / 3.0 * std::f64::consts::PI * R * R * R;
@@ -96,15 +86,15 @@ fn outlets_remove_a_free_falling_column_at_the_closed_form_times() {
         &["--json", "-q", "--out", out.to_str().unwrap()],
     );
     assert_eq!(code, Some(0), "{stderr}");
-    let j = json(&stdout);
+    let j = parse_json(&stdout);
     assert_eq!(j["deleted_particles"], 5, "{j}");
     let outlets = j["outlets"].as_array().expect("outlets");
     assert_eq!(outlets.len(), 2);
     assert_eq!(outlets[0]["count"], 3);
     assert_eq!(outlets[1]["count"], 2);
     // Sums of three and two equal f64: exact to a rounding or two.
-    assert!((f(&outlets[0], "mass") - 3.0 * m).abs() <= 1e-15 * m);
-    assert!((f(&outlets[1], "mass") - 2.0 * m).abs() <= 1e-15 * m);
+    assert!((number(&outlets[0], "mass") - 3.0 * m).abs() <= 1e-15 * m);
+    assert!((number(&outlets[1], "mass") - 2.0 * m).abs() <= 1e-15 * m);
     // Nothing touched anything: all the initial energy m g z₀ left with
     // them (Verlet is exact for a constant acceleration, the removal
     // completes the half-step velocity: rounding only, 1e-9 relative).
@@ -114,8 +104,11 @@ fn outlets_remove_a_free_falling_column_at_the_closed_form_times() {
         .chain(&DROPS_B)
         .map(|d| m * G * (0.005 + d))
         .sum();
-    assert!((f(b, "carried_out_energy") - e0).abs() <= 1e-9 * e0, "{b}");
-    assert!(f(&j, "dissipated_energy").abs() <= 1e-9 * e0, "{j}");
+    assert!(
+        (number(b, "carried_out_energy") - e0).abs() <= 1e-9 * e0,
+        "{b}"
+    );
+    assert!(number(&j, "dissipated_energy").abs() <= 1e-9 * e0, "{j}");
 
     // series.csv: per outlet the count, the mass and the rate columns last.
     let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
@@ -189,11 +182,11 @@ fn outlets_remove_a_free_falling_column_at_the_closed_form_times() {
         // Relative 1e-6: the spikes are m/Δt' with Δt' the row times'
         // difference (Δt to ~1e-12 relative) and the sums' rounding.
         assert!(
-            (f(o, "steady_rate") - mean).abs() <= 1e-6 * mean,
+            (number(o, "steady_rate") - mean).abs() <= 1e-6 * mean,
             "outlet {k}: {o} vs {mean}"
         );
         assert!(
-            (f(o, "steady_rate_error") - (var / n).sqrt()).abs() <= 1e-6 * (var / n).sqrt(),
+            (number(o, "steady_rate_error") - (var / n).sqrt()).abs() <= 1e-6 * (var / n).sqrt(),
             "outlet {k}: {o}"
         );
     }
@@ -220,13 +213,14 @@ fn an_outlet_in_a_colliding_shaft_gives_the_same_bits_on_threads_and_restart() {
     // Some went through the outlet, some were lost beside it.
     assert!(through > 10 && through < deleted, "{one}");
     let m = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * 1.25e-10;
-    let mass = f(&one["outlets"][0], "mass");
+    let mass = number(&one["outlets"][0], "mass");
     assert!((mass - through as f64 * m).abs() <= 1e-12 * mass, "{mass}");
     // The balance closes with the outlets' spheres carried out too (1e-9
     // of E₀: the contacts' integration error, as in cli_scene_delete).
     let b = &one["energy_balance"];
     assert!(
-        (f(b, "total") - f(b, "total_initial")).abs() <= 1e-9 * f(b, "total_initial"),
+        (number(b, "total") - number(b, "total_initial")).abs()
+            <= 1e-9 * number(b, "total_initial"),
         "{b}"
     );
     let two = run_json(dir.path(), "2", "two", &[]);

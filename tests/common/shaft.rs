@@ -94,6 +94,13 @@ pub fn parse_json(stdout: &str) -> Value {
     serde_json::from_str(stdout).expect("one JSON object")
 }
 
+/// The number at `key` of the JSON object `j` (panics naming the key).
+pub fn number(j: &Value, key: &str) -> f64 {
+    j[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} missing: {j}"))
+}
+
 /// `dembound scene DIR/scene.toml --threads T ARGS --json -q --out DIR/NAME`:
 /// the JSON without its timing keys.
 pub fn run_json(dir: &Path, threads: &str, name: &str, args: &[&str]) -> Value {
