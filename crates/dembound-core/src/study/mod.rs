@@ -6,6 +6,7 @@
 //! reproduction that is computed (cases, quoted numbers, scaling).
 
 pub mod indicators;
+mod longest_first;
 pub mod paper;
 pub mod recommend;
 pub mod restitution;

@@ -16,7 +16,7 @@ use super::restitution::{
 };
 use super::sweep::{sweep, SweepResult, SweepSpec};
 use super::validation::{
-    convergence, validation_tables, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS,
+    tables_and_convergence, ConvergencePoint, ValidationTable, CONVERGENCE_ETAS,
 };
 use super::{first_contact, gravity_free, show, sig, Axis, Model, Quantity};
 use crate::bounce::{simulate, Observer, Sample, Scenario};
@@ -241,7 +241,64 @@ pub fn closing_spec() -> RestitutionSpec {
 
 /// All the computation, in parallel where it pays. `stage` is told the
 /// name of each stage as it starts (for progress messages).
-pub fn compute(base: &Scenario, stage: &dyn Fn(&str)) -> Result<PaperData> {
+///
+/// Tables 1–2 and the convergence study (three quarters of the work, most
+/// of it in a few fixed-step runs of 10⁸ steps) run alongside the other
+/// stages, not after them: their longest-first queue
+/// ([`tables_and_convergence`]) takes a thread at once, and the thread
+/// that finishes the other stages joins it, so both threads stay busy to
+/// the end. Every result is the same as computed one stage after another.
+pub fn compute(base: &Scenario, stage: &(dyn Fn(&str) + Sync)) -> Result<PaperData> {
+    stage("Tables 1–2 and the convergence in Δt, alongside the stages below");
+    let (validation, rest) = rayon::join(
+        || tables_and_convergence(&CONVERGENCE_ETAS),
+        || section5_and_restitution(base, stage),
+    );
+    let (tables, convergence) = validation?;
+    let rest = rest?;
+    let quoted = quoted_numbers(&rest.scaling, &rest.indicators);
+    Ok(PaperData {
+        restitution: rest.restitution,
+        restitution_formula: rest.restitution_formula,
+        scenario: *base,
+        scaling: rest.scaling,
+        quoted,
+        indicators: rest.indicators,
+        exponents_exact: rest.exponents_exact,
+        exponents_gravity_free: rest.exponents_gravity_free,
+        exponents_integrator: rest.exponents_integrator,
+        recommended: rest.recommended,
+        limits: rest.limits,
+        decay: rest.decay,
+        histories: rest.histories,
+        sweep_r: rest.sweep_r,
+        sweep_zeta: rest.sweep_zeta,
+        tables,
+        convergence,
+    })
+}
+
+/// Everything of [`PaperData`] but Tables 1–2, the convergence study and
+/// the quoted numbers.
+struct Section5 {
+    scaling: Scaling,
+    histories: Vec<History>,
+    sweep_r: SweepResult,
+    sweep_zeta: SweepResult,
+    indicators: Vec<QuotedIndicator>,
+    exponents_exact: Vec<ExponentFit>,
+    exponents_gravity_free: Vec<ExponentFit>,
+    exponents_integrator: Vec<ExponentFit>,
+    recommended: Vec<Deviations>,
+    limits: Vec<Limit>,
+    decay: Vec<(f64, f64, f64)>,
+    restitution: RestitutionStudy,
+    restitution_formula: RestitutionStudy,
+}
+
+/// The stages of [`compute`] that run beside Tables 1–2 and the
+/// convergence study, one after another.
+fn section5_and_restitution(base: &Scenario, stage: &(dyn Fn(&str) + Sync)) -> Result<Section5> {
     stage("scaling constants, Fig 4 histories");
     let sc = scaling(base)?;
     let mut jobs = Vec::new();
@@ -305,24 +362,16 @@ pub fn compute(base: &Scenario, stage: &dyn Fn(&str)) -> Result<PaperData> {
         })
         .collect::<Result<Vec<_>>>()?;
 
-    stage("Tables 1–2 and the convergence in Δt");
-    let (tables, conv) = rayon::join(validation_tables, || convergence(&CONVERGENCE_ETAS));
-    let tables = tables?;
-    let convergence = conv?;
-
     stage("beyond the paper: restitution of dissipative laws");
     let restitution = restitution_sweep(&Scenario::default(), &RestitutionSpec::default())?;
     let mut formula_base = Scenario::default();
     formula_base.contact.calibration = Some(crate::contact::Calibration::Formula);
     let restitution_formula = restitution_sweep(&formula_base, &closing_spec())?;
-
-    let quoted = quoted_numbers(&sc, &indicators);
-    Ok(PaperData {
-        restitution,
-        restitution_formula,
-        scenario: *base,
+    Ok(Section5 {
         scaling: sc,
-        quoted,
+        histories,
+        sweep_r,
+        sweep_zeta,
         indicators,
         exponents_exact,
         exponents_gravity_free,
@@ -330,11 +379,8 @@ pub fn compute(base: &Scenario, stage: &dyn Fn(&str)) -> Result<PaperData> {
         recommended,
         limits,
         decay,
-        histories,
-        sweep_r,
-        sweep_zeta,
-        tables,
-        convergence,
+        restitution,
+        restitution_formula,
     })
 }
 
