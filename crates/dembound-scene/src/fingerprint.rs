@@ -71,6 +71,9 @@ impl Fingerprint {
             if let Some(Some(s)) = setup.wall_servos.get(k) {
                 put(format!("wall.{k}.servo"), format!("{s:?}"));
             }
+            if let Some(Some(a)) = setup.wall_active.get(k) {
+                put(format!("wall.{k}.active"), format!("{a:?}"));
+            }
         }
         put("motion.gravity".into(), format!("{:?} m/s²", setup.gravity));
         put(

@@ -90,6 +90,12 @@ pub struct Observation {
     /// outlets).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<crate::removal::OutletRemoved>,
+    /// G: the elastic energy the walls that vanished took out of their
+    /// contacts less what the walls that appeared put in, since t = 0, J
+    /// (`walls::gate`); `None` when every wall acts always. The dissipated
+    /// energy is then E₀ + W − C − G − (K + E + P).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gate_energy: Option<f64>,
 }
 
 /// A running scene.

@@ -290,6 +290,7 @@ impl Simulation {
             &setup.wall_servos,
             &planes,
         );
+        let gates = crate::walls::gate::Gates::new(&setup.wall_active, &planes, dt);
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {
@@ -321,6 +322,7 @@ impl Simulation {
             shear: PairShear::default(),
             moving,
             removal: None,
+            gates,
         };
         Ok(Simulation {
             world,

@@ -115,6 +115,7 @@ impl Simulation {
                 .removal
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.by_outlet.clone()),
+            gate_energy: w.gates.as_ref().map(|g| g.energy),
         }
     }
 
@@ -201,6 +202,12 @@ impl Simulation {
                 }
                 w.bodies.angular_higher.clone_from(&c.angular_higher);
             }
+        }
+        // The walls that act at the checkpoint's step, and G so far
+        // (`walls::gate`).
+        w.set_gates_at(c.steps_done);
+        if let (Some(g), Some(e)) = (w.gates.as_deref_mut(), c.gate_energy) {
+            g.energy = e;
         }
         // The walls where the lists were built from these positions.
         let moving = c.moving_walls.clone().filter(|_| w.moving.is_some());
@@ -487,4 +494,8 @@ pub struct Checkpoint {
     /// outlets).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<crate::removal::OutletRemoved>,
+    /// The gate energy G booked so far, J (`walls::gate`; absent when
+    /// every wall acts always).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gate_energy: Option<f64>,
 }

@@ -242,6 +242,9 @@ macro_rules! wall_registry {
             /// Force control along an axis (issue 27, `walls::servo`).
             #[serde(default, skip_serializing_if = "Option::is_none")]
             pub servo: Option<super::servo::ServoConfig>,
+            /// The window the wall acts in (issue 28, `walls::gate`).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub active: Option<super::gate::ActiveWindow>,
         }
 
         impl WallSection {

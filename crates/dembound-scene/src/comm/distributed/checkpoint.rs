@@ -251,6 +251,11 @@ impl<T: Transport> DistributedSimulation<T> {
                 servos: m.servos.iter().map(|d| d.record()).collect(),
             }
         });
+        // The gate energy: each rank's share, summed (collective).
+        let gate_energy = w
+            .gates
+            .as_ref()
+            .map(|g| self.comm.transport.sum(&[g.energy])[0]);
         let Some(parts) = self.comm.transport.gather(out.0) else {
             return Ok(None);
         };
@@ -287,6 +292,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 .removal
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.by_outlet.clone()),
+            gate_energy,
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -517,6 +523,17 @@ impl<T: Transport> DistributedSimulation<T> {
             let mut local = vec![usize::MAX; n];
             for (k, &id) in b.id.iter().enumerate() {
                 local[id as usize] = k;
+            }
+            // The walls that act at the checkpoint's step (`walls::gate`);
+            // G so far at rank 0, the others' shares from zero.
+            w.set_gates_at(c.steps_done);
+            let first = me.comm.transport.rank() == 0;
+            if let Some(g) = w.gates.as_deref_mut() {
+                g.energy = if first {
+                    c.gate_energy.unwrap_or(0.0)
+                } else {
+                    0.0
+                };
             }
             w.wall_contacts.relax();
             crate::simulation::restore_wall_records(w, c, &local)?;
