@@ -116,6 +116,9 @@ pub struct Simulation {
     /// tops are on, and a small sphere held in its hollows may sink below
     /// that face by more than its radius). `None` under `"keep"`.
     pub(crate) outside_box: Option<([f64; 3], [f64; 3])>,
+    /// What a restart into changed walls dropped and added, one line per
+    /// wall (`crate::restart_walls`); empty otherwise.
+    pub(crate) restart_notes: Vec<String>,
 }
 
 impl Simulation {
@@ -378,6 +381,13 @@ impl Simulation {
     /// scene removes none.
     pub fn removed(&self) -> Option<crate::removal::Removed> {
         self.world.removal.as_ref().map(|r| r.removed)
+    }
+
+    /// What the restart that made this run dropped and added of the
+    /// checkpoint's walls, one line per wall (`crate::restart_walls`);
+    /// empty when the walls are the checkpoint's or the run is new.
+    pub fn restart_notes(&self) -> &[String] {
+        &self.restart_notes
     }
 
     /// Completed contacts so far, in the order they ended.

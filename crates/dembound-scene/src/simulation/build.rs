@@ -339,6 +339,7 @@ impl Simulation {
             energy_guard: EnergyGuard::new(setup, dt),
             fingerprint: Fingerprint::of(setup),
             outside_box: None,
+            restart_notes: Vec::new(),
         })
         .map(|mut sim| {
             // Lost: outside the box grown to hold the fixed spheres, for

@@ -126,8 +126,16 @@ impl Simulation {
         threads: usize,
     ) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
-        let c = checkpoint;
-        c.fingerprint.check(&sim.fingerprint)?;
+        checkpoint.fingerprint.check(&sim.fingerprint)?;
+        // The checkpoint's walls on the scene's (`crate::restart_walls`).
+        let change = crate::restart_walls::match_walls(checkpoint, &sim.fingerprint)?;
+        let remapped;
+        let c = if change.unchanged() {
+            checkpoint
+        } else {
+            remapped = crate::restart_walls::remap(checkpoint, &change);
+            &remapped
+        };
         // The scene's bodies (input order), less those the run removed.
         let all = sim.world.bodies.len();
         let removed = match (c.removed, sim.world.removal.as_deref_mut()) {
@@ -305,6 +313,10 @@ impl Simulation {
             })
             .collect();
         restore_wall_records(w, c, &at)?;
+        if !change.unchanged() {
+            crate::restart_walls::book_added(w, &change, c.gate_energy, true);
+            sim.restart_notes = change.notes;
+        }
         // The wall loads are not in the checkpoint.
         sim.pipeline.record_wall_loads(&mut sim.world, &sim.workers);
         Ok(sim)
@@ -351,6 +363,14 @@ pub(crate) fn restore_wall_records(
         let track = (tracked && r.track != Track::default()).then_some(r.track);
         records.push(((r.id, r.key, history, shear, track), "record"));
     }
+    // A wall that does not act at this step has no entries (`walls::gate`:
+    // a record of one, from a restart that changed its window, is dropped).
+    let acts = |p: u32| {
+        w.gates
+            .as_deref()
+            .is_none_or(|g| g.active.get(p as usize).copied().unwrap_or(true))
+    };
+    let acting: Vec<bool> = (0..np).map(acts).collect();
     let wc = &mut w.wall_contacts;
     // Every entry first (an insertion moves the later ones), then the state.
     for ((id, key, ..), what) in &records {
@@ -361,7 +381,7 @@ pub(crate) fn restore_wall_records(
                 key.wall
             )));
         };
-        if i != usize::MAX {
+        if i != usize::MAX && acting[key.wall as usize] {
             wc.insert(i, key);
         }
     }

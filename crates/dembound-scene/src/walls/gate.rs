@@ -182,6 +182,17 @@ impl Gates {
         })
     }
 
+    /// No window, `surfaces` surfaces acting always, `energy` booked (J):
+    /// a restart into a scene without gates keeps the gate energy of
+    /// before (`crate::restart_walls`).
+    pub fn carrying(surfaces: usize, energy: f64) -> Box<Gates> {
+        Box::new(Gates {
+            windows: Vec::new(),
+            active: vec![true; surfaces],
+            energy,
+        })
+    }
+
     /// Whether each surface acts at state `step`.
     pub fn status_at(&self, step: u64) -> Vec<bool> {
         let mut active = vec![true; self.active.len()];

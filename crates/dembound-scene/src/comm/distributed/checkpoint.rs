@@ -453,7 +453,17 @@ impl<T: Transport> DistributedSimulation<T> {
     ) -> Result<Self, SceneError> {
         let n = setup.spheres.len();
         let gear5 = setup.integration.scheme == Scheme::Gear5;
-        c.fingerprint.check(&Fingerprint::of(setup))?;
+        let scene = Fingerprint::of(setup);
+        c.fingerprint.check(&scene)?;
+        // The checkpoint's walls on the scene's (`crate::restart_walls`).
+        let change = crate::restart_walls::match_walls(c, &scene)?;
+        let remapped;
+        let c = if change.unchanged() {
+            c
+        } else {
+            remapped = crate::restart_walls::remap(c, &change);
+            &remapped
+        };
         let slot = check(c, n, gear5, setup.friction.is_some())?;
         let mut me = Self::new(setup, threads, grid, transport)?;
         if c.dt.to_bits() != me.sim.world.dt.to_bits() {
@@ -662,6 +672,11 @@ impl<T: Transport> DistributedSimulation<T> {
         w.histories = saved.1;
         w.bodies.torque = saved.2;
         w.shear = saved.3;
+        if !change.unchanged() {
+            let first = me.comm.transport.rank() == 0;
+            crate::restart_walls::book_added(&mut me.sim.world, &change, c.gate_energy, first);
+            me.sim.restart_notes = change.notes;
+        }
         // The walls' loads (not in the checkpoint), as the note above.
         me.sim
             .pipeline
