@@ -626,3 +626,89 @@ fn a_servo_lid_one_two_three_ranks_and_restart() {
         assert_eq!(j["wall_motions"], j1["wall_motions"], "restart on {ranks}");
     }
 }
+
+/// A gate under MPI (issue 28, `[[wall]] active`): the lattice drop's
+/// floor (wall 4, z = 0) vanishes at 10 ms and the bed falls onto a second
+/// floor 1 mm below (wall 6), on 1, 2 and 3 ranks: the switch is at the
+/// same step on every rank (a function of the step), each rank drops its
+/// own spheres' floor contacts, so the end state and the wall loads are
+/// the same bits; the gate energy (each rank's share, summed) to 1e-12; a
+/// checkpoint written on 2 ranks before the opening and one after continue
+/// on 3 ranks and on one process with the same state.
+#[test]
+fn a_gate_opening_one_two_three_ranks_and_restart() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let scene = tmp.path().join("gate.toml");
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml"),
+    )
+    .expect("lattice_drop.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "{text}\n[[wall]]\nplane = {{ point = [0.0, 0.0, -0.001], normal = [0.0, 0.0, 1.0] }}\n\
+             material = \"grain\"\n"
+        ),
+    )
+    .unwrap();
+    let run = |ranks: usize, steps: &str, more: &[&str], name: &str| {
+        let d = tmp.path().join(name);
+        let mut cmd = mpirun_scene(ranks, &[], scene.to_str().unwrap());
+        cmd.args(scene_args())
+            .args([
+                "--set",
+                "domain.lower=[0.0,0.0,-0.001]",
+                "--set",
+                "wall.4.active={to=0.01}",
+                "--set",
+                &format!("integration.steps={steps}"),
+            ])
+            .args(more)
+            .arg("--json")
+            .arg("--out")
+            .arg(&d);
+        let o = cmd.output().expect("mpirun runs");
+        assert!(
+            o.status.success(),
+            "{ranks} ranks: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        (d, j)
+    };
+    let gate = |j: &serde_json::Value| j["energy_balance"]["gate_energy"].as_f64().unwrap();
+    // 7,000 steps: the floor let go of the settled bed at step 5,000.
+    let (d1, j1) = run(1, "7000", &[], "g1");
+    assert!(gate(&j1) > 0.0, "{j1}");
+    assert_eq!(j1["wall_forces"][4], serde_json::json!([0.0, 0.0, 0.0]));
+    let s1 = state(&d1);
+    for ranks in [2, 3] {
+        let (d, j) = run(ranks, "7000", &[], &format!("g{ranks}"));
+        assert_eq!(state(&d), s1, "{ranks} ranks");
+        for key in ["wall_forces", "wall_torques", "wall_contacts"] {
+            assert_eq!(j[key], j1[key], "{ranks} ranks: {key}");
+        }
+        // Each rank's share summed: another order of additions.
+        assert!(
+            (gate(&j) - gate(&j1)).abs() <= 1e-12 * gate(&j1),
+            "{ranks} ranks"
+        );
+    }
+    for cut in ["3000", "6000"] {
+        let (half, _) = run(2, cut, &[], &format!("half{cut}"));
+        let cp = half.join("checkpoint.cbor").to_string_lossy().to_string();
+        for ranks in [3, 1] {
+            let (d, j) = run(
+                ranks,
+                "7000",
+                &["--restart", &cp],
+                &format!("r{cut}{ranks}"),
+            );
+            assert_eq!(state(&d), s1, "restart at {cut} on {ranks} ranks");
+            assert!(
+                (gate(&j) - gate(&j1)).abs() <= 1e-12 * gate(&j1),
+                "restart at {cut} on {ranks}"
+            );
+        }
+    }
+}

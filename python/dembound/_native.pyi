@@ -89,6 +89,8 @@ class Scene:
         """Prescribed rigid motion of wall ``k`` (a plane, cylinder or mesh) before the first step: ``velocity`` m/s, ``angular_velocity`` rad/s about the axis through ``center`` (m), from ``start`` to ``end`` s, plus ``amplitude``·sin(2π ``frequency`` t) (m, Hz); its work is ``observe()["work_by_walls_J"]``."""
     def set_wall_servo(self, k: int, force: float, axis: tuple[float, float, float] | list[float], max_velocity: float, gain: Optional[float] = None) -> None:
         """Force control of wall ``k`` (a plane, cylinder or mesh without a motion) before the first step: it moves along ``axis`` at ``gain``·``max_velocity``·(F − N)/F m/s, clamped to ±``max_velocity``, N the spheres' push against ``axis`` (N), F = ``force`` N (LIGGGHTS's servo, kp = ``gain``, default 0.01)."""
+    def set_wall_active(self, k: int, start: Optional[float] = None, end: Optional[float] = None) -> None:
+        """The window wall ``k`` (a plane, cylinder or mesh without a servo) acts in, before the first step (``[[wall]] active = { from, to }``): the steps n with ``start`` ≤ n Δt < ``end`` s (default 0 and inf); the energy its contacts held when it vanishes shows in ``observe()["gate_energy_J"]``."""
     def step(self, n: int) -> None:
         """Advances n steps of Δt, 0 ≤ n ≤ 1e15 (GIL released)."""
     def run(

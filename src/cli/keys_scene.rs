@@ -456,6 +456,20 @@ pub fn keys() -> Vec<KeyInfo> {
             "k: v = k v_max (F − N)/F along axis",
         ),
         row(
+            "wall[K].active.from",
+            "s",
+            "0",
+            "finite, ≥ 0".into(),
+            "t₀: the wall acts on the steps n with t₀ ≤ n Δt < t₁ (plane, cylinder or mesh; not with servo)",
+        ),
+        row(
+            "wall[K].active.to",
+            "s",
+            "inf",
+            "> from, or inf".into(),
+            "t₁: after it the wall exerts no force, its contacts' springs dropped, their energy booked (gate_energy)",
+        ),
+        row(
             "motion.gravity",
             "m/s²",
             "[0, 0, -9.81]",

@@ -100,6 +100,10 @@ pub fn run(args: &SceneArgs) -> CliResult {
         None => Simulation::new(setup, threads),
     }
     .map_err(scene_error)?;
+    // What a restart into changed walls dropped and added, a line a wall.
+    for note in sim.restart_notes() {
+        eprintln!("{note}");
+    }
 
     let total = sim.total_steps();
     let start = sim.steps_done();

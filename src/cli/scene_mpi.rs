@@ -153,6 +153,11 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         None => DistributedSimulation::new(&resolved.setup, threads, grid, t),
     };
     let mut sim = agree(t, built.map_err(scene_error))?;
+    if rank == 0 {
+        for note in sim.restart_notes() {
+            eprintln!("{note}");
+        }
+    }
     let threshold = resolved.file.parallel.rebalance_threshold;
     sim.set_rebalance_threshold(threshold.unwrap_or(DEFAULT_REBALANCE_THRESHOLD));
 

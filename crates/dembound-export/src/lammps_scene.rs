@@ -109,6 +109,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     crate::refuse_moving_walls(setup, "LAMMPS")?;
     crate::refuse_removal(setup, "LAMMPS")?;
     crate::refuse_servo_walls(setup, "LAMMPS")?;
+    crate::refuse_gates(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
     for (w, wall) in setup.walls.iter().enumerate() {

@@ -191,6 +191,21 @@ pub(crate) fn refuse_servo_walls(setup: &dembound_scene::SceneSetup, code: &str)
     Ok(())
 }
 
+/// The refusal of a scene with a wall that appears or vanishes (`[[wall]]
+/// active`, issue 28) by the `code` deck writer, naming the wall's key:
+/// dembound switches a wall at the first step n with n Δt ≥ t (its
+/// contacts' springs dropped, their energy booked); a deck would need
+/// `run N₁`, `unfix`, `run N₂` with the same step counts, which is not
+/// written yet.
+pub(crate) fn refuse_gates(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
+    if let Some(w) = setup.wall_active.iter().position(Option::is_some) {
+        return Err(Error::Export(format!(
+            "`wall[{w}].active` cannot be exported: the {code} deck holds walls that act for              the whole run (a wall switched on or off is not written); remove              `wall[{w}].active` to export the scene"
+        )));
+    }
+    Ok(())
+}
+
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
 pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {

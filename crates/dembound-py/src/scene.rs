@@ -544,12 +544,68 @@ impl Scene {
             ))
             .into());
         }
+        if self.setup.wall_active.get(k).is_some_and(Option::is_some) {
+            return Err(Failure::Input(format!(
+                "invalid value for `{key}.servo`: given to a wall with an `active` window \
+                 (allowed: a wall that acts always; a servo steers by a load the wall does \
+                 not feel out of its window)"
+            ))
+            .into());
+        }
         servo::validate(&key, &config).map_err(scene_failure)?;
         let before = self.setup.wall_servos.clone();
         self.setup.wall_servos.resize(walls, None);
         self.setup.wall_servos[k] = Some(Servo::from_config(&config));
         if let Err(e) = guarded(|| self.rebuild("set_wall_servo")) {
             self.setup.wall_servos = before;
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
+    /// Sets the window wall `k` (file order, then walls added) acts in,
+    /// before the first step (`[[wall]] active = { from, to }` of the
+    /// scene file): on the steps n with `start` ≤ n Δt < `end` (s; default
+    /// 0 and inf); a plane, cylinder or mesh without a servo. Outside it
+    /// the wall exerts no force; the elastic energy its contacts held when
+    /// it vanishes (or its overlaps put in when it appears) shows in
+    /// `observe()["gate_energy_J"]`.
+    #[pyo3(signature = (k, start = None, end = None))]
+    fn set_wall_active(
+        &mut self,
+        k: &Bound<'_, PyAny>,
+        start: Option<&Bound<'_, PyAny>>,
+        end: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        use dembound_scene::walls::gate::{self, ActiveWindow};
+        let walls = self.setup.walls.len();
+        if walls == 0 {
+            return Err(Failure::Input("k: the scene has no wall to switch".into()).into());
+        }
+        let k = args::index(k, "k", 0, walls - 1)?;
+        let given = |x: Option<&Bound<'_, PyAny>>, name, default| -> Result<f64, Failure> {
+            match x.filter(|x| !x.is_none()) {
+                None => Ok(default),
+                Some(x) => args::real(x, name),
+            }
+        };
+        let window = ActiveWindow {
+            from: given(start, "start", 0.0)?,
+            to: given(end, "end", f64::INFINITY)?,
+        };
+        let servo = self.setup.wall_servos.get(k).is_some_and(Option::is_some);
+        gate::validate(
+            &format!("wall[{k}]"),
+            &window,
+            self.setup.walls[k].key(),
+            servo,
+        )
+        .map_err(scene_failure)?;
+        let before = self.setup.wall_active.clone();
+        self.setup.wall_active.resize(walls, None);
+        self.setup.wall_active[k] = Some(window);
+        if let Err(e) = guarded(|| self.rebuild("set_wall_active")) {
+            self.setup.wall_active = before;
             return Err(e.into());
         }
         Ok(())

@@ -72,6 +72,12 @@ pub struct EnergyBalance {
     /// K + E + P + D − W + C.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub carried_out_energy: Option<f64>,
+    /// G: the elastic energy the walls that vanished took out of their
+    /// contacts less what the walls that appeared put in, J
+    /// (`walls::gate`; absent when every wall acts always); `total` is then
+    /// K + E + P + D − W + C + G.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gate_energy: Option<f64>,
     /// The guard's scale: the largest K + E + |P − P₀| + |D| seen, J.
     pub scale: f64,
     /// The largest energy gained (−D) at any check, J (0: never).
@@ -141,6 +147,11 @@ impl EnergyGuard {
         let work = o.work_by_walls.unwrap_or(0.0);
         // The energy the removed spheres carried out (`crate::removal`).
         let carried = o.removed.map_or(0.0, |r| r.energy);
+        // The gates' energy (`walls::gate`): booked like C.
+        let carried = match o.gate_energy {
+            None => carried,
+            Some(g) => carried + g.abs(),
+        };
         let finite = [k, e, p, d, initial, work, carried]
             .iter()
             .all(|x| x.is_finite());
@@ -153,6 +164,10 @@ impl EnergyGuard {
             let scale = match o.removed {
                 None => scale,
                 Some(r) => scale + r.energy.abs(),
+            };
+            let scale = match o.gate_energy {
+                None => scale,
+                Some(g) => scale + g.abs(),
             };
             self.scale = self.scale.max(scale);
         }
@@ -236,10 +251,11 @@ impl EnergyGuard {
                     o.kinetic_energy + o.elastic_energy + o.potential_energy + o.dissipated_energy
                         - w.unwrap_or(0.0)
                         + r.energy
-                }
-            },
+                } // (−0.0 adds nothing to any sum, −0.0 included.)
+            } + o.gate_energy.unwrap_or(-0.0),
             work_by_walls: o.work_by_walls,
             carried_out_energy: o.removed.map(|r| r.energy),
+            gate_energy: o.gate_energy,
             scale: self.scale,
             drift: self.drift,
             drift_relative: self.drift_relative,

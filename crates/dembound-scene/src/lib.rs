@@ -28,6 +28,7 @@ pub mod outlets;
 pub mod parallel;
 pub mod pipeline;
 pub mod removal;
+pub(crate) mod restart_walls;
 pub mod setup;
 pub mod setup_checks;
 pub mod simulation;

@@ -103,6 +103,9 @@ pub struct World {
     /// The removal of lost spheres (`domain.outside = "delete"`,
     /// `crate::removal`); `None` otherwise.
     pub removal: Option<Box<crate::removal::Removal>>,
+    /// The walls that appear and vanish (issue 28, `walls::gate`); `None`
+    /// when every wall acts always.
+    pub gates: Option<Box<crate::walls::gate::Gates>>,
 }
 
 impl World {
@@ -308,8 +311,12 @@ impl Pipeline {
                     gear5_rotation::predict(&mut world.bodies, workers);
                 }
                 let moved2 = hooks.max_moved2(moved2);
-                if needs_rebuild(moved2, world.rebuild_budget()) {
+                let switched = world.switch_gates(world.steps_done + 1);
+                if switched.is_some() || needs_rebuild(moved2, world.rebuild_budget()) {
                     hooks.rebuild(self, world, workers);
+                    if let Some(on) = switched {
+                        world.gates_opened(&on);
+                    }
                 } else {
                     hooks.halo(world);
                     self.ghosts(world);
@@ -391,8 +398,14 @@ impl Pipeline {
         hooks: &mut impl StepHooks,
     ) {
         let moved2 = hooks.max_moved2(moved2);
-        if needs_rebuild(moved2, world.rebuild_budget()) {
+        // A wall appearing or vanishing at this state (`walls::gate`):
+        // the lists again, without the walls that no longer act.
+        let switched = world.switch_gates(world.steps_done + 1);
+        if switched.is_some() || needs_rebuild(moved2, world.rebuild_budget()) {
             hooks.rebuild(self, world, workers);
+            if let Some(on) = switched {
+                world.gates_opened(&on);
+            }
             self.body_forces(world, workers, world.dt);
         } else {
             hooks.halo(world);

@@ -46,6 +46,9 @@ pub struct SceneSetup {
     /// `walls::servo`); missing entries or `None`: none. Empty when no
     /// wall has a servo.
     pub wall_servos: Vec<Option<crate::walls::servo::Servo>>,
+    /// The window each wall acts in, file order (issue 28, `walls::gate`);
+    /// missing entries or `None`: always. Empty when no wall has one.
+    pub wall_active: Vec<Option<crate::walls::gate::ActiveWindow>>,
 }
 
 /// What a free sphere lost for good along a non-periodic axis does to
@@ -249,6 +252,7 @@ impl SceneSetup {
             outlets: Vec::new(),
             wall_motions: Vec::new(),
             wall_servos: Vec::new(),
+            wall_active: Vec::new(),
         }
     }
 }

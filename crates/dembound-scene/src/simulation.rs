@@ -90,6 +90,12 @@ pub struct Observation {
     /// outlets).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<crate::removal::OutletRemoved>,
+    /// G: the elastic energy the walls that vanished took out of their
+    /// contacts less what the walls that appeared put in, since t = 0, J
+    /// (`walls::gate`); `None` when every wall acts always. The dissipated
+    /// energy is then E₀ + W − C − G − (K + E + P).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gate_energy: Option<f64>,
 }
 
 /// A running scene.
@@ -110,6 +116,9 @@ pub struct Simulation {
     /// tops are on, and a small sphere held in its hollows may sink below
     /// that face by more than its radius). `None` under `"keep"`.
     pub(crate) outside_box: Option<([f64; 3], [f64; 3])>,
+    /// What a restart into changed walls dropped and added, one line per
+    /// wall (`crate::restart_walls`); empty otherwise.
+    pub(crate) restart_notes: Vec<String>,
 }
 
 impl Simulation {
@@ -372,6 +381,13 @@ impl Simulation {
     /// scene removes none.
     pub fn removed(&self) -> Option<crate::removal::Removed> {
         self.world.removal.as_ref().map(|r| r.removed)
+    }
+
+    /// What the restart that made this run dropped and added of the
+    /// checkpoint's walls, one line per wall (`crate::restart_walls`);
+    /// empty when the walls are the checkpoint's or the run is new.
+    pub fn restart_notes(&self) -> &[String] {
+        &self.restart_notes
     }
 
     /// Completed contacts so far, in the order they ended.

@@ -713,6 +713,12 @@ impl<T: Transport> DistributedSimulation<T> {
         Ok(o)
     }
 
+    /// What the restart dropped and added of the checkpoint's walls
+    /// ([`Simulation::restart_notes`]).
+    pub fn restart_notes(&self) -> &[String] {
+        self.sim.restart_notes()
+    }
+
     /// The energy balance at observation `o` ([`Simulation::energy_balance`]).
     pub fn energy_balance(&self, o: &Observation) -> crate::energy_guard::EnergyBalance {
         self.sim.energy_balance(o)

@@ -254,6 +254,12 @@ pub fn resolve_with(
         } else {
             Vec::new()
         },
+        // The gates (issue 28, `walls::gate`): empty when no wall has one.
+        wall_active: if file.walls.iter().any(|w| w.active.is_some()) {
+            file.walls.iter().map(|w| w.active).collect()
+        } else {
+            Vec::new()
+        },
     };
     warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
     Ok(ResolvedScene {

@@ -99,6 +99,9 @@ pub fn series_cells(o: &Observation) -> Vec<Cell> {
             Cell::Value(r.energy),
         ]);
     }
+    if let Some(g) = o.gate_energy {
+        cells.push(Cell::Value(g));
+    }
     for m in &o.wall_motions {
         cells.extend(m.position.iter().map(|&x| Cell::Value(x)));
         cells.push(Cell::Value(m.angle));
@@ -118,6 +121,10 @@ pub const REMOVED_COLUMNS: [&str; 3] = [
     "carried_out_energy_J",
 ];
 
+/// The column a scene with walls that appear or vanish (`walls::gate`)
+/// adds after the removal's: the gate energy G booked so far.
+pub const GATE_COLUMN: &str = "gate_energy_J";
+
 /// The column names of `o`'s row: [`series_header`] of its walls and
 /// work, then the removal's columns when `o` has them, then
 /// [`motion_columns`] of each wall in `o.wall_motions`.
@@ -125,6 +132,9 @@ pub fn series_header_of(o: &Observation) -> Vec<String> {
     let mut header = series_header(o.wall_forces.len(), o.work_by_walls.is_some());
     if o.removed.is_some() {
         header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    }
+    if o.gate_energy.is_some() {
+        header.push(GATE_COLUMN.to_string());
     }
     for m in &o.wall_motions {
         header.extend(motion_columns(m.wall));
@@ -139,6 +149,9 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
     let mut header = series_header(walls, work);
     if rows.first().is_some_and(|o| o.removed.is_some()) {
         header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    }
+    if rows.first().is_some_and(|o| o.gate_energy.is_some()) {
+        header.push(GATE_COLUMN.to_string());
     }
     for m in rows.first().map_or(&[][..], |o| &o.wall_motions[..]) {
         header.extend(motion_columns(m.wall));
@@ -281,6 +294,7 @@ mod tests {
             removed: None,
             wall_motions: Vec::new(),
             outlets: Vec::new(),
+            gate_energy: None,
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();

@@ -221,9 +221,11 @@ impl Pipeline {
         }
         world.bodies.permute(&order);
         world.wall_contacts.permute(&order);
+        let range = wall_range(world);
+        let active = world.gates.as_deref().map(|g| &g.active[..]);
         world
             .wall_contacts
-            .refresh(&world.bodies, &world.surfaces, wall_range(world));
+            .refresh(&world.bodies, &world.surfaces, range, active);
         world.walls_listed();
         let celled = start[cells] as usize;
         let bodies = &world.bodies;

@@ -88,8 +88,13 @@ pub(crate) fn observation(
     if let Some(m) = world.moving.as_ref() {
         v.push(m.work);
     }
+    // The gate energy G, each process's share (`walls::gate`), last.
+    if let Some(g) = world.gates.as_ref() {
+        v.push(g.energy);
+    }
     let s = hooks.sum(v);
     let work = world.moving.as_ref().map(|_| s[5]);
+    let gate = world.gates.as_ref().and_then(|_| s.last().copied());
     // What the run removed (`crate::removal`): every process books every
     // removal (no sum).
     let removed = world.removal.as_ref().map(|r| r.removed);
@@ -97,6 +102,11 @@ pub(crate) fn observation(
     let carried = |d: f64| match removed {
         None => d,
         Some(r) => d - r.energy,
+    };
+    // … and what the gates took out: D = E₀ + W − C − G − (K + E + P).
+    let carried = |d: f64| match gate {
+        None => carried(d),
+        Some(g) => carried(d) - g,
     };
     let loads = hooks.wall_loads(world);
     Observation {
@@ -121,6 +131,7 @@ pub(crate) fn observation(
             .removal
             .as_ref()
             .map_or_else(Vec::new, |r| r.by_outlet.clone()),
+        gate_energy: gate,
     }
 }
 

@@ -290,6 +290,7 @@ impl Simulation {
             &setup.wall_servos,
             &planes,
         );
+        let gates = crate::walls::gate::Gates::new(&setup.wall_active, &planes, dt);
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {
@@ -321,6 +322,7 @@ impl Simulation {
             shear: PairShear::default(),
             moving,
             removal: None,
+            gates,
         };
         Ok(Simulation {
             world,
@@ -337,6 +339,7 @@ impl Simulation {
             energy_guard: EnergyGuard::new(setup, dt),
             fingerprint: Fingerprint::of(setup),
             outside_box: None,
+            restart_notes: Vec::new(),
         })
         .map(|mut sim| {
             // Lost: outside the box grown to hold the fixed spheres, for

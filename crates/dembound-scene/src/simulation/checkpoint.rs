@@ -115,6 +115,7 @@ impl Simulation {
                 .removal
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.by_outlet.clone()),
+            gate_energy: w.gates.as_ref().map(|g| g.energy),
         }
     }
 
@@ -125,8 +126,16 @@ impl Simulation {
         threads: usize,
     ) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
-        let c = checkpoint;
-        c.fingerprint.check(&sim.fingerprint)?;
+        checkpoint.fingerprint.check(&sim.fingerprint)?;
+        // The checkpoint's walls on the scene's (`crate::restart_walls`).
+        let change = crate::restart_walls::match_walls(checkpoint, &sim.fingerprint)?;
+        let remapped;
+        let c = if change.unchanged() {
+            checkpoint
+        } else {
+            remapped = crate::restart_walls::remap(checkpoint, &change);
+            &remapped
+        };
         // The scene's bodies (input order), less those the run removed.
         let all = sim.world.bodies.len();
         let removed = match (c.removed, sim.world.removal.as_deref_mut()) {
@@ -201,6 +210,12 @@ impl Simulation {
                 }
                 w.bodies.angular_higher.clone_from(&c.angular_higher);
             }
+        }
+        // The walls that act at the checkpoint's step, and G so far
+        // (`walls::gate`).
+        w.set_gates_at(c.steps_done);
+        if let (Some(g), Some(e)) = (w.gates.as_deref_mut(), c.gate_energy) {
+            g.energy = e;
         }
         // The walls where the lists were built from these positions.
         let moving = c.moving_walls.clone().filter(|_| w.moving.is_some());
@@ -298,6 +313,10 @@ impl Simulation {
             })
             .collect();
         restore_wall_records(w, c, &at)?;
+        if !change.unchanged() {
+            crate::restart_walls::book_added(w, &change, c.gate_energy, true);
+            sim.restart_notes = change.notes;
+        }
         // The wall loads are not in the checkpoint.
         sim.pipeline.record_wall_loads(&mut sim.world, &sim.workers);
         Ok(sim)
@@ -344,6 +363,14 @@ pub(crate) fn restore_wall_records(
         let track = (tracked && r.track != Track::default()).then_some(r.track);
         records.push(((r.id, r.key, history, shear, track), "record"));
     }
+    // A wall that does not act at this step has no entries (`walls::gate`:
+    // a record of one, from a restart that changed its window, is dropped).
+    let acts = |p: u32| {
+        w.gates
+            .as_deref()
+            .is_none_or(|g| g.active.get(p as usize).copied().unwrap_or(true))
+    };
+    let acting: Vec<bool> = (0..np).map(acts).collect();
     let wc = &mut w.wall_contacts;
     // Every entry first (an insertion moves the later ones), then the state.
     for ((id, key, ..), what) in &records {
@@ -354,7 +381,7 @@ pub(crate) fn restore_wall_records(
                 key.wall
             )));
         };
-        if i != usize::MAX {
+        if i != usize::MAX && acting[key.wall as usize] {
             wc.insert(i, key);
         }
     }
@@ -487,4 +514,8 @@ pub struct Checkpoint {
     /// outlets).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<crate::removal::OutletRemoved>,
+    /// The gate energy G booked so far, J (`walls::gate`; absent when
+    /// every wall acts always).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gate_energy: Option<f64>,
 }

@@ -39,6 +39,7 @@
 //! offer one). Before the registry (the cylinder, issue 25) it took nine
 //! files of the crate and three outside.
 
+pub mod gate;
 pub mod motion;
 pub mod near;
 pub mod registry;

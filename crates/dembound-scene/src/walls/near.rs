@@ -173,8 +173,17 @@ impl WallContacts {
 
     /// New lists for `bodies` (in the current order): the elements within
     /// `range` (m) of each free body, and the entries that touch or are
-    /// tracked, their state carried.
-    pub fn refresh(&mut self, bodies: &Bodies, surfaces: &[Surface], range: f64) {
+    /// tracked, their state carried; of the surfaces that act only
+    /// (`active`, flags by surface; `None`: all), the others' entries
+    /// dropped with their state (`walls::gate`).
+    pub fn refresh(
+        &mut self,
+        bodies: &Bodies,
+        surfaces: &[Surface],
+        range: f64,
+        active: Option<&[bool]>,
+    ) {
+        let acts = |s: usize| active.is_none_or(|a| a.get(s).copied().unwrap_or(true));
         let n = bodies.len();
         let mut out = self.empty_like(n, self.key.len());
         let mut near = Vec::new();
@@ -182,6 +191,9 @@ impl WallContacts {
             near.clear();
             if !bodies.fixed[i] {
                 for (s, surface) in surfaces.iter().enumerate() {
+                    if !acts(s) {
+                        continue;
+                    }
                     surface.wall().near_elements(
                         bodies.position[i],
                         bodies.radius[i],
@@ -214,7 +226,7 @@ impl WallContacts {
                     }
                     (Some(x), y) if y.is_none_or(|y| x < y) => {
                         let e = self.entry(a);
-                        if e.has_state() {
+                        if e.has_state() && acts(x.wall as usize) {
                             out.push(&e);
                         }
                         a += 1;
@@ -341,7 +353,7 @@ mod tests {
         let walls = [floor(0, 0.0), floor(1, -10.0), floor(2, 0.2)];
         let b = bodies(&[0.6, 5.0]);
         let mut c = WallContacts::new(2, true, false, false);
-        c.refresh(&b, &walls, 0.2);
+        c.refresh(&b, &walls, 0.2, None);
         // Body 0 (bottom at 0.1): walls 0 and 2 and (10.1 m away) not 1.
         let keys: Vec<u32> = c.range(0).map(|k| c.key[k].wall).collect();
         assert_eq!(keys, vec![0, 2]);
@@ -350,7 +362,7 @@ mod tests {
         c.history[1].max_overlap = 1e-3;
         // Body 0 moves away: wall 2's entry stays (touching), wall 0's goes.
         let b2 = bodies(&[3.0, 5.0]);
-        c.refresh(&b2, &walls, 0.2);
+        c.refresh(&b2, &walls, 0.2, None);
         assert_eq!(c.entries(0).len(), 1);
         assert_eq!(c.entries(0)[0].history.max_overlap, 1e-3);
         c.permute(&[1, 0]);

@@ -242,6 +242,9 @@ macro_rules! wall_registry {
             /// Force control along an axis (issue 27, `walls::servo`).
             #[serde(default, skip_serializing_if = "Option::is_none")]
             pub servo: Option<super::servo::ServoConfig>,
+            /// The window the wall acts in (issue 28, `walls::gate`).
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub active: Option<super::gate::ActiveWindow>,
         }
 
         impl WallSection {
@@ -452,6 +455,10 @@ wall_registry! {
     Mesh => mesh::Mesh, MeshWall;
 }
 
+/// How the `Debug` of a wall of boundary particles begins (the checkpoint
+/// fingerprint's text of a wall: `crate::fingerprint`).
+pub(crate) const PARTICLES_DEBUG: &str = "BoundaryParticles {";
+
 /// Three finite numbers.
 pub(crate) fn finite3(v: [f64; 3]) -> bool {
     v.iter().all(|x| x.is_finite())
@@ -503,6 +510,8 @@ mod tests {
             format!("{tiles:?}"),
             "BoundaryParticles { first_body: 7, count: 3 }"
         );
+        assert!(format!("{tiles:?}").starts_with(PARTICLES_DEBUG));
+        assert!(!format!("{plane:?}").starts_with(PARTICLES_DEBUG));
         assert_eq!(tiles.bodies(), Some(7..10));
         assert!(tiles.is_particles() && !tube.is_particles());
         assert_eq!(

@@ -251,6 +251,11 @@ impl<T: Transport> DistributedSimulation<T> {
                 servos: m.servos.iter().map(|d| d.record()).collect(),
             }
         });
+        // The gate energy: each rank's share, summed (collective).
+        let gate_energy = w
+            .gates
+            .as_ref()
+            .map(|g| self.comm.transport.sum(&[g.energy])[0]);
         let Some(parts) = self.comm.transport.gather(out.0) else {
             return Ok(None);
         };
@@ -287,6 +292,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 .removal
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.by_outlet.clone()),
+            gate_energy,
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -447,7 +453,17 @@ impl<T: Transport> DistributedSimulation<T> {
     ) -> Result<Self, SceneError> {
         let n = setup.spheres.len();
         let gear5 = setup.integration.scheme == Scheme::Gear5;
-        c.fingerprint.check(&Fingerprint::of(setup))?;
+        let scene = Fingerprint::of(setup);
+        c.fingerprint.check(&scene)?;
+        // The checkpoint's walls on the scene's (`crate::restart_walls`).
+        let change = crate::restart_walls::match_walls(c, &scene)?;
+        let remapped;
+        let c = if change.unchanged() {
+            c
+        } else {
+            remapped = crate::restart_walls::remap(c, &change);
+            &remapped
+        };
         let slot = check(c, n, gear5, setup.friction.is_some())?;
         let mut me = Self::new(setup, threads, grid, transport)?;
         if c.dt.to_bits() != me.sim.world.dt.to_bits() {
@@ -517,6 +533,17 @@ impl<T: Transport> DistributedSimulation<T> {
             let mut local = vec![usize::MAX; n];
             for (k, &id) in b.id.iter().enumerate() {
                 local[id as usize] = k;
+            }
+            // The walls that act at the checkpoint's step (`walls::gate`);
+            // G so far at rank 0, the others' shares from zero.
+            w.set_gates_at(c.steps_done);
+            let first = me.comm.transport.rank() == 0;
+            if let Some(g) = w.gates.as_deref_mut() {
+                g.energy = if first {
+                    c.gate_energy.unwrap_or(0.0)
+                } else {
+                    0.0
+                };
             }
             w.wall_contacts.relax();
             crate::simulation::restore_wall_records(w, c, &local)?;
@@ -645,6 +672,11 @@ impl<T: Transport> DistributedSimulation<T> {
         w.histories = saved.1;
         w.bodies.torque = saved.2;
         w.shear = saved.3;
+        if !change.unchanged() {
+            let first = me.comm.transport.rank() == 0;
+            crate::restart_walls::book_added(&mut me.sim.world, &change, c.gate_energy, first);
+            me.sim.restart_notes = change.notes;
+        }
         // The walls' loads (not in the checkpoint), as the note above.
         me.sim
             .pipeline

@@ -69,6 +69,10 @@ impl SceneFile {
             }
             crate::walls::servo::validate(&key, servo)?;
         }
+        if let Some(window) = &w.active {
+            let kind = w.key().unwrap_or_default();
+            crate::walls::gate::validate(&key, window, kind, w.servo.is_some())?;
+        }
         Ok(())
     }
 }
