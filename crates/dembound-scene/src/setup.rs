@@ -46,6 +46,23 @@ pub struct SceneSetup {
     /// `walls::servo`); missing entries or `None`: none. Empty when no
     /// wall has a servo.
     pub wall_servos: Vec<Option<crate::walls::servo::Servo>>,
+    /// The prescribed rigid motion of groups of fixed spheres given as
+    /// `[[particles]]` (issue 27, `pipeline::moving_groups`); a moving
+    /// boundary-particle wall's is its entry of `wall_motions`. Empty when
+    /// no group moves.
+    pub group_motions: Vec<GroupMotion>,
+}
+
+/// A group of fixed spheres moving as one rigid body
+/// (`pipeline::moving_groups`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupMotion {
+    /// The `[[particles]]` entry that gave it (K of `particles[K]`): its
+    /// key in messages and outputs.
+    pub group: usize,
+    /// Its spheres: input indices into [`SceneSetup::spheres`], all fixed.
+    pub spheres: std::ops::Range<usize>,
+    pub motion: crate::walls::motion::WallMotion,
 }
 
 /// What a free sphere lost for good along a non-periodic axis does to
@@ -249,6 +266,7 @@ impl SceneSetup {
             outlets: Vec::new(),
             wall_motions: Vec::new(),
             wall_servos: Vec::new(),
+            group_motions: Vec::new(),
         }
     }
 }

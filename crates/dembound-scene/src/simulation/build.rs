@@ -290,6 +290,10 @@ impl Simulation {
             &setup.wall_servos,
             &planes,
         );
+        let moving = crate::pipeline::moving_groups::with_groups(
+            moving,
+            crate::pipeline::moving_groups::drives(setup, &kinds)?,
+        );
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {
