@@ -8,7 +8,8 @@ free surface, and a picture of it.
 RUN is a `dembound scene --out DIR` run (its VTK snapshots, `snapshots.pvd`)
 or, with --liggghts, the directory of a deck written by `dembound export
 liggghts` and run there (its `particles.dump`). The drum's axis is y through
-the origin, gravity along −z (examples/scenes/drum.toml).
+the origin, gravity along −z (examples/scenes/drum.toml). Fixed spheres
+(the lining of examples/scenes/lined_drum.toml) are left out.
 
 Method (stated, as the issue asks):
 1. the mid-length slab: the spheres whose centre has |y| < L/4 (the middle
@@ -60,7 +61,8 @@ def vtp_arrays(path):
         kind, name, data = m.groups()
         raw = base64.b64decode(data)
         (n,) = struct.unpack("<Q", raw[:8])
-        fmt = {"Float64": "d", "UInt64": "Q", "Int64": "q", "Int32": "i", "UInt32": "I"}.get(kind)
+        fmt = {"Float64": "d", "UInt64": "Q", "Int64": "q", "Int32": "i", "UInt32": "I",
+               "UInt8": "B"}.get(kind)
         if fmt is None:
             continue
         size = struct.calcsize(fmt)
@@ -78,7 +80,12 @@ def dembound_frames(run):
         a = vtp_arrays(f)
         if "position" not in a or "radius" not in a or "TIME" not in a:
             fail(f"{f}: no position, radius or TIME array")
-        frames.append((float(a["TIME"][0]), a["position"].reshape(-1, 3), a["radius"]))
+        pos, radius = a["position"].reshape(-1, 3), a["radius"]
+        if "fixed" in a:
+            # The free spheres only (a lined drum's lining is fixed).
+            free = a["fixed"] == 0
+            pos, radius = pos[free], radius[free]
+        frames.append((float(a["TIME"][0]), pos, radius))
     return frames
 
 

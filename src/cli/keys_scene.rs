@@ -221,7 +221,21 @@ pub fn keys() -> Vec<KeyInfo> {
             "",
             "false",
             "true, false".into(),
-            "boundary particles: never move",
+            "boundary particles: never move (unless motion)",
+        ),
+        row(
+            "particles[K].motion",
+            "",
+            "—",
+            "the keys of wall[K].motion; only with fixed = true".into(),
+            "the group moves as one rigid body",
+        ),
+        row(
+            "particles[K].oscillation",
+            "",
+            "—",
+            "the keys of wall[K].oscillation; only with fixed = true".into(),
+            "the group's sinusoidal translation",
         ),
         row(
             "particles[K].spheres[J].position",
@@ -367,7 +381,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "m/s",
             "[0, 0, 0]",
             format!("finite, \\|V\\| ≤ {}", show(limits::MAX_SPEED)),
-            "translation of a moving plane, cylinder or mesh",
+            "translation of a moving plane, cylinder, mesh or boundary-particle wall",
         ),
         row(
             "wall[K].motion.angular_velocity",

@@ -205,6 +205,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         wall_torque_points: sim.wall_torque_points(),
         wall_triangle_counts: triangle_counts(sim.wall_triangle_counts()),
         wall_motions: last.wall_motions.clone(),
+        group_motions: last.group_motions.clone(),
         wall_clock: stepping,
         wall_clock_total: wall_total,
         particle_steps_per_second: if stepping > 0.0 {
@@ -378,6 +379,12 @@ pub(super) struct Report {
     /// `angular_velocity` (rad/s); absent when every wall is fixed.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) wall_motions: Vec<dembound_scene::pipeline::wall_states::WallMotionState>,
+    /// Each moving `[[particles]]` group at the end (issue 27): `group`
+    /// (file order), its motion as `wall_motions`, and `force` (N),
+    /// `torque` (N m) the spheres put on it about `torque_point` (the
+    /// motion's centre now, m); absent when no group moves.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) group_motions: Vec<dembound_scene::pipeline::moving_groups::GroupMotionState>,
     /// Seconds spent stepping (output excluded).
     pub(super) wall_clock: f64,
     /// Seconds of the whole loop, sampling and snapshots included.
@@ -567,6 +574,17 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
             vector(m.position, "m"),
             sig(m.angle, 6),
             vector(m.velocity, "m/s")
+        );
+    }
+    for g in &r.group_motions {
+        s += &format!(
+            "particles {} moved: position {}, angle {} rad; force {}, torque {} about {}\n",
+            g.group,
+            vector(g.position, "m"),
+            sig(g.angle, 6),
+            vector(g.force, "N"),
+            vector(g.torque, "N m"),
+            vector(g.torque_point, "m")
         );
     }
     if let Some(rows) = &r.collisions {

@@ -127,6 +127,13 @@ impl Fingerprint {
                 put(format!("wall.{k}.active"), format!("{a:?}"));
             }
         }
+        // Only a moving group has the key (the fingerprints of before stay).
+        for g in &setup.group_motions {
+            put(
+                format!("particles.{}.motion", g.group),
+                format!("{:?} {:?}", g.spheres, g.motion),
+            );
+        }
         put("motion.gravity".into(), format!("{:?} m/s²", setup.gravity));
         put(
             "integration.scheme".into(),

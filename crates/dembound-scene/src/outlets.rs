@@ -110,6 +110,7 @@ mod tests {
             work_by_walls: None,
             removed: None,
             wall_motions: Vec::new(),
+            group_motions: Vec::new(),
             outlets: vec![OutletRemoved { count: 0, mass }],
             gate_energy: None,
         }

@@ -16,6 +16,7 @@
 
 mod collisions;
 mod forces;
+pub mod moving_groups;
 pub(crate) mod moving_walls;
 mod neighbours;
 pub(crate) mod observe;
@@ -215,6 +216,7 @@ impl Pipeline {
         self.neighbours(world, workers);
         self.forces(world, workers);
         walls_measured(world, &mut Local, false);
+        world.account_group_work(false);
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
@@ -278,7 +280,12 @@ impl Pipeline {
                 // The fused form does the same operations on each body in
                 // the same order: the same bits. It needs every pair in
                 // the blocks (no extra pairs) and no per-step observers.
-                let fuse = more && world.tracks.is_none() && hooks.fusable(world);
+                // Not with a moving group: its spheres would be placed
+                // for the next step before this one's pair forces.
+                let fuse = more
+                    && world.tracks.is_none()
+                    && hooks.fusable(world)
+                    && !world.has_moving_groups();
                 if fuse {
                     // The next step's wall forces are evaluated inside.
                     world.place_walls(world.steps_done + 2);
@@ -291,6 +298,7 @@ impl Pipeline {
                     return;
                 }
                 hooks.pair_forces(self, world, workers, dt);
+                world.account_group_work(true);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
                 if world.tracks.is_some() {
@@ -328,6 +336,7 @@ impl Pipeline {
                 self.body_forces(world, workers, springs_dt);
                 walls_measured(world, hooks, true);
                 hooks.pair_forces(self, world, workers, springs_dt);
+                world.account_group_work(true);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
                 self.gear5_correct(world, workers);

@@ -49,6 +49,23 @@ pub struct SceneSetup {
     /// The window each wall acts in, file order (issue 28, `walls::gate`);
     /// missing entries or `None`: always. Empty when no wall has one.
     pub wall_active: Vec<Option<crate::walls::gate::ActiveWindow>>,
+    /// The prescribed rigid motion of groups of fixed spheres given as
+    /// `[[particles]]` (issue 27, `pipeline::moving_groups`); a moving
+    /// boundary-particle wall's is its entry of `wall_motions`. Empty when
+    /// no group moves.
+    pub group_motions: Vec<GroupMotion>,
+}
+
+/// A group of fixed spheres moving as one rigid body
+/// (`pipeline::moving_groups`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupMotion {
+    /// The `[[particles]]` entry that gave it (K of `particles[K]`): its
+    /// key in messages and outputs.
+    pub group: usize,
+    /// Its spheres: input indices into [`SceneSetup::spheres`], all fixed.
+    pub spheres: std::ops::Range<usize>,
+    pub motion: crate::walls::motion::WallMotion,
 }
 
 /// What a free sphere lost for good along a non-periodic axis does to
@@ -253,6 +270,7 @@ impl SceneSetup {
             wall_motions: Vec::new(),
             wall_servos: Vec::new(),
             wall_active: Vec::new(),
+            group_motions: Vec::new(),
         }
     }
 }

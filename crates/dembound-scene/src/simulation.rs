@@ -86,6 +86,10 @@ pub struct Observation {
     /// fixed.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub wall_motions: Vec<crate::pipeline::wall_states::WallMotionState>,
+    /// Each moving `[[particles]]` group's motion and load now, file
+    /// order (`pipeline::moving_groups`); empty when none moves.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub group_motions: Vec<crate::pipeline::moving_groups::GroupMotionState>,
     /// What each outlet removed since t = 0 (file order; empty without
     /// outlets).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

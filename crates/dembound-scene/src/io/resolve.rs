@@ -260,6 +260,23 @@ pub fn resolve_with(
         } else {
             Vec::new()
         },
+        group_motions: file
+            .particles
+            .iter()
+            .zip(&groups)
+            .enumerate()
+            .filter_map(|(k, (p, spheres))| {
+                let motion = crate::walls::motion::WallMotion::from_config(
+                    p.motion.as_ref(),
+                    p.oscillation.as_ref(),
+                )?;
+                Some(crate::setup::GroupMotion {
+                    group: k,
+                    spheres: spheres.clone(),
+                    motion,
+                })
+            })
+            .collect(),
     };
     warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
     Ok(ResolvedScene {

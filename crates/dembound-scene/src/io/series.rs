@@ -109,7 +109,31 @@ pub fn series_cells(o: &Observation) -> Vec<Cell> {
             cells.extend(v.iter().map(|&x| Cell::Value(x)));
         }
     }
+    for g in &o.group_motions {
+        cells.extend(g.position.iter().map(|&x| Cell::Value(x)));
+        cells.push(Cell::Value(g.angle));
+        for v in [g.velocity, g.angular_velocity, g.force, g.torque] {
+            cells.extend(v.iter().map(|&x| Cell::Value(x)));
+        }
+    }
     cells
+}
+
+/// The columns of a moving `[[particles]]` group `k` (issue 27, after the
+/// moving walls'): its motion as [`motion_columns`], then the force and
+/// the torque (about the motion's centre now) the spheres put on it
+/// (`pipeline::moving_groups`).
+pub fn group_columns(k: usize) -> Vec<String> {
+    let mut out: Vec<String> = motion_columns(k)
+        .into_iter()
+        .map(|c| c.replacen("wall", "particles", 1))
+        .collect();
+    for (what, unit) in [("force", "N"), ("torque", "N_m")] {
+        for axis in ["x", "y", "z"] {
+            out.push(format!("particles{k}_{what}_{axis}_{unit}"));
+        }
+    }
+    out
 }
 
 /// The columns a scene that removes spheres (`crate::removal`) adds after
@@ -139,6 +163,9 @@ pub fn series_header_of(o: &Observation) -> Vec<String> {
     for m in &o.wall_motions {
         header.extend(motion_columns(m.wall));
     }
+    for g in &o.group_motions {
+        header.extend(group_columns(g.group));
+    }
     header
 }
 
@@ -155,6 +182,9 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
     }
     for m in rows.first().map_or(&[][..], |o| &o.wall_motions[..]) {
         header.extend(motion_columns(m.wall));
+    }
+    for g in rows.first().map_or(&[][..], |o| &o.group_motions[..]) {
+        header.extend(group_columns(g.group));
     }
     // The outlets' columns (`crate::outlets`), only when there are any.
     let outlets = rows.first().map_or(0, |o| o.outlets.len());
@@ -293,6 +323,7 @@ mod tests {
             work_by_walls: None,
             removed: None,
             wall_motions: Vec::new(),
+            group_motions: Vec::new(),
             outlets: Vec::new(),
             gate_energy: None,
         };

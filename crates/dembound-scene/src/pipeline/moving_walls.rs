@@ -65,6 +65,10 @@ pub struct MovingWalls {
     pub work: f64,
     /// Power into the spheres at the last force evaluation, W.
     pub power: f64,
+    /// The moving groups of fixed spheres (`moving_groups`).
+    pub groups: Vec<super::moving_groups::GroupDrive>,
+    /// Their power into the spheres at the last pair forces, W.
+    pub group_power: f64,
 }
 
 /// What a checkpoint keeps of the moving walls (their pose is a function
@@ -81,6 +85,10 @@ pub struct MovingWallsRecord {
     /// prescribed motions keep their bytes).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub servos: Vec<ServoRecord>,
+    /// The moving groups' power at the last pair forces, W (absent
+    /// without: the checkpoints of moving walls keep their bytes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group_power: Option<f64>,
 }
 
 impl MovingWalls {
@@ -91,6 +99,7 @@ impl MovingWalls {
             work: self.work,
             power: self.power,
             servos: self.servos.iter().map(ServoDrive::record).collect(),
+            group_power: (!self.groups.is_empty()).then_some(self.group_power),
         }
     }
 
@@ -122,6 +131,8 @@ impl MovingWalls {
                 built_step: 0,
                 work: 0.0,
                 power: 0.0,
+                groups: Vec::new(),
+                group_power: 0.0,
             })
         })
     }
@@ -146,6 +157,7 @@ impl World {
             self.surfaces[s.surface] = s.reference.posed(&s.state());
         }
         m.placed_step = step;
+        self.place_groups(t);
     }
 
     /// Half the skin less the largest displacement of a moving wall's
@@ -181,6 +193,7 @@ impl World {
         for s in &m.servos {
             moved = moved.max((s.offset - s.built_offset).abs());
         }
+        moved = moved.max(self.groups_moved(from, to));
         half - moved
     }
 

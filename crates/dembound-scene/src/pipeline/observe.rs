@@ -127,6 +127,7 @@ pub(crate) fn observation(
         work_by_walls: work,
         removed,
         wall_motions: world.wall_motion_states(),
+        group_motions: world.group_motion_states(),
         outlets: world
             .removal
             .as_ref()

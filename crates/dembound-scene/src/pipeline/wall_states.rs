@@ -56,6 +56,18 @@ impl World {
                     angular_velocity: [0.0; 3],
                 }
             }))
+            .chain(m.groups.iter().filter_map(|g| {
+                // A moving boundary-particle wall (`moving_groups`).
+                let wall = g.wall?;
+                let s = g.motion.state(t);
+                Some(WallMotionState {
+                    wall,
+                    position: [0, 1, 2].map(|a| s.center[a] - s.center0[a]),
+                    angle: g.motion.angle(t),
+                    velocity: s.velocity,
+                    angular_velocity: s.spin,
+                })
+            }))
             .collect();
         out.sort_by_key(|s| s.wall);
         out

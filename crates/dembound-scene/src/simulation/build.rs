@@ -291,6 +291,10 @@ impl Simulation {
             &planes,
         );
         let gates = crate::walls::gate::Gates::new(&setup.wall_active, &planes, dt);
+        let moving = crate::pipeline::moving_groups::with_groups(
+            moving,
+            crate::pipeline::moving_groups::drives(setup, &kinds)?,
+        );
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
             tracks: setup.collisions.then(|| Tracks {

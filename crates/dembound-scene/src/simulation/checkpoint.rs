@@ -251,6 +251,7 @@ impl Simulation {
         if let (Some(r), Some(m)) = (moving, w.moving.as_mut()) {
             m.work = r.work;
             m.power = r.power;
+            m.group_power = r.group_power.unwrap_or(0.0);
         }
         sim.initial_energy = c.initial_energy;
         // Histories and tracks by input ids.

@@ -249,6 +249,8 @@ impl<T: Transport> DistributedSimulation<T> {
                 power: s[1],
                 // The same on every rank (`servo_walls`).
                 servos: m.servos.iter().map(|d| d.record()).collect(),
+                // Moving groups are refused under MPI.
+                group_power: None,
             }
         });
         // The gate energy: each rank's share, summed (collective).

@@ -29,9 +29,17 @@ pub struct ParticlesSection {
     /// material), else the scene is refused naming the atom.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub types: Option<std::collections::BTreeMap<String, String>>,
-    /// Boundary particles: infinite mass, never move.
+    /// Boundary particles: infinite mass, never move (unless `motion`).
     #[serde(default)]
     pub fixed: bool,
+    /// Prescribed rigid motion of a fixed group (issue 27; the table of
+    /// `[[wall]] motion`, `walls::motion`): the group moves as one rigid
+    /// body (`pipeline::moving_groups`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<crate::walls::motion::MotionConfig>,
+    /// Sinusoidal translation of a fixed group (`[[wall]] oscillation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub oscillation: Option<crate::walls::motion::OscillationConfig>,
 }
 
 /// `lattice = { … }` (addition: the keys).
@@ -138,6 +146,29 @@ impl SceneFile {
                 self.material_names()
             ),
         )?;
+        if p.motion.is_some() || p.oscillation.is_some() {
+            let moved = if p.motion.is_some() {
+                "motion"
+            } else {
+                "oscillation"
+            };
+            check(
+                p.fixed,
+                &format!("{key}.{moved}"),
+                "given for a group of free spheres (fixed = false)",
+                "only with fixed = true: a group of fixed spheres moves as one rigid body; \
+                 free spheres move by their forces",
+            )?;
+            if let Some(a) = self.domain.periodic.iter().position(|&p| p) {
+                return Err(super::checks::invalid(
+                    &format!("{key}.{moved}"),
+                    format!("given in a domain periodic along axis {a}"),
+                    "a moving group of fixed spheres in a domain with no periodic axis \
+                     (its spheres are not carried across periodic faces)",
+                ));
+            }
+        }
+        crate::walls::motion::validate(&key, p.motion.as_ref(), p.oscillation.as_ref())?;
         let radius_range = crate::setup_checks::radius_range(p.fixed);
         if let Some(l) = &p.lattice {
             speed(&format!("{key}.lattice.velocity"), l.velocity)?;

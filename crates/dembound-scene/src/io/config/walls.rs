@@ -31,15 +31,17 @@ impl SceneFile {
             } else {
                 "oscillation"
             };
-            check(
-                !crate::walls::registry::is_particles_key(kind),
-                &format!("{key}.{moved}"),
-                format!("given for a `{kind}` wall"),
-                &format!(
-                    "a moving {} (walls of boundary particles do not move yet)",
-                    crate::walls::registry::surface_kinds_or()
-                ),
-            )?;
+            // A wall of boundary particles moves as one rigid body
+            // (`pipeline::moving_groups`), not across periodic faces.
+            if let Some(a) = self.domain.periodic.iter().position(|&p| p) {
+                check(
+                    !crate::walls::registry::is_particles_key(kind),
+                    &format!("{key}.{moved}"),
+                    format!("given for a `{kind}` wall in a domain periodic along axis {a}"),
+                    "a moving wall of boundary particles in a domain with no periodic axis \
+                     (its spheres are not carried across periodic faces)",
+                )?;
+            }
         }
         crate::walls::motion::validate(&key, w.motion.as_ref(), w.oscillation.as_ref())?;
         if let Some(servo) = &w.servo {
