@@ -5,6 +5,14 @@
 //! resolution (the tiling, appended to the input order, and the scaled
 //! material), the check of its setup against the spheres, and its
 //! descriptions (`walls::registry`).
+//!
+//! Two forms: the plane (`point`, `normal`: `sources::tiling`) and the
+//! mesh (`mesh = "part.stl"` and its placement: [`mesh_form`], the
+//! covering of `sources::mesh_tiling`). Only the spheres' source differs:
+//! both go through the same resolution (material, R_ref, the fixed
+//! spheres of group = the wall).
+
+mod mesh_form;
 
 use std::ops::Range;
 
@@ -24,8 +32,12 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundaryParticlesConfig {
-    pub point: [f64; 3],
-    pub normal: [f64; 3],
+    /// A point of the plane (plane form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<[f64; 3]>,
+    /// Into the domain (plane form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal: Option<[f64; 3]>,
     /// r = R_b/R_ref.
     pub radius_ratio: f64,
     /// ζ = E_b/E of the named material; `inf` for rigid boundary spheres.
@@ -40,6 +52,19 @@ pub struct BoundaryParticlesConfig {
     /// particles of the named material).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_radius: Option<f64>,
+    /// The mesh form: an STL or OBJ file (relative to the scene file),
+    /// placed as a `mesh` wall's (`scale`, `translate`, `rotate`), the
+    /// spheres behind its triangles' normals (`flip`: in front).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<std::path::PathBuf>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub translate: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<crate::walls::mesh::RotateConfig>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip: Option<bool>,
 }
 
 /// `tiling`.
@@ -71,8 +96,11 @@ impl WallType for BoundaryParticles {
         material: &str,
     ) -> Result<(), SceneError> {
         let k = |s: &str| format!("{key}.boundary_particles.{s}");
-        finite3(&k("point"), b.point, "m")?;
-        nonzero3(&k("normal"), b.normal)?;
+        let plane = mesh_form::validate_form(b, file, key)?;
+        if let Some((point, normal)) = plane {
+            finite3(&k("point"), point, "m")?;
+            nonzero3(&k("normal"), normal)?;
+        }
         check(
             limits::within(b.radius_ratio, limits::RADIUS_RATIO),
             &k("radius_ratio"),
@@ -94,10 +122,11 @@ impl WallType for BoundaryParticles {
             ),
         )?;
         for a in 0..3 {
+            let Some((_, normal)) = plane else { break };
             check(
-                !file.domain.periodic[a] || b.normal[a] == 0.0,
+                !file.domain.periodic[a] || normal[a] == 0.0,
                 &k("normal"),
-                format!("{:?}", b.normal),
+                format!("{normal:?}"),
                 &format!(
                     "a normal perpendicular to every periodic axis (`domain.periodic` = {:?}: \
                      component {a} must be 0); a wall bounds the domain along its normal, \
@@ -156,17 +185,22 @@ impl WallType for BoundaryParticles {
                 })?,
         };
         let radius = b.radius_ratio * reference;
-        let tiling = Tiling {
-            point: b.point,
-            normal: b.normal,
-            radius,
-            spacing: b.spacing.unwrap_or(2.0 * radius),
-            pattern: match b.tiling {
-                TilingName::Square => Pattern::Square,
-                TilingName::Hexagonal => Pattern::Hexagonal,
-            },
+        let spacing = b.spacing.unwrap_or(2.0 * radius);
+        let pattern = match b.tiling {
+            TilingName::Square => Pattern::Square,
+            TilingName::Hexagonal => Pattern::Hexagonal,
         };
-        let made = tiling.spheres(&cx.extent, &key)?;
+        let made = match (b.point, b.normal) {
+            (Some(point), Some(normal)) if b.mesh.is_none() => Tiling {
+                point,
+                normal,
+                radius,
+                spacing,
+                pattern,
+            }
+            .spheres(&cx.extent, &key)?,
+            _ => mesh_form::spheres(b, &key, radius, spacing, pattern, cx)?,
+        };
         let m = &cx.materials[base].material;
         cx.materials.push(NamedMaterial {
             name: format!(
@@ -260,14 +294,14 @@ impl WallType for BoundaryParticles {
                 "point",
                 "m",
                 "—",
-                "three finite numbers".into(),
+                "three finite numbers (plane form)".into(),
                 "a tiling site",
             ),
             row(
                 "normal",
                 "",
                 "—",
-                "finite, non-zero (any length); 0 along every periodic axis".into(),
+                "finite, non-zero (any length); 0 along every periodic axis (plane form)".into(),
                 "into the domain",
             ),
             row(
@@ -306,5 +340,8 @@ impl WallType for BoundaryParticles {
                 "R_ref",
             ),
         ]
+        .into_iter()
+        .chain(mesh_form::keys())
+        .collect()
     }
 }
