@@ -48,7 +48,7 @@ def test_an_opening_gate_books_the_spring_energy_and_lets_the_sphere_fall():
     assert abs(o["gate_energy_J"] - spring) <= 1e-9 * spring
     assert o["wall_contacts"] == 0
     tau = 2000 * DT
-    vz = s.velocities()[0][2]
+    vz = s.velocities[0][2]
     assert abs(vz + G * (tau + DT / 2)) <= 1e-12
     # A scene without a window has no gate column.
     assert "gate_energy_J" not in gate_scene().observe()
