@@ -141,7 +141,7 @@ pub fn loop_time(log: &str) -> Option<(f64, u64, u64, u64)> {
         w.get(3)?.parse().ok()?,
         w.get(5)?.parse().ok()?,
         w.get(8)?.parse().ok()?,
-        w.get(11)?.parse().ok()?,
+        w.get(11)?.trim_end_matches(',').parse().ok()?,
     ))
 }
 
@@ -167,5 +167,8 @@ mod tests {
     fn the_loop_time_line() {
         let log = "x\nLoop time of 2.17376 on 1 procs for 1000 steps with 414 atoms\n";
         assert_eq!(loop_time(log), Some((2.17376, 1, 1000, 414)));
+        // LIGGGHTS adds ", finish time …".
+        let log = "Loop time of 14.6 on 1 procs for 100000 steps with 400 atoms, finish time Thu\n";
+        assert_eq!(loop_time(log), Some((14.6, 1, 100000, 400)));
     }
 }
