@@ -1,7 +1,8 @@
 //! `dembound compare DIR`: reads the per-step trace an exported deck wrote
 //! (DIR/trace.txt) and prints each contact's h_max, T_c, v_c, v_r and e
 //! beside dembound's run of the same scenario (DIR/scenario.toml) and the
-//! exact reference.
+//! exact reference. A scene deck (DIR/scene.toml) goes to
+//! [`super::compare_scene`].
 
 use super::exact::exact_contacts;
 use super::{CliError, CliResult};
@@ -28,9 +29,16 @@ pub struct CompareArgs {
     pub scenario: Option<PathBuf>,
 
     /// Print one JSON object (per contact: the code's, dembound's and the
-    /// exact values, SI, and the relative differences) instead of tables
+    /// exact values, SI, and the relative differences; for a scene deck
+    /// every quantity's series, divergence and window means) instead of
+    /// tables
     #[arg(long)]
     pub json: bool,
+
+    /// Scene decks: write a figure per quantity (SVG and PNG) and one of
+    /// the relative differences into this directory
+    #[arg(long, value_name = "DIR")]
+    pub figures: Option<PathBuf>,
 }
 
 /// The compared quantities of one contact, SI.
@@ -119,6 +127,9 @@ fn code_in(dir: &Path) -> String {
 }
 
 pub fn run(args: &CompareArgs) -> CliResult {
+    if args.scenario.is_none() && super::compare_scene::is_scene_deck(&args.path) {
+        return super::compare_scene::run(args, &args.path);
+    }
     let (dir, trace_path) = if args.path.is_dir() {
         (args.path.clone(), args.path.join("trace.txt"))
     } else {

@@ -18,7 +18,7 @@
 //!   pair of the two types has the same R_eff (each type of one radius).
 //! - The Coulomb limit μ |F_n| with μ = √(μ_a μ_b) (dembound's mixing,
 //!   written per pair, never left to LAMMPS's mixing), F_n the elastic
-//!   normal force (the deck is undamped, below).
+//!   normal force (damped and clamped when the normal contact is, below).
 //! - Sliding, undamped: both cut the spring back to μ |F_n|/k_t along
 //!   itself (LAMMPS's δ = −(F_crit f̂ + η_t v_t)/k_t with η_t = 0).
 //! - Rolling (`rolling sds`) under `contact.law = "hooke"`: dembound's
@@ -27,11 +27,21 @@
 //!   with force −k_roll ξ and torque R_eff n × F: k_roll = k_r/R_eff² =
 //!   2.25 k μ_r², mu_roll = μ_r, damp_roll = 0.
 //!
+//! - Damping (`damping tsuji`, lammps_scene.rs) with friction under
+//!   `contact.tangential_damping = false`: the tangential argument
+//!   x_γ,t = 0 gives LAMMPS no tangential dashpot, dembound has none
+//!   either; the Coulomb limit is μ |F_n| of the total (damped, clamped by
+//!   `limit_damping`) normal force in both (LAMMPS's F_ncrit = |F_ntot|).
+//!
 //! What is refused, with the key:
-//! - damping with friction (`contact.damping` ≠ "none"): on sliding
+//! - damping with friction and dembound's tangential dashpot on
+//!   (`contact.tangential_damping`, default true): on sliding
 //!   LAMMPS caps spring + dashpot together and solves the spring back
 //!   from the cap; dembound cuts the spring alone and drops the dashpot
 //!   (tangential/mod.rs, step 3). Near onset the two springs point apart.
+//! - rolling friction with damping: dembound damps the rolling spring
+//!   with the normal contact's local damping ratio; `rolling sds` takes
+//!   one constant damp_roll.
 //! - rolling friction under Hertz: epsd2's k_r follows the secant stiffness
 //!   F_n/h ∝ √h; `rolling sds` takes a constant k_roll.
 //! - a linear tangential spring between types of several radii.
@@ -105,19 +115,31 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<Option<FrictionPlan>> {
     }
     let refuse = |s: String| Err(Error::Export(s));
     let damping = setup.contact.damping.kind();
-    if damping != DampingKind::None {
+    if damping != DampingKind::None && f.tangential_damping {
         return refuse(format!(
-            "contact.damping = \"{}\" with friction (contact.friction = {}) cannot be exported \
-             to LAMMPS: when a contact starts to slide LAMMPS caps spring + dashpot together \
-             and solves the spring back from the cap, dembound cuts the spring alone to the \
+            "contact.damping = \"{}\" with friction (contact.friction = {}) and the tangential \
+             dashpot on (contact.tangential_damping, default true) cannot be exported to \
+             LAMMPS: when a contact starts to slide LAMMPS caps spring + dashpot together and \
+             solves the spring back from the cap, dembound cuts the spring alone to the \
              Coulomb limit and drops the dashpot, so the decks would differ at every sliding \
-             onset (allowed with friction: contact.damping = \"none\"; or export without \
+             onset (allowed with friction: contact.tangential_damping = false, no tangential \
+             dashpot in either code; or contact.damping = \"none\"; or export without \
              friction: --set contact.friction=0)",
             damping.row().name,
             f.model.friction
         ));
     }
     let rolling = surfaces.iter().any(|(_, (_, r))| *r > 0.0);
+    if rolling && damping != DampingKind::None {
+        return refuse(format!(
+            "rolling friction with contact.damping = \"{}\" cannot be exported to LAMMPS: \
+             dembound damps the rolling spring with the normal contact's local damping ratio \
+             (eta_r = 2 xi sqrt(k_r I)), LAMMPS's rolling sds takes one constant damp_roll \
+             (allowed: rolling friction 0 (contact.rolling_friction, and each material's and \
+             wall's rolling_friction), or contact.damping = \"none\")",
+            damping.row().name
+        ));
+    }
     let hooke = match setup.contact.normal {
         NormalLaw::Hooke { stiffness } => Some(stiffness),
         _ => None,

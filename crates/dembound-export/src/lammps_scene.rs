@@ -888,6 +888,36 @@ steps = 10
         assert!(!none.files[0].text.contains("mindlin"));
     }
 
+    /// Tsuji damping with friction under `contact.tangential_damping =
+    /// false`: the normal damping as without friction, the tangential
+    /// spring with x_gamma_t = 0 (no tangential dashpot, as dembound).
+    #[test]
+    fn damped_friction_without_the_tangential_dashpot_exports() {
+        let damped = ["contact.damping=tsuji", "contact.restitution=0.5"];
+        let frictionless = exported(&damped).expect("exports");
+        let mut sets = damped.to_vec();
+        sets.extend(["contact.friction=0.4", "contact.tangential_damping=false"]);
+        let d = exported(&sets).expect("exports");
+        let line = |deck: &Deck| -> String {
+            deck.files[0]
+                .text
+                .lines()
+                .find(|l| l.starts_with("pair_coeff   1 2 "))
+                .expect("the pair's line")
+                .to_string()
+        };
+        let (with, without) = (line(&d), line(&frictionless));
+        // The same normal arguments (k_n, e*) before `tangential`.
+        let normal = |l: &str| l.split(" tangential ").next().unwrap_or("").to_string();
+        assert_eq!(normal(&with), normal(&without));
+        assert!(
+            with.contains(" tangential mindlin ") && with.contains(" damping tsuji limit_damping")
+        );
+        let w: Vec<&str> = with.split_whitespace().collect();
+        let i = w.iter().position(|x| *x == "mindlin").expect("mindlin");
+        assert_eq!(w[i + 2], "0.0", "x_gamma_t: {with}");
+    }
+
     #[test]
     fn refusals_name_the_key() {
         for (sets, key) in [
@@ -909,6 +939,17 @@ steps = 10
             (
                 vec!["wall.0.oscillation={amplitude=[0,1e-4,0],frequency=50}"],
                 "wall[0].oscillation",
+            ),
+            (
+                vec![
+                    "contact.law={hooke=50.0}",
+                    "contact.friction=0.5",
+                    "contact.tangential_damping=false",
+                    "contact.rolling_friction=0.1",
+                    "contact.damping=viscous",
+                    "contact.restitution=0.5",
+                ],
+                "rolling friction with contact.damping",
             ),
             (vec!["domain.outside=delete"], "domain.outside"),
             (

@@ -13,6 +13,7 @@
 //! step, `time (s) overlap (m) relative velocity (m/s, upward positive)
 //! contact force on the particle (N, upward positive)`, `#` comments.
 
+pub mod agreement;
 pub mod lammps;
 mod lammps_friction;
 pub mod lammps_output;
@@ -22,6 +23,7 @@ mod liggghts_contact;
 mod liggghts_motion;
 pub mod liggghts_scene;
 pub mod plan;
+pub mod scene_dump;
 pub mod trace;
 pub mod yade;
 

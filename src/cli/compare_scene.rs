@@ -1,0 +1,685 @@
+//! `dembound compare DECK` on a scene deck (`dembound export lammps|liggghts
+//! SCENE.toml`, run there): the peer's `particles.dump` (and LAMMPS's
+//! `walls.txt`) beside dembound's run of the deck's `scene.toml`, row by
+//! row, quantity by quantity; when the two are the same state (to 1e-9),
+//! when they part and how fast, and whether their late-time means agree
+//! (docs/export-lammps.md, "Comparing scenes"; the numerics in
+//! `dembound_export::agreement`).
+//!
+//! Every quantity is computed from the dumped state by the same code for
+//! both runs, so the comparison is of states, not of two codes' ways of
+//! summing them:
+//! - kinetic energy Σ ½ m v², rotational Σ ½ (2/5 m R²) ω², potential
+//!   −Σ m g·x (free spheres, J; m = ρ 4/3 π R³);
+//! - contacts: pairs of spheres (not both fixed) with |x_i − x_j| < R_i + R_j,
+//!   and free spheres closer than R to a plane wall (other wall types are
+//!   not counted), from the positions: the same rule for both runs;
+//! - bed height: the mean of h + R over the highest tenth of the free
+//!   spheres (at least one), h the height along −g (along z without
+//!   gravity), m;
+//! - each wall's force |F| (N), from walls.txt and the engine;
+//! - the state: max over free spheres of |Δx| / R_min (R_min the smallest
+//!   free radius), only for the divergence.
+//!
+//! The relative difference of a quantity at a row is |a − b| over the
+//! largest |a|, |b| of the whole run (so a quantity passing through 0 is not
+//! divided by 0).
+
+use super::compare::CompareArgs;
+use super::{CliError, CliResult};
+use crate::output::format::sig;
+use crate::output::table::{Cell, Column, Table};
+use crate::plot::{Figure, Mark, Series};
+use anyhow::anyhow;
+use dembound_export::agreement::{self, Divergence, Verdict, WindowMean};
+use dembound_export::scene_dump::{self, DumpRow};
+use dembound_scene::io::{config, resolve::resolve};
+use dembound_scene::setup::{SceneSetup, WallSetup};
+use dembound_scene::Simulation;
+use serde::Serialize;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Whether `dir` holds a scene deck (its `scene.toml`, no bounce
+/// `scenario.toml`).
+pub fn is_scene_deck(dir: &Path) -> bool {
+    dir.join("scene.toml").is_file() && !dir.join("scenario.toml").is_file()
+}
+
+/// One compared quantity over the run.
+#[derive(Debug, Serialize)]
+pub struct QuantityReport {
+    pub name: String,
+    pub unit: String,
+    pub time: Vec<f64>,
+    pub code: Vec<f64>,
+    pub dembound: Vec<f64>,
+    /// |code − dembound| / the largest |value| of the run.
+    pub relative_difference: Vec<f64>,
+    pub divergence: Divergence,
+    /// Means over the late window (None for the state row or a short run).
+    pub code_window: Option<WindowMean>,
+    pub dembound_window: Option<WindowMean>,
+    /// code/dembound − 1 of the window means.
+    pub window_relative_difference: Option<f64>,
+    pub verdict: Option<Verdict>,
+}
+
+/// Speed of a run: free-sphere steps per second and per core.
+#[derive(Debug, Serialize)]
+pub struct Speed {
+    pub seconds: f64,
+    pub cores: u64,
+    pub particle_steps_per_core_second: f64,
+}
+
+#[derive(Debug, Serialize)]
+pub struct SceneCompareReport {
+    pub code: String,
+    pub deck: PathBuf,
+    pub spheres: usize,
+    pub free_spheres: usize,
+    pub dt: f64,
+    pub rows: usize,
+    /// The late window: rows from this time (s) on.
+    pub window_from: f64,
+    pub identical_threshold: f64,
+    pub quantities: Vec<QuantityReport>,
+    /// From the peer's log ("Loop time"), when found.
+    pub code_speed: Option<Speed>,
+    pub dembound_speed: Speed,
+}
+
+/// What one row's state gives.
+#[derive(Debug, Clone, Default)]
+struct Sample {
+    kinetic: f64,
+    rotational: f64,
+    potential: f64,
+    contacts: f64,
+    bed_height: f64,
+    walls: Vec<f64>,
+}
+
+/// The state of one row, input order.
+struct State<'a> {
+    position: &'a [[f64; 3]],
+    velocity: &'a [[f64; 3]],
+    spin: &'a [[f64; 3]],
+}
+
+/// The fixed geometry: what every sample needs of the scene.
+struct Geometry {
+    radius: Vec<f64>,
+    mass: Vec<f64>,
+    fixed: Vec<bool>,
+    gravity: [f64; 3],
+    /// Unit vector "up" (−g, or z).
+    up: [f64; 3],
+    /// Plane walls: (point, unit normal into the domain).
+    planes: Vec<([f64; 3], [f64; 3])>,
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Geometry {
+    fn new(setup: &SceneSetup) -> Self {
+        let radius: Vec<f64> = setup.spheres.iter().map(|s| s.radius).collect();
+        let mass = setup
+            .spheres
+            .iter()
+            .map(|s| {
+                setup.materials[s.material].material.density * 4.0 / 3.0
+                    * std::f64::consts::PI
+                    * s.radius.powi(3)
+            })
+            .collect();
+        let g = setup.gravity;
+        let gn = dot(g, g).sqrt();
+        let up = if gn > 0.0 {
+            [-g[0] / gn, -g[1] / gn, -g[2] / gn]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let planes = setup
+            .walls
+            .iter()
+            .filter_map(|w| match w {
+                WallSetup::Plane(p) => {
+                    let l = dot(p.normal, p.normal).sqrt();
+                    Some((p.point, p.normal.map(|c| c / l)))
+                }
+                _ => None,
+            })
+            .collect();
+        Geometry {
+            radius,
+            mass,
+            fixed: setup.spheres.iter().map(|s| s.fixed).collect(),
+            gravity: g,
+            up,
+            planes,
+        }
+    }
+
+    fn sample(&self, s: &State, walls: Vec<f64>) -> Sample {
+        let mut out = Sample {
+            walls,
+            ..Sample::default()
+        };
+        let mut heights = Vec::new();
+        for i in (0..self.radius.len()).filter(|&i| !self.fixed[i]) {
+            let (m, r) = (self.mass[i], self.radius[i]);
+            out.kinetic += 0.5 * m * dot(s.velocity[i], s.velocity[i]);
+            out.rotational += 0.5 * 0.4 * m * r * r * dot(s.spin[i], s.spin[i]);
+            out.potential -= m * dot(self.gravity, s.position[i]);
+            heights.push(dot(self.up, s.position[i]) + r);
+            out.contacts += self
+                .planes
+                .iter()
+                .filter(|(p, n)| {
+                    let x = s.position[i];
+                    dot(*n, [x[0] - p[0], x[1] - p[1], x[2] - p[2]]) < r
+                })
+                .count() as f64;
+        }
+        heights.sort_by(|a, b| b.total_cmp(a));
+        let top = heights.len().div_ceil(10).max(1).min(heights.len());
+        if top > 0 {
+            out.bed_height = heights[..top].iter().sum::<f64>() / top as f64;
+        }
+        out.contacts += self.sphere_pairs(s.position) as f64;
+        out
+    }
+
+    /// Overlapping sphere pairs, not both fixed (sweep along x).
+    fn sphere_pairs(&self, x: &[[f64; 3]]) -> usize {
+        let mut order: Vec<usize> = (0..x.len()).collect();
+        order.sort_by(|&a, &b| x[a][0].total_cmp(&x[b][0]));
+        let rmax = self.radius.iter().cloned().fold(0.0, f64::max);
+        let mut count = 0;
+        for (k, &i) in order.iter().enumerate() {
+            for &j in &order[k + 1..] {
+                if x[j][0] - x[i][0] > self.radius[i] + rmax {
+                    break;
+                }
+                if self.fixed[i] && self.fixed[j] {
+                    continue;
+                }
+                let d = [x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]];
+                let reach = self.radius[i] + self.radius[j];
+                if dot(d, d) < reach * reach {
+                    count += 1;
+                }
+            }
+        }
+        count
+    }
+}
+
+fn input(e: impl std::fmt::Display) -> CliError {
+    CliError::input(anyhow!("{e}"))
+}
+
+/// The peer code of a deck directory, and its log's name.
+fn peer(dir: &Path) -> CliResult<(&'static str, &'static str)> {
+    if dir.join("in.lammps").is_file() {
+        Ok(("LAMMPS", "log.lammps"))
+    } else if dir.join("in.liggghts").is_file() {
+        Ok(("LIGGGHTS", "log.liggghts"))
+    } else {
+        Err(input(format!(
+            "`{}` holds scene.toml but neither in.lammps nor in.liggghts: not a scene deck of \
+             `dembound export lammps|liggghts`",
+            dir.display()
+        )))
+    }
+}
+
+pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
+    let (code, log_name) = peer(dir)?;
+    let scene_path = dir.join("scene.toml");
+    let file = config::read(&scene_path, &[]).map_err(input)?;
+    let setup = resolve(&file, dir).map_err(input)?.setup;
+    let dump_path = dir.join(dembound_export::lammps_output::DUMP_FILE);
+    let text = std::fs::read_to_string(&dump_path).map_err(|e| {
+        input(format!(
+            "cannot read `{}`: {e} (run the deck first: cd {} && {})",
+            dump_path.display(),
+            dir.display(),
+            if code == "LAMMPS" {
+                "lmp -in in.lammps -log log.lammps"
+            } else {
+                "liggghts -in in.liggghts -log log.liggghts"
+            }
+        ))
+    })?;
+    let rows = scene_dump::parse_dump(&text)
+        .map_err(|e| input(format!("`{}`: {e}", dump_path.display())))?;
+    let walls = match std::fs::read_to_string(dir.join(dembound_export::lammps_output::WALLS_FILE))
+    {
+        Ok(t) => Some(scene_dump::parse_walls(&t).map_err(input)?),
+        Err(_) => None,
+    };
+    let n = setup.spheres.len();
+    for row in &rows {
+        let ids_match = row.spheres.len() == n
+            && row
+                .spheres
+                .iter()
+                .enumerate()
+                .all(|(i, s)| s.id == i as u64 + 1);
+        if !ids_match {
+            return Err(input(format!(
+                "`{}` step {}: {} spheres (ids 1..) where scene.toml has {n}: the dump is not \
+                 this deck's run (export and run again)",
+                dump_path.display(),
+                row.step,
+                row.spheres.len()
+            )));
+        }
+    }
+    let geometry = Geometry::new(&setup);
+    let free = geometry.fixed.iter().filter(|f| !**f).count();
+    let threads = 1;
+    let mut sim = Simulation::new(setup.clone(), threads).map_err(input)?;
+    let dt = sim.dt();
+    let total = sim.total_steps();
+    let mut time = Vec::new();
+    let mut ours: Vec<Sample> = Vec::new();
+    let mut theirs: Vec<Sample> = Vec::new();
+    let mut state_diff = Vec::new();
+    let r_min = (0..n)
+        .filter(|&i| !geometry.fixed[i])
+        .map(|i| geometry.radius[i])
+        .fold(f64::INFINITY, f64::min);
+    let wall_count = setup.walls.len();
+    let with_walls = walls.as_ref().is_some_and(|w| {
+        rows.iter()
+            .all(|r| w.get(&r.step).is_some_and(|f| f.len() >= 3 * wall_count))
+    }) && wall_count > 0;
+    let mut stepping = 0.0;
+    for row in rows.iter() {
+        if row.step < sim.steps_done() {
+            continue;
+        }
+        if row.step > total {
+            return Err(input(format!(
+                "`{}` has step {} beyond the scene's {total} steps: not this deck's run",
+                dump_path.display(),
+                row.step
+            )));
+        }
+        let clock = std::time::Instant::now();
+        sim.step(row.step - sim.steps_done());
+        stepping += clock.elapsed().as_secs_f64();
+        let (x, v, w) = (sim.positions(), sim.velocities(), sim.angular_velocities());
+        let wf = if with_walls {
+            sim.wall_forces()
+                .iter()
+                .map(|f| dot(*f, *f).sqrt())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        ours.push(geometry.sample(
+            &State {
+                position: &x,
+                velocity: &v,
+                spin: &w,
+            },
+            wf,
+        ));
+        let (cx, cv, cw) = columns(row);
+        let cwf = match (&walls, with_walls) {
+            (Some(wl), true) => {
+                let f = &wl[&row.step];
+                (0..wall_count)
+                    .map(|k| {
+                        dot(
+                            [f[3 * k], f[3 * k + 1], f[3 * k + 2]],
+                            [f[3 * k], f[3 * k + 1], f[3 * k + 2]],
+                        )
+                        .sqrt()
+                    })
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
+        theirs.push(geometry.sample(
+            &State {
+                position: &cx,
+                velocity: &cv,
+                spin: &cw,
+            },
+            cwf,
+        ));
+        let dx = (0..n)
+            .filter(|&i| !geometry.fixed[i])
+            .map(|i| {
+                let d = [cx[i][0] - x[i][0], cx[i][1] - x[i][1], cx[i][2] - x[i][2]];
+                dot(d, d).sqrt() / r_min
+            })
+            .fold(0.0, f64::max);
+        state_diff.push(dx);
+        time.push(row.step as f64 * dt);
+    }
+    let window_start = (2 * time.len()) / 3;
+    let window_from = time.get(window_start).copied().unwrap_or(0.0);
+    let mut quantities = Vec::new();
+    quantities.push(QuantityReport {
+        name: "state: max |Δx| / R_min".into(),
+        unit: "1".into(),
+        relative_difference: state_diff.clone(),
+        divergence: agreement::divergence(&time, &state_diff, agreement::IDENTICAL),
+        code: vec![0.0; time.len()],
+        dembound: vec![0.0; time.len()],
+        time: time.clone(),
+        code_window: None,
+        dembound_window: None,
+        window_relative_difference: None,
+        verdict: None,
+    });
+    type Get = fn(&Sample) -> f64;
+    let scalars: [(&str, &str, Get); 5] = [
+        ("kinetic energy", "J", |s| s.kinetic),
+        ("rotational energy", "J", |s| s.rotational),
+        ("potential energy", "J", |s| s.potential),
+        ("contacts (overlaps)", "1", |s| s.contacts),
+        ("bed height", "m", |s| s.bed_height),
+    ];
+    let mut series: Vec<(String, String, Vec<f64>, Vec<f64>)> = scalars
+        .iter()
+        .map(|(name, unit, get)| {
+            (
+                name.to_string(),
+                unit.to_string(),
+                theirs.iter().map(get).collect(),
+                ours.iter().map(get).collect(),
+            )
+        })
+        .collect();
+    if with_walls {
+        for k in 0..wall_count {
+            series.push((
+                format!("wall[{k}] force |F|"),
+                "N".into(),
+                theirs.iter().map(|s| s.walls[k]).collect(),
+                ours.iter().map(|s| s.walls[k]).collect(),
+            ));
+        }
+    }
+    for (name, unit, a, b) in series {
+        quantities.push(quantity(name, unit, &time, a, b, window_start));
+    }
+    let log = std::fs::read_to_string(dir.join(log_name)).ok();
+    let code_speed = log
+        .as_deref()
+        .and_then(scene_dump::loop_time)
+        .map(|(s, p, steps, _)| Speed {
+            seconds: s,
+            cores: p,
+            particle_steps_per_core_second: free as f64 * steps as f64 / s / p as f64,
+        });
+    let report = SceneCompareReport {
+        code: code.into(),
+        deck: dir.to_path_buf(),
+        spheres: n,
+        free_spheres: free,
+        dt,
+        rows: time.len(),
+        window_from,
+        identical_threshold: agreement::IDENTICAL,
+        quantities,
+        code_speed,
+        dembound_speed: Speed {
+            seconds: stepping,
+            cores: threads as u64,
+            particle_steps_per_core_second: free as f64 * sim.steps_done() as f64
+                / stepping.max(1e-12)
+                / threads as f64,
+        },
+    };
+    if let Some(figures) = &args.figures {
+        write_figures(&report, figures).map_err(CliError::failed)?;
+    }
+    let mut stdout = std::io::stdout().lock();
+    if args.json {
+        let text = serde_json::to_string_pretty(&report).map_err(CliError::failed)?;
+        writeln!(stdout, "{text}").map_err(CliError::failed)?;
+    } else {
+        write!(stdout, "{}", text_report(&report)).map_err(CliError::failed)?;
+    }
+    stdout.flush().map_err(CliError::failed)?;
+    Ok(())
+}
+
+/// Positions, velocities and spins, input order.
+type Columns = (Vec<[f64; 3]>, Vec<[f64; 3]>, Vec<[f64; 3]>);
+
+/// A dump row as arrays, input order (no spin column: 0).
+fn columns(row: &DumpRow) -> Columns {
+    (
+        row.spheres.iter().map(|s| s.position).collect(),
+        row.spheres.iter().map(|s| s.velocity).collect(),
+        row.spheres
+            .iter()
+            .map(|s| s.spin.unwrap_or([0.0; 3]))
+            .collect(),
+    )
+}
+
+fn quantity(
+    name: String,
+    unit: String,
+    time: &[f64],
+    code: Vec<f64>,
+    dembound: Vec<f64>,
+    window_start: usize,
+) -> QuantityReport {
+    let scale = code
+        .iter()
+        .chain(&dembound)
+        .map(|v| v.abs())
+        .fold(0.0, f64::max);
+    let relative: Vec<f64> = code
+        .iter()
+        .zip(&dembound)
+        .map(|(a, b)| {
+            if scale > 0.0 {
+                (a - b).abs() / scale
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let cw = agreement::window_mean(&code[window_start..]);
+    let dw = agreement::window_mean(&dembound[window_start..]);
+    let (rel, verdict) = match (&cw, &dw) {
+        (Some(c), Some(d)) => (
+            (d.mean != 0.0).then(|| c.mean / d.mean - 1.0),
+            Some(agreement::verdict(c, d)),
+        ),
+        _ => (None, None),
+    };
+    QuantityReport {
+        divergence: agreement::divergence(time, &relative, agreement::IDENTICAL),
+        name,
+        unit,
+        time: time.to_vec(),
+        code,
+        dembound,
+        relative_difference: relative,
+        code_window: cw,
+        dembound_window: dw,
+        window_relative_difference: rel,
+        verdict,
+    }
+}
+
+fn opt_s(t: Option<f64>) -> String {
+    t.map_or("—".into(), |t| format!("{} s", sig(t, 4)))
+}
+
+fn text_report(r: &SceneCompareReport) -> String {
+    let mut out = format!(
+        "{} (deck {}, {} spheres, {} free) against dembound's run of scene.toml, {} rows, Δt = {} s\n\
+         Relative difference: |{} − dembound| / the largest |value| of the run. Identical: ≤ {:e}.\n\
+         Growth rate λ: fit of ln|Δ| against t from the divergence to the first row ≥ {:e}\n\
+         (chaos: collisions amplify round-off about e^(λt) until the runs are different realisations).\n\n",
+        r.code,
+        r.deck.display(),
+        r.spheres,
+        r.free_spheres,
+        r.rows,
+        sig(r.dt, 6),
+        r.code,
+        r.identical_threshold,
+        agreement::SATURATED
+    );
+    let mut t = Table::new(vec![
+        Column::text("quantity"),
+        Column::text("identical until").right(),
+        Column::text("diverged at").right(),
+        Column::text("λ (1/s)").right(),
+        Column::text("decades/ms").right(),
+    ]);
+    for q in &r.quantities {
+        let d = &q.divergence;
+        t.push(vec![
+            Cell::text(format!("{} ({})", q.name, q.unit)),
+            Cell::text(opt_s(d.identical_until)),
+            Cell::text(opt_s(d.diverged_at)),
+            Cell::text(d.growth_rate.map_or("—".into(), |l| sig(l, 3))),
+            Cell::text(
+                d.growth_rate
+                    .map_or("—".into(), |l| sig(l / std::f64::consts::LN_10 * 1e-3, 3)),
+            ),
+        ]);
+    }
+    out.push_str(&format!("Identical-state agreement:\n{t}\n"));
+    let mut s = Table::new(vec![
+        Column::text("quantity"),
+        Column::text(format!("{} mean ± SE", r.code)).right(),
+        Column::text("dembound mean ± SE").right(),
+        Column::text("ratio − 1").right(),
+        Column::text("verdict"),
+    ]);
+    for q in r.quantities.iter().filter(|q| q.verdict.is_some()) {
+        let show = |w: &Option<WindowMean>| {
+            w.map_or("—".into(), |w| {
+                format!(
+                    "{} ± {} {}",
+                    sig(w.mean, 6),
+                    sig(w.standard_error, 2),
+                    q.unit
+                )
+            })
+        };
+        s.push(vec![
+            Cell::text(q.name.clone()),
+            Cell::text(show(&q.code_window)),
+            Cell::text(show(&q.dembound_window)),
+            Cell::text(
+                q.window_relative_difference
+                    .map_or("—".into(), |d| format!("{:+.2e}", d)),
+            ),
+            Cell::text(q.verdict.map_or("—", |v| v.text())),
+        ]);
+    }
+    out.push_str(&format!(
+        "\nStatistical agreement over the late window (t ≥ {} s, batch means; agree: within 1 % or 2 SE):\n{s}\n",
+        sig(r.window_from, 4)
+    ));
+    let speed = |s: &Speed| {
+        format!(
+            "{} free-sphere steps per core-second ({} s on {} core{})",
+            sig(s.particle_steps_per_core_second, 3),
+            sig(s.seconds, 3),
+            s.cores,
+            if s.cores == 1 { "" } else { "s" }
+        )
+    };
+    out.push_str(&format!(
+        "\nSpeed: {} {}; dembound {} (stepping only)\n",
+        r.code,
+        r.code_speed
+            .as_ref()
+            .map_or("— (no Loop time in its log)".into(), speed),
+        speed(&r.dembound_speed)
+    ));
+    out
+}
+
+/// One figure per quantity (both runs against time) and one of every
+/// relative difference's log10 (a straight rise: exponential growth).
+fn write_figures(r: &SceneCompareReport, dir: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow!("--figures `{}`: cannot create it: {e}", dir.display()))?;
+    let stem = |name: &str| -> String {
+        name.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() {
+                    c.to_ascii_lowercase()
+                } else {
+                    '_'
+                }
+            })
+            .collect::<String>()
+            .split('_')
+            .filter(|w| !w.is_empty())
+            .collect::<Vec<_>>()
+            .join("_")
+    };
+    for q in r
+        .quantities
+        .iter()
+        .filter(|q| q.verdict.is_some() || q.code_window.is_none() && !q.name.starts_with("state"))
+    {
+        let pts = |v: &[f64]| {
+            q.time
+                .iter()
+                .zip(v)
+                .map(|(t, y)| (*t, *y))
+                .collect::<Vec<_>>()
+        };
+        let fig = Figure {
+            title: format!("{}: {} and dembound", q.name, r.code),
+            x_label: "t (s)".into(),
+            y_label: format!("{} ({})", q.name, q.unit),
+            series: vec![
+                Series::new(r.code.clone(), pts(&q.code), Mark::Line, 0),
+                Series::new("dembound", pts(&q.dembound), Mark::Dashed, 1),
+            ],
+            ..Figure::default()
+        };
+        fig.write(&dir.join(stem(&q.name)))?;
+    }
+    let mut fig = Figure {
+        title: format!(
+            "{} against dembound: relative differences (1e-9: identical)",
+            r.code
+        ),
+        x_label: "t (s)".into(),
+        // log10 on a linear axis: the figure module's log axes print
+        // ticks far below the top of the range as "0".
+        y_label: "log10 of the relative difference (1)".into(),
+        legend_outside: true,
+        ..Figure::default()
+    };
+    for (k, q) in r.quantities.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = q
+            .time
+            .iter()
+            .zip(&q.relative_difference)
+            .filter(|(_, d)| **d > 0.0)
+            .map(|(t, d)| (*t, d.log10()))
+            .collect();
+        fig.series
+            .push(Series::new(q.name.clone(), pts, Mark::Line, k));
+    }
+    fig.write(&dir.join("relative_differences"))?;
+    Ok(())
+}

@@ -1,0 +1,286 @@
+//! `dembound compare DECK` on scene decks (issue 32): the divergence
+//! analysis on a series of known exponential growth, LAMMPS's run of
+//! exported decks against dembound's (an independent code integrating the
+//! same model: the same state to 1e-9 until collisions amplify the
+//! round-off), and the refusals of the compare and of the friction export.
+//!
+//! Without `lmp` on PATH the LAMMPS tests fail under CI and skip elsewhere.
+
+mod common;
+
+use common::dembound;
+use common::peer::{export_lammps, lattice_bed, missing, run_lmp, STEEL_PLANE_FLOOR};
+use dembound_export::agreement::{divergence, IDENTICAL};
+use serde_json::Value;
+use std::path::Path;
+
+fn have_lmp() -> bool {
+    !missing("lmp", "lammps", "the scene compare")
+}
+
+/// Δ(t) = Δ₀ e^(λ t) sampled every `dt`, then a plateau at 0.1 (the runs
+/// decorrelated): the first row above 1e-9 is the first k with
+/// Δ₀ e^(λ k dt) > 1e-9, computed here in closed form, and the fit of
+/// ln Δ over the rows from there to the first row ≥ 1e-2 is a straight
+/// line of slope λ, so it returns λ to round-off (1e-9 relative allows
+/// for the sums of the least-squares fit over ~40 rows).
+#[test]
+fn divergence_of_a_known_exponential_is_exact() {
+    let (d0, lambda, dt) = (1e-12f64, 2345.0f64, 3e-5f64);
+    let time: Vec<f64> = (0..400).map(|k| k as f64 * dt).collect();
+    let delta: Vec<f64> = time
+        .iter()
+        .map(|t| (d0 * (lambda * t).exp()).min(0.1))
+        .collect();
+    let d = divergence(&time, &delta, IDENTICAL);
+    // ln(1e-9/Δ₀)/λ = ln(1e3)/2345 = 2.9457e-3 s: between rows 98 and 99.
+    let crossing = (IDENTICAL / d0).ln() / lambda / dt;
+    let first = crossing.floor() as usize + 1;
+    assert_eq!(first, 99);
+    assert_eq!(d.diverged_at, Some(time[first]));
+    assert_eq!(d.identical_until, Some(time[first - 1]));
+    let rate = d.growth_rate.expect("a fit");
+    assert!((rate / lambda - 1.0).abs() < 1e-9, "λ = {rate}");
+    // The fit runs from row 99 to the first row ≥ 1e-2 (ln(1e10)/λ =
+    // 9.819e-3 s: row 328, before the plateau starts at row 360).
+    let saturated = (0..400).find(|&k| delta[k] >= 1e-2).expect("saturates");
+    assert_eq!(saturated, 328);
+    assert_eq!(d.fit_rows, saturated - first + 1);
+    // Never above the threshold: identical to the last row.
+    let flat = divergence(&time, &vec![1e-12; 400], IDENTICAL);
+    assert_eq!(flat.diverged_at, None);
+    assert_eq!(flat.identical_until, Some(time[399]));
+}
+
+/// Exports `text` (extra `--set`s `sets`), runs LAMMPS on it and `dembound
+/// compare --json --figures`; the report.
+fn lammps_compare(dir: &Path, text: &str, sets: &[&str]) -> Value {
+    let scene = dir.join("bed.toml");
+    std::fs::write(&scene, text).expect("written");
+    let deck = dir.join("deck");
+    export_lammps(&scene, sets, &deck, "bed");
+    run_lmp(&deck, "bed");
+    let out = dembound()
+        .arg("compare")
+        .arg(&deck)
+        .arg("--json")
+        .arg("--figures")
+        .arg(dir.join("figures"))
+        .output()
+        .expect("dembound runs");
+    assert!(
+        out.status.success(),
+        "compare failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+fn quantity<'a>(report: &'a Value, name: &str) -> &'a Value {
+    report["quantities"]
+        .as_array()
+        .expect("quantities")
+        .iter()
+        .find(|q| q["name"].as_str().is_some_and(|n| n.starts_with(name)))
+        .unwrap_or_else(|| panic!("no quantity {name}"))
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("an array")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
+
+/// The frictionless elastic bed of 384 spheres thrown at a steel plane
+/// floor (Hertz, the same model in both codes) over 400 steps, rows every
+/// 20: LAMMPS's dump and dembound's run are the same state to 1e-9 at every
+/// row (round-off, ~1e-16 per step in another summation order, stays
+/// orders of magnitude below in 400 steps: the README measured 3e-13 in the
+/// kinetic energy after 1000), in every quantity the compare reports; and
+/// the test is not vacuous: the bed hits the floor (overlaps > 0, the
+/// floor's force > 0) and the kinetic energy changes by more than 1e-3.
+#[test]
+fn lammps_run_of_a_small_bed_is_the_same_state_to_1e_9() {
+    if !have_lmp() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let text = lattice_bed(
+        "law = \"hertz\"",
+        "[0.0, 0.0, -0.1]",
+        STEEL_PLANE_FLOOR,
+        400,
+        "[output]\nseries_every = 20\n",
+    );
+    let report = lammps_compare(dir.path(), &text, &[]);
+    assert_eq!(report["code"], "LAMMPS");
+    assert_eq!(report["rows"], 21);
+    for q in report["quantities"].as_array().expect("quantities") {
+        let rel = numbers(&q["relative_difference"]);
+        let worst = rel.iter().cloned().fold(0.0, f64::max);
+        assert!(worst <= IDENTICAL, "{}: {worst:e}", q["name"]);
+        assert!(q["divergence"]["diverged_at"].is_null(), "{}", q["name"]);
+    }
+    let contacts = numbers(&quantity(&report, "contacts")["code"]);
+    assert!(
+        contacts.iter().any(|c| *c > 0.0),
+        "no contact: {contacts:?}"
+    );
+    let floor = numbers(&quantity(&report, "wall[0]")["dembound"]);
+    assert!(floor.iter().any(|f| *f > 0.0));
+    let ke = numbers(&quantity(&report, "kinetic energy")["dembound"]);
+    assert!((ke[ke.len() - 1] / ke[0] - 1.0).abs() > 1e-3, "{ke:?}");
+    // A figure per quantity and the differences, as SVG and PNG.
+    for stem in ["kinetic_energy", "bed_height", "relative_differences"] {
+        assert!(dir
+            .path()
+            .join("figures")
+            .join(format!("{stem}.png"))
+            .is_file());
+        assert!(dir
+            .path()
+            .join("figures")
+            .join(format!("{stem}.svg"))
+            .is_file());
+    }
+}
+
+/// Damped friction exports under `contact.tangential_damping = false`
+/// (Hertz–Tsuji e = 0.5, Mindlin μ = 0.5): thrown sideways at a steel
+/// plane, the bottom layer slides on the floor with its springs loaded
+/// for the first 50 steps (0.1 ms) before any two spheres touch; only
+/// sphere–plane contacts act, which both codes compute with the same
+/// formulas (torque arm R), so the states agree to 1e-9 (round-off over
+/// 50 steps is ~1e-14) while the spins are not zero (the rotational
+/// energy grows: the friction acts).
+#[test]
+fn damped_friction_without_the_tangential_dashpot_agrees_with_lammps() {
+    if !have_lmp() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let text = lattice_bed(
+        "law = \"hertz\"\ndamping = \"tsuji\"\nrestitution = 0.5\nfriction = 0.5\ntangential_damping = false",
+        "[0.03, 0.02, -0.1]",
+        STEEL_PLANE_FLOOR,
+        50,
+        "[output]\nseries_every = 5\n",
+    );
+    let report = lammps_compare(dir.path(), &text, &[]);
+    let state = quantity(&report, "state");
+    let worst = numbers(&state["relative_difference"])
+        .into_iter()
+        .fold(0.0, f64::max);
+    assert!(worst <= IDENTICAL, "positions differ by {worst:e} R");
+    let spin = numbers(&quantity(&report, "rotational energy")["dembound"]);
+    assert!(spin[spin.len() - 1] > 0.0, "no spin: {spin:?}");
+    let rel = numbers(&quantity(&report, "rotational energy")["relative_difference"]);
+    assert!(rel.iter().all(|d| *d <= IDENTICAL), "{rel:?}");
+}
+
+fn fails_with(args: &[&std::ffi::OsStr], words: &[&str]) {
+    let out = dembound().args(args).output().expect("dembound runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    for w in words {
+        assert!(err.contains(w), "{args:?}: `{w}` not in {err}");
+    }
+}
+
+/// A scene deck not run yet, a dump of another scene, a deck with neither
+/// input file: exit 2, saying what is wrong and what to do.
+#[test]
+fn compare_refusals_say_what_is_missing() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let scene = dir.path().join("bed.toml");
+    std::fs::write(
+        &scene,
+        lattice_bed(
+            "law = \"hertz\"",
+            "[0.0, 0.0, -0.1]",
+            STEEL_PLANE_FLOOR,
+            10,
+            "",
+        ),
+    )
+    .expect("written");
+    let deck = dir.path().join("deck");
+    export_lammps(&scene, &[] as &[&str], &deck, "bed");
+    let compare = |d: &Path| {
+        vec![
+            std::ffi::OsString::from("compare"),
+            d.as_os_str().to_owned(),
+        ]
+    };
+    let args = compare(&deck);
+    let refs: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+    fails_with(&refs, &["particles.dump", "lmp -in in.lammps"]);
+    // A dump of one sphere: not this deck's run.
+    std::fs::write(
+        deck.join("particles.dump"),
+        "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS mm mm mm\n0 1\n0 1\n0 1\n\
+         ITEM: ATOMS id x y z vx vy vz\n1 0 0 0 0 0 0\n",
+    )
+    .expect("written");
+    fails_with(&refs, &["1 spheres", "384", "not this deck's run"]);
+    // scene.toml alone.
+    std::fs::remove_file(deck.join("in.lammps")).expect("removed");
+    fails_with(&refs, &["neither in.lammps nor in.liggghts"]);
+}
+
+/// The friction export's refusals touched by issue 32 name the key and
+/// LAMMPS, exit 2, and leave no deck: damping with friction and the
+/// tangential dashpot on (the way out, `contact.tangential_damping =
+/// false`, named too), and rolling friction with damping.
+#[test]
+fn friction_export_refusals_name_the_key_and_lammps() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let scene = dir.path().join("bed.toml");
+    std::fs::write(
+        &scene,
+        lattice_bed(
+            "law = \"hertz\"\nfriction = 0.5",
+            "[0.0, 0.0, -0.1]",
+            STEEL_PLANE_FLOOR,
+            10,
+            "",
+        ),
+    )
+    .expect("written");
+    let out = dir.path().join("deck");
+    let cases: [(&[&str], &[&str]); 2] = [
+        (
+            &["contact.damping=tsuji", "contact.restitution=0.5"],
+            &[
+                "contact.damping",
+                "LAMMPS",
+                "contact.tangential_damping = false",
+            ],
+        ),
+        (
+            &[
+                "contact.law={hooke=50.0}",
+                "contact.damping=viscous",
+                "contact.restitution=0.5",
+                "contact.tangential_damping=false",
+                "contact.rolling_friction=0.1",
+            ],
+            &["rolling friction", "contact.damping", "LAMMPS"],
+        ),
+    ];
+    for (sets, words) in cases {
+        let mut args: Vec<std::ffi::OsString> =
+            vec!["export".into(), "lammps".into(), scene.clone().into()];
+        for s in sets {
+            args.push("--set".into());
+            args.push((*s).into());
+        }
+        args.push("--out".into());
+        args.push(out.clone().into());
+        let refs: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+        fails_with(&refs, words);
+        assert!(!out.join("in.lammps").exists());
+    }
+}
