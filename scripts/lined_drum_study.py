@@ -6,6 +6,7 @@ against the same drum with a smooth (μ = 0) and a frictional (μ = 0.5)
 STL mantle.
 
     lined_drum_study.py [--fr 1e-2] [--steps 120000] [--from 0.62]
+                        [--series-every 1000] [--snapshot-every 10000]
                         [--keep DIR] [--png-dir DIR] [--threads 1]
                         [--cases stl-0.5 stl-0 r0.5 r1 r2]
 
@@ -41,13 +42,14 @@ ROOT = Path(__file__).resolve().parent.parent
 SCENES = ROOT / "examples/scenes"
 sys.path.insert(0, str(ROOT / "scripts"))
 import drum_angle  # noqa: E402
+import numpy as np  # noqa: E402
 
 G = 9.81  # m/s²
 RADIUS = 0.028  # m
 CASES = ["stl-0.5", "stl-0", "r0.5", "r1", "r2"]
 
 
-def scene_text(case, omega, steps, series_every):
+def scene_text(case, omega, steps, series_every, snapshot_every):
     """The scene of `case` (module doc) from lined_drum.toml, paths absolute."""
     text = (SCENES / "lined_drum.toml").read_text()
     start = text.index("# The lining: fixed spheres")
@@ -72,6 +74,7 @@ def scene_text(case, omega, steps, series_every):
     text = text.replace("[0.0, 1.8718, 0.0]", f"[0.0, {omega!r}, 0.0]")
     text = text.replace("steps = 120000", f"steps = {steps}")
     text = text.replace("series_every = 10000", f"series_every = {series_every}")
+    text = text.replace("every = 10000 ", f"every = {snapshot_every} ")
     return text
 
 
@@ -87,17 +90,49 @@ def torque_and_power(series_path, t_from, omega):
     return torque, (w1 - w0) / (t1 - t0) / omega
 
 
+def surfaces(path, profiles, fr, t_from):
+    """Every case's time-averaged free surface and fitted line in one picture."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = {"stl-0.5": "STL mantle, μ = 0.5", "stl-0": "STL mantle, μ = 0 (smooth)",
+             "r0.5": "lining r = 0.5", "r1": "lining r = 1", "r2": "lining r = 2"}
+    fig, ax = plt.subplots(figsize=(7.0, 5.0))
+    for k, (case, centres, mean, icpt, b, angle) in enumerate(profiles):
+        ok = np.isfinite(mean)
+        style = "-" if case.startswith("stl") else "--"
+        ax.plot(1e3 * centres[ok], 1e3 * mean[ok], "o", ms=3, color=f"C{k}")
+        xs = np.array([-0.5 * RADIUS, 0.5 * RADIUS])
+        ax.plot(1e3 * xs, 1e3 * (icpt + b * xs), style, color=f"C{k}",
+                label=f"{names.get(case, case)}: {angle:.1f}°")
+    t = np.linspace(math.pi, 2 * math.pi, 200)
+    ax.plot(1e3 * RADIUS * np.cos(t), 1e3 * RADIUS * np.sin(t), "k-", lw=1, label="drum, R = 28 mm")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("mean free-surface height z (mm)")
+    ax.set_title(f"lined drum, Fr = {fr:g}: surfaces averaged over t ≥ {t_from} s")
+    ax.legend(fontsize=8)
+    ax.set_aspect("equal")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--fr", type=float, default=1e-2)
     p.add_argument("--steps", type=int, default=120000)
     p.add_argument("--from", dest="t_from", type=float, default=0.62)
     p.add_argument("--series-every", type=int, default=1000)
+    p.add_argument("--snapshot-every", type=int, default=10000)
     p.add_argument("--dembound", default=str(ROOT / "target/release/dembound"))
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--keep")
     p.add_argument("--png-dir")
     p.add_argument("--cases", nargs="+", default=CASES, choices=CASES)
+    p.add_argument("--reuse", action="store_true",
+                   help="measure the runs already under --keep instead of running them")
     a = p.parse_args()
     subprocess.run([sys.executable, str(SCENES / "make_lined_drum.py")], check=True,
                    capture_output=True)
@@ -105,19 +140,26 @@ def main():
     base = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="lined-drum-"))
     base.mkdir(parents=True, exist_ok=True)
     results = []
+    profiles = []
     for case in a.cases:
         d = base / case
         d.mkdir(exist_ok=True)
-        (d / "scene.toml").write_text(scene_text(case, omega, a.steps, a.series_every))
         t0 = time.monotonic()
-        done = subprocess.run(
-            [a.dembound, "scene", str(d / "scene.toml"), "--threads", str(a.threads),
-             "--json", "-q", "--out", str(d / "run")],
-            capture_output=True, text=True)
+        if a.reuse:
+            kept = d / "summary.json"
+            summary = json.loads(kept.read_text()) if kept.exists() else {}
+        else:
+            (d / "scene.toml").write_text(
+                scene_text(case, omega, a.steps, a.series_every, a.snapshot_every))
+            done = subprocess.run(
+                [a.dembound, "scene", str(d / "scene.toml"), "--threads", str(a.threads),
+                 "--json", "-q", "--out", str(d / "run")],
+                capture_output=True, text=True)
+            if done.returncode != 0:
+                sys.exit(f"{case}: {done.stderr[-3000:]}")
+            (d / "summary.json").write_text(done.stdout)
+            summary = json.loads(done.stdout)
         seconds = time.monotonic() - t0
-        if done.returncode != 0:
-            sys.exit(f"{case}: {done.stderr[-3000:]}")
-        summary = json.loads(done.stdout)
         frames = drum_angle.dembound_frames(d / "run")
         angle, b, icpt, centres, mean, fit, used = drum_angle.measure(
             frames, a.t_from, drum_angle.DRUM_RADIUS, drum_angle.DRUM_LENGTH)
@@ -128,12 +170,15 @@ def main():
             drum_angle.picture(Path(a.png_dir) / f"lined_drum_{case}.png", frames[-1],
                                drum_angle.DRUM_RADIUS, drum_angle.DRUM_LENGTH, centres, mean,
                                fit, icpt, b, angle, f"{case}, Fr = {a.fr:g}, t = {frames[-1][0]:.2f} s")
+        profiles.append((case, centres, mean, icpt, b, angle))
         r = {"case": case, "angle_deg": angle, "frame_spread_deg": float(spread.std()),
              "torque_N_m": torque, "torque_from_work_N_m": from_work, "seconds": seconds,
-             "drift_relative": summary["energy_balance"]["drift_relative"],
+             "drift_relative": summary.get("energy_balance", {}).get("drift_relative"),
              "snapshots": len(used)}
         results.append(r)
         print(json.dumps(r), flush=True)
+    if a.png_dir:
+        surfaces(Path(a.png_dir) / "lined_drum_surfaces.png", profiles, a.fr, a.t_from)
     ref = {r["case"]: r for r in results}
     wall = ref.get("stl-0.5")
     print(f"\nFr = {a.fr:g}, ω = {omega:.4f} rad/s, {a.steps} steps of 10 µs, window t ≥ {a.t_from} s\n")

@@ -711,4 +711,26 @@ fn a_gate_opening_one_two_three_ranks_and_restart() {
             );
         }
     }
+/// A moving group of fixed spheres (issue 27, `pipeline::moving_groups`)
+/// is not run under MPI yet: the particle floor of
+/// examples/scenes/bed_particle_floor.toml given a motion is refused on 2
+/// ranks with one message naming `wall[0].motion`, exit 2, no output.
+#[test]
+fn a_moving_group_is_refused_under_mpi_naming_the_key() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let out = tmp.path().join("never");
+    let o = mpirun_scene(2, &[], "bed_particle_floor.toml")
+        .args(["--set", "wall.0.motion.velocity=[0.01,0.0,0.0]"])
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.to_lowercase().matches("error: ").count(), 1, "{err}");
+    assert!(
+        err.contains("wall[0].motion") && err.contains("MPI"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }

@@ -307,6 +307,19 @@ pub fn write_collisions(
 mod tests {
     use super::*;
 
+    /// A moving group's columns: its motion as a wall's, renamed, then
+    /// its force and torque.
+    #[test]
+    fn group_columns_follow_the_motion_columns() {
+        let c = group_columns(2);
+        assert_eq!(c.len(), 16);
+        assert_eq!(c[0], "particles2_position_x_m");
+        assert_eq!(c[3], "particles2_angle_rad");
+        assert_eq!(c[9], "particles2_angular_velocity_z_rad_s");
+        assert_eq!(c[10], "particles2_force_x_N");
+        assert_eq!(c[15], "particles2_torque_z_N_m");
+    }
+
     #[test]
     fn header_has_force_then_torque_triples_per_wall_and_rows_follow() {
         let o = Observation {

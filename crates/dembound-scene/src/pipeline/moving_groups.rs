@@ -372,3 +372,101 @@ impl World {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::{DomainSetup, GroupMotion, RunLength, SceneSetup, SphereInit, TimeStep};
+    use dembound_physics::contact::{ContactModel, NormalLaw};
+
+    fn setup(fixed: [bool; 3]) -> SceneSetup {
+        let mut s = SceneSetup::new(
+            DomainSetup {
+                lower: [-1.0; 3],
+                upper: [1.0; 3],
+                periodic: [false; 3],
+            },
+            ContactModel::elastic(NormalLaw::Hertz),
+            TimeStep::Fixed(1e-6),
+            RunLength::Steps(1),
+        );
+        for (k, f) in fixed.into_iter().enumerate() {
+            s.spheres.push(SphereInit {
+                position: [0.1 * k as f64, 0.3, 0.0],
+                velocity: [0.0; 3],
+                radius: 0.01,
+                material: 0,
+                fixed: f,
+                group: None,
+            });
+        }
+        s
+    }
+
+    fn turning(group: usize, spheres: Range<usize>) -> GroupMotion {
+        GroupMotion {
+            group,
+            spheres,
+            motion: WallMotion {
+                velocity: [0.0; 3],
+                angular_velocity: [0.0, 0.0, 1.0],
+                center: [0.0; 3],
+                start: 0.0,
+                end: f64::INFINITY,
+                oscillation: None,
+            },
+        }
+    }
+
+    /// The reach is the farthest sphere from the centre (by hand:
+    /// |(0.2, 0.3, 0)| = √0.13), and the drive keeps the positions.
+    #[test]
+    fn a_drive_reaches_its_farthest_sphere() {
+        let mut s = setup([false, true, true]);
+        s.group_motions.push(turning(1, 1..3));
+        let d = drives(&s, &[]).unwrap();
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].ids, 1..3);
+        assert_eq!(d[0].particles, Some(1));
+        let reach = 0.13f64.sqrt();
+        assert!(
+            (d[0].reach - reach).abs() <= 2e-12 * reach,
+            "{}",
+            d[0].reach
+        );
+        assert_eq!(d[0].reference[1], [0.2, 0.3, 0.0]);
+    }
+
+    /// A group with a free sphere, out of range, sharing spheres with
+    /// another, or in a periodic domain is refused naming its key.
+    #[test]
+    fn bad_groups_are_refused_naming_the_key() {
+        let mut s = setup([false, true, true]);
+        s.group_motions.push(turning(0, 0..2));
+        let e = drives(&s, &[]).unwrap_err().to_string();
+        assert!(
+            e.contains("particles[0].motion") && e.contains("free sphere"),
+            "{e}"
+        );
+        let mut s = setup([true, true, true]);
+        s.group_motions.push(turning(2, 1..5));
+        let e = drives(&s, &[]).unwrap_err().to_string();
+        assert!(e.contains("particles[2].motion"), "{e}");
+        let mut s = setup([true, true, true]);
+        s.group_motions.push(turning(1, 0..2));
+        s.group_motions.push(turning(2, 1..3));
+        let e = drives(&s, &[]).unwrap_err().to_string();
+        assert!(
+            e.contains("particles[2].motion") && e.contains("particles[1]"),
+            "{e}"
+        );
+        let mut s = setup([true, true, true]);
+        s.domain.periodic = [false, true, false];
+        s.group_motions.push(turning(1, 0..3));
+        let e = drives(&s, &[]).unwrap_err().to_string();
+        assert!(
+            e.contains("particles[1].motion") && e.contains("periodic"),
+            "{e}"
+        );
+    }
+}
