@@ -711,6 +711,8 @@ fn a_gate_opening_one_two_three_ranks_and_restart() {
             );
         }
     }
+}
+
 /// A moving group of fixed spheres (issue 27, `pipeline::moving_groups`)
 /// is not run under MPI yet: the particle floor of
 /// examples/scenes/bed_particle_floor.toml given a motion is refused on 2
