@@ -111,6 +111,7 @@ mod tests {
             removed: None,
             wall_motions: Vec::new(),
             outlets: vec![OutletRemoved { count: 0, mass }],
+            inlets: Vec::new(),
         }
     }
 

@@ -90,6 +90,11 @@ pub struct Observation {
     /// outlets).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<crate::removal::OutletRemoved>,
+    /// What each inlet inserted since t = 0 (file order; empty without
+    /// inlets, `crate::inlets`). The dissipated energy is then
+    /// E₀ + W − C + I − (K + E + P), I the energy they brought in.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inlets: Vec<crate::inlets::Inserted>,
 }
 
 /// A running scene.

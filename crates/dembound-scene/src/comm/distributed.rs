@@ -146,6 +146,7 @@ pub(crate) struct RankComm<T: Transport> {
 
 /// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
+    crate::inlets::refuse_under_mpi(&setup.inlets)?;
     if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
     {
         return Err(SceneError::invalid(

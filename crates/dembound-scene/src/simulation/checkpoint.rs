@@ -127,6 +127,7 @@ impl Simulation {
         let mut sim = Self::prepare(&setup, threads)?;
         let c = checkpoint;
         c.fingerprint.check(&sim.fingerprint)?;
+        crate::inlets::refuse_restart(&setup.inlets)?;
         // The scene's bodies (input order), less those the run removed.
         let all = sim.world.bodies.len();
         let removed = match (c.removed, sim.world.removal.as_deref_mut()) {
