@@ -45,8 +45,8 @@ fn no_inserted_sphere_overlaps_anything_over_1e5_insertions() {
         assert_eq!(placed.len() as u64 + missed, 100);
         for (i, &(x, r)) in placed.iter().enumerate() {
             assert!((0.002..=0.004).contains(&r));
-            for a in 0..3 {
-                assert!(x[a] - r >= 0.0 && x[a] + r <= 0.2, "outside the region");
+            for c in x {
+                assert!(c - r >= 0.0 && c + r <= 0.2, "outside the region");
             }
             assert!(x[2] - plane_z >= r, "in the plane");
             let others = obstacles.iter().chain(&placed[..i]);
