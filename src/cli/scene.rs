@@ -197,6 +197,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         deleted_particles: last.removed.map(|r| r.particles),
         deleted_mass: last.removed.map(|r| r.mass),
         outlets: dembound_scene::outlets::outlet_reports(&rows),
+        inlets: last.inlets.iter().map(|&i| i.into()).collect(),
         energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
@@ -222,6 +223,23 @@ pub fn run(args: &SceneArgs) -> CliResult {
             .then(|| sim.collisions().iter().map(CollisionRow::from).collect()),
     };
 
+    // Spheres an inlet could not place are reported, not silently lost.
+    let not_placed: Vec<String> = report
+        .inlets
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| i.not_placed > 0)
+        .map(|(k, i)| {
+            format!(
+                "inlet[{k}]: {} of the {} spheres due found no free place in the region \
+                 (inlet[{k}].max_attempts centres each): the region is full or too small \
+                 for the rate",
+                i.not_placed,
+                i.not_placed + i.inserted
+            )
+        })
+        .collect();
+    super::warnings::print(&not_placed);
     let written = match out {
         Some(out) => Some(finish_outputs(out, &resolved, &sim, &rows, &snapshots)?),
         None => None,
@@ -355,6 +373,10 @@ pub(super) struct Report {
     /// absent without outlets).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub(super) outlets: Vec<dembound_scene::outlets::OutletReport>,
+    /// What each inlet inserted (`[[inlet]]`: `inserted`, `mass` in kg,
+    /// `not_placed`); absent without inlets.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) inlets: Vec<dembound_scene::inlets::InletReport>,
     /// The balance K + E + P + D against the start, and the largest energy
     /// gain the guard saw (`dembound_scene::energy_guard`).
     pub(super) energy_balance: EnergyBalance,

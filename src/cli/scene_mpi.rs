@@ -297,6 +297,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         deleted_particles: last.removed.map(|r| r.particles),
         deleted_mass: last.removed.map(|r| r.mass),
         outlets: dembound_scene::outlets::outlet_reports(&rows),
+        inlets: Vec::new(),
         energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,

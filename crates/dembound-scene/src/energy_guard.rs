@@ -78,6 +78,10 @@ pub struct EnergyBalance {
     /// K + E + P + D − W + C + G.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gate_energy: Option<f64>,
+    /// I: the energy the inserted spheres brought in, J (`crate::inlets`;
+    /// absent without inlets); `total` is then K + E + P + D − W + C (+ G) − I.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub brought_in_energy: Option<f64>,
     /// The guard's scale: the largest K + E + |P − P₀| + |D| seen, J.
     pub scale: f64,
     /// The largest energy gained (−D) at any check, J (0: never).
@@ -152,7 +156,9 @@ impl EnergyGuard {
             None => carried,
             Some(g) => carried + g.abs(),
         };
-        let finite = [k, e, p, d, initial, work, carried]
+        // The energy the inserted spheres brought in (`crate::inlets`).
+        let brought = crate::inlets::brought_in(o);
+        let finite = [k, e, p, d, initial, work, carried, brought.unwrap_or(0.0)]
             .iter()
             .all(|x| x.is_finite());
         if finite {
@@ -169,11 +175,21 @@ impl EnergyGuard {
                 None => scale,
                 Some(g) => scale + g.abs(),
             };
+            let scale = match brought {
+                None => scale,
+                Some(i) => scale + i.abs(),
+            };
             self.scale = self.scale.max(scale);
         }
         let gain = -d;
         let allowed = MAX_ENERGY_GAIN * self.scale
-            + ROUNDING * (k + e + p.abs() + initial.abs() + work.abs() + carried.abs());
+            + ROUNDING
+                * (k + e
+                    + p.abs()
+                    + initial.abs()
+                    + work.abs()
+                    + carried.abs()
+                    + brought.map_or(0.0, f64::abs));
         if finite && gain > self.drift {
             self.drift = gain;
         }
@@ -252,10 +268,12 @@ impl EnergyGuard {
                         - w.unwrap_or(0.0)
                         + r.energy
                 } // (−0.0 adds nothing to any sum, −0.0 included.)
-            } + o.gate_energy.unwrap_or(-0.0),
+            } + o.gate_energy.unwrap_or(-0.0)
+                - crate::inlets::brought_in(o).unwrap_or(0.0),
             work_by_walls: o.work_by_walls,
             carried_out_energy: o.removed.map(|r| r.energy),
             gate_energy: o.gate_energy,
+            brought_in_energy: crate::inlets::brought_in(o),
             scale: self.scale,
             drift: self.drift,
             drift_relative: self.drift_relative,

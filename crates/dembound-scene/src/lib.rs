@@ -22,6 +22,7 @@ pub mod energy_guard;
 pub mod error;
 pub mod fingerprint;
 pub mod geometry;
+pub mod inlets;
 pub mod io;
 pub mod limits;
 pub mod outlets;

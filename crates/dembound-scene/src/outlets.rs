@@ -113,6 +113,7 @@ mod tests {
             group_motions: Vec::new(),
             outlets: vec![OutletRemoved { count: 0, mass }],
             gate_energy: None,
+            inlets: Vec::new(),
         }
     }
 

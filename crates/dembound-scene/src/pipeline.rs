@@ -107,6 +107,8 @@ pub struct World {
     /// The walls that appear and vanish (issue 28, `walls::gate`); `None`
     /// when every wall acts always.
     pub gates: Option<Box<crate::walls::gate::Gates>>,
+    /// The inlets (`[[inlet]]`, `crate::inlets`); `None` without.
+    pub inlets: Option<Box<crate::inlets::Inlets>>,
 }
 
 impl World {
@@ -179,10 +181,12 @@ impl StepHooks for Local {
         moved2
     }
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
-        if world.removal.is_some() {
-            // The pair state by input ids first: removal resizes the bodies.
+        if world.removal.is_some() || world.inlets.is_some() {
+            // The pair state by input ids first: removal and insertion
+            // resize the bodies.
             let saved = save_pairs(world);
             crate::removal::remove_lost(world);
+            crate::inlets::insert_due(world);
             pipeline.rebuild(world, workers, saved);
         } else {
             pipeline.neighbours(world, workers);

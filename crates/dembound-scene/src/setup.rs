@@ -38,6 +38,9 @@ pub struct SceneSetup {
     /// The outlets (`[[outlet]]`, issue 28; `crate::removal`): boxes that
     /// remove the free spheres whose centres enter them.
     pub outlets: Vec<crate::removal::OutletBox>,
+    /// The inlets (`[[inlet]]`, issue 28; `crate::inlets`): regions that
+    /// insert spheres during the run.
+    pub inlets: Vec<crate::inlets::InletSetup>,
     /// The prescribed motion of each wall in file order (issue 27,
     /// `walls::motion`); missing entries or `None`: fixed. Empty when no
     /// wall moves.
@@ -267,6 +270,7 @@ impl SceneSetup {
             friction: None,
             outside: Outside::Error,
             outlets: Vec::new(),
+            inlets: Vec::new(),
             wall_motions: Vec::new(),
             wall_servos: Vec::new(),
             wall_active: Vec::new(),

@@ -100,6 +100,11 @@ pub struct Observation {
     /// energy is then E₀ + W − C − G − (K + E + P).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gate_energy: Option<f64>,
+    /// What each inlet inserted since t = 0 (file order; empty without
+    /// inlets, `crate::inlets`). The dissipated energy is then
+    /// E₀ + W − C + I − (K + E + P), I the energy they brought in.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inlets: Vec<crate::inlets::Inserted>,
 }
 
 /// A running scene.

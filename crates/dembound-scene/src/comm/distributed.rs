@@ -166,6 +166,7 @@ fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
              spheres); run without mpirun, on threads",
         ));
     }
+    crate::inlets::refuse_under_mpi(&setup.inlets)?;
     if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
     {
         return Err(SceneError::invalid(

@@ -105,6 +105,11 @@ impl LawTable {
         table
     }
 
+    /// Body classes of the tables (0: laws computed per contact).
+    pub(crate) fn classes(&self) -> usize {
+        self.classes
+    }
+
     fn compute_pair(
         &self,
         ra: f64,

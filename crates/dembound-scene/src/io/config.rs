@@ -10,6 +10,7 @@
 
 pub(crate) mod checks;
 mod contact;
+mod inlets;
 mod integration;
 mod outlets;
 mod overrides;
@@ -17,6 +18,7 @@ mod particles;
 mod walls;
 
 pub use contact::{ContactSection, Law};
+pub use inlets::{InletRegionSection, InletSection, RateSection, SizeSection};
 pub use integration::{
     IntegrationSection, MotionSection, OutputSection, ParallelSection, Scheme, MAX_STEPS,
 };
@@ -57,6 +59,10 @@ pub struct SceneFile {
     /// spheres entering them.
     #[serde(default, rename = "outlet", skip_serializing_if = "Vec::is_empty")]
     pub outlets: Vec<OutletSection>,
+    /// `[[inlet]]` (addition, issue 28): regions that insert spheres
+    /// during the run (`crate::inlets`).
+    #[serde(default, rename = "inlet", skip_serializing_if = "Vec::is_empty")]
+    pub inlets: Vec<InletSection>,
 }
 
 /// `[domain]`: the box, m.
@@ -183,10 +189,10 @@ impl SceneFile {
         }
         self.validate_contact()?;
         check(
-            particles == Particles::Later || !self.particles.is_empty(),
+            particles == Particles::Later || !self.particles.is_empty() || !self.inlets.is_empty(),
             "particles",
             "none",
-            "at least one [[particles]] group",
+            "at least one [[particles]] group (or an [[inlet]])",
         )?;
         for (i, p) in self.particles.iter().enumerate() {
             self.validate_particles(i, p)?;
@@ -195,6 +201,7 @@ impl SceneFile {
             self.validate_wall(i, w)?;
         }
         self.validate_outlets()?;
+        self.validate_inlets()?;
         self.validate_motion()?;
         self.validate_integration()?;
         self.validate_output()?;

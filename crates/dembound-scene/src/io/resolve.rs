@@ -244,6 +244,18 @@ pub fn resolve_with(
             Some(OutsideName::Delete) => Outside::Delete,
         },
         outlets: file.outlets.iter().map(|o| o.outlet_box()).collect(),
+        // The file's materials come first, in file order.
+        inlets: (0..file.inlets.len())
+            .map(|i| {
+                let name = &file.inlets[i].material;
+                let m = file
+                    .materials
+                    .iter()
+                    .position(|m| m.name == *name)
+                    .unwrap_or(0);
+                file.inlet_setup(i, m)
+            })
+            .collect(),
         wall_motions: if wall_motions.iter().any(Option::is_some) {
             wall_motions
         } else {

@@ -191,6 +191,14 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
     for k in 0..outlets {
         header.extend(crate::outlets::outlet_columns(k));
     }
+    // The inlets' columns (`crate::inlets`), only when there are any.
+    let inlets = rows.first().map_or(0, |o| o.inlets.len());
+    for k in 0..inlets {
+        header.extend(crate::inlets::inlet_columns(k));
+    }
+    if inlets > 0 {
+        header.push(crate::inlets::BROUGHT_IN_COLUMN.to_string());
+    }
     out.write_record(header)?;
     for (i, o) in rows.iter().enumerate() {
         let mut cells = series_cells(o);
@@ -201,6 +209,13 @@ pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> cs
                 Cell::Value(r.mass),
                 Cell::Value(crate::outlets::rate_at(rows, i, k)),
             ]);
+        }
+        for k in 0..inlets {
+            let r = o.inlets.get(k).copied().unwrap_or_default();
+            cells.extend([Cell::Count(r.count), Cell::Value(r.mass)]);
+        }
+        if inlets > 0 {
+            cells.push(Cell::Value(o.inlets.iter().map(|r| r.energy).sum()));
         }
         let record = cells.into_iter().map(|c| match c {
             Cell::Count(n) => n.to_string(),
@@ -339,6 +354,7 @@ mod tests {
             group_motions: Vec::new(),
             outlets: Vec::new(),
             gate_energy: None,
+            inlets: Vec::new(),
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();

@@ -165,6 +165,14 @@ impl World {
     /// spheres' budget (module doc); half the skin when no wall moves.
     pub fn rebuild_budget(&self) -> f64 {
         let half = 0.5 * self.skin;
+        // An insertion event rebuilds the lists at its step (`crate::inlets`).
+        if self
+            .inlets
+            .as_ref()
+            .is_some_and(|i| i.due_at(self.steps_done + 1))
+        {
+            return 0.0;
+        }
         let Some(m) = self.moving.as_ref() else {
             return half;
         };

@@ -99,9 +99,21 @@ pub(crate) fn observation(
     // removal (no sum).
     let removed = world.removal.as_ref().map(|r| r.removed);
     // What came in minus what is there and what left: D = E₀ + W − C − (K + E + P).
-    let carried = |d: f64| match removed {
-        None => d,
-        Some(r) => d - r.energy,
+    // What the inlets brought in (`crate::inlets`), I: D gains it.
+    let inlets = world
+        .inlets
+        .as_ref()
+        .map_or_else(Vec::new, |i| i.inserted());
+    let brought = (!inlets.is_empty()).then(|| inlets.iter().map(|i| i.energy).sum::<f64>());
+    let carried = |d: f64| {
+        let d = match removed {
+            None => d,
+            Some(r) => d - r.energy,
+        };
+        match brought {
+            None => d,
+            Some(i) => d + i,
+        }
     };
     // … and what the gates took out: D = E₀ + W − C − G − (K + E + P).
     let carried = |d: f64| match gate {
@@ -133,6 +145,7 @@ pub(crate) fn observation(
             .as_ref()
             .map_or_else(Vec::new, |r| r.by_outlet.clone()),
         gate_energy: gate,
+        inlets,
     }
 }
 

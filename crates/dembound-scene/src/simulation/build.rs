@@ -200,12 +200,15 @@ impl Simulation {
             .map(|f| FrictionTable::new(f, &laws, &b));
 
         // Neighbour geometry.
+        // The radii the inlets will bring (`crate::inlets`): none without.
+        let inlet_radii = crate::inlets::radii(setup);
         let free_min = b
             .radius
             .iter()
             .zip(&b.fixed)
             .filter(|(_, &f)| !f)
             .map(|(&r, _)| r)
+            .chain(inlet_radii.iter().copied())
             .fold(f64::INFINITY, f64::min);
         let any_min = b.radius.iter().copied().fold(f64::INFINITY, f64::min);
         let reference_radius = if free_min.is_finite() {
@@ -228,6 +231,7 @@ impl Simulation {
             .radius
             .iter()
             .copied()
+            .chain(inlet_radii.iter().copied())
             .filter(|&r| r <= large_radius)
             .fold(0.0, f64::max);
         let cell_size = 2.0 * small_max + skin;
@@ -257,12 +261,14 @@ impl Simulation {
         }
 
         // Time step (`time_step`: the bound against stability).
-        let rayleigh_time = time_step::rayleigh_time(setup);
+        // With inlets, their spheres count as the scene's (`crate::inlets`).
+        let probed = crate::inlets::with_probes(setup);
+        let rayleigh_time = time_step::rayleigh_time(&probed);
         let time_step::StepChoice {
             dt,
             contact_time,
             impact_speed,
-        } = time_step::choose(setup)?;
+        } = time_step::choose(&probed)?;
         let total_steps = match setup.integration.length {
             RunLength::Steps(s) => s,
             RunLength::Duration(t) => {
@@ -327,6 +333,7 @@ impl Simulation {
             moving,
             removal: None,
             gates,
+            inlets: None,
         };
         Ok(Simulation {
             world,
@@ -365,6 +372,21 @@ impl Simulation {
                 }));
             }
             sim
+        })
+        .and_then(|mut sim| {
+            if !setup.inlets.is_empty() {
+                let densities: Vec<f64> =
+                    setup.materials.iter().map(|m| m.material.density).collect();
+                let run_time = total_steps as f64 * dt;
+                sim.world.inlets = Some(Box::new(crate::inlets::Inlets::new(
+                    &setup.inlets,
+                    &densities,
+                    setup.spheres.len(),
+                    dt,
+                    run_time,
+                )?));
+            }
+            Ok(sim)
         })
     }
 }

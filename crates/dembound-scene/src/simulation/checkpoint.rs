@@ -127,6 +127,7 @@ impl Simulation {
     ) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
         checkpoint.fingerprint.check(&sim.fingerprint)?;
+        crate::inlets::refuse_restart(&setup.inlets)?;
         // The checkpoint's walls on the scene's (`crate::restart_walls`).
         let change = crate::restart_walls::match_walls(checkpoint, &sim.fingerprint)?;
         let remapped;

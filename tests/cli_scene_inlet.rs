@@ -1,0 +1,268 @@
+//! `[[inlet]]` (issue 28): spheres inserted during the run. The count and
+//! mass inserted against rate × time (cumulative rounding, number and mass
+//! rates), the energy they bring in booked so the balance closes, the same
+//! bits on 1 and 2 threads, refusals naming the key (exit 2), and the
+//! refusal under MPI. The non-overlap of every insertion is checked over
+//! 10⁵ insertions by the unit tests of `dembound_scene::inlets`.
+
+mod common;
+
+use common::scene_text;
+use common::shaft::{number, parse_json, read_output, run_json};
+use std::f64::consts::PI;
+
+const RHO: f64 = 2500.0;
+const R: f64 = 1e-3;
+
+/// A tall box (0.5 m) with two inlets at its top: inlet 0 at 2500
+/// spheres/s, inlet 1 at 0.01 kg/s, both of R = 1 mm, ending at 0.05 s,
+/// events every 500 steps of 2 µs (1 ms). The regions are one layer thin
+/// (2.2 mm: centres within 0.2 mm in height) and the spheres start at
+/// 0.5 m/s downwards, so each has left the centres' layer (by ≥ 0.5 mm)
+/// before the next event: every earlier sphere is below every later one
+/// and faster, and none touches anything in the 0.06 s run (they fall
+/// ≤ 48 mm; the floor is 0.45 m below).
+fn falling_scene(extra: &str) -> String {
+    format!(
+        r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.1, 0.1, 0.5]
+[[material]]
+name = "glass"
+density = {RHO:e}
+youngs_modulus = 1e8
+poisson_ratio = 0.25
+[contact]
+law = "hertz"
+[[wall]]
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+material = "rigid"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+dt = 2e-6
+duration = 0.06
+[[inlet]]
+region = {{ box = {{ lower = [0.0, 0.0, 0.4978], upper = [0.05, 0.1, 0.5] }} }}
+rate = {{ number = 2500.0 }}
+size = {{ fixed = {R:e} }}
+material = "glass"
+velocity = [0.0, 0.0, -0.5]
+end = 0.05
+every = 500
+seed = 1
+[[inlet]]
+region = {{ cylinder = {{ center = [0.075, 0.05, 0.4989], axis = [0.0, 0.0, 1.0], radius = 0.02, length = 0.0022 }} }}
+rate = {{ mass = 0.01 }}
+size = {{ fixed = {R:e} }}
+material = "glass"
+velocity = [0.0, 0.0, -0.5]
+end = 0.05
+every = 500
+seed = 2
+{extra}
+"#
+    )
+}
+
+/// Counts and masses: inlet 0 inserts round(2500 · 0.05) = 125 spheres
+/// (events k = 0..49 at steps 1 + 500 k, each bringing the spheres due by
+/// the end of its 1 ms interval), inlet 1 round(0.01 kg/s · 0.05 s / m) =
+/// round(47.746…) = 48, m = 4/3 π ρ R³; all placed (the regions hold
+/// thousands). Masses exact to the rounding of 125 additions (1e-12).
+/// The energy: falling freely, the spheres keep the K + P they brought
+/// in (Verlet is exact for a constant force), so D = 0 to rounding: 1e-9
+/// of the energy brought in.
+#[test]
+fn counts_masses_and_energy_follow_the_rates() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, out, err) = scene_text(&falling_scene(""), dir.path(), &["--json", "-q"]);
+    assert_eq!(code, Some(0), "{err}");
+    let j = parse_json(&out);
+    let m = 4.0 / 3.0 * PI * RHO * R * R * R;
+    let inlets = j["inlets"].as_array().expect("inlets");
+    assert_eq!(inlets.len(), 2);
+    let expect = [125u64, (0.01 * 0.05 / m).round() as u64];
+    assert_eq!(expect[1], 48);
+    for (k, &n) in expect.iter().enumerate() {
+        assert_eq!(inlets[k]["inserted"].as_u64(), Some(n), "inlet {k}");
+        assert_eq!(inlets[k]["not_placed"].as_u64(), Some(0), "inlet {k}");
+        let mass = number(&inlets[k], "mass");
+        assert!(
+            (mass - n as f64 * m).abs() <= 1e-12 * mass,
+            "inlet {k}: {mass}"
+        );
+    }
+    assert_eq!(number(&j, "particles") as u64, 125 + 48);
+    assert_eq!(j["particle_contacts"].as_u64(), Some(0));
+    assert_eq!(j["wall_contacts"].as_u64(), Some(0));
+    let b = &j["energy_balance"];
+    let brought = number(b, "brought_in_energy");
+    // Each sphere brings m g z ≈ 1e-5 kg · 9.81 · 0.47 m ≈ 5e-5 J.
+    assert!(brought > 173.0 * m * 9.81 * 0.45, "{brought}");
+    let d = number(&j, "dissipated_energy");
+    assert!(d.abs() <= 1e-9 * brought, "D = {d} J of {brought} J");
+    let total = number(b, "total") - number(b, "total_initial");
+    assert!(total.abs() <= 1e-9 * brought, "{total}");
+}
+
+/// The series has the inlets' columns (and only with inlets): spheres and
+/// mass so far, and the energy brought in; the last row's counts are the
+/// JSON's.
+#[test]
+fn the_series_has_the_inlet_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), falling_scene("")).unwrap();
+    let j = run_json(dir.path(), "1", "a", &[]);
+    let text = String::from_utf8(read_output(dir.path(), "a", "series.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for col in [
+        "inlet0_inserted",
+        "inlet0_mass_kg",
+        "inlet1_inserted",
+        "inlet1_mass_kg",
+        "brought_in_energy_J",
+    ] {
+        assert!(header.contains(&col), "{col} in {header:?}");
+    }
+    let last: Vec<&str> = text.lines().last().unwrap().split(',').collect();
+    let at = |c: &str| last[header.iter().position(|h| *h == c).unwrap()];
+    assert_eq!(at("inlet0_inserted"), "125");
+    assert_eq!(
+        at("inlet1_inserted"),
+        j["inlets"][1]["inserted"].to_string()
+    );
+}
+
+/// A pour onto the floor of a box periodic in x and y (contacts, images, a size distribution, spheres of an
+/// inlet landing on earlier ones): the same bits on 1 and 2 threads.
+#[test]
+fn threads_give_the_same_bits() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.03, 0.03, 0.06]
+periodic = [true, true, false]
+[[material]]
+name = "glass"
+density = 2500.0
+youngs_modulus = 1e8
+poisson_ratio = 0.25
+[contact]
+law = "hertz"
+damping = "tsuji"
+restitution = 0.5
+friction = 0.3
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "rigid"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+dt = 2e-6
+duration = 0.03
+[[inlet]]
+region = { box = { lower = [0.0, 0.0, 0.03], upper = [0.03, 0.03, 0.06] } }
+rate = { number = 15000.0 }
+size = { normal = { mean = 1e-3, std = 2e-4, min = 6e-4, max = 1.4e-3 } }
+material = "glass"
+velocity = [0.0, 0.0, -1.0]
+"#;
+    std::fs::write(dir.path().join("scene.toml"), scene).unwrap();
+    let a = run_json(dir.path(), "1", "t1", &[]);
+    let b = run_json(dir.path(), "2", "t2", &[]);
+    assert_eq!(a, b);
+    assert!(a["inlets"][0]["inserted"].as_u64().unwrap() > 400);
+    // Damped collisions happened: they alone dissipate (D > 0; free
+    // flight keeps D at rounding, 1e-15 J here).
+    assert!(number(&a, "dissipated_energy") > 1e-6, "{a}");
+    for file in ["series.csv", "checkpoint.cbor"] {
+        assert!(
+            read_output(dir.path(), "t1", file) == read_output(dir.path(), "t2", file),
+            "{file} differs"
+        );
+    }
+}
+
+/// Bad input exits 2 naming the key, with no output.
+#[test]
+fn bad_inlets_are_refused_naming_the_key() {
+    let cases = [
+        (
+            "size = { fixed = 1e-3 }",
+            "size = { fixed = -1e-3 }",
+            "inlet[0].size.fixed",
+        ),
+        (
+            "size = { fixed = 1e-3 }",
+            "size = { uniform = [2e-3, 1e-3] }",
+            "inlet[0].size.uniform",
+        ),
+        (
+            "rate = { number = 2500.0 }",
+            "rate = { number = 0.0 }",
+            "inlet[0].rate.number",
+        ),
+        // 1e9 spheres/s of 4.2e-9 m³ each over 500 steps of 2 µs: 4.2 m³
+        // per event in a 2.5e-4 m³ region.
+        (
+            "rate = { number = 2500.0 }",
+            "rate = { number = 1e9 }",
+            "inlet[0].rate.number",
+        ),
+        (
+            "material = \"glass\"\nvelocity",
+            "material = \"sand\"\nvelocity",
+            "inlet[0].material",
+        ),
+        (
+            "upper = [0.05, 0.1, 0.5] }",
+            "upper = [0.05, 0.1, 0.6] }",
+            "inlet[0].region",
+        ),
+        (
+            "end = 0.05\nevery = 500\nseed = 1",
+            "end = -1.0\nevery = 500\nseed = 1",
+            "inlet[0].end",
+        ),
+        (
+            "every = 500\nseed = 1",
+            "every = 0\nseed = 1",
+            "inlet[0].every",
+        ),
+    ];
+    for (from, to, key) in cases {
+        let text = falling_scene("");
+        assert!(text.contains(from), "{from}");
+        let text = text.replacen(from, to, 1);
+        let dir = tempfile::tempdir().unwrap();
+        let (code, out, err) = scene_text(&text, dir.path(), &["--json", "-q"]);
+        assert_eq!(code, Some(2), "{to}: {err}");
+        assert!(out.is_empty());
+        assert!(err.contains(key), "{to}: {err}");
+    }
+}
+
+/// Under MPI, inlets are refused (exit 2) naming the key.
+#[cfg(feature = "mpi")]
+#[test]
+fn mpi_refuses_inlets_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.toml"), falling_scene("")).unwrap();
+    let o = std::process::Command::new("mpirun")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .args(["--oversubscribe", "-np", "2"])
+        .arg(env!("CARGO_BIN_EXE_dembound"))
+        .arg("scene")
+        .arg(dir.path().join("scene.toml"))
+        .args(["--json", "-q"])
+        .output()
+        .expect("mpirun runs (Debian: openmpi-bin)");
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("inlet[0]"), "{err}");
+}
