@@ -107,6 +107,29 @@ fn counts_masses_and_energy_follow_the_rates() {
     assert!(total.abs() <= 1e-9 * brought, "{total}");
 }
 
+/// The text summary names what the inlets did and the balance's terms:
+/// the header counts the 125 + 48 inserted spheres (the closed-form counts
+/// of `counts_masses_and_energy_follow_the_rates`) apart from the free
+/// spheres at the start (none), each inlet's line gives its count, and the
+/// balance line says that its total subtracts what was brought in (a
+/// total of K + E + P + D alone would not be the initial energy).
+#[test]
+fn the_summary_names_the_inserted_spheres_and_the_balance_terms() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, out, err) = scene_text(&falling_scene(""), dir.path(), &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        out.contains("173 spheres (0 free at the start, 0 fixed, 173 inserted by inlets)"),
+        "{out}"
+    );
+    assert!(out.contains("inlet 0: 125 spheres inserted"), "{out}");
+    assert!(out.contains("inlet 1: 48 spheres inserted"), "{out}");
+    assert!(
+        out.contains("energy balance: kinetic + elastic + potential + dissipated − brought in = "),
+        "{out}"
+    );
+}
+
 /// The series has the inlets' columns (and only with inlets): spheres and
 /// mass so far, and the energy brought in; the last row's counts are the
 /// JSON's.

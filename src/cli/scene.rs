@@ -480,12 +480,20 @@ pub(super) fn balance_line(b: &EnergyBalance) -> String {
     if let Some(why) = b.unchecked {
         return format!("energy balance: not checked ({why}); the finite-state check applies\n");
     }
-    // A scene that removes spheres adds what they carried out.
-    let carried = if b.carried_out_energy.is_some() {
-        " + carried out"
-    } else {
-        ""
-    };
+    // The terms the scene's total holds beyond K + E + P + D (the JSON's
+    // `energy_balance`): the walls' work, what removed spheres carried
+    // out, the gates' energy, what inlets brought in.
+    let terms = [
+        (b.work_by_walls.is_some(), " − work by walls"),
+        (b.carried_out_energy.is_some(), " + carried out"),
+        (b.gate_energy.is_some(), " + gate energy"),
+        (b.brought_in_energy.is_some(), " − brought in"),
+    ];
+    let carried: String = terms
+        .iter()
+        .filter(|(present, _)| *present)
+        .map(|(_, term)| *term)
+        .collect();
     format!(
         "energy balance: kinetic + elastic + potential + dissipated{carried} = {} J (at t = 0: {} J); \
          largest gain {} J = {} of the scale {} J (allowed {})\n",
@@ -511,14 +519,27 @@ fn vector(v: [f64; 3], unit: &str) -> String {
 fn summary(r: &Report, resolved: &ResolvedScene) -> String {
     let mut s = String::new();
     let scheme = format!("{:?}", resolved.file.integration.scheme).to_lowercase();
-    s += &format!(
-        "{} spheres ({} free, {} fixed), {} walls; {scheme}, Δt = {} s",
-        r.particles,
-        r.free_particles,
-        r.fixed_particles,
-        resolved.setup.walls.len(),
-        sig(r.dt, 4)
-    );
+    let inserted: u64 = r.inlets.iter().map(|i| i.inserted).sum();
+    s += &if r.inlets.is_empty() {
+        format!(
+            "{} spheres ({} free, {} fixed), {} walls; {scheme}, Δt = {} s",
+            r.particles,
+            r.free_particles,
+            r.fixed_particles,
+            resolved.setup.walls.len(),
+            sig(r.dt, 4)
+        )
+    } else {
+        format!(
+            "{} spheres ({} free at the start, {} fixed, {inserted} inserted by inlets), {} walls; \
+             {scheme}, Δt = {} s",
+            r.particles,
+            r.free_particles,
+            r.fixed_particles,
+            resolved.setup.walls.len(),
+            sig(r.dt, 4)
+        )
+    };
     if let (Some(tc), Some(v)) = (r.contact_time_estimate, r.impact_speed) {
         s += &format!(
             " (η × the smallest contact-time estimate {} s at {} m/s)",
@@ -568,6 +589,14 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
             );
         }
         s += "\n";
+    }
+    for (k, i) in r.inlets.iter().enumerate() {
+        s += &format!(
+            "inlet {k}: {} spheres inserted, {} kg, {} due but not placed (no free room in the region)\n",
+            i.inserted,
+            sig(i.mass, 6),
+            i.not_placed
+        );
     }
     s += &format!(
         "contacts now: {} particle–particle, {} particle–wall\n",
