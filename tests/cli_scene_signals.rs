@@ -75,9 +75,16 @@ fn no_staging_is_left_whenever_a_signal_arrives() {
     // What a run that finishes leaves there.
     let finished = root.join("finished");
     copy_dir(&earlier, &finished);
-    let start = Instant::now();
-    assert!(command(&finished, 50).status().unwrap().success());
-    let full = start.elapsed().as_secs_f64();
+    // The run's duration: the shortest of three (the first run of a fresh
+    // binary also loads it from disk; on a busy machine one timing can be
+    // several times the usual, and the signal moments below would then
+    // mostly fall after the run's end).
+    let mut full = f64::INFINITY;
+    for _ in 0..3 {
+        let start = Instant::now();
+        assert!(command(&finished, 50).status().unwrap().success());
+        full = full.min(start.elapsed().as_secs_f64());
+    }
     let (earlier, finished) = (contents(&earlier), contents(&finished));
     assert_ne!(earlier, finished);
 
