@@ -60,6 +60,22 @@ fn command(out: &Path, every: u64) -> Command {
         .arg(out)
         .stdout(Stdio::null())
         .stderr(Stdio::null());
+    // The child starts with the three signals at their default action,
+    // whatever this test was started with: `dembound` leaves alone the
+    // signals it inherits ignored (as under `nohup`, or a background job
+    // of a shell without job control, which ignores SIGINT), and a CI
+    // started that way saw only the SIGTERM trials stop the run.
+    // SAFETY: `signal` is async-signal-safe; nothing else runs between
+    // fork and exec.
+    unsafe {
+        use std::os::unix::process::CommandExt;
+        c.pre_exec(|| {
+            for s in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+                libc::signal(s, libc::SIG_DFL);
+            }
+            Ok(())
+        });
+    }
     c
 }
 
