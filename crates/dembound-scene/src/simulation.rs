@@ -135,6 +135,9 @@ impl Simulation {
     /// (≥ 1; results do not depend on it).
     pub fn new(setup: SceneSetup, threads: usize) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
+        // The engine holds its own arrays now: the input list goes before
+        // the first neighbour build (peak memory of large scenes).
+        drop(setup);
         sim.pipeline.start(&mut sim.world, &sim.workers);
         sim.initial_energy = sim.mechanical_energy();
         Ok(sim)

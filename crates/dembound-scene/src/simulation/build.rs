@@ -166,6 +166,7 @@ impl Simulation {
         // Bodies in input order.
         let n = setup.spheres.len();
         let mut b = Bodies::default();
+        b.reserve_exact(n);
         for (k, s) in setup.spheres.iter().enumerate() {
             let mat = &setup.materials[s.material].material;
             b.position.push(s.position);
