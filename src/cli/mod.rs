@@ -32,6 +32,8 @@ use clap::{Parser, Subcommand};
 use std::cell::RefCell;
 use std::path::Path;
 use std::process::ExitCode;
+use std::sync::OnceLock;
+use std::time::Instant;
 
 /// DEM studies of an elastic sphere bouncing on a boundary sphere
 /// (Jasevičius & Kačianauskas 2007). All inputs and outputs are SI.
@@ -126,9 +128,22 @@ impl CliError {
 
 pub type CliResult<T = ()> = Result<T, CliError>;
 
+/// The moment the process began its work (set first thing in [`main`]).
+static PROCESS_START: OnceLock<Instant> = OnceLock::new();
+
+/// Seconds since the process began: the whole-process wall clock a scene
+/// reports (reading, set-up, stepping and writing; issue 31 item 2).
+pub(crate) fn process_seconds() -> f64 {
+    PROCESS_START
+        .get_or_init(Instant::now)
+        .elapsed()
+        .as_secs_f64()
+}
+
 /// Parses the command line, runs the subcommand and turns the outcome into
 /// an exit code.
 pub fn main() -> ExitCode {
+    PROCESS_START.get_or_init(Instant::now);
     // Usage errors exit 2 and --help/--version exit 0, both printed by clap.
     let cli = Cli::parse();
     interrupt::install();
