@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Statistics over repeated seeds of `dembound compare DECK --json` reports.
+
+One run of a chaotic scene is one realisation: its late-window standard
+error measures the rattle of that packing, not the spread between
+packings. This script takes the reports of N decks of one scene and one
+peer code, each exported with another seed (or a perturbation that chaos
+amplifies), and puts the two codes' late-window means side by side as a
+mean over the seeds with its standard error (sample standard deviation
+over sqrt(N)), with a verdict against issue 32's bars:
+
+- bed height and the floor's force (wall[0] |F|): |peer/dembound - 1| <= 1 %;
+- packing-fraction profile: the largest |delta phi| over the z bins of the
+  seed-averaged profiles <= 0.02;
+- the flow-velocity profile (a chute): the largest |delta v| (m/s), no bar.
+
+"resolved" says whether twice the combined standard error is below the
+bar (else the seeds cannot tell a difference of the bar's size).
+Speed: CPU seconds per particle-step of each code (mean over the seeds).
+
+Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
+       (add --markdown for one table row per quantity)
+"""
+
+import argparse
+import json
+import math
+import sys
+
+BARS = {"bed height": 0.01, "wall[0] force |F|": 0.01}
+PACKING_BAR = 0.02
+
+
+def mean_se(values):
+    n = len(values)
+    m = sum(values) / n
+    if n < 2:
+        return m, float("nan")
+    var = sum((v - m) ** 2 for v in values) / (n - 1)
+    return m, math.sqrt(var / n)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("reports", nargs="+")
+    ap.add_argument("--label", default="")
+    ap.add_argument("--markdown", action="store_true")
+    args = ap.parse_args()
+    reports = [json.load(open(p)) for p in args.reports]
+    code = reports[0]["code"]
+    n = len(reports)
+    rows = []
+    for name, bar in BARS.items():
+        c, d = [], []
+        for r in reports:
+            q = next((q for q in r["quantities"] if q["name"] == name), None)
+            if q and q["code_window"] and q["dembound_window"]:
+                c.append(q["code_window"]["mean"])
+                d.append(q["dembound_window"]["mean"])
+        if len(c) < n:
+            continue
+        (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
+        rel = cm / dm - 1.0
+        rel_se = math.hypot(cse, dse) / abs(dm)
+        rows.append((name, f"{cm:.6g} ± {cse:.2g}", f"{dm:.6g} ± {dse:.2g}",
+                     f"{100 * rel:+.2f} % ± {100 * rel_se:.2f} %",
+                     "agree" if abs(rel) <= bar else "DIFFER",
+                     f"{100 * bar:g} %", "yes" if 2 * rel_se <= bar else "no"))
+    for pname, bar, unit in [("packing fraction", PACKING_BAR, ""), ("flow velocity", None, " m/s")]:
+        profiles = [next((p for p in r.get("profiles", []) if p["name"] == pname), None) for r in reports]
+        if any(p is None for p in profiles):
+            continue
+        bins = len(profiles[0]["centres"])
+        worst = (0.0, 0.0, 0.0, 0.0, 0.0)
+        for k in range(bins):
+            c = [p["code"][k]["mean"] for p in profiles if p["code"][k]]
+            d = [p["dembound"][k]["mean"] for p in profiles if p["dembound"][k]]
+            if len(c) < n or len(d) < n:
+                continue
+            (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
+            if abs(cm - dm) > worst[0]:
+                worst = (abs(cm - dm), profiles[0]["centres"][k], math.hypot(cse, dse), cm, dm)
+        diff, z, se, cm, dm = worst
+        rows.append((f"{pname} (max over z bins of {profiles[0]['bin_width'] * 1e3:.3g} mm)",
+                     f"{cm:.4g} at z = {z * 1e3:.3g} mm", f"{dm:.4g}",
+                     f"|Δ| = {diff:.3g}{unit} ± {se:.2g}",
+                     "—" if bar is None else ("agree" if diff <= bar else "DIFFER"),
+                     "—" if bar is None else f"{bar:g}",
+                     "—" if bar is None else ("yes" if 2 * se <= bar else "no")))
+    cpu_code = [1.0 / r["code_speed"]["particle_steps_per_core_second"] for r in reports if r.get("code_speed")]
+    cpu_dem = [1.0 / r["dembound_speed"]["particle_steps_per_core_second"] for r in reports]
+    speed = (f"CPU s per particle-step: {code} "
+             + (f"{sum(cpu_code) / len(cpu_code):.3g}" if cpu_code else "—")
+             + f", dembound {sum(cpu_dem) / len(cpu_dem):.3g} (means over {n} seeds, one core each)")
+    if args.markdown:
+        for row in rows:
+            print(f"| {args.label} | " + " | ".join(row) + " |")
+        print(f"| {args.label} | {speed} | | | | | | |")
+    else:
+        print(f"{args.label}: {code} against dembound over {n} seeds (mean of the late-window means ± SE over seeds)")
+        head = ("quantity", code, "dembound", "difference", "verdict", "bar", "resolved")
+        widths = [max(len(str(r[i])) for r in rows + [head]) for i in range(len(head))]
+        for r in [head] + rows:
+            print("  ".join(str(r[i]).ljust(widths[i]) for i in range(len(head))))
+        print(speed)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
