@@ -7,7 +7,9 @@ packings. This script takes the reports of N decks of one scene and one
 peer code, each exported with another seed (or a perturbation that chaos
 amplifies), and puts the two codes' late-window means side by side as a
 mean over the seeds with its standard error (sample standard deviation
-over sqrt(N)), with a verdict against issue 32's bars:
+over sqrt(N)); the differences are paired by seed (the two runs of a
+seed start from the same spheres), mean ± SE of the per-seed differences,
+with a verdict against issue 32's bars:
 
 - bed height and the floor's force (wall[0] |F|): |peer/dembound - 1| <= 1 %;
 - packing-fraction profile: the largest |delta phi| over the z bins of the
@@ -60,8 +62,9 @@ def main():
         if len(c) < n:
             continue
         (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
-        rel = cm / dm - 1.0
-        rel_se = math.hypot(cse, dse) / abs(dm)
+        # Paired by seed: both codes start from the same spheres, so the
+        # difference of each seed's pair has no seed-to-seed spread.
+        rel, rel_se = mean_se([a / b - 1.0 for a, b in zip(c, d)])
         rows.append((name, f"{cm:.6g} ± {cse:.2g}", f"{dm:.6g} ± {dse:.2g}",
                      f"{100 * rel:+.2f} % ± {100 * rel_se:.2f} %",
                      "agree" if abs(rel) <= bar else "DIFFER",
@@ -70,18 +73,25 @@ def main():
         profiles = [next((p for p in r.get("profiles", []) if p["name"] == pname), None) for r in reports]
         if any(p is None for p in profiles):
             continue
-        bins = len(profiles[0]["centres"])
+        # Bins are one mean diameter of each deck's spheres: seeds of a
+        # polydisperse scene differ slightly; bins are matched by index
+        # (the widths' spread is printed).
+        bins = min(len(p["centres"]) for p in profiles)
+        widths = [p["bin_width"] for p in profiles]
+        spread = (max(widths) - min(widths)) / min(widths)
         worst = (0.0, 0.0, 0.0, 0.0, 0.0)
         for k in range(bins):
             c = [p["code"][k]["mean"] for p in profiles if p["code"][k]]
             d = [p["dembound"][k]["mean"] for p in profiles if p["dembound"][k]]
             if len(c) < n or len(d) < n:
                 continue
-            (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
-            if abs(cm - dm) > worst[0]:
-                worst = (abs(cm - dm), profiles[0]["centres"][k], math.hypot(cse, dse), cm, dm)
+            (cm, _), (dm, _) = mean_se(c), mean_se(d)
+            delta, delta_se = mean_se([a - b for a, b in zip(c, d)])
+            if abs(delta) > worst[0]:
+                worst = (abs(delta), profiles[0]["centres"][k], delta_se, cm, dm)
         diff, z, se, cm, dm = worst
-        rows.append((f"{pname} (max over z bins of {profiles[0]['bin_width'] * 1e3:.3g} mm)",
+        rows.append((f"{pname} (max over z bins of {profiles[0]['bin_width'] * 1e3:.4g} mm"
+                     + (f", widths within {100 * spread:.2g} %" if spread > 0 else "") + ")",
                      f"{cm:.4g} at z = {z * 1e3:.3g} mm", f"{dm:.4g}",
                      f"|Δ| = {diff:.3g}{unit} ± {se:.2g}",
                      "—" if bar is None else ("agree" if diff <= bar else "DIFFER"),
@@ -89,7 +99,10 @@ def main():
                      "—" if bar is None else ("yes" if 2 * se <= bar else "no")))
     cpu_code = [1.0 / r["code_speed"]["particle_steps_per_core_second"] for r in reports if r.get("code_speed")]
     cpu_dem = [1.0 / r["dembound_speed"]["particle_steps_per_core_second"] for r in reports]
-    speed = (f"CPU s per particle-step: {code} "
+    # compare's speeds: LAMMPS's and LIGGGHTS's Loop time and dembound's
+    # stepping are wall-clock, Yade's log.yade CPU time: on a loaded
+    # machine only the latter is a per-core cost.
+    speed = (f"s per particle-step (compare's speed; wall-clock but Yade's): {code} "
              + (f"{sum(cpu_code) / len(cpu_code):.3g}" if cpu_code else "—")
              + f", dembound {sum(cpu_dem) / len(cpu_dem):.3g} (means over {n} seeds, one core each)")
     if args.markdown:
