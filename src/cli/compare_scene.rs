@@ -324,7 +324,10 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         let clock = std::time::Instant::now();
         sim.step(row.step - sim.steps_done());
         stepping += clock.elapsed().as_secs_f64();
-        let (x, v, w) = (sim.positions(), sim.velocities(), sim.angular_velocities());
+        let (mut x, v, w) = (sim.positions(), sim.velocities(), sim.angular_velocities());
+        // Both sides into the box: LAMMPS and dembound wrap a sphere only at
+        // a list rebuild, Yade never, so a row may hold one outside it.
+        wrap_periodic(&setup, &mut x);
         let wf = if with_walls {
             sim.wall_forces()
                 .iter()
@@ -488,8 +491,8 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     Ok(())
 }
 
-/// Puts the peer's positions into the box on the periodic axes, as
-/// dembound keeps its own (Yade does not wrap the positions it stores).
+/// Puts positions into the box [lower, upper) on the periodic axes (for
+/// both runs: when a code wraps differs from code to code).
 fn wrap_periodic(setup: &SceneSetup, x: &mut [[f64; 3]]) {
     let d = &setup.domain;
     for p in x.iter_mut() {
