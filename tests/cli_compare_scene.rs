@@ -227,7 +227,7 @@ fn compare_refusals_say_what_is_missing() {
     fails_with(&refs, &["1 spheres", "384", "not this deck's run"]);
     // scene.toml alone.
     std::fs::remove_file(deck.join("in.lammps")).expect("removed");
-    fails_with(&refs, &["neither in.lammps nor in.liggghts"]);
+    fails_with(&refs, &["none of in.lammps, in.liggghts, scene.py"]);
 }
 
 /// The friction export's refusals touched by issue 32 name the key and

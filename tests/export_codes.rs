@@ -678,7 +678,7 @@ steps = 4000
         let scene = write(dir.path(), "bed.toml", &bed_on_steel());
         let out = dir.path().join("deck");
         let cases: [(&str, &[&str], &str); 6] = [
-            ("yade", &[], "LAMMPS and LIGGGHTS only"),
+            ("yade", &["integration.scheme=gear5"], "integration.scheme"),
             (
                 "liggghts",
                 &["integration.scheme=gear5"],

@@ -26,6 +26,7 @@
 //! divided by 0).
 
 use super::compare::CompareArgs;
+use super::compare_profiles::{ProfileReport, Profiles, PACKING_BAR};
 use super::{CliError, CliResult};
 use crate::output::format::sig;
 use crate::output::table::{Cell, Column, Table};
@@ -88,6 +89,9 @@ pub struct SceneCompareReport {
     /// From the peer's log ("Loop time"), when found.
     pub code_speed: Option<Speed>,
     pub dembound_speed: Speed,
+    /// Packing fraction and flow velocity against z over the late window
+    /// (compare_profiles.rs).
+    pub profiles: Vec<ProfileReport>,
 }
 
 /// What one row's state gives.
@@ -229,10 +233,12 @@ fn peer(dir: &Path) -> CliResult<(&'static str, &'static str)> {
         Ok(("LAMMPS", "log.lammps"))
     } else if dir.join("in.liggghts").is_file() {
         Ok(("LIGGGHTS", "log.liggghts"))
+    } else if dir.join(dembound_export::yade_scene::SCRIPT).is_file() {
+        Ok(("Yade", dembound_export::yade_scene::LOG))
     } else {
         Err(input(format!(
-            "`{}` holds scene.toml but neither in.lammps nor in.liggghts: not a scene deck of \
-             `dembound export lammps|liggghts`",
+            "`{}` holds scene.toml but none of in.lammps, in.liggghts, scene.py: not a scene \
+             deck of `dembound export lammps|liggghts|yade`",
             dir.display()
         )))
     }
@@ -249,10 +255,10 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             "cannot read `{}`: {e} (run the deck first: cd {} && {})",
             dump_path.display(),
             dir.display(),
-            if code == "LAMMPS" {
-                "lmp -in in.lammps -log log.lammps"
-            } else {
-                "liggghts -in in.liggghts -log log.liggghts"
+            match code {
+                "LAMMPS" => "lmp -in in.lammps -log log.lammps",
+                "Yade" => dembound_export::yade_scene::COMMAND,
+                _ => "liggghts -in in.liggghts -log log.liggghts",
             }
         ))
     })?;
@@ -300,6 +306,9 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         rows.iter()
             .all(|r| w.get(&r.step).is_some_and(|f| f.len() >= 3 * wall_count))
     }) && wall_count > 0;
+    let profiles = Profiles::new(&setup, &geometry.radius, &geometry.mass, &geometry.fixed);
+    let (mut packing_ours, mut packing_theirs) = (Vec::new(), Vec::new());
+    let (mut flow_ours, mut flow_theirs) = (Vec::new(), Vec::new());
     let mut stepping = 0.0;
     for row in rows.iter() {
         if row.step < sim.steps_done() {
@@ -315,7 +324,10 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         let clock = std::time::Instant::now();
         sim.step(row.step - sim.steps_done());
         stepping += clock.elapsed().as_secs_f64();
-        let (x, v, w) = (sim.positions(), sim.velocities(), sim.angular_velocities());
+        let (mut x, v, w) = (sim.positions(), sim.velocities(), sim.angular_velocities());
+        // Both sides into the box: LAMMPS and dembound wrap a sphere only at
+        // a list rebuild, Yade never, so a row may hold one outside it.
+        wrap_periodic(&setup, &mut x);
         let wf = if with_walls {
             sim.wall_forces()
                 .iter()
@@ -332,7 +344,12 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             },
             wf,
         ));
-        let (cx, cv, cw) = columns(row);
+        let (mut cx, cv, cw) = columns(row);
+        wrap_periodic(&setup, &mut cx);
+        packing_ours.push(profiles.packing(&x));
+        packing_theirs.push(profiles.packing(&cx));
+        flow_ours.push(profiles.velocity(&x, &v));
+        flow_theirs.push(profiles.velocity(&cx, &cv));
         let cwf = match (&walls, with_walls) {
             (Some(wl), true) => {
                 let f = &wl[&row.step];
@@ -414,6 +431,23 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     for (name, unit, a, b) in series {
         quantities.push(quantity(name, unit, &time, a, b, window_start));
     }
+    let w = window_start.min(time.len());
+    let mut profile_reports = vec![profiles.report(
+        "packing fraction",
+        "1",
+        &packing_theirs[w..],
+        &packing_ours[w..],
+        Some(PACKING_BAR),
+    )];
+    if profiles.flow.is_some() {
+        profile_reports.push(profiles.report(
+            "flow velocity",
+            "m/s",
+            &flow_theirs[w..],
+            &flow_ours[w..],
+            None,
+        ));
+    }
     let log = std::fs::read_to_string(dir.join(log_name)).ok();
     let code_speed = log
         .as_deref()
@@ -441,6 +475,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
                 / stepping.max(1e-12)
                 / threads as f64,
         },
+        profiles: profile_reports,
     };
     if let Some(figures) = &args.figures {
         write_figures(&report, figures).map_err(CliError::failed)?;
@@ -454,6 +489,23 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     }
     stdout.flush().map_err(CliError::failed)?;
     Ok(())
+}
+
+/// Puts positions into the box [lower, upper) on the periodic axes (for
+/// both runs: when a code wraps differs from code to code).
+fn wrap_periodic(setup: &SceneSetup, x: &mut [[f64; 3]]) {
+    let d = &setup.domain;
+    for p in x.iter_mut() {
+        for k in (0..3).filter(|&k| d.periodic[k]) {
+            let length = d.upper[k] - d.lower[k];
+            while p[k] >= d.upper[k] {
+                p[k] -= length;
+            }
+            while p[k] < d.lower[k] {
+                p[k] += length;
+            }
+        }
+    }
 }
 
 /// Positions, velocities and spins, input order.
@@ -602,6 +654,24 @@ fn text_report(r: &SceneCompareReport) -> String {
             if s.cores == 1 { "" } else { "s" }
         )
     };
+    for p in &r.profiles {
+        out.push_str(&format!(
+            "Profile of {} ({}) against z, bins of {} m (the mean free diameter), late window: \
+             largest |{} − dembound| = {} at z = {} m (± {} combined SE){}\n",
+            p.name,
+            p.unit,
+            sig(p.bin_width, 4),
+            r.code,
+            sig(p.max_abs_difference, 3),
+            sig(p.at, 4),
+            sig(p.standard_error_there, 2),
+            match (p.bar, p.agree) {
+                (Some(b), Some(true)) => format!(": agree (≤ {b})"),
+                (Some(b), _) => format!(": DIFFER (> {b})"),
+                _ => String::new(),
+            }
+        ));
+    }
     out.push_str(&format!(
         "\nSpeed: {} {}; dembound {} (stepping only)\n",
         r.code,
@@ -681,5 +751,29 @@ fn write_figures(r: &SceneCompareReport, dir: &Path) -> anyhow::Result<()> {
             .push(Series::new(q.name.clone(), pts, Mark::Line, k));
     }
     fig.write(&dir.join("relative_differences"))?;
+    for p in &r.profiles {
+        let pts = |m: &[Option<WindowMean>]| -> Vec<(f64, f64)> {
+            m.iter()
+                .zip(&p.centres)
+                .filter_map(|(w, z)| w.map(|w| (w.mean, *z)))
+                .collect()
+        };
+        let fig = Figure {
+            title: format!(
+                "{} against z, late-window mean: {} and dembound (bins {} m)",
+                p.name,
+                r.code,
+                sig(p.bin_width, 3)
+            ),
+            x_label: format!("{} ({})", p.name, p.unit),
+            y_label: "z (m)".into(),
+            series: vec![
+                Series::new(r.code.clone(), pts(&p.code), Mark::Line, 0),
+                Series::new("dembound", pts(&p.dembound), Mark::Dashed, 1),
+            ],
+            ..Figure::default()
+        };
+        fig.write(&dir.join(format!("profile_{}", stem(&p.name))))?;
+    }
     Ok(())
 }

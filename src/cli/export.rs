@@ -118,13 +118,6 @@ fn is_scene_file(path: &Path) -> bool {
 /// (docs/export-lammps.md and docs/export-liggghts.md, "Scenes").
 fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     let code = Code::from(args.code);
-    if code == Code::Yade {
-        return Err(CliError::input(anyhow!(
-            "scene files are exported to LAMMPS and LIGGGHTS only so far (`dembound export \
-             lammps {}`); yade takes bounce scenarios (SCENARIO.toml)",
-            path.display()
-        )));
-    }
     if args.pitfall.is_some() {
         return Err(CliError::input(anyhow!(
             "--pitfall is for bounce scenarios, not scene files"
@@ -143,7 +136,8 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     let mut out = output_dir(&args.out, "export")?;
     let deck = match code {
         Code::Liggghts => dembound_export::liggghts_scene::deck(&resolved),
-        _ => dembound_export::lammps_scene::deck(&resolved),
+        Code::Yade => dembound_export::yade_scene::deck(&resolved),
+        Code::Lammps => dembound_export::lammps_scene::deck(&resolved),
     }
     .map_err(|e| CliError::input(anyhow!("{e}")))?;
     for f in &deck.files {
@@ -163,7 +157,11 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
             "trajectory.txt holds sphere 1 at every step, particles.dump every sphere at the \
              series cadence, the last thermo line (step time ke) the kinetic energy"
         }
-        _ => {
+        Code::Yade => {
+            "particles.dump and walls.txt hold every sphere's state and each wall's force at the \
+             series cadence, log.yade the CPU time of the run"
+        }
+        Code::Lammps => {
             "the last thermo line (step time ke pp pw) is the state `dembound scene --json` \
              ends in; particles.dump and walls.txt hold every sphere's state and each wall's \
              force at the series cadence"
@@ -173,7 +171,11 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         stdout,
         "run it:  cd {} && {}\n{what}",
         args.out.display(),
-        code.command(),
+        if code == Code::Yade {
+            dembound_export::yade_scene::COMMAND
+        } else {
+            code.command()
+        },
     )
     .map_err(CliError::failed)?;
     Ok(())

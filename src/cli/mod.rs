@@ -5,6 +5,7 @@
 
 pub mod benchmarks;
 pub mod compare;
+mod compare_profiles;
 mod compare_scene;
 pub mod exact;
 pub mod export;

@@ -26,6 +26,7 @@ pub mod plan;
 pub mod scene_dump;
 pub mod trace;
 pub mod yade;
+pub mod yade_scene;
 
 use dembound_core::bounce::Scenario;
 

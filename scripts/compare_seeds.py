@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Statistics over repeated seeds of `dembound compare DECK --json` reports.
+
+One run of a chaotic scene is one realisation: its late-window standard
+error measures the rattle of that packing, not the spread between
+packings. This script takes the reports of N decks of one scene and one
+peer code, each exported with another seed (or a perturbation that chaos
+amplifies), and puts the two codes' late-window means side by side as a
+mean over the seeds with its standard error (sample standard deviation
+over sqrt(N)); the differences are paired by seed (the two runs of a
+seed start from the same spheres), mean ± SE of the per-seed differences,
+with a verdict against issue 32's bars:
+
+- bed height and the floor's force (wall[0] |F|): |peer/dembound - 1| <= 1 %;
+- packing-fraction profile: the largest |delta phi| over the z bins of the
+  seed-averaged profiles <= 0.02;
+- the flow-velocity profile (a chute): the largest |delta v| (m/s), no bar.
+
+"resolved" says whether twice the combined standard error is below the
+bar (else the seeds cannot tell a difference of the bar's size).
+Speed: CPU seconds per particle-step of each code (mean over the seeds).
+
+Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
+       (add --markdown for one table row per quantity)
+"""
+
+import argparse
+import json
+import math
+import sys
+
+BARS = {"bed height": 0.01, "wall[0] force |F|": 0.01}
+PACKING_BAR = 0.02
+
+
+def mean_se(values):
+    n = len(values)
+    m = sum(values) / n
+    if n < 2:
+        return m, float("nan")
+    var = sum((v - m) ** 2 for v in values) / (n - 1)
+    return m, math.sqrt(var / n)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("reports", nargs="+")
+    ap.add_argument("--label", default="")
+    ap.add_argument("--markdown", action="store_true")
+    args = ap.parse_args()
+    reports = [json.load(open(p)) for p in args.reports]
+    code = reports[0]["code"]
+    n = len(reports)
+    rows = []
+    for name, bar in BARS.items():
+        c, d = [], []
+        for r in reports:
+            q = next((q for q in r["quantities"] if q["name"] == name), None)
+            if q and q["code_window"] and q["dembound_window"]:
+                c.append(q["code_window"]["mean"])
+                d.append(q["dembound_window"]["mean"])
+        if len(c) < n:
+            continue
+        (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
+        # Paired by seed: both codes start from the same spheres, so the
+        # difference of each seed's pair has no seed-to-seed spread.
+        rel, rel_se = mean_se([a / b - 1.0 for a, b in zip(c, d)])
+        rows.append((name, f"{cm:.6g} ± {cse:.2g}", f"{dm:.6g} ± {dse:.2g}",
+                     f"{100 * rel:+.2f} % ± {100 * rel_se:.2f} %",
+                     "agree" if abs(rel) <= bar else "DIFFER",
+                     f"{100 * bar:g} %", "yes" if 2 * rel_se <= bar else "no"))
+    for pname, bar, unit in [("packing fraction", PACKING_BAR, ""), ("flow velocity", None, " m/s")]:
+        profiles = [next((p for p in r.get("profiles", []) if p["name"] == pname), None) for r in reports]
+        if any(p is None for p in profiles):
+            continue
+        # Bins are one mean diameter of each deck's spheres: seeds of a
+        # polydisperse scene differ slightly; bins are matched by index
+        # (the widths' spread is printed).
+        bins = min(len(p["centres"]) for p in profiles)
+        widths = [p["bin_width"] for p in profiles]
+        spread = (max(widths) - min(widths)) / min(widths)
+        worst = (0.0, 0.0, 0.0, 0.0, 0.0)
+        for k in range(bins):
+            c = [p["code"][k]["mean"] for p in profiles if p["code"][k]]
+            d = [p["dembound"][k]["mean"] for p in profiles if p["dembound"][k]]
+            if len(c) < n or len(d) < n:
+                continue
+            (cm, _), (dm, _) = mean_se(c), mean_se(d)
+            delta, delta_se = mean_se([a - b for a, b in zip(c, d)])
+            if abs(delta) > worst[0]:
+                worst = (abs(delta), profiles[0]["centres"][k], delta_se, cm, dm)
+        diff, z, se, cm, dm = worst
+        rows.append((f"{pname} (max over z bins of {profiles[0]['bin_width'] * 1e3:.4g} mm"
+                     + (f", widths within {100 * spread:.2g} %" if spread > 0 else "") + ")",
+                     f"{cm:.4g} at z = {z * 1e3:.3g} mm", f"{dm:.4g}",
+                     f"|Δ| = {diff:.3g}{unit} ± {se:.2g}",
+                     "—" if bar is None else ("agree" if diff <= bar else "DIFFER"),
+                     "—" if bar is None else f"{bar:g}",
+                     "—" if bar is None else ("yes" if 2 * se <= bar else "no")))
+    cpu_code = [1.0 / r["code_speed"]["particle_steps_per_core_second"] for r in reports if r.get("code_speed")]
+    cpu_dem = [1.0 / r["dembound_speed"]["particle_steps_per_core_second"] for r in reports]
+    # compare's speeds: LAMMPS's and LIGGGHTS's Loop time and dembound's
+    # stepping are wall-clock, Yade's log.yade CPU time: on a loaded
+    # machine only the latter is a per-core cost.
+    speed = (f"s per particle-step (compare's speed; wall-clock but Yade's): {code} "
+             + (f"{sum(cpu_code) / len(cpu_code):.3g}" if cpu_code else "—")
+             + f", dembound {sum(cpu_dem) / len(cpu_dem):.3g} (means over {n} seeds, one core each)")
+    if args.markdown:
+        for row in rows:
+            print(f"| {args.label} | " + " | ".join(row) + " |")
+        print(f"| {args.label} | {speed} | | | | | | |")
+    else:
+        print(f"{args.label}: {code} against dembound over {n} seeds (mean of the late-window means ± SE over seeds)")
+        head = ("quantity", code, "dembound", "difference", "verdict", "bar", "resolved")
+        widths = [max(len(str(r[i])) for r in rows + [head]) for i in range(len(head))]
+        for r in [head] + rows:
+            print("  ".join(str(r[i]).ljust(widths[i]) for i in range(len(head))))
+        print(speed)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
