@@ -6,13 +6,13 @@ diameter D), silo_spheres.csv (the fill) and silo_D<mm>.toml (the scene).
     python3 examples/scenes/make_silo.py [--orifice D_m] [--out DIR]
 
 Geometry (metres; the axis is z, the floor at z = 0): a tube of radius
-22 mm (the scene's cylinder wall) on a flat floor with a central orifice of
-diameter D (default 13 mm); a gate plane at z = 0 closes the orifice until
-t = 0.12 s (`active.to`). Spheres: d = 2 mm ± 10 % (radius uniform in
-[0.9, 1.1] mm, against crystallisation), 7,400 of them on a jittered
+18 mm (the scene's cylinder wall) on a flat floor with a central orifice of
+diameter D (default 12 mm); a gate plane at z = 0 closes the orifice until
+t = 0.1 s (`active.to`). Spheres: d = 2 mm ± 10 % (radius uniform in
+[0.9, 1.1] mm, against crystallisation), ~6,100 of them on a jittered
 cubic lattice (spacing 2.3 mm) inside the tube; they settle onto the gate
-and floor in the first 0.12 s, a bed ~45 mm high (the level stays above
-2 D = 40 mm for D = 20 mm through the measured window).
+and floor in the first 0.1 s (scripts/beverloo_study.py prints the bed's
+top at the opening and at the end).
 
 Standard library only. The floor's triangles are two-sided in dembound;
 the order makes (b − a) × (c − a) point up (+z).
@@ -24,12 +24,12 @@ import random
 import struct
 from pathlib import Path
 
-SILO_RADIUS = 22.0e-3  # m
-FLOOR_RADIUS = 24.0e-3  # m: the floor reaches past the tube
+SILO_RADIUS = 18.0e-3  # m
+FLOOR_RADIUS = 20.0e-3  # m: the floor reaches past the tube
 RADIUS_MIN, RADIUS_MAX = 0.9e-3, 1.1e-3  # m
 SPACING = 2.3e-3  # m: the fill lattice
-FILL_HEIGHT = 90.0e-3  # m: the top lattice layer's centre (loose; settles to ~47 mm)
-GATE_OPEN = 0.12  # s
+FILL_HEIGHT = 80.0e-3  # m: the top lattice layer's centre (loose; settles to ~44 mm)
+GATE_OPEN = 0.1  # s
 SEED = 1
 
 
@@ -81,7 +81,7 @@ def fill():
 SCENE = """\
 # A flat-bottomed silo discharging through a circular orifice (Beverloo,
 # Leniger & van de Velde 1961; issues 28 and 30), written by make_silo.py:
-# a tube of radius 22 mm on a flat floor (silo_floor_D{mm}.stl, orifice
+# a tube of radius 18 mm on a flat floor (silo_floor_D{mm}.stl, orifice
 # diameter D = {mm} mm), {count} frictional spheres (d = 2 mm ± 10 %,
 # silo_spheres.csv) settled onto a gate plane that vanishes at t = {gate} s;
 # the spheres that fall through are removed by an outlet box 20–40 mm below.
@@ -90,16 +90,19 @@ SCENE = """\
 #
 # Hertz with Tsuji damping (e = 0.5), μ = 0.5 everywhere, no tangential
 # dashpot (so that `dembound export liggghts` is exact). Time step: Δt =
-# 1e-5 s ≈ 0.09 of the Rayleigh time of the smallest sphere
-# (π R √(ρ/G)/(0.1631 ν + 0.8766) = 1.1e-4 s for R = 0.9 mm, E = 5 MPa) and
-# 1/30 of the Hertz contact time at 0.5 m/s (3.1e-4 s).
+# 2e-5 s ≈ 0.18 of the Rayleigh time of the smallest sphere
+# (π R √(ρ/G)/(0.1631 ν + 0.8766) = 1.1e-4 s for R = 0.9 mm, E = 5 MPa;
+# LIGGGHTS's rule of thumb: below 0.2) and 1/15 of the Hertz contact time
+# of two mean spheres at 0.5 m/s (3.1e-4 s; the orifice speed √(g D) is
+# ~0.35 m/s). E = 5 MPa: the bed's ~0.5 kPa bottom stress overlaps the
+# spheres by ~1 % of a radius.
 #
 #   python3 examples/scenes/make_silo.py --orifice {D} --out DIR
 #   dembound scene DIR/silo_D{mm}.toml --out silo --json
 
 [domain]
 lower = [-0.03, -0.03, -0.04]
-upper = [0.03, 0.03, 0.095]                      # m
+upper = [0.03, 0.03, 0.09]                      # m
 periodic = [false, false, false]
 
 [[material]]
@@ -126,7 +129,7 @@ csv = "silo_spheres.csv"                        # x,y,z,radius (m)
 material = "glass"
 
 [[wall]]
-cylinder = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.022 }}
+cylinder = {{ point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.018 }}
 material = "steel"
 
 [[wall]]
@@ -152,18 +155,18 @@ gravity = [0.0, 0.0, -9.81]                     # m/s²
 
 [integration]
 scheme = "verlet"
-dt = 1.0e-5                                     # s
-steps = 42000                                   # 0.42 s
+dt = 2.0e-5                                     # s
+steps = 15000                                   # 0.3 s
 
 [output]
-every = 12000                                   # a snapshot at the opening (0.12 s)
-series_every = 500                              # 5 ms
+every = 5000                                    # a snapshot at the opening (0.1 s)
+series_every = 250                              # 5 ms
 """
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--orifice", type=float, default=13.0e-3, help="orifice diameter D, m")
+    ap.add_argument("--orifice", type=float, default=12.0e-3, help="orifice diameter D, m")
     ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent)
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
