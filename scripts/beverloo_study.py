@@ -11,7 +11,7 @@ W^{2/5} is linear in D: its least-squares line gives slope s and intercept
 b, so C = s^{5/2}/(ρ_b √g) and k = −b/(s d).
 
     python3 scripts/beverloo_study.py [--orifices 10 12 14 16] [--work DIR]
-        [--liggghts 14 | --liggghts none] [--figure beverloo.png] [--jobs 2]
+        [--liggghts 10 14 | --liggghts none] [--figure beverloo.png] [--jobs 2]
 
 Rate: the least-squares slope of the discharged mass (series.csv
 outlet0_mass_kg; LIGGGHTS: the mass of the spheres whose centre is below
@@ -32,7 +32,9 @@ import argparse
 import base64
 import csv
 import math
+import random
 import re
+import statistics
 import struct
 import subprocess
 import sys
@@ -45,7 +47,7 @@ DENSITY = 2500.0  # kg/m³ (make_silo.py's glass)
 MEAN_DIAMETER = 2.0e-3  # m: radii uniform in [0.9, 1.1] mm
 GATE_OPEN = 0.1  # s
 GATE_STEP = 5000  # GATE_OPEN / Δt
-STEPS = 15000
+STEPS = 22500
 DT = 2.0e-5  # s
 CORE_RADIUS, CORE_Z = 15.0e-3, (5.0e-3, 25.0e-3)  # m
 OUTLET_TOP = -0.02  # m
@@ -204,10 +206,10 @@ def beverloo(D, C, k, rho_b, d=MEAN_DIAMETER):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--orifices", type=float, nargs="+", default=[10, 12, 14, 16], help="D, mm")
-    p.add_argument("--liggghts", nargs="+", default=["14"], help="orifices (mm) run in LIGGGHTS, or none")
+    p.add_argument("--liggghts", nargs="+", default=["10", "14"], help="orifices (mm) run in LIGGGHTS, or none")
     p.add_argument("--work", type=Path, default=Path("/tmp/beverloo-study"))
     p.add_argument("--dembound", default=str(ROOT / "target/release/dembound"))
-    p.add_argument("--from", dest="start", type=float, default=0.16, help="start of the measured window, s")
+    p.add_argument("--from", dest="start", type=float, default=0.2, help="start of the measured window, s")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--figure", type=Path)
     a = p.parse_args()
@@ -224,12 +226,13 @@ def main():
     print(f"window {a.start:.2f}–{STEPS * DT:.2f} s; gate opened at {GATE_OPEN} s; d = 2 mm ± 10 %, μ = 0.5")
     print("| D (mm) | D/d | ρ_b (kg/m³) | bed top at opening (mm) | W dembound (g/s) | W LIGGGHTS (g/s) | LIGGGHTS/dembound − 1 |")
     print("|---|---|---|---|---|---|---|")
-    ws, rhos, series = [], [], {}
+    ws, es, rhos, series = [], [], [], {}
     for mm in a.orifices:
         rho_b, top = bulk_density(dem[mm])
         t, m = dembound_series(dem[mm])
         w, e = steady_rate(t, m, a.start)
         ws.append(w)
+        es.append(e)
         rhos.append(rho_b)
         series[mm] = (t, m, None)
         lcell, rel = "—", "—"
@@ -242,8 +245,18 @@ def main():
     rho_b = sum(rhos) / len(rhos)
     ds = [mm * 1e-3 for mm in a.orifices]
     C, k = fit(ds, ws, rho_b)
+    # Spread of (C, k) from the rates' standard errors: refits of 2000 draws.
+    rng = random.Random(1)
+    draws = [fit(ds, [max(w + rng.gauss(0.0, e), 1e-9) for w, e in zip(ws, es)], rho_b) for _ in range(2000)]
+    sd_c = statistics.stdev(c for c, _ in draws)
+    sd_k = statistics.stdev(q for _, q in draws)
     print(f"\nρ_b = {rho_b:.0f} kg/m³ (mean of the runs; solid fraction {rho_b / DENSITY:.3f})")
-    print(f"Beverloo fit: C = {C:.3f} (published {C_RANGE[0]}–{C_RANGE[1]}), k = {k:.2f} (published {K_RANGE[0]:g}–{K_RANGE[1]:g})")
+    print(f"Beverloo fit: C = {C:.3f} ± {sd_c:.3f} (published {C_RANGE[0]}–{C_RANGE[1]}), "
+          f"k = {k:.2f} ± {sd_k:.2f} (published {K_RANGE[0]:g}–{K_RANGE[1]:g}); ± from the rates' errors")
+    # With k fixed at the commonly quoted 1.5, C alone (least squares in W).
+    fk = [beverloo(D, 1.0, 1.5, rho_b) for D in ds]
+    c15 = sum(w * f for w, f in zip(ws, fk)) / sum(f * f for f in fk)
+    print(f"with k = 1.5 fixed: C = {c15:.3f}")
     for D, w in zip(ds, ws):
         print(f"  D = {1e3 * D:g} mm: W = {1e3 * w:.2f} g/s, fit {1e3 * beverloo(D, C, k, rho_b):.2f} g/s, "
               f"C = 0.58, k = 1.5: {1e3 * beverloo(D, 0.58, 1.5, rho_b):.2f} g/s")

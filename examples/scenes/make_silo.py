@@ -156,7 +156,7 @@ gravity = [0.0, 0.0, -9.81]                     # m/s²
 [integration]
 scheme = "verlet"
 dt = 2.0e-5                                     # s
-steps = 15000                                   # 0.3 s
+steps = 22500                                   # 0.45 s
 
 [output]
 every = 5000                                    # a snapshot at the opening (0.1 s)
