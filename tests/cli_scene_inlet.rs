@@ -2,7 +2,7 @@
 //! mass inserted against rate × time (cumulative rounding, number and mass
 //! rates), the energy they bring in booked so the balance closes, the same
 //! bits on 1 and 2 threads, refusals naming the key (exit 2), and the
-//! refusal under MPI. The non-overlap of every insertion is checked over
+//! same counts under MPI. The non-overlap of every insertion is checked over
 //! 10⁵ insertions by the unit tests of `dembound_scene::inlets`.
 
 mod common;
@@ -269,23 +269,50 @@ fn bad_inlets_are_refused_naming_the_key() {
     }
 }
 
-/// Under MPI, inlets are refused (exit 2) naming the key.
+/// Under MPI (2 ranks, each owning some of the inserted spheres) the
+/// inlets insert what one process does: inlet 0 round(2500 · 0.05) = 125
+/// spheres, inlet 1 round(0.01 · 0.05 / m) = 48 (as
+/// `counts_masses_and_energy_follow_the_rates`), the same report to the
+/// bit (every rank places the same spheres: tests/mpi.rs checks the
+/// states).
 #[cfg(feature = "mpi")]
 #[test]
-fn mpi_refuses_inlets_naming_the_key() {
+fn mpi_inserts_what_one_process_does() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("scene.toml"), falling_scene("")).unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, falling_scene("")).unwrap();
     let o = std::process::Command::new("mpirun")
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .args(["--oversubscribe", "-np", "2"])
         .arg(env!("CARGO_BIN_EXE_dembound"))
         .arg("scene")
-        .arg(dir.path().join("scene.toml"))
+        .arg(&scene)
         .args(["--json", "-q"])
         .output()
         .expect("mpirun runs (Debian: openmpi-bin)");
-    assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("inlet[0]"), "{err}");
+    assert!(o.status.success(), "{err}");
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let (code, out, err) = scene_text(&falling_scene(""), dir.path(), &["--json", "-q"]);
+    assert_eq!(code, Some(0), "{err}");
+    let one: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let owned: Vec<u64> = j["rank_particles"]
+        .as_array()
+        .expect("per-rank counts")
+        .iter()
+        .filter_map(|v| v.as_u64())
+        .collect();
+    assert!(
+        owned.len() == 2 && owned.iter().all(|&k| k > 0),
+        "{owned:?}"
+    );
+    assert_eq!(j["inlets"][0]["inserted"], 125);
+    assert_eq!(j["inlets"][1]["inserted"], 48);
+    assert_eq!(j["inlets"], one["inlets"]);
+    assert_eq!(j["particles"], one["particles"]);
+    assert_eq!(
+        j["energy_balance"]["brought_in_energy"],
+        one["energy_balance"]["brought_in_energy"]
+    );
 }

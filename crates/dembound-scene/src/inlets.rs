@@ -23,7 +23,7 @@
 //!
 //! **Determinism.** The draws come from ChaCha8 seeded by the inlet's
 //! `seed`, on stream (inlet index · 2⁴⁰ + event number): they depend on
-//! nothing else, not on threads nor on the engine's order of the bodies.
+//! nothing else, not on threads, MPI ranks nor the engine's order of the bodies.
 //! The overlap test is exact (a hash grid only finds the candidates), so
 //! the spheres placed are those of the scene's state. New spheres get the
 //! input ids after every id the scene has had, in the order placed.
@@ -55,7 +55,8 @@ mod region;
 mod schedule;
 mod size;
 
-pub(crate) use engine::insert_due;
+pub(crate) use engine::{insert_due, InsertHooks, OneProcess};
+pub(crate) use placement::nearby;
 pub use placement::{event_rng, place_event, Obstacles};
 pub use region::{unit, InletRegion};
 pub use schedule::{
@@ -159,20 +160,6 @@ pub(crate) fn refuse_restart(setups: &[InletSetup]) -> Result<(), SceneError> {
          supported yet (the checkpoint does not record the inserted spheres' radii and \
          materials); run it in one go"
             .into(),
-    ))
-}
-
-/// Refuses inlets where they are not supported yet (a decomposed run),
-/// naming the first inlet's key.
-pub fn refuse_under_mpi(setups: &[InletSetup]) -> Result<(), SceneError> {
-    if setups.is_empty() {
-        return Ok(());
-    }
-    Err(SceneError::invalid(
-        "inlet[0]",
-        format!("{} [[inlet]] section(s)", setups.len()),
-        "no [[inlet]] in a run on several MPI ranks (insertion is single-process for now: run \
-         without mpirun, on threads)",
     ))
 }
 

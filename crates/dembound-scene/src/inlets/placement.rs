@@ -132,21 +132,23 @@ pub fn event_rng(seed: u64, k: usize, e: u64) -> ChaCha8Rng {
     rng
 }
 
-/// The bodies of `world` near the box `lower..upper` grown by `reach`
-/// (m), with their periodic images across periodic faces: the spheres a
-/// new one there may touch.
-pub(super) fn nearby(
+/// The bodies `k` of `world` for which `include(k)` holds near the box
+/// `lower..upper` grown by `reach` (m), with their periodic images across
+/// periodic faces: the spheres a new one there may touch, as (input id,
+/// centre, radius; m), each body's images together.
+pub(crate) fn nearby(
     world: &World,
     (lower, upper): ([f64; 3], [f64; 3]),
     reach: f64,
-) -> Vec<([f64; 3], f64)> {
+    include: &dyn Fn(usize) -> bool,
+) -> Vec<(u32, [f64; 3], f64)> {
     let b = &world.bodies;
     let d = &world.domain;
     let near = |x: [f64; 3], r: f64| {
         (0..3).all(|a| x[a] + r >= lower[a] - reach && x[a] - r <= upper[a] + reach)
     };
     let mut out = Vec::new();
-    for k in 0..b.len() {
+    for k in (0..b.len()).filter(|&k| include(k)) {
         let (x, r) = (b.position[k], b.radius[k]);
         // Every image across the periodic axes (shifts −L, 0, +L).
         let shifts = |a: usize| -> Vec<f64> {
@@ -162,7 +164,7 @@ pub(super) fn nearby(
                 for sz in shifts(2) {
                     let y = [x[0] + sx, x[1] + sy, x[2] + sz];
                     if near(y, r) {
-                        out.push((y, r));
+                        out.push((b.id[k], y, r));
                     }
                 }
             }
