@@ -109,6 +109,7 @@ pub(crate) fn insert_due(world: &mut World, hooks: &mut dyn InsertHooks) {
                 push_sphere(world, x, r, m, v, setup.material as u32, id);
             }
             placed_keys.push((r.to_bits(), m.to_bits(), setup.material as u32));
+            inlets.placed.push((r, m, setup.material as u32));
             so_far.count += 1;
             so_far.mass += m;
             so_far.energy += brought_in_energy(world.gravity, x, m, v);
@@ -132,7 +133,7 @@ fn brought_in_energy(g: [f64; 3], x: [f64; 3], m: f64, v: [f64; 3]) -> f64 {
 /// velocity `v` (m/s) at the rebuild's time (module doc: Verlet's
 /// half-step velocity, Gear5's predicted state); its law class is set
 /// by [`assign_classes`].
-fn push_sphere(
+pub(super) fn push_sphere(
     world: &mut World,
     x: [f64; 3],
     r: f64,
@@ -178,7 +179,7 @@ fn push_sphere(
 /// tables remade when a key is new, per contact for all once there are
 /// too many. The laws of a pair are computed from its two keys alone: the
 /// same bits whichever table, or none, holds them.
-fn assign_classes(world: &mut World, first_new: usize, placed: &[ClassKey]) {
+pub(super) fn assign_classes(world: &mut World, first_new: usize, placed: &[ClassKey]) {
     world.bodies.class.truncate(first_new);
     let Some(known) = world.laws.class_keys() else {
         // Too many classes already: every law computed per contact.

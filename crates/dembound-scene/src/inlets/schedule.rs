@@ -94,6 +94,10 @@ pub struct Inlets {
     pub next_id: u32,
     /// Δt, s.
     pub dt: f64,
+    /// Radius (m), mass (kg) and material index of every sphere placed so
+    /// far, in placement order (input ids from the scene's sphere count
+    /// on): what a checkpoint needs to restore them ([`super::restart`]).
+    pub placed: Vec<(f64, f64, u32)>,
 }
 
 impl Inlets {
@@ -178,6 +182,7 @@ impl Inlets {
             inlets,
             next_id: u32::try_from(spheres).unwrap_or(u32::MAX),
             dt,
+            placed: Vec::new(),
         })
     }
 
