@@ -2,7 +2,7 @@
 //! mass inserted against rate × time (cumulative rounding, number and mass
 //! rates), the energy they bring in booked so the balance closes, the same
 //! bits on 1 and 2 threads, refusals naming the key (exit 2), and the
-//! refusal under MPI. The non-overlap of every insertion is checked over
+//! same counts under MPI. The non-overlap of every insertion is checked over
 //! 10⁵ insertions by the unit tests of `dembound_scene::inlets`.
 
 mod common;
@@ -269,23 +269,136 @@ fn bad_inlets_are_refused_naming_the_key() {
     }
 }
 
-/// Under MPI, inlets are refused (exit 2) naming the key.
+/// Under MPI (2 ranks, each owning some of the inserted spheres) the
+/// inlets insert what one process does: inlet 0 round(2500 · 0.05) = 125
+/// spheres, inlet 1 round(0.01 · 0.05 / m) = 48 (as
+/// `counts_masses_and_energy_follow_the_rates`), the same report to the
+/// bit (every rank places the same spheres: tests/mpi.rs checks the
+/// states).
 #[cfg(feature = "mpi")]
 #[test]
-fn mpi_refuses_inlets_naming_the_key() {
+fn mpi_inserts_what_one_process_does() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("scene.toml"), falling_scene("")).unwrap();
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, falling_scene("")).unwrap();
     let o = std::process::Command::new("mpirun")
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .args(["--oversubscribe", "-np", "2"])
         .arg(env!("CARGO_BIN_EXE_dembound"))
         .arg("scene")
-        .arg(dir.path().join("scene.toml"))
+        .arg(&scene)
         .args(["--json", "-q"])
         .output()
         .expect("mpirun runs (Debian: openmpi-bin)");
-    assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("inlet[0]"), "{err}");
+    assert!(o.status.success(), "{err}");
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let (code, out, err) = scene_text(&falling_scene(""), dir.path(), &["--json", "-q"]);
+    assert_eq!(code, Some(0), "{err}");
+    let one: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let owned: Vec<u64> = j["rank_particles"]
+        .as_array()
+        .expect("per-rank counts")
+        .iter()
+        .filter_map(|v| v.as_u64())
+        .collect();
+    assert!(
+        owned.len() == 2 && owned.iter().all(|&k| k > 0),
+        "{owned:?}"
+    );
+    assert_eq!(j["inlets"][0]["inserted"], 125);
+    assert_eq!(j["inlets"][1]["inserted"], 48);
+    assert_eq!(j["inlets"], one["inlets"]);
+    assert_eq!(j["particles"], one["particles"]);
+    assert_eq!(
+        j["energy_balance"]["brought_in_energy"],
+        one["energy_balance"]["brought_in_energy"]
+    );
+}
+
+/// A pour restarted mid-way goes on as the uninterrupted run:
+/// examples/scenes/pour.toml at 0.05 kg/s until 0.08 s (events every 500
+/// steps, given: the default interval depends on the run's length), run
+/// to 0.12 s in one go, and 25,000 steps (0.05 s, 234 spheres in) then restarted
+/// from its checkpoint to 0.12 s. The restarted run's final checkpoint is
+/// the same file (every body's state, the inserted spheres and the inlet
+/// counts), its JSON the same but for timing, steps_this_run and the
+/// energy guard's scale (the largest |P − P₀| seen, P₀ taken at a run's
+/// first check: not the same reference after a restart), and its series
+/// rows the uninterrupted run's at every step both have.
+#[test]
+fn a_pour_restarted_mid_way_goes_on_as_the_uninterrupted_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/pour.toml");
+    let run = |name: &str, more: &[&str]| -> (std::path::PathBuf, serde_json::Value) {
+        let out = dir.path().join(name);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_dembound"))
+            .arg("scene")
+            .arg(&scene)
+            .args([
+                "--set",
+                "inlet.0.rate.mass=0.05",
+                "--set",
+                "inlet.0.end=0.08",
+                "--set",
+                "inlet.0.every=500",
+                "--set",
+                "output.series_every=100",
+                "--json",
+                "-q",
+            ])
+            .args(more)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("dembound runs");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{name}: {err}");
+        (out, serde_json::from_slice(&o.stdout).expect("JSON"))
+    };
+    let full = ["--set", "integration.duration=0.12"];
+    let (a, ja) = run("whole", &full);
+    let (b, jb) = run("half", &["--set", "integration.steps=25000"]);
+    // Mid-pour: some spheres in, more to come.
+    let half = jb["inlets"][0]["inserted"].as_u64().unwrap();
+    let all = ja["inlets"][0]["inserted"].as_u64().unwrap();
+    assert!(half > 0 && half < all, "{half} of {all}");
+    let cp = b.join("checkpoint.cbor");
+    let restart = [&full[..], &["--restart", cp.to_str().unwrap()]].concat();
+    let (c, jc) = run("restarted", &restart);
+    let bytes = |d: &std::path::Path| std::fs::read(d.join("checkpoint.cbor")).unwrap();
+    assert!(bytes(&a) == bytes(&c), "final checkpoints differ");
+    let strip = |j: &serde_json::Value| {
+        let mut j = j.clone();
+        let o = j.as_object_mut().unwrap();
+        o.retain(|k, _| !k.contains("clock") && !k.contains("per_second") && k != "steps_this_run");
+        if let Some(b) = o.get_mut("energy_balance").and_then(|b| b.as_object_mut()) {
+            b.remove("scale");
+        }
+        j
+    };
+    assert_eq!(strip(&ja), strip(&jc));
+    let rows = |d: &std::path::Path| -> Vec<String> {
+        std::fs::read_to_string(d.join("series.csv"))
+            .unwrap()
+            .lines()
+            .map(str::to_string)
+            .collect()
+    };
+    let (ra, rc) = (rows(&a), rows(&c));
+    assert_eq!(ra[0], rc[0]);
+    let by_step: std::collections::HashMap<&str, &String> = ra[1..]
+        .iter()
+        .map(|l| (l.split(',').next().unwrap(), l))
+        .collect();
+    let mut common = 0;
+    for l in &rc[1..] {
+        if let Some(w) = by_step.get(l.split(',').next().unwrap()) {
+            assert_eq!(*w, l);
+            common += 1;
+        }
+    }
+    // 0.05 s to 0.12 s every 100 steps of 2 µs: 351 rows.
+    assert_eq!(common, 351);
 }

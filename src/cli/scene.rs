@@ -230,22 +230,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
     };
 
     // Spheres an inlet could not place are reported, not silently lost.
-    let not_placed: Vec<String> = report
-        .inlets
-        .iter()
-        .enumerate()
-        .filter(|(_, i)| i.not_placed > 0)
-        .map(|(k, i)| {
-            format!(
-                "inlet[{k}]: {} of the {} spheres due found no free place in the region \
-                 (inlet[{k}].max_attempts centres each): the region is full or too small \
-                 for the rate",
-                i.not_placed,
-                i.not_placed + i.inserted
-            )
-        })
-        .collect();
-    super::warnings::print(&not_placed);
+    super::warnings::print(&not_placed_warnings(&report.inlets));
     let written = match out {
         Some(out) => Some(finish_outputs(out, &resolved, &sim, &rows, &snapshots)?),
         None => None,
@@ -263,6 +248,25 @@ pub fn run(args: &SceneArgs) -> CliResult {
         }
     }
     stdout.flush().map_err(CliError::failed)
+}
+
+/// One warning per inlet that left spheres unplaced (`--json`
+/// `inlets[K].not_placed`): reported, never silently lost.
+pub(super) fn not_placed_warnings(inlets: &[dembound_scene::inlets::InletReport]) -> Vec<String> {
+    inlets
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| i.not_placed > 0)
+        .map(|(k, i)| {
+            format!(
+                "inlet[{k}]: {} of the {} spheres due found no free place in the region \
+                 (inlet[{k}].max_attempts centres each): the region is full or too small \
+                 for the rate",
+                i.not_placed,
+                i.not_placed + i.inserted
+            )
+        })
+        .collect()
 }
 
 pub(super) fn progress_bar(steps: u64, quiet: bool) -> Option<ProgressBar> {

@@ -278,7 +278,9 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         return Ok(());
     }
     let spheres = &resolved.setup.spheres;
-    let n = spheres.len();
+    // The scene's spheres and those the inlets inserted (`inlets`).
+    let inserted: u64 = last.inlets.iter().map(|i| i.count).sum();
+    let n = spheres.len() + inserted as usize;
     let report = Report {
         particles: n,
         free_particles: spheres.iter().filter(|s| !s.fixed).count(),
@@ -297,7 +299,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         deleted_particles: last.removed.map(|r| r.particles),
         deleted_mass: last.removed.map(|r| r.mass),
         outlets: dembound_scene::outlets::outlet_reports(&rows),
-        inlets: Vec::new(),
+        inlets: last.inlets.iter().map(|&i| i.into()).collect(),
         energy_balance: sim.energy_balance(&last),
         particle_contacts: last.particle_contacts,
         wall_contacts: last.wall_contacts,
@@ -320,6 +322,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             .as_ref()
             .map(|l| l.iter().map(CollisionRow::from).collect()),
     };
+    super::warnings::print(&super::scene::not_placed_warnings(&report.inlets));
     let doc = MpiReport {
         report,
         ranks: t.size(),

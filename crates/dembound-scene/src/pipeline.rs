@@ -27,7 +27,9 @@ pub(crate) mod wall_loads;
 pub mod wall_states;
 
 pub(crate) use collisions::partner_key;
-pub(crate) use neighbours::{celled_extent, save_pairs, saved_tracks_public, WholeGrid};
+pub(crate) use neighbours::{
+    celled_extent, save_pairs, saved_tracks_public, SavedPairs, WholeGrid,
+};
 use verlet::friction_spin_kick;
 
 use crate::bodies::{Bodies, NO_GROUP};
@@ -186,7 +188,7 @@ impl StepHooks for Local {
             // resize the bodies.
             let saved = save_pairs(world);
             crate::removal::remove_lost(world);
-            crate::inlets::insert_due(world);
+            crate::inlets::insert_due(world, &mut crate::inlets::OneProcess);
             pipeline.rebuild(world, workers, saved);
         } else {
             pipeline.neighbours(world, workers);

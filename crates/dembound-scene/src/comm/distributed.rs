@@ -57,7 +57,9 @@ use crate::dynamics::{gear5_rotation, integrate};
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::Workers;
 use crate::pipeline::observe::observation;
-use crate::pipeline::{celled_extent, save_pairs, Pipeline, StepHooks, WholeGrid, World};
+use crate::pipeline::{
+    celled_extent, save_pairs, Pipeline, SavedPairs, StepHooks, WholeGrid, World,
+};
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::Simulation;
 use crate::walls::WallLoad;
@@ -68,6 +70,7 @@ use crate::{Observation, SceneError};
 // the pair sums (child modules: they reach this rank's private state).
 pub mod balance;
 mod checkpoint;
+mod inlets;
 mod observe;
 mod report;
 mod sums;
@@ -166,7 +169,6 @@ fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
              spheres); run without mpirun, on threads",
         ));
     }
-    crate::inlets::refuse_under_mpi(&setup.inlets)?;
     if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
     {
         return Err(SceneError::invalid(
@@ -208,11 +210,17 @@ fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
             format!("not under MPI when an axis is periodic ({what}); run without mpirun"),
         ));
     }
+    let inlet_radii = world
+        .inlets
+        .iter()
+        .flat_map(|i| i.inlets.iter().map(|i| i.setup.size.max_radius()));
     if let Some(r) = world
         .bodies
         .radius
         .iter()
-        .find(|&&r| r > world.large_radius)
+        .copied()
+        .chain(inlet_radii)
+        .find(|&r| r > world.large_radius)
     {
         return Err(SceneError::invalid(
             key,
@@ -257,6 +265,14 @@ impl<T: Transport> DistributedSimulation<T> {
                         hi[a] = hi[a].max(x[a]);
                     }
                 }
+                // The inlets' regions too: where their spheres will be.
+                for i in &setup.inlets {
+                    let (rlo, rhi) = i.region.bounds();
+                    for a in 0..3 {
+                        lo[a] = lo[a].min(rlo[a]);
+                        hi[a] = hi[a].max(rhi[a]);
+                    }
+                }
                 let extent = Some((lo, hi));
                 let d = Decomposition::new(w.domain, transport.size(), grid, w.cell_size, extent)?;
                 Ok((sim, d))
@@ -269,7 +285,14 @@ impl<T: Transport> DistributedSimulation<T> {
             Ok(c) => c,
         };
         let w = &mut sim.world;
-        let largest_radius = w.bodies.radius.iter().copied().fold(0.0, f64::max);
+        // The inlets' spheres too (`crate::inlets::radii`).
+        let largest_radius = w
+            .bodies
+            .radius
+            .iter()
+            .copied()
+            .chain(crate::inlets::radii(setup))
+            .fold(0.0, f64::max);
         let rank = transport.rank();
         let mut mine = Vec::new();
         for k in 0..w.bodies.len() {
@@ -401,16 +424,19 @@ impl<T: Transport> RankComm<T> {
     }
 
     /// Migration, a new halo and new lists. Collective.
+    /// `saved`: the pair state by input ids when the caller took it before
+    /// changing the bodies (insertion), else taken here.
     fn migrate_and_rebuild(
         &mut self,
         pipeline: &mut Pipeline,
         world: &mut World,
         workers: &Workers,
+        saved: Option<SavedPairs>,
     ) {
         // Re-balancing may move the cuts first (the migration follows).
         self.rebalance(world);
         let rank = self.transport.rank();
-        let mut saved = save_pairs(world);
+        let mut saved = saved.unwrap_or_else(|| save_pairs(world));
         let keep = world.laws.history;
         let spin = world.friction.is_some();
         let gear5 = world.scheme == Scheme::Gear5;
@@ -586,7 +612,7 @@ impl<T: Transport> RankComm<T> {
                 .enumerate()
                 .map(|(k, &id)| (id, k as u32))
                 .collect();
-        let free = |id: &u32| !self.fixed_by_id[*id as usize];
+        let free = |id: &u32| !self.fixed_by_id.get(*id as usize).copied().unwrap_or(false);
         let local = |ids: &[u32]| -> Vec<u32> {
             ids.iter()
                 .filter(|id| free(id))
@@ -699,7 +725,7 @@ impl<T: Transport> DistributedSimulation<T> {
     fn rebuild(&mut self) {
         let sim = &mut self.sim;
         self.comm
-            .migrate_and_rebuild(&mut sim.pipeline, &mut sim.world, &sim.workers);
+            .migrate_and_rebuild(&mut sim.pipeline, &mut sim.world, &sim.workers, None);
     }
 
     /// The pair stage as a step runs it. Collective.
@@ -768,7 +794,8 @@ impl<T: Transport> StepHooks for RankComm<T> {
     /// Migration, a new halo and new lists; under `domain.outside =
     /// "delete"` the lost spheres first leave (`crate::removal`): every
     /// rank books every rank's removals, in input-id order, so the totals
-    /// are the one process's bits.
+    /// are the one process's bits; then the inlets insert (every rank
+    /// places the same spheres, each keeps its sub-domain's).
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
         if world.removal.is_some() {
             let (dropping, gone) = crate::removal::lost_spheres(world);
@@ -794,7 +821,10 @@ impl<T: Transport> StepHooks for RankComm<T> {
             crate::removal::book(world, all);
             self.dropping = dropping;
         }
-        self.migrate_and_rebuild(pipeline, world, workers);
+        // Then the inlets' spheres due (`inlets`): the same on every rank;
+        // the pair state by input ids first (insertion resizes the bodies).
+        let saved = self.insert_due(world);
+        self.migrate_and_rebuild(pipeline, world, workers, saved);
         self.dropping.clear();
     }
 

@@ -35,6 +35,26 @@ pub struct LawTable {
     planes: Vec<PairLaw>,
     /// The wall rows (`crate::walls::LawSlot`).
     pub slots: Vec<LawSlot>,
+    /// The key of each class ([`Self::class_keys`]).
+    keys: Option<Vec<ClassKey>>,
+}
+
+/// What a body's pair laws are computed from: the bits of its radius (m)
+/// and mass (kg), and its material.
+pub type ClassKey = (u64, u64, u32);
+
+/// Body `k`'s [`ClassKey`].
+pub fn class_key(bodies: &Bodies, k: usize) -> ClassKey {
+    (
+        bodies.radius[k].to_bits(),
+        bodies.mass[k].to_bits(),
+        bodies.material[k],
+    )
+}
+
+/// Radius (m), mass (kg) and material index of a [`ClassKey`].
+pub fn class_info((r, m, mat): ClassKey) -> (f64, f64, usize) {
+    (f64::from_bits(r), f64::from_bits(m), mat as usize)
 }
 
 impl LawTable {
@@ -45,15 +65,10 @@ impl LawTable {
         bodies: &mut Bodies,
         slots: Vec<LawSlot>,
     ) -> Self {
-        let mut keys: Vec<(u64, u64, u32)> = Vec::new();
+        let mut keys: Vec<ClassKey> = Vec::new();
         let mut class = Vec::with_capacity(bodies.len());
-        let mut too_many = false;
         for k in 0..bodies.len() {
-            let key = (
-                bodies.radius[k].to_bits(),
-                bodies.mass[k].to_bits(),
-                bodies.material[k],
-            );
+            let key = class_key(bodies, k);
             let c = match keys.iter().position(|&q| q == key) {
                 Some(c) => c,
                 None => {
@@ -62,11 +77,27 @@ impl LawTable {
                 }
             };
             if keys.len() > MAX_CLASSES {
-                too_many = true;
                 break;
             }
             class.push(c as u16);
         }
+        let table = Self::from_keys(model, materials, keys, slots);
+        bodies.class = if table.keys.is_some() {
+            class
+        } else {
+            vec![NO_CLASS; bodies.len()]
+        };
+        table
+    }
+
+    /// The tables of the classes `keys` (class c the c-th key), or none
+    /// (laws per contact) beyond [`MAX_CLASSES`] keys.
+    pub(crate) fn from_keys(
+        model: ContactModel,
+        materials: Vec<Material>,
+        keys: Vec<ClassKey>,
+        slots: Vec<LawSlot>,
+    ) -> Self {
         let mut table = LawTable {
             model,
             history: model.normal.row().capabilities.history,
@@ -75,17 +106,13 @@ impl LawTable {
             pairs: Vec::new(),
             planes: Vec::new(),
             slots,
+            keys: None,
         };
-        if too_many {
-            bodies.class = vec![NO_CLASS; bodies.len()];
+        if keys.len() > MAX_CLASSES {
             return table;
         }
-        bodies.class = class;
         let c = keys.len();
-        let info = |k: usize| {
-            let (r, m, mat) = keys[k];
-            (f64::from_bits(r), f64::from_bits(m), mat as usize)
-        };
+        let info = |k: usize| class_info(keys[k]);
         for a in 0..c {
             for b in 0..c {
                 let (ra, ma, mata) = info(a);
@@ -102,12 +129,14 @@ impl LawTable {
             }
         }
         table.classes = c;
+        table.keys = Some(keys);
         table
     }
 
-    /// Body classes of the tables (0: laws computed per contact).
-    pub(crate) fn classes(&self) -> usize {
-        self.classes
+    /// The key of each class in class order; `None` when the laws are
+    /// computed per contact (too many classes).
+    pub(crate) fn class_keys(&self) -> Option<&[ClassKey]> {
+        self.keys.as_deref()
     }
 
     fn compute_pair(

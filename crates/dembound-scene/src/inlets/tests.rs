@@ -1,4 +1,6 @@
 use super::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 fn box_setup(size: SizeDistribution) -> InletSetup {
     InletSetup {

@@ -195,10 +195,7 @@ impl Simulation {
         }
         let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
         let laws = LawTable::new(setup.contact, materials, &mut b, slots);
-        let friction = setup
-            .friction
-            .clone()
-            .map(|f| FrictionTable::new(f, &laws, &b));
+        let friction = setup.friction.clone().map(|f| FrictionTable::new(f, &laws));
 
         // Neighbour geometry.
         // The radii the inlets will bring (`crate::inlets`): none without.

@@ -116,6 +116,7 @@ impl Simulation {
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.by_outlet.clone()),
             gate_energy: w.gates.as_ref().map(|g| g.energy),
+            inlets: crate::inlets::record(w),
         }
     }
 
@@ -127,7 +128,6 @@ impl Simulation {
     ) -> Result<Self, SceneError> {
         let mut sim = Self::prepare(&setup, threads)?;
         checkpoint.fingerprint.check(&sim.fingerprint)?;
-        crate::inlets::refuse_restart(&setup.inlets)?;
         // The checkpoint's walls on the scene's (`crate::restart_walls`).
         let change = crate::restart_walls::match_walls(checkpoint, &sim.fingerprint)?;
         let remapped;
@@ -137,6 +137,9 @@ impl Simulation {
             remapped = crate::restart_walls::remap(checkpoint, &change);
             &remapped
         };
+        // The spheres the inlets inserted join the scene's (ids after
+        // them; `crate::inlets`).
+        crate::inlets::restore(&mut sim.world, c.inlets.as_ref())?;
         // The scene's bodies (input order), less those the run removed.
         let all = sim.world.bodies.len();
         let removed = match (c.removed, sim.world.removal.as_deref_mut()) {
@@ -520,4 +523,8 @@ pub struct Checkpoint {
     /// every wall acts always).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gate_energy: Option<f64>,
+    /// The spheres the inlets inserted and each inlet's counts
+    /// (`crate::inlets`; absent without inlets).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inlets: Option<crate::inlets::InletsRecord>,
 }

@@ -295,6 +295,7 @@ impl<T: Transport> DistributedSimulation<T> {
                 .as_ref()
                 .map_or_else(Vec::new, |r| r.by_outlet.clone()),
             gate_energy,
+            inlets: crate::inlets::record(w),
             angular_higher: if gear5 && spin {
                 vec![[[0.0; 3]; 4]; n]
             } else {
@@ -453,6 +454,7 @@ impl<T: Transport> DistributedSimulation<T> {
         grid: Option<[usize; 3]>,
         transport: T,
     ) -> Result<Self, SceneError> {
+        crate::inlets::refuse_restart_under_mpi(&setup.inlets)?;
         let n = setup.spheres.len();
         let gear5 = setup.integration.scheme == Scheme::Gear5;
         let scene = Fingerprint::of(setup);

@@ -7,7 +7,7 @@ use dembound_physics::contact::ContactLaw;
 use dembound_physics::material::{Material, PairProperties};
 
 use crate::bodies::Bodies;
-use crate::dynamics::contacts::{LawTable, NO_CLASS};
+use crate::dynamics::contacts::{class_info, LawTable};
 use crate::setup::FrictionSetup;
 
 /// The friction laws of a scene, tabulated over the body classes of the
@@ -36,7 +36,7 @@ pub struct FrictionTable {
 pub type FrictionLaw = ContactLaw;
 
 impl FrictionTable {
-    pub fn new(setup: FrictionSetup, laws: &LawTable, bodies: &Bodies) -> Self {
+    pub fn new(setup: FrictionSetup, laws: &LawTable) -> Self {
         let plane_surfaces = laws.slots.clone();
         let rolling = setup.model.rolling_friction != 0.0
             || setup.materials.iter().flatten().any(|&(_, r)| r != 0.0)
@@ -50,29 +50,12 @@ impl FrictionTable {
             planes: Vec::new(),
             rolling,
         };
-        if bodies.class.contains(&NO_CLASS) {
+        // The law table's classes (`LawTable::class_keys`).
+        let Some(keys) = laws.class_keys() else {
             return table;
-        }
-        let classes = bodies
-            .class
-            .iter()
-            .map(|&c| c as usize + 1)
-            .max()
-            .unwrap_or(0);
-        let mut first = vec![usize::MAX; classes];
-        for (k, &c) in bodies.class.iter().enumerate() {
-            if first[c as usize] == usize::MAX {
-                first[c as usize] = k;
-            }
-        }
-        let info = |c: usize| {
-            let k = first[c];
-            (
-                bodies.radius[k],
-                bodies.mass[k],
-                bodies.material[k] as usize,
-            )
         };
+        let classes = keys.len();
+        let info = |c: usize| class_info(keys[c]);
         for a in 0..classes {
             for b in 0..classes {
                 let (ra, ma, mata) = info(a);
