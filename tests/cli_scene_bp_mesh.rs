@@ -138,7 +138,36 @@ fn a_flat_square_part_runs_the_plane_forms_bits() {
             &[],
         );
         assert_eq!(code, Some(0), "{err}");
-        let (plane, mesh) = (summary(&plane_out), summary(&mesh_out));
+        let (plane, mut mesh) = (summary(&plane_out), summary(&mesh_out));
+        // The mesh form's summary adds the covering's largest hole (item 4
+        // of issue 29); the rest is the plane form's. The flat windows'
+        // hole is (√2 − 1) R_b (square) or (2/√3 − 1) R_b (hexagonal),
+        // R_b = 0.5 mm: the sampled value at most that, within the sample
+        // spacing s/8 = 0.125 mm, and the bound at least that.
+        let holes = mesh
+            .as_object_mut()
+            .unwrap()
+            .remove("boundary_particle_holes")
+            .expect("the mesh form states its hole");
+        assert!(plane.get("boundary_particle_holes").is_none());
+        let exact = 0.5e-3
+            * if tiling == "square" {
+                2f64.sqrt() - 1.0
+            } else {
+                2.0 / 3f64.sqrt() - 1.0
+            };
+        let h = &holes[0];
+        assert_eq!(h["wall"], 0, "{holes}");
+        assert_eq!(h["spheres"], mesh["fixed_particles"], "{holes}");
+        let (found, bound) = (
+            h["largest_hole"].as_f64().unwrap(),
+            h["largest_hole_bound"].as_f64().unwrap(),
+        );
+        assert!(
+            found <= exact * (1.0 + 1e-9) && found > exact - 0.125e-3,
+            "{found} against {exact}"
+        );
+        assert!(bound >= exact, "{bound} against {exact}");
         // 0.0102 m / 1 mm spacing: sites 0..=11 along x (12, the last one
         // beyond the edge); square 12 × 12, hexagonal rows √3/2 mm apart:
         // 0..=12 (13 rows) of 12 + 1 sites (the shifted rows' margin).

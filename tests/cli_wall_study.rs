@@ -56,6 +56,53 @@ fn quick_study_writes_its_files() {
         .and_then(|s| s.lines().next())
         .unwrap();
     assert!(!within.contains("r=100"), "{within}");
+    // --quick's 150-particle bed is too small to judge packing: the
+    // rigid plane, as flat as the plane, packs 0.50 against 0.47 (± 0.02),
+    // and the report says so.
+    assert!(
+        report.contains("**Verdicts this run's size cannot support.**"),
+        "{report}"
+    );
+    assert!(
+        report.contains("- packing fraction 0–2R (1): plane"),
+        "{report}"
+    );
+    // The not-a-wall line states the table's count of fallen particles.
+    let table_fallen = report
+        .lines()
+        .find(|l| l.starts_with("| particles fallen through the floor (1) |"))
+        .unwrap();
+    let fallen_r100: f64 = table_fallen
+        .split('|')
+        .nth(5)
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("- r=100 zeta=100 square: not a wall"))
+        .unwrap();
+    if fallen_r100 == 0.0 {
+        assert!(line.contains("lost no particle"), "{line}");
+    } else {
+        assert!(
+            line.contains(&format!("lost {fallen_r100:.0} particles")),
+            "{line}"
+        );
+    }
+    // bed_side's x axis spans the bed (a box about 3.6 mm wide, R = 0.5
+    // mm): its largest x tick below 6 mm (it reached 20 mm when the axis
+    // filled the picture's width).
+    let svg = std::fs::read_to_string(out.join("bed_side.svg")).unwrap();
+    let x_ticks: Vec<f64> = svg
+        .split("<text")
+        .skip(1)
+        .filter(|t| t.contains("dy=\"0.76em\""))
+        .filter_map(|t| t.split('>').nth(1)?.split('<').next()?.trim().parse().ok())
+        .collect();
+    let widest = x_ticks.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    assert!(x_ticks.len() >= 3 && widest < 6.0, "{x_ticks:?}");
     // Every floor and compared quantity has a row in recommendation.csv,
     // with a verdict.
     let csv = std::fs::read_to_string(out.join("recommendation.csv")).unwrap();

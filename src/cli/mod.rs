@@ -14,6 +14,8 @@ pub mod keys_scene;
 pub mod lists;
 pub mod paper;
 pub mod particle_wall;
+pub mod particle_wall_choice;
+mod particle_wall_report;
 pub mod recommend;
 mod recommend_holes;
 pub mod restitution;

@@ -3,12 +3,17 @@
 //! `dembound_scene::sources::mesh_tiling`), written for dembound, LAMMPS,
 //! LIGGGHTS and Yade, with the largest hole and the bumpiness.
 
+use super::particle_wall_choice::{self as choice, ChoiceArgs};
+use super::particle_wall_report::{report_text, Measures, Size};
 use super::{output_dir, CliError, CliResult};
+use crate::output::boundary;
 use crate::output::covering_picture;
+use crate::output::format::sig;
 use anyhow::anyhow;
 use clap::{Args, ValueEnum};
 use dembound_scene::io::vtk::{write_snapshot, Snapshot};
-use dembound_scene::sources::mesh_tiling::measure::{bumpiness, holes, Holes};
+use dembound_scene::sources::mesh_tiling::measure::{bumpiness, holes, holes_sampled};
+use dembound_scene::sources::mesh_tiling::slopes::bump_slopes;
 use dembound_scene::sources::mesh_tiling::{
     cover, cover_file, shapes, Covering, CoveringOptions, Origin,
 };
@@ -31,9 +36,13 @@ pub struct ParticleWallArgs {
     /// about the z axis from z = 0, 96 facets around)
     pub surface: String,
 
-    /// Boundary-sphere radius R_b, m
-    #[arg(long, value_name = "R_B")]
-    pub radius: f64,
+    /// Boundary-sphere radius R_b, m (or --tolerance chooses it); the
+    /// report states its single-contact deviations
+    #[arg(long, value_name = "R_B", allow_hyphen_values = true)]
+    pub radius: Option<f64>,
+
+    #[command(flatten)]
+    pub choice: ChoiceArgs,
 
     /// The lattice of each flat face
     #[arg(long, value_enum, default_value = "square")]
@@ -44,7 +53,9 @@ pub struct ParticleWallArgs {
     pub spacing: Option<f64>,
 
     /// Smallest particle radius R_min, m: the report says whether it can
-    /// pass the largest hole, and the bumpiness it feels (default R_b)
+    /// pass the largest hole, and the bumpiness and friction it feels
+    /// (default: with --tolerance the particle's radius R_m, which must
+    /// not pass; with --radius R_b)
     #[arg(long, value_name = "R_MIN")]
     pub min_radius: Option<f64>,
 
@@ -103,10 +114,102 @@ fn builtin(surface: &str) -> CliResult<Option<Vec<dembound_scene::walls::mesh::T
     }
 }
 
+/// R_b and how it came about: given (with its deviations) or chosen.
+fn size(args: &ParticleWallArgs, q: &choice::Question) -> CliResult<(f64, Size)> {
+    match (args.radius, q.tolerance) {
+        (Some(_), Some(_)) => Err(CliError::input(anyhow!(
+            "`--radius` and `--tolerance` both given: give one (R_b, or T to choose it)"
+        ))),
+        (None, None) => Err(CliError::input(anyhow!(
+            "give `--radius R_B` (m) or `--tolerance T` (to choose R_b from the single-contact study)"
+        ))),
+        (Some(r_b), None) => {
+            let r_b = positive("--radius", r_b)?;
+            let deviations = choice::deviations(q, r_b / q.base.particle.radius)
+                .map_err(|e| e.error().to_string());
+            Ok((r_b, Size::Given { deviations }))
+        }
+        (None, Some(t)) => {
+            let (r, limits) = choice::choose(q, t)?;
+            let deviations = choice::deviations(q, r)?;
+            Ok((
+                r * q.base.particle.radius,
+                Size::Chosen {
+                    tolerance: t,
+                    limits,
+                    deviations,
+                },
+            ))
+        }
+    }
+}
+
+/// Hole sampling with --tolerance: fine enough that the bound (sampled +
+/// h) decides leaks for R_min, h = min(s/8, R_min/16), but at most 2e7
+/// samples' worth of area (the faces' area / h²).
+fn hole_spacing(c: &Covering, min_radius: f64) -> f64 {
+    let h = (c.options.spacing / 8.0).min(min_radius / 16.0);
+    h.max((c.mesh.area / 2e7).sqrt())
+}
+
+/// The refusal when the chosen spheres leak: what would not leak, and the
+/// deviations there.
+fn leak_refusal(
+    c: &Covering,
+    hole: &dembound_scene::sources::mesh_tiling::measure::Holes,
+    min_radius: f64,
+    q: &choice::Question,
+) -> CliError {
+    let r_m = q.base.particle.radius;
+    let r_b = c.options.radius;
+    // A flat tiling of spacing k R_b leaves holes (w/R_b − 1) R_b, w the
+    // window's circumradius: leak-free needs R_b < R_min/(w/R_b − 1).
+    let per = dembound_scene::sources::mesh_tiling::window_circumradius(&c.options) / r_b - 1.0;
+    let flat = if per > 0.0 {
+        let r_leak = min_radius / per / r_m;
+        let at = choice::deviations(q, r_leak)
+            .map(|d| {
+                format!(
+                    "; there the largest deviation is {} %",
+                    sig(choice::largest(&d) * 100.0, 4)
+                )
+            })
+            .unwrap_or_default();
+        format!(
+            " A flat tiling of this spacing (s = {} R_b) is leak-free for R_min = {} m only \
+             below r = {} (R_b = {} m){at}: raise `--tolerance` to that, or lower `--spacing`, or \
+             give `--radius`.",
+            sig(c.options.spacing / r_b, 4),
+            boundary::si_text(min_radius),
+            sig(r_leak, 5),
+            boundary::si_text(r_leak * r_m)
+        )
+    } else {
+        String::new()
+    };
+    CliError::input(anyhow!(
+        "invalid value for `--tolerance`: the smallest spheres within it (r = {}, R_b = {} m) leave \
+         holes up to {} m (found {} m), not below R_min = {} m: particles would pass the wall \
+         (criterion: the largest hole's upper bound < R_min).{flat}",
+        sig(r_b / r_m, 6),
+        boundary::si_text(r_b),
+        boundary::si_text(hole.hole_bound),
+        boundary::si_text(hole.hole),
+        boundary::si_text(min_radius),
+    ))
+}
+
 pub fn run(args: &ParticleWallArgs) -> CliResult {
-    let radius = positive("--radius", args.radius)?;
+    let q = choice::question(&args.choice)?;
+    let (radius, size) = size(args, &q)?;
+    let chosen = matches!(size, Size::Chosen { .. });
     let spacing = positive("--spacing", args.spacing.unwrap_or(2.0 * radius))?;
-    let min_radius = positive("--min-radius", args.min_radius.unwrap_or(radius))?;
+    let default_min = if chosen {
+        q.base.particle.radius
+    } else {
+        radius
+    };
+    let min_radius = positive("--min-radius", args.min_radius.unwrap_or(default_min))?;
     positive("--density", args.density).map_err(|_| {
         CliError::input(anyhow!(
             "`--density` = {}: must be a finite density > 0 kg/m³",
@@ -135,8 +238,21 @@ pub fn run(args: &ParticleWallArgs) -> CliResult {
         None => cover_file(Path::new(&args.surface), &options),
     }
     .map_err(scene_error)?;
-    let hole = holes(&covering);
-    let bump = bumpiness(&covering, min_radius);
+    let hole = if chosen {
+        holes_sampled(&covering, hole_spacing(&covering, min_radius))
+    } else {
+        holes(&covering)
+    };
+    if chosen && min_radius <= hole.hole_bound {
+        return Err(leak_refusal(&covering, &hole, min_radius, &q));
+    }
+    let measures = Measures {
+        holes: hole,
+        bump: bumpiness(&covering, min_radius),
+        slopes: bump_slopes(&covering, min_radius),
+        min_radius,
+    };
+    let hole = measures.holes;
 
     out.write("spheres.csv", |w| {
         Ok(w.write_all(csv_text(&covering).as_bytes())?)
@@ -158,11 +274,22 @@ pub fn run(args: &ParticleWallArgs) -> CliResult {
         args.surface
     );
     covering_picture::write(&covering, &png, &title).map_err(CliError::failed)?;
-    let report = report_text(args, &covering, &hole, bump, min_radius);
+    let report = report_text(args, &covering, &measures, &size, &q);
     out.write("report.md", |w| Ok(w.write_all(report.as_bytes())?))
         .map_err(CliError::failed)?;
     let written = out.commit().map_err(CliError::failed)?;
     let mut stdout = std::io::stdout().lock();
+    if let Size::Chosen { tolerance, .. } = &size {
+        writeln!(
+            stdout,
+            "chosen: r = {}, R_b = {} m (the smallest within {} % of the part's flat wall), \
+             spheres of the part's material",
+            sig(radius / q.base.particle.radius, 6),
+            boundary::si_text(radius),
+            sig(tolerance * 100.0, 4)
+        )
+        .map_err(CliError::failed)?;
+    }
     writeln!(
         stdout,
         "{} boundary spheres of radius {:e} m; largest hole {:.4e} m ({:.3} R_b, ≤ {:.4e} m)",
@@ -193,7 +320,7 @@ pub fn run(args: &ParticleWallArgs) -> CliResult {
 
 /// `x,y,z,radius` (m), shortest round-trip decimals: what
 /// `[[particles]] csv = …` reads.
-fn csv_text(c: &Covering) -> String {
+pub(super) fn csv_text(c: &Covering) -> String {
     let mut s = String::from("x,y,z,radius\n");
     for b in &c.spheres {
         let p = b.position;
@@ -288,135 +415,3 @@ def add_boundary_spheres(material, path='spheres.csv'):\n\
             c = (float(row['x']), float(row['y']), float(row['z']))\n\
             ids.append(O.bodies.append(sphere(c, float(row['radius']), fixed=True, material=material)))\n\
     return ids\n";
-
-fn report_text(
-    args: &ParticleWallArgs,
-    c: &Covering,
-    h: &Holes,
-    bump: Option<(f64, usize)>,
-    min_radius: f64,
-) -> String {
-    let r = c.options.radius;
-    let count = c.spheres.len();
-    let by = |o: Origin| c.origin.iter().filter(|x| **x == o).count();
-    let mesh = &c.mesh;
-    let mut s = String::new();
-    let _ = writeln!(s, "# Boundary particles on `{}`\n", args.surface);
-    let _ = writeln!(
-        s,
-        "Surface: {} triangles, {} flat patches, area {:.6e} m², box [{:.4e}, {:.4e}, {:.4e}] – \
-         [{:.4e}, {:.4e}, {:.4e}] m.\n",
-        mesh.triangles.len(),
-        mesh.patch_count(),
-        mesh.area,
-        mesh.lo[0],
-        mesh.lo[1],
-        mesh.lo[2],
-        mesh.hi[0],
-        mesh.hi[1],
-        mesh.hi[2]
-    );
-    let _ = writeln!(
-        s,
-        "Tiling: {:?} lattice on every flat patch, R_b = {:e} m, spacing s = {:e} m ({:.3} R_b); \
-         spheres on the {} side of the triangles' normals, tops on the surface, none crossing it.\n",
-        c.options.pattern,
-        r,
-        c.options.spacing,
-        c.options.spacing / r,
-        if c.options.flip { "same" } else { "opposite" }
-    );
-    let _ = writeln!(s, "## Count and memory\n");
-    let _ = writeln!(
-        s,
-        "| spheres | on faces | at corners | along edges | filling holes | dropped: crossing the surface | dropped: near duplicate |\n|---|---|---|---|---|---|---|\n| {count} | {} | {} | {} | {} | {} | {} |\n",
-        by(Origin::Face),
-        by(Origin::Corner),
-        by(Origin::Edge),
-        by(Origin::Fill),
-        c.dropped_crossing,
-        c.dropped_duplicate
-    );
-    let bytes = dembound_scene::io::memory::estimate(count as u64, false);
-    let _ = writeln!(
-        s,
-        "Memory in a dembound scene: about {:.3} MB ({} B per sphere, Verlet without friction; \
-         {} B with Gear5 or friction); spheres.csv {:.3} MB.\n",
-        bytes as f64 / 1e6,
-        dembound_scene::io::memory::BYTES_PER_SPHERE,
-        dembound_scene::io::memory::BYTES_PER_SPHERE_GEAR5_OR_FRICTION,
-        csv_text(c).len() as f64 / 1e6
-    );
-    let _ = writeln!(s, "## Largest hole\n");
-    let verdict = if min_radius > h.hole_bound {
-        format!("particles of radius R_min = {min_radius:e} m cannot pass: the wall is leak-free for them")
-    } else if min_radius > h.hole {
-        format!(
-            "particles of radius R_min = {min_radius:e} m may pass (R_min is between the sampled hole \
-             and its bound): lower the spacing or the radius to be sure"
-        )
-    } else {
-        format!(
-            "**particles of radius R_min = {min_radius:e} m pass through the wall**: lower the spacing \
-             or the radius"
-        )
-    };
-    let _ = writeln!(
-        s,
-        "The largest particle that can pass between the boundary spheres has radius {:.6e} m \
-         ({:.4} R_b), found at ({:.4e}, {:.4e}, {:.4e}) m; at most {:.6e} m ({:.4} R_b). So {verdict}.\n\n\
-         How it is measured: a particle passing through the wall must cross the surface of the \
-         sphere centres (the part's surface offset inward by R_b); where it crosses, it touches no \
-         boundary sphere only if every centre is R_b + ρ away. The largest hole is the largest \
-         distance from a point of that surface to its nearest centre, minus R_b, sampled every \
-         {:.3e} m ({} samples); adding the sample spacing bounds it from above. A flat touching \
-         tiling gives (√2 − 1) R_b = 0.414 R_b (square) and (2/√3 − 1) R_b = 0.155 R_b (hexagonal).\n",
-        h.hole,
-        h.hole / r,
-        h.at[0],
-        h.at[1],
-        h.at[2],
-        h.hole_bound,
-        h.hole_bound / r,
-        h.spacing,
-        h.samples
-    );
-    let _ = writeln!(s, "## Bumpiness\n");
-    match bump {
-        Some((b, used)) => {
-            let _ = writeln!(
-                s,
-                "A particle of radius {min_radius:e} m rolling on a face rises and falls by {b:.6e} m \
-                 ({:.4} of its radius) between the tops of the spheres and the hollows between them \
-                 (the resting height of its centre above the surface, sampled at {used} face points \
-                 away from edges; sampled every {:.3e} m, so at most that much below the true value).\n",
-                b / min_radius,
-                h.spacing
-            );
-        }
-        None => {
-            let _ = writeln!(
-                s,
-                "No face is wide enough (R_b + R_min + s around a point) to measure it away from edges.\n"
-            );
-        }
-    }
-    let _ = writeln!(
-        s,
-        "## How to use the files\n\n\
-         - **dembound**: `[[particles]]` `csv = \"spheres.csv\"`, `material = \"…\"`, `fixed = true` \
-         (the spheres as fixed particles of that material).\n\
-         - **LAMMPS / LIGGGHTS**: `read_data spheres.data` (atom_style sphere, type 1 = boundary \
-         spheres; with more types, `read_data … add append offset` or edit the type column); keep \
-         them frozen: integrate only the other atoms (`group mobile subtract all wall`, `fix 1 \
-         mobile nve/sphere`) and `neigh_modify exclude type 1 1`. The density column ({} kg/m³) \
-         plays no part for frozen atoms.\n\
-         - **Yade**: `exec(open('yade_spheres.py').read())`, then `add_boundary_spheres(material)` \
-         adds the spheres of spheres.csv as fixed bodies.\n\
-         - **ParaView**: spheres.vtp (points with `radius`; `material` = 0 face, 1 corner, 2 edge, 3 fill): \
-         Glyph, sphere, scale by `radius`, factor 2.\n\
-         - covering.png: the spheres seen obliquely (faces blue, corners red, edges orange, fill green).\n",
-        args.density
-    );
-    s
-}

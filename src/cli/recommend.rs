@@ -116,7 +116,7 @@ pub(crate) fn tolerance(text: &str) -> Result<f64> {
     }
 }
 
-fn quantities(text: Option<&str>) -> Result<Vec<Quantity>> {
+pub(crate) fn quantities(text: Option<&str>) -> Result<Vec<Quantity>> {
     match text {
         None => Ok(Quantity::ALL.to_vec()),
         Some(t) => t
@@ -176,7 +176,7 @@ pub const PICK_RULE: &str = "balanced: r alone and ζ alone each cost the same s
     tolerance, (1 + T_s)² = 1 + T (h_max, T_c) or (1 − T_s)² = 1 − T (a_max); to first order \
     in T the point of the curve with the smallest r·ζ";
 
-fn core_error(e: Error) -> CliError {
+pub(crate) fn core_error(e: Error) -> CliError {
     match e {
         Error::Input {
             field,

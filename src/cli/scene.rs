@@ -211,6 +211,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         wall_torques: last.wall_torques.clone(),
         wall_torque_points: sim.wall_torque_points(),
         wall_triangle_counts: triangle_counts(sim.wall_triangle_counts()),
+        boundary_particle_holes: resolved.covering_holes.clone(),
         wall_motions: last.wall_motions.clone(),
         group_motions: last.group_motions.clone(),
         wall_clock: stepping,
@@ -407,6 +408,12 @@ pub(super) struct Report {
     /// loads are in the `wall_K_*.vtp` files, not here.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) wall_triangle_counts: Option<Vec<Option<usize>>>,
+    /// The largest hole of each mesh-form `boundary_particles` wall:
+    /// `wall` (file order), `spheres`, `largest_hole` (the radius of the
+    /// largest particle found to pass, m) and `largest_hole_bound` (an
+    /// upper bound, m); absent without such walls.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub(super) boundary_particle_holes: Vec<dembound_scene::io::resolve::CoveringHole>,
     /// Each moving or force-controlled wall's motion at the end (issue
     /// 27): `wall` (file order), `position` (its reference point's
     /// displacement, m), `angle` (rad), `velocity` (m/s),

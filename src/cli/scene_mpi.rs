@@ -307,6 +307,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         wall_torques: last.wall_torques.clone(),
         wall_torque_points: sim.wall_torque_points(),
         wall_triangle_counts: super::scene::triangle_counts(sim.wall_triangle_counts()),
+        boundary_particle_holes: resolved.covering_holes.clone(),
         wall_motions: last.wall_motions.clone(),
         group_motions: last.group_motions.clone(),
         wall_clock: stepping,

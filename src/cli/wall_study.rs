@@ -7,6 +7,9 @@
 //! side view of a bed and a Markdown report through [`AtomicDir`], all or
 //! nothing.
 
+mod side_view;
+mod verdicts;
+
 use super::{CliError, CliResult};
 use crate::output::files::AtomicDir;
 use crate::plot::{Figure, Mark, Series};
@@ -16,7 +19,6 @@ use dembound_physics::material::Material;
 use dembound_scene::sources::tiling::Pattern;
 use dembound_scene::wall_study::recommend::{self, mean, median, std_dev as std, FloorVerdict};
 use dembound_scene::wall_study::{self, ChuteConfig, Floor, FloorResult, StudyConfig, Tolerances};
-use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -543,7 +545,7 @@ fn write_all(
             .or_else(|| results.iter().find(|r| r.bed.is_some()));
         if let Some(r) = pick {
             if let Some(b) = &r.bed {
-                let (svg, png) = side_view(b, &r.floor.label())?;
+                let (svg, png) = side_view::side_view(b, &r.floor.label())?;
                 out.write("bed_side.svg", |w| Ok(w.write_all(svg.as_bytes())?))?;
                 out.write("bed_side.png", |w| Ok(w.write_all(&png)?))?;
             }
@@ -622,120 +624,6 @@ fn write_all(
     })?;
     let report = report(c, results, &summaries, &verdicts, tolerances);
     out.write("report.md", |w| Ok(w.write_all(report.as_bytes())?))?;
-    Ok(())
-}
-
-/// Side view (x–z) of a settled bed: every particle a circle, the floor's
-/// boundary particles and contact plane drawn under it. SVG and PNG.
-fn side_view(b: &wall_study::Bed, label: &str) -> anyhow::Result<(String, Vec<u8>)> {
-    crate::plot::register_font();
-    let size = (900u32, 600u32);
-    let mut svg = String::new();
-    draw_side(
-        SVGBackend::with_string(&mut svg, size).into_drawing_area(),
-        b,
-        label,
-        size,
-    )?;
-    let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
-    draw_side(
-        BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
-        b,
-        label,
-        size,
-    )?;
-    let mut png_bytes = Vec::new();
-    {
-        let mut encoder = png::Encoder::new(&mut png_bytes, size.0, size.1);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header()?;
-        writer.write_image_data(&rgb)?;
-    }
-    Ok((svg, png_bytes))
-}
-
-fn draw_side<DB: DrawingBackend>(
-    area: DrawingArea<DB, plotters::coord::Shift>,
-    b: &wall_study::Bed,
-    label: &str,
-    size: (u32, u32),
-) -> anyhow::Result<()>
-where
-    DB::ErrorType: 'static,
-{
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("{e:?}");
-    let r = b.spheres.first().map_or(1e-3, |s| s.2);
-    let x0 = -r;
-    let x1 = b.side + r;
-    let top = b.height + 2.0 * r;
-    let bottom = -0.15 * (x1 - x0) - 2.0 * r;
-    area.fill(&WHITE).map_err(e)?;
-    let (w, h) = size;
-    // Equal scales on both axes.
-    let plot_w = f64::from(w) - 120.0;
-    let plot_h = f64::from(h) - 110.0;
-    let scale = (plot_w / (x1 - x0)).min(plot_h / (top - bottom));
-    let (xz1, zz1) = (x0 + plot_w / scale, bottom + plot_h / scale);
-    let mut chart = ChartBuilder::on(&area)
-        .caption(
-            format!("Bed on the floor \"{label}\": side view"),
-            ("sans-serif", 22),
-        )
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x0 * 1e3..xz1 * 1e3, bottom * 1e3..zz1 * 1e3)
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .x_desc("x (mm)")
-        .y_desc("z (mm)")
-        .disable_mesh()
-        .draw()
-        .map_err(e)?;
-    let px = |rr: f64| ((rr * scale).round() as i32).max(1);
-    // Boundary spheres can be far larger than the view: each is drawn as
-    // its upper outline within the view, filled down to the view's bottom
-    // (a circle element would not be clipped to the chart).
-    let (vx0, vx1, vz0, vz1) = (x0, xz1, bottom, zz1);
-    for &(xc, zc, rr) in &b.floor_spheres {
-        let (a, c) = ((xc - rr).max(vx0), (xc + rr).min(vx1));
-        if a >= c {
-            continue;
-        }
-        let mut outline: Vec<(f64, f64)> = (0..=200)
-            .map(|k| {
-                let x = a + (c - a) * f64::from(k) / 200.0;
-                let dz = (rr * rr - (x - xc) * (x - xc)).max(0.0).sqrt();
-                (x * 1e3, (zc + dz).clamp(vz0, vz1) * 1e3)
-            })
-            .collect();
-        outline.push((c * 1e3, vz0 * 1e3));
-        outline.push((a * 1e3, vz0 * 1e3));
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                outline,
-                RGBColor(190, 190, 190).filled(),
-            )))
-            .map_err(e)?;
-    }
-    chart
-        .draw_series(std::iter::once(PathElement::new(
-            vec![(x0 * 1e3, 0.0), (x1 * 1e3, 0.0)],
-            BLACK.stroke_width(1),
-        )))
-        .map_err(e)?;
-    chart
-        .draw_series(b.spheres.iter().map(|&(x, z, rr)| {
-            Circle::new(
-                (x * 1e3, z * 1e3),
-                px(rr),
-                RGBColor(31, 119, 180).stroke_width(1),
-            )
-        }))
-        .map_err(e)?;
-    area.present().map_err(e)?;
     Ok(())
 }
 
@@ -856,7 +744,7 @@ fn report(
          direction: on a bumpy floor a particle hitting the flank of a boundary sphere rebounds \
          sideways or down, so e_n may be negative and the rebound angle above 90°.\n"
     );
-    recommendation_section(&mut s, verdicts, tolerances);
+    verdicts::recommendation_section(&mut s, verdicts, tolerances);
     let _ = writeln!(
         s,
         "Files: impacts.csv (every impact), summary.csv, profile.csv (packing fraction in slabs of \
@@ -1007,169 +895,6 @@ fn compact_table(s: &mut String, c: &StudyConfig, results: &[FloorResult]) {
         c.impacts,
         wall_study::chute::SLIP_FIT_TOP
     );
-}
-
-/// The recommendation: the tolerances, for each quantity the floors
-/// within it, the floors within every measured one, and the floors that
-/// are not walls (with the paper's r = 100).
-fn recommendation_section(s: &mut String, verdicts: &[FloorVerdict], t: &Tolerances) {
-    let _ = writeln!(
-        s,
-        "## Recommendation: floors within tolerance of the plane\n"
-    );
-    let _ = writeln!(
-        s,
-        "Tolerances against the plane of the particles' own material: mean e_n and e_t ± {} \
-         (absolute), their spread over the impact points (sd) at most the plane's + {}; median \
-         contact time ± {} %; packing fraction 0–2R ± {} (absolute); floor pressure ± {} % of \
-         the plane's (which is N m g/A), and no particle through the floor; floor-force \
-         fluctuation (sd/mean) ± {} (absolute); the chute's slip velocity, first layer and \
-         extrapolated, as a fraction of the bed's mean velocity ± {} (absolute). A floor that is \
-         not a wall is never recommended. Options `--tol-restitution`, `--tol-contact-time`, \
-         `--tol-packing`, `--tol-pressure`, `--tol-fluctuation`, `--tol-slip`.\n",
-        t.restitution,
-        t.restitution,
-        100.0 * t.contact_time,
-        t.packing,
-        100.0 * t.pressure,
-        t.fluctuation,
-        t.slip
-    );
-    let Some(first) = verdicts.first() else {
-        let _ = writeln!(s, "No floor besides the plane.\n");
-        return;
-    };
-    let _ = writeln!(
-        s,
-        "| quantity | tolerance | plane | floors within (walls) |"
-    );
-    let _ = writeln!(s, "|---|---|---|---|");
-    for (k, q) in first.verdicts.iter().enumerate() {
-        let within: Vec<String> = verdicts
-            .iter()
-            .filter(|f| f.not_a_wall.is_none() && f.verdicts[k].within == Some(true))
-            .map(|f| f.floor.label())
-            .collect();
-        let walls = verdicts.iter().filter(|f| f.not_a_wall.is_none()).count();
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} of {walls}: {} |",
-            q.quantity,
-            q.tolerance,
-            sig(q.plane),
-            within.len(),
-            if within.is_empty() {
-                "none".to_string()
-            } else {
-                within.join(", ")
-            }
-        );
-    }
-    let all: Vec<String> = verdicts
-        .iter()
-        .filter(|f| f.within_all_measured())
-        .map(|f| {
-            let missing = f.unmeasured();
-            if missing.is_empty() {
-                f.floor.label()
-            } else {
-                format!("{} (not measured: {})", f.floor.label(), missing.join(", "))
-            }
-        })
-        .collect();
-    let _ = writeln!(
-        s,
-        "\n**Within every measured quantity:** {}.\n",
-        if all.is_empty() {
-            "none".to_string()
-        } else {
-            all.join("; ")
-        }
-    );
-    // Without the chute: a floor for beds at rest and impacts.
-    let static_only: Vec<String> = verdicts
-        .iter()
-        .filter(|f| {
-            f.not_a_wall.is_none()
-                && f.verdicts
-                    .iter()
-                    .filter(|v| !v.quantity.starts_with("chute"))
-                    .all(|v| v.within != Some(false))
-        })
-        .map(|f| f.floor.label())
-        .collect();
-    let _ = writeln!(
-        s,
-        "Within every quantity but the chute's slip (impacts and the bed at rest): {}.\n",
-        if static_only.is_empty() {
-            "none".to_string()
-        } else {
-            static_only.join(", ")
-        }
-    );
-    let _ = writeln!(s, "Per floor, the quantities outside their tolerance:\n");
-    for f in verdicts {
-        let out: Vec<String> = f
-            .verdicts
-            .iter()
-            .filter(|v| v.within == Some(false))
-            .map(|v| format!("{} {} (plane {})", v.quantity, sig(v.value), sig(v.plane)))
-            .collect();
-        let _ = writeln!(
-            s,
-            "- {}{}: {}",
-            f.floor.label(),
-            if f.not_a_wall.is_some() {
-                " (not a wall)"
-            } else {
-                ""
-            },
-            if out.is_empty() {
-                "none".to_string()
-            } else {
-                out.join("; ")
-            }
-        );
-    }
-    let _ = writeln!(s, "\n### Floors that are not walls\n");
-    let sq = Floor::wall_limit(Pattern::Square);
-    let hex = Floor::wall_limit(Pattern::Hexagonal);
-    let paper = |pattern| {
-        Floor::Particles {
-            radius_ratio: 100.0,
-            modulus_ratio: 100.0,
-            pattern,
-        }
-        .gap_radius()
-        .unwrap_or(f64::NAN)
-    };
-    let _ = writeln!(
-        s,
-        "Touching boundary spheres of radius r R leave a hole through which a sphere of radius \
-         (√2 − 1) r R passes (square tiling, between four) or (2/√3 − 1) r R (hexagonal, between \
-         three). A single layer of them is a wall for the particles only for r ≤ {sq:.3} \
-         (square) and r ≤ {hex:.3} (hexagonal). The paper's recommendation r = ζ = 100 leaves \
-         holes of {:.1} R (square) and {:.1} R (hexagonal): the bed falls through, so it cannot \
-         be tested as a floor of touching spheres, and the default grid stops at the largest \
-         walls, r = 2.4 (square) and 6 (hexagonal). Floors above the limit are still run when \
-         asked for (`--radius-ratios`): their impacts are measured, their bed counts the \
-         particles that fell through, their chute is not run, and they are never recommended.\n",
-        paper(Pattern::Square),
-        paper(Pattern::Hexagonal)
-    );
-    let here: Vec<String> = verdicts
-        .iter()
-        .filter_map(|f| {
-            f.not_a_wall
-                .as_ref()
-                .map(|w| format!("- {}: {w}", f.floor.label()))
-        })
-        .collect();
-    if here.is_empty() {
-        let _ = writeln!(s, "Every floor of this run is a wall.\n");
-    } else {
-        let _ = writeln!(s, "In this run:\n\n{}\n", here.join("\n"));
-    }
 }
 
 fn fmt(v: f64, sd: f64) -> String {

@@ -38,6 +38,22 @@ pub struct ResolvedScene {
     pub file: SceneFile,
     /// Plausibility warnings (large initial overlaps, issue 24), for stderr.
     pub warnings: Vec<String>,
+    /// The largest hole of each mesh-form `boundary_particles` wall.
+    pub covering_holes: Vec<CoveringHole>,
+}
+
+/// The largest hole of a mesh-form `boundary_particles` wall
+/// (`sources::mesh_tiling::measure::holes`: sampled every s/8).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CoveringHole {
+    /// The wall (file order).
+    pub wall: usize,
+    /// Its boundary spheres.
+    pub spheres: usize,
+    /// Radius of the largest particle found to pass between them, m.
+    pub largest_hole: f64,
+    /// An upper bound on it (found + the sample spacing), m.
+    pub largest_hole_bound: f64,
 }
 
 /// Density given to the reserved `"rigid"` material. It never matters: a
@@ -60,6 +76,8 @@ pub struct WallResolve<'a> {
     /// (material of a wall's boundary spheres, the material it scales,
     /// wall): their friction is the wall's.
     pub boundary_materials: &'a mut Vec<(usize, usize, usize)>,
+    /// Holes of mesh-form coverings (`wall` set by the caller).
+    pub covering_holes: &'a mut Vec<CoveringHole>,
 }
 
 impl WallResolve<'_> {
@@ -169,7 +187,9 @@ pub fn resolve_with(
     let mut wall_motions = Vec::with_capacity(file.walls.len());
     let mut wall_servos = Vec::with_capacity(file.walls.len());
     let mut warnings = Vec::new();
+    let mut covering_holes = Vec::new();
     for (w, wall) in file.walls.iter_mut().enumerate() {
+        let before = covering_holes.len();
         let mut cx = WallResolve {
             materials: &mut materials,
             spheres: &mut spheres,
@@ -177,8 +197,12 @@ pub fn resolve_with(
             base_dir,
             warnings: &mut warnings,
             boundary_materials: &mut boundary_materials,
+            covering_holes: &mut covering_holes,
         };
         let setup = wall.resolve(w, &mut cx)?;
+        for h in &mut covering_holes[before..] {
+            h.wall = w;
+        }
         wall_motions.push(crate::walls::motion::WallMotion::from_config(
             wall.motion.as_ref(),
             wall.oscillation.as_ref(),
@@ -297,6 +321,7 @@ pub fn resolve_with(
         wall_bodies,
         file,
         warnings,
+        covering_holes,
     })
 }
 

@@ -63,6 +63,7 @@
 
 pub mod measure;
 pub mod shapes;
+pub mod slopes;
 
 use super::tiling::{Extent, Pattern, Tiling};
 use super::SourceSphere;

@@ -182,10 +182,16 @@ pub(crate) fn offset_samples(
     }
 }
 
-/// The largest hole of a covering (module doc).
+/// The largest hole of a covering (module doc), sampled every s/8.
 pub fn holes(c: &Covering) -> Holes {
+    holes_sampled(c, sample_spacing(c))
+}
+
+/// The largest hole sampled every `h` (≤ s/8 for the bound of the module
+/// doc to hold; a finer `h` tightens `hole_bound` = sampled + h, at a cost
+/// growing as 1/h²).
+pub fn holes_sampled(c: &Covering, h: f64) -> Holes {
     let r = c.options.radius;
-    let h = sample_spacing(c);
     let near = Nearest::new(c);
     let mut worst = Holes {
         hole: f64::NEG_INFINITY,
@@ -228,6 +234,21 @@ fn on_patch(mesh: &MeshGeometry, p: u32, x: [f64; 3], tol: f64) -> bool {
 /// doc), m: (max t − min t, samples used); `None` when no face sample
 /// has a whole neighbourhood on its patch.
 pub fn bumpiness(c: &Covering, rho: f64) -> Option<(f64, usize)> {
+    let (mut lo, mut hi, mut used) = (f64::INFINITY, f64::NEG_INFINITY, 0usize);
+    resting_heights(c, rho, |_, _, top| {
+        used += 1;
+        lo = lo.min(top);
+        hi = hi.max(top);
+    });
+    (used > 0).then_some((hi - lo, used))
+}
+
+/// Calls `f(X, n, t)` for every face sample X whose neighbourhood (radius
+/// R_b + ρ + s, eight in-plane directions) lies on its patch and under
+/// which some sphere holds a particle of radius `rho`: n the patch's
+/// normal toward the particles, t the height of the resting particle's
+/// centre above the surface (module doc), in sample order.
+pub(crate) fn resting_heights(c: &Covering, rho: f64, mut f: impl FnMut([f64; 3], [f64; 3], f64)) {
     let mesh = &c.mesh;
     let r = c.options.radius;
     let reach = r + rho;
@@ -237,7 +258,6 @@ pub fn bumpiness(c: &Covering, rho: f64) -> Option<(f64, usize)> {
     for (i, s) in c.spheres.iter().enumerate() {
         grid.insert(s.position, i as u32);
     }
-    let (mut lo, mut hi, mut used) = (f64::INFINITY, f64::NEG_INFINITY, 0usize);
     let tol = mesh.inside_tolerance.max(1e-9 * c.options.spacing);
     face_samples(mesh, h, |t, x| {
         let p = mesh.patches.tri[t].patch;
@@ -262,10 +282,7 @@ pub fn bumpiness(c: &Covering, rho: f64) -> Option<(f64, usize)> {
             }
         });
         if top.is_finite() {
-            used += 1;
-            lo = lo.min(top);
-            hi = hi.max(top);
+            f(x, n, top);
         }
     });
-    (used > 0).then_some((hi - lo, used))
 }

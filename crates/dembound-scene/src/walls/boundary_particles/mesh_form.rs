@@ -21,6 +21,7 @@ use crate::error::SceneError;
 use crate::io::config::checks::{check, finite3, invalid, nonzero3, positive};
 use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
+use crate::io::resolve::CoveringHole;
 use crate::sources::mesh_tiling::measure::holes;
 use crate::sources::mesh_tiling::{cover, CoveringOptions};
 use crate::sources::tiling::Pattern;
@@ -178,18 +179,22 @@ pub(super) fn spheres(
         .filter(|s| !s.fixed)
         .map(|s| s.radius)
         .fold(f64::INFINITY, f64::min);
-    if smallest.is_finite() {
-        let h = holes(&covering);
-        if h.hole_bound >= smallest {
-            cx.warnings.push(format!(
-                "`{k}`: the largest hole between its {} spheres is {:e} m (≤ {:e} m), not \
-                 below the smallest particle radius {smallest:e} m: particles may pass \
-                 through; lower `radius_ratio` or `spacing`",
-                covering.spheres.len(),
-                h.hole,
-                h.hole_bound
-            ));
-        }
+    let h = holes(&covering);
+    cx.covering_holes.push(CoveringHole {
+        wall: 0,
+        spheres: covering.spheres.len(),
+        largest_hole: h.hole,
+        largest_hole_bound: h.hole_bound,
+    });
+    if smallest.is_finite() && h.hole_bound >= smallest {
+        cx.warnings.push(format!(
+            "`{k}`: the largest hole between its {} spheres is {:e} m (≤ {:e} m), not \
+             below the smallest particle radius {smallest:e} m: particles may pass \
+             through; lower `radius_ratio` or `spacing`",
+            covering.spheres.len(),
+            h.hole,
+            h.hole_bound
+        ));
     }
     Ok(covering.spheres)
 }
