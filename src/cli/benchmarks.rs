@@ -39,6 +39,7 @@ pub struct BenchmarksArgs {
 fn band_text(b: Band, unit: &str) -> String {
     match b {
         Band::Relative(r) => format!("±{} %", sig(r * 100.0, 3)),
+        Band::AtLeast => "≥ published".into(),
         Band::Absolute(a) => {
             if unit == "1" {
                 format!("±{}", sig(a, 3))
