@@ -465,7 +465,7 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
         runs.iter()
             .map(|r| (log(r.froude), r.regime as f64))
             .collect(),
-        Style::Ours,
+        Style::OursPoints,
         0,
     )];
     for (k, (lo, hi)) in MELLMANN.iter().enumerate() {
@@ -482,7 +482,7 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
         ));
     }
     let rolling: Vec<&Run> = runs.iter().filter(|r| r.regime == 1).collect();
-    let plots = vec![
+    let mut plots = vec![
         Plot {
             stem: "drum-regime".into(),
             title: "Rotating drum: regime against Froude number".into(),
@@ -516,36 +516,38 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
                 })
                 .collect(),
         },
-        Plot {
-            stem: "drum-snapshots".into(),
-            title: "Rotating drum: grains at the window's end (x–z projection)".into(),
+    ];
+    let wall = Curve::new(
+        "drum wall (radius R)",
+        (0..=72)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 72.0;
+                (s.radius * 1e3 * a.cos(), s.radius * 1e3 * a.sin())
+            })
+            .collect(),
+        Style::ClosedForm,
+        7,
+    );
+    for (k, r) in runs.iter().enumerate() {
+        plots.push(Plot {
+            stem: format!("drum-snapshot-{k}"),
+            title: format!(
+                "Drum at Fr = {} ({}): grains at the window's end, drum turning clockwise in this view",
+                r.froude, REGIMES[r.regime]
+            ),
             x_label: "x (mm)".into(),
             y_label: "z (mm)".into(),
-            curves: runs
-                .iter()
-                .enumerate()
-                .map(|(k, r)| {
-                    Curve::new(
-                        format!("Fr = {} ({})", r.froude, REGIMES[r.regime]),
-                        r.last.iter().map(|&(x, z)| (x * 1e3, z * 1e3)).collect(),
-                        Style::Ours,
-                        k,
-                    )
-                })
-                .chain(std::iter::once(Curve::new(
-                    "drum wall (radius R)",
-                    (0..=72)
-                        .map(|k| {
-                            let a = k as f64 * std::f64::consts::TAU / 72.0;
-                            (s.radius * 1e3 * a.cos(), s.radius * 1e3 * a.sin())
-                        })
-                        .collect(),
-                    Style::ClosedForm,
-                    7,
-                )))
-                .collect(),
-        },
-    ];
+            curves: vec![
+                Curve::new(
+                    "grain centres",
+                    r.last.iter().map(|&(x, z)| (x * 1e3, z * 1e3)).collect(),
+                    Style::OursPoints,
+                    k,
+                ),
+                wall.clone(),
+            ],
+        });
+    }
     let notes = vec![
         format!(
             "Runs: {}.",
@@ -607,6 +609,13 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
          frames have < 1 % flowing; cascading if the upper half is > 5° steeper than the \
          lower; else rolling. The thresholds are this benchmark's choice, stated, not \
          Mellmann's (his forms are described, not measured by numbers)."
+            .into(),
+        "A known weakness of the rules: a grain saltating in the flowing layer of a steep \
+         cascading surface touches nothing for a moment and, where the surface rises above \
+         the axis, counts as thrown; in the full run at Fr = 3e-2 this made 4.6 % of the \
+         grains 'thrown' and the regime cataracting, while the surface was arched (cascading). \
+         Counting only grains above the fitted surface line would separate the two; not yet \
+         done."
             .into(),
         "Mellmann's map assumes no slip at the wall (here a lining of fixed spheres) and a \
          filling degree; the slumping band is for low fills (f < 0.1 as recalled from his \

@@ -83,6 +83,8 @@ impl Check {
 pub enum Style {
     /// The engine's points.
     Ours,
+    /// The engine's points, not joined (positions of grains, regimes).
+    OursPoints,
     /// A closed form (line).
     ClosedForm,
     /// Published points (digitised).
