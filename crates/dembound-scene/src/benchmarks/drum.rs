@@ -707,7 +707,7 @@ mod tests {
                 }
             })
             .collect();
-        let f = frame(&x, &v, &vec![1e-3; 16], &[], &[], 0.005, radius, omega);
+        let f = frame(&x, &v, &[1e-3; 16], &[], &[], 0.005, radius, omega);
         assert!(f.angle.abs() < 1e-9, "{}", f.angle);
         assert_eq!(f.thrown, 0.0);
         assert_eq!(classify(&[f; 10]), 1);
