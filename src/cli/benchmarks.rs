@@ -39,6 +39,7 @@ pub struct BenchmarksArgs {
 fn band_text(b: Band, unit: &str) -> String {
     match b {
         Band::Relative(r) => format!("±{} %", sig(r * 100.0, 3)),
+        Band::AtLeast => "≥ published".into(),
         Band::Absolute(a) => {
             if unit == "1" {
                 format!("±{}", sig(a, 3))
@@ -125,6 +126,7 @@ fn figure(p: &dembound_scene::benchmarks::Plot) -> Figure {
             .map(|c| {
                 let (mark, color) = match c.style {
                     Style::Ours => (Mark::LineShape(shapes[c.group % shapes.len()]), c.group),
+                    Style::OursPoints => (Mark::Shape(shapes[c.group % shapes.len()]), c.group),
                     // A closed form of one case in its case's colour, dashed;
                     // one for all cases (group 7) solid black.
                     Style::ClosedForm if c.group == BLACK => (Mark::Line, BLACK),

@@ -162,3 +162,53 @@ fn full() {
         println!("{name}: {:.2} s", out.seconds);
     }
 }
+
+/// The rotating drum, quick (R = 12 mm, 181 grains, Fr = 3e-3 and 2):
+/// each regime one of those Mellmann's (2001) map allows at its Fr (the
+/// map's bands, not a tolerance: the check's band admits exactly the
+/// allowed regimes), centrifuging above Fr = 1 as the closed form says.
+#[test]
+fn drum_regimes() {
+    quick("drum");
+}
+
+/// The poured heap, quick (300 grains, μ_r = 0.2, μ_s = 0.2 and 0.8):
+/// its heaps are ~4 diameters tall, so the angle's error (±3–6°) does not
+/// resolve the sign the full run checks; the test holds each heap's angle
+/// to the full run's at the same (μ_s, μ_r) within three of the quick
+/// heap's own standard errors, and the difference to the right sign.
+#[test]
+fn repose_heaps() {
+    let out = run("repose", true, &|_| {}).unwrap_or_else(|e| panic!("{e}"));
+    let c = &out.checks[0];
+    assert!(c.ours > 0.0, "{} = {}", c.quantity, c.ours);
+    // The figure's curves: the angles, and θ + 2 standard errors.
+    let plot = &out.plots[0];
+    let curve = |label: &str| {
+        &plot
+            .curves
+            .iter()
+            .find(|c| c.label == label)
+            .unwrap_or_else(|| panic!("curve {label}"))
+            .points
+    };
+    let (angles, upper) = (
+        curve("ours, μ_r = 0.2"),
+        curve("± 2 standard errors, μ_r = 0.2"),
+    );
+    for (ms, full) in FULL_REPOSE_MU_R_02 {
+        let k = angles
+            .iter()
+            .position(|p| p.0 == ms)
+            .unwrap_or_else(|| panic!("μ_s = {ms}"));
+        let (angle, error) = (angles[k].1, 0.5 * (upper[k].1 - angles[k].1));
+        assert!(
+            (angle - full).abs() <= 3.0 * error,
+            "μ_s = {ms}: {angle}° ± {error}° against the full run's {full}°"
+        );
+    }
+}
+
+/// The full run's angles at μ_r = 0.2, (μ_s, θ in degrees) (`full`
+/// below).
+const FULL_REPOSE_MU_R_02: [(f64, f64); 2] = [(0.2, 27.0), (0.8, 34.0)];

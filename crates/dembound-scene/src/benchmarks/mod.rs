@@ -12,9 +12,11 @@ mod chung_ooi_oblique;
 pub mod closed_form;
 mod column_collapse;
 mod digitised;
+mod drum;
 mod granular;
 pub mod impact;
 mod janssen;
+mod repose;
 
 use crate::SceneError;
 use std::time::Instant;
@@ -26,6 +28,9 @@ pub enum Band {
     Relative(f64),
     /// |ours − published| ≤ this, in the quantity's unit.
     Absolute(f64),
+    /// ours ≥ published: a one-sided bound (a sign resolved beyond its
+    /// error, a lower limit).
+    AtLeast,
 }
 
 /// One compared number.
@@ -68,6 +73,7 @@ impl Check {
         match self.band {
             Band::Relative(b) => (self.ours / self.published - 1.0).abs() <= b,
             Band::Absolute(b) => (self.ours - self.published).abs() <= b,
+            Band::AtLeast => self.ours >= self.published,
         }
     }
 }
@@ -77,6 +83,8 @@ impl Check {
 pub enum Style {
     /// The engine's points.
     Ours,
+    /// The engine's points, not joined (positions of grains, regimes).
+    OursPoints,
     /// A closed form (line).
     ClosedForm,
     /// Published points (digitised).
@@ -147,7 +155,7 @@ impl Outcome {
 type Runner = fn(bool, &dyn Fn(&str)) -> Result<Outcome, SceneError>;
 
 /// The benchmarks: name, one-line title, runner.
-const BENCHMARKS: [(&str, &str, Runner); 10] = [
+const BENCHMARKS: [(&str, &str, Runner); 12] = [
     (
         "chung-ooi-1",
         "Elastic normal impact of two identical spheres",
@@ -194,6 +202,8 @@ const BENCHMARKS: [(&str, &str, Runner); 10] = [
         column_collapse::TITLE,
         column_collapse::run,
     ),
+    ("repose", repose::TITLE, repose::run),
+    ("drum", drum::TITLE, drum::run),
 ];
 
 /// Every benchmark's name, in the report's order.
@@ -235,6 +245,8 @@ mod tests {
         let c = Check::new("x", "1", f64::NAN, 1.0, Band::Absolute(1.0), "");
         assert!(!c.passes());
         assert!(Check::new("x", "1", -0.5, 0.0, Band::Absolute(0.5), "").passes());
+        assert!(Check::new("x", "1", 0.5, 0.5, Band::AtLeast, "").passes());
+        assert!(!Check::new("x", "1", 0.4, 0.5, Band::AtLeast, "").passes());
     }
 
     #[test]
