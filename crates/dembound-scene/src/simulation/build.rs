@@ -334,6 +334,9 @@ impl Simulation {
             removal: None,
             gates,
             inlets: None,
+            dissipation: setup
+                .dissipation
+                .then(|| Box::new(crate::pipeline::dissipation::Dissipation::default())),
         };
         Ok(Simulation {
             world,
