@@ -617,6 +617,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "log every contact",
         ),
         row(
+            "output.dissipation",
+            "",
+            "false",
+            "true, false".into(),
+            "dissipated energy summed per contact",
+        ),
+        row(
             "output.every",
             "steps",
             "run length / 20",

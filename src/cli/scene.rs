@@ -514,7 +514,7 @@ pub(super) fn balance_line(b: &EnergyBalance) -> String {
         .filter(|(present, _)| *present)
         .map(|(_, term)| *term)
         .collect();
-    format!(
+    let line = format!(
         "energy balance: kinetic + elastic + potential + dissipated{carried} = {} J (at t = 0: {} J); \
          largest gain {} J = {} of the scale {} J (allowed {})\n",
         sig(b.total, 9),
@@ -523,7 +523,19 @@ pub(super) fn balance_line(b: &EnergyBalance) -> String {
         sig(b.drift_relative, 3),
         sig(b.scale, 4),
         sig(b.drift_allowed, 2)
-    )
+    );
+    // With `output.dissipation`: D summed contact by contact and the error.
+    match (b.dissipated_by_contacts, b.balance_error) {
+        (Some(dc), Some(error)) => format!(
+            "{line}energy balance by contacts: dissipated by contacts {} J, balance error {} J \
+             (largest {} of the scale, allowed {})\n",
+            sig(dc, 9),
+            sig(error, 3),
+            sig(b.balance_error_relative.unwrap_or(0.0), 3),
+            sig(b.balance_error_allowed.unwrap_or(0.0), 2)
+        ),
+        _ => line,
+    }
 }
 
 fn vector(v: [f64; 3], unit: &str) -> String {

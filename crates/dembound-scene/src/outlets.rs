@@ -114,6 +114,7 @@ mod tests {
             outlets: vec![OutletRemoved { count: 0, mass }],
             gate_energy: None,
             inlets: Vec::new(),
+            dissipated_by_contacts: None,
         }
     }
 

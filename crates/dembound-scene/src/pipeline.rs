@@ -15,6 +15,7 @@
 //! torque from what the force stage recorded).
 
 mod collisions;
+pub mod dissipation;
 mod forces;
 pub mod moving_groups;
 pub(crate) mod moving_walls;
@@ -111,6 +112,9 @@ pub struct World {
     pub gates: Option<Box<crate::walls::gate::Gates>>,
     /// The inlets (`[[inlet]]`, `crate::inlets`); `None` without.
     pub inlets: Option<Box<crate::inlets::Inlets>>,
+    /// The dissipation summed contact by contact (`output.dissipation`,
+    /// `dissipation`); `None` when off.
+    pub dissipation: Option<Box<dissipation::Dissipation>>,
 }
 
 impl World {
@@ -223,6 +227,7 @@ impl Pipeline {
         self.forces(world, workers);
         walls_measured(world, &mut Local, false);
         world.account_group_work(false);
+        world.start_dissipation();
         if world.scheme == Scheme::Gear5 && world.bodies.higher.len() != world.bodies.len() {
             integrate::gear5_start(&mut world.bodies, world.dt);
         }
@@ -290,6 +295,7 @@ impl Pipeline {
                 // for the next step before this one's pair forces.
                 let fuse = more
                     && world.tracks.is_none()
+                    && world.dissipation.is_none()
                     && hooks.fusable(world)
                     && !world.has_moving_groups();
                 if fuse {
@@ -307,7 +313,7 @@ impl Pipeline {
                 world.account_group_work(true);
                 world.list.rebalance();
                 self.share_cuts(world, workers);
-                if world.tracks.is_some() {
+                if world.tracks.is_some() || world.dissipation.is_some() {
                     integrate::verlet_kick(&mut world.bodies, dt, workers);
                     if world.friction.is_some() {
                         friction_spin_kick(&mut world.bodies, dt, workers);
@@ -349,6 +355,9 @@ impl Pipeline {
             }
         }
         world.steps_done += 1;
+        // At the step's end state (`dissipation`: Verlet's kicks are not
+        // deferred then).
+        world.account_dissipation();
         if world.tracks.is_some() {
             // The copies' state at the step's end: every process tracks a
             // pair with the same bits.

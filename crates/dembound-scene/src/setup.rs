@@ -30,6 +30,9 @@ pub struct SceneSetup {
     pub neighbour: NeighbourSetup,
     /// Keep a collision log (one row per completed contact).
     pub collisions: bool,
+    /// Sum the dissipated energy contact by contact and report the
+    /// balance error (`output.dissipation`, `pipeline::dissipation`).
+    pub dissipation: bool,
     /// Friction and rotation (issue 13); `None`: frictionless, no spin.
     pub friction: Option<FrictionSetup>,
     /// What a free sphere lost for good outside the box does to the run
@@ -267,6 +270,7 @@ impl SceneSetup {
             },
             neighbour: NeighbourSetup::default(),
             collisions: false,
+            dissipation: false,
             friction: None,
             outside: Outside::Error,
             outlets: Vec::new(),

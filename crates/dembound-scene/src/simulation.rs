@@ -105,6 +105,11 @@ pub struct Observation {
     /// E₀ + W − C + I − (K + E + P), I the energy they brought in.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub inlets: Vec<crate::inlets::Inserted>,
+    /// D_c: the dissipated energy summed contact by contact since t = 0,
+    /// J (`output.dissipation`, `pipeline::dissipation`); `None` when off.
+    /// `dissipated_energy` − D_c is the energy balance's error.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dissipated_by_contacts: Option<f64>,
 }
 
 /// A running scene.

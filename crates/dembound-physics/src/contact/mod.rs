@@ -304,6 +304,21 @@ impl PairLaw {
         }
     }
 
+    /// The dashpot's share of [`Self::force`] (N): the force less what the
+    /// normal law alone gives after the same clamp. Its product with the
+    /// overlap rate is the power the contact's damping takes out (the
+    /// scene's dissipated energy summed contact by contact).
+    #[inline]
+    pub fn damping_share(&self, overlap: f64, overlap_rate: f64, history: &ContactHistory) -> f64 {
+        let elastic = self.normal.force(overlap, overlap_rate, history);
+        let elastic = if self.attractive {
+            elastic
+        } else {
+            elastic.max(0.0)
+        };
+        self.force(overlap, overlap_rate, history) - elastic
+    }
+
     /// Updates the history after an accepted step that ends at
     /// (`overlap`, `overlap_rate`) with the pair still in contact.
     #[inline(always)]

@@ -169,6 +169,14 @@ fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
              spheres); run without mpirun, on threads",
         ));
     }
+    if setup.dissipation {
+        return Err(SceneError::invalid(
+            "output.dissipation",
+            true,
+            "false under MPI (the contact-by-contact sum runs on one process for now: run \
+             without mpirun, on threads)",
+        ));
+    }
     if setup.collisions && (setup.friction.is_some() || setup.integration.scheme != Scheme::Verlet)
     {
         return Err(SceneError::invalid(

@@ -261,6 +261,7 @@ pub fn resolve_with(
         },
         neighbour: NeighbourSetup { skin: n.skin },
         collisions: file.output.collisions,
+        dissipation: file.output.dissipation,
         friction: friction_setup(&file, &boundary_materials),
         outside: match d.outside {
             None | Some(OutsideName::Error) => Outside::Error,

@@ -355,6 +355,7 @@ mod tests {
             outlets: Vec::new(),
             gate_energy: None,
             inlets: Vec::new(),
+            dissipated_by_contacts: None,
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();

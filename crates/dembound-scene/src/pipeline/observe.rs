@@ -92,9 +92,20 @@ pub(crate) fn observation(
     if let Some(g) = world.gates.as_ref() {
         v.push(g.energy);
     }
+    // The springs' energy, for D_c (`dissipation`), last.
+    if world.dissipation.is_some() {
+        v.push(c.spring_energy);
+    }
     let s = hooks.sum(v);
     let work = world.moving.as_ref().map(|_| s[5]);
-    let gate = world.gates.as_ref().and_then(|_| s.last().copied());
+    let gate = world
+        .gates
+        .as_ref()
+        .map(|_| s[5 + usize::from(work.is_some())]);
+    let dissipated_by_contacts = world
+        .dissipation
+        .as_ref()
+        .and_then(|d| s.last().map(|&springs| d.total(springs)));
     // What the run removed (`crate::removal`): every process books every
     // removal (no sum).
     let removed = world.removal.as_ref().map(|r| r.removed);
@@ -146,6 +157,7 @@ pub(crate) fn observation(
             .map_or_else(Vec::new, |r| r.by_outlet.clone()),
         gate_energy: gate,
         inlets,
+        dissipated_by_contacts,
     }
 }
 

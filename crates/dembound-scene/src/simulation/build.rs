@@ -332,6 +332,9 @@ impl Simulation {
             removal: None,
             gates,
             inlets: None,
+            dissipation: setup
+                .dissipation
+                .then(|| Box::new(crate::pipeline::dissipation::Dissipation::default())),
         };
         Ok(Simulation {
             world,

@@ -324,6 +324,16 @@ impl Simulation {
         }
         // The wall loads are not in the checkpoint.
         sim.pipeline.record_wall_loads(&mut sim.world, &sim.workers);
+        // D_c (`output.dissipation`) goes on from the residual D at the
+        // checkpoint: the balance error before it is not in the checkpoint.
+        if sim.world.dissipation.is_some() {
+            sim.world.start_dissipation();
+            let o = sim.observe();
+            if let (Some(d), Some(dc)) = (sim.world.dissipation.as_mut(), o.dissipated_by_contacts)
+            {
+                d.offset = o.dissipated_energy - dc;
+            }
+        }
         Ok(sim)
     }
 }

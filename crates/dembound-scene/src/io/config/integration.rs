@@ -70,6 +70,10 @@ pub struct OutputSection {
     /// One row per completed contact (JSON and `collisions.csv`).
     #[serde(default)]
     pub collisions: bool,
+    /// Sum the dissipated energy contact by contact every step and report
+    /// the energy balance's error (addition; costs a pass per step).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub dissipation: bool,
     /// Steps between VTK snapshots (addition; default: 20 intervals).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub every: Option<u64>,
