@@ -858,7 +858,7 @@ steps = 10
             let (e, kt) = dembound_pair(free, other);
             assert!((kn / e - 1.0).abs() < 1e-13 && (ks / kt - 1.0).abs() < 1e-13);
         }
-        assert!(s.contains("utils.wall(0, axis=2, material=other[1])"));
+        assert!(s.contains("utils.wall(0, axis=2, material=other[1], mask=18)"));
         assert!(s.contains("O.dt = 1e-6") && s.contains("O.run(11, True)"));
         assert!(s.contains("NewtonIntegrator(damping=0.0, gravity=g)"));
         assert!(s.contains("(0, 1e-1, 0, 0),"));
