@@ -114,7 +114,7 @@ pub(crate) fn radii(setup: &crate::setup::SceneSetup) -> Vec<f64> {
     setup
         .inlets
         .iter()
-        .flat_map(|i| [i.size.min_radius(), i.size.max_radius()])
+        .flat_map(|i| <[f64; 2]>::from(i.size.radius_range()))
         .collect()
 }
 
@@ -132,7 +132,7 @@ pub(crate) fn with_probes(
     for i in &setup.inlets {
         let (lo, hi) = i.region.bounds();
         let centre = [0, 1, 2].map(|a| 0.5 * (lo[a] + hi[a]));
-        for radius in [i.size.min_radius(), i.size.max_radius()] {
+        for radius in <[f64; 2]>::from(i.size.radius_range()) {
             probed.spheres.push(crate::setup::SphereInit {
                 position: centre,
                 velocity: i.velocity,

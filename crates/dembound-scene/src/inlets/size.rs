@@ -22,30 +22,24 @@ pub enum SizeDistribution {
 }
 
 impl SizeDistribution {
-    pub fn max_radius(&self) -> f64 {
+    /// The smallest and largest radius the distribution draws, m (table
+    /// rows of fraction 0 left out; an all-zero table gives (∞, 0)).
+    pub fn radius_range(&self) -> (f64, f64) {
         match self {
-            SizeDistribution::Fixed(r) => *r,
-            SizeDistribution::Uniform(_, hi) => *hi,
-            SizeDistribution::Normal { max, .. } => *max,
+            SizeDistribution::Fixed(r) => (*r, *r),
+            SizeDistribution::Uniform(lo, hi) => (*lo, *hi),
+            SizeDistribution::Normal { min, max, .. } => (*min, *max),
             SizeDistribution::Table(rows) => rows
                 .iter()
                 .filter(|r| r.1 > 0.0)
-                .map(|r| r.0)
-                .fold(0.0, f64::max),
+                .fold((f64::INFINITY, 0.0), |(lo, hi), r| {
+                    (lo.min(r.0), hi.max(r.0))
+                }),
         }
     }
 
-    pub fn min_radius(&self) -> f64 {
-        match self {
-            SizeDistribution::Fixed(r) => *r,
-            SizeDistribution::Uniform(lo, _) => *lo,
-            SizeDistribution::Normal { min, .. } => *min,
-            SizeDistribution::Table(rows) => rows
-                .iter()
-                .filter(|r| r.1 > 0.0)
-                .map(|r| r.0)
-                .fold(f64::INFINITY, f64::min),
-        }
+    pub fn max_radius(&self) -> f64 {
+        self.radius_range().1
     }
 
     /// E[R³], m³ (by number).
