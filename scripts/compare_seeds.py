@@ -18,7 +18,8 @@ with a verdict against issue 32's bars:
 
 "resolved" says whether twice the combined standard error is below the
 bar (else the seeds cannot tell a difference of the bar's size).
-Speed: CPU seconds per particle-step of each code (mean over the seeds).
+Speed: seconds per particle-step and core of each code (mean over the seeds),
+by CPU time where the run reports it, else by the wall clock (LIGGGHTS).
 
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
        (add --markdown for one table row per quantity)
@@ -97,14 +98,20 @@ def main():
                      "—" if bar is None else ("agree" if diff <= bar else "DIFFER"),
                      "—" if bar is None else f"{bar:g}",
                      "—" if bar is None else ("yes" if 2 * se <= bar else "no")))
-    cpu_code = [1.0 / r["code_speed"]["particle_steps_per_core_second"] for r in reports if r.get("code_speed")]
-    cpu_dem = [1.0 / r["dembound_speed"]["particle_steps_per_core_second"] for r in reports]
-    # compare's speeds: LAMMPS's and LIGGGHTS's Loop time and dembound's
-    # stepping are wall-clock, Yade's log.yade CPU time: on a loaded
-    # machine only the latter is a per-core cost.
-    speed = (f"s per particle-step (compare's speed; wall-clock but Yade's): {code} "
-             + (f"{sum(cpu_code) / len(cpu_code):.3g}" if cpu_code else "—")
-             + f", dembound {sum(cpu_dem) / len(cpu_dem):.3g} (means over {n} seeds, one core each)")
+    # compare's speeds say which clock they divide by: CPU time where the
+    # run reports it (dembound, LAMMPS's "% CPU use", Yade), else the wall
+    # clock × cores (LIGGGHTS): a wall-clock rate on a loaded machine
+    # understates that code's per-core speed.
+    def seconds_per_step(key):
+        got = [(1.0 / r[key]["particle_steps_per_core_second"], r[key].get("clock", "wall"))
+               for r in reports if r.get(key)]
+        if not got:
+            return "—"
+        clocks = sorted({c for _, c in got})
+        return f"{sum(s for s, _ in got) / len(got):.3g} ({'/'.join(clocks)})"
+    speed = (f"s per particle-step per core (by CPU time where known, else wall clock): {code} "
+             + seconds_per_step("code_speed")
+             + f", dembound {seconds_per_step('dembound_speed')} (means over {n} seeds)")
     if args.markdown:
         for row in rows:
             print(f"| {args.label} | " + " | ".join(row) + " |")

@@ -132,6 +132,17 @@ fn lammps_run_of_a_small_bed_is_the_same_state_to_1e_9() {
     assert!(floor.iter().any(|f| *f > 0.0));
     let ke = numbers(&quantity(&report, "kinetic energy")["dembound"]);
     assert!((ke[ke.len() - 1] / ke[0] - 1.0).abs() > 1e-3, "{ke:?}");
+    // Both speeds by CPU time: LAMMPS's log has its "% CPU use" line, and
+    // dembound measures its own; the CPU time of a run cannot exceed its
+    // wall time on its cores by more than the clocks' granularity (1e-2 s
+    // covers getrusage's and LAMMPS's rounding of a run this short).
+    for key in ["code_speed", "dembound_speed"] {
+        let speed = &report[key];
+        assert_eq!(speed["clock"], "CPU", "{key}: {speed}");
+        let cpu = speed["cpu_seconds"].as_f64().expect("cpu_seconds");
+        let wall = speed["wall_seconds"].as_f64().expect("wall_seconds");
+        assert!(cpu > 0.0 && cpu <= wall + 1e-2, "{key}: {speed}");
+    }
     // A figure per quantity and the differences, as SVG and PNG.
     for stem in ["kinetic_energy", "bed_height", "relative_differences"] {
         assert!(dir

@@ -66,12 +66,60 @@ pub struct QuantityReport {
     pub verdict: Option<Verdict>,
 }
 
-/// Speed of a run: free-sphere steps per second and per core.
+/// Speed of a run: free-sphere steps per core-second, from the CPU time
+/// where the run reports it (a per-core cost even on a loaded machine), else
+/// from the wall clock × cores (`clock` says which: LIGGGHTS's log has only
+/// its wall-clock "Loop time"; LAMMPS's adds "% CPU use"; Yade's timing
+/// line is CPU time; dembound measures both).
 #[derive(Debug, Serialize)]
 pub struct Speed {
-    pub seconds: f64,
+    /// Wall-clock seconds of the stepping, when known.
+    pub wall_seconds: Option<f64>,
+    /// CPU seconds of the stepping (all cores), when known.
+    pub cpu_seconds: Option<f64>,
     pub cores: u64,
+    /// "CPU" or "wall": what `particle_steps_per_core_second` divides by.
+    pub clock: &'static str,
     pub particle_steps_per_core_second: f64,
+}
+
+impl Speed {
+    /// `particle_steps` free-sphere steps in `wall` s (on `cores` cores)
+    /// and/or `cpu` s.
+    fn new(particle_steps: f64, wall: Option<f64>, cpu: Option<f64>, cores: u64) -> Option<Self> {
+        let (clock, core_seconds) = match (cpu, wall) {
+            (Some(c), _) if c > 0.0 => ("CPU", c),
+            (_, Some(w)) if w > 0.0 => ("wall", w * cores.max(1) as f64),
+            _ => return None,
+        };
+        Some(Speed {
+            wall_seconds: wall,
+            cpu_seconds: cpu,
+            cores,
+            clock,
+            particle_steps_per_core_second: particle_steps / core_seconds,
+        })
+    }
+}
+
+/// CPU seconds this process has used so far (all its threads; user +
+/// system), or None where the platform does not say.
+fn process_cpu_seconds() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        // SAFETY: getrusage fills the struct it is given; a zeroed rusage
+        // is a valid value of that plain C struct.
+        let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+        if unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut usage) } != 0 {
+            return None;
+        }
+        let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+        Some(seconds(usage.ru_utime) + seconds(usage.ru_stime))
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -88,7 +136,7 @@ pub struct SceneCompareReport {
     pub quantities: Vec<QuantityReport>,
     /// From the peer's log ("Loop time"), when found.
     pub code_speed: Option<Speed>,
-    pub dembound_speed: Speed,
+    pub dembound_speed: Option<Speed>,
     /// Packing fraction and flow velocity against z over the late window
     /// (compare_profiles.rs).
     pub profiles: Vec<ProfileReport>,
@@ -310,6 +358,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     let (mut packing_ours, mut packing_theirs) = (Vec::new(), Vec::new());
     let (mut flow_ours, mut flow_theirs) = (Vec::new(), Vec::new());
     let mut stepping = 0.0;
+    let cpu_before = process_cpu_seconds();
     for row in rows.iter() {
         if row.step < sim.steps_done() {
             continue;
@@ -448,15 +497,26 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             None,
         ));
     }
+    let cpu_stepping = match (cpu_before, process_cpu_seconds()) {
+        (Some(a), Some(b)) => Some(b - a),
+        _ => None,
+    };
     let log = std::fs::read_to_string(dir.join(log_name)).ok();
-    let code_speed = log
-        .as_deref()
-        .and_then(scene_dump::loop_time)
-        .map(|(s, p, steps, _)| Speed {
-            seconds: s,
-            cores: p,
-            particle_steps_per_core_second: free as f64 * steps as f64 / s / p as f64,
-        });
+    let code_speed = log.as_deref().and_then(|log| {
+        let (seconds, procs, steps, _) = scene_dump::loop_time(log)?;
+        let particle_steps = free as f64 * steps as f64;
+        match code {
+            // The Yade script times itself with time.process_time().
+            "Yade" => Speed::new(particle_steps, None, Some(seconds), procs),
+            // LAMMPS's "Loop time" is wall clock; its "X% CPU use" line is
+            // rank 0's CPU over that time, taken for every rank.
+            _ => {
+                let cpu = scene_dump::cpu_use_percent(log)
+                    .map(|percent| seconds * percent / 100.0 * procs as f64);
+                Speed::new(particle_steps, Some(seconds), cpu, procs)
+            }
+        }
+    });
     let report = SceneCompareReport {
         code: code.into(),
         deck: dir.to_path_buf(),
@@ -468,13 +528,12 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         identical_threshold: agreement::IDENTICAL,
         quantities,
         code_speed,
-        dembound_speed: Speed {
-            seconds: stepping,
-            cores: threads as u64,
-            particle_steps_per_core_second: free as f64 * sim.steps_done() as f64
-                / stepping.max(1e-12)
-                / threads as f64,
-        },
+        dembound_speed: Speed::new(
+            free as f64 * sim.steps_done() as f64,
+            Some(stepping),
+            cpu_stepping,
+            threads as u64,
+        ),
         profiles: profile_reports,
     };
     if let Some(figures) = &args.figures {
@@ -646,12 +705,23 @@ fn text_report(r: &SceneCompareReport) -> String {
         sig(r.window_from, 4)
     ));
     let speed = |s: &Speed| {
+        let mut times = Vec::new();
+        if let Some(c) = s.cpu_seconds {
+            times.push(format!("{} s CPU", sig(c, 3)));
+        }
+        if let Some(w) = s.wall_seconds {
+            times.push(format!(
+                "{} s wall on {} core{}",
+                sig(w, 3),
+                s.cores,
+                if s.cores == 1 { "" } else { "s" }
+            ));
+        }
         format!(
-            "{} free-sphere steps per core-second ({} s on {} core{})",
-            sig(s.particle_steps_per_core_second, 3),
-            sig(s.seconds, 3),
-            s.cores,
-            if s.cores == 1 { "" } else { "s" }
+            "{:.2e} free-sphere steps per core-second by {} time ({})",
+            s.particle_steps_per_core_second,
+            s.clock,
+            times.join(", ")
         )
     };
     for p in &r.profiles {
@@ -673,12 +743,23 @@ fn text_report(r: &SceneCompareReport) -> String {
         ));
     }
     out.push_str(&format!(
-        "\nSpeed: {} {}; dembound {} (stepping only)\n",
+        "\nSpeed: {} {}; dembound {} (stepping only){}\n",
         r.code,
         r.code_speed
             .as_ref()
             .map_or("— (no Loop time in its log)".into(), speed),
-        speed(&r.dembound_speed)
+        r.dembound_speed
+            .as_ref()
+            .map_or("— (no time measured)".into(), speed),
+        match (
+            r.code_speed.as_ref().map(|s| s.clock),
+            r.dembound_speed.as_ref().map(|s| s.clock)
+        ) {
+            (Some(a), Some(b)) if a != b => {
+                " — one by wall clock, one by CPU time: on a loaded machine the wall-clock rate understates that code's per-core speed"
+            }
+            _ => "",
+        }
     ));
     out
 }

@@ -145,6 +145,15 @@ pub fn loop_time(log: &str) -> Option<(f64, u64, u64, u64)> {
     ))
 }
 
+/// LAMMPS's "X% CPU use with P MPI tasks x T OpenMP threads" line after the
+/// last "Loop time": rank 0's CPU time over the loop's wall time, percent
+/// (LIGGGHTS 3.8 prints no such line).
+pub fn cpu_use_percent(log: &str) -> Option<f64> {
+    let after = log.rsplit_once("Loop time of")?.1;
+    let line = after.lines().find(|l| l.contains("% CPU use"))?;
+    line.split('%').next()?.trim().parse().ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -170,5 +179,16 @@ mod tests {
         // LIGGGHTS adds ", finish time …".
         let log = "Loop time of 14.6 on 1 procs for 100000 steps with 400 atoms, finish time Thu\n";
         assert_eq!(loop_time(log), Some((14.6, 1, 100000, 400)));
+    }
+
+    #[test]
+    fn the_cpu_use_line_of_the_last_loop() {
+        // As LAMMPS 2023 writes it (two runs: the second's line counts).
+        let log = "Loop time of 1 on 1 procs for 10 steps with 2 atoms\n\n99.1% CPU use with 1 MPI tasks x 1 OpenMP threads\n\
+                   Loop time of 0.012411 on 1 procs for 3000 steps with 2 atoms\n\n35.5% CPU use with 1 MPI tasks x 1 OpenMP threads\n";
+        assert_eq!(cpu_use_percent(log), Some(35.5));
+        // LIGGGHTS: none.
+        let log = "Loop time of 14.6 on 1 procs for 100000 steps with 400 atoms, finish time Thu\n\n\nPair  time (%) = 56.8 (46.4)\n";
+        assert_eq!(cpu_use_percent(log), None);
     }
 }
