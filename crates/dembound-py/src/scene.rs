@@ -41,6 +41,9 @@ pub struct Scene {
     sim: Option<Simulation>,
     setup: SceneSetup,
     file: SceneFile,
+    /// The spheres of each `[[particles]]` group (input indices), for
+    /// `set_group_motion`.
+    groups: Vec<std::ops::Range<usize>>,
     threads: usize,
 }
 
@@ -61,6 +64,7 @@ impl Scene {
             sim,
             setup: resolved.setup,
             file: resolved.file,
+            groups: resolved.groups,
             threads,
         })
     }
@@ -412,8 +416,9 @@ impl Scene {
     /// `angular_velocity` (rad/s) about the axis through `center` (m),
     /// from `start` to `end` (s; default 0 and for ever), plus a
     /// sinusoidal translation `amplitude` sin(2π `frequency` t) (m, Hz)
-    /// when both are given. A plane, cylinder or mesh; the work the walls
-    /// do shows in `observe()["work_by_walls_J"]`.
+    /// when both are given. A plane, cylinder or mesh, or a wall of
+    /// boundary particles (its spheres move as one rigid body); the work
+    /// the walls do shows in `observe()["work_by_walls_J"]`.
     #[pyo3(signature = (k, velocity = None, angular_velocity = None, center = None, start = None, end = None, amplitude = None, frequency = None))]
     #[allow(clippy::too_many_arguments)]
     fn set_wall_motion(
@@ -427,56 +432,20 @@ impl Scene {
         amplitude: Option<&Bound<'_, PyAny>>,
         frequency: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        use dembound_scene::walls::motion::{self, MotionConfig, OscillationConfig, WallMotion};
+        use dembound_scene::walls::motion::{self, WallMotion};
         let walls = self.setup.walls.len();
         if walls == 0 {
             return Err(Failure::Input("k: the scene has no wall to move".into()).into());
         }
         let k = args::index(k, "k", 0, walls - 1)?;
-        fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
-            o.filter(|x| !x.is_none())
-        }
-        let three = |obj: Option<&Bound<'_, PyAny>>, name| -> Result<[f64; 3], Failure> {
-            match given(obj) {
-                None => Ok([0.0; 3]),
-                Some(obj) => {
-                    let (x, _) = args::floats(obj, name, &[Some(3)])?;
-                    Ok([x[0], x[1], x[2]])
-                }
-            }
-        };
-        let real = |obj: Option<&Bound<'_, PyAny>>, name, default| -> Result<f64, Failure> {
-            given(obj).map_or(Ok(default), |x| args::real(x, name))
-        };
-        let config = MotionConfig {
-            velocity: three(velocity, "velocity")?,
-            angular_velocity: three(angular_velocity, "angular_velocity")?,
-            center: three(center, "center")?,
-            start: real(start, "start", 0.0)?,
-            end: real(end, "end", f64::INFINITY)?,
-        };
-        let oscillation = match (given(amplitude), given(frequency)) {
-            (None, None) => None,
-            (Some(_), Some(_)) => Some(OscillationConfig {
-                amplitude: three(amplitude, "amplitude")?,
-                frequency: real(frequency, "frequency", 0.0)?,
-            }),
-            _ => {
-                return Err(Failure::Input(
-                    "amplitude and frequency: give both (an oscillation) or neither".into(),
-                )
-                .into())
-            }
-        };
+        let (config, oscillation) = motion_args(
+            velocity,
+            angular_velocity,
+            center,
+            (start, end),
+            (amplitude, frequency),
+        )?;
         let key = format!("wall[{k}]");
-        if self.setup.walls[k].is_particles() {
-            return Err(Failure::Input(format!(
-                "invalid value for `{key}.motion`: a `{}` wall (allowed: a plane, cylinder or \
-                 mesh; walls of boundary particles do not move yet)",
-                self.setup.walls[k].key()
-            ))
-            .into());
-        }
         motion::validate(&key, Some(&config), oscillation.as_ref()).map_err(scene_failure)?;
         if self.setup.wall_servos.get(k).is_some_and(Option::is_some) {
             return Err(Failure::Input(format!(
@@ -490,6 +459,76 @@ impl Scene {
         self.setup.wall_motions[k] = WallMotion::from_config(Some(&config), oscillation.as_ref());
         if let Err(e) = guarded(|| self.rebuild("set_wall_motion")) {
             self.setup.wall_motions = before;
+            return Err(e.into());
+        }
+        Ok(())
+    }
+
+    /// Gives the `[[particles]]` group `group` (file order), all of whose
+    /// spheres are fixed, a prescribed rigid motion before the first step
+    /// (`[[particles]] motion` and `oscillation` of the scene file): each
+    /// sphere, at X at t = 0, is at c(t) + R(t)(X − c₀), translating at
+    /// `velocity` (m/s) and turning at `angular_velocity` (rad/s) about
+    /// the axis through `center` (m), from `start` to `end` (s; default 0
+    /// and for ever), plus `amplitude` sin(2π `frequency` t) (m, Hz) when
+    /// both are given.
+    #[pyo3(signature = (group, velocity = None, angular_velocity = None, center = None, start = None, end = None, amplitude = None, frequency = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn set_group_motion(
+        &mut self,
+        group: &Bound<'_, PyAny>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        center: Option<&Bound<'_, PyAny>>,
+        start: Option<&Bound<'_, PyAny>>,
+        end: Option<&Bound<'_, PyAny>>,
+        amplitude: Option<&Bound<'_, PyAny>>,
+        frequency: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        use dembound_scene::setup::GroupMotion;
+        use dembound_scene::walls::motion::{self, WallMotion};
+        if self.groups.is_empty() {
+            return Err(Failure::Input(
+                "group: the scene has no [[particles]] group to move".into(),
+            )
+            .into());
+        }
+        let k = args::index(group, "group", 0, self.groups.len() - 1)?;
+        let (config, oscillation) = motion_args(
+            velocity,
+            angular_velocity,
+            center,
+            (start, end),
+            (amplitude, frequency),
+        )?;
+        let key = format!("particles[{k}]");
+        motion::validate(&key, Some(&config), oscillation.as_ref()).map_err(scene_failure)?;
+        let spheres = self.groups[k].clone();
+        if let Some(i) = spheres
+            .clone()
+            .find(|&i| self.setup.spheres.get(i).is_some_and(|s| !s.fixed))
+        {
+            return Err(Failure::Input(format!(
+                "group: particles[{k}] has a free sphere (input index {i}); a group that moves \
+                 is one of fixed spheres (fixed = true)"
+            ))
+            .into());
+        }
+        let before = self.setup.group_motions.clone();
+        self.setup.group_motions.retain(|g| g.group != k);
+        if let Some(m) = WallMotion::from_config(Some(&config), oscillation.as_ref()) {
+            let at = self.setup.group_motions.partition_point(|g| g.group < k);
+            self.setup.group_motions.insert(
+                at,
+                GroupMotion {
+                    group: k,
+                    spheres,
+                    motion: m,
+                },
+            );
+        }
+        if let Err(e) = guarded(|| self.rebuild("set_group_motion")) {
+            self.setup.group_motions = before;
             return Err(e.into());
         }
         Ok(())
@@ -973,4 +1012,60 @@ impl Scene {
             ),
         }
     }
+}
+
+/// A prescribed motion's arguments (`set_wall_motion`,
+/// `set_group_motion`), each checked by name: three floats for a vector,
+/// a real for a time or frequency; an oscillation needs both its
+/// amplitude and frequency.
+#[allow(clippy::type_complexity)]
+fn motion_args(
+    velocity: Option<&Bound<'_, PyAny>>,
+    angular_velocity: Option<&Bound<'_, PyAny>>,
+    center: Option<&Bound<'_, PyAny>>,
+    (start, end): (Option<&Bound<'_, PyAny>>, Option<&Bound<'_, PyAny>>),
+    (amplitude, frequency): (Option<&Bound<'_, PyAny>>, Option<&Bound<'_, PyAny>>),
+) -> Result<
+    (
+        dembound_scene::walls::motion::MotionConfig,
+        Option<dembound_scene::walls::motion::OscillationConfig>,
+    ),
+    Failure,
+> {
+    use dembound_scene::walls::motion::{MotionConfig, OscillationConfig};
+    fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
+        o.filter(|x| !x.is_none())
+    }
+    let three = |obj: Option<&Bound<'_, PyAny>>, name| -> Result<[f64; 3], Failure> {
+        match given(obj) {
+            None => Ok([0.0; 3]),
+            Some(obj) => {
+                let (x, _) = args::floats(obj, name, &[Some(3)])?;
+                Ok([x[0], x[1], x[2]])
+            }
+        }
+    };
+    let real = |obj: Option<&Bound<'_, PyAny>>, name, default| -> Result<f64, Failure> {
+        given(obj).map_or(Ok(default), |x| args::real(x, name))
+    };
+    let config = MotionConfig {
+        velocity: three(velocity, "velocity")?,
+        angular_velocity: three(angular_velocity, "angular_velocity")?,
+        center: three(center, "center")?,
+        start: real(start, "start", 0.0)?,
+        end: real(end, "end", f64::INFINITY)?,
+    };
+    let oscillation = match (given(amplitude), given(frequency)) {
+        (None, None) => None,
+        (Some(_), Some(_)) => Some(OscillationConfig {
+            amplitude: three(amplitude, "amplitude")?,
+            frequency: real(frequency, "frequency", 0.0)?,
+        }),
+        _ => {
+            return Err(Failure::Input(
+                "amplitude and frequency: give both (an oscillation) or neither".into(),
+            ))
+        }
+    };
+    Ok((config, oscillation))
 }
