@@ -91,7 +91,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "m",
             "—",
             "finite, inside the domain, upper > lower on each axis".into(),
-            "an inlet's box (or region.cylinder = { center, axis, radius, length } in m): spheres inserted during the run lie wholly inside it, overlapping nothing (spheres, boundary particles, walls); insertion events every inlet[K].every steps, each inserting the spheres due by the end of its interval (cumulative rounding: round(rate · t) in all); the same spheres on any number of threads and MPI ranks; a checkpoint restarts them (not yet under mpirun) (--json inlets[K].inserted, mass, not_placed; series.csv inletK_inserted, inletK_mass_kg, brought_in_energy_J; energy_balance.brought_in_energy)",
+            "an inlet's box (or region.cylinder = { center, axis, radius, length } in m): spheres inserted during the run lie wholly inside it, overlapping nothing (spheres, boundary particles, the walls acting at the insertion step: a wall outside its active window is no obstacle, and one that switches on later over inserted spheres books the energy of their overlaps as gate_energy); insertion events every inlet[K].every steps, each inserting the spheres due by the end of its interval (cumulative rounding: round(rate · t) in all); the same spheres on any number of threads and MPI ranks; a checkpoint restarts them (not yet under mpirun) (--json inlets[K].inserted, mass, not_placed; series.csv inletK_inserted, inletK_mass_kg, brought_in_energy_J; energy_balance.brought_in_energy)",
         ),
         row(
             "inlet[K].rate.number / .mass",

@@ -15,8 +15,13 @@
 //! radius (the sphere lies wholly inside the region); the first centre
 //! that overlaps nothing is taken: no free, fixed or boundary sphere
 //! (periodic images included), no sphere placed earlier in the same event
-//! (of this inlet or an earlier one), and no wall (every element of every
-//! plane, cylinder and mesh wall at overlap ≤ 0: distance ≥ R). Touching
+//! (of this inlet or an earlier one), and no wall acting at the insertion
+//! step (every element of every plane, cylinder and mesh wall at overlap
+//! ≤ 0: distance ≥ R; a wall with `active = { from, to }` outside its
+//! window is no obstacle, `crate::walls::gate`). A gate that switches on
+//! later over spheres inserted in its volume closes into their overlaps:
+//! the normal law's energy of those overlaps is booked as the gate energy
+//! G at the switch, as for any gate closing on an overlap. Touching
 //! (distance exactly R_i + R_j) is allowed. A sphere none of whose
 //! centres fits is not placed: counted (`not_placed`), reported, never
 //! silently lost.
