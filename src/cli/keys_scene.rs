@@ -87,6 +87,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "an outlet's upper corner",
         ),
         row(
+            "outlet[K].region.cylinder",
+            "m",
+            "—",
+            "center finite, axis finite and non-zero, radius and length finite and > 0".into(),
+            "an outlet's cylinder instead of a box: { center, axis, radius, length }, center the middle of its axis segment of that length (the region type of inlet[K].region); a free sphere whose centre is inside it (surface included) is removed as by a box",
+        ),
+        row(
             "inlet[K].region.box.lower / .upper",
             "m",
             "—",

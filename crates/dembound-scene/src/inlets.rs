@@ -56,15 +56,15 @@ use crate::error::SceneError;
 
 mod engine;
 mod placement;
-mod region;
 mod restart;
 mod schedule;
 mod size;
 
+pub use crate::region::unit;
+use crate::region::Region;
 pub(crate) use engine::{insert_due, InsertHooks, OneProcess};
 pub(crate) use placement::nearby;
 pub use placement::{event_rng, place_event, Obstacles};
-pub use region::{unit, InletRegion};
 pub(crate) use restart::{record, restore};
 pub use restart::{InletRecord, InletsRecord};
 pub use schedule::{
@@ -96,7 +96,8 @@ pub enum InletRate {
 /// One `[[inlet]]` as the engine takes it (SI).
 #[derive(Debug, Clone, PartialEq)]
 pub struct InletSetup {
-    pub region: InletRegion,
+    /// Its cylinder's axis a unit vector.
+    pub region: Region,
     pub rate: InletRate,
     pub size: SizeDistribution,
     /// Index into the setup's materials.

@@ -86,7 +86,10 @@ pub(crate) fn insert_due(world: &mut World, hooks: &mut dyn InsertHooks) {
         let acting = world.gates.as_deref().map(|g| g.status_at(step));
         let walls_clear = |x: [f64; 3], r: f64| {
             surfaces.iter().enumerate().all(|(w, s)| {
-                if acting.as_ref().is_some_and(|a| !a.get(w).copied().unwrap_or(true)) {
+                if acting
+                    .as_ref()
+                    .is_some_and(|a| !a.get(w).copied().unwrap_or(true))
+                {
                     return true;
                 }
                 let mut clear = true;
