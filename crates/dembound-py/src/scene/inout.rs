@@ -4,7 +4,7 @@
 //! validation, so a bad value is a `ValueError` naming the argument, the
 //! value and the allowed range.
 
-use super::{scene_failure, Scene};
+use super::Scene;
 use crate::errors::Failure;
 use dembound_scene::io::config::{InletSection, Particles, Region};
 
@@ -130,7 +130,7 @@ pub(super) fn arguments<'py>(
     py: pyo3::Python<'py>,
     given: &[(&str, Option<&pyo3::Bound<'py, pyo3::PyAny>>)],
 ) -> pyo3::PyResult<pyo3::Bound<'py, pyo3::types::PyDict>> {
-    use pyo3::types::PyDictMethods;
+    use pyo3::types::{PyAnyMethods, PyDictMethods};
     let d = pyo3::types::PyDict::new(py);
     for (name, value) in given {
         if let Some(v) = value.filter(|v| !v.is_none()) {
