@@ -87,11 +87,18 @@ pub fn keys() -> Vec<KeyInfo> {
             "an outlet's upper corner",
         ),
         row(
+            "outlet[K].region.cylinder",
+            "m",
+            "—",
+            "center finite, axis finite and non-zero, radius and length finite and > 0".into(),
+            "an outlet's cylinder instead of a box: { center, axis, radius, length }, center the middle of its axis segment of that length (the region type of inlet[K].region); a free sphere whose centre is inside it (surface included) is removed as by a box",
+        ),
+        row(
             "inlet[K].region.box.lower / .upper",
             "m",
             "—",
             "finite, inside the domain, upper > lower on each axis".into(),
-            "an inlet's box (or region.cylinder = { center, axis, radius, length } in m): spheres inserted during the run lie wholly inside it, overlapping nothing (spheres, boundary particles, walls); insertion events every inlet[K].every steps, each inserting the spheres due by the end of its interval (cumulative rounding: round(rate · t) in all); the same spheres on any number of threads and MPI ranks; a checkpoint restarts them (not yet under mpirun) (--json inlets[K].inserted, mass, not_placed; series.csv inletK_inserted, inletK_mass_kg, brought_in_energy_J; energy_balance.brought_in_energy)",
+            "an inlet's box (or region.cylinder = { center, axis, radius, length } in m): spheres inserted during the run lie wholly inside it, overlapping nothing (spheres, boundary particles, the walls acting at the insertion step: a wall outside its active window is no obstacle, and one that switches on later over inserted spheres books the energy of their overlaps as gate_energy); insertion events every inlet[K].every steps, each inserting the spheres due by the end of its interval (cumulative rounding: round(rate · t) in all); the same spheres on any number of threads and MPI ranks; a checkpoint restarts them (not yet under mpirun) (--json inlets[K].inserted, mass, not_placed; series.csv inletK_inserted, inletK_mass_kg, brought_in_energy_J; energy_balance.brought_in_energy)",
         ),
         row(
             "inlet[K].rate.number / .mass",

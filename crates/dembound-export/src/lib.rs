@@ -166,7 +166,7 @@ pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> 
     if !setup.outlets.is_empty() {
         return Err(Error::Export(format!(
             "`outlet` cannot be exported: the {code} deck has no removal by dembound's rule \
-             (a centre inside the box, touching nothing); remove the [[outlet]] sections to \
+             (a centre inside the region, touching nothing); remove the [[outlet]] sections to \
              export the scene"
         )));
     }

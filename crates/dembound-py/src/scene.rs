@@ -17,6 +17,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 use std::path::{Path, PathBuf};
 
+mod inout;
+
 fn scene_failure(e: SceneError) -> Failure {
     if e.is_input() {
         Failure::Input(e.to_string())
@@ -45,6 +47,9 @@ pub struct Scene {
     /// `set_group_motion`.
     groups: Vec<std::ops::Range<usize>>,
     threads: usize,
+    /// The row the last `observe()` returned (an outlet's rate is since
+    /// it).
+    observed: Option<dembound_scene::Observation>,
 }
 
 impl Scene {
@@ -66,12 +71,13 @@ impl Scene {
             file: resolved.file,
             groups: resolved.groups,
             threads,
+            observed: None,
         })
     }
 
     /// The simulation of `setup`, or None when it has no spheres yet.
     fn start(setup: &SceneSetup, threads: usize) -> Result<Option<Simulation>, Failure> {
-        if setup.spheres.is_empty() {
+        if !inout::runnable(setup) {
             return Ok(None);
         }
         Ok(Some(
@@ -259,6 +265,71 @@ impl Scene {
             return Err(e.into());
         }
         Ok(())
+    }
+
+    /// Adds an inlet before the first step, its arguments the keys of a
+    /// scene file's `[[inlet]]` (README): `region` a dict `{"box":
+    /// {"lower": [x, y, z], "upper": [x, y, z]}}` or `{"cylinder":
+    /// {"center", "axis", "radius", "length"}}` (m); `rate` `{"number": N}`
+    /// (spheres/s) or `{"mass": Q}` (kg/s); `size` (radii, m) `{"fixed":
+    /// R}`, `{"uniform": [Rmin, Rmax]}`, `{"normal": {"mean", "std", "min",
+    /// "max"}}` or `{"table": [[R, fraction], ...]}`; `material` a
+    /// `[[material]]` name; `velocity` (m/s, default 0); `start`, `end`
+    /// (s; default 0 and the run's end); `seed` (default 0); `every`
+    /// (steps between insertion events; default from the rate);
+    /// `max_attempts` (centres tried per sphere, default 100). A bad value
+    /// is a ValueError naming the argument. A scene with an inlet runs
+    /// without spheres of its own.
+    #[pyo3(signature = (region, rate, size, material, velocity = None, start = None, end = None, seed = None, every = None, max_attempts = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_inlet(
+        &mut self,
+        py: Python<'_>,
+        region: &Bound<'_, PyAny>,
+        rate: &Bound<'_, PyAny>,
+        size: &Bound<'_, PyAny>,
+        material: &Bound<'_, PyAny>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        start: Option<&Bound<'_, PyAny>>,
+        end: Option<&Bound<'_, PyAny>>,
+        seed: Option<&Bound<'_, PyAny>>,
+        every: Option<&Bound<'_, PyAny>>,
+        max_attempts: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let given = [
+            Some(region),
+            Some(rate),
+            Some(size),
+            Some(material),
+            velocity,
+            start,
+            end,
+            seed,
+            every,
+            max_attempts,
+        ];
+        let named: Vec<_> = inout::INLET_ARGUMENTS.iter().copied().zip(given).collect();
+        let table =
+            crate::dict::table(inout::arguments(py, &named)?.as_any()).map_err(|e| match e {
+                Failure::Input(m) => Failure::Input(format!("add_inlet: {m}")),
+                other => other,
+            })?;
+        Ok(guarded(|| self.add_inlet_table(table))?)
+    }
+
+    /// Adds an outlet before the first step: `region` as a scene file's
+    /// `[[outlet]] region` (README), a dict `{"box": {"lower": [x, y, z],
+    /// "upper": [x, y, z]}}` or `{"cylinder": {"center", "axis", "radius",
+    /// "length"}}` (m); the free spheres whose centres enter it are removed
+    /// (counted in `observe()`'s `outletK_*` columns). A bad value is a
+    /// ValueError naming the argument.
+    fn add_outlet(&mut self, py: Python<'_>, region: &Bound<'_, PyAny>) -> PyResult<()> {
+        let table = crate::dict::table(inout::arguments(py, &[("region", Some(region))])?.as_any())
+            .map_err(|e| match e {
+                Failure::Input(m) => Failure::Input(format!("add_outlet: {m}")),
+                other => other,
+            })?;
+        Ok(guarded(|| self.add_outlet_table(table))?)
     }
 
     /// Adds a fixed plane wall before the first step: through `point` (m)
@@ -866,18 +937,22 @@ impl Scene {
     /// Energies (J), contact counts, wall forces (N) and torques (N m)
     /// now: the CLI's series.csv row as a dict, keyed by its column names
     /// (units in the names: `time_s`, `kinetic_energy_J`,
-    /// `wall0_force_z_N`, …); counts are ints, the rest floats.
-    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// `wall0_force_z_N`, `outlet0_mass_kg`, `inlet0_inserted`, …); counts
+    /// are ints, the rest floats. An outlet's `outletK_rate_kg_per_s` is
+    /// the mass flow rate since the previous `observe()` call (the first:
+    /// since t = 0), as series.csv's since its previous row.
+    fn observe<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let sim = self.running()?;
         let observation = guarded(|| Ok(sim.observe()))?;
-        let header = series::series_header_of(&observation);
+        let (header, cells) = series::series_columns(&observation, self.observed.as_ref());
         let out = PyDict::new(py);
-        for (name, cell) in header.into_iter().zip(series::series_cells(&observation)) {
+        for (name, cell) in header.into_iter().zip(cells) {
             match cell {
                 series::Cell::Count(n) => out.set_item(name, n)?,
                 series::Cell::Value(x) => out.set_item(name, x)?,
             }
         }
+        self.observed = Some(observation);
         Ok(out)
     }
 

@@ -15,8 +15,13 @@
 //! radius (the sphere lies wholly inside the region); the first centre
 //! that overlaps nothing is taken: no free, fixed or boundary sphere
 //! (periodic images included), no sphere placed earlier in the same event
-//! (of this inlet or an earlier one), and no wall (every element of every
-//! plane, cylinder and mesh wall at overlap ≤ 0: distance ≥ R). Touching
+//! (of this inlet or an earlier one), and no wall acting at the insertion
+//! step (every element of every plane, cylinder and mesh wall at overlap
+//! ≤ 0: distance ≥ R; a wall with `active = { from, to }` outside its
+//! window is no obstacle, `crate::walls::gate`). A gate that switches on
+//! later over spheres inserted in its volume closes into their overlaps:
+//! the normal law's energy of those overlaps is booked as the gate energy
+//! G at the switch, as for any gate closing on an overlap. Touching
 //! (distance exactly R_i + R_j) is allowed. A sphere none of whose
 //! centres fits is not placed: counted (`not_placed`), reported, never
 //! silently lost.
@@ -51,15 +56,15 @@ use crate::error::SceneError;
 
 mod engine;
 mod placement;
-mod region;
 mod restart;
 mod schedule;
 mod size;
 
+pub use crate::region::unit;
+use crate::region::Region;
 pub(crate) use engine::{insert_due, InsertHooks, OneProcess};
 pub(crate) use placement::nearby;
 pub use placement::{event_rng, place_event, Obstacles};
-pub use region::{unit, InletRegion};
 pub(crate) use restart::{record, restore};
 pub use restart::{InletRecord, InletsRecord};
 pub use schedule::{
@@ -91,7 +96,8 @@ pub enum InletRate {
 /// One `[[inlet]]` as the engine takes it (SI).
 #[derive(Debug, Clone, PartialEq)]
 pub struct InletSetup {
-    pub region: InletRegion,
+    /// Its cylinder's axis a unit vector.
+    pub region: Region,
     pub rate: InletRate,
     pub size: SizeDistribution,
     /// Index into the setup's materials.

@@ -28,6 +28,7 @@ pub mod limits;
 pub mod outlets;
 pub mod parallel;
 pub mod pipeline;
+pub mod region;
 pub mod removal;
 pub(crate) mod restart_walls;
 pub mod setup;

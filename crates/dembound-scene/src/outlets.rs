@@ -18,18 +18,20 @@ pub fn outlet_columns(k: usize) -> [String; 3] {
 }
 
 /// The mass flow rate of outlet `k` at row `i` of `rows` (time order),
-/// kg/s: the mass removed since the previous row over the time between
-/// them (the first row: since t = 0 with nothing removed; 0 when no time
-/// has passed).
+/// kg/s: [`rate_since`] the row before.
 pub fn rate_at(rows: &[Observation], i: usize, k: usize) -> f64 {
+    rate_since(&rows[i], i.checked_sub(1).map(|p| &rows[p]), k)
+}
+
+/// The mass flow rate of outlet `k` at row `o`, kg/s: the mass removed
+/// since the row `previous` over the time between them (no previous row:
+/// since t = 0 with nothing removed; 0 when no time has passed).
+pub fn rate_since(o: &Observation, previous: Option<&Observation>, k: usize) -> f64 {
     let mass = |o: &Observation| o.outlets.get(k).map_or(0.0, |r| r.mass);
-    let (m0, t0) = match i.checked_sub(1) {
-        Some(p) => (mass(&rows[p]), rows[p].time),
-        None => (0.0, 0.0),
-    };
-    let dt = rows[i].time - t0;
+    let (m0, t0) = previous.map_or((0.0, 0.0), |p| (mass(p), p.time));
+    let dt = o.time - t0;
     if dt > 0.0 {
-        (mass(&rows[i]) - m0) / dt
+        (mass(o) - m0) / dt
     } else {
         0.0
     }

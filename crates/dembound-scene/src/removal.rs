@@ -4,7 +4,7 @@
 //! the energy they carry out booked, so that the energy balance still
 //! closes: K + E + P + D − W + C = E₀, C the energy carried out. The same
 //! machinery removes the free spheres whose centres are inside an outlet
-//! box (`[[outlet]]`), counted by outlet. An outlet too removes a sphere
+//! region, a box or a cylinder (`[[outlet]]`), counted by outlet. An outlet too removes a sphere
 //! only once it touches nothing: then it carries out K + P only, exactly
 //! (a contact's elastic energy would otherwise leave with it unbooked, or
 //! booked with an error of the step's half kick by the contact force).
@@ -47,22 +47,6 @@ pub struct Removed {
     pub energy: f64,
 }
 
-/// An outlet (`[[outlet]]`, issue 28): a box, m, that removes the free
-/// spheres whose centres are inside it (once they touch nothing, like a
-/// lost sphere: module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OutletBox {
-    pub lower: [f64; 3],
-    pub upper: [f64; 3],
-}
-
-impl OutletBox {
-    /// The centre `x` (m) is inside (faces included).
-    pub fn holds(&self, x: &[f64; 3]) -> bool {
-        (0..3).all(|a| x[a] >= self.lower[a] && x[a] <= self.upper[a])
-    }
-}
-
 /// What one outlet has removed so far.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 pub struct OutletRemoved {
@@ -82,8 +66,10 @@ pub struct Removal {
     /// hold every fixed sphere.
     pub lower: [f64; 3],
     pub upper: [f64; 3],
-    /// The outlets (file order).
-    pub outlets: Vec<OutletBox>,
+    /// The outlets (file order): regions (`crate::region`, a unit
+    /// cylinder axis) that remove the free spheres whose centres are inside
+    /// them (surface included), once they touch nothing (module doc).
+    pub outlets: Vec<crate::region::Region>,
     /// So far, by outlet (file order).
     pub by_outlet: Vec<OutletRemoved>,
     /// So far, in all (lost spheres and outlets).

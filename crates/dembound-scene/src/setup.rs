@@ -38,9 +38,9 @@ pub struct SceneSetup {
     /// What a free sphere lost for good outside the box does to the run
     /// (`domain.outside`, issue 28).
     pub outside: Outside,
-    /// The outlets (`[[outlet]]`, issue 28; `crate::removal`): boxes that
+    /// The outlets (`[[outlet]]`, issue 28; `crate::removal`): regions that
     /// remove the free spheres whose centres enter them.
-    pub outlets: Vec<crate::removal::OutletBox>,
+    pub outlets: Vec<crate::region::Region>,
     /// The inlets (`[[inlet]]`, issue 28; `crate::inlets`): regions that
     /// insert spheres during the run.
     pub inlets: Vec<crate::inlets::InletSetup>,

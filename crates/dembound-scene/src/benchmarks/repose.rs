@@ -26,7 +26,8 @@
 
 use super::granular::{advance, Grains};
 use super::{Band, Check, Curve, Outcome, Plot, Style};
-use crate::inlets::{InletRate, InletRegion, InletSetup, SizeDistribution};
+use crate::inlets::{InletRate, InletSetup, SizeDistribution};
+use crate::region::Region;
 use crate::setup::{DomainSetup, Outside, SphereInit};
 use crate::{SceneError, Simulation};
 use dembound_physics::material::Material;
@@ -245,7 +246,7 @@ fn pour_one(g: &Grains, s: &Setup, progress: &dyn Fn(&str)) -> Result<Heap, Scen
     }
     let base_count = scene.spheres.len();
     scene.inlets.push(InletSetup {
-        region: InletRegion::Box {
+        region: Region::Box {
             lower: [-2.0 * d, 0.0, s.funnel - 2.0 * d],
             upper: [2.0 * d, width, s.funnel + 2.0 * d],
         },

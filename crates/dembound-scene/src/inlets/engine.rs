@@ -81,8 +81,17 @@ pub(crate) fn insert_due(world: &mut World, hooks: &mut dyn InsertHooks) {
         let mut obstacles =
             Obstacles::new(near.into_iter().map(|(_, x, r)| (x, r)).collect(), r_max);
         let surfaces = &world.surfaces;
+        // Only the walls acting at this state (`walls::gate`): a gate
+        // open now (or not yet closed) is no obstacle.
+        let acting = world.gates.as_deref().map(|g| g.status_at(step));
         let walls_clear = |x: [f64; 3], r: f64| {
-            surfaces.iter().all(|s| {
+            surfaces.iter().enumerate().all(|(w, s)| {
+                if acting
+                    .as_ref()
+                    .is_some_and(|a| !a.get(w).copied().unwrap_or(true))
+                {
+                    return true;
+                }
                 let mut clear = true;
                 s.wall().near_elements(x, r, 0.0, &mut |el| {
                     if clear && s.wall().contact(el, x, [0.0; 3], r).overlap > 0.0 {

@@ -4,7 +4,7 @@ use rand_chacha::ChaCha8Rng;
 
 fn box_setup(size: SizeDistribution) -> InletSetup {
     InletSetup {
-        region: InletRegion::Box {
+        region: Region::Box {
             lower: [0.0; 3],
             upper: [0.2, 0.2, 0.2],
         },
@@ -136,7 +136,7 @@ fn table_samples_follow_the_fractions() {
 fn cylinder_samples_lie_inside() {
     let axis = unit([1.0, 1.0, 0.0]);
     let c = [0.5, 0.5, 0.5];
-    let region = InletRegion::Cylinder {
+    let region = Region::Cylinder {
         center: c,
         axis,
         radius: 0.1,

@@ -17,12 +17,13 @@ mod overrides;
 mod particles;
 mod walls;
 
+pub use crate::region::Region;
 pub use contact::{ContactSection, Law};
-pub use inlets::{InletRegionSection, InletSection, RateSection, SizeSection};
+pub use inlets::{InletSection, RateSection, SizeSection};
 pub use integration::{
     IntegrationSection, MotionSection, OutputSection, ParallelSection, Scheme, MAX_STEPS,
 };
-pub use outlets::{OutletSection, RegionSection};
+pub use outlets::OutletSection;
 pub use overrides::{apply_set, parse_value};
 pub use particles::{InlineSphere, LatticeSource, ParticlesSection, RadiusSpec, RandomSource};
 pub(crate) use walls::surface_material;

@@ -268,7 +268,7 @@ pub fn resolve_with(
             Some(OutsideName::Keep) => Outside::Keep,
             Some(OutsideName::Delete) => Outside::Delete,
         },
-        outlets: file.outlets.iter().map(|o| o.outlet_box()).collect(),
+        outlets: file.outlets.iter().map(|o| o.outlet_region()).collect(),
         // The file's materials come first, in file order.
         inlets: (0..file.inlets.len())
             .map(|i| {

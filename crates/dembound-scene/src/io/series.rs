@@ -71,54 +71,6 @@ pub fn motion_columns(k: usize) -> Vec<String> {
     out
 }
 
-/// The cells of `o`'s row, in [`series_header_of`]'s order (the scene's
-/// walls are `o.wall_forces.len()`; the work column when
-/// `o.work_by_walls` is given; the removal's columns when `o.removed` is
-/// given; the moving walls' columns last).
-pub fn series_cells(o: &Observation) -> Vec<Cell> {
-    let mut cells = vec![
-        Cell::Count(o.step),
-        Cell::Value(o.time),
-        Cell::Value(o.kinetic_energy),
-        Cell::Value(o.elastic_energy),
-        Cell::Value(o.potential_energy),
-        Cell::Value(o.dissipated_energy),
-        Cell::Count(o.particle_contacts as u64),
-        Cell::Count(o.wall_contacts as u64),
-    ];
-    if let Some(w) = o.work_by_walls {
-        cells.insert(6, Cell::Value(w));
-    }
-    for f in o.wall_forces.iter().chain(&o.wall_torques) {
-        cells.extend(f.iter().map(|&x| Cell::Value(x)));
-    }
-    if let Some(r) = o.removed {
-        cells.extend([
-            Cell::Count(r.particles),
-            Cell::Value(r.mass),
-            Cell::Value(r.energy),
-        ]);
-    }
-    if let Some(g) = o.gate_energy {
-        cells.push(Cell::Value(g));
-    }
-    for m in &o.wall_motions {
-        cells.extend(m.position.iter().map(|&x| Cell::Value(x)));
-        cells.push(Cell::Value(m.angle));
-        for v in [m.velocity, m.angular_velocity] {
-            cells.extend(v.iter().map(|&x| Cell::Value(x)));
-        }
-    }
-    for g in &o.group_motions {
-        cells.extend(g.position.iter().map(|&x| Cell::Value(x)));
-        cells.push(Cell::Value(g.angle));
-        for v in [g.velocity, g.angular_velocity, g.force, g.torque] {
-            cells.extend(v.iter().map(|&x| Cell::Value(x)));
-        }
-    }
-    cells
-}
-
 /// The columns of a moving `[[particles]]` group `k` (issue 27, after the
 /// moving walls'): its motion as [`motion_columns`], then the force and
 /// the torque (about the motion's centre now) the spheres put on it
@@ -149,75 +101,96 @@ pub const REMOVED_COLUMNS: [&str; 3] = [
 /// adds after the removal's: the gate energy G booked so far.
 pub const GATE_COLUMN: &str = "gate_energy_J";
 
-/// The column names of `o`'s row: [`series_header`] of its walls and
-/// work, then the removal's columns when `o` has them, then
-/// [`motion_columns`] of each wall in `o.wall_motions`.
-pub fn series_header_of(o: &Observation) -> Vec<String> {
+/// Every column of the series row of `o`, `previous` the row before it
+/// (`None`: the first row, after t = 0 with nothing removed): (names with
+/// units, cells), in series.csv's order: [`series_header`]'s energies,
+/// work, counts, wall forces and torques; the removal's columns when
+/// `o.removed` is given; the gate energy when `o.gate_energy` is; each
+/// moving wall's [`motion_columns`] and each moving group's
+/// [`group_columns`]; each outlet's `crate::outlets::outlet_columns`
+/// (its rate since `previous`); each inlet's `crate::inlets::inlet_columns`
+/// and, with inlets, the energy brought in. The one builder of the
+/// columns: series.csv ([`write_series`]) and Python's `Scene.observe()`.
+pub fn series_columns(o: &Observation, previous: Option<&Observation>) -> (Vec<String>, Vec<Cell>) {
     let mut header = series_header(o.wall_forces.len(), o.work_by_walls.is_some());
-    if o.removed.is_some() {
-        header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+    let mut cells = vec![
+        Cell::Count(o.step),
+        Cell::Value(o.time),
+        Cell::Value(o.kinetic_energy),
+        Cell::Value(o.elastic_energy),
+        Cell::Value(o.potential_energy),
+        Cell::Value(o.dissipated_energy),
+        Cell::Count(o.particle_contacts as u64),
+        Cell::Count(o.wall_contacts as u64),
+    ];
+    if let Some(w) = o.work_by_walls {
+        cells.insert(6, Cell::Value(w));
     }
-    if o.gate_energy.is_some() {
+    for f in o.wall_forces.iter().chain(&o.wall_torques) {
+        cells.extend(f.iter().map(|&x| Cell::Value(x)));
+    }
+    if let Some(r) = o.removed {
+        header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
+        cells.extend([
+            Cell::Count(r.particles),
+            Cell::Value(r.mass),
+            Cell::Value(r.energy),
+        ]);
+    }
+    if let Some(g) = o.gate_energy {
         header.push(GATE_COLUMN.to_string());
+        cells.push(Cell::Value(g));
     }
     for m in &o.wall_motions {
         header.extend(motion_columns(m.wall));
+        cells.extend(m.position.iter().map(|&x| Cell::Value(x)));
+        cells.push(Cell::Value(m.angle));
+        for v in [m.velocity, m.angular_velocity] {
+            cells.extend(v.iter().map(|&x| Cell::Value(x)));
+        }
     }
     for g in &o.group_motions {
         header.extend(group_columns(g.group));
-    }
-    header
-}
-
-/// Writes `rows` (in time order) for a scene of `walls` walls.
-pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> csv::Result<()> {
-    let mut out = csv::Writer::from_writer(w);
-    let work = rows.first().is_some_and(|o| o.work_by_walls.is_some());
-    let mut header = series_header(walls, work);
-    if rows.first().is_some_and(|o| o.removed.is_some()) {
-        header.extend(REMOVED_COLUMNS.iter().map(|s| s.to_string()));
-    }
-    if rows.first().is_some_and(|o| o.gate_energy.is_some()) {
-        header.push(GATE_COLUMN.to_string());
-    }
-    for m in rows.first().map_or(&[][..], |o| &o.wall_motions[..]) {
-        header.extend(motion_columns(m.wall));
-    }
-    for g in rows.first().map_or(&[][..], |o| &o.group_motions[..]) {
-        header.extend(group_columns(g.group));
+        cells.extend(g.position.iter().map(|&x| Cell::Value(x)));
+        cells.push(Cell::Value(g.angle));
+        for v in [g.velocity, g.angular_velocity, g.force, g.torque] {
+            cells.extend(v.iter().map(|&x| Cell::Value(x)));
+        }
     }
     // The outlets' columns (`crate::outlets`), only when there are any.
-    let outlets = rows.first().map_or(0, |o| o.outlets.len());
-    for k in 0..outlets {
+    for (k, r) in o.outlets.iter().enumerate() {
         header.extend(crate::outlets::outlet_columns(k));
+        cells.extend([
+            Cell::Count(r.count),
+            Cell::Value(r.mass),
+            Cell::Value(crate::outlets::rate_since(o, previous, k)),
+        ]);
     }
     // The inlets' columns (`crate::inlets`), only when there are any.
-    let inlets = rows.first().map_or(0, |o| o.inlets.len());
-    for k in 0..inlets {
+    for (k, r) in o.inlets.iter().enumerate() {
         header.extend(crate::inlets::inlet_columns(k));
+        cells.extend([Cell::Count(r.count), Cell::Value(r.mass)]);
     }
-    if inlets > 0 {
+    if !o.inlets.is_empty() {
         header.push(crate::inlets::BROUGHT_IN_COLUMN.to_string());
+        cells.push(Cell::Value(o.inlets.iter().map(|r| r.energy).sum()));
     }
+    (header, cells)
+}
+
+/// Writes `rows` (in time order) for a scene of `walls` walls: the
+/// [`series_columns`] of each row after the previous one (no rows: the
+/// header of `walls` walls alone).
+pub fn write_series(w: &mut dyn Write, rows: &[Observation], walls: usize) -> csv::Result<()> {
+    let mut out = csv::Writer::from_writer(w);
+    let header = match rows.first() {
+        Some(o) => series_columns(o, None).0,
+        None => series_header(walls, false),
+    };
     out.write_record(header)?;
     for (i, o) in rows.iter().enumerate() {
-        let mut cells = series_cells(o);
-        for k in 0..outlets {
-            let r = o.outlets.get(k).copied().unwrap_or_default();
-            cells.extend([
-                Cell::Count(r.count),
-                Cell::Value(r.mass),
-                Cell::Value(crate::outlets::rate_at(rows, i, k)),
-            ]);
-        }
-        for k in 0..inlets {
-            let r = o.inlets.get(k).copied().unwrap_or_default();
-            cells.extend([Cell::Count(r.count), Cell::Value(r.mass)]);
-        }
-        if inlets > 0 {
-            cells.push(Cell::Value(o.inlets.iter().map(|r| r.energy).sum()));
-        }
-        let record = cells.into_iter().map(|c| match c {
+        let previous = i.checked_sub(1).map(|p| &rows[p]);
+        let record = series_columns(o, previous).1.into_iter().map(|c| match c {
             Cell::Count(n) => n.to_string(),
             Cell::Value(x) => format!("{x:e}"),
         });
@@ -405,7 +378,7 @@ mod tests {
         ));
         assert!(lines[1].ends_with(",0e0,0e0,-2e-3,5e-1,0e0,0e0,-1e-3,0e0,0e0,2.5e-1"));
         assert_eq!(
-            series_header_of(&moving),
+            series_columns(&moving, None).0,
             lines[0].split(',').collect::<Vec<_>>()
         );
         assert_eq!(partner_name(&Partner::Wall(2)), "wall:2");

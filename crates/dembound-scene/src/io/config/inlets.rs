@@ -10,16 +10,17 @@
 //! rate, `crate::inlets`), `max_attempts` (centres tried per sphere,
 //! default 100).
 
-use super::checks::{check, finite3, positive, speed};
+use super::checks::{check, positive, speed};
 use super::{SceneError, SceneFile};
-use crate::inlets::{InletRate, InletRegion, InletSetup, SizeDistribution, MAX_TABLE_ROWS};
+use crate::inlets::{InletRate, InletSetup, SizeDistribution, MAX_TABLE_ROWS};
+use crate::region::Region;
 use serde::{Deserialize, Serialize};
 
 /// One `[[inlet]]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InletSection {
-    pub region: InletRegionSection,
+    pub region: Region,
     pub rate: RateSection,
     pub size: SizeSection,
     pub material: String,
@@ -43,22 +44,6 @@ pub struct InletSection {
 
 fn default_attempts() -> u64 {
     crate::inlets::DEFAULT_MAX_ATTEMPTS
-}
-
-/// An inlet's region: exactly one shape, m.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase", deny_unknown_fields)]
-pub enum InletRegionSection {
-    Box {
-        lower: [f64; 3],
-        upper: [f64; 3],
-    },
-    Cylinder {
-        center: [f64; 3],
-        axis: [f64; 3],
-        radius: f64,
-        length: f64,
-    },
 }
 
 /// `rate`: spheres per second or kilograms per second.
@@ -91,29 +76,7 @@ impl SceneFile {
     pub(super) fn validate_inlets(&self) -> Result<(), SceneError> {
         for (i, s) in self.inlets.iter().enumerate() {
             let key = |k: &str| format!("inlet[{i}].{k}");
-            match s.region {
-                InletRegionSection::Box { lower, upper } => {
-                    finite3(&key("region.box.lower"), lower, "m")?;
-                    finite3(&key("region.box.upper"), upper, "m")?;
-                    check(
-                        (0..3).all(|a| upper[a] > lower[a]),
-                        &key("region.box.upper"),
-                        format!("{upper:?}"),
-                        &format!("each coordinate > region.box.lower's ({lower:?}), m"),
-                    )?;
-                }
-                InletRegionSection::Cylinder {
-                    center,
-                    axis,
-                    radius,
-                    length,
-                } => {
-                    finite3(&key("region.cylinder.center"), center, "m")?;
-                    super::checks::nonzero3(&key("region.cylinder.axis"), axis)?;
-                    positive(&key("region.cylinder.radius"), radius, "m")?;
-                    positive(&key("region.cylinder.length"), length, "m")?;
-                }
-            }
+            s.region.validate(&key("region"))?;
             match s.rate {
                 RateSection::Number(n) => positive(&key("rate.number"), n, "spheres/s")?,
                 RateSection::Mass(m) => positive(&key("rate.mass"), m, "kg/s")?,
@@ -248,20 +211,7 @@ impl SceneFile {
     pub fn inlet_setup(&self, i: usize, material: usize) -> InletSetup {
         let s = &self.inlets[i];
         InletSetup {
-            region: match s.region {
-                InletRegionSection::Box { lower, upper } => InletRegion::Box { lower, upper },
-                InletRegionSection::Cylinder {
-                    center,
-                    axis,
-                    radius,
-                    length,
-                } => InletRegion::Cylinder {
-                    center,
-                    axis: crate::inlets::unit(axis),
-                    radius,
-                    length,
-                },
-            },
+            region: s.region.normalized(),
             rate: match s.rate {
                 RateSection::Number(n) => InletRate::Number(n),
                 RateSection::Mass(m) => InletRate::Mass(m),
