@@ -454,7 +454,7 @@ fn write_all(
         "Particles: R = {} m, E = {:e} Pa, ν = {}, ρ = {} kg/m³; Hertz with Tsuji damping e = {}, \
          μ = {}, μ_r = {}. Impact speed {} m/s, {} impacts per angle at angles {:?}° from the local \
          face normal, at points uniform over the part's area (seed {}); the same points and \
-         directions on every wall. Δt = {:e} s (η = {} × the shortest flat-wall Hertz contact time).\n",
+         directions on every wall. Δt = {} s (η = {} × the shortest flat-wall Hertz contact time).\n",
         st.radius, st.material.youngs_modulus, st.material.poisson_ratio, st.material.density,
         st.restitution, st.friction, st.rolling_friction, st.speed, st.impacts, st.angles, st.seed,
         r.dt, st.eta
