@@ -457,7 +457,7 @@ fn write_all(
          directions on every wall. Δt = {} s (η = {} × the shortest flat-wall Hertz contact time).\n",
         st.radius, st.material.youngs_modulus, st.material.poisson_ratio, st.material.density,
         st.restitution, st.friction, st.rolling_friction, st.speed, st.impacts, st.angles, st.seed,
-        r.dt, st.eta
+        crate::output::format::sig(r.dt, 4), st.eta
     );
     let _ = writeln!(
         text,
