@@ -86,7 +86,9 @@ fn positive(key: &str, v: f64) -> CliResult<f64> {
 }
 
 /// The built-in surfaces `square:SIDE` and `cylinder:R,H`.
-fn builtin(surface: &str) -> CliResult<Option<Vec<dembound_scene::walls::mesh::Triangle>>> {
+pub(super) fn builtin(
+    surface: &str,
+) -> CliResult<Option<Vec<dembound_scene::walls::mesh::Triangle>>> {
     let Some((kind, values)) = surface.split_once(':') else {
         return Ok(None);
     };

@@ -7,6 +7,7 @@
 //! side view of a bed and a Markdown report through [`AtomicDir`], all or
 //! nothing.
 
+mod part;
 mod side_view;
 mod verdicts;
 
@@ -122,6 +123,19 @@ pub struct WallStudyArgs {
     /// Recommendation: absolute tolerance on the chute's slip / mean velocity
     #[arg(long, default_value_t = Tolerances::default().slip)]
     pub tol_slip: f64,
+    /// The user's part instead of the plane: an STL or OBJ file (m),
+    /// `square:SIDE` or `cylinder:RADIUS,HEIGHT` (as `particle-wall`);
+    /// impacts at random points of it, mesh wall against particle walls
+    /// (no bed, no chute yet)
+    #[arg(long, value_name = "SURFACE")]
+    pub wall: Option<String>,
+    /// With --wall: the mesh wall's material, `steel`, `glass` or
+    /// `E,NU[,RHO]` (Pa, 1, kg/m³); ζ scales its E (default: the particles')
+    #[arg(long, value_name = "MATERIAL", allow_hyphen_values = true)]
+    pub reference_material: Option<String>,
+    /// With --wall: absolute tolerance on the mean rebound angle, degrees
+    #[arg(long, default_value_t = 2.0)]
+    pub tol_angle: f64,
     /// Seed of the impact points and the bed's insertion
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -359,6 +373,16 @@ fn summarise(r: &FloorResult, angles: &[f64]) -> Summary {
 }
 
 pub fn run(args: &WallStudyArgs) -> CliResult {
+    if let Some(surface) = &args.wall {
+        return part::run(args, surface);
+    }
+    if args.reference_material.is_some() {
+        return Err(input(
+            "--reference-material",
+            "given without --wall",
+            "only with --wall SURFACE",
+        ));
+    }
     let c = config(args)?;
     let tolerances = tolerances(args)?;
     c.validate().map_err(CliError::input)?;

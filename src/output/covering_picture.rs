@@ -41,6 +41,12 @@ pub fn view() -> ([f64; 3], [f64; 3], [f64; 3]) {
 
 /// Writes the picture of `c` to `png` (PNG).
 pub fn write(c: &Covering, png: &Path, title: &str) -> Result<()> {
+    write_marked(c, png, title, &[])
+}
+
+/// [`write`], with `marks` (points, m) drawn on top as red crosses (seen
+/// through the spheres: a mark behind the part shows too).
+pub fn write_marked(c: &Covering, png: &Path, title: &str, marks: &[[f64; 3]]) -> Result<()> {
     register_font();
     let (toward, right, up) = view();
     let r = c.options.radius;
@@ -118,6 +124,14 @@ pub fn write(c: &Covering, png: &Path, title: &str) -> Result<()> {
             ]
         }))
         .map_err(|e| err(&e))?;
+    if !marks.is_empty() {
+        chart
+            .draw_series(marks.iter().map(|&m| {
+                let p = (dot(m, right), dot(m, up));
+                Cross::new(p, 6, RGBColor(220, 0, 0).stroke_width(2))
+            }))
+            .map_err(|e| err(&e))?;
+    }
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }

@@ -21,6 +21,7 @@ use crate::sources::tiling::{Extent, Pattern, Tiling};
 use crate::{SceneError, Simulation};
 
 pub mod chute;
+pub mod part;
 pub mod recommend;
 pub use chute::{Chute, ChuteConfig, SlipFit};
 pub use recommend::{recommend, Tolerances};
