@@ -177,8 +177,9 @@ fn conveyor(scheme: Scheme, floor: WallSetup) {
         "{rolling} vs {v_roll}"
     );
     // The plate's work: μ m g V over the slide (t*), nothing once the
-    // sphere rolls: W = μ m g V t* = 2/7 m V² (the sphere keeps 2/35 m V²,
-    // friction took 8/35 m V²). The same lags as above.
+    // sphere rolls: W = μ m g V t* = 2/7 m V² (the sphere keeps m V²/7 at
+    // v = 2V/7, R ω = 5V/7; friction took m V²/7, tests/energy_balance.rs).
+    // The same lags as above.
     let w_closed = 2.0 / 7.0 * mass() * v_belt * v_belt;
     assert!(
         (work - w_closed).abs() <= 1e-4 * w_closed,

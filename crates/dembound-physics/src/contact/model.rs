@@ -320,6 +320,44 @@ impl ContactLaw {
         assemble(f, ft, rolling, n, a.arm, b.arm)
     }
 
+    /// The contact's forces as the last step applied them, from the
+    /// springs it stored (`tangential`, `rolling`: `None` skips the
+    /// rolling stage): [`Self::observe`], except that a spring the step cut
+    /// back to its limit is taken as sliding, as the step took it
+    /// (`FrictionPair::applied_tangential_force`). For the dissipation
+    /// summed contact by contact, whose tangential work must be the work
+    /// of the applied forces.
+    #[inline]
+    pub fn observe_applied(
+        &self,
+        g: &Geometry,
+        a: &Side,
+        b: &Side,
+        history: &ContactHistory,
+        tangential: [f64; 3],
+        rolling: Option<[f64; 3]>,
+    ) -> ContactForces {
+        let n = g.normal;
+        let f = self.law.force(g.overlap, g.overlap_rate, history);
+        let vt = slip_velocity(a, b, n);
+        let ft = self
+            .friction
+            .applied_tangential_force(g.overlap, f, n, vt, tangential);
+        let rolling = rolling.map(|m| {
+            let (w1, w2) = (a.spin, b.spin);
+            self.friction.applied_rolling_torque(
+                &self.law,
+                g.overlap,
+                f,
+                n,
+                [w1[0] - w2[0], w1[1] - w2[1], w1[2] - w2[2]],
+                effective_inertia(a.inverse_inertia + b.inverse_inertia),
+                m,
+            )
+        });
+        assemble(f, ft, rolling, n, a.arm, b.arm)
+    }
+
     /// Stage 3, the tangential force on body 1 (N) at overlap `overlap`
     /// (m) with normal force `normal_force` (N), unit normal `n` and slip
     /// `slip` ([`slip_velocity`], m/s), after `dt` s; moves the

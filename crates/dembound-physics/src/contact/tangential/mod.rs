@@ -436,6 +436,79 @@ impl FrictionPair {
         f
     }
 
+    /// The tangential force on body 1 (N) that the last step applied,
+    /// given the spring `shear` (m) it stored and the same overlap,
+    /// normal force, normal and slip: [`Self::tangential_force`] through a
+    /// step of zero length, except that a spring cut back to the Coulomb
+    /// limit by the step (k_t |δ| = μ |F_n| to rounding) is taken as
+    /// sliding, as the step took it (its force the spring's alone). A
+    /// re-evaluation alone would see the cut spring at or a rounding below
+    /// the limit, half the time, and add the dashpot: the force it gives
+    /// then differs from the applied one wherever the slip turns, and the
+    /// dissipation summed from it is biased (`dembound-scene`'s
+    /// `pipeline::dissipation`).
+    pub fn applied_tangential_force(
+        &self,
+        overlap: f64,
+        normal_force: f64,
+        normal: [f64; 3],
+        tangential_velocity: [f64; 3],
+        shear: [f64; 3],
+    ) -> [f64; 3] {
+        let k_t = self.tangential.stiffness(overlap);
+        let limit = self.friction * normal_force.abs();
+        // The cut scales δ by limit/(k_t |δ|): k_t |δ| lands within a few
+        // ulp of the limit; 1e-12 is far above that and far below any
+        // sticking spring's approach to the limit within a step.
+        if k_t * dot(shear, shear).sqrt() >= limit * (1.0 - 1.0e-12) {
+            return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
+        }
+        let mut s = shear;
+        self.tangential_force(
+            overlap,
+            normal_force,
+            normal,
+            tangential_velocity,
+            0.0,
+            &mut s,
+        )
+    }
+
+    /// The rolling torque on body 1 (N m) that the last step applied,
+    /// given the rolling spring `history` (N m) it stored: as
+    /// [`Self::applied_tangential_force`], a spring at the limit μ_r R_eff
+    /// |F_n| (to rounding) is the applied torque, without the dashpot.
+    #[allow(clippy::too_many_arguments)]
+    pub fn applied_rolling_torque(
+        &self,
+        law: &PairLaw,
+        overlap: f64,
+        normal_force: f64,
+        normal: [f64; 3],
+        relative_spin: [f64; 3],
+        inertia: f64,
+        history: [f64; 3],
+    ) -> [f64; 3] {
+        if self.rolling.coefficient == 0.0 {
+            return [0.0; 3];
+        }
+        let limit = self.rolling.coefficient * self.rolling.radius * normal_force.abs();
+        if dot(history, history).sqrt() >= limit * (1.0 - 1.0e-12) {
+            return history;
+        }
+        let mut m = history;
+        self.rolling_torque(
+            law,
+            overlap,
+            normal_force,
+            normal,
+            relative_spin,
+            inertia,
+            0.0,
+            &mut m,
+        )
+    }
+
     /// Energy held by the contact's springs at overlap `overlap` (m), J:
     /// ½ k_t(h) |δ|² for the tangential displacement `shear` (m) and
     /// ½ |M_r|²/k_r for the rolling spring's torque `rolling` (N m),

@@ -333,3 +333,90 @@ fn spring_energy_closed_forms() {
     let expected = 0.5 * 4.0e-12 / k_r;
     assert!((e / expected - 1.0).abs() < 1e-14, "{e} vs {expected}");
 }
+
+#[test]
+fn the_applied_force_is_recovered_from_the_stored_spring() {
+    // A damped Mindlin contact whose slip turns by 0.3 rad a step,
+    // alternating between sliding (5 m/s at F_n = 1e-2 N) and sticking
+    // (1e-6 m/s at 1e-1 N): from the spring each step stored, the applied
+    // force is
+    // what the step returned, bit for bit. (A re-evaluation through a
+    // zero-length step would see a spring cut to the limit at, or a
+    // rounding below, the limit and add the dashpot, turning the force
+    // toward the slip.)
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5)),
+        TangentialKind::Mindlin,
+        0.3,
+    );
+    let n = [0.0, 0.0, 1.0];
+    let h = 1.0e-7;
+    let mut shear = [0.0; 3];
+    let mut sliding = 0;
+    for k in 0..200 {
+        let (speed, fn_) = if k % 7 < 4 {
+            (5.0, 1.0e-2)
+        } else {
+            (1.0e-6, 1.0e-1)
+        };
+        let a = 0.3 * k as f64;
+        let v = [speed * a.cos(), speed * a.sin(), 0.0];
+        let applied = f.tangential_force(h, fn_, n, v, 1.0e-7, &mut shear);
+        if (norm(applied) / (0.3 * fn_) - 1.0).abs() < 1e-12 {
+            sliding += 1;
+        }
+        let recovered = f.applied_tangential_force(h, fn_, n, v, shear);
+        assert_eq!(applied, recovered, "step {k}");
+    }
+    // Both branches were exercised.
+    assert!(sliding > 50 && sliding < 200, "{sliding}");
+}
+
+#[test]
+fn the_applied_rolling_torque_is_recovered_from_the_stored_spring() {
+    // As above for the rolling spring (μ_r = 0.2, the rolling dashpot of
+    // the Tsuji ratio): a relative spin that turns and alternates between
+    // rolling at the limit (1e4 rad/s at F_n = 1e-2 N) and holding
+    // (1e-6 rad/s at 1e-1 N).
+    let (law, _) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5)),
+        TangentialKind::Mindlin,
+        0.5,
+    );
+    let r = 1.0e-3;
+    let pair = PairProperties::sphere_plane(r, GLASS.sphere_mass(r), &GLASS, &GLASS);
+    let f = FrictionModel {
+        tangential: TangentialKind::Mindlin,
+        friction: 0.5,
+        rolling_friction: 0.2,
+    }
+    .pair(
+        &law,
+        &pair,
+        effective_shear_modulus(&GLASS, &GLASS),
+        0.5,
+        0.2,
+    );
+    let n = [0.0, 0.0, 1.0];
+    let (h, inertia) = (1.0e-7, 1.0e-12);
+    let mut spring = [0.0; 3];
+    let mut limited = 0;
+    for k in 0..200 {
+        let (speed, fn_) = if k % 7 < 4 {
+            (1.0e4, 1.0e-2)
+        } else {
+            (1.0e-6, 1.0e-1)
+        };
+        let a = 0.3 * k as f64;
+        let w = [speed * a.cos(), speed * a.sin(), 0.0];
+        let applied = f.rolling_torque(&law, h, fn_, n, w, inertia, 1.0e-7, &mut spring);
+        if (norm(applied) / (0.2 * r * fn_) - 1.0).abs() < 1e-12 {
+            limited += 1;
+        }
+        let recovered = f.applied_rolling_torque(&law, h, fn_, n, w, inertia, spring);
+        assert_eq!(applied, recovered, "step {k}");
+    }
+    assert!(limited > 50 && limited < 200, "{limited}");
+}
