@@ -4,7 +4,7 @@
 
     drum_compare.py [--fr 1e-2 3e-3 1e-3 1e-4] [--keep DIR] [--threads 1]
                     [--dembound target/release/dembound] [--png-dir DIR]
-                    [--quick]
+                    [--quick] [--set KEY=VALUE ...] [--label NAME]
 
 For each Froude number Fr = ω² R/g (R = 28 mm, g = 9.81 m/s²) it runs
 examples/scenes/drum.toml with the drum turning at ω = √(Fr g/R) about +y
@@ -22,6 +22,10 @@ their difference, the regime against Mellmann's (2001) Froude map, and
 both codes' wall time per step (s) on this machine.
 
 --quick: 1 Froude number (1e-2) and a short window, for a smoke test.
+--set KEY=VALUE (repeatable) is passed to both codes' scene (e.g. a shifted
+lattice origin, a second start of the same drum, to separate the run-to-run
+spread from the codes' difference); --label NAME names those runs'
+directories and pictures (fr<Fr>_<NAME>) so they sit beside the first.
 Needs numpy (and matplotlib for --png-dir).
 """
 
@@ -78,6 +82,9 @@ def main():
     p.add_argument("--keep", help="write the runs under this directory and keep them")
     p.add_argument("--png-dir", help="write each run's picture here")
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--set", dest="extra_sets", action="append", default=[], metavar="KEY=VALUE",
+                   help="a scene override for both codes (repeatable)")
+    p.add_argument("--label", help="suffix of the runs' names (with --set)")
     p.add_argument("--only", choices=["dembound", "liggghts"],
                    help="run this code only (another call with --keep DIR runs the other and "
                    "measures both)")
@@ -95,7 +102,9 @@ def main():
             "--set", f"wall.0.motion.angular_velocity=[0.0, {omega!r}, 0.0]",
             "--set", f"integration.steps={steps}",
         ]
-        tag = f"fr{fr:g}"
+        for extra in args.extra_sets:
+            sets += ["--set", extra]
+        tag = f"fr{fr:g}" + (f"_{args.label}" if args.label else "")
         run_dir, deck = work / f"dembound_{tag}", work / f"liggghts_{tag}"
         if args.only != "liggghts" and not (run_dir / "snapshots.pvd").exists():
             done, _ = run([args.dembound, "scene", args.scene, *sets, "--threads",
