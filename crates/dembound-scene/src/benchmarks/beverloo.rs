@@ -83,7 +83,7 @@ fn silo(quick: bool) -> Silo {
         restitution: 0.5,
     };
     if quick {
-        // ~1,300 spheres in a 12 mm tube, two orifices, a short window:
+        // 1,173 spheres in a 12 mm tube, two orifices, a short window:
         // seconds. The tube is only 2 D at the larger orifice.
         Silo {
             grains,
