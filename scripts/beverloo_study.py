@@ -79,8 +79,9 @@ def run(cmd, cwd=None):
         sys.exit(f"failed: {' '.join(map(str, cmd))}\n{done.stderr}{done.stdout[-2000:]}")
 
 
-def scene_dir(work, mm):
-    run([sys.executable, ROOT / "examples/scenes/make_silo.py", "--orifice", f"{mm * 1e-3}", "--out", work])
+def scene_dir(work, mm, seed=1):
+    run([sys.executable, ROOT / "examples/scenes/make_silo.py", "--orifice", f"{mm * 1e-3}", "--out", work,
+         "--seed", str(seed)])
     return work / f"silo_D{mm:g}.toml"
 
 
@@ -211,12 +212,13 @@ def main():
     p.add_argument("--dembound", default=str(ROOT / "target/release/dembound"))
     p.add_argument("--from", dest="start", type=float, default=0.2, help="start of the measured window, s")
     p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--seed", type=int, default=1, help="seed of the fill (make_silo.py --seed)")
     p.add_argument("--figure", type=Path)
     a = p.parse_args()
     a.work.mkdir(parents=True, exist_ok=True)
     lig = [] if a.liggghts == ["none"] else [float(x) for x in a.liggghts]
     for mm in sorted(set(a.orifices) | set(lig)):  # all files first: the runs share silo_spheres.csv
-        scene_dir(a.work, mm)
+        scene_dir(a.work, mm, a.seed)
     with ThreadPoolExecutor(a.jobs) as pool:
         dem = {mm: pool.submit(run_dembound, a.dembound, a.work, mm) for mm in a.orifices}
         ligj = {mm: pool.submit(run_liggghts, a.dembound, a.work, mm) for mm in lig}

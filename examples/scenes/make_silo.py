@@ -59,9 +59,9 @@ def write_stl(path, triangles):
             f.write(b"\0\0")
 
 
-def fill():
+def fill(seed=SEED):
     """(x, y, z, r) on a jittered cubic lattice wholly inside the tube."""
-    rng = random.Random(SEED)
+    rng = random.Random(seed)
     spheres = []
     n = int(SILO_RADIUS / SPACING) + 1
     z = RADIUS_MAX + 0.2e-3
@@ -168,11 +168,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--orifice", type=float, default=12.0e-3, help="orifice diameter D, m")
     ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent)
+    ap.add_argument("--seed", type=int, default=SEED, help="seed of the fill's radii and jitter")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     mm = f"{args.orifice * 1e3:g}"
     write_stl(args.out / f"silo_floor_D{mm}.stl", floor_triangles(0.5 * args.orifice))
-    spheres = fill()
+    spheres = fill(args.seed)
     with open(args.out / "silo_spheres.csv", "w") as f:
         f.write("x,y,z,radius\n")
         for s in spheres:

@@ -7,6 +7,7 @@
 //! Every parameter and every published number carries its source in the
 //! benchmark's `parameters` and `notes`, which the report prints.
 
+mod beverloo;
 mod chung_ooi;
 mod chung_ooi_oblique;
 pub mod closed_form;
@@ -155,7 +156,7 @@ impl Outcome {
 type Runner = fn(bool, &dyn Fn(&str)) -> Result<Outcome, SceneError>;
 
 /// The benchmarks: name, one-line title, runner.
-const BENCHMARKS: [(&str, &str, Runner); 12] = [
+const BENCHMARKS: [(&str, &str, Runner); 13] = [
     (
         "chung-ooi-1",
         "Elastic normal impact of two identical spheres",
@@ -204,6 +205,7 @@ const BENCHMARKS: [(&str, &str, Runner); 12] = [
     ),
     ("repose", repose::TITLE, repose::run),
     ("drum", drum::TITLE, drum::run),
+    ("beverloo", beverloo::TITLE, beverloo::run),
 ];
 
 /// Every benchmark's name, in the report's order.
