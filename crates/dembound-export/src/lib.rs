@@ -16,6 +16,7 @@
 pub mod agreement;
 pub mod lammps;
 mod lammps_friction;
+mod lammps_gates;
 pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
