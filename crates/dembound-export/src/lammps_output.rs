@@ -92,21 +92,9 @@ pub fn output(setup: &SceneSetup, every: u64, planes: &[(usize, Vec<String>)]) -
                 .find(|(p, _)| *p == w)
                 .map(|(_, f)| f.as_slice())
                 .unwrap_or(&[]);
-            // Columns 2-4 of the contacts array: the force on the sphere.
-            for (axis, c) in ["x", "y", "z"].iter().enumerate() {
-                let terms: Vec<String> = fixes
-                    .iter()
-                    .map(|f| {
-                        writeln!(x, "compute      {f}_{c} all reduce sum f_{f}[{}]", axis + 2).ok();
-                        format!("c_{f}_{c}")
-                    })
-                    .collect();
-                let sum = if terms.is_empty() {
-                    "0".to_string()
-                } else {
-                    format!("-({})", terms.join("+"))
-                };
-                writeln!(x, "variable     w{w}{c} equal {sum}").ok();
+            let fixes: Vec<String> = fixes.to_vec();
+            x.push_str(&plane_force_lines(w, &fixes));
+            for c in ["x", "y", "z"] {
                 columns.push(format!("v_w{w}{c}"));
             }
         } else if setup.spheres.iter().any(|s| s.group == Some(w)) {
@@ -139,6 +127,29 @@ pub fn output(setup: &SceneSetup, every: u64, planes: &[(usize, Vec<String>)]) -
             columns.join(" ")
         )
         .ok();
+    }
+    x
+}
+
+/// The force columns of plane wall `w` (`variable wW{x,y,z}`, the force
+/// on the wall) from its `fix wall/gran` ids `fixes`: columns 2-4 of
+/// each fix's contacts array are the force on the sphere.
+pub fn plane_force_lines(w: usize, fixes: &[String]) -> String {
+    let mut x = String::new();
+    for (axis, c) in ["x", "y", "z"].iter().enumerate() {
+        let terms: Vec<String> = fixes
+            .iter()
+            .map(|f| {
+                writeln!(x, "compute      {f}_{c} all reduce sum f_{f}[{}]", axis + 2).ok();
+                format!("c_{f}_{c}")
+            })
+            .collect();
+        let sum = if terms.is_empty() {
+            "0".to_string()
+        } else {
+            format!("-({})", terms.join("+"))
+        };
+        writeln!(x, "variable     w{w}{c} equal {sum}").ok();
     }
     x
 }

@@ -28,7 +28,9 @@
 //! (two fixed spheres never interact, as in dembound).
 
 use crate::lammps_friction::{self, Surface};
-use crate::{lammps::tsuji_input, lammps_output, num, Code, Deck, DeckFile, Error, Result};
+use crate::{
+    lammps::tsuji_input, lammps_gates, lammps_output, num, Code, Deck, DeckFile, Error, Result,
+};
 use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
 use dembound_physics::material::{effective_modulus, Material, PairProperties};
 use dembound_scene::io::resolve::ResolvedScene;
@@ -109,7 +111,6 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     crate::refuse_moving_walls(setup, "LAMMPS")?;
     crate::refuse_removal(setup, "LAMMPS")?;
     crate::refuse_servo_walls(setup, "LAMMPS")?;
-    crate::refuse_gates(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
     for (w, wall) in setup.walls.iter().enumerate() {
@@ -142,6 +143,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
     let dt = sim.dt();
     let steps = sim.total_steps();
+    let windows = lammps_gates::windows(setup, dt)?;
     let every = lammps_output::series_every(scene.file.output.series_every, steps);
 
     // Atom types: the free materials in material order, then the fixed ones.
@@ -581,7 +583,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         )
         .ok();
     }
+    let mut switches: Vec<lammps_gates::PlaneSwitch> = Vec::new();
     for p in &planes {
+        let mut fixes_text = String::new();
         for &t in &free_types {
             let ty = &types[t];
             let e = pair_modulus(
@@ -614,7 +618,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 None => format!("region wall{}", p.index),
             };
             writeln!(
-                x,
+                fixes_text,
                 "# wall[{}]: plane of \"{}\" against \"{}\": the pre-mixed E_eff = {} Pa (R_eff = R); not\n\
                  # hertz/material, which would mix the wall as if it had the sphere's material{about}\n\
                  fix          wall{}_t{} t{} wall/gran{} granular {} {} contacts",
@@ -630,6 +634,21 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 geometry
             )
             .ok();
+        }
+        if lammps_gates::on_at_start(windows[p.index]) {
+            x.push_str(&fixes_text);
+        }
+        if setup.wall_active.get(p.index).is_some_and(Option::is_some) {
+            switches.push(lammps_gates::PlaneSwitch {
+                wall: p.index,
+                fixes_text,
+                fixes: free_types
+                    .iter()
+                    .map(|t| (format!("wall{}_t{}", p.index, t + 1), format!("t{}", t + 1)))
+                    .collect(),
+                in_wall: String::new(),
+                force_lines: String::new(),
+            });
         }
     }
     writeln!(x, "\nfix          integrate free nve/sphere").ok();
@@ -695,11 +714,19 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             })
             .collect::<Vec<_>>()
             .join("+");
+        let in_wall = format!("variable     in_wall{} atom ({dist})<c_radius\n", p.index);
+        if lammps_gates::on_at_start(windows[p.index]) {
+            x.push_str(&in_wall);
+        } else {
+            writeln!(x, "variable     in_wall{} atom 0", p.index).ok();
+        }
+        if let Some(sw) = switches.iter_mut().find(|sw| sw.wall == p.index) {
+            sw.in_wall = in_wall;
+        }
         writeln!(
             x,
-            "variable     in_wall{} atom ({dist})<c_radius\n\
-             compute      nw{} free reduce sum v_in_wall{}",
-            p.index, p.index, p.index
+            "compute      nw{} free reduce sum v_in_wall{}",
+            p.index, p.index
         )
         .ok();
         wall_terms.push(format!("c_nw{}", p.index));
@@ -709,6 +736,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     let plane_fixes: Vec<(usize, Vec<String>)> = planes
         .iter()
+        .filter(|p| lammps_gates::on_at_start(windows[p.index]))
         .map(|p| {
             (
                 p.index,
@@ -725,13 +753,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         "variable     pw equal {}\n\
          thermo_style custom step time ke v_pp v_pw\n\
          thermo_modify norm no format float %.17g\n\
-         thermo       {}\n\
-         run          {}",
+         thermo       {}",
         wall_terms.join("+"),
         steps.max(1),
-        steps
     )
     .ok();
+    for sw in &mut switches {
+        let ids: Vec<String> = sw.fixes.iter().map(|(f, _)| f.clone()).collect();
+        sw.force_lines = lammps_output::plane_force_lines(sw.wall, &ids);
+    }
+    x.push_str(&lammps_gates::runs(steps, dt, &windows, &switches));
 
     Ok(Deck {
         code: Code::Lammps,

@@ -16,6 +16,7 @@
 pub mod agreement;
 pub mod lammps;
 mod lammps_friction;
+mod lammps_gates;
 pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
@@ -203,7 +204,9 @@ pub(crate) fn refuse_servo_walls(setup: &dembound_scene::SceneSetup, code: &str)
 pub(crate) fn refuse_gates(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
     if let Some(w) = setup.wall_active.iter().position(Option::is_some) {
         return Err(Error::Export(format!(
-            "`wall[{w}].active` cannot be exported: the {code} deck holds walls that act for              the whole run (a wall switched on or off is not written); remove              `wall[{w}].active` to export the scene"
+            "`wall[{w}].active` cannot be exported: the {code} deck holds walls that act for \
+             the whole run (a wall switched on or off is not written); remove \
+             `wall[{w}].active` to export the scene"
         )));
     }
     Ok(())
