@@ -227,7 +227,7 @@ fn discharge(p: &Silo, orifice: f64, progress: &dyn Fn(&str)) -> Result<Discharg
         None,
     ];
     // The outlet: centres 20–40 mm below the floor.
-    s.outlets.push(crate::removal::OutletBox {
+    s.outlets.push(crate::region::Region::Box {
         lower: [-half, -half, -0.04],
         upper: [half, half, -0.02],
     });
