@@ -246,6 +246,10 @@ def main():
         print(f"| {mm:g} | {mm / 2:.1f} | {rho_b:.0f} | {1e3 * top:.1f} | {1e3 * w:.2f} ± {1e3 * e:.2f} | {lcell} | {rel} |")
     rho_b = sum(rhos) / len(rhos)
     ds = [mm * 1e-3 for mm in a.orifices]
+    if len(set(ds)) < 2:
+        # One orifice (a seed comparison with LIGGGHTS): no line to fit.
+        print(f"\nρ_b = {rho_b:.0f} kg/m³; one orifice: no Beverloo fit (give two or more)")
+        return
     C, k = fit(ds, ws, rho_b)
     # Spread of (C, k) from the rates' standard errors: refits of 2000 draws.
     rng = random.Random(1)

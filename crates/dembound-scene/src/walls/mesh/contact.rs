@@ -149,16 +149,35 @@ impl MeshGeometry {
     /// other patch touching b's feature has a lower id, and each of them
     /// has b as its own closest point (its centre's projection outside
     /// it, its boundary point within the agreement tolerance of b).
+    ///
+    /// Except at a concave fold: when b lies inside an edge of p and the
+    /// other patch q both carries x (its projection inside q) and rises
+    /// from the edge toward x's side of q's plane (p's surface turns
+    /// toward the sphere: a valley seen from x), q's face contact does not
+    /// hide p's edge point. The sphere then touches both faces, and p's
+    /// contact r − |x − b| becomes p's face contact r − d_p continuously
+    /// as x's projection enters p (at that line x − b is along p's
+    /// normal). Dropping it made p's contact appear with a finite overlap
+    /// there: a force jump that created energy in polygonal drums.
     pub(super) fn owns(&self, p: u32, x: [f64; 3], reach: f64, b: &BoundaryPoint) -> bool {
         let others = match b.feature {
             Feature::Vertex(v) => self.patches.around(v),
             Feature::Edge(t, k) => self.patches.across(t, k as usize),
         };
-        if others.iter().any(|&q| q < p) {
+        let valley = |q: u32| -> bool {
+            let Feature::Edge(t, k) = b.feature else {
+                return false;
+            };
+            let into_p = self.patches.tri[t as usize].inward[k as usize];
+            let n_q = self.patches.patches[q as usize].normal;
+            let d_q = self.plane_distance(q, x);
+            dot(n_q, into_p) * d_q > 0.0 && self.over_patch(q, x, d_q)
+        };
+        if others.iter().any(|&q| q < p && !valley(q)) {
             return false;
         }
         for &q in others {
-            if q == p {
+            if q == p || valley(q) {
                 continue;
             }
             if self.over_patch(q, x, self.plane_distance(q, x)) {

@@ -45,7 +45,13 @@
 //! - a sphere over face A near a convex edge with B: A's face contact
 //!   only (B's candidate is dropped, A's closest point is inside A);
 //! - a concave edge or corner: each face's projection is inside, one face
-//!   contact per patch, as the planes would give.
+//!   contact per patch, as the planes would give;
+//! - a sphere over face A near a concave edge with B (a valley: B rises
+//!   toward the sphere), B's projection outside B: B's edge point is kept
+//!   beside A's face contact, so B's contact grows continuously into its
+//!   face contact as the projection enters B (dropping it, as at a convex
+//!   edge, made B's contact appear with a finite overlap there: a force
+//!   jump that created energy in polygonal drums).
 //!
 //! A sphere rolling over a convex edge from A to B is carried by A's face,
 //! then by the edge's owner (the lower of A and B), then by B's face: the

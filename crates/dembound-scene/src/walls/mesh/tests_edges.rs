@@ -417,3 +417,52 @@ fn a_face_behind_another_is_hidden() {
     assert_eq!(t.len(), 1, "{t:?}");
     assert!((t[0].1.overlap - 0.05).abs() < 1e-15 && t[0].1.normal == [0.0, 0.0, 1.0]);
 }
+
+/// A valley: face A (z = 0, −1 ≤ x ≤ 0) and face B rising from the edge
+/// x = 0 at angle α (z = x tan α, 0 ≤ x ≤ cos α), −1 ≤ y ≤ 1, both
+/// normals up (the concave side).
+fn valley(alpha: f64) -> Vec<Triangle> {
+    let (c, s) = (alpha.cos(), alpha.sin());
+    let a = [
+        [-1.0, -1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+    ];
+    let b = [[0.0, -1.0, 0.0], [c, -1.0, s], [c, 1.0, s], [0.0, 1.0, 0.0]];
+    vec![
+        [a[0], a[1], a[2]],
+        [a[0], a[2], a[3]],
+        [b[0], b[1], b[2]],
+        [b[0], b[2], b[3]],
+    ]
+}
+
+/// A sphere pressed into A near a concave fold (overlap 0.03 > r(1 −
+/// cos α) = 0.0015 for α = 10°, r = 0.1) crossing the line where its
+/// projection enters B (x on B's normal through the edge): B's contact
+/// must start at zero jump, its edge contact r − |x − e| turning into the
+/// face contact r − d_B. The total force of a linear law on both sides of
+/// the line 1e-9 apart agrees to 1e-7 k r (the force's slope there times
+/// 2e-9 is ~1e-9 k r); dropping B's edge point (the convex rule) gave a
+/// jump of k (r − d_B) ≈ 0.03 k r.
+#[test]
+fn a_concave_fold_is_crossed_without_a_force_jump() {
+    let alpha = 10f64.to_radians();
+    let m = mesh(&valley(alpha));
+    assert_eq!(m.patch_count(), 2);
+    let r = 0.1;
+    // B's normal line through the edge point (0, y, 0): t (−sin α, cos α);
+    // the point on it at distance 0.07 < r from the edge.
+    let n_b = [-alpha.sin(), 0.0, alpha.cos()];
+    for y in [-0.5, 0.0, 0.25] {
+        let on = [0.07 * n_b[0], y, 0.07 * n_b[2]];
+        let before = [on[0] - 1e-9, on[1], on[2]];
+        let after = [on[0] + 1e-9, on[1], on[2]];
+        let (fb, fa) = (force(&m, before, r, 1.0), force(&m, after, r, 1.0));
+        assert!(max_diff(fb, fa) < 1e-7 * r, "{fb:?} {fa:?}");
+        // Both faces push there: A (face, overlap r − z) and B.
+        assert_eq!(touching(&m, before, r).len(), 2, "{:?}", touching(&m, before, r));
+        assert_eq!(touching(&m, after, r).len(), 2);
+    }
+}
