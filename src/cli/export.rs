@@ -123,13 +123,7 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
             "--pitfall is for bounce scenarios, not scene files"
         )));
     }
-    let scene_error = |e: dembound_scene::SceneError| {
-        if e.is_input() {
-            CliError::input(e)
-        } else {
-            CliError::failed(e)
-        }
-    };
+    let scene_error = super::scene::scene_error;
     let file = config::read(path, &args.scenario.set).map_err(scene_error)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let resolved = resolve(&file, base).map_err(scene_error)?;

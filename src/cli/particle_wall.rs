@@ -227,13 +227,7 @@ pub fn run(args: &ParticleWallArgs) -> CliResult {
         },
         flip: args.flip,
     };
-    let scene_error = |e: dembound_scene::SceneError| {
-        if e.is_input() {
-            CliError::input(e)
-        } else {
-            CliError::failed(e)
-        }
-    };
+    let scene_error = super::scene::scene_error;
     let mut out = output_dir(&args.out, "particle-wall")?;
     let covering = match builtin(&args.surface)? {
         Some(soup) => cover(Path::new(&args.surface), &soup, &options),

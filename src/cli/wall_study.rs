@@ -397,13 +397,7 @@ pub fn run(args: &WallStudyArgs) -> CliResult {
             );
         }
     })
-    .map_err(|e| {
-        if e.is_input() {
-            CliError::input(e)
-        } else {
-            CliError::failed(e)
-        }
-    })?;
+    .map_err(super::scene::scene_error)?;
     write_all(&mut out, &c, &results, &tolerances).map_err(CliError::failed)?;
     let files = out.commit().map_err(CliError::failed)?;
     println!(

@@ -253,13 +253,7 @@ pub fn run(args: &WallStudyArgs, surface: &str) -> CliResult {
             );
         }
     })
-    .map_err(|e| {
-        if e.is_input() {
-            CliError::input(e)
-        } else {
-            CliError::failed(e)
-        }
-    })?;
+    .map_err(crate::cli::scene::scene_error)?;
     let qs = quantities(&c.study.angles, &tol, args.tol_angle);
     write_all(&mut out, &c, &results, &qs, &reference_text, args).map_err(CliError::failed)?;
     let files = out.commit().map_err(CliError::failed)?;
