@@ -4,7 +4,7 @@
 
     drum_compare.py [--fr 1e-2 3e-3 1e-3 1e-4] [--keep DIR] [--threads 1]
                     [--dembound target/release/dembound] [--png-dir DIR]
-                    [--quick] [--set KEY=VALUE ...] [--label NAME]
+                    [--quick] [--set KEY=VALUE ...] [--label NAME] [--window S]
 
 For each Froude number Fr = ω² R/g (R = 28 mm, g = 9.81 m/s²) it runs
 examples/scenes/drum.toml with the drum turning at ω = √(Fr g/R) about +y
@@ -85,6 +85,9 @@ def main():
     p.add_argument("--set", dest="extra_sets", action="append", default=[], metavar="KEY=VALUE",
                    help="a scene override for both codes (repeatable)")
     p.add_argument("--label", help="suffix of the runs' names (with --set)")
+    p.add_argument("--window", type=float, default=0.5,
+                   help="averaging window after the start-up, s (default 0.5; a slumping bed "
+                   "needs several avalanche cycles)")
     p.add_argument("--only", choices=["dembound", "liggghts"],
                    help="run this code only (another call with --keep DIR runs the other and "
                    "measures both)")
@@ -96,7 +99,7 @@ def main():
     for fr in args.fr:
         omega = math.sqrt(fr * G / drum_angle.DRUM_RADIUS)
         t_from = 0.6 / omega + 0.3
-        window = 0.1 if args.quick else 0.5
+        window = 0.1 if args.quick else args.window
         steps = int(math.ceil((t_from + window) / DT / 10000.0)) * 10000
         sets = [
             "--set", f"wall.0.motion.angular_velocity=[0.0, {omega!r}, 0.0]",
