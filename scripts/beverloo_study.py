@@ -57,6 +57,8 @@ from pathlib import Path
 from typing import NamedTuple
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "examples/scenes"))
+import make_silo as silo  # noqa: E402  (the scene's constants: one source)
 G = 9.81  # m/s²
 DENSITY = 2500.0  # kg/m³ (make_silo.py's glass)
 MEAN_DIAMETER = 2.0e-3  # m: radii uniform in [0.9, 1.1] mm
@@ -86,12 +88,10 @@ class Fill(NamedTuple):
 
 
 FILLS = {
-    "lattice": Fill("lattice", 5000, 22500, ""),
-    "inlet": Fill("inlet", 15000, 32500, "_inlet"),
+    "lattice": Fill("lattice", round(silo.GATE_OPEN / DT), 22500, ""),
+    "inlet": Fill("inlet", round(silo.INLET_GATE_OPEN / DT), silo.INLET_STEPS, "_inlet"),
 }
-# The inlet of make_silo.py --fill inlet, as LIGGGHTS's insertion.
-INLET = dict(count=6200, rate=50000.0, every=250, radius=0.017, z=(0.055, 0.085), speed=1.0)
-RADIUS_MIN, RADIUS_MAX = 0.9e-3, 1.1e-3  # m
+RADIUS_MIN, RADIUS_MAX = silo.RADIUS_MIN, silo.RADIUS_MAX  # m
 TEMPLATES = 11  # radii of the discrete approximation in LIGGGHTS
 
 
@@ -162,11 +162,11 @@ def liggghts_insertion(seed):
     fractions.append(1.0 - sum(fractions))  # the sum exactly 1
     pairs = " ".join(f"pts{k} {f:.12g}" for k, f in enumerate(fractions))
     lines.append(f"fix          pdd all particledistribution/discrete/numberbased {seeds[-2]} {len(radii)} {pairs}")
-    z0, z1 = INLET["z"]
-    lines.append(f"region       inlet cylinder z 0 0 {INLET['radius']:g} {z0:g} {z1:g} units box")
+    z0, z1 = silo.INLET_Z
+    lines.append(f"region       inlet cylinder z 0 0 {silo.INLET_RADIUS:g} {z0:g} {z1:g} units box")
     lines.append(f"fix          ins all insert/rate/region seed {seeds[-1]} distributiontemplate pdd "
-                 f"nparticles {INLET['count']} particlerate {INLET['rate']:g} insert_every {INLET['every']} "
-                 f"overlapcheck yes all_in yes vel constant 0 0 {-INLET['speed']:g} region inlet ntry_mc 10000")
+                 f"nparticles {silo.INLET_COUNT} particlerate {silo.INLET_RATE:g} insert_every {silo.INLET_EVERY} "
+                 f"overlapcheck yes all_in yes vel constant 0 0 {-silo.INLET_SPEED:g} region inlet ntry_mc 10000")
     return "\n".join(lines) + "\n"
 
 
