@@ -12,6 +12,7 @@ b, so C = s^{5/2}/(ρ_b √g) and k = −b/(s d).
 
     python3 scripts/beverloo_study.py [--orifices 10 12 14 16] [--work DIR]
         [--liggghts 10 14 | --liggghts none] [--figure beverloo.png] [--jobs 2]
+        [--fill lattice|inlet]
 
 Rate: the least-squares slope of the discharged mass (series.csv
 outlet0_mass_kg; LIGGGHTS: the mass of the spheres whose centre is below
@@ -26,6 +27,19 @@ the tube a zcylinder primitive, the gate a zplane removed by `unfix` at the
 opening, the fallen spheres left on the floor 40 mm below (counted, not
 deleted). Runs already in --work are reused. Needs matplotlib for the
 figure (rate against time, rate against D with the fit).
+
+`--fill inlet`: the silo of `make_silo.py --fill inlet`, filled by an
+`[[inlet]]` until 0.124 s, the gate opening at 0.3 s, the run ending at
+0.65 s (window from 0.4 s). The export refuses inlets, so the LIGGGHTS
+deck is exported from the scene without the inlet and with one placeholder
+sphere (r = 0.9 mm: the export's neighbour skin, 0.2 of the smallest
+radius, is the inlet's), which is then taken out of particles.data; the
+script adds the insertion: `fix particletemplate/sphere` per radius of a
+discrete approximation of the uniform radii (LIGGGHTS has no uniform
+radius distribution), `fix particledistribution/discrete/numberbased`
+with equal fractions, `fix insert/rate/region` with the same cylinder,
+number rate, interval, count and velocity (`all_in yes`: wholly inside,
+as dembound places them).
 """
 
 import argparse
@@ -40,20 +54,45 @@ import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import NamedTuple
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "examples/scenes"))
+import make_silo as silo  # noqa: E402  (the scene's constants: one source)
 G = 9.81  # m/s²
 DENSITY = 2500.0  # kg/m³ (make_silo.py's glass)
 MEAN_DIAMETER = 2.0e-3  # m: radii uniform in [0.9, 1.1] mm
-GATE_OPEN = 0.1  # s
-GATE_STEP = 5000  # GATE_OPEN / Δt
-STEPS = 22500
 DT = 2.0e-5  # s
 CORE_RADIUS, CORE_Z = 15.0e-3, (5.0e-3, 25.0e-3)  # m
 OUTLET_TOP = -0.02  # m
 # Published ranges (see docs/beverloo.md for the sources).
 C_RANGE = (0.55, 0.65)
 K_RANGE = (1.0, 3.0)
+
+
+class Fill(NamedTuple):
+    """How the silo is filled (make_silo.py --fill) and the run's times."""
+
+    name: str
+    gate_step: int  # the gate's opening / Δt
+    steps: int
+    tag: str  # in file names: silo{tag}_D<mm>.toml
+
+    @property
+    def gate_open(self):
+        return self.gate_step * DT
+
+    @property
+    def end(self):
+        return self.steps * DT
+
+
+FILLS = {
+    "lattice": Fill("lattice", round(silo.GATE_OPEN / DT), 22500, ""),
+    "inlet": Fill("inlet", round(silo.INLET_GATE_OPEN / DT), silo.INLET_STEPS, "_inlet"),
+}
+RADIUS_MIN, RADIUS_MAX = silo.RADIUS_MIN, silo.RADIUS_MAX  # m
+TEMPLATES = 11  # radii of the discrete approximation in LIGGGHTS
 
 
 def vtp_arrays(path):
@@ -79,36 +118,98 @@ def run(cmd, cwd=None):
         sys.exit(f"failed: {' '.join(map(str, cmd))}\n{done.stderr}{done.stdout[-2000:]}")
 
 
-def scene_dir(work, mm, seed=1):
+def scene_dir(work, mm, fill, seed=1):
     run([sys.executable, ROOT / "examples/scenes/make_silo.py", "--orifice", f"{mm * 1e-3}", "--out", work,
-         "--seed", str(seed)])
-    return work / f"silo_D{mm:g}.toml"
+         "--seed", str(seed), "--fill", fill.name])
+    return work / f"silo{fill.tag}_D{mm:g}.toml"
 
 
-def run_dembound(exe, work, mm):
-    out = work / f"dembound_D{mm:g}"
+def run_dembound(exe, work, mm, fill):
+    out = work / f"dembound{fill.tag}_D{mm:g}"
     if not (out / "series.csv").exists():
-        run([exe, "scene", work / f"silo_D{mm:g}.toml", "--out", out, "--quiet", "--threads", "1"])
+        run([exe, "scene", work / f"silo{fill.tag}_D{mm:g}.toml", "--out", out, "--quiet", "--threads", "1"])
     return out
 
 
-def liggghts_deck(exe, work, mm):
-    """The exported deck, completed with tube, gate and the discharged-mass print."""
-    scene = (work / f"silo_D{mm:g}.toml").read_text()
+def primes_above(n, count):
+    """The `count` primes above n (LIGGGHTS's seeds: primes > 10000)."""
+    out, k = [], n + 1
+    while len(out) < count:
+        if all(k % q for q in range(2, math.isqrt(k) + 1)):
+            out.append(k)
+        k += 1
+    return out
+
+
+def template_radii(n=TEMPLATES):
+    """The midpoints of n equal bins of [RADIUS_MIN, RADIUS_MAX]: equal
+    fractions by number approximate the uniform distribution (mean exact,
+    variance short by 1/n², E[R³] short by 3 σ²/n² / E[R³])."""
+    w = (RADIUS_MAX - RADIUS_MIN) / n
+    return [RADIUS_MIN + (i + 0.5) * w for i in range(n)]
+
+
+def liggghts_insertion(seed):
+    """The commands that pour make_silo.py's inlet in LIGGGHTS."""
+    radii = template_radii()
+    seeds = primes_above(10000 + 1000 * seed, len(radii) + 2)
+    lines = ["# The inlet of make_silo.py --fill inlet: radii uniform in [0.9, 1.1] mm as "
+             f"{len(radii)} equal-number bins' midpoints."]
+    for k, r in enumerate(radii):
+        lines.append(f"fix          pts{k} all particletemplate/sphere {seeds[k]} atom_type 1 "
+                     f"density constant {DENSITY:g} radius constant {r:.9g}")
+    fractions = [round(1.0 / len(radii), 12)] * (len(radii) - 1)
+    fractions.append(1.0 - sum(fractions))  # the sum exactly 1
+    pairs = " ".join(f"pts{k} {f:.12g}" for k, f in enumerate(fractions))
+    lines.append(f"fix          pdd all particledistribution/discrete/numberbased {seeds[-2]} {len(radii)} {pairs}")
+    z0, z1 = silo.INLET_Z
+    lines.append(f"region       inlet cylinder z 0 0 {silo.INLET_RADIUS:g} {z0:g} {z1:g} units box")
+    lines.append(f"fix          ins all insert/rate/region seed {seeds[-1]} distributiontemplate pdd "
+                 f"nparticles {silo.INLET_COUNT} particlerate {silo.INLET_RATE:g} insert_every {silo.INLET_EVERY} "
+                 f"overlapcheck yes all_in yes vel constant 0 0 {-silo.INLET_SPEED:g} region inlet ntry_mc 10000")
+    return "\n".join(lines) + "\n"
+
+
+def export_scene(work, mm, fill):
+    """The scene without tube, gate, outlet and inlet (the export refuses
+    them); for the inlet fill with one placeholder sphere (module doc)."""
+    scene = (work / f"silo{fill.tag}_D{mm:g}.toml").read_text()
     i, j = scene.index("[[wall]]\ncylinder"), scene.index("[[wall]]\nmesh")
     scene = scene[:i] + scene[j:]
     i, j = scene.index("# The gate:"), scene.index("[[wall]]\nplane = { point = [0.0, 0.0, -0.04]")
     scene = scene[:i] + scene[j:]
     scene = scene[: scene.index("# Removes what")] + scene[scene.index("[motion]") :]
-    bare = work / f"silo_D{mm:g}_export.toml"
+    if fill.name == "inlet":
+        i, j = scene.index("# The fill:"), scene.index("[[wall]]\nmesh")
+        (work / "placeholder.csv").write_text(f"x,y,z,radius\n0,0,-0.03,{RADIUS_MIN}\n")
+        scene = scene[:i] + '[[particles]]\ncsv = "placeholder.csv"\nmaterial = "glass"\n\n' + scene[j:]
+    bare = work / f"silo{fill.tag}_D{mm:g}_export.toml"
     bare.write_text(scene)
-    deck = work / f"liggghts_D{mm:g}"
+    return bare
+
+
+def drop_placeholder(data):
+    """particles.data without its one atom (and its velocity)."""
+    text = data.read_text()
+    assert "\n1 atoms\n" in text, "the placeholder scene exports one atom"
+    text = text.replace("\n1 atoms\n", "\n0 atoms\n")
+    data.write_text(text[: text.index("\nAtoms\n")] + "\n")
+
+
+def liggghts_deck(exe, work, mm, fill, seed):
+    """The exported deck, completed with tube, gate, inlet and the discharged-mass print."""
+    bare = export_scene(work, mm, fill)
+    deck = work / f"liggghts{fill.tag}_D{mm:g}"
     run([exe, "export", "liggghts", bare, "--out", deck])
+    if fill.name == "inlet":
+        drop_placeholder(deck / "particles.data")
     text = (deck / "in.liggghts").read_text()
     # Drop the per-step trace and the full dumps (not needed, slow); end before the run.
     text = re.sub(r"\n# trajectory\.txt.*?screen no\n", "\n", text, flags=re.S)
     text = re.sub(r"\n# particles\.dump.*?%.17g\"\n", "\n", text, flags=re.S)
     text = text[: text.index("thermo_style")]
+    if fill.name == "inlet":
+        text += "\n" + liggghts_insertion(seed)
     text += f"""
 # Completed by scripts/beverloo_study.py: the tube, the gate, the discharged mass.
 fix          tube all wall/gran model hertz tangential history primitive type 2 zcylinder 0.018 0 0 tangential_damping off limitForce on
@@ -120,18 +221,18 @@ fix          discharged all print 250 "${{t}} ${{mout}}" file discharged.txt tit
 thermo_style custom step time ke
 thermo_modify norm no format float %.17g
 thermo       2500
-run          {GATE_STEP}
+run          {fill.gate_step}
 unfix        gate
-run          {STEPS - GATE_STEP}
+run          {fill.steps - fill.gate_step}
 """
     (deck / "in.liggghts").write_text(text)
     return deck
 
 
-def run_liggghts(exe, work, mm):
-    deck = work / f"liggghts_D{mm:g}"
+def run_liggghts(exe, work, mm, fill, seed):
+    deck = work / f"liggghts{fill.tag}_D{mm:g}"
     if not (deck / "done").exists():
-        deck = liggghts_deck(exe, work, mm)
+        deck = liggghts_deck(exe, work, mm, fill, seed)
         run(["liggghts", "-in", "in.liggghts", "-log", "log.liggghts"], cwd=deck)
         (deck / "done").write_text("")
     return deck
@@ -172,14 +273,14 @@ def steady_rate(t, m, start):
     return whole, sd / 2.0
 
 
-def bulk_density(out):
+def bulk_density(out, gate_step):
     """ρ_b (kg/m³) of the core of the bed at the gate's opening, and the bed's top (m)."""
     for vtp in sorted(out.glob("snapshot_*.vtp")):
         a = vtp_arrays(vtp)
-        if a.get("STEP", [None])[0] == GATE_STEP:
+        if a.get("STEP", [None])[0] == gate_step:
             break
     else:
-        sys.exit(f"{out}: no snapshot at step {GATE_STEP}")
+        sys.exit(f"{out}: no snapshot at step {gate_step}")
     pos, radius = a["position"], a["radius"]
     mass, zs = 0.0, []
     for i, r in enumerate(radius):
@@ -210,27 +311,34 @@ def main():
     p.add_argument("--liggghts", nargs="+", default=["10", "14"], help="orifices (mm) run in LIGGGHTS, or none")
     p.add_argument("--work", type=Path, default=Path("/tmp/beverloo-study"))
     p.add_argument("--dembound", default=str(ROOT / "target/release/dembound"))
-    p.add_argument("--from", dest="start", type=float, default=0.2, help="start of the measured window, s")
+    p.add_argument("--from", dest="start", type=float,
+                   help="start of the measured window, s (default: 0.1 s after the gate's opening)")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--seed", type=int, default=1, help="seed of the fill (make_silo.py --seed)")
     p.add_argument("--figure", type=Path)
+    p.add_argument("--fill", choices=sorted(FILLS), default="lattice",
+                   help="the silo's fill (make_silo.py --fill): a lattice at the start or an inlet")
     a = p.parse_args()
+    fill = FILLS[a.fill]
+    if a.start is None:
+        a.start = fill.gate_open + 0.1
     a.work.mkdir(parents=True, exist_ok=True)
     lig = [] if a.liggghts == ["none"] else [float(x) for x in a.liggghts]
     for mm in sorted(set(a.orifices) | set(lig)):  # all files first: the runs share silo_spheres.csv
-        scene_dir(a.work, mm, a.seed)
+        scene_dir(a.work, mm, fill, a.seed)
     with ThreadPoolExecutor(a.jobs) as pool:
-        dem = {mm: pool.submit(run_dembound, a.dembound, a.work, mm) for mm in a.orifices}
-        ligj = {mm: pool.submit(run_liggghts, a.dembound, a.work, mm) for mm in lig}
+        dem = {mm: pool.submit(run_dembound, a.dembound, a.work, mm, fill) for mm in a.orifices}
+        ligj = {mm: pool.submit(run_liggghts, a.dembound, a.work, mm, fill, a.seed) for mm in lig}
         dem = {mm: f.result() for mm, f in dem.items()}
         ligj = {mm: f.result() for mm, f in ligj.items()}
 
-    print(f"window {a.start:.2f}–{STEPS * DT:.2f} s; gate opened at {GATE_OPEN} s; d = 2 mm ± 10 %, μ = 0.5")
+    print(f"fill: {fill.name}; window {a.start:.2f}–{fill.end:.2f} s; gate opened at {fill.gate_open:g} s; "
+          "d = 2 mm ± 10 %, μ = 0.5")
     print("| D (mm) | D/d | ρ_b (kg/m³) | bed top at opening (mm) | W dembound (g/s) | W LIGGGHTS (g/s) | LIGGGHTS/dembound − 1 |")
     print("|---|---|---|---|---|---|---|")
     ws, es, rhos, series = [], [], [], {}
     for mm in a.orifices:
-        rho_b, top = bulk_density(dem[mm])
+        rho_b, top = bulk_density(dem[mm], fill.gate_step)
         t, m = dembound_series(dem[mm])
         w, e = steady_rate(t, m, a.start)
         ws.append(w)
@@ -267,10 +375,10 @@ def main():
         print(f"  D = {1e3 * D:g} mm: W = {1e3 * w:.2f} g/s, fit {1e3 * beverloo(D, C, k, rho_b):.2f} g/s, "
               f"C = 0.58, k = 1.5: {1e3 * beverloo(D, 0.58, 1.5, rho_b):.2f} g/s")
     if a.figure:
-        figure(a.figure, series, ds, ws, C, k, rho_b, a.start)
+        figure(a.figure, series, ds, ws, C, k, rho_b, a.start, fill)
 
 
-def figure(path, series, ds, ws, C, k, rho_b, start):
+def figure(path, series, ds, ws, C, k, rho_b, start, fill):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -284,11 +392,13 @@ def figure(path, series, ds, ws, C, k, rho_b, start):
             tl, ml = lig
             rl = [1e3 * (ml[i] - ml[i - 1]) / (tl[i] - tl[i - 1]) for i in range(1, len(tl))]
             ax1.plot(tl[1:], rl, "--", color=line.get_color(), label=f"D = {mm:g} mm, LIGGGHTS")
-    ax1.axvline(GATE_OPEN, color="grey", lw=0.8)
-    ax1.axvspan(start, STEPS * DT, color="grey", alpha=0.12, label="measured window")
+    ax1.axvline(fill.gate_open, color="grey", lw=0.8)
+    ax1.axvspan(start, fill.end, color="grey", alpha=0.12, label="measured window")
+    if fill.name == "inlet":  # nothing flows out while the bed is poured and settles
+        ax1.set_xlim(fill.gate_open - 0.05, fill.end)
     ax1.set_xlabel("time t (s)")
     ax1.set_ylabel("mass flow rate W (g/s), 5 ms bins")
-    ax1.set_title("rate against time (gate opens at 0.1 s)")
+    ax1.set_title(f"rate against time ({fill.name} fill; gate opens at {fill.gate_open:g} s)")
     ax1.legend(fontsize=7)
     Dline = [ds[0] * 0.8 + i * (ds[-1] * 1.1 - ds[0] * 0.8) / 100 for i in range(101)]
     ax2.plot([1e3 * D for D in ds], [1e3 * w for w in ws], "o", label="dembound")
