@@ -18,7 +18,7 @@ use super::problem::Problem;
 use super::schedule::{GradedSteps, Grading, SingularMesh};
 use super::{BodyVelocities, ContactRecord, Observer, RunOutcome, Sample, Stepping, TwoBody};
 use crate::contact::{NormalContactLaw, Onset};
-use crate::integrate::{Integrator, Kinematics};
+use crate::integrate::{FreeFall, Integrator, Kinematics};
 use crate::{Error, Result};
 
 const PROGRESS_EVERY: u64 = 1 << 16;
@@ -437,14 +437,16 @@ impl<L: NormalContactLaw, I: Integrator, O: Observer> Run<'_, L, I, O> {
         for n in 1..=self.problem.contacts {
             // Flight: the scheme integrates ẍ = −g exactly; step until the
             // step that crosses the surface, then place the onset exactly.
+            // (`free_fall`: the same states as `it.step(&mut state, |_, _| -g)`.)
+            let mut flight = it.free_fall(state, -g);
             let (t_contact, impact_velocity, first_end_index) = loop {
-                let before = it.kinematics(&state);
+                let before = flight.kinematics();
                 if before.position <= 0.0 && before.velocity <= 0.0 {
                     break (k as f64 * dt, before.velocity, None);
                 }
-                it.step(&mut state, |_, _| -g);
+                flight.step();
                 self.steps += 1;
-                let after = it.kinematics(&state);
+                let after = flight.kinematics();
                 if O::ACTIVE {
                     self.sample((k + 1) as f64 * dt, after.position, after.velocity);
                     if self.steps.is_multiple_of(PROGRESS_EVERY) {

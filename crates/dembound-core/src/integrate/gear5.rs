@@ -12,7 +12,7 @@
 //! Written by hand because the scheme is what the paper studies and its
 //! per-step cost is the project's hot path.
 
-use super::{keep_scalar, DenseOutput, Integrator, Kinematics};
+use super::{keep_scalar, DenseOutput, Gear5FreeFall, Integrator, Kinematics};
 
 pub use dembound_physics::integrate::gear5::{pascal, Gear5};
 
@@ -83,9 +83,14 @@ const FACTORIAL: [f64; 6] = [1.0, 1.0, 2.0, 6.0, 24.0, 120.0];
 impl Integrator for Gear5 {
     type State = Gear5State;
     type Dense = Gear5Dense;
+    type FreeFall = Gear5FreeFall;
 
     fn name(&self) -> &'static str {
         "gear5"
+    }
+
+    fn free_fall(&self, state: Gear5State, acceleration: f64) -> Gear5FreeFall {
+        Gear5FreeFall::new(*self, state, acceleration)
     }
 
     fn start(&self, derivatives: [f64; 6], dt: f64) -> Gear5State {

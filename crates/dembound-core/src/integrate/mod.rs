@@ -9,9 +9,11 @@
 //! Each integrator also provides dense output on the last step (its own
 //! interpolating polynomial) so that events are located inside the step.
 
+mod free_fall;
 mod gear5;
 mod verlet;
 
+pub use free_fall::{FreeFall, Gear5FreeFall, Stepwise, VerletFreeFall};
 pub use gear5::pascal;
 pub use gear5::{Gear5, Gear5State};
 pub use verlet::{Verlet, VerletState};
@@ -32,6 +34,8 @@ pub trait Integrator: Copy + Send + Sync + std::fmt::Debug {
     type State: Copy + std::fmt::Debug;
     /// Its interpolating polynomial over one step.
     type Dense: DenseOutput;
+    /// Its free flight at a fixed step ([`Self::free_fall`]).
+    type FreeFall: FreeFall<Self::State>;
 
     fn name(&self) -> &'static str;
 
@@ -77,6 +81,11 @@ pub trait Integrator: Copy + Send + Sync + std::fmt::Debug {
     fn step_split(&self, state: &mut Self::State, c: f64, f: impl Fn(f64, f64) -> f64) {
         self.step(state, |x, v| f(x, v) + c);
     }
+
+    /// Free flight from `state` under the constant `acceleration`: the
+    /// states of repeated [`Self::step`] with `|_, _| acceleration`, bit for
+    /// bit, at less cost where the scheme allows ([`free_fall`]).
+    fn free_fall(&self, state: Self::State, acceleration: f64) -> Self::FreeFall;
 
     /// The factor G by which [`Self::step_scaled`] wants its force
     /// multiplied; it depends on the step size only. 1 by default.

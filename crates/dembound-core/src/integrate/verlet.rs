@@ -8,7 +8,7 @@
 //! x_{n+2} = (x_{n+1} + Δt v_{n+1/2} + Δt² c) + Δt² a_{n+1}: a multiply and
 //! an add after the force (the textbook order has +c, ×Δt/2, +v, ×Δt, +x).
 
-use super::{keep_scalar, DenseOutput, Integrator, Kinematics};
+use super::{keep_scalar, DenseOutput, Integrator, Kinematics, VerletFreeFall};
 
 /// Velocity Verlet (second order, symplectic).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -22,9 +22,9 @@ pub struct VerletState {
     pub a: f64,
     pub dt: f64,
     /// Δt².
-    gain: f64,
+    pub(crate) gain: f64,
     /// x + Δt (v + a Δt/2): the next step's position.
-    next_x: f64,
+    pub(crate) next_x: f64,
 }
 
 impl VerletState {
@@ -43,9 +43,14 @@ impl VerletState {
 impl Integrator for Verlet {
     type State = VerletState;
     type Dense = HermiteDense;
+    type FreeFall = VerletFreeFall;
 
     fn name(&self) -> &'static str {
         "verlet"
+    }
+
+    fn free_fall(&self, state: VerletState, acceleration: f64) -> VerletFreeFall {
+        VerletFreeFall::new(state, acceleration)
     }
 
     fn start(&self, d: [f64; 6], dt: f64) -> VerletState {
