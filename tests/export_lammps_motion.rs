@@ -141,6 +141,8 @@ struct Agreement {
     velocity: f64,
     /// The largest distance a fixed sphere moved from its start, m.
     group_travel: f64,
+    /// The largest x displacement of a free sphere, m.
+    free_drift: f64,
     /// Particle and wall contacts summed over the rows.
     contacts: usize,
 }
@@ -168,6 +170,7 @@ fn compare(text: &str, expect: &[&str]) -> Agreement {
         position: 0.0,
         velocity: 0.0,
         group_travel: 0.0,
+        free_drift: 0.0,
         contacts: 0,
     };
     for (&step, state) in &dump {
@@ -183,6 +186,7 @@ fn compare(text: &str, expect: &[&str]) -> Agreement {
             if fixed[i] {
                 a.group_travel = a.group_travel.max(dist(&start[i], x[i]));
             } else {
+                a.free_drift = a.free_drift.max(x[i][0] - start[i][0]);
                 dv = dv.max(dist(&state[i][3..6], v[i]));
                 vmax = vmax.max(norm(v[i]));
             }
@@ -193,11 +197,12 @@ fn compare(text: &str, expect: &[&str]) -> Agreement {
         a.contacts += sim.particle_contacts() + sim.wall_contacts();
     }
     eprintln!(
-        "rows {}, position {:.2e}, velocity {:.2e} (relative), group moved up to {:.3e} m, contacts summed over rows {}",
+        "rows {}, position {:.2e}, velocity {:.2e} (relative), group moved up to {:.3e} m, free spheres up to {:.3e} m along x, contacts summed over rows {}",
         dump.len(),
         a.position,
         a.velocity,
         a.group_travel,
+        a.free_drift,
         a.contacts
     );
     a
@@ -271,4 +276,143 @@ fn oscillating_group_and_moving_particle_wall_agree() {
     let a = compare(&text, &["move wiggle", "move linear"]);
     // The floor rose 0.1 m/s × 20 ms = 2 mm.
     agrees(&a, 2e-3 * (1.0 - 1e-9));
+}
+
+/// Four spheres (μ = 0.5, Hertz–Mindlin, Tsuji normal damping, no
+/// tangential dashpot: the export's rule with friction) dropped 0.1 mm
+/// onto a floor plane sliding along x at 0.05 m/s, a conveyor (`fix
+/// wall/gran … shear x 0.05`): friction drags them along, spinning them.
+/// Only sphere–plane contacts (the spheres 3 mm apart), where both codes
+/// put the tangential torque at R.
+#[test]
+fn conveyor_plane_agrees() {
+    if !have_lmp() {
+        return;
+    }
+    let text = r#"
+[domain]
+lower = [-0.01, -0.01, 0.0]
+upper = [0.01, 0.01, 0.01]
+
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[contact]
+law = "hertz"
+damping = "tsuji"
+restitution = 0.5
+tangential = "mindlin"
+friction = 0.5
+tangential_damping = false
+
+[[particles]]
+spheres = [{ position = [-3e-3, -3e-3, 1.1e-3], radius = 1e-3 }, { position = [0.0, 0.0, 1.1e-3], radius = 1e-3 }, { position = [3e-3, 0.0, 1.0e-3], radius = 0.9e-3 }, { position = [0.0, 3e-3, 1.2e-3], radius = 1.1e-3 }]
+material = "grain"
+
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "grain"
+motion = { velocity = [0.05, 0.0, 0.0] }
+
+[motion]
+gravity = [0.0, 0.0, -9.81]
+
+[integration]
+dt = 1.0e-6
+steps = 20000
+
+[output]
+series_every = 500
+"#;
+    let a = compare(text, &["shear x 5e-2"]);
+    assert!(a.position < 1e-9, "positions differ by {:e}", a.position);
+    assert!(a.velocity < 1e-9, "velocities differ by {:e}", a.velocity);
+    assert!(a.contacts > 0, "no contact");
+    // Dragged along: sliding at first, then rolling at 2/7 of 0.05 m/s
+    // (a solid sphere's rolling speed on a belt from rest), ~0.2 mm in
+    // 20 ms; a plane standing still leaves them where they fell.
+    assert!(
+        a.free_drift > 5e-5,
+        "the spheres moved {:e} m along x",
+        a.free_drift
+    );
+}
+
+/// `dembound export CODE` of `text` (written to a fresh directory): the
+/// exit code, stderr and whether the output directory was created.
+fn export_refused(code: &str, text: &str) -> (Option<i32>, String, bool) {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let scene = dir.path().join("moving.toml");
+    std::fs::write(&scene, text).expect("written");
+    let deck = dir.path().join("deck");
+    let o = common::dembound()
+        .args(["export", code])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&deck)
+        .output()
+        .expect("dembound runs");
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        deck.exists(),
+    )
+}
+
+/// What the decks do not move the same way is refused with exit 2, the
+/// key named, nothing written: a group that turns and slides (LAMMPS: one
+/// fix move style per group), a motion starting late, a plane shaken
+/// along its normal (LAMMPS's wiggle is A (1 − cos ωt)), and any moving
+/// group in the LIGGGHTS and Yade decks (they would hold it still).
+#[test]
+fn motions_not_written_are_refused_naming_the_key() {
+    let cases = [
+        (
+            "lammps",
+            scene(
+                FRICTIONLESS,
+                "motion = { velocity = [0.0, 0.0, 0.05], angular_velocity = [0.0, 0.0, 1.0] }",
+                "",
+                10,
+            ),
+            "particles[1].motion",
+        ),
+        (
+            "lammps",
+            scene(
+                FRICTIONLESS,
+                "",
+                "motion = { velocity = [0.0, 0.0, 0.05], start = 1e-3 }",
+                10,
+            ),
+            "wall[0].motion",
+        ),
+        (
+            "lammps",
+            scene(FRICTIONLESS, "", "", 10).replace(
+                "boundary_particles = { point = [0.0, 0.0, -0.009], normal = [0.0, 0.0, 1.0], radius_ratio = 1.0, modulus_ratio = 10.0 }",
+                "plane = { point = [0.0, 0.0, -0.009], normal = [0.0, 0.0, 1.0] }\noscillation = { amplitude = [0.0, 0.0, 1e-4], frequency = 50.0 }",
+            ),
+            "wall[0].oscillation",
+        ),
+        (
+            "liggghts",
+            scene(FRICTIONLESS, "motion = { velocity = [0.0, 0.0, 0.05] }", "", 10),
+            "particles[1].motion",
+        ),
+        (
+            "yade",
+            scene(FRICTIONLESS, "motion = { velocity = [0.0, 0.0, 0.05] }", "", 10),
+            "particles[1].motion",
+        ),
+    ];
+    for (code, text, key) in cases {
+        let (status, stderr, written) = export_refused(code, &text);
+        assert_eq!(status, Some(2), "{code} {key}: {stderr}");
+        assert!(stderr.contains(key), "{code}: `{key}` not named: {stderr}");
+        assert!(!written, "{code} {key}: a deck was written");
+    }
 }

@@ -91,6 +91,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     crate::refuse_removal(setup, "LIGGGHTS")?;
     crate::refuse_servo_walls(setup, "LIGGGHTS")?;
     crate::refuse_gates(setup, "LIGGGHTS")?;
+    crate::refuse_moving_groups(setup, "LIGGGHTS")?;
     // Moving walls: turning meshes as `fix move/mesh rotate`, the rest
     // refused (liggghts_motion.rs).
     let mut move_lines: Vec<Option<(String, [f64; 3])>> = vec![None; setup.walls.len()];
