@@ -1006,7 +1006,12 @@ steps = 10
                 ],
                 "contact.damping",
             ),
-            (vec!["wall.0.motion.velocity=[0,0.1,0]"], "wall[0].motion"),
+            // Along the plane's normal (a plane sliding along itself is
+            // exported as `shear`, lammps_motion.rs).
+            (
+                vec!["wall.0.motion.velocity=[0,0,0.1]"],
+                "wall[0].motion.velocity",
+            ),
             (
                 vec!["wall.0.oscillation={amplitude=[0,1e-4,0],frequency=50}"],
                 "wall[0].oscillation",
