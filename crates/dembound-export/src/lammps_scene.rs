@@ -29,7 +29,8 @@
 
 use crate::lammps_friction::{self, Surface};
 use crate::{
-    lammps::tsuji_input, lammps_gates, lammps_output, num, Code, Deck, DeckFile, Error, Result,
+    lammps::tsuji_input, lammps_gates, lammps_motion, lammps_output, num, Code, Deck, DeckFile,
+    Error, Result,
 };
 use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
 use dembound_physics::material::{effective_modulus, Material, PairProperties};
@@ -108,7 +109,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    crate::refuse_moving_walls(setup, "LAMMPS")?;
+    // Moving walls and groups: `fix move` on groups of spheres, `fix
+    // wall/gran … shear` on sliding planes, the rest refused
+    // (lammps_motion.rs).
+    lammps_motion::refuse_other_moving_walls(setup)?;
+    let moves = lammps_motion::group_moves(setup)?;
     crate::refuse_removal(setup, "LAMMPS")?;
     crate::refuse_servo_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
@@ -360,14 +365,24 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     writeln!(data, "\nVelocities\n").ok();
     for (i, s) in setup.spheres.iter().enumerate() {
-        let v = if s.fixed { [0.0; 3] } else { s.velocity };
+        // A moving group's sphere starts at its rigid body's velocity and
+        // spin at t = 0 (lammps_motion.rs), which the forces of step 0 see.
+        let moving = moves.iter().find(|m| m.spheres.contains(&i));
+        let (v, w) = match moving {
+            Some(m) => lammps_motion::initial_velocity(&m.motion, s.position),
+            None if s.fixed => ([0.0; 3], [0.0; 3]),
+            None => (s.velocity, [0.0; 3]),
+        };
         writeln!(
             data,
-            "{} {} {} {} 0 0 0",
+            "{} {} {} {} {} {} {}",
             i + 1,
             num(v[0]),
             num(v[1]),
-            num(v[2])
+            num(v[2]),
+            num(w[0]),
+            num(w[1]),
+            num(w[2])
         )
         .ok();
     }
@@ -585,6 +600,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     let mut switches: Vec<lammps_gates::PlaneSwitch> = Vec::new();
     for p in &planes {
+        // A sliding plane's `shear dim V` (lammps_motion.rs).
+        let shear = match setup.wall_motions.get(p.index).copied().flatten() {
+            Some(m) => lammps_motion::plane_shear(p.index, p.normal, p.axis, &m)?,
+            None => String::new(),
+        };
         let mut fixes_text = String::new();
         for &t in &free_types {
             let ty = &types[t];
@@ -621,7 +641,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 fixes_text,
                 "# wall[{}]: plane of \"{}\" against \"{}\": the pre-mixed E_eff = {} Pa (R_eff = R); not\n\
                  # hertz/material, which would mix the wall as if it had the sphere's material{about}\n\
-                 fix          wall{}_t{} t{} wall/gran{} granular {} {} contacts",
+                 fix          wall{}_t{} t{} wall/gran{} granular {} {}{shear} contacts",
                 p.index,
                 name(p.material),
                 name(ty.material),
@@ -652,6 +672,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         }
     }
     writeln!(x, "\nfix          integrate free nve/sphere").ok();
+    for (k, m) in moves.iter().enumerate() {
+        writeln!(
+            x,
+            "group        move{k} id {}:{}   # {}: a moving group of fixed spheres\n\
+             fix          move{k} move{k} move {}",
+            m.spheres.start + 1,
+            m.spheres.end,
+            m.key,
+            m.args
+        )
+        .ok();
+    }
     if !fixed_types.is_empty() {
         x.push_str(&lammps_output::before_freeze(setup));
         writeln!(
@@ -748,10 +780,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         })
         .collect();
     x.push_str(&lammps_output::output(setup, every, &plane_fixes));
+    // Moving frozen spheres carry velocities: the kinetic energy is the
+    // free spheres' (dembound's), not `ke` of all atoms.
+    let ke = if moves.is_empty() {
+        "ke"
+    } else {
+        writeln!(x, "compute      ke_free free ke").ok();
+        "c_ke_free"
+    };
     writeln!(
         x,
         "variable     pw equal {}\n\
-         thermo_style custom step time ke v_pp v_pw\n\
+         thermo_style custom step time {ke} v_pp v_pw\n\
          thermo_modify norm no format float %.17g\n\
          thermo       {}",
         wall_terms.join("+"),
@@ -966,7 +1006,12 @@ steps = 10
                 ],
                 "contact.damping",
             ),
-            (vec!["wall.0.motion.velocity=[0,0.1,0]"], "wall[0].motion"),
+            // Along the plane's normal (a plane sliding along itself is
+            // exported as `shear`, lammps_motion.rs).
+            (
+                vec!["wall.0.motion.velocity=[0,0,0.1]"],
+                "wall[0].motion.velocity",
+            ),
             (
                 vec!["wall.0.oscillation={amplitude=[0,1e-4,0],frequency=50}"],
                 "wall[0].oscillation",

@@ -17,6 +17,7 @@ pub mod agreement;
 pub mod lammps;
 mod lammps_friction;
 mod lammps_gates;
+mod lammps_motion;
 pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
@@ -153,6 +154,21 @@ pub(crate) fn refuse_moving_walls(setup: &dembound_scene::SceneSetup, code: &str
                  `wall[{w}].oscillation` to export the scene"
             )));
         }
+    }
+    Ok(())
+}
+
+/// The refusal of a scene with a moving group of fixed spheres (a
+/// `[[particles]]` group with `fixed = true` and `motion` or
+/// `oscillation`, issue 27) by the `code` deck writer, naming the key:
+/// written as still spheres it would be another scene (the LAMMPS deck
+/// moves them, `lammps_motion`).
+pub(crate) fn refuse_moving_groups(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
+    if let Some(g) = setup.group_motions.first() {
+        let k = g.group;
+        return Err(Error::Export(format!(
+            "`particles[{k}].motion` cannot be exported: the {code} deck holds fixed spheres that              stay where they are (a moving group is written to LAMMPS only, as fix move); remove              `particles[{k}].motion` and `particles[{k}].oscillation` to export the scene"
+        )));
     }
     Ok(())
 }

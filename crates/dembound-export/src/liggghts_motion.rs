@@ -16,10 +16,28 @@
 //!   a field linear in the position (a rigid rotation is);
 //! - both evaluate the wall at the step's time, after moving the spheres.
 //!
-//! Refused, with the key: a translation (`velocity`), a motion that starts
-//! late or stops (`start`, `end`; `fix move/mesh` runs from its creation
-//! for ever), an `oscillation` (not written yet), and any moving plane or
-//! cylinder. A rotating cylinder would be LIGGGHTS's `zcylinder`
+//! Exported too: a mesh translating at a constant V from t = 0 for ever
+//! (`motion = { velocity = V }`, no `angular_velocity`, no
+//! `oscillation`) as `fix move/mesh ... linear Vx Vy Vz`:
+//! - the pose: LIGGGHTS's `MeshMoverLinear` moves the nodes by the
+//!   increment V Δt every step (`FixMesh::move(dx)`), so after n steps
+//!   they are at X + Σ V Δt, dembound's X + V n Δt up to the rounding of
+//!   the running sum (≤ n/2 ulp of the coordinates: 1e-14 m after 20 000
+//!   steps of a 1 cm mesh, 1e-9 of a 1e-5 m overlap at worst);
+//! - the node velocities are set to V every step (zeroed, then V added),
+//!   so the surface velocity at the contact point is V, dembound's ḋ;
+//! - the time: `FixMoveMesh::initial_integrate` moves the mesh at the
+//!   start of each step, before the forces of the step, as for `rotate`.
+//!
+//! Refused, with the key: a motion that starts late or stops (`start`,
+//! `end`; `fix move/mesh` runs from its creation for ever); a mesh that
+//! turns and translates (two `fix move/mesh` on one mesh would each need
+//! the other's reference point; not written); an `oscillation`: LIGGGHTS's
+//! `wiggle` sets the node velocity a ω cos(ω t) at the step's end time and
+//! moves the nodes by that velocity × Δt (an Euler sum, `MeshMoverWiggle`),
+//! so its pose drifts from dembound's exact a sin(2π f t) by about
+//! a ω Δt / 2 (relative 1.6e-4 of the amplitude at 50 Hz and Δt = 2 µs),
+//! far more than round-off; and any moving plane or cylinder. A rotating cylinder would be LIGGGHTS's `zcylinder`
 //! primitive with `shear`, whose wall velocity is ω × r at the sphere's
 //! *centre* (`calcRadialDistance` of the centre), not at the contact
 //! point as in dembound: a tangential speed off by the relative r/R of the
@@ -29,10 +47,24 @@ use crate::{num, Error, Result};
 use dembound_scene::setup::WallSetup;
 use dembound_scene::walls::motion::WallMotion;
 
+/// How a moving mesh sweeps the box LIGGGHTS must hold it in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Sweep {
+    /// Turning about an axis through this centre, m ([`swept_bounds`]).
+    Turn([f64; 3]),
+    /// Translating at this velocity, m/s: the mesh's bounds shifted by
+    /// V t for t in the run.
+    Shift([f64; 3]),
+}
+
 /// Checks the motion of wall `w` (`Some`: it moves) for a LIGGGHTS deck:
-/// the `fix move/mesh` line of a turning mesh (mesh fix `mesh{w}`), or a
-/// refusal naming the key.
-pub(crate) fn move_mesh_line(w: usize, wall: &WallSetup, motion: &WallMotion) -> Result<String> {
+/// the `fix move/mesh` line of a turning or translating mesh (mesh fix
+/// `mesh{w}`) with how it sweeps the box, or a refusal naming the key.
+pub(crate) fn move_mesh_line(
+    w: usize,
+    wall: &WallSetup,
+    motion: &WallMotion,
+) -> Result<(String, Sweep)> {
     let refuse = |s: String| Err(Error::Export(s));
     let WallSetup::Mesh(_) = wall else {
         let why = match wall {
@@ -48,7 +80,37 @@ pub(crate) fn move_mesh_line(w: usize, wall: &WallSetup, motion: &WallMotion) ->
             wall.key()
         ));
     };
-    rotate_line(w, motion)
+    if motion.velocity != [0.0; 3]
+        && motion.angular_velocity == [0.0; 3]
+        && motion.oscillation.is_none()
+    {
+        return linear_line(w, motion).map(|l| (l, Sweep::Shift(motion.velocity)));
+    }
+    rotate_line(w, motion).map(|l| (l, Sweep::Turn(motion.center)))
+}
+
+/// The `fix move/mesh ... linear` line of mesh `mesh{w}` translating at
+/// `motion.velocity`, or a refusal naming the key when it starts late or
+/// stops.
+fn linear_line(w: usize, motion: &WallMotion) -> Result<String> {
+    if motion.start != 0.0 || motion.end != f64::INFINITY {
+        return Err(Error::Export(format!(
+            "`wall[{w}].motion` with start = {} s, end = {} s is not exported to LIGGGHTS: its \
+             fix move/mesh moves from t = 0 for ever (start = 0, no end)",
+            motion.start, motion.end
+        )));
+    }
+    let v = motion.velocity;
+    Ok(format!(
+        "# wall[{w}] translates at ({}, {}, {}) m/s (dembound's motion.velocity)\n\
+         fix          move{w} all move/mesh mesh mesh{w} linear {} {} {}",
+        num(v[0]),
+        num(v[1]),
+        num(v[2]),
+        num(v[0]),
+        num(v[1]),
+        num(v[2])
+    ))
 }
 
 /// The `fix move/mesh ... rotate` line of mesh `mesh{w}` for `motion`, or a
@@ -58,13 +120,17 @@ fn rotate_line(w: usize, motion: &WallMotion) -> Result<String> {
     if let Some((a, f)) = motion.oscillation {
         return refuse(format!(
             "`wall[{w}].oscillation` = {{ amplitude = {a:?}, frequency = {f} }} is not exported to \
-             LIGGGHTS yet (exported: a mesh turning at a constant motion.angular_velocity)"
+             LIGGGHTS: its move/mesh wiggle sums the velocity times the step (an Euler sum), so \
+             its pose drifts from dembound's a sin(2 pi f t) by about a 2 pi f dt/2 (exported: a \
+             mesh turning at a constant motion.angular_velocity or translating at a constant \
+             motion.velocity)"
         ));
     }
     if motion.velocity != [0.0; 3] {
         return refuse(format!(
-            "`wall[{w}].motion.velocity` = {:?} m/s is not exported to LIGGGHTS (exported: a mesh \
-             turning at a constant motion.angular_velocity about a fixed centre)",
+            "`wall[{w}].motion.velocity` = {:?} m/s with an angular_velocity is not exported to \
+             LIGGGHTS (exported: a mesh turning at a constant motion.angular_velocity about a \
+             fixed centre, or translating at a constant motion.velocity)",
             motion.velocity
         ));
     }
@@ -162,10 +228,29 @@ mod tests {
             .contains("start = 0.5"));
         let sliding = WallMotion {
             velocity: [1.0, 0.0, 0.0],
-            ..turn([0.0; 3])
+            ..turn([0.0, 0.0, 1.0])
         };
         let e = rotate_line(1, &sliding).unwrap_err().to_string();
         assert!(e.contains("wall[1].motion.velocity"), "{e}");
+        let late_slide = WallMotion {
+            velocity: [1.0, 0.0, 0.0],
+            end: 2.0,
+            ..turn([0.0; 3])
+        };
+        let e = linear_line(1, &late_slide).unwrap_err().to_string();
+        assert!(e.contains("wall[1].motion") && e.contains("end = 2"), "{e}");
+        let line = linear_line(
+            4,
+            &WallMotion {
+                velocity: [0.0, -0.5, 0.0],
+                ..turn([0.0; 3])
+            },
+        )
+        .expect("exported");
+        assert!(
+            line.ends_with(&format!("move/mesh mesh mesh4 linear 0 {} 0", num(-0.5))),
+            "{line}"
+        );
         let shaking = WallMotion {
             oscillation: Some(([0.0, 0.0, 1e-3], 50.0)),
             ..turn([0.0; 3])

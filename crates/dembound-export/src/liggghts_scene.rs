@@ -22,6 +22,7 @@
 //! (`nve/sphere`); axis-aligned planes; meshes. Rigid materials (E = ∞)
 //! are refused: LIGGGHTS needs a finite modulus per type.
 
+use crate::liggghts_motion::Sweep;
 use crate::{num, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::NormalLaw;
 use dembound_scene::io::resolve::ResolvedScene;
@@ -91,15 +92,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     crate::refuse_removal(setup, "LIGGGHTS")?;
     crate::refuse_servo_walls(setup, "LIGGGHTS")?;
     crate::refuse_gates(setup, "LIGGGHTS")?;
+    crate::refuse_moving_groups(setup, "LIGGGHTS")?;
     // Moving walls: turning meshes as `fix move/mesh rotate`, the rest
     // refused (liggghts_motion.rs).
-    let mut move_lines: Vec<Option<(String, [f64; 3])>> = vec![None; setup.walls.len()];
+    let mut move_lines: Vec<Option<(String, Sweep)>> = vec![None; setup.walls.len()];
     for (w, m) in setup.wall_motions.iter().enumerate() {
         if let (Some(m), Some(wall)) = (m, setup.walls.get(w)) {
-            let line = crate::liggghts_motion::move_mesh_line(w, wall, m)?;
-            move_lines[w] = Some((line, m.center));
+            move_lines[w] = Some(crate::liggghts_motion::move_mesh_line(w, wall, m)?);
         }
     }
+    // Translating meshes: (bounds at t = 0, velocity), widened once the
+    // run's length is known.
+    let mut shifts: Vec<([f64; 3], [f64; 3], [f64; 3])> = Vec::new();
     if !matches!(model.normal, NormalLaw::Hertz) {
         return refuse(format!(
             "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
@@ -173,11 +177,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     g.triangles.len(),
                     setup.materials[m.material].name,
                 ));
-                if let Some((line, center)) = &move_lines[w] {
-                    let (a, b) = crate::liggghts_motion::swept_bounds(&g.vertices, *center);
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(a[k]);
-                        hi[k] = hi[k].max(b[k]);
+                if let Some((line, sweep)) = &move_lines[w] {
+                    match *sweep {
+                        Sweep::Turn(center) => {
+                            let (a, b) = crate::liggghts_motion::swept_bounds(&g.vertices, center);
+                            for k in 0..3 {
+                                lo[k] = lo[k].min(a[k]);
+                                hi[k] = hi[k].max(b[k]);
+                            }
+                        }
+                        Sweep::Shift(v) => shifts.push((g.lo, g.hi, v)),
                     }
                     wall_lines.push(line.clone());
                 }
@@ -208,6 +217,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let dt = sim.dt();
     let steps = sim.total_steps();
     let every = crate::lammps_output::series_every(scene.file.output.series_every, steps);
+    // A translating mesh's nodes over the run: its bounds shifted by V T.
+    let run_time = steps as f64 * dt;
+    for (a, b, v) in &shifts {
+        for k in 0..3 {
+            let d = v[k] * run_time;
+            lo[k] = lo[k].min(a[k] + d.min(0.0));
+            hi[k] = hi[k].max(b[k] + d.max(0.0));
+        }
+    }
 
     // Box: the domain, widened to every sphere and mesh (LIGGGHTS drops
     // atoms and refuses mesh nodes outside it).

@@ -116,6 +116,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         );
     }
     crate::refuse_moving_walls(setup, "Yade")?;
+    crate::refuse_moving_groups(setup, "Yade")?;
     crate::refuse_removal(setup, "Yade")?;
     crate::refuse_servo_walls(setup, "Yade")?;
     crate::refuse_gates(setup, "Yade")?;
