@@ -686,9 +686,9 @@ impl<T: Transport> DistributedSimulation<T> {
         // checkpoint holds one copy's per sphere).
         let mut force = saved.0;
         let mut torque = saved.2;
-        for k in 0..w.bodies.len() {
+        for (k, f) in force.iter_mut().enumerate() {
             if w.bodies.fixed[k] && w.in_moving_group(w.bodies.id[k]) {
-                force[k] = w.bodies.force[k];
+                *f = w.bodies.force[k];
                 if let (Some(t), Some(now)) = (torque.get_mut(k), w.bodies.torque.get(k)) {
                     *t = *now;
                 }
