@@ -149,26 +149,6 @@ pub(crate) struct RankComm<T: Transport> {
 
 /// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
 fn refuse_unsupported(setup: &SceneSetup) -> Result<(), SceneError> {
-    // A moving group of fixed spheres (`pipeline::moving_groups`): each
-    // rank would have to move the copies it holds.
-    let moving_particle_wall = setup
-        .wall_motions
-        .iter()
-        .enumerate()
-        .find(|(w, m)| m.is_some() && setup.walls.get(*w).is_some_and(|s| s.is_particles()));
-    let group_key = setup
-        .group_motions
-        .first()
-        .map(|g| format!("particles[{}]", g.group))
-        .or_else(|| moving_particle_wall.map(|(w, _)| format!("wall[{w}]")));
-    if let Some(key) = group_key {
-        return Err(SceneError::invalid(
-            format!("{key}.motion"),
-            "a moving group of fixed spheres",
-            "not under MPI yet (every rank would have to move its copies of the group's \
-             spheres); run without mpirun, on threads",
-        ));
-    }
     if setup.dissipation {
         return Err(SceneError::invalid(
             "output.dissipation",

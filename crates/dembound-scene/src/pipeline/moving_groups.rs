@@ -34,9 +34,18 @@
 //! integrated into the walls' work W by the trapezoidal rule over each
 //! step, as a moving wall's (`moving_walls`).
 //!
-//! One process only for now: under MPI every rank would have to move the
-//! copies of the spheres it holds (`comm::distributed` refuses it, naming
-//! the key); no periodic axis (the spheres are not carried across).
+//! **Under MPI** (`comm::distributed`) every rank places every copy of a
+//! group's spheres it holds, owned or halo, from the step number and the
+//! sphere's input id alone (X_k is kept by id on every rank: a sphere
+//! that migrates carries no motion state of its own, and the halo copies
+//! need no exchange). A pair of a free sphere with a group's sphere is
+//! listed only on the rank owning the free sphere (two bodies flagged
+//! fixed, a halo copy being one, are never paired), so each rank's copies
+//! hold the forces of its own pairs: the power, the work and the group's
+//! force and torque are each rank's share, summed over the ranks (in
+//! another order on another rank count: equal to round-off).
+//!
+//! No periodic axis (the spheres are not carried across).
 
 use std::ops::Range;
 
@@ -127,6 +136,13 @@ impl World {
         self.moving.as_ref().is_some_and(|m| !m.groups.is_empty())
     }
 
+    /// Whether the sphere of input id `id` belongs to a moving group.
+    pub(crate) fn in_moving_group(&self, id: u32) -> bool {
+        self.moving
+            .as_ref()
+            .is_some_and(|m| m.groups.iter().any(|g| g.ids.contains(&id)))
+    }
+
     /// Places the moving groups' spheres at time `t` (s): positions,
     /// velocities and spins of the rigid bodies (module doc), and the
     /// torque points of the moving boundary-particle walls.
@@ -182,7 +198,7 @@ impl World {
 
     /// The power the moving groups put into the spheres they touch, from
     /// the forces and torques of the last pair forces, W (module doc):
-    /// their spheres by input id.
+    /// their spheres (every copy this process holds) by input id.
     pub fn group_power(&self) -> f64 {
         let Some(m) = self.moving.as_ref() else {
             return 0.0;

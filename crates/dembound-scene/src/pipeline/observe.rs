@@ -97,6 +97,21 @@ pub(crate) fn observation(
         v.push(c.spring_energy);
     }
     let s = hooks.sum(v);
+    // The moving groups' loads: each process's share (its copies of the
+    // groups' spheres took the forces of the pairs it lists, each pair
+    // listed on one process), summed over the processes.
+    let mut group_motions = world.group_motion_states();
+    if !group_motions.is_empty() {
+        let shares: Vec<f64> = group_motions
+            .iter()
+            .flat_map(|g| g.force.into_iter().chain(g.torque))
+            .collect();
+        let total = hooks.sum(shares);
+        for (g, t) in group_motions.iter_mut().zip(total.chunks_exact(6)) {
+            g.force = [t[0], t[1], t[2]];
+            g.torque = [t[3], t[4], t[5]];
+        }
+    }
     let work = world.moving.as_ref().map(|_| s[5]);
     let gate = world
         .gates
@@ -150,7 +165,7 @@ pub(crate) fn observation(
         work_by_walls: work,
         removed,
         wall_motions: world.wall_motion_states(),
-        group_motions: world.group_motion_states(),
+        group_motions,
         outlets: world
             .removal
             .as_ref()

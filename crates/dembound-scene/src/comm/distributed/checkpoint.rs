@@ -242,15 +242,15 @@ impl<T: Transport> DistributedSimulation<T> {
         // The moving walls' work and power: each rank's share, summed
         // (collective, on every rank).
         let moving = w.moving.as_ref().map(|m| {
-            let s = self.comm.transport.sum(&[m.work, m.power]);
+            let s = self.comm.transport.sum(&[m.work, m.power, m.group_power]);
             crate::pipeline::moving_walls::MovingWallsRecord {
                 built_step: m.built_step,
                 work: s[0],
                 power: s[1],
                 // The same on every rank (`servo_walls`).
                 servos: m.servos.iter().map(|d| d.record()).collect(),
-                // Moving groups are refused under MPI.
-                group_power: None,
+                // The moving groups' power: each rank's share, summed.
+                group_power: (!m.groups.is_empty()).then_some(s[2]),
             }
         });
         // The gate energy: each rank's share, summed (collective).
@@ -650,6 +650,10 @@ impl<T: Transport> DistributedSimulation<T> {
         let first = me.comm.transport.rank() == 0;
         if let (Some(r), Some(m)) = (moving, w.moving.as_mut()) {
             (m.work, m.power) = if first { (r.work, r.power) } else { (0.0, 0.0) };
+            m.group_power = match r.group_power {
+                Some(p) if first => p,
+                _ => 0.0,
+            };
         }
         // The boundary-particle walls' force for the observation at the
         // restart step: a pass of the pair stage whose effects are undone
@@ -668,13 +672,31 @@ impl<T: Transport> DistributedSimulation<T> {
         for k in 0..w.bodies.len() {
             if w.bodies.fixed[k] {
                 w.bodies.force[k] = [0.0; 3];
+                if w.in_moving_group(w.bodies.id[k]) {
+                    if let Some(t) = w.bodies.torque.get_mut(k) {
+                        *t = [0.0; 3];
+                    }
+                }
             }
         }
         me.pair_forces();
         let w = &mut me.sim.world;
-        w.bodies.force = saved.0;
+        // A moving group's copies keep what this pass gave them: this
+        // rank's share of their load (`pipeline::moving_groups`; the
+        // checkpoint holds one copy's per sphere).
+        let mut force = saved.0;
+        let mut torque = saved.2;
+        for (k, f) in force.iter_mut().enumerate() {
+            if w.bodies.fixed[k] && w.in_moving_group(w.bodies.id[k]) {
+                *f = w.bodies.force[k];
+                if let (Some(t), Some(now)) = (torque.get_mut(k), w.bodies.torque.get(k)) {
+                    *t = *now;
+                }
+            }
+        }
+        w.bodies.force = force;
         w.histories = saved.1;
-        w.bodies.torque = saved.2;
+        w.bodies.torque = torque;
         w.shear = saved.3;
         if !change.unchanged() {
             let first = me.comm.transport.rank() == 0;

@@ -34,12 +34,18 @@ struct Incident {
 }
 
 impl<T: Transport> RankComm<T> {
-    /// Each owned free body's pairs, by partner id.
+    /// Each owned free body's pairs, by partner id; and each copy of a
+    /// moving group's sphere's (`pipeline::moving_groups`: its power and
+    /// load are this rank's pairs' share).
     pub(super) fn build_incidence(&mut self, world: &World) {
         let b = &world.bodies;
         let n = b.len();
         let list = &world.list;
-        let wanted = |k: usize| !self.halo[k] && !b.fixed[k];
+        let groups = world.has_moving_groups();
+        let wanted = |k: usize| {
+            (!self.halo[k] && !b.fixed[k])
+                || (groups && b.fixed[k] && world.in_moving_group(b.id[k]))
+        };
         let m = list.j.len();
         let mut count = vec![0u32; n + 1];
         let pairs = list
@@ -98,7 +104,8 @@ impl<T: Transport> RankComm<T> {
     }
 
     /// Every listed pair's force (history updated), then each owned free
-    /// body's sum in partner-id order, added to its gravity and wall force.
+    /// body's sum in partner-id order, added to its gravity and wall force
+    /// (and each copy of a moving group's sphere's, from zero).
     pub(super) fn sum_pair_forces(
         &mut self,
         pipeline: &mut Pipeline,
