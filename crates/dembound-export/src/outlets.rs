@@ -171,8 +171,10 @@ mod tests {
             "region       outlet1 cylinder y 1e0 3e0 5e-1 1e0 3e0 units box"
         );
         let tilted = Region::Cylinder {
+            center: [1.0, 2.0, 3.0],
             axis: [0.6, 0.0, 0.8],
-            ..c
+            radius: 0.5,
+            length: 2.0,
         };
         let e = region_line(2, &tilted, "LIGGGHTS").unwrap_err().to_string();
         assert!(e.contains("outlet[2].region.cylinder.axis") && e.contains("LIGGGHTS"));
