@@ -74,7 +74,15 @@ pub(crate) struct PlaneSwitch {
 
 /// The `run` commands of a run of `steps` steps of `dt` (s), with the
 /// switches of the gated plane walls (`windows` per wall) in between.
-pub(crate) fn runs(steps: u64, dt: f64, windows: &[(u64, u64)], planes: &[PlaneSwitch]) -> String {
+/// With `outlets`, every run removes the spheres in the outlets every
+/// `outlets::EVERY` steps.
+pub(crate) fn runs(
+    steps: u64,
+    dt: f64,
+    windows: &[(u64, u64)],
+    planes: &[PlaneSwitch],
+    outlets: Option<&crate::outlets::Outlets>,
+) -> String {
     let mut events: Vec<(u64, bool, &PlaneSwitch)> = Vec::new();
     for p in planes {
         let (on, off) = windows[p.wall];
@@ -95,7 +103,7 @@ pub(crate) fn runs(steps: u64, dt: f64, windows: &[(u64, u64)], planes: &[PlaneS
     let mut done = 0;
     for (step, arrives, p) in events {
         if step > done {
-            writeln!(x, "run          {}", step - done).ok();
+            x.push_str(&crate::outlets::run_line(step - done, outlets));
             done = step;
         }
         let w = p.wall;
@@ -142,6 +150,6 @@ pub(crate) fn runs(steps: u64, dt: f64, windows: &[(u64, u64)], planes: &[PlaneS
             }
         }
     }
-    writeln!(x, "run          {}", steps - done).ok();
+    x.push_str(&crate::outlets::run_line(steps - done, outlets));
     x
 }

@@ -114,7 +114,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     // (lammps_motion.rs).
     lammps_motion::refuse_other_moving_walls(setup)?;
     let moves = lammps_motion::group_moves(setup)?;
-    crate::refuse_removal(setup, "LAMMPS")?;
+    crate::refuse_inlets(
+        setup,
+        "LAMMPS",
+        "LAMMPS's `fix pour` sets its rate from a volume fraction and the free-fall speed \
+         into the region (not a number or mass rate), and `fix deposit` inserts one atom \
+         every M steps with one diameter (no size distribution): neither is dembound's inlet",
+    )?;
+    let outlets = crate::outlets::plan(setup, "LAMMPS", Some("free"))?;
     crate::refuse_servo_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).
@@ -788,13 +795,17 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         writeln!(x, "compute      ke_free free ke").ok();
         "c_ke_free"
     };
+    if let Some(o) = &outlets {
+        x.push_str(&o.setup);
+    }
     writeln!(
         x,
         "variable     pw equal {}\n\
-         thermo_style custom step time {ke} v_pp v_pw\n\
+         thermo_style custom step time {ke} v_pp v_pw{}\n\
          thermo_modify norm no format float %.17g\n\
          thermo       {}",
         wall_terms.join("+"),
+        outlets.as_ref().map_or("", |o| o.columns.as_str()),
         steps.max(1),
     )
     .ok();
@@ -802,7 +813,13 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         let ids: Vec<String> = sw.fixes.iter().map(|(f, _)| f.clone()).collect();
         sw.force_lines = lammps_output::plane_force_lines(sw.wall, &ids);
     }
-    x.push_str(&lammps_gates::runs(steps, dt, &windows, &switches));
+    x.push_str(&lammps_gates::runs(
+        steps,
+        dt,
+        &windows,
+        &switches,
+        outlets.as_ref(),
+    ));
 
     Ok(Deck {
         code: Code::Lammps,

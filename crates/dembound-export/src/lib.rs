@@ -22,8 +22,10 @@ pub mod lammps_output;
 pub mod lammps_scene;
 pub mod liggghts;
 mod liggghts_contact;
+mod liggghts_gates;
 mod liggghts_motion;
 pub mod liggghts_scene;
+mod outlets;
 pub mod plan;
 pub mod scene_dump;
 pub mod trace;
@@ -167,31 +169,55 @@ pub(crate) fn refuse_moving_groups(setup: &dembound_scene::SceneSetup, code: &st
     if let Some(g) = setup.group_motions.first() {
         let k = g.group;
         return Err(Error::Export(format!(
-            "`particles[{k}].motion` cannot be exported: the {code} deck holds fixed spheres that              stay where they are (a moving group is written to LAMMPS only, as fix move); remove              `particles[{k}].motion` and `particles[{k}].oscillation` to export the scene"
+            "`particles[{k}].motion` cannot be exported: the {code} deck holds fixed spheres that \
+             stay where they are (a moving group is written to LAMMPS only, as fix move); remove \
+             `particles[{k}].motion` and `particles[{k}].oscillation` to export the scene"
         )));
     }
     Ok(())
 }
 
-/// The refusal of a scene that removes spheres (`domain.outside =
-/// "delete"`, issue 28) by the `code` deck writer: LAMMPS's `thermo_modify
-/// lost ignore` drops an atom the moment it crosses a face of a fixed
-/// boundary, where dembound removes a sphere wholly outside the box grown
-/// to hold the fixed spheres, moving away and touching nothing; the decks
-/// would not run the same scene.
+/// The refusal of a scene that removes spheres (`[[outlet]]` or
+/// `domain.outside = "delete"`, issue 28) by the `code` deck writer (the
+/// Yade deck: no removal written).
 pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
     if !setup.outlets.is_empty() {
         return Err(Error::Export(format!(
             "`outlet` cannot be exported: the {code} deck has no removal by dembound's rule \
              (a centre inside the region, touching nothing); remove the [[outlet]] sections to \
-             export the scene"
+             export the scene (the LAMMPS and LIGGGHTS decks write outlets)"
         )));
     }
+    refuse_lost_removal(setup, code)
+}
+
+/// The refusal of `domain.outside = "delete"` by the `code` deck writer:
+/// LAMMPS's `thermo_modify lost ignore` drops an atom the moment it
+/// crosses a face of a fixed boundary, where dembound removes a sphere
+/// wholly outside the box grown to hold the fixed spheres, moving away
+/// and touching nothing; the decks would not run the same scene.
+pub(crate) fn refuse_lost_removal(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
     if setup.outside == dembound_scene::setup::Outside::Delete {
         return Err(Error::Export(format!(
             "`domain.outside = \"delete\"` cannot be exported: the {code} deck has no removal \
              of lost spheres by dembound's rule (wholly outside the box, moving away, touching \
              nothing); set domain.outside to \"error\" or \"keep\" to export the scene"
+        )));
+    }
+    Ok(())
+}
+
+/// The refusal of a scene with inlets (`[[inlet]]`, issue 28) by the
+/// `code` deck writer, `why` the code's reason.
+pub(crate) fn refuse_inlets(
+    setup: &dembound_scene::SceneSetup,
+    code: &str,
+    why: &str,
+) -> Result<()> {
+    if !setup.inlets.is_empty() {
+        return Err(Error::Export(format!(
+            "`inlet[0]` cannot be exported: {why}; remove the [[inlet]] sections to export the \
+             scene to {code}"
         )));
     }
     Ok(())

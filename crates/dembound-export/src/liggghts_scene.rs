@@ -22,6 +22,7 @@
 //! (`nve/sphere`); axis-aligned planes; meshes. Rigid materials (E = ∞)
 //! are refused: LIGGGHTS needs a finite modulus per type.
 
+use crate::liggghts_gates::WallLines;
 use crate::liggghts_motion::Sweep;
 use crate::{num, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::NormalLaw;
@@ -89,9 +90,23 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    crate::refuse_removal(setup, "LIGGGHTS")?;
+    crate::refuse_inlets(
+        setup,
+        "LIGGGHTS",
+        "the LIGGGHTS deck writes no `fix insert/rate/region` yet",
+    )?;
+    let mut outlets = crate::outlets::plan(setup, "LIGGGHTS", None)?;
+    if let Some(o) = &mut outlets {
+        // LIGGGHTS refuses a run whose smallest atom type in use is not 1
+        // ("Atom types must start from 1"), as when an outlet took every
+        // sphere of type 1: a template of type 1, never inserted, keeps
+        // type 1 declared.
+        o.setup.push_str(
+            "fix          type_floor_t all particletemplate/sphere 15485863 atom_type 1 density constant 1000 radius constant 1e-3\n\
+             fix          type_floor all particledistribution/discrete 32452843 1 type_floor_t 1.0   # declares type 1 (never inserted)\n",
+        );
+    }
     crate::refuse_servo_walls(setup, "LIGGGHTS")?;
-    crate::refuse_gates(setup, "LIGGGHTS")?;
     crate::refuse_moving_groups(setup, "LIGGGHTS")?;
     // Moving walls: turning meshes as `fix move/mesh rotate`, the rest
     // refused (liggghts_motion.rs).
@@ -124,6 +139,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     if setup.spheres.is_empty() {
         return refuse("the scene has no free sphere to export".into());
     }
+    // The engine validates the setup and fixes Δt and the run length.
+    let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
+    let dt = sim.dt();
+    let steps = sim.total_steps();
+    let windows = crate::liggghts_gates::windows(setup, dt);
     // Walls: axis-aligned planes and meshes.
     let axis_name = ["xplane", "yplane", "zplane"];
     let mut wall_lines = Vec::new();
@@ -145,15 +165,19 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 };
                 used[p.material] = true;
                 let t = contact.wall_types[w].unwrap_or(p.material) + 1;
-                wall_lines.push(format!(
-                    "# wall[{w}]: the plane {} = {} of material \"{}\" (type {t})\n\
-                     fix          wall{w} all wall/gran {words} primitive type {t} {} {}{settings}",
-                    ["x", "y", "z"][axis],
-                    num(p.point[axis]),
-                    setup.materials[p.material].name,
-                    axis_name[axis],
-                    num(p.point[axis])
-                ));
+                wall_lines.push(WallLines {
+                    wall: w,
+                    add: format!(
+                        "# wall[{w}]: the plane {} = {} of material \"{}\" (type {t})\n\
+                         fix          wall{w} all wall/gran {words} primitive type {t} {} {}{settings}\n",
+                        ["x", "y", "z"][axis],
+                        num(p.point[axis]),
+                        setup.materials[p.material].name,
+                        axis_name[axis],
+                        num(p.point[axis])
+                    ),
+                    remove: format!("unfix        wall{w}\n"),
+                });
             }
             WallSetup::Mesh(m) => {
                 let g = &m.geometry;
@@ -168,16 +192,28 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     text: ascii_stl(&format!("wall{w}"), &g.vertices, &g.triangles),
                 });
                 let t = contact.wall_types[w].unwrap_or(m.material) + 1;
-                wall_lines.push(format!(
-                    "# wall[{w}]: the mesh {} ({} triangles after cleaning), placed by dembound\n\
-                     # (scale, rotate, translate applied) and written to {name}; material \"{}\" (type {t})\n\
-                     fix          mesh{w} all mesh/surface file {name} type {t}\n\
-                     fix          wall{w} all wall/gran {words} mesh n_meshes 1 meshes mesh{w}{settings}",
-                    m.file_name(),
-                    g.triangles.len(),
-                    setup.materials[m.material].name,
-                ));
+                let mut lines = WallLines {
+                    wall: w,
+                    add: format!(
+                        "# wall[{w}]: the mesh {} ({} triangles after cleaning), placed by dembound\n\
+                         # (scale, rotate, translate applied) and written to {name}; material \"{}\" (type {t})\n\
+                         fix          mesh{w} all mesh/surface file {name} type {t}\n\
+                         fix          wall{w} all wall/gran {words} mesh n_meshes 1 meshes mesh{w}{settings}\n",
+                        m.file_name(),
+                        g.triangles.len(),
+                        setup.materials[m.material].name,
+                    ),
+                    remove: format!("unfix        wall{w}\nunfix        mesh{w}\n"),
+                };
                 if let Some((line, sweep)) = &move_lines[w] {
+                    if windows[w].0 > 0 {
+                        return refuse(format!(
+                            "`wall[{w}].active` with `wall[{w}].motion` cannot be exported: a \
+                             LIGGGHTS `fix move/mesh` written when the wall appears would start \
+                             its motion there, not at t = 0; remove `wall[{w}].active.from` or \
+                             the motion to export the scene"
+                        ));
+                    }
                     match *sweep {
                         Sweep::Turn(center) => {
                             let (a, b) = crate::liggghts_motion::swept_bounds(&g.vertices, center);
@@ -188,8 +224,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                         }
                         Sweep::Shift(v) => shifts.push((g.lo, g.hi, v)),
                     }
-                    wall_lines.push(line.clone());
+                    lines.add.push_str(line);
+                    lines.add.push('\n');
+                    lines.remove = format!("unfix        move{w}\n{}", lines.remove);
                 }
+                wall_lines.push(lines);
             }
             other => {
                 return refuse(format!(
@@ -212,10 +251,6 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             ));
         }
     }
-    // The engine validates the setup and fixes Δt and the run length.
-    let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
-    let dt = sim.dt();
-    let steps = sim.total_steps();
     let every = crate::lammps_output::series_every(scene.file.output.series_every, steps);
     // A translating mesh's nodes over the run: its bounds shifted by V T.
     let run_time = steps as f64 * dt;
@@ -400,8 +435,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         num(dt)
     )
     .ok();
-    for line in &wall_lines {
-        writeln!(x, "{line}").ok();
+    for l in &wall_lines {
+        let w = l.wall;
+        if crate::liggghts_gates::on_at_start(windows[w]) {
+            x.push_str(&l.add);
+        } else if windows[w].0 < windows[w].1 {
+            writeln!(x, "# wall[{w}] is written where it appears (below)").ok();
+        } else {
+            writeln!(x, "# wall[{w}] never acts (its active window is empty)").ok();
+        }
     }
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
@@ -438,13 +480,21 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          # particles.dump: every sphere at the series cadence{spin_note}\n\
          dump         spheres all custom {every} particles.dump id type radius x y z vx vy vz{spin_columns}\n\
          dump_modify  spheres format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g{spin_format}\"\n\
-         thermo_style custom step time ke\n\
+         {}thermo_style custom step time ke{}\n\
          thermo_modify norm no format float %.17g\n\
-         thermo       {}\n\
-         run          {steps}",
+         thermo       {}",
+        outlets.as_ref().map_or("", |o| o.setup.as_str()),
+        outlets.as_ref().map_or("", |o| o.columns.as_str()),
         steps.max(1)
     )
     .ok();
+    x.push_str(&crate::liggghts_gates::runs(
+        steps,
+        dt,
+        &windows,
+        &wall_lines,
+        outlets.as_ref(),
+    ));
     let mut all = vec![
         DeckFile {
             name: Code::Liggghts.input_file().into(),

@@ -118,6 +118,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     crate::refuse_moving_walls(setup, "Yade")?;
     crate::refuse_moving_groups(setup, "Yade")?;
     crate::refuse_removal(setup, "Yade")?;
+    crate::refuse_inlets(
+        setup,
+        "Yade",
+        "the Yade deck inserts no spheres during the run",
+    )?;
     crate::refuse_servo_walls(setup, "Yade")?;
     crate::refuse_gates(setup, "Yade")?;
     let d = &setup.domain;
