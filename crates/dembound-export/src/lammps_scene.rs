@@ -28,6 +28,7 @@
 //! (two fixed spheres never interact, as in dembound).
 
 use crate::lammps_friction::{self, Surface};
+pub use crate::lammps_friction::torque_arm_note;
 use crate::{
     lammps::tsuji_input, lammps_gates, lammps_output, num, Code, Deck, DeckFile, Error, Result,
 };
