@@ -160,3 +160,46 @@ fn contact_point_arm_agrees_with_lammps_through_sphere_pair_friction() {
     let worst = parted.iter().map(|r| r.spin).fold(0.0, f64::max);
     assert!(worst > 1e-6, "radius did not part from LAMMPS: {parted:?}");
 }
+
+/// `dembound export lammps` notes the arm difference for a frictional
+/// scene under `"radius"`, says nothing under `"contact_point"`, and
+/// refuses an unknown arm with exit 2 naming the key and the values.
+#[test]
+fn export_notes_the_radius_arm_and_refuses_an_unknown_one() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let export = |arm: &str| {
+        let contact = format!("friction = 0.5\ntorque_arm = \"{arm}\"");
+        let text = lattice_bed(&contact, "[0.0, 0.0, -0.1]", STEEL_PLANE_FLOOR, 10, "");
+        let scene = dir.path().join(format!("{arm}.toml"));
+        std::fs::write(&scene, text).expect("written");
+        common::dembound()
+            .args(["export", "lammps"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(dir.path().join(arm))
+            .output()
+            .expect("dembound runs")
+    };
+    let radius = export("radius");
+    let note = String::from_utf8_lossy(&radius.stderr);
+    assert!(radius.status.success(), "{note}");
+    assert!(
+        note.contains("contact.torque_arm = \"radius\"") && note.contains("R − δ/2"),
+        "{note}"
+    );
+    let point = export("contact_point");
+    assert!(point.status.success());
+    assert!(
+        !String::from_utf8_lossy(&point.stderr).contains("torque_arm"),
+        "{}",
+        String::from_utf8_lossy(&point.stderr)
+    );
+    let bad = export("middle");
+    let e = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("contact.torque_arm") && e.contains("\"middle\"") && e.contains("contact_point"),
+        "{e}"
+    );
+    assert!(!dir.path().join("middle").exists(), "no half-written deck");
+}
