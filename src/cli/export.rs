@@ -172,5 +172,10 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         },
     )
     .map_err(CliError::failed)?;
+    if code == Code::Lammps {
+        if let Some(note) = dembound_export::lammps_scene::torque_arm_note(&resolved.setup) {
+            eprintln!("{note}");
+        }
+    }
     Ok(())
 }

@@ -280,6 +280,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "tangential dashpot",
         ),
         row(
+            "contact.torque_arm",
+            "",
+            "\"radius\"",
+            "\"radius\", \"contact_point\" (with friction)".into(),
+            "lever arm of the tangential torque",
+        ),
+        row(
             "particles[K].material",
             "",
             "—",

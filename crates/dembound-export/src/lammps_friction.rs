@@ -222,3 +222,24 @@ impl FrictionPlan {
         Ok((args, comment))
     }
 }
+
+/// The note `dembound export lammps` prints for a scene with friction
+/// (some μ > 0) that keeps `contact.torque_arm = "radius"`: LAMMPS's `pair
+/// granular` takes the tangential torque of a sphere pair at R − δ/2, so
+/// the two runs agree only until the first tangential sphere–sphere
+/// contact. `None` without friction or under `"contact_point"`.
+pub fn torque_arm_note(setup: &SceneSetup) -> Option<String> {
+    let f = setup.friction.as_ref()?;
+    if f.torque_arm != dembound_physics::contact::TorqueArm::Radius {
+        return None;
+    }
+    plan(setup).ok().flatten()?;
+    Some(
+        "note: contact.torque_arm = \"radius\": dembound applies the tangential force's torque \
+         at R, LAMMPS's pair granular at the contact point R − δ/2 (δ the overlap) for sphere \
+         pairs, so the two runs agree only until the first tangential sphere–sphere contact \
+         (then by up to δ/(2R) in the spins); set contact.torque_arm = \"contact_point\" to run \
+         LAMMPS's arm in dembound"
+            .to_string(),
+    )
+}

@@ -27,6 +27,7 @@
 //! for the Tsuji damping), and `neigh_modify exclude group frozen frozen`
 //! (two fixed spheres never interact, as in dembound).
 
+pub use crate::lammps_friction::torque_arm_note;
 use crate::lammps_friction::{self, Surface};
 use crate::{
     lammps::tsuji_input, lammps_gates, lammps_motion, lammps_output, num, Code, Deck, DeckFile,

@@ -3,7 +3,7 @@
 //! [`crate::Simulation::new`] validates it.
 
 use dembound_physics::contact::tangential::FrictionModel;
-use dembound_physics::contact::ContactModel;
+use dembound_physics::contact::{ContactModel, TorqueArm};
 use dembound_physics::material::Material;
 
 /// A wall, one variant per wall type (`walls::registry`), and each type's
@@ -116,9 +116,13 @@ pub struct FrictionSetup {
     /// contact's damping ratio); false: no tangential dashpot (LIGGGHTS's
     /// `tangential_damping off`), the rolling spring's damping kept.
     pub tangential_damping: bool,
+    /// The lever arm of the tangential force's torque
+    /// (`contact.torque_arm`, default the radius).
+    pub torque_arm: TorqueArm,
 }
 
-/// The derived form, with `tangential_damping` only when false: a
+/// The derived form, with `tangential_damping` only when false and
+/// `torque_arm` only when not the radius: a
 /// checkpoint's fingerprint holds this text (crate::fingerprint), so the
 /// default keeps the bytes of the checkpoints written before the switch.
 impl std::fmt::Debug for FrictionSetup {
@@ -129,6 +133,9 @@ impl std::fmt::Debug for FrictionSetup {
             .field("walls", &self.walls);
         if !self.tangential_damping {
             d.field("tangential_damping", &self.tangential_damping);
+        }
+        if self.torque_arm != TorqueArm::Radius {
+            d.field("torque_arm", &self.torque_arm);
         }
         d.finish()
     }
@@ -142,6 +149,7 @@ impl FrictionSetup {
             materials: Vec::new(),
             walls: Vec::new(),
             tangential_damping: true,
+            torque_arm: TorqueArm::Radius,
         }
     }
 

@@ -334,6 +334,7 @@ impl StudyConfig {
             materials,
             walls: w,
             tangential_damping: true,
+            torque_arm: Default::default(),
         })
     }
 

@@ -46,6 +46,7 @@ pub use model::{ContactForces, ContactLaw, ContactState, Geometry, Side};
 pub use normal::hertz::HERTZ_CONTACT_TIME_FACTOR;
 pub use registry::{DampingKind, DampingPair, NormalLaw, NormalPair};
 pub use spec::ContactSpec;
+pub use torque_arm::TorqueArm;
 
 use crate::error::PhysicsError;
 use crate::material::PairProperties;
@@ -379,3 +380,4 @@ impl PairLaw {
 // rolling resistance, as sub-models of their own.
 pub mod rolling;
 pub mod tangential;
+pub mod torque_arm;

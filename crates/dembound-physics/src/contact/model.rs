@@ -36,9 +36,11 @@
 //!    tangent-plane part of ω₁ − ω₂, I_eff = 1/(1/I₁ + 1/I₂)
 //!    (`FrictionPair::rolling_torque`);
 //! 5. sum ([`assemble`]): body 2 gets F_n n − F_t, body 1 the opposite;
-//!    torques τ₁ = R₁ n × F_t + M_r and τ₂ = R₂ n × F_t − M_r (LAMMPS
-//!    scales by the deformed distance R − h/2; the undeformed radius keeps
-//!    the spin change of gross sliding at exactly (5/2) μ J_n/(m R)).
+//!    torques τ₁ = A₁ n × F_t + M_r and τ₂ = A₂ n × F_t − M_r, the arms
+//!    A of [`ContactLaw::torque_arm`] ([`TorqueArm::arms`]): the radii R
+//!    by default (the undeformed radius keeps the spin change of gross
+//!    sliding at exactly (5/2) μ J_n/(m R)), or LAMMPS's R − h/2 for a
+//!    sphere pair (`contact.torque_arm = "contact_point"`).
 //!
 //! A frictionless contact is stage 1 alone ([`PairLaw::normal_stage`],
 //! force F_n n on body 2): the same operations as the first stage of a
@@ -47,6 +49,7 @@
 //! results are the scalar path's, bit for bit.
 
 use super::tangential::FrictionPair;
+pub use super::torque_arm::TorqueArm;
 use super::{ContactHistory, PairLaw};
 
 #[inline(always)]
@@ -67,7 +70,9 @@ pub struct Side {
     /// Angular velocity, rad/s (a wall: 0).
     pub spin: [f64; 3],
     /// Lever arm from the centre to the contact point, m: the undeformed
-    /// radius (a wall: 0).
+    /// radius (a wall: 0). The spin's arm in the slip velocity; the
+    /// tangential torque's too unless [`ContactLaw::torque_arm`] moves it
+    /// ([`TorqueArm::arms`]).
     pub arm: f64,
     /// 1/I, 1/(kg m²) (a wall or a fixed body: 0).
     pub inverse_inertia: f64,
@@ -119,9 +124,10 @@ pub struct ContactForces {
     pub normal: f64,
     /// F_t on body 1, N (body 2 gets −F_t); in the tangent plane.
     pub tangential: [f64; 3],
-    /// The moment of F_t about body 1's centre, R₁ n × F_t, N m.
+    /// The moment of F_t about body 1's centre, A₁ n × F_t, N m (A₁ the
+    /// lever arm, [`TorqueArm::arms`]).
     pub tangential_torque1: [f64; 3],
-    /// The moment of −F_t about body 2's centre, R₂ n × F_t, N m.
+    /// The moment of −F_t about body 2's centre, A₂ n × F_t, N m.
     pub tangential_torque2: [f64; 3],
     /// The rolling torque M_r on body 1 (body 2 gets −M_r), N m; `None`
     /// without a rolling stage.
@@ -180,6 +186,8 @@ pub struct ContactLaw {
     /// Tangential spring with its damping and Coulomb limit, and the
     /// rolling spring.
     pub friction: FrictionPair,
+    /// The lever arm of the tangential force's torque (stage 5).
+    pub torque_arm: TorqueArm,
 }
 
 impl PairLaw {
@@ -291,7 +299,8 @@ impl ContactLaw {
         let rolling = state
             .rolling
             .map(|m| self.rolling_stage(g.overlap, f, n, a, b, dt, m));
-        assemble(f, ft, rolling, n, a.arm, b.arm)
+        let (arm1, arm2) = self.torque_arm.arms(g.overlap, a.arm, b.arm);
+        assemble(f, ft, rolling, n, arm1, arm2)
     }
 
     /// The contact's forces at its present state, nothing advanced (an
@@ -317,7 +326,8 @@ impl ContactLaw {
         let mut shear = tangential;
         let ft = self.tangential_stage(g.overlap, f, n, vt, 0.0, &mut shear);
         let rolling = rolling.map(|mut m| self.rolling_stage(g.overlap, f, n, a, b, 0.0, &mut m));
-        assemble(f, ft, rolling, n, a.arm, b.arm)
+        let (arm1, arm2) = self.torque_arm.arms(g.overlap, a.arm, b.arm);
+        assemble(f, ft, rolling, n, arm1, arm2)
     }
 
     /// The contact's forces as the last step applied them, from the
@@ -355,7 +365,8 @@ impl ContactLaw {
                 m,
             )
         });
-        assemble(f, ft, rolling, n, a.arm, b.arm)
+        let (arm1, arm2) = self.torque_arm.arms(g.overlap, a.arm, b.arm);
+        assemble(f, ft, rolling, n, arm1, arm2)
     }
 
     /// Stage 3, the tangential force on body 1 (N) at overlap `overlap`

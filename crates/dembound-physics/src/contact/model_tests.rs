@@ -32,7 +32,11 @@ fn law_of(model: ContactModel, kind: TangentialKind, mu: f64, mu_r: f64) -> Cont
         mu,
         mu_r,
     );
-    ContactLaw { law, friction }
+    ContactLaw {
+        law,
+        friction,
+        torque_arm: TorqueArm::Radius,
+    }
 }
 
 /// The laws the bit-for-bit comparison runs: Hertz–Mindlin with Tsuji
@@ -300,6 +304,84 @@ fn gross_sliding_transmits_the_coulomb_limit_against_the_slip() {
     // The wall takes F_n n − F_t: F_n downward, μ F_n along the slip.
     let on_wall = c.on_body2(n);
     assert!(on_wall[2] < 0.0 && on_wall[0] > 0.0);
+}
+
+/// A sphere pair in gross sliding: the torque on each sphere is its arm
+/// times n × F_t with |F_t| = μ F_n against the slip, the arm R for
+/// `TorqueArm::Radius` and R − δ/2 for `TorqueArm::ContactPoint`
+/// (LAMMPS's `dist_to_contact`); against a wall both take R. Closed form:
+/// n = +x, body 1 sliding along +y on body 2 at rest, so F_t = −μ F_n ŷ
+/// and n × F_t = −μ F_n ẑ, τ_k = −A_k μ F_n ẑ.
+#[test]
+fn sliding_torque_is_the_arm_times_the_coulomb_force() {
+    let h = 5.0e-6;
+    let n = [1.0, 0.0, 0.0];
+    let g = Geometry {
+        overlap: h,
+        overlap_rate: 0.0,
+        normal: n,
+    };
+    let a = Side {
+        velocity: [0.0, 0.5, 0.0],
+        spin: [0.0; 3],
+        arm: R1,
+        inverse_inertia: 1.0,
+    };
+    let b = Side {
+        velocity: [0.0; 3],
+        spin: [0.0; 3],
+        arm: R2,
+        inverse_inertia: 1.0,
+    };
+    let sliding = |cl: &ContactLaw, other: &Side| {
+        let (mut hist, mut s) = (ContactHistory::default(), [0.0; 3]);
+        let mut c = None;
+        // 0.5 m/s for 1 ms moves the spring 0.5 mm, far beyond μ F_n/k_t.
+        for _ in 0..1000 {
+            c = Some(cl.calculate_forces(
+                &g,
+                &a,
+                other,
+                ContactState {
+                    history: &mut hist,
+                    tangential: &mut s,
+                    rolling: None,
+                },
+                1.0e-6,
+            ));
+        }
+        c.unwrap()
+    };
+    for arm in [TorqueArm::Radius, TorqueArm::ContactPoint] {
+        let cl = ContactLaw {
+            torque_arm: arm,
+            ..laws()[0]
+        };
+        let mu = cl.friction.friction();
+        let c = sliding(&cl, &b);
+        // F_n: the elastic Hertz force at rest (ḣ = 0: no damping).
+        let f_n = cl.law.force(h, 0.0, &ContactHistory::default());
+        let (arm1, arm2) = match arm {
+            TorqueArm::Radius => (R1, R2),
+            TorqueArm::ContactPoint => (R1 - 0.5 * h, R2 - 0.5 * h),
+        };
+        // The closed form to a few roundings: |F_t| is μ F_n after the
+        // spring's rescale (1e-15 relative), times one product.
+        let close = |got: f64, want: f64| (got / want - 1.0).abs() < 1e-14;
+        let t1 = c.torque1();
+        let t2 = c.torque2();
+        assert!(close(t1[2], -arm1 * mu * f_n), "{arm:?}: {t1:?}");
+        assert!(close(t2[2], -arm2 * mu * f_n), "{arm:?}: {t2:?}");
+        assert!(t1[0] == 0.0 && t1[1] == 0.0 && t2[0] == 0.0 && t2[1] == 0.0);
+        // Against a wall at rest LAMMPS (fix wall/gran) and both arms take R.
+        let w = sliding(&cl, &Side::wall([0.0; 3]));
+        let fw = cl.law.force(h, 0.0, &ContactHistory::default());
+        assert!(close(w.torque1()[2], -R1 * mu * fw), "{arm:?}");
+        assert_eq!(w.torque2(), [0.0; 3]);
+    }
+    // The two arms differ by the factor 1 − δ/(2R) (here 2.5e-3 on body 1),
+    // far above the 1e-14 tolerance: the test tells them apart.
+    assert!(0.5 * h / R1 > 1e-3);
 }
 
 /// In gross rolling the rolling torque is capped at μ_r R_eff F_n and

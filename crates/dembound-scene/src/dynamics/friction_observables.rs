@@ -341,6 +341,7 @@ pub(crate) mod tests {
             materials: Vec::new(),
             walls: vec![Some((0.5, 0.05)); 6],
             tangential_damping: true,
+            torque_arm: Default::default(),
         });
         s
     }

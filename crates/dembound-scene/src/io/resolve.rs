@@ -21,6 +21,7 @@ use crate::sources::tiling::Extent;
 use crate::sources::{self, SourceSphere};
 use crate::SceneError;
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
+use dembound_physics::contact::TorqueArm;
 use dembound_physics::material::Material;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -378,6 +379,11 @@ fn friction_setup(
         materials,
         walls,
         tangential_damping: c.tangential_damping.unwrap_or(true),
+        torque_arm: c
+            .torque_arm
+            .as_deref()
+            .and_then(TorqueArm::from_name)
+            .unwrap_or_default(),
     })
 }
 

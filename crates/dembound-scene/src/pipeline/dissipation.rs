@@ -47,7 +47,7 @@
 //! (refused).
 
 use dembound_physics::contact::model::{overlap_rate, slip_velocity};
-use dembound_physics::contact::{ContactForces, ContactHistory, Geometry, Side};
+use dembound_physics::contact::{ContactForces, ContactHistory, ContactLaw, Geometry, Side};
 use serde::{Deserialize, Serialize};
 
 use super::World;
@@ -143,9 +143,22 @@ fn pair_power(world: &World, i: usize, j: usize, k: usize, sh: Shifts) -> [f64; 
 }
 
 /// F_t·v_t + M_r·(ω₁ − ω₂) of a contact's forces `c` (on body 1) for the
-/// sides' motion, W.
-fn tangential_power(c: &ContactForces, a: &Side, b: &Side, n: [f64; 3]) -> f64 {
-    let vt = slip_velocity(a, b, n);
+/// sides' motion, W, of overlap `overlap` (m) under the law `fl`. v_t is
+/// the slip with the spins at the torque's arms A
+/// (`ContactLaw::torque_arm`): F_t·(v₁ − v₂ + (A₁ ω₁ + A₂ ω₂) × n) is the
+/// work of F_t and its torques A n × F_t, which under `"contact_point"`
+/// (A = R − δ/2) is not the spring's F_t·v_t (the spring moves at the slip
+/// with R, as in LAMMPS): the difference is energy that model creates or
+/// takes, and it lands in D_t.
+fn tangential_power(
+    c: &ContactForces,
+    (fl, overlap): (&ContactLaw, f64),
+    a: &Side,
+    b: &Side,
+    n: [f64; 3],
+) -> f64 {
+    let (arm1, arm2) = fl.torque_arm.arms(overlap, a.arm, b.arm);
+    let vt = slip_velocity(&Side { arm: arm1, ..*a }, &Side { arm: arm2, ..*b }, n);
     let ft = c.tangential;
     let mut p = ft[0] * vt[0] + ft[1] * vt[1] + ft[2] * vt[2];
     if let Some(m) = c.rolling {
@@ -199,7 +212,7 @@ fn wall_power(world: &World, i: usize, sh: Shifts) -> [f64; 2] {
             t,
             table.rolling().then_some(roll),
         );
-        out[1] += tangential_power(&c, &side(world, i, v, w), &wall, g.normal);
+        out[1] += tangential_power(&c, (fl, g.overlap), &side(world, i, v, w), &wall, g.normal);
     }
     out
 }
@@ -384,6 +397,12 @@ fn pair_power_with(
     );
     [
         normal,
-        tangential_power(&c, &side(world, i, vi, wi), &side(world, j, vj, wj), n),
+        tangential_power(
+            &c,
+            (fl, overlap),
+            &side(world, i, vi, wi),
+            &side(world, j, vj, wj),
+            n,
+        ),
     ]
 }

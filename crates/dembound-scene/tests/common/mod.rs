@@ -224,6 +224,7 @@ pub fn frictional_bed(side: usize, layers: usize, dt: f64) -> SceneSetup {
         materials: Vec::new(),
         walls,
         tangential_damping: true,
+        torque_arm: Default::default(),
     });
     s
 }

@@ -13,7 +13,9 @@
 //! that in gross sliding the spin change is exactly (5/2) μ J_n/(m R)); the
 //! slip velocity is v_c = v_i − v_j + (R_i ω_i + R_j ω_j) × n, its
 //! tangential part v_t drives the spring; the tangential force F_t acts on
-//! i (−F_t on j), with torques R_i n × F_t on i and R_j n × F_t on j. A
+//! i (−F_t on j), with torques R_i n × F_t on i and R_j n × F_t on j
+//! (under `contact.torque_arm = "contact_point"`, LAMMPS's R − δ/2 for a
+//! sphere pair: `ContactLaw::torque_arm`). A
 //! wall is side 2 with no radius, spin or 1/I, moving at its surface
 //! velocity, with n the wall's normal reversed.
 //!

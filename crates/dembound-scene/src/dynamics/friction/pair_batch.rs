@@ -200,7 +200,8 @@ impl MainPairs<'_> {
                 let rj = unsafe { *radius.get_unchecked(j) };
                 let n = [g.nx[q], g.ny[q], g.nz[q]];
                 let rolling = if ROLL { Some(g.rolling[t]) } else { None };
-                let c = assemble(g.force[t], g.tangential[t], rolling, n, ri, rj);
+                let (arm_i, arm_j) = row_law(i, j).torque_arm.arms(g.overlap[q], ri, rj);
+                let c = assemble(g.force[t], g.tangential[t], rolling, n, arm_i, arm_j);
                 let (fj, tqj) = (c.on_body2(n), c.torque2());
                 sub(&mut fi, fj);
                 add(&mut ti, c.torque1());

@@ -99,7 +99,11 @@ impl FrictionTable {
             mix_friction(roll_a, roll_b),
         );
         let friction = self.without_dashpot_if_off(friction);
-        FrictionLaw { law, friction }
+        FrictionLaw {
+            law,
+            friction,
+            torque_arm: self.setup.torque_arm,
+        }
     }
 
     fn compute_plane(
@@ -128,7 +132,11 @@ impl FrictionTable {
             mix_friction(roll_a, roll_w),
         );
         let friction = self.without_dashpot_if_off(friction);
-        FrictionLaw { law, friction }
+        FrictionLaw {
+            law,
+            friction,
+            torque_arm: self.setup.torque_arm,
+        }
     }
 
     /// `friction` without its tangential dashpot under

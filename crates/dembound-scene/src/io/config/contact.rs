@@ -5,7 +5,7 @@ use super::checks::{check, invalid};
 use super::{SceneError, SceneFile};
 use crate::limits;
 use dembound_physics::contact::tangential::{tangential_names, TangentialKind};
-use dembound_physics::contact::{ContactModel, ContactSpec, LawParams};
+use dembound_physics::contact::{ContactModel, ContactSpec, LawParams, TorqueArm};
 use serde::{Deserialize, Serialize};
 
 /// `[contact]`: the keys of `dembound run`'s `[contact]`, checked against
@@ -55,6 +55,11 @@ pub struct ContactSection {
     /// alone (LIGGGHTS `tangential_damping off`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential_damping: Option<bool>,
+    /// The lever arm of the tangential force's torque: `"radius"` (default:
+    /// R) or `"contact_point"` (LAMMPS's R − δ/2 for sphere pairs, R
+    /// against walls; `dembound_physics::contact::TorqueArm`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub torque_arm: Option<String>,
 }
 
 /// A struct of the fields in declaration order, each optional one only
@@ -73,7 +78,8 @@ impl Serialize for ContactSection {
             + given(self.friction.is_some())
             + given(self.tangential.is_some())
             + given(self.rolling_friction.is_some())
-            + given(self.tangential_damping.is_some());
+            + given(self.tangential_damping.is_some())
+            + given(self.torque_arm.is_some());
         let mut s = serializer.serialize_struct("ContactSection", len)?;
         s.serialize_field("law", &self.law)?;
         s.serialize_field("damping", &self.damping)?;
@@ -99,6 +105,9 @@ impl Serialize for ContactSection {
         }
         if let Some(on) = &self.tangential_damping {
             s.serialize_field("tangential_damping", on)?;
+        }
+        if let Some(arm) = &self.torque_arm {
+            s.serialize_field("torque_arm", arm)?;
         }
         s.end()
     }
@@ -130,6 +139,7 @@ impl Default for ContactSection {
             tangential: None,
             rolling_friction: None,
             tangential_damping: None,
+            torque_arm: None,
         }
     }
 }
@@ -259,6 +269,22 @@ impl SceneFile {
                 on,
                 "given only with friction (contact.friction or a surface's friction): the \
                  dashpot acts on the tangential spring",
+            )?;
+        }
+        if let Some(name) = &c.torque_arm {
+            check(
+                TorqueArm::from_name(name).is_some(),
+                "contact.torque_arm",
+                format!("{name:?}"),
+                "\"radius\" (the default: the tangential torque at R) or \"contact_point\" \
+                 (LAMMPS's R − δ/2 for sphere pairs, R against walls)",
+            )?;
+            check(
+                self.has_friction(),
+                "contact.torque_arm",
+                format!("{name:?}"),
+                "given only with friction (contact.friction or a surface's friction): the arm \
+                 is the tangential force's",
             )?;
         }
         for (i, m) in self.materials.iter().enumerate() {

@@ -244,6 +244,16 @@ fn validation_table() {
             "contact.tangential_damping",
             "expected a boolean",
         ),
+        (
+            "contact.torque_arm=\"middle\"",
+            "contact.torque_arm",
+            "\"radius\" (the default: the tangential torque at R) or \"contact_point\"",
+        ),
+        (
+            "contact.torque_arm=\"contact_point\"",
+            "contact.torque_arm",
+            "given only with friction",
+        ),
     ];
     for (set, key, allowed) in cases {
         let e = load(ISSUE_EXAMPLE, "issue.toml", &sets(&[set]))
