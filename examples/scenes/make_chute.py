@@ -126,16 +126,16 @@ def profile():
     )
 
 
-def end_cap(x, z, outward):
+def end_cap(x, z, outward, h=H):
     """The U-shaped end face of the chute at station (x, floor z), normal
     along +x (outward = +1) or −x: three rectangles (the two walls' ends
-    and the floor's), cut to match the profile's cells."""
+    and the floor's), cut to match the profile's cells; walls h high."""
     m, t = N_ACROSS, T
     tris = []
     # (y0, y1, o0, o1, cells along y, cells along o)
     for y0, y1, o0, o1, n_y, n_o in (
-        (-t, 0.0, 0.0, H, 1, m),
-        (W, W + t, 0.0, H, 1, m),
+        (-t, 0.0, 0.0, h, 1, m),
+        (W, W + t, 0.0, h, 1, m),
         (-t, 0.0, -t, 0.0, 1, 1),
         (0.0, W, -t, 0.0, m, 1),
         (W, W + t, -t, 0.0, 1, 1),

@@ -62,23 +62,7 @@ def trough():
             a, b = (xs, ya, zs + oa), (xt, ya, zt + oa)
             c, d = (xt, yb, zt + ob), (xs, yb, zs + ob)
             tris += [(a, b, c), (a, c, d)]
-    return tris + end_face(x0, -1) + end_face(XB, +1)
-
-
-def end_face(x, outward):
-    """The U-shaped end face at x, normal +x (outward = +1) or −x."""
-    m, t = make_chute.N_ACROSS, T
-    tris = []
-    for y0, y1, o0, o1, n_y, n_o in (
-        (-t, 0.0, 0.0, HF, 1, m),
-        (W, W + t, 0.0, HF, 1, m),
-        (-t, 0.0, -t, 0.0, 1, 1),
-        (0.0, W, -t, 0.0, m, 1),
-        (W, W + t, -t, 0.0, 1, 1),
-    ):
-        a, b, d = (x, y0, ZF + o0), (x, y1, ZF + o0), (x, y0, ZF + o1)
-        tris += grid(a, b, d, n_y, n_o) if outward > 0 else grid(a, d, b, n_o, n_y)
-    return tris
+    return tris + make_chute.end_cap(x0, ZF, -1, HF) + make_chute.end_cap(XB, ZF, +1, HF)
 
 
 def feeder():

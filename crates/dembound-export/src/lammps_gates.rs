@@ -72,6 +72,35 @@ pub(crate) struct PlaneSwitch {
     pub force_lines: String,
 }
 
+/// The switches within a run of `steps` steps of the walls `items` (the
+/// wall of each by `wall`; `windows` per wall: its first step and the
+/// first step without it): (step, arrives, item), in step order; at one
+/// step walls leave before others arrive (both at the same state: the
+/// order does not change the forces), then in wall order. Shared by the
+/// LAMMPS and LIGGGHTS decks.
+pub(crate) fn switch_events<'a, T>(
+    steps: u64,
+    windows: &[(u64, u64)],
+    items: &'a [T],
+    wall: impl Fn(&T) -> usize,
+) -> Vec<(u64, bool, &'a T)> {
+    let mut events = Vec::new();
+    for item in items {
+        let (on, off) = windows[wall(item)];
+        if on >= off {
+            continue;
+        }
+        if on > 0 && on < steps {
+            events.push((on, true, item));
+        }
+        if off < steps {
+            events.push((off, false, item));
+        }
+    }
+    events.sort_by_key(|&(step, arrives, item)| (step, arrives, wall(item)));
+    events
+}
+
 /// The `run` commands of a run of `steps` steps of `dt` (s), with the
 /// switches of the gated plane walls (`windows` per wall) in between.
 /// With `outlets`, every run removes the spheres in the outlets every
@@ -83,22 +112,7 @@ pub(crate) fn runs(
     planes: &[PlaneSwitch],
     outlets: Option<&crate::outlets::Outlets>,
 ) -> String {
-    let mut events: Vec<(u64, bool, &PlaneSwitch)> = Vec::new();
-    for p in planes {
-        let (on, off) = windows[p.wall];
-        if on >= off {
-            continue;
-        }
-        if on > 0 && on < steps {
-            events.push((on, true, p));
-        }
-        if off < steps {
-            events.push((off, false, p));
-        }
-    }
-    // At one step: walls leave before others arrive (both at the same
-    // state: the order does not change the forces).
-    events.sort_by_key(|&(step, arrives, p)| (step, arrives, p.wall));
+    let events = switch_events(steps, windows, planes, |p| p.wall);
     let mut x = String::new();
     let mut done = 0;
     for (step, arrives, p) in events {

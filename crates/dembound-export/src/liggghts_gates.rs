@@ -82,21 +82,7 @@ pub(crate) fn runs(
     walls: &[WallLines],
     outlets: Option<&crate::outlets::Outlets>,
 ) -> String {
-    // (step, arrives, wall)
-    let mut events: Vec<(u64, bool, &WallLines)> = Vec::new();
-    for l in walls {
-        let (on, off) = windows[l.wall];
-        if on >= off {
-            continue;
-        }
-        if on > 0 && on < steps {
-            events.push((on, true, l));
-        }
-        if off < steps {
-            events.push((off, false, l));
-        }
-    }
-    events.sort_by_key(|&(step, arrives, l)| (step, arrives, l.wall));
+    let events = crate::lammps_gates::switch_events(steps, windows, walls, |l| l.wall);
     let mut x = String::new();
     let mut done = 0;
     let mut i = 0;
