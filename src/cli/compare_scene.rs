@@ -350,10 +350,19 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         .map(|i| geometry.radius[i])
         .fold(f64::INFINITY, f64::min);
     let wall_count = setup.walls.len();
-    let with_walls = walls.as_ref().is_some_and(|w| {
-        rows.iter()
-            .all(|r| w.get(&r.step).is_some_and(|f| f.len() >= 3 * wall_count))
-    }) && wall_count > 0;
+    // A row of forces for every dump row; LIGGGHTS's `fix print` starts at
+    // the first multiple of the cadence, so the row of step 0 may be missing
+    // (the wall series then starts at the next row).
+    let has_forces = |r: &DumpRow| {
+        walls
+            .as_ref()
+            .and_then(|w| w.get(&r.step))
+            .is_some_and(|f| f.len() >= 3 * wall_count)
+    };
+    let with_walls = wall_count > 0
+        && rows.iter().any(|r| r.step > 0 && has_forces(r))
+        && rows.iter().all(|r| r.step == 0 || has_forces(r));
+    let mut wall_rows: Vec<bool> = Vec::new();
     let profiles = Profiles::new(&setup, &geometry.radius, &geometry.mass, &geometry.fixed);
     let (mut packing_ours, mut packing_theirs) = (Vec::new(), Vec::new());
     let (mut flow_ours, mut flow_theirs) = (Vec::new(), Vec::new());
@@ -399,7 +408,8 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         packing_theirs.push(profiles.packing(&cx));
         flow_ours.push(profiles.velocity(&x, &v));
         flow_theirs.push(profiles.velocity(&cx, &cv));
-        let cwf = match (&walls, with_walls) {
+        wall_rows.push(with_walls && has_forces(row));
+        let cwf = match (&walls, with_walls && has_forces(row)) {
             (Some(wl), true) => {
                 let f = &wl[&row.step];
                 (0..wall_count)
@@ -412,6 +422,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
                     })
                     .collect()
             }
+            _ if with_walls => vec![f64::NAN; wall_count],
             _ => Vec::new(),
         };
         theirs.push(geometry.sample(
@@ -456,7 +467,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         ("contacts (overlaps)", "1", |s| s.contacts),
         ("bed height", "m", |s| s.bed_height),
     ];
-    let mut series: Vec<(String, String, Vec<f64>, Vec<f64>)> = scalars
+    let series: Vec<(String, String, Vec<f64>, Vec<f64>)> = scalars
         .iter()
         .map(|(name, unit, get)| {
             (
@@ -467,18 +478,24 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             )
         })
         .collect();
-    if with_walls {
-        for k in 0..wall_count {
-            series.push((
-                format!("wall[{k}] force |F|"),
-                "N".into(),
-                theirs.iter().map(|s| s.walls[k]).collect(),
-                ours.iter().map(|s| s.walls[k]).collect(),
-            ));
-        }
-    }
     for (name, unit, a, b) in series {
         quantities.push(quantity(name, unit, &time, a, b, window_start));
+    }
+    if with_walls {
+        // The rows where the peer wrote forces (all, or all but step 0).
+        let keep: Vec<usize> = (0..time.len()).filter(|&i| wall_rows[i]).collect();
+        let wall_time: Vec<f64> = keep.iter().map(|&i| time[i]).collect();
+        let wall_window = keep.iter().filter(|&&i| i < window_start).count();
+        for k in 0..wall_count {
+            quantities.push(quantity(
+                format!("wall[{k}] force |F|"),
+                "N".into(),
+                &wall_time,
+                keep.iter().map(|&i| theirs[i].walls[k]).collect(),
+                keep.iter().map(|&i| ours[i].walls[k]).collect(),
+                wall_window,
+            ));
+        }
     }
     let w = window_start.min(time.len());
     let mut profile_reports = vec![profiles.report(

@@ -31,7 +31,7 @@ pub fn series_every(series_every: Option<u64>, steps: u64) -> u64 {
 
 /// `id` ranges `a:b` of the spheres (0-based indices, ascending) as a
 /// LAMMPS group's id list.
-fn id_ranges(ids: &[usize]) -> String {
+pub(crate) fn id_ranges(ids: &[usize]) -> String {
     let mut out: Vec<String> = Vec::new();
     let mut k = 0;
     while k < ids.len() {

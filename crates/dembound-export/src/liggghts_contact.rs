@@ -69,7 +69,8 @@
 use crate::{num, Error, Result};
 use dembound_physics::contact::calibration::damping_ratio_for;
 use dembound_physics::contact::tangential::{mix_friction, TangentialKind};
-use dembound_physics::contact::{Calibration, DampingKind, Dissipation};
+use dembound_physics::contact::{Calibration, DampingKind, Dissipation, NormalLaw};
+use dembound_physics::material::{effective_modulus, effective_radius};
 use dembound_scene::setup::{SceneSetup, WallSetup};
 
 /// The contact settings of a LIGGGHTS scene deck.
@@ -93,6 +94,15 @@ pub(crate) struct ContactPlan {
     pub type_materials: Vec<usize>,
     /// Header lines of the deck saying what was mapped.
     pub notes: Vec<String>,
+    /// `contact.law = { hooke = k }`: `model hooke/stiffness` with k_n = k
+    /// for every type pair (None: `model hertz`).
+    pub hooke: Option<f64>,
+    /// Under Hooke with friction: k_t (N/m) of each type pair, row-major
+    /// (dembound's linear k_t = (2/7) E_eff R_eff; 0 for pairs that never
+    /// meet).
+    pub tangential_stiffness: Option<Vec<f64>>,
+    /// Rolling friction: μ_r of each atom type (`rolling_friction epsd2`).
+    pub rolling: Option<Vec<f64>>,
 }
 
 impl ContactPlan {
@@ -107,7 +117,17 @@ impl ContactPlan {
 
     /// The model words of `pair_style gran` and `fix wall/gran`.
     pub fn model_words(&self) -> String {
-        format!("model hertz tangential {}", self.tangential())
+        let normal = if self.hooke.is_some() {
+            "hooke/stiffness"
+        } else {
+            "hertz"
+        };
+        let rolling = if self.rolling.is_some() {
+            " rolling_friction epsd2"
+        } else {
+            ""
+        };
+        format!("model {normal} tangential {}{rolling}", self.tangential())
     }
 
     /// The model settings, after the models in `pair_style gran` and at the
@@ -116,6 +136,11 @@ impl ContactPlan {
     /// friction are exported together.
     pub fn settings(&self) -> String {
         let mut s = String::new();
+        if self.hooke.is_some() {
+            // γ_n and γ_t given absolutely as 0 (`gamman_abs`, `gammat_abs`):
+            // undamped, as the Hooke scenes exported.
+            s.push_str(" absolute_damping on");
+        }
         if self.tangential_damping_off {
             s.push_str(" tangential_damping off");
         }
@@ -128,6 +153,20 @@ impl ContactPlan {
     /// Number of atom types.
     pub fn n_types(&self) -> usize {
         self.type_materials.len()
+    }
+
+    /// `coefficientRollingFriction peratomtypepair` values, row-major
+    /// (μ_r mixed as μ, √(μ_a μ_b)).
+    pub fn rolling_pairs(&self) -> Vec<String> {
+        let n = self.n_types();
+        let mu = self.rolling.clone().unwrap_or_else(|| vec![0.0; n]);
+        let mut v = Vec::with_capacity(n * n);
+        for i in 0..n {
+            for j in 0..n {
+                v.push(num(mix_friction(mu[i], mu[j])));
+            }
+        }
+        v
     }
 
     /// `coefficientFriction peratomtypepair` values, row-major.
@@ -157,6 +196,26 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
     let refuse = |s: String| Err(Error::Export(s));
     let model = &setup.contact;
     let mut notes = Vec::new();
+    let hooke = match model.normal {
+        NormalLaw::Hertz => None,
+        NormalLaw::Hooke { stiffness } => Some(stiffness),
+        other => {
+            return refuse(format!(
+                "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
+                 LIGGGHTS's `model hertz`, and {{ hooke = k }}, as `model hooke/stiffness`)",
+                other.row().name
+            ))
+        }
+    };
+    if hooke.is_some() && model.damping.kind() != DampingKind::None {
+        return refuse(format!(
+            "contact.damping = \"{}\" with contact.law = {{ hooke = k }} is not exported to \
+             LIGGGHTS: the scene export writes Hooke undamped only (LIGGGHTS's hooke/stiffness \
+             takes one gamma_n per type pair, dembound's viscous c = 2 xi sqrt(k m*) changes \
+             with the pair's mass); set contact.damping = \"none\"",
+            model.damping.kind().row().name
+        ));
+    }
     let (restitution, limit_force) = match (model.damping.kind(), model.damping.dissipation()) {
         (DampingKind::None, _) | (_, None) => (1.0, false),
         (DampingKind::Tsuji, Some(Dissipation::Restitution(e))) => {
@@ -238,23 +297,34 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                     surfaces.push((format!("wall[{w}]"), f.of_wall(w, m)));
                 }
             }
-            if let Some((who, (_, mu_r))) = surfaces.iter().find(|(_, (_, r))| *r != 0.0) {
+            let rolls = surfaces.iter().find(|(_, (_, r))| *r != 0.0);
+            if let (Some((who, (_, mu_r))), None) = (rolls, hooke) {
                 let key = if f.model.rolling_friction != 0.0 {
                     "contact.rolling_friction".to_string()
                 } else {
                     format!("rolling_friction of {who}")
                 };
                 return refuse(format!(
-                    "{key} = {mu_r} is not exported to LIGGGHTS: its rolling models are other \
-                     laws (3.8's epsd2 takes k_r = k_t R*^2 with no dashpot, dembound's epsd2 \
-                     k_r = 2.25 (F_n/h) mu_r^2 R_eff^2 with a dashpot; cdt is a constant \
-                     torque); set every rolling friction to 0 or export to LAMMPS"
+                    "{key} = {mu_r} under contact.law = \"hertz\" is not exported to LIGGGHTS: \
+                     its rolling models are other laws (3.8's epsd2 takes k_r = k_t R*^2 with \
+                     Hertz's k_t = 8 G* sqrt(R* d), dembound's epsd2 k_r = 2.25 (F_n/h) mu_r^2 \
+                     R_eff^2; cdt is a constant torque); set every rolling friction to 0, or \
+                     use contact.law = {{ hooke = k }}, or export to LAMMPS"
                 ));
             }
             if surfaces.iter().all(|(_, (mu, _))| *mu == 0.0) {
                 None
             } else {
-                if f.model.tangential != TangentialKind::Mindlin {
+                if hooke.is_some() && f.model.tangential != TangentialKind::Linear {
+                    return refuse(format!(
+                        "contact.tangential = \"{}\" with contact.law = {{ hooke = k }} is not \
+                         exported to LIGGGHTS: its `model hooke/stiffness` takes one constant k_t \
+                         per type pair, dembound's Mindlin k_t = 8 G* sqrt(R_eff h) follows the \
+                         overlap; use contact.tangential = \"linear\" (k_t = (2/7) E_eff R_eff)",
+                        f.model.tangential.row().name
+                    ));
+                }
+                if hooke.is_none() && f.model.tangential != TangentialKind::Mindlin {
                     return refuse(format!(
                         "contact.tangential = \"{}\" is not exported to LIGGGHTS: its `model \
                          hertz tangential history` has the Mindlin spring k_t = 8 G* sqrt(R* d) \
@@ -282,7 +352,9 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                 for (w, t) in wall_types.iter_mut().enumerate() {
                     if let Some(m) = *t {
                         let own = f.of_wall(w, m).0;
-                        if own != mu[m] {
+                        // Under Hooke every wall gets a type of its own: its
+                        // k_t uses the sphere's R, a sphere pair's R_eff.
+                        if own != mu[m] || hooke.is_some() {
                             *t = Some(type_materials.len());
                             type_materials.push(m);
                             mu.push(own);
@@ -307,6 +379,28 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
             }
         }
     };
+    let (tangential_stiffness, rolling) = match (hooke, &friction, &setup.friction) {
+        (Some(k), Some(_), Some(f)) => {
+            let (kt, rolling) = hooke_springs(setup, k, f, &type_materials, &wall_types)?;
+            if rolling.is_some() {
+                notes.push(
+                    "# Rolling: epsd2, LIGGGHTS k_r = k_t R*^2 = dembound's 2.25 k mu_r^2 R_eff^2 (checked per type pair), no dashpot (undamped).\n\
+                     # Differences kept: the rolling history is not turned with the normal in LIGGGHTS; against a wall LIGGGHTS\n\
+                     # drives it with omega (R - d/2)/(R - d) (surface_model_default.h), dembound with omega."
+                        .into(),
+                );
+            }
+            (Some(kt), rolling)
+        }
+        _ => (None, None),
+    };
+    if let Some(k) = hooke {
+        notes.push(format!(
+            "# Hooke: model hooke/stiffness, kn = {} N/m for every type pair (dembound's law = {{ hooke = k }}), undamped:\n\
+             # gamman_abs = gammat_abs = 0 (absolute_damping on); with friction kt = dembound's linear (2/7) E_eff R_eff per type pair.",
+            num(k)
+        ));
+    }
     if let Some(mu) = &friction {
         for (t, m) in type_materials.iter().enumerate().skip(n_materials) {
             notes.push(format!(
@@ -325,7 +419,94 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
         wall_types,
         type_materials,
         notes,
+        hooke,
+        tangential_stiffness,
+        rolling,
     })
+}
+
+/// Under `contact.law = { hooke = k }` with friction: k_t of each type
+/// pair (dembound's linear (2/7) E_eff R_eff, row-major; 0 where no
+/// sphere meets) and, with rolling friction, μ_r of each type, or a
+/// refusal naming the key. LIGGGHTS 3.8's epsd2 (`rolling_model_epsd2.h`)
+/// takes k_r = k_t R*² from the tangential model's k_t; dembound's
+/// (`contact/rolling.rs`) k_r = 2.25 k μ_r² R_eff²: the same spring only
+/// where k_t = 2.25 k μ_r², which is checked for every pair that rolls.
+fn hooke_springs(
+    setup: &SceneSetup,
+    k: f64,
+    f: &dembound_scene::setup::FrictionSetup,
+    type_materials: &[usize],
+    wall_types: &[Option<usize>],
+) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+    let n = type_materials.len();
+    // The one radius of each sphere type (a sphere's type is its material).
+    let mut radius: Vec<Option<f64>> = vec![None; n];
+    for s in &setup.spheres {
+        match radius[s.material] {
+            None => radius[s.material] = Some(s.radius),
+            Some(r) if r == s.radius => {}
+            Some(_) => {
+                return Err(Error::Export(format!(
+                    "contact.tangential = \"linear\" between spheres of several radii (material \
+                     \"{}\") is not exported to LIGGGHTS: dembound's k_t = (2/7) E_eff R_eff \
+                     changes from pair to pair and LIGGGHTS's hooke/stiffness takes one kt per \
+                     type pair (allowed: one radius per material)",
+                    setup.materials[s.material].name
+                )))
+            }
+        }
+    }
+    let wall = |t: usize| wall_types.contains(&Some(t));
+    let mut mu_r: Vec<f64> = (0..n).map(|t| f.of_material(type_materials[t]).1).collect();
+    for (w, t) in wall_types.iter().enumerate() {
+        if let Some(t) = *t {
+            mu_r[t] = f.of_wall(w, type_materials[t]).1;
+        }
+    }
+    let rolls = mu_r.iter().any(|&r| r != 0.0);
+    let mut kt = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let r_eff = match (radius[i], radius[j]) {
+                (Some(a), Some(b)) => Some(effective_radius(a, b)),
+                (Some(a), None) if wall(j) => Some(a),
+                (None, Some(b)) if wall(i) => Some(b),
+                _ => None,
+            };
+            let Some(r_eff) = r_eff else { continue };
+            let (a, b) = (type_materials[i], type_materials[j]);
+            let e = effective_modulus(&setup.materials[a].material, &setup.materials[b].material);
+            let k_t = 2.0 / 7.0 * e * r_eff;
+            if !(k_t.is_finite() && k_t > 0.0) {
+                return Err(Error::Export(format!(
+                    "contact.tangential = \"linear\" between materials \"{}\" and \"{}\": k_t = \
+                     (2/7) E_eff R_eff = {k_t} N/m, which LIGGGHTS's hooke/stiffness cannot take \
+                     (give both a finite modulus)",
+                    setup.materials[a].name, setup.materials[b].name
+                )));
+            }
+            kt[i * n + j] = k_t;
+            let m = mix_friction(mu_r[i], mu_r[j]);
+            let k_r = 2.25 * k * m * m;
+            if m != 0.0 && (k_t / k_r - 1.0).abs() > 1e-9 {
+                return Err(Error::Export(format!(
+                    "contact.rolling_friction (mu_r = {} between \"{}\" and \"{}\") is not \
+                     exported to LIGGGHTS: its epsd2 rolling spring is k_r = k_t R*^2 with the \
+                     tangential k_t = {} N/m, dembound's is k_r = 2.25 k mu_r^2 R_eff^2 = {} \
+                     R_eff^2 N/m: the same law only where k_t = 2.25 k mu_r^2 (choose the moduli \
+                     so that (2/7) E_eff R_eff = 2.25 k mu_r^2 for every pair, or set every \
+                     rolling friction to 0, or export to LAMMPS)",
+                    num(m),
+                    setup.materials[a].name,
+                    setup.materials[b].name,
+                    num(k_t),
+                    num(k_r)
+                )));
+            }
+        }
+    }
+    Ok((kt, rolls.then_some(mu_r)))
 }
 
 #[cfg(test)]

@@ -25,9 +25,8 @@
 use crate::liggghts_gates::WallLines;
 use crate::liggghts_motion::Sweep;
 use crate::{num, Code, Deck, DeckFile, Error, Result};
-use dembound_physics::contact::NormalLaw;
 use dembound_scene::io::resolve::ResolvedScene;
-use dembound_scene::setup::{Scheme, WallSetup};
+use dembound_scene::setup::{SceneSetup, Scheme, WallSetup};
 use dembound_scene::Simulation;
 use std::fmt::Write;
 
@@ -77,11 +76,68 @@ fn ascii_stl(name: &str, vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Strin
     s
 }
 
+/// `walls.txt` (docs/export-liggghts.md, "Output"): a `fix print` row
+/// every `every` steps from step `every` on, `step F0x F0y F0z F1x …`, the
+/// force on each wall in file order (N; 15 significant digits, LIGGGHTS's
+/// variable text): a plane's or mesh's is minus the sum of the per-sphere
+/// forces its `fix wall/gran … store_force yes` keeps (`force_wallK`), a
+/// boundary-particle wall's the sum of the forces on its spheres stored by
+/// `fix store/force` before `fix freeze` zeroes them. Not written when a
+/// wall switches (its fix is unfixed between runs).
+fn wall_forces(setup: &SceneSetup, windows: &[(u64, u64)], every: u64) -> String {
+    let mut x = String::new();
+    if setup.walls.is_empty() || windows.iter().any(|&w| w != (0, u64::MAX)) {
+        return x;
+    }
+    let mut columns = Vec::new();
+    writeln!(
+        x,
+        "\n# {}: step, then the force (N) on each wall in file order, every {every} steps",
+        crate::lammps_output::WALLS_FILE
+    )
+    .ok();
+    for (w, wall) in setup.walls.iter().enumerate() {
+        for (a, c) in ["x", "y", "z"].iter().enumerate() {
+            let value = if wall.is_particles() {
+                if setup.spheres.iter().any(|s| s.group == Some(w)) {
+                    writeln!(
+                        x,
+                        "compute      bpw{w}_{c} bpw{w} reduce sum f_wallforce[{}]",
+                        a + 1
+                    )
+                    .ok();
+                    format!("c_bpw{w}_{c}")
+                } else {
+                    "0".into()
+                }
+            } else {
+                writeln!(
+                    x,
+                    "compute      fw{w}_{c} all reduce sum f_force_wall{w}[{}]",
+                    a + 1
+                )
+                .ok();
+                format!("-c_fw{w}_{c}")
+            };
+            writeln!(x, "variable     w{w}{c} equal {value}").ok();
+            columns.push(format!("${{w{w}{c}}}"));
+        }
+    }
+    writeln!(
+        x,
+        "variable     wstep equal step\n\
+         fix          walls all print {every} \"${{wstep}} {}\" file {} title \"# step, Fx Fy Fz (N) on each wall in file order\" screen no",
+        columns.join(" "),
+        crate::lammps_output::WALLS_FILE
+    )
+    .ok();
+    x
+}
+
 /// The deck of a resolved scene: `in.liggghts`, [`DATA_FILE`] and one
 /// STL per mesh wall ([`mesh_file`]).
 pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let setup = &scene.setup;
-    let model = &setup.contact;
     let refuse = |s: String| Err(Error::Export(s));
     if setup.integration.scheme != Scheme::Verlet {
         return refuse(
@@ -95,7 +151,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         "LIGGGHTS",
         "the LIGGGHTS deck writes no `fix insert/rate/region` yet",
     )?;
-    let mut outlets = crate::outlets::plan(setup, "LIGGGHTS", None)?;
+    let any_fixed = setup.spheres.iter().any(|s| s.fixed);
+    let mut outlets = crate::outlets::plan(setup, "LIGGGHTS", any_fixed.then_some("free"))?;
     if let Some(o) = &mut outlets {
         // LIGGGHTS refuses a run whose smallest atom type in use is not 1
         // ("Atom types must start from 1"), as when an outlet took every
@@ -119,24 +176,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     // Translating meshes: (bounds at t = 0, velocity), widened once the
     // run's length is known.
     let mut shifts: Vec<([f64; 3], [f64; 3], [f64; 3])> = Vec::new();
-    if !matches!(model.normal, NormalLaw::Hertz) {
-        return refuse(format!(
-            "contact.law = \"{}\" is not exported to LIGGGHTS for scenes (exported: hertz, as \
-             LIGGGHTS's `model hertz`)",
-            model.normal.row().name
-        ));
-    }
     let contact = crate::liggghts_contact::plan(setup)?;
     let words = contact.model_words();
     let settings = contact.settings();
-    if setup.spheres.iter().any(|s| s.fixed) {
-        return refuse(
-            "fixed spheres (`fixed = true` or a `boundary_particles` wall) are not exported to \
-             LIGGGHTS yet; export to LAMMPS"
-                .into(),
-        );
-    }
-    if setup.spheres.is_empty() {
+    if setup.spheres.iter().all(|s| s.fixed) {
         return refuse("the scene has no free sphere to export".into());
     }
     // The engine validates the setup and fixes Δt and the run length.
@@ -146,6 +189,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let windows = crate::liggghts_gates::windows(setup, dt);
     // Walls: axis-aligned planes and meshes.
     let axis_name = ["xplane", "yplane", "zplane"];
+    // The group the walls, the integrator and gravity act on: `free` when
+    // some spheres are frozen (fixed spheres and boundary-particle walls).
+    let free = if any_fixed { "free" } else { "all" };
     let mut wall_lines = Vec::new();
     let mut files = Vec::new();
     let mut used = vec![false; setup.materials.len()];
@@ -169,7 +215,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     wall: w,
                     add: format!(
                         "# wall[{w}]: the plane {} = {} of material \"{}\" (type {t})\n\
-                         fix          wall{w} all wall/gran {words} primitive type {t} {} {}{settings}\n",
+                         fix          wall{w} {free} wall/gran {words} primitive type {t} {} {} store_force yes{settings}\n",
                         ["x", "y", "z"][axis],
                         num(p.point[axis]),
                         setup.materials[p.material].name,
@@ -198,7 +244,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                         "# wall[{w}]: the mesh {} ({} triangles after cleaning), placed by dembound\n\
                          # (scale, rotate, translate applied) and written to {name}; material \"{}\" (type {t})\n\
                          fix          mesh{w} all mesh/surface file {name} type {t}\n\
-                         fix          wall{w} all wall/gran {words} mesh n_meshes 1 meshes mesh{w}{settings}\n",
+                         fix          wall{w} {free} wall/gran {words} mesh n_meshes 1 meshes mesh{w} store_force yes{settings}\n",
                         m.file_name(),
                         g.triangles.len(),
                         setup.materials[m.material].name,
@@ -230,10 +276,19 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 }
                 wall_lines.push(lines);
             }
+            other if other.is_particles() => {
+                // Its spheres are frozen spheres of the data file (below).
+                if windows[w] != (0, u64::MAX) {
+                    return refuse(format!(
+                        "`wall[{w}].active` on a `boundary_particles` wall cannot be exported: the \
+                         LIGGGHTS deck switches planes and meshes only; remove `wall[{w}].active`"
+                    ));
+                }
+            }
             other => {
                 return refuse(format!(
-                    "`wall[{w}].{}` is not exported to LIGGGHTS (exported: axis-aligned planes \
-                     and meshes); replace it by planes or a mesh",
+                    "`wall[{w}].{}` is not exported to LIGGGHTS (exported: axis-aligned planes, \
+                     meshes and boundary particles); replace it by planes or a mesh",
                     other.key()
                 ))
             }
@@ -319,7 +374,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     writeln!(data, "\nVelocities\n").ok();
     for (i, s) in setup.spheres.iter().enumerate() {
-        let v = s.velocity;
+        // A fixed sphere never moves (a moving group is refused above).
+        let v = if s.fixed { [0.0; 3] } else { s.velocity };
         writeln!(
             data,
             "{} {} {} {} 0 0 0",
@@ -420,6 +476,47 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         contact.friction_pairs().join(" ")
     )
     .ok();
+    if let Some(k) = contact.hooke {
+        let kt = contact
+            .tangential_stiffness
+            .clone()
+            .unwrap_or_else(|| vec![0.0; n_types * n_types]);
+        writeln!(
+            x,
+            "fix          m5 all property/global kn peratomtypepair {n_types} {}\n\
+             fix          m6 all property/global kt peratomtypepair {n_types} {}\n\
+             fix          m7 all property/global gamman_abs peratomtypepair {n_types} {}\n\
+             fix          m8 all property/global gammat_abs peratomtypepair {n_types} {}",
+            pairs(k),
+            kt.iter().map(|&v| num(v)).collect::<Vec<_>>().join(" "),
+            pairs(0.0),
+            pairs(0.0)
+        )
+        .ok();
+    }
+    if contact.rolling.is_some() {
+        writeln!(
+            x,
+            "fix          m9 all property/global coefficientRollingFriction peratomtypepair {n_types} {}",
+            contact.rolling_pairs().join(" ")
+        )
+        .ok();
+    }
+    let fixed_ids: Vec<usize> = (0..setup.spheres.len())
+        .filter(|&i| setup.spheres[i].fixed)
+        .collect();
+    if any_fixed {
+        writeln!(
+            x,
+            "\n# frozen spheres (fixed spheres and boundary-particle walls): not integrated, no gravity, force zeroed\n\
+             # by fix freeze (pair gran then takes m_eff = the free sphere's mass, dembound's infinite-mass limit)\n\
+             group        frozen id {}\n\
+             group        free subtract all frozen\n\
+             neigh_modify exclude group frozen frozen   # two fixed spheres never interact, as in dembound",
+            crate::lammps_output::id_ranges(&fixed_ids)
+        )
+        .ok();
+    }
     let skin = setup.neighbour.skin.unwrap_or_else(|| {
         0.2 * setup
             .spheres
@@ -447,11 +544,15 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-    writeln!(x, "\nfix          integrate all nve/sphere").ok();
+    writeln!(x, "\nfix          integrate {free} nve/sphere").ok();
+    if any_fixed {
+        x.push_str(&crate::lammps_output::before_freeze(setup));
+        writeln!(x, "fix          freeze frozen freeze").ok();
+    }
     if g_norm > 0.0 {
         writeln!(
             x,
-            "fix          gravity all gravity {} vector {} {} {}",
+            "fix          gravity {free} gravity {} vector {} {} {}",
             num(g_norm),
             num(g[0] / g_norm),
             num(g[1] / g_norm),
@@ -488,6 +589,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         steps.max(1)
     )
     .ok();
+    x.push_str(&wall_forces(setup, &windows, every));
     x.push_str(&crate::liggghts_gates::runs(
         steps,
         dt,
