@@ -753,6 +753,89 @@ steps = 10
         assert!(d.files[1].text.contains("\n3 atom types\n"));
     }
 
+    /// Fixed spheres: a frozen group by id, not integrated, no gravity,
+    /// frozen pairs excluded, `fix freeze`; the walls act on the free
+    /// spheres and store their forces for walls.txt.
+    #[test]
+    fn fixed_spheres_are_a_frozen_group() {
+        let d = exported(&[
+            "particles.1={material=\"b\",fixed=true,spheres=[{position=[0.005,0.005,0.005],radius=1e-3}]}",
+        ])
+        .expect("exports");
+        let input = &d.files[0].text;
+        for line in [
+            "group        frozen id 2:2\n",
+            "group        free subtract all frozen\n",
+            "neigh_modify exclude group frozen frozen",
+            "fix          integrate free nve/sphere\n",
+            "fix          freeze frozen freeze\n",
+            "fix          gravity free gravity",
+            "fix          wall0 free wall/gran model hertz tangential no_history primitive type 2 zplane 1e-3 store_force yes\n",
+            "variable     w0z equal -c_fw0_z\n",
+            "fix          walls all print 1 \"${wstep} ${w0x} ${w0y} ${w0z} ${w1x} ${w1y} ${w1z}\" file walls.txt",
+        ] {
+            assert!(input.contains(line), "{line}\n{input}");
+        }
+        // The fixed sphere: type 2 ("b"), zero velocity.
+        let data = &d.files[1].text;
+        assert!(data.contains("\n2 2 2e-3 2.5e3 5e-3 5e-3 5e-3\n"), "{data}");
+        assert!(data.contains("\n2 0 0 0 0 0 0\n"), "{data}");
+        // Without fixed spheres the deck keeps `all`.
+        let d = exported(&[]).expect("exports");
+        assert!(d.files[0]
+            .text
+            .contains("fix          integrate all nve/sphere\n"));
+        assert!(!d.files[0].text.contains("freeze"));
+    }
+
+    /// Hooke: `model hooke/stiffness`, kn = k for every pair, γ = 0; with
+    /// friction the linear k_t = (2/7) E_eff R_eff per type pair, each wall
+    /// on a type of its own (its k_t uses the sphere's R).
+    #[test]
+    fn hooke_writes_hooke_stiffness() {
+        use dembound_physics::material::{effective_modulus, Material};
+        let d = exported(&["contact.law={hooke=50.0}"]).expect("exports");
+        let input = &d.files[0].text;
+        assert!(input.contains(
+            "pair_style   gran model hooke/stiffness tangential no_history absolute_damping on\n"
+        ));
+        assert!(
+            input.contains("kn peratomtypepair 2 5e1 5e1 5e1 5e1\n"),
+            "{input}"
+        );
+        assert!(input.contains("gamman_abs peratomtypepair 2 0 0 0 0\n"));
+        let d = exported(&[
+            "contact.law={hooke=50.0}",
+            "contact.friction=0.5",
+            "contact.tangential=linear",
+        ])
+        .expect("exports");
+        let input = &d.files[0].text;
+        let a = Material {
+            density: 1000.0,
+            youngs_modulus: 1e7,
+            poisson_ratio: 0.3,
+        };
+        let b = Material {
+            density: 2500.0,
+            youngs_modulus: 5e7,
+            poisson_ratio: 0.2,
+        };
+        // Types: a, b, wall[0] (b), wall[1] (a); the sphere (a, R = 1 mm).
+        let pp = 2.0 / 7.0 * effective_modulus(&a, &a) * 0.5e-3;
+        let w0 = 2.0 / 7.0 * effective_modulus(&a, &b) * 1e-3;
+        let w1 = 2.0 / 7.0 * effective_modulus(&a, &a) * 1e-3;
+        let row = format!(
+            "kt peratomtypepair 4 {} 0 {} {} ",
+            num(pp),
+            num(w0),
+            num(w1)
+        );
+        assert!(input.contains(&row), "{row}\n{input}");
+        assert!(input.contains("primitive type 3 zplane 1e-3"), "{input}");
+        assert!(input.contains("primitive type 4 xplane 1e-2"), "{input}");
+    }
+
     #[test]
     fn refusals_name_the_key() {
         for (sets, key) in [
