@@ -650,8 +650,12 @@ steps = 10
 "#;
 
     fn exported(sets: &[&str]) -> Result<Deck> {
+        exported_text(SCENE, sets)
+    }
+
+    fn exported_text(text: &str, sets: &[&str]) -> Result<Deck> {
         let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        let file = config::load(SCENE, "test", &sets).expect("a valid scene");
+        let file = config::load(text, "test", &sets).expect("a valid scene");
         let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
         deck(&scene)
     }
@@ -719,7 +723,7 @@ steps = 10
         );
         assert!(input.contains("pair_style   gran model hertz tangential no_history limitForce on"));
         assert!(
-            input.contains("primitive type 2 zplane 1e-3 limitForce on"),
+            input.contains("primitive type 2 zplane 1e-3 store_force yes limitForce on"),
             "{input}"
         );
         let d = exported(&[
@@ -758,10 +762,11 @@ steps = 10
     /// spheres and store their forces for walls.txt.
     #[test]
     fn fixed_spheres_are_a_frozen_group() {
-        let d = exported(&[
-            "particles.1={material=\"b\",fixed=true,spheres=[{position=[0.005,0.005,0.005],radius=1e-3}]}",
-        ])
-        .expect("exports");
+        let fixed = format!(
+            "{SCENE}\n[[particles]]\nmaterial = \"b\"\nfixed = true\n\
+             spheres = [ {{ position = [0.005, 0.005, 0.005], radius = 1.0e-3 }} ]\n"
+        );
+        let d = exported_text(&fixed, &[]).expect("exports");
         let input = &d.files[0].text;
         for line in [
             "group        frozen id 2:2\n",
