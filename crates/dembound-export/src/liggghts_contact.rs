@@ -48,6 +48,16 @@
 //! arise and the law is the same (LIGGGHTS's `normal_model_hertz.h` sets
 //! γ_t = 0 under the setting; the normal damping is untouched).
 //!
+//! Hooke (`contact.law = { hooke = k }`, undamped): `model hooke/stiffness`
+//! with `kn` = k and zero `gamman_abs`/`gammat_abs`; with friction the
+//! linear tangential spring's k_t = (2/7) E_eff R_eff as `kt` per type
+//! pair (every wall on a type of its own), and rolling friction as
+//! `rolling_friction epsd2` where LIGGGHTS's k_r = k_t R*² is dembound's
+//! 2.25 k μ_r² R_eff² ([`hooke_springs`] checks it pair by pair). Kept:
+//! the rolling history is not turned with the normal in LIGGGHTS, and a
+//! wall's rolling spring is driven by ω (R − δ/2)/(R − δ) there
+//! (`surface_model_default.h`).
+//!
 //! Refused: damping together with friction and the dashpot on (dembound's
 //! default). dembound caps spring +
 //! dashpot at μ |F_n| while sticking; LIGGGHTS does not cap its sticking
@@ -369,12 +379,16 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                             .into(),
                     );
                 }
-                notes.push(
-                    "# Friction: tangential history = dembound's Mindlin spring k_t = 8 G* sqrt(R* d) with the Coulomb cut,\n\
+                let spring = if hooke.is_some() {
+                    "dembound's linear spring, kt = (2/7) E_eff R_eff per type pair,"
+                } else {
+                    "dembound's Mindlin spring k_t = 8 G* sqrt(R* d)"
+                };
+                notes.push(format!(
+                    "# Friction: tangential history = {spring} with the Coulomb cut,\n\
                      # no damping; mu per type pair = sqrt(mu_a mu_b) as dembound mixes. Differences kept: the lever arm\n\
-                     # (LIGGGHTS R - d/2, dembound R; relative d/2R in the spin terms), the spring's length on a turning normal."
-                        .into(),
-                );
+                     # (LIGGGHTS R - d/2 in the slip and the torque; relative d/2R in the spin terms), the spring's length on a turning normal."
+                ));
                 Some(mu)
             }
         }

@@ -14,11 +14,17 @@
 //!
 //! The subset exported (everything else is refused naming the key; damping
 //! and friction: `liggghts_contact.rs`):
-//! free spheres; `contact.law = "hertz"` with no damping
+//! free spheres, and fixed spheres (`fixed = true`, boundary-particle
+//! walls) as a frozen group (`fix freeze`, not integrated, frozen pairs
+//! excluded: LIGGGHTS's pair gran then takes m_eff = the free sphere's
+//! mass, `pair_gran_base.h`); `contact.law = { hooke = k }` undamped as
+//! `model hooke/stiffness` (with friction the linear spring, and epsd2
+//! rolling friction where k_t = 2.25 k μ_r²: liggghts_contact.rs);
+//! `contact.law = "hertz"` with no damping
 //! (`coefficientRestitution` 1 makes LIGGGHTS's hertz damping exactly zero)
 //! or Tsuji damping given by a restitution; no friction (`tangential
 //! no_history`, μ = 0) or the Mindlin spring with Coulomb friction
-//! (`tangential history`), no rolling friction; gravity; velocity Verlet
+//! (`tangential history`), no rolling friction under Hertz; gravity; velocity Verlet
 //! (`nve/sphere`); axis-aligned planes; meshes. Rigid materials (E = ∞)
 //! are refused: LIGGGHTS needs a finite modulus per type.
 
