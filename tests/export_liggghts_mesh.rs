@@ -281,7 +281,9 @@ fn liggghts_scene_refusals_name_the_key() {
             "contact.rolling_friction",
         ),
         (&["wall.0.material=rigid"], "rigid"),
-        (&["particles.0.fixed=true"], "fixed spheres"),
+        // Fixed spheres are exported (a frozen group), but not a scene
+        // of fixed spheres only.
+        (&["particles.0.fixed=true"], "no free sphere"),
     ];
     for (sets, needle) in cases {
         let set_args: Vec<String> = sets
