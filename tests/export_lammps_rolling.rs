@@ -104,6 +104,11 @@ fn rolling_sphere_pairs_and_plane_agree_with_lammps_rolling_sds() {
     std::fs::write(&path, &text).expect("written");
     let deck = dir.path().join("deck");
     export_lammps(&path, &[] as &[&str], &deck, "rolling");
+    // A rolling scene's deck does not sort atoms: sorting hands contacts to
+    // their other sphere, and LAMMPS then flips the rolling spring's sign
+    // (docs/export-lammps.md, "Rolling history in LAMMPS").
+    let input = std::fs::read_to_string(deck.join("in.lammps")).expect("in.lammps");
+    assert!(input.contains("atom_modify  sort 0 0.0"), "{input}");
     run_lmp(&deck, "rolling");
     let dump = read_dump(&deck.join("particles.dump"));
     // 41 rows (every 500 steps from 0 to 20000), or the test shows nothing.
