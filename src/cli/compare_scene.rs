@@ -10,16 +10,20 @@
 //! both runs, so the comparison is of states, not of two codes' ways of
 //! summing them:
 //! - kinetic energy Σ ½ m v², rotational Σ ½ (2/5 m R²) ω², potential
-//!   −Σ m g·x (free spheres, J; m = ρ 4/3 π R³);
-//! - contacts: pairs of spheres (not both fixed) with |x_i − x_j| < R_i + R_j,
-//!   and free spheres closer than R to a plane wall (other wall types are
-//!   not counted), from the positions: the same rule for both runs;
+//!   −Σ m g·x (free spheres, J; m = ρ 4/3 π R³; g without its components
+//!   along periodic axes, where a position is defined only up to the box);
+//! - contacts: pairs of spheres (not both fixed) with |x_i − x_j| < R_i + R_j
+//!   (nearest image across periodic faces), and free spheres closer than R
+//!   to a plane wall (other wall types are not counted), from the
+//!   positions: the same rule for both runs;
 //! - bed height: the mean of h + R over the highest tenth of the free
-//!   spheres (at least one), h the height along −g (along z without
-//!   gravity), m;
+//!   spheres (at least one), h the height along −g without its periodic
+//!   components (along z without gravity), m;
 //! - each wall's force |F| (N), from walls.txt and the engine;
 //! - the state: max over free spheres of |Δx| / R_min (R_min the smallest
-//!   free radius), only for the divergence.
+//!   free radius; Δx by the nearest image, as a sphere at a periodic face
+//!   is wrapped by one code and not yet by the other), only for the
+//!   divergence.
 //!
 //! The relative difference of a quantity at a row is |a − b| over the
 //! largest |a|, |b| of the whole run (so a quantity passing through 0 is not
@@ -170,6 +174,8 @@ struct Geometry {
     up: [f64; 3],
     /// Plane walls: (point, unit normal into the domain).
     planes: Vec<([f64; 3], [f64; 3])>,
+    /// The box length along each periodic axis (None: not periodic).
+    period: [Option<f64>; 3],
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -188,7 +194,19 @@ impl Geometry {
                     * s.radius.powi(3)
             })
             .collect();
-        let g = setup.gravity;
+        let d = &setup.domain;
+        let period: [Option<f64>; 3] =
+            std::array::from_fn(|k| d.periodic[k].then(|| d.upper[k] - d.lower[k]));
+        // Along a periodic axis a position is known only up to the box
+        // length, so gravity there has no potential (a chute's flow gains
+        // energy without end) and heights are taken along the rest of −g.
+        let g: [f64; 3] = std::array::from_fn(|k| {
+            if period[k].is_some() {
+                0.0
+            } else {
+                setup.gravity[k]
+            }
+        });
         let gn = dot(g, g).sqrt();
         let up = if gn > 0.0 {
             [-g[0] / gn, -g[1] / gn, -g[2] / gn]
@@ -213,7 +231,19 @@ impl Geometry {
             gravity: g,
             up,
             planes,
+            period,
         }
+    }
+
+    /// b − a, by the nearest image on the periodic axes.
+    fn separation(&self, a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|k| {
+            let d = b[k] - a[k];
+            match self.period[k] {
+                Some(l) => d - l * (d / l).round(),
+                None => d,
+            }
+        })
     }
 
     fn sample(&self, s: &State, walls: Vec<f64>) -> Sample {
@@ -246,21 +276,26 @@ impl Geometry {
         out
     }
 
-    /// Overlapping sphere pairs, not both fixed (sweep along x).
+    /// Overlapping sphere pairs, not both fixed, across periodic faces too
+    /// (nearest image; sweep along the first non-periodic axis, every pair
+    /// when all three are periodic).
     fn sphere_pairs(&self, x: &[[f64; 3]]) -> usize {
+        let axis = (0..3).find(|&k| self.period[k].is_none());
         let mut order: Vec<usize> = (0..x.len()).collect();
-        order.sort_by(|&a, &b| x[a][0].total_cmp(&x[b][0]));
+        if let Some(a) = axis {
+            order.sort_by(|&p, &q| x[p][a].total_cmp(&x[q][a]));
+        }
         let rmax = self.radius.iter().cloned().fold(0.0, f64::max);
         let mut count = 0;
         for (k, &i) in order.iter().enumerate() {
             for &j in &order[k + 1..] {
-                if x[j][0] - x[i][0] > self.radius[i] + rmax {
+                if axis.is_some_and(|a| x[j][a] - x[i][a] > self.radius[i] + rmax) {
                     break;
                 }
                 if self.fixed[i] && self.fixed[j] {
                     continue;
                 }
-                let d = [x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2]];
+                let d = self.separation(x[i], x[j]);
                 let reach = self.radius[i] + self.radius[j];
                 if dot(d, d) < reach * reach {
                     count += 1;
@@ -436,7 +471,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         let dx = (0..n)
             .filter(|&i| !geometry.fixed[i])
             .map(|i| {
-                let d = [cx[i][0] - x[i][0], cx[i][1] - x[i][1], cx[i][2] - x[i][2]];
+                let d = geometry.separation(x[i], cx[i]);
                 dot(d, d).sqrt() / r_min
             })
             .fold(0.0, f64::max);
@@ -874,4 +909,80 @@ fn write_figures(r: &SceneCompareReport, dir: &Path) -> anyhow::Result<()> {
         fig.write(&dir.join(format!("profile_{}", stem(&p.name))))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box periodic in x and y, gravity tilted in x (a chute), two
+    /// spheres of R = 0.5 mm.
+    fn chute_geometry() -> Geometry {
+        let text = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.012, 0.012, 0.02]
+periodic = [true, true, false]
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[contact]
+law = { hooke = 50.0 }
+[[particles]]
+spheres = [{ position = [0.0004, 0.006, 0.001], radius = 0.5e-3 }, { position = [0.0115, 0.006, 0.001], radius = 0.5e-3 }]
+material = "grain"
+[motion]
+gravity = [4.0, 0.0, -9.0]
+[integration]
+dt = 1.0e-6
+steps = 1
+"#;
+        let file = config::load(text, "chute", &[]).expect("the test's scene parses");
+        let setup = resolve(&file, Path::new("."))
+            .expect("the test's scene resolves")
+            .setup;
+        Geometry::new(&setup)
+    }
+
+    #[test]
+    fn separation_takes_the_nearest_image_on_periodic_axes() {
+        let g = chute_geometry();
+        // x: 0.0117 → 0.0003 is +0.0006 through the face (12 mm box), not
+        // −0.0114; z is not periodic and keeps its plain difference.
+        let d = g.separation([0.0117, 0.0, 0.0], [0.0003, 0.0, 0.019]);
+        assert!((d[0] - 0.0006).abs() < 1e-15, "{d:?}");
+        assert!((d[2] - 0.019).abs() < 1e-15, "{d:?}");
+        // One code's sphere at y = 1e-17, the other's wrapped to y = 0.012:
+        // the same place (the row that made the state jump to 24 R).
+        let d = g.separation([0.005, 0.012, 0.001], [0.005, 1e-17, 0.001]);
+        assert!(d[1].abs() < 1e-15, "{d:?}");
+    }
+
+    #[test]
+    fn pairs_across_a_periodic_face_are_contacts_and_gravity_along_it_has_no_potential() {
+        let g = chute_geometry();
+        let x = [[0.0004, 0.006, 0.001], [0.0115, 0.006, 0.001]];
+        // 0.9 mm apart through the x face, R₁ + R₂ = 1 mm: one contact.
+        assert_eq!(g.sphere_pairs(&x), 1);
+        let s = g.sample(
+            &State {
+                position: &x,
+                velocity: &[[0.0; 3]; 2],
+                spin: &[[0.0; 3]; 2],
+            },
+            Vec::new(),
+        );
+        // Potential: −Σ m g_z z only (g_x is along a periodic axis), with
+        // m = ρ 4/3 π R³ = 5.236e-7 kg; the height is along z.
+        let m = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.5e-3_f64.powi(3);
+        let expected = 2.0 * m * 9.0 * 0.001;
+        assert!(
+            (s.potential - expected).abs() < 1e-12 * expected,
+            "{}",
+            s.potential
+        );
+        assert!((s.bed_height - 0.0015).abs() < 1e-15, "{}", s.bed_height);
+    }
 }

@@ -3,6 +3,7 @@
 //! and running `lmp` on its deck.
 
 use super::dembound;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -184,4 +185,40 @@ pub fn read_liggghts_dump(deck: &Path) -> Vec<(u64, Vec<Vec<f64>>)> {
             (step, rows)
         })
         .collect()
+}
+
+/// One row of a LAMMPS scene deck's `particles.dump`: per sphere (x, v, ω).
+pub type State = Vec<[f64; 9]>;
+
+/// `particles.dump`: step → the spheres' states in id order.
+pub fn read_dump(path: &Path) -> BTreeMap<u64, State> {
+    let text = std::fs::read_to_string(path).expect("particles.dump");
+    let mut rows = BTreeMap::new();
+    let mut lines = text.lines();
+    while let Some(l) = lines.next() {
+        if !l.starts_with("ITEM: TIMESTEP") {
+            continue;
+        }
+        let number =
+            |l: Option<&str>| -> u64 { l.expect("a line").trim().parse().expect("a count") };
+        let step = number(lines.next());
+        lines.next();
+        let n = number(lines.next()) as usize;
+        for _ in 0..5 {
+            lines.next();
+        }
+        let state: State = (0..n)
+            .map(|_| {
+                let w: Vec<f64> = lines
+                    .next()
+                    .expect("an atom")
+                    .split_whitespace()
+                    .map(|x| x.parse().expect("a number"))
+                    .collect();
+                [w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8], w[9]]
+            })
+            .collect();
+        rows.insert(step, state);
+    }
+    rows
 }

@@ -583,6 +583,22 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     if !fixed_types.is_empty() {
         writeln!(x, "neigh_modify exclude group frozen frozen").ok();
     }
+    if friction.is_some_and(|f| f.rolling) {
+        // LAMMPS (fix_neigh_history.cpp, pre_exchange_*) hands a contact's
+        // history to the other sphere of the pair negated, value by value,
+        // when the pair is listed from that sphere at a rebuild; right for
+        // the tangential displacement, wrong for `rolling sds`'s, which is
+        // the same seen from either sphere (R_eff (ω_i − ω_j) × n_ij keeps
+        // its sign when i and j swap). Sorting the atoms (every 1000 steps
+        // by default) swaps many pairs' order; without it only a pair that
+        // starts straddling a periodic face is handed over
+        // (docs/export-lammps.md, "Rolling history in LAMMPS").
+        writeln!(
+            x,
+            "atom_modify  sort 0 0.0   # no atom sorting: it would flip the sign of rolling springs"
+        )
+        .ok();
+    }
 
     // Walls: one fix per plane and free type (the coefficient depends on both).
     let axis_name = ["xplane", "yplane", "zplane"];
