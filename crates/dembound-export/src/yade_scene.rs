@@ -17,6 +17,9 @@
 //! - `contact.law = "hooke"`: `FrictPhys`/`Law2_ScGeom_FrictPhys_CundallStrack`:
 //!   k_n = 2 E_a D_a E_b D_b/(E_a D_a + E_b D_b), k_s the same mean of
 //!   E D ν: "young" = k/R and "poisson" = k_t/k for one sphere radius.
+//! - Rolling friction under Hooke: `CohFrictMat`'s alphaKr and etaRoll with
+//!   `Law2_ScGeom6D_CohFrictPhys_CohesionMoment` ([`yade_rolling`]), the
+//!   planes as box faces (Yade has no ScGeom6D of `utils.wall`).
 //! - Damping (Hertz, Tsuji given by a restitution): Yade's `betan`, c_n =
 //!   2 β_n √(m̄ k_n) with k_n = 3/2 k_n⁰ √δ, is dembound's γ h^(1/4) ḣ with
 //!   β_n = α/√6, α = γ/(√(m_eff E_eff) R_eff^(1/4)); `betas = 0` (no
@@ -521,11 +524,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                         "contact.rolling_friction = {} with plane walls in a periodic domain \
                          cannot be exported to Yade yet: the deck writes each plane as a box \
                          face (Yade's moment law needs ScGeom6D, which utils.wall lacks), and \
-                         in Yade 2023's periodic cell a box wider than the period misses \
-                         contacts (measured on examples/compare/chute.toml: 76 of the 100 \
-                         spheres of the bottom layer fell through the floor at first contact, \
-                         the box centred in or out of the cell, as wide as the cell or 200 \
-                         cells); make the domain non-periodic or set contact.rolling_friction = 0",
+                         Yade 2023's periodic collider misses the contacts such a box makes \
+                         during the run (measured: examples/compare/chute.toml's lattice falls \
+                         through it, 76 of the bottom layer's 100 spheres, with the box as wide \
+                         as the cell or 200 cells, centred in or below the cell, doSort on; the \
+                         same box holds the lattice in a non-periodic cell); make the domain \
+                         non-periodic or set contact.rolling_friction = 0",
                         num(mu_r_f)
                     ));
                 }
