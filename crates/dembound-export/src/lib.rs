@@ -30,6 +30,7 @@ pub mod plan;
 pub mod scene_dump;
 pub mod trace;
 pub mod yade;
+pub mod yade_rolling;
 pub mod yade_scene;
 
 use dembound_core::bounce::Scenario;

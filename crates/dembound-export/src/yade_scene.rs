@@ -17,6 +17,9 @@
 //! - `contact.law = "hooke"`: `FrictPhys`/`Law2_ScGeom_FrictPhys_CundallStrack`:
 //!   k_n = 2 E_a D_a E_b D_b/(E_a D_a + E_b D_b), k_s the same mean of
 //!   E D ν: "young" = k/R and "poisson" = k_t/k for one sphere radius.
+//! - Rolling friction under Hooke: `CohFrictMat`'s alphaKr and etaRoll with
+//!   `Law2_ScGeom6D_CohFrictPhys_CohesionMoment` ([`yade_rolling`]), the
+//!   planes as box faces (Yade has no ScGeom6D of `utils.wall`).
 //! - Damping (Hertz, Tsuji given by a restitution): Yade's `betan`, c_n =
 //!   2 β_n √(m̄ k_n) with k_n = 3/2 k_n⁰ √δ, is dembound's γ h^(1/4) ḣ with
 //!   β_n = α/√6, α = γ/(√(m_eff E_eff) R_eff^(1/4)); `betas = 0` (no
@@ -35,7 +38,7 @@
 //! v + a Δt/2, dembound's velocity at the row's step.
 
 use crate::lammps_output::{series_every, DUMP_FILE, WALLS_FILE};
-use crate::{num, Code, Deck, DeckFile, Error, Result};
+use crate::{num, yade_rolling, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::tangential::{
     effective_shear_modulus, mix_friction, TangentialKind,
 };
@@ -102,6 +105,8 @@ struct Other {
     friction: (f64, f64),
     /// `utils.wall` (R* = R/2 in Yade).
     wall: bool,
+    /// The key that sets its rolling friction.
+    rolling_key: String,
 }
 
 /// The deck of a resolved scene: [`SCRIPT`].
@@ -137,7 +142,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         }
     }
     // Walls: axis-aligned planes (utils.wall) and boundary particles.
-    let mut planes: Vec<(usize, usize, f64, usize)> = Vec::new(); // (wall, axis, position, material)
+    // (wall, axis, position, material, the spheres' side: +1 or −1)
+    let mut planes: Vec<(usize, usize, f64, usize, f64)> = Vec::new();
     for (w, wall) in setup.walls.iter().enumerate() {
         match wall {
             WallSetup::Plane(p) => {
@@ -150,7 +156,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                         p.normal
                     ));
                 }
-                planes.push((w, nonzero[0], p.point[nonzero[0]], p.material));
+                let axis = nonzero[0];
+                planes.push((w, axis, p.point[axis], p.material, p.normal[axis].signum()));
             }
             w_setup if w_setup.is_particles() => {}
             other => {
@@ -232,14 +239,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 rolling.push(format!("wall[{w}].rolling_friction"));
             }
         }
-        if let Some(key) = rolling.first() {
+        if let Some(key) = rolling
+            .first()
+            .filter(|_| !matches!(model.normal, NormalLaw::Hooke { .. }))
+        {
             return refuse(format!(
-                "{key} cannot be exported to Yade: dembound's rolling spring has k_r = 2.25 k \
-                 mu_r^2 R_eff^2 capped at mu_r R_eff |F_n| with R_eff = R/2 between equal \
-                 spheres and R against a plane; Yade's moment laws take a constant k_r and a cap \
-                 eta R_mean |F_n| (Mindlin includeMoment) or k_r = alpha_kr k_s R_1 R_2 and \
-                 min(eta_1 R_1, eta_2 R_2) |F_n| (CohFrictPhys), which give the two pairs in \
-                 another ratio (export with --set contact.rolling_friction=0)"
+                "{key} under contact.law = \"{}\" cannot be exported to Yade: dembound's \
+                 rolling spring has k_r = 2.25 k_n mu_r^2 R_eff^2 with the normal law's secant \
+                 stiffness k_n; Yade's moment laws take a constant k_r (Mindlin includeMoment) \
+                 or k_r = alpha_kr k_s R_1 R_2 with CohFrictPhys's linear contact; only \
+                 contact.law = {{ hooke = k }} exports rolling friction (or export with --set \
+                 contact.rolling_friction=0)",
+                model.normal.row().name
             ));
         }
         let law_tangential_ok = match model.normal {
@@ -292,6 +303,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     material: setup.materials[s.material].material,
                     friction: surface(s.material),
                     wall: false,
+                    rolling_key: format!("material[{}].rolling_friction", s.material),
                 });
                 others.len() - 1
             }
@@ -299,7 +311,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         other_of_sphere[i] = Some(k);
     }
     let mut other_of_plane: Vec<usize> = Vec::new();
-    for &(w, _, _, m) in &planes {
+    for &(w, _, _, m, _) in &planes {
         let friction = setup
             .friction
             .as_ref()
@@ -309,12 +321,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             material: setup.materials[m].material,
             friction,
             wall: true,
+            rolling_key: format!("wall[{w}].rolling_friction"),
         });
         other_of_plane.push(others.len() - 1);
     }
     // Each other body's Yade material.
     let radius_f = setup.spheres[first].radius;
     let mut comments: Vec<String> = Vec::new();
+    // Rolling friction (Hooke only): CohFrictMat's alphaKr and etaRoll of the
+    // free spheres and of each other body.
+    let mut rolling: Option<(yade_rolling::Rolling, Vec<yade_rolling::Rolling>)> = None;
     let (physics, law, free_yade, other_yade) = match model.normal {
         NormalLaw::Hertz => {
             let free_yade = YadeMaterial {
@@ -474,6 +490,55 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 "law: hooke k = {} N/m: FrictPhys k_n = 2 E_a D_a E_b D_b/(E_a D_a + E_b D_b) with young = k/R; k_s the same mean of E D nu, nu = k_t/k (k_t = 2/7 E_eff R_eff)",
                 num(k)
             ));
+            let mu_r_f = surface(free_material).1;
+            if frictional && mu_r_f > 0.0 {
+                let free_rolling = yade_rolling::free_spheres(k, mu_r_f, kt(&fm, radius_f / 2.0));
+                let mut other_rolling = Vec::new();
+                for o in &others {
+                    let mu_r = mix_friction(mu_r_f, o.friction.1);
+                    let ks = kt(&o.material, if o.wall { radius_f } else { radius_f / 2.0 });
+                    other_rolling.push(
+                        yade_rolling::other(free_rolling, k, mu_r, ks, o.wall).or_else(|why| {
+                            refuse(format!(
+                                "{} (set by {}; pair mu_r = {}) cannot be exported to Yade: {why}; \
+                                 {}",
+                                o.name,
+                                o.rolling_key,
+                                num(mu_r),
+                                if o.wall {
+                                    format!(
+                                        "a plane needs a pair mu_r <= mu_r/2 of the spheres, i.e. \
+                                         {} <= {} (docs/export-yade.md, \"Rolling friction\")",
+                                        o.rolling_key,
+                                        num(mu_r_f / 4.0)
+                                    )
+                                } else {
+                                    format!("give {} the spheres' own value", o.rolling_key)
+                                }
+                            ))
+                        })?,
+                    );
+                }
+                if d.periodic.iter().any(|p| *p) && !planes.is_empty() {
+                    return refuse(format!(
+                        "contact.rolling_friction = {} with plane walls in a periodic domain \
+                         cannot be exported to Yade yet: the deck writes each plane as a box \
+                         face (Yade's moment law needs ScGeom6D, which utils.wall lacks), and \
+                         Yade 2023's periodic collider misses the contacts such a box makes \
+                         during the run (measured: examples/compare/chute.toml's lattice falls \
+                         through it, 76 of the bottom layer's 100 spheres, with the box as wide \
+                         as the cell or 200 cells, centred in or below the cell, doSort on; the \
+                         same box holds the lattice in a non-periodic cell); make the domain \
+                         non-periodic or set contact.rolling_friction = 0",
+                        num(mu_r_f)
+                    ));
+                }
+                comments.push(format!(
+                    "rolling friction mu_r = {} of the spheres: CohFrictMat alphaKr, etaRoll with Yade's k_r = alpha k_s R^2 (alpha the harmonic mean) = dembound's 2.25 k mu_r^2 R_eff^2 and cap min(eta_1, eta_2) R |F_n| = mu_r R_eff |F_n| (R_eff = R/2 between spheres, R on a plane)",
+                    num(mu_r_f)
+                ));
+                rolling = Some((free_rolling, other_rolling));
+            }
             (
                 "Ip2_FrictMat_FrictMat_FrictPhys()".to_string(),
                 "Law2_ScGeom_FrictPhys_CundallStrack()",
@@ -543,17 +608,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     c(&mut x, &format!("{LOG}: the CPU time of the run as LAMMPS's `Loop time of T on 1 procs for N steps with M atoms`"));
     writeln!(x, "import time\nfrom yade import utils\n").ok();
     let bnd = |p: bool| if p { "True" } else { "False" };
+    // Non-periodic axes of a periodic scene: a cell long enough that nothing wraps.
+    let cell: Vec<f64> = (0..3)
+        .map(|k| {
+            if d.periodic[k] {
+                d.upper[k]
+            } else {
+                100.0 * (d.upper[k].abs() + (d.upper[k] - d.lower[k]))
+            }
+        })
+        .collect();
     if d.periodic.iter().any(|p| *p) {
-        // Non-periodic axes: a cell long enough that nothing wraps.
-        let size: Vec<String> = (0..3)
-            .map(|k| {
-                if d.periodic[k] {
-                    num(d.upper[k])
-                } else {
-                    num(100.0 * (d.upper[k].abs() + (d.upper[k] - d.lower[k])))
-                }
-            })
-            .collect();
+        let size: Vec<String> = cell.iter().map(|&c| num(c)).collect();
         writeln!(
             x,
             "O.periodic = True   # periodic axes x, y, z: {}, {}, {}; the others as long as 100 domains\n\
@@ -574,9 +640,24 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             ));
         }
     }
+    // FrictMat, or CohFrictMat with the rolling spring (twist free: alphaKtw 0).
+    let material = |rolling: Option<yade_rolling::Rolling>| {
+        match rolling {
+        None => ("FrictMat", String::new()),
+        Some(r) => (
+            "CohFrictMat",
+            format!(
+                ", alphaKr={}, etaRoll={}, alphaKtw=0.0, etaTwist=0.0, momentRotationLaw=True, isCohesive=False",
+                num(r.alpha_kr),
+                num(r.eta_roll)
+            ),
+        ),
+    }
+    };
+    let (class, extra) = material(rolling.as_ref().map(|r| r.0));
     writeln!(
         x,
-        "free = O.materials.append(FrictMat(young={}, poisson={}, density={}, frictionAngle={}))   # \"{}\"",
+        "free = O.materials.append({class}(young={}, poisson={}, density={}, frictionAngle={}{extra}))   # \"{}\"",
         num(free_yade.young),
         num(free_yade.poisson),
         num(fm.density),
@@ -587,9 +668,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     writeln!(x, "other = []").ok();
     for (k, o) in others.iter().enumerate() {
         let (e, nu) = other_yade[k];
+        let (class, extra) = material(rolling.as_ref().map(|r| r.1[k]));
         writeln!(
             x,
-            "other.append(O.materials.append(FrictMat(young={}, poisson={}, density={}, frictionAngle={})))   # {}: E = {} Pa, nu = {}",
+            "other.append(O.materials.append({class}(young={}, poisson={}, density={}, frictionAngle={}{extra})))   # {}: E = {} Pa, nu = {}",
             num(e),
             num(nu),
             num(o.material.density.max(1.0)),
@@ -627,6 +709,38 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         writeln!(x, "    ({i}, {}, {}, {}),", num(v[0]), num(v[1]), num(v[2])).ok();
     }
     writeln!(x, "]").ok();
+    // Contacts at t = 0: leapfrog's v(−Δt/2) also takes their half kick,
+    // −F_c/m Δt/2 (and −T/I Δt/2 on the spin), F_c dembound's contact force
+    // at t = 0 (its force minus m g). Empty when no sphere touches anything.
+    let (f0, t0) = (sim.forces(), sim.torques());
+    writeln!(
+        x,
+        "# contacts at t = 0: body, then F_c/m and T/I (dembound's at t = 0) times dt/2\nkicks = ["
+    )
+    .ok();
+    for &i in &free {
+        let s = &setup.spheres[i];
+        let m = setup.materials[s.material].material.sphere_mass(s.radius);
+        let inertia = 0.4 * m * s.radius * s.radius;
+        let dv: Vec<f64> = (0..3).map(|k| (f0[i][k] / m - g[k]) * dt / 2.0).collect();
+        let dw: Vec<f64> = (0..3).map(|k| t0[i][k] / inertia * dt / 2.0).collect();
+        // Rounding of F = F_c + m g: |F_c| below 1e-12 m |g| is no contact.
+        let floor = 1e-12 * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * dt / 2.0;
+        if dv.iter().chain(&dw).any(|v| v.abs() > floor) {
+            writeln!(
+                x,
+                "    ({i}, {}, {}, {}, {}, {}, {}),",
+                num(dv[0]),
+                num(dv[1]),
+                num(dv[2]),
+                num(dw[0]),
+                num(dw[1]),
+                num(dw[2])
+            )
+            .ok();
+        }
+    }
+    writeln!(x, "]").ok();
     writeln!(
         x,
         "for (px, py, pz, r, fixed, m) in spheres:\n\
@@ -634,14 +748,41 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          walls = []"
     )
     .ok();
-    for (k, &(w, axis, pos, _)) in planes.iter().enumerate() {
-        writeln!(
-            x,
-            "walls.append(({w}, O.bodies.append(utils.wall({}, axis={axis}, material=other[{}], mask=18))))",
-            num(pos),
-            other_of_plane[k]
-        )
-        .ok();
+    for (k, &(w, axis, pos, _, side)) in planes.iter().enumerate() {
+        if rolling.is_some() {
+            // A box behind the plane (Yade has no ScGeom6D of utils.wall): its
+            // face at the plane, as thick as the domain, 100 domains wide.
+            let mut centre = [0.0; 3];
+            let mut half = [0.0; 3];
+            for j in 0..3 {
+                let size = d.upper[j] - d.lower[j];
+                if j == axis {
+                    half[j] = size;
+                    centre[j] = pos - side * size;
+                } else {
+                    half[j] = 100.0 * (d.upper[j].abs() + size);
+                    centre[j] = 0.5 * (d.lower[j] + d.upper[j]);
+                }
+            }
+            writeln!(
+                x,
+                "walls.append(({w}, O.bodies.append(box(({}, {}, {}), ({}, {}, {}), material=other[{}], fixed=True, mask=18))))   # the plane {} = {} as a box face",
+                num(centre[0]), num(centre[1]), num(centre[2]),
+                num(half[0]), num(half[1]), num(half[2]),
+                other_of_plane[k],
+                ["x", "y", "z"][axis],
+                num(pos)
+            )
+            .ok();
+        } else {
+            writeln!(
+                x,
+                "walls.append(({w}, O.bodies.append(utils.wall({}, axis={axis}, material=other[{}], mask=18))))",
+                num(pos),
+                other_of_plane[k]
+            )
+            .ok();
+        }
     }
     let groups: Vec<(usize, Vec<usize>)> = setup
         .walls
@@ -670,21 +811,39 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     }
     writeln!(x, "]\nwall_count = {}", setup.walls.len()).ok();
     let g_vec = format!("({}, {}, {})", num(g[0]), num(g[1]), num(g[2]));
+    let (bound, geometry, physics, law) = if rolling.is_some() {
+        (
+            "Bo1_Box_Aabb()",
+            "Ig2_Sphere_Sphere_ScGeom6D(), Ig2_Box_Sphere_ScGeom6D()",
+            "Ip2_CohFrictMat_CohFrictMat_CohFrictPhys()".to_string(),
+            "Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True, always_use_moment_law=True)",
+        )
+    } else {
+        (
+            "Bo1_Wall_Aabb()",
+            "Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()",
+            physics,
+            law,
+        )
+    };
     writeln!(
         x,
         "\ng = Vector3{g_vec}\n\
          O.dt = {dt}\n\
          O.engines = [\n\
          \x20   ForceResetter(),\n\
-         \x20   InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Wall_Aabb()], allowBiggerThanPeriod=True, avoidSelfInteractionMask=24),\n\
-         \x20   InteractionLoop([Ig2_Sphere_Sphere_ScGeom(), Ig2_Wall_Sphere_ScGeom()], [{physics}], [{law}]),\n\
+         \x20   InsertionSortCollider([Bo1_Sphere_Aabb(), {bound}], allowBiggerThanPeriod=True, avoidSelfInteractionMask=24),\n\
+         \x20   InteractionLoop([{geometry}], [{physics}], [{law}]),\n\
          \x20   # before the integrator: positions, forces and torques of step O.iter\n\
          \x20   PyRunner(command='record()', iterPeriod={every}, initRun=True),\n\
          \x20   NewtonIntegrator(damping=0.0, gravity=g),\n\
          ]\n\
-         # leapfrog stores v(t - dt/2): start from v0 - g dt/2 (no contact at t = 0 assumed)\n\
+         # leapfrog stores v(t - dt/2): start from v0 - g dt/2, minus the contacts' half kick at t = 0\n\
          for (i, vx, vy, vz) in velocities:\n\
          \x20   O.bodies[i].state.vel = Vector3(vx, vy, vz) - g * (O.dt / 2)\n\
+         for (i, ax, ay, az, bx, by, bz) in kicks:\n\
+         \x20   O.bodies[i].state.vel -= Vector3(ax, ay, az)\n\
+         \x20   O.bodies[i].state.angVel -= Vector3(bx, by, bz)\n\
          \n\
          dump = open('{DUMP_FILE}', 'w')\n\
          wallfile = open('{WALLS_FILE}', 'w')\n\
@@ -917,6 +1076,43 @@ steps = 10
             num(2.0 / 7.0 * e_eff * 0.5e-3 / 50.0)
         )));
         assert!(s.contains("Ip2_FrictMat_FrictMat_FrictPhys()"));
+    }
+
+    #[test]
+    fn hooke_rolling_friction_maps_to_cohfrictmat() {
+        let hooke = [
+            "contact.law={hooke=50.0}",
+            "contact.tangential=linear",
+            "particles.1.spheres.0.radius=1.0e-3",
+            "contact.rolling_friction=0.1",
+        ];
+        // The plane at the spheres' own mu_r: its cap mu_r R is twice what
+        // min(eta_1, eta_2) R reaches.
+        let mut sets = hooke.to_vec();
+        let e = exported(&sets).expect_err("refused").to_string();
+        assert!(
+            e.contains("wall[0].rolling_friction") && e.contains("Yade"),
+            "{e}"
+        );
+        sets.push("wall.0.rolling_friction=0.025");
+        let d = exported(&sets).expect("exports");
+        let s = &d.files[0].text;
+        // alpha_s = 9 k mu_r^2/(16 k_s), k_s = 2/7 E_eff R/2; eta_s = mu_r/2.
+        let ks = 2.0 / 7.0 * (4.0 / 3.0 / (2.0 * 0.91 / 1.0e7)) * 0.5e-3;
+        assert!(s.contains(&format!(
+            "alphaKr={}, etaRoll={}",
+            num(9.0 * 50.0 * 0.01 / (16.0 * ks)),
+            num(0.05)
+        )));
+        assert!(s.contains("Law2_ScGeom6D_CohFrictPhys_CohesionMoment(useIncrementalForm=True, always_use_moment_law=True)"));
+        assert!(s.contains("Ig2_Box_Sphere_ScGeom6D()") && s.contains("box((5e-3, 5e-3, -1e-2)"));
+        // Periodic with a plane: refused (Yade's periodic box misses contacts).
+        sets.push("domain.periodic=[true,true,false]");
+        let e = exported(&sets).expect_err("refused").to_string();
+        assert!(
+            e.contains("contact.rolling_friction") && e.contains("Yade") && e.contains("periodic"),
+            "{e}"
+        );
     }
 
     #[test]
