@@ -146,14 +146,14 @@ fn all_finite(v: &[[f64; 3]]) -> bool {
 
 /// Whether every centre `x` lies within its radius `r` of the box
 /// `lower..upper` along every axis (the bounds [`crate::removal::lost_axis`]
-/// tests first, in the same arithmetic), in blocks of 64 bodies without a
-/// branch inside a block.
+/// tests first, in the same arithmetic; a NaN coordinate is not within),
+/// in blocks of 64 bodies without a branch inside a block.
 fn all_within(x: &[[f64; 3]], r: &[f64], lower: &[f64; 3], upper: &[f64; 3]) -> bool {
     x.chunks(64).zip(r.chunks(64)).all(|(xs, rs)| {
         xs.iter().zip(rs).fold(true, |ok, (x, &r)| {
             let mut inside = ok;
             for a in 0..3 {
-                inside &= !(x[a] < lower[a] - r) & !(x[a] > upper[a] + r);
+                inside &= (x[a] >= lower[a] - r) & (x[a] <= upper[a] + r);
             }
             inside
         })
