@@ -135,6 +135,31 @@ pub struct Simulation {
     pub(crate) restart_notes: Vec<String>,
 }
 
+/// Whether every coordinate is finite: an and over blocks of 64 values
+/// without a branch inside a block (vectorised; `check_finite` runs after
+/// every stretch of steps).
+fn all_finite(v: &[[f64; 3]]) -> bool {
+    v.as_flattened()
+        .chunks(64)
+        .all(|block| block.iter().fold(true, |ok, x| ok & x.is_finite()))
+}
+
+/// Whether every centre `x` lies within its radius `r` of the box
+/// `lower..upper` along every axis (the bounds [`crate::removal::lost_axis`]
+/// tests first, in the same arithmetic; a NaN coordinate is not within),
+/// in blocks of 64 bodies without a branch inside a block.
+fn all_within(x: &[[f64; 3]], r: &[f64], lower: &[f64; 3], upper: &[f64; 3]) -> bool {
+    x.chunks(64).zip(r.chunks(64)).all(|(xs, rs)| {
+        xs.iter().zip(rs).fold(true, |ok, (x, &r)| {
+            let mut inside = ok;
+            for a in 0..3 {
+                inside &= (x[a] >= lower[a] - r) & (x[a] <= upper[a] + r);
+            }
+            inside
+        })
+    })
+}
+
 impl Simulation {
     /// Validates `setup` and prepares the run on `threads` worker threads
     /// (≥ 1; results do not depend on it).
@@ -170,8 +195,7 @@ impl Simulation {
     /// axis (a second pass).
     pub fn check_finite(&self) -> Result<(), SceneError> {
         let b = &self.world.bodies;
-        let finite = |v: &[[f64; 3]]| v.iter().flatten().all(|x| x.is_finite());
-        if finite(&b.position) && finite(&b.velocity) && finite(&b.angular_velocity) {
+        if all_finite(&b.position) && all_finite(&b.velocity) && all_finite(&b.angular_velocity) {
             return self.check_inside();
         }
         Err(SceneError::Unstable {
@@ -201,6 +225,12 @@ impl Simulation {
             return Ok(());
         };
         let b = &self.world.bodies;
+        // Every centre within its radius of the box: none is lost (the
+        // common case, one pass without branches; `lost_axis` tests the
+        // same two bounds first).
+        if all_within(&b.position, &b.radius, &lower, &upper) {
+            return Ok(());
+        }
         let periodic = self.world.domain.periodic;
         let g = self.world.gravity;
         let lost = |i: usize| {
@@ -416,5 +446,49 @@ impl Simulation {
     /// `impact_speed` (m/s), s.
     pub fn contact_time_estimate(setup: &SceneSetup, impact_speed: f64) -> f64 {
         time_step::smallest_contact_time(setup, impact_speed)
+    }
+}
+
+#[cfg(test)]
+mod check_tests {
+    use super::{all_finite, all_within};
+
+    /// A non-finite value anywhere (first, inside a block, in the partial
+    /// last block) is found; only finite values pass.
+    #[test]
+    fn all_finite_finds_any_non_finite_value() {
+        let v = vec![[1.0, -2.0, 3.0e300]; 70];
+        assert!(all_finite(&v));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for k in [0, 63, 64, 69] {
+                for a in 0..3 {
+                    let mut w = v.clone();
+                    w[k][a] = bad;
+                    assert!(!all_finite(&w), "{bad} at body {k} axis {a}");
+                }
+            }
+        }
+    }
+
+    /// Within means lower − r ≤ x ≤ upper + r on every axis (the bounds
+    /// `removal::lost_axis` tests): on the bound is within, any body a
+    /// little beyond either bound on any axis is not.
+    #[test]
+    fn all_within_is_lost_axis_first_test() {
+        let (lower, upper) = ([0.0, 0.0, 0.0], [1.0, 2.0, 3.0]);
+        let r = vec![0.25; 70];
+        let mut x = vec![[0.5, 1.0, 1.5]; 70];
+        assert!(all_within(&x, &r, &lower, &upper));
+        x[3] = [-0.25, 2.25, 3.25];
+        assert!(all_within(&x, &r, &lower, &upper));
+        for k in [0, 64, 69] {
+            for a in 0..3 {
+                for beyond in [lower[a] - 0.25 - 1e-9, upper[a] + 0.25 + 1e-9] {
+                    let mut y = x.clone();
+                    y[k][a] = beyond;
+                    assert!(!all_within(&y, &r, &lower, &upper), "body {k} axis {a}");
+                }
+            }
+        }
     }
 }
