@@ -172,6 +172,11 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         },
     )
     .map_err(CliError::failed)?;
+    if code == Code::Liggghts {
+        for note in dembound_export::liggghts_inlets::notes(&resolved.setup) {
+            eprintln!("note: {note}");
+        }
+    }
     if code == Code::Lammps {
         if let Some(note) = dembound_export::lammps_scene::torque_arm_note(&resolved.setup) {
             eprintln!("{note}");

@@ -31,6 +31,12 @@ use dembound_scene::setup::{Scheme, WallSetup};
 use dembound_scene::Simulation;
 use std::fmt::Write;
 
+/// Declares atom type 1 through a template never inserted: LIGGGHTS
+/// refuses a run whose smallest atom type in use is not 1 ("Atom types
+/// must start from 1").
+const TYPE_FLOOR: &str = "fix          type_floor_t all particletemplate/sphere 15485863 atom_type 1 density constant 1000 radius constant 1e-3\n\
+     fix          type_floor all particledistribution/discrete 32452843 1 type_floor_t 1.0   # declares type 1 (never inserted)\n";
+
 /// The data file the deck reads.
 pub const DATA_FILE: &str = "particles.data";
 
@@ -90,21 +96,13 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    crate::refuse_inlets(
-        setup,
-        "LIGGGHTS",
-        "the LIGGGHTS deck writes no `fix insert/rate/region` yet",
-    )?;
     let mut outlets = crate::outlets::plan(setup, "LIGGGHTS", None)?;
     if let Some(o) = &mut outlets {
         // LIGGGHTS refuses a run whose smallest atom type in use is not 1
         // ("Atom types must start from 1"), as when an outlet took every
         // sphere of type 1: a template of type 1, never inserted, keeps
         // type 1 declared.
-        o.setup.push_str(
-            "fix          type_floor_t all particletemplate/sphere 15485863 atom_type 1 density constant 1000 radius constant 1e-3\n\
-             fix          type_floor all particledistribution/discrete 32452843 1 type_floor_t 1.0   # declares type 1 (never inserted)\n",
-        );
+        o.setup.push_str(TYPE_FLOOR);
     }
     crate::refuse_servo_walls(setup, "LIGGGHTS")?;
     crate::refuse_moving_groups(setup, "LIGGGHTS")?;
@@ -136,7 +134,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    if setup.spheres.is_empty() {
+    if setup.spheres.is_empty() && setup.inlets.is_empty() {
         return refuse("the scene has no free sphere to export".into());
     }
     // The engine validates the setup and fixes Δt and the run length.
@@ -144,6 +142,13 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let dt = sim.dt();
     let steps = sim.total_steps();
     let windows = crate::liggghts_gates::windows(setup, dt);
+    // Inlets: fix insert/rate/region (liggghts_inlets.rs).
+    let mut inlets = crate::liggghts_inlets::plan(setup, dt, steps)?;
+    if let (Some(i), None) = (&mut inlets, &outlets) {
+        // Atom types must start from 1 (above) when no sphere of type 1
+        // is there yet.
+        i.setup.push_str(TYPE_FLOOR);
+    }
     // Walls: axis-aligned planes and meshes.
     let axis_name = ["xplane", "yplane", "zplane"];
     let mut wall_lines = Vec::new();
@@ -242,6 +247,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     for s in &setup.spheres {
         used[s.material] = true;
     }
+    for i in &setup.inlets {
+        used[i.material] = true;
+    }
     for (k, m) in setup.materials.iter().enumerate() {
         if used[k] && !(m.material.youngs_modulus.is_finite() && m.material.youngs_modulus > 0.0) {
             return refuse(format!(
@@ -317,7 +325,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         )
         .ok();
     }
-    writeln!(data, "\nVelocities\n").ok();
+    if setup.spheres.is_empty() {
+        // No sphere before the inlets insert: no Atoms section at all.
+        data.truncate(data.len() - "\nAtoms\n\n".len());
+    } else {
+        writeln!(data, "\nVelocities\n").ok();
+    }
     for (i, s) in setup.spheres.iter().enumerate() {
         let v = s.velocity;
         writeln!(
@@ -421,11 +434,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     )
     .ok();
     let skin = setup.neighbour.skin.unwrap_or_else(|| {
-        0.2 * setup
-            .spheres
-            .iter()
-            .map(|s| s.radius)
-            .fold(f64::INFINITY, f64::min)
+        0.2 * setup.spheres.iter().map(|s| s.radius).fold(
+            inlets.as_ref().map_or(f64::INFINITY, |i| i.min_radius),
+            f64::min,
+        )
     });
     writeln!(
         x,
@@ -469,23 +481,39 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     } else {
         ("", "", "")
     };
+    if setup.spheres.is_empty() {
+        // No sphere 1 before the first insertion: `x[1]` would fail.
+        writeln!(
+            x,
+            "\n# {TRAJECTORY_FILE} is not written: the scene has no sphere before its inlets insert"
+        )
+        .ok();
+    } else {
+        writeln!(
+            x,
+            "\n# {TRAJECTORY_FILE}: sphere 1 every step: time (s), x y z (m), vx vy vz (m/s)\n\
+             variable     t equal step*dt\n\
+             variable     x1 equal x[1]\nvariable     y1 equal y[1]\nvariable     z1 equal z[1]\n\
+             variable     vx1 equal vx[1]\nvariable     vy1 equal vy[1]\nvariable     vz1 equal vz[1]\n\
+             fix          trajectory all print 1 \"${{t}} ${{x1}} ${{y1}} ${{z1}} ${{vx1}} ${{vy1}} ${{vz1}}\" \
+             file {TRAJECTORY_FILE} title \"# time_s x_m y_m z_m vx_m_s vy_m_s vz_m_s\" screen no"
+        )
+        .ok();
+    }
     writeln!(
         x,
-        "\n# {TRAJECTORY_FILE}: sphere 1 every step: time (s), x y z (m), vx vy vz (m/s)\n\
-         variable     t equal step*dt\n\
-         variable     x1 equal x[1]\nvariable     y1 equal y[1]\nvariable     z1 equal z[1]\n\
-         variable     vx1 equal vx[1]\nvariable     vy1 equal vy[1]\nvariable     vz1 equal vz[1]\n\
-         fix          trajectory all print 1 \"${{t}} ${{x1}} ${{y1}} ${{z1}} ${{vx1}} ${{vy1}} ${{vz1}}\" \
-         file {TRAJECTORY_FILE} title \"# time_s x_m y_m z_m vx_m_s vy_m_s vz_m_s\" screen no\n\
-         # particles.dump: every sphere at the series cadence{spin_note}\n\
+        "# particles.dump: every sphere at the series cadence{spin_note}\n\
          dump         spheres all custom {every} particles.dump id type radius x y z vx vy vz{spin_columns}\n\
          dump_modify  spheres format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g{spin_format}\"\n\
-         {}thermo_style custom step time ke{}\n\
+         {}{}thermo_style custom step time ke{}{}\n\
          thermo_modify norm no format float %.17g\n\
          thermo       {}",
         outlets.as_ref().map_or("", |o| o.setup.as_str()),
+        inlets.as_ref().map_or("", |i| i.setup.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
-        steps.max(1)
+        inlets.as_ref().map_or("", |i| i.columns.as_str()),
+        // With inlets, the counts over time: at the series cadence.
+        if inlets.is_some() { every } else { steps.max(1) }
     )
     .ok();
     x.push_str(&crate::liggghts_gates::runs(
