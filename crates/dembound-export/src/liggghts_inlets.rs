@@ -87,7 +87,10 @@ pub(crate) struct InletLines {
 
 /// Whether `n` is prime (trial division; n < 2³¹).
 fn is_prime(n: u64) -> bool {
-    n >= 2 && (2..).take_while(|d| d * d <= n).all(|d| !n.is_multiple_of(d))
+    n >= 2
+        && (2..)
+            .take_while(|d| d * d <= n)
+            .all(|d| !n.is_multiple_of(d))
 }
 
 /// `count` primes above a base drawn from `seed` and the inlet index `k`:

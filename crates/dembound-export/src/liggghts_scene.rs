@@ -679,6 +679,54 @@ steps = 10
         assert!(d.files[1].text.contains("\n3 atom types\n"));
     }
 
+    /// A scene with no sphere and an inlet of material "b" (type 2): no
+    /// Atoms section, no trajectory of sphere 1, type 1 declared, the
+    /// insertion with the inserted count and mass as thermo columns;
+    /// 1e5 spheres/s every 10 steps of 1 µs is one sphere per event, and
+    /// the rate written gives LIGGGHTS's product ≥ 1 (its floor(n + U)
+    /// then 1 for every U).
+    #[test]
+    fn an_inlet_without_spheres() {
+        let start = SCENE.find("[[particles]]").expect("particles");
+        let end = SCENE.find("[[wall]]").expect("walls");
+        let text = format!(
+            "{}{}[[inlet]]\nregion = {{ box = {{ lower = [0.0, 0.0, 0.005], upper = [0.01, 0.01, 0.01] }} }}\n\
+             rate = {{ number = 1.0e5 }}\nsize = {{ fixed = 1.0e-3 }}\nmaterial = \"b\"\nevery = 10\n",
+            &SCENE[..start],
+            &SCENE[end..]
+        );
+        let file = config::load(&text, "test", &[]).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        let d = deck(&scene).expect("exports");
+        let (input, data) = (&d.files[0].text, &d.files[1].text);
+        assert!(
+            data.contains("\n0 atoms\n") && !data.contains("Atoms"),
+            "{data}"
+        );
+        assert!(!input.contains("trajectory all print"), "{input}");
+        assert!(input.contains("type_floor all particledistribution"));
+        assert!(input.contains("atom_type 2 density constant 2.5e3 radius constant 1e-3"));
+        assert!(input.contains("thermo_style custom step time ke f_ins0[1] f_ins0[2]\n"));
+        let line = input
+            .lines()
+            .find(|l| l.contains("insert/rate/region"))
+            .expect("the insertion");
+        assert!(
+            line.contains("nparticles INF") && line.contains("insert_every 10 start 1 "),
+            "{line}"
+        );
+        let rate: f64 = line
+            .split("particlerate ")
+            .nth(1)
+            .and_then(|w| w.split_whitespace().next())
+            .and_then(|w| w.parse().ok())
+            .expect("a rate");
+        assert!(
+            rate * (10.0 * 1e-6) >= 1.0 && (rate - 1e5).abs() <= 1e-9,
+            "{rate}"
+        );
+    }
+
     #[test]
     fn refusals_name_the_key() {
         for (sets, key) in [
