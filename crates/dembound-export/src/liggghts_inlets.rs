@@ -287,7 +287,7 @@ pub(crate) fn plan(setup: &SceneSetup, dt: f64, steps: u64) -> Result<Option<Inl
     )
     .map_err(|e| crate::Error::Export(e.to_string()))?;
     let mut out = InletLines {
-        setup: "\n# inlets (fix insert/rate/region; docs/export-liggghts.md, \"Inlets\"): thermo columns\n\
+        setup: "\n# inlets (fix insert/rate/region; docs/export-liggghts.md, \"Inlets (scenes)\"): thermo columns\n\
                 # f_insK[1] f_insK[2]: spheres and mass (kg) inserted so far by inlet K\n"
             .into(),
         columns: String::new(),

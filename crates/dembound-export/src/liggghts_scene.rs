@@ -709,7 +709,7 @@ steps = 10
         assert!(input.contains("thermo_style custom step time ke f_ins0[1] f_ins0[2]\n"));
         let line = input
             .lines()
-            .find(|l| l.contains("insert/rate/region"))
+            .find(|l| l.starts_with("fix") && l.contains("insert/rate/region"))
             .expect("the insertion");
         assert!(
             line.contains("nparticles INF") && line.contains("insert_every 10 start 1 "),
