@@ -6,8 +6,8 @@
 //! of 100 steps at or after the step its centre entered (closed form),
 //! by outlet, with their mass; dembound removes the same spheres.
 //! Outlets refused by Yade, `domain.outside = "delete"`, tilted
-//! cylinders and `[[inlet]]` (every code) refused naming the key and the
-//! code.
+//! cylinders and `[[inlet]]` (LAMMPS and Yade) refused naming the key and
+//! the code.
 //!
 //! Skips (saying so on stderr) when a code is not on PATH, except under
 //! CI (tests/common/peer.rs).
@@ -262,9 +262,10 @@ fn refusals_name_the_key_and_the_code() {
     }
 }
 
-/// `[[inlet]]` is refused by every deck, naming `inlet[0]` and the code,
-/// exit 2, nothing written (the decks insert no spheres yet; an export
-/// that dropped the inlet would run another scene).
+/// `[[inlet]]` is refused by the LAMMPS and Yade decks, naming `inlet[0]`
+/// and the code, exit 2, nothing written (an export that dropped the
+/// inlet would run another scene; LIGGGHTS exports it:
+/// tests/export_liggghts_inlets.rs).
 #[test]
 fn inlets_are_refused_naming_the_key_and_the_code() {
     let inlet = "[[inlet]]\n\
@@ -272,11 +273,7 @@ fn inlets_are_refused_naming_the_key_and_the_code() {
                  rate = { number = 100.0 }\n\
                  size = { fixed = 1e-3 }\n\
                  material = \"g\"\n";
-    for (code, name) in [
-        ("lammps", "LAMMPS"),
-        ("liggghts", "LIGGGHTS"),
-        ("yade", "Yade"),
-    ] {
+    for (code, name) in [("lammps", "LAMMPS"), ("yade", "Yade")] {
         let root = tempfile::tempdir().unwrap();
         let path = root.path().join("s.toml");
         // The scene without its outlets, with the inlet.

@@ -147,6 +147,10 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         writeln!(stdout, "wrote {}", p.display()).map_err(CliError::failed)?;
     }
     let what = match code {
+        Code::Liggghts if resolved.setup.spheres.is_empty() => {
+            "particles.dump holds every sphere at the series cadence, the thermo lines (step \
+             time ke, then per inlet the spheres and mass inserted) the kinetic energy"
+        }
         Code::Liggghts => {
             "trajectory.txt holds sphere 1 at every step, particles.dump every sphere at the \
              series cadence, the last thermo line (step time ke) the kinetic energy"
@@ -172,6 +176,11 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         },
     )
     .map_err(CliError::failed)?;
+    if code == Code::Liggghts {
+        for note in dembound_export::liggghts_inlets::notes(&resolved.setup) {
+            eprintln!("note: {note}");
+        }
+    }
     if code == Code::Lammps {
         if let Some(note) = dembound_export::lammps_scene::torque_arm_note(&resolved.setup) {
             eprintln!("{note}");

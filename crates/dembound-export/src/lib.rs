@@ -23,6 +23,7 @@ pub mod lammps_scene;
 pub mod liggghts;
 mod liggghts_contact;
 mod liggghts_gates;
+pub mod liggghts_inlets;
 mod liggghts_motion;
 pub mod liggghts_scene;
 mod outlets;

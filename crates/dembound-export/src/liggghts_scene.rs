@@ -36,6 +36,12 @@ use dembound_scene::setup::{SceneSetup, Scheme, WallSetup};
 use dembound_scene::Simulation;
 use std::fmt::Write;
 
+/// Declares atom type 1 through a template never inserted: LIGGGHTS
+/// refuses a run whose smallest atom type in use is not 1 ("Atom types
+/// must start from 1").
+const TYPE_FLOOR: &str = "fix          type_floor_t all particletemplate/sphere 15485863 atom_type 1 density constant 1000 radius constant 1e-3\n\
+     fix          type_floor all particledistribution/discrete 32452843 1 type_floor_t 1.0   # declares type 1 (never inserted)\n";
+
 /// The data file the deck reads.
 pub const DATA_FILE: &str = "particles.data";
 
@@ -152,11 +158,6 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 .into(),
         );
     }
-    crate::refuse_inlets(
-        setup,
-        "LIGGGHTS",
-        "the LIGGGHTS deck writes no `fix insert/rate/region` yet",
-    )?;
     let any_fixed = setup.spheres.iter().any(|s| s.fixed);
     let mut outlets = crate::outlets::plan(setup, "LIGGGHTS", any_fixed.then_some("free"))?;
     if let Some(o) = &mut outlets {
@@ -164,10 +165,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         // ("Atom types must start from 1"), as when an outlet took every
         // sphere of type 1: a template of type 1, never inserted, keeps
         // type 1 declared.
-        o.setup.push_str(
-            "fix          type_floor_t all particletemplate/sphere 15485863 atom_type 1 density constant 1000 radius constant 1e-3\n\
-             fix          type_floor all particledistribution/discrete 32452843 1 type_floor_t 1.0   # declares type 1 (never inserted)\n",
-        );
+        o.setup.push_str(TYPE_FLOOR);
     }
     crate::refuse_servo_walls(setup, "LIGGGHTS")?;
     crate::refuse_moving_groups(setup, "LIGGGHTS")?;
@@ -185,7 +183,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let contact = crate::liggghts_contact::plan(setup)?;
     let words = contact.model_words();
     let settings = contact.settings();
-    if setup.spheres.iter().all(|s| s.fixed) {
+    if setup.spheres.iter().all(|s| s.fixed) && setup.inlets.is_empty() {
         return refuse("the scene has no free sphere to export".into());
     }
     // The engine validates the setup and fixes Δt and the run length.
@@ -193,6 +191,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let dt = sim.dt();
     let steps = sim.total_steps();
     let windows = crate::liggghts_gates::windows(setup, dt);
+    // Inlets: fix insert/rate/region (liggghts_inlets.rs).
+    let mut inlets =
+        crate::liggghts_inlets::plan(setup, dt, steps, if any_fixed { "free" } else { "all" })?;
+    if let (Some(i), None) = (&mut inlets, &outlets) {
+        // Atom types must start from 1 (above) when no sphere of type 1
+        // is there yet.
+        i.setup.push_str(TYPE_FLOOR);
+    }
     // Walls: axis-aligned planes and meshes.
     let axis_name = ["xplane", "yplane", "zplane"];
     // The group the walls, the integrator and gravity act on: `free` when
@@ -303,6 +309,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     for s in &setup.spheres {
         used[s.material] = true;
     }
+    for i in &setup.inlets {
+        used[i.material] = true;
+    }
     for (k, m) in setup.materials.iter().enumerate() {
         if used[k] && !(m.material.youngs_modulus.is_finite() && m.material.youngs_modulus > 0.0) {
             return refuse(format!(
@@ -378,7 +387,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         )
         .ok();
     }
-    writeln!(data, "\nVelocities\n").ok();
+    if setup.spheres.is_empty() {
+        // No sphere before the inlets insert: no Atoms section at all.
+        data.truncate(data.len() - "\nAtoms\n\n".len());
+    } else {
+        writeln!(data, "\nVelocities\n").ok();
+    }
     for (i, s) in setup.spheres.iter().enumerate() {
         // A fixed sphere never moves (a moving group is refused above).
         let v = if s.fixed { [0.0; 3] } else { s.velocity };
@@ -524,11 +538,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         .ok();
     }
     let skin = setup.neighbour.skin.unwrap_or_else(|| {
-        0.2 * setup
-            .spheres
-            .iter()
-            .map(|s| s.radius)
-            .fold(f64::INFINITY, f64::min)
+        0.2 * setup.spheres.iter().map(|s| s.radius).fold(
+            inlets.as_ref().map_or(f64::INFINITY, |i| i.min_radius),
+            f64::min,
+        )
     });
     writeln!(
         x,
@@ -576,23 +589,39 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     } else {
         ("", "", "")
     };
+    if setup.spheres.is_empty() {
+        // No sphere 1 before the first insertion: `x[1]` would fail.
+        writeln!(
+            x,
+            "\n# {TRAJECTORY_FILE} is not written: the scene has no sphere before its inlets insert"
+        )
+        .ok();
+    } else {
+        writeln!(
+            x,
+            "\n# {TRAJECTORY_FILE}: sphere 1 every step: time (s), x y z (m), vx vy vz (m/s)\n\
+             variable     t equal step*dt\n\
+             variable     x1 equal x[1]\nvariable     y1 equal y[1]\nvariable     z1 equal z[1]\n\
+             variable     vx1 equal vx[1]\nvariable     vy1 equal vy[1]\nvariable     vz1 equal vz[1]\n\
+             fix          trajectory all print 1 \"${{t}} ${{x1}} ${{y1}} ${{z1}} ${{vx1}} ${{vy1}} ${{vz1}}\" \
+             file {TRAJECTORY_FILE} title \"# time_s x_m y_m z_m vx_m_s vy_m_s vz_m_s\" screen no"
+        )
+        .ok();
+    }
     writeln!(
         x,
-        "\n# {TRAJECTORY_FILE}: sphere 1 every step: time (s), x y z (m), vx vy vz (m/s)\n\
-         variable     t equal step*dt\n\
-         variable     x1 equal x[1]\nvariable     y1 equal y[1]\nvariable     z1 equal z[1]\n\
-         variable     vx1 equal vx[1]\nvariable     vy1 equal vy[1]\nvariable     vz1 equal vz[1]\n\
-         fix          trajectory all print 1 \"${{t}} ${{x1}} ${{y1}} ${{z1}} ${{vx1}} ${{vy1}} ${{vz1}}\" \
-         file {TRAJECTORY_FILE} title \"# time_s x_m y_m z_m vx_m_s vy_m_s vz_m_s\" screen no\n\
-         # particles.dump: every sphere at the series cadence{spin_note}\n\
+        "# particles.dump: every sphere at the series cadence{spin_note}\n\
          dump         spheres all custom {every} particles.dump id type radius x y z vx vy vz{spin_columns}\n\
          dump_modify  spheres format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g{spin_format}\"\n\
-         {}thermo_style custom step time ke{}\n\
+         {}{}thermo_style custom step time ke{}{}\n\
          thermo_modify norm no format float %.17g\n\
          thermo       {}",
         outlets.as_ref().map_or("", |o| o.setup.as_str()),
+        inlets.as_ref().map_or("", |i| i.setup.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
-        steps.max(1)
+        inlets.as_ref().map_or("", |i| i.columns.as_str()),
+        // With inlets, the counts over time: at the series cadence.
+        if inlets.is_some() { every } else { steps.max(1) }
     )
     .ok();
     x.push_str(&wall_forces(setup, &windows, every));
@@ -845,6 +874,54 @@ steps = 10
         assert!(input.contains(&row), "{row}\n{input}");
         assert!(input.contains("primitive type 3 zplane 1e-3"), "{input}");
         assert!(input.contains("primitive type 4 xplane 1e-2"), "{input}");
+    }
+
+    /// A scene with no sphere and an inlet of material "b" (type 2): no
+    /// Atoms section, no trajectory of sphere 1, type 1 declared, the
+    /// insertion with the inserted count and mass as thermo columns;
+    /// 1e5 spheres/s every 10 steps of 1 µs is one sphere per event, and
+    /// the rate written gives LIGGGHTS's product ≥ 1 (its floor(n + U)
+    /// then 1 for every U).
+    #[test]
+    fn an_inlet_without_spheres() {
+        let start = SCENE.find("[[particles]]").expect("particles");
+        let end = SCENE.find("[[wall]]").expect("walls");
+        let text = format!(
+            "{}{}[[inlet]]\nregion = {{ box = {{ lower = [0.0, 0.0, 0.005], upper = [0.01, 0.01, 0.01] }} }}\n\
+             rate = {{ number = 1.0e5 }}\nsize = {{ fixed = 1.0e-3 }}\nmaterial = \"b\"\nevery = 10\n",
+            &SCENE[..start],
+            &SCENE[end..]
+        );
+        let file = config::load(&text, "test", &[]).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        let d = deck(&scene).expect("exports");
+        let (input, data) = (&d.files[0].text, &d.files[1].text);
+        assert!(
+            data.contains("\n0 atoms\n") && !data.contains("Atoms"),
+            "{data}"
+        );
+        assert!(!input.contains("trajectory all print"), "{input}");
+        assert!(input.contains("type_floor all particledistribution"));
+        assert!(input.contains("atom_type 2 density constant 2.5e3 radius constant 1e-3"));
+        assert!(input.contains("thermo_style custom step time ke f_ins0[1] f_ins0[2]\n"));
+        let line = input
+            .lines()
+            .find(|l| l.starts_with("fix") && l.contains("insert/rate/region"))
+            .expect("the insertion");
+        assert!(
+            line.contains("nparticles INF") && line.contains("insert_every 10 start 1 "),
+            "{line}"
+        );
+        let rate: f64 = line
+            .split("particlerate ")
+            .nth(1)
+            .and_then(|w| w.split_whitespace().next())
+            .and_then(|w| w.parse().ok())
+            .expect("a rate");
+        assert!(
+            rate * (10.0 * 1e-6) >= 1.0 && (rate - 1e5).abs() <= 1e-9,
+            "{rate}"
+        );
     }
 
     #[test]

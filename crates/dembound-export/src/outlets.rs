@@ -46,12 +46,18 @@ pub(crate) struct Outlets {
     pub columns: String,
 }
 
-/// The region line of `region` as `outlet{k}`, `key` naming it in a
-/// refusal (`code` the deck's code).
+/// The region line of `region` as `outlet{k}` (`code` the deck's code).
 fn region_line(k: usize, region: &Region, code: &str) -> Result<String> {
+    region_command(&format!("outlet{k}"), &format!("outlet[{k}]"), region, code)
+}
+
+/// The `region` line of `region` named `name`, `key` (`outlet[K]`,
+/// `inlet[K]`) naming it in a refusal of a cylinder not along an axis
+/// (`code` the deck's code).
+pub(crate) fn region_command(name: &str, key: &str, region: &Region, code: &str) -> Result<String> {
     match *region {
         Region::Box { lower, upper } => Ok(format!(
-            "region       outlet{k} block {} {} {} {} {} {} units box",
+            "region       {name} block {} {} {} {} {} {} units box",
             num(lower[0]),
             num(upper[0]),
             num(lower[1]),
@@ -68,7 +74,7 @@ fn region_line(k: usize, region: &Region, code: &str) -> Result<String> {
             let along: Vec<usize> = (0..3).filter(|&a| axis[a] != 0.0).collect();
             let [a] = along[..] else {
                 return Err(Error::Export(format!(
-                    "`outlet[{k}].region.cylinder.axis` = {axis:?} cannot be exported: the \
+                    "`{key}.region.cylinder.axis` = {axis:?} cannot be exported: the \
                      {code} deck's `region cylinder` has its axis along x, y or z only; give \
                      an axis-aligned cylinder or a box"
                 )));
@@ -79,7 +85,7 @@ fn region_line(k: usize, region: &Region, code: &str) -> Result<String> {
                 _ => (center[0], center[1]),
             };
             Ok(format!(
-                "region       outlet{k} cylinder {} {} {} {} {} {} units box",
+                "region       {name} cylinder {} {} {} {} {} {} units box",
                 ["x", "y", "z"][a],
                 num(c1),
                 num(c2),

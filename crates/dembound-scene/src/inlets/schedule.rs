@@ -104,7 +104,7 @@ impl Inlets {
     /// The run's inlets, their schedules resolved against `dt` (s) and a
     /// run of `run_time` (s); a rate the region cannot hold refused,
     /// naming `inlet[K].rate`.
-    pub(crate) fn new(
+    pub fn new(
         setups: &[InletSetup],
         densities: &[f64],
         spheres: usize,
