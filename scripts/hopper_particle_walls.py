@@ -3,7 +3,7 @@
 
     python3 scripts/hopper_particle_walls.py [--dembound BIN] [--work DIR]
         [--ratios 0.5,1,2] [--settle S] [--discharge S] [--skip S]
-        [--seeds 1,2] [--jobs 2] [--same-outlet]
+        [--seeds 1,2] [--jobs 2] [--same-outlet] [--friction MU]
 
 The hopper is examples/scenes/hopper.stl (cone half-angle 30°, outlet
 radius 6 mm at z = 0, bin radius 20 mm; make_hopper.py) with
@@ -39,6 +39,10 @@ the covering keeps sites up to one spacing beyond an open rim, so the
 spheres extend the cone below z = 0): the cone continued down to that
 radius, make_hopper.py's functions, the rest unchanged. It separates the
 narrower outlet from the spheres' roughness.
+--friction MU gives every surface Coulomb friction μ = MU (`contact.friction`:
+grain–grain, grain–wall and the plug; Mindlin tangential spring with its
+dashpot, the program's defaults), the rest unchanged: the bumps then add to
+a wall friction already present.
 
 Writes DIR/table.md, DIR/results.json and DIR/hopper_particle_walls.png.
 numpy and matplotlib. Finished runs (same scene text) are reused.
@@ -66,8 +70,11 @@ TOP_RADIUS = 20.0e-3
 CONE_HEIGHT = (TOP_RADIUS - OUTLET_RADIUS) / math.tan(math.radians(30.0))
 
 
-def scene(wall: str, steps: int, settle: int, seed: int) -> str:
+def scene(wall: str, steps: int, settle: int, seed: int, friction: float = 0.0) -> str:
     opened = settle * DT
+    # μ of every surface (grain–grain, grain–wall, grain–plug); the
+    # frictionless scene's text is unchanged (its finished runs are reused).
+    coulomb = f"friction = {friction!r}\n" if friction > 0 else ""
     return f"""
 [domain]
 lower = [-0.06, -0.06, -0.04]
@@ -90,7 +97,7 @@ poisson_ratio = 0.3
 law = "hertz"
 damping = "tsuji"
 restitution = 0.5
-
+{coulomb}
 [[particles]]
 random = {{ count = 2000, radius = 1.0e-3, lower = [-0.013, -0.013, 0.026], upper = [0.013, 0.013, 0.093], seed = {seed} }}
 material = "glass"
@@ -268,7 +275,11 @@ def main():
     ap.add_argument("--same-outlet", action="store_true",
                     help="also run mesh walls narrowed to each particle wall's clear outlet")
     ap.add_argument("--jobs", type=int, default=2, help="runs at once")
+    ap.add_argument("--friction", type=float, default=0.0,
+                    help="Coulomb μ of every surface (contact.friction); 0: frictionless")
     a = ap.parse_args()
+    if not 0.0 <= a.friction <= 10.0:
+        ap.error(f"--friction {a.friction}: must be in [0, 10] (contact.friction's range)")
     work = Path(a.work)
     work.mkdir(parents=True, exist_ok=True)
     settle = round(a.settle / DT)
@@ -283,7 +294,7 @@ def main():
         d = work / f"{name}-s{seed}"
         d.mkdir(exist_ok=True)
         path = d / "scene.toml"
-        text = scene(wall_entry(r), total, settle, seed)
+        text = scene(wall_entry(r), total, settle, seed, a.friction)
         kept = d / "summary.json"
         if kept.exists() and path.exists() and path.read_text() == text:
             j = json.loads(kept.read_text())  # this run is done (same scene)
@@ -361,10 +372,10 @@ def main():
     print(table)
     (work / "table.md").write_text(table + "\n")
     (work / "results.json").write_text(json.dumps(results, indent=1))
-    plot(results, work / "hopper_particle_walls.png")
+    plot(results, work / "hopper_particle_walls.png", a.friction)
 
 
-def plot(results, path):
+def plot(results, path, friction=0.0):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -404,7 +415,8 @@ def plot(results, path):
         axis.set_xticks([x["r"] for x in parts])
         axis.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
         axis.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-    fig.suptitle("Hopper discharge: particle walls (ζ = ∞) against the mesh wall")
+    grains = f"μ = {friction:g} on every surface" if friction > 0 else "frictionless grains"
+    fig.suptitle(f"Hopper discharge: particle walls (ζ = ∞) against the mesh wall, {grains}")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     print(f"wrote {path}")
