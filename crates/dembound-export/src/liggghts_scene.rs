@@ -826,6 +826,23 @@ steps = 10
             .text
             .contains("fix          integrate all nve/sphere\n"));
         assert!(!d.files[0].text.contains("freeze"));
+        // An inlet beside frozen spheres inserts into `free` (LIGGGHTS
+        // gives an inserted sphere its fix's group), so what it pours is
+        // integrated; without frozen spheres into `all`.
+        let inlet = "\n[[inlet]]\nregion = { box = { lower = [0.0, 0.0, 0.005], upper = [0.01, 0.01, 0.01] } }\n\
+                     rate = { number = 1.0e5 }\nsize = { fixed = 1.0e-3 }\nmaterial = \"a\"\nevery = 10\n";
+        let d = exported_text(&format!("{fixed}{inlet}"), &[]).expect("exports");
+        assert!(
+            d.files[0].text.contains(" free insert/rate/region "),
+            "{}",
+            d.files[0].text
+        );
+        let d = exported_text(&format!("{SCENE}{inlet}"), &[]).expect("exports");
+        assert!(
+            d.files[0].text.contains(" all insert/rate/region "),
+            "{}",
+            d.files[0].text
+        );
     }
 
     /// Hooke: `model hooke/stiffness`, kn = k for every pair, γ = 0; with
