@@ -66,7 +66,7 @@ def main():
     passed = sum(1 for _, ok, _ in verdicts if ok)
     wall = sum(t[0] for _, _, t in verdicts)
     cpu = sum(t[1] for _, _, t in verdicts)
-    out = ["# dembound benchmarks: the full suite\n"]
+    out = ["# dembound benchmarks: full runs\n"]
     out.append(
         f"{len(verdicts)} benchmarks run in full, one at a time "
         f"(`dembound benchmarks NAME --out DIR`, then "
