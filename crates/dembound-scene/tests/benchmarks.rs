@@ -215,10 +215,14 @@ const FULL_REPOSE_MU_R_02: [(f64, f64); 2] = [(0.2, 27.0), (0.8, 34.0)];
 
 /// The silo discharge, quick (1,173 spheres in a 12 mm tube, D = 10 and
 /// 12 mm, a 80 ms window): the rate grows with D (Beverloo's law) and each
-/// rate lies within ±40 % of the full run's fit (C = 0.479, k = 1.24 with
-/// the quick bed's own ρ_b). The band: the quick window's standard error
-/// is ~10 % of W (measured: 11.4 ± 1.1 and 19.2 ± 1.5 g/s, +11 % and +4 %
-/// from the full fit; the full run's 5 ms rate bins scatter by ±30 % at
+/// rate lies within ±40 % of the full silo's fit (C = 0.479, k = 1.24,
+/// docs/beverloo.md, with the quick bed's own ρ_b; the full benchmark run
+/// of docs/benchmarks/ fits C = 0.528, k = 1.46 to rates within 4 % of
+/// that law: W = 10.16, 18.55, 30.15, 47.01 g/s against 10.57, 19.06,
+/// 30.70, 45.81). The band: the quick window's standard error is ~10 % of
+/// W (measured: 11.4 ± 1.1 and 19.2 ± 1.5 g/s, +11 % and +4 % from the
+/// fit, +18 % and +6 % from the full run's); the full run's 5 ms rate
+/// bins scatter by ±30 % at
 /// D = 10 mm; 16 bins), and its tube is only 2–2.4 D against the full
 /// run's 2.25–3.6 D, which Beverloo's law does not cover; a broken gate,
 /// outlet or floor orifice gives W = 0 or the free-fall rate, far outside.

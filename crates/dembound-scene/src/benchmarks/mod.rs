@@ -17,6 +17,7 @@ mod drum;
 mod granular;
 pub mod impact;
 mod janssen;
+mod peer;
 mod repose;
 
 use crate::SceneError;
