@@ -124,9 +124,9 @@ pub fn resolve_with(
 /// source), so that each of `ranks` MPI ranks makes its own part
 /// (`comm::distributed::input`); `setup.spheres` stays empty. `Ok(None)`
 /// when the scene has a source or a feature that part-wise input does not
-/// cover (random, CSV and inline spheres, boundary-particle walls, inlets,
-/// moving groups, removal, a data file with velocities); those resolve
-/// whole.
+/// cover (random, CSV and inline spheres, walls other than planes,
+/// inlets, moving groups, removal, a data file with velocities); those
+/// resolve whole.
 pub fn resolve_parts(
     file: &SceneFile,
     base_dir: &Path,
@@ -139,6 +139,10 @@ pub fn resolve_parts(
     }) && !file.particles.is_empty()
         && file.inlets.is_empty()
         && file.outlets.is_empty()
+        // Plane walls only: the other types' resolving and placement
+        // checks look at all spheres (a boundary-particle wall's R_ref, a
+        // cylinder's largest free sphere).
+        && file.walls.iter().all(|w| w.key() == Some("plane"))
         && !matches!(file.domain.outside, Some(OutsideName::Delete));
     if !covered {
         return Ok(None);

@@ -23,7 +23,7 @@
 //!    the whole list left them: the same bits from the first step.
 //!
 //! Not covered (read whole instead, [`crate::io::resolve::resolve_parts`]):
-//! random, CSV and inline spheres, boundary-particle walls, inlets, moving
+//! random, CSV and inline spheres, walls other than planes, inlets, moving
 //! groups, removal, a data file whose ids are not 1..N or that has a
 //! section after `Atoms`, and more than 256 classes.
 
