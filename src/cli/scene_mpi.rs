@@ -21,7 +21,7 @@ use dembound_scene::comm::distributed::{GatheredState, PEER_REFUSED};
 use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
-use dembound_scene::io::resolve::{resolve, ResolvedScene};
+use dembound_scene::io::resolve::{resolve, resolve_parts, PartGroup, ResolvedScene};
 use dembound_scene::io::{config, series, vtk, vtk_walls};
 use dembound_scene::{Checkpoint, Collision, Observation};
 use serde::Serialize;
@@ -82,10 +82,19 @@ fn agree<T>(t: &MpiTransport, r: Result<T, CliError>) -> RankResult<T> {
 
 /// What every rank reads: the scene, the thread count, and at rank 0 the
 /// output directory.
-fn prepare(args: &SceneArgs, rank: usize) -> Result<Prepared, CliError> {
+fn prepare(args: &SceneArgs, rank: usize, ranks: usize) -> Result<Prepared, CliError> {
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
     let base = args.file.parent().unwrap_or(Path::new("."));
-    let resolved = resolve(&file, base).map_err(scene_error)?;
+    // Lattices and data files: each rank makes its own part of the
+    // spheres (`comm::distributed::input`); else every rank all of them.
+    let parts = match args.restart {
+        None => resolve_parts(&file, base, ranks).map_err(scene_error)?,
+        Some(_) => None,
+    };
+    let (resolved, groups) = match parts {
+        Some((r, g)) => (r, Some(g)),
+        None => (resolve(&file, base).map_err(scene_error)?, None),
+    };
     if rank == 0 {
         super::warnings::print(&resolved.warnings);
     }
@@ -102,12 +111,25 @@ fn prepare(args: &SceneArgs, rank: usize) -> Result<Prepared, CliError> {
         Some(path) => Some(checkpoint::read(path).map_err(scene_error)?.state),
         None => None,
     };
-    Ok((resolved, threads, out, restart))
+    Ok((resolved, threads, out, restart, groups))
 }
 
-/// The scene, the threads per rank, the output directory (rank 0) and
-/// the checkpoint to continue.
-type Prepared = (ResolvedScene, usize, Option<AtomicDir>, Option<Checkpoint>);
+/// The scene, the threads per rank, the output directory (rank 0), the
+/// checkpoint to continue, and the groups each rank makes its part of.
+type Prepared = (
+    ResolvedScene,
+    usize,
+    Option<AtomicDir>,
+    Option<Checkpoint>,
+    Option<Vec<PartGroup>>,
+);
+
+/// The scene resolved whole (every rank makes every sphere).
+fn resolve_whole(args: &SceneArgs) -> Result<ResolvedScene, CliError> {
+    let file = config::read(&args.file, &args.set).map_err(scene_error)?;
+    let base = args.file.parent().unwrap_or(Path::new("."));
+    resolve(&file, base).map_err(scene_error)
+}
 
 /// The `--json` object: the one-process run's keys, plus the ranks'.
 #[derive(Debug, Serialize)]
@@ -141,17 +163,53 @@ struct MpiReport {
     rebalances: u64,
     /// The sub-domain cuts along x, y and z at the end, m.
     cuts: [Vec<f64>; 3],
+    /// Each rank made or read only its part of the spheres
+    /// (`comm::distributed::input`); false: every rank read them all.
+    input_in_parts: bool,
+    /// s from the process start until every rank held its bodies (the
+    /// scene read, the spheres made or read, the first forces), slowest
+    /// rank.
+    input_seconds: f64,
+    /// Each rank's peak resident memory so far (VmHWM of
+    /// /proc/self/status), bytes; empty where not available.
+    rank_peak_memory: Vec<u64>,
+}
+
+/// This process's peak resident memory (VmHWM), bytes, where Linux
+/// reports it.
+fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
 
 fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let rank = t.rank();
-    let (resolved, threads, mut out, restart) = agree(t, prepare(args, rank))?;
+    let (mut resolved, threads, mut out, restart, groups) =
+        agree(t, prepare(args, rank, t.size()))?;
     let grid = resolved.file.parallel.grid;
-    let built = match &restart {
-        Some(c) => DistributedSimulation::restore(&resolved.setup, c, threads, grid, t),
-        None => DistributedSimulation::new(&resolved.setup, threads, grid, t),
+    let parted = match &groups {
+        Some(g) if restart.is_none() => {
+            DistributedSimulation::new_parts(&resolved.setup, g, threads, grid, t)
+        }
+        _ => Ok(None),
+    };
+    let parted = agree(t, parted.map_err(scene_error))?;
+    let built = match (parted, &restart) {
+        (Some(sim), _) => Ok(sim),
+        (None, Some(c)) => DistributedSimulation::restore(&resolved.setup, c, threads, grid, t),
+        (None, None) => {
+            if groups.is_some() {
+                // Not covered by the part-wise input: every rank reads all.
+                resolved = agree(t, resolve_whole(args))?;
+            }
+            DistributedSimulation::new(&resolved.setup, threads, grid, t)
+        }
     };
     let mut sim = agree(t, built.map_err(scene_error))?;
+    let input_seconds = t.max(super::process_seconds());
+    let input_in_parts = groups.is_some() && resolved.setup.spheres.is_empty();
     if rank == 0 {
         for note in sim.restart_notes() {
             eprintln!("{note}");
@@ -274,17 +332,19 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     } else {
         None
     };
+    // Collective: every rank's peak (−1 where unknown).
+    let peaks = t.all_gather(peak_memory().map_or(-1.0, |b| b as f64));
     if rank != 0 {
         return Ok(());
     }
-    let spheres = &resolved.setup.spheres;
     // The scene's spheres and those the inlets inserted (`inlets`).
     let inserted: u64 = last.inlets.iter().map(|i| i.count).sum();
-    let n = spheres.len() + inserted as usize;
+    let (inputs, fixed) = sim.input_counts();
+    let n = inputs + inserted as usize;
     let report = Report {
         particles: n,
-        free_particles: spheres.iter().filter(|s| !s.fixed).count(),
-        fixed_particles: spheres.iter().filter(|s| s.fixed).count(),
+        free_particles: inputs - fixed,
+        fixed_particles: fixed,
         steps: sim.steps_done(),
         steps_this_run: span,
         time: sim.steps_done() as f64 * dt,
@@ -340,6 +400,13 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         rebalance_threshold: balance.threshold.is_finite().then_some(balance.threshold),
         rebalances: balance.rebalances,
         cuts: balance.cuts,
+        input_in_parts,
+        input_seconds,
+        rank_peak_memory: if peaks.iter().all(|&p| p >= 0.0) {
+            peaks.iter().map(|&p| p as u64).collect()
+        } else {
+            Vec::new()
+        },
     };
     let written = match (out, final_state) {
         (Some(out), Some(state)) => {

@@ -5,7 +5,7 @@
 //! rule is `crate::time_step`.
 
 // (child modules: they reach the run's private state)
-mod build;
+pub(crate) mod build;
 mod checkpoint;
 mod observables;
 

@@ -71,6 +71,7 @@ use crate::{Observation, SceneError};
 pub mod balance;
 mod checkpoint;
 mod inlets;
+pub mod input;
 mod observe;
 mod report;
 mod sums;
@@ -90,6 +91,8 @@ pub struct DistributedSimulation<T: Transport> {
     comm: RankComm<T>,
     steps_run: u64,
     stepping: f64,
+    /// The scene's input spheres and of them the fixed ones.
+    inputs: (usize, usize),
 }
 
 /// What one rank adds to the engine's step: the pipeline's
@@ -223,6 +226,17 @@ fn refuse_unsupported_world(world: &World) -> Result<(), SceneError> {
     Ok(())
 }
 
+/// The largest radius of the scene's bodies and of the inlets' spheres
+/// (`crate::inlets::radii`), m.
+fn largest_radius(w: &World, setup: &SceneSetup) -> f64 {
+    w.bodies
+        .radius
+        .iter()
+        .copied()
+        .chain(crate::inlets::radii(setup))
+        .fold(0.0, f64::max)
+}
+
 /// Keeps bodies `order` (in that order) and their plane-wall state.
 fn select(world: &mut World, order: &[u32]) {
     world.bodies.permute(order);
@@ -273,14 +287,7 @@ impl<T: Transport> DistributedSimulation<T> {
             Ok(c) => c,
         };
         let w = &mut sim.world;
-        // The inlets' spheres too (`crate::inlets::radii`).
-        let largest_radius = w
-            .bodies
-            .radius
-            .iter()
-            .copied()
-            .chain(crate::inlets::radii(setup))
-            .fold(0.0, f64::max);
+        let largest_radius = largest_radius(w, setup);
         let rank = transport.rank();
         let mut mine = Vec::new();
         for k in 0..w.bodies.len() {
@@ -291,12 +298,33 @@ impl<T: Transport> DistributedSimulation<T> {
             }
         }
         select(w, &mine);
-        let n = w.bodies.len();
+        let fixed_by_id = setup.spheres.iter().map(|s| s.fixed).collect();
+        Ok(Self::start(
+            sim,
+            decomposition,
+            largest_radius,
+            fixed_by_id,
+            transport,
+        ))
+    }
+
+    /// The rank's run from its own bodies (in input order) in `sim`: halo,
+    /// lists, first forces. `fixed_by_id`: each input index fixed or free.
+    fn start(
+        sim: Simulation,
+        decomposition: Decomposition,
+        largest_radius: f64,
+        fixed_by_id: Vec<bool>,
+        transport: T,
+    ) -> Self {
+        let n = sim.world.bodies.len();
+        let total = fixed_by_id.len();
+        let inputs = (total, fixed_by_id.iter().filter(|&&x| x).count());
         let comm = RankComm {
             transport,
             decomposition,
             largest_radius,
-            fixed_by_id: setup.spheres.iter().map(|s| s.fixed).collect(),
+            fixed_by_id,
             halo: vec![false; n],
             dropping: Vec::new(),
             sends: Vec::new(),
@@ -312,12 +340,13 @@ impl<T: Transport> DistributedSimulation<T> {
             plain_sums: false,
             migrated: 0,
             in_cell_order: false,
-            owned_by_id: vec![false; setup.spheres.len()],
+            owned_by_id: vec![false; total],
             collision_steps: Vec::new(),
             restored_collisions: 0,
             balance: balance::Balance::default(),
         };
         let mut me = Self {
+            inputs,
             sim,
             comm,
             steps_run: 0,
@@ -340,7 +369,7 @@ impl<T: Transport> DistributedSimulation<T> {
         }
         let o = me.observe();
         me.sim.initial_energy = o.kinetic_energy + o.elastic_energy + o.potential_energy;
-        Ok(me)
+        me
     }
 
     pub fn rank(&self) -> usize {
@@ -379,6 +408,12 @@ impl<T: Transport> DistributedSimulation<T> {
     /// pairs). Either order is independent of the decomposition.
     pub fn sums_in_cell_order(&self) -> bool {
         self.comm.in_cell_order
+    }
+
+    /// The scene's input spheres and of them the fixed ones (inserted
+    /// spheres not counted).
+    pub fn input_counts(&self) -> (usize, usize) {
+        self.inputs
     }
 
     /// Bodies this rank owns.

@@ -116,6 +116,54 @@ pub fn resolve_with(
     base_dir: &Path,
     particles: Particles,
 ) -> Result<ResolvedScene, SceneError> {
+    resolve_inner(file, base_dir, particles, None).map(|(r, _)| r)
+}
+
+/// [`resolve`] without making the spheres of the lattices and data files:
+/// each group described instead ([`PartGroup`]: its input indices, its
+/// source), so that each of `ranks` MPI ranks makes its own part
+/// (`comm::distributed::input`); `setup.spheres` stays empty. `Ok(None)`
+/// when the scene has a source or a feature that part-wise input does not
+/// cover (random, CSV and inline spheres, walls other than planes,
+/// inlets, moving groups, removal, a data file with velocities); those
+/// resolve whole.
+pub fn resolve_parts(
+    file: &SceneFile,
+    base_dir: &Path,
+    ranks: usize,
+) -> Result<Option<(ResolvedScene, Vec<PartGroup>)>, SceneError> {
+    let covered = file.particles.iter().all(|g| {
+        (g.lattice.is_some() || g.lammps_data.is_some())
+            && g.motion.is_none()
+            && g.oscillation.is_none()
+    }) && !file.particles.is_empty()
+        && file.inlets.is_empty()
+        && file.outlets.is_empty()
+        // Plane walls only: the other types' resolving and placement
+        // checks look at all spheres (a boundary-particle wall's R_ref, a
+        // cylinder's largest free sphere).
+        && file.walls.iter().all(|w| w.key() == Some("plane"))
+        && !matches!(file.domain.outside, Some(OutsideName::Delete));
+    if !covered {
+        return Ok(None);
+    }
+    let (r, parts) = resolve_inner(file, base_dir, Particles::Required, Some(ranks.max(1)))?;
+    let plain = !r.setup.walls.iter().any(|w| w.is_particles())
+        && r.setup.inlets.is_empty()
+        && r.setup.group_motions.is_empty()
+        && parts.iter().all(|p| match &p.source {
+            PartSource::Data { header, .. } => !header.velocities_first,
+            PartSource::Lattice { .. } => true,
+        });
+    Ok(plain.then_some((r, parts)))
+}
+
+fn resolve_inner(
+    file: &SceneFile,
+    base_dir: &Path,
+    particles: Particles,
+    defer: Option<usize>,
+) -> Result<(ResolvedScene, Vec<PartGroup>), SceneError> {
     file.validate_with(particles)?;
     let mut file = file.clone();
     let mut materials: Vec<NamedMaterial> = file
@@ -136,10 +184,17 @@ pub fn resolve_with(
     let heavy = file.integration.scheme == SchemeName::Gear5 || has_friction(&file);
     let available = super::memory::available();
     let (generated, largest) = generated_count(&file);
-    super::memory::check(generated, heavy, &largest, available)?;
+    // Made in parts: each rank holds about its share.
+    let share = |n: u64| defer.map_or(n, |ranks| n.div_ceil(ranks as u64));
+    super::memory::check(share(generated), heavy, &largest, available)?;
     let mut spheres: Vec<SphereInit> = Vec::new();
+    let mut parts: Vec<PartGroup> = Vec::new();
+    // The input indices given so far (the spheres made, or described).
+    let mut next = 0usize;
     spheres
-        .try_reserve(usize::try_from(generated).unwrap_or(usize::MAX))
+        .try_reserve(
+            usize::try_from(if defer.is_some() { 0 } else { generated }).unwrap_or(usize::MAX),
+        )
         .map_err(|e| {
             SceneError::input(format!(
                 "[[particles]]: cannot allocate {generated} spheres: {e}"
@@ -149,7 +204,49 @@ pub fn resolve_with(
     for (i, group) in file.particles.iter_mut().enumerate() {
         let key = format!("particles[{i}]");
         let material = material_index(&group.material, &mut materials);
-        let first = spheres.len();
+        let first = next;
+        if defer.is_some() {
+            let (count, source) = if group.lammps_data.is_some() {
+                let (header, path, by_type) = lammps_header(group, &key, base_dir, &mut materials)?;
+                let count = header.atoms;
+                (
+                    count,
+                    PartSource::Data {
+                        path,
+                        key: format!("{key}.lammps_data"),
+                        by_type,
+                        header,
+                    },
+                )
+            } else if let Some(l) = &group.lattice {
+                let lattice = Lattice {
+                    counts: l.counts,
+                    spacing: l.spacing,
+                    origin: l.origin,
+                    radius: l.radius,
+                    stagger: l.stagger,
+                };
+                lattice.validate(&format!("{key}.lattice"))?;
+                (
+                    lattice.len(),
+                    PartSource::Lattice {
+                        lattice,
+                        velocity: l.velocity,
+                    },
+                )
+            } else {
+                return Err(SceneError::input(format!("`{key}`: no source")));
+            };
+            next += count;
+            parts.push(PartGroup {
+                ids: first..next,
+                material,
+                fixed: group.fixed,
+                source,
+            });
+            groups.push(first..next);
+            continue;
+        }
         if group.lammps_data.is_some() {
             let atoms = lammps_atoms(group, &key, base_dir, material, &mut materials)?;
             spheres.extend(atoms.into_iter().map(|(s, material)| SphereInit {
@@ -160,6 +257,7 @@ pub fn resolve_with(
                 fixed: group.fixed,
                 group: None,
             }));
+            next = spheres.len();
             groups.push(first..spheres.len());
             continue;
         }
@@ -172,6 +270,7 @@ pub fn resolve_with(
             fixed: group.fixed,
             group: None,
         }));
+        next = spheres.len();
         groups.push(first..spheres.len());
     }
 
@@ -213,15 +312,34 @@ pub fn resolve_with(
                 .as_ref()
                 .map(crate::walls::servo::Servo::from_config),
         );
-        wall_bodies.push(setup.bodies().unwrap_or(spheres.len()..spheres.len()));
+        let end = if defer.is_some() { next } else { spheres.len() };
+        wall_bodies.push(setup.bodies().unwrap_or(end..end));
         walls.push(setup);
     }
 
-    super::memory::check(spheres.len() as u64, heavy, "the scene", available)?;
+    let total = if defer.is_some() { next } else { spheres.len() };
+    super::memory::check(share(total as u64), heavy, "the scene", available)?;
 
     let n = &file.integration;
+    // Parts: the data files hold no velocities (else read whole), a
+    // lattice one velocity: one sphere of each group stands for them all.
+    let standing: Vec<SphereInit> = parts
+        .iter()
+        .map(|p| SphereInit {
+            position: [0.0; 3],
+            velocity: match &p.source {
+                PartSource::Lattice { velocity, .. } => *velocity,
+                PartSource::Data { .. } => [0.0; 3],
+            },
+            radius: 1.0,
+            material: p.material,
+            fixed: p.fixed,
+            group: None,
+        })
+        .collect();
     let impact_speed = match n.impact_speed {
         Some(v) => Ok(v),
+        None if defer.is_some() => default_impact_speed(&file, &standing),
         None => default_impact_speed(&file, &spheres),
     };
     let time_step = match (n.dt, n.eta) {
@@ -316,15 +434,138 @@ pub fn resolve_with(
             })
             .collect(),
     };
-    warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
-    Ok(ResolvedScene {
-        setup,
-        groups,
-        wall_bodies,
-        file,
-        warnings,
-        covering_holes,
-    })
+    if defer.is_none() {
+        warnings.extend(super::labels::check(&setup, &file, &groups, &wall_bodies)?);
+    }
+    Ok((
+        ResolvedScene {
+            setup,
+            groups,
+            wall_bodies,
+            file,
+            warnings,
+            covering_holes,
+        },
+        parts,
+    ))
+}
+
+/// One `[[particles]]` group made in parts ([`resolve_parts`]).
+#[derive(Debug, Clone)]
+pub struct PartGroup {
+    /// Its input indices.
+    pub ids: Range<usize>,
+    /// Its material (data files: of the atoms whose type `types` leaves
+    /// unnamed).
+    pub material: usize,
+    pub fixed: bool,
+    pub source: PartSource,
+}
+
+/// Where a group's spheres come from.
+#[derive(Debug, Clone)]
+pub enum PartSource {
+    Lattice {
+        lattice: Lattice,
+        /// Every sphere's initial velocity, m/s.
+        velocity: [f64; 3],
+    },
+    Data {
+        path: PathBuf,
+        /// The scene key naming the file (`particles[0].lammps_data`).
+        key: String,
+        /// Atom type → material index (`types`).
+        by_type: std::collections::HashMap<u32, usize>,
+        header: crate::sources::lammps_part::DataHeader,
+    },
+}
+
+/// The header of a `lammps_data` group's file and its type → material
+/// map, as [`lammps_atoms`] makes them (the same materials added in the
+/// same order); makes the path absolute.
+#[allow(clippy::type_complexity)]
+fn lammps_header(
+    group: &mut ParticlesSection,
+    key: &str,
+    base_dir: &Path,
+    materials: &mut Vec<NamedMaterial>,
+) -> Result<
+    (
+        crate::sources::lammps_part::DataHeader,
+        PathBuf,
+        std::collections::HashMap<u32, usize>,
+    ),
+    SceneError,
+> {
+    let Some(path) = &mut group.lammps_data else {
+        return Err(SceneError::input(format!("`{key}`: no source")));
+    };
+    let full = base_dir.join(&*path);
+    let full = std::path::absolute(&full).unwrap_or(full);
+    *path = full.display().to_string();
+    let header = crate::sources::lammps_part::read_header(&full, &format!("{key}.lammps_data"))?;
+    let by_type = type_materials(group, materials);
+    Ok((header, full, by_type))
+}
+
+/// Atom type → material index from a group's `types` (a name not among the
+/// materials: the rigid material, added).
+fn type_materials(
+    group: &ParticlesSection,
+    materials: &mut Vec<NamedMaterial>,
+) -> std::collections::HashMap<u32, usize> {
+    let mut by_type = std::collections::HashMap::new();
+    for (t, name) in group.types.iter().flatten() {
+        // Validated: whole numbers ≥ 1 and known names.
+        let Ok(t) = t.parse::<u32>() else { continue };
+        let k = match materials.iter().position(|m| m.name == *name) {
+            Some(k) => k,
+            None => {
+                materials.push(NamedMaterial {
+                    name: RIGID.into(),
+                    material: Material::rigid(RIGID_DENSITY),
+                });
+                materials.len() - 1
+            }
+        };
+        by_type.insert(t, k);
+    }
+    by_type
+}
+
+/// The material of an atom of type `atom_type` (`by_type`, else `default`),
+/// or the message refusing its density ([`lammps_atoms`]'s check).
+pub(crate) fn atom_material(
+    atom: &crate::sources::lammps_data::DataAtom,
+    by_type: &std::collections::HashMap<u32, usize>,
+    default: usize,
+    fixed: bool,
+    materials: &[NamedMaterial],
+    key: &str,
+    path: &Path,
+) -> Result<usize, SceneError> {
+    let k = by_type.get(&atom.atom_type).copied().unwrap_or(default);
+    let m = &materials[k];
+    let fixed_rigid = fixed && m.name == RIGID;
+    let expected = m.material.density;
+    // Written so that a NaN density is refused too.
+    let agrees = (atom.density - expected).abs() <= DENSITY_TOLERANCE * expected;
+    if !fixed_rigid && !agrees {
+        return Err(SceneError::input(format!(
+            "`{key}`: atom {} (type {}) of `{}` has density {} kg/m³, but its \
+             material \"{}\" has {} kg/m³ (allowed: equal to {DENSITY_TOLERANCE:e} relative; \
+             give type {} a [[material]] of its density in `{key_types}`)",
+            atom.id,
+            atom.atom_type,
+            path.display(),
+            atom.density,
+            m.name,
+            expected,
+            atom.atom_type,
+            key_types = key.replace(".lammps_data", ".types"),
+        )));
+    }
+    Ok(k)
 }
 
 /// The friction of the scene (issue 13): `None` when no friction key is
@@ -427,44 +668,18 @@ fn lammps_atoms(
     let full = std::path::absolute(&full).unwrap_or(full);
     *path = full.display().to_string();
     let data = LammpsData::read_for(&full, &format!("{key}.lammps_data"))?;
-    let mut by_type = std::collections::HashMap::new();
-    for (t, name) in group.types.iter().flatten() {
-        // Validated: whole numbers ≥ 1 and known names.
-        let Ok(t) = t.parse::<u32>() else { continue };
-        let k = match materials.iter().position(|m| m.name == *name) {
-            Some(k) => k,
-            None => {
-                materials.push(NamedMaterial {
-                    name: RIGID.into(),
-                    material: Material::rigid(RIGID_DENSITY),
-                });
-                materials.len() - 1
-            }
-        };
-        by_type.insert(t, k);
-    }
+    let by_type = type_materials(group, materials);
     let mut out = Vec::with_capacity(data.atoms.len());
     for atom in &data.atoms {
-        let k = by_type.get(&atom.atom_type).copied().unwrap_or(default);
-        let m = &materials[k];
-        let fixed_rigid = group.fixed && m.name == RIGID;
-        let expected = m.material.density;
-        // Written so that a NaN density is refused too.
-        let agrees = (atom.density - expected).abs() <= DENSITY_TOLERANCE * expected;
-        if !fixed_rigid && !agrees {
-            return Err(SceneError::input(format!(
-                "`{key}.lammps_data`: atom {} (type {}) of `{}` has density {} kg/m³, but its \
-                 material \"{}\" has {} kg/m³ (allowed: equal to {DENSITY_TOLERANCE:e} relative; \
-                 give type {} a [[material]] of its density in `{key}.types`)",
-                atom.id,
-                atom.atom_type,
-                full.display(),
-                atom.density,
-                m.name,
-                expected,
-                atom.atom_type
-            )));
-        }
+        let k = atom_material(
+            atom,
+            &by_type,
+            default,
+            group.fixed,
+            materials,
+            &format!("{key}.lammps_data"),
+            &full,
+        )?;
         out.push((atom.sphere, k));
     }
     Ok(out)

@@ -68,54 +68,7 @@ impl Simulation {
                 ));
             }
         }
-        let nm = setup.materials.len();
-        for (k, s) in setup.spheres.iter().enumerate() {
-            if !(s.radius.is_finite() && s.radius > 0.0) {
-                return Err(SceneError::invalid(
-                    format!("spheres[{k}].radius"),
-                    s.radius,
-                    "finite and > 0 m",
-                ));
-            }
-            if !finite3(s.position) {
-                return Err(SceneError::invalid(
-                    format!("spheres[{k}].position"),
-                    show3(s.position),
-                    "finite, m",
-                ));
-            }
-            if !finite3(s.velocity) {
-                return Err(SceneError::invalid(
-                    format!("spheres[{k}].velocity"),
-                    show3(s.velocity),
-                    "finite, m/s",
-                ));
-            }
-            if s.material >= nm {
-                return Err(SceneError::invalid(
-                    format!("spheres[{k}].material"),
-                    s.material,
-                    format!("a material index below {nm}"),
-                ));
-            }
-            if let Some(g) = s.group {
-                let ok = setup.walls.get(g).is_some_and(|w| w.is_particles());
-                if !ok || !s.fixed {
-                    return Err(SceneError::invalid(
-                        format!("spheres[{k}].group"),
-                        g,
-                        "the index of a boundary-particle wall, on a fixed sphere",
-                    ));
-                }
-            }
-            if !s.fixed && !setup.materials[s.material].material.density.is_finite() {
-                return Err(SceneError::invalid(
-                    format!("spheres[{k}].material"),
-                    s.material,
-                    "a finite density",
-                ));
-            }
-        }
+        check_spheres(setup, &setup.spheres, |k| k)?;
         if setup.spheres.len() >= u32::MAX as usize {
             return Err(SceneError::invalid(
                 "spheres",
@@ -165,34 +118,7 @@ impl Simulation {
 
         // Bodies in input order.
         let n = setup.spheres.len();
-        let mut b = Bodies::default();
-        b.reserve_exact(n);
-        for (k, s) in setup.spheres.iter().enumerate() {
-            let mat = &setup.materials[s.material].material;
-            b.position.push(s.position);
-            b.velocity.push(if s.fixed { [0.0; 3] } else { s.velocity });
-            b.force.push([0.0; 3]);
-            b.radius.push(s.radius);
-            let m = if s.fixed {
-                f64::INFINITY
-            } else {
-                mat.sphere_mass(s.radius)
-            };
-            b.mass.push(m);
-            b.inverse_mass.push(if s.fixed { 0.0 } else { 1.0 / m });
-            b.angular_velocity.push([0.0; 3]);
-            b.torque.push([0.0; 3]);
-            // A solid sphere: I = 2/5 m R².
-            b.inverse_inertia.push(if s.fixed {
-                0.0
-            } else {
-                1.0 / (0.4 * m * s.radius * s.radius)
-            });
-            b.material.push(s.material as u32);
-            b.fixed.push(s.fixed);
-            b.id.push(k as u32);
-            b.group.push(s.group.map_or(NO_GROUP, |g| g as u32));
-        }
+        let mut b = bodies_of(setup, &setup.spheres, |k| k as u32);
         let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
         let laws = LawTable::new(setup.contact, materials, &mut b, slots);
         let friction = setup.friction.clone().map(|f| FrictionTable::new(f, &laws));
@@ -407,6 +333,103 @@ fn outside_box(setup: &SceneSetup) -> Option<([f64; 3], [f64; 3])> {
         }
     }
     Some((lower, upper))
+}
+
+/// Each sphere's radius, position, velocity, material and group in range;
+/// `id(q)`: the input index of `spheres[q]`, named in messages.
+pub(crate) fn check_spheres(
+    setup: &SceneSetup,
+    spheres: &[crate::setup::SphereInit],
+    id: impl Fn(usize) -> usize,
+) -> Result<(), SceneError> {
+    let nm = setup.materials.len();
+    for (q, s) in spheres.iter().enumerate() {
+        let k = id(q);
+        if !(s.radius.is_finite() && s.radius > 0.0) {
+            return Err(SceneError::invalid(
+                format!("spheres[{k}].radius"),
+                s.radius,
+                "finite and > 0 m",
+            ));
+        }
+        if !finite3(s.position) {
+            return Err(SceneError::invalid(
+                format!("spheres[{k}].position"),
+                show3(s.position),
+                "finite, m",
+            ));
+        }
+        if !finite3(s.velocity) {
+            return Err(SceneError::invalid(
+                format!("spheres[{k}].velocity"),
+                show3(s.velocity),
+                "finite, m/s",
+            ));
+        }
+        if s.material >= nm {
+            return Err(SceneError::invalid(
+                format!("spheres[{k}].material"),
+                s.material,
+                format!("a material index below {nm}"),
+            ));
+        }
+        if let Some(g) = s.group {
+            let ok = setup.walls.get(g).is_some_and(|w| w.is_particles());
+            if !ok || !s.fixed {
+                return Err(SceneError::invalid(
+                    format!("spheres[{k}].group"),
+                    g,
+                    "the index of a boundary-particle wall, on a fixed sphere",
+                ));
+            }
+        }
+        if !s.fixed && !setup.materials[s.material].material.density.is_finite() {
+            return Err(SceneError::invalid(
+                format!("spheres[{k}].material"),
+                s.material,
+                "a finite density",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The engine's bodies of `spheres` (in that order), `id(q)` the input
+/// index of `spheres[q]`.
+pub(crate) fn bodies_of(
+    setup: &SceneSetup,
+    spheres: &[crate::setup::SphereInit],
+    id: impl Fn(usize) -> u32,
+) -> Bodies {
+    let mut b = Bodies::default();
+    b.reserve_exact(spheres.len());
+    for (k, s) in spheres.iter().enumerate() {
+        let mat = &setup.materials[s.material].material;
+        b.position.push(s.position);
+        b.velocity.push(if s.fixed { [0.0; 3] } else { s.velocity });
+        b.force.push([0.0; 3]);
+        b.radius.push(s.radius);
+        let m = if s.fixed {
+            f64::INFINITY
+        } else {
+            mat.sphere_mass(s.radius)
+        };
+        b.mass.push(m);
+        b.inverse_mass.push(if s.fixed { 0.0 } else { 1.0 / m });
+        b.angular_velocity.push([0.0; 3]);
+        b.torque.push([0.0; 3]);
+        // A solid sphere: I = 2/5 m R².
+        b.inverse_inertia.push(if s.fixed {
+            0.0
+        } else {
+            1.0 / (0.4 * m * s.radius * s.radius)
+        });
+        b.material.push(s.material as u32);
+        b.fixed.push(s.fixed);
+        b.id.push(id(k));
+        b.group.push(s.group.map_or(NO_GROUP, |g| g as u32));
+    }
+    b
 }
 
 /// Friction coefficients finite and ≥ 0.

@@ -110,46 +110,7 @@ impl LammpsData {
             }
             match section {
                 Section::Header => {
-                    let number = |w: &str| {
-                        w.parse::<f64>()
-                            .map_err(|_| err(line_no, format!("`{w}` is not a number")))
-                    };
-                    match words.as_slice() {
-                        [n, "atoms"] => {
-                            n_atoms =
-                                Some(n.parse().map_err(|_| {
-                                    err(line_no, format!("`{n}` atoms: not a count"))
-                                })?)
-                        }
-                        [lo, hi, axis_lo, axis_hi]
-                            if axis_lo.len() == 3
-                                && axis_lo.ends_with("lo")
-                                && axis_hi.ends_with("hi") =>
-                        {
-                            let axis = match *axis_lo {
-                                "xlo" => 0,
-                                "ylo" => 1,
-                                "zlo" => 2,
-                                _ => {
-                                    return Err(err(line_no, format!("unknown bound `{axis_lo}`")))
-                                }
-                            };
-                            let (lo, hi) = (number(lo)?, number(hi)?);
-                            if lo >= hi || lo.is_nan() || hi.is_nan() {
-                                return Err(err(
-                                    line_no,
-                                    format!("{axis_lo} {lo} ≥ {axis_hi} {hi}"),
-                                ));
-                            }
-                            bounds[axis] = Some([lo, hi]);
-                        }
-                        [_, _, _, "xy", "xz", "yz"] => {
-                            return Err(err(line_no, "triclinic boxes are not supported".into()))
-                        }
-                        // Other header lines (atom types, bonds, …) say
-                        // nothing a sphere needs.
-                        _ => {}
-                    }
+                    header_line(&words, &mut n_atoms, &mut bounds).map_err(|m| err(line_no, m))?
                 }
                 Section::Atoms => {
                     atoms.push((line_no, parse_atom(&words).map_err(|m| err(line_no, m))?))
@@ -226,8 +187,44 @@ impl LammpsData {
     }
 }
 
+/// One header line: `N atoms` and the box bounds are kept, other lines
+/// (atom types, bonds, …) say nothing a sphere needs.
+pub(crate) fn header_line(
+    words: &[&str],
+    n_atoms: &mut Option<usize>,
+    bounds: &mut [Option<[f64; 2]>; 3],
+) -> Result<(), String> {
+    let number = |w: &str| {
+        w.parse::<f64>()
+            .map_err(|_| format!("`{w}` is not a number"))
+    };
+    match words {
+        [n, "atoms"] => {
+            *n_atoms = Some(n.parse().map_err(|_| format!("`{n}` atoms: not a count"))?)
+        }
+        [lo, hi, axis_lo, axis_hi]
+            if axis_lo.len() == 3 && axis_lo.ends_with("lo") && axis_hi.ends_with("hi") =>
+        {
+            let axis = match *axis_lo {
+                "xlo" => 0,
+                "ylo" => 1,
+                "zlo" => 2,
+                _ => return Err(format!("unknown bound `{axis_lo}`")),
+            };
+            let (lo, hi) = (number(lo)?, number(hi)?);
+            if lo >= hi || lo.is_nan() || hi.is_nan() {
+                return Err(format!("{axis_lo} {lo} ≥ {axis_hi} {hi}"));
+            }
+            bounds[axis] = Some([lo, hi]);
+        }
+        [_, _, _, "xy", "xz", "yz"] => return Err("triclinic boxes are not supported".into()),
+        _ => {}
+    }
+    Ok(())
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Section {
+pub(crate) enum Section {
     Header,
     Atoms,
     Velocities,
@@ -235,7 +232,7 @@ enum Section {
 }
 
 impl Section {
-    fn named(word: &str) -> Option<Self> {
+    pub(crate) fn named(word: &str) -> Option<Self> {
         match word {
             "Atoms" => Some(Section::Atoms),
             "Velocities" => Some(Section::Velocities),
@@ -254,7 +251,7 @@ fn parse_finite(word: &str, what: &str) -> Result<f64, String> {
 }
 
 /// `id type diameter density x y z [ix iy iz]`.
-fn parse_atom(words: &[&str]) -> Result<DataAtom, String> {
+pub(crate) fn parse_atom(words: &[&str]) -> Result<DataAtom, String> {
     if words.len() != 7 && words.len() != 10 {
         return Err(format!(
             "an Atoms line of atom_style sphere has 7 columns (id type diameter density x y z) \

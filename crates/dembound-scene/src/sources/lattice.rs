@@ -100,22 +100,28 @@ impl Lattice {
     /// whose origin is half a cell gives the script's positions bit for bit
     /// before its 9-digit printing.
     pub fn spheres(&self) -> Vec<SourceSphere> {
-        let [nx, ny, nz] = self.counts;
+        self.sites(0..self.len())
+    }
+
+    /// The spheres of indices `range` (of [`Self::spheres`]'s order), each
+    /// computed from its index alone with the same operations: a part of
+    /// the lattice without the rest (one MPI rank's share).
+    pub fn sites(&self, range: std::ops::Range<usize>) -> Vec<SourceSphere> {
+        let range = range.start.min(self.len())..range.end.min(self.len());
+        range.map(|q| self.site(q)).collect()
+    }
+
+    /// Sphere `q`: layer k = q / (nx ny), row j, column i.
+    pub fn site(&self, q: usize) -> SourceSphere {
+        let [nx, ny, _] = self.counts;
         let [ax, ay, c] = self.spacing;
-        let mut out = Vec::with_capacity(self.len());
-        for k in 0..nz {
-            let odd = if self.stagger { (k % 2) as f64 } else { 0.0 };
-            let (sx, sy) = (0.5 * ax * odd, 0.5 * ay * odd);
-            let z = self.origin[2] + k as f64 * c;
-            for j in 0..ny {
-                let y = self.origin[1] + j as f64 * ay + sy;
-                for i in 0..nx {
-                    let x = self.origin[0] + i as f64 * ax + sx;
-                    out.push(SourceSphere::at_rest([x, y, z], self.radius));
-                }
-            }
-        }
-        out
+        let (k, j, i) = (q / (nx * ny), (q / nx) % ny, q % nx);
+        let odd = if self.stagger { (k % 2) as f64 } else { 0.0 };
+        let (sx, sy) = (0.5 * ax * odd, 0.5 * ay * odd);
+        let z = self.origin[2] + k as f64 * c;
+        let y = self.origin[1] + j as f64 * ay + sy;
+        let x = self.origin[0] + i as f64 * ax + sx;
+        SourceSphere::at_rest([x, y, z], self.radius)
     }
 }
 
@@ -166,6 +172,16 @@ mod tests {
         // Hand values: layer 1, i = j = 0 sits at (1.2, 1.2, 1.045) mm.
         let p = spheres[9].position;
         assert!((p[0] - 1.2e-3).abs() < 1e-18 && (p[2] - 1.045e-3).abs() < 1e-18);
+    }
+
+    #[test]
+    fn a_part_is_the_same_spheres_as_the_whole() {
+        let l = benchmark(5, 3);
+        let whole = l.spheres();
+        let mut parts = l.sites(0..31);
+        parts.extend(l.sites(31..40));
+        parts.extend(l.sites(40..1000));
+        assert_eq!(parts, whole);
     }
 
     #[test]

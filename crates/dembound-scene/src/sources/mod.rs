@@ -5,6 +5,7 @@
 
 pub mod csv;
 pub mod lammps_data;
+pub mod lammps_part;
 pub mod lattice;
 pub mod mesh_tiling;
 pub mod random;

@@ -258,6 +258,12 @@ impl<T: Transport> DistributedSimulation<T> {
             .gates
             .as_ref()
             .map(|g| self.comm.transport.sum(&[g.energy])[0]);
+        // A run whose ranks made their own parts of the spheres holds no
+        // list of them: the fingerprint's is gathered (collective).
+        let n_all = self.comm.fixed_by_id.len();
+        let gathered = (self.sim.fingerprint.radius.len() != n_all)
+            .then(|| self.gather_state())
+            .flatten();
         let Some(parts) = self.comm.transport.gather(out.0) else {
             return Ok(None);
         };
@@ -281,7 +287,16 @@ impl<T: Transport> DistributedSimulation<T> {
             plane_tracks: Vec::new(),
             collisions: Vec::new(),
             initial_energy: self.sim.initial_energy,
-            fingerprint: self.sim.fingerprint.clone(),
+            fingerprint: match gathered {
+                Some(g) => {
+                    let mut f = self.sim.fingerprint.clone();
+                    f.radius = g.radius;
+                    f.material = g.material;
+                    f.fixed = g.fixed;
+                    f
+                }
+                None => self.sim.fingerprint.clone(),
+            },
             list_builds: w.rebuilds,
             angular_velocity: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
             torque: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
