@@ -270,7 +270,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "",
             "0",
             mu_r.clone(),
-            "μ_r (epsd2)",
+            "μ_r (elastic–plastic rolling spring)",
         ),
         row(
             "contact.tangential_damping",

@@ -1,7 +1,6 @@
-//! Rolling resistance, LIGGGHTS `rolling_friction epsd2` (Wensrich &
-//! Katterfeld, Powder Technol. 217, 409 (2012); the elastic–plastic
-//! spring of Iwashita & Oda 1998 and Ai, Chen, Rotter & Ooi, Powder
-//! Technol. 206, 269 (2011), model C): a rolling spring of stiffness
+//! Rolling resistance: an elastic–plastic rolling spring (Iwashita & Oda
+//! 1998; Ai, Chen, Rotter & Ooi, Powder Technol. 206, 269 (2011), model
+//! C; Wensrich & Katterfeld, Powder Technol. 217, 409 (2012)) of stiffness
 //! k_r = 2.25 k_n μ_r² R_eff² (k_n = F_n/h, the normal law's secant
 //! stiffness) whose torque M_r is limited to μ_r R_eff |F_n|, driven by the
 //! relative rolling velocity ω_r (the part of ω₁ − ω₂ in the tangent plane;
@@ -16,7 +15,9 @@
 //! it, which leaves a resting sphere rocking forever).
 //!
 //! The history M_r (torque on body 1, N m) is kept in the tangent plane as
-//! the tangential spring's is.
+//! the tangential spring's is. LIGGGHTS's `rolling_friction epsd2` has the
+//! same limit but the stiffness k_r = k_t R_eff² (rolling_model_epsd2.h):
+//! the two are one law only where k_t = 2.25 k_n μ_r² (docs/export-liggghts.md).
 
 /// The rolling spring of one pair.
 #[derive(Debug, Clone, Copy, PartialEq)]

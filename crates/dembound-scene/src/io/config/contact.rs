@@ -46,8 +46,8 @@ pub struct ContactSection {
     /// or `"linear"` (Cundall–Strack, k_t = 2/7 E_eff R_eff).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential: Option<String>,
-    /// Rolling friction μ_r ≥ 0 (LIGGGHTS epsd2: a constant torque
-    /// μ_r R_eff |F_n| against rolling).
+    /// Rolling friction μ_r ≥ 0: an elastic–plastic rolling spring whose
+    /// torque is limited to μ_r R_eff |F_n| (`contact::rolling`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rolling_friction: Option<f64>,
     /// Whether a sticking contact has a tangential dashpot (default true:
