@@ -20,7 +20,7 @@
 mod common;
 
 use common::dembound;
-use common::peer::{export_lammps, lattice_bed, missing, run_lmp, STEEL_PLANE_FLOOR};
+use common::peer::{export_lammps, lattice_bed, missing, read_dump, run_lmp, STEEL_PLANE_FLOOR};
 use dembound_scene::io::{config, resolve::resolve};
 use dembound_scene::Simulation;
 use std::collections::BTreeMap;
@@ -48,49 +48,6 @@ fn bed(floor: &str) -> String {
 
 const PLANE_FLOOR: &str = STEEL_PLANE_FLOOR;
 const PARTICLE_FLOOR: &str = "boundary_particles = { point = [0.0051, 0.0051, 0.0], normal = [0.0, 0.0, 1.0], radius_ratio = 4.0, modulus_ratio = 10.0, tiling = \"hexagonal\" }\nmaterial = \"grain\"";
-
-/// One row of the deck: per sphere (x, v, ω).
-type State = Vec<[f64; 9]>;
-
-/// `particles.dump`: step → the spheres' states in id order.
-fn read_dump(path: &Path) -> BTreeMap<u64, State> {
-    let text = std::fs::read_to_string(path).expect("particles.dump");
-    let mut rows = BTreeMap::new();
-    let mut lines = text.lines();
-    while let Some(l) = lines.next() {
-        if l.starts_with("ITEM: TIMESTEP") {
-            let step: u64 = lines
-                .next()
-                .expect("a step")
-                .trim()
-                .parse()
-                .expect("a step");
-            lines.next();
-            let n: usize = lines
-                .next()
-                .expect("a count")
-                .trim()
-                .parse()
-                .expect("a count");
-            for _ in 0..5 {
-                lines.next();
-            }
-            let state: State = (0..n)
-                .map(|_| {
-                    let w: Vec<f64> = lines
-                        .next()
-                        .expect("an atom")
-                        .split_whitespace()
-                        .map(|x| x.parse().expect("a number"))
-                        .collect();
-                    [w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8], w[9]]
-                })
-                .collect();
-            rows.insert(step, state);
-        }
-    }
-    rows
-}
 
 /// `walls.txt`: step → the force on each wall (N).
 fn read_walls(path: &Path) -> BTreeMap<u64, Vec<f64>> {
