@@ -78,9 +78,12 @@
 
 use crate::{num, Error, Result};
 use dembound_physics::contact::calibration::damping_ratio_for;
-use dembound_physics::contact::tangential::{mix_friction, TangentialKind};
+use dembound_physics::contact::tangential::linear::LinearTangential;
+use dembound_physics::contact::tangential::{
+    mix_friction, TangentialKind, TangentialSetup, TangentialSubModel,
+};
 use dembound_physics::contact::{Calibration, DampingKind, Dissipation, NormalLaw};
-use dembound_physics::material::{effective_modulus, effective_radius};
+use dembound_physics::material::{effective_modulus, effective_radius, PairProperties};
 use dembound_scene::setup::{SceneSetup, WallSetup};
 
 /// The contact settings of a LIGGGHTS scene deck.
@@ -491,7 +494,16 @@ fn hooke_springs(
             let Some(r_eff) = r_eff else { continue };
             let (a, b) = (type_materials[i], type_materials[j]);
             let e = effective_modulus(&setup.materials[a].material, &setup.materials[b].material);
-            let k_t = 2.0 / 7.0 * e * r_eff;
+            // dembound's own linear spring (contact::tangential::linear).
+            let k_t = LinearTangential::new(&TangentialSetup {
+                pair: PairProperties {
+                    radius: r_eff,
+                    modulus: e,
+                    mass: 0.0,
+                },
+                shear_modulus: 0.0,
+            })
+            .stiffness;
             if !(k_t.is_finite() && k_t > 0.0) {
                 return Err(Error::Export(format!(
                     "contact.tangential = \"linear\" between materials \"{}\" and \"{}\": k_t = \
