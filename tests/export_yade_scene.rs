@@ -247,3 +247,210 @@ fn rolling_friction_is_the_same_state_in_yade() {
         }
     }
 }
+
+/// A chute-like periodic cell (x and y periodic, the chute's 25° gravity,
+/// Hooke k = 50 N/m with the linear tangential spring, μ = 0.5, μ_r = 0.1,
+/// the floor's μ_r 0.025): the floor plane is a box in Yade (rolling
+/// friction needs ScGeom6D), swept by the collider along z
+/// (`periodic_box_sort_axis` in yade_scene.rs). `{BODY}`: the spheres;
+/// `{DT}`, `{STEPS}`, `{EVERY}`: the step, the run, the rows.
+const PERIODIC_CHUTE: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.012, 0.012, 0.02]
+periodic = [true, true, false]
+[[material]]
+name = "grain"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[contact]
+law = { hooke = 50.0 }
+tangential = "linear"
+friction = 0.5
+rolling_friction = 0.1
+[[particles]]
+spheres = [ {BODY} ]
+material = "grain"
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "grain"
+rolling_friction = 0.025
+[motion]
+gravity = [4.1458, 0.0, -8.8909]
+[integration]
+dt = {DT}
+steps = {STEPS}
+[output]
+series_every = {EVERY}
+"#;
+
+const CHUTE_K: f64 = 50.0;
+const CHUTE_R: f64 = 0.5e-3;
+/// |g_z| of the chute's gravity (m/s²).
+const CHUTE_GN: f64 = 8.8909;
+
+/// m = ρ 4/3 π R³ of the chute's grain (kg).
+fn chute_mass() -> f64 {
+    1000.0 * 4.0 / 3.0 * std::f64::consts::PI * CHUTE_R.powi(3)
+}
+
+/// Exports the periodic chute with `body`, runs Yade and returns the deck.
+fn run_periodic_chute(
+    dir: &Path,
+    body: &str,
+    dt: &str,
+    steps: &str,
+    every: &str,
+) -> std::path::PathBuf {
+    let text = PERIODIC_CHUTE
+        .replace("{BODY}", body)
+        .replace("{DT}", dt)
+        .replace("{STEPS}", steps)
+        .replace("{EVERY}", every);
+    let scene = dir.join("scene_in.toml");
+    std::fs::write(&scene, text).expect("written");
+    let deck = dir.join("deck");
+    let out = dembound()
+        .args(["export", "yade"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&deck)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = std::process::Command::new("yade")
+        .args(["-n", "-j1", "-x", "scene.py"])
+        .current_dir(&deck)
+        .output()
+        .expect("yade runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    deck
+}
+
+/// Four spheres resting on the floor of the periodic chute at their
+/// equilibrium overlap δ = m g_z/k, away from the cell's middle in x (where
+/// Yade's default x-sweep would have paired them with the box), sliding
+/// and rolling downslope from vx = 0.5 m/s across the periodic faces for
+/// 40 ms. On a flat face the normal motion does not feel the tangential
+/// one, so each sphere stays at z = R − δ and the floor carries exactly
+/// 4 m g_z, whatever the friction does: Yade's z and floor force against
+/// that formula. Before the sort-axis fix the spheres had no contact with
+/// the box and fell through (floor force 0).
+#[test]
+fn periodic_chute_floor_holds_resting_spheres_in_yade() {
+    if !have_yade() {
+        return;
+    }
+    let m = chute_mass();
+    let delta = m * CHUTE_GN / CHUTE_K;
+    let z = CHUTE_R - delta;
+    let sites = [
+        (0.001, 0.0015),
+        (0.0035, 0.0045),
+        (0.0085, 0.0075),
+        (0.011, 0.0105),
+    ];
+    let body = sites
+        .iter()
+        .map(|(x, y)| {
+            format!(
+                "{{ position = [{x}, {y}, {z:e}], radius = 0.5e-3, velocity = [0.5, 0.0, 0.0] }}"
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let deck = run_periodic_chute(dir.path(), &body, "2.0e-6", "20000", "200");
+    let rows = common::peer::read_dump(&deck.join("particles.dump"));
+    assert_eq!(rows.len(), 101, "rows at steps 0, 200, …, 20000");
+    // Tolerance 1e-9 (dembound compare's identical threshold): z = R − δ is
+    // written to the last bit, so Yade's overlap R − z is δ to ulp(R)/δ ≈
+    // 1e-12 and k_n (the harmonic mean of two E D = k) k to 1e-16; at that
+    // equilibrium the leapfrog stays within the same 1e-12.
+    for (step, state) in &rows {
+        for s in state {
+            assert!(
+                ((CHUTE_R - s[2]) / delta - 1.0).abs() < 1e-9,
+                "step {step}: overlap {} m against m g_z/k = {delta} m",
+                CHUTE_R - s[2]
+            );
+        }
+    }
+    // They crossed the periodic faces (Yade's positions are not wrapped):
+    // sliding from 0.5 m/s without spin, a sphere rolls on at 5/7 of that
+    // (more with the downslope gravity), over 40 ms at least 14 mm, more
+    // than the 12 mm cell.
+    let (first, last) = (&rows[&0], &rows[&20000]);
+    for (a, b) in first.iter().zip(last) {
+        assert!(b[0] - a[0] > 0.012, "moved {} m", b[0] - a[0]);
+    }
+    // The floor's force (walls.txt: step, Fx Fy Fz the spheres exert on it):
+    // Fz = 4 m g_z downwards at every row, to the same 1e-9.
+    let walls = std::fs::read_to_string(deck.join("walls.txt")).expect("walls.txt");
+    let weight = 4.0 * m * CHUTE_GN;
+    let mut n = 0;
+    for line in walls.lines().filter(|l| !l.starts_with('#')) {
+        let w: Vec<f64> = line
+            .split_whitespace()
+            .map(|x| x.parse().expect("a number"))
+            .collect();
+        assert!(
+            (-w[3] / weight - 1.0).abs() < 1e-9,
+            "step {}: Fz = {} N against -4 m g_z = {} N",
+            w[0],
+            w[3],
+            -weight
+        );
+        n += 1;
+    }
+    assert_eq!(n, 101);
+}
+
+/// One sphere dropped onto the periodic chute's floor from a gap h = 0.2 mm,
+/// inside the collider's Verlet sweep (R/2), away from the cell's middle:
+/// the case that fell through before the sort-axis fix. The normal motion
+/// is a fall onto an undamped spring, so the deepest overlap solves
+/// m g_z (h + δ) = k δ²/2 (the tangential motion does no work along z).
+#[test]
+fn periodic_chute_floor_stops_a_falling_sphere_in_yade() {
+    if !have_yade() {
+        return;
+    }
+    let (m, h, dt) = (chute_mass(), 2.0e-4, 1.0e-7);
+    let w = m * CHUTE_GN;
+    let delta_max = (w + (w * w + 2.0 * CHUTE_K * w * h).sqrt()) / CHUTE_K;
+    let body = format!(
+        "{{ position = [0.002, 0.003, {:e}], radius = 0.5e-3 }}",
+        CHUTE_R + h
+    );
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    // 9 ms: the fall takes sqrt(2 h/g_z) = 6.7 ms, the contact π sqrt(m/k) = 0.32 ms.
+    let deck = run_periodic_chute(dir.path(), &body, "1.0e-7", "90000", "10");
+    let rows = common::peer::read_dump(&deck.join("particles.dump"));
+    let deepest = rows
+        .values()
+        .map(|s| CHUTE_R - s[0][2])
+        .fold(f64::NEG_INFINITY, f64::max);
+    // The onset falls anywhere inside one step: δ_max is off by up to
+    // v Δt/δ_max = sqrt(2 g_z h) Δt/δ_max = 9.6e-4 (rows every 10 steps at
+    // the turning point add (k δ/m)(5 Δt)²/2 ≈ 1e-11 m); 2e-3 allows twice
+    // that. Falling through would give R − z → +∞, bouncing early 0.
+    let onset = (2.0 * CHUTE_GN * h).sqrt() * dt / delta_max;
+    assert!(onset < 1e-3, "{onset}");
+    assert!(
+        (deepest / delta_max - 1.0).abs() < 2e-3,
+        "deepest overlap {deepest} m against {delta_max} m"
+    );
+    // And it left the floor again: the last row is above the contact.
+    let last = rows.values().last().expect("rows")[0][2];
+    assert!(last > CHUTE_R, "z = {last} m at the end");
+}

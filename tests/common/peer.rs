@@ -190,7 +190,8 @@ pub fn read_liggghts_dump(deck: &Path) -> Vec<(u64, Vec<Vec<f64>>)> {
 /// One row of a LAMMPS scene deck's `particles.dump`: per sphere (x, v, ω).
 pub type State = Vec<[f64; 9]>;
 
-/// `particles.dump`: step → the spheres' states in id order.
+/// `particles.dump` (a LAMMPS or Yade scene deck's): step → the spheres'
+/// states in id order.
 pub fn read_dump(path: &Path) -> BTreeMap<u64, State> {
     let text = std::fs::read_to_string(path).expect("particles.dump");
     let mut rows = BTreeMap::new();
@@ -204,8 +205,12 @@ pub fn read_dump(path: &Path) -> BTreeMap<u64, State> {
         let step = number(lines.next());
         lines.next();
         let n = number(lines.next()) as usize;
-        for _ in 0..5 {
-            lines.next();
+        // LAMMPS writes the box (4 lines) before the ATOMS header, Yade's
+        // deck does not.
+        for l in lines.by_ref() {
+            if l.starts_with("ITEM: ATOMS") {
+                break;
+            }
         }
         let state: State = (0..n)
             .map(|_| {
