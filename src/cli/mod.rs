@@ -5,7 +5,9 @@
 
 pub mod benchmarks;
 pub mod compare;
+mod compare_flow;
 mod compare_profiles;
+mod compare_rows;
 mod compare_scene;
 pub mod exact;
 pub mod export;

@@ -112,7 +112,9 @@ pub fn parse_dump(text: &str) -> Result<Vec<DumpRow>> {
                 velocity: get3(v)?,
                 spin: w.map(get3).transpose()?,
                 radius: radius.map(|c| number(j, words[c])).transpose()?,
-                kind: kind.map(|c| number(j, words[c]).map(|t| t as u32)).transpose()?,
+                kind: kind
+                    .map(|c| number(j, words[c]).map(|t| t as u32))
+                    .transpose()?,
             });
         }
         spheres.sort_by_key(|s| s.id);
@@ -188,11 +190,16 @@ pub fn total_loop_time(log: &str) -> Option<(f64, u64, u64)> {
     ))
 }
 
-/// The thermo rows of a LAMMPS or LIGGGHTS log: step → column name →
-/// value, the names as the header line (`Step …`) above the rows prints
-/// them. A step printed twice (the end of one `run … every` loop and the
-/// start of the next, after its commands ran) keeps the later row.
-pub fn thermo_rows(log: &str) -> BTreeMap<u64, BTreeMap<String, f64>> {
+/// One thermo row: column name → value.
+pub type ThermoRow = BTreeMap<String, f64>;
+
+/// The thermo rows of a LAMMPS or LIGGGHTS log: step → its rows in the
+/// order printed (column name → value, the names as the header line
+/// `Step …` above prints them). A step is printed twice at the end of one
+/// `run … every` loop and at the start of the next, after the loop's
+/// commands (an outlet's deletion) ran: the first row is the state the
+/// dump wrote at that step, the last the state the next steps start from.
+pub fn thermo_rows(log: &str) -> BTreeMap<u64, Vec<ThermoRow>> {
     let mut rows = BTreeMap::new();
     let mut header: Vec<&str> = Vec::new();
     for line in log.lines() {
@@ -219,7 +226,7 @@ pub fn thermo_rows(log: &str) -> BTreeMap<u64, BTreeMap<String, f64>> {
             .zip(&values)
             .map(|(h, v)| (h.to_string(), *v))
             .collect();
-        rows.insert(step as u64, row);
+        rows.entry(step as u64).or_insert_with(Vec::new).push(row);
     }
     rows
 }
@@ -272,31 +279,46 @@ mod tests {
         );
         let rows = parse_dump(&text).expect("reads");
         let ids = |k: usize| rows[k].spheres.iter().map(|s| s.id).collect::<Vec<_>>();
-        assert_eq!(rows.iter().map(|r| r.step).collect::<Vec<_>>(), [0, 500, 1000]);
-        assert_eq!((ids(0), ids(1), ids(2)), (vec![1, 2], vec![1, 2, 3, 4], vec![2, 3, 4]));
+        assert_eq!(
+            rows.iter().map(|r| r.step).collect::<Vec<_>>(),
+            [0, 500, 1000]
+        );
+        assert_eq!(
+            (ids(0), ids(1), ids(2)),
+            (vec![1, 2], vec![1, 2, 3, 4], vec![2, 3, 4])
+        );
         let s4 = rows[1].spheres[3];
         assert_eq!((s4.radius, s4.kind), (Some(0.0015), Some(2)));
-        assert_eq!((s4.position, s4.velocity), ([0.4, 0.0, 0.5], [0.0, 0.0, -1.0]));
+        assert_eq!(
+            (s4.position, s4.velocity),
+            ([0.4, 0.0, 0.5], [0.0, 0.0, -1.0])
+        );
         assert_eq!(rows[2].spheres[1].radius, Some(0.0012));
         // A row shorter than its count, and an id twice, are refused.
         let short = format!("{}1 1 0.001 0 0 0.1 0 0 0\n", head(0, 2));
         assert!(parse_dump(&short).is_err());
-        let twice = format!("{}1 1 0.001 0 0 0.1 0 0 0\n1 1 0.001 0 0 0.2 0 0 0\n", head(0, 2));
+        let twice = format!(
+            "{}1 1 0.001 0 0 0.1 0 0 0\n1 1 0.001 0 0 0.2 0 0 0\n",
+            head(0, 2)
+        );
         let e = parse_dump(&twice).expect_err("an id twice").to_string();
         assert!(e.contains("sphere id 1 twice"), "{e}");
         // Without radius and type columns (LAMMPS decks): None.
         let lammps = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS mm mm mm\n0 1\n0 1\n0 1\n\
                       ITEM: ATOMS id x y z vx vy vz omegax omegay omegaz\n7 1 2 3 4 5 6 7 8 9\n";
         let s = parse_dump(lammps).expect("reads").remove(0).spheres[0];
-        assert_eq!((s.id, s.radius, s.kind, s.spin), (7, None, None, Some([7.0, 8.0, 9.0])));
+        assert_eq!(
+            (s.id, s.radius, s.kind, s.spin),
+            (7, None, None, Some([7.0, 8.0, 9.0]))
+        );
     }
 
     /// A deck with an outlet prints a thermo row at the end of each `run
     /// … every 100` loop and again at the start of the next, after the
-    /// deletion: the later row of a step is kept; words and other lines
-    /// are skipped.
+    /// deletion: both rows of the step are kept, in order; words and
+    /// other lines are skipped.
     #[test]
-    fn thermo_rows_keep_the_later_row_of_a_step() {
+    fn thermo_rows_keep_both_rows_of_a_step() {
         let log = "thermo_style custom step time ke v_out0_n v_out0_m\n\
                    Step Time KinEng out0_n out0_m ins0[1] \n\
                    0 0 0 0 0 0 \n100 0.0004 1e-6 0 0 5 \n\
@@ -307,9 +329,13 @@ mod tests {
                    Loop time of 0.07 on 1 procs for 100 steps with 8 atoms, finish time y\n";
         let rows = thermo_rows(log);
         assert_eq!(rows.keys().copied().collect::<Vec<_>>(), [0, 100, 200]);
-        assert_eq!(rows[&100]["out0_n"], 2.0);
-        assert_eq!(rows[&100]["KinEng"], 5e-7);
-        assert_eq!(rows[&200]["ins0[1]"], 10.0);
+        assert_eq!(rows[&100].len(), 2);
+        assert_eq!(
+            (rows[&100][0]["out0_n"], rows[&100][1]["out0_n"]),
+            (0.0, 2.0)
+        );
+        assert_eq!(rows[&100][1]["KinEng"], 5e-7);
+        assert_eq!(rows[&200][0]["ins0[1]"], 10.0);
         // Both loops: 0.12 s for 200 steps (the last line alone: 100).
         let (s, p, n) = total_loop_time(log).expect("two lines");
         assert!((s - 0.12).abs() < 1e-15);
