@@ -236,7 +236,7 @@ mod tests {
     /// second material (ρ = 1000) and one outlet when `flows`.
     fn scene(flows: bool) -> SceneSpheres {
         let extra = if flows {
-            "[[inlet]]\nregion = { box = { lower = [0.0, 0.0, 0.008], upper = [0.01, 0.01, 0.01] } }\n\
+            "[[inlet]]\nregion = { box = { lower = [0.0, 0.0, 0.006], upper = [0.01, 0.01, 0.01] } }\n\
              rate = { number = 100.0 }\nsize = { fixed = 1.5e-3 }\nmaterial = \"light\"\n\
              [[outlet]]\nregion = { box = { lower = [0.0, 0.0, 0.0], upper = [0.01, 0.01, 0.001] } }\n"
         } else {
@@ -260,8 +260,12 @@ poisson_ratio = 0.3
 [contact]
 law = "hertz"
 [[particles]]
-spheres = [{{ position = [0.005, 0.005, 0.005], radius = 1.0e-3 }}, {{ position = [0.002, 0.002, 0.002], radius = 1.0e-3, fixed = true }}]
+spheres = [{{ position = [0.005, 0.005, 0.005], radius = 1.0e-3 }}]
 material = "glass"
+[[particles]]
+spheres = [{{ position = [0.002, 0.002, 0.002], radius = 1.0e-3 }}]
+material = "glass"
+fixed = true
 [motion]
 gravity = [0.0, 0.0, -9.81]
 [integration]
