@@ -94,7 +94,7 @@ impl SceneSpheres {
     /// run") when it holds an id the scene cannot have (0; beyond the
     /// scene's spheres without inlets, or without a `radius` and a known
     /// `type`), or lacks one of the scene's spheres it cannot have lost.
-    pub fn from_dump(&self, row: &DumpRow) -> Result<Spheres, String> {
+    pub fn read_dump_row(&self, row: &DumpRow) -> Result<Spheres, String> {
         let n = self.count();
         let mut out = Spheres::default();
         for s in &row.spheres {
@@ -153,7 +153,7 @@ impl SceneSpheres {
     }
 
     /// dembound's spheres now (positions as given: the caller wraps).
-    pub fn from_simulation(&self, sim: &Simulation, position: Vec<[f64; 3]>) -> Spheres {
+    pub fn read_simulation(&self, sim: &Simulation, position: Vec<[f64; 3]>) -> Spheres {
         let index: Vec<usize> = sim.ids().into_iter().map(|i| i as usize).collect();
         let radius = sim.radii();
         let material = sim.material_indices();
@@ -295,7 +295,7 @@ steps = 10
         let s = scene(true);
         // Sphere 1 deleted, 2 (fixed) there, 3 inserted of type 2.
         let r = s
-            .from_dump(&row(&[
+            .read_dump_row(&row(&[
                 "3 2 0.0015 0.005 0.005 0.009 0 0 -1",
                 "2 1 0.001 0.002 0.002 0.002 0 0 0",
             ]))
@@ -310,7 +310,7 @@ steps = 10
         assert_eq!(r.free(), 1);
         // A type that is no material, or no radius column, is refused.
         let e = s
-            .from_dump(&row(&["3 3 0.0015 0.005 0.005 0.009 0 0 -1"]))
+            .read_dump_row(&row(&["3 3 0.0015 0.005 0.005 0.009 0 0 -1"]))
             .expect_err("type 3 of 2 materials");
         assert!(e.contains("type Some(3)"), "{e}");
     }
@@ -322,11 +322,11 @@ steps = 10
             "1 1 0.001 0.005 0.005 0.005 0 0 0",
             "2 1 0.001 0.002 0.002 0.002 0 0 0",
         ];
-        assert_eq!(s.from_dump(&row(&full)).expect("both").len(), 2);
-        let e = s.from_dump(&row(&full[..1])).expect_err("one missing");
+        assert_eq!(s.read_dump_row(&row(&full)).expect("both").len(), 2);
+        let e = s.read_dump_row(&row(&full[..1])).expect_err("one missing");
         assert!(e.contains("1 spheres of ids 1..2"), "{e}");
         let e = s
-            .from_dump(&row(&[full[0], full[1], "3 1 0.001 0 0 0 0 0 0"]))
+            .read_dump_row(&row(&[full[0], full[1], "3 1 0.001 0 0 0 0 0 0"]))
             .expect_err("an id too many");
         assert!(e.contains("sphere id 3") && e.contains("no inlet"), "{e}");
     }
