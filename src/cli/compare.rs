@@ -39,6 +39,12 @@ pub struct CompareArgs {
     /// the relative differences into this directory
     #[arg(long, value_name = "DIR")]
     pub figures: Option<PathBuf>,
+
+    /// Scene decks: the late window (means, standard errors, verdicts,
+    /// profiles, the discharge rate) starts at this time, s (default: the
+    /// last third of the rows)
+    #[arg(long, value_name = "SECONDS")]
+    pub window_from: Option<f64>,
 }
 
 /// The compared quantities of one contact, SI.

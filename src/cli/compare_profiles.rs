@@ -4,8 +4,10 @@
 //! peer's run and dembound's, with the largest difference between them.
 //!
 //! - Bins: slabs z ∈ [z₀ + k w, z₀ + (k + 1) w) from the domain's lower z,
-//!   w = the mean free-sphere diameter (stated in the report), up to the
-//!   domain's upper z.
+//!   w = the mean free-sphere diameter of the scene file (stated in the
+//!   report; the inlet's middle diameter when the scene starts empty), up
+//!   to the domain's upper z. Each row's spheres are those there then
+//!   (compare_rows.rs).
 //! - Packing fraction of a bin: the free spheres' volume inside the slab
 //!   (each sphere cut exactly: the volume of a sphere of radius R between
 //!   heights a and b from its centre is π [R² t − t³/3] from a to b, t
@@ -17,6 +19,7 @@
 //!   window means is ≤ 0.02 (issue 32's bar); the velocity profile is
 //!   reported without a bar (the issue sets none).
 
+use super::compare_rows::Spheres;
 use dembound_export::agreement::{self, WindowMean};
 use dembound_scene::setup::SceneSetup;
 use serde::Serialize;
@@ -45,9 +48,6 @@ pub struct ProfileReport {
 
 /// What the profiles need of the scene.
 pub struct Profiles {
-    radius: Vec<f64>,
-    mass: Vec<f64>,
-    fixed: Vec<bool>,
     lower: f64,
     width: f64,
     bins: usize,
@@ -57,21 +57,15 @@ pub struct Profiles {
 }
 
 impl Profiles {
-    pub fn new(setup: &SceneSetup, radius: &[f64], mass: &[f64], fixed: &[bool]) -> Self {
-        let free: Vec<f64> = (0..radius.len())
-            .filter(|&i| !fixed[i])
-            .map(|i| radius[i])
-            .collect();
-        let width = 2.0 * free.iter().sum::<f64>() / free.len().max(1) as f64;
+    /// Bins of `width` (m) over the domain's height.
+    pub fn new(setup: &SceneSetup, width: f64) -> Self {
         let d = &setup.domain;
         let height = d.upper[2] - d.lower[2];
+        let width = if width > 0.0 { width } else { height };
         let bins = ((height / width).ceil() as usize).clamp(1, 10_000);
         let g = setup.gravity;
         let h = (g[0] * g[0] + g[1] * g[1]).sqrt();
         Profiles {
-            radius: radius.to_vec(),
-            mass: mass.to_vec(),
-            fixed: fixed.to_vec(),
             lower: d.lower[2],
             width,
             bins,
@@ -81,15 +75,16 @@ impl Profiles {
     }
 
     /// Packing fraction of each bin.
-    pub fn packing(&self, x: &[[f64; 3]]) -> Vec<f64> {
+    pub fn packing(&self, s: &Spheres) -> Vec<f64> {
+        let x = &s.position;
         let mut phi = vec![0.0; self.bins];
         // ∫ π (R² − t²) dt = π (R² t − t³/3).
         let cap = |r: f64, t: f64| {
             let t = t.clamp(-r, r);
             std::f64::consts::PI * (r * r * t - t * t * t / 3.0)
         };
-        for i in (0..x.len()).filter(|&i| !self.fixed[i]) {
-            let (z, r) = (x[i][2], self.radius[i]);
+        for i in (0..x.len()).filter(|&i| !s.fixed[i]) {
+            let (z, r) = (x[i][2], s.radius[i]);
             let first = ((z - r - self.lower) / self.width).floor().max(0.0) as usize;
             let last = (((z + r - self.lower) / self.width).floor().max(0.0) as usize)
                 .min(self.bins.saturating_sub(1));
@@ -103,20 +98,21 @@ impl Profiles {
     }
 
     /// Mass-weighted mean velocity along the flow of each bin (0 if empty).
-    pub fn velocity(&self, x: &[[f64; 3]], v: &[[f64; 3]]) -> Vec<f64> {
+    pub fn velocity(&self, s: &Spheres) -> Vec<f64> {
+        let (x, v) = (&s.position, &s.velocity);
         let Some(e) = self.flow else {
             return Vec::new();
         };
         let mut momentum = vec![0.0; self.bins];
         let mut mass = vec![0.0; self.bins];
-        for i in (0..x.len()).filter(|&i| !self.fixed[i]) {
+        for i in (0..x.len()).filter(|&i| !s.fixed[i]) {
             let k = ((x[i][2] - self.lower) / self.width).floor();
             if k < 0.0 || k as usize >= self.bins {
                 continue;
             }
             let k = k as usize;
-            momentum[k] += self.mass[i] * (v[i][0] * e[0] + v[i][1] * e[1]);
-            mass[k] += self.mass[i];
+            momentum[k] += s.mass[i] * (v[i][0] * e[0] + v[i][1] * e[1]);
+            mass[k] += s.mass[i];
         }
         momentum
             .iter()
@@ -178,9 +174,6 @@ mod tests {
 
     fn profiles(bins: usize, width: f64) -> Profiles {
         Profiles {
-            radius: vec![0.5, 0.5, 1.0],
-            mass: vec![1.0, 3.0, 1.0],
-            fixed: vec![false, false, true],
             lower: 0.0,
             width,
             bins,
@@ -189,18 +182,37 @@ mod tests {
         }
     }
 
+    /// Spheres of radius 0.5, 0.5, 1 (the last fixed), masses 1, 3, 1.
+    fn spheres(x: [[f64; 3]; 3], v: [[f64; 3]; 3]) -> Spheres {
+        Spheres {
+            index: vec![0, 1, 2],
+            position: x.to_vec(),
+            velocity: v.to_vec(),
+            spin: vec![[0.0; 3]; 3],
+            radius: vec![0.5, 0.5, 1.0],
+            mass: vec![1.0, 3.0, 1.0],
+            fixed: vec![false, false, true],
+        }
+    }
+
     #[test]
     fn slices_add_up_to_the_spheres_volume() {
         // Two spheres of R = 0.5 cut by bins of width 0.3 anywhere: the bins
         // hold (4/3) π R³ each in all (the fixed one is left out).
         let p = profiles(20, 0.3);
-        let phi = p.packing(&[[0.0, 0.0, 1.234], [0.0, 0.0, 2.0], [0.0, 0.0, 0.0]]);
+        let phi = p.packing(&spheres(
+            [[0.0, 0.0, 1.234], [0.0, 0.0, 2.0], [0.0, 0.0, 0.0]],
+            [[0.0; 3]; 3],
+        ));
         let total: f64 = phi.iter().map(|f| f * 4.0 * 0.3).sum();
         let exact = 2.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.125;
         assert!((total / exact - 1.0).abs() < 1e-14, "{total} vs {exact}");
         // A bin of width 2R holding a whole sphere: φ = (4/3 π R³)/(A 2R).
         let p = profiles(4, 1.0);
-        let phi = p.packing(&[[0.0, 0.0, 1.5], [0.0, 0.0, 3.5], [0.0, 0.0, 0.5]]);
+        let phi = p.packing(&spheres(
+            [[0.0, 0.0, 1.5], [0.0, 0.0, 3.5], [0.0, 0.0, 0.5]],
+            [[0.0; 3]; 3],
+        ));
         let one = 4.0 / 3.0 * std::f64::consts::PI * 0.125 / 4.0;
         assert!((phi[1] - one).abs() < 1e-15 && (phi[3] - one).abs() < 1e-15);
         assert_eq!(phi[0], 0.0);
@@ -209,10 +221,10 @@ mod tests {
     #[test]
     fn velocity_is_mass_weighted_along_the_flow() {
         let p = profiles(4, 1.0);
-        let v = p.velocity(
-            &[[0.0, 0.0, 1.2], [0.0, 0.0, 1.7], [0.0, 0.0, 1.5]],
-            &[[1.0, 5.0, 0.0], [3.0, 0.0, 0.0], [9.0, 0.0, 0.0]],
-        );
+        let v = p.velocity(&spheres(
+            [[0.0, 0.0, 1.2], [0.0, 0.0, 1.7], [0.0, 0.0, 1.5]],
+            [[1.0, 5.0, 0.0], [3.0, 0.0, 0.0], [9.0, 0.0, 0.0]],
+        ));
         // (1 × 1 + 3 × 3)/4 = 2.5; the fixed sphere left out.
         assert_eq!(v, vec![0.0, 2.5, 0.0, 0.0]);
     }

@@ -5,8 +5,12 @@
 
 pub mod benchmarks;
 pub mod compare;
+mod compare_flow;
 mod compare_profiles;
+mod compare_rows;
+mod compare_sample;
 mod compare_scene;
+mod compare_scene_report;
 pub mod exact;
 pub mod export;
 pub mod keys;

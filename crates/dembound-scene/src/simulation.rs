@@ -346,6 +346,13 @@ impl Simulation {
         self.world.list.pair_count()
     }
 
+    /// The input index of each sphere still here, ascending: the order of
+    /// every per-sphere output (all of 0..n without removal; spheres an
+    /// inlet placed take the next indices in the order they came).
+    pub fn ids(&self) -> Vec<u32> {
+        self.world.bodies.ids_in_input_order()
+    }
+
     /// Centres, m, input order.
     pub fn positions(&self) -> Vec<[f64; 3]> {
         self.world
