@@ -36,7 +36,7 @@ use verlet::friction_spin_kick;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{LawTable, PairHistories};
-use crate::dynamics::friction::{FrictionTable, PairShear};
+use crate::dynamics::friction::{self, FrictionTable, PairShear};
 use crate::dynamics::gear5_rotation;
 use crate::dynamics::integrate;
 use crate::dynamics::kinks::Kinks;
@@ -141,6 +141,18 @@ pub struct Pipeline {
     /// (and by input id within a cell) and adds each body's pair forces in
     /// that order, whatever part of the scene it holds.
     pub(crate) whole_grid: Option<WholeGrid>,
+    /// The contacts' observables of the state after the next
+    /// [`Pipeline::steps`] are wanted: its last pair pass tallies them
+    /// ([`Self::pair_tally`]).
+    pub(crate) tally_wanted: bool,
+    /// The pair pass running now tallies.
+    tallying: bool,
+    /// Each body's tally of its listed pairs' observables
+    /// (`friction::PairTally`), valid at step [`Self::tally_step`].
+    pair_tally: Vec<friction::PairTally>,
+    /// The step whose end state [`Self::pair_tally`] describes; `None`:
+    /// none does.
+    tally_step: Option<u64>,
 }
 
 /// What differs between one process and one rank of a decomposed scene
@@ -251,10 +263,26 @@ impl Pipeline {
         n: u64,
         hooks: &mut impl StepHooks,
     ) {
+        let wanted = std::mem::take(&mut self.tally_wanted);
+        self.tally_step = None;
         for k in 0..n {
+            // The last step's pair pass (Verlet: the state the steps end
+            // in; only the velocities' last half kick follows).
+            self.tallying = wanted && k + 1 == n && world.scheme == Scheme::Verlet;
             self.step(world, workers, k + 1 < n, hooks);
         }
+        self.tallying = false;
         self.finish(world, workers);
+        if self.tally_step.is_some() {
+            self.tally_step = Some(world.steps_done);
+        }
+    }
+
+    /// Each body's tally of its listed pairs' observables when the last
+    /// pair pass made one at this state (see [`Self::tally_wanted`]).
+    pub(crate) fn pair_tally(&self, world: &World) -> Option<&[friction::PairTally]> {
+        (self.tally_step == Some(world.steps_done) && self.pair_tally.len() == world.bodies.len())
+            .then_some(&self.pair_tally[..])
     }
 
     /// Applies a pending half kick.

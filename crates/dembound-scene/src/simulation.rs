@@ -179,6 +179,15 @@ impl Simulation {
             .steps(&mut self.world, &self.workers, n, &mut Local);
     }
 
+    /// The next [`Self::step`] ends where the caller observes
+    /// ([`Self::observe`]): its last pair pass tallies the pairs'
+    /// observables on the way (with friction, on one process, Verlet), so
+    /// that the observation does not visit the pairs again. The same
+    /// numbers, bit for bit; only the work moves.
+    pub fn will_observe(&mut self) {
+        self.pipeline.tally_wanted = true;
+    }
+
     /// [`Self::step`], then the state checked: an error
     /// ([`SceneError::Unstable`]) when a position, velocity or spin is no
     /// longer finite, so that a blown-up run is never reported as numbers;
@@ -283,6 +292,7 @@ impl Simulation {
     /// [`Self::step_checked`], then one [`Self::observe_checked`] (for
     /// callers that do not observe between stretches: Python).
     pub fn step_guarded(&mut self, n: u64) -> Result<(), SceneError> {
+        self.will_observe();
         self.step_checked(n)?;
         self.observe_checked().map(|_| ())
     }

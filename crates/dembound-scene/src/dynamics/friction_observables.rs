@@ -30,7 +30,7 @@
 
 use super::contacts::{PairHistories, NO_HISTORY};
 
-use super::friction::{FrictionLaw, FrictionTable, PairShear};
+use super::friction::{FrictionLaw, FrictionTable, PairShear, PairTally};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{Workers, BODY_CHUNK};
@@ -76,6 +76,7 @@ pub fn observe(
     surfaces: &[Surface],
     walls: &WallContacts,
     workers: &Workers,
+    tally: Option<&[PairTally]>,
 ) -> Option<ContactObservables> {
     let n = bodies.len();
     let np = surfaces.len();
@@ -86,7 +87,8 @@ pub fn observe(
         && (!shear.rolling || shear.roll_main.len() == list.j.len())
         && (np == 0 || (walls.bodies() == n && walls.shear.len() == walls.key.len()))
         && bodies.class.len() == n
-        && bodies.group.len() == n;
+        && bodies.group.len() == n
+        && tally.is_none_or(|t| t.len() == n);
     if classes == 0 || !aligned {
         return None;
     }
@@ -100,6 +102,7 @@ pub fn observe(
         table: &friction.pairs,
         plane_table: &friction.planes,
         classes,
+        tally,
     };
     #[cfg(target_arch = "x86_64")]
     let avx2 = std::is_x86_feature_detected!("avx2");
@@ -144,6 +147,10 @@ struct Pass<'a> {
     table: &'a [FrictionLaw],
     plane_table: &'a [FrictionLaw],
     classes: usize,
+    /// Each body's sums over its pairs, as the last pair pass tallied
+    /// them at this state (`friction::PairTally`): the pairs are not
+    /// visited again.
+    tally: Option<&'a [PairTally]>,
 }
 
 impl Pass<'_> {
@@ -172,6 +179,7 @@ impl Pass<'_> {
             table,
             plane_table,
             classes,
+            tally,
         } = *self;
         let np = surfaces.len();
         let slots = plane_table.len() / classes.max(1);
@@ -192,7 +200,14 @@ impl Pass<'_> {
             let (mut count, mut walled, mut energy) = (0.0, 0.0, 0.0);
             // `spring_energy`'s per-body sum.
             let mut springs = 0.0;
-            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            let (s, e) = if let Some(t) = tally {
+                // The same sums, made by the force pass
+                // (`friction::add_pair_forces_tallied`).
+                [count, walled, energy, springs] = t[i];
+                (0, 0)
+            } else {
+                (list.start[i] as usize, list.start[i + 1] as usize)
+            };
             for (k, (&j, t)) in (s..e).zip(list.j[s..e].iter().zip(&shear.main[s..e])) {
                 let j = j as usize;
                 let xj = position[j];
@@ -366,6 +381,7 @@ pub(crate) mod tests {
                     &w.surfaces,
                     &w.wall_contacts,
                     &sim.workers,
+                    None,
                 )
                 .expect("the fast path applies: class table, no extra pairs");
                 let passes = sim.contact_observables();

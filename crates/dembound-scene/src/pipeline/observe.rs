@@ -5,6 +5,7 @@
 //! [`ObserveHooks`] (one process: everything, no sum; a rank of a
 //! decomposed scene: `comm::distributed`).
 
+use crate::dynamics::friction::PairTally;
 use crate::dynamics::friction_observables::{self, ContactObservables};
 use crate::dynamics::{contacts, spring_energy, walls};
 use crate::parallel::Workers;
@@ -29,24 +30,7 @@ pub(crate) trait ObserveHooks {
 
 impl ObserveHooks for Local {
     fn contacts(&self, world: &World, workers: &Workers) -> ContactObservables {
-        // With friction, one pass gives what the passes give, with the
-        // same bits (`friction_observables`).
-        world
-            .friction
-            .as_ref()
-            .and_then(|table| {
-                friction_observables::observe(
-                    &world.bodies,
-                    &world.list,
-                    &world.histories,
-                    table,
-                    &world.shear,
-                    &world.surfaces,
-                    &world.wall_contacts,
-                    workers,
-                )
-            })
-            .unwrap_or_else(|| contact_passes(world, workers))
+        local_contacts(world, workers, None)
     }
 
     fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
@@ -63,6 +47,52 @@ impl ObserveHooks for Local {
     fn sum(&self, values: Vec<f64>) -> Vec<f64> {
         values
     }
+}
+
+/// One process's observation with what the last pair pass tallied of the
+/// pairs at this state (`Pipeline::pair_tally`), when it did: the pairs
+/// are not visited again.
+pub(crate) struct Tallied<'a>(pub Option<&'a [PairTally]>);
+
+impl ObserveHooks for Tallied<'_> {
+    fn contacts(&self, world: &World, workers: &Workers) -> ContactObservables {
+        local_contacts(world, workers, self.0)
+    }
+
+    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
+        Local.wall_loads(world)
+    }
+
+    fn sum(&self, values: Vec<f64>) -> Vec<f64> {
+        values
+    }
+}
+
+/// The contacts' observables on one process: with friction one pass (the
+/// pairs from `tally` when given), with the same bits as the separate
+/// passes (`friction_observables`).
+fn local_contacts(
+    world: &World,
+    workers: &Workers,
+    tally: Option<&[PairTally]>,
+) -> ContactObservables {
+    world
+        .friction
+        .as_ref()
+        .and_then(|table| {
+            friction_observables::observe(
+                &world.bodies,
+                &world.list,
+                &world.histories,
+                table,
+                &world.shear,
+                &world.surfaces,
+                &world.wall_contacts,
+                workers,
+                tally,
+            )
+        })
+        .unwrap_or_else(|| contact_passes(world, workers))
 }
 
 /// Every global observable at the current state; `initial_energy`: the

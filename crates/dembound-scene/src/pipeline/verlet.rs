@@ -270,6 +270,7 @@ impl Pipeline {
                     (f, torque),
                     workers,
                     Some(&follow_friction),
+                    None,
                 )
             };
         }

@@ -7,7 +7,7 @@ use dembound_physics::contact::{ContactHistory, ContactState, Side};
 
 use super::pair_batch::{Batch, BATCH};
 use super::{add, sub, FrictionLaw, FrictionTable, PairShear};
-use crate::bodies::Bodies;
+use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::contacts::{
     extended, run_blocks_then, touching, touching_lazy, FollowUp, LawTable, PairGeometry,
     PairHistories, NO_HISTORY,
@@ -92,8 +92,68 @@ pub fn add_pair_forces(
             (SharedMut::new(force), SharedMut::new(torque)),
             workers,
             None,
+            None,
         )
     };
+}
+
+/// [`add_pair_forces`], and each body's [`PairTally`] of its listed pairs
+/// at this state into `tally` (one per body): what
+/// `friction_observables` would count and sum over them, with the same
+/// bits. `false` (nothing written) when the tally does not apply: extra
+/// pairs, no class table, or histories or rolling springs not those the
+/// observation reads.
+#[allow(clippy::too_many_arguments)]
+pub fn add_pair_forces_tallied(
+    input: &PairForceInput,
+    histories: &mut PairHistories,
+    shear: &mut PairShear,
+    force: &mut [[f64; 3]],
+    torque: &mut [[f64; 3]],
+    workers: &Workers,
+    tally: &mut Vec<PairTally>,
+) -> bool {
+    let n = input.bodies.len();
+    assert!(force.len() == n && torque.len() == n);
+    let applies = tally_applies(input, histories, shear);
+    if applies {
+        tally.resize(n, [0.0; 4]);
+    }
+    // SAFETY: one force and one torque per body (asserted), and one tally
+    // (resized), borrowed mutably here.
+    unsafe {
+        add_pair_forces_then(
+            input,
+            histories,
+            shear,
+            (SharedMut::new(force), SharedMut::new(torque)),
+            workers,
+            None,
+            applies.then(|| SharedMut::new(tally)),
+        )
+    };
+    applies
+}
+
+/// What a body's listed pairs add to the observables
+/// (`friction_observables`): touching pairs with neither in a
+/// boundary-particle wall, touching pairs with one in such a wall, their
+/// normal elastic energy (J) and their springs' energy (J), each summed
+/// over the body's entries in list order.
+pub type PairTally = [f64; 4];
+
+/// Whether the force loop can tally the observables: every pair in the
+/// main list (its rows one per body), laws from the class table, the
+/// histories the loop updates those the observation reads (none kept:
+/// none stored), the rolling springs the loop moves those it reads.
+fn tally_applies(input: &PairForceInput, histories: &PairHistories, shear: &PairShear) -> bool {
+    let n = input.bodies.len();
+    input.list.extra.is_empty()
+        && input.list.start.len() == n + 1
+        && input.friction.classes > 0
+        && (input.laws.history || histories.main.is_empty())
+        && shear.rolling == input.friction.rolling
+        && input.bodies.group.len() == n
 }
 
 /// [`add_pair_forces`] with a follow-up on each block's bodies once their
@@ -110,6 +170,7 @@ pub(crate) unsafe fn add_pair_forces_then(
     (force, torque): (SharedMut<[f64; 3]>, SharedMut<[f64; 3]>),
     workers: &Workers,
     follow: Option<FollowUp>,
+    tally: Option<SharedMut<PairTally>>,
 ) -> f64 {
     let PairForceInput {
         bodies,
@@ -163,6 +224,7 @@ pub(crate) unsafe fn add_pair_forces_then(
         shear: SharedMut(shear.main.as_mut_ptr()),
         roll: SharedMut(shear.roll_main.as_mut_ptr()),
         dt,
+        tally,
     };
     // One loop per setting, so that the per-contact code has no branch on
     // them (the compiler does not unswitch the loop by itself).
@@ -257,6 +319,9 @@ pub(super) struct MainPairs<'a> {
     pub(super) shear: SharedMut<[f64; 3]>,
     pub(super) roll: SharedMut<[f64; 3]>,
     pub(super) dt: f64,
+    /// Each body's [`PairTally`] is written here when `Some` (a body's
+    /// row is visited by one block only).
+    pub(super) tally: Option<SharedMut<PairTally>>,
 }
 
 impl MainPairs<'_> {
@@ -348,6 +413,10 @@ impl MainPairs<'_> {
         let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
         let (s, e) = (start[i] as usize, start[i + 1] as usize);
         if s == e {
+            if let Some(tally) = self.tally {
+                // SAFETY: i is in this block (one per body, the caller's).
+                unsafe { *tally.at(i) = [0.0; 4] };
+            }
             return;
         }
         let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
@@ -360,6 +429,7 @@ impl MainPairs<'_> {
         let ci = if TABLE { class[i] as usize } else { 0 };
         let mut fi = [0.0; 3];
         let mut ti = [0.0; 3];
+        let mut sums: PairTally = [0.0; 4];
         for k in s..e {
             // SAFETY (the unchecked reads): k < js.len() (rows lie
             // within j, asserted via start[n]), and every j < n (the
@@ -405,6 +475,24 @@ impl MainPairs<'_> {
                     None
                 };
                 let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                if self.tally.is_some() {
+                    let roll = if ROLL {
+                        // SAFETY: as the spring above.
+                        Some(unsafe { &*self.roll.0.add(k) })
+                    } else {
+                        None
+                    };
+                    let walled =
+                        self.bodies.group[i] != NO_GROUP || self.bodies.group[j] != NO_GROUP;
+                    let hist = if KEEP {
+                        // SAFETY: as the history above.
+                        unsafe { &*self.history.0.add(k) }
+                    } else {
+                        &NO_HISTORY
+                    };
+                    let sh = unsafe { &*self.shear.0.add(k) };
+                    tally_entry(&mut sums, fl, g.overlap, walled, hist, sh, roll);
+                }
                 sub(&mut fi, fj);
                 add(&mut ti, tqi);
                 unsafe {
@@ -435,7 +523,37 @@ impl MainPairs<'_> {
         unsafe {
             add(&mut *self.force.0.add(i), fi);
             add(&mut *self.torque.0.add(i), ti);
+            if let Some(tally) = self.tally {
+                *tally.at(i) = sums;
+            }
         }
+    }
+}
+
+/// Adds one touching entry to its body's [`PairTally`], as
+/// `friction_observables` does (the same operations in the same order on
+/// the same values: the overlap, the history and springs after the force
+/// stage moved them). `roll`: the rolling spring, `None` when none are
+/// kept (zero).
+#[inline(always)]
+pub(super) fn tally_entry(
+    sums: &mut PairTally,
+    fl: &FrictionLaw,
+    overlap: f64,
+    walled: bool,
+    history: &ContactHistory,
+    shear: &[f64; 3],
+    roll: Option<&[f64; 3]>,
+) {
+    if walled {
+        sums[1] += 1.0;
+    } else {
+        sums[0] += 1.0;
+    }
+    sums[2] += fl.law.elastic_energy(overlap, history);
+    let r = roll.copied().unwrap_or([0.0; 3]);
+    if *shear != [0.0; 3] || r != [0.0; 3] {
+        sums[3] += fl.spring_energy(overlap, shear, &r);
     }
 }
 
