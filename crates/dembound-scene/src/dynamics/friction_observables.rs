@@ -177,12 +177,11 @@ impl Pass<'_> {
             surfaces,
             walls,
             table,
-            plane_table,
             classes,
             tally,
+            ..
         } = *self;
         let np = surfaces.len();
-        let slots = plane_table.len() / classes.max(1);
         let mut out = Chunk {
             pairs: [0.0; 4],
             planes: [0.0; 2],
@@ -193,6 +192,22 @@ impl Pass<'_> {
             &bodies.class[..],
             &bodies.group[..],
         );
+        if let Some(tally) = tally {
+            // The pairs' sums made by the force pass
+            // (`friction::add_pair_forces_tallied`); a body's planes
+            // only where it has near walls.
+            for (i, &[count, walled, energy, mut springs]) in
+                tally.iter().enumerate().take(hi).skip(lo)
+            {
+                if np > 0 && !bodies.fixed[i] && !walls.range(i).is_empty() {
+                    self.planes(i, &mut out.planes, &mut springs);
+                }
+                for (sum, x) in out.pairs.iter_mut().zip([count, walled, energy, springs]) {
+                    *sum += x;
+                }
+            }
+            return out;
+        }
         for i in lo..hi {
             let (xi, ri, ci) = (position[i], radius[i], class[i] as usize);
             let walled_i = group[i] != NO_GROUP;
@@ -200,14 +215,7 @@ impl Pass<'_> {
             let (mut count, mut walled, mut energy) = (0.0, 0.0, 0.0);
             // `spring_energy`'s per-body sum.
             let mut springs = 0.0;
-            let (s, e) = if let Some(t) = tally {
-                // The same sums, made by the force pass
-                // (`friction::add_pair_forces_tallied`).
-                [count, walled, energy, springs] = t[i];
-                (0, 0)
-            } else {
-                (list.start[i] as usize, list.start[i + 1] as usize)
-            };
+            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
             for (k, (&j, t)) in (s..e).zip(list.j[s..e].iter().zip(&shear.main[s..e])) {
                 let j = j as usize;
                 let xj = position[j];
@@ -236,34 +244,55 @@ impl Pass<'_> {
                 }
             }
             if np > 0 && !bodies.fixed[i] {
-                for k in walls.range(i) {
-                    let key = walls.key[k];
-                    let surface = &surfaces[key.wall as usize];
-                    // Positions only: the count and energies need no
-                    // velocity.
-                    let c = surface.contact(key.element, xi, [0.0; 3], ri);
-                    let h = c.overlap;
-                    if h <= 0.0 {
-                        continue;
-                    }
-                    let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
-                    let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
-                    let stored = &walls.shear[k].shear;
-                    out.planes[0] += 1.0;
-                    out.planes[1] += fl.law.elastic_energy(h, hist);
-                    // `spring_energy`'s planes.
-                    if *stored != [0.0; 6] {
-                        let t = [stored[0], stored[1], stored[2]];
-                        let r = [stored[3], stored[4], stored[5]];
-                        springs += fl.spring_energy(h, &t, &r);
-                    }
-                }
+                self.planes(i, &mut out.planes, &mut springs);
             }
             for (sum, x) in out.pairs.iter_mut().zip([count, walled, energy, springs]) {
                 *sum += x;
             }
         }
         out
+    }
+
+    /// Body i's plane contacts: the count and elastic energy into
+    /// `planes` (the chunk's running sums), their springs' energy into
+    /// `springs` (the body's, after its pairs').
+    #[inline(always)]
+    fn planes(&self, i: usize, planes: &mut [f64; 2], springs: &mut f64) {
+        let Pass {
+            bodies,
+            surfaces,
+            walls,
+            plane_table,
+            classes,
+            ..
+        } = *self;
+        let slots = plane_table.len() / classes.max(1);
+        let (xi, ri, ci) = (
+            bodies.position[i],
+            bodies.radius[i],
+            bodies.class[i] as usize,
+        );
+        for k in walls.range(i) {
+            let key = walls.key[k];
+            let surface = &surfaces[key.wall as usize];
+            // Positions only: the count and energies need no velocity.
+            let c = surface.contact(key.element, xi, [0.0; 3], ri);
+            let h = c.overlap;
+            if h <= 0.0 {
+                continue;
+            }
+            let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
+            let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
+            let stored = &walls.shear[k].shear;
+            planes[0] += 1.0;
+            planes[1] += fl.law.elastic_energy(h, hist);
+            // `spring_energy`'s planes.
+            if *stored != [0.0; 6] {
+                let t = [stored[0], stored[1], stored[2]];
+                let r = [stored[3], stored[4], stored[5]];
+                *springs += fl.spring_energy(h, &t, &r);
+            }
+        }
     }
 }
 

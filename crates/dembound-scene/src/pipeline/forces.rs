@@ -120,15 +120,29 @@ impl Pipeline {
             return;
         }
         let mut force = std::mem::take(&mut world.bodies.force);
-        contacts::add_pair_forces(
-            &world.bodies,
-            &world.ghosts,
-            &world.list,
-            &mut world.histories,
-            &world.laws,
-            &mut force,
-            workers,
-        );
+        if std::mem::take(&mut self.tallying) {
+            let made = contacts::add_pair_forces_tallied(
+                &world.bodies,
+                &world.ghosts,
+                &world.list,
+                &mut world.histories,
+                &world.laws,
+                &mut force,
+                workers,
+                &mut self.plain_tally,
+            );
+            self.tally_step = made.then_some(world.steps_done);
+        } else {
+            contacts::add_pair_forces(
+                &world.bodies,
+                &world.ghosts,
+                &world.list,
+                &mut world.histories,
+                &world.laws,
+                &mut force,
+                workers,
+            );
+        }
         world.bodies.force = force;
     }
 }

@@ -285,6 +285,7 @@ impl Pipeline {
                 f,
                 workers,
                 Some(&follow),
+                None,
             )
         }
     }

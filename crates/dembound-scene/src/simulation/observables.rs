@@ -83,7 +83,7 @@ impl Simulation {
 
     /// Every global observable at the current state.
     pub fn observe(&self) -> Observation {
-        let tally = observe::Tallied(self.pipeline.pair_tally(&self.world));
+        let tally = self.pipeline.pair_tally(&self.world);
         observe::observation(&self.world, &self.workers, self.initial_energy, &tally)
     }
 
@@ -94,7 +94,7 @@ impl Simulation {
     pub(crate) fn contact_observables(
         &self,
     ) -> crate::dynamics::friction_observables::ContactObservables {
-        observe::contact_passes(&self.world, &self.workers)
+        observe::contact_passes(&self.world, &self.workers, None)
     }
 
     /// The loads of mesh wall `wall` (file order) per triangle of its

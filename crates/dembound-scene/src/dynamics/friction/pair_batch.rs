@@ -14,7 +14,12 @@ impl MainPairs<'_> {
     /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
     /// entries in all (see [`Self::block`]).
     #[inline(always)]
-    pub(super) fn batch<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+    pub(super) fn batch<
+        const KEEP: bool,
+        const ROLL: bool,
+        const TABLE: bool,
+        const TALLY: bool,
+    >(
         &self,
         lo: usize,
         hi: usize,
@@ -220,10 +225,11 @@ impl MainPairs<'_> {
                 add(&mut *self.torque.0.add(i), ti);
             }
         }
-        // The rows' tallies of the observables, when asked (once per
-        // batch): the contacts found, row by row in list order, with the
-        // histories and springs as the stages left them.
-        if let Some(tally) = self.tally {
+        // The rows' tallies of the observables, when asked: the contacts
+        // found, row by row in list order, with the histories and springs
+        // as the stages left them.
+        if TALLY {
+            let tally = self.tally;
             let group = &self.bodies.group[..];
             let mut from = 0usize;
             for i in lo..hi {

@@ -150,6 +150,7 @@ fn tally_applies(input: &PairForceInput, histories: &PairHistories, shear: &Pair
     let n = input.bodies.len();
     input.list.extra.is_empty()
         && input.list.start.len() == n + 1
+        && crate::dynamics::contacts::covers(input.list, n)
         && input.friction.classes > 0
         && (input.laws.history || histories.main.is_empty())
         && shear.rolling == input.friction.rolling
@@ -224,20 +225,25 @@ pub(crate) unsafe fn add_pair_forces_then(
         shear: SharedMut(shear.main.as_mut_ptr()),
         roll: SharedMut(shear.roll_main.as_mut_ptr()),
         dt,
-        tally,
+        tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
     };
     // One loop per setting, so that the per-contact code has no branch on
     // them (the compiler does not unswitch the loop by itself).
     let table = friction.classes > 0;
-    let value = match (keep, rolling, table) {
-        (false, false, true) => main.run::<false, false, true>(workers, follow),
-        (false, false, false) => main.run::<false, false, false>(workers, follow),
-        (false, true, true) => main.run::<false, true, true>(workers, follow),
-        (false, true, false) => main.run::<false, true, false>(workers, follow),
-        (true, false, true) => main.run::<true, false, true>(workers, follow),
-        (true, false, false) => main.run::<true, false, false>(workers, follow),
-        (true, true, true) => main.run::<true, true, true>(workers, follow),
-        (true, true, false) => main.run::<true, true, false>(workers, follow),
+    // The tally needs the class table (`tally_applies`): four more loops.
+    let value = match (keep, rolling, table, tally.is_some() && table) {
+        (false, false, true, true) => main.run::<false, false, true, true>(workers, follow),
+        (false, true, true, true) => main.run::<false, true, true, true>(workers, follow),
+        (true, false, true, true) => main.run::<true, false, true, true>(workers, follow),
+        (true, true, true, true) => main.run::<true, true, true, true>(workers, follow),
+        (false, false, true, _) => main.run::<false, false, true, false>(workers, follow),
+        (false, false, false, _) => main.run::<false, false, false, false>(workers, follow),
+        (false, true, true, _) => main.run::<false, true, true, false>(workers, follow),
+        (false, true, false, _) => main.run::<false, true, false, false>(workers, follow),
+        (true, false, true, _) => main.run::<true, false, true, false>(workers, follow),
+        (true, false, false, _) => main.run::<true, false, false, false>(workers, follow),
+        (true, true, true, _) => main.run::<true, true, true, false>(workers, follow),
+        (true, true, false, _) => main.run::<true, true, false, false>(workers, follow),
     };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
@@ -319,16 +325,16 @@ pub(super) struct MainPairs<'a> {
     pub(super) shear: SharedMut<[f64; 3]>,
     pub(super) roll: SharedMut<[f64; 3]>,
     pub(super) dt: f64,
-    /// Each body's [`PairTally`] is written here when `Some` (a body's
-    /// row is visited by one block only).
-    pub(super) tally: Option<SharedMut<PairTally>>,
+    /// Each body's [`PairTally`] is written here by the loops with
+    /// `TALLY` (a body's row is visited by one block only); null without.
+    pub(super) tally: SharedMut<PairTally>,
 }
 
 impl MainPairs<'_> {
     /// Every block of main pairs. `KEEP`: the normal law keeps histories;
     /// `ROLL`: rolling springs are kept; `TABLE`: laws come from the class
     /// table. The caller has checked the lengths (`add_pair_forces`).
-    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
         &self,
         workers: &Workers,
         follow: Option<FollowUp>,
@@ -339,14 +345,14 @@ impl MainPairs<'_> {
             return run_blocks_then(
                 workers,
                 self.list,
-                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE>(b) },
+                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE, TALLY>(b) },
                 follow,
             );
         }
         run_blocks_then(
             workers,
             self.list,
-            |b| self.block::<KEEP, ROLL, TABLE>(b),
+            |b| self.block::<KEEP, ROLL, TABLE, TALLY>(b),
             follow,
         )
     }
@@ -360,8 +366,16 @@ impl MainPairs<'_> {
     /// The processor must have AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
-    unsafe fn block_avx2<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
-        self.block::<KEEP, ROLL, TABLE>(b)
+    unsafe fn block_avx2<
+        const KEEP: bool,
+        const ROLL: bool,
+        const TABLE: bool,
+        const TALLY: bool,
+    >(
+        &self,
+        b: usize,
+    ) {
+        self.block::<KEEP, ROLL, TABLE, TALLY>(b)
     }
 
     /// Block `b`'s rows, in batches of consecutive rows with at most
@@ -375,7 +389,10 @@ impl MainPairs<'_> {
     /// operations on the same values in the same order as [`Self::row`]
     /// (the springs of untouched entries set to exactly +0): the same bits.
     #[inline(always)]
-    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
+        &self,
+        b: usize,
+    ) {
         let start = self.start;
         let lo = self.list.blocks[b] as usize;
         let hi = self.list.blocks[b + 1] as usize;
@@ -390,10 +407,10 @@ impl MainPairs<'_> {
             if end == i || !TABLE || row_by_row() {
                 // A row longer than a batch (a large body's), or laws
                 // computed per pair (no class table).
-                self.row::<KEEP, ROLL, TABLE>(i);
+                self.row::<KEEP, ROLL, TABLE, TALLY>(i);
                 i += 1;
             } else {
-                self.batch::<KEEP, ROLL, TABLE>(i, end, &mut scratch);
+                self.batch::<KEEP, ROLL, TABLE, TALLY>(i, end, &mut scratch);
                 i = end;
             }
         }
@@ -401,7 +418,10 @@ impl MainPairs<'_> {
 
     /// Row i entry by entry (rows longer than a batch).
     #[inline(always)]
-    fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, i: usize) {
+    fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
+        &self,
+        i: usize,
+    ) {
         let (position, velocity, radius, spin, inverse_inertia, class) = (
             self.position,
             self.velocity,
@@ -413,9 +433,9 @@ impl MainPairs<'_> {
         let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
         let (s, e) = (start[i] as usize, start[i + 1] as usize);
         if s == e {
-            if let Some(tally) = self.tally {
+            if TALLY {
                 // SAFETY: i is in this block (one per body, the caller's).
-                unsafe { *tally.at(i) = [0.0; 4] };
+                unsafe { *self.tally.at(i) = [0.0; 4] };
             }
             return;
         }
@@ -475,7 +495,7 @@ impl MainPairs<'_> {
                     None
                 };
                 let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
-                if self.tally.is_some() {
+                if TALLY {
                     let roll = if ROLL {
                         // SAFETY: as the spring above.
                         Some(unsafe { &*self.roll.0.add(k) })
@@ -523,8 +543,8 @@ impl MainPairs<'_> {
         unsafe {
             add(&mut *self.force.0.add(i), fi);
             add(&mut *self.torque.0.add(i), ti);
-            if let Some(tally) = self.tally {
-                *tally.at(i) = sums;
+            if TALLY {
+                *self.tally.at(i) = sums;
             }
         }
     }
@@ -579,7 +599,8 @@ mod tests {
 
     use dembound_physics::contact::{ContactModel, NormalLaw};
 
-    use super::{add_pair_forces, PairForceInput, ROW_BY_ROW};
+    use super::{add_pair_forces, add_pair_forces_tallied, PairForceInput, ROW_BY_ROW};
+    use crate::dynamics::friction_observables::observe;
     use crate::dynamics::friction_observables::tests::scene;
     use crate::setup::TimeStep;
     use crate::Simulation;
@@ -645,6 +666,85 @@ mod tests {
             // of loaded components per check by the end (Walton–Braun's
             // shorter run, tens; 833 in all when written).
             assert!(touching > 500, "{touching}");
+        }
+    }
+
+    /// The force pass's tally, summed by the observation pass, gives what
+    /// the observation pass computes from the pairs itself, bit for bit
+    /// (the reference visits every listed pair again at the state the
+    /// force pass left: the springs and histories it moved), batched and
+    /// row by row, with and without contact histories, on 1 and 2 threads.
+    #[test]
+    fn tally_equals_the_observation_pass_bit_for_bit() {
+        for (history, threads) in [(false, 1), (true, 1), (false, 2)] {
+            let mut setup = scene();
+            if history {
+                // As in the test above.
+                setup.contact = ContactModel::elastic(NormalLaw::WaltonBraun { restitution: 0.5 });
+                setup.integration.time_step = TimeStep::Fixed(2.0e-6);
+            }
+            let mut sim = Simulation::new(setup, threads).unwrap();
+            let mut compared = 0;
+            for _ in 0..30 {
+                sim.step(100);
+                let w = &sim.world;
+                let n = w.bodies.len();
+                let friction = w.friction.as_ref().unwrap();
+                let input = PairForceInput {
+                    bodies: &w.bodies,
+                    ghosts: &w.ghosts,
+                    list: &w.list,
+                    laws: &w.laws,
+                    friction,
+                    dt: sim.dt(),
+                };
+                for rows in [false, true] {
+                    let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
+                    let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+                    let mut tally = Vec::new();
+                    ROW_BY_ROW.store(rows, Ordering::Relaxed);
+                    let made = add_pair_forces_tallied(
+                        &input,
+                        &mut histories,
+                        &mut shear,
+                        &mut force,
+                        &mut torque,
+                        &sim.workers,
+                        &mut tally,
+                    );
+                    ROW_BY_ROW.store(false, Ordering::Relaxed);
+                    assert!(made && tally.len() == n);
+                    let observe = |tally| {
+                        observe(
+                            &w.bodies,
+                            &w.list,
+                            &histories,
+                            friction,
+                            &shear,
+                            &w.surfaces,
+                            &w.wall_contacts,
+                            &sim.workers,
+                            tally,
+                        )
+                        .expect("the fast path applies: class table, no extra pairs")
+                    };
+                    let (tallied, passes) = (observe(Some(&tally)), observe(None));
+                    assert_eq!(
+                        (tallied.particle_contacts, tallied.boundary_contacts),
+                        (passes.particle_contacts, passes.boundary_contacts)
+                    );
+                    assert_eq!(tallied.pair_energy.to_bits(), passes.pair_energy.to_bits());
+                    assert_eq!(
+                        tallied.spring_energy.to_bits(),
+                        passes.spring_energy.to_bits()
+                    );
+                    if passes.particle_contacts > 0 && passes.spring_energy > 0.0 {
+                        compared += 1;
+                    }
+                }
+            }
+            // Most states have touching pairs with loaded springs.
+            assert!(compared > 40, "{compared}");
         }
     }
 }
