@@ -237,6 +237,8 @@ impl Kick<'_> {
     /// Bodies lo..hi exist and no other thread touches their velocities
     /// and spins.
     #[inline(always)]
+    // x − x is meant: +0 for a finite x, NaN otherwise.
+    #[allow(clippy::eq_op)]
     unsafe fn chunk<const SPIN: bool, const SPINS: bool, const WITHIN: bool>(
         &self,
         lo: usize,
