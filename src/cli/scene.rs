@@ -172,6 +172,10 @@ pub fn run(args: &SceneArgs) -> CliResult {
             let k = (step - start) / interval + 1;
             next = next.min(start.saturating_add(k.saturating_mul(interval)));
         }
+        if (next - start) % series_every == 0 || next == total {
+            // A row follows: the last pair pass tallies it.
+            sim.will_observe();
+        }
         let t0 = Instant::now();
         sim.step_checked(next - step).map_err(scene_error)?;
         stepping += t0.elapsed().as_secs_f64();

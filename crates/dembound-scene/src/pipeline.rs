@@ -36,7 +36,7 @@ use verlet::friction_spin_kick;
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{LawTable, PairHistories};
-use crate::dynamics::friction::{FrictionTable, PairShear};
+use crate::dynamics::friction::{self, FrictionTable, PairShear};
 use crate::dynamics::gear5_rotation;
 use crate::dynamics::integrate;
 use crate::dynamics::kinks::Kinks;
@@ -141,6 +141,26 @@ pub struct Pipeline {
     /// (and by input id within a cell) and adds each body's pair forces in
     /// that order, whatever part of the scene it holds.
     pub(crate) whole_grid: Option<WholeGrid>,
+    /// The contacts' observables of the state after the next
+    /// [`Pipeline::steps`] are wanted: its last pair pass tallies them
+    /// ([`Self::pair_tally`]).
+    pub(crate) tally_wanted: bool,
+    /// The pair pass running now tallies.
+    tallying: bool,
+    /// Each body's tally of its listed pairs' observables, with friction
+    /// (`friction::PairTally`) or without (`contacts::PairTally`), valid
+    /// at step [`Self::tally_step`].
+    pair_tally: Vec<friction::PairTally>,
+    plain_tally: Vec<crate::dynamics::contacts::PairTally>,
+    /// The step whose end state [`Self::pair_tally`] describes; `None`:
+    /// none does.
+    tally_step: Option<u64>,
+    /// The step whose end state's kinetic and potential energy the last
+    /// half kick summed (J), when asked ([`Self::tally_wanted`]).
+    energies: Option<(u64, observe::KickedState)>,
+    /// The box the state check tests the centres against
+    /// (`Simulation::outside_box`), for the last half kick's test.
+    pub(crate) check_box: Option<([f64; 3], [f64; 3])>,
 }
 
 /// What differs between one process and one rank of a decomposed scene
@@ -251,10 +271,61 @@ impl Pipeline {
         n: u64,
         hooks: &mut impl StepHooks,
     ) {
+        let wanted = std::mem::take(&mut self.tally_wanted);
+        self.tally_step = None;
+        self.energies = None;
         for k in 0..n {
+            // The last step's pair pass (Verlet: the state the steps end
+            // in; only the velocities' last half kick follows).
+            self.tallying = wanted && k + 1 == n && world.scheme == Scheme::Verlet;
             self.step(world, workers, k + 1 < n, hooks);
         }
-        self.finish(world, workers);
+        self.tallying = false;
+        if wanted && n > 0 && self.pending_kick {
+            // The last half kick sums the energies on the way.
+            self.pending_kick = false;
+            let kicked = observe::kick_then_energies(world, workers, self.check_box);
+            self.energies = Some((world.steps_done, kicked));
+            self.ghosts(world);
+        } else {
+            self.finish(world, workers);
+        }
+        if self.tally_step.is_some() {
+            self.tally_step = Some(world.steps_done);
+        }
+    }
+
+    /// What the last steps tallied of their end state no longer describes
+    /// the state (a body changed outside the steps).
+    pub(crate) fn forget_tally(&mut self) {
+        self.tally_step = None;
+        self.energies = None;
+    }
+
+    /// Each body's tally of its listed pairs' observables when the last
+    /// pair pass made one at this state (see [`Self::tally_wanted`]).
+    pub(crate) fn pair_tally(&self, world: &World) -> observe::Tallied<'_> {
+        let now = self.tally_step == Some(world.steps_done);
+        let n = world.bodies.len();
+        let friction = world.friction.is_some();
+        observe::Tallied {
+            friction: (now && friction && self.pair_tally.len() == n)
+                .then_some(&self.pair_tally[..]),
+            plain: (now && !friction && self.plain_tally.len() == n)
+                .then_some(&self.plain_tally[..]),
+            energies: self
+                .energies
+                .filter(|&(step, _)| step == world.steps_done)
+                .map(|(_, e)| e.energies),
+        }
+    }
+
+    /// The last half kick found every position, velocity and spin finite
+    /// and every centre within the check's box at this state
+    /// ([`observe::KickedState::sound`]).
+    pub(crate) fn sound(&self, world: &World) -> bool {
+        self.energies
+            .is_some_and(|(step, e)| step == world.steps_done && e.sound)
     }
 
     /// Applies a pending half kick.

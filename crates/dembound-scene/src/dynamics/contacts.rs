@@ -348,8 +348,176 @@ pub fn add_pair_forces(
             SharedMut::new(force),
             workers,
             None,
+            None,
         )
     };
+}
+
+/// What a body's main-list pairs add to the observables
+/// ([`pair_observables`]): touching pairs with neither in a
+/// boundary-particle wall, touching pairs with one in such a wall, and
+/// their normal elastic energy (J), each summed over the body's entries
+/// in list order.
+pub type PairTally = [f64; 3];
+
+/// [`add_pair_forces`], and each body's [`PairTally`] at this state into
+/// `tally` (one per body), the same bits as [`pair_observables`] sums.
+/// `false` (nothing written) when the tally does not apply: the list's
+/// rows or blocks not one per body, or histories stored that the loop
+/// does not update.
+#[allow(clippy::too_many_arguments)]
+pub fn add_pair_forces_tallied(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    histories: &mut PairHistories,
+    laws: &LawTable,
+    force: &mut [[f64; 3]],
+    workers: &Workers,
+    tally: &mut Vec<PairTally>,
+) -> bool {
+    let n = bodies.len();
+    assert!(force.len() == n);
+    let applies = list.start.len() == n + 1
+        && covers(list, n)
+        && (laws.history || histories.main.is_empty())
+        && bodies.group.len() == n;
+    if applies {
+        tally.resize(n, [0.0; 3]);
+    }
+    // SAFETY: one force per body (asserted) and one tally (resized),
+    // borrowed mutably here.
+    unsafe {
+        add_pair_forces_then(
+            bodies,
+            ghosts,
+            list,
+            histories,
+            laws,
+            SharedMut::new(force),
+            workers,
+            None,
+            applies.then(|| SharedMut::new(tally)),
+        )
+    };
+    applies
+}
+
+/// The list's blocks are bodies 0..n, each once.
+pub(crate) fn covers(list: &PairList, n: usize) -> bool {
+    list.blocks.first() == Some(&0)
+        && list.blocks.last() == Some(&(n as u32))
+        && list.blocks.windows(2).all(|w| w[0] <= w[1])
+}
+
+/// What the frictionless loop over the main pairs reads and writes.
+struct Rows<'a> {
+    bodies: &'a Bodies,
+    laws: &'a LawTable,
+    list: &'a PairList,
+    position: &'a [[f64; 3]],
+    velocity: &'a [[f64; 3]],
+    radius: &'a [f64],
+    start: &'a [u32],
+    js: &'a [u32],
+    keep: bool,
+    f_ptr: SharedMut<[f64; 3]>,
+    h_ptr: SharedMut<ContactHistory>,
+    /// One [`PairTally`] per body, written when `TALLY`.
+    tally: SharedMut<PairTally>,
+}
+
+impl Rows<'_> {
+    /// Block `b`'s rows; `TALLY`: each row's [`PairTally`] too.
+    ///
+    /// # Safety
+    /// As [`add_pair_forces_then`]'s; with `TALLY`, `tally` points to one
+    /// per body.
+    #[inline(always)]
+    unsafe fn block<const TALLY: bool>(&self, b: usize) {
+        let Rows {
+            bodies,
+            laws,
+            list,
+            position,
+            velocity,
+            radius,
+            start,
+            js,
+            keep,
+            f_ptr,
+            h_ptr,
+            tally,
+        } = *self;
+        let lo = list.blocks[b] as usize;
+        let hi = list.blocks[b + 1] as usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s == e {
+                if TALLY {
+                    // SAFETY: i is in this block.
+                    unsafe { *tally.at(i) = [0.0; 3] };
+                }
+                continue;
+            }
+            let xi = position[i];
+            let vi = velocity[i];
+            let ri = radius[i];
+            let mut fi = [0.0; 3];
+            // `pair_observables`'s sums of row i.
+            let mut sums: PairTally = [0.0; 3];
+            for k in s..e {
+                // SAFETY (the unchecked reads): k < js.len() (rows lie
+                // within j), and every j < n (the list's construction);
+                // lengths asserted above.
+                let j = unsafe { *js.get_unchecked(k) } as usize;
+                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+                // The velocity is read only for touching pairs.
+                let vj = || unsafe { *velocity.get_unchecked(j) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    let mut scratch = NO_HISTORY;
+                    // SAFETY: history k belongs to row i, which only this
+                    // block visits.
+                    let hist = if keep {
+                        unsafe { &mut *h_ptr.0.add(k) }
+                    } else {
+                        &mut scratch
+                    };
+                    let law = laws.pair(bodies, i, j);
+                    let fj = contact_force(&law, &g, hist);
+                    if TALLY {
+                        // As `pair_observables`: the history as the force
+                        // left it (none kept: the default).
+                        if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
+                            sums[1] += 1.0;
+                        } else {
+                            sums[0] += 1.0;
+                        }
+                        let hist = if keep { &*hist } else { &NO_HISTORY };
+                        sums[2] += laws.elastic_energy(&law, g.overlap, hist);
+                    }
+                    sub(&mut fi, fj);
+                    // SAFETY: j lies in this block or the next (the
+                    // blocks' construction); blocks of one parity are two
+                    // apart, so no other running block writes j.
+                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
+                } else if keep {
+                    // SAFETY: as above.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
+                    }
+                }
+            }
+            // SAFETY: i is in this block.
+            unsafe {
+                add(&mut *f_ptr.0.add(i), fi);
+                if TALLY {
+                    *tally.at(i) = sums;
+                }
+            }
+        }
+    }
 }
 
 /// [`add_pair_forces`] with a follow-up on each block's bodies once their
@@ -373,6 +541,7 @@ pub(crate) unsafe fn add_pair_forces_then(
     f_ptr: SharedMut<[f64; 3]>,
     workers: &Workers,
     follow: Option<FollowUp>,
+    tally: Option<SharedMut<PairTally>>,
 ) -> f64 {
     let n = bodies.len();
     let keep = laws.history;
@@ -380,65 +549,30 @@ pub(crate) unsafe fn add_pair_forces_then(
     assert!(follow.is_none() || list.extra.is_empty());
     assert!(!keep || histories.main.len() == list.j.len());
     assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
-    let h_ptr = SharedMut(histories.main.as_mut_ptr());
-    // Local slices: the compiler cannot hoist loads of the vectors' headers
-    // past the raw-pointer writes below.
-    let (position, velocity, radius) = (
-        &bodies.position[..],
-        &bodies.velocity[..],
-        &bodies.radius[..],
-    );
-    let (start, js) = (&list.start[..], &list.j[..]);
-    let run_block = |b: usize| {
-        let (f_ptr, h_ptr) = (f_ptr, h_ptr);
-        let lo = list.blocks[b] as usize;
-        let hi = list.blocks[b + 1] as usize;
-        for i in lo..hi {
-            let (s, e) = (start[i] as usize, start[i + 1] as usize);
-            if s == e {
-                continue;
-            }
-            let xi = position[i];
-            let vi = velocity[i];
-            let ri = radius[i];
-            let mut fi = [0.0; 3];
-            for k in s..e {
-                // SAFETY (the unchecked reads): k < js.len() (rows lie
-                // within j), and every j < n (the list's construction);
-                // lengths asserted above.
-                let j = unsafe { *js.get_unchecked(k) } as usize;
-                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
-                // The velocity is read only for touching pairs.
-                let vj = || unsafe { *velocity.get_unchecked(j) };
-                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
-                    let mut scratch = NO_HISTORY;
-                    // SAFETY: history k belongs to row i, which only this
-                    // block visits.
-                    let hist = if keep {
-                        unsafe { &mut *h_ptr.0.add(k) }
-                    } else {
-                        &mut scratch
-                    };
-                    let law = laws.pair(bodies, i, j);
-                    let fj = contact_force(&law, &g, hist);
-                    sub(&mut fi, fj);
-                    // SAFETY: j lies in this block or the next (the
-                    // blocks' construction); blocks of one parity are two
-                    // apart, so no other running block writes j.
-                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
-                } else if keep {
-                    // SAFETY: as above.
-                    let hist = unsafe { &mut *h_ptr.0.add(k) };
-                    if *hist != ContactHistory::default() {
-                        *hist = ContactHistory::default();
-                    }
-                }
-            }
-            // SAFETY: i is in this block.
-            unsafe { add(&mut *f_ptr.0.add(i), fi) };
-        }
+    let rows = Rows {
+        bodies,
+        laws,
+        list,
+        // Local slices: the compiler cannot hoist loads of the vectors'
+        // headers past the raw-pointer writes below.
+        position: &bodies.position[..],
+        velocity: &bodies.velocity[..],
+        radius: &bodies.radius[..],
+        start: &list.start[..],
+        js: &list.j[..],
+        keep,
+        f_ptr,
+        h_ptr: SharedMut(histories.main.as_mut_ptr()),
+        tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
     };
-    let value = run_blocks_then(workers, list, run_block, follow);
+    // One loop with the tally and one without, so that the force loop
+    // has no per-row test of it.
+    let value = if tally.is_some() {
+        // SAFETY: as the caller's, and one tally per body.
+        run_blocks_then(workers, list, |b| unsafe { rows.block::<true>(b) }, follow)
+    } else {
+        run_blocks_then(workers, list, |b| unsafe { rows.block::<false>(b) }, follow)
+    };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -673,13 +807,20 @@ pub fn pair_observables(
     histories: &PairHistories,
     laws: &LawTable,
     workers: &Workers,
+    tally: Option<&[PairTally]>,
 ) -> (usize, usize, f64) {
     let n = bodies.len();
     if list.start.len() != n + 1 {
         return (0, 0, 0.0);
     }
     let walled = |i: usize, j: usize| bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP;
+    let tally = tally.filter(|t| t.len() == n);
     let [count, wall_count, energy] = workers.sum(n, |i| {
+        if let Some(t) = tally {
+            // The same sums, made by the force pass
+            // ([`add_pair_forces_tallied`]).
+            return t[i];
+        }
         let mut c = 0.0;
         let mut w = 0.0;
         let mut e = 0.0;

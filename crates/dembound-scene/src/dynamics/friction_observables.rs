@@ -30,7 +30,7 @@
 
 use super::contacts::{PairHistories, NO_HISTORY};
 
-use super::friction::{FrictionLaw, FrictionTable, PairShear};
+use super::friction::{FrictionLaw, FrictionTable, PairShear, PairTally};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{Workers, BODY_CHUNK};
@@ -76,6 +76,7 @@ pub fn observe(
     surfaces: &[Surface],
     walls: &WallContacts,
     workers: &Workers,
+    tally: Option<&[PairTally]>,
 ) -> Option<ContactObservables> {
     let n = bodies.len();
     let np = surfaces.len();
@@ -86,7 +87,8 @@ pub fn observe(
         && (!shear.rolling || shear.roll_main.len() == list.j.len())
         && (np == 0 || (walls.bodies() == n && walls.shear.len() == walls.key.len()))
         && bodies.class.len() == n
-        && bodies.group.len() == n;
+        && bodies.group.len() == n
+        && tally.is_none_or(|t| t.len() == n);
     if classes == 0 || !aligned {
         return None;
     }
@@ -100,6 +102,7 @@ pub fn observe(
         table: &friction.pairs,
         plane_table: &friction.planes,
         classes,
+        tally,
     };
     #[cfg(target_arch = "x86_64")]
     let avx2 = std::is_x86_feature_detected!("avx2");
@@ -144,6 +147,10 @@ struct Pass<'a> {
     table: &'a [FrictionLaw],
     plane_table: &'a [FrictionLaw],
     classes: usize,
+    /// Each body's sums over its pairs, as the last pair pass tallied
+    /// them at this state (`friction::PairTally`): the pairs are not
+    /// visited again.
+    tally: Option<&'a [PairTally]>,
 }
 
 impl Pass<'_> {
@@ -170,11 +177,11 @@ impl Pass<'_> {
             surfaces,
             walls,
             table,
-            plane_table,
             classes,
+            tally,
+            ..
         } = *self;
         let np = surfaces.len();
-        let slots = plane_table.len() / classes.max(1);
         let mut out = Chunk {
             pairs: [0.0; 4],
             planes: [0.0; 2],
@@ -185,6 +192,22 @@ impl Pass<'_> {
             &bodies.class[..],
             &bodies.group[..],
         );
+        if let Some(tally) = tally {
+            // The pairs' sums made by the force pass
+            // (`friction::add_pair_forces_tallied`); a body's planes
+            // only where it has near walls.
+            for (i, &[count, walled, energy, mut springs]) in
+                tally.iter().enumerate().take(hi).skip(lo)
+            {
+                if np > 0 && !bodies.fixed[i] && !walls.range(i).is_empty() {
+                    self.planes(i, &mut out.planes, &mut springs);
+                }
+                for (sum, x) in out.pairs.iter_mut().zip([count, walled, energy, springs]) {
+                    *sum += x;
+                }
+            }
+            return out;
+        }
         for i in lo..hi {
             let (xi, ri, ci) = (position[i], radius[i], class[i] as usize);
             let walled_i = group[i] != NO_GROUP;
@@ -221,34 +244,55 @@ impl Pass<'_> {
                 }
             }
             if np > 0 && !bodies.fixed[i] {
-                for k in walls.range(i) {
-                    let key = walls.key[k];
-                    let surface = &surfaces[key.wall as usize];
-                    // Positions only: the count and energies need no
-                    // velocity.
-                    let c = surface.contact(key.element, xi, [0.0; 3], ri);
-                    let h = c.overlap;
-                    if h <= 0.0 {
-                        continue;
-                    }
-                    let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
-                    let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
-                    let stored = &walls.shear[k].shear;
-                    out.planes[0] += 1.0;
-                    out.planes[1] += fl.law.elastic_energy(h, hist);
-                    // `spring_energy`'s planes.
-                    if *stored != [0.0; 6] {
-                        let t = [stored[0], stored[1], stored[2]];
-                        let r = [stored[3], stored[4], stored[5]];
-                        springs += fl.spring_energy(h, &t, &r);
-                    }
-                }
+                self.planes(i, &mut out.planes, &mut springs);
             }
             for (sum, x) in out.pairs.iter_mut().zip([count, walled, energy, springs]) {
                 *sum += x;
             }
         }
         out
+    }
+
+    /// Body i's plane contacts: the count and elastic energy into
+    /// `planes` (the chunk's running sums), their springs' energy into
+    /// `springs` (the body's, after its pairs').
+    #[inline(always)]
+    fn planes(&self, i: usize, planes: &mut [f64; 2], springs: &mut f64) {
+        let Pass {
+            bodies,
+            surfaces,
+            walls,
+            plane_table,
+            classes,
+            ..
+        } = *self;
+        let slots = plane_table.len() / classes.max(1);
+        let (xi, ri, ci) = (
+            bodies.position[i],
+            bodies.radius[i],
+            bodies.class[i] as usize,
+        );
+        for k in walls.range(i) {
+            let key = walls.key[k];
+            let surface = &surfaces[key.wall as usize];
+            // Positions only: the count and energies need no velocity.
+            let c = surface.contact(key.element, xi, [0.0; 3], ri);
+            let h = c.overlap;
+            if h <= 0.0 {
+                continue;
+            }
+            let fl = &plane_table[ci * slots + surface.law_slot(key.element)];
+            let hist = walls.history.get(k).unwrap_or(&NO_HISTORY);
+            let stored = &walls.shear[k].shear;
+            planes[0] += 1.0;
+            planes[1] += fl.law.elastic_energy(h, hist);
+            // `spring_energy`'s planes.
+            if *stored != [0.0; 6] {
+                let t = [stored[0], stored[1], stored[2]];
+                let r = [stored[3], stored[4], stored[5]];
+                *springs += fl.spring_energy(h, &t, &r);
+            }
+        }
     }
 }
 
@@ -366,6 +410,7 @@ pub(crate) mod tests {
                     &w.surfaces,
                     &w.wall_contacts,
                     &sim.workers,
+                    None,
                 )
                 .expect("the fast path applies: class table, no extra pairs");
                 let passes = sim.contact_observables();

@@ -84,35 +84,65 @@ impl Pipeline {
         if let Some(table) = world.friction.as_ref() {
             let mut force = std::mem::take(&mut world.bodies.force);
             let mut torque = std::mem::take(&mut world.bodies.torque);
-            friction::add_pair_forces(
-                &friction::PairForceInput {
-                    bodies: &world.bodies,
-                    ghosts: &world.ghosts,
-                    list: &world.list,
-                    laws: &world.laws,
-                    friction: table,
-                    dt,
-                },
-                &mut world.histories,
-                &mut world.shear,
-                &mut force,
-                &mut torque,
-                workers,
-            );
+            let input = friction::PairForceInput {
+                bodies: &world.bodies,
+                ghosts: &world.ghosts,
+                list: &world.list,
+                laws: &world.laws,
+                friction: table,
+                dt,
+            };
+            if std::mem::take(&mut self.tallying) {
+                // The observables' tally of this state (`Pipeline::steps`
+                // marks the step once the state is complete).
+                let made = friction::add_pair_forces_tallied(
+                    &input,
+                    &mut world.histories,
+                    &mut world.shear,
+                    &mut force,
+                    &mut torque,
+                    workers,
+                    &mut self.pair_tally,
+                );
+                self.tally_step = made.then_some(world.steps_done);
+            } else {
+                friction::add_pair_forces(
+                    &input,
+                    &mut world.histories,
+                    &mut world.shear,
+                    &mut force,
+                    &mut torque,
+                    workers,
+                );
+            }
             world.bodies.force = force;
             world.bodies.torque = torque;
             return;
         }
         let mut force = std::mem::take(&mut world.bodies.force);
-        contacts::add_pair_forces(
-            &world.bodies,
-            &world.ghosts,
-            &world.list,
-            &mut world.histories,
-            &world.laws,
-            &mut force,
-            workers,
-        );
+        if std::mem::take(&mut self.tallying) {
+            let made = contacts::add_pair_forces_tallied(
+                &world.bodies,
+                &world.ghosts,
+                &world.list,
+                &mut world.histories,
+                &world.laws,
+                &mut force,
+                workers,
+                &mut self.plain_tally,
+            );
+            self.tally_step = made.then_some(world.steps_done);
+        } else {
+            contacts::add_pair_forces(
+                &world.bodies,
+                &world.ghosts,
+                &world.list,
+                &mut world.histories,
+                &world.laws,
+                &mut force,
+                workers,
+            );
+        }
         world.bodies.force = force;
     }
 }

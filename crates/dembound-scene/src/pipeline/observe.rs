@@ -5,9 +5,11 @@
 //! [`ObserveHooks`] (one process: everything, no sum; a rank of a
 //! decomposed scene: `comm::distributed`).
 
+use crate::dynamics::friction::PairTally;
 use crate::dynamics::friction_observables::{self, ContactObservables};
+use crate::dynamics::integrate;
 use crate::dynamics::{contacts, spring_energy, walls};
-use crate::parallel::Workers;
+use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
 use crate::walls::WallLoad;
 use crate::Observation;
 
@@ -25,28 +27,20 @@ pub(crate) trait ObserveHooks {
     fn wall_loads(&self, world: &World) -> Vec<WallLoad>;
     /// Element-wise sums over the processes.
     fn sum(&self, values: Vec<f64>) -> Vec<f64>;
+    /// This process's kinetic and potential energy ([`body_energies`]).
+    fn body_energies(&self, world: &World, workers: &Workers) -> (f64, f64) {
+        body_energies(world, workers)
+    }
 }
 
 impl ObserveHooks for Local {
     fn contacts(&self, world: &World, workers: &Workers) -> ContactObservables {
-        // With friction, one pass gives what the passes give, with the
-        // same bits (`friction_observables`).
-        world
-            .friction
-            .as_ref()
-            .and_then(|table| {
-                friction_observables::observe(
-                    &world.bodies,
-                    &world.list,
-                    &world.histories,
-                    table,
-                    &world.shear,
-                    &world.surfaces,
-                    &world.wall_contacts,
-                    workers,
-                )
-            })
-            .unwrap_or_else(|| contact_passes(world, workers))
+        let none = Tallied {
+            friction: None,
+            plain: None,
+            energies: None,
+        };
+        local_contacts(world, workers, &none)
     }
 
     fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
@@ -65,6 +59,263 @@ impl ObserveHooks for Local {
     }
 }
 
+/// One process's observation with what the last pair pass tallied of the
+/// pairs at this state (`Pipeline::pair_tally`), when it did: the pairs
+/// are not visited again.
+pub(crate) struct Tallied<'a> {
+    /// With friction (`friction::add_pair_forces_tallied`).
+    pub friction: Option<&'a [PairTally]>,
+    /// Without (`contacts::add_pair_forces_tallied`).
+    pub plain: Option<&'a [contacts::PairTally]>,
+    /// The kinetic and potential energy summed by the last half kick
+    /// ([`kick_then_energies`]).
+    pub energies: Option<(f64, f64)>,
+}
+
+impl Tallied<'_> {
+    /// Whether there is a tally of this state.
+    #[cfg(test)]
+    pub(crate) fn is_some(&self) -> bool {
+        self.friction.is_some() || self.plain.is_some() || self.energies.is_some()
+    }
+}
+
+impl ObserveHooks for Tallied<'_> {
+    fn contacts(&self, world: &World, workers: &Workers) -> ContactObservables {
+        local_contacts(world, workers, self)
+    }
+
+    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
+        Local.wall_loads(world)
+    }
+
+    fn sum(&self, values: Vec<f64>) -> Vec<f64> {
+        values
+    }
+
+    fn body_energies(&self, world: &World, workers: &Workers) -> (f64, f64) {
+        self.energies
+            .unwrap_or_else(|| body_energies(world, workers))
+    }
+}
+
+/// What [`kick_then_energies`] found at the kicked state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct KickedState {
+    /// [`body_energies`], J.
+    pub energies: (f64, f64),
+    /// Every position, velocity and spin is finite, and (with `bounds`)
+    /// every centre lies within its radius of the box: what
+    /// `Simulation::check_finite` passes without a second look.
+    pub sound: bool,
+}
+
+/// Verlet's last half kick of the velocities (and spins, with friction),
+/// and in the same pass [`body_energies`] at the kicked state, J: the same
+/// kicks as `integrate::verlet_kick` and `verlet::friction_spin_kick`
+/// (per body), the same sums in the same chunks and order as
+/// [`body_energies`], so the same bits as the kick and the pass after it.
+/// Also whether the state is sound ([`KickedState::sound`]; `bounds`: the
+/// box of `domain.outside = "error"`, tested as `Simulation::check_finite`
+/// tests it).
+pub(crate) fn kick_then_energies(
+    world: &mut World,
+    workers: &Workers,
+    bounds: Option<([f64; 3], [f64; 3])>,
+) -> KickedState {
+    let spin = world.friction.is_some();
+    let b = &mut world.bodies;
+    let n = b.len();
+    assert!(
+        b.force.len() == n
+            && b.mass.len() == n
+            && b.fixed.len() == n
+            && b.position.len() == n
+            && b.velocity.len() == n
+            && b.radius.len() == n
+            && (!spin
+                || (b.torque.len() == n
+                    && b.angular_velocity.len() == n
+                    && b.inverse_inertia.len() == n))
+    );
+    // Spins are tested only where they are kept per body.
+    let spins = b.angular_velocity.len() == n;
+    let kick = Kick {
+        v: SharedMut::new(&mut b.velocity),
+        w: SharedMut::new(&mut b.angular_velocity),
+        force: &b.force,
+        torque: &b.torque,
+        mass: &b.mass,
+        inverse_inertia: &b.inverse_inertia,
+        fixed: &b.fixed,
+        position: &b.position,
+        radius: &b.radius,
+        dt: world.dt,
+        gravity: world.gravity,
+        bounds: bounds.unwrap_or(([f64::NEG_INFINITY; 3], [f64::INFINITY; 3])),
+    };
+    #[cfg(target_arch = "x86_64")]
+    let avx2 = std::is_x86_feature_detected!("avx2");
+    let partial = workers.map_bodies(n, BODY_CHUNK, |c| {
+        let (lo, hi) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
+        // One copy per setting: no per-body test of them.
+        // SAFETY (all): lengths asserted; chunks are disjoint ranges of
+        // bodies, each kicked once; AVX2 checked.
+        macro_rules! run {
+            ($spin:literal, $spins:literal, $within:literal) => {{
+                #[cfg(target_arch = "x86_64")]
+                if avx2 {
+                    return unsafe { kick.chunk_avx2::<$spin, $spins, $within>(lo, hi) };
+                }
+                unsafe { kick.chunk::<$spin, $spins, $within>(lo, hi) }
+            }};
+        }
+        match (spin, spins, bounds.is_some()) {
+            (true, _, false) => run!(true, true, false),
+            (true, _, true) => run!(true, true, true),
+            (false, true, false) => run!(false, true, false),
+            (false, true, true) => run!(false, true, true),
+            (false, false, false) => run!(false, false, false),
+            (false, false, true) => run!(false, false, true),
+        }
+    });
+    let mut s = [0.0; 2];
+    let mut sound = true;
+    for (p, ok) in partial {
+        s[0] += p[0];
+        s[1] += p[1];
+        sound &= ok;
+    }
+    KickedState {
+        energies: (s[0], s[1]),
+        sound,
+    }
+}
+
+/// What [`kick_then_energies`] reads and writes (lengths asserted there).
+#[derive(Clone, Copy)]
+struct Kick<'a> {
+    v: SharedMut<[f64; 3]>,
+    w: SharedMut<[f64; 3]>,
+    force: &'a [[f64; 3]],
+    torque: &'a [[f64; 3]],
+    mass: &'a [f64],
+    inverse_inertia: &'a [f64],
+    fixed: &'a [bool],
+    position: &'a [[f64; 3]],
+    radius: &'a [f64],
+    /// s.
+    dt: f64,
+    /// m/s².
+    gravity: [f64; 3],
+    /// The check's box (lower, upper), m.
+    bounds: ([f64; 3], [f64; 3]),
+}
+
+impl Kick<'_> {
+    /// [`Self::chunk`] compiled for AVX2: no fused multiply–add (Rust does
+    /// not contract a·b + c), so the same bits with fewer instructions.
+    ///
+    /// # Safety
+    /// As [`Self::chunk`]; the processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    unsafe fn chunk_avx2<const SPIN: bool, const SPINS: bool, const WITHIN: bool>(
+        &self,
+        lo: usize,
+        hi: usize,
+    ) -> ([f64; 2], bool) {
+        self.chunk::<SPIN, SPINS, WITHIN>(lo, hi)
+    }
+
+    /// Bodies lo..hi: kicked (`SPIN`: the spins too), their energies
+    /// summed as [`body_energies`] sums them, and whether every position,
+    /// velocity and (`SPINS`) spin is finite and (`WITHIN`) every centre
+    /// within its radius of the box, as `Simulation::check_finite` tests.
+    ///
+    /// # Safety
+    /// Bodies lo..hi exist and no other thread touches their velocities
+    /// and spins.
+    #[inline(always)]
+    // x − x is meant: +0 for a finite x, NaN otherwise.
+    #[allow(clippy::eq_op)]
+    unsafe fn chunk<const SPIN: bool, const SPINS: bool, const WITHIN: bool>(
+        &self,
+        lo: usize,
+        hi: usize,
+    ) -> ([f64; 2], bool) {
+        let (g, dt) = (self.gravity, self.dt);
+        let (lower, upper) = self.bounds;
+        let mut s = [0.0; 2];
+        // Σ (x − x) over the values tested: +0 while every one is finite,
+        // NaN from the first that is not (∞ − ∞ and NaN − NaN are NaN):
+        // `f64::is_finite` of each, without a branch or a compare each.
+        let mut not_finite = 0.0f64;
+        let mut within = true;
+        for k in lo..hi {
+            let e = if self.fixed[k] {
+                [0.0, 0.0]
+            } else {
+                // `integrate::verlet_kick`'s kick.
+                let vk = &mut *self.v.0.add(k);
+                integrate::half_kick(vk, self.force[k], 0.5 * dt / self.mass[k]);
+                let v = *vk;
+                let mut e = 0.5 * self.mass[k] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+                if SPIN {
+                    // `verlet::friction_spin_kick`'s kick.
+                    let inv = self.inverse_inertia[k];
+                    let wk = &mut *self.w.0.add(k);
+                    integrate::half_kick(wk, self.torque[k], 0.5 * dt * inv);
+                    let w = *wk;
+                    e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / inv;
+                }
+                let x = self.position[k];
+                [e, -self.mass[k] * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2])]
+            };
+            s[0] += e[0];
+            s[1] += e[1];
+            let (x, v) = (self.position[k], *self.v.0.add(k));
+            for a in 0..3 {
+                not_finite += (x[a] - x[a]) + (v[a] - v[a]);
+            }
+            if SPINS {
+                let w = *self.w.0.add(k);
+                not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
+            }
+            if WITHIN {
+                let r = self.radius[k];
+                for a in 0..3 {
+                    within &= (x[a] >= lower[a] - r) & (x[a] <= upper[a] + r);
+                }
+            }
+        }
+        (s, not_finite == 0.0 && within)
+    }
+}
+
+/// The contacts' observables on one process: with friction one pass (the
+/// pairs from `tally` when given), with the same bits as the separate
+/// passes (`friction_observables`).
+fn local_contacts(world: &World, workers: &Workers, tally: &Tallied) -> ContactObservables {
+    world
+        .friction
+        .as_ref()
+        .and_then(|table| {
+            friction_observables::observe(
+                &world.bodies,
+                &world.list,
+                &world.histories,
+                table,
+                &world.shear,
+                &world.surfaces,
+                &world.wall_contacts,
+                workers,
+                tally.friction,
+            )
+        })
+        .unwrap_or_else(|| contact_passes(world, workers, tally.plain))
+}
+
 /// Every global observable at the current state; `initial_energy`: the
 /// mechanical energy at the start, J (the dissipated energy's reference).
 pub(crate) fn observation(
@@ -73,7 +324,7 @@ pub(crate) fn observation(
     initial_energy: f64,
     hooks: &impl ObserveHooks,
 ) -> Observation {
-    let (kinetic, potential) = body_energies(world, workers);
+    let (kinetic, potential) = hooks.body_energies(world, workers);
     let c = hooks.contacts(world, workers);
     // Counts as f64: exact far beyond any scene's.
     let mut v = vec![
@@ -239,8 +490,13 @@ pub(crate) fn potential_energy(world: &World, workers: &Workers) -> f64 {
 }
 
 /// The contact observables pass by pass: pair counts and energy, wall
-/// contact counts and energy, spring energy.
-pub(crate) fn contact_passes(world: &World, workers: &Workers) -> ContactObservables {
+/// contact counts and energy, spring energy; the main pairs' sums from
+/// `tally` when given (frictionless).
+pub(crate) fn contact_passes(
+    world: &World,
+    workers: &Workers,
+    tally: Option<&[contacts::PairTally]>,
+) -> ContactObservables {
     let w = world;
     let (pc, wc, pe) = contacts::pair_observables(
         &w.bodies,
@@ -249,6 +505,7 @@ pub(crate) fn contact_passes(world: &World, workers: &Workers) -> ContactObserva
         &w.histories,
         &w.laws,
         workers,
+        tally,
     );
     let (plane_contacts, plane_energy) =
         walls::plane_observables(&w.bodies, &w.surfaces, &w.wall_contacts, &w.laws, workers);
@@ -280,6 +537,83 @@ pub(crate) fn contact_passes(world: &World, workers: &Workers) -> ContactObserva
 mod tests {
     use crate::dynamics::friction_observables::tests::scene;
     use crate::Simulation;
+
+    /// An observation after steps asked to tally it (`will_observe`) uses
+    /// the tally (pairs, energies) and gives the observation that visits
+    /// every pair and body again bit for bit (the reference), at the end
+    /// of stretches of several lengths, on 1 and 2 threads, with friction
+    /// and without; a stretch not asked leaves no tally.
+    #[test]
+    fn tallied_observation_equals_the_pairs_visited_again() {
+        for (threads, friction) in [(1, true), (2, true), (1, false), (2, false)] {
+            let mut setup = scene();
+            if !friction {
+                setup.friction = None;
+            }
+            let mut sim = Simulation::new(setup.clone(), threads).unwrap();
+            // The same run not asked to tally: the state's reference.
+            let mut plain = Simulation::new(setup, threads).unwrap();
+            let mut loaded = 0;
+            for k in 0..20 {
+                sim.will_observe();
+                sim.step(1 + 37 * (k % 3));
+                plain.step(1 + 37 * (k % 3));
+                let bits = |s: &Simulation| -> Vec<u64> {
+                    let b = &s.world.bodies;
+                    [&b.position, &b.velocity, &b.angular_velocity, &b.force]
+                        .iter()
+                        .flat_map(|v| v.iter().flatten().map(|x| x.to_bits()))
+                        .collect()
+                };
+                assert!(bits(&sim) == bits(&plain));
+                let tally = sim.pipeline.pair_tally(&sim.world);
+                assert_eq!(tally.friction.is_some(), friction);
+                assert_eq!(tally.plain.is_some(), !friction);
+                assert!(tally.energies.is_some());
+                // The state check passed in the kick's pass.
+                assert!(sim.pipeline.sound(&sim.world) && sim.check_finite().is_ok());
+                let tallied = sim.observe();
+                let again = super::observation(
+                    &sim.world,
+                    &sim.workers,
+                    sim.initial_energy,
+                    &crate::pipeline::Local,
+                );
+                // Debug prints each number's shortest exact decimal.
+                assert_eq!(format!("{tallied:?}"), format!("{again:?}"));
+                assert_eq!(
+                    tallied.elastic_energy.to_bits(),
+                    again.elastic_energy.to_bits()
+                );
+                assert_eq!(
+                    tallied.kinetic_energy.to_bits(),
+                    again.kinetic_energy.to_bits()
+                );
+                if tallied.particle_contacts > 0 {
+                    loaded += 1;
+                }
+                sim.step(3);
+                plain.step(3);
+                assert!(!sim.pipeline.pair_tally(&sim.world).is_some());
+            }
+            assert!(loaded > 10, "{loaded}");
+        }
+    }
+
+    /// A velocity that is not finite fails the kick's state test, and the
+    /// state check then finds it (the check's own error).
+    #[test]
+    fn a_state_not_finite_is_not_passed_by_the_kick() {
+        let mut sim = Simulation::new(scene(), 1).unwrap();
+        sim.world.bodies.velocity[7] = [f64::NAN, 0.0, 0.0];
+        sim.will_observe();
+        sim.step(1);
+        assert!(!sim.pipeline.sound(&sim.world));
+        assert!(matches!(
+            sim.check_finite(),
+            Err(crate::error::SceneError::Unstable { .. })
+        ));
+    }
 
     /// The fused pass gives the two passes' sums bit for bit (the expected
     /// values are the separate passes', an independent computation of the

@@ -270,6 +270,7 @@ impl Pipeline {
                     (f, torque),
                     workers,
                     Some(&follow_friction),
+                    None,
                 )
             };
         }
@@ -284,6 +285,7 @@ impl Pipeline {
                 f,
                 workers,
                 Some(&follow),
+                None,
             )
         }
     }

@@ -44,19 +44,21 @@ pub(crate) fn surface_load_records(world: &World) -> Vec<LoadRecord> {
     if wc.bodies() != b.len() || wc.load.len() != wc.key.len() {
         return Vec::new();
     }
-    // The touching entries (few: the scan costs per entry, not per body),
-    // each with its body (the last whose entries start at or before it)
-    // and that body's input id; a fixed body (a halo copy) is not
+    // The touching entries, each with its body's input id (body by body:
+    // a body's entries are its range); a fixed body (a halo copy) is not
     // forced: its flags are not this step's.
-    let mut touching: Vec<(u32, usize)> = wc
-        .touching
-        .iter()
-        .enumerate()
-        .filter(|(_, &t)| t)
-        .map(|(k, _)| (wc.start.partition_point(|&s| s as usize <= k) - 1, k))
-        .filter(|&(i, _)| !b.fixed[i])
-        .map(|(i, k)| (b.id[i], k))
-        .collect();
+    let mut touching: Vec<(u32, usize)> = Vec::new();
+    for (i, w) in wc.start.windows(2).enumerate() {
+        let (s, e) = (w[0] as usize, w[1] as usize);
+        if s == e || b.fixed[i] {
+            continue;
+        }
+        for k in s..e {
+            if wc.touching[k] {
+                touching.push((b.id[i], k));
+            }
+        }
+    }
     // By id, then entry: a body's entries are contiguous, ascending by
     // (wall, element).
     touching.sort_unstable();

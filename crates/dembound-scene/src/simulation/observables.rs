@@ -5,7 +5,7 @@
 use super::{Observation, Simulation};
 use crate::energy_guard::EnergyBalance;
 use crate::error::SceneError;
-use crate::pipeline::{observe, triangle_loads, Local};
+use crate::pipeline::{observe, triangle_loads};
 use crate::walls::mesh::{TriangleLoads, TriangleLoadsError};
 
 impl Simulation {
@@ -83,7 +83,8 @@ impl Simulation {
 
     /// Every global observable at the current state.
     pub fn observe(&self) -> Observation {
-        observe::observation(&self.world, &self.workers, self.initial_energy, &Local)
+        let tally = self.pipeline.pair_tally(&self.world);
+        observe::observation(&self.world, &self.workers, self.initial_energy, &tally)
     }
 
     /// The contact observables pass by pass: pair counts and energy, wall
@@ -93,7 +94,7 @@ impl Simulation {
     pub(crate) fn contact_observables(
         &self,
     ) -> crate::dynamics::friction_observables::ContactObservables {
-        observe::contact_passes(&self.world, &self.workers)
+        observe::contact_passes(&self.world, &self.workers, None)
     }
 
     /// The loads of mesh wall `wall` (file order) per triangle of its

@@ -35,7 +35,7 @@ mod table;
 mod walls;
 
 pub(crate) use pairs::add_pair_forces_then;
-pub use pairs::{add_pair_forces, PairForceInput};
+pub use pairs::{add_pair_forces, add_pair_forces_tallied, PairForceInput, PairTally};
 pub use springs::{active_shear, restore_shear, PairShear, Springs, WallShear};
 pub use table::{FrictionLaw, FrictionTable};
 pub use walls::{

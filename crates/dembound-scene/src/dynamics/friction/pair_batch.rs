@@ -5,15 +5,21 @@
 use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
 use dembound_physics::contact::Side;
 
-use super::pairs::MainPairs;
+use super::pairs::{tally_entry, MainPairs, PairTally};
 use super::{add, sub, FrictionLaw};
+use crate::bodies::NO_GROUP;
 use crate::dynamics::contacts::NO_HISTORY;
 
 impl MainPairs<'_> {
     /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
     /// entries in all (see [`Self::block`]).
     #[inline(always)]
-    pub(super) fn batch<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+    pub(super) fn batch<
+        const KEEP: bool,
+        const ROLL: bool,
+        const TABLE: bool,
+        const TALLY: bool,
+    >(
         &self,
         lo: usize,
         hi: usize,
@@ -217,6 +223,53 @@ impl MainPairs<'_> {
             unsafe {
                 add(&mut *self.force.0.add(i), fi);
                 add(&mut *self.torque.0.add(i), ti);
+            }
+        }
+        // The rows' tallies of the observables, when asked: the contacts
+        // found, row by row in list order, with the histories and springs
+        // as the stages left them.
+        if TALLY {
+            let tally = self.tally;
+            let group = &self.bodies.group[..];
+            let mut from = 0usize;
+            for i in lo..hi {
+                let to = (g.ends[i - lo] as usize).min(found);
+                let walled_i = group[i] != NO_GROUP;
+                let mut sums: PairTally = [0.0; 4];
+                for t in from..to {
+                    let q = g.found[t] as usize;
+                    let (j, k) = (g.partner[q] as usize, first + q);
+                    // SAFETY: entry k belongs to row i of this block (as
+                    // in the stages above).
+                    let (hist, sh, roll) = unsafe {
+                        (
+                            if KEEP {
+                                &*self.history.0.add(k)
+                            } else {
+                                &NO_HISTORY
+                            },
+                            &*self.shear.0.add(k),
+                            if ROLL {
+                                Some(&*self.roll.0.add(k))
+                            } else {
+                                None
+                            },
+                        )
+                    };
+                    let walled = walled_i || group[j] != NO_GROUP;
+                    tally_entry(
+                        &mut sums,
+                        row_law(i, j),
+                        g.overlap[q],
+                        walled,
+                        hist,
+                        sh,
+                        roll,
+                    );
+                }
+                from = to;
+                // SAFETY: i is in this block (one tally per body).
+                unsafe { *tally.at(i) = sums };
             }
         }
     }

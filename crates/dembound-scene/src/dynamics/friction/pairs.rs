@@ -7,7 +7,7 @@ use dembound_physics::contact::{ContactHistory, ContactState, Side};
 
 use super::pair_batch::{Batch, BATCH};
 use super::{add, sub, FrictionLaw, FrictionTable, PairShear};
-use crate::bodies::Bodies;
+use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::contacts::{
     extended, run_blocks_then, touching, touching_lazy, FollowUp, LawTable, PairGeometry,
     PairHistories, NO_HISTORY,
@@ -92,8 +92,69 @@ pub fn add_pair_forces(
             (SharedMut::new(force), SharedMut::new(torque)),
             workers,
             None,
+            None,
         )
     };
+}
+
+/// [`add_pair_forces`], and each body's [`PairTally`] of its listed pairs
+/// at this state into `tally` (one per body): what
+/// `friction_observables` would count and sum over them, with the same
+/// bits. `false` (nothing written) when the tally does not apply: extra
+/// pairs, no class table, or histories or rolling springs not those the
+/// observation reads.
+#[allow(clippy::too_many_arguments)]
+pub fn add_pair_forces_tallied(
+    input: &PairForceInput,
+    histories: &mut PairHistories,
+    shear: &mut PairShear,
+    force: &mut [[f64; 3]],
+    torque: &mut [[f64; 3]],
+    workers: &Workers,
+    tally: &mut Vec<PairTally>,
+) -> bool {
+    let n = input.bodies.len();
+    assert!(force.len() == n && torque.len() == n);
+    let applies = tally_applies(input, histories, shear);
+    if applies {
+        tally.resize(n, [0.0; 4]);
+    }
+    // SAFETY: one force and one torque per body (asserted), and one tally
+    // (resized), borrowed mutably here.
+    unsafe {
+        add_pair_forces_then(
+            input,
+            histories,
+            shear,
+            (SharedMut::new(force), SharedMut::new(torque)),
+            workers,
+            None,
+            applies.then(|| SharedMut::new(tally)),
+        )
+    };
+    applies
+}
+
+/// What a body's listed pairs add to the observables
+/// (`friction_observables`): touching pairs with neither in a
+/// boundary-particle wall, touching pairs with one in such a wall, their
+/// normal elastic energy (J) and their springs' energy (J), each summed
+/// over the body's entries in list order.
+pub type PairTally = [f64; 4];
+
+/// Whether the force loop can tally the observables: every pair in the
+/// main list (its rows one per body), laws from the class table, the
+/// histories the loop updates those the observation reads (none kept:
+/// none stored), the rolling springs the loop moves those it reads.
+fn tally_applies(input: &PairForceInput, histories: &PairHistories, shear: &PairShear) -> bool {
+    let n = input.bodies.len();
+    input.list.extra.is_empty()
+        && input.list.start.len() == n + 1
+        && crate::dynamics::contacts::covers(input.list, n)
+        && input.friction.classes > 0
+        && (input.laws.history || histories.main.is_empty())
+        && shear.rolling == input.friction.rolling
+        && input.bodies.group.len() == n
 }
 
 /// [`add_pair_forces`] with a follow-up on each block's bodies once their
@@ -110,6 +171,7 @@ pub(crate) unsafe fn add_pair_forces_then(
     (force, torque): (SharedMut<[f64; 3]>, SharedMut<[f64; 3]>),
     workers: &Workers,
     follow: Option<FollowUp>,
+    tally: Option<SharedMut<PairTally>>,
 ) -> f64 {
     let PairForceInput {
         bodies,
@@ -163,19 +225,25 @@ pub(crate) unsafe fn add_pair_forces_then(
         shear: SharedMut(shear.main.as_mut_ptr()),
         roll: SharedMut(shear.roll_main.as_mut_ptr()),
         dt,
+        tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
     };
     // One loop per setting, so that the per-contact code has no branch on
     // them (the compiler does not unswitch the loop by itself).
     let table = friction.classes > 0;
-    let value = match (keep, rolling, table) {
-        (false, false, true) => main.run::<false, false, true>(workers, follow),
-        (false, false, false) => main.run::<false, false, false>(workers, follow),
-        (false, true, true) => main.run::<false, true, true>(workers, follow),
-        (false, true, false) => main.run::<false, true, false>(workers, follow),
-        (true, false, true) => main.run::<true, false, true>(workers, follow),
-        (true, false, false) => main.run::<true, false, false>(workers, follow),
-        (true, true, true) => main.run::<true, true, true>(workers, follow),
-        (true, true, false) => main.run::<true, true, false>(workers, follow),
+    // The tally needs the class table (`tally_applies`): four more loops.
+    let value = match (keep, rolling, table, tally.is_some() && table) {
+        (false, false, true, true) => main.run::<false, false, true, true>(workers, follow),
+        (false, true, true, true) => main.run::<false, true, true, true>(workers, follow),
+        (true, false, true, true) => main.run::<true, false, true, true>(workers, follow),
+        (true, true, true, true) => main.run::<true, true, true, true>(workers, follow),
+        (false, false, true, _) => main.run::<false, false, true, false>(workers, follow),
+        (false, false, false, _) => main.run::<false, false, false, false>(workers, follow),
+        (false, true, true, _) => main.run::<false, true, true, false>(workers, follow),
+        (false, true, false, _) => main.run::<false, true, false, false>(workers, follow),
+        (true, false, true, _) => main.run::<true, false, true, false>(workers, follow),
+        (true, false, false, _) => main.run::<true, false, false, false>(workers, follow),
+        (true, true, true, _) => main.run::<true, true, true, false>(workers, follow),
+        (true, true, false, _) => main.run::<true, true, false, false>(workers, follow),
     };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
@@ -257,13 +325,16 @@ pub(super) struct MainPairs<'a> {
     pub(super) shear: SharedMut<[f64; 3]>,
     pub(super) roll: SharedMut<[f64; 3]>,
     pub(super) dt: f64,
+    /// Each body's [`PairTally`] is written here by the loops with
+    /// `TALLY` (a body's row is visited by one block only); null without.
+    pub(super) tally: SharedMut<PairTally>,
 }
 
 impl MainPairs<'_> {
     /// Every block of main pairs. `KEEP`: the normal law keeps histories;
     /// `ROLL`: rolling springs are kept; `TABLE`: laws come from the class
     /// table. The caller has checked the lengths (`add_pair_forces`).
-    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool>(
+    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
         &self,
         workers: &Workers,
         follow: Option<FollowUp>,
@@ -274,14 +345,14 @@ impl MainPairs<'_> {
             return run_blocks_then(
                 workers,
                 self.list,
-                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE>(b) },
+                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE, TALLY>(b) },
                 follow,
             );
         }
         run_blocks_then(
             workers,
             self.list,
-            |b| self.block::<KEEP, ROLL, TABLE>(b),
+            |b| self.block::<KEEP, ROLL, TABLE, TALLY>(b),
             follow,
         )
     }
@@ -295,8 +366,16 @@ impl MainPairs<'_> {
     /// The processor must have AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
-    unsafe fn block_avx2<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
-        self.block::<KEEP, ROLL, TABLE>(b)
+    unsafe fn block_avx2<
+        const KEEP: bool,
+        const ROLL: bool,
+        const TABLE: bool,
+        const TALLY: bool,
+    >(
+        &self,
+        b: usize,
+    ) {
+        self.block::<KEEP, ROLL, TABLE, TALLY>(b)
     }
 
     /// Block `b`'s rows, in batches of consecutive rows with at most
@@ -310,7 +389,10 @@ impl MainPairs<'_> {
     /// operations on the same values in the same order as [`Self::row`]
     /// (the springs of untouched entries set to exactly +0): the same bits.
     #[inline(always)]
-    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, b: usize) {
+    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
+        &self,
+        b: usize,
+    ) {
         let start = self.start;
         let lo = self.list.blocks[b] as usize;
         let hi = self.list.blocks[b + 1] as usize;
@@ -325,10 +407,10 @@ impl MainPairs<'_> {
             if end == i || !TABLE || row_by_row() {
                 // A row longer than a batch (a large body's), or laws
                 // computed per pair (no class table).
-                self.row::<KEEP, ROLL, TABLE>(i);
+                self.row::<KEEP, ROLL, TABLE, TALLY>(i);
                 i += 1;
             } else {
-                self.batch::<KEEP, ROLL, TABLE>(i, end, &mut scratch);
+                self.batch::<KEEP, ROLL, TABLE, TALLY>(i, end, &mut scratch);
                 i = end;
             }
         }
@@ -336,7 +418,10 @@ impl MainPairs<'_> {
 
     /// Row i entry by entry (rows longer than a batch).
     #[inline(always)]
-    fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool>(&self, i: usize) {
+    fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
+        &self,
+        i: usize,
+    ) {
         let (position, velocity, radius, spin, inverse_inertia, class) = (
             self.position,
             self.velocity,
@@ -348,6 +433,10 @@ impl MainPairs<'_> {
         let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
         let (s, e) = (start[i] as usize, start[i + 1] as usize);
         if s == e {
+            if TALLY {
+                // SAFETY: i is in this block (one per body, the caller's).
+                unsafe { *self.tally.at(i) = [0.0; 4] };
+            }
             return;
         }
         let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
@@ -360,6 +449,7 @@ impl MainPairs<'_> {
         let ci = if TABLE { class[i] as usize } else { 0 };
         let mut fi = [0.0; 3];
         let mut ti = [0.0; 3];
+        let mut sums: PairTally = [0.0; 4];
         for k in s..e {
             // SAFETY (the unchecked reads): k < js.len() (rows lie
             // within j, asserted via start[n]), and every j < n (the
@@ -405,6 +495,24 @@ impl MainPairs<'_> {
                     None
                 };
                 let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                if TALLY {
+                    let roll = if ROLL {
+                        // SAFETY: as the spring above.
+                        Some(unsafe { &*self.roll.0.add(k) })
+                    } else {
+                        None
+                    };
+                    let walled =
+                        self.bodies.group[i] != NO_GROUP || self.bodies.group[j] != NO_GROUP;
+                    let hist = if KEEP {
+                        // SAFETY: as the history above.
+                        unsafe { &*self.history.0.add(k) }
+                    } else {
+                        &NO_HISTORY
+                    };
+                    let sh = unsafe { &*self.shear.0.add(k) };
+                    tally_entry(&mut sums, fl, g.overlap, walled, hist, sh, roll);
+                }
                 sub(&mut fi, fj);
                 add(&mut ti, tqi);
                 unsafe {
@@ -435,7 +543,37 @@ impl MainPairs<'_> {
         unsafe {
             add(&mut *self.force.0.add(i), fi);
             add(&mut *self.torque.0.add(i), ti);
+            if TALLY {
+                *self.tally.at(i) = sums;
+            }
         }
+    }
+}
+
+/// Adds one touching entry to its body's [`PairTally`], as
+/// `friction_observables` does (the same operations in the same order on
+/// the same values: the overlap, the history and springs after the force
+/// stage moved them). `roll`: the rolling spring, `None` when none are
+/// kept (zero).
+#[inline(always)]
+pub(super) fn tally_entry(
+    sums: &mut PairTally,
+    fl: &FrictionLaw,
+    overlap: f64,
+    walled: bool,
+    history: &ContactHistory,
+    shear: &[f64; 3],
+    roll: Option<&[f64; 3]>,
+) {
+    if walled {
+        sums[1] += 1.0;
+    } else {
+        sums[0] += 1.0;
+    }
+    sums[2] += fl.law.elastic_energy(overlap, history);
+    let r = roll.copied().unwrap_or([0.0; 3]);
+    if *shear != [0.0; 3] || r != [0.0; 3] {
+        sums[3] += fl.spring_energy(overlap, shear, &r);
     }
 }
 
@@ -461,7 +599,8 @@ mod tests {
 
     use dembound_physics::contact::{ContactModel, NormalLaw};
 
-    use super::{add_pair_forces, PairForceInput, ROW_BY_ROW};
+    use super::{add_pair_forces, add_pair_forces_tallied, PairForceInput, ROW_BY_ROW};
+    use crate::dynamics::friction_observables::observe;
     use crate::dynamics::friction_observables::tests::scene;
     use crate::setup::TimeStep;
     use crate::Simulation;
@@ -527,6 +666,87 @@ mod tests {
             // of loaded components per check by the end (Walton–Braun's
             // shorter run, tens; 833 in all when written).
             assert!(touching > 500, "{touching}");
+        }
+    }
+
+    /// The force pass's tally, summed by the observation pass, gives what
+    /// the observation pass computes from the pairs itself, bit for bit
+    /// (the reference visits every listed pair again at the state the
+    /// force pass left: the springs and histories it moved), batched and
+    /// row by row, with and without contact histories, on 1 and 2 threads.
+    #[test]
+    fn tally_equals_the_observation_pass_bit_for_bit() {
+        for (history, threads) in [(false, 1), (true, 1), (false, 2)] {
+            let mut setup = scene();
+            if history {
+                // As in the test above.
+                setup.contact = ContactModel::elastic(NormalLaw::WaltonBraun { restitution: 0.5 });
+                setup.integration.time_step = TimeStep::Fixed(2.0e-6);
+            }
+            let mut sim = Simulation::new(setup, threads).unwrap();
+            let mut compared = 0;
+            for _ in 0..30 {
+                sim.step(100);
+                let w = &sim.world;
+                let n = w.bodies.len();
+                let friction = w.friction.as_ref().unwrap();
+                let input = PairForceInput {
+                    bodies: &w.bodies,
+                    ghosts: &w.ghosts,
+                    list: &w.list,
+                    laws: &w.laws,
+                    friction,
+                    dt: sim.dt(),
+                };
+                for rows in [false, true] {
+                    let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
+                    let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+                    let mut tally = Vec::new();
+                    ROW_BY_ROW.store(rows, Ordering::Relaxed);
+                    let made = add_pair_forces_tallied(
+                        &input,
+                        &mut histories,
+                        &mut shear,
+                        &mut force,
+                        &mut torque,
+                        &sim.workers,
+                        &mut tally,
+                    );
+                    ROW_BY_ROW.store(false, Ordering::Relaxed);
+                    assert!(made && tally.len() == n);
+                    let observe = |tally| {
+                        observe(
+                            &w.bodies,
+                            &w.list,
+                            &histories,
+                            friction,
+                            &shear,
+                            &w.surfaces,
+                            &w.wall_contacts,
+                            &sim.workers,
+                            tally,
+                        )
+                        .expect("the fast path applies: class table, no extra pairs")
+                    };
+                    let (tallied, passes) = (observe(Some(&tally)), observe(None));
+                    assert_eq!(
+                        (tallied.particle_contacts, tallied.boundary_contacts),
+                        (passes.particle_contacts, passes.boundary_contacts)
+                    );
+                    assert_eq!(tallied.pair_energy.to_bits(), passes.pair_energy.to_bits());
+                    assert_eq!(
+                        tallied.spring_energy.to_bits(),
+                        passes.spring_energy.to_bits()
+                    );
+                    if passes.particle_contacts > 0 && passes.spring_energy > 0.0 {
+                        compared += 1;
+                    }
+                }
+            }
+            // States with touching pairs and loaded springs were compared
+            // (of 60 a setting: 38 in Walton–Braun's shorter run when
+            // written, more in the others).
+            assert!(compared > 20, "{compared}");
         }
     }
 }
