@@ -6,6 +6,8 @@
 //! `--out` writes `checkpoint.cbor` (gathered at rank 0, bodies in input
 //! order, the one-process engine's format); `--restart` reads it on every
 //! rank and continues on any number of ranks (or without mpirun).
+//! `[parallel] vtk_per_rank`: the sphere snapshots written by every rank,
+//! its own piece, with a `.pvtp` index ([`super::scene_mpi_pieces`]).
 //!
 //! Errors: a setup error on any rank ends every rank (the ranks agree on
 //! it before the first exchange; the lowest failing rank prints it; exit 2
@@ -22,14 +24,14 @@ use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, resolve_parts, PartGroup, ResolvedScene};
-use dembound_scene::io::{config, series, vtk, vtk_walls};
+use dembound_scene::io::{config, labels, series, vtk, vtk_walls};
 use dembound_scene::{Checkpoint, Collision, Observation};
 use serde::Serialize;
 
 use super::scene::{
     progress_bar, scene_error, CollisionRow, Report, SceneArgs, PARALLEL_MIN_PARTICLES,
 };
-use super::{CliError, CliResult};
+use super::{scene_mpi_pieces, CliError, CliResult};
 use crate::output::files::AtomicDir;
 
 /// How a rank ends on error: with an error to print, or silently with
@@ -191,7 +193,9 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let grid = resolved.file.parallel.grid;
     let parted = match &groups {
         Some(g) if restart.is_none() => {
-            DistributedSimulation::new_parts(&resolved.setup, g, threads, grid, t)
+            // Spheres named in refusals as one process names them.
+            let label = labels::label(&resolved.file, &resolved.groups, &resolved.wall_bodies);
+            DistributedSimulation::new_parts(&resolved.setup, g, &label, threads, grid, t)
         }
         _ => Ok(None),
     };
@@ -241,6 +245,10 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let mut snapshots: Vec<(f64, String, usize)> = Vec::new();
     let mut snapshot_count = 0;
     let mesh_walls = sim.mesh_walls();
+    // `[parallel] vtk_per_rank`: where every rank writes its pieces
+    // (collective: every rank reads the same scene and arguments).
+    let pieces = (args.out.is_some() && resolved.file.parallel.vtk_per_rank)
+        .then(|| scene_mpi_pieces::share_staging(t, out.as_ref()));
     let bar = if rank == 0 {
         progress_bar(span, args.quiet)
     } else {
@@ -259,10 +267,16 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             rows.push(agree(t, sim.observe_checked().map_err(scene_error))?);
         }
         if args.out.is_some() && ((step - start) % every == 0 || step == total) {
-            let state = sim.gather_state();
             let k = snapshot_count;
             let time = step as f64 * dt;
-            if let (Some(out), Some(state)) = (out.as_mut(), state) {
+            if let Some(dir) = &pieces {
+                // Each rank its own spheres, rank 0 the index.
+                match scene_mpi_pieces::write_snapshot(dir, &sim, k, step, time) {
+                    Ok(Some(index)) => snapshots.push((time, index, 0)),
+                    Ok(None) => {}
+                    Err(e) => write_failed(e),
+                }
+            } else if let (Some(out), Some(state)) = (out.as_mut(), sim.gather_state()) {
                 if let Err(e) = write_snapshot(out, &state, step, time, k) {
                     write_failed(e);
                 }
