@@ -1457,9 +1457,12 @@ fn vtp_arrays(path: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
     out
 }
 
+/// Sphere id → array name → that sphere's bytes in the array.
+type Spheres = std::collections::BTreeMap<i64, std::collections::BTreeMap<String, Vec<u8>>>;
+
 /// Sphere id → every point array's bytes of that sphere (connectivity and
 /// offsets, local numbers, left out), from `.vtp` files.
-fn spheres_by_id(files: &[std::path::PathBuf]) -> std::collections::BTreeMap<i64, Vec<Vec<u8>>> {
+fn spheres_by_id(files: &[std::path::PathBuf]) -> Spheres {
     let mut out = std::collections::BTreeMap::new();
     for f in files {
         let arrays = vtp_arrays(f);
@@ -1469,12 +1472,12 @@ fn spheres_by_id(files: &[std::path::PathBuf]) -> std::collections::BTreeMap<i64
             .collect();
         let n = ids.len();
         for (k, id) in ids.iter().enumerate() {
-            let values: Vec<Vec<u8>> = arrays
+            let values: std::collections::BTreeMap<String, Vec<u8>> = arrays
                 .iter()
                 .filter(|(name, _)| !["connectivity", "offsets"].contains(&name.as_str()))
-                .map(|(_, bytes)| {
+                .map(|(name, bytes)| {
                     let size = bytes.len() / n;
-                    bytes[k * size..(k + 1) * size].to_vec()
+                    (name.clone(), bytes[k * size..(k + 1) * size].to_vec())
                 })
                 .collect();
             assert!(out.insert(*id, values).is_none(), "id {id} twice");
@@ -1579,6 +1582,32 @@ fn per_rank_vtk_pieces_hold_the_one_process_snapshot() {
             }
             let whole = spheres_by_id(&[d0.join(format!("snapshot_{k:06}.vtp"))]);
             assert_eq!(whole.len(), 640);
+            if k == 3 {
+                // The end state, each rank's own spheres, not gathered.
+                assert!(!d.join("state.csv").exists());
+                let mut seen = 0;
+                for r in 0..ranks {
+                    let text = std::fs::read_to_string(d.join(format!("state_rank_{r}.csv")))
+                        .expect("state_rank_R.csv");
+                    for line in text.lines().skip(1) {
+                        let cells: Vec<&str> = line.split(',').collect();
+                        let id: i64 = cells[0].parse().expect("id");
+                        assert_eq!(cells[12], r.to_string(), "{line}");
+                        // Position and velocity: shortest round-trip text,
+                        // the snapshot's bits.
+                        let bits: Vec<u8> = cells[1..7]
+                            .iter()
+                            .flat_map(|c| c.parse::<f64>().expect("number").to_le_bytes())
+                            .collect();
+                        let sphere = &whole[&id];
+                        let (position, velocity) = (&sphere["position"], &sphere["velocity"]);
+                        assert_eq!(bits[..24], position[..], "{ranks} ranks: {line}");
+                        assert_eq!(bits[24..], velocity[..], "{ranks} ranks: {line}");
+                        seen += 1;
+                    }
+                }
+                assert_eq!(seen, 640, "{ranks} ranks");
+            }
             let union = spheres_by_id(&pieces);
             assert_eq!(union.len(), 640, "{ranks} ranks, snapshot {k}");
             for (id, values) in &whole {

@@ -90,12 +90,20 @@ def main():
     # axes' span, times the axes' width in points (approximate in 3D).
     width_pt = 0.42 * fig.get_size_inches()[0] * 72
     sizes = (2 * r[free] / span * width_pt) ** 2
-    colour = d["piece"][free] if by_piece else x[free][:, 2]
-    sc = ax.scatter(*x[free].T, s=sizes, c=colour, cmap="tab10" if by_piece else "viridis",
-                    vmin=0 if by_piece else None, vmax=9 if by_piece else None, depthshade=True,
-                    edgecolors="k", linewidths=0.2, zorder=1)
-    label = "piece (MPI rank)" if by_piece else "height of the centre z (mm)"
-    fig.colorbar(sc, ax=ax, shrink=0.6, pad=0.1, label=label)
+    if by_piece:
+        # One colour a piece, the colour bar's ticks the pieces.
+        pieces = int(d["piece"].max()) + 1
+        cmap = matplotlib.colors.ListedColormap(plt.get_cmap("tab10").colors[:pieces] if pieces <= 10
+                                                else plt.get_cmap("viridis")(np.linspace(0, 1, pieces)))
+        style = dict(c=d["piece"][free], cmap=cmap, vmin=-0.5, vmax=pieces - 0.5)
+    else:
+        style = dict(c=x[free][:, 2], cmap="viridis")
+    sc = ax.scatter(*x[free].T, s=sizes, depthshade=True, edgecolors="k", linewidths=0.2, zorder=1,
+                    **style)
+    bar = fig.colorbar(sc, ax=ax, shrink=0.6, pad=0.1,
+                       label="piece (MPI rank)" if by_piece else "height of the centre z (mm)")
+    if by_piece:
+        bar.set_ticks(range(pieces))
     centre = 0.5 * (lo + hi)
     for setter, k in ((ax.set_xlim, 0), (ax.set_ylim, 1), (ax.set_zlim, 2)):
         setter(centre[k] - 0.5 * span, centre[k] + 0.5 * span)
@@ -104,7 +112,9 @@ def main():
     ax.set_zlabel("z (mm)")
     ax.set_box_aspect((1, 1, 1))
     time = float(d["TIME"][0]) if "TIME" in d else float("nan")
-    ax.set_title(args.title or f"{free.sum()} free spheres, {fixed.sum()} boundary spheres, t = {time * 1e3:.1f} ms")
+    pieces_text = f" in {int(d['piece'].max()) + 1} pieces" if "piece" in d else ""
+    ax.set_title(args.title or f"{free.sum()} free spheres, {fixed.sum()} boundary spheres{pieces_text}, "
+                 f"t = {time * 1e3:.1f} ms")
     ax.view_init(elev=18, azim=-60)
     fig.savefig(args.out, bbox_inches="tight")
     print(f"wrote {args.out}")

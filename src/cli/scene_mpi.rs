@@ -330,7 +330,19 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let free = sim.free_counts();
     let balance = sim.balance_report();
     let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
-    let final_state = sim.gather_state();
+    // The end state for `state.csv`: gathered at rank 0 (collective), or
+    // with `vtk_per_rank` each rank's own in its `state_rank_R.csv`;
+    // nothing without `--out`.
+    let final_state = match &pieces {
+        _ if args.out.is_none() => None,
+        None => sim.gather_state(),
+        Some(dir) => {
+            if let Err(e) = scene_mpi_pieces::write_state(dir, &sim) {
+                write_failed(e);
+            }
+            None
+        }
+    };
     // The collision log, merged at rank 0 (collective).
     let log = if resolved.file.output.collisions {
         sim.collisions()
@@ -422,14 +434,14 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             Vec::new()
         },
     };
-    let written = match (out, final_state) {
-        (Some(out), Some(state)) => {
+    let written = match out {
+        Some(out) => {
             match finish_outputs(
                 out,
                 &resolved,
                 &rows,
                 &snapshots,
-                &state,
+                final_state.as_ref(),
                 saved,
                 log.as_deref().map(|l| (l, !mesh_walls.is_empty())),
             ) {
@@ -437,7 +449,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
                 Err(e) => write_failed(e),
             }
         }
-        _ => Vec::new(),
+        None => Vec::new(),
     };
     let mut stdout = std::io::stdout().lock();
     let text = if args.json {
@@ -511,14 +523,38 @@ fn write_snapshot(
     })
 }
 
-/// The series, the gathered end state, the resolved scene; then
-/// everything renamed into place.
+/// `state.csv`'s columns and the `rows` of `s`: (input index, index into
+/// `s`, rank) each.
+pub(super) fn write_state(
+    w: &mut dyn Write,
+    s: &GatheredState,
+    rows: impl Iterator<Item = (usize, usize, u32)>,
+) -> anyhow::Result<()> {
+    let mut c = csv::Writer::from_writer(w);
+    c.write_record([
+        "id", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "radius", "fixed", "rank",
+    ])?;
+    for (id, k, rank) in rows {
+        let (x, v, f) = (s.position[k], s.velocity[k], s.force[k]);
+        let mut row = vec![id.to_string()];
+        row.extend(x.iter().chain(&v).chain(&f).map(|a| format!("{a:e}")));
+        row.push(format!("{:e}", s.radius[k]));
+        row.push(u8::from(s.fixed[k]).to_string());
+        row.push(rank.to_string());
+        c.write_record(&row)?;
+    }
+    c.flush()?;
+    Ok(())
+}
+
+/// The series, the gathered end state (`None`: written per rank, or
+/// not at all), the resolved scene; then everything renamed into place.
 fn finish_outputs(
     mut out: AtomicDir,
     resolved: &ResolvedScene,
     rows: &[Observation],
     snapshots: &[(f64, String, usize)],
-    state: &GatheredState,
+    state: Option<&GatheredState>,
     saved: Option<Checkpoint>,
     // The collision log, and whether it has a triangle column (a scene
     // with a mesh wall).
@@ -534,27 +570,18 @@ fn finish_outputs(
     }
     let walls = resolved.setup.walls.len();
     out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))?;
-    out.write("state.csv", |w| {
-        let mut c = csv::Writer::from_writer(w);
-        c.write_record([
-            "id", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "radius", "fixed", "rank",
-        ])?;
-        for k in 0..state.position.len() {
-            if state.rank[k] == u32::MAX {
-                // Removed (`domain.outside = "delete"`): held by no rank.
-                continue;
-            }
-            let (x, v, f) = (state.position[k], state.velocity[k], state.force[k]);
-            let mut row = vec![k.to_string()];
-            row.extend(x.iter().chain(&v).chain(&f).map(|a| format!("{a:e}")));
-            row.push(format!("{:e}", state.radius[k]));
-            row.push(u8::from(state.fixed[k]).to_string());
-            row.push(state.rank[k].to_string());
-            c.write_record(&row)?;
-        }
-        c.flush()?;
-        Ok(())
-    })?;
+    if let Some(state) = state {
+        out.write("state.csv", |w| {
+            write_state(
+                w,
+                state,
+                (0..state.position.len())
+                    // Removed (`domain.outside = "delete"`): held by no rank.
+                    .filter(|&k| state.rank[k] != u32::MAX)
+                    .map(|k| (k, k, state.rank[k])),
+            )
+        })?;
+    }
     let toml = toml::to_string(&resolved.file)?;
     out.write("scene.toml", |w| {
         writeln!(

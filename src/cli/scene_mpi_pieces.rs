@@ -5,7 +5,8 @@
 //! no sphere crosses ranks for output. The pieces go into rank 0's staging
 //! directory (`AtomicDir`: published with the rest of the set, all or
 //! nothing), whose path rank 0 sends to the others: the ranks must share
-//! a file system, as for LAMMPS's per-processor dump files.
+//! a file system, as for LAMMPS's per-processor dump files. The end state
+//! too: each rank's `state_rank_R.csv` instead of a gathered `state.csv`.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -51,7 +52,7 @@ pub(super) fn write_snapshot<T: Transport>(
     let ids: Vec<u64> = ids.into_iter().map(u64::from).collect();
     let materials: Vec<usize> = s.material.iter().map(|&m| m as usize).collect();
     write_file(&dir.join(vtk::piece_name(k, rank)), |w| {
-        vtk::write_piece(
+        Ok(vtk::write_piece(
             w,
             &vtk::Snapshot {
                 time,
@@ -65,22 +66,42 @@ pub(super) fn write_snapshot<T: Transport>(
                 angular_velocities: &s.angular_velocity,
             },
             &ids,
-        )
+        )?)
     })?;
     if rank != 0 {
         return Ok(None);
     }
     let name = vtk::parallel_snapshot_name(k);
     let pieces: Vec<String> = (0..size).map(|r| vtk::piece_name(k, r)).collect();
-    write_file(&dir.join(&name), |w| vtk::write_parallel_index(w, &pieces))?;
+    write_file(&dir.join(&name), |w| {
+        Ok(vtk::write_parallel_index(w, &pieces)?)
+    })?;
     Ok(Some(name))
+}
+
+/// Writes this rank's end state, the spheres it owns by input index, as
+/// `state_rank_R.csv` (`state.csv`'s columns) into `dir`. No
+/// communication.
+pub(super) fn write_state<T: Transport>(
+    dir: &Path,
+    sim: &DistributedSimulation<T>,
+) -> anyhow::Result<()> {
+    let rank = sim.rank();
+    let (ids, s) = sim.owned_state();
+    write_file(&dir.join(format!("state_rank_{rank}.csv")), |w| {
+        let rows = ids
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| (id as usize, k, rank as u32));
+        super::scene_mpi::write_state(w, &s, rows)
+    })
 }
 
 /// Writes `path` (in the staging directory, which must exist: it is never
 /// made here) and syncs it.
 fn write_file(
     path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    write: impl FnOnce(&mut dyn Write) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
     let context = || format!("cannot write `{}`", path.display());
     let file = File::create(path).with_context(context)?;
