@@ -1541,10 +1541,10 @@ fn per_rank_vtk_pieces_hold_the_one_process_snapshot() {
             .collect();
         let expected: Vec<String> = (0..=3).map(|k| format!("snapshot_{k:06}.pvtp")).collect();
         assert_eq!(listed, expected, "{ranks} ranks");
-        for k in 0..=3 {
+        for (k, index_name) in expected.iter().enumerate() {
             // No gathered snapshot.
             assert!(!d.join(format!("snapshot_{k:06}.vtp")).exists());
-            let index = std::fs::read_to_string(d.join(&expected[k])).expect("pvtp");
+            let index = std::fs::read_to_string(d.join(index_name)).expect("pvtp");
             let index = roxmltree::Document::parse(&index).expect("valid XML");
             assert_eq!(
                 index.root_element().attribute("type"),
