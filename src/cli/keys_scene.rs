@@ -665,6 +665,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "> 1, or inf".into(),
             "re-balance trigger",
         ),
+        row(
+            "parallel.vtk_per_rank",
+            "",
+            "false",
+            "true, false".into(),
+            "MPI snapshots as one piece per rank (.pvtp)",
+        ),
     ];
     // The registry laws' parameters given by key (`contact.stiffness`,
     // `contact.exponent`), before `contact.friction`.

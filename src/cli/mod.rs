@@ -28,6 +28,8 @@ pub mod scene;
 mod scene_limits;
 #[cfg(feature = "mpi")]
 mod scene_mpi;
+#[cfg(feature = "mpi")]
+mod scene_mpi_pieces;
 pub mod sweep;
 pub mod validate;
 pub mod wall_study;

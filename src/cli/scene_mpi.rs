@@ -6,6 +6,8 @@
 //! `--out` writes `checkpoint.cbor` (gathered at rank 0, bodies in input
 //! order, the one-process engine's format); `--restart` reads it on every
 //! rank and continues on any number of ranks (or without mpirun).
+//! `[parallel] vtk_per_rank`: the sphere snapshots written by every rank,
+//! its own piece, with a `.pvtp` index ([`super::scene_mpi_pieces`]).
 //!
 //! Errors: a setup error on any rank ends every rank (the ranks agree on
 //! it before the first exchange; the lowest failing rank prints it; exit 2
@@ -22,14 +24,14 @@ use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::resolve::{resolve, resolve_parts, PartGroup, ResolvedScene};
-use dembound_scene::io::{config, series, vtk, vtk_walls};
+use dembound_scene::io::{config, labels, series, vtk, vtk_walls};
 use dembound_scene::{Checkpoint, Collision, Observation};
 use serde::Serialize;
 
 use super::scene::{
     progress_bar, scene_error, CollisionRow, Report, SceneArgs, PARALLEL_MIN_PARTICLES,
 };
-use super::{CliError, CliResult};
+use super::{scene_mpi_pieces, CliError, CliResult};
 use crate::output::files::AtomicDir;
 
 /// How a rank ends on error: with an error to print, or silently with
@@ -191,7 +193,9 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let grid = resolved.file.parallel.grid;
     let parted = match &groups {
         Some(g) if restart.is_none() => {
-            DistributedSimulation::new_parts(&resolved.setup, g, threads, grid, t)
+            // Spheres named in refusals as one process names them.
+            let label = labels::label(&resolved.file, &resolved.groups, &resolved.wall_bodies);
+            DistributedSimulation::new_parts(&resolved.setup, g, &label, threads, grid, t)
         }
         _ => Ok(None),
     };
@@ -241,6 +245,10 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let mut snapshots: Vec<(f64, String, usize)> = Vec::new();
     let mut snapshot_count = 0;
     let mesh_walls = sim.mesh_walls();
+    // `[parallel] vtk_per_rank`: where every rank writes its pieces
+    // (collective: every rank reads the same scene and arguments).
+    let pieces = (args.out.is_some() && resolved.file.parallel.vtk_per_rank)
+        .then(|| scene_mpi_pieces::share_staging(t, out.as_ref()));
     let bar = if rank == 0 {
         progress_bar(span, args.quiet)
     } else {
@@ -259,10 +267,16 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             rows.push(agree(t, sim.observe_checked().map_err(scene_error))?);
         }
         if args.out.is_some() && ((step - start) % every == 0 || step == total) {
-            let state = sim.gather_state();
             let k = snapshot_count;
             let time = step as f64 * dt;
-            if let (Some(out), Some(state)) = (out.as_mut(), state) {
+            if let Some(dir) = &pieces {
+                // Each rank its own spheres, rank 0 the index.
+                match scene_mpi_pieces::write_snapshot(dir, &sim, k, step, time) {
+                    Ok(Some(index)) => snapshots.push((time, index, 0)),
+                    Ok(None) => {}
+                    Err(e) => write_failed(e),
+                }
+            } else if let (Some(out), Some(state)) = (out.as_mut(), sim.gather_state()) {
                 if let Err(e) = write_snapshot(out, &state, step, time, k) {
                     write_failed(e);
                 }
@@ -316,7 +330,19 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let free = sim.free_counts();
     let balance = sim.balance_report();
     let last = rows.last().cloned().unwrap_or_else(|| sim.observe());
-    let final_state = sim.gather_state();
+    // The end state for `state.csv`: gathered at rank 0 (collective), or
+    // with `vtk_per_rank` each rank's own in its `state_rank_R.csv`;
+    // nothing without `--out`.
+    let final_state = match &pieces {
+        _ if args.out.is_none() => None,
+        None => sim.gather_state(),
+        Some(dir) => {
+            if let Err(e) = scene_mpi_pieces::write_state(dir, &sim) {
+                write_failed(e);
+            }
+            None
+        }
+    };
     // The collision log, merged at rank 0 (collective).
     let log = if resolved.file.output.collisions {
         sim.collisions()
@@ -408,14 +434,14 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             Vec::new()
         },
     };
-    let written = match (out, final_state) {
-        (Some(out), Some(state)) => {
+    let written = match out {
+        Some(out) => {
             match finish_outputs(
                 out,
                 &resolved,
                 &rows,
                 &snapshots,
-                &state,
+                final_state.as_ref(),
                 saved,
                 log.as_deref().map(|l| (l, !mesh_walls.is_empty())),
             ) {
@@ -423,7 +449,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
                 Err(e) => write_failed(e),
             }
         }
-        _ => Vec::new(),
+        None => Vec::new(),
     };
     let mut stdout = std::io::stdout().lock();
     let text = if args.json {
@@ -497,14 +523,38 @@ fn write_snapshot(
     })
 }
 
-/// The series, the gathered end state, the resolved scene; then
-/// everything renamed into place.
+/// `state.csv`'s columns and the `rows` of `s`: (input index, index into
+/// `s`, rank) each.
+pub(super) fn write_state(
+    w: &mut dyn Write,
+    s: &GatheredState,
+    rows: impl Iterator<Item = (usize, usize, u32)>,
+) -> anyhow::Result<()> {
+    let mut c = csv::Writer::from_writer(w);
+    c.write_record([
+        "id", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "radius", "fixed", "rank",
+    ])?;
+    for (id, k, rank) in rows {
+        let (x, v, f) = (s.position[k], s.velocity[k], s.force[k]);
+        let mut row = vec![id.to_string()];
+        row.extend(x.iter().chain(&v).chain(&f).map(|a| format!("{a:e}")));
+        row.push(format!("{:e}", s.radius[k]));
+        row.push(u8::from(s.fixed[k]).to_string());
+        row.push(rank.to_string());
+        c.write_record(&row)?;
+    }
+    c.flush()?;
+    Ok(())
+}
+
+/// The series, the gathered end state (`None`: written per rank, or
+/// not at all), the resolved scene; then everything renamed into place.
 fn finish_outputs(
     mut out: AtomicDir,
     resolved: &ResolvedScene,
     rows: &[Observation],
     snapshots: &[(f64, String, usize)],
-    state: &GatheredState,
+    state: Option<&GatheredState>,
     saved: Option<Checkpoint>,
     // The collision log, and whether it has a triangle column (a scene
     // with a mesh wall).
@@ -520,27 +570,18 @@ fn finish_outputs(
     }
     let walls = resolved.setup.walls.len();
     out.write("series.csv", |w| Ok(series::write_series(w, rows, walls)?))?;
-    out.write("state.csv", |w| {
-        let mut c = csv::Writer::from_writer(w);
-        c.write_record([
-            "id", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "radius", "fixed", "rank",
-        ])?;
-        for k in 0..state.position.len() {
-            if state.rank[k] == u32::MAX {
-                // Removed (`domain.outside = "delete"`): held by no rank.
-                continue;
-            }
-            let (x, v, f) = (state.position[k], state.velocity[k], state.force[k]);
-            let mut row = vec![k.to_string()];
-            row.extend(x.iter().chain(&v).chain(&f).map(|a| format!("{a:e}")));
-            row.push(format!("{:e}", state.radius[k]));
-            row.push(u8::from(state.fixed[k]).to_string());
-            row.push(state.rank[k].to_string());
-            c.write_record(&row)?;
-        }
-        c.flush()?;
-        Ok(())
-    })?;
+    if let Some(state) = state {
+        out.write("state.csv", |w| {
+            write_state(
+                w,
+                state,
+                (0..state.position.len())
+                    // Removed (`domain.outside = "delete"`): held by no rank.
+                    .filter(|&k| state.rank[k] != u32::MAX)
+                    .map(|k| (k, k, state.rank[k])),
+            )
+        })?;
+    }
     let toml = toml::to_string(&resolved.file)?;
     out.write("scene.toml", |w| {
         writeln!(

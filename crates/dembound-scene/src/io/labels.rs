@@ -10,14 +10,25 @@ use crate::SceneError;
 use std::ops::Range;
 
 /// Checks `setup` as [`crate::setup_checks::check`] does, with the spheres
-/// named by their source; returns the warnings.
+/// named by their source ([`label`]); returns the warnings.
 pub fn check(
     setup: &SceneSetup,
     file: &SceneFile,
     groups: &[Range<usize>],
     wall_bodies: &[Range<usize>],
 ) -> Result<Vec<String>, SceneError> {
-    let label = |k: usize| -> String {
+    crate::setup_checks::check(setup, &label(file, groups, wall_bodies))
+}
+
+/// The name of the sphere of input index `k` by its source: the group's
+/// (`groups`, file order) or the wall's (`wall_bodies`), else the input
+/// index alone.
+pub fn label<'a>(
+    file: &'a SceneFile,
+    groups: &'a [Range<usize>],
+    wall_bodies: &'a [Range<usize>],
+) -> impl Fn(usize) -> String + 'a {
+    move |k: usize| -> String {
         for (i, range) in groups.iter().enumerate() {
             if range.contains(&k) {
                 let j = k - range.start;
@@ -43,6 +54,5 @@ pub fn check(
             }
         }
         crate::setup_checks::by_index(k)
-    };
-    crate::setup_checks::check(setup, &label)
+    }
 }

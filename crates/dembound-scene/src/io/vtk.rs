@@ -86,8 +86,88 @@ pub fn write_simulation(w: &mut dyn Write, sim: &crate::Simulation) -> io::Resul
     )
 }
 
-/// Writes one `.vtp` file.
+/// Writes one `.vtp` file (the `id` of point k is k: input order).
 pub fn write_snapshot(w: &mut dyn Write, s: &Snapshot) -> io::Result<()> {
+    write_polydata(w, s, None)
+}
+
+/// Writes one MPI rank's piece of a snapshot (a `.vtp` file of the
+/// spheres it owns, listed by a `.pvtp` index, [`write_parallel_index`]):
+/// `ids`, the input index of each sphere of `s`, fill the `id` array.
+pub fn write_piece(w: &mut dyn Write, s: &Snapshot, ids: &[u64]) -> io::Result<()> {
+    if ids.len() != s.positions.len() {
+        return Err(io::Error::other(format!(
+            "{} ids for {} spheres",
+            ids.len(),
+            s.positions.len()
+        )));
+    }
+    write_polydata(w, s, Some(ids))
+}
+
+/// The point arrays of a snapshot, in the order written: (name, VTK
+/// type, components). `position` is the points' array.
+const POINT_ARRAYS: [(&str, &str, usize); 8] = [
+    ("position", "Float64", 3),
+    ("radius", "Float64", 1),
+    ("velocity", "Float64", 3),
+    ("force", "Float64", 3),
+    ("angular_velocity", "Float64", 3),
+    ("fixed", "UInt8", 1),
+    ("material", "Int32", 1),
+    ("id", "Int64", 1),
+];
+
+/// Writes the `.pvtp` index of one snapshot written in pieces: the
+/// arrays of [`write_piece`] and each piece's file (`pieces`, relative
+/// to the index), as VTK's XML parallel PolyData format (`PPolyData`)
+/// has them.
+pub fn write_parallel_index(w: &mut dyn Write, pieces: &[String]) -> io::Result<()> {
+    let declare = |w: &mut dyn Write, (name, kind, components): (&str, &str, usize)| {
+        let comps = if components > 1 {
+            format!(" NumberOfComponents=\"{components}\"")
+        } else {
+            String::new()
+        };
+        writeln!(
+            w,
+            "      <PDataArray type=\"{kind}\" Name=\"{name}\"{comps}/>"
+        )
+    };
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+    )?;
+    writeln!(w, "  <PPolyData GhostLevel=\"0\">")?;
+    writeln!(w, "    <PPoints>")?;
+    declare(w, POINT_ARRAYS[0])?;
+    writeln!(w, "    </PPoints>")?;
+    writeln!(
+        w,
+        "    <PPointData Scalars=\"radius\" Vectors=\"velocity\">"
+    )?;
+    for a in &POINT_ARRAYS[1..] {
+        declare(w, *a)?;
+    }
+    writeln!(w, "    </PPointData>")?;
+    for p in pieces {
+        writeln!(w, "    <Piece Source=\"{}\"/>", xml_attribute(p))?;
+    }
+    writeln!(w, "  </PPolyData>")?;
+    writeln!(w, "</VTKFile>")
+}
+
+/// `text` with XML's special characters escaped, for an attribute value.
+fn xml_attribute(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('"', "&quot;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// A `.vtp` file of `s`; `ids`: the `id` array (`None`: 0..n).
+fn write_polydata(w: &mut dyn Write, s: &Snapshot, ids: Option<&[u64]>) -> io::Result<()> {
     let n = s.positions.len();
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     writeln!(
@@ -128,12 +208,14 @@ pub fn write_snapshot(w: &mut dyn Write, s: &Snapshot) -> io::Result<()> {
         .flat_map(|m| (*m as i32).to_le_bytes())
         .collect();
     array(w, "material", "Int32", 1, &materials)?;
-    let ids: Vec<u8> = (0..n as i64).flat_map(|i| i.to_le_bytes()).collect();
-    array(w, "id", "Int64", 1, &ids)?;
+    let points: Vec<u8> = (0..n as i64).flat_map(|i| i.to_le_bytes()).collect();
+    let ids =
+        ids.map(|ids| -> Vec<u8> { ids.iter().flat_map(|&i| (i as i64).to_le_bytes()).collect() });
+    array(w, "id", "Int64", 1, ids.as_deref().unwrap_or(&points))?;
     writeln!(w, "      </PointData>")?;
     // One vertex cell per point, so that ParaView draws them as they are.
     writeln!(w, "      <Verts>")?;
-    array(w, "connectivity", "Int64", 1, &ids)?;
+    array(w, "connectivity", "Int64", 1, &points)?;
     let offsets: Vec<u8> = (1..=n as i64).flat_map(|i| i.to_le_bytes()).collect();
     array(w, "offsets", "Int64", 1, &offsets)?;
     writeln!(w, "      </Verts>")?;
@@ -174,6 +256,16 @@ pub fn snapshot_name(k: usize) -> String {
     format!("snapshot_{k:06}.vtp")
 }
 
+/// The `.pvtp` index of snapshot number `k` written in pieces.
+pub fn parallel_snapshot_name(k: usize) -> String {
+    format!("snapshot_{k:06}.pvtp")
+}
+
+/// Rank `rank`'s piece of snapshot number `k`.
+pub fn piece_name(k: usize, rank: usize) -> String {
+    format!("snapshot_{k:06}_rank_{rank}.vtp")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -188,6 +280,72 @@ mod tests {
         let len = u64::from_le_bytes(block[..8].try_into().unwrap()) as usize;
         assert_eq!(len, block.len() - 8);
         block[8..].to_vec()
+    }
+
+    /// (name, type, components) of each `<DataArray>` (`<PDataArray>`)
+    /// of `text` under `<Points>`/`<PointData>` (their parallel tags), in
+    /// order: read from the XML, independent of [`POINT_ARRAYS`].
+    fn declared(text: &str, tag: &str) -> Vec<(String, String, usize)> {
+        let attr = |l: &str, key: &str| -> Option<String> {
+            let at = l.find(&format!(" {key}=\""))? + key.len() + 3;
+            Some(l[at..at + l[at..].find('"')?].to_string())
+        };
+        text.lines()
+            .filter(|l| l.trim_start().starts_with(&format!("<{tag} ")))
+            .filter_map(|l| {
+                let name = attr(l, "Name")?;
+                let comps = attr(l, "NumberOfComponents").map_or(1, |c| c.parse().unwrap());
+                Some((name, attr(l, "type")?, comps))
+            })
+            .filter(|(name, _, _)| !["TIME", "STEP", "connectivity", "offsets"].contains(&&**name))
+            .collect()
+    }
+
+    /// A piece holds its spheres' input indices in `id` and local point
+    /// numbers in the vertices; the index declares the piece's arrays
+    /// and lists every piece.
+    #[test]
+    fn a_piece_and_its_index_agree() {
+        let s = Snapshot {
+            time: 0.5,
+            step: 9,
+            positions: &[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+            radii: &[1e-3, 2e-3],
+            velocities: &[[0.0; 3]; 2],
+            forces: &[[0.0; 3]; 2],
+            fixed: &[false, false],
+            materials: &[0, 0],
+            angular_velocities: &[[0.0; 3]; 2],
+        };
+        let mut piece = Vec::new();
+        write_piece(&mut piece, &s, &[7, 42]).unwrap();
+        let piece = String::from_utf8(piece).unwrap();
+        let ints = |name: &str| -> Vec<i64> {
+            decode(&piece, name)
+                .chunks(8)
+                .map(|c| i64::from_le_bytes(c.try_into().unwrap()))
+                .collect()
+        };
+        assert_eq!(ints("id"), vec![7, 42]);
+        assert_eq!(ints("connectivity"), vec![0, 1]);
+        assert_eq!(ints("offsets"), vec![1, 2]);
+        assert!(write_piece(&mut Vec::new(), &s, &[7]).is_err());
+        let names = [piece_name(3, 0), piece_name(3, 1)];
+        let mut index = Vec::new();
+        write_parallel_index(&mut index, &names).unwrap();
+        let index = String::from_utf8(index).unwrap();
+        let arrays = declared(&piece, "DataArray");
+        assert_eq!(arrays.len(), 8, "{arrays:?}");
+        assert_eq!(declared(&index, "PDataArray"), arrays);
+        assert!(index.contains("<Piece Source=\"snapshot_000003_rank_0.vtp\"/>"));
+        assert!(index.contains("<Piece Source=\"snapshot_000003_rank_1.vtp\"/>"));
+        assert_eq!(xml_attribute("a\"<&>"), "a&quot;&lt;&amp;&gt;");
+        // The whole snapshot is the one piece of ids 0..n.
+        let mut whole = Vec::new();
+        write_snapshot(&mut whole, &s).unwrap();
+        let mut one = Vec::new();
+        write_piece(&mut one, &s, &[0, 1]).unwrap();
+        assert_eq!(whole, one);
     }
 
     #[test]

@@ -37,6 +37,7 @@ use super::{
 };
 use crate::io::resolve::{atom_material, PartGroup, PartSource};
 use crate::setup::{SceneSetup, SphereInit};
+use crate::setup_checks::Label;
 use crate::sources::lammps_part;
 use crate::SceneError;
 
@@ -393,14 +394,59 @@ pub(crate) fn to_owners<T: Transport>(
     Part { spheres, ids }
 }
 
+/// The other ranks' spheres that come within (own radius + `largest`)
+/// of this rank's sub-domain: the first halo the run builds
+/// (`Decomposition::ranks_within`, as `migrate_and_rebuild`), by input
+/// index (collective). Every pair of spheres that touch, one of them
+/// this rank's, has both here.
+fn ghosts<T: Transport>(part: &Part, d: &Decomposition, largest: f64, t: &T) -> Part {
+    let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
+    for (&id, s) in part.ids.iter().zip(&part.spheres) {
+        for r in d.ranks_within(s.position, s.radius + largest) {
+            write_sphere(out.entry(r).or_insert_with(|| Writer(Vec::new())), id, s);
+        }
+    }
+    let mut got: Vec<(u32, SphereInit)> = Vec::new();
+    for bytes in send_all(t, out) {
+        let mut r = Reader::new(&bytes);
+        while !r.done() {
+            got.push(read_sphere(&mut r));
+        }
+    }
+    got.sort_by_key(|(id, _)| *id);
+    let (ids, spheres) = got.into_iter().unzip();
+    Part { spheres, ids }
+}
+
+/// `setup` with this rank's spheres and its ghosts, by input index (so a
+/// pair is named in the order one process names it), and their input
+/// indices.
+fn with_ghosts(setup: &SceneSetup, part: &Part, ghosts: Part) -> (SceneSetup, Vec<u32>) {
+    let mut all: Vec<(u32, SphereInit)> = part
+        .ids
+        .iter()
+        .copied()
+        .zip(part.spheres.iter().cloned())
+        .chain(ghosts.ids.into_iter().zip(ghosts.spheres))
+        .collect();
+    all.sort_by_key(|(id, _)| *id);
+    let (ids, spheres) = all.into_iter().unzip();
+    let mut local = setup.clone();
+    local.spheres = spheres;
+    (local, ids)
+}
+
 impl<T: Transport> DistributedSimulation<T> {
     /// [`DistributedSimulation::new`] with each rank making or reading only
     /// its part of the spheres of `groups` ([`crate::io::resolve::resolve_parts`];
-    /// `setup.spheres` empty). `Ok(None)`: the scene is to be read whole
-    /// (every rank agrees). Collective.
+    /// `setup.spheres` empty). `label` names a sphere by its input index in
+    /// the setup checks' messages (`io::labels::label`, as one process
+    /// names it). `Ok(None)`: the scene is to be read whole (every rank
+    /// agrees). Collective.
     pub fn new_parts(
         setup: &SceneSetup,
         groups: &[PartGroup],
+        label: Label<'_>,
         threads: usize,
         grid: Option<[usize; 3]>,
         transport: T,
@@ -451,20 +497,19 @@ impl<T: Transport> DistributedSimulation<T> {
             Decomposition::new(domain, t.size(), grid, sim.world.cell_size, Some((lo, hi))),
         )?;
         let part = to_owners(part, |x| d.owner(x), |x| domain.wrap(x), t);
-        // This rank's spheres checked as the whole scene's are (overlaps
-        // between two ranks' spheres are not looked for).
+        let largest_radius = largest_radius(&sim.world, setup);
+        // This rank's spheres checked as the whole scene's are, with the
+        // other ranks' spheres that may touch them (an overlap across a
+        // sub-domain face is found on both sides).
+        let ghosts = ghosts(&part, &d, largest_radius, t);
         let ids = &part.ids;
         let checked =
             crate::simulation::build::check_spheres(&proxy, &part.spheres, |q| ids[q] as usize)
                 .and_then(|()| {
-                    let mut local = proxy.clone();
-                    local.spheres = part.spheres.clone();
-                    crate::setup_checks::check(&local, &|k| {
-                        crate::setup_checks::by_index(ids[k] as usize)
-                    })
+                    let (local, local_ids) = with_ghosts(&proxy, &part, ghosts);
+                    crate::setup_checks::check(&local, &|k| label(local_ids[k] as usize))
                 });
         agree(t, checked)?;
-        let largest_radius = largest_radius(&sim.world, setup);
         let w = &mut sim.world;
         let mut b = crate::simulation::build::bodies_of(&proxy, &part.spheres, |q| ids[q]);
         drop(part.spheres);

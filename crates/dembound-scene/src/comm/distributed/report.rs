@@ -111,24 +111,44 @@ impl<T: Transport> DistributedSimulation<T> {
         self.stepping
     }
 
+    /// This rank's owned bodies by input index, with those indices (no
+    /// communication): a per-rank snapshot's spheres. `rank` is empty.
+    pub fn owned_state(&self) -> (Vec<u32>, GatheredState) {
+        let b: &Bodies = &self.sim.world.bodies;
+        let mut own: Vec<usize> = (0..b.len()).filter(|&k| !self.comm.halo[k]).collect();
+        own.sort_by_key(|&k| b.id[k]);
+        let s = GatheredState {
+            position: own.iter().map(|&k| b.position[k]).collect(),
+            velocity: own.iter().map(|&k| b.velocity[k]).collect(),
+            force: own.iter().map(|&k| b.force[k]).collect(),
+            radius: own.iter().map(|&k| b.radius[k]).collect(),
+            fixed: own.iter().map(|&k| b.fixed[k]).collect(),
+            material: own.iter().map(|&k| b.material[k]).collect(),
+            angular_velocity: own
+                .iter()
+                .map(|&k| b.angular_velocity.get(k).copied().unwrap_or_default())
+                .collect(),
+            rank: Vec::new(),
+        };
+        (own.iter().map(|&k| b.id[k]).collect(), s)
+    }
+
     /// The owned bodies of every rank at rank 0, input order (`None`
     /// elsewhere). Collective.
     pub fn gather_state(&self) -> Option<GatheredState> {
-        let b: &Bodies = &self.sim.world.bodies;
+        let (ids, own) = self.owned_state();
         let mut w = Writer::default();
-        for k in 0..b.len() {
-            if self.comm.halo[k] {
-                continue;
-            }
-            w.u32(b.id[k]);
-            w.vec3(b.position[k]);
-            w.vec3(b.velocity[k]);
-            w.vec3(b.force[k]);
-            w.f64(b.radius[k]);
-            w.u8(u8::from(b.fixed[k]));
-            w.u32(b.material[k]);
-            w.vec3(b.angular_velocity.get(k).copied().unwrap_or_default());
+        for (k, &id) in ids.iter().enumerate() {
+            w.u32(id);
+            w.vec3(own.position[k]);
+            w.vec3(own.velocity[k]);
+            w.vec3(own.force[k]);
+            w.f64(own.radius[k]);
+            w.u8(u8::from(own.fixed[k]));
+            w.u32(own.material[k]);
+            w.vec3(own.angular_velocity[k]);
         }
+        drop(own);
         let parts = self.comm.transport.gather(w.0)?;
         let n = self.comm.fixed_by_id.len();
         let mut s = GatheredState {

@@ -101,6 +101,12 @@ pub struct ParallelSection {
     /// (`comm::distributed::balance`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rebalance_threshold: Option<f64>,
+    /// With `--out`: each rank writes the spheres it owns at each snapshot
+    /// as its own piece (`snapshot_NNNNNN_rank_R.vtp`), indexed by
+    /// `snapshot_NNNNNN.pvtp`, instead of rank 0 gathering every sphere
+    /// into `snapshot_NNNNNN.vtp` (default false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub vtk_per_rank: bool,
 }
 
 impl ParallelSection {

@@ -1,0 +1,116 @@
+//! `[parallel] vtk_per_rank` (issue 31 item 5): each rank writes the
+//! spheres it owns at a snapshot as its own piece
+//! (`snapshot_NNNNNN_rank_R.vtp`, `io::vtk::write_piece`) and rank 0 the
+//! `.pvtp` index listing every rank's piece (`io::vtk::write_parallel_index`);
+//! no sphere crosses ranks for output. The pieces go into rank 0's staging
+//! directory (`AtomicDir`: published with the rest of the set, all or
+//! nothing), whose path rank 0 sends to the others: the ranks must share
+//! a file system, as for LAMMPS's per-processor dump files. The end state
+//! too: each rank's `state_rank_R.csv` instead of a gathered `state.csv`.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::os::unix::ffi::{OsStrExt, OsStringExt};
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use dembound_scene::comm::mpi::MpiTransport;
+use dembound_scene::comm::{DistributedSimulation, Transport};
+use dembound_scene::io::vtk;
+
+use crate::output::files::AtomicDir;
+
+/// The staging directory of rank 0's `out` on every rank (collective).
+pub(super) fn share_staging(t: &MpiTransport, out: Option<&AtomicDir>) -> PathBuf {
+    let mine = out.map(|o| o.staging().to_path_buf());
+    if t.rank() == 0 {
+        let bytes = mine
+            .as_deref()
+            .map_or(&[][..], |p| p.as_os_str().as_bytes());
+        let sends: Vec<(usize, Vec<u8>)> = (1..t.size()).map(|r| (r, bytes.to_vec())).collect();
+        t.exchange(&sends, &[]);
+        mine.unwrap_or_default()
+    } else {
+        let got = t.exchange(&[], &[0]);
+        let bytes = got.into_iter().next().unwrap_or_default();
+        PathBuf::from(std::ffi::OsString::from_vec(bytes))
+    }
+}
+
+/// Writes this rank's piece of snapshot `k` into `dir` (every rank) and,
+/// at rank 0, the `.pvtp` index of every rank's piece; returns the
+/// index's name at rank 0. No communication.
+pub(super) fn write_snapshot<T: Transport>(
+    dir: &Path,
+    sim: &DistributedSimulation<T>,
+    k: usize,
+    step: u64,
+    time: f64,
+) -> anyhow::Result<Option<String>> {
+    let (rank, size) = (sim.rank(), sim.ranks());
+    let (ids, s) = sim.owned_state();
+    let ids: Vec<u64> = ids.into_iter().map(u64::from).collect();
+    let materials: Vec<usize> = s.material.iter().map(|&m| m as usize).collect();
+    write_file(&dir.join(vtk::piece_name(k, rank)), |w| {
+        Ok(vtk::write_piece(
+            w,
+            &vtk::Snapshot {
+                time,
+                step,
+                positions: &s.position,
+                radii: &s.radius,
+                velocities: &s.velocity,
+                forces: &s.force,
+                fixed: &s.fixed,
+                materials: &materials,
+                angular_velocities: &s.angular_velocity,
+            },
+            &ids,
+        )?)
+    })?;
+    if rank != 0 {
+        return Ok(None);
+    }
+    let name = vtk::parallel_snapshot_name(k);
+    let pieces: Vec<String> = (0..size).map(|r| vtk::piece_name(k, r)).collect();
+    write_file(&dir.join(&name), |w| {
+        Ok(vtk::write_parallel_index(w, &pieces)?)
+    })?;
+    Ok(Some(name))
+}
+
+/// Writes this rank's end state, the spheres it owns by input index, as
+/// `state_rank_R.csv` (`state.csv`'s columns) into `dir`. No
+/// communication.
+pub(super) fn write_state<T: Transport>(
+    dir: &Path,
+    sim: &DistributedSimulation<T>,
+) -> anyhow::Result<()> {
+    let rank = sim.rank();
+    let (ids, s) = sim.owned_state();
+    write_file(&dir.join(format!("state_rank_{rank}.csv")), |w| {
+        let rows = ids
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| (id as usize, k, rank as u32));
+        super::scene_mpi::write_state(w, &s, rows)
+    })
+}
+
+/// Writes `path` (in the staging directory, which must exist: it is never
+/// made here) and syncs it.
+fn write_file(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let context = || format!("cannot write `{}`", path.display());
+    let file = File::create(path).with_context(context)?;
+    let mut w = BufWriter::new(file);
+    write(&mut w).with_context(context)?;
+    w.flush().with_context(context)?;
+    let file = w
+        .into_inner()
+        .map_err(|e| e.into_error())
+        .with_context(context)?;
+    file.sync_all().with_context(context)
+}
