@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Chung & Ooi (2011) Test 5 integrated apart from dembound (standard
-library only): a steel sphere (R = 1e-5 m, E = 200 GPa, nu = 0.3,
-rho = 7800 kg/m^3) hits a plane at v_n = 5 m/s, v_t = psi1 mu v_n,
-mu = 0.3, elastic. Hertz normal force (4/3) E* sqrt(R) h^(3/2); Mindlin
-spring k_t = 8 G* sqrt(R h) on the stored slip s (F_t = -k_t s, s cut
-back to mu F_n / k_t when the spring exceeds the Coulomb limit);
-symplectic Euler.
+library only; the equations in scripts/chung_ooi_model.py): a steel sphere
+(R = 1e-5 m, E = 200 GPa, nu = 0.3, rho = 7800 kg/m^3) hits a plane at
+v_n = 5 m/s, v_t = psi1 mu v_n, mu = 0.3, elastic. Hertz normal force
+(4/3) E* sqrt(R) h^(3/2); Mindlin spring k_t = 8 G* sqrt(R h) on the
+stored slip s (F_t = -k_t s, s cut back to mu F_n / k_t when the spring
+exceeds the Coulomb limit); symplectic Euler.
 
 Two set-ups, to account for the benchmark's comparison with LAMMPS
 (scripts/lammps_chung_ooi_5.py):
@@ -22,9 +22,10 @@ digitised Test 5 curve looks like).
 import math
 import sys
 
+from chung_ooi_model import contact_time, impact, moduli
+
 E, NU, RHO, R, VN, MU = 2e11, 0.3, 7800.0, 1e-5, 5.0, 0.3
 M = 4 / 3 * math.pi * R**3 * RHO
-I = 0.4 * M * R * R
 PSI1 = [
     0.0664652567975832, 0.3323262839879155, 0.6706948640483383,
     1.0090634441087611, 1.3353474320241694, 1.6616314199395772, 2.0,
@@ -34,34 +35,15 @@ PSI1 = [
 
 
 def run(psi1, elastic_target, half_arm, dt, kt_factor=1.0):
-    es = E / (1 - NU * NU) / (2 if elastic_target else 1)
-    gs = E / (2 * (1 + NU)) / (2 - NU) / (2 if elastic_target else 1)
-    z, vz, vx, w, s = R, -VN, psi1 * MU * VN, 0.0, 0.0
-    while True:
-        h = R - z
-        if h <= 0 and vz > 0:
-            break
-        if h > 0:
-            fn = 4 / 3 * es * math.sqrt(R) * h**1.5
-            kt = kt_factor * 8 * gs * math.sqrt(R * h)
-            s += (vx - R * w) * dt
-            if kt * abs(s) > MU * fn:
-                s = math.copysign(MU * fn / kt, s)
-            ft = -kt * s
-            arm = R - 0.5 * h if half_arm else R
-        else:
-            fn = ft = s = 0.0
-            arm = R
-        vz += fn / M * dt
-        vx += ft / M * dt
-        w += -arm * ft / I * dt
-        z += vz * dt
+    es, gs = moduli(E, NU, elastic_target)
+    vx, vz, w = impact(radius=R, mass=M, es=es, gs=gs, vn=VN, vx=psi1 * MU * VN,
+                       spin=0.0, mu=MU, dt=dt, half_arm=half_arm,
+                       kt_factor=kt_factor)
     return (vx - R * w) / (MU * vz), -R * w / (MU * VN)
 
 
 def main():
-    es = E / (1 - NU * NU)
-    tc = 2.868 * (M * M / (R * es * es * VN)) ** 0.2
+    tc = contact_time(M, R, moduli(E, NU, False)[0], VN)
     if "--halve" in sys.argv:
         for x in PSI1:
             a = run(x, False, False, tc / 20000, 0.5)

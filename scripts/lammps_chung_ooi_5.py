@@ -13,14 +13,15 @@ displacement, the spring cut back to mu F_n): the model dembound runs.
 Delta t = 2.5e-12 s, about T_c/20,000.
 
 Prints, per psi1, psi2 = v_cp'/(mu v_n') and R omega'/(mu v_n) (negative
-in the rolling sense). Needs `lmp` on PATH; about 1 s per point.
+in the rolling sense). Needs `lmp` on PATH; about 1 s per point. The
+deck is scripts/chung_ooi_lammps.py's.
 
     python3 scripts/lammps_chung_ooi_5.py [tangential model]
 """
-import os
-import subprocess
 import sys
 import tempfile
+
+from chung_ooi_lammps import impact
 
 R, VN, MU = 1e-5, 5.0, 0.3
 # The abscissae of the digitised steel curve (digitised.rs,
@@ -32,44 +33,19 @@ PSI1 = [
     4.006042296072506, 4.996978851963746, 6.0,
 ]
 
-DECK = """units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-region box block -2e-2 2e-2 -2e-2 2e-2 -2.1e-2 1e-3
-create_box 1 box
-create_atoms 1 single 0 0 1.0000001e-5
-create_atoms 1 single 0 0 -1.0e-2
-set atom 1 diameter 2e-5 density 7800
-set atom 2 diameter 2e-2 density 7800
-group ball id 1
-velocity ball set {vt!r} 0 -5.0
-comm_modify vel yes
-pair_style granular
-pair_coeff * * hertz/material 2e11 0.0 0.3 tangential {tang} NULL 0.0 0.3
-neighbor 2e-6 bin
-neigh_modify one 10 page 1000
-fix 1 ball nve/sphere
-timestep 2.5e-12
-thermo 100000
-dump d ball custom 40000 {dump} id vx vz omegay
-run 40000
-"""
-
 
 def run(psi1, tang, work):
-    deck = os.path.join(work, "in.t5")
-    dump = os.path.join(work, "out.t5")
-    with open(deck, "w") as f:
-        f.write(DECK.format(vt=psi1 * MU * VN, tang=tang, dump=dump))
-    subprocess.run(
-        ["lmp", "-in", deck, "-log", "none", "-screen", "none"],
-        check=True,
-        stdout=subprocess.DEVNULL,
+    vx, vz, wy = impact(
+        work,
+        radius=R,
+        density=7800.0,
+        vx=psi1 * MU * VN,
+        vz=-VN,
+        wy=0.0,
+        coeffs=f"hertz/material 2e11 0.0 0.3 tangential {tang} NULL 0.0 0.3",
+        dt=2.5e-12,
+        steps=40000,
     )
-    with open(dump) as f:
-        last = [line for line in f if line.strip()][-1].split()
-    vx, vz, wy = map(float, last[1:])
     return (vx - R * wy) / (MU * vz), -R * wy / (MU * VN)
 
 

@@ -133,6 +133,7 @@ fn figure(p: &dembound_scene::benchmarks::Plot) -> Figure {
                     Style::ClosedForm => (Mark::Dashed, c.group),
                     Style::Published => (Mark::Shape(Shape::Cross), 6),
                     Style::Band => (Mark::Dashed, 6),
+                    Style::Peer => (Mark::Shape(Shape::HollowCircle), c.group),
                 };
                 Series::new(c.label.clone(), c.points.clone(), mark, color)
             })

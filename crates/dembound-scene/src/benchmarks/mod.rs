@@ -93,6 +93,9 @@ pub enum Style {
     Published,
     /// An edge of the pass band (dashed).
     Band,
+    /// Another code's points for the same model (`peer.rs`), not joined,
+    /// in the case's colour.
+    Peer,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -27,3 +27,34 @@ pub const LAMMPS_T5_STEEL: [(f64, f64, f64); 13] = [
     (4.996978851963746, -1.4324, -4.5876),
     (6.0, -0.9666, -4.9712),
 ];
+
+/// Chung & Ooi (2011) Test 6, aluminium alloy (ν = 0.33), from LAMMPS
+/// (29 Sep 2021 – Update 2, `pair_style granular`, `hertz/material` with
+/// `damping tsuji` and `limit_damping`, `tangential mindlin` with
+/// x_γt = √(4 G*/E*) = 0.8958: the tangential dashpot at the normal
+/// damping ratio), by `scripts/lammps_chung_ooi_6.py`: a sphere of
+/// R = 0.1 m, centre at rest tangentially, spinning so that its contact
+/// point moves at v_n tan θ, on a sphere of the same material 1000 times
+/// larger and not integrated, v_n = 0.2 m/s, μ = 0.4, Tsuji's α = 0.5708
+/// (a clamped impact rebounds with e = 0.5; LAMMPS is given the e its
+/// polynomial maps to that α, 0.2964), Δt = 5e-8 s ≈ T_c/19,000.
+/// (θ in degrees, β = −v_cp'/v_cp, v_cp'/v_n'), printed to 4 decimals.
+pub const LAMMPS_T6_ALLOY: [(f64, f64, f64); 17] = [
+    (5.0, -0.0402, 0.0070),
+    (10.0, -0.0374, 0.0132),
+    (15.0, -0.0342, 0.0183),
+    (20.0, -0.0301, 0.0219),
+    (25.0, 0.0049, -0.0046),
+    (30.0, 0.1391, -0.1607),
+    (35.0, 0.2381, -0.3335),
+    (40.0, 0.2148, -0.3605),
+    (45.0, 0.1763, -0.3527),
+    (50.0, 0.1314, -0.3131),
+    (55.0, 0.0188, -0.0538),
+    (60.0, -0.1221, 0.4230),
+    (65.0, -0.2618, 1.1231),
+    (70.0, -0.4017, 2.2074),
+    (75.0, -0.5433, 4.0551),
+    (80.0, -0.6883, 7.8076),
+    (85.0, -0.8393, 19.1857),
+];
