@@ -28,6 +28,10 @@ pub struct BenchmarksArgs {
     /// The small versions (seconds each), as the test suite runs them
     #[arg(long)]
     pub quick: bool,
+    /// Heaps per (μ_s, μ_r) pair, each with its own inlet seed (repose only;
+    /// default 4 full, 1 quick; at most 16)
+    #[arg(long, value_name = "N")]
+    pub seeds: Option<usize>,
     /// Print the benchmark names and titles, run nothing
     #[arg(long)]
     pub list: bool,
@@ -133,6 +137,7 @@ fn figure(p: &dembound_scene::benchmarks::Plot) -> Figure {
                     Style::ClosedForm => (Mark::Dashed, c.group),
                     Style::Published => (Mark::Shape(Shape::Cross), 6),
                     Style::Band => (Mark::Dashed, 6),
+                    Style::ErrorBar => (Mark::Line, c.group),
                 };
                 Series::new(c.label.clone(), c.points.clone(), mark, color)
             })
@@ -142,7 +147,7 @@ fn figure(p: &dembound_scene::benchmarks::Plot) -> Figure {
     }
 }
 
-fn markdown(outcomes: &[Outcome], quick: bool, total: f64) -> String {
+fn markdown(outcomes: &[Outcome], quick: bool, seeds: Option<usize>, total: f64) -> String {
     let mut m = String::new();
     let passed = outcomes.iter().filter(|o| o.passes()).count();
     let _ = writeln!(
@@ -156,7 +161,11 @@ fn markdown(outcomes: &[Outcome], quick: bool, total: f64) -> String {
          digitised in a cited public repository, or a published law (Janssen's, Lube et al.'s). \
          A check passes when ours is within the band of \
          the published value.\n",
-        if quick { " --quick" } else { "" },
+        format!(
+            "{}{}",
+            if quick { " --quick" } else { "" },
+            seeds.map_or(String::new(), |n| format!(" --seeds {n}"))
+        ),
         env!("CARGO_PKG_VERSION"),
         outcomes.len(),
         total
@@ -231,6 +240,25 @@ pub fn run(args: &BenchmarksArgs) -> CliResult {
             )));
         }
     }
+    if let Some(n) = args.seeds {
+        if n == 0 || n > benchmarks::MAX_SEEDS {
+            return Err(CliError::input(anyhow::anyhow!(
+                "--seeds {n}: allowed 1 to {} heaps per (μ_s, μ_r) pair",
+                benchmarks::MAX_SEEDS
+            )));
+        }
+        if args.names.is_empty()
+            || args
+                .names
+                .iter()
+                .any(|a| !benchmarks::SEEDED.contains(&a.as_str()))
+        {
+            return Err(CliError::input(anyhow::anyhow!(
+                "--seeds {n}: applies only to {}; name it alone (e.g. `dembound benchmarks repose --seeds {n}`)",
+                benchmarks::SEEDED.join(", ")
+            )));
+        }
+    }
     let chosen: Vec<&str> = if args.names.is_empty() {
         all.clone()
     } else {
@@ -253,7 +281,7 @@ pub fn run(args: &BenchmarksArgs) -> CliResult {
     };
     let mut outcomes = Vec::new();
     for name in chosen {
-        let o = benchmarks::run(name, args.quick, &progress)
+        let o = benchmarks::run_seeded(name, args.quick, args.seeds, &progress)
             .map_err(|e| CliError::failed(anyhow::anyhow!("benchmark {name}: {e}")))?;
         progress(&format!(
             "{name}: {} in {:.2} s",
@@ -271,7 +299,7 @@ pub fn run(args: &BenchmarksArgs) -> CliResult {
                 .map_err(CliError::failed)?;
         }
     }
-    let md = markdown(&outcomes, args.quick, total);
+    let md = markdown(&outcomes, args.quick, args.seeds, total);
     let html = crate::output::html::report_html(&md, out.staging(), "dembound benchmarks")
         .map_err(CliError::failed)?;
     let table = summary(&outcomes);
