@@ -162,12 +162,7 @@ fn seed_mean(angles: &[f64], single_error: f64) -> Option<PairAngle> {
     })
 }
 
-fn pour_one(
-    g: &Grains,
-    s: &Setup,
-    seed: u64,
-    progress: &dyn Fn(&str),
-) -> Result<Heap, SceneError> {
+fn pour_one(g: &Grains, s: &Setup, seed: u64, progress: &dyn Fn(&str)) -> Result<Heap, SceneError> {
     let r = g.radius;
     let d = 2.0 * r;
     let width = WIDTH_DIAMETERS as f64 * d;
@@ -267,7 +262,6 @@ fn pour_one(
         rest,
     })
 }
-
 
 /// Runs the benchmark with `seeds` heaps a pair (`None`: 4 full, 1 quick).
 pub(super) fn run_seeded(
@@ -622,7 +616,10 @@ mod tests {
     fn seeds_out_of_range_are_refused() {
         for n in [0, MAX_SEEDS + 1] {
             let e = run_seeded(true, Some(n), &|_| {}).unwrap_err().to_string();
-            assert!(e.contains("seeds") && e.contains(&n.to_string()) && e.contains("16"), "{e}");
+            assert!(
+                e.contains("seeds") && e.contains(&n.to_string()) && e.contains("16"),
+                "{e}"
+            );
         }
     }
 }
