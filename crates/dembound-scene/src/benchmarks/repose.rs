@@ -48,8 +48,8 @@ pub(super) const TITLE: &str =
 /// per pair the benchmark poured before it had seeds).
 pub(super) const FIRST_SEED: u64 = 2001;
 
-/// The most seeds a run takes (`--seeds`): 16 full heaps a pair are
-/// already ~5 min of CPU each pair.
+/// The most seeds a run takes (`--seeds`): 16 full heaps of a pair take
+/// ~12 min of CPU (~45 s a heap).
 pub const MAX_SEEDS: usize = 16;
 
 struct Setup {
