@@ -45,6 +45,36 @@ fn an_unknown_name_exits_2_listing_the_names_and_writes_nothing() {
     assert!(!out.exists(), "nothing is created for bad input");
 }
 
+/// `--seeds` outside 1–16, or for a benchmark that pours no random heap,
+/// is bad input: exit 2, the option, its value and what is allowed named,
+/// nothing written (refused before any run).
+#[test]
+fn seeds_out_of_range_or_for_another_benchmark_exit_2_and_write_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("b");
+    for (args, allowed) in [
+        (vec!["repose", "--seeds", "0"], "1 to 16"),
+        (vec!["repose", "--seeds", "17"], "1 to 16"),
+        (vec!["chung-ooi-1", "--seeds", "2"], "only to repose"),
+        (vec!["--seeds", "2"], "only to repose"),
+    ] {
+        let o = dembound()
+            .arg("benchmarks")
+            .args(&args)
+            .args(["--quick", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(&format!("--seeds {}", args[args.len() - 1])) && err.contains(allowed),
+            "{args:?}: {err}"
+        );
+        assert!(!out.exists(), "{args:?}: nothing is created for bad input");
+    }
+}
+
 #[test]
 fn without_out_it_is_bad_input_and_list_needs_none() {
     let o = dembound().args(["benchmarks", "--quick"]).output().unwrap();

@@ -19,6 +19,8 @@ pub mod impact;
 mod janssen;
 mod peer;
 mod repose;
+mod repose_angle;
+mod repose_zhou;
 
 use crate::SceneError;
 use std::time::Instant;
@@ -96,6 +98,8 @@ pub enum Style {
     /// Another code's points for the same model (`peer.rs`), not joined,
     /// in the case's colour.
     Peer,
+    /// An error bar: a segment of two points, in the case's colour.
+    ErrorBar,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -234,6 +238,38 @@ pub fn run(name: &str, quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, 
     };
     let start = Instant::now();
     let mut out = runner(quick, progress)?;
+    out.seconds = start.elapsed().as_secs_f64();
+    Ok(out)
+}
+
+/// The benchmarks a number of seeds applies to (`--seeds`): those that
+/// repeat a random scene and report the mean over the repeats.
+pub const SEEDED: [&str; 1] = ["repose"];
+
+/// The most seeds `run_seeded` takes.
+pub const MAX_SEEDS: usize = repose::MAX_SEEDS;
+
+/// As [`run`], with `seeds` repeats of each random scene (`None`: the
+/// benchmark's default); a number of seeds is refused by a benchmark not
+/// in [`SEEDED`].
+pub fn run_seeded(
+    name: &str,
+    quick: bool,
+    seeds: Option<usize>,
+    progress: &dyn Fn(&str),
+) -> Result<Outcome, SceneError> {
+    let Some(n) = seeds else {
+        return run(name, quick, progress);
+    };
+    if name != "repose" {
+        return Err(SceneError::invalid(
+            "seeds",
+            format!("{n} for benchmark {name}"),
+            format!("only for {}", SEEDED.join(", ")),
+        ));
+    }
+    let start = Instant::now();
+    let mut out = repose::run_seeded(quick, Some(n), progress)?;
     out.seconds = start.elapsed().as_secs_f64();
     Ok(out)
 }
