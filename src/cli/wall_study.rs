@@ -84,7 +84,7 @@ pub struct WallStudyArgs {
     #[arg(long, default_value_t = 0.05)]
     pub eta: f64,
     /// Bed settling time after the pour (the fall time is added), s
-    /// (default 0.1; 0.05 with --quick)
+    /// (default 0.1; 0.05 with --quick; with --wall 0.25, 0.1 with --quick)
     #[arg(long)]
     pub settle_time: Option<f64>,
     /// μ of the floor's surface (the particle–floor pair takes √(μ μ_floor));

@@ -145,6 +145,7 @@ fn part_config(a: &WallStudyArgs, surface: &str) -> CliResult<(PartConfig, Strin
         bed: super::part_bed::bed_config(a)?,
     };
     c.validate().map_err(CliError::input)?;
+    c.bed_region().map_err(CliError::input)?;
     Ok((c, reference_text))
 }
 

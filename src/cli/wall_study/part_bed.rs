@@ -47,7 +47,9 @@ pub(super) fn bed_config(a: &WallStudyArgs) -> CliResult<Option<PartBedConfig>> 
     }
     let bed = PartBedConfig {
         particles,
-        settle_time: a.settle_time.unwrap_or(if q { 0.05 } else { 0.1 }),
+        // Longer than the plane study's: a grain poured over a part falls
+        // farther (from above its top) and lands faster.
+        settle_time: a.settle_time.unwrap_or(if q { 0.1 } else { 0.25 }),
         discharge_time: a.discharge_time.unwrap_or(if q { 0.1 } else { 0.3 }),
         skip: a.discharge_skip.unwrap_or(if q { 0.02 } else { 0.05 }),
         packing_points: a.packing_points.unwrap_or(if q { 20_000 } else { 200_000 }),
@@ -300,11 +302,12 @@ pub(super) fn write(
     }
     let _ = writeln!(
         s,
-        "\nParticles in each settled bed: {}.{}\n",
+        "\nParticles in each settled bed (and their mean speed at the {}): {}.{}\n",
+        if outlet.is_some() { "opening" } else { "end" },
         r.walls
             .iter()
             .zip(&r.beds)
-            .map(|(w, b)| format!("{} {}", w.label, b.particles))
+            .map(|(w, b)| format!("{} {} ({} m/s)", w.label, b.particles, sig(b.mean_speed)))
             .collect::<Vec<_>>()
             .join(", "),
         if r.mesh_scene.is_some() {

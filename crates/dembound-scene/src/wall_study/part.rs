@@ -167,6 +167,17 @@ impl PartConfig {
         Ok(())
     }
 
+    /// Where the bed goes ([`part_bed::region`]), `None` without a bed:
+    /// refuses a part with no pour column on its particles' side before
+    /// anything runs.
+    pub fn bed_region(&self) -> Result<Option<PartRegion>, SceneError> {
+        let Some(bed) = &self.bed else {
+            return Ok(None);
+        };
+        let g = geometry(self)?;
+        part_bed::region(&g, self.flip, self.study.radius, bed.particles, &self.name).map(Some)
+    }
+
     /// The boundary spheres' material of `spec`: the reference, E × ζ.
     pub fn boundary_material(&self, spec: &CoveringSpec) -> Material {
         Material {

@@ -355,6 +355,8 @@ pub struct PartBed {
     pub discharge: Vec<(f64, f64)>,
     /// Mass of the bed, kg.
     pub mass: f64,
+    /// Mean speed of its spheres at the opening (the end of settling), m/s.
+    pub mean_speed: f64,
     /// Time of the opening (or the end of settling), s.
     pub t_open: f64,
     /// Steps between discharge rows.
@@ -499,6 +501,14 @@ pub fn run(
         c.study.seed,
     );
     let mass = free.len() as f64 * c.study.material.sphere_mass(r);
+    let speeds: Vec<f64> = sim
+        .velocities()
+        .iter()
+        .zip(sim.fixed())
+        .filter(|(_, f)| !*f)
+        .map(|(v, _)| norm(*v))
+        .collect();
+    let mean_speed = speeds.iter().sum::<f64>() / speeds.len().max(1) as f64;
     let mut rows = vec![(0.0, 0.0)];
     let mut rate = None;
     if region.outlet.is_some() {
@@ -521,6 +531,7 @@ pub fn run(
         rate,
         discharge: rows,
         mass,
+        mean_speed,
         t_open,
         row_steps: every,
         settle_steps: settle,
