@@ -147,11 +147,11 @@ pub struct WallStudyArgs {
     #[arg(long, value_name = "T")]
     pub tolerance: Option<String>,
     /// With --wall: discharge time after the opening of a part with an
-    /// outlet, s (default 0.3; 0.1 with --quick)
+    /// outlet, s (default 0.3; 0.15 with --quick)
     #[arg(long)]
     pub discharge_time: Option<f64>,
     /// With --wall: the discharge rate is taken from this long after the
-    /// opening, s (default 0.05; 0.02 with --quick)
+    /// opening, s (default 0.05; 0.06 with --quick)
     #[arg(long)]
     pub discharge_skip: Option<f64>,
     /// With --wall: random points of the packing at the wall (default
@@ -407,7 +407,11 @@ pub fn run(args: &WallStudyArgs) -> CliResult {
         ("--packing-points", args.packing_points.is_some()),
     ] {
         if given {
-            return Err(input(key, "given without --wall", "only with --wall SURFACE"));
+            return Err(input(
+                key,
+                "given without --wall",
+                "only with --wall SURFACE",
+            ));
         }
     }
     let c = config(args)?;

@@ -266,8 +266,7 @@ pub fn run(args: &WallStudyArgs, surface: &str) -> CliResult {
         bed: &bed_rows,
         bed_tolerance,
     };
-    write_all(&mut out, &c, &results, &judged, &reference_text, args)
-        .map_err(CliError::failed)?;
+    write_all(&mut out, &c, &results, &judged, &reference_text, args).map_err(CliError::failed)?;
     let files = out.commit().map_err(CliError::failed)?;
     println!(
         "wall-study: part `{surface}`, mesh wall and {} coverings, {} files in {} ({:.1} s)",
@@ -382,7 +381,7 @@ fn write_all(
             &png,
             &format!(
                 "{}: covering r = {} ({} spheres) and {} impact points (red)",
-                c.name,
+                super::part_bed::short_name(&c.name),
                 c.coverings[0].radius_ratio,
                 cov.spheres.len(),
                 marks.len()

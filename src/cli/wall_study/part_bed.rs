@@ -7,9 +7,6 @@
 use super::{input, WallStudyArgs};
 use crate::cli::CliResult;
 use crate::output::files::AtomicDir;
-fn sig(v: f64) -> String {
-    crate::output::format::sig(v, 4)
-}
 use crate::plot::{Figure, Mark, Series};
 use dembound_scene::wall_study::part::{PartConfig, PartResults};
 use dembound_scene::wall_study::part_bed::{
@@ -17,6 +14,18 @@ use dembound_scene::wall_study::part_bed::{
     RATE_BATCHES,
 };
 use std::fmt::Write as _;
+
+fn sig(v: f64) -> String {
+    crate::output::format::sig(v, 4)
+}
+
+/// The part's file name without its directory (figure titles).
+pub(super) fn short_name(name: &str) -> &str {
+    std::path::Path::new(name)
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or(name)
+}
 
 /// The default tolerance of the bed and flow quantities (issue 29's 3 %).
 pub const DEFAULT_TOLERANCE: f64 = 0.03;
@@ -50,8 +59,10 @@ pub(super) fn bed_config(a: &WallStudyArgs) -> CliResult<Option<PartBedConfig>> 
         // Longer than the plane study's: a grain poured over a part falls
         // farther (from above its top) and lands faster.
         settle_time: a.settle_time.unwrap_or(if q { 0.1 } else { 0.25 }),
-        discharge_time: a.discharge_time.unwrap_or(if q { 0.1 } else { 0.3 }),
-        skip: a.discharge_skip.unwrap_or(if q { 0.02 } else { 0.05 }),
+        // The first grains reach the outlet box (10 R below the outlet)
+        // after √(20 R/g): 0.045 s for R = 1 mm; the rate is taken after.
+        discharge_time: a.discharge_time.unwrap_or(if q { 0.15 } else { 0.3 }),
+        skip: a.discharge_skip.unwrap_or(if q { 0.06 } else { 0.05 }),
         packing_points: a.packing_points.unwrap_or(if q { 20_000 } else { 200_000 }),
     };
     bed.validate().map_err(crate::cli::CliError::input)?;
@@ -78,7 +89,11 @@ pub(super) struct BedRow {
 fn quantities(b: &dembound_scene::wall_study::part_bed::PartBed) -> Vec<(&'static str, f64, f64)> {
     let mut q = vec![
         ("bed height (mm)", b.height * 1e3, f64::NAN),
-        ("packing at the wall (1)", b.wall_packing, b.wall_packing_error),
+        (
+            "packing at the wall (1)",
+            b.wall_packing,
+            b.wall_packing_error,
+        ),
     ];
     if let Some((rate, se)) = b.rate {
         q.push(("discharge rate (g/s)", rate * 1e3, se * 1e3));
@@ -162,14 +177,18 @@ pub(super) fn write(
             csv.write_record(["wall", "time_after_opening_s", "discharged_mass_kg"])?;
             for (wall, b) in r.walls.iter().zip(&r.beds) {
                 for (time, mass) in &b.discharge {
-                    csv.write_record([wall.label.clone(), format!("{time:e}"), format!("{mass:e}")])?;
+                    csv.write_record([
+                        wall.label.clone(),
+                        format!("{time:e}"),
+                        format!("{mass:e}"),
+                    ])?;
                 }
             }
             csv.flush()?;
             Ok(())
         })?;
         let mut fig = Figure {
-            title: format!("Discharge through the outlet of {}", c.name),
+            title: format!("Discharge through the outlet of {}", short_name(&c.name)),
             x_label: "time after the opening (s)".into(),
             y_label: "mass discharged (g)".into(),
             legend_outside: true,
@@ -183,12 +202,23 @@ pub(super) fn write(
         fig.write_into(out, "discharge")?;
     }
     if let Some(toml) = &r.mesh_scene {
-        out.write("scene_mesh_wall.toml", |w| Ok(w.write_all(toml.as_bytes())?))?;
+        out.write(
+            "scene_mesh_wall.toml",
+            |w| Ok(w.write_all(toml.as_bytes())?),
+        )?;
     }
     let st = &c.study;
     let p = &region.pour;
     let mut s = String::new();
-    let _ = writeln!(s, "## The bed{}\n", if outlet.is_some() { " and the discharge" } else { "" });
+    let _ = writeln!(
+        s,
+        "## The bed{}\n",
+        if outlet.is_some() {
+            " and the discharge"
+        } else {
+            ""
+        }
+    );
     let _ = writeln!(
         s,
         "{} spheres poured (gravity 9.81 m/s² along −z) from a loose random packing (solid \
@@ -278,7 +308,11 @@ pub(super) fn write(
             x.resolved.map_or("–", |b| if b { "yes" } else { "no" })
         );
     }
-    let _ = writeln!(s, "\nWithin ± {} % of the mesh wall, per quantity:\n", sig(100.0 * t));
+    let _ = writeln!(
+        s,
+        "\nWithin ± {} % of the mesh wall, per quantity:\n",
+        sig(100.0 * t)
+    );
     let mut names: Vec<&str> = rows.iter().map(|x| x.quantity).collect();
     names.dedup();
     names.sort();

@@ -485,7 +485,14 @@ fn beds(
 ) -> Result<Beds, SceneError> {
     let region = part_bed::region(geometry, c.flip, c.study.radius, bed.particles, &c.name)?;
     progress("bed on the mesh wall");
-    let mut out = vec![part_bed::run(c, bed, &region, geometry, &BedWall::Mesh(mesh), dt)?];
+    let mut out = vec![part_bed::run(
+        c,
+        bed,
+        &region,
+        geometry,
+        &BedWall::Mesh(mesh),
+        dt,
+    )?];
     for spec in &c.coverings {
         progress(&format!("bed on {}", spec.label()));
         let rb = spec.radius_ratio * c.study.radius;
@@ -509,9 +516,9 @@ fn beds(
     }
     let file = Path::new(&c.name);
     let mesh_scene = if file.is_file() {
-        let file = file.canonicalize().map_err(|e| {
-            SceneError::input(format!("--wall `{}`: {e}", c.name))
-        })?;
+        let file = file
+            .canonicalize()
+            .map_err(|e| SceneError::input(format!("--wall `{}`: {e}", c.name)))?;
         let (_, steps) = part_bed::scene(c, bed, &region, &BedWall::Mesh(mesh), dt)?;
         Some(part_bed::mesh_scene_toml(c, &region, &file, dt, steps))
     } else {

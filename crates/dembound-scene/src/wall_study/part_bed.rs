@@ -52,9 +52,7 @@ use std::collections::HashMap;
 use super::part::{CoveringSpec, PartConfig};
 use super::pour::Pour;
 use crate::region::Region;
-use crate::setup::{
-    BoundaryParticles, NamedMaterial, Plane, SceneSetup, SphereInit, WallSetup,
-};
+use crate::setup::{BoundaryParticles, NamedMaterial, Plane, SceneSetup, SphereInit, WallSetup};
 use crate::sources::mesh_tiling::Covering;
 use crate::walls::mesh::geometry::{closest_on_triangle, cross, dot, norm, scale, sub};
 use crate::walls::mesh::{Mesh, MeshGeometry};
@@ -168,7 +166,11 @@ impl PartRegion {
                 material: 1,
             },
             WallMotion {
-                velocity: [0.0, 0.0, -PLUG_DROP_RADII * self.pour.radius / PLUG_DROP_TIME],
+                velocity: [
+                    0.0,
+                    0.0,
+                    -PLUG_DROP_RADII * self.pour.radius / PLUG_DROP_TIME,
+                ],
                 angular_velocity: [0.0; 3],
                 center: [0.0; 3],
                 start: t_open,
@@ -222,7 +224,9 @@ fn outlet(mesh: &MeshGeometry) -> Option<Outlet> {
     for tri in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            let e = uses.entry((a.min(b), a.max(b))).or_insert((0, tri[(k + 2) % 3]));
+            let e = uses
+                .entry((a.min(b), a.max(b)))
+                .or_insert((0, tri[(k + 2) % 3]));
             e.0 += 1;
         }
     }
@@ -236,9 +240,7 @@ fn outlet(mesh: &MeshGeometry) -> Option<Outlet> {
                 mesh.vertices[third as usize],
             )
         })
-        .filter(|(a, b, c)| {
-            a[2] - bottom <= eps && b[2] - bottom <= eps && c[2] - bottom > eps
-        })
+        .filter(|(a, b, c)| a[2] - bottom <= eps && b[2] - bottom <= eps && c[2] - bottom > eps)
         .map(|(a, b, _)| (a, b))
         .collect();
     if edges.is_empty() {
@@ -307,7 +309,12 @@ pub fn region(
     };
     let lower_xy = [centre[0] - f * half[0], centre[1] - f * half[1]];
     let upper_xy = [centre[0] + f * half[0], centre[1] + f * half[1]];
-    let height = Pour::fill_height(count, r, upper_xy[0] - lower_xy[0], upper_xy[1] - lower_xy[1]);
+    let height = Pour::fill_height(
+        count,
+        r,
+        upper_xy[0] - lower_xy[0],
+        upper_xy[1] - lower_xy[1],
+    );
     let bottom = hi[2] + 2.0 * r;
     let top = bottom + height;
     if upper_xy[0] - lower_xy[0] < 2.0 * r || upper_xy[1] - lower_xy[1] < 2.0 * r {
@@ -561,8 +568,8 @@ pub fn discharge_rate(rows: &[(f64, f64)], skip: f64) -> Option<(f64, f64)> {
         })
         .collect();
     let mean = batch.iter().sum::<f64>() / RATE_BATCHES as f64;
-    let var = batch.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>()
-        / (RATE_BATCHES - 1) as f64;
+    let var =
+        batch.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (RATE_BATCHES - 1) as f64;
     Some((rate, (var / RATE_BATCHES as f64).sqrt()))
 }
 
@@ -582,7 +589,12 @@ fn packing_at_wall(
         .triangles
         .iter()
         .enumerate()
-        .map(|(t, v)| (v.map(|i| mesh.vertices[i as usize]), particle_normal(mesh, t, flip)))
+        .map(|(t, v)| {
+            (
+                v.map(|i| mesh.vertices[i as usize]),
+                particle_normal(mesh, t, flip),
+            )
+        })
         .collect();
     let mut cumulative = Vec::with_capacity(tri.len());
     let mut total = 0.0;
@@ -801,7 +813,9 @@ mod tests {
     #[test]
     fn batch_rates_of_a_steady_discharge() {
         // 1 kg/s from t = 0: the rate is exact, the batches agree.
-        let rows: Vec<(f64, f64)> = (0..=20).map(|k| (0.01 * k as f64, 0.01 * k as f64)).collect();
+        let rows: Vec<(f64, f64)> = (0..=20)
+            .map(|k| (0.01 * k as f64, 0.01 * k as f64))
+            .collect();
         let (rate, se) = discharge_rate(&rows, 0.05).unwrap();
         assert!((rate - 1.0).abs() < 1e-12);
         assert!(se < 1e-12);
