@@ -215,6 +215,15 @@ fn inside(mesh: &MeshGeometry, flip: bool, p: [f64; 3], r: f64) -> bool {
     best.1 > 0.0 && best.0 >= r * (1.0 - 1e-9)
 }
 
+/// Whether the segment from `p` to `q` crosses the part (a lid over a
+/// closed part: the pour would land on its outside).
+fn blocked(mesh: &MeshGeometry, p: [f64; 3], q: [f64; 3]) -> bool {
+    mesh.triangles.iter().any(|t| {
+        let [a, b, c] = t.map(|v| mesh.vertices[v as usize]);
+        crate::walls::mesh::geometry::segment_meets_triangle(p, q, a, b, c).is_some()
+    })
+}
+
 /// The open edges at the part's bottom whose triangle rises from them.
 fn outlet(mesh: &MeshGeometry) -> Option<Outlet> {
     let diag = norm(sub(mesh.hi, mesh.lo));
@@ -297,7 +306,8 @@ pub fn region(
                     centre[1] + sy * (f * half[1] - r),
                     zt,
                 ];
-                inside(mesh, flip, p, r)
+                let above = [p[0], p[1], hi[2] + 2.0 * r];
+                inside(mesh, flip, p, r) && !blocked(mesh, above, p)
             })
     });
     let Some(f) = fraction else {
@@ -796,10 +806,11 @@ mod tests {
 
     #[test]
     fn an_open_cylinder_has_its_bottom_rim_as_outlet() {
+        // An open tube (shapes::hopper with equal radii, normals inward),
         // 96 facets of radius 5 mm: the clear radius is the polygon's
         // inscribed radius 5 cos(π/96) mm, the outlet at z = 0.
-        let m = geometry(&shapes::cylinder(5e-3, 20e-3, 96, 1));
-        let r = region(&m, true, 0.5e-3, 100, "cylinder").unwrap();
+        let m = geometry(&shapes::hopper(5e-3, 5e-3, 10e-3, 10e-3, 96));
+        let r = region(&m, false, 0.5e-3, 100, "tube").unwrap();
         let o = r.outlet.unwrap();
         assert_eq!(o.z, 0.0);
         assert_eq!(o.edges, 96);
@@ -808,6 +819,16 @@ mod tests {
         // Box corners inset by R inside the circle: f half-width − R ≤
         // 5 mm / √2 → f = 0.7 (0.7 × 5 − 0.5 = 3.0 mm; 0.8: 3.5 mm > 3.54 − R).
         assert!((r.box_fraction - 0.7).abs() < 1e-12, "{}", r.box_fraction);
+    }
+
+    #[test]
+    fn a_closed_part_has_no_pour_column_inside() {
+        // The closed cylinder (caps, normals outward), the particles inside
+        // it (flip): every column from above crosses the lid. Refused,
+        // naming --wall.
+        let m = geometry(&shapes::cylinder(5e-3, 20e-3, 96, 1));
+        let e = region(&m, true, 0.5e-3, 100, "cylinder").unwrap_err();
+        assert!(e.to_string().contains("--wall"), "{e}");
     }
 
     #[test]
