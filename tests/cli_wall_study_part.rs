@@ -143,6 +143,8 @@ fn elastic_impact_on_steel_follows_hertz() {
             "square",
             "--eta",
             "0.002",
+            "--particles",
+            "0",
         ],
         &out,
     );

@@ -84,7 +84,7 @@ enum Command {
     /// Every scenario key with its unit, default and allowed range
     Keys(keys::KeysArgs),
     /// Boundary particles against a plane in a many-particle bed (issue 13)
-    WallStudy(wall_study::WallStudyArgs),
+    WallStudy(Box<wall_study::WallStudyArgs>),
     /// Write a LAMMPS or LIGGGHTS deck or a Yade script that reproduces
     /// the scenario (pre-mixed moduli, damping in the code's convention,
     /// dembound's Δt, a per-step trace); a scene file (LAMMPS, LIGGGHTS) as

@@ -8,6 +8,7 @@
 //! nothing.
 
 mod part;
+mod part_bed;
 mod side_view;
 mod verdicts;
 
@@ -83,7 +84,7 @@ pub struct WallStudyArgs {
     #[arg(long, default_value_t = 0.05)]
     pub eta: f64,
     /// Bed settling time after the pour (the fall time is added), s
-    /// (default 0.1; 0.05 with --quick)
+    /// (default 0.1; 0.05 with --quick; with --wall 0.25, 0.1 with --quick)
     #[arg(long)]
     pub settle_time: Option<f64>,
     /// μ of the floor's surface (the particle–floor pair takes √(μ μ_floor));
@@ -136,6 +137,27 @@ pub struct WallStudyArgs {
     /// With --wall: absolute tolerance on the mean rebound angle, degrees
     #[arg(long, default_value_t = 2.0)]
     pub tol_angle: f64,
+    /// With --wall: the particles are behind the triangles' normals (a
+    /// part whose normals point away from its inside, e.g. hopper.stl)
+    #[arg(long)]
+    pub flip: bool,
+    /// With --wall: relative tolerance on the bed height, the packing at
+    /// the wall and the discharge rate against the mesh wall, `0.03` or
+    /// `3%` (default 3%)
+    #[arg(long, value_name = "T")]
+    pub tolerance: Option<String>,
+    /// With --wall: discharge time after the opening of a part with an
+    /// outlet, s (default 0.3; 0.15 with --quick)
+    #[arg(long)]
+    pub discharge_time: Option<f64>,
+    /// With --wall: the discharge rate is taken from this long after the
+    /// opening, s (default 0.05; 0.06 with --quick)
+    #[arg(long)]
+    pub discharge_skip: Option<f64>,
+    /// With --wall: random points of the packing at the wall (default
+    /// 200000; 20000 with --quick)
+    #[arg(long)]
+    pub packing_points: Option<usize>,
     /// Seed of the impact points and the bed's insertion
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -376,12 +398,21 @@ pub fn run(args: &WallStudyArgs) -> CliResult {
     if let Some(surface) = &args.wall {
         return part::run(args, surface);
     }
-    if args.reference_material.is_some() {
-        return Err(input(
-            "--reference-material",
-            "given without --wall",
-            "only with --wall SURFACE",
-        ));
+    for (key, given) in [
+        ("--reference-material", args.reference_material.is_some()),
+        ("--flip", args.flip),
+        ("--tolerance", args.tolerance.is_some()),
+        ("--discharge-time", args.discharge_time.is_some()),
+        ("--discharge-skip", args.discharge_skip.is_some()),
+        ("--packing-points", args.packing_points.is_some()),
+    ] {
+        if given {
+            return Err(input(
+                key,
+                "given without --wall",
+                "only with --wall SURFACE",
+            ));
+        }
     }
     let c = config(args)?;
     let tolerances = tolerances(args)?;

@@ -16,14 +16,16 @@ use crate::setup::{
     BoundaryParticles, DomainSetup, FrictionSetup, NamedMaterial, Plane, RunLength, SceneSetup,
     SphereInit, TimeStep, WallSetup,
 };
-use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::{Extent, Pattern, Tiling};
 use crate::{SceneError, Simulation};
 
 pub mod chute;
 pub mod part;
+pub mod part_bed;
+pub mod pour;
 pub mod recommend;
 pub use chute::{Chute, ChuteConfig, SlipFit};
+pub use pour::Pour;
 pub use recommend::{recommend, Tolerances};
 
 /// A floor under study.
@@ -568,52 +570,22 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
     let side = (n as f64 * (4.0 / 3.0) * PI * r * r * r / (0.6 * 20.0 * r))
         .sqrt()
         .max(6.0 * r);
-    let fill = 0.18;
-    let height = n as f64 * (4.0 / 3.0) * PI * r * r * r / (fill * side * side) + 2.0 * r;
+    let height = Pour::fill_height(n, r, side, side);
     let rb = match floor {
         Floor::Particles { radius_ratio, .. } => radius_ratio * r,
         _ => r,
     };
-    let mut s = base_setup(
-        c,
-        [0.0, 0.0, -2.5 * rb],
-        [side, side, 2.0 * r + height + r],
-        dt,
-    );
-    s.gravity = [0.0, 0.0, -9.81];
-    let inserted = RandomInsertion {
+    let pour = Pour {
         count: n,
-        radius: [r, r],
+        radius: r,
         lower: [0.0, 0.0, 2.0 * r],
         upper: [side, side, 2.0 * r + height],
-        velocity: [0.0; 3],
-        seed: c.seed,
-        max_attempts: 1000,
-    }
-    .spheres("bed", &[])?;
-    for p in &inserted {
-        s.spheres.push(SphereInit {
-            position: p.position,
-            velocity: [0.0; 3],
-            radius: r,
-            material: 0,
-            fixed: false,
-            group: None,
-        });
-    }
-    // Four frictionless side walls (they would hold part of the weight).
-    for (point, normal) in [
-        ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
-        ([side, 0.0, 0.0], [-1.0, 0.0, 0.0]),
-        ([0.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-        ([0.0, side, 0.0], [0.0, -1.0, 0.0]),
-    ] {
-        s.walls.push(WallSetup::Plane(Plane {
-            point,
-            normal,
-            material: 0,
-        }));
-    }
+        sides: [[0.0, side], [0.0, side]],
+        domain_lower: [0.0, 0.0, -2.5 * rb],
+        domain_upper: [side, side, 2.0 * r + height + r],
+        base: 0.0,
+    };
+    let mut s = pour.scene(c, dt)?;
     let floor_wall = add_floor(
         &mut s,
         floor,
@@ -624,11 +596,9 @@ fn bed(c: &StudyConfig, floor: Floor) -> Result<Bed, SceneError> {
         false,
     )?;
     s.friction = c.friction_setup(&s, floor_wall, &[0, 1, 2, 3]);
-    let threads = if n >= 5000 { 2 } else { 1 };
-    let mut sim = Simulation::new(s, threads)?;
+    let mut sim = Simulation::new(s, pour.threads())?;
     // The fall from the top of the insertion region, then the settling.
-    let fall = (2.0 * (2.0 * r + height) / 9.81).sqrt();
-    let steps = ((fall + c.settle_time) / dt).ceil() as u64;
+    let steps = pour.settle_steps(c.settle_time, dt);
     let chunk = (steps / 200).max(1);
     let mut forces = Vec::new();
     let mut done = 0;

@@ -2,8 +2,9 @@
 //! (`dembound_scene::wall_study::part`): impacts at random points of the
 //! part against its mesh wall (of `--reference-material`) and against
 //! particle coverings (r, ζ, tiling), the deviations per quantity and which
-//! coverings stay within the tolerances. Writes impacts.csv, summary.csv,
-//! part.png and report.md through [`AtomicDir`], all or nothing.
+//! coverings stay within the tolerances; then the bed and the flow
+//! ([`super::part_bed`]). Writes impacts.csv, summary.csv, part.png, the
+//! bed's files and report.md through [`AtomicDir`], all or nothing.
 
 use super::{config, input, tolerances, WallStudyArgs};
 use crate::cli::particle_wall::builtin;
@@ -137,11 +138,14 @@ fn part_config(a: &WallStudyArgs, surface: &str) -> CliResult<(PartConfig, Strin
     let c = PartConfig {
         study,
         triangles,
+        flip: a.flip,
         name: surface.to_string(),
         reference,
         coverings,
+        bed: super::part_bed::bed_config(a)?,
     };
     c.validate().map_err(CliError::input)?;
+    c.bed_region().map_err(CliError::input)?;
     Ok((c, reference_text))
 }
 
@@ -242,6 +246,7 @@ fn deviation(q: &Quantity, value: f64, reference: f64) -> (f64, bool) {
 pub fn run(args: &WallStudyArgs, surface: &str) -> CliResult {
     let (c, reference_text) = part_config(args, surface)?;
     let tol = tolerances(args)?;
+    let bed_tolerance = super::part_bed::tolerance(args)?;
     let mut out = crate::cli::output_dir(&args.out, "wall-study")?;
     let start = std::time::Instant::now();
     let quiet = args.quiet;
@@ -255,7 +260,13 @@ pub fn run(args: &WallStudyArgs, surface: &str) -> CliResult {
     })
     .map_err(crate::cli::scene::scene_error)?;
     let qs = quantities(&c.study.angles, &tol, args.tol_angle);
-    write_all(&mut out, &c, &results, &qs, &reference_text, args).map_err(CliError::failed)?;
+    let bed_rows = super::part_bed::rows(&results, bed_tolerance);
+    let judged = Judged {
+        impacts: &qs,
+        bed: &bed_rows,
+        bed_tolerance,
+    };
+    write_all(&mut out, &c, &results, &judged, &reference_text, args).map_err(CliError::failed)?;
     let files = out.commit().map_err(CliError::failed)?;
     println!(
         "wall-study: part `{surface}`, mesh wall and {} coverings, {} files in {} ({:.1} s)",
@@ -267,14 +278,23 @@ pub fn run(args: &WallStudyArgs, surface: &str) -> CliResult {
     Ok(())
 }
 
+/// What the verdicts judge: the impacts' quantities and the bed's rows.
+struct Judged<'a> {
+    impacts: &'a [Quantity],
+    bed: &'a [super::part_bed::BedRow],
+    bed_tolerance: f64,
+}
+
 fn write_all(
     out: &mut AtomicDir,
     c: &PartConfig,
     r: &PartResults,
-    qs: &[Quantity],
+    judged: &Judged,
     reference_text: &str,
     args: &WallStudyArgs,
 ) -> anyhow::Result<()> {
+    let qs = judged.impacts;
+    let bed_section = super::part_bed::write(out, c, r, judged.bed, judged.bed_tolerance)?;
     out.write("impacts.csv", |w| {
         let mut csv = csv::Writer::from_writer(w);
         csv.write_record([
@@ -361,7 +381,7 @@ fn write_all(
             &png,
             &format!(
                 "{}: covering r = {} ({} spheres) and {} impact points (red)",
-                c.name,
+                super::part_bed::short_name(&c.name),
                 c.coverings[0].radius_ratio,
                 cov.spheres.len(),
                 marks.len()
@@ -432,6 +452,11 @@ fn write_all(
             qs.iter()
                 .filter(|q| q.tolerance.is_finite())
                 .all(|q| deviation(q, measure(q, w).0, measure(q, mesh).0).1)
+                && judged
+                    .bed
+                    .iter()
+                    .filter(|x| x.wall == w.label)
+                    .all(|x| x.within)
         })
         .collect();
     let best = all_ok
@@ -461,8 +486,13 @@ fn write_all(
     );
     let _ = writeln!(
         text,
-        "Not run on a part: the bed (packing at the wall, wall load) and the flow; \
-         `--particles`, `--settle-time` and `--chute-*` have no effect with `--wall`.\n"
+        "Not run on a part: the chute (`--chute-*` have no effect with `--wall`) and the wall \
+         load under the bed.{}\n",
+        if c.bed.is_none() {
+            " No bed (`--particles 0`)."
+        } else {
+            ""
+        }
     );
     let _ = writeln!(
         text,
@@ -471,13 +501,16 @@ fn write_all(
     text.push_str(&table);
     let _ = writeln!(text, "\n## Coverings within the tolerance, per quantity\n");
     text.push_str(&rec);
+    let _ = writeln!(text);
+    text.push_str(&bed_section);
     let _ = writeln!(
         text,
         "\nRecommendation: {}\n",
         match best {
             Some((s, n)) => format!(
-                "{} ({n} boundary spheres), the covering with the fewest spheres within every judged quantity.",
-                s.label()
+                "{} ({n} boundary spheres), the covering with the fewest spheres within every judged quantity (impacts{}).",
+                s.label(),
+                if c.bed.is_some() { ", bed and flow" } else { "" }
             ),
             None => "no covering studied stays within every judged quantity.".to_string(),
         }

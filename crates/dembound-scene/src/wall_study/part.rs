@@ -8,14 +8,15 @@
 //! reference material with E scaled by ζ. The same points and directions
 //! for every wall, so the deviations are paired.
 //!
-//! Not here (yet): the bed settled in the part and the flow; the CLI says
-//! they were not run.
+//! The bed settled in the part and its discharge: [`super::part_bed`],
+//! run after the impacts on the same walls when [`PartConfig::bed`] is set.
 
 use dembound_physics::material::Material;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 
+use super::part_bed::{self, BedWall, PartBed, PartBedConfig, PartRegion};
 use super::{base_setup, StudyConfig};
 use crate::setup::{BoundaryParticles, NamedMaterial, SphereInit, WallSetup};
 use crate::sources::mesh_tiling::{cover, Covering, CoveringOptions};
@@ -51,13 +52,19 @@ pub struct PartConfig {
     /// seed and floor friction of the plane study; its `floors`, bed and
     /// chute are not used.
     pub study: StudyConfig,
-    /// The part's triangles, m (the particles on the normals' side).
+    /// The part's triangles, m (the particles on the normals' side, or
+    /// behind them with `flip`).
     pub triangles: Vec<Triangle>,
+    /// The particles are behind the triangles' normals (a part whose
+    /// normals point away from its inside, e.g. `hopper.stl`).
+    pub flip: bool,
     /// Names the part in errors.
     pub name: String,
     /// The mesh wall's material (ζ is relative to its E).
     pub reference: Material,
     pub coverings: Vec<CoveringSpec>,
+    /// The bed and the flow (`None`: impacts only).
+    pub bed: Option<PartBedConfig>,
 }
 
 /// Where and how a particle is thrown at the part.
@@ -111,6 +118,12 @@ pub struct PartResults {
     pub walls: Vec<PartWallResult>,
     /// The coverings' spheres (for pictures), in `coverings` order.
     pub coverings: Vec<Covering>,
+    /// Where the bed went, and the bed on each wall (`walls` order).
+    pub region: Option<PartRegion>,
+    pub beds: Vec<PartBed>,
+    /// The mesh wall's bed scene as a `dembound scene` file (a part read
+    /// from a file only).
+    pub mesh_scene: Option<String>,
     /// s.
     pub dt: f64,
 }
@@ -131,6 +144,9 @@ impl PartConfig {
             .collect();
         study.chute = None;
         study.validate()?;
+        if let Some(bed) = &self.bed {
+            bed.validate()?;
+        }
         let m = &self.reference;
         let ok = m.density.is_finite()
             && m.density > 0.0
@@ -149,6 +165,17 @@ impl PartConfig {
             ));
         }
         Ok(())
+    }
+
+    /// Where the bed goes ([`part_bed::region`]), `None` without a bed:
+    /// refuses a part with no pour column on its particles' side before
+    /// anything runs.
+    pub fn bed_region(&self) -> Result<Option<PartRegion>, SceneError> {
+        let Some(bed) = &self.bed else {
+            return Ok(None);
+        };
+        let g = geometry(self)?;
+        part_bed::region(&g, self.flip, self.study.radius, bed.particles, &self.name).map(Some)
     }
 
     /// The boundary spheres' material of `spec`: the reference, E × ζ.
@@ -172,8 +199,10 @@ impl PartConfig {
             .map(|c| self.boundary_material(c).compliance())
             .fold(self.reference.compliance(), f64::min);
         let c = &self.study;
-        let e_star = 1.0 / (c.material.compliance() + wall_compliance);
-        let k = 4.0 / 3.0 * e_star * c.radius.sqrt();
+        // Written as the plane study's (`StudyConfig::contact_time`): a
+        // wall of the particles' material gives its Δt to the bit.
+        let e_eff = 4.0 / 3.0 / (c.material.compliance() + wall_compliance);
+        let k = e_eff * c.radius.sqrt();
         let mass = c.material.sphere_mass(c.radius);
         let h_max = (1.25 * mass * c.speed * c.speed / k).powf(0.4);
         dembound_physics::contact::HERTZ_CONTACT_TIME_FACTOR * h_max / c.speed
@@ -201,6 +230,7 @@ fn geometry(c: &PartConfig) -> Result<MeshGeometry, SceneError> {
 /// seeded stream, the same for every wall.
 pub fn impact_points(
     mesh: &MeshGeometry,
+    flip: bool,
     angles: &[f64],
     impacts: usize,
     seed: u64,
@@ -228,7 +258,7 @@ pub fn impact_points(
             let point: [f64; 3] =
                 std::array::from_fn(|i| (1.0 - u) * a[i] + u * (1.0 - w) * b[i] + u * w * c[i]);
             let n = cross(sub(b, a), sub(c, a));
-            let normal = scale(n, 1.0 / norm(n));
+            let normal = scale(n, if flip { -1.0 } else { 1.0 } / norm(n));
             let e1 = sub(b, a);
             let e1 = scale(e1, 1.0 / norm(e1));
             let e2 = cross(normal, e1);
@@ -377,7 +407,13 @@ fn impact(
 pub fn run(c: &PartConfig, mut progress: impl FnMut(&str)) -> Result<PartResults, SceneError> {
     c.validate()?;
     let geometry = geometry(c)?;
-    let points = impact_points(&geometry, &c.study.angles, c.study.impacts, c.study.seed);
+    let points = impact_points(
+        &geometry,
+        c.flip,
+        &c.study.angles,
+        c.study.impacts,
+        c.study.seed,
+    );
     let mesh = Mesh::from_triangles(Path::new(&c.name), &c.triangles, Transform::default(), 1)?;
     let dt = c.dt();
     let mut walls = Vec::new();
@@ -400,7 +436,7 @@ pub fn run(c: &PartConfig, mut progress: impl FnMut(&str)) -> Result<PartResults
             radius: rb,
             spacing: 2.0 * rb,
             pattern: spec.pattern,
-            flip: false,
+            flip: c.flip,
         };
         // ζ does not change the geometry: one covering per (r, tiling).
         let covering = match coverings.iter().find(|k| k.options == options) {
@@ -420,9 +456,73 @@ pub fn run(c: &PartConfig, mut progress: impl FnMut(&str)) -> Result<PartResults
         });
         coverings.push(covering);
     }
+    let (region, beds, mesh_scene) = match &c.bed {
+        Some(bed) => beds(c, bed, &geometry, &mesh, &coverings, dt, &mut progress)?,
+        None => (None, Vec::new(), None),
+    };
     Ok(PartResults {
         walls,
         coverings,
+        region,
+        beds,
+        mesh_scene,
         dt,
     })
+}
+
+type Beds = (Option<PartRegion>, Vec<PartBed>, Option<String>);
+
+/// The bed on the mesh wall, then on each covering (`coverings` holds
+/// one per (r, tiling), in the order of the first spec that made it).
+fn beds(
+    c: &PartConfig,
+    bed: &PartBedConfig,
+    geometry: &MeshGeometry,
+    mesh: &Mesh,
+    coverings: &[Covering],
+    dt: f64,
+    progress: &mut impl FnMut(&str),
+) -> Result<Beds, SceneError> {
+    let region = part_bed::region(geometry, c.flip, c.study.radius, bed.particles, &c.name)?;
+    progress("bed on the mesh wall");
+    let mut out = vec![part_bed::run(
+        c,
+        bed,
+        &region,
+        geometry,
+        &BedWall::Mesh(mesh),
+        dt,
+    )?];
+    for spec in &c.coverings {
+        progress(&format!("bed on {}", spec.label()));
+        let rb = spec.radius_ratio * c.study.radius;
+        let Some(cov) = coverings
+            .iter()
+            .find(|k| k.options.radius == rb && k.options.pattern == spec.pattern)
+        else {
+            return Err(SceneError::input(format!(
+                "no covering of r = {} for the bed",
+                spec.radius_ratio
+            )));
+        };
+        out.push(part_bed::run(
+            c,
+            bed,
+            &region,
+            geometry,
+            &BedWall::Covering(cov, spec),
+            dt,
+        )?);
+    }
+    let file = Path::new(&c.name);
+    let mesh_scene = if file.is_file() {
+        let file = file
+            .canonicalize()
+            .map_err(|e| SceneError::input(format!("--wall `{}`: {e}", c.name)))?;
+        let (_, steps) = part_bed::scene(c, bed, &region, &BedWall::Mesh(mesh), dt)?;
+        Some(part_bed::mesh_scene_toml(c, &region, &file, dt, steps))
+    } else {
+        None
+    };
+    Ok((Some(region), out, mesh_scene))
 }
