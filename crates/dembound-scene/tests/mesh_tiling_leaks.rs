@@ -122,7 +122,7 @@ fn probe(
         .map(|t| 0.5 * norm(cross(sub(t[1], t[0]), sub(t[2], t[0]))))
         .collect();
     let total: f64 = areas.iter().sum();
-    let boxes: Vec<[[f64; 3]; 2]> = soup.iter().map(|t| triangle_box(t)).collect();
+    let boxes: Vec<[[f64; 3]; 2]> = soup.iter().map(triangle_box).collect();
     let (mut leaks, mut counted, mut drawn) = (0, 0, 0);
     while counted < probes {
         drawn += 1;
