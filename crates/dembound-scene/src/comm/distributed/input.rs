@@ -426,7 +426,7 @@ fn with_ghosts(setup: &SceneSetup, part: &Part, ghosts: Part) -> (SceneSetup, Ve
         .ids
         .iter()
         .zip(part.spheres.iter())
-        .map(|(&id, s)| (id, true, s.clone()))
+        .map(|(&id, s)| (id, true, *s))
         .chain(
             ghosts
                 .ids
