@@ -1434,6 +1434,104 @@ fn an_overlap_across_a_cut_is_refused_as_on_one_process() {
     }
 }
 
+/// The initial-overlap warnings of the part-wise input are one process's,
+/// printed once. Added to the sparse spheres (0.5 mm radius): a pair
+/// 0.9 mm apart across the first cut along z (an overlap of 0.1 mm, 20 %
+/// of the radius: above the 1 % warning, below the 50 % refusal), the
+/// upper one first in the file; a pair 0.95 mm apart (10 %) inside rank
+/// 0; and a sphere 0.45 mm from the plane x = 0 (10 %) 0.1 mm above the
+/// cut, so a halo copy on the rank below. One process warns of 2 pairs,
+/// the largest the pair across the cut, and of 1 sphere on a plane; on 2
+/// and 3 ranks stderr's warning lines are the same, each once (a pair or
+/// a sphere counted on both sides of the cut would make 3 pairs or 2
+/// spheres).
+#[test]
+fn overlap_warnings_in_parts_are_one_process_s() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let data_toml =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop_data.toml");
+    for ranks in [2usize, 3] {
+        // The first inner cut along z (m), from the extent of the centres
+        // (1 to 13 mm, which the added spheres stay within).
+        let cut = 1e-3 + 12e-3 / ranks as f64;
+        let mut sites = sparse_sites();
+        // 1.7 mm across from the nearest column (x, y = 1.2 + 2.4 i mm).
+        sites.insert(5, [2.4e-3, 2.4e-3, cut + 0.45e-3]);
+        sites.insert(20, [2.4e-3, 2.4e-3, 2.0e-3]);
+        sites.push([2.4e-3, 2.4e-3, 2.95e-3]);
+        sites.push([2.4e-3, 2.4e-3, cut - 0.45e-3]);
+        // 1.4 mm across from the nearest column (x = 1.2, y = 3.6 mm).
+        sites.push([0.45e-3, 4.8e-3, cut + 0.1e-3]);
+        let n = sites.len();
+        let path = tmp.path().join(format!("warned_{ranks}.data"));
+        std::fs::write(&path, data_file(&sites, 1)).expect("data");
+        let set = format!("particles.0.lammps_data={}", path.display());
+        let grid = format!("parallel.grid=[1,1,{ranks}]");
+        let common = [
+            "--set",
+            &set,
+            "--set",
+            &grid,
+            "--set",
+            "parallel.rebalance_threshold=inf",
+            "--set",
+            "integration.steps=20",
+            "--quiet",
+        ];
+        let warnings = |stderr: &[u8]| -> Vec<String> {
+            String::from_utf8_lossy(stderr)
+                .lines()
+                .filter(|l| l.starts_with("warning:"))
+                .map(str::to_string)
+                .collect()
+        };
+        let one = Command::new(env!("CARGO_BIN_EXE_dembound"))
+            .arg("scene")
+            .arg(&data_toml)
+            .args(common)
+            .output()
+            .expect("runs");
+        let one_err = String::from_utf8_lossy(&one.stderr).to_string();
+        assert!(one.status.success(), "{one_err}");
+        let expected = warnings(&one.stderr);
+        // The counts and the largest from the construction above (input
+        // index k is atom k + 1's, sphere k of the data file).
+        let label = |k: usize| format!("`particles[0].lammps_data` sphere {k} (input index {k})");
+        let pair = expected
+            .iter()
+            .find(|l| l.contains("sphere pair(s)"))
+            .unwrap_or_else(|| panic!("no pair warning: {one_err}"));
+        assert!(pair.starts_with("warning: 2 sphere pair(s)"), "{pair}");
+        // Share printed to 3 decimals: 20 % within 5e-6 %.
+        assert!(
+            pair.contains(&format!("largest: {} and {}, ", label(5), label(n - 2)))
+                && pair.contains("(20 %)"),
+            "{pair}"
+        );
+        let plane = expected
+            .iter()
+            .find(|l| l.contains("plane wall"))
+            .unwrap_or_else(|| panic!("no plane warning: {one_err}"));
+        assert!(
+            plane.starts_with("warning: 1 free sphere(s)")
+                && plane.contains(&format!("largest: {} and `wall[0].plane`", label(n - 1)))
+                && plane.contains("(10 %)"),
+            "{plane}"
+        );
+        assert_eq!(expected.len(), 2, "{one_err}");
+        let o = mpirun_scene(ranks, &[], "lattice_drop_data.toml")
+            .args(common)
+            .arg("--json")
+            .output()
+            .expect("mpirun runs");
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{ranks} ranks: {err}");
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        assert_eq!(j["input_in_parts"], true);
+        assert_eq!(warnings(&o.stderr), expected, "{ranks} ranks: {err}");
+    }
+}
+
 /// The point arrays of a `.vtp` file read with an XML parser: name →
 /// the values' bytes (base64 after an 8-byte length, as VTK reads them).
 fn vtp_arrays(path: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {

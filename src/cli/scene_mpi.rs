@@ -201,7 +201,11 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     };
     let parted = agree(t, parted.map_err(scene_error))?;
     let built = match (parted, &restart) {
-        (Some(sim), _) => Ok(sim),
+        (Some((sim, warnings)), _) => {
+            // The overlap warnings one process prints with the scene's.
+            super::warnings::print(&warnings);
+            Ok(sim)
+        }
         (None, Some(c)) => DistributedSimulation::restore(&resolved.setup, c, threads, grid, t),
         (None, None) => {
             if groups.is_some() {

@@ -65,11 +65,21 @@ pub fn radius_range(fixed: bool) -> (f64, f64) {
 /// `Simulation::prepare`); returns the warnings (large initial overlaps)
 /// or the first refusal.
 pub fn check(setup: &SceneSetup, label: Label<'_>) -> Result<Vec<String>, SceneError> {
+    Ok(check_overlaps(setup, label, &|_| true)?.lines(label))
+}
+
+/// [`check`], the warnings as tallies, counting only the overlaps that
+/// `reports` gives to this process ([`Reports`]).
+pub fn check_overlaps<'a>(
+    setup: &SceneSetup,
+    label: Label<'_>,
+    reports: Reports<'a>,
+) -> Result<Overlaps<'a>, SceneError> {
     ranges(setup, label)?;
-    let mut warnings = Vec::new();
-    crate::walls::registry::check_placements(setup, label, &mut warnings)?;
-    pair_overlaps(setup, label, &mut warnings)?;
-    Ok(warnings)
+    let mut overlaps = Overlaps::new(reports);
+    crate::walls::registry::check_placements(setup, label, &mut overlaps)?;
+    pair_overlaps(setup, label, &mut overlaps)?;
+    Ok(overlaps)
 }
 
 fn ranges(setup: &SceneSetup, label: Label<'_>) -> Result<(), SceneError> {
@@ -184,51 +194,146 @@ pub(crate) fn percent(x: f64) -> String {
     format!("{:.3} %", 100.0 * x).replace(".000 %", " %")
 }
 
-/// The free spheres that start overlapping the walls of one type by more
-/// than [`limits::OVERLAP_WARNING`] of their radius: how many, and the
-/// largest (share, sphere, wall, overlap), for one warning line per type.
-#[derive(Default)]
-pub(crate) struct OverlapWarnings {
-    count: usize,
-    worst: Option<(f64, usize, usize, f64)>,
+/// Whether this process reports the overlaps of the sphere of index `k`:
+/// every sphere in one process; under MPI a rank reports its own spheres'
+/// wall overlaps and the pairs whose lower index is its own, so that each
+/// overlap is counted once over the ranks
+/// (`comm::distributed::input`).
+pub type Reports<'a> = &'a dyn Fn(usize) -> bool;
+
+/// The largest overlap of a [`OverlapTally`]: its share of the radius,
+/// what overlaps (a wall's (wall index, sphere), a pair's (lower, higher
+/// sphere index)), and the overlap, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Worst {
+    pub share: f64,
+    pub first: usize,
+    pub second: usize,
+    pub overlap: f64,
 }
 
-impl OverlapWarnings {
-    /// Sphere `k` overlaps wall `w` by `overlap` (m), `share` of its radius.
-    pub(crate) fn note(&mut self, share: f64, k: usize, w: usize, overlap: f64) {
+/// The overlaps of one kind above [`limits::OVERLAP_WARNING`]: how many,
+/// and the largest; of equal shares the smallest (first, second), which
+/// is the first the walls' scans (wall by wall, spheres in order) meet, so
+/// that the ranks' tallies merge to one process's.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct OverlapTally {
+    pub count: u64,
+    pub worst: Option<Worst>,
+}
+
+impl OverlapTally {
+    /// An overlap of `share` (above the warning level or not).
+    fn note(&mut self, share: f64, first: usize, second: usize, overlap: f64) {
         if share > limits::OVERLAP_WARNING {
             self.count += 1;
-            if self.worst.is_none_or(|x| share > x.0) {
-                self.worst = Some((share, k, w, overlap));
-            }
+            self.keep(Worst {
+                share,
+                first,
+                second,
+                overlap,
+            });
         }
     }
 
-    /// The one warning for the `kind` walls (`plane`, `cylinder`, …), if
-    /// any sphere was noted.
-    pub(crate) fn push(self, kind: &str, label: Label<'_>, warnings: &mut Vec<String>) {
-        let Some((share, k, w, overlap)) = self.worst else {
-            return;
-        };
-        warnings.push(format!(
-            "{} free sphere(s) start overlapping a {kind} wall by more than {} of their \
-             radius; the largest: {} and `wall[{w}].{kind}`, {} ({}). The contact laws are \
-             small-strain theories, and the stored energy is released in the first steps",
-            self.count,
-            percent(limits::OVERLAP_WARNING),
-            label(k),
-            metres(overlap),
-            percent(share)
-        ));
+    fn keep(&mut self, w: Worst) {
+        let larger = self.worst.is_none_or(|x| {
+            w.share > x.share || (w.share == x.share && (w.first, w.second) < (x.first, x.second))
+        });
+        if larger {
+            self.worst = Some(w);
+        }
+    }
+
+    /// Adds another process's tally of other overlaps.
+    pub fn merge(&mut self, other: &OverlapTally) {
+        self.count += other.count;
+        if let Some(w) = other.worst {
+            self.keep(w);
+        }
     }
 }
 
-/// The worst pair overlap found so far and how many pairs exceed the
-/// warning level.
-#[derive(Default)]
-struct PairScan {
-    count: usize,
-    worst: Option<(f64, usize, usize, f64)>,
+/// The free spheres that start overlapping the walls of one type by more
+/// than [`limits::OVERLAP_WARNING`] of their radius, for one warning line
+/// per type ([`Overlaps::walls`]).
+pub(crate) struct OverlapWarnings<'a> {
+    reports: Reports<'a>,
+    tally: OverlapTally,
+}
+
+impl OverlapWarnings<'_> {
+    /// Sphere `k` overlaps wall `w` by `overlap` (m), `share` of its radius.
+    pub(crate) fn note(&mut self, share: f64, k: usize, w: usize, overlap: f64) {
+        if share > limits::OVERLAP_WARNING && (self.reports)(k) {
+            self.tally.note(share, w, k, overlap);
+        }
+    }
+}
+
+/// The overlap warnings of a check, as tallies: each wall type's (those
+/// with placement checks, registry order) and the sphere pairs'.
+pub struct Overlaps<'a> {
+    reports: Reports<'a>,
+    /// (`plane`, `cylinder`, …, its tally).
+    pub walls: Vec<(&'static str, OverlapTally)>,
+    pub pairs: OverlapTally,
+}
+
+impl<'a> Overlaps<'a> {
+    pub fn new(reports: Reports<'a>) -> Self {
+        Self {
+            reports,
+            walls: Vec::new(),
+            pairs: OverlapTally::default(),
+        }
+    }
+
+    /// An empty tally for one wall type's spheres.
+    pub(crate) fn wall_tally(&self) -> OverlapWarnings<'a> {
+        OverlapWarnings {
+            reports: self.reports,
+            tally: OverlapTally::default(),
+        }
+    }
+
+    /// The tally of the `kind` walls (`plane`, `cylinder`, …).
+    pub(crate) fn push_walls(&mut self, kind: &'static str, t: OverlapWarnings<'_>) {
+        self.walls.push((kind, t.tally));
+    }
+
+    /// The warning lines: one a wall type with overlaps, then the pairs'.
+    pub fn lines(&self, label: Label<'_>) -> Vec<String> {
+        let mut out = Vec::new();
+        for (kind, t) in &self.walls {
+            let Some(w) = t.worst else { continue };
+            out.push(format!(
+                "{} free sphere(s) start overlapping a {kind} wall by more than {} of their \
+                 radius; the largest: {} and `wall[{}].{kind}`, {} ({}). The contact laws are \
+                 small-strain theories, and the stored energy is released in the first steps",
+                t.count,
+                percent(limits::OVERLAP_WARNING),
+                label(w.second),
+                w.first,
+                metres(w.overlap),
+                percent(w.share)
+            ));
+        }
+        if let Some(w) = self.pairs.worst {
+            out.push(format!(
+                "{} sphere pair(s) start overlapping by more than {} of the smaller radius; the \
+                 largest: {} and {}, {} ({}). The contact laws are small-strain theories, and the \
+                 stored energy is released in the first steps",
+                self.pairs.count,
+                percent(limits::OVERLAP_WARNING),
+                label(w.first),
+                label(w.second),
+                metres(w.overlap),
+                percent(w.share)
+            ));
+        }
+        out
+    }
 }
 
 /// Sphere-pair overlaps: a cell grid over the spheres of ordinary size,
@@ -236,7 +341,7 @@ struct PairScan {
 fn pair_overlaps(
     setup: &SceneSetup,
     label: Label<'_>,
-    warnings: &mut Vec<String>,
+    overlaps: &mut Overlaps<'_>,
 ) -> Result<(), SceneError> {
     let s = &setup.spheres;
     let free_min = s
@@ -258,8 +363,9 @@ fn pair_overlaps(
     let large_limit = LARGE_FACTOR * free_min;
     let (small, large): (Vec<usize>, Vec<usize>) =
         (0..s.len()).partition(|&k| s[k].radius <= large_limit);
-    let mut scan = PairScan::default();
-    let pair = |i: usize, j: usize, scan: &mut PairScan| -> Result<(), SceneError> {
+    let reports = overlaps.reports;
+    let mut scan = OverlapTally::default();
+    let pair = |i: usize, j: usize, scan: &mut OverlapTally| -> Result<(), SceneError> {
         if s[i].fixed && s[j].fixed {
             return Ok(());
         }
@@ -297,11 +403,8 @@ fn pair_overlaps(
                 percent(limits::OVERLAP_WARNING)
             )));
         }
-        if share > limits::OVERLAP_WARNING {
-            scan.count += 1;
-            if scan.worst.is_none_or(|w| share > w.0) {
-                scan.worst = Some((share, i, j, overlap));
-            }
+        if share > limits::OVERLAP_WARNING && reports(i) {
+            scan.note(share, i, j, overlap);
         }
         Ok(())
     };
@@ -434,19 +537,7 @@ fn pair_overlaps(
         }
     }
 
-    if let Some((share, i, j, overlap)) = scan.worst {
-        warnings.push(format!(
-            "{} sphere pair(s) start overlapping by more than {} of the smaller radius; the \
-             largest: {} and {}, {} ({}). The contact laws are small-strain theories, and the \
-             stored energy is released in the first steps",
-            scan.count,
-            percent(limits::OVERLAP_WARNING),
-            label(i),
-            label(j),
-            metres(overlap),
-            percent(share)
-        ));
-    }
+    overlaps.pairs = scan;
     Ok(())
 }
 
@@ -552,8 +643,9 @@ mod tests {
         for seed in 0..80 {
             let s = scene(seed, 4 + seed as usize);
             let (count, worst) = brute(&s);
-            let mut w = Vec::new();
-            let result = pair_overlaps(&s, &by_index, &mut w);
+            let mut o = Overlaps::new(&|_| true);
+            let result = pair_overlaps(&s, &by_index, &mut o);
+            let w = o.lines(&by_index);
             assert_eq!(
                 result.is_err(),
                 worst > limits::OVERLAP_REFUSAL,

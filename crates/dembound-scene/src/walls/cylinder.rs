@@ -41,7 +41,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::limits::{self, metres, norm};
 use crate::setup::SceneSetup;
-use crate::setup_checks::{invalid, OverlapWarnings, percent, Label, AXES};
+use crate::setup_checks::{invalid, percent, Label, AXES};
 use serde::{Deserialize, Serialize};
 
 /// `cylinder = { point, axis, radius, inside, length }`: a tube of radius
@@ -156,7 +156,7 @@ impl WallType for Cylinder {
         walls: &[(usize, &Self)],
         setup: &SceneSetup,
         label: Label<'_>,
-        warnings: &mut Vec<String>,
+        warnings: &mut crate::setup_checks::Overlaps<'_>,
     ) -> Result<(), SceneError> {
         placements(walls, setup, label, warnings)
     }
@@ -313,9 +313,9 @@ fn placements(
     walls: &[(usize, &Cylinder)],
     setup: &SceneSetup,
     label: Label<'_>,
-    warnings: &mut Vec<String>,
+    warnings: &mut crate::setup_checks::Overlaps<'_>,
 ) -> Result<(), SceneError> {
-    let mut tally = OverlapWarnings::default();
+    let mut tally = warnings.wall_tally();
     let largest_free = setup
         .spheres
         .iter()
@@ -428,7 +428,7 @@ fn placements(
             tally.note(share, k, w, overlap);
         }
     }
-    tally.push("cylinder", label, warnings);
+    warnings.push_walls("cylinder", tally);
     Ok(())
 }
 

@@ -16,7 +16,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::limits::{self, metres, norm, show};
 use crate::setup::SceneSetup;
-use crate::setup_checks::{OverlapWarnings, percent, Label, AXES};
+use crate::setup_checks::{percent, Label, AXES};
 use serde::{Deserialize, Serialize};
 
 /// `plane = { point, normal }`: the normal points into the domain.
@@ -70,7 +70,7 @@ impl WallType for Plane {
         walls: &[(usize, &Self)],
         setup: &SceneSetup,
         label: Label<'_>,
-        warnings: &mut Vec<String>,
+        warnings: &mut crate::setup_checks::Overlaps<'_>,
     ) -> Result<(), SceneError> {
         let planes = periodic_check(walls, setup)?;
         overlaps(setup, &planes, label, warnings)
@@ -213,9 +213,9 @@ fn overlaps(
     setup: &SceneSetup,
     planes: &[Placed],
     label: Label<'_>,
-    warnings: &mut Vec<String>,
+    warnings: &mut crate::setup_checks::Overlaps<'_>,
 ) -> Result<(), SceneError> {
-    let mut tally = OverlapWarnings::default();
+    let mut tally = warnings.wall_tally();
     for p in planes {
         for (k, s) in setup.spheres.iter().enumerate() {
             if s.fixed {
@@ -260,7 +260,7 @@ fn overlaps(
             tally.note(share, k, p.wall, overlap);
         }
     }
-    tally.push("plane", label, warnings);
+    warnings.push_walls("plane", tally);
     Ok(())
 }
 

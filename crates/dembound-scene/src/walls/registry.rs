@@ -72,7 +72,7 @@ pub trait WallType: Sized + Clone + PartialEq + Debug {
         _walls: &[(usize, &Self)],
         _setup: &SceneSetup,
         _label: Label<'_>,
-        _warnings: &mut Vec<String>,
+        _warnings: &mut crate::setup_checks::Overlaps<'_>,
     ) -> Result<(), SceneError> {
         Ok(())
     }
@@ -303,7 +303,7 @@ macro_rules! wall_registry {
         pub fn check_placements(
             setup: &SceneSetup,
             label: Label<'_>,
-            warnings: &mut Vec<String>,
+            warnings: &mut crate::setup_checks::Overlaps<'_>,
         ) -> Result<(), SceneError> {
             $( {
                 let walls: Vec<(usize, &super::$m::$T)> = setup

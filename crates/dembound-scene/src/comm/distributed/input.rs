@@ -37,7 +37,7 @@ use super::{
 };
 use crate::io::resolve::{atom_material, PartGroup, PartSource};
 use crate::setup::{SceneSetup, SphereInit};
-use crate::setup_checks::Label;
+use crate::setup_checks::{Label, OverlapTally, Overlaps, Worst};
 use crate::sources::lammps_part;
 use crate::SceneError;
 
@@ -419,21 +419,105 @@ fn ghosts<T: Transport>(part: &Part, d: &Decomposition, largest: f64, t: &T) -> 
 }
 
 /// `setup` with this rank's spheres and its ghosts, by input index (so a
-/// pair is named in the order one process names it), and their input
-/// indices.
-fn with_ghosts(setup: &SceneSetup, part: &Part, ghosts: Part) -> (SceneSetup, Vec<u32>) {
-    let mut all: Vec<(u32, SphereInit)> = part
+/// pair is named in the order one process names it), their input indices
+/// and whether each is this rank's own.
+fn with_ghosts(setup: &SceneSetup, part: &Part, ghosts: Part) -> (SceneSetup, Vec<u32>, Vec<bool>) {
+    let mut all: Vec<(u32, bool, SphereInit)> = part
         .ids
         .iter()
-        .copied()
-        .zip(part.spheres.iter().cloned())
-        .chain(ghosts.ids.into_iter().zip(ghosts.spheres))
+        .zip(part.spheres.iter())
+        .map(|(&id, s)| (id, true, *s))
+        .chain(
+            ghosts
+                .ids
+                .into_iter()
+                .zip(ghosts.spheres)
+                .map(|(id, s)| (id, false, s)),
+        )
         .collect();
-    all.sort_by_key(|(id, _)| *id);
-    let (ids, spheres) = all.into_iter().unzip();
+    all.sort_by_key(|(id, _, _)| *id);
+    let mut ids = Vec::with_capacity(all.len());
+    let mut own = Vec::with_capacity(all.len());
     let mut local = setup.clone();
-    local.spheres = spheres;
-    (local, ids)
+    local.spheres = Vec::with_capacity(all.len());
+    for (id, mine, s) in all {
+        ids.push(id);
+        own.push(mine);
+        local.spheres.push(s);
+    }
+    (local, ids, own)
+}
+
+fn write_tally(w: &mut Writer, t: &OverlapTally) {
+    w.u64(t.count);
+    match t.worst {
+        None => w.u8(0),
+        Some(x) => {
+            w.u8(1);
+            w.f64(x.share);
+            w.u64(x.first as u64);
+            w.u64(x.second as u64);
+            w.f64(x.overlap);
+        }
+    }
+}
+
+fn read_tally(r: &mut Reader) -> OverlapTally {
+    let count = r.u64();
+    let worst = (r.u8() == 1).then(|| Worst {
+        share: r.f64(),
+        first: r.u64() as usize,
+        second: r.u64() as usize,
+        overlap: r.f64(),
+    });
+    OverlapTally { count, worst }
+}
+
+/// Every rank's overlap tallies (its spheres' indices local, `ids` their
+/// input indices) added up at rank 0 (collective): the warning lines one
+/// process prints, at rank 0; empty elsewhere. Each overlap was counted
+/// by one rank ([`crate::setup_checks::Reports`]); the largest of equal
+/// shares is the one of the smallest indices, as one process picks it.
+fn gather_warnings<T: Transport>(
+    mut overlaps: Overlaps<'_>,
+    ids: &[u32],
+    label: Label<'_>,
+    t: &T,
+) -> Vec<String> {
+    let to_input = |tally: &mut OverlapTally, pair: bool| {
+        if let Some(w) = &mut tally.worst {
+            if pair {
+                w.first = ids[w.first] as usize;
+            }
+            w.second = ids[w.second] as usize;
+        }
+    };
+    for (_, tally) in &mut overlaps.walls {
+        to_input(tally, false);
+    }
+    to_input(&mut overlaps.pairs, true);
+    let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
+    if t.rank() != 0 {
+        let mut w = Writer(Vec::new());
+        for (_, tally) in &overlaps.walls {
+            write_tally(&mut w, tally);
+        }
+        write_tally(&mut w, &overlaps.pairs);
+        out.insert(0, w);
+    }
+    let got = send_all(t, out);
+    if t.rank() != 0 {
+        return Vec::new();
+    }
+    // Every rank ran the same wall types' checks: the same list.
+    for bytes in got {
+        let mut r = Reader::new(&bytes);
+        for (_, tally) in &mut overlaps.walls {
+            tally.merge(&read_tally(&mut r));
+        }
+        overlaps.pairs.merge(&read_tally(&mut r));
+    }
+    overlaps.lines(label)
 }
 
 impl<T: Transport> DistributedSimulation<T> {
@@ -441,8 +525,10 @@ impl<T: Transport> DistributedSimulation<T> {
     /// its part of the spheres of `groups` ([`crate::io::resolve::resolve_parts`];
     /// `setup.spheres` empty). `label` names a sphere by its input index in
     /// the setup checks' messages (`io::labels::label`, as one process
-    /// names it). `Ok(None)`: the scene is to be read whole (every rank
-    /// agrees). Collective.
+    /// names it). Returns with the simulation the overlap warnings one
+    /// process prints (`setup_checks`), at rank 0 (empty elsewhere).
+    /// `Ok(None)`: the scene is to be read whole (every rank agrees).
+    /// Collective.
     pub fn new_parts(
         setup: &SceneSetup,
         groups: &[PartGroup],
@@ -450,7 +536,7 @@ impl<T: Transport> DistributedSimulation<T> {
         threads: usize,
         grid: Option<[usize; 3]>,
         transport: T,
-    ) -> Result<Option<Self>, SceneError> {
+    ) -> Result<Option<(Self, Vec<String>)>, SceneError> {
         let t = &transport;
         let Some(part) = read_slices(setup, groups, t)? else {
             return Ok(None);
@@ -501,15 +587,24 @@ impl<T: Transport> DistributedSimulation<T> {
         // This rank's spheres checked as the whole scene's are, with the
         // other ranks' spheres that may touch them (an overlap across a
         // sub-domain face is found on both sides).
+        // Its warnings: the overlaps of its own spheres (a pair's: of the
+        // lower input index), added up at rank 0.
         let ghosts = ghosts(&part, &d, largest_radius, t);
         let ids = &part.ids;
+        let (local, local_ids, own) = with_ghosts(&proxy, &part, ghosts);
+        let reports = |k: usize| own[k];
         let checked =
             crate::simulation::build::check_spheres(&proxy, &part.spheres, |q| ids[q] as usize)
                 .and_then(|()| {
-                    let (local, local_ids) = with_ghosts(&proxy, &part, ghosts);
-                    crate::setup_checks::check(&local, &|k| label(local_ids[k] as usize))
+                    crate::setup_checks::check_overlaps(
+                        &local,
+                        &|k| label(local_ids[k] as usize),
+                        &reports,
+                    )
                 });
-        agree(t, checked)?;
+        let overlaps = agree(t, checked)?;
+        drop(local);
+        let warnings = gather_warnings(overlaps, &local_ids, label, t);
         let w = &mut sim.world;
         let mut b = crate::simulation::build::bodies_of(&proxy, &part.spheres, |q| ids[q]);
         drop(part.spheres);
@@ -542,12 +637,9 @@ impl<T: Transport> DistributedSimulation<T> {
         for g in groups.iter().filter(|g| g.fixed) {
             fixed_by_id[g.ids.clone()].fill(true);
         }
-        Ok(Some(Self::start(
-            sim,
-            d,
-            largest_radius,
-            fixed_by_id,
-            transport,
+        Ok(Some((
+            Self::start(sim, d, largest_radius, fixed_by_id, transport),
+            warnings,
         )))
     }
 }

@@ -30,7 +30,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::limits::{self, metres};
 use crate::setup::SceneSetup;
-use crate::setup_checks::{OverlapWarnings, percent, Label};
+use crate::setup_checks::{percent, Label};
 use crate::walls::registry::{show3, WallKey, WallType};
 use crate::walls::{Curvature, Surface};
 
@@ -259,7 +259,7 @@ impl WallType for Mesh {
         walls: &[(usize, &Self)],
         setup: &SceneSetup,
         label: Label<'_>,
-        warnings: &mut Vec<String>,
+        warnings: &mut crate::setup_checks::Overlaps<'_>,
     ) -> Result<(), SceneError> {
         placements(walls, setup, label, warnings)
     }
@@ -362,9 +362,9 @@ fn placements(
     walls: &[(usize, &Mesh)],
     setup: &SceneSetup,
     label: Label<'_>,
-    warnings: &mut Vec<String>,
+    warnings: &mut crate::setup_checks::Overlaps<'_>,
 ) -> Result<(), SceneError> {
-    let mut tally = OverlapWarnings::default();
+    let mut tally = warnings.wall_tally();
     for &(w, m) in walls {
         let g = &m.geometry;
         for (k, sp) in setup.spheres.iter().enumerate() {
@@ -394,6 +394,6 @@ fn placements(
             tally.note(share, k, w, overlap);
         }
     }
-    tally.push("mesh", label, warnings);
+    warnings.push_walls("mesh", tally);
     Ok(())
 }
