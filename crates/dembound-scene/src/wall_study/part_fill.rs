@@ -230,4 +230,25 @@ mod tests {
         let exact = (pi * 8e-3 / 3.0 * (4e-6 + 20e-6 + 100e-6) + pi * 100e-6 * 4e-3) * polygon;
         assert!((v / exact - 1.0).abs() < 5e-3, "{v} vs {exact}");
     }
+
+    #[test]
+    fn grains_outside_the_interior_or_above_the_rim_are_counted() {
+        // The open tube of radius 5 mm, 0–20 mm high (normals inward),
+        // its bottom the outlet: a grain in it, one above its rim, one
+        // beside it (outside the radius), one below the outlet's plane.
+        let m = geometry(&shapes::hopper(5e-3, 5e-3, 10e-3, 10e-3, 96));
+        let outlet = Outlet {
+            z: 0.0,
+            centre: [0.0, 0.0],
+            radius: 4.9e-3,
+            edges: 96,
+        };
+        let i = Interior::new(&m, false, 0.5e-3, Some(outlet));
+        assert!((i.rim - m.hi[2]).abs() < 1e-15);
+        let inside = [0.0, 0.0, 5e-3];
+        assert_eq!(i.outside(&[inside]), 0);
+        assert_eq!(i.outside(&[inside, [0.0, 0.0, 21e-3]]), 1);
+        assert_eq!(i.outside(&[inside, [6e-3, 0.0, 5e-3]]), 1);
+        assert_eq!(i.outside(&[inside, [0.0, 0.0, -1e-3]]), 1);
+    }
 }
