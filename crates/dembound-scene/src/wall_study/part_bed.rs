@@ -556,7 +556,14 @@ pub fn run(
         .filter(|(_, f)| !*f)
         .map(|(p, _)| *p)
         .collect();
-    let outside = Interior::new(mesh, c.flip, r, region.outlet).outside(&free);
+    // A grain touching the mesh from inside has its centre above the
+    // floor; one in the hollows of a covering of R_b sits up to 2 R_b
+    // below the surface (the covering's tops lie on it). Half a grain more.
+    let depth = match wall {
+        BedWall::Mesh(_) => 0.5 * r,
+        BedWall::Covering(cov, _) => 2.0 * cov.options.radius + 0.5 * r,
+    };
+    let outside = Interior::new(mesh, c.flip, r, region.outlet).outside(&free, depth);
     if outside as f64 > OUTSIDE_FRACTION * free.len() as f64 {
         return Err(SceneError::input(format!(
             "--wall `{}`: {outside} of the {} settled grains on the {} ended outside the part's \

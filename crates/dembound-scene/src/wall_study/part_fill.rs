@@ -151,12 +151,13 @@ impl Interior {
     }
 
     /// Settled grains (centres `free`) outside the interior or above the
-    /// rim: a column not interior, or a centre below its floor or above
-    /// the rim.
-    pub fn outside(&self, free: &[[f64; 3]]) -> usize {
+    /// rim: a column not interior, or a centre more than `depth` below
+    /// its floor (a grain in the hollows of a covering sits below the
+    /// surface: up to 2 R_b), or above the rim.
+    pub fn outside(&self, free: &[[f64; 3]], depth: f64) -> usize {
         free.iter()
             .filter(|p| match self.floor(p[0], p[1]) {
-                Some(z) => p[2] < z || p[2] > self.rim,
+                Some(z) => p[2] < z - depth || p[2] > self.rim,
                 None => true,
             })
             .count()
@@ -246,9 +247,9 @@ mod tests {
         let i = Interior::new(&m, false, 0.5e-3, Some(outlet));
         assert!((i.rim - m.hi[2]).abs() < 1e-15);
         let inside = [0.0, 0.0, 5e-3];
-        assert_eq!(i.outside(&[inside]), 0);
-        assert_eq!(i.outside(&[inside, [0.0, 0.0, 21e-3]]), 1);
-        assert_eq!(i.outside(&[inside, [6e-3, 0.0, 5e-3]]), 1);
-        assert_eq!(i.outside(&[inside, [0.0, 0.0, -1e-3]]), 1);
+        assert_eq!(i.outside(&[inside], 0.0), 0);
+        assert_eq!(i.outside(&[inside, [0.0, 0.0, 21e-3]], 0.5e-3), 1);
+        assert_eq!(i.outside(&[inside, [6e-3, 0.0, 5e-3]], 0.5e-3), 1);
+        assert_eq!(i.outside(&[inside, [0.0, 0.0, -1e-3]], 0.5e-3), 1);
     }
 }
