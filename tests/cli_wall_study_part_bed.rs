@@ -234,6 +234,7 @@ fn hopper_mesh_wall_rate_is_dembound_scenes() {
 #[test]
 fn bad_bed_values_are_refused_naming_the_option() {
     let dir = tempfile::tempdir().unwrap();
+    let hopper_text = hopper().to_str().unwrap().to_string();
     for (args, key) in [
         (vec!["--flip"], "--flip"),
         (vec!["--tolerance", "3%"], "--tolerance"),
@@ -279,6 +280,11 @@ fn bad_bed_values_are_refused_naming_the_option() {
         // The square's particles are on its normals' side (+z): flipped,
         // no pour column lies on the particles' side.
         (vec!["--wall", "square:0.01", "--flip"], "--wall"),
+        // hopper.stl's normals point outward: without --flip the pour box
+        // over its bounding box would land around the bin (its corner
+        // columns miss the part) or on the cone's outside; the flipped
+        // part takes the grains: refused naming --flip.
+        (vec!["--wall", &hopper_text, "--radius", "1e-3"], "--flip"),
     ] {
         let out = dir.path().join("never");
         let r = run(&args, &out);
@@ -287,4 +293,56 @@ fn bad_bed_values_are_refused_naming_the_option() {
         assert!(err.contains(key), "{args:?}: {err}");
         assert!(!out.exists(), "{args:?} wrote output");
     }
+}
+
+/// More grains than hopper.stl holds are refused before anything runs,
+/// naming --particles and the largest count that fits. That count against
+/// the hopper's closed-form volume (examples/scenes/make_hopper.py: outlet
+/// radius r1 = 6 mm, top radius r2 = 20 mm, the cone's half-angle 30°, so
+/// its height h = (r2 − r1)/tan 30°, a 70 mm bin above; 48 facets around,
+/// so every circle is the 48-gon of area factor (48/2π) sin(2π/48)):
+/// V = [π h/3 (r1² + r1 r2 + r2²) + π r2² 70 mm] × that factor, and
+/// N = ⌊0.55 V / (4/3 π R³)⌋ at the documented loose packing 0.55.
+/// Tolerance 0.5 %: the program surveys the interior by 256² column
+/// midpoints, whose count of a disc of radius ρ on a grid of spacing c errs
+/// by O((ρ/c)^(2/3)) cells (the Gauss circle problem), ≈ 25 of ≈ 51,000
+/// (0.05 %); the STL's single-precision vertices add 1e-7.
+#[test]
+fn too_many_grains_for_the_hopper_are_refused_with_the_count_that_fits() {
+    use std::f64::consts::PI;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let stl = hopper();
+    let r = run(
+        &[
+            "--wall",
+            stl.to_str().unwrap(),
+            "--flip",
+            "--quick",
+            "--radius",
+            "1e-3",
+            "--particles",
+            "20000",
+        ],
+        &out,
+    );
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(2), "{err}");
+    assert!(err.contains("--particles = 20000"), "{err}");
+    assert!(!out.exists(), "wrote output");
+    let fits: f64 = err
+        .split("1 to ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no count in {err}"));
+    let (r1, r2, bin) = (6e-3, 20e-3, 70e-3);
+    let h = (r2 - r1) / (PI / 6.0).tan();
+    let polygon = 48.0 / (2.0 * PI) * (2.0 * PI / 48.0).sin();
+    let volume = (PI * h / 3.0 * (r1 * r1 + r1 * r2 + r2 * r2) + PI * r2 * r2 * bin) * polygon;
+    let expected = (0.55 * volume / (4.0 / 3.0 * PI * 1e-9)).floor();
+    assert!(
+        (fits / expected - 1.0).abs() < 5e-3,
+        "fits {fits}, closed form {expected}"
+    );
 }

@@ -22,6 +22,7 @@ use crate::{SceneError, Simulation};
 pub mod chute;
 pub mod part;
 pub mod part_bed;
+pub mod part_fill;
 pub mod pour;
 pub mod recommend;
 pub use chute::{Chute, ChuteConfig, SlipFit};

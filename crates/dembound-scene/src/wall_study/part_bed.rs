@@ -50,6 +50,7 @@ use rand_chacha::ChaCha8Rng;
 use std::collections::HashMap;
 
 use super::part::{CoveringSpec, PartConfig};
+use super::part_fill::{capacity, Interior, LOOSE_PACKING, OUTSIDE_FRACTION, SURVEY_COLUMNS};
 use super::pour::Pour;
 use crate::region::Region;
 use crate::setup::{BoundaryParticles, NamedMaterial, Plane, SceneSetup, SphereInit, WallSetup};
@@ -285,6 +286,44 @@ fn outlet(mesh: &MeshGeometry) -> Option<Outlet> {
     })
 }
 
+/// The largest scale f of 1, 0.9, …, 0.1 of the part's box in x and y
+/// (about its centre) whose pour lands inside the part: the four corner
+/// columns, inset by R, lie inside it just below its top (at z =
+/// max(top − 2 R, bottom + R), on the particles' side at least R away)
+/// reached from above without crossing it, and every column of a 5 × 5
+/// grid over the inset box is interior ([`Interior::floor`]: it lands on
+/// the part's inside or passes through the outlet).
+fn pour_fraction(mesh: &MeshGeometry, flip: bool, r: f64, outlet: Option<Outlet>) -> Option<f64> {
+    let (lo, hi) = (mesh.lo, mesh.hi);
+    let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let half = [0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1])];
+    let zt = (hi[2] - 2.0 * r).max(lo[2] + r);
+    let interior = Interior::new(mesh, flip, r, outlet);
+    (0..10).map(|k| 1.0 - 0.1 * k as f64).find(|&f| {
+        let at = |sx: f64, sy: f64| {
+            [
+                centre[0] + sx * (f * half[0] - r),
+                centre[1] + sy * (f * half[1] - r),
+            ]
+        };
+        let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .all(|&(sx, sy)| {
+                let [x, y] = at(sx, sy);
+                let p = [x, y, zt];
+                let above = [x, y, hi[2] + 2.0 * r];
+                inside(mesh, flip, p, r) && !blocked(mesh, above, p)
+            });
+        corners
+            && (0..5).all(|i| {
+                (0..5).all(|j| {
+                    let [x, y] = at(-1.0 + 0.5 * i as f64, -1.0 + 0.5 * j as f64);
+                    interior.floor(x, y).is_some()
+                })
+            })
+    })
+}
+
 /// The region of `count` spheres of radius `r` in the part (module doc).
 pub fn region(
     mesh: &MeshGeometry,
@@ -296,27 +335,40 @@ pub fn region(
     let (lo, hi) = (mesh.lo, mesh.hi);
     let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
     let half = [0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1])];
-    let zt = (hi[2] - 2.0 * r).max(lo[2] + r);
-    let fraction = (0..10).map(|k| 1.0 - 0.1 * k as f64).find(|&f| {
-        [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-            .iter()
-            .all(|&(sx, sy)| {
-                let p = [
-                    centre[0] + sx * (f * half[0] - r),
-                    centre[1] + sy * (f * half[1] - r),
-                    zt,
-                ];
-                let above = [p[0], p[1], hi[2] + 2.0 * r];
-                inside(mesh, flip, p, r) && !blocked(mesh, above, p)
-            })
-    });
-    let Some(f) = fraction else {
+    let outlet = outlet(mesh);
+    let Some(f) = pour_fraction(mesh, flip, r, outlet) else {
+        if pour_fraction(mesh, !flip, r, outlet).is_some() {
+            return Err(SceneError::input(format!(
+                "--flip {}: the pour over --wall `{name}` lands on the part's outside or goes \
+                 around it (no pour box, the part's box in x and y scaled by 1 to 0.1, has its \
+                 columns landing on the particles' side); the other side takes the grains: \
+                 {} --flip",
+                if flip { "given" } else { "not given" },
+                if flip { "leave out" } else { "give" }
+            )));
+        }
         return Err(SceneError::input(format!(
             "--wall `{name}`: no pour column fits inside the part (the corners of its box, scaled \
-             by 1 to 0.1 about its centre, are outside it 2 R below its top; is the part upright, \
-             z up, with its particles on the normals' side (else --flip)?)"
+             by 1 to 0.1 about its centre, are outside it 2 R below its top, or the columns from \
+             above land on its outside; is the part upright, z up, with its particles on the \
+             normals' side (else --flip)?)"
         )));
     };
+    let interior = Interior::new(mesh, flip, r, outlet);
+    let volume = interior.volume([lo[0], lo[1]], [hi[0], hi[1]]);
+    let fits = capacity(volume, r);
+    if count as f64 > fits {
+        return Err(SceneError::invalid(
+            "--particles",
+            count,
+            format!(
+                "1 to {fits} for --wall `{name}` and --radius {r:e} m: its interior below the \
+                 rim, {:.4e} m³ (surveyed by {SURVEY_COLUMNS}² columns), holds at most that many \
+                 grains at a loose packing of {LOOSE_PACKING}",
+                volume
+            ),
+        ));
+    }
     let lower_xy = [centre[0] - f * half[0], centre[1] - f * half[1]];
     let upper_xy = [centre[0] + f * half[0], centre[1] + f * half[1]];
     let height = Pour::fill_height(
@@ -334,7 +386,6 @@ pub fn region(
             upper_xy[1] - lower_xy[1]
         )));
     }
-    let outlet = outlet(mesh);
     let pour = Pour {
         count,
         radius: r,
@@ -505,6 +556,30 @@ pub fn run(
         .filter(|(_, f)| !*f)
         .map(|(p, _)| *p)
         .collect();
+    // A grain touching the mesh from inside has its centre above the
+    // floor; one in the hollows of a covering of R_b sits up to 2 R_b
+    // below the surface (the covering's tops lie on it). Half a grain more.
+    let depth = match wall {
+        BedWall::Mesh(_) => 0.5 * r,
+        BedWall::Covering(cov, _) => 2.0 * cov.options.radius + 0.5 * r,
+    };
+    let outside = Interior::new(mesh, c.flip, r, region.outlet).outside(&free, depth);
+    if outside as f64 > OUTSIDE_FRACTION * free.len() as f64 {
+        return Err(SceneError::input(format!(
+            "--wall `{}`: {outside} of the {} settled grains on the {} ended outside the part's \
+             interior or above its rim (z = {:.4e} m); at most {} % may (a grain on the rim's \
+             edge): the bed is not the part's. Fewer --particles, or the part's other side \
+             (--flip)",
+            c.name,
+            free.len(),
+            match wall {
+                BedWall::Mesh(_) => "mesh wall".to_string(),
+                BedWall::Covering(_, spec) => spec.label(),
+            },
+            region.hi[2],
+            100.0 * OUTSIDE_FRACTION
+        )));
+    }
     let mut tops: Vec<f64> = free.iter().map(|p| p[2] + r - region.lo[2]).collect();
     tops.sort_by(f64::total_cmp);
     let height = tops.get((tops.len() * 95) / 100).copied().unwrap_or(0.0);
