@@ -229,7 +229,11 @@ fn a_draining_silo_is_the_same_state_until_contacts_and_discharges_alike() {
             );
         }
         // Not vacuous: the silo discharges.
-        assert!(n[n.len() - 1] > 300.0, "{side}: {} discharged", n[n.len() - 1]);
+        assert!(
+            n[n.len() - 1] > 300.0,
+            "{side}: {} discharged",
+            n[n.len() - 1]
+        );
     }
 
     // The discharge rate over the window. The runs are two realisations
