@@ -11,8 +11,9 @@
 //!   the outlet (½ g t², t = 10 ms): still there, so the comparison by id
 //!   ends at step 1000 naming sphere 1 as only in dembound;
 //! - refusals, exit 2: an id the scene cannot have (naming it and the
-//!   missing inlet), `--window-from` outside the run (naming the option,
-//!   the value and the range).
+//!   missing inlet), an id back after its deletion without an inlet,
+//!   `--window-from` outside the run (naming the option, the value and
+//!   the range).
 
 mod common;
 
@@ -207,4 +208,26 @@ fn ids_the_scene_cannot_have_and_a_window_outside_the_run_are_refused() {
         &["--window-from = 5 s", "[0, 0.02) s"],
     );
     refused(&dir, &["--window-from=-0.1"], &["--window-from = -0.1 s"]);
+    // Sphere 1 deleted by step 1000 and back at step 2000: only an inlet
+    // gives an id again (LIGGGHTS's `Atom::tag_extend`), and this scene
+    // has none (compare_rows.rs `RowReader`).
+    deck(
+        &dir,
+        &format!(
+            "{}{}{}",
+            row(0, &[(1, 0.05, 0.0), (2, 0.05, 0.0)]),
+            row(1000, &[(2, 0.049, 0.0)]),
+            row(2000, &[(1, 0.04, 0.0), (2, 0.048, 0.0)])
+        ),
+    );
+    refused(
+        &dir,
+        &[],
+        &[
+            "step 2000",
+            "sphere id 1 is back",
+            "no inlet",
+            "not this deck's run",
+        ],
+    );
 }

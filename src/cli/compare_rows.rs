@@ -13,10 +13,28 @@
 //! it, inserted ones their radius from the dump's `radius` column and
 //! their material from its `type` column (type = material + 1,
 //! liggghts_inlets.rs), m = ρ 4/3 π R³.
+//!
+//! **An id given again.** LIGGGHTS numbers an inserted sphere from the
+//! largest id present (`FixInsert` calls `Atom::tag_extend`,
+//! src/atom.cpp), so when the sphere of the largest id was deleted before
+//! an insertion its id comes back on another sphere. [`RowReader`] reads
+//! the rows in order and takes an id that is in a row after a row without
+//! it (having been in one before) as a new sphere: radius from the dump,
+//! mass from its type, free, and an index of its own
+//! ([`REUSED`] · generation + id − 1), which no dembound sphere has, so the
+//! comparison by id stops there (the two codes' ids no longer name the
+//! same spheres). An id deleted and given again between two dump rows is
+//! not seen (the dump is all there is to go by).
 
-use dembound_export::scene_dump::DumpRow;
+use dembound_export::scene_dump::{DumpRow, DumpedSphere};
 use dembound_scene::setup::SceneSetup;
 use dembound_scene::Simulation;
+use std::collections::{BTreeSet, HashMap};
+
+/// The index stride of an id given again ([`RowReader`]): the k-th sphere
+/// to carry id `i + 1` has index `k · REUSED + i` (k ≥ 1), above any
+/// input index of either code.
+pub const REUSED: usize = 1 << 40;
 
 /// The spheres of one row, ascending index (id − 1).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -36,6 +54,22 @@ pub struct Spheres {
 impl Spheres {
     pub fn len(&self) -> usize {
         self.index.len()
+    }
+
+    /// Every column in ascending index.
+    fn sort_by_index(&mut self) {
+        let mut order: Vec<usize> = (0..self.len()).collect();
+        order.sort_by_key(|&k| self.index[k]);
+        fn apply<T: Copy>(v: &mut Vec<T>, order: &[usize]) {
+            *v = order.iter().map(|&k| v[k]).collect();
+        }
+        apply(&mut self.index, &order);
+        apply(&mut self.position, &order);
+        apply(&mut self.velocity, &order);
+        apply(&mut self.spin, &order);
+        apply(&mut self.radius, &order);
+        apply(&mut self.mass, &order);
+        apply(&mut self.fixed, &order);
     }
 
     /// The free spheres' count.
@@ -94,14 +128,54 @@ impl SceneSpheres {
     /// run") when it holds an id the scene cannot have (0; beyond the
     /// scene's spheres without inlets, or without a `radius` and a known
     /// `type`), or lacks one of the scene's spheres it cannot have lost.
+    /// One row alone, for the tests ([`RowReader`] reads a run's rows).
+    #[cfg(test)]
     pub fn read_dump_row(&self, row: &DumpRow) -> Result<Spheres, String> {
+        self.read_row(row, &HashMap::new())
+    }
+
+    /// The radius and mass of an inserted sphere, from its dump columns.
+    fn inserted(&self, step: u64, s: &DumpedSphere) -> Result<(f64, f64), String> {
+        let r = s.radius.ok_or_else(|| {
+            format!(
+                "step {step}: sphere id {} (inserted) without a `radius` column",
+                s.id
+            )
+        })?;
+        let rho = s
+            .kind
+            .and_then(|t| (t as usize).checked_sub(1))
+            .and_then(|m| self.density.get(m))
+            .ok_or_else(|| {
+                format!(
+                    "step {step}: sphere id {} (inserted) of type {:?}: not one of the {} \
+                     materials",
+                    s.id,
+                    s.kind,
+                    self.density.len()
+                )
+            })?;
+        Ok((r, sphere_mass(*rho, r)))
+    }
+
+    /// A dump row (`read_dump_row`'s errors), `generation` the times each
+    /// id (by index) has been given again so far ([`RowReader`]).
+    fn read_row(
+        &self,
+        row: &DumpRow,
+        generation: &HashMap<usize, usize>,
+    ) -> Result<Spheres, String> {
         let n = self.count();
         let mut out = Spheres::default();
         for s in &row.spheres {
             let Some(i) = (s.id as usize).checked_sub(1) else {
                 return Err(format!("step {}: sphere id 0 (ids start at 1)", row.step));
             };
-            let (radius, mass, fixed) = if i < n {
+            let again = generation.get(&i).copied().unwrap_or(0);
+            let (radius, mass, fixed) = if again > 0 {
+                let (r, m) = self.inserted(row.step, s)?;
+                (r, m, false)
+            } else if i < n {
                 (self.radius[i], self.mass[i], self.fixed[i])
             } else if !self.inserts {
                 return Err(format!(
@@ -109,29 +183,10 @@ impl SceneSpheres {
                     row.step, s.id
                 ));
             } else {
-                let r = s.radius.ok_or_else(|| {
-                    format!(
-                        "step {}: sphere id {} (inserted) without a `radius` column",
-                        row.step, s.id
-                    )
-                })?;
-                let rho = s
-                    .kind
-                    .and_then(|t| (t as usize).checked_sub(1))
-                    .and_then(|m| self.density.get(m))
-                    .ok_or_else(|| {
-                        format!(
-                            "step {}: sphere id {} (inserted) of type {:?}: not one of the {} \
-                             materials",
-                            row.step,
-                            s.id,
-                            s.kind,
-                            self.density.len()
-                        )
-                    })?;
-                (r, sphere_mass(*rho, r), false)
+                let (r, m) = self.inserted(row.step, s)?;
+                (r, m, false)
             };
-            out.index.push(i);
+            out.index.push(again * REUSED + i);
             out.position.push(s.position);
             out.velocity.push(s.velocity);
             out.spin.push(s.spin.unwrap_or([0.0; 3]));
@@ -148,6 +203,9 @@ impl SceneSpheres {
                     row.step
                 ));
             }
+        }
+        if !generation.is_empty() {
+            out.sort_by_index();
         }
         Ok(out)
     }
@@ -179,6 +237,54 @@ impl SceneSpheres {
             radius,
             index,
         }
+    }
+}
+
+/// Reads a peer's dump rows in order, telling an id given again from the
+/// sphere that had it (module doc).
+pub struct RowReader<'a> {
+    scene: &'a SceneSpheres,
+    /// Times each index (id − 1) has been given again.
+    generation: HashMap<usize, usize>,
+    /// The indices of the last row read.
+    present: BTreeSet<usize>,
+    /// Indices that were in a row and missing from a later one.
+    gone: BTreeSet<usize>,
+}
+
+impl<'a> RowReader<'a> {
+    pub fn new(scene: &'a SceneSpheres) -> Self {
+        RowReader {
+            scene,
+            generation: HashMap::new(),
+            present: BTreeSet::new(),
+            gone: BTreeSet::new(),
+        }
+    }
+
+    /// The next row (SceneSpheres::read_dump_row's errors, and an id of
+    /// the scene file given again in a scene without inlets).
+    pub fn read(&mut self, row: &DumpRow) -> Result<Spheres, String> {
+        let mut now = BTreeSet::new();
+        for s in &row.spheres {
+            let Some(i) = (s.id as usize).checked_sub(1) else {
+                continue; // refused by read_row
+            };
+            if self.gone.remove(&i) {
+                if !self.scene.inserts {
+                    return Err(format!(
+                        "step {}: sphere id {} is back after it was deleted, where scene.toml \
+                         has no inlet",
+                        row.step, s.id
+                    ));
+                }
+                *self.generation.entry(i).or_insert(0) += 1;
+            }
+            now.insert(i);
+        }
+        self.gone.extend(self.present.difference(&now).copied());
+        self.present = now;
+        self.scene.read_row(row, &self.generation)
     }
 }
 
@@ -216,7 +322,10 @@ pub fn ids_text(indices: &[usize]) -> String {
     let shown: Vec<String> = indices
         .iter()
         .take(5)
-        .map(|i| (i + 1).to_string())
+        .map(|i| match i / REUSED {
+            0 => (i + 1).to_string(),
+            _ => format!("{} (given again)", i % REUSED + 1),
+        })
         .collect();
     if indices.len() > 5 {
         format!("{} and {} more", shown.join(", "), indices.len() - 5)
@@ -329,6 +438,86 @@ steps = 10
             .read_dump_row(&row(&[full[0], full[1], "3 1 0.001 0 0 0 0 0 0"]))
             .expect_err("an id too many");
         assert!(e.contains("sphere id 3") && e.contains("no inlet"), "{e}");
+    }
+
+    /// LIGGGHTS gives the id of a deleted top sphere again: in the rows
+    /// 1 2 3 | 1 2 | 1 2 3 (radius 1.5 mm, then 1.2 mm) the last 3 is a new
+    /// sphere: read with its own radius and mass, of an index no dembound
+    /// sphere has, so that it does not match dembound's sphere 3. A
+    /// scene-file id given again (1, radius 1 mm in the file) takes the
+    /// dump's radius (0.8 mm) and its type's density, not the file's.
+    #[test]
+    fn an_id_given_again_after_its_deletion_is_a_new_sphere() {
+        let s = scene(true);
+        let mut reader = RowReader::new(&s);
+        let first = reader
+            .read(&row(&[
+                "1 1 0.001 0.005 0.005 0.005 0 0 0",
+                "2 1 0.001 0.002 0.002 0.002 0 0 0",
+                "3 2 0.0015 0.005 0.005 0.009 0 0 -1",
+            ]))
+            .expect("a row");
+        assert_eq!(first.index, [0, 1, 2]);
+        let second = reader
+            .read(&row(&["2 1 0.001 0.002 0.002 0.002 0 0 0"]))
+            .expect("spheres 1 and 3 deleted");
+        assert_eq!(second.index, [1]);
+        let third = reader
+            .read(&row(&[
+                "3 1 0.0012 0.005 0.005 0.009 0 0 -1",
+                "2 1 0.001 0.002 0.002 0.002 0 0 0",
+                "1 2 0.0008 0.004 0.004 0.009 0 0 -1",
+            ]))
+            .expect("ids 1 and 3 given again");
+        // Ascending index: the fixed sphere 2, then 1 and 3 given again.
+        assert_eq!(third.index, [1, REUSED, REUSED + 2]);
+        assert_eq!(third.radius, [1e-3, 0.8e-3, 1.2e-3]);
+        assert_eq!(third.fixed, [true, false, false]);
+        // ρ 4/3 π R³: the light material (type 2) for id 1, glass for 3.
+        // By hand: 1000 × 4.18879 × 5.12e-10 = 2.14466e-6 kg and 2500 ×
+        // 4.18879 × 1.728e-9 = 1.80956e-5 kg (6 digits of the hand values).
+        assert!(
+            (third.mass[1] / 2.14466e-6 - 1.0).abs() < 5e-6,
+            "{}",
+            third.mass[1]
+        );
+        assert!(
+            (third.mass[2] / 1.80956e-5 - 1.0).abs() < 5e-6,
+            "{}",
+            third.mass[2]
+        );
+        // Against dembound's spheres 2 and 3 (indices 1, 2): the new ones
+        // are only in the peer, dembound's 3 only in dembound.
+        let ours = Spheres {
+            index: vec![1, 2],
+            ..Spheres::default()
+        };
+        let (only_peer, only_ours) = set_difference(&third, &ours);
+        assert_eq!(only_peer, [REUSED, REUSED + 2]);
+        assert_eq!(only_ours, [2]);
+        assert_eq!(ids_text(&only_peer), "1 (given again), 3 (given again)");
+        // Still there in the next row: the same new sphere, not another.
+        let fourth = reader
+            .read(&row(&["3 1 0.0012 0.005 0.005 0.008 0 0 -1"]))
+            .expect("id 3 stays");
+        assert_eq!(fourth.index, [REUSED + 2]);
+        // With an outlet but no inlet an id cannot come back.
+        let outlet_only = SceneSpheres {
+            inserts: false,
+            ..scene(true)
+        };
+        let mut reader = RowReader::new(&outlet_only);
+        let both = [
+            "1 1 0.001 0.005 0.005 0.005 0 0 0",
+            "2 1 0.001 0.002 0.002 0.002 0 0 0",
+        ];
+        reader.read(&row(&both)).expect("both");
+        reader.read(&row(&both[1..])).expect("1 deleted");
+        let e = reader.read(&row(&both)).expect_err("1 back");
+        assert!(
+            e.contains("sphere id 1 is back") && e.contains("no inlet"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -39,7 +39,7 @@
 use super::compare::CompareArgs;
 use super::compare_flow::{self, Flow};
 use super::compare_profiles::{ProfileReport, Profiles, PACKING_BAR};
-use super::compare_rows::{ids_text, set_difference, SceneSpheres, Spheres};
+use super::compare_rows::{ids_text, set_difference, RowReader, SceneSpheres, Spheres};
 use super::compare_sample::{dot, Geometry, Sample};
 use super::compare_scene_report::{text_report, write_figures};
 use super::{CliError, CliResult};
@@ -244,10 +244,11 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     let n = scene.count();
     // Every row read by id before the run: a dump of another scene stops
     // here.
+    let mut reader = RowReader::new(&scene);
     let peer_rows: Vec<Spheres> = rows
         .iter()
         .map(|r| {
-            scene.read_dump_row(r).map_err(|e| {
+            reader.read(r).map_err(|e| {
                 input(format!(
                     "`{}` {e}: the dump is not this deck's run (export and run again)",
                     dump_path.display()
@@ -459,6 +460,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         start: window_start,
         compared,
         cumulative: false,
+        autocorrelated: false,
     };
     for (name, unit, a, b) in series {
         quantities.push(quantity(name, unit, &time, a, b, level));
@@ -470,7 +472,10 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             &time,
             free_theirs.clone(),
             free_ours.clone(),
-            level,
+            Window {
+                autocorrelated: true,
+                ..level
+            },
         ));
     }
     if with_walls {
@@ -481,6 +486,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             start: keep.iter().filter(|&&i| i < window_start).count(),
             compared: keep.iter().filter(|&&i| i < compared).count(),
             cumulative: false,
+            autocorrelated: false,
         };
         for k in 0..wall_count {
             quantities.push(quantity(
@@ -616,6 +622,11 @@ struct Window {
     /// A running count (inserted, discharged): compared at every row for
     /// equality, without a growth rate or window means.
     cumulative: bool,
+    /// The window's standard error from the series' integrated
+    /// autocorrelation time (`agreement::window_mean_autocorrelated`), not
+    /// from batch means: for the spheres in the domain, whose changes last
+    /// a transit time, longer than the batch means' blocks.
+    autocorrelated: bool,
 }
 
 fn quantity(
@@ -646,10 +657,12 @@ fn quantity(
         (None, None)
     } else {
         let start = window.start.min(code.len());
-        (
-            agreement::window_mean(&code[start..]),
-            agreement::window_mean(&dembound[start..]),
-        )
+        let mean = if window.autocorrelated {
+            agreement::window_mean_autocorrelated
+        } else {
+            agreement::window_mean
+        };
+        (mean(&code[start..]), mean(&dembound[start..]))
     };
     let (rel, verdict) = match (&cw, &dw) {
         (Some(c), Some(d)) => (
@@ -749,6 +762,7 @@ fn flow_quantities(
                 .unwrap_or(rate_time.len()),
             compared: 0,
             cumulative: false,
+            autocorrelated: false,
         },
     ));
 }

@@ -124,6 +124,7 @@ pub fn text_report(r: &SceneCompareReport) -> String {
         "\nStatistical agreement over the late window (t ≥ {} s, batch means; agree: within 1 % or 2 SE):\n{s}\n",
         sig(r.window_from, 4)
     ));
+    out.push_str(&autocorrelation_notes(r));
     let speed = |s: &Speed| {
         let mut times = Vec::new();
         if let Some(c) = s.cpu_seconds {
@@ -276,4 +277,42 @@ pub fn write_figures(r: &SceneCompareReport, dir: &Path) -> anyhow::Result<()> {
         fig.write(&dir.join(format!("profile_{}", stem(&p.name))))?;
     }
     Ok(())
+}
+
+/// The lines saying which window means took their standard error from the
+/// integrated autocorrelation time τ (`agreement::window_mean_autocorrelated`),
+/// with τ in seconds (rows × the row interval), and whether the window
+/// spans enough of them to trust it.
+fn autocorrelation_notes(r: &SceneCompareReport) -> String {
+    let mut out = String::new();
+    for q in &r.quantities {
+        let (Some(c), Some(d)) = (q.code_window, q.dembound_window) else {
+            continue;
+        };
+        let (Some(tc), Some(td)) = (c.autocorrelation_rows, d.autocorrelation_rows) else {
+            continue;
+        };
+        let row = match q.time.as_slice() {
+            [a, b, ..] => b - a,
+            _ => continue,
+        };
+        let unreliable = [c, d]
+            .iter()
+            .any(|w| w.autocorrelation_reliable == Some(false));
+        out.push_str(&format!(
+            "  {}: SE from the integrated autocorrelation time (not batch means): τ = {} s ({}), \
+             {} s (dembound){}\n",
+            q.name,
+            sig(tc * row, 3),
+            r.code,
+            sig(td * row, 3),
+            if unreliable {
+                "; the window spans fewer than 50 τ, so τ and the SE are uncertain (likely \
+                 too small) and a difference beyond 2 SE is left undecided"
+            } else {
+                ""
+            }
+        ));
+    }
+    out
 }
