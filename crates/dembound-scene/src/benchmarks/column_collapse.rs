@@ -113,6 +113,11 @@ struct Collapse {
     /// (L∞ − L0)/L0 and H∞/L0.
     runout: f64,
     height: f64,
+    /// The deposit's highest sphere top over L0 (the former H∞).
+    highest: f64,
+    /// The farthest centre from the end wall among the spheres H∞
+    /// averages, over L0: where the top band lies.
+    band_reach: f64,
     spheres: usize,
     /// Time to rest, s (or the longest simulated).
     time: f64,
@@ -120,6 +125,46 @@ struct Collapse {
     rest: f64,
     /// The deposit's surface profile: (x/L0, h/L0).
     profile: Vec<(f64, f64)>,
+}
+
+/// A granular surface's height as Lube et al. (2005) read both H0 and H∞:
+/// H∞/L0 = a below a = 1.15, where the top of the column is left
+/// undisturbed, says that H∞ is the same surface's height as H0, measured
+/// the same way. The top of a bed of grains is rough on the grain scale,
+/// so the height is the mean top (z + R) of the spheres whose top lies
+/// within `band` (one mean diameter) of the highest; the highest alone
+/// would read a single grain's excursion. Applied to the settled column
+/// (H0) and to the deposit (H∞), whose highest band lies at the end wall
+/// (its reach is reported).
+struct Top {
+    /// The mean top of the band, m.
+    height: f64,
+    /// The highest sphere top, m.
+    highest: f64,
+    /// The largest x of the band's spheres' centres, m.
+    reach: f64,
+}
+
+fn mean_top(x: &[[f64; 3]], radii: &[f64], band: f64) -> Top {
+    let highest = x
+        .iter()
+        .zip(radii)
+        .map(|(p, r)| p[2] + r)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (mut sum, mut count, mut reach) = (0.0, 0usize, f64::NEG_INFINITY);
+    for (p, r) in x.iter().zip(radii) {
+        let t = p[2] + r;
+        if t > highest - band {
+            sum += t;
+            count += 1;
+            reach = reach.max(p[0]);
+        }
+    }
+    Top {
+        height: sum / count.max(1) as f64,
+        highest,
+        reach,
+    }
 }
 
 /// Largest top (z + R) of the spheres in each bin of width `bin` from
@@ -217,21 +262,8 @@ fn collapse_one(
         progress,
     )?;
     let (x, v, radii) = (sim.positions(), sim.velocities(), sim.radii());
-    // The settled height: the mean top of the spheres within a diameter of
-    // the highest, over the width (the surface is rough on the grain
-    // scale).
-    let h_max = x
-        .iter()
-        .zip(&radii)
-        .map(|(p, r)| p[2] + r)
-        .fold(0.0, f64::max);
-    let tops: Vec<f64> = x
-        .iter()
-        .zip(&radii)
-        .map(|(p, r)| p[2] + r)
-        .filter(|&t| t > h_max - d)
-        .collect();
-    let h0 = tops.iter().sum::<f64>() / tops.len() as f64;
+    // The settled height, measured as the deposit's below.
+    let h0 = mean_top(&x, &radii, d).height;
     let a = h0 / l0;
     // The run-out domain: the longest published run-out and a half more.
     let expected = published_runout(a).unwrap_or(1.9 * a.powf(2.0 / 3.0));
@@ -268,11 +300,22 @@ fn collapse_one(
     let x = sim.positions();
     let prof = surface(&x, &radii, d);
     let l_inf = prof.last().map(|p| p.0).unwrap_or(0.0);
-    let h_inf = prof.iter().map(|p| p.1).fold(0.0, f64::max);
+    // H∞ as H0 (`mean_top`), over the deposit's spheres (those the
+    // profile reaches).
+    let reach = l_inf + d;
+    let (xs, rs): (Vec<[f64; 3]>, Vec<f64>) = x
+        .iter()
+        .zip(&radii)
+        .filter(|(p, _)| p[0] <= reach)
+        .map(|(p, &r)| (*p, r))
+        .unzip();
+    let top = mean_top(&xs, &rs, d);
     Ok(Collapse {
         a,
         runout: (l_inf - l0) / l0,
-        height: h_inf / l0,
+        height: top.height / l0,
+        highest: top.highest / l0,
+        band_reach: top.reach / l0,
         spheres: n,
         time: t,
         rest,
@@ -414,16 +457,20 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
             "Runs: {}.",
             runs.iter()
                 .map(|c| format!(
-                    "a = {:.2} ({} spheres, (L∞ − L0)/L0 = {:.2}, H∞/L0 = {:.2}, stopped at {:.2} s \
+                    "a = {:.2} ({} spheres, (L∞ − L0)/L0 = {:.2}, H∞/L0 = {:.3} (highest sphere \
+                     top {:.3}, top band within x ≤ {:.2} L0 of the end wall), stopped at {:.2} s \
                      with kinetic energy {:.1e} of M g H0/2)",
-                    c.a, c.spheres, c.runout, c.height, c.time, c.rest
+                    c.a, c.spheres, c.runout, c.height, c.highest, c.band_reach, c.time, c.rest
                 ))
                 .collect::<Vec<_>>()
                 .join("; ")
         ),
         "L∞: the farthest sphere edge of the deposit, counted from the end wall up to the first \
-         empty one-diameter bin (grains beyond a gap are not the deposit); H∞: the highest \
-         sphere top of the deposit; H0: the mean top of the settled column's highest diameter."
+         empty one-diameter bin (grains beyond a gap are not the deposit). H0 and H∞ are one \
+         definition, as Lube et al.'s H∞ = H0 for an undisturbed top (a < 1.15) requires: the \
+         mean top of the spheres within one mean diameter of the highest sphere top, of the \
+         settled column and of the deposit (whose top band lies at the end wall). The deposit's \
+         highest sphere top (H∞'s definition before) is given with each run above."
             .into(),
         "No law is published between the regimes (1.8 ≤ a ≤ 2.8), so a run there is shown \
          without a run-out check. The band ±25 % is the spread of the laws' prefactors between \
@@ -478,4 +525,29 @@ pub(super) fn run(quick: bool, progress: &dyn Fn(&str)) -> Result<Outcome, Scene
         plots,
         seconds: 0.0,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_mean_top_averages_the_band_below_the_highest_top() {
+        // Tops (z + R) 1.00, 0.90, 0.80 within 0.25 of the highest, 0.70
+        // and 0.50 below it: the mean of the first three, 0.9, exactly
+        // (to round-off), the highest 1.0, the band's farthest centre the
+        // 0.80 one at x = 3.
+        let r = [0.1, 0.1, 0.2, 0.1, 0.1];
+        let x = [
+            [0.0, 0.0, 0.9],
+            [1.0, 0.0, 0.8],
+            [3.0, 0.0, 0.6],
+            [2.0, 0.0, 0.6],
+            [9.0, 0.0, 0.4],
+        ];
+        let t = mean_top(&x, &r, 0.25);
+        assert!((t.height - 0.9).abs() < 1e-15, "{}", t.height);
+        assert!((t.highest - 1.0).abs() < 1e-15, "{}", t.highest);
+        assert_eq!(t.reach, 3.0);
+    }
 }
