@@ -491,6 +491,10 @@ fn floor_contact_point_is_yades_under_overlap_middle() {
         let r = yade_compare(dir.path(), &text);
         state.push(largest(&r, "state"));
     }
+    eprintln!(
+        "state max |Δx|/R: overlap_middle {:e}, contact_point {:e}",
+        state[0], state[1]
+    );
     assert!(state[0] < IDENTICAL, "overlap_middle: {}", state[0]);
     // δ/(2R) ≈ 3e-3 in the spin at the first impact moves the centres by
     // far more than 1e-9 R over the following ms of rolling.
