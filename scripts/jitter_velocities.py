@@ -40,7 +40,9 @@ def main():
         spheres.append("{ position = [%s, %s, %s], radius = %s, velocity = [%r, %r, %r] }"
                        % (x, y, z, r, *v))
     a = text.index("[particles.lattice]")
-    b = text.index("[", a + len("[particles.lattice]"))
+    # the next table header (a line starting with "["), or the end
+    after = re.compile(r"^\[", re.M).search(text, a + 1)
+    b = after.start() if after else len(text)
     text = text[:a] + "spheres = [\n  " + ",\n  ".join(spheres) + "\n]\n\n" + text[b:]
     open(out, "w").write(text)
     print(f"wrote {out}: {len(spheres)} spheres, velocities uniform in ±{amplitude} m/s (seed {seed})")
