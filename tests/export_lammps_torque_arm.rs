@@ -165,3 +165,38 @@ fn export_notes_the_radius_arm_and_refuses_an_unknown_one() {
     );
     assert!(!dir.path().join("middle").exists(), "no half-written deck");
 }
+
+/// The export's note on the arm: under `"overlap_middle"` (Yade's arms) it
+/// says the LAMMPS deck differs from the first frictional contact and
+/// names `"contact_point"`; under `"contact_point"` (LAMMPS's) there is
+/// none. The deck is written either way (exit 0).
+#[test]
+fn export_notes_that_overlap_middle_is_not_lammps_arm() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/compare/chute.toml");
+    let mut notes = Vec::new();
+    for arm in ["overlap_middle", "contact_point"] {
+        let out = common::dembound()
+            .args(["export", "lammps", scene, "--set"])
+            .arg(format!("contact.torque_arm={arm}"))
+            .arg("--out")
+            .arg(dir.path().join(arm))
+            .output()
+            .expect("runs");
+        assert!(out.status.success(), "{arm}: {:?}", out);
+        let text = String::from_utf8_lossy(&out.stderr).to_string()
+            + &String::from_utf8_lossy(&out.stdout);
+        notes.push(text);
+    }
+    assert!(
+        notes[0].contains("note: contact.torque_arm = \"overlap_middle\"")
+            && notes[0].contains("contact.torque_arm = \"contact_point\""),
+        "{}",
+        notes[0]
+    );
+    assert!(
+        !notes[1].contains("note: contact.torque_arm"),
+        "{}",
+        notes[1]
+    );
+}

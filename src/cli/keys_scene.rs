@@ -283,7 +283,7 @@ pub fn keys() -> Vec<KeyInfo> {
             "contact.torque_arm",
             "",
             "\"radius\"",
-            "\"radius\", \"contact_point\" (with friction)".into(),
+            "\"radius\", \"contact_point\", \"overlap_middle\" (with friction)".into(),
             "lever arm of the tangential torque",
         ),
         row(

@@ -227,13 +227,26 @@ impl FrictionPlan {
 /// (some μ > 0) that keeps `contact.torque_arm = "radius"`: LAMMPS's `pair
 /// granular` takes the tangential torque of a sphere pair at R − δ/2, so
 /// the two runs agree only until the first tangential sphere–sphere
-/// contact. `None` without friction or under `"contact_point"`.
+/// contact; under `"overlap_middle"` (Yade's arms) it differs from the
+/// first frictional contact. `None` without friction or under
+/// `"contact_point"`.
 pub fn torque_arm_note(setup: &SceneSetup) -> Option<String> {
+    use dembound_physics::contact::TorqueArm;
     let f = setup.friction.as_ref()?;
-    if f.torque_arm != dembound_physics::contact::TorqueArm::Radius {
+    if f.torque_arm == TorqueArm::ContactPoint {
         return None;
     }
     plan(setup).ok().flatten()?;
+    if f.torque_arm == TorqueArm::OverlapMiddle {
+        return Some(
+            "note: contact.torque_arm = \"overlap_middle\" is Yade's model (R − δ/2 in the \
+             torque of every contact and in the slip against walls, the centres' velocity \
+             scaled by (R₁ + R₂)/(R₁ + R₂ − δ) in a pair's slip); LAMMPS's pair granular and \
+             fix wall/gran differ from it from the first frictional contact; set \
+             contact.torque_arm = \"contact_point\" to run LAMMPS's arm in dembound"
+                .to_string(),
+        );
+    }
     Some(
         "note: contact.torque_arm = \"radius\": dembound applies the tangential force's torque \
          at R, LAMMPS's pair granular at the contact point R − δ/2 (δ the overlap) for sphere \

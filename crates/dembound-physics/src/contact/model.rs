@@ -40,7 +40,9 @@
 //!    A of [`ContactLaw::torque_arm`] ([`TorqueArm::arms`]): the radii R
 //!    by default (the undeformed radius keeps the spin change of gross
 //!    sliding at exactly (5/2) μ J_n/(m R)), or LAMMPS's R − h/2 for a
-//!    sphere pair (`contact.torque_arm = "contact_point"`).
+//!    sphere pair (`contact.torque_arm = "contact_point"`), or Yade's R −
+//!    h/2 on every contact (`"overlap_middle"`, which also changes the
+//!    slip of stage 2: [`TorqueArm::slip_sides`]).
 //!
 //! A frictionless contact is stage 1 alone ([`PairLaw::normal_stage`],
 //! force F_n n on body 2): the same operations as the first stage of a
@@ -294,7 +296,8 @@ impl ContactLaw {
         let f = self
             .law
             .normal_stage(g.overlap, g.overlap_rate, state.history);
-        let vt = slip_velocity(a, b, n);
+        let (slip_a, slip_b) = self.torque_arm.slip_sides(g.overlap, a, b);
+        let vt = slip_velocity(&slip_a, &slip_b, n);
         let ft = self.tangential_stage(g.overlap, f, n, vt, dt, state.tangential);
         let rolling = state
             .rolling
@@ -322,7 +325,8 @@ impl ContactLaw {
     ) -> ContactForces {
         let n = g.normal;
         let f = self.law.force(g.overlap, g.overlap_rate, history);
-        let vt = slip_velocity(a, b, n);
+        let (slip_a, slip_b) = self.torque_arm.slip_sides(g.overlap, a, b);
+        let vt = slip_velocity(&slip_a, &slip_b, n);
         let mut shear = tangential;
         let ft = self.tangential_stage(g.overlap, f, n, vt, 0.0, &mut shear);
         let rolling = rolling.map(|mut m| self.rolling_stage(g.overlap, f, n, a, b, 0.0, &mut m));
@@ -349,7 +353,8 @@ impl ContactLaw {
     ) -> ContactForces {
         let n = g.normal;
         let f = self.law.force(g.overlap, g.overlap_rate, history);
-        let vt = slip_velocity(a, b, n);
+        let (slip_a, slip_b) = self.torque_arm.slip_sides(g.overlap, a, b);
+        let vt = slip_velocity(&slip_a, &slip_b, n);
         let ft = self
             .friction
             .applied_tangential_force(g.overlap, f, n, vt, tangential);

@@ -309,7 +309,9 @@ fn gross_sliding_transmits_the_coulomb_limit_against_the_slip() {
 /// A sphere pair in gross sliding: the torque on each sphere is its arm
 /// times n × F_t with |F_t| = μ F_n against the slip, the arm R for
 /// `TorqueArm::Radius` and R − δ/2 for `TorqueArm::ContactPoint`
-/// (LAMMPS's `dist_to_contact`); against a wall both take R. Closed form:
+/// (LAMMPS's `dist_to_contact`) and `TorqueArm::OverlapMiddle` (Yade's
+/// contact point); against a wall the first two take R, the third
+/// R − δ/2. Closed form:
 /// n = +x, body 1 sliding along +y on body 2 at rest, so F_t = −μ F_n ŷ
 /// and n × F_t = −μ F_n ẑ, τ_k = −A_k μ F_n ẑ.
 #[test]
@@ -352,7 +354,11 @@ fn sliding_torque_is_the_arm_times_the_coulomb_force() {
         }
         c.unwrap()
     };
-    for arm in [TorqueArm::Radius, TorqueArm::ContactPoint] {
+    for arm in [
+        TorqueArm::Radius,
+        TorqueArm::ContactPoint,
+        TorqueArm::OverlapMiddle,
+    ] {
         let cl = ContactLaw {
             torque_arm: arm,
             ..laws()[0]
@@ -363,7 +369,7 @@ fn sliding_torque_is_the_arm_times_the_coulomb_force() {
         let f_n = cl.law.force(h, 0.0, &ContactHistory::default());
         let (arm1, arm2) = match arm {
             TorqueArm::Radius => (R1, R2),
-            TorqueArm::ContactPoint => (R1 - 0.5 * h, R2 - 0.5 * h),
+            TorqueArm::ContactPoint | TorqueArm::OverlapMiddle => (R1 - 0.5 * h, R2 - 0.5 * h),
         };
         // The closed form to a few roundings: |F_t| is μ F_n after the
         // spring's rescale (1e-15 relative), times one product.
@@ -373,10 +379,16 @@ fn sliding_torque_is_the_arm_times_the_coulomb_force() {
         assert!(close(t1[2], -arm1 * mu * f_n), "{arm:?}: {t1:?}");
         assert!(close(t2[2], -arm2 * mu * f_n), "{arm:?}: {t2:?}");
         assert!(t1[0] == 0.0 && t1[1] == 0.0 && t2[0] == 0.0 && t2[1] == 0.0);
-        // Against a wall at rest LAMMPS (fix wall/gran) and both arms take R.
+        // Against a wall at rest LAMMPS (fix wall/gran) and the first two
+        // arms take R, Yade's box face R − δ/2.
         let w = sliding(&cl, &Side::wall([0.0; 3]));
         let fw = cl.law.force(h, 0.0, &ContactHistory::default());
-        assert!(close(w.torque1()[2], -R1 * mu * fw), "{arm:?}");
+        let wall_arm = if arm == TorqueArm::OverlapMiddle {
+            R1 - 0.5 * h
+        } else {
+            R1
+        };
+        assert!(close(w.torque1()[2], -wall_arm * mu * fw), "{arm:?}");
         assert_eq!(w.torque2(), [0.0; 3]);
     }
     // The two arms differ by the factor 1 − δ/(2R) (here 2.5e-3 on body 1),

@@ -16,6 +16,21 @@
 //!   the rolling velocity and torque (R_eff), the twisting torque (no
 //!   arm). So only the tangential torque of a sphere pair changes, by a
 //!   factor 1 − δ/(2R).
+//! - [`TorqueArm::OverlapMiddle`] (`"overlap_middle"`): Yade's (2023.02a,
+//!   read in `pkg/common/Ig2_Box_Sphere_ScGeom.cpp`, `pkg/dem/ScGeom.cpp`
+//!   `ScGeom::getIncidentVel` and the periodic branch of
+//!   `Law2_ScGeom6D_CohFrictPhys_CohesionMoment::go`): every contact's
+//!   force acts at the middle of the overlap, so the tangential torque
+//!   has the arm R − δ/2 on a sphere of a pair and on a sphere against a
+//!   wall. Against a wall (Yade's box face) the slip velocity takes the
+//!   same arm R − δ/2 (`getIncidentVel` at the contact point). Between
+//!   two spheres the slip keeps the radii and scales the centres'
+//!   relative velocity by α = (R₁ + R₂)/(R₁ + R₂ − δ)
+//!   (`avoidGranularRatcheting`, the default of
+//!   `Ig2_Sphere_Sphere_ScGeom`). The rolling spring (relative spin
+//!   only) is the same in all three.
+
+use super::model::Side;
 
 /// The lever arm of the tangential force's torque.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -25,10 +40,14 @@ pub enum TorqueArm {
     Radius,
     /// R − δ/2 for sphere pairs, R against walls (LAMMPS's model).
     ContactPoint,
+    /// R − δ/2 on every contact, in the slip against walls too, and the
+    /// centres' relative velocity scaled by α in a pair's slip (Yade's
+    /// model; [`TorqueArm::slip_sides`]).
+    OverlapMiddle,
 }
 
 /// The names `contact.torque_arm` takes, in the order of [`TorqueArm`].
-pub const TORQUE_ARM_NAMES: [&str; 2] = ["radius", "contact_point"];
+pub const TORQUE_ARM_NAMES: [&str; 3] = ["radius", "contact_point", "overlap_middle"];
 
 impl TorqueArm {
     /// The arm named `name` (`"radius"` or `"contact_point"`).
@@ -36,6 +55,7 @@ impl TorqueArm {
         match name {
             "radius" => Some(Self::Radius),
             "contact_point" => Some(Self::ContactPoint),
+            "overlap_middle" => Some(Self::OverlapMiddle),
             _ => None,
         }
     }
@@ -45,6 +65,7 @@ impl TorqueArm {
         match self {
             Self::Radius => TORQUE_ARM_NAMES[0],
             Self::ContactPoint => TORQUE_ARM_NAMES[1],
+            Self::OverlapMiddle => TORQUE_ARM_NAMES[2],
         }
     }
 
@@ -53,14 +74,55 @@ impl TorqueArm {
     /// `radius1` and `radius2` (m; a wall is side 2 with radius 0). Under
     /// [`Self::Radius`] the radii themselves (the same bits); under
     /// [`Self::ContactPoint`] R − δ/2 on both sides of a sphere pair
-    /// (`radius2 > 0`), the radii unchanged against a wall.
+    /// (`radius2 > 0`), the radii unchanged against a wall; under
+    /// [`Self::OverlapMiddle`] R − δ/2 on every sphere (a wall keeps 0).
     #[inline(always)]
     pub fn arms(self, overlap: f64, radius1: f64, radius2: f64) -> (f64, f64) {
         match self {
             Self::ContactPoint if radius2 > 0.0 => {
                 (radius1 - 0.5 * overlap, radius2 - 0.5 * overlap)
             }
+            Self::OverlapMiddle if radius2 > 0.0 => {
+                (radius1 - 0.5 * overlap, radius2 - 0.5 * overlap)
+            }
+            Self::OverlapMiddle => (radius1 - 0.5 * overlap, radius2),
             _ => (radius1, radius2),
+        }
+    }
+
+    /// The sides as the slip velocity reads them (`model::slip_velocity`)
+    /// for a contact of overlap `overlap` (m): unchanged (the same bits)
+    /// under [`Self::Radius`] and [`Self::ContactPoint`]; under
+    /// [`Self::OverlapMiddle`] Yade's: against a wall (side 2 of arm 0)
+    /// body 1's arm R − δ/2, between two spheres both centre velocities
+    /// times α = (R₁ + R₂)/(R₁ + R₂ − δ) (so their difference is α (v₁ −
+    /// v₂); `ScGeom::getIncidentVel` with `avoidGranularRatcheting`).
+    #[inline(always)]
+    pub fn slip_sides(self, overlap: f64, a: &Side, b: &Side) -> (Side, Side) {
+        match self {
+            Self::OverlapMiddle if b.arm > 0.0 => {
+                let sum = a.arm + b.arm;
+                let alpha = sum / (sum - overlap);
+                let scale = |v: [f64; 3]| [alpha * v[0], alpha * v[1], alpha * v[2]];
+                (
+                    Side {
+                        velocity: scale(a.velocity),
+                        ..*a
+                    },
+                    Side {
+                        velocity: scale(b.velocity),
+                        ..*b
+                    },
+                )
+            }
+            Self::OverlapMiddle => (
+                Side {
+                    arm: a.arm - 0.5 * overlap,
+                    ..*a
+                },
+                *b,
+            ),
+            _ => (*a, *b),
         }
     }
 }
@@ -71,6 +133,7 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_is_none() {
+        assert_eq!(TORQUE_ARM_NAMES.len(), 3);
         for name in TORQUE_ARM_NAMES {
             assert_eq!(TorqueArm::from_name(name).map(TorqueArm::name), Some(name));
         }
@@ -88,5 +151,59 @@ mod tests {
             (r1 - 0.5 * h, r2 - 0.5 * h)
         );
         assert_eq!(TorqueArm::ContactPoint.arms(h, r1, 0.0), (r1, 0.0));
+        assert_eq!(
+            TorqueArm::OverlapMiddle.arms(h, r1, r2),
+            (r1 - 0.5 * h, r2 - 0.5 * h)
+        );
+        assert_eq!(
+            TorqueArm::OverlapMiddle.arms(h, r1, 0.0),
+            (r1 - 0.5 * h, 0.0)
+        );
+    }
+
+    fn side(velocity: [f64; 3], spin: [f64; 3], arm: f64) -> Side {
+        Side {
+            velocity,
+            spin,
+            arm,
+            inverse_inertia: 1.0,
+        }
+    }
+
+    /// The slip under Yade's model against Yade's formulas
+    /// (`ScGeom::getIncidentVel`), written out here: a pair's relative
+    /// contact velocity α (v₁ − v₂) + (R₁ ω₁ + R₂ ω₂) × n with α = (R₁ +
+    /// R₂)/(R₁ + R₂ − δ); a wall's v₁ − v_w + (R − δ/2) ω₁ × n. The other
+    /// arms leave the sides as they are.
+    #[test]
+    fn overlap_middle_slip_is_yades_incident_velocity() {
+        use crate::contact::model::slip_velocity;
+        let (h, r1, r2) = (1e-4, 1e-3, 2e-3);
+        let n = [0.0, 0.0, 1.0];
+        let a = side([0.3, -0.1, 0.2], [10.0, 20.0, -5.0], r1);
+        let b = side([-0.2, 0.4, 0.1], [-30.0, 5.0, 7.0], r2);
+        let wall = side([0.05, 0.0, 0.0], [0.0; 3], 0.0);
+        for arm in [TorqueArm::Radius, TorqueArm::ContactPoint] {
+            assert_eq!(arm.slip_sides(h, &a, &b), (a, b));
+            assert_eq!(arm.slip_sides(h, &a, &wall), (a, wall));
+        }
+        let alpha = (r1 + r2) / (r1 + r2 - h);
+        // (R₁ ω₁ + R₂ ω₂) × n with n = z: (w_y, −w_x, 0) of w = R₁ ω₁ + R₂ ω₂.
+        let w = [r1 * 10.0 + r2 * -30.0, r1 * 20.0 + r2 * 5.0];
+        let pair = [alpha * 0.5 + w[1], alpha * -0.5 - w[0], 0.0];
+        let (sa, sb) = TorqueArm::OverlapMiddle.slip_sides(h, &a, &b);
+        let got = slip_velocity(&sa, &sb, n);
+        for k in 0..3 {
+            // a few ulps of the 0.5 m/s terms summed
+            assert!((got[k] - pair[k]).abs() < 1e-15, "{got:?} {pair:?}");
+        }
+        let arm = r1 - 0.5 * h;
+        let on_wall = [0.25 + arm * 20.0, -0.1 - arm * 10.0, 0.0];
+        let (sa, sw) = TorqueArm::OverlapMiddle.slip_sides(h, &a, &wall);
+        assert_eq!(sw, wall);
+        let got = slip_velocity(&sa, &sw, n);
+        for k in 0..3 {
+            assert!((got[k] - on_wall[k]).abs() < 1e-15, "{got:?} {on_wall:?}");
+        }
     }
 }

@@ -148,7 +148,8 @@ impl MainPairs<'_> {
             let (a, b) = (side(i), side(j));
             let n = [g.nx[q], g.ny[q], g.nz[q]];
             g.rate[t] = overlap_rate(a.velocity, b.velocity, n);
-            g.slip[t] = slip_velocity(&a, &b, n);
+            let (slip_a, slip_b) = row_law(i, j).torque_arm.slip_sides(g.overlap[q], &a, &b);
+            g.slip[t] = slip_velocity(&slip_a, &slip_b, n);
         }
         // 2b: normal forces (histories updated).
         for t in 0..found {

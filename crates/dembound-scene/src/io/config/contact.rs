@@ -56,8 +56,9 @@ pub struct ContactSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential_damping: Option<bool>,
     /// The lever arm of the tangential force's torque: `"radius"` (default:
-    /// R) or `"contact_point"` (LAMMPS's R − δ/2 for sphere pairs, R
-    /// against walls; `dembound_physics::contact::TorqueArm`).
+    /// R), `"contact_point"` (LAMMPS's R − δ/2 for sphere pairs, R
+    /// against walls) or `"overlap_middle"` (Yade's R − δ/2 on every
+    /// contact; `dembound_physics::contact::TorqueArm`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub torque_arm: Option<String>,
 }
@@ -276,8 +277,9 @@ impl SceneFile {
                 TorqueArm::from_name(name).is_some(),
                 "contact.torque_arm",
                 format!("{name:?}"),
-                "\"radius\" (the default: the tangential torque at R) or \"contact_point\" \
-                 (LAMMPS's R − δ/2 for sphere pairs, R against walls)",
+                "\"radius\" (the default: the tangential torque at R), \"contact_point\" \
+                 (LAMMPS's R − δ/2 for sphere pairs, R against walls) or \"overlap_middle\" \
+                 (Yade's R − δ/2 on every contact, in the slip against walls too)",
             )?;
             check(
                 self.has_friction(),

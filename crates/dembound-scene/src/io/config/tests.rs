@@ -247,7 +247,7 @@ fn validation_table() {
         (
             "contact.torque_arm=\"middle\"",
             "contact.torque_arm",
-            "\"radius\" (the default: the tangential torque at R) or \"contact_point\"",
+            "\"radius\" (the default: the tangential torque at R), \"contact_point\"",
         ),
         (
             "contact.torque_arm=\"contact_point\"",
