@@ -814,36 +814,13 @@ pub fn pair_observables(
         return (0, 0, 0.0);
     }
     let walled = |i: usize, j: usize| bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP;
-    let tally = tally.filter(|t| t.len() == n);
-    let [count, wall_count, energy] = workers.sum(n, |i| {
-        if let Some(t) = tally {
-            // The same sums, made by the force pass
-            // ([`add_pair_forces_tallied`]).
-            return t[i];
-        }
-        let mut c = 0.0;
-        let mut w = 0.0;
-        let mut e = 0.0;
-        for k in list.start[i] as usize..list.start[i + 1] as usize {
-            let j = list.j[k] as usize;
-            if let Some(g) = touching(
-                bodies.position[i],
-                bodies.velocity[i],
-                bodies.radius[i],
-                bodies.position[j],
-                bodies.velocity[j],
-                bodies.radius[j],
-            ) {
-                if walled(i, j) {
-                    w += 1.0;
-                } else {
-                    c += 1.0;
-                }
-                e += laws.elastic_energy(&laws.pair(bodies, i, j), g.overlap, histories.main(k));
-            }
-        }
-        [c, w, e]
-    });
+    let sums = match tally.filter(|t| t.len() == n) {
+        // The same sums, made by the force pass
+        // ([`add_pair_forces_tallied`]), in the same chunks and order.
+        Some(t) => workers.sum(n, |i| t[i]),
+        None => pair_sums(bodies, list, histories, laws, workers),
+    };
+    let [count, wall_count, energy] = sums;
     let mut count = count as usize;
     let mut wall_count = wall_count as usize;
     let mut energy = energy;
@@ -868,6 +845,44 @@ pub fn pair_observables(
         }
     }
     (count, wall_count, energy)
+}
+
+/// [`pair_observables`]' sums over the main list's rows, pair by pair:
+/// touching pairs with neither in a boundary-particle wall, with one in
+/// one, and their elastic energy (J).
+fn pair_sums(
+    bodies: &Bodies,
+    list: &PairList,
+    histories: &PairHistories,
+    laws: &LawTable,
+    workers: &Workers,
+) -> PairTally {
+    let n = bodies.len();
+    let walled = |i: usize, j: usize| bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP;
+    workers.sum(n, |i| {
+        let mut c = 0.0;
+        let mut w = 0.0;
+        let mut e = 0.0;
+        for k in list.start[i] as usize..list.start[i + 1] as usize {
+            let j = list.j[k] as usize;
+            if let Some(g) = touching(
+                bodies.position[i],
+                bodies.velocity[i],
+                bodies.radius[i],
+                bodies.position[j],
+                bodies.velocity[j],
+                bodies.radius[j],
+            ) {
+                if walled(i, j) {
+                    w += 1.0;
+                } else {
+                    c += 1.0;
+                }
+                e += laws.elastic_energy(&laws.pair(bodies, i, j), g.overlap, histories.main(k));
+            }
+        }
+        [c, w, e]
+    })
 }
 
 /// The in-contact state of a pair for the checkpoint: (input id a, input id

@@ -38,6 +38,7 @@ impl ObserveHooks for Local {
         let none = Tallied {
             friction: None,
             plain: None,
+            walls: None,
             energies: None,
         };
         local_contacts(world, workers, &none)
@@ -67,6 +68,9 @@ pub(crate) struct Tallied<'a> {
     pub friction: Option<&'a [PairTally]>,
     /// Without (`contacts::add_pair_forces_tallied`).
     pub plain: Option<&'a [contacts::PairTally]>,
+    /// Without friction, each wall entry's elastic energy where touching,
+    /// by the last body pass (`walls::add_wall_forces_tallied`).
+    pub walls: Option<&'a [f64]>,
     /// The kinetic and potential energy summed by the last half kick
     /// ([`kick_then_energies`]).
     pub energies: Option<(f64, f64)>,
@@ -76,7 +80,10 @@ impl Tallied<'_> {
     /// Whether there is a tally of this state.
     #[cfg(test)]
     pub(crate) fn is_some(&self) -> bool {
-        self.friction.is_some() || self.plain.is_some() || self.energies.is_some()
+        self.friction.is_some()
+            || self.plain.is_some()
+            || self.walls.is_some()
+            || self.energies.is_some()
     }
 }
 
@@ -313,7 +320,7 @@ fn local_contacts(world: &World, workers: &Workers, tally: &Tallied) -> ContactO
                 tally.friction,
             )
         })
-        .unwrap_or_else(|| contact_passes(world, workers, tally.plain))
+        .unwrap_or_else(|| contact_passes(world, workers, tally.plain, tally.walls))
 }
 
 /// Every global observable at the current state; `initial_energy`: the
@@ -491,11 +498,12 @@ pub(crate) fn potential_energy(world: &World, workers: &Workers) -> f64 {
 
 /// The contact observables pass by pass: pair counts and energy, wall
 /// contact counts and energy, spring energy; the main pairs' sums from
-/// `tally` when given (frictionless).
+/// `tally` and the walls' from `walls_tally` when given (frictionless).
 pub(crate) fn contact_passes(
     world: &World,
     workers: &Workers,
     tally: Option<&[contacts::PairTally]>,
+    walls_tally: Option<&[f64]>,
 ) -> ContactObservables {
     let w = world;
     let (pc, wc, pe) = contacts::pair_observables(
@@ -507,8 +515,13 @@ pub(crate) fn contact_passes(
         workers,
         tally,
     );
-    let (plane_contacts, plane_energy) =
-        walls::plane_observables(&w.bodies, &w.surfaces, &w.wall_contacts, &w.laws, workers);
+    let (plane_contacts, plane_energy) = walls_tally
+        .and_then(|e| {
+            walls::plane_observables_tallied(&w.bodies, &w.surfaces, &w.wall_contacts, workers, e)
+        })
+        .unwrap_or_else(|| {
+            walls::plane_observables(&w.bodies, &w.surfaces, &w.wall_contacts, &w.laws, workers)
+        });
     let springs = match &w.friction {
         Some(table) => spring_energy::spring_energy(
             &w.bodies,
