@@ -817,7 +817,7 @@ pub fn pair_observables(
     let sums = match tally.filter(|t| t.len() == n) {
         // The same sums, made by the force pass
         // ([`add_pair_forces_tallied`]), in the same chunks and order.
-        Some(t) => workers.sum(n, |i| t[i]),
+        Some(t) => sum_tallies(t, workers),
         None => pair_sums(bodies, list, histories, laws, workers),
     };
     let [count, wall_count, energy] = sums;
@@ -845,6 +845,30 @@ pub fn pair_observables(
         }
     }
     (count, wall_count, energy)
+}
+
+/// Σ `tally` element-wise, as `Workers::sum` sums one value per body: in
+/// chunks of `BODY_CHUNK` bodies, the chunks in order (the same bits),
+/// over the slice without an index test per body.
+fn sum_tallies(tally: &[PairTally], workers: &Workers) -> PairTally {
+    use crate::parallel::BODY_CHUNK;
+    let n = tally.len();
+    let partial = workers.map_bodies(n, BODY_CHUNK, |c| {
+        let mut s = [0.0; 3];
+        for t in &tally[c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n)] {
+            s[0] += t[0];
+            s[1] += t[1];
+            s[2] += t[2];
+        }
+        s
+    });
+    let mut s = [0.0; 3];
+    for p in partial {
+        s[0] += p[0];
+        s[1] += p[1];
+        s[2] += p[2];
+    }
+    s
 }
 
 /// [`pair_observables`]' sums over the main list's rows, pair by pair:

@@ -256,19 +256,22 @@ pub fn plane_observables_tallied(
     if energy.len() != walls.key.len() || walls.touching.len() != walls.key.len() {
         return None;
     }
+    let (start, fixed, touching) = (&walls.start[..], &bodies.fixed[..], &walls.touching[..]);
     let partial: Vec<[f64; 2]> = workers.map_bodies(n, BODY_CHUNK, |c| {
         // Count, then energy.
         let mut s = [0.0; 2];
-        for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
+        let (first, end) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
+        // Body i's entries: start[i]..start[i + 1].
+        for (w, &fixed) in start[first..=end].windows(2).zip(&fixed[first..end]) {
             // As `plane_observables`: fixed bodies skipped (their flags
             // are not this pass's).
-            let (lo, hi) = (walls.start[i] as usize, walls.start[i + 1] as usize);
-            if lo == hi || bodies.fixed[i] {
+            let (lo, hi) = (w[0] as usize, w[1] as usize);
+            if lo == hi || fixed {
                 continue;
             }
             for k in lo..hi {
                 // Touching: the force pass found overlap > 0.
-                if walls.touching[k] {
+                if touching[k] {
                     s[0] += 1.0;
                     s[1] += energy[k];
                 }

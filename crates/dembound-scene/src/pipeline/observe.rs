@@ -240,6 +240,19 @@ impl Kick<'_> {
     /// velocity and (`SPINS`) spin is finite and (`WITHIN`) every centre
     /// within its radius of the box, as `Simulation::check_finite` tests.
     ///
+    /// The tests, without a test per value: a free body's position,
+    /// velocity and (`SPIN`) spin enter its energies (½ m v², ½ I ω²,
+    /// −m g·x: a value not finite makes its term not finite, 0 · ∞ being
+    /// NaN), and a sum with a term not finite is not finite, so the chunk's
+    /// two sums are finite only if those are (a finite overflow of a sum
+    /// fails the test too: the full check then decides). The other values
+    /// (fixed bodies, spins without `SPIN`) are tested as `x − x`: +0 when
+    /// finite, NaN otherwise. The box: the chunk's smallest and largest
+    /// centre coordinates against the box grown by the chunk's smallest
+    /// radius: x ≥ min ≥ lower − r_min ≥ lower − r for every body (IEEE
+    /// subtraction is monotone), so passing implies `check_finite`'s test
+    /// of each body (failing sends the state to the full check).
+    ///
     /// # Safety
     /// Bodies lo..hi exist and no other thread touches their velocities
     /// and spins.
@@ -254,13 +267,24 @@ impl Kick<'_> {
         let (g, dt) = (self.gravity, self.dt);
         let (lower, upper) = self.bounds;
         let mut s = [0.0; 2];
-        // Σ (x − x) over the values tested: +0 while every one is finite,
-        // NaN from the first that is not (∞ − ∞ and NaN − NaN are NaN):
-        // `f64::is_finite` of each, without a branch or a compare each.
+        // Σ (x − x) over the values tested one by one: +0 while every one
+        // is finite, NaN from the first that is not.
         let mut not_finite = 0.0f64;
-        let mut within = true;
+        // The chunk's extreme centre coordinates and smallest radius (a
+        // NaN coordinate is not taken: the finite tests catch it).
+        let (mut least, mut most) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut r_min = f64::INFINITY;
         for k in lo..hi {
+            let x = self.position[k];
             let e = if self.fixed[k] {
+                let v = *self.v.0.add(k);
+                for a in 0..3 {
+                    not_finite += (x[a] - x[a]) + (v[a] - v[a]);
+                }
+                if SPINS {
+                    let w = *self.w.0.add(k);
+                    not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
+                }
                 [0.0, 0.0]
             } else {
                 // `integrate::verlet_kick`'s kick.
@@ -275,28 +299,31 @@ impl Kick<'_> {
                     integrate::half_kick(wk, self.torque[k], 0.5 * dt * inv);
                     let w = *wk;
                     e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / inv;
+                } else if SPINS {
+                    let w = *self.w.0.add(k);
+                    not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
                 }
-                let x = self.position[k];
                 [e, -self.mass[k] * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2])]
             };
             s[0] += e[0];
             s[1] += e[1];
-            let (x, v) = (self.position[k], *self.v.0.add(k));
-            for a in 0..3 {
-                not_finite += (x[a] - x[a]) + (v[a] - v[a]);
-            }
-            if SPINS {
-                let w = *self.w.0.add(k);
-                not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
-            }
             if WITHIN {
                 let r = self.radius[k];
+                r_min = if r < r_min { r } else { r_min };
                 for a in 0..3 {
-                    within &= (x[a] >= lower[a] - r) & (x[a] <= upper[a] + r);
+                    least[a] = if x[a] < least[a] { x[a] } else { least[a] };
+                    most[a] = if x[a] > most[a] { x[a] } else { most[a] };
                 }
             }
         }
-        (s, not_finite == 0.0 && within)
+        let mut within = true;
+        if WITHIN {
+            for a in 0..3 {
+                within &= (least[a] >= lower[a] - r_min) & (most[a] <= upper[a] + r_min);
+            }
+        }
+        let finite = not_finite == 0.0 && s[0].is_finite() && s[1].is_finite();
+        (s, finite && within)
     }
 }
 
