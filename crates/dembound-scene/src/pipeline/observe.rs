@@ -609,6 +609,8 @@ mod tests {
                 let tally = sim.pipeline.pair_tally(&sim.world);
                 assert_eq!(tally.friction.is_some(), friction);
                 assert_eq!(tally.plain.is_some(), !friction);
+                // Without friction the walls' part from the body pass.
+                assert_eq!(tally.walls.is_some(), !friction);
                 assert!(tally.energies.is_some());
                 // The state check passed in the kick's pass.
                 assert!(sim.pipeline.sound(&sim.world) && sim.check_finite().is_ok());
@@ -653,6 +655,56 @@ mod tests {
             sim.check_finite(),
             Err(crate::error::SceneError::Unstable { .. })
         ));
+    }
+
+    /// The kick's box test: every centre within its radius of the box
+    /// passes; a box whose upper x face lies more than a radius below one
+    /// centre (so `check_finite`'s per-body test fails it) does not, with
+    /// and without friction, and the full check then runs.
+    #[test]
+    fn a_centre_outside_the_box_is_not_passed_by_the_kick() {
+        for friction in [true, false] {
+            let mut setup = scene();
+            if !friction {
+                setup.friction = None;
+            }
+            let mut sim = Simulation::new(setup, 1).unwrap();
+            sim.step(20);
+            let b = &sim.world.bodies;
+            let (mut lower, mut upper) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for x in &b.position {
+                for a in 0..3 {
+                    lower[a] = lower[a].min(x[a]);
+                    upper[a] = upper[a].max(x[a]);
+                }
+            }
+            // Every centre inside: passed (the box the kick tests is the
+            // state check's, `Simulation::outside_box`).
+            sim.outside_box = Some((lower, upper));
+            sim.will_observe();
+            sim.step(1);
+            let b = &sim.world.bodies;
+            let inside = b
+                .position
+                .iter()
+                .zip(&b.radius)
+                .all(|(x, &r)| (0..3).all(|a| x[a] >= lower[a] - r && x[a] <= upper[a] + r));
+            assert!(inside);
+            assert!(sim.pipeline.sound(&sim.world), "friction {friction}");
+            // The largest x centre beyond the upper face by 1.5 radii.
+            let (k, _) = b
+                .position
+                .iter()
+                .enumerate()
+                .max_by(|p, q| p.1[0].total_cmp(&q.1[0]))
+                .unwrap();
+            let mut cut = upper;
+            cut[0] = b.position[k][0] - 1.5 * b.radius[k];
+            sim.outside_box = Some((lower, cut));
+            sim.will_observe();
+            sim.step(1);
+            assert!(!sim.pipeline.sound(&sim.world), "friction {friction}");
+        }
     }
 
     /// The fused pass gives the two passes' sums bit for bit (the expected
