@@ -148,6 +148,7 @@ unsafe fn add_wall_forces_with<const TALLY: bool>(
 /// Sets every body's force to gravity plus its wall forces; with
 /// `energy`, also each touching entry's elastic energy into it
 /// ([`add_wall_forces_tallied`]; resized to one value per entry).
+#[allow(clippy::too_many_arguments)]
 pub fn start_forces(
     bodies: &Bodies,
     surfaces: &[Surface],
