@@ -147,6 +147,18 @@ pub struct Pipeline {
     pub(crate) tally_wanted: bool,
     /// The pair pass running now tallies.
     tallying: bool,
+    /// The body passes running now (frictionless) tally the walls'
+    /// observables: they may be the last before the series row.
+    pub(crate) wall_tallying: bool,
+    /// The last body pass tallied ([`Self::wall_energy`] describes its
+    /// state).
+    pub(crate) wall_tally_valid: bool,
+    /// Each wall entry's normal elastic energy (J) where touching, by the
+    /// last body pass that tallied (`walls::add_wall_forces_tallied`),
+    /// valid at step [`Self::wall_tally_step`].
+    pub(crate) wall_energy: Vec<f64>,
+    /// The step whose end state [`Self::wall_energy`] describes.
+    wall_tally_step: Option<u64>,
     /// Each body's tally of its listed pairs' observables, with friction
     /// (`friction::PairTally`) or without (`contacts::PairTally`), valid
     /// at step [`Self::tally_step`].
@@ -273,14 +285,24 @@ impl Pipeline {
     ) {
         let wanted = std::mem::take(&mut self.tally_wanted);
         self.tally_step = None;
+        self.wall_tally_step = None;
+        self.wall_tally_valid = false;
         self.energies = None;
         for k in 0..n {
             // The last step's pair pass (Verlet: the state the steps end
             // in; only the velocities' last half kick follows).
             self.tallying = wanted && k + 1 == n && world.scheme == Scheme::Verlet;
+            // The body pass that places the bodies where the steps end:
+            // the last step's, or fused into the step before it (a list
+            // rebuild after it repeats it).
+            self.wall_tallying = wanted && k + 2 >= n && world.scheme == Scheme::Verlet;
             self.step(world, workers, k + 1 < n, hooks);
         }
         self.tallying = false;
+        self.wall_tallying = false;
+        if wanted && n > 0 && self.wall_tally_valid {
+            self.wall_tally_step = Some(world.steps_done);
+        }
         if wanted && n > 0 && self.pending_kick {
             // The last half kick sums the energies on the way.
             self.pending_kick = false;
@@ -299,6 +321,7 @@ impl Pipeline {
     /// the state (a body changed outside the steps).
     pub(crate) fn forget_tally(&mut self) {
         self.tally_step = None;
+        self.wall_tally_step = None;
         self.energies = None;
     }
 
@@ -313,6 +336,10 @@ impl Pipeline {
                 .then_some(&self.pair_tally[..]),
             plain: (now && !friction && self.plain_tally.len() == n)
                 .then_some(&self.plain_tally[..]),
+            walls: (self.wall_tally_step == Some(world.steps_done)
+                && !friction
+                && self.wall_energy.len() == world.wall_contacts.key.len())
+            .then_some(&self.wall_energy[..]),
             energies: self
                 .energies
                 .filter(|&(step, _)| step == world.steps_done)

@@ -59,6 +59,52 @@ pub unsafe fn add_wall_forces(
     laws: &LawTable,
     acc: &mut [f64; 3],
 ) {
+    let none = SharedMut(std::ptr::null_mut());
+    add_wall_forces_with::<false>(bodies, i, x, v, surfaces, walls, laws, acc, none);
+}
+
+/// [`add_wall_forces`], and each touching entry k's normal elastic energy
+/// (J) into `energy[k]`: what [`plane_observables`] sums of it at this
+/// state (the same law, overlap and history as the force left it), for
+/// the series row ([`plane_observables_tallied`]). Entries not touching
+/// are not written.
+///
+/// # Safety
+/// As [`add_wall_forces`]; `energy` points to one value per entry of
+/// `walls`, body i's touched by no other thread meanwhile.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn add_wall_forces_tallied(
+    bodies: &Bodies,
+    i: usize,
+    x: [f64; 3],
+    v: [f64; 3],
+    surfaces: &[Surface],
+    walls: &WallContactsMut,
+    laws: &LawTable,
+    acc: &mut [f64; 3],
+    energy: SharedMut<f64>,
+) {
+    add_wall_forces_with::<true>(bodies, i, x, v, surfaces, walls, laws, acc, energy);
+}
+
+/// [`add_wall_forces`]; `TALLY`: [`add_wall_forces_tallied`].
+///
+/// # Safety
+/// As [`add_wall_forces_tallied`] (`energy` unused without `TALLY`).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn add_wall_forces_with<const TALLY: bool>(
+    bodies: &Bodies,
+    i: usize,
+    x: [f64; 3],
+    v: [f64; 3],
+    surfaces: &[Surface],
+    walls: &WallContactsMut,
+    laws: &LawTable,
+    acc: &mut [f64; 3],
+    energy: SharedMut<f64>,
+) {
     let (s, e) = walls.range(i);
     let r = bodies.radius[i];
     for k in s..e {
@@ -86,6 +132,12 @@ pub unsafe fn add_wall_forces(
             // What the wall takes: the observables' wall loads.
             *walls.load.at(k) =
                 WallLoad::of_contact(on_sphere, None, x, r, c.normal, surface.torque_point());
+            if TALLY {
+                // As `plane_observables`: the history as the force left
+                // it (none kept: the default).
+                let h = if walls.keep { &*hist } else { &NO_HISTORY };
+                *energy.at(k) = laws.elastic_energy(&law, c.overlap, h);
+            }
         } else if *touching {
             *hist = ContactHistory::default();
             *touching = false;
@@ -93,7 +145,10 @@ pub unsafe fn add_wall_forces(
     }
 }
 
-/// Sets every body's force to gravity plus its wall forces.
+/// Sets every body's force to gravity plus its wall forces; with
+/// `energy`, also each touching entry's elastic energy into it
+/// ([`add_wall_forces_tallied`]; resized to one value per entry).
+#[allow(clippy::too_many_arguments)]
 pub fn start_forces(
     bodies: &Bodies,
     surfaces: &[Surface],
@@ -102,25 +157,33 @@ pub fn start_forces(
     gravity: [f64; 3],
     force: &mut [[f64; 3]],
     workers: &Workers,
+    energy: Option<&mut Vec<f64>>,
 ) {
     let n = bodies.len();
+    assert!(walls.bodies() == n);
+    let tally = energy.map(|e| {
+        e.resize(walls.key.len(), 0.0);
+        SharedMut::new(e)
+    });
     let w = walls.shared();
     let f = SharedMut::new(force);
     workers.run_bodies(n, BODY_CHUNK, |c| {
         for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
-            // SAFETY: chunks are disjoint ranges of bodies.
+            // SAFETY: chunks are disjoint ranges of bodies; the energies
+            // are one per entry (resized), body i's entries its own.
             unsafe {
-                *f.at(i) = body_force(
-                    bodies,
-                    i,
-                    bodies.position[i],
-                    bodies.velocity[i],
-                    surfaces,
-                    &w,
-                    laws,
-                    gravity,
-                )
-            };
+                let (x, v) = (bodies.position[i], bodies.velocity[i]);
+                *f.at(i) = match tally {
+                    None => body_force(bodies, i, x, v, surfaces, &w, laws, gravity),
+                    Some(e) if !bodies.fixed[i] => {
+                        let m = bodies.mass[i];
+                        let mut acc = [m * gravity[0], m * gravity[1], m * gravity[2]];
+                        add_wall_forces_tallied(bodies, i, x, v, surfaces, &w, laws, &mut acc, e);
+                        acc
+                    }
+                    Some(_) => [0.0; 3],
+                };
+            }
         }
     });
 }
@@ -173,4 +236,54 @@ pub fn plane_observables(
         total[1] += p[1];
     }
     (total[0] as usize, total[1])
+}
+
+/// [`plane_observables`] from what the force pass at this state tallied
+/// ([`add_wall_forces_tallied`]): its touching flags and each touching
+/// entry's `energy`, summed in the same chunks and order (the contacts
+/// not evaluated again: the same bits). `None` when `energy` is not one
+/// value per entry.
+pub fn plane_observables_tallied(
+    bodies: &Bodies,
+    surfaces: &[Surface],
+    walls: &WallContacts,
+    workers: &Workers,
+    energy: &[f64],
+) -> Option<(usize, f64)> {
+    let n = bodies.len();
+    if surfaces.is_empty() || walls.bodies() != n {
+        return Some((0, 0.0));
+    }
+    if energy.len() != walls.key.len() || walls.touching.len() != walls.key.len() {
+        return None;
+    }
+    let (start, fixed, touching) = (&walls.start[..], &bodies.fixed[..], &walls.touching[..]);
+    let partial: Vec<[f64; 2]> = workers.map_bodies(n, BODY_CHUNK, |c| {
+        // Count, then energy.
+        let mut s = [0.0; 2];
+        let (first, end) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
+        // Body i's entries: start[i]..start[i + 1].
+        for (w, &fixed) in start[first..=end].windows(2).zip(&fixed[first..end]) {
+            // As `plane_observables`: fixed bodies skipped (their flags
+            // are not this pass's).
+            let (lo, hi) = (w[0] as usize, w[1] as usize);
+            if lo == hi || fixed {
+                continue;
+            }
+            for k in lo..hi {
+                // Touching: the force pass found overlap > 0.
+                if touching[k] {
+                    s[0] += 1.0;
+                    s[1] += energy[k];
+                }
+            }
+        }
+        s
+    });
+    let mut total = [0.0; 2];
+    for p in partial {
+        total[0] += p[0];
+        total[1] += p[1];
+    }
+    Some((total[0] as usize, total[1]))
 }

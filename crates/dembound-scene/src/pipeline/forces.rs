@@ -22,10 +22,14 @@ impl Pipeline {
     pub(crate) fn body_forces(&mut self, world: &mut World, workers: &Workers, dt: f64) {
         world.bodies.force.resize(world.bodies.len(), [0.0; 3]);
         if world.friction.is_some() {
+            self.wall_tally_valid = false;
             self.body_forces_friction(world, workers, dt);
             return;
         }
         let mut force = std::mem::take(&mut world.bodies.force);
+        // The series row's tally of the walls, when this pass may be the
+        // last before it (`Pipeline::wall_tallying`).
+        self.wall_tally_valid = self.wall_tallying;
         walls::start_forces(
             &world.bodies,
             &world.surfaces,
@@ -34,6 +38,7 @@ impl Pipeline {
             world.gravity,
             &mut force,
             workers,
+            self.wall_tallying.then_some(&mut self.wall_energy),
         );
         world.bodies.force = force;
     }

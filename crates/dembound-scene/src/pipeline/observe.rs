@@ -38,6 +38,7 @@ impl ObserveHooks for Local {
         let none = Tallied {
             friction: None,
             plain: None,
+            walls: None,
             energies: None,
         };
         local_contacts(world, workers, &none)
@@ -67,6 +68,9 @@ pub(crate) struct Tallied<'a> {
     pub friction: Option<&'a [PairTally]>,
     /// Without (`contacts::add_pair_forces_tallied`).
     pub plain: Option<&'a [contacts::PairTally]>,
+    /// Without friction, each wall entry's elastic energy where touching,
+    /// by the last body pass (`walls::add_wall_forces_tallied`).
+    pub walls: Option<&'a [f64]>,
     /// The kinetic and potential energy summed by the last half kick
     /// ([`kick_then_energies`]).
     pub energies: Option<(f64, f64)>,
@@ -76,7 +80,10 @@ impl Tallied<'_> {
     /// Whether there is a tally of this state.
     #[cfg(test)]
     pub(crate) fn is_some(&self) -> bool {
-        self.friction.is_some() || self.plain.is_some() || self.energies.is_some()
+        self.friction.is_some()
+            || self.plain.is_some()
+            || self.walls.is_some()
+            || self.energies.is_some()
     }
 }
 
@@ -233,6 +240,19 @@ impl Kick<'_> {
     /// velocity and (`SPINS`) spin is finite and (`WITHIN`) every centre
     /// within its radius of the box, as `Simulation::check_finite` tests.
     ///
+    /// The tests, without a test per value: a free body's position,
+    /// velocity and (`SPIN`) spin enter its energies (½ m v², ½ I ω²,
+    /// −m g·x: a value not finite makes its term not finite, 0 · ∞ being
+    /// NaN), and a sum with a term not finite is not finite, so the chunk's
+    /// two sums are finite only if those are (a finite overflow of a sum
+    /// fails the test too: the full check then decides). The other values
+    /// (fixed bodies, spins without `SPIN`) are tested as `x − x`: +0 when
+    /// finite, NaN otherwise. The box: the chunk's smallest and largest
+    /// centre coordinates against the box grown by the chunk's smallest
+    /// radius: x ≥ min ≥ lower − r_min ≥ lower − r for every body (IEEE
+    /// subtraction is monotone), so passing implies `check_finite`'s test
+    /// of each body (failing sends the state to the full check).
+    ///
     /// # Safety
     /// Bodies lo..hi exist and no other thread touches their velocities
     /// and spins.
@@ -247,13 +267,24 @@ impl Kick<'_> {
         let (g, dt) = (self.gravity, self.dt);
         let (lower, upper) = self.bounds;
         let mut s = [0.0; 2];
-        // Σ (x − x) over the values tested: +0 while every one is finite,
-        // NaN from the first that is not (∞ − ∞ and NaN − NaN are NaN):
-        // `f64::is_finite` of each, without a branch or a compare each.
+        // Σ (x − x) over the values tested one by one: +0 while every one
+        // is finite, NaN from the first that is not.
         let mut not_finite = 0.0f64;
-        let mut within = true;
+        // The chunk's extreme centre coordinates and smallest radius (a
+        // NaN coordinate is not taken: the finite tests catch it).
+        let (mut least, mut most) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut r_min = f64::INFINITY;
         for k in lo..hi {
+            let x = self.position[k];
             let e = if self.fixed[k] {
+                let v = *self.v.0.add(k);
+                for a in 0..3 {
+                    not_finite += (x[a] - x[a]) + (v[a] - v[a]);
+                }
+                if SPINS {
+                    let w = *self.w.0.add(k);
+                    not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
+                }
                 [0.0, 0.0]
             } else {
                 // `integrate::verlet_kick`'s kick.
@@ -268,28 +299,31 @@ impl Kick<'_> {
                     integrate::half_kick(wk, self.torque[k], 0.5 * dt * inv);
                     let w = *wk;
                     e += 0.5 * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / inv;
+                } else if SPINS {
+                    let w = *self.w.0.add(k);
+                    not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
                 }
-                let x = self.position[k];
                 [e, -self.mass[k] * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2])]
             };
             s[0] += e[0];
             s[1] += e[1];
-            let (x, v) = (self.position[k], *self.v.0.add(k));
-            for a in 0..3 {
-                not_finite += (x[a] - x[a]) + (v[a] - v[a]);
-            }
-            if SPINS {
-                let w = *self.w.0.add(k);
-                not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
-            }
             if WITHIN {
                 let r = self.radius[k];
+                r_min = if r < r_min { r } else { r_min };
                 for a in 0..3 {
-                    within &= (x[a] >= lower[a] - r) & (x[a] <= upper[a] + r);
+                    least[a] = if x[a] < least[a] { x[a] } else { least[a] };
+                    most[a] = if x[a] > most[a] { x[a] } else { most[a] };
                 }
             }
         }
-        (s, not_finite == 0.0 && within)
+        let mut within = true;
+        if WITHIN {
+            for a in 0..3 {
+                within &= (least[a] >= lower[a] - r_min) & (most[a] <= upper[a] + r_min);
+            }
+        }
+        let finite = not_finite == 0.0 && s[0].is_finite() && s[1].is_finite();
+        (s, finite && within)
     }
 }
 
@@ -313,7 +347,7 @@ fn local_contacts(world: &World, workers: &Workers, tally: &Tallied) -> ContactO
                 tally.friction,
             )
         })
-        .unwrap_or_else(|| contact_passes(world, workers, tally.plain))
+        .unwrap_or_else(|| contact_passes(world, workers, tally.plain, tally.walls))
 }
 
 /// Every global observable at the current state; `initial_energy`: the
@@ -491,11 +525,12 @@ pub(crate) fn potential_energy(world: &World, workers: &Workers) -> f64 {
 
 /// The contact observables pass by pass: pair counts and energy, wall
 /// contact counts and energy, spring energy; the main pairs' sums from
-/// `tally` when given (frictionless).
+/// `tally` and the walls' from `walls_tally` when given (frictionless).
 pub(crate) fn contact_passes(
     world: &World,
     workers: &Workers,
     tally: Option<&[contacts::PairTally]>,
+    walls_tally: Option<&[f64]>,
 ) -> ContactObservables {
     let w = world;
     let (pc, wc, pe) = contacts::pair_observables(
@@ -507,8 +542,13 @@ pub(crate) fn contact_passes(
         workers,
         tally,
     );
-    let (plane_contacts, plane_energy) =
-        walls::plane_observables(&w.bodies, &w.surfaces, &w.wall_contacts, &w.laws, workers);
+    let (plane_contacts, plane_energy) = walls_tally
+        .and_then(|e| {
+            walls::plane_observables_tallied(&w.bodies, &w.surfaces, &w.wall_contacts, workers, e)
+        })
+        .unwrap_or_else(|| {
+            walls::plane_observables(&w.bodies, &w.surfaces, &w.wall_contacts, &w.laws, workers)
+        });
     let springs = match &w.friction {
         Some(table) => spring_energy::spring_energy(
             &w.bodies,
@@ -569,6 +609,8 @@ mod tests {
                 let tally = sim.pipeline.pair_tally(&sim.world);
                 assert_eq!(tally.friction.is_some(), friction);
                 assert_eq!(tally.plain.is_some(), !friction);
+                // Without friction the walls' part from the body pass.
+                assert_eq!(tally.walls.is_some(), !friction);
                 assert!(tally.energies.is_some());
                 // The state check passed in the kick's pass.
                 assert!(sim.pipeline.sound(&sim.world) && sim.check_finite().is_ok());
@@ -613,6 +655,56 @@ mod tests {
             sim.check_finite(),
             Err(crate::error::SceneError::Unstable { .. })
         ));
+    }
+
+    /// The kick's box test: every centre within its radius of the box
+    /// passes; a box whose upper x face lies more than a radius below one
+    /// centre (so `check_finite`'s per-body test fails it) does not, with
+    /// and without friction, and the full check then runs.
+    #[test]
+    fn a_centre_outside_the_box_is_not_passed_by_the_kick() {
+        for friction in [true, false] {
+            let mut setup = scene();
+            if !friction {
+                setup.friction = None;
+            }
+            let mut sim = Simulation::new(setup, 1).unwrap();
+            sim.step(20);
+            let b = &sim.world.bodies;
+            let (mut lower, mut upper) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for x in &b.position {
+                for a in 0..3 {
+                    lower[a] = lower[a].min(x[a]);
+                    upper[a] = upper[a].max(x[a]);
+                }
+            }
+            // Every centre inside: passed (the box the kick tests is the
+            // state check's, `Simulation::outside_box`).
+            sim.outside_box = Some((lower, upper));
+            sim.will_observe();
+            sim.step(1);
+            let b = &sim.world.bodies;
+            let inside = b
+                .position
+                .iter()
+                .zip(&b.radius)
+                .all(|(x, &r)| (0..3).all(|a| x[a] >= lower[a] - r && x[a] <= upper[a] + r));
+            assert!(inside);
+            assert!(sim.pipeline.sound(&sim.world), "friction {friction}");
+            // The largest x centre beyond the upper face by 1.5 radii.
+            let (k, _) = b
+                .position
+                .iter()
+                .enumerate()
+                .max_by(|p, q| p.1[0].total_cmp(&q.1[0]))
+                .unwrap();
+            let mut cut = upper;
+            cut[0] = b.position[k][0] - 1.5 * b.radius[k];
+            sim.outside_box = Some((lower, cut));
+            sim.will_observe();
+            sim.step(1);
+            assert!(!sim.pipeline.sound(&sim.world), "friction {friction}");
+        }
     }
 
     /// The fused pass gives the two passes' sums bit for bit (the expected

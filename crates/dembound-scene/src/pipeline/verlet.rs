@@ -33,6 +33,9 @@ struct AdvanceContext<'a> {
     friction: Option<&'a FrictionTable>,
     /// The step being made (its forces' stamp).
     step: u64,
+    /// Frictionless: each touching wall entry's elastic energy, for the
+    /// series row (`walls::add_wall_forces_tallied`), when not null.
+    wall_energy: SharedMut<f64>,
 }
 
 unsafe impl Sync for AdvanceContext<'_> {}
@@ -41,10 +44,13 @@ unsafe impl Sync for AdvanceContext<'_> {}
 /// per-body forces of bodies lo..hi. Returns their largest squared
 /// displacement since the last list build, m².
 ///
+/// `TALLY`: the wall entries' energies too (`AdvanceContext::wall_energy`).
+///
 /// # Safety
-/// lo..hi within the bodies, and no other thread touches these bodies.
+/// lo..hi within the bodies, and no other thread touches these bodies;
+/// with `TALLY`, `wall_energy` holds one value per wall entry.
 #[inline(never)]
-unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
+unsafe fn verlet_chunk<const TALLY: bool>(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
     let b = c.bodies;
     let half_dt = 0.5 * c.dt;
     let mut m = 0.0f64;
@@ -81,16 +87,22 @@ unsafe fn verlet_chunk(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         }
         let fi = c.f.at(i);
         let mut acc = *fi;
-        walls::add_wall_forces(
-            b,
-            i,
-            *c.x.at(i),
-            *c.v.at(i),
-            c.surfaces,
-            &c.walls,
-            c.laws,
-            &mut acc,
-        );
+        let (x, v) = (*c.x.at(i), *c.v.at(i));
+        if TALLY {
+            walls::add_wall_forces_tallied(
+                b,
+                i,
+                x,
+                v,
+                c.surfaces,
+                &c.walls,
+                c.laws,
+                &mut acc,
+                c.wall_energy,
+            );
+        } else {
+            walls::add_wall_forces(b, i, x, v, c.surfaces, &c.walls, c.laws, &mut acc);
+        }
         *fi = acc;
     }
     m
@@ -207,6 +219,21 @@ pub(super) fn friction_spin_kick(bodies: &mut Bodies, dt: f64, workers: &Workers
 }
 
 impl Pipeline {
+    /// Where the frictionless body pass about to run writes its wall
+    /// entries' energies (one per entry of `world.wall_contacts`), or null
+    /// when it does not tally ([`Pipeline::wall_tallying`]); the last body
+    /// pass decides whether the tally describes the state.
+    pub(crate) fn wall_tally_target(&mut self, world: &World) -> SharedMut<f64> {
+        let on = self.wall_tallying && world.friction.is_none();
+        self.wall_tally_valid = on;
+        if on {
+            self.wall_energy.resize(world.wall_contacts.key.len(), 0.0);
+            SharedMut::new(&mut self.wall_energy)
+        } else {
+            SharedMut(std::ptr::null_mut())
+        }
+    }
+
     /// The pair forces of this step and, fused, Verlet's first half of the
     /// next: each block's bodies are kicked, drifted and given their
     /// per-body forces as soon as their pair forces are complete
@@ -224,6 +251,8 @@ impl Pipeline {
         if world.friction.is_some() {
             world.bodies.torque.resize(n, [0.0; 3]);
         }
+        let wall_energy = self.wall_tally_target(world);
+        let tally = !wall_energy.0.is_null();
         let f = SharedMut::new(&mut world.bodies.force);
         let torque = SharedMut::new(&mut world.bodies.torque);
         let spin = SharedMut::new(&mut world.bodies.angular_velocity);
@@ -245,11 +274,18 @@ impl Pipeline {
             friction: world.friction.as_ref(),
             // The next step's forces.
             step: world.steps_done + 2,
+            wall_energy,
         };
         // SAFETY (the follow-ups): each block's bodies lo..hi are given
         // once, to one worker, when their forces (and torques) are complete
         // and no block still reads them (run_blocks_then); lengths asserted.
-        let follow = |lo: usize, hi: usize| unsafe { verlet_chunk(&ctx, lo, hi) };
+        let follow = |lo: usize, hi: usize| unsafe {
+            if tally {
+                verlet_chunk::<true>(&ctx, lo, hi)
+            } else {
+                verlet_chunk::<false>(&ctx, lo, hi)
+            }
+        };
         let follow_friction = |lo: usize, hi: usize| unsafe { verlet_chunk_friction(&ctx, lo, hi) };
         if let Some(table) = world.friction.as_ref() {
             // SAFETY: `f` and `torque` hold one entry per body; only the
@@ -298,6 +334,8 @@ impl Pipeline {
         let n = world.bodies.len();
         let pending = self.pending_kick;
         self.pending_kick = false;
+        let wall_energy = self.wall_tally_target(world);
+        let tally = !wall_energy.0.is_null();
         let spin = SharedMut::new(&mut world.bodies.angular_velocity);
         let torque = SharedMut::new(&mut world.bodies.torque);
         let ctx = AdvanceContext {
@@ -316,6 +354,7 @@ impl Pipeline {
             torque,
             friction: world.friction.as_ref(),
             step: world.steps_done + 1,
+            wall_energy,
         };
         assert!(
             self.reference.len() == n
@@ -327,8 +366,10 @@ impl Pipeline {
         let advance = |lo: usize, hi: usize| unsafe {
             if ctx.friction.is_some() {
                 verlet_chunk_friction(&ctx, lo, hi)
+            } else if tally {
+                verlet_chunk::<true>(&ctx, lo, hi)
             } else {
-                verlet_chunk(&ctx, lo, hi)
+                verlet_chunk::<false>(&ctx, lo, hi)
             }
         };
         let threads = workers.threads();

@@ -94,7 +94,7 @@ impl Simulation {
     pub(crate) fn contact_observables(
         &self,
     ) -> crate::dynamics::friction_observables::ContactObservables {
-        observe::contact_passes(&self.world, &self.workers, None)
+        observe::contact_passes(&self.world, &self.workers, None, None)
     }
 
     /// The loads of mesh wall `wall` (file order) per triangle of its
