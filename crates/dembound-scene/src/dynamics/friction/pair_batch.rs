@@ -6,34 +6,37 @@ use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
 use dembound_physics::contact::Side;
 
 use super::pairs::{tally_entry, MainPairs, PairTally};
+use super::row_laws::RowLaws;
 use super::{add, sub, FrictionLaw};
 use crate::bodies::NO_GROUP;
 use crate::dynamics::contacts::NO_HISTORY;
 
 impl MainPairs<'_> {
     /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
-    /// entries in all (see [`Self::block`]).
+    /// entries in all (see [`Self::block`]), each contact's law from
+    /// `rows`.
     #[inline(always)]
     pub(super) fn batch<
         const KEEP: bool,
         const ROLL: bool,
         const TABLE: bool,
         const TALLY: bool,
+        R: RowLaws,
     >(
         &self,
         lo: usize,
         hi: usize,
         scratch: &mut Batch,
+        rows: &R,
     ) {
-        let (position, velocity, radius, spin, inverse_inertia, class) = (
+        let (position, velocity, radius, spin, inverse_inertia) = (
             self.position,
             self.velocity,
             self.radius,
             self.spin,
             self.inverse_inertia,
-            self.class,
         );
-        let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
+        let (start, js) = (self.start, self.js);
         // Pass 1: every entry's geometry ([`touching_lazy`]'s operations
         // without its branches): the partners gathered, then the roots and
         // divisions of all entries in one loop over arrays (vectorised:
@@ -116,18 +119,10 @@ impl MainPairs<'_> {
         // window); the forces summed last, in [`Self::row`]'s order. The
         // same operations on the same values as [`contact`]: the same bits.
         let found = m.min(BATCH);
-        // Batches run only with the class table ([`Self::block`]).
-        debug_assert!(TABLE && table.len() == classes * classes);
-        let row_law = |i: usize, j: usize| -> &FrictionLaw {
-            // SAFETY: classes are < `classes` when the table exists
-            // (`FrictionTable::new`), so the row is in the table of
-            // classes² rows; i and j are bodies (pass 1).
-            unsafe {
-                table.get_unchecked(
-                    *class.get_unchecked(i) as usize * classes + *class.get_unchecked(j) as usize,
-                )
-            }
-        };
+        // Batches run only with the class table ([`Self::block`]); i and
+        // j are bodies (pass 1).
+        debug_assert!(TABLE);
+        let row_law = |i: usize, j: usize| -> &FrictionLaw { rows.law(i, j) };
         // The sides of a contact (a body's velocity, spin, lever arm and
         // inverse inertia; a stage reads the fields it needs).
         let side = |i: usize| -> Side {
