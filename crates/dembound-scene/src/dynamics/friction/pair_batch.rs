@@ -43,6 +43,10 @@ impl MainPairs<'_> {
         // IEEE square root and division per lane, the same bits), then the
         // touching entries listed in `found` and the others' springs
         // relaxed by masking their bits.
+        // Once per batch, so that the rows' reads below need no check of
+        // their own: rows lo..hi are bodies with a row end each, and index
+        // `ends` ([`Self::block`] builds batches of at most BATCH rows).
+        assert!(hi < start.len() && hi <= position.len() && hi <= radius.len() && hi - lo <= BATCH);
         let first = start[lo] as usize;
         let count = start[hi] as usize - first;
         let g = &mut *scratch;
@@ -138,18 +142,22 @@ impl MainPairs<'_> {
         };
         // 2a: overlap rates and tangential slip velocities.
         for t in 0..found {
-            let q = g.found[t] as usize;
+            let q = g.entry(t);
             let (i, j) = (lo + g.row[t] as usize, g.partner[q] as usize);
             let (a, b) = (side(i), side(j));
             let n = [g.nx[q], g.ny[q], g.nz[q]];
             g.rate[t] = overlap_rate(a.velocity, b.velocity, n);
             g.slip[t] = slip_velocity(&a, &b, n);
         }
-        // 2b: normal forces (histories updated).
+        // 2b: normal forces (histories updated), tangential forces
+        // (springs moved) and rolling torques. One loop: the Hertz force
+        // and the Mindlin stiffness share the root of the overlap (taken
+        // once), and the force is not stored and read back between loops.
         for t in 0..found {
-            let q = g.found[t] as usize;
+            let q = g.entry(t);
             let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
-            let law = &row_law(i, j).law;
+            let fl = row_law(i, j);
+            let overlap = g.overlap[q];
             let mut scratch = NO_HISTORY;
             // SAFETY: entry k belongs to row i of this block.
             let hist = if KEEP {
@@ -157,30 +165,17 @@ impl MainPairs<'_> {
             } else {
                 &mut scratch
             };
-            g.force[t] = law.normal_stage(g.overlap[q], g.rate[t], hist);
-        }
-        // 2c: tangential forces (springs moved) and rolling torques.
-        for t in 0..found {
-            let q = g.found[t] as usize;
-            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
-            let fl = row_law(i, j);
+            let force = fl.law.normal_stage(overlap, g.rate[t], hist);
+            g.force[t] = force;
             let n = [g.nx[q], g.ny[q], g.nz[q]];
             // SAFETY: entry k belongs to row i of this block.
             let sh = unsafe { &mut *self.shear.0.add(k) };
-            g.tangential[t] =
-                fl.tangential_stage(g.overlap[q], g.force[t], n, g.slip[t], self.dt, sh);
+            g.tangential[t] = fl.tangential_stage(overlap, force, n, g.slip[t], self.dt, sh);
             if ROLL {
                 // SAFETY: as the spring.
                 let roll = unsafe { &mut *self.roll.0.add(k) };
-                g.rolling[t] = fl.rolling_stage(
-                    g.overlap[q],
-                    g.force[t],
-                    n,
-                    &side(i),
-                    &side(j),
-                    self.dt,
-                    roll,
-                );
+                g.rolling[t] =
+                    fl.rolling_stage(overlap, force, n, &side(i), &side(j), self.dt, roll);
             }
         }
         // 2d: forces and torques summed row by row.
@@ -195,7 +190,7 @@ impl MainPairs<'_> {
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
             for t in from..to {
-                let q = g.found[t] as usize;
+                let q = g.entry(t);
                 let j = g.partner[q] as usize;
                 // SAFETY: j is a body (pass 1).
                 let rj = unsafe { *radius.get_unchecked(j) };
@@ -232,7 +227,7 @@ impl MainPairs<'_> {
                 let walled_i = group[i] != NO_GROUP;
                 let mut sums: PairTally = [0.0; 4];
                 for t in from..to {
-                    let q = g.found[t] as usize;
+                    let q = g.entry(t);
                     let (j, k) = (g.partner[q] as usize, first + q);
                     // SAFETY: entry k belongs to row i of this block (as
                     // in the stages above).
@@ -301,6 +296,20 @@ pub(super) struct Batch {
     force: [f64; BATCH],
     tangential: [[f64; 3]; BATCH],
     rolling: [[f64; 3]; BATCH],
+}
+
+impl Batch {
+    /// The entry of the t-th contact found (its index into the first
+    /// pass's arrays), known to be < [`BATCH`]: the stages index those
+    /// arrays without a check per contact.
+    #[inline(always)]
+    fn entry(&self, t: usize) -> usize {
+        let q = self.found[t] as usize;
+        // SAFETY: every value written to `found` is an entry q < count ≤
+        // BATCH (pass 1), and the default is 0.
+        unsafe { std::hint::assert_unchecked(q < BATCH) };
+        q
+    }
 }
 
 impl Default for Batch {
