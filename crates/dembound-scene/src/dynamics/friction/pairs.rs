@@ -460,11 +460,13 @@ impl MainPairs<'_> {
         let mut scratch = Batch::default();
         let mut i = lo;
         while i < hi {
+            // The batch: rows i..end, as many as fit in BATCH rows and
+            // BATCH entries. The rows that fit are a prefix of
+            // i + 1..=min(hi, i + BATCH) (row ends are nondecreasing),
+            // found by bisection (six steps) rather than row by row.
             let first = start[i] as usize;
-            let mut end = i;
-            while end < hi && end - i < BATCH && start[end + 1] as usize - first <= BATCH {
-                end += 1;
-            }
+            let last = hi.min(i + BATCH);
+            let end = i + start[i + 1..=last].partition_point(|&e| e as usize - first <= BATCH);
             if end == i || !TABLE || row_by_row() {
                 // A row longer than a batch (a large body's), or laws
                 // computed per pair (no class table).
