@@ -237,7 +237,7 @@ pub(crate) unsafe fn add_pair_forces_then(
     // loops without the per-contact dispatch on the law's variants
     // (`row_laws`).
     let one = match (friction.classes, keep) {
-        (1, false) => OneLaw::<HertzMindlin>::new(&friction.pairs[0]),
+        (1, false) if !row_by_row() => OneLaw::<HertzMindlin>::new(&friction.pairs[0]),
         _ => None,
     };
     let rows = ClassTable {
@@ -640,8 +640,9 @@ pub(super) fn tally_entry(
     }
 }
 
-/// Tests: run [`MainPairs::row`] for every row (the reference of the
-/// batched path).
+/// Tests: run [`MainPairs::row`] for every row, through the class
+/// table's loops (the reference of the batched path, and of the one-law
+/// loops with their settings).
 #[cfg(test)]
 static ROW_BY_ROW: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
