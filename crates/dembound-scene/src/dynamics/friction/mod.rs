@@ -25,11 +25,13 @@
 //! Files: `table.rs` (the friction laws per class pair and wall row),
 //! `springs.rs` (spring storage: pairs' and walls' springs, saved and
 //! restored by input ids), `pairs.rs` and `pair_batch.rs` (the pair force
-//! loop, row by row and batched), `walls.rs` (the per-body wall pass and
+//! loop, row by row and batched), `row_laws.rs` (the batched loop's law
+//! lookup: the class table, or one law without per-contact dispatch), `walls.rs` (the per-body wall pass and
 //! the walls' tangential observables).
 
 mod pair_batch;
 mod pairs;
+mod row_laws;
 mod springs;
 mod table;
 mod walls;

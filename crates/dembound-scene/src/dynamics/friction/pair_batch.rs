@@ -6,40 +6,47 @@ use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
 use dembound_physics::contact::Side;
 
 use super::pairs::{tally_entry, MainPairs, PairTally};
+use super::row_laws::RowLaws;
 use super::{add, sub, FrictionLaw};
 use crate::bodies::NO_GROUP;
 use crate::dynamics::contacts::NO_HISTORY;
 
 impl MainPairs<'_> {
     /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
-    /// entries in all (see [`Self::block`]).
+    /// entries in all (see [`Self::block`]), each contact's law from
+    /// `rows`.
     #[inline(always)]
     pub(super) fn batch<
         const KEEP: bool,
         const ROLL: bool,
         const TABLE: bool,
         const TALLY: bool,
+        R: RowLaws,
     >(
         &self,
         lo: usize,
         hi: usize,
         scratch: &mut Batch,
+        rows: &R,
     ) {
-        let (position, velocity, radius, spin, inverse_inertia, class) = (
+        let (position, velocity, radius, spin, inverse_inertia) = (
             self.position,
             self.velocity,
             self.radius,
             self.spin,
             self.inverse_inertia,
-            self.class,
         );
-        let (start, js, table, classes) = (self.start, self.js, self.table, self.classes);
+        let (start, js) = (self.start, self.js);
         // Pass 1: every entry's geometry ([`touching_lazy`]'s operations
         // without its branches): the partners gathered, then the roots and
         // divisions of all entries in one loop over arrays (vectorised:
         // IEEE square root and division per lane, the same bits), then the
         // touching entries listed in `found` and the others' springs
         // relaxed by masking their bits.
+        // Once per batch, so that the rows' reads below need no check of
+        // their own: rows lo..hi are bodies with a row end each, and index
+        // `ends` ([`Self::block`] builds batches of at most BATCH rows).
+        assert!(hi < start.len() && hi <= position.len() && hi <= radius.len() && hi - lo <= BATCH);
         let first = start[lo] as usize;
         let count = start[hi] as usize - first;
         let g = &mut *scratch;
@@ -116,18 +123,10 @@ impl MainPairs<'_> {
         // window); the forces summed last, in [`Self::row`]'s order. The
         // same operations on the same values as [`contact`]: the same bits.
         let found = m.min(BATCH);
-        // Batches run only with the class table ([`Self::block`]).
-        debug_assert!(TABLE && table.len() == classes * classes);
-        let row_law = |i: usize, j: usize| -> &FrictionLaw {
-            // SAFETY: classes are < `classes` when the table exists
-            // (`FrictionTable::new`), so the row is in the table of
-            // classes² rows; i and j are bodies (pass 1).
-            unsafe {
-                table.get_unchecked(
-                    *class.get_unchecked(i) as usize * classes + *class.get_unchecked(j) as usize,
-                )
-            }
-        };
+        // Batches run only with the class table ([`Self::block`]); i and
+        // j are bodies (pass 1).
+        debug_assert!(TABLE);
+        let row_law = |i: usize, j: usize| -> &FrictionLaw { rows.law(i, j) };
         // The sides of a contact (a body's velocity, spin, lever arm and
         // inverse inertia; a stage reads the fields it needs).
         let side = |i: usize| -> Side {
@@ -143,7 +142,7 @@ impl MainPairs<'_> {
         };
         // 2a: overlap rates and tangential slip velocities.
         for t in 0..found {
-            let q = g.found[t] as usize;
+            let q = g.entry(t);
             let (i, j) = (lo + g.row[t] as usize, g.partner[q] as usize);
             let (a, b) = (side(i), side(j));
             let n = [g.nx[q], g.ny[q], g.nz[q]];
@@ -151,11 +150,15 @@ impl MainPairs<'_> {
             let (slip_a, slip_b) = row_law(i, j).torque_arm.slip_sides(g.overlap[q], &a, &b);
             g.slip[t] = slip_velocity(&slip_a, &slip_b, n);
         }
-        // 2b: normal forces (histories updated).
+        // 2b: normal forces (histories updated), tangential forces
+        // (springs moved) and rolling torques. One loop: the Hertz force
+        // and the Mindlin stiffness share the root of the overlap (taken
+        // once), and the force is not stored and read back between loops.
         for t in 0..found {
-            let q = g.found[t] as usize;
+            let q = g.entry(t);
             let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
-            let law = &row_law(i, j).law;
+            let fl = row_law(i, j);
+            let overlap = g.overlap[q];
             let mut scratch = NO_HISTORY;
             // SAFETY: entry k belongs to row i of this block.
             let hist = if KEEP {
@@ -163,30 +166,17 @@ impl MainPairs<'_> {
             } else {
                 &mut scratch
             };
-            g.force[t] = law.normal_stage(g.overlap[q], g.rate[t], hist);
-        }
-        // 2c: tangential forces (springs moved) and rolling torques.
-        for t in 0..found {
-            let q = g.found[t] as usize;
-            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
-            let fl = row_law(i, j);
+            let force = fl.law.normal_stage(overlap, g.rate[t], hist);
+            g.force[t] = force;
             let n = [g.nx[q], g.ny[q], g.nz[q]];
             // SAFETY: entry k belongs to row i of this block.
             let sh = unsafe { &mut *self.shear.0.add(k) };
-            g.tangential[t] =
-                fl.tangential_stage(g.overlap[q], g.force[t], n, g.slip[t], self.dt, sh);
+            g.tangential[t] = fl.tangential_stage(overlap, force, n, g.slip[t], self.dt, sh);
             if ROLL {
                 // SAFETY: as the spring.
                 let roll = unsafe { &mut *self.roll.0.add(k) };
-                g.rolling[t] = fl.rolling_stage(
-                    g.overlap[q],
-                    g.force[t],
-                    n,
-                    &side(i),
-                    &side(j),
-                    self.dt,
-                    roll,
-                );
+                g.rolling[t] =
+                    fl.rolling_stage(overlap, force, n, &side(i), &side(j), self.dt, roll);
             }
         }
         // 2d: forces and torques summed row by row.
@@ -201,7 +191,7 @@ impl MainPairs<'_> {
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
             for t in from..to {
-                let q = g.found[t] as usize;
+                let q = g.entry(t);
                 let j = g.partner[q] as usize;
                 // SAFETY: j is a body (pass 1).
                 let rj = unsafe { *radius.get_unchecked(j) };
@@ -238,7 +228,7 @@ impl MainPairs<'_> {
                 let walled_i = group[i] != NO_GROUP;
                 let mut sums: PairTally = [0.0; 4];
                 for t in from..to {
-                    let q = g.found[t] as usize;
+                    let q = g.entry(t);
                     let (j, k) = (g.partner[q] as usize, first + q);
                     // SAFETY: entry k belongs to row i of this block (as
                     // in the stages above).
@@ -307,6 +297,20 @@ pub(super) struct Batch {
     force: [f64; BATCH],
     tangential: [[f64; 3]; BATCH],
     rolling: [[f64; 3]; BATCH],
+}
+
+impl Batch {
+    /// The entry of the t-th contact found (its index into the first
+    /// pass's arrays), known to be < [`BATCH`]: the stages index those
+    /// arrays without a check per contact.
+    #[inline(always)]
+    fn entry(&self, t: usize) -> usize {
+        let q = self.found[t] as usize;
+        // SAFETY: every value written to `found` is an entry q < count ≤
+        // BATCH (pass 1), and the default is 0.
+        unsafe { std::hint::assert_unchecked(q < BATCH) };
+        q
+    }
 }
 
 impl Default for Batch {

@@ -6,6 +6,7 @@
 use dembound_physics::contact::{ContactHistory, ContactState, Side};
 
 use super::pair_batch::{Batch, BATCH};
+use super::row_laws::{ClassTable, HertzMindlin, OneLaw, RowLaws};
 use super::{add, sub, FrictionLaw, FrictionTable, PairShear};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::contacts::{
@@ -231,19 +232,68 @@ pub(crate) unsafe fn add_pair_forces_then(
     // them (the compiler does not unswitch the loop by itself).
     let table = friction.classes > 0;
     // The tally needs the class table (`tally_applies`): four more loops.
-    let value = match (keep, rolling, table, tally.is_some() && table) {
-        (false, false, true, true) => main.run::<false, false, true, true>(workers, follow),
-        (false, true, true, true) => main.run::<false, true, true, true>(workers, follow),
-        (true, false, true, true) => main.run::<true, false, true, true>(workers, follow),
-        (true, true, true, true) => main.run::<true, true, true, true>(workers, follow),
-        (false, false, true, _) => main.run::<false, false, true, false>(workers, follow),
-        (false, false, false, _) => main.run::<false, false, false, false>(workers, follow),
-        (false, true, true, _) => main.run::<false, true, true, false>(workers, follow),
-        (false, true, false, _) => main.run::<false, true, false, false>(workers, follow),
-        (true, false, true, _) => main.run::<true, false, true, false>(workers, follow),
-        (true, false, false, _) => main.run::<true, false, false, false>(workers, follow),
-        (true, true, true, _) => main.run::<true, true, true, false>(workers, follow),
-        (true, true, false, _) => main.run::<true, true, false, false>(workers, follow),
+    let tallied = tally.is_some() && table;
+    // One body class whose law is Hertz–Mindlin (no history kept): four
+    // loops without the per-contact dispatch on the law's variants
+    // (`row_laws`).
+    let one = match (friction.classes, keep) {
+        (1, false) if !row_by_row() => OneLaw::<HertzMindlin>::new(&friction.pairs[0]),
+        _ => None,
+    };
+    let rows = ClassTable {
+        table: &friction.pairs,
+        class: &bodies.class,
+        classes: friction.classes,
+    };
+    let value = match (keep, rolling, table, tallied, one) {
+        (_, false, _, false, Some(one)) => {
+            main.run::<false, false, true, false, _>(workers, follow, &one)
+        }
+        (_, false, _, true, Some(one)) => {
+            main.run::<false, false, true, true, _>(workers, follow, &one)
+        }
+        (_, true, _, false, Some(one)) => {
+            main.run::<false, true, true, false, _>(workers, follow, &one)
+        }
+        (_, true, _, true, Some(one)) => {
+            main.run::<false, true, true, true, _>(workers, follow, &one)
+        }
+        (false, false, true, true, None) => {
+            main.run::<false, false, true, true, _>(workers, follow, &rows)
+        }
+        (false, true, true, true, None) => {
+            main.run::<false, true, true, true, _>(workers, follow, &rows)
+        }
+        (true, false, true, true, None) => {
+            main.run::<true, false, true, true, _>(workers, follow, &rows)
+        }
+        (true, true, true, true, None) => {
+            main.run::<true, true, true, true, _>(workers, follow, &rows)
+        }
+        (false, false, true, _, None) => {
+            main.run::<false, false, true, false, _>(workers, follow, &rows)
+        }
+        (false, false, false, _, None) => {
+            main.run::<false, false, false, false, _>(workers, follow, &rows)
+        }
+        (false, true, true, _, None) => {
+            main.run::<false, true, true, false, _>(workers, follow, &rows)
+        }
+        (false, true, false, _, None) => {
+            main.run::<false, true, false, false, _>(workers, follow, &rows)
+        }
+        (true, false, true, _, None) => {
+            main.run::<true, false, true, false, _>(workers, follow, &rows)
+        }
+        (true, false, false, _, None) => {
+            main.run::<true, false, false, false, _>(workers, follow, &rows)
+        }
+        (true, true, true, _, None) => {
+            main.run::<true, true, true, false, _>(workers, follow, &rows)
+        }
+        (true, true, false, _, None) => {
+            main.run::<true, true, false, false, _>(workers, follow, &rows)
+        }
     };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
@@ -333,11 +383,13 @@ pub(super) struct MainPairs<'a> {
 impl MainPairs<'_> {
     /// Every block of main pairs. `KEEP`: the normal law keeps histories;
     /// `ROLL`: rolling springs are kept; `TABLE`: laws come from the class
-    /// table. The caller has checked the lengths (`add_pair_forces`).
-    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
+    /// table, the batches' through `rows`. The caller has checked the
+    /// lengths (`add_pair_forces`).
+    fn run<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool, R: RowLaws>(
         &self,
         workers: &Workers,
         follow: Option<FollowUp>,
+        rows: &R,
     ) -> f64 {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
@@ -345,14 +397,14 @@ impl MainPairs<'_> {
             return run_blocks_then(
                 workers,
                 self.list,
-                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE, TALLY>(b) },
+                |b| unsafe { self.block_avx2::<KEEP, ROLL, TABLE, TALLY, R>(b, rows) },
                 follow,
             );
         }
         run_blocks_then(
             workers,
             self.list,
-            |b| self.block::<KEEP, ROLL, TABLE, TALLY>(b),
+            |b| self.block::<KEEP, ROLL, TABLE, TALLY, R>(b, rows),
             follow,
         )
     }
@@ -371,11 +423,13 @@ impl MainPairs<'_> {
         const ROLL: bool,
         const TABLE: bool,
         const TALLY: bool,
+        R: RowLaws,
     >(
         &self,
         b: usize,
+        rows: &R,
     ) {
-        self.block::<KEEP, ROLL, TABLE, TALLY>(b)
+        self.block::<KEEP, ROLL, TABLE, TALLY, R>(b, rows)
     }
 
     /// Block `b`'s rows, in batches of consecutive rows with at most
@@ -389,9 +443,16 @@ impl MainPairs<'_> {
     /// operations on the same values in the same order as [`Self::row`]
     /// (the springs of untouched entries set to exactly +0): the same bits.
     #[inline(always)]
-    fn block<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
+    fn block<
+        const KEEP: bool,
+        const ROLL: bool,
+        const TABLE: bool,
+        const TALLY: bool,
+        R: RowLaws,
+    >(
         &self,
         b: usize,
+        rows: &R,
     ) {
         let start = self.start;
         let lo = self.list.blocks[b] as usize;
@@ -399,18 +460,20 @@ impl MainPairs<'_> {
         let mut scratch = Batch::default();
         let mut i = lo;
         while i < hi {
+            // The batch: rows i..end, as many as fit in BATCH rows and
+            // BATCH entries. The rows that fit are a prefix of
+            // i + 1..=min(hi, i + BATCH) (row ends are nondecreasing),
+            // found by bisection (six steps) rather than row by row.
             let first = start[i] as usize;
-            let mut end = i;
-            while end < hi && end - i < BATCH && start[end + 1] as usize - first <= BATCH {
-                end += 1;
-            }
+            let last = hi.min(i + BATCH);
+            let end = i + start[i + 1..=last].partition_point(|&e| e as usize - first <= BATCH);
             if end == i || !TABLE || row_by_row() {
                 // A row longer than a batch (a large body's), or laws
                 // computed per pair (no class table).
                 self.row::<KEEP, ROLL, TABLE, TALLY>(i);
                 i += 1;
             } else {
-                self.batch::<KEEP, ROLL, TABLE, TALLY>(i, end, &mut scratch);
+                self.batch::<KEEP, ROLL, TABLE, TALLY, R>(i, end, &mut scratch, rows);
                 i = end;
             }
         }
@@ -577,8 +640,9 @@ pub(super) fn tally_entry(
     }
 }
 
-/// Tests: run [`MainPairs::row`] for every row (the reference of the
-/// batched path).
+/// Tests: run [`MainPairs::row`] for every row, through the class
+/// table's loops (the reference of the batched path, and of the one-law
+/// loops with their settings).
 #[cfg(test)]
 static ROW_BY_ROW: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -594,159 +658,5 @@ fn row_by_row() -> bool {
 }
 
 #[cfg(test)]
-mod tests {
-    use std::sync::atomic::Ordering;
-
-    use dembound_physics::contact::{ContactModel, NormalLaw};
-
-    use super::{add_pair_forces, add_pair_forces_tallied, PairForceInput, ROW_BY_ROW};
-    use crate::dynamics::friction_observables::observe;
-    use crate::dynamics::friction_observables::tests::scene;
-    use crate::setup::TimeStep;
-    use crate::Simulation;
-
-    /// The batched pair loop (two passes, stages) gives the row-by-row
-    /// loop's forces, torques, springs and histories bit for bit (the
-    /// row-by-row loop is the reference: each contact evaluated whole, in
-    /// list order), along a run of impacts, sliding and sticking, with
-    /// rolling springs, with and without contact histories.
-    #[test]
-    fn batched_pairs_equal_row_by_row_bit_for_bit() {
-        for history in [false, true] {
-            let mut setup = scene();
-            if history {
-                // Walton–Braun's linear spring is soft: a step well inside
-                // its contact time (~50 µs).
-                setup.contact = ContactModel::elastic(NormalLaw::WaltonBraun { restitution: 0.5 });
-                setup.integration.time_step = TimeStep::Fixed(2.0e-6);
-            }
-            let mut sim = Simulation::new(setup, 1).unwrap();
-            let mut touching = 0;
-            for _ in 0..30 {
-                sim.step(100);
-                let w = &sim.world;
-                let n = w.bodies.len();
-                let input = PairForceInput {
-                    bodies: &w.bodies,
-                    ghosts: &w.ghosts,
-                    list: &w.list,
-                    laws: &w.laws,
-                    friction: w.friction.as_ref().unwrap(),
-                    dt: sim.dt(),
-                };
-                let run = |rows: bool| {
-                    let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
-                    let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-                    ROW_BY_ROW.store(rows, Ordering::Relaxed);
-                    add_pair_forces(
-                        &input,
-                        &mut histories,
-                        &mut shear,
-                        &mut force,
-                        &mut torque,
-                        &sim.workers,
-                    );
-                    ROW_BY_ROW.store(false, Ordering::Relaxed);
-                    let bits = |v: &[[f64; 3]]| -> Vec<u64> {
-                        v.iter().flatten().map(|x| x.to_bits()).collect()
-                    };
-                    (
-                        bits(&force),
-                        bits(&torque),
-                        bits(&shear.main),
-                        bits(&shear.roll_main),
-                        histories.main,
-                    )
-                };
-                let (batched, rows) = (run(false), run(true));
-                assert!(batched == rows, "history {history}");
-                touching += batched.2.iter().filter(|&&x| x != 0).count();
-            }
-            // Loaded springs were compared: the settling bed has hundreds
-            // of loaded components per check by the end (Walton–Braun's
-            // shorter run, tens; 833 in all when written).
-            assert!(touching > 500, "{touching}");
-        }
-    }
-
-    /// The force pass's tally, summed by the observation pass, gives what
-    /// the observation pass computes from the pairs itself, bit for bit
-    /// (the reference visits every listed pair again at the state the
-    /// force pass left: the springs and histories it moved), batched and
-    /// row by row, with and without contact histories, on 1 and 2 threads.
-    #[test]
-    fn tally_equals_the_observation_pass_bit_for_bit() {
-        for (history, threads) in [(false, 1), (true, 1), (false, 2)] {
-            let mut setup = scene();
-            if history {
-                // As in the test above.
-                setup.contact = ContactModel::elastic(NormalLaw::WaltonBraun { restitution: 0.5 });
-                setup.integration.time_step = TimeStep::Fixed(2.0e-6);
-            }
-            let mut sim = Simulation::new(setup, threads).unwrap();
-            let mut compared = 0;
-            for _ in 0..30 {
-                sim.step(100);
-                let w = &sim.world;
-                let n = w.bodies.len();
-                let friction = w.friction.as_ref().unwrap();
-                let input = PairForceInput {
-                    bodies: &w.bodies,
-                    ghosts: &w.ghosts,
-                    list: &w.list,
-                    laws: &w.laws,
-                    friction,
-                    dt: sim.dt(),
-                };
-                for rows in [false, true] {
-                    let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
-                    let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-                    let mut tally = Vec::new();
-                    ROW_BY_ROW.store(rows, Ordering::Relaxed);
-                    let made = add_pair_forces_tallied(
-                        &input,
-                        &mut histories,
-                        &mut shear,
-                        &mut force,
-                        &mut torque,
-                        &sim.workers,
-                        &mut tally,
-                    );
-                    ROW_BY_ROW.store(false, Ordering::Relaxed);
-                    assert!(made && tally.len() == n);
-                    let observe = |tally| {
-                        observe(
-                            &w.bodies,
-                            &w.list,
-                            &histories,
-                            friction,
-                            &shear,
-                            &w.surfaces,
-                            &w.wall_contacts,
-                            &sim.workers,
-                            tally,
-                        )
-                        .expect("the fast path applies: class table, no extra pairs")
-                    };
-                    let (tallied, passes) = (observe(Some(&tally)), observe(None));
-                    assert_eq!(
-                        (tallied.particle_contacts, tallied.boundary_contacts),
-                        (passes.particle_contacts, passes.boundary_contacts)
-                    );
-                    assert_eq!(tallied.pair_energy.to_bits(), passes.pair_energy.to_bits());
-                    assert_eq!(
-                        tallied.spring_energy.to_bits(),
-                        passes.spring_energy.to_bits()
-                    );
-                    if passes.particle_contacts > 0 && passes.spring_energy > 0.0 {
-                        compared += 1;
-                    }
-                }
-            }
-            // States with touching pairs and loaded springs were compared
-            // (of 60 a setting: 38 in Walton–Braun's shorter run when
-            // written, more in the others).
-            assert!(compared > 20, "{compared}");
-        }
-    }
-}
+#[path = "pairs_tests.rs"]
+mod tests;
