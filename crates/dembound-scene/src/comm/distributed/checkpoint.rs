@@ -132,18 +132,28 @@ pub(super) fn check_bodies(
     Ok(slot)
 }
 
-/// One body's record while a checkpoint is assembled.
+/// The bodies' records while a checkpoint is assembled, in arrival
+/// order (the lists of [`Checkpoint`]'s bodies: as compact as the
+/// checkpoint itself).
 #[derive(Default)]
-struct BodyPart {
-    id: u32,
-    x: [f64; 3],
-    v: [f64; 3],
-    f: [f64; 3],
-    x0: [f64; 3],
-    higher: [[f64; 3]; 4],
-    angular_higher: [[f64; 3]; 4],
-    w: [f64; 3],
-    t: [f64; 3],
+struct BodyLists {
+    id: Vec<u32>,
+    x: Vec<[f64; 3]>,
+    v: Vec<[f64; 3]>,
+    f: Vec<[f64; 3]>,
+    x0: Vec<[f64; 3]>,
+    higher: Vec<[[f64; 3]; 4]>,
+    angular_higher: Vec<[[f64; 3]; 4]>,
+    w: Vec<[f64; 3]>,
+    t: Vec<[f64; 3]>,
+}
+
+/// `v` in the order `perm` (entries of `v`), one list at a time.
+fn permuted<T: Copy>(v: Vec<T>, perm: &[u32]) -> Vec<T> {
+    if v.is_empty() {
+        return v;
+    }
+    perm.iter().map(|&k| v[k as usize]).collect()
 }
 
 impl<T: Transport> DistributedSimulation<T> {
@@ -205,14 +215,15 @@ impl<T: Transport> DistributedSimulation<T> {
         if self.comm.transport.rank() != 0 {
             c.collisions.clear();
         }
-        let (ids, own) = self.owned_state();
-        debug_assert_eq!(ids, c.order);
-        let f = &self.sim.fingerprint;
+        // The owned bodies' radii, materials and fixedness, in id order.
+        let b = &self.sim.world.bodies;
+        let mut own: Vec<usize> = (0..b.len()).filter(|&k| !self.comm.halo[k]).collect();
+        own.sort_unstable_by_key(|&k| b.id[k]);
         c.fingerprint = crate::fingerprint::Fingerprint {
-            settings: f.settings.clone(),
-            radius: own.radius,
-            material: own.material,
-            fixed: own.fixed,
+            settings: self.sim.fingerprint.settings.clone(),
+            radius: own.iter().map(|&k| b.radius[k]).collect(),
+            material: own.iter().map(|&k| b.material[k]).collect(),
+            fixed: own.iter().map(|&k| b.fixed[k]).collect(),
         };
         c
     }
@@ -405,7 +416,7 @@ impl<T: Transport> DistributedSimulation<T> {
         let (spin, gear5) = (w.friction.is_some(), w.scheme == Scheme::Gear5);
         let tracked = w.tracks.is_some();
         let multi = w.surfaces.iter().any(|s| s.wall().elements() > 1);
-        let mut bodies: Vec<BodyPart> = Vec::new();
+        let mut bodies = BodyLists::default();
         let mut plane_shear = BTreeMap::new();
         let mut springs = BTreeMap::new();
         let mut plane_tracks = BTreeMap::new();
@@ -417,23 +428,21 @@ impl<T: Transport> DistributedSimulation<T> {
             let mut r = Reader::new(bytes);
             for _ in 0..r.u32() {
                 let id = r.u32();
-                let (x, v, f, x0) = (r.vec3(), r.vec3(), r.vec3(), r.vec3());
-                let mut body = BodyPart {
-                    id,
-                    x,
-                    v,
-                    f,
-                    x0,
-                    ..Default::default()
-                };
+                bodies.id.push(id);
+                bodies.x.push(r.vec3());
+                bodies.v.push(r.vec3());
+                bodies.f.push(r.vec3());
+                bodies.x0.push(r.vec3());
                 if gear5 {
                     let mut h = Vec::with_capacity(1);
                     pack::read_higher(&mut r, &mut h);
-                    body.higher = h.first().copied().unwrap_or_default();
+                    bodies.higher.push(h.first().copied().unwrap_or_default());
                     if spin {
                         let mut h = Vec::with_capacity(1);
                         pack::read_angular_higher(&mut r, &mut h);
-                        body.angular_higher = h.first().copied().unwrap_or_default();
+                        bodies
+                            .angular_higher
+                            .push(h.first().copied().unwrap_or_default());
                     }
                 }
                 if tracked {
@@ -443,7 +452,8 @@ impl<T: Transport> DistributedSimulation<T> {
                     }
                 }
                 if spin {
-                    (body.w, body.t) = (r.vec3(), r.vec3());
+                    bodies.w.push(r.vec3());
+                    bodies.t.push(r.vec3());
                     for _ in 0..r.u32() {
                         let p = r.u32();
                         let mut s = Vec::with_capacity(1);
@@ -463,7 +473,6 @@ impl<T: Transport> DistributedSimulation<T> {
                         elements.insert((e.id, e.key), e);
                     }
                 }
-                bodies.push(body);
             }
             for _ in 0..r.u32() {
                 let (a, b, h) = (r.u32(), r.u32(), r.history());
@@ -484,23 +493,19 @@ impl<T: Transport> DistributedSimulation<T> {
                 }
             }
         }
-        bodies.sort_unstable_by_key(|b| b.id);
-        bodies.dedup_by_key(|b| b.id);
-        c.order = bodies.iter().map(|b| b.id).collect();
-        c.position = bodies.iter().map(|b| b.x).collect();
-        c.velocity = bodies.iter().map(|b| b.v).collect();
-        c.force = bodies.iter().map(|b| b.f).collect();
-        c.reference = bodies.iter().map(|b| b.x0).collect();
-        if gear5 {
-            c.higher = bodies.iter().map(|b| b.higher).collect();
-        }
-        if spin {
-            c.angular_velocity = bodies.iter().map(|b| b.w).collect();
-            c.torque = bodies.iter().map(|b| b.t).collect();
-        }
-        if gear5 && spin {
-            c.angular_higher = bodies.iter().map(|b| b.angular_higher).collect();
-        }
+        // Input-id order (each body is owned by one rank: once).
+        let mut perm: Vec<u32> = (0..bodies.id.len() as u32).collect();
+        perm.sort_unstable_by_key(|&k| bodies.id[k as usize]);
+        let b = bodies;
+        c.order = permuted(b.id, &perm);
+        c.position = permuted(b.x, &perm);
+        c.velocity = permuted(b.v, &perm);
+        c.force = permuted(b.f, &perm);
+        c.reference = permuted(b.x0, &perm);
+        c.higher = permuted(b.higher, &perm);
+        c.angular_velocity = permuted(b.w, &perm);
+        c.torque = permuted(b.t, &perm);
+        c.angular_higher = permuted(b.angular_higher, &perm);
         c.pair_shear = springs.into_iter().map(|((a, b), s)| (a, b, s)).collect();
         c.pair_tracks = pair_tracks
             .into_iter()

@@ -31,41 +31,26 @@ use super::{DistributedSimulation, RankComm, PEER_REFUSED};
 use crate::comm::pack::{self, Reader, Writer};
 use crate::comm::Transport;
 use crate::dynamics::collisions::Track;
-use crate::dynamics::friction::{Springs, WallShear};
+use crate::dynamics::friction::WallShear;
 use crate::fingerprint::Fingerprint;
 use crate::setup::{SceneSetup, Scheme};
 use crate::simulation::{Checkpoint, ElementRecord, HistoryRecord};
 use crate::SceneError;
 
-/// A body's record before the list build (round 1).
-#[derive(Serialize, Deserialize)]
-struct BodyRecord {
-    id: u32,
-    radius: f64,
-    material: u32,
-    fixed: bool,
-    reference: [f64; 3],
-    velocity: [f64; 3],
-    force: [f64; 3],
-    higher: Option<[[f64; 3]; 4]>,
-    angular_velocity: Option<[f64; 3]>,
-    angular_higher: Option<[[f64; 3]; 4]>,
-    plane_histories: Vec<(u32, HistoryRecord)>,
-    plane_shear: Vec<(u32, WallShear)>,
-    plane_tracks: Vec<(u32, Track)>,
+/// A body's wall records (round 1; most bodies have none).
+#[derive(Default, Serialize, Deserialize)]
+struct WallRecords {
+    histories: Vec<(u32, HistoryRecord)>,
+    shear: Vec<(u32, WallShear)>,
+    tracks: Vec<(u32, Track)>,
     elements: Vec<ElementRecord>,
 }
 
-/// A record after the list build (round 2).
-#[derive(Serialize, Deserialize)]
-enum AfterBuild {
-    /// A body's state at the checkpointed step: id, position, velocity,
-    /// force, torque.
-    Step(u32, [f64; 3], [f64; 3], [f64; 3], Option<[f64; 3]>),
-    History(u32, u32, HistoryRecord),
-    Track(u32, u32, Track),
-    Springs(u32, u32, Springs),
-}
+/// The tags of the records after the list build (round 2).
+const STEP: u8 = 0;
+const HISTORY: u8 = 1;
+const TRACK: u8 = 2;
+const SPRINGS: u8 = 3;
 
 /// Checks a part read here against the scene: its lists of one length,
 /// each body in range and once, the step the index's.
@@ -139,93 +124,150 @@ fn agree<T: Transport>(t: &T, r: Result<(), SceneError>) -> Result<(), SceneErro
     Ok(())
 }
 
-/// The records of `c` for each body of it, by id (round 1).
-fn body_records(c: &Checkpoint) -> Vec<(u32, Vec<u8>)> {
-    let mut by_body: HashMap<u32, BodyRecord> = HashMap::with_capacity(c.order.len());
-    for (k, &id) in c.order.iter().enumerate() {
-        let f = &c.fingerprint;
-        by_body.insert(
-            id,
-            BodyRecord {
-                id,
-                radius: f.radius[k],
-                material: f.material[k],
-                fixed: f.fixed[k],
-                reference: c.reference[k],
-                velocity: c.velocity[k],
-                force: c.force[k],
-                higher: c.higher.get(k).copied(),
-                angular_velocity: c.angular_velocity.get(k).copied(),
-                angular_higher: c.angular_higher.get(k).copied(),
-                plane_histories: Vec::new(),
-                plane_shear: Vec::new(),
-                plane_tracks: Vec::new(),
-                elements: Vec::new(),
-            },
-        );
-    }
+/// Appends to `out` (by the directory rank of each id, `to`) the record
+/// of each body of `c` (round 1): id, radius, material, fixedness,
+/// position of the last list build, velocity, force (96 bytes), Gear5's
+/// derivatives, the spin and its derivatives where the run has them, and
+/// its wall records (CBOR, an empty blob for none).
+fn body_records(c: &Checkpoint, to: &dyn Fn(u32) -> usize, out: &mut BTreeMap<usize, Writer>) {
+    let mut walls: HashMap<u32, WallRecords> = HashMap::new();
     for &(id, p, h) in &c.plane_histories {
-        if let Some(b) = by_body.get_mut(&id) {
-            b.plane_histories.push((p, h));
-        }
+        walls.entry(id).or_default().histories.push((p, h));
     }
-    for &(id, p, s) in &c.plane_shear {
-        if let Some(b) = by_body.get_mut(&id) {
-            b.plane_shear.push((p, s));
-        }
+    for &(id, p, sh) in &c.plane_shear {
+        walls.entry(id).or_default().shear.push((p, sh));
     }
     for &(id, p, t) in &c.plane_tracks {
-        if let Some(b) = by_body.get_mut(&id) {
-            b.plane_tracks.push((p, t));
-        }
+        walls.entry(id).or_default().tracks.push((p, t));
     }
     for r in &c.element_records {
-        if let Some(b) = by_body.get_mut(&r.id) {
-            b.elements.push(*r);
-        }
+        walls.entry(r.id).or_default().elements.push(*r);
     }
-    by_body
-        .into_values()
-        .map(|b| (b.id, pack::encode(&b)))
-        .collect()
+    let f = &c.fingerprint;
+    for (k, &id) in c.order.iter().enumerate() {
+        let w = &mut Writer::default();
+        w.u32(id);
+        w.f64(f.radius[k]);
+        w.u32(f.material[k]);
+        w.u8(u8::from(f.fixed[k]));
+        w.vec3(c.reference[k]);
+        w.vec3(c.velocity[k]);
+        w.vec3(c.force[k]);
+        if !c.higher.is_empty() {
+            pack::write_higher(w, &c.higher, k);
+        }
+        if let Some(a) = c.angular_velocity.get(k) {
+            w.vec3(*a);
+        }
+        if !c.angular_higher.is_empty() {
+            pack::write_higher(w, &c.angular_higher, k);
+        }
+        match walls.get(&id) {
+            Some(r) => w.blob(&pack::encode(r)),
+            None => w.u32(0),
+        }
+        put(out, to, id, &w.0);
+    }
 }
 
-/// The records of `c` after the build (round 2): each body's step state
-/// by its id, each pair's by both its ids.
-fn after_build_records(c: &Checkpoint) -> Vec<(u32, Vec<u8>)> {
-    let mut out = Vec::new();
+/// Appends body `id`'s record `rec` to the message for its directory rank
+/// (`to`).
+fn put(out: &mut BTreeMap<usize, Writer>, to: &dyn Fn(u32) -> usize, id: u32, rec: &[u8]) {
+    let w = out.entry(to(id)).or_default();
+    w.u32(id);
+    w.blob(rec);
+}
+
+/// Reads one record of [`body_records`] into the lists of `c` (`gear5`,
+/// `spin`: the run's); returns the id, radius, material and fixedness.
+fn read_body_record(
+    r: &mut Reader,
+    c: &mut Checkpoint,
+    gear5: bool,
+    spin: bool,
+) -> (u32, f64, u32, bool) {
+    let (id, radius, material, fixed) = (r.u32(), r.f64(), r.u32(), r.u8() != 0);
+    c.order.push(id);
+    c.reference.push(r.vec3());
+    c.velocity.push(r.vec3());
+    c.force.push(r.vec3());
+    if gear5 {
+        pack::read_higher(r, &mut c.higher);
+    }
+    if spin {
+        c.angular_velocity.push(r.vec3());
+    }
+    if gear5 && spin {
+        pack::read_higher(r, &mut c.angular_higher);
+    }
+    let walls = r.blob();
+    if !walls.is_empty() {
+        let w: WallRecords = pack::decode(walls).unwrap_or_default();
+        c.plane_histories
+            .extend(w.histories.iter().map(|&(p, h)| (id, p, h)));
+        c.plane_shear
+            .extend(w.shear.iter().map(|&(p, s)| (id, p, s)));
+        c.plane_tracks
+            .extend(w.tracks.iter().map(|&(p, t)| (id, p, t)));
+        c.element_records.extend(w.elements);
+    }
+    (id, radius, material, fixed)
+}
+
+/// Appends to `out` the records of `c` after the build (round 2): each
+/// body's state at the checkpointed step by its id, each pair's history,
+/// track and springs by both its ids.
+fn after_build_records(
+    c: &Checkpoint,
+    to: &dyn Fn(u32) -> usize,
+    out: &mut BTreeMap<usize, Writer>,
+) {
     for (k, &id) in c.order.iter().enumerate() {
-        let r = AfterBuild::Step(
-            id,
-            c.position[k],
-            c.velocity[k],
-            c.force[k],
-            c.torque.get(k).copied(),
-        );
-        out.push((id, pack::encode(&r)));
-    }
-    let pairs = c
-        .pair_histories
-        .iter()
-        .map(|&(a, b, h)| (a, b, AfterBuild::History(a, b, h)))
-        .chain(
-            c.pair_tracks
-                .iter()
-                .map(|&(a, b, t)| (a, b, AfterBuild::Track(a, b, t))),
-        )
-        .chain(
-            c.pair_shear
-                .iter()
-                .map(|&(a, b, s)| (a, b, AfterBuild::Springs(a, b, s))),
-        );
-    for (a, b, r) in pairs {
-        let bytes = pack::encode(&r);
-        if a != b {
-            out.push((b, bytes.clone()));
+        let w = &mut Writer::default();
+        w.u8(STEP);
+        w.vec3(c.position[k]);
+        w.vec3(c.velocity[k]);
+        w.vec3(c.force[k]);
+        if let Some(t) = c.torque.get(k) {
+            w.vec3(*t);
         }
-        out.push((a, bytes));
+        put(out, to, id, &w.0);
     }
-    out
+    let mut pair = |a: u32, b: u32, write: &dyn Fn(&mut Writer)| {
+        let w = &mut Writer::default();
+        write(w);
+        put(out, to, a, &w.0);
+        if a != b {
+            put(out, to, b, &w.0);
+        }
+    };
+    for &(a, b, h) in &c.pair_histories {
+        pair(a, b, &|w| {
+            w.u8(HISTORY);
+            w.u32(a);
+            w.u32(b);
+            w.history(&h.into());
+        });
+    }
+    for &(a, b, t) in &c.pair_tracks {
+        let bytes = pack::encode(&t);
+        pair(a, b, &|w| {
+            w.u8(TRACK);
+            w.u32(a);
+            w.u32(b);
+            w.blob(&bytes);
+        });
+    }
+    for &(a, b, sp) in &c.pair_shear {
+        pair(a, b, &|w| {
+            w.u8(SPRINGS);
+            w.u32(a);
+            w.u32(b);
+            for x in sp {
+                w.f64(x);
+            }
+        });
+    }
 }
 
 /// `index` (the run's shared figures) with no bodies: what each round's
@@ -310,63 +352,28 @@ impl<T: Transport> DistributedSimulation<T> {
         };
         let mut me = Self::new(setup, threads, grid, transport)?;
         me.check_dt(index)?;
+        let spin = me.sim.world.friction.is_some();
         // Round 1: each body's record to the ranks holding it now.
-        let records: Vec<(u32, Vec<u8>)> = parts.iter().flat_map(body_records).collect();
-        let held = me.sim.world.bodies.id.clone();
-        let got = me.comm.route(&held, records);
-        let mut c = shared(index);
-        let mut bodies: Vec<BodyRecord> = got
-            .iter()
-            .filter_map(|(_, b)| pack::decode::<BodyRecord>(b))
-            .collect();
-        bodies.sort_unstable_by_key(|b| b.id);
-        bodies.dedup_by_key(|b| b.id);
-        let mut refused = Ok(());
-        for b in &bodies {
-            let Some(s) = setup.spheres.get(b.id as usize) else {
-                continue;
-            };
-            let at = format!("sphere {} (input order)", b.id);
-            if b.radius.to_bits() != s.radius.to_bits() {
-                refused = Err(SceneError::Checkpoint(format!(
-                    "{at}: radius differs: the checkpoint's {:?} m, the scene's {:?} m",
-                    b.radius, s.radius
-                )));
-            } else if b.material as usize != s.material {
-                refused = Err(SceneError::Checkpoint(format!(
-                    "{at}: material differs: the checkpoint's {}, the scene's {}",
-                    b.material, s.material
-                )));
-            } else if b.fixed != s.fixed {
-                let kind = |f: bool| if f { "fixed" } else { "free" };
-                refused = Err(SceneError::Checkpoint(format!(
-                    "{at}: the checkpoint's is {}, the scene's {}",
-                    kind(b.fixed),
-                    kind(s.fixed)
-                )));
-            }
-            if refused.is_err() {
-                break;
-            }
-            c.order.push(b.id);
-            c.reference.push(b.reference);
-            c.velocity.push(b.velocity);
-            c.force.push(b.force);
-            c.higher.extend(b.higher);
-            c.angular_velocity.extend(b.angular_velocity);
-            c.angular_higher.extend(b.angular_higher);
-            for &(p, h) in &b.plane_histories {
-                c.plane_histories.push((b.id, p, h));
-            }
-            for &(p, sh) in &b.plane_shear {
-                c.plane_shear.push((b.id, p, sh));
-            }
-            for &(p, t) in &b.plane_tracks {
-                c.plane_tracks.push((b.id, p, t));
-            }
-            c.element_records.extend(b.elements.iter().copied());
+        let to = me.comm.directory();
+        let mut out = BTreeMap::new();
+        for p in &parts {
+            body_records(p, &to, &mut out);
         }
-        drop(bodies);
+        let held = me.sim.world.bodies.id.clone();
+        let got = me.comm.route(&held, out);
+        let mut c = shared(index);
+        let mut refused = Ok(());
+        for bytes in &got {
+            let mut r = Reader::new(bytes);
+            while !r.done() && refused.is_ok() {
+                let _ = r.u32();
+                let mut record = Reader::new(r.blob());
+                let (id, radius, material, fixed) =
+                    read_body_record(&mut record, &mut c, gear5, spin);
+                refused = check_sphere(setup, id, radius, material, fixed);
+            }
+        }
+        drop(got);
         let slot = slots(&c, all);
         // With nothing removed, every body held here has its record.
         if refused.is_ok() && removed == 0 {
@@ -381,40 +388,56 @@ impl<T: Transport> DistributedSimulation<T> {
         drop(c);
         // Round 2: the pairs and the checkpointed step to the ranks
         // holding their bodies after the build.
-        let records: Vec<(u32, Vec<u8>)> = parts.iter().flat_map(after_build_records).collect();
+        let mut out = BTreeMap::new();
+        for p in &parts {
+            after_build_records(p, &to, &mut out);
+        }
         drop(parts);
         let held = me.sim.world.bodies.id.clone();
-        let got = me.comm.route(&held, records);
+        let got = me.comm.route(&held, out);
         let mut c = shared(index);
-        let mut steps = Vec::new();
         let mut histories = BTreeMap::new();
         let mut tracks = BTreeMap::new();
         let mut springs = BTreeMap::new();
-        for (_, bytes) in &got {
-            match pack::decode::<AfterBuild>(bytes) {
-                Some(AfterBuild::Step(id, x, v, f, t)) => steps.push((id, x, v, f, t)),
-                Some(AfterBuild::History(a, b, h)) => {
-                    histories.insert((a, b), h);
+        for bytes in &got {
+            let mut r = Reader::new(bytes);
+            while !r.done() {
+                let id = r.u32();
+                let mut record = Reader::new(r.blob());
+                match record.u8() {
+                    STEP => {
+                        c.order.push(id);
+                        c.position.push(record.vec3());
+                        c.velocity.push(record.vec3());
+                        c.force.push(record.vec3());
+                        if spin {
+                            c.torque.push(record.vec3());
+                        }
+                    }
+                    tag => {
+                        let (a, b) = (record.u32(), record.u32());
+                        match tag {
+                            HISTORY => {
+                                histories.insert((a, b), HistoryRecord::from(record.history()));
+                            }
+                            TRACK => {
+                                if let Some(t) = pack::decode::<Track>(record.blob()) {
+                                    tracks.insert((a, b), t);
+                                }
+                            }
+                            _ => {
+                                let mut sp = [0.0; 6];
+                                for x in &mut sp {
+                                    *x = record.f64();
+                                }
+                                springs.insert((a, b), sp);
+                            }
+                        }
+                    }
                 }
-                Some(AfterBuild::Track(a, b, t)) => {
-                    tracks.insert((a, b), t);
-                }
-                Some(AfterBuild::Springs(a, b, s)) => {
-                    springs.insert((a, b), s);
-                }
-                None => {}
             }
         }
         drop(got);
-        steps.sort_unstable_by_key(|s| s.0);
-        steps.dedup_by_key(|s| s.0);
-        for (id, x, v, f, t) in steps {
-            c.order.push(id);
-            c.position.push(x);
-            c.velocity.push(v);
-            c.force.push(f);
-            c.torque.extend(t);
-        }
         c.pair_histories = histories.into_iter().map(|((a, b), h)| (a, b, h)).collect();
         c.pair_tracks = tracks.into_iter().map(|((a, b), t)| (a, b, t)).collect();
         c.pair_shear = springs.into_iter().map(|((a, b), s)| (a, b, s)).collect();
@@ -424,59 +447,90 @@ impl<T: Transport> DistributedSimulation<T> {
     }
 }
 
+/// Refuses a body whose radius, material or fixedness in the checkpoint
+/// is not the scene's (as `Fingerprint::check` names it).
+fn check_sphere(
+    setup: &SceneSetup,
+    id: u32,
+    radius: f64,
+    material: u32,
+    fixed: bool,
+) -> Result<(), SceneError> {
+    let Some(s) = setup.spheres.get(id as usize) else {
+        return Err(SceneError::Checkpoint(format!("body {id} out of range")));
+    };
+    let at = format!("sphere {id} (input order)");
+    if radius.to_bits() != s.radius.to_bits() {
+        return Err(SceneError::Checkpoint(format!(
+            "{at}: radius differs: the checkpoint's {radius:?} m, the scene's {:?} m",
+            s.radius
+        )));
+    }
+    if material as usize != s.material {
+        return Err(SceneError::Checkpoint(format!(
+            "{at}: material differs: the checkpoint's {material}, the scene's {}",
+            s.material
+        )));
+    }
+    if fixed != s.fixed {
+        let kind = |f: bool| if f { "fixed" } else { "free" };
+        return Err(SceneError::Checkpoint(format!(
+            "{at}: the checkpoint's is {}, the scene's {}",
+            kind(fixed),
+            kind(s.fixed)
+        )));
+    }
+    Ok(())
+}
+
 impl<T: Transport> RankComm<T> {
-    /// Delivers each `(id, bytes)` of `records` to every rank holding a
-    /// body `id` (`held`: the input ids of this rank's bodies, halo
-    /// copies too), through the directory rank of id (⌊id·P/N⌋): three
-    /// exchanges, no rank holding more than its share of the ids.
-    /// Returns the records for this rank's bodies (a record for a body
-    /// nobody holds is dropped). Collective.
-    fn route(&mut self, held: &[u32], records: Vec<(u32, Vec<u8>)>) -> Vec<(u32, Vec<u8>)> {
+    /// The directory rank of each input id: ⌊id·P/N⌋.
+    fn directory(&self) -> impl Fn(u32) -> usize {
         let size = self.transport.size();
         let all = self.fixed_by_id.len().max(1) as u64;
-        let directory = |id: u32| ((u64::from(id) * size as u64 / all) as usize).min(size - 1);
+        move |id: u32| ((u64::from(id) * size as u64 / all) as usize).min(size - 1)
+    }
+
+    /// Delivers each record of `out` (by directory rank, [`Self::directory`]:
+    /// entries of an id and a blob) to every rank holding a body of that id
+    /// (`held`: the input ids of this rank's bodies, halo copies too)
+    /// through the directory rank of the id: three exchanges, no rank
+    /// holding more than its share of the ids. Returns the messages for
+    /// this rank's bodies, entries as sent (a record for a body nobody
+    /// holds is dropped). Collective.
+    fn route(&mut self, held: &[u32], out: BTreeMap<usize, Writer>) -> Vec<Vec<u8>> {
+        let to = self.directory();
         // 1. Which ranks hold each id, at its directory rank.
-        let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
+        let mut ids: BTreeMap<usize, Writer> = BTreeMap::new();
         for &id in held {
-            out.entry(directory(id)).or_default().u32(id);
+            ids.entry(to(id)).or_default().u32(id);
         }
         let mut holders: HashMap<u32, Vec<u32>> = HashMap::new();
-        for (from, bytes) in self.send_or_keep(out) {
+        for (from, bytes) in self.send_or_keep(ids) {
             let mut r = Reader::new(&bytes);
             while !r.done() {
                 holders.entry(r.u32()).or_default().push(from as u32);
             }
         }
-        // 2. The records to the directory ranks of their ids.
-        let mut out: BTreeMap<usize, Writer> = BTreeMap::new();
-        for (id, bytes) in records {
-            let w = out.entry(directory(id)).or_default();
-            w.u32(id);
-            w.blob(&bytes);
-        }
+        // 2. The records to the directory ranks of their ids, 3. from there
+        // to every rank holding the body.
         let mut forward: BTreeMap<usize, Writer> = BTreeMap::new();
         for (_, bytes) in self.send_or_keep(out) {
             let mut r = Reader::new(&bytes);
             while !r.done() {
                 let (id, record) = (r.u32(), r.blob());
-                // 3. From there to every rank holding the body.
-                for &to in holders.get(&id).map_or(&[][..], |v| &v[..]) {
-                    let w = forward.entry(to as usize).or_default();
+                for &h in holders.get(&id).map_or(&[][..], |v| &v[..]) {
+                    let w = forward.entry(h as usize).or_default();
                     w.u32(id);
                     w.blob(record);
                 }
             }
         }
         drop(holders);
-        let mut got = Vec::new();
-        for (_, bytes) in self.send_or_keep(forward) {
-            let mut r = Reader::new(&bytes);
-            while !r.done() {
-                let id = r.u32();
-                got.push((id, r.blob().to_vec()));
-            }
-        }
-        got
+        self.send_or_keep(forward)
+            .into_iter()
+            .map(|(_, b)| b)
+            .collect()
     }
 
     /// [`Self::send_records`], this rank's own share kept here (first).
