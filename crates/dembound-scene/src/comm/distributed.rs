@@ -71,6 +71,7 @@ use crate::{Observation, SceneError};
 pub mod balance;
 mod checkpoint;
 mod checkpoint_parts;
+mod checkpoint_records;
 mod inlets;
 pub mod input;
 mod observe;
