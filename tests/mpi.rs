@@ -1718,3 +1718,115 @@ fn per_rank_vtk_pieces_hold_the_one_process_snapshot() {
         }
     }
 }
+
+/// Issue 31 item 5: `[parallel] checkpoint_per_rank` writes each rank's
+/// part of the checkpoint (`checkpoint_rank_R.cbor`) and the index
+/// `checkpoint.cbor`, no gather. The lattice drop with Walton–Braun (every
+/// contact's largest overlap is state; contacts from about step 1,600):
+/// 2000 steps on 2 and on 3 ranks, checkpointed in parts, then 2000 more
+/// from the parts on the same count and on the other one end in the state
+/// (`state.csv` by id) and the gathered checkpoint file, byte for byte, of
+/// 4000 steps in one go on the writing rank count (the decomposed
+/// trajectory does not depend on the rank count, test above; the initial
+/// energy in the checkpoint is a sum over the ranks). The one-process engine merges
+/// the parts and continues. A damaged part is refused by name (exit 2,
+/// nothing written).
+#[test]
+fn checkpoint_in_parts_restarts_per_rank_bit_for_bit() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let with = |steps: &str, more: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = [
+            "--set",
+            "contact.law=walton-braun",
+            "--set",
+            "contact.restitution=0.5",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        v.push("--set".into());
+        v.push(format!("integration.steps={steps}"));
+        v.extend(more.iter().map(|s| s.to_string()));
+        v
+    };
+    let run = |ranks: usize, args: Vec<String>, name: &str| {
+        let d = tmp.path().join(name);
+        let refs: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+        let j = mpirun(ranks, &[], &refs, &d);
+        (d, j)
+    };
+    let per_rank = ["--set", "parallel.checkpoint_per_rank=true"];
+    for (written, other) in [(2usize, 3usize), (3, 2)] {
+        // The reference: the same rank count in one go (the initial
+        // energy, a sum over the ranks, is in the checkpoint).
+        let (straight, _) = run(written, with("4000", &[]), &format!("straight{written}"));
+        let expected = state(&straight);
+        let expected_cp = std::fs::read(straight.join("checkpoint.cbor")).expect("checkpoint");
+        let (half, _) = run(written, with("2000", &per_rank), &format!("half{written}"));
+        // The parts and the index; every part holds some spheres, the
+        // index none (it is small).
+        for r in 0..written {
+            let part = half.join(format!("checkpoint_rank_{r}.cbor"));
+            let len = std::fs::metadata(&part).expect("part").len();
+            assert!(len > 10_000, "{}: {len} bytes", part.display());
+        }
+        assert!(!half
+            .join(format!("checkpoint_rank_{written}.cbor"))
+            .exists());
+        let index = half.join("checkpoint.cbor");
+        assert!(std::fs::metadata(&index).expect("index").len() < 10_000);
+        let cp = index.to_string_lossy().to_string();
+        for ranks in [written, other] {
+            let name = format!("w{written}r{ranks}");
+            let (d, j) = run(ranks, with("4000", &["--restart", &cp]), &name);
+            assert_eq!(j["steps_this_run"], 2000);
+            assert_eq!(
+                state(&d),
+                expected,
+                "written on {written}, restarted on {ranks}"
+            );
+            let got = std::fs::read(d.join("checkpoint.cbor")).expect("checkpoint");
+            assert!(
+                got == expected_cp,
+                "written on {written}, restarted on {ranks}: checkpoint differs"
+            );
+        }
+    }
+    // Without mpirun: the parts merged.
+    let cp = tmp.path().join("half2/checkpoint.cbor");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lattice_drop.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_dembound"))
+        .arg("scene")
+        .arg(&scene)
+        .args(scene_args())
+        .args(with(
+            "4000",
+            &["--restart", &cp.to_string_lossy(), "--json"],
+        ))
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(j["steps"], 4000);
+    // A part damaged (one byte changed): refused, named, nothing written.
+    let part = tmp.path().join("half2/checkpoint_rank_1.cbor");
+    let mut bytes = std::fs::read(&part).expect("part");
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 1;
+    std::fs::write(&part, bytes).expect("written");
+    let out = tmp.path().join("refused");
+    let o = mpirun_scene(2, &[], "lattice_drop.toml")
+        .args(scene_args())
+        .args(with("4000", &["--restart", &cp.to_string_lossy()]))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("checkpoint_rank_1.cbor") && err.contains("SHA-256"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

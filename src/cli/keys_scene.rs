@@ -672,6 +672,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "true, false".into(),
             "MPI snapshots as one piece per rank (.pvtp)",
         ),
+        row(
+            "parallel.checkpoint_per_rank",
+            "",
+            "false",
+            "true, false".into(),
+            "MPI checkpoint as one part per rank",
+        ),
     ];
     // The registry laws' parameters given by key (`contact.stiffness`,
     // `contact.exponent`), before `contact.friction`.

@@ -102,7 +102,11 @@ pub fn run(args: &SceneArgs) -> CliResult {
     };
     let mut sim = match &args.restart {
         Some(path) => {
-            let saved = checkpoint::read(path).map_err(scene_error)?;
+            // Whole, or merged from its parts (`[parallel] checkpoint_per_rank`).
+            let scene = dembound_scene::fingerprint::Fingerprint::of(&setup);
+            let saved = dembound_scene::io::checkpoint_parts::read_whole(path, &scene)
+                .map_err(scene_error)?;
+            drop(scene);
             Simulation::restore(setup, &saved.state, threads)
         }
         None => Simulation::new(setup, threads),

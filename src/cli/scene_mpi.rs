@@ -6,6 +6,9 @@
 //! `--out` writes `checkpoint.cbor` (gathered at rank 0, bodies in input
 //! order, the one-process engine's format); `--restart` reads it on every
 //! rank and continues on any number of ranks (or without mpirun).
+//! `[parallel] checkpoint_per_rank`: every rank writes its own part of the
+//! checkpoint and rank 0 the index (`io::checkpoint_parts`); `--restart`
+//! of the index reads each part at one rank, on any number of ranks.
 //! `[parallel] vtk_per_rank`: the sphere snapshots written by every rank,
 //! its own piece, with a `.pvtp` index ([`super::scene_mpi_pieces`]).
 //!
@@ -23,6 +26,7 @@ use dembound_scene::comm::distributed::{GatheredState, PEER_REFUSED};
 use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
+use dembound_scene::io::checkpoint_parts;
 use dembound_scene::io::resolve::{resolve, resolve_parts, PartGroup, ResolvedScene};
 use dembound_scene::io::{config, labels, series, vtk, vtk_walls};
 use dembound_scene::{Checkpoint, Collision, Observation};
@@ -108,12 +112,38 @@ fn prepare(args: &SceneArgs, rank: usize, ranks: usize) -> Result<Prepared, CliE
         _ => None,
     };
     // Every rank reads the checkpoint (as it reads the scene file) and
-    // keeps its own bodies of it.
+    // keeps its own bodies of it; of a checkpoint in parts, the index and
+    // its share of the parts.
     let restart = match &args.restart {
-        Some(path) => Some(checkpoint::read(path).map_err(scene_error)?.state),
+        Some(path) => Some(read_restart(path, rank, ranks).map_err(scene_error)?),
         None => None,
     };
     Ok((resolved, threads, out, restart, groups))
+}
+
+/// What `--restart` continues: a whole checkpoint, or the shared figures
+/// of one in parts and the parts this rank read.
+enum Restart {
+    Whole(Checkpoint),
+    Parts(Checkpoint, Vec<Checkpoint>),
+}
+
+/// Reads `--restart`'s checkpoint at rank `rank` of `ranks`.
+fn read_restart(
+    path: &Path,
+    rank: usize,
+    ranks: usize,
+) -> Result<Restart, dembound_scene::SceneError> {
+    let file = checkpoint::read_any(path)?;
+    let Some(index) = file.parts else {
+        return Ok(Restart::Whole(file.state));
+    };
+    let mine = checkpoint_parts::parts_for_rank(rank, ranks, index.parts.len());
+    let parts = index.parts[mine]
+        .iter()
+        .map(|e| checkpoint_parts::read_part(path, e))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Restart::Parts(file.state, parts))
 }
 
 /// The scene, the threads per rank, the output directory (rank 0), the
@@ -122,7 +152,7 @@ type Prepared = (
     ResolvedScene,
     usize,
     Option<AtomicDir>,
-    Option<Checkpoint>,
+    Option<Restart>,
     Option<Vec<PartGroup>>,
 );
 
@@ -200,13 +230,18 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         _ => Ok(None),
     };
     let parted = agree(t, parted.map_err(scene_error))?;
-    let built = match (parted, &restart) {
+    let built = match (parted, restart) {
         (Some((sim, warnings)), _) => {
             // The overlap warnings one process prints with the scene's.
             super::warnings::print(&warnings);
             Ok(sim)
         }
-        (None, Some(c)) => DistributedSimulation::restore(&resolved.setup, c, threads, grid, t),
+        (None, Some(Restart::Whole(c))) => {
+            DistributedSimulation::restore(&resolved.setup, &c, threads, grid, t)
+        }
+        (None, Some(Restart::Parts(index, parts))) => {
+            DistributedSimulation::restore_parts(&resolved.setup, &index, parts, threads, grid, t)
+        }
         (None, None) => {
             if groups.is_some() {
                 // Not covered by the part-wise input: every rank reads all.
@@ -249,10 +284,13 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let mut snapshots: Vec<(f64, String, usize)> = Vec::new();
     let mut snapshot_count = 0;
     let mesh_walls = sim.mesh_walls();
-    // `[parallel] vtk_per_rank`: where every rank writes its pieces
-    // (collective: every rank reads the same scene and arguments).
-    let pieces = (args.out.is_some() && resolved.file.parallel.vtk_per_rank)
+    // `[parallel] vtk_per_rank`, `checkpoint_per_rank`: where every rank
+    // writes its pieces (collective: every rank reads the same scene and
+    // arguments).
+    let parallel = &resolved.file.parallel;
+    let staging = (args.out.is_some() && (parallel.vtk_per_rank || parallel.checkpoint_per_rank))
         .then(|| scene_mpi_pieces::share_staging(t, out.as_ref()));
+    let pieces = staging.clone().filter(|_| parallel.vtk_per_rank);
     let bar = if rank == 0 {
         progress_bar(span, args.quiet)
     } else {
@@ -353,14 +391,21 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     } else {
         None
     };
-    // The checkpoint, gathered at rank 0 in input order (collective).
-    let saved = if args.out.is_some() {
-        match sim.checkpoint() {
-            Ok(c) => c,
-            Err(e) => write_failed(e.into()),
+    // The checkpoint, gathered at rank 0 in input order, or with
+    // `checkpoint_per_rank` each rank's part in its own file and the index
+    // at rank 0 (collective).
+    let saved = match (&staging, args.out.is_some()) {
+        (_, false) => None,
+        (Some(dir), true) if resolved.file.parallel.checkpoint_per_rank => {
+            match scene_mpi_pieces::write_checkpoint_part(dir, &sim, &resolved.file) {
+                Ok(index) => index,
+                Err(e) => write_failed(e),
+            }
         }
-    } else {
-        None
+        _ => match sim.checkpoint() {
+            Ok(c) => c.map(|c| CheckpointFile::new(resolved.file.clone(), c)),
+            Err(e) => write_failed(e.into()),
+        },
     };
     // Collective: every rank's peak (−1 where unknown).
     let peaks = t.all_gather(peak_memory().map_or(-1.0, |b| b as f64));
@@ -559,7 +604,7 @@ fn finish_outputs(
     rows: &[Observation],
     snapshots: &[(f64, String, usize)],
     state: Option<&GatheredState>,
-    saved: Option<Checkpoint>,
+    saved: Option<CheckpointFile>,
     // The collision log, and whether it has a triangle column (a scene
     // with a mesh wall).
     log: Option<(&[Collision], bool)>,
@@ -594,10 +639,9 @@ fn finish_outputs(
         )?;
         Ok(w.write_all(toml.as_bytes())?)
     })?;
-    // The engine's checkpoint format: `--restart` continues it on any
-    // number of ranks, or without mpirun.
-    if let Some(c) = saved {
-        let file = CheckpointFile::new(resolved.file.clone(), c);
+    // The engine's checkpoint format (or the index of its parts):
+    // `--restart` continues it on any number of ranks, or without mpirun.
+    if let Some(file) = saved {
         out.write("checkpoint.cbor", |w| {
             checkpoint::write(w, &file).map_err(|e| anyhow!(e))
         })?;

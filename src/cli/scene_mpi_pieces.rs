@@ -7,6 +7,10 @@
 //! nothing), whose path rank 0 sends to the others: the ranks must share
 //! a file system, as for LAMMPS's per-processor dump files. The end state
 //! too: each rank's `state_rank_R.csv` instead of a gathered `state.csv`.
+//!
+//! `[parallel] checkpoint_per_rank`: each rank writes its part of the
+//! checkpoint, `checkpoint_rank_R.cbor`, into the same staging directory,
+//! and rank 0 the index `checkpoint.cbor` (`io::checkpoint_parts`).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -16,6 +20,9 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use dembound_scene::comm::mpi::MpiTransport;
 use dembound_scene::comm::{DistributedSimulation, Transport};
+use dembound_scene::io::checkpoint::{self, CheckpointFile};
+use dembound_scene::io::checkpoint_parts::{self, PartEntry};
+use dembound_scene::io::config::SceneFile;
 use dembound_scene::io::vtk;
 
 use crate::output::files::AtomicDir;
@@ -95,6 +102,46 @@ pub(super) fn write_state<T: Transport>(
             .map(|(k, &id)| (id as usize, k, rank as u32));
         super::scene_mpi::write_state(w, &s, rows)
     })
+}
+
+/// Writes this rank's part of the checkpoint into `dir` (every rank) and
+/// returns at rank 0 the index's file: the run's shared figures and each
+/// part's body count and SHA-256, gathered (32 + 8 bytes a rank).
+/// Collective.
+pub(super) fn write_checkpoint_part<T: Transport>(
+    dir: &Path,
+    sim: &DistributedSimulation<T>,
+    scene: &SceneFile,
+) -> anyhow::Result<Option<CheckpointFile>> {
+    let part = sim.checkpoint_part();
+    let bodies = part.order.len() as u64;
+    let shared = (sim.rank() == 0).then(|| checkpoint_parts::shared_figures(&part));
+    let file = CheckpointFile::new(scene.clone(), part);
+    let mut digest = [0u8; 32];
+    write_file(&dir.join(checkpoint_parts::part_name(sim.rank())), |w| {
+        digest = checkpoint::write_hashed(w, &file).map_err(|e| anyhow::anyhow!(e))?;
+        Ok(())
+    })?;
+    drop(file);
+    let mut mine = bodies.to_le_bytes().to_vec();
+    mine.extend_from_slice(&digest);
+    // Every rank's part is on disk before rank 0 writes the index.
+    let Some(all) = sim.transport().gather(mine) else {
+        return Ok(None);
+    };
+    let parts = all
+        .iter()
+        .enumerate()
+        .map(|(rank, b)| {
+            let (count, sha) = b.split_at(8.min(b.len()));
+            PartEntry {
+                file: checkpoint_parts::part_name(rank),
+                bodies: u64::from_le_bytes(count.try_into().unwrap_or([0; 8])),
+                sha256: checkpoint_parts::hex(sha),
+            }
+        })
+        .collect();
+    Ok(shared.map(|s| checkpoint_parts::index_file(scene.clone(), s, parts)))
 }
 
 /// Writes `path` (in the staging directory, which must exist: it is never

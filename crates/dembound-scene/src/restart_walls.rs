@@ -81,6 +81,17 @@ fn surface_indices(walls: &[WallPrint]) -> Vec<Option<u32>> {
 /// Matches the walls of checkpoint `c` (its fingerprint) with those of the
 /// scene (`scene`: its fingerprint), module doc.
 pub(crate) fn match_walls(c: &Checkpoint, scene: &Fingerprint) -> Result<WallChange, SceneError> {
+    match_walls_counted(c, scene, &|s| spheres_touching(c, s))
+}
+
+/// [`match_walls`] with the spheres having a record on each of the
+/// checkpoint's surfaces given by `touching` (a checkpoint in parts counts
+/// them over its parts, `comm::distributed::checkpoint_parts`).
+pub(crate) fn match_walls_counted(
+    c: &Checkpoint,
+    scene: &Fingerprint,
+    touching: &dyn Fn(u32) -> usize,
+) -> Result<WallChange, SceneError> {
     let (old, new) = (c.fingerprint.walls(), scene.walls());
     let mut taken = vec![false; new.len()];
     let map: Vec<Option<usize>> = old
@@ -137,7 +148,7 @@ pub(crate) fn match_walls(c: &Checkpoint, scene: &Fingerprint) -> Result<WallCha
         if map[k].is_some() {
             continue;
         }
-        let spheres = old_s[k].map_or(0, |s| spheres_touching(c, s));
+        let spheres = old_s[k].map_or(0, touching);
         change.notes.push(format!(
             "restart: the checkpoint's wall[{k}] ({}) is not in the scene: dropped, with the \
              contact state (histories, springs, collision tracks) of {spheres} spheres on it; \
@@ -163,7 +174,7 @@ pub(crate) fn match_walls(c: &Checkpoint, scene: &Fingerprint) -> Result<WallCha
 
 /// The spheres with a record (history, springs, track) on surface `s` of
 /// checkpoint `c`.
-fn spheres_touching(c: &Checkpoint, s: u32) -> usize {
+pub(crate) fn spheres_touching(c: &Checkpoint, s: u32) -> usize {
     let mut ids = BTreeSet::new();
     ids.extend(c.plane_histories.iter().filter(|r| r.1 == s).map(|r| r.0));
     ids.extend(c.plane_shear.iter().filter(|r| r.1 == s).map(|r| r.0));
@@ -175,6 +186,14 @@ fn spheres_touching(c: &Checkpoint, s: u32) -> usize {
             .map(|r| r.id),
     );
     ids.len()
+}
+
+/// The checkpoint's surfaces (its walls less the boundary-particle ones).
+pub(crate) fn surface_count(c: &Checkpoint) -> usize {
+    surface_indices(&c.fingerprint.walls())
+        .iter()
+        .flatten()
+        .count()
 }
 
 /// Checkpoint `c` with its wall records on the scene's surfaces

@@ -70,6 +70,8 @@ use crate::{Observation, SceneError};
 // the pair sums (child modules: they reach this rank's private state).
 pub mod balance;
 mod checkpoint;
+mod checkpoint_parts;
+mod checkpoint_records;
 mod inlets;
 pub mod input;
 mod observe;

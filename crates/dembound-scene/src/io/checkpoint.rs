@@ -45,6 +45,10 @@ pub struct CheckpointFile {
     /// scene file it is given).
     pub scene: SceneFile,
     pub state: Checkpoint,
+    /// A checkpoint written in parts (format [`super::checkpoint_parts::FORMAT_PARTS`]):
+    /// its parts, `state` holding the run's shared figures and no bodies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parts: Option<super::checkpoint_parts::PartsIndex>,
 }
 
 impl CheckpointFile {
@@ -54,12 +58,29 @@ impl CheckpointFile {
             version: VERSION,
             scene,
             state,
+            parts: None,
         }
     }
 }
 
 /// Writes `file`: header, CBOR payload, length and checksum.
 pub fn write(w: &mut dyn Write, file: &CheckpointFile) -> Result<(), String> {
+    write_plain(w, file)
+}
+
+/// [`write`], returning the SHA-256 of every byte written (the whole
+/// file's).
+pub fn write_hashed(w: &mut dyn Write, file: &CheckpointFile) -> Result<[u8; 32], String> {
+    let mut whole = Hashing {
+        inner: w,
+        hash: Sha256::new(),
+        length: 0,
+    };
+    write_plain(&mut whole, file)?;
+    Ok(whole.hash.finalize().into())
+}
+
+fn write_plain(w: &mut dyn Write, file: &CheckpointFile) -> Result<(), String> {
     let fail = |e: std::io::Error| e.to_string();
     w.write_all(MAGIC).map_err(fail)?;
     w.write_all(&VERSION.to_le_bytes()).map_err(fail)?;
@@ -160,7 +181,11 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
     let file: CheckpointFile = ciborium::from_reader(payload).map_err(|e| {
         SceneError::input(format!("`{name}` is not a dembound scene checkpoint: {e}"))
     })?;
-    if file.format != FORMAT || file.version != VERSION {
+    let parts = super::checkpoint_parts::FORMAT_PARTS;
+    if (file.format != FORMAT && file.format != parts)
+        || file.version != VERSION
+        || (file.format == parts) != file.parts.is_some()
+    {
         return refuse(format!(
             "format \"{}\" version {}, expected \"{FORMAT}\" version {VERSION}",
             file.format, file.version
@@ -169,8 +194,24 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
     Ok(file)
 }
 
-/// Reads the checkpoint file `path` (a regular file).
+/// Reads the checkpoint file `path` (a regular file), a whole checkpoint
+/// (an index of one written in parts is refused by name: read it with
+/// [`super::checkpoint_parts::read_whole`]).
 pub fn read(path: &Path) -> Result<CheckpointFile, SceneError> {
+    let file = read_any(path)?;
+    if file.parts.is_some() {
+        return Err(SceneError::input(format!(
+            "`{}` is the index of a checkpoint written in parts (`[parallel] \
+             checkpoint_per_rank = true`): continue it with `dembound scene --restart`",
+            path.display()
+        )));
+    }
+    Ok(file)
+}
+
+/// Reads the checkpoint file `path` (a regular file): a whole checkpoint
+/// or the index of one written in parts.
+pub fn read_any(path: &Path) -> Result<CheckpointFile, SceneError> {
     // A missing or unreadable checkpoint is the user's input (exit 2).
     let meta = std::fs::metadata(path).map_err(|e| {
         SceneError::input(format!(

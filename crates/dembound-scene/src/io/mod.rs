@@ -1,8 +1,9 @@
 //! Files: the scene file ([`config`]), VTK snapshots ([`vtk`]; the mesh
 //! walls' loads [`vtk_walls`]), the time series ([`series`]) and
-//! checkpoints ([`checkpoint`]).
+//! checkpoints ([`checkpoint`]; written per rank: [`checkpoint_parts`]).
 
 pub mod checkpoint;
+pub mod checkpoint_parts;
 pub mod config;
 pub mod labels;
 pub mod memory;

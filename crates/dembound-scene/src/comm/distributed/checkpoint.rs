@@ -28,21 +28,18 @@
 //! (or 1) end in the same bits as 2k steps in one go
 //! (tests/decomposition_checkpoint.rs).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 
 use dembound_physics::contact::ContactHistory;
 
 use super::DistributedSimulation;
-use crate::comm::pack::{self, Reader, Writer};
 use crate::comm::Transport;
 use crate::dynamics::collisions::Track;
-use crate::dynamics::contacts::{self, extended};
-use crate::dynamics::friction::{self, WallShear};
+use crate::dynamics::contacts::extended;
+use crate::dynamics::friction;
 use crate::fingerprint::Fingerprint;
 use crate::setup::{SceneSetup, Scheme};
-use crate::simulation::ElementRecord;
-use crate::simulation::{Checkpoint, HistoryRecord};
-use crate::walls::near::NearEntry;
+use crate::simulation::Checkpoint;
 use crate::SceneError;
 
 /// Checks a checkpoint against the scene before anything is exchanged
@@ -59,6 +56,19 @@ fn check(
         .ok()
         .and_then(|r| all.checked_sub(r))
         .unwrap_or(usize::MAX);
+    check_bodies(c, n, all, gear5, friction)
+}
+
+/// [`check`] for `n` bodies of the scene's `all` (a part of a checkpoint
+/// written per rank holds some of them: [`super::checkpoint_parts`]).
+pub(super) fn check_bodies(
+    c: &Checkpoint,
+    n: usize,
+    all: usize,
+    gear5: bool,
+    friction: bool,
+) -> Result<Vec<usize>, SceneError> {
+    let removed = c.removed.map_or(0, |r| r.particles);
     let lens = [
         c.order.len(),
         c.position.len(),
@@ -123,340 +133,72 @@ impl<T: Transport> DistributedSimulation<T> {
     /// The whole state at rank 0 in the engine's checkpoint format, bodies
     /// in input order (`Ok(None)` on the other ranks). Collective.
     pub fn checkpoint(&self) -> Result<Option<Checkpoint>, SceneError> {
-        let w = &self.sim.world;
-        let b = &w.bodies;
-        let wc = &w.wall_contacts;
-        let elements = w.surfaces.iter().any(|s| s.wall().elements() > 1);
-        // Body k's element-0 entries (wall, state) and its other ones.
-        let entries = |k: usize| -> Vec<NearEntry> {
-            if k < wc.bodies() {
-                wc.entries(k)
-            } else {
-                Vec::new()
-            }
-        };
-        let (spin, gear5) = (w.friction.is_some(), w.scheme == Scheme::Gear5);
-        let reference = &self.sim.pipeline.reference;
-        let mut out = Writer::default();
-        let owned: Vec<usize> = (0..b.len()).filter(|&k| !self.comm.halo[k]).collect();
-        out.u32(owned.len() as u32);
-        for &k in &owned {
-            out.u32(b.id[k]);
-            out.vec3(b.position[k]);
-            out.vec3(b.velocity[k]);
-            out.vec3(b.force[k]);
-            out.vec3(reference.get(k).copied().unwrap_or(b.position[k]));
-            if gear5 {
-                pack::write_higher(&mut out, &b.higher, k);
-                if spin {
-                    pack::write_angular_higher(&mut out, &b.angular_higher, k);
-                }
-            }
-            if spin {
-                out.vec3(b.angular_velocity[k]);
-                out.vec3(b.torque.get(k).copied().unwrap_or_default());
-                let moved: Vec<(u32, WallShear)> = entries(k)
-                    .into_iter()
-                    .filter(|e| e.key.element == 0 && e.shear != WallShear::default())
-                    .map(|e| (e.key.wall, e.shear))
-                    .collect();
-                out.u32(moved.len() as u32);
-                for (p, s) in &moved {
-                    out.u32(*p);
-                    pack::write_wall_shear(&mut out, std::slice::from_ref(s), 1, 0);
-                }
-            }
-            if w.tracks.is_some() {
-                let planes: Vec<(u32, Track)> = entries(k)
-                    .into_iter()
-                    .filter(|e| e.key.element == 0 && e.track.is_known())
-                    .map(|e| (e.key.wall, e.track))
-                    .collect();
-                out.blob(&pack::encode(&planes));
-            }
-            let touching: Vec<(u32, ContactHistory)> = entries(k)
-                .into_iter()
-                .filter(|e| e.key.element == 0 && e.history != ContactHistory::default())
-                .map(|e| (e.key.wall, e.history))
-                .collect();
-            out.u32(touching.len() as u32);
-            for (p, h) in &touching {
-                out.u32(*p);
-                out.history(h);
-            }
-            // Elements other than 0 (a cylinder's caps), when a wall has
-            // them.
-            if !elements {
-                continue;
-            }
-            let others: Vec<ElementRecord> = entries(k)
-                .into_iter()
-                .filter(|e| {
-                    e.key.element != 0
-                        && (e.history != ContactHistory::default()
-                            || e.shear != WallShear::default()
-                            || e.track.is_known())
-                })
-                .map(|e| ElementRecord {
-                    id: b.id[k],
-                    key: e.key,
-                    history: HistoryRecord::from(e.history),
-                    shear: e.shear,
-                    track: e.track,
-                })
-                .collect();
-            out.blob(&pack::encode(&others));
-        }
-        // Every listed pair has an owned body: a pair across a cut comes
-        // from both its ranks, the same bits.
-        let pairs = contacts::active_histories(b, &w.ghosts, &w.list, &w.histories);
-        out.u32(pairs.len() as u32);
-        for (a, c, h) in &pairs {
-            out.u32(*a);
-            out.u32(*c);
-            out.history(h);
-        }
-        if let Some(t) = w.tracks.as_ref() {
-            let m: Vec<((u32, u32), Track)> = crate::pipeline::saved_tracks_public(w, t)
-                .into_iter()
-                .collect();
-            out.blob(&pack::encode(&m));
-        }
-        if spin {
-            let springs = friction::active_shear(b, &w.ghosts, &w.list, &w.shear);
-            out.u32(springs.len() as u32);
-            for (a, c, sp) in &springs {
-                out.u32(*a);
-                out.u32(*c);
-                for x in sp {
-                    out.f64(*x);
-                }
-            }
-        }
-        // The collision log so far, merged (collective, on every rank).
-        let log = if w.tracks.is_some() {
-            self.collisions()
-        } else {
-            None
-        };
-        // The moving walls' work and power: each rank's share, summed
-        // (collective, on every rank).
-        let moving = w.moving.as_ref().map(|m| {
-            let s = self.comm.transport.sum(&[m.work, m.power, m.group_power]);
-            crate::pipeline::moving_walls::MovingWallsRecord {
-                built_step: m.built_step,
-                work: s[0],
-                power: s[1],
-                // The same on every rank (`servo_walls`).
-                servos: m.servos.iter().map(|d| d.record()).collect(),
-                // The moving groups' power: each rank's share, summed.
-                group_power: (!m.groups.is_empty()).then_some(s[2]),
-            }
-        });
-        // The gate energy: each rank's share, summed (collective).
-        let gate_energy = w
-            .gates
-            .as_ref()
-            .map(|g| self.comm.transport.sum(&[g.energy])[0]);
+        let out = self.checkpoint_records();
+        let mut c = self.checkpoint_globals();
         // A run whose ranks made their own parts of the spheres holds no
         // list of them: the fingerprint's is gathered (collective).
-        let n_all = self.comm.fixed_by_id.len();
-        let gathered = (self.sim.fingerprint.radius.len() != n_all)
+        let n = self.comm.fixed_by_id.len();
+        let gathered = (self.sim.fingerprint.radius.len() != n)
             .then(|| self.gather_state())
             .flatten();
         let Some(parts) = self.comm.transport.gather(out.0) else {
             return Ok(None);
         };
-        let n = self.comm.fixed_by_id.len();
-        let mut c = Checkpoint {
-            steps_done: w.steps_done,
-            dt: w.dt,
-            order: (0..n as u32).collect(),
-            position: vec![[0.0; 3]; n],
-            velocity: vec![[0.0; 3]; n],
-            force: vec![[0.0; 3]; n],
-            higher: if gear5 {
-                vec![[[0.0; 3]; 4]; n]
-            } else {
-                Vec::new()
-            },
-            reference: vec![[0.0; 3]; n],
-            pair_histories: Vec::new(),
-            plane_histories: Vec::new(),
-            pair_tracks: Vec::new(),
-            plane_tracks: Vec::new(),
-            collisions: Vec::new(),
-            initial_energy: self.sim.initial_energy,
-            fingerprint: match gathered {
-                Some(g) => {
-                    let mut f = self.sim.fingerprint.clone();
-                    f.radius = g.radius;
-                    f.material = g.material;
-                    f.fixed = g.fixed;
-                    f
-                }
-                None => self.sim.fingerprint.clone(),
-            },
-            list_builds: w.rebuilds,
-            angular_velocity: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
-            torque: if spin { vec![[0.0; 3]; n] } else { Vec::new() },
-            pair_shear: Vec::new(),
-            plane_shear: Vec::new(),
-            element_records: Vec::new(),
-            moving_walls: moving,
-            removed: w.removal.as_ref().map(|r| r.removed),
-            outlets: w
-                .removal
-                .as_ref()
-                .map_or_else(Vec::new, |r| r.by_outlet.clone()),
-            gate_energy,
-            inlets: crate::inlets::record(w),
-            angular_higher: if gear5 && spin {
-                vec![[[0.0; 3]; 4]; n]
-            } else {
-                Vec::new()
-            },
+        c.fingerprint = match gathered {
+            Some(g) => {
+                let mut f = self.sim.fingerprint.clone();
+                f.radius = g.radius;
+                f.material = g.material;
+                f.fixed = g.fixed;
+                f
+            }
+            None => self.sim.fingerprint.clone(),
         };
-        let mut plane_shear = BTreeMap::new();
-        let mut springs = BTreeMap::new();
-        let tracked = w.tracks.is_some();
-        let mut plane_tracks = BTreeMap::new();
-        let mut pair_tracks = BTreeMap::new();
-        let mut seen = vec![false; n];
-        let mut planes = BTreeMap::new();
-        let mut histories = BTreeMap::new();
-        let mut elements = BTreeMap::new();
-        let multi = w.surfaces.iter().any(|s| s.wall().elements() > 1);
-        for bytes in &parts {
-            let mut r = Reader::new(bytes);
-            for _ in 0..r.u32() {
-                let id = r.u32() as usize;
-                let (x, v, f, x0) = (r.vec3(), r.vec3(), r.vec3(), r.vec3());
-                if gear5 {
-                    let mut h = Vec::with_capacity(1);
-                    pack::read_higher(&mut r, &mut h);
-                    if let (Some(slot), Some(h)) = (c.higher.get_mut(id), h.first()) {
-                        *slot = *h;
-                    }
-                    if spin {
-                        let mut h = Vec::with_capacity(1);
-                        pack::read_angular_higher(&mut r, &mut h);
-                        if let (Some(slot), Some(h)) = (c.angular_higher.get_mut(id), h.first()) {
-                            *slot = *h;
-                        }
-                    }
-                }
-                if tracked {
-                    let planes: Vec<(u32, Track)> = pack::decode(r.blob()).unwrap_or_default();
-                    for (p, tr) in planes {
-                        plane_tracks.insert((id as u32, p), tr);
-                    }
-                }
-                if spin {
-                    let (wv, t) = (r.vec3(), r.vec3());
-                    if let (Some(a), Some(b)) =
-                        (c.angular_velocity.get_mut(id), c.torque.get_mut(id))
-                    {
-                        (*a, *b) = (wv, t);
-                    }
-                    for _ in 0..r.u32() {
-                        let p = r.u32();
-                        let mut s = Vec::with_capacity(1);
-                        pack::read_wall_shear(&mut r, &mut s, 1);
-                        if let Some(s) = s.first() {
-                            plane_shear.insert((id as u32, p), *s);
-                        }
-                    }
-                }
-                for _ in 0..r.u32() {
-                    let (p, h) = (r.u32(), r.history());
-                    planes.insert((id as u32, p), h);
-                }
-                if multi {
-                    let others: Vec<ElementRecord> = pack::decode(r.blob()).unwrap_or_default();
-                    for e in others {
-                        elements.insert((e.id, e.key), e);
-                    }
-                }
-                if let Some(s) = seen.get_mut(id) {
-                    *s = true;
-                    c.position[id] = x;
-                    c.velocity[id] = v;
-                    c.force[id] = f;
-                    c.reference[id] = x0;
-                }
-            }
-            for _ in 0..r.u32() {
-                let (a, b, h) = (r.u32(), r.u32(), r.history());
-                histories.insert((a, b), h);
-            }
-            if tracked {
-                let m: Vec<((u32, u32), Track)> = pack::decode(r.blob()).unwrap_or_default();
-                pair_tracks.extend(m);
-            }
-            if spin {
-                for _ in 0..r.u32() {
-                    let (a, b) = (r.u32(), r.u32());
-                    let mut sp = [0.0; 6];
-                    for x in &mut sp {
-                        *x = r.f64();
-                    }
-                    springs.insert((a, b), sp);
-                }
-            }
-        }
-        c.pair_shear = springs.into_iter().map(|((a, b), s)| (a, b, s)).collect();
-        c.pair_tracks = pair_tracks
-            .into_iter()
-            .map(|((a, b), t)| (a, b, t))
-            .collect();
-        c.plane_tracks = plane_tracks
-            .into_iter()
-            .map(|((id, p), t)| (id, p, t))
-            .collect();
-        c.collisions = log.unwrap_or_default();
-        c.plane_shear = plane_shear
-            .into_iter()
-            .map(|((id, p), s)| (id, p, s))
-            .collect();
+        self.assemble(&mut c, &parts);
         // The removed spheres are owned by no rank (`crate::removal`): the
         // checkpoint lists the others.
         let removed = c.removed.map_or(0, |r| r.particles as usize);
-        if seen.iter().filter(|s| !**s).count() != removed {
+        if c.order.len() + removed != n {
+            let mut seen = vec![false; n];
+            for &id in &c.order {
+                if let Some(s) = seen.get_mut(id as usize) {
+                    *s = true;
+                }
+            }
             if let Some(id) = seen.iter().position(|s| !s) {
                 return Err(SceneError::input(format!(
                     "checkpoint: body {id} is owned by no rank (a bug)"
                 )));
             }
         }
-        if removed > 0 {
-            let here = |id: &usize| seen[*id];
-            let ids: Vec<usize> = (0..n).filter(here).collect();
-            fn keep<T: Copy>(v: &mut Vec<T>, ids: &[usize]) {
-                if !v.is_empty() {
-                    *v = ids.iter().map(|&id| v[id]).collect();
-                }
-            }
-            c.order = ids.iter().map(|&id| id as u32).collect();
-            keep(&mut c.position, &ids);
-            keep(&mut c.velocity, &ids);
-            keep(&mut c.force, &ids);
-            keep(&mut c.higher, &ids);
-            keep(&mut c.reference, &ids);
-            keep(&mut c.angular_velocity, &ids);
-            keep(&mut c.torque, &ids);
-            keep(&mut c.angular_higher, &ids);
-        }
-        c.element_records = elements.into_values().collect();
-        c.plane_histories = planes
-            .into_iter()
-            .map(|((id, p), h)| (id, p, HistoryRecord::from(h)))
-            .collect();
-        c.pair_histories = histories
-            .into_iter()
-            .map(|((a, b), h)| (a, b, HistoryRecord::from(h)))
-            .collect();
         Ok(Some(c))
+    }
+
+    /// This rank's part of the checkpoint (`[parallel] checkpoint_per_rank`,
+    /// [`super::checkpoint_parts`]): the bodies it owns in input order, its
+    /// listed pairs' histories and springs (a pair across a cut is in both
+    /// ranks' parts, the same bits), and the run's shared figures (the
+    /// collision log merged at rank 0 only). The fingerprint's per-body
+    /// lists are those of the bodies here. Collective (the log, the
+    /// moving walls' and gates' sums); no body crosses ranks.
+    pub fn checkpoint_part(&self) -> Checkpoint {
+        let out = self.checkpoint_records();
+        let mut c = self.checkpoint_globals();
+        self.assemble(&mut c, &[out.0]);
+        if self.comm.transport.rank() != 0 {
+            c.collisions.clear();
+        }
+        // The owned bodies' radii, materials and fixedness, in id order.
+        let b = &self.sim.world.bodies;
+        let mut own: Vec<usize> = (0..b.len()).filter(|&k| !self.comm.halo[k]).collect();
+        own.sort_unstable_by_key(|&k| b.id[k]);
+        c.fingerprint = crate::fingerprint::Fingerprint {
+            settings: self.sim.fingerprint.settings.clone(),
+            radius: own.iter().map(|&k| b.radius[k]).collect(),
+            material: own.iter().map(|&k| b.material[k]).collect(),
+            fixed: own.iter().map(|&k| b.fixed[k]).collect(),
+        };
+        c
     }
 
     /// Continues checkpoint `c` (written on any number of ranks, or by the
@@ -485,12 +227,37 @@ impl<T: Transport> DistributedSimulation<T> {
         };
         let slot = check(c, n, gear5, setup.friction.is_some())?;
         let mut me = Self::new(setup, threads, grid, transport)?;
-        if c.dt.to_bits() != me.sim.world.dt.to_bits() {
+        me.check_dt(c)?;
+        me.restore_bodies(c, &slot)?;
+        me.restore_after_rebuild(c, &slot, &change);
+        Ok(me)
+    }
+
+    /// Refuses a checkpoint whose Δt is not the scene's (the same answer
+    /// on every rank: every rank has the same figures).
+    pub(super) fn check_dt(&self, c: &Checkpoint) -> Result<(), SceneError> {
+        if c.dt.to_bits() != self.sim.world.dt.to_bits() {
             return Err(SceneError::Checkpoint(format!(
                 "its Δt is {} s, the scene's {} s",
-                c.dt, me.sim.world.dt
+                c.dt, self.sim.world.dt
             )));
         }
+        Ok(())
+    }
+
+    /// The restart up to the list build: every body held here at its
+    /// position of the last list build with its velocity, force,
+    /// derivatives, spins and wall records from `c` (`slot[id]`: its entry
+    /// in `c`, `usize::MAX`: none), the removed spheres dropped, then the
+    /// bodies to their owners, the halo and the lists as the run had
+    /// them. `c` holds at least every body held here. Collective.
+    pub(super) fn restore_bodies(
+        &mut self,
+        c: &Checkpoint,
+        slot: &[usize],
+    ) -> Result<(), SceneError> {
+        let me = self;
+        let n = slot.len();
         let np = me.sim.world.surfaces.len();
         if let Some(&(id, p, _)) = c
             .plane_histories
@@ -530,9 +297,12 @@ impl<T: Transport> DistributedSimulation<T> {
             let b = &mut w.bodies;
             for k in 0..b.len() {
                 let s = slot[b.id[k] as usize];
-                b.position[k] = c.reference[s];
-                b.velocity[k] = c.velocity[s];
-                b.force[k] = c.force[s];
+                let (Some(x0), Some(v), Some(f)) =
+                    (c.reference.get(s), c.velocity.get(s), c.force.get(s))
+                else {
+                    continue;
+                };
+                (b.position[k], b.velocity[k], b.force[k]) = (*x0, *v, *f);
                 // Derivatives and spins travel with the bodies.
                 if let (Some(h), Some(ch)) = (b.higher.get_mut(k), c.higher.get(s)) {
                     *h = *ch;
@@ -582,6 +352,25 @@ impl<T: Transport> DistributedSimulation<T> {
             me.sim.world.place_walls(m.built_step);
         }
         me.rebuild();
+        Ok(())
+    }
+
+    /// The restart after the list build: the pair histories, tracks and
+    /// springs of `c` by input ids, the checkpointed step's positions,
+    /// velocities, forces and torques of every body held here (halo
+    /// copies too; `slot` as [`Self::restore_bodies`]), the run's books,
+    /// and the walls' loads of the restart step. Collective.
+    pub(super) fn restore_after_rebuild(
+        &mut self,
+        c: &Checkpoint,
+        slot: &[usize],
+        change: &crate::restart_walls::WallChange,
+    ) {
+        let me = self;
+        let moving = c
+            .moving_walls
+            .clone()
+            .filter(|_| me.sim.world.moving.is_some());
         let w = &mut me.sim.world;
         if w.laws.history {
             let pairs: HashMap<(u32, u32), ContactHistory> = c
@@ -640,14 +429,17 @@ impl<T: Transport> DistributedSimulation<T> {
             w.shear =
                 friction::restore_shear(&w.bodies, &w.ghosts, &w.list, &springs, table.rolling());
         }
-        // The checkpointed step itself (halo copies too: every rank has
-        // the whole checkpoint).
+        // The checkpointed step itself (halo copies too: `c` holds every
+        // body held here).
         let b = &mut w.bodies;
         for k in 0..b.len() {
             let s = slot[b.id[k] as usize];
-            b.position[k] = c.position[s];
-            b.velocity[k] = c.velocity[s];
-            b.force[k] = c.force[s];
+            let (Some(x), Some(v), Some(f)) =
+                (c.position.get(s), c.velocity.get(s), c.force.get(s))
+            else {
+                continue;
+            };
+            (b.position[k], b.velocity[k], b.force[k]) = (*x, *v, *f);
             if let (Some(t), Some(ct)) = (b.torque.get_mut(k), c.torque.get(s)) {
                 *t = *ct;
             }
@@ -715,8 +507,8 @@ impl<T: Transport> DistributedSimulation<T> {
         w.shear = saved.3;
         if !change.unchanged() {
             let first = me.comm.transport.rank() == 0;
-            crate::restart_walls::book_added(&mut me.sim.world, &change, c.gate_energy, first);
-            me.sim.restart_notes = change.notes;
+            crate::restart_walls::book_added(&mut me.sim.world, change, c.gate_energy, first);
+            me.sim.restart_notes.clone_from(&change.notes);
         }
         // The walls' loads (not in the checkpoint), as the note above.
         me.sim
@@ -727,6 +519,5 @@ impl<T: Transport> DistributedSimulation<T> {
         me.comm.migrated = 0;
         me.steps_run = 0;
         me.stepping = 0.0;
-        Ok(me)
     }
 }

@@ -107,6 +107,13 @@ pub struct ParallelSection {
     /// into `snapshot_NNNNNN.vtp` (default false).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub vtk_per_rank: bool,
+    /// With `--out`: each rank writes the bodies it owns and its pairs'
+    /// histories as its own part of the checkpoint
+    /// (`checkpoint_rank_R.cbor`), indexed by `checkpoint.cbor`, instead
+    /// of rank 0 gathering the whole state (default false;
+    /// `io::checkpoint_parts`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub checkpoint_per_rank: bool,
 }
 
 impl ParallelSection {
