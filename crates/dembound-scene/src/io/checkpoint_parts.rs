@@ -240,51 +240,23 @@ pub fn merge(index: &Checkpoint, parts: Vec<Checkpoint>, scene: &Fingerprint) ->
         let map: std::collections::BTreeMap<K, T> = parts.iter().flat_map(f).collect();
         map.into_iter().collect()
     }
-    c.pair_histories = records(&parts, |p| {
-        p.pair_histories
+    // The pair and plane records: (index, index, value), keyed by the two.
+    fn triples<A: Ord + Copy, B: Ord + Copy, T: Copy>(
+        parts: &[Checkpoint],
+        f: fn(&Checkpoint) -> &Vec<(A, B, T)>,
+    ) -> Vec<(A, B, T)> {
+        let map: std::collections::BTreeMap<(A, B), T> = parts
             .iter()
-            .map(|&(a, b, h)| ((a, b), h))
-            .collect()
-    })
-    .into_iter()
-    .map(|((a, b), h)| (a, b, h))
-    .collect();
-    c.plane_histories = records(&parts, |p| {
-        p.plane_histories
-            .iter()
-            .map(|&(a, b, h)| ((a, b), h))
-            .collect()
-    })
-    .into_iter()
-    .map(|((a, b), h)| (a, b, h))
-    .collect();
-    c.pair_tracks = records(&parts, |p| {
-        p.pair_tracks.iter().map(|&(a, b, t)| ((a, b), t)).collect()
-    })
-    .into_iter()
-    .map(|((a, b), t)| (a, b, t))
-    .collect();
-    c.plane_tracks = records(&parts, |p| {
-        p.plane_tracks
-            .iter()
-            .map(|&(a, b, t)| ((a, b), t))
-            .collect()
-    })
-    .into_iter()
-    .map(|((a, b), t)| (a, b, t))
-    .collect();
-    c.pair_shear = records(&parts, |p| {
-        p.pair_shear.iter().map(|&(a, b, s)| ((a, b), s)).collect()
-    })
-    .into_iter()
-    .map(|((a, b), s)| (a, b, s))
-    .collect();
-    c.plane_shear = records(&parts, |p| {
-        p.plane_shear.iter().map(|&(a, b, s)| ((a, b), s)).collect()
-    })
-    .into_iter()
-    .map(|((a, b), s)| (a, b, s))
-    .collect();
+            .flat_map(|p| f(p).iter().map(|&(a, b, t)| ((a, b), t)))
+            .collect();
+        map.into_iter().map(|((a, b), t)| (a, b, t)).collect()
+    }
+    c.pair_histories = triples(&parts, |p| &p.pair_histories);
+    c.plane_histories = triples(&parts, |p| &p.plane_histories);
+    c.pair_tracks = triples(&parts, |p| &p.pair_tracks);
+    c.plane_tracks = triples(&parts, |p| &p.plane_tracks);
+    c.pair_shear = triples(&parts, |p| &p.pair_shear);
+    c.plane_shear = triples(&parts, |p| &p.plane_shear);
     c.element_records = records(&parts, |p| {
         p.element_records
             .iter()
