@@ -17,7 +17,7 @@
 
 mod common;
 
-use common::dembound;
+use common::{dembound, numbers, quantity};
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -80,23 +80,6 @@ fn deck(dir: &Path, dump: &str) {
         ),
     )
     .expect("written");
-}
-
-fn quantity<'a>(report: &'a Value, name: &str) -> &'a Value {
-    report["quantities"]
-        .as_array()
-        .expect("quantities")
-        .iter()
-        .find(|q| q["name"] == name)
-        .unwrap_or_else(|| panic!("no quantity `{name}`"))
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 #[test]

@@ -8,8 +8,8 @@
 
 mod common;
 
-use common::dembound;
 use common::peer::{export_lammps, lattice_bed, missing, run_lmp, STEEL_PLANE_FLOOR};
+use common::{dembound, numbers};
 use dembound_export::agreement::{divergence, IDENTICAL};
 use serde_json::Value;
 use std::path::Path;
@@ -83,14 +83,6 @@ fn quantity<'a>(report: &'a Value, name: &str) -> &'a Value {
         .iter()
         .find(|q| q["name"].as_str().is_some_and(|n| n.starts_with(name)))
         .unwrap_or_else(|| panic!("no quantity {name}"))
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 /// The frictionless elastic bed of 384 spheres thrown at a steel plane

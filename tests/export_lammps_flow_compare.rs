@@ -28,8 +28,8 @@
 
 mod common;
 
-use common::dembound;
 use common::peer::{export_lammps, missing, run_lmp};
+use common::{dembound, numbers, quantity};
 use serde_json::Value;
 use std::f64::consts::PI;
 
@@ -107,23 +107,6 @@ series_every = 500
         plane("[0.0, -0.01, 0.0]", "[0.0, 1.0, 0.0]"),
         plane("[0.0, 0.01, 0.0]", "[0.0, -1.0, 0.0]"),
     )
-}
-
-fn quantity<'a>(report: &'a Value, name: &str) -> &'a Value {
-    report["quantities"]
-        .as_array()
-        .expect("quantities")
-        .iter()
-        .find(|q| q["name"] == name)
-        .unwrap_or_else(|| panic!("no quantity `{name}` in the report"))
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 #[test]

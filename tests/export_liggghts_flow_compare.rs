@@ -23,8 +23,8 @@
 
 mod common;
 
-use common::dembound;
 use common::peer::{missing, run_liggghts};
+use common::{dembound, numbers, quantity};
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -85,23 +85,6 @@ series_every = 500
 "#,
         hopper.display()
     )
-}
-
-fn quantity<'a>(report: &'a Value, name: &str) -> &'a Value {
-    report["quantities"]
-        .as_array()
-        .expect("quantities")
-        .iter()
-        .find(|q| q["name"] == name)
-        .unwrap_or_else(|| panic!("no quantity `{name}` in the report"))
-}
-
-fn numbers(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("an array")
-        .iter()
-        .map(|x| x.as_f64().expect("a number"))
-        .collect()
 }
 
 #[test]

@@ -162,3 +162,22 @@ gravity = [0.0, 0.0, -9.81]
     std::fs::write(&path, text).unwrap();
     path
 }
+
+/// The quantity named `name` of a `dembound compare --json` report.
+pub fn quantity<'a>(report: &'a Value, name: &str) -> &'a Value {
+    report["quantities"]
+        .as_array()
+        .expect("quantities")
+        .iter()
+        .find(|q| q["name"] == name)
+        .unwrap_or_else(|| panic!("no quantity `{name}` in the report"))
+}
+
+/// A JSON array of numbers.
+pub fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("an array")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
