@@ -435,36 +435,19 @@ impl Rows<'_> {
     /// per body.
     #[inline(always)]
     unsafe fn block<const TALLY: bool>(&self, b: usize) {
-        self.block_with::<TALLY, false>(b);
-    }
-
-    /// [`Self::block`] with each row's pairs tested four at a time for
-    /// contact (AVX2): only the pairs that may touch go through the
-    /// pair-by-pair code, in list order. Without stored histories only
-    /// (a pair apart then does nothing).
-    ///
-    /// # Safety
-    /// As [`Self::block`]; the processor has AVX2, no histories are
-    /// kept, and 3 · bodies < 2³¹.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx,avx2")]
-    unsafe fn block_avx2<const TALLY: bool>(&self, b: usize) {
-        self.block_with::<TALLY, true>(b);
-    }
-
-    /// # Safety
-    /// As [`Self::block`]; with `QUAD`, as [`Self::block_avx2`].
-    #[inline(always)]
-    unsafe fn block_with<const TALLY: bool, const QUAD: bool>(&self, b: usize) {
         let Rows {
+            bodies,
+            laws,
             list,
             position,
             velocity,
             radius,
             start,
+            js,
+            keep,
             f_ptr,
+            h_ptr,
             tally,
-            ..
         } = *self;
         let lo = list.blocks[b] as usize;
         let hi = list.blocks[b + 1] as usize;
@@ -483,26 +466,47 @@ impl Rows<'_> {
             let mut fi = [0.0; 3];
             // `pair_observables`'s sums of row i.
             let mut sums: PairTally = [0.0; 3];
-            #[cfg(target_arch = "x86_64")]
-            if QUAD {
-                let mut k = s;
-                while k < e {
-                    // SAFETY: k..e within row i (the caller's conditions).
-                    let mut near = unsafe { self.near4(xi, ri, k, e) };
-                    while near != 0 {
-                        let lane = near.trailing_zeros() as usize;
-                        near &= near - 1;
-                        // SAFETY: as the pair loop below.
-                        unsafe { self.pair::<TALLY>(i, k + lane, xi, vi, ri, &mut fi, &mut sums) };
-                    }
-                    k += 4;
-                }
-            }
-            if !QUAD {
-                for k in s..e {
-                    // SAFETY: k is an entry of row i, which only this
+            for k in s..e {
+                // SAFETY (the unchecked reads): k < js.len() (rows lie
+                // within j), and every j < n (the list's construction);
+                // lengths asserted above.
+                let j = unsafe { *js.get_unchecked(k) } as usize;
+                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+                // The velocity is read only for touching pairs.
+                let vj = || unsafe { *velocity.get_unchecked(j) };
+                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                    let mut scratch = NO_HISTORY;
+                    // SAFETY: history k belongs to row i, which only this
                     // block visits.
-                    unsafe { self.pair::<TALLY>(i, k, xi, vi, ri, &mut fi, &mut sums) };
+                    let hist = if keep {
+                        unsafe { &mut *h_ptr.0.add(k) }
+                    } else {
+                        &mut scratch
+                    };
+                    let law = laws.pair(bodies, i, j);
+                    let fj = contact_force(&law, &g, hist);
+                    if TALLY {
+                        // As `pair_observables`: the history as the force
+                        // left it (none kept: the default).
+                        if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
+                            sums[1] += 1.0;
+                        } else {
+                            sums[0] += 1.0;
+                        }
+                        let hist = if keep { &*hist } else { &NO_HISTORY };
+                        sums[2] += laws.elastic_energy(&law, g.overlap, hist);
+                    }
+                    sub(&mut fi, fj);
+                    // SAFETY: j lies in this block or the next (the
+                    // blocks' construction); blocks of one parity are two
+                    // apart, so no other running block writes j.
+                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
+                } else if keep {
+                    // SAFETY: as above.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
+                    }
                 }
             }
             // SAFETY: i is in this block.
@@ -511,123 +515,6 @@ impl Rows<'_> {
                 if TALLY {
                     *tally.at(i) = sums;
                 }
-            }
-        }
-    }
-
-    /// The lanes (bits 0–3) of entries k..min(k + 4, e) of a row whose
-    /// pair may touch: not |x_j − x_i|² ≥ (R_i + R_j)², with the same
-    /// operations as [`touching_lazy`] (a NaN distance counts as maybe
-    /// touching), against (R_i + R_j)² grown by 2⁻²⁰ of itself: a superset
-    /// of the pairs [`Self::pair`] finds touching, which decides.
-    ///
-    /// # Safety
-    /// k < e ≤ the list's length; every listed j < bodies, 3 · bodies < 2³¹;
-    /// the processor has AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
-    unsafe fn near4(&self, xi: [f64; 3], ri: f64, k: usize, e: usize) -> u32 {
-        use std::arch::x86_64::*;
-        let left = (e - k).min(4) as i32;
-        // Lanes past the row read nothing (masked loads and gathers) and
-        // are dropped below.
-        let lanes = _mm_cmpgt_epi32(_mm_set1_epi32(left), _mm_setr_epi32(0, 1, 2, 3));
-        let wide = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(lanes));
-        let j = _mm_maskload_epi32(self.js.as_ptr().add(k) as *const i32, lanes);
-        // Body j's x, y, z are f64 number 3j, 3j + 1, 3j + 2 of the
-        // positions.
-        let j3 = _mm_add_epi32(_mm_add_epi32(j, j), j);
-        let p = self.position.as_ptr() as *const f64;
-        let zero = _mm256_setzero_pd();
-        let xj = _mm256_mask_i32gather_pd::<8>(zero, p, j3, wide);
-        let yj = _mm256_mask_i32gather_pd::<8>(zero, p.add(1), j3, wide);
-        let zj = _mm256_mask_i32gather_pd::<8>(zero, p.add(2), j3, wide);
-        let rj = _mm256_mask_i32gather_pd::<8>(zero, self.radius.as_ptr(), j, wide);
-        let d0 = _mm256_sub_pd(xj, _mm256_set1_pd(xi[0]));
-        let d1 = _mm256_sub_pd(yj, _mm256_set1_pd(xi[1]));
-        let d2 = _mm256_sub_pd(zj, _mm256_set1_pd(xi[2]));
-        let r2 = _mm256_add_pd(
-            _mm256_add_pd(_mm256_mul_pd(d0, d0), _mm256_mul_pd(d1, d1)),
-            _mm256_mul_pd(d2, d2),
-        );
-        let sum = _mm256_add_pd(_mm256_set1_pd(ri), rj);
-        let reach = _mm256_mul_pd(
-            _mm256_mul_pd(sum, sum),
-            _mm256_set1_pd(1.0 + 1.0 / 1048576.0),
-        );
-        let near = _mm256_cmp_pd::<_CMP_NGE_UQ>(r2, reach);
-        (_mm256_movemask_pd(near) as u32) & ((1u32 << left) - 1)
-    }
-
-    /// Entry k of row i: the pair's force if it touches (and its
-    /// [`PairTally`] terms with `TALLY`), else its history reset.
-    ///
-    /// # Safety
-    /// As [`Self::block`]; k is an entry of row i, which only this block
-    /// visits.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    unsafe fn pair<const TALLY: bool>(
-        &self,
-        i: usize,
-        k: usize,
-        xi: [f64; 3],
-        vi: [f64; 3],
-        ri: f64,
-        fi: &mut [f64; 3],
-        sums: &mut PairTally,
-    ) {
-        let Rows {
-            bodies,
-            laws,
-            position,
-            velocity,
-            radius,
-            js,
-            keep,
-            f_ptr,
-            h_ptr,
-            ..
-        } = *self;
-        // SAFETY (the unchecked reads): k < js.len() (rows lie
-        // within j), and every j < n (the list's construction);
-        // lengths asserted in `add_pair_forces_then`.
-        let j = unsafe { *js.get_unchecked(k) } as usize;
-        let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
-        // The velocity is read only for touching pairs.
-        let vj = || unsafe { *velocity.get_unchecked(j) };
-        if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
-            let mut scratch = NO_HISTORY;
-            // SAFETY: history k belongs to row i, which only this
-            // block visits.
-            let hist = if keep {
-                unsafe { &mut *h_ptr.0.add(k) }
-            } else {
-                &mut scratch
-            };
-            let law = laws.pair(bodies, i, j);
-            let fj = contact_force(&law, &g, hist);
-            if TALLY {
-                // As `pair_observables`: the history as the force
-                // left it (none kept: the default).
-                if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
-                    sums[1] += 1.0;
-                } else {
-                    sums[0] += 1.0;
-                }
-                let hist = if keep { &*hist } else { &NO_HISTORY };
-                sums[2] += laws.elastic_energy(&law, g.overlap, hist);
-            }
-            sub(fi, fj);
-            // SAFETY: j lies in this block or the next (the
-            // blocks' construction); blocks of one parity are two
-            // apart, so no other running block writes j.
-            unsafe { add(&mut *f_ptr.0.add(j), fj) };
-        } else if keep {
-            // SAFETY: as above.
-            let hist = unsafe { &mut *h_ptr.0.add(k) };
-            if *hist != ContactHistory::default() {
-                *hist = ContactHistory::default();
             }
         }
     }
@@ -656,29 +543,6 @@ pub(crate) unsafe fn add_pair_forces_then(
     follow: Option<FollowUp>,
     tally: Option<SharedMut<PairTally>>,
 ) -> f64 {
-    pair_forces_then(
-        bodies, ghosts, list, histories, laws, f_ptr, workers, follow, tally, true,
-    )
-}
-
-/// [`add_pair_forces_then`]; `quad`: the pairs four at a time where they
-/// can be ([`Rows::block_avx2`]), else pair by pair.
-///
-/// # Safety
-/// As [`add_pair_forces_then`].
-#[allow(clippy::too_many_arguments)]
-unsafe fn pair_forces_then(
-    bodies: &Bodies,
-    ghosts: &Ghosts,
-    list: &PairList,
-    histories: &mut PairHistories,
-    laws: &LawTable,
-    f_ptr: SharedMut<[f64; 3]>,
-    workers: &Workers,
-    follow: Option<FollowUp>,
-    tally: Option<SharedMut<PairTally>>,
-    quad: bool,
-) -> f64 {
     let n = bodies.len();
     let keep = laws.history;
     assert!(list.start.len() == n + 1);
@@ -701,39 +565,6 @@ unsafe fn pair_forces_then(
         h_ptr: SharedMut(histories.main.as_mut_ptr()),
         tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
     };
-    // The pairs four at a time where they can be: no histories (a pair
-    // apart does nothing), AVX2, and 3 · bodies within the gathers' i32
-    // indices.
-    #[cfg(target_arch = "x86_64")]
-    let quad = quad && !keep && 3 * n < i32::MAX as usize && std::is_x86_feature_detected!("avx2");
-    #[cfg(target_arch = "x86_64")]
-    if quad {
-        // SAFETY: as the caller's; one tally per body when asked; the
-        // conditions of `block_avx2` just checked.
-        return finish_extra(
-            if tally.is_some() {
-                run_blocks_then(
-                    workers,
-                    list,
-                    |b| unsafe { rows.block_avx2::<true>(b) },
-                    follow,
-                )
-            } else {
-                run_blocks_then(
-                    workers,
-                    list,
-                    |b| unsafe { rows.block_avx2::<false>(b) },
-                    follow,
-                )
-            },
-            bodies,
-            ghosts,
-            list,
-            histories,
-            laws,
-            f_ptr,
-        );
-    }
     // One loop with the tally and one without, so that the force loop
     // has no per-row test of it.
     let value = if tally.is_some() {
@@ -742,26 +573,6 @@ unsafe fn pair_forces_then(
     } else {
         run_blocks_then(workers, list, |b| unsafe { rows.block::<false>(b) }, follow)
     };
-    finish_extra(value, bodies, ghosts, list, histories, laws, f_ptr)
-}
-
-/// The extra pairs (large bodies, ghosts) after the blocks, serially;
-/// returns `value` (the blocks' follow-ups' maximum).
-///
-/// # Safety
-/// `f_ptr` points to one force per body, which nothing else touches
-/// meanwhile; the blocks are done.
-unsafe fn finish_extra(
-    value: f64,
-    bodies: &Bodies,
-    ghosts: &Ghosts,
-    list: &PairList,
-    histories: &mut PairHistories,
-    laws: &LawTable,
-    f_ptr: SharedMut<[f64; 3]>,
-) -> f64 {
-    let n = bodies.len();
-    let keep = laws.history;
     for (k, &(i, j)) in list.extra.iter().enumerate() {
         let (i, j) = (i as usize, j as usize);
         let (xj, vj, owner) = if j < n {
@@ -1136,69 +947,7 @@ pub fn active_histories(
 
 #[cfg(test)]
 mod tests {
-    use super::{block_order, pair_forces_then, PairTally};
-    use crate::dynamics::friction_observables::tests::scene;
-    use crate::parallel::SharedMut;
-    use crate::Simulation;
-
-    /// The pairs tested four at a time (AVX2) give every force and every
-    /// row's tally bit for bit as the pair-by-pair loop (the reference: it
-    /// tests and forces every listed pair), with and without the tally, on
-    /// 1 and 2 threads, along a frictionless run of mixed radii with walls
-    /// and contacts made and broken.
-    #[test]
-    fn pairs_four_at_a_time_equal_the_pair_loop_bit_for_bit() {
-        assert!(
-            !cfg!(target_arch = "x86_64") || !std::is_x86_feature_detected!("avx2") || {
-                let mut setup = scene();
-                setup.friction = None;
-                !Simulation::new(setup, 1).unwrap().world.laws.history
-            },
-            "the scene must take the four-at-a-time path"
-        );
-        for threads in [1, 2] {
-            let mut setup = scene();
-            setup.friction = None;
-            let mut sim = Simulation::new(setup, threads).unwrap();
-            let mut touching = 0.0;
-            for _ in 0..25 {
-                sim.step(11);
-                let w = &mut sim.world;
-                let n = w.bodies.len();
-                for tally in [false, true] {
-                    let mut out = Vec::new();
-                    for quad in [false, true] {
-                        let mut f = vec![[0.0f64; 3]; n];
-                        let mut t: Vec<PairTally> = vec![[0.0; 3]; n];
-                        let mut histories = w.histories.clone();
-                        // SAFETY: one force and one tally per body, borrowed
-                        // here; no follow-up.
-                        unsafe {
-                            pair_forces_then(
-                                &w.bodies,
-                                &w.ghosts,
-                                &w.list,
-                                &mut histories,
-                                &w.laws,
-                                SharedMut::new(&mut f),
-                                &sim.workers,
-                                None,
-                                tally.then(|| SharedMut::new(&mut t)),
-                                quad,
-                            )
-                        };
-                        let bits: Vec<u64> =
-                            f.iter().chain(&t).flatten().map(|x| x.to_bits()).collect();
-                        out.push((bits, t));
-                    }
-                    assert!(out[0].0 == out[1].0, "{threads} threads, tally {tally}");
-                    touching += out[1].1.iter().map(|t| t[0]).sum::<f64>();
-                }
-            }
-            // Contacts were there to force.
-            assert!(touching > 100.0, "{touching}");
-        }
-    }
+    use super::block_order;
 
     /// Every block once; each odd block after both even neighbours (the
     /// order the two-phase loop gave every body's additions).
