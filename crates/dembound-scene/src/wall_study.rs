@@ -471,6 +471,40 @@ fn base_setup(c: &StudyConfig, lower: [f64; 3], upper: [f64; 3], dt: f64) -> Sce
     s
 }
 
+/// `count` spheres of radius `r` (material 0, at rest) placed at random,
+/// without overlap, with their centres in `lower`–`upper` (seed
+/// `c.seed`), pushed onto `s`'s sphere list; `label` names the set in an
+/// error (the box too small for them).
+fn insert_at_rest(
+    s: &mut SceneSetup,
+    c: &StudyConfig,
+    label: &str,
+    count: usize,
+    r: f64,
+    lower: [f64; 3],
+    upper: [f64; 3],
+) -> Result<(), SceneError> {
+    let inserted = crate::sources::random::RandomInsertion {
+        count,
+        radius: [r, r],
+        lower,
+        upper,
+        velocity: [0.0; 3],
+        seed: c.seed,
+        max_attempts: 1000,
+    }
+    .spheres(label, &[])?;
+    s.spheres.extend(inserted.iter().map(|p| SphereInit {
+        position: p.position,
+        velocity: [0.0; 3],
+        radius: r,
+        material: 0,
+        fixed: false,
+        group: None,
+    }));
+    Ok(())
+}
+
 /// One impact on `floor` at `point` (x, y in the cell) at `angle` degrees.
 fn impact(
     c: &StudyConfig,

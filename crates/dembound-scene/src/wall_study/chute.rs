@@ -25,10 +25,8 @@
 
 use std::f64::consts::PI;
 
-use super::{add_floor, base_setup, cell, Floor, StudyConfig};
-use crate::setup::SphereInit;
+use super::{add_floor, base_setup, cell, insert_at_rest, Floor, StudyConfig};
 use crate::simulation::LARGE_FACTOR;
-use crate::sources::random::RandomInsertion;
 use crate::{SceneError, Simulation};
 
 /// Gravitational acceleration, m/s² (the bed study's).
@@ -393,26 +391,15 @@ pub fn build(
     let theta = cc.angle.to_radians();
     s.gravity = [G * theta.sin(), 0.0, -G * theta.cos()];
     // Inside [R, L − R] along the periodic axes: no overlap across a face.
-    let inserted = RandomInsertion {
-        count: n,
-        radius: [r, r],
-        lower: [0.0, 0.0, bottom],
-        upper: [lx, ly, bottom + height],
-        velocity: [0.0; 3],
-        seed: c.seed,
-        max_attempts: 1000,
-    }
-    .spheres("chute", &[])?;
-    for p in &inserted {
-        s.spheres.push(SphereInit {
-            position: p.position,
-            velocity: [0.0; 3],
-            radius: r,
-            material: 0,
-            fixed: false,
-            group: None,
-        });
-    }
+    insert_at_rest(
+        &mut s,
+        c,
+        "chute",
+        n,
+        r,
+        [0.0, 0.0, bottom],
+        [lx, ly, bottom + height],
+    )?;
     let floor_wall = add_floor(&mut s, floor, [0.0, 0.0], [lx, ly], [0.0, 0.0], r, true)?;
     s.friction = c.friction_setup(&s, floor_wall, &[]);
     let threads = if n >= 5000 { 2 } else { 1 };

@@ -8,9 +8,8 @@
 
 use std::f64::consts::PI;
 
-use super::{base_setup, StudyConfig};
-use crate::setup::{Plane, SceneSetup, SphereInit, WallSetup};
-use crate::sources::random::RandomInsertion;
+use super::{base_setup, insert_at_rest, StudyConfig};
+use crate::setup::{Plane, SceneSetup, WallSetup};
 use crate::SceneError;
 
 /// Solid fraction of the loose packing the spheres start from.
@@ -53,26 +52,7 @@ impl Pour {
         let r = self.radius;
         let mut s = base_setup(c, self.domain_lower, self.domain_upper, dt);
         s.gravity = [0.0, 0.0, -GRAVITY];
-        let inserted = RandomInsertion {
-            count: self.count,
-            radius: [r, r],
-            lower: self.lower,
-            upper: self.upper,
-            velocity: [0.0; 3],
-            seed: c.seed,
-            max_attempts: 1000,
-        }
-        .spheres("bed", &[])?;
-        for p in &inserted {
-            s.spheres.push(SphereInit {
-                position: p.position,
-                velocity: [0.0; 3],
-                radius: r,
-                material: 0,
-                fixed: false,
-                group: None,
-            });
-        }
+        insert_at_rest(&mut s, c, "bed", self.count, r, self.lower, self.upper)?;
         // Four frictionless side walls (they would hold part of the weight).
         let [[x0, x1], [y0, y1]] = self.sides;
         for (point, normal) in [
