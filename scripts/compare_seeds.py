@@ -13,7 +13,8 @@ with a verdict against issue 32's bars (agree: within the bar, or within
 two standard errors of the paired difference, as `compare`'s own verdict):
 
 - bed height and the floor's force (wall[0] |F|): |peer/dembound - 1| <= 1 %;
-  every other wall's |F| (side walls) against the same 1 %;
+  every other wall's |F| (side walls) against the same 1 %, and their sum
+  (per seed, each code's sum of its side walls' means);
 - packing-fraction profile: the largest |delta phi| over the z bins of the
   seed-averaged profiles <= 0.02;
 - the flow-velocity profile (a chute): the largest |delta v| (m/s), no bar.
@@ -62,13 +63,24 @@ def main():
     walls = [w for w in walls
              if all(any(q["name"] == w for q in r["quantities"]) for r in reports)]
     bars = dict(BARS, **{w: BARS["wall[0] force |F|"] for w in walls})
+    def window_means(r, name):
+        q = next((q for q in r["quantities"] if q["name"] == name), None)
+        if q and q["code_window"] and q["dembound_window"]:
+            return q["code_window"]["mean"], q["dembound_window"]["mean"]
+        return None
+
+    # The side walls' |F| summed per seed (each code's sum of its walls'
+    # late-window means), with the same bar: what the walls hold together.
+    summed = "side walls summed |F|"
+    if len(walls) > 1:
+        bars[summed] = BARS["wall[0] force |F|"]
     for name, bar in bars.items():
         c, d = [], []
         for r in reports:
-            q = next((q for q in r["quantities"] if q["name"] == name), None)
-            if q and q["code_window"] and q["dembound_window"]:
-                c.append(q["code_window"]["mean"])
-                d.append(q["dembound_window"]["mean"])
+            parts = [window_means(r, w) for w in (walls if name == summed else [name])]
+            if all(parts):
+                c.append(sum(p[0] for p in parts))
+                d.append(sum(p[1] for p in parts))
         if len(c) < n:
             continue
         (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
