@@ -25,7 +25,8 @@ Speed: seconds per particle-step and core of each code (mean over the seeds),
 by CPU time where the run reports it, else by the wall clock (LIGGGHTS).
 
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
-       (add --markdown for one table row per quantity)
+       (add --markdown for one table row per quantity, --bins for every
+       z bin of the packing and flow-velocity profiles)
 """
 
 import argparse
@@ -51,6 +52,8 @@ def main():
     ap.add_argument("reports", nargs="+")
     ap.add_argument("--label", default="")
     ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--bins", action="store_true",
+                    help="also print every z bin of the profiles (both codes' means, paired Δ ± SE)")
     args = ap.parse_args()
     reports = [json.load(open(p)) for p in args.reports]
     code = reports[0]["code"]
@@ -112,6 +115,10 @@ def main():
             delta, delta_se = mean_se([a - b for a, b in zip(c, d)])
             if abs(delta) > worst[0]:
                 worst = (abs(delta), profiles[0]["centres"][k], delta_se, cm, dm)
+            if args.bins and (cm or dm):
+                print(f"{pname}, z = {profiles[0]['centres'][k] * 1e3:.3g} mm: {code} {cm:.4g}, "
+                      f"dembound {dm:.4g}, Δ = {delta:+.3g}{unit} ± {delta_se:.2g}"
+                      + (f" ({100 * delta / dm:+.1f} % ± {100 * delta_se / abs(dm):.1f} %)" if dm else ""))
         diff, z, se, cm, dm = worst
         rows.append((f"{pname} (max over z bins of {profiles[0]['bin_width'] * 1e3:.4g} mm"
                      + (f", widths within {100 * spread:.2g} %" if spread > 0 else "") + ")",
