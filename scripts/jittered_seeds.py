@@ -14,6 +14,10 @@ Per seed k (docs/export-lammps.md, "A's side walls over jittered seeds"):
 6. the deck's particles.dump is deleted (tens of MB a seed) unless
    --keep-dumps; walls.txt, the logs and the JSON report stay.
 
+A scene whose spheres are drawn at random (`[particles.random]`) has
+its own seed: with --seed-key KEY (e.g. particles.0.random.seed) steps 1
+and 2 are left out and step 3 exports SCENE with `--set KEY=k`.
+
 Seeds whose report exists are skipped, so an interrupted series resumes.
 One seed at a time: the machine's cores are shared. Then
 `compare_seeds.py RUNS/J*.json` puts the seeds together.
@@ -62,11 +66,12 @@ def main():
     ap.add_argument("--set", action="append", default=[], help="--set for the peer's export")
     ap.add_argument("--dembound", default=os.environ.get("DEMBOUND_BIN", "dembound"))
     ap.add_argument("--keep-dumps", action="store_true")
+    ap.add_argument("--seed-key", help="seed the scene's own random draw by this key instead of jittering")
     args = ap.parse_args()
     first, end = (int(x) for x in args.seeds.split(":"))
     os.makedirs(args.runs, exist_ok=True)
     positions = os.path.join(args.runs, "positions")
-    if not os.path.isfile(os.path.join(positions, "scene.py")):
+    if not args.seed_key and not os.path.isfile(os.path.join(positions, "scene.py")):
         run([args.dembound, "export", "yade", args.scene, *sets(args.positions_set),
              "--out", positions])
     for k in range(first, end):
@@ -77,9 +82,14 @@ def main():
         start = time.time()
         if os.path.isdir(deck):
             shutil.rmtree(deck)  # an interrupted seed: start it again
-        run([sys.executable, os.path.join(HERE, "jitter_velocities.py"), positions,
-             repr(args.amplitude), str(k), deck + ".toml"])
-        run([args.dembound, "export", args.code, deck + ".toml", *sets(args.set), "--out", deck])
+        if args.seed_key:
+            run([args.dembound, "export", args.code, args.scene, "--set", f"{args.seed_key}={k}",
+                 *sets(args.set), "--out", deck])
+        else:
+            run([sys.executable, os.path.join(HERE, "jitter_velocities.py"), positions,
+                 repr(args.amplitude), str(k), deck + ".toml"])
+            run([args.dembound, "export", args.code, deck + ".toml", *sets(args.set),
+                 "--out", deck])
         run(["nice", "-n", "5", *PEER[args.code]], cwd=deck)
         peer = time.time() - start
         with open(report + ".part", "w") as out:
