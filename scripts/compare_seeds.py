@@ -13,7 +13,8 @@ with a verdict against issue 32's bars (agree: within the bar, or within
 two standard errors of the paired difference, as `compare`'s own verdict):
 
 - bed height and the floor's force (wall[0] |F|): |peer/dembound - 1| <= 1 %;
-  every other wall's |F| (side walls) against the same 1 %;
+  every other wall's |F| (side walls) against the same 1 %, and their sum
+  (per seed, each code's sum of its side walls' means);
 - packing-fraction profile: the largest |delta phi| over the z bins of the
   seed-averaged profiles <= 0.02;
 - the flow-velocity profile (a chute): the largest |delta v| (m/s), no bar.
@@ -24,7 +25,8 @@ Speed: seconds per particle-step and core of each code (mean over the seeds),
 by CPU time where the run reports it, else by the wall clock (LIGGGHTS).
 
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
-       (add --markdown for one table row per quantity)
+       (add --markdown for one table row per quantity, --bins for every
+       z bin of the packing and flow-velocity profiles)
 """
 
 import argparse
@@ -50,6 +52,8 @@ def main():
     ap.add_argument("reports", nargs="+")
     ap.add_argument("--label", default="")
     ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--bins", action="store_true",
+                    help="also print every z bin of the profiles (both codes' means, paired Δ ± SE)")
     args = ap.parse_args()
     reports = [json.load(open(p)) for p in args.reports]
     code = reports[0]["code"]
@@ -62,13 +66,24 @@ def main():
     walls = [w for w in walls
              if all(any(q["name"] == w for q in r["quantities"]) for r in reports)]
     bars = dict(BARS, **{w: BARS["wall[0] force |F|"] for w in walls})
+    def window_means(r, name):
+        q = next((q for q in r["quantities"] if q["name"] == name), None)
+        if q and q["code_window"] and q["dembound_window"]:
+            return q["code_window"]["mean"], q["dembound_window"]["mean"]
+        return None
+
+    # The side walls' |F| summed per seed (each code's sum of its walls'
+    # late-window means), with the same bar: what the walls hold together.
+    summed = "side walls summed |F|"
+    if len(walls) > 1:
+        bars[summed] = BARS["wall[0] force |F|"]
     for name, bar in bars.items():
         c, d = [], []
         for r in reports:
-            q = next((q for q in r["quantities"] if q["name"] == name), None)
-            if q and q["code_window"] and q["dembound_window"]:
-                c.append(q["code_window"]["mean"])
-                d.append(q["dembound_window"]["mean"])
+            parts = [window_means(r, w) for w in (walls if name == summed else [name])]
+            if all(parts):
+                c.append(sum(p[0] for p in parts))
+                d.append(sum(p[1] for p in parts))
         if len(c) < n:
             continue
         (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
@@ -100,6 +115,10 @@ def main():
             delta, delta_se = mean_se([a - b for a, b in zip(c, d)])
             if abs(delta) > worst[0]:
                 worst = (abs(delta), profiles[0]["centres"][k], delta_se, cm, dm)
+            if args.bins and (cm or dm):
+                print(f"{pname}, z = {profiles[0]['centres'][k] * 1e3:.3g} mm: {code} {cm:.4g}, "
+                      f"dembound {dm:.4g}, Δ = {delta:+.3g}{unit} ± {delta_se:.2g}"
+                      + (f" ({100 * delta / dm:+.1f} % ± {100 * delta_se / abs(dm):.1f} %)" if dm else ""))
         diff, z, se, cm, dm = worst
         rows.append((f"{pname} (max over z bins of {profiles[0]['bin_width'] * 1e3:.4g} mm"
                      + (f", widths within {100 * spread:.2g} %" if spread > 0 else "") + ")",

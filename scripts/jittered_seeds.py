@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""Run a scene against a peer code over seeds with jittered initial velocities.
+
+Per seed k (docs/export-lammps.md, "A's side walls over jittered seeds"):
+
+1. once: `dembound export yade SCENE --set POSITIONS_SET... --out RUNS/positions`
+   (only for the resolved spheres' positions and velocities, 17 digits;
+   Yade is not run);
+2. `jitter_velocities.py RUNS/positions AMPLITUDE k RUNS/Jk.toml`;
+3. `dembound export CODE RUNS/Jk.toml --set SET... --out RUNS/Jk`;
+4. the peer run in RUNS/Jk under `nice -n 5` (LAMMPS: `lmp -in in.lammps
+   -log log.lammps`; Yade: `yade -n -j1 -x scene.py`);
+5. `dembound compare RUNS/Jk --json > RUNS/Jk.json`;
+6. the deck's particles.dump is deleted (tens of MB a seed) unless
+   --keep-dumps; walls.txt, the logs and the JSON report stay.
+
+A scene whose spheres are drawn at random (`[particles.random]`) has
+its own seed: with --seed-key KEY (e.g. particles.0.random.seed) steps 1
+and 2 are left out and step 3 exports SCENE with `--set KEY=k`.
+
+Seeds whose report exists are skipped, so an interrupted series resumes.
+One seed at a time: the machine's cores are shared. Then
+`compare_seeds.py RUNS/J*.json` puts the seeds together.
+
+Usage: jittered_seeds.py --scene S.toml --code lammps --runs DIR --seeds 0:50
+           [--positions-set KEY=VALUE ...] [--set KEY=VALUE ...]
+           [--amplitude 1e-4] [--dembound BIN] [--keep-dumps]
+Example (scene A, LAMMPS, dembound under LAMMPS's arm):
+    jittered_seeds.py --scene examples/compare/bed.toml --code lammps \\
+        --set contact.torque_arm=contact_point --runs /tmp/A --seeds 0:50
+"""
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PEER = {
+    "lammps": ["lmp", "-in", "in.lammps", "-log", "log.lammps"],
+    "yade": ["yade", "-n", "-j1", "-x", "scene.py"],
+}
+
+
+def run(cmd, cwd=None, stdout=subprocess.DEVNULL):
+    done = subprocess.run(cmd, cwd=cwd, stdout=stdout, stderr=subprocess.PIPE, text=True)
+    if done.returncode != 0:
+        sys.exit(f"`{' '.join(cmd)}` (in {cwd or '.'}) exited {done.returncode}:\n{done.stderr[-2000:]}")
+
+
+def sets(pairs):
+    return [a for p in pairs for a in ("--set", p)]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scene", required=True)
+    ap.add_argument("--code", choices=sorted(PEER), required=True)
+    ap.add_argument("--runs", required=True, help="directory for the decks and reports")
+    ap.add_argument("--seeds", default="0:12", help="FIRST:END (END excluded)")
+    ap.add_argument("--amplitude", type=float, default=1e-4, help="m/s per component")
+    ap.add_argument("--positions-set", action="append", default=[],
+                    help="--set for the Yade export that gives the positions only")
+    ap.add_argument("--set", action="append", default=[], help="--set for the peer's export")
+    ap.add_argument("--dembound", default=os.environ.get("DEMBOUND_BIN", "dembound"))
+    ap.add_argument("--keep-dumps", action="store_true")
+    ap.add_argument("--seed-key", help="seed the scene's own random draw by this key instead of jittering")
+    args = ap.parse_args()
+    first, end = (int(x) for x in args.seeds.split(":"))
+    os.makedirs(args.runs, exist_ok=True)
+    positions = os.path.join(args.runs, "positions")
+    if not args.seed_key and not os.path.isfile(os.path.join(positions, "scene.py")):
+        run([args.dembound, "export", "yade", args.scene, *sets(args.positions_set),
+             "--out", positions])
+    for k in range(first, end):
+        deck = os.path.join(args.runs, f"J{k}")
+        report = deck + ".json"
+        if os.path.isfile(report):
+            continue
+        start = time.time()
+        if os.path.isdir(deck):
+            shutil.rmtree(deck)  # an interrupted seed: start it again
+        if args.seed_key:
+            run([args.dembound, "export", args.code, args.scene, "--set", f"{args.seed_key}={k}",
+                 *sets(args.set), "--out", deck])
+        else:
+            run([sys.executable, os.path.join(HERE, "jitter_velocities.py"), positions,
+                 repr(args.amplitude), str(k), deck + ".toml"])
+            run([args.dembound, "export", args.code, deck + ".toml", *sets(args.set),
+                 "--out", deck])
+        run(["nice", "-n", "5", *PEER[args.code]], cwd=deck)
+        peer = time.time() - start
+        with open(report + ".part", "w") as out:
+            run(["nice", "-n", "5", args.dembound, "compare", deck, "--json"], stdout=out)
+        os.replace(report + ".part", report)
+        if not args.keep_dumps:
+            dump = os.path.join(deck, "particles.dump")
+            if os.path.exists(dump):
+                os.remove(dump)
+        print(f"seed {k}: {args.code} run {peer:.0f} s, compare {time.time() - start - peer:.0f} s "
+              f"(wall clock) -> {report}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
