@@ -28,6 +28,15 @@ opening, the fallen spheres left on the floor 40 mm below (counted, not
 deleted). Runs already in --work are reused. Needs matplotlib for the
 figure (rate against time, rate against D with the fit).
 
+`--friction MU`: the same scenes with the sliding friction μ (grains and
+walls: the scene's one `[contact] friction`) set to MU instead of 0.5, a
+variant for the question whether the grains' friction sets C.
+
+The bulk density of the flowing bed: the same core averaged over the
+snapshots inside the window (every 0.1 s), and the cylinder r < D/2,
+0 < z < D/2 just above the orifice; printed beside ρ_b (Beverloo's ρ_b
+is the bed's bulk density; these show how much looser the flowing bed is).
+
 `--fill inlet`: the silo of `make_silo.py --fill inlet`, filled by an
 `[[inlet]]` until 0.124 s, the gate opening at 0.3 s, the run ending at
 0.65 s (window from 0.4 s). The export refuses inlets, so the LIGGGHTS
@@ -122,6 +131,15 @@ def scene_dir(work, mm, fill, seed=1):
     run([sys.executable, ROOT / "examples/scenes/make_silo.py", "--orifice", f"{mm * 1e-3}", "--out", work,
          "--seed", str(seed), "--fill", fill.name])
     return work / f"silo{fill.tag}_D{mm:g}.toml"
+
+
+def set_friction(toml, mu):
+    """The scene at `toml` with its one `[contact] friction` set to mu."""
+    text = toml.read_text()
+    line = "friction = 0.5\n"
+    if text.count(line) != 1:
+        sys.exit(f"{toml}: expected one '{line.strip()}' line")
+    toml.write_text(text.replace(line, f"friction = {mu!r}\n"))
 
 
 def run_dembound(exe, work, mm, fill):
@@ -293,6 +311,31 @@ def bulk_density(out, gate_step):
     return mass / (math.pi * CORE_RADIUS**2 * (CORE_Z[1] - CORE_Z[0])), top
 
 
+def flowing_densities(out, from_step, orifice):
+    """(core, above the orifice) densities (kg/m³) averaged over the
+    snapshots at or after `from_step`: the core of `bulk_density`, and the
+    cylinder r < D/2, 0 < z < D/2."""
+    cores, holes = [], []
+    for vtp in sorted(out.glob("snapshot_*.vtp")):
+        a = vtp_arrays(vtp)
+        if a.get("STEP", [-1])[0] < from_step:
+            continue
+        pos, radius = a["position"], a["radius"]
+        core = hole = 0.0
+        for i, r in enumerate(radius):
+            x, y, z = pos[3 * i : 3 * i + 3]
+            m = DENSITY * 4.0 / 3.0 * math.pi * r**3
+            if math.hypot(x, y) < CORE_RADIUS and CORE_Z[0] < z < CORE_Z[1]:
+                core += m
+            if math.hypot(x, y) < orifice / 2 and 0.0 < z < orifice / 2:
+                hole += m
+        cores.append(core / (math.pi * CORE_RADIUS**2 * (CORE_Z[1] - CORE_Z[0])))
+        holes.append(hole / (math.pi * (orifice / 2) ** 2 * orifice / 2))
+    if not cores:
+        sys.exit(f"{out}: no snapshot in the window")
+    return sum(cores) / len(cores), sum(holes) / len(holes), len(cores)
+
+
 def fit(ds, ws, rho_b, d=MEAN_DIAMETER):
     """(C, k) of W = C ρ_b √g (D − k d)^{5/2} by the line through (D, W^{2/5})."""
     ys = [w**0.4 for w in ws]
@@ -318,14 +361,20 @@ def main():
     p.add_argument("--figure", type=Path)
     p.add_argument("--fill", choices=sorted(FILLS), default="lattice",
                    help="the silo's fill (make_silo.py --fill): a lattice at the start or an inlet")
+    p.add_argument("--friction", type=float,
+                   help="sliding friction μ of grains and walls instead of the scene's 0.5 (a variant)")
     a = p.parse_args()
+    if a.friction is not None and (not math.isfinite(a.friction) or a.friction < 0.0):
+        sys.exit(f"--friction: {a.friction} is not a friction coefficient (finite, ≥ 0)")
     fill = FILLS[a.fill]
     if a.start is None:
         a.start = fill.gate_open + 0.1
     a.work.mkdir(parents=True, exist_ok=True)
     lig = [] if a.liggghts == ["none"] else [float(x) for x in a.liggghts]
     for mm in sorted(set(a.orifices) | set(lig)):  # all files first: the runs share silo_spheres.csv
-        scene_dir(a.work, mm, fill, a.seed)
+        toml = scene_dir(a.work, mm, fill, a.seed)
+        if a.friction is not None:
+            set_friction(toml, a.friction)
     with ThreadPoolExecutor(a.jobs) as pool:
         dem = {mm: pool.submit(run_dembound, a.dembound, a.work, mm, fill) for mm in a.orifices}
         ligj = {mm: pool.submit(run_liggghts, a.dembound, a.work, mm, fill, a.seed) for mm in lig}
@@ -333,10 +382,10 @@ def main():
         ligj = {mm: f.result() for mm, f in ligj.items()}
 
     print(f"fill: {fill.name}; window {a.start:.2f}–{fill.end:.2f} s; gate opened at {fill.gate_open:g} s; "
-          "d = 2 mm ± 10 %, μ = 0.5")
+          f"d = 2 mm ± 10 %, μ = {0.5 if a.friction is None else a.friction:g}")
     print("| D (mm) | D/d | ρ_b (kg/m³) | bed top at opening (mm) | W dembound (g/s) | W LIGGGHTS (g/s) | LIGGGHTS/dembound − 1 |")
     print("|---|---|---|---|---|---|---|")
-    ws, es, rhos, series = [], [], [], {}
+    ws, es, rhos, series, flows = [], [], [], {}, []
     for mm in a.orifices:
         rho_b, top = bulk_density(dem[mm], fill.gate_step)
         t, m = dembound_series(dem[mm])
@@ -344,6 +393,7 @@ def main():
         ws.append(w)
         es.append(e)
         rhos.append(rho_b)
+        flows.append((mm, *flowing_densities(dem[mm], round(a.start / DT), mm * 1e-3)))
         series[mm] = (t, m, None)
         lcell, rel = "—", "—"
         if mm in ligj:
@@ -353,6 +403,11 @@ def main():
             lcell, rel = f"{1e3 * wl:.2f} ± {1e3 * el:.2f}", f"{wl / w - 1:+.1%}"
         print(f"| {mm:g} | {mm / 2:.1f} | {rho_b:.0f} | {1e3 * top:.1f} | {1e3 * w:.2f} ± {1e3 * e:.2f} | {lcell} | {rel} |")
     rho_b = sum(rhos) / len(rhos)
+    for mm, core, hole, n in flows:
+        print(f"D = {mm:g} mm, flowing ({n} snapshots from {a.start:g} s): core {core:.0f} kg/m³, "
+              f"r < D/2, 0 < z < D/2: {hole:.0f} kg/m³")
+    flow_core = sum(f[1] for f in flows) / len(flows)
+    print(f"flowing core: {flow_core:.0f} kg/m³, {flow_core / rho_b - 1:+.1%} against ρ_b")
     ds = [mm * 1e-3 for mm in a.orifices]
     if len(set(ds)) < 2:
         # One orifice (a seed comparison with LIGGGHTS): no line to fit.
@@ -371,6 +426,9 @@ def main():
     fk = [beverloo(D, 1.0, 1.5, rho_b) for D in ds]
     c15 = sum(w * f for w, f in zip(ws, fk)) / sum(f * f for f in fk)
     print(f"with k = 1.5 fixed: C = {c15:.3f}")
+    fk = [beverloo(D, 1.0, 1.4, rho_b) for D in ds]
+    print(f"with k = 1.4 fixed: C = {sum(w * f for w, f in zip(ws, fk)) / sum(f * f for f in fk):.3f}")
+    print(f"with the flowing core's density for ρ_b: C = {C * rho_b / flow_core:.3f}")
     for D, w in zip(ds, ws):
         print(f"  D = {1e3 * D:g} mm: W = {1e3 * w:.2f} g/s, fit {1e3 * beverloo(D, C, k, rho_b):.2f} g/s, "
               f"C = 0.58, k = 1.5: {1e3 * beverloo(D, 0.58, 1.5, rho_b):.2f} g/s")
