@@ -203,8 +203,8 @@ impl HaloSplit {
                 let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
                 let mut fi = [0.0; 3];
                 let mut slot = self.slot_start[i] as usize;
-                for k in s..e {
-                    let j = js[k] as usize;
+                for (k, &j) in js.iter().enumerate().take(e).skip(s) {
+                    let j = j as usize;
                     let late_j = self.late[j];
                     let stored = late_i || late_j;
                     if self.stale[j] {
