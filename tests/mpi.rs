@@ -135,6 +135,54 @@ fn one_two_three_ranks_same_state_shared_memory() {
     same_run(&[]);
 }
 
+/// The halo exchange during the interior pairs (`parallel.halo_overlap`,
+/// default true, `dynamics::halo_split`): the lattice drop on 2 and 3
+/// ranks (a bed settled across the cuts: many pairs with halo copies)
+/// takes the split path on every rank (the JSON's overlapped steps and
+/// deferred pairs) and ends in the same state and wall loads as with
+/// `halo_overlap = false` (the exchange before the force stage, as the
+/// code was) and as on 1 rank.
+#[test]
+fn the_halo_overlap_keeps_the_bits_under_mpirun() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let off = ["--set", "parallel.halo_overlap=false"];
+    let d1 = tmp.path().join("r1");
+    mpirun(1, &[], &off, &d1);
+    let s1 = state(&d1);
+    let per_rank = |j: &serde_json::Value, key: &str| -> Vec<u64> {
+        j[key]
+            .as_array()
+            .unwrap_or_else(|| panic!("{key} in {j}"))
+            .iter()
+            .filter_map(|v| v.as_u64())
+            .collect()
+    };
+    for ranks in [2, 3] {
+        let (d_on, d_off) = (
+            tmp.path().join(format!("on{ranks}")),
+            tmp.path().join(format!("off{ranks}")),
+        );
+        let on = mpirun(ranks, &[], &[], &d_on);
+        let before = mpirun(ranks, &[], &off, &d_off);
+        // 10,000 steps, a series row every 10: 9 in 10 steps are fused
+        // (the last of each stretch is not, nor are the list builds').
+        let overlapped = per_rank(&on, "rank_overlapped_steps");
+        assert_eq!(overlapped.len(), ranks);
+        assert!(overlapped.iter().all(|&k| k > 5000), "{on}");
+        let deferred = per_rank(&on, "rank_deferred_pairs");
+        assert!(deferred.iter().all(|&k| k > 0), "{deferred:?}");
+        assert!(per_rank(&before, "rank_overlapped_steps")
+            .iter()
+            .all(|&k| k == 0));
+        let s = state(&d_on);
+        assert_eq!(s, state(&d_off), "{ranks} ranks: overlapped against not");
+        assert_eq!(s, s1, "{ranks} ranks against 1");
+        for key in ["particle_contacts", "wall_forces", "wall_torques"] {
+            assert_eq!(on[key], before[key], "{ranks} ranks: {key}");
+        }
+    }
+}
+
 #[test]
 fn one_two_three_ranks_same_state_over_tcp() {
     same_run(&["--mca", "pml", "ob1", "--mca", "btl", "tcp,self"]);

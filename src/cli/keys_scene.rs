@@ -679,6 +679,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "true, false".into(),
             "MPI checkpoint as one part per rank",
         ),
+        row(
+            "parallel.halo_overlap",
+            "",
+            "true",
+            "true, false".into(),
+            "MPI halo exchange during the interior pairs",
+        ),
     ];
     // The registry laws' parameters given by key (`contact.stiffness`,
     // `contact.exponent`), before `contact.friction`.

@@ -182,6 +182,15 @@ struct MpiReport {
     rank_bytes_per_step: Vec<f64>,
     /// Of which at neighbour-list rebuilds.
     rank_rebuild_bytes_per_step: Vec<f64>,
+    /// s per step each rank spent in the per-step halo exchange beyond
+    /// the pairs it overlapped (posting, waiting, unpacking).
+    rank_halo_wait_seconds_per_step: Vec<f64>,
+    /// Steps whose halo exchange ran during the pairs that need none of
+    /// it (`parallel.halo_overlap`), per rank.
+    rank_overlapped_steps: Vec<u64>,
+    /// Pairs of each rank's last lists computed once the halo had
+    /// arrived (with a free halo copy).
+    rank_deferred_pairs: Vec<usize>,
     /// Free bodies owned by each rank at the end, at the first list build
     /// of this run, and just before the last re-partition (empty if none).
     rank_free_particles: Vec<usize>,
@@ -260,6 +269,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     }
     let threshold = resolved.file.parallel.rebalance_threshold;
     sim.set_rebalance_threshold(threshold.unwrap_or(DEFAULT_REBALANCE_THRESHOLD));
+    sim.set_halo_overlap(resolved.file.parallel.halo_overlap.unwrap_or(true));
 
     let total = sim.total_steps();
     let start = sim.steps_done();
@@ -468,6 +478,9 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         rank_seconds_per_step: reports.iter().map(|r| r.seconds_per_step).collect(),
         rank_bytes_per_step: reports.iter().map(|r| r.bytes_per_step).collect(),
         rank_rebuild_bytes_per_step: reports.iter().map(|r| r.rebuild_bytes_per_step).collect(),
+        rank_halo_wait_seconds_per_step: reports.iter().map(|r| r.halo_wait_per_step).collect(),
+        rank_overlapped_steps: reports.iter().map(|r| r.overlapped_steps).collect(),
+        rank_deferred_pairs: reports.iter().map(|r| r.deferred_pairs).collect(),
         imbalance: imbalance(&free),
         rank_free_particles: free,
         rank_free_particles_start: balance.free_at_start,

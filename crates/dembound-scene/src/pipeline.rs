@@ -38,6 +38,7 @@ use crate::dynamics::collisions::{Collision, Track};
 use crate::dynamics::contacts::{LawTable, PairHistories};
 use crate::dynamics::friction::{self, FrictionTable, PairShear};
 use crate::dynamics::gear5_rotation;
+use crate::dynamics::halo_split::HaloSplit;
 use crate::dynamics::integrate;
 use crate::dynamics::kinks::Kinks;
 use crate::geometry::cells::CellGrid;
@@ -141,6 +142,13 @@ pub struct Pipeline {
     /// (and by input id within a cell) and adds each body's pair forces in
     /// that order, whatever part of the scene it holds.
     pub(crate) whole_grid: Option<WholeGrid>,
+    /// Set by a domain decomposition after each list build: which pairs
+    /// wait for the halo exchange (`dynamics::halo_split`), so that the
+    /// others are computed while it is in flight.
+    pub(crate) halo_split: Option<HaloSplit>,
+    /// The halo exchange of this step is left to the force stage
+    /// ([`StepHooks::halo_during`]).
+    halo_deferred: bool,
     /// The contacts' observables of the state after the next
     /// [`Pipeline::steps`] are wanted: its last pair pass tallies them
     /// ([`Self::pair_tally`]).
@@ -189,6 +197,15 @@ pub(crate) trait StepHooks {
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers);
     /// Halo copies take their owners' state (before the ghosts follow).
     fn halo(&mut self, world: &mut World);
+    /// As [`Self::halo`], with `interior` (the force stage's pairs that
+    /// need none of the halo's new state, `dynamics::halo_split`) run
+    /// while the exchange is in flight; `interior` lets the exchange
+    /// progress by calling its second argument now and then.
+    fn halo_during(
+        &mut self,
+        world: &mut World,
+        interior: &mut dyn FnMut(&mut World, &mut dyn FnMut()),
+    );
     /// Adds the pair forces (springs moved by `dt` s of slip) to each
     /// body's force, in the order this kind of run fixes.
     fn pair_forces(
@@ -231,6 +248,13 @@ impl StepHooks for Local {
         }
     }
     fn halo(&mut self, _world: &mut World) {}
+    fn halo_during(
+        &mut self,
+        world: &mut World,
+        interior: &mut dyn FnMut(&mut World, &mut dyn FnMut()),
+    ) {
+        interior(world, &mut || {});
+    }
     fn pair_forces(
         &mut self,
         pipeline: &mut Pipeline,
@@ -399,13 +423,21 @@ impl Pipeline {
                 if fuse {
                     // The next step's wall forces are evaluated inside.
                     world.place_walls(world.steps_done + 2);
-                    let moved2 = self.pair_forces_then_advance(world, workers);
+                    let moved2 = if std::mem::take(&mut self.halo_deferred) {
+                        self.pair_forces_around_halo_then_advance(world, workers, hooks)
+                    } else {
+                        self.pair_forces_then_advance(world, workers)
+                    };
                     world.list.rebalance();
                     self.share_cuts(world, workers);
                     world.steps_done += 1;
                     self.advanced = true;
                     self.after_advance(world, workers, moved2, hooks);
                     return;
+                }
+                if std::mem::take(&mut self.halo_deferred) {
+                    hooks.halo(world);
+                    self.ghosts(world);
                 }
                 hooks.pair_forces(self, world, workers, dt);
                 world.account_group_work(true);
@@ -511,7 +543,8 @@ impl Pipeline {
     /// process) moved more than half the skin since they were built (then
     /// the per-body forces again: the wall masks are new; the same state,
     /// so history updates are idempotent), else the halo and the ghosts
-    /// follow their owners.
+    /// follow their owners (the halo during the force stage when it can:
+    /// [`Self::halo_overlaps`]).
     fn after_advance(
         &mut self,
         world: &mut World,
@@ -529,11 +562,34 @@ impl Pipeline {
                 world.gates_opened(&on);
             }
             self.body_forces(world, workers, world.dt);
+        } else if self.halo_overlaps(world) {
+            // Nothing before the force stage reads the halo copies.
+            self.halo_deferred = true;
         } else {
             hooks.halo(world);
             self.ghosts(world);
         }
         walls_measured(world, hooks, true);
+    }
+
+    /// The force stage can run the pairs that need no halo state while
+    /// the exchange is in flight: a decomposition set a split for these
+    /// lists, the loop runs the rows in order on one thread, frictionless
+    /// Verlet without periodic ghosts, per-step observers or moving
+    /// groups (those paths read the halo copies elsewhere, or sum in
+    /// other loops).
+    fn halo_overlaps(&self, world: &World) -> bool {
+        self.halo_split
+            .as_ref()
+            .is_some_and(|s| s.fits(&world.list))
+            && world.list.sequential
+            && world.list.extra.is_empty()
+            && world.ghosts.is_empty()
+            && world.friction.is_none()
+            && world.scheme == Scheme::Verlet
+            && world.tracks.is_none()
+            && world.dissipation.is_none()
+            && !world.has_moving_groups()
     }
 }
 

@@ -53,6 +53,7 @@ use super::pack::{self, Reader, Writer};
 use super::Transport;
 use crate::dynamics::collisions::Track;
 use crate::dynamics::friction::Springs;
+use crate::dynamics::halo_split::HaloSplit;
 use crate::dynamics::{gear5_rotation, integrate};
 use crate::geometry::decomposition::Decomposition;
 use crate::parallel::Workers;
@@ -150,6 +151,17 @@ pub(crate) struct RankComm<T: Transport> {
     restored_collisions: usize,
     /// Load re-balancing ([`balance`]).
     balance: balance::Balance,
+    /// Overlap the halo exchange with the pairs that need none of it
+    /// (`parallel.halo_overlap`, default on; `dynamics::halo_split`).
+    overlap: bool,
+    /// Steps whose halo exchange ran during the force stage's pairs.
+    overlapped_steps: u64,
+    /// Pairs of the current lists that wait for the halo (0 without a
+    /// split).
+    deferred_pairs: usize,
+    /// Seconds spent in the per-step halo exchange beyond the work it
+    /// overlapped (posting, waiting, unpacking).
+    halo_wait: f64,
 }
 
 /// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
@@ -346,6 +358,10 @@ impl<T: Transport> DistributedSimulation<T> {
             collision_steps: Vec::new(),
             restored_collisions: 0,
             balance: balance::Balance::default(),
+            overlap: true,
+            overlapped_steps: 0,
+            deferred_pairs: 0,
+            halo_wait: 0.0,
         };
         let mut me = Self {
             inputs,
@@ -385,11 +401,21 @@ impl<T: Transport> DistributedSimulation<T> {
         self.comm.plain_sums = true;
         self.comm.in_cell_order = false;
         self.sim.pipeline.whole_grid = None;
+        self.sim.pipeline.halo_split = None;
         self.sim.world.list.sequential = false;
     }
 
     pub fn ranks(&self) -> usize {
         self.comm.transport.size()
+    }
+
+    /// `parallel.halo_overlap`: whether the halo exchange runs during the
+    /// force stage's pairs that need none of it (default) or before the
+    /// force stage. The same bits either way.
+    pub fn set_halo_overlap(&mut self, on: bool) {
+        self.comm.overlap = on;
+        let sim = &mut self.sim;
+        self.comm.split_halo(&mut sim.pipeline, &sim.world);
     }
 
     pub fn transport(&self) -> &T {
@@ -677,6 +703,33 @@ impl<T: Transport> RankComm<T> {
         } else {
             self.build_incidence(world);
         }
+        self.split_halo(pipeline, world);
+    }
+
+    /// Which pairs of the lists wait for the halo exchange
+    /// ([`HaloSplit`]): those with a free halo copy (its state arrives
+    /// every step). Only where the split's loop applies: the forces summed
+    /// in cell order, frictionless Verlet (the pipeline checks the rest
+    /// at each step).
+    fn split_halo(&mut self, pipeline: &mut Pipeline, world: &World) {
+        let applies = self.overlap
+            && self.in_cell_order
+            && !self.plain_sums
+            && world.friction.is_none()
+            && world.scheme == Scheme::Verlet;
+        pipeline.halo_split = applies.then(|| {
+            let mut stale = vec![false; world.bodies.len()];
+            for (_, idx) in &self.receives {
+                for &k in idx {
+                    stale[k as usize] = true;
+                }
+            }
+            HaloSplit::new(&world.list, &stale)
+        });
+        self.deferred_pairs = pipeline
+            .halo_split
+            .as_ref()
+            .map_or(0, HaloSplit::deferred_pairs);
     }
 
     /// The whole scene's cell grid: the extent of every rank's celled
@@ -697,15 +750,16 @@ impl<T: Transport> RankComm<T> {
         whole
     }
 
-    /// Position and velocity of every free halo body from its owner.
-    fn halo_update(&mut self, world: &mut World) {
+    /// The per-step halo messages: position and velocity (and spin) of
+    /// each free body another rank holds a copy of, by rank.
+    fn halo_sends(&mut self, world: &World) -> Vec<(usize, Vec<u8>)> {
         let spin = world.friction.is_some();
         let b = &world.bodies;
         let sends: Vec<(usize, Vec<u8>)> = self
             .sends
             .iter()
             .map(|(r, idx)| {
-                let mut w = Writer(Vec::with_capacity(idx.len() * if spin { 72 } else { 48 }));
+                let mut w = Writer(Vec::with_capacity(idx.len() * halo_record(spin)));
                 for &k in idx {
                     w.vec3(b.position[k as usize]);
                     w.vec3(b.velocity[k as usize]);
@@ -717,8 +771,13 @@ impl<T: Transport> RankComm<T> {
             })
             .collect();
         self.bytes_sent += sends.iter().map(|(_, s)| s.len() as u64).sum::<u64>();
-        let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
-        let got = self.transport.exchange(&sends, &from);
+        sends
+    }
+
+    /// The halo copies take the state [`Self::halo_sends`] sent (`got`:
+    /// one message per rank of `receives`, in that order).
+    fn halo_receive(&self, world: &mut World, got: Vec<Vec<u8>>) {
+        let spin = world.friction.is_some();
         let b = &mut world.bodies;
         for ((_, idx), bytes) in self.receives.iter().zip(got) {
             let mut r = Reader::new(&bytes);
@@ -730,6 +789,26 @@ impl<T: Transport> RankComm<T> {
                 }
             }
         }
+    }
+
+    /// Position and velocity of every free halo body from its owner.
+    fn halo_update(&mut self, world: &mut World) {
+        let sends = self.halo_sends(world);
+        let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
+        let clock = Instant::now();
+        let got = self.transport.exchange(&sends, &from);
+        self.halo_receive(world, got);
+        self.halo_wait += clock.elapsed().as_secs_f64();
+    }
+}
+
+/// Bytes of a free halo body's per-step record: position and velocity,
+/// and spin with friction.
+fn halo_record(spin: bool) -> usize {
+    if spin {
+        72
+    } else {
+        48
     }
 }
 
@@ -857,6 +936,34 @@ impl<T: Transport> StepHooks for RankComm<T> {
     /// owner.
     fn halo(&mut self, world: &mut World) {
         self.halo_update(world);
+    }
+
+    /// [`Self::halo`] with `interior` run while the messages are in
+    /// flight (`Transport::exchange_during`).
+    fn halo_during(
+        &mut self,
+        world: &mut World,
+        interior: &mut dyn FnMut(&mut World, &mut dyn FnMut()),
+    ) {
+        let sends = self.halo_sends(world);
+        let record = halo_record(world.friction.is_some());
+        let from: Vec<(usize, usize)> = self
+            .receives
+            .iter()
+            .map(|(r, idx)| (*r, idx.len() * record))
+            .collect();
+        let clock = Instant::now();
+        let mut working = 0.0;
+        let got = self
+            .transport
+            .exchange_during(&sends, &from, &mut |progress| {
+                let started = Instant::now();
+                interior(world, progress);
+                working += started.elapsed().as_secs_f64();
+            });
+        self.halo_receive(world, got);
+        self.halo_wait += clock.elapsed().as_secs_f64() - working;
+        self.overlapped_steps += 1;
     }
 
     fn pair_forces(

@@ -27,6 +27,16 @@ pub trait Transport {
     /// Sends each `(rank, bytes)` of `sends` and receives one message from
     /// each rank of `from`, returned in the order of `from`.
     fn exchange(&self, sends: &[(usize, Vec<u8>)], from: &[usize]) -> Vec<Vec<u8>>;
+    /// [`Self::exchange`] with `work` run while the messages are in
+    /// flight (MPI: non-blocking sends and receives, completed after it);
+    /// `from`: (rank, the message's exact length in bytes). `work` may
+    /// call its argument now and then to let the messages progress.
+    fn exchange_during(
+        &self,
+        sends: &[(usize, Vec<u8>)],
+        from: &[(usize, usize)],
+        work: &mut dyn FnMut(&mut dyn FnMut()),
+    ) -> Vec<Vec<u8>>;
     /// `to[r]`: whether this rank will send to rank r; returns, for each
     /// rank r, whether r will send to this rank.
     fn who_sends(&self, to: &[bool]) -> Vec<bool>;
@@ -52,6 +62,14 @@ impl<T: Transport + ?Sized> Transport for &T {
     }
     fn exchange(&self, sends: &[(usize, Vec<u8>)], from: &[usize]) -> Vec<Vec<u8>> {
         (**self).exchange(sends, from)
+    }
+    fn exchange_during(
+        &self,
+        sends: &[(usize, Vec<u8>)],
+        from: &[(usize, usize)],
+        work: &mut dyn FnMut(&mut dyn FnMut()),
+    ) -> Vec<Vec<u8>> {
+        (**self).exchange_during(sends, from, work)
     }
     fn who_sends(&self, to: &[bool]) -> Vec<bool> {
         (**self).who_sends(to)

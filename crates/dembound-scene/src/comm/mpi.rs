@@ -65,6 +65,43 @@ impl Transport for MpiTransport {
         })
     }
 
+    /// Receives posted first (`MPI_Irecv` into buffers of the known
+    /// lengths), then the sends (`MPI_Isend`); `work` runs while they are
+    /// in flight, its calls to its argument test them (`MPI_Test`: Open
+    /// MPI moves messages only inside its calls); then every one is
+    /// waited for.
+    fn exchange_during(
+        &self,
+        sends: &[(usize, Vec<u8>)],
+        from: &[(usize, usize)],
+        work: &mut dyn FnMut(&mut dyn FnMut()),
+    ) -> Vec<Vec<u8>> {
+        let world = &self.world;
+        let mut got: Vec<Vec<u8>> = from.iter().map(|&(_, len)| vec![0u8; len]).collect();
+        mpi::request::scope(|scope| {
+            let mut requests: Vec<Option<_>> = Vec::with_capacity(from.len() + sends.len());
+            for (&(r, _), buf) in from.iter().zip(got.iter_mut()) {
+                let p = world.process_at_rank(r as i32);
+                requests.push(Some(p.immediate_receive_into(scope, &mut buf[..])));
+            }
+            for (r, b) in sends {
+                let p = world.process_at_rank(*r as i32);
+                requests.push(Some(p.immediate_send(scope, &b[..])));
+            }
+            work(&mut || {
+                for slot in requests.iter_mut() {
+                    if let Some(r) = slot.take() {
+                        *slot = r.test().err();
+                    }
+                }
+            });
+            for r in requests.into_iter().flatten() {
+                r.wait();
+            }
+        });
+        got
+    }
+
     fn who_sends(&self, to: &[bool]) -> Vec<bool> {
         let send: Vec<u8> = to.iter().map(|&t| u8::from(t)).collect();
         let mut recv = vec![0u8; send.len()];

@@ -79,6 +79,20 @@ impl Transport for ThreadTransport {
         from.iter().map(|&r| self.receive(r)).collect()
     }
 
+    /// Sends, runs `work`, then receives (the channels buffer the sends).
+    fn exchange_during(
+        &self,
+        sends: &[(usize, Vec<u8>)],
+        from: &[(usize, usize)],
+        work: &mut dyn FnMut(&mut dyn FnMut()),
+    ) -> Vec<Vec<u8>> {
+        for (r, b) in sends {
+            self.send(*r, b.clone());
+        }
+        work(&mut || {});
+        from.iter().map(|&(r, _)| self.receive(r)).collect()
+    }
+
     fn who_sends(&self, to: &[bool]) -> Vec<bool> {
         for (r, &t) in to.iter().enumerate() {
             self.send(r, vec![u8::from(t)]);

@@ -302,7 +302,11 @@ fn geometry(d: [f64; 3], r2: f64, s: f64, vi: [f64; 3], vj: [f64; 3]) -> PairGeo
 /// i gets minus it: the contact composer's normal stage alone
 /// ([`PairLaw::normal_stage`]), F_n n.
 #[inline(always)]
-fn contact_force(law: &PairLaw, g: &PairGeometry, history: &mut ContactHistory) -> [f64; 3] {
+pub(crate) fn contact_force(
+    law: &PairLaw,
+    g: &PairGeometry,
+    history: &mut ContactHistory,
+) -> [f64; 3] {
     let f = law.normal_stage(g.overlap, g.overlap_rate, history);
     [f * g.normal[0], f * g.normal[1], f * g.normal[2]]
 }
@@ -411,7 +415,7 @@ pub(crate) fn covers(list: &PairList, n: usize) -> bool {
 }
 
 /// What the frictionless loop over the main pairs reads and writes.
-struct Rows<'a> {
+pub(crate) struct Rows<'a> {
     bodies: &'a Bodies,
     laws: &'a LawTable,
     list: &'a PairList,
@@ -427,7 +431,67 @@ struct Rows<'a> {
     tally: SharedMut<PairTally>,
 }
 
-impl Rows<'_> {
+impl<'a> Rows<'a> {
+    /// The loop over `list`'s main pairs of `bodies`, adding to the forces
+    /// at `f_ptr` (one per body) and updating `histories` (when the law
+    /// keeps them: one per main entry, asserted); each row's
+    /// [`PairTally`] into `tally` when given.
+    pub(crate) fn new(
+        bodies: &'a Bodies,
+        list: &'a PairList,
+        histories: &'a mut PairHistories,
+        laws: &'a LawTable,
+        f_ptr: SharedMut<[f64; 3]>,
+        tally: Option<SharedMut<PairTally>>,
+    ) -> Self {
+        let n = bodies.len();
+        let keep = laws.history;
+        assert!(list.start.len() == n + 1);
+        assert!(!keep || histories.main.len() == list.j.len());
+        assert!(
+            bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n
+        );
+        Rows {
+            bodies,
+            laws,
+            list,
+            // Local slices: the compiler cannot hoist loads of the vectors'
+            // headers past the raw-pointer writes below.
+            position: &bodies.position[..],
+            velocity: &bodies.velocity[..],
+            radius: &bodies.radius[..],
+            start: &list.start[..],
+            js: &list.j[..],
+            keep,
+            f_ptr,
+            h_ptr: SharedMut(histories.main.as_mut_ptr()),
+            tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
+        }
+    }
+
+    /// The laws, the list and the histories of the loop
+    /// (`dynamics::halo_split` computes some pairs itself).
+    pub(crate) fn parts(
+        &self,
+    ) -> (
+        &'a Bodies,
+        &'a LawTable,
+        &'a PairList,
+        Option<SharedMut<ContactHistory>>,
+    ) {
+        (
+            self.bodies,
+            self.laws,
+            self.list,
+            self.keep.then_some(self.h_ptr),
+        )
+    }
+
+    /// Where the loop adds the forces (one per body).
+    pub(crate) fn forces(&self) -> SharedMut<[f64; 3]> {
+        self.f_ptr
+    }
+
     /// Block `b`'s rows; `TALLY`: each row's [`PairTally`] too.
     ///
     /// # Safety
@@ -435,10 +499,27 @@ impl Rows<'_> {
     /// per body.
     #[inline(always)]
     unsafe fn block<const TALLY: bool>(&self, b: usize) {
+        let lo = self.list.blocks[b] as usize;
+        let hi = self.list.blocks[b + 1] as usize;
+        for i in lo..hi {
+            // SAFETY: as the caller's.
+            unsafe { self.row::<TALLY>(i) };
+        }
+    }
+
+    /// Row `i`: each touching pair's force added to its j as it goes, the
+    /// row's sum to i at its end; `TALLY`: the row's [`PairTally`] too.
+    ///
+    /// # Safety
+    /// As [`add_pair_forces_then`]'s, and no other thread touches the
+    /// forces of i and of its partners, nor the row's histories,
+    /// meanwhile; with `TALLY`, `tally` points to one per body.
+    #[inline(always)]
+    pub(crate) unsafe fn row<const TALLY: bool>(&self, i: usize) {
         let Rows {
             bodies,
             laws,
-            list,
+            list: _,
             position,
             velocity,
             radius,
@@ -449,72 +530,68 @@ impl Rows<'_> {
             h_ptr,
             tally,
         } = *self;
-        let lo = list.blocks[b] as usize;
-        let hi = list.blocks[b + 1] as usize;
-        for i in lo..hi {
-            let (s, e) = (start[i] as usize, start[i + 1] as usize);
-            if s == e {
-                if TALLY {
-                    // SAFETY: i is in this block.
-                    unsafe { *tally.at(i) = [0.0; 3] };
-                }
-                continue;
+        let (s, e) = (start[i] as usize, start[i + 1] as usize);
+        if s == e {
+            if TALLY {
+                // SAFETY: i is in this block.
+                unsafe { *tally.at(i) = [0.0; 3] };
             }
-            let xi = position[i];
-            let vi = velocity[i];
-            let ri = radius[i];
-            let mut fi = [0.0; 3];
-            // `pair_observables`'s sums of row i.
-            let mut sums: PairTally = [0.0; 3];
-            for k in s..e {
-                // SAFETY (the unchecked reads): k < js.len() (rows lie
-                // within j), and every j < n (the list's construction);
-                // lengths asserted above.
-                let j = unsafe { *js.get_unchecked(k) } as usize;
-                let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
-                // The velocity is read only for touching pairs.
-                let vj = || unsafe { *velocity.get_unchecked(j) };
-                if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
-                    let mut scratch = NO_HISTORY;
-                    // SAFETY: history k belongs to row i, which only this
-                    // block visits.
-                    let hist = if keep {
-                        unsafe { &mut *h_ptr.0.add(k) }
+            return;
+        }
+        let xi = position[i];
+        let vi = velocity[i];
+        let ri = radius[i];
+        let mut fi = [0.0; 3];
+        // `pair_observables`'s sums of row i.
+        let mut sums: PairTally = [0.0; 3];
+        for k in s..e {
+            // SAFETY (the unchecked reads): k < js.len() (rows lie
+            // within j), and every j < n (the list's construction);
+            // lengths asserted above.
+            let j = unsafe { *js.get_unchecked(k) } as usize;
+            let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+            // The velocity is read only for touching pairs.
+            let vj = || unsafe { *velocity.get_unchecked(j) };
+            if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+                let mut scratch = NO_HISTORY;
+                // SAFETY: history k belongs to row i, which only this
+                // block visits.
+                let hist = if keep {
+                    unsafe { &mut *h_ptr.0.add(k) }
+                } else {
+                    &mut scratch
+                };
+                let law = laws.pair(bodies, i, j);
+                let fj = contact_force(&law, &g, hist);
+                if TALLY {
+                    // As `pair_observables`: the history as the force
+                    // left it (none kept: the default).
+                    if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
+                        sums[1] += 1.0;
                     } else {
-                        &mut scratch
-                    };
-                    let law = laws.pair(bodies, i, j);
-                    let fj = contact_force(&law, &g, hist);
-                    if TALLY {
-                        // As `pair_observables`: the history as the force
-                        // left it (none kept: the default).
-                        if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
-                            sums[1] += 1.0;
-                        } else {
-                            sums[0] += 1.0;
-                        }
-                        let hist = if keep { &*hist } else { &NO_HISTORY };
-                        sums[2] += laws.elastic_energy(&law, g.overlap, hist);
+                        sums[0] += 1.0;
                     }
-                    sub(&mut fi, fj);
-                    // SAFETY: j lies in this block or the next (the
-                    // blocks' construction); blocks of one parity are two
-                    // apart, so no other running block writes j.
-                    unsafe { add(&mut *f_ptr.0.add(j), fj) };
-                } else if keep {
-                    // SAFETY: as above.
-                    let hist = unsafe { &mut *h_ptr.0.add(k) };
-                    if *hist != ContactHistory::default() {
-                        *hist = ContactHistory::default();
-                    }
+                    let hist = if keep { &*hist } else { &NO_HISTORY };
+                    sums[2] += laws.elastic_energy(&law, g.overlap, hist);
+                }
+                sub(&mut fi, fj);
+                // SAFETY: j lies in this block or the next (the
+                // blocks' construction); blocks of one parity are two
+                // apart, so no other running block writes j.
+                unsafe { add(&mut *f_ptr.0.add(j), fj) };
+            } else if keep {
+                // SAFETY: as above.
+                let hist = unsafe { &mut *h_ptr.0.add(k) };
+                if *hist != ContactHistory::default() {
+                    *hist = ContactHistory::default();
                 }
             }
-            // SAFETY: i is in this block.
-            unsafe {
-                add(&mut *f_ptr.0.add(i), fi);
-                if TALLY {
-                    *tally.at(i) = sums;
-                }
+        }
+        // SAFETY: i is in this block.
+        unsafe {
+            add(&mut *f_ptr.0.add(i), fi);
+            if TALLY {
+                *tally.at(i) = sums;
             }
         }
     }
@@ -545,26 +622,8 @@ pub(crate) unsafe fn add_pair_forces_then(
 ) -> f64 {
     let n = bodies.len();
     let keep = laws.history;
-    assert!(list.start.len() == n + 1);
     assert!(follow.is_none() || list.extra.is_empty());
-    assert!(!keep || histories.main.len() == list.j.len());
-    assert!(bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n);
-    let rows = Rows {
-        bodies,
-        laws,
-        list,
-        // Local slices: the compiler cannot hoist loads of the vectors'
-        // headers past the raw-pointer writes below.
-        position: &bodies.position[..],
-        velocity: &bodies.velocity[..],
-        radius: &bodies.radius[..],
-        start: &list.start[..],
-        js: &list.j[..],
-        keep,
-        f_ptr,
-        h_ptr: SharedMut(histories.main.as_mut_ptr()),
-        tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
-    };
+    let rows = Rows::new(bodies, list, histories, laws, f_ptr, tally);
     // One loop with the tally and one without, so that the force loop
     // has no per-row test of it.
     let value = if tally.is_some() {

@@ -6,6 +6,7 @@ pub mod contacts;
 pub mod friction;
 pub mod friction_observables;
 pub mod gear5_rotation;
+pub mod halo_split;
 pub mod integrate;
 pub mod kinks;
 pub mod spring_energy;

@@ -4,9 +4,9 @@
 
 use std::time::Instant;
 
-use super::{Pipeline, World};
+use super::{Pipeline, StepHooks, World};
 use crate::bodies::Bodies;
-use crate::dynamics::contacts::{self, LawTable};
+use crate::dynamics::contacts::{self, LawTable, Rows};
 use crate::dynamics::friction::{self, FrictionTable};
 use crate::dynamics::integrate;
 use crate::dynamics::walls;
@@ -326,6 +326,40 @@ impl Pipeline {
         }
     }
 
+    /// [`Self::pair_forces_then_advance`] with the halo exchange in flight
+    /// during the pairs that need none of its state
+    /// ([`StepHooks::halo_during`], `dynamics::halo_split`): the same
+    /// additions in the same order, the same bits. Frictionless, the list
+    /// sequential ([`Pipeline::halo_overlaps`]).
+    pub(crate) fn pair_forces_around_halo_then_advance(
+        &mut self,
+        world: &mut World,
+        workers: &Workers,
+        hooks: &mut impl StepHooks,
+    ) -> f64 {
+        let Some(mut split) = self.halo_split.take() else {
+            hooks.halo(world);
+            self.ghosts(world);
+            return self.pair_forces_then_advance(world, workers);
+        };
+        let wall_energy = self.wall_tally_target(world);
+        let reference = &self.reference[..];
+        let mut moved2 = 0.0f64;
+        hooks.halo_during(world, &mut |world, progress| {
+            // SAFETY: as `pair_forces_then_advance`'s: the split's first
+            // part moves a body only once no row reads it.
+            moved2 = with_fused(world, reference, wall_energy, |rows, follow| unsafe {
+                split.early(rows, follow, progress)
+            });
+        });
+        // SAFETY: as above; the early part ran on this state.
+        let late = with_fused(world, reference, wall_energy, |rows, follow| unsafe {
+            split.late(rows, follow)
+        });
+        self.halo_split = Some(split);
+        moved2.max(late)
+    }
+
     /// Verlet: the pending half kick of the last step (if any), the half
     /// kick and drift of this one, and the body's gravity and wall forces
     /// at its new position. Returns the largest squared displacement since
@@ -394,4 +428,64 @@ impl Pipeline {
         };
         partial.into_iter().fold(0.0, f64::max)
     }
+}
+
+/// Runs `run` with the frictionless force loop of `world`'s main pairs and
+/// the fused follow-up (the closing half kick of this step, the next
+/// step's first half and per-body forces: [`verlet_chunk`]), as
+/// [`Pipeline::pair_forces_then_advance`] sets them up.
+fn with_fused(
+    world: &mut World,
+    reference: &[[f64; 3]],
+    wall_energy: SharedMut<f64>,
+    run: impl FnOnce(&Rows, contacts::FollowUp) -> f64,
+) -> f64 {
+    let n = world.bodies.len();
+    assert!(
+        reference.len() == n
+            && world.bodies.mass.len() == n
+            && world.bodies.fixed.len() == n
+            && world.bodies.force.len() == n
+    );
+    let tally = !wall_energy.0.is_null();
+    let f = SharedMut::new(&mut world.bodies.force);
+    let ctx = AdvanceContext {
+        x: SharedMut::new(&mut world.bodies.position),
+        v: SharedMut::new(&mut world.bodies.velocity),
+        f,
+        walls: world.wall_contacts.shared(),
+        bodies: &world.bodies,
+        surfaces: &world.surfaces,
+        laws: &world.laws,
+        gravity: world.gravity,
+        reference,
+        dt: world.dt,
+        // This step's closing half kick, not applied yet.
+        pending: true,
+        spin: SharedMut(std::ptr::null_mut()),
+        torque: SharedMut(std::ptr::null_mut()),
+        friction: None,
+        // The next step's forces.
+        step: world.steps_done + 2,
+        wall_energy,
+    };
+    // SAFETY: `run` gives each body to the follow-up once, when its forces
+    // are complete and no pair still reads it (`halo_split`); lengths
+    // asserted.
+    let follow = |lo: usize, hi: usize| unsafe {
+        if tally {
+            verlet_chunk::<true>(&ctx, lo, hi)
+        } else {
+            verlet_chunk::<false>(&ctx, lo, hi)
+        }
+    };
+    let rows = Rows::new(
+        &world.bodies,
+        &world.list,
+        &mut world.histories,
+        &world.laws,
+        f,
+        None,
+    );
+    run(&rows, &follow)
 }

@@ -22,6 +22,15 @@ pub struct RankReport {
     pub bytes_per_step: f64,
     /// Of which at list rebuilds (migration and new halo), per step.
     pub rebuild_bytes_per_step: f64,
+    /// Seconds per step in the per-step halo exchange beyond the pairs
+    /// it overlapped: posting, waiting, unpacking.
+    pub halo_wait_per_step: f64,
+    /// Steps whose halo exchange ran during the pairs that need none of
+    /// it (`dynamics::halo_split`).
+    pub overlapped_steps: u64,
+    /// Pairs of the last lists computed once the halo had arrived (with
+    /// a free halo copy).
+    pub deferred_pairs: usize,
 }
 
 /// The end state gathered at rank 0, input order.
@@ -90,6 +99,15 @@ impl<T: Transport> DistributedSimulation<T> {
             .comm
             .transport
             .all_gather(self.comm.rebuild_bytes as f64 / steps);
+        let wait = self.comm.transport.all_gather(self.comm.halo_wait / steps);
+        let overlapped = self
+            .comm
+            .transport
+            .all_gather(self.comm.overlapped_steps as f64);
+        let deferred = self
+            .comm
+            .transport
+            .all_gather(self.comm.deferred_pairs as f64);
         (0..self.comm.transport.size())
             .map(|r| RankReport {
                 owned: owned[r] as usize,
@@ -97,6 +115,9 @@ impl<T: Transport> DistributedSimulation<T> {
                 seconds_per_step: secs[r],
                 bytes_per_step: bytes[r],
                 rebuild_bytes_per_step: rebuild[r],
+                halo_wait_per_step: wait[r],
+                overlapped_steps: overlapped[r] as u64,
+                deferred_pairs: deferred[r] as usize,
             })
             .collect()
     }

@@ -114,6 +114,11 @@ pub struct ParallelSection {
     /// `io::checkpoint_parts`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub checkpoint_per_rank: bool,
+    /// Exchange the halo's per-step state while the pairs that need none
+    /// of it are computed (default true); false: before the force stage.
+    /// The same bits either way (`dynamics::halo_split`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub halo_overlap: Option<bool>,
 }
 
 impl ParallelSection {

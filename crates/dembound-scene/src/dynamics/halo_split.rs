@@ -1,0 +1,381 @@
+//! The frictionless force loop of a decomposed run split around the halo
+//! exchange (`comm::distributed`): the pairs that need no fresh halo state
+//! while the exchange is in flight, the rest once it has arrived, every
+//! body's force summed with the same additions in the same order as the
+//! engine's sequential loop, so the same bits.
+//!
+//! The order to keep. A decomposed run's loop
+//! ([`PairList::sequential`], `contacts::run_blocks_then`) takes the rows
+//! i = 0, 1, … in order; row i adds each touching pair's force f to its
+//! partner j as it goes and its own sum (−Σ f from zero, in entry order)
+//! to i at the row's end. Rows list only partners j > i, so body y's force
+//! is its per-body force (gravity, walls) plus, in order, the pairs of the
+//! rows before y that list y, then y's own row's sum.
+//!
+//! The split. *Stale* bodies are the halo copies whose owners send their
+//! state every step (free bodies of another rank); *late* bodies are the
+//! stale ones and every body listed with one; the others are *early*.
+//! - While the exchange is in flight ([`HaloSplit::early`]): every row in
+//!   order; a pair of two fresh bodies is computed (its history updated)
+//!   and its force added to an early body as the loop adds it, and stored
+//!   for a late one; a pair with a stale body is left. An early body has
+//!   no stale partner, so all its additions are made, in the loop's
+//!   order, and its block's follow-up (the fused Verlet half,
+//!   `contacts::FollowUp`) runs on it as in the engine; a late body's
+//!   force and position are not touched.
+//! - Once the exchange has arrived ([`HaloSplit::late`]): the pairs with a
+//!   stale body are computed and stored; each late body's force is summed
+//!   from its stored pairs in the loop's order (the rows before it that
+//!   list it, then its own row from zero), then its follow-up runs.
+//!
+//! Every pair is computed once (one history update), from the same
+//! positions and velocities as the engine's loop reads (a body's follow-up
+//! moves it only after every row reading it), and every body gets the same
+//! additions in the same order: the split changes no bit. Rows without a
+//! late body run the engine's own row code ([`Rows::row`]).
+
+use dembound_physics::contact::ContactHistory;
+
+use super::contacts::{add, contact_force, sub, touching_lazy, FollowUp, Rows, NO_HISTORY};
+use crate::geometry::neighbour::PairList;
+
+/// Which pairs of a list wait for the halo, and the pair forces stored
+/// for the late bodies. Built at each list build (the list and the stale
+/// bodies fix it).
+#[derive(Debug, Clone, Default)]
+pub struct HaloSplit {
+    /// Body → its state arrives with the exchange.
+    stale: Vec<bool>,
+    /// Body → stale or listed with a stale body.
+    late: Vec<bool>,
+    /// Row → neither its body nor any partner is late.
+    plain: Vec<bool>,
+    /// Row i's first stored pair (the pairs with a late body, numbered in
+    /// list order); n + 1 entries.
+    slot_start: Vec<u32>,
+    /// The pairs with a stale body: (entry, row, stored pair).
+    deferred: Vec<(u32, u32, u32)>,
+    /// The late bodies, ascending.
+    late_bodies: Vec<u32>,
+    /// Each late body's stored pairs as the partner j, in row order:
+    /// `incoming[incoming_start[p]..incoming_start[p + 1]]` for
+    /// `late_bodies[p]`.
+    incoming_start: Vec<u32>,
+    incoming: Vec<u32>,
+    /// Each stored pair's force on j (N) and whether the pair touches.
+    force: Vec<[f64; 3]>,
+    hit: Vec<bool>,
+    /// The list's bodies and entries.
+    shape: (usize, usize),
+}
+
+impl HaloSplit {
+    /// The split of `list` (rows in body order) when the bodies flagged
+    /// in `stale` (one flag per body) get their state from the exchange.
+    pub fn new(list: &PairList, stale: &[bool]) -> Self {
+        let n = stale.len();
+        let m = list.j.len();
+        let mut late = stale.to_vec();
+        for (i, k) in list.entries() {
+            let j = list.j[k] as usize;
+            if stale[i] {
+                late[j] = true;
+            }
+            if stale[j] {
+                late[i] = true;
+            }
+        }
+        let mut plain = vec![true; n];
+        let mut slot_start = Vec::with_capacity(n + 1);
+        let mut deferred = Vec::new();
+        let mut slots = 0u32;
+        // (late partner j, stored pair), in list order.
+        let mut to_late: Vec<(u32, u32)> = Vec::new();
+        for i in 0..n {
+            slot_start.push(slots);
+            for k in list.start[i] as usize..list.start[i + 1] as usize {
+                let j = list.j[k] as usize;
+                if !(late[i] || late[j]) {
+                    continue;
+                }
+                plain[i] = false;
+                if stale[i] || stale[j] {
+                    deferred.push((k as u32, i as u32, slots));
+                }
+                if late[j] {
+                    to_late.push((j as u32, slots));
+                }
+                slots += 1;
+            }
+            if late[i] {
+                plain[i] = false;
+            }
+        }
+        slot_start.push(slots);
+        let late_bodies: Vec<u32> = (0..n as u32).filter(|&k| late[k as usize]).collect();
+        // Counting sort by the partner's place among the late bodies (a
+        // stable sort: each body's pairs stay in list order).
+        let mut place = vec![0u32; n];
+        for (p, &k) in late_bodies.iter().enumerate() {
+            place[k as usize] = p as u32;
+        }
+        let mut incoming_start = vec![0u32; late_bodies.len() + 1];
+        for &(j, _) in &to_late {
+            incoming_start[place[j as usize] as usize + 1] += 1;
+        }
+        for p in 0..late_bodies.len() {
+            incoming_start[p + 1] += incoming_start[p];
+        }
+        let mut fill = incoming_start.clone();
+        let mut incoming = vec![0u32; to_late.len()];
+        for &(j, slot) in &to_late {
+            let p = place[j as usize] as usize;
+            incoming[fill[p] as usize] = slot;
+            fill[p] += 1;
+        }
+        HaloSplit {
+            stale: stale.to_vec(),
+            late,
+            plain,
+            slot_start,
+            deferred,
+            late_bodies,
+            incoming_start,
+            incoming,
+            force: vec![[0.0; 3]; slots as usize],
+            hit: vec![false; slots as usize],
+            shape: (n, m),
+        }
+    }
+
+    /// Built for this list (its bodies and entries).
+    pub fn fits(&self, list: &PairList) -> bool {
+        self.shape == (list.start.len().saturating_sub(1), list.j.len())
+    }
+
+    /// Rows computed whole before the exchange arrives (neither body nor
+    /// partner late).
+    pub fn plain_rows(&self) -> usize {
+        self.plain.iter().filter(|&&p| p).count()
+    }
+
+    /// Pairs computed after the exchange arrives (with a stale body).
+    pub fn deferred_pairs(&self) -> usize {
+        self.deferred.len()
+    }
+
+    /// The first part (see the module): every row in order, the pairs of
+    /// fresh bodies, early bodies' sums and follow-ups; `progress` between
+    /// blocks (lets the exchange advance). Returns the follow-ups'
+    /// maximum.
+    ///
+    /// # Safety
+    /// As `contacts::add_pair_forces_then`'s, the list sequential (one
+    /// thread) and this split built for it ([`Self::fits`]).
+    pub(crate) unsafe fn early(
+        &mut self,
+        rows: &Rows,
+        follow: FollowUp,
+        progress: &mut dyn FnMut(),
+    ) -> f64 {
+        let (bodies, laws, list, hist) = rows.parts();
+        let (start, js) = (&list.start[..], &list.j[..]);
+        let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
+        let f_ptr = rows.forces();
+        let mut moved = 0.0f64;
+        for b in 0..list.blocks.len().saturating_sub(1) {
+            let (lo, hi) = (list.blocks[b] as usize, list.blocks[b + 1] as usize);
+            for i in lo..hi {
+                if self.plain[i] {
+                    // SAFETY: one thread; as the caller's.
+                    unsafe { rows.row::<false>(i) };
+                    continue;
+                }
+                let (s, e) = (start[i] as usize, start[i + 1] as usize);
+                if s == e {
+                    continue;
+                }
+                let (late_i, stale_i) = (self.late[i], self.stale[i]);
+                if stale_i {
+                    // Every pair of the row waits.
+                    continue;
+                }
+                let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+                let mut fi = [0.0; 3];
+                let mut slot = self.slot_start[i] as usize;
+                for (k, &j) in js.iter().enumerate().take(e).skip(s) {
+                    let j = j as usize;
+                    let late_j = self.late[j];
+                    let stored = late_i || late_j;
+                    if self.stale[j] {
+                        slot += 1;
+                        continue;
+                    }
+                    let mut scratch = NO_HISTORY;
+                    let h = match hist {
+                        // SAFETY: entry k's history, this row's only.
+                        Some(h) => unsafe { &mut *h.0.add(k) },
+                        None => &mut scratch,
+                    };
+                    let fj = match touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j])
+                    {
+                        Some(g) => Some(contact_force(&laws.pair(bodies, i, j), &g, h)),
+                        None => {
+                            if hist.is_some() && *h != ContactHistory::default() {
+                                *h = ContactHistory::default();
+                            }
+                            None
+                        }
+                    };
+                    if stored {
+                        self.force[slot] = fj.unwrap_or_default();
+                        self.hit[slot] = fj.is_some();
+                        slot += 1;
+                    }
+                    if let Some(fj) = fj {
+                        if !late_i {
+                            sub(&mut fi, fj);
+                        }
+                        if !late_j {
+                            // SAFETY: one thread; j a body.
+                            unsafe { add(f_ptr.at(j), fj) };
+                        }
+                    }
+                }
+                if !late_i {
+                    // SAFETY: as above.
+                    unsafe { add(f_ptr.at(i), fi) };
+                }
+            }
+            // The block's early bodies are complete (rows before them and
+            // their own are done): their follow-up, in runs.
+            let mut a = lo;
+            while a < hi {
+                if self.late[a] {
+                    a += 1;
+                    continue;
+                }
+                let mut z = a;
+                while z < hi && !self.late[z] {
+                    z += 1;
+                }
+                moved = moved.max(follow(a, z));
+                a = z;
+            }
+            progress();
+        }
+        moved
+    }
+
+    /// The second part (see the module), once the stale bodies' state has
+    /// arrived: their pairs, each late body's sum in the loop's order, its
+    /// follow-up. Returns the follow-ups' maximum.
+    ///
+    /// # Safety
+    /// As [`Self::early`], which ran just before on the same state.
+    pub(crate) unsafe fn late(&mut self, rows: &Rows, follow: FollowUp) -> f64 {
+        let (bodies, laws, list, hist) = rows.parts();
+        let (start, js) = (&list.start[..], &list.j[..]);
+        let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
+        let f_ptr = rows.forces();
+        for &(k, i, slot) in &self.deferred {
+            let (k, i, slot) = (k as usize, i as usize, slot as usize);
+            let j = js[k] as usize;
+            let mut scratch = NO_HISTORY;
+            let h = match hist {
+                // SAFETY: entry k's history; one thread.
+                Some(h) => unsafe { &mut *h.0.add(k) },
+                None => &mut scratch,
+            };
+            let fj = match touching_lazy(
+                position[i],
+                velocity[i],
+                radius[i],
+                position[j],
+                || velocity[j],
+                radius[j],
+            ) {
+                Some(g) => Some(contact_force(&laws.pair(bodies, i, j), &g, h)),
+                None => {
+                    if hist.is_some() && *h != ContactHistory::default() {
+                        *h = ContactHistory::default();
+                    }
+                    None
+                }
+            };
+            self.force[slot] = fj.unwrap_or_default();
+            self.hit[slot] = fj.is_some();
+        }
+        for (p, &y) in self.late_bodies.iter().enumerate() {
+            let y = y as usize;
+            // SAFETY: one thread; y a body.
+            let f = unsafe { f_ptr.at(y) };
+            let (a, z) = (
+                self.incoming_start[p] as usize,
+                self.incoming_start[p + 1] as usize,
+            );
+            for &slot in &self.incoming[a..z] {
+                if self.hit[slot as usize] {
+                    add(f, self.force[slot as usize]);
+                }
+            }
+            let (s, e) = (start[y] as usize, start[y + 1] as usize);
+            if s != e {
+                let first = self.slot_start[y] as usize;
+                let mut fy = [0.0; 3];
+                for slot in first..first + (e - s) {
+                    if self.hit[slot] {
+                        sub(&mut fy, self.force[slot]);
+                    }
+                }
+                add(f, fy);
+            }
+        }
+        let mut moved = 0.0f64;
+        let mut p = 0;
+        while p < self.late_bodies.len() {
+            // Runs of consecutive late bodies.
+            let a = self.late_bodies[p] as usize;
+            let mut z = a + 1;
+            p += 1;
+            while p < self.late_bodies.len() && self.late_bodies[p] as usize == z {
+                z += 1;
+                p += 1;
+            }
+            moved = moved.max(follow(a, z));
+        }
+        moved
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A list of 6 bodies in rows: 0–{1, 2}, 1–{3}, 2–{4, 5}, 3–{5},
+    /// body 4 stale: late are 4 and its partner 2; rows 2 and 4 are late,
+    /// row 0 lists 2, rows 1, 3 and 5 are plain.
+    #[test]
+    fn late_bodies_are_the_stale_and_their_partners() {
+        let list = PairList {
+            start: vec![0, 2, 3, 5, 6, 6, 6],
+            j: vec![1, 2, 3, 4, 5, 5],
+            blocks: vec![0, 6],
+            ..Default::default()
+        };
+        let stale = [false, false, false, false, true, false];
+        let s = HaloSplit::new(&list, &stale);
+        assert_eq!(s.late, [false, false, true, false, true, false]);
+        assert_eq!(s.plain, [false, true, false, true, false, true]);
+        // Stored pairs: 0–2, 2–4, 2–5 (slots 0, 1, 2).
+        assert_eq!(s.slot_start, [0, 1, 1, 3, 3, 3, 3]);
+        assert_eq!(s.deferred, [(3, 2, 1)]);
+        assert_eq!(s.late_bodies, [2, 4]);
+        // Body 2 gets slot 0 (row 0) as j; body 4 slot 1 (row 2).
+        assert_eq!(s.incoming_start, [0, 1, 2]);
+        assert_eq!(s.incoming, [0, 1]);
+        assert_eq!(s.plain_rows(), 3);
+        assert_eq!(s.deferred_pairs(), 1);
+        assert!(s.fits(&list));
+    }
+}
