@@ -17,7 +17,8 @@
 //!   none;
 //! - in each code at every row, spheres in the domain + discharged = 300
 //!   + inserted, the discharged mass that count times m;
-//! - the same state (1e-9) at least until the last row without a contact,
+//! - the same state (1e-9) at least until the last row before the first
+//!   contact (its time in closed form from the initial positions),
 //!   inserted spheres included (they are created at dembound's places);
 //! - over 0.1–0.3 s, the discharge rate and the hold-up (spheres in the
 //!   domain) within 3 combined standard errors.
@@ -207,14 +208,43 @@ fn a_fed_silo_inserts_the_same_spheres_and_discharges_alike() {
 
     // The same state while nothing touches: inserted spheres stand where
     // dembound put them (the deck replays its draws) and fly the same.
-    let contacts = quantity(&report, "contacts (overlaps)");
-    let (cc, cd) = (numbers(&contacts["code"]), numbers(&contacts["dembound"]));
-    let ctime = numbers(&contacts["time"]);
-    let free_rows = (0..ctime.len())
-        .take_while(|&k| cc[k] == 0.0 && cd[k] == 0.0)
-        .count();
-    assert!(free_rows >= 3, "rows before the first contact: {free_rows}");
-    let t_free = ctime[free_rows - 1];
+    // The first contact, in closed form: the spheres at rest fall
+    // together (no contact among them), the inserted ones are ≥ 35 mm
+    // above them (≥ 30 ms at ≥ 1 m/s closing), so the first is a sphere
+    // at rest meeting a floor sphere it lies over (horizontal distance
+    // d < 2R): after falling z − √(4R² − d²), in √(2 · that / g).
+    let data = std::fs::read_to_string(deck.join("particles.data")).expect("the data file");
+    let atoms: Vec<Vec<f64>> = data
+        .lines()
+        .skip_while(|l| !l.starts_with("Atoms"))
+        .skip(2)
+        .take_while(|l| !l.trim().is_empty())
+        .map(|l| {
+            l.split_whitespace()
+                .map(|w| w.parse().expect("a number"))
+                .collect()
+        })
+        .collect();
+    let (free, floor): (Vec<&Vec<f64>>, Vec<&Vec<f64>>) = atoms.iter().partition(|a| a[1] == 1.0);
+    assert_eq!((free.len(), floor.len()), (300, 60));
+    let mut t_first = f64::INFINITY;
+    for a in &free {
+        for b in &floor {
+            let d = (a[4] - b[4]).hypot(a[5] - b[5]);
+            if d < 2.0 * R {
+                let fall = a[6] - b[6] - (4.0 * R * R - d * d).sqrt();
+                t_first = t_first.min((2.0 * fall / G).sqrt());
+            }
+        }
+    }
+    let ctime = numbers(&quantity(&report, "contacts (overlaps)")["time"]);
+    let t_free = ctime
+        .iter()
+        .copied()
+        .filter(|&t| t < t_first)
+        .fold(0.0, f64::max);
+    eprintln!("first contact at {t_first} s; the last row before it at {t_free} s");
+    assert!(t_free >= 0.01, "the first contact at {t_first} s");
     for name in [
         "state: max |Δx| / R_min",
         "kinetic energy",
@@ -224,7 +254,7 @@ fn a_fed_silo_inserts_the_same_spheres_and_discharges_alike() {
         let until = d["identical_until"].as_f64().unwrap_or(-1.0);
         assert!(
             until >= t_free,
-            "{name}: identical until {until} s, no contact until {t_free} s"
+            "{name}: identical until {until} s, the first contact at {t_first} s"
         );
     }
 
