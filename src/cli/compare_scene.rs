@@ -398,23 +398,30 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
                 if inserted > agreement::IDENTICAL {
                     // The LAMMPS deck creates dembound's own placements
                     // (lammps_inlets.rs); LIGGGHTS draws its own.
-                    let why = if code == "LAMMPS" {
-                        "the LAMMPS deck creates them at dembound's places, so they part as the \
-                         runs part (collisions amplifying round-off) or where the deck skipped \
-                         one (a free sphere in the way; its log says how many)"
+                    let reason = if code == "LAMMPS" {
+                        format!(
+                            "the spheres the inlets placed (ids from {}) stand apart (max |Δx| \
+                             / R_min = {} among them): the LAMMPS deck creates them at \
+                             dembound's places, so they part as the runs part (collisions \
+                             amplifying round-off) or where the deck skipped one (a free sphere \
+                             in the way; its log says how many)",
+                            n + 1,
+                            sig(inserted, 3)
+                        )
                     } else {
-                        "the codes' generators differ, so the states part at the first \
-                         insertion; only statistics can agree after it"
+                        format!(
+                            "the spheres the inlets placed (ids from {}) are where each code's \
+                             own random draw put them (max |Δx| / R_min = {} among them): the \
+                             codes' generators differ, so the states part at the first \
+                             insertion; only statistics can agree after it",
+                            n + 1,
+                            sig(inserted, 3)
+                        )
                     };
                     state_end = Some(StateEnd {
                         compared_until: time.last().copied(),
                         at: t,
-                        reason: format!(
-                            "the spheres the inlets placed (ids from {}) stand apart (max |Δx| / \
-                             R_min = {} among them): {why}",
-                            n + 1,
-                            sig(inserted, 3)
-                        ),
+                        reason,
                     });
                 }
             }
