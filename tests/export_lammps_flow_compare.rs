@@ -1,8 +1,8 @@
 //! `dembound compare DECK` on a LAMMPS scene deck whose spheres leave
 //! through an outlet (issue 32). LAMMPS has no mesh wall in `fix
 //! wall/gran`, so the conical hopper of the LIGGGHTS comparison
-//! (tests/export_liggghts_flow_compare.rs) cannot be exported, and the
-//! LAMMPS deck refuses `[[inlet]]` (lammps_scene.rs): the scene here is a
+//! (tests/export_liggghts_flow_compare.rs) cannot be exported (the fed
+//! version of this silo is tests/export_lammps_inlet_compare.rs): the scene here is a
 //! flat-bottomed silo that LAMMPS can hold: four plane side walls (`fix
 //! wall/gran … xplane|yplane`), a floor of 60 fixed spheres (R = 1 mm,
 //! 2.05 mm apart; frozen in the deck) with an orifice of the 21 sites

@@ -262,10 +262,13 @@ fn refusals_name_the_key_and_the_code() {
     }
 }
 
-/// `[[inlet]]` is refused by the LAMMPS and Yade decks, naming `inlet[0]`
-/// and the code, exit 2, nothing written (an export that dropped the
-/// inlet would run another scene; LIGGGHTS exports it:
-/// tests/export_liggghts_inlets.rs).
+/// `[[inlet]]` is refused by the Yade deck, and by the LAMMPS deck beside
+/// a moving group of fixed spheres (its placements are computed against
+/// the fixed spheres where they start: lammps_inlets.rs), naming
+/// `inlet[0]` and the code, exit 2, nothing written (an export that
+/// dropped the inlet would run another scene; LIGGGHTS exports it:
+/// tests/export_liggghts_inlets.rs, LAMMPS otherwise too:
+/// tests/export_lammps_inlet_compare.rs).
 #[test]
 fn inlets_are_refused_naming_the_key_and_the_code() {
     let inlet = "[[inlet]]\n\
@@ -279,8 +282,16 @@ fn inlets_are_refused_naming_the_key_and_the_code() {
         // The scene without its outlets, with the inlet.
         let full = scene(BOX1, "");
         let head = full.split("[[outlet]]").next().unwrap_or_default();
+        // LAMMPS: beside a plate of fixed spheres moving up.
+        let moving = if code == "lammps" {
+            "[[particles]]\nmaterial = \"g\"\nfixed = true\n\
+             spheres = [{ position = [5e-3, 5e-3, 1e-3], radius = 1e-3 }]\n\
+             motion = { velocity = [0.0, 0.0, 0.01] }\n"
+        } else {
+            ""
+        };
         let text = format!(
-            "{head}{inlet}\n[motion]\ngravity = [0.0, 0.0, -9.81]\n\
+            "{head}{moving}{inlet}\n[motion]\ngravity = [0.0, 0.0, -9.81]\n\
              [integration]\nscheme = \"verlet\"\ndt = 1e-5\nsteps = 100\n"
         );
         std::fs::write(&path, &text).unwrap();

@@ -4,7 +4,8 @@
 //!
 //! - The peer's counts are its thermo columns (liggghts_inlets.rs:
 //!   `f_insK[1]` spheres and `f_insK[2]` kg inserted by inlet K,
-//!   `FixInsert::compute_vector`; outlets.rs: `v_outK_n`, `v_outK_m`
+//!   `FixInsert::compute_vector`; lammps_inlets.rs: `v_insK_n`,
+//!   `v_insK_m`; outlets.rs: `v_outK_n`, `v_outK_m`
 //!   removed by outlet K), printed as `insK[1]` … or `out0_n` … by
 //!   LIGGGHTS 3.8 and with their prefixes by LAMMPS. The row of a dump
 //!   step: the first printed at that step (written with the dump, before
@@ -56,8 +57,16 @@ pub fn peer_flow(
     };
     let mut flow = Flow::default();
     for k in 0..inlets {
-        flow.inserted += column(row, "f_", &format!("ins{k}[1]"))?;
-        flow.inserted_mass += column(row, "f_", &format!("ins{k}[2]"))?;
+        // LIGGGHTS's fix vector, else the LAMMPS deck's variables.
+        let (n, m) = match column(row, "f_", &format!("ins{k}[1]")) {
+            Some(n) => (n, column(row, "f_", &format!("ins{k}[2]"))?),
+            None => (
+                row.get(&format!("v_ins{k}_n")).copied()?,
+                row.get(&format!("v_ins{k}_m")).copied()?,
+            ),
+        };
+        flow.inserted += n;
+        flow.inserted_mass += m;
     }
     for k in 0..outlets {
         flow.discharged += column(row, "v_", &format!("out{k}_n"))?;
@@ -129,6 +138,26 @@ mod tests {
             }
         );
         assert_eq!(peer_flow(&thermo, 99, 1, 1).map(|f| f.inserted), Some(0.0));
+        // The LAMMPS deck's variables (lammps_inlets.rs, outlets.rs).
+        let mut lammps = BTreeMap::new();
+        lammps.insert(
+            500,
+            vec![row(&[
+                ("v_ins0_n", 7.0),
+                ("v_ins0_m", 0.5),
+                ("v_out0_n", 1.0),
+                ("v_out0_m", 0.25),
+            ])],
+        );
+        assert_eq!(
+            peer_flow(&lammps, 500, 1, 1),
+            Some(Flow {
+                inserted: 7.0,
+                inserted_mass: 0.5,
+                discharged: 1.0,
+                discharged_mass: 0.25
+            })
+        );
         // A second inlet's column is not there.
         assert!(peer_flow(&thermo, 150, 2, 1).is_none());
         // LAMMPS's names keep their prefixes.

@@ -11,7 +11,8 @@
 //! input index). Index `i` here is id − 1 (dembound's input index).
 //! Spheres of the scene file take their radius, mass and fixedness from
 //! it, inserted ones their radius from the dump's `radius` column and
-//! their material from its `type` column (type = material + 1,
+//! their mass from its `mass` column (LAMMPS, lammps_inlets.rs) or else
+//! from the material of its `type` column (type = material + 1,
 //! liggghts_inlets.rs), m = ρ 4/3 π R³.
 //!
 //! **An id given again.** LIGGGHTS numbers an inserted sphere from the
@@ -134,7 +135,9 @@ impl SceneSpheres {
         self.read_row(row, &HashMap::new())
     }
 
-    /// The radius and mass of an inserted sphere, from its dump columns.
+    /// The radius and mass of an inserted sphere, from its dump columns:
+    /// the `mass` column when there is one (LAMMPS decks), else ρ 4/3 π R³
+    /// of the material of its `type`.
     fn inserted(&self, step: u64, s: &DumpedSphere) -> Result<(f64, f64), String> {
         let r = s.radius.ok_or_else(|| {
             format!(
@@ -142,6 +145,9 @@ impl SceneSpheres {
                 s.id
             )
         })?;
+        if let Some(m) = s.mass {
+            return Ok((r, m));
+        }
         let rho = s
             .kind
             .and_then(|t| (t as usize).checked_sub(1))

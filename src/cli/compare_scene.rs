@@ -396,17 +396,32 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
                 // Spheres an inlet placed (none before the first insertion).
                 let inserted = geometry.state_difference(&theirs_row, &mine, n);
                 if inserted > agreement::IDENTICAL {
-                    state_end = Some(StateEnd {
-                        compared_until: time.last().copied(),
-                        at: t,
-                        reason: format!(
+                    // The LAMMPS deck creates dembound's own placements
+                    // (lammps_inlets.rs); LIGGGHTS draws its own.
+                    let reason = if code == "LAMMPS" {
+                        format!(
+                            "the spheres the inlets placed (ids from {}) stand apart (max |Δx| \
+                             / R_min = {} among them): the LAMMPS deck creates them at \
+                             dembound's places, so they part as the runs part (collisions \
+                             amplifying round-off) or where the deck skipped one (a free sphere \
+                             in the way; its log says how many)",
+                            n + 1,
+                            sig(inserted, 3)
+                        )
+                    } else {
+                        format!(
                             "the spheres the inlets placed (ids from {}) are where each code's \
                              own random draw put them (max |Δx| / R_min = {} among them): the \
                              codes' generators differ, so the states part at the first \
                              insertion; only statistics can agree after it",
                             n + 1,
                             sig(inserted, 3)
-                        ),
+                        )
+                    };
+                    state_end = Some(StateEnd {
+                        compared_until: time.last().copied(),
+                        at: t,
+                        reason,
                     });
                 }
             }

@@ -120,50 +120,59 @@ pub(crate) fn runs(
             x.push_str(&crate::outlets::run_line(step - done, outlets));
             done = step;
         }
-        let w = p.wall;
-        if arrives {
-            writeln!(
-                x,
-                "# wall[{w}] appears at step {step} (t = {} s)",
-                crate::num(step as f64 * dt)
-            )
-            .ok();
-            x.push_str(&p.fixes_text);
-            x.push_str(&p.in_wall);
-            x.push_str(&p.force_lines);
-        } else {
-            writeln!(
-                x,
-                "# wall[{w}] vanishes at step {step} (t = {} s): take back the half kick of its force at this step\n\
-                 # (dembound's state {step} has no force of wall[{w}]), then remove it",
-                crate::num(step as f64 * dt)
-            )
-            .ok();
-            for (fix, group) in &p.fixes {
-                for (k, c) in ["x", "y", "z"].iter().enumerate() {
-                    writeln!(
-                        x,
-                        "variable     gate_v atom v{c}-{}*f_{fix}[{}]/mass\n\
-                         set          group {group} v{c} v_gate_v",
-                        crate::num(0.5 * dt),
-                        k + 2
-                    )
-                    .ok();
-                }
-            }
-            writeln!(x, "variable     gate_v delete").ok();
-            for (fix, _) in &p.fixes {
-                for c in ["x", "y", "z"] {
-                    writeln!(x, "uncompute    {fix}_{c}").ok();
-                }
-                writeln!(x, "unfix        {fix}").ok();
-            }
-            writeln!(x, "variable     in_wall{w} atom 0").ok();
-            for c in ["x", "y", "z"] {
-                writeln!(x, "variable     w{w}{c} equal 0").ok();
-            }
-        }
+        x.push_str(&switch_text(step, arrives, p, dt));
     }
     x.push_str(&crate::outlets::run_line(steps - done, outlets));
+    x
+}
+
+/// What the deck writes at the switch of plane `p` at state `step`
+/// (`arrives`: the wall appears, else it vanishes), steps of `dt` (s),
+/// between the run that ends at `step` and the next.
+pub(crate) fn switch_text(step: u64, arrives: bool, p: &PlaneSwitch, dt: f64) -> String {
+    let mut x = String::new();
+    let w = p.wall;
+    if arrives {
+        writeln!(
+            x,
+            "# wall[{w}] appears at step {step} (t = {} s)",
+            crate::num(step as f64 * dt)
+        )
+        .ok();
+        x.push_str(&p.fixes_text);
+        x.push_str(&p.in_wall);
+        x.push_str(&p.force_lines);
+    } else {
+        writeln!(
+            x,
+            "# wall[{w}] vanishes at step {step} (t = {} s): take back the half kick of its force at this step\n\
+             # (dembound's state {step} has no force of wall[{w}]), then remove it",
+            crate::num(step as f64 * dt)
+        )
+        .ok();
+        for (fix, group) in &p.fixes {
+            for (k, c) in ["x", "y", "z"].iter().enumerate() {
+                writeln!(
+                    x,
+                    "variable     gate_v atom v{c}-{}*f_{fix}[{}]/mass\n\
+                     set          group {group} v{c} v_gate_v",
+                    crate::num(0.5 * dt),
+                    k + 2
+                )
+                .ok();
+            }
+        }
+        writeln!(x, "variable     gate_v delete").ok();
+        for (fix, _) in &p.fixes {
+            for c in ["x", "y", "z"] {
+                writeln!(x, "uncompute    {fix}_{c}").ok();
+            }
+            writeln!(x, "unfix        {fix}").ok();
+        }
+        writeln!(x, "variable     in_wall{w} atom 0").ok();
+        for c in ["x", "y", "z"] {
+            writeln!(x, "variable     w{w}{c} equal 0").ok();
+        }
+    }
     x
 }

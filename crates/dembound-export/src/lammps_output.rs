@@ -82,7 +82,14 @@ pub fn before_freeze(setup: &SceneSetup) -> String {
 
 /// The dump and the wall-force file, written every `every` steps. `planes`:
 /// (wall index, the `fix wall/gran` ids of that plane, one per free type).
-pub fn output(setup: &SceneSetup, every: u64, planes: &[(usize, Vec<String>)]) -> String {
+/// `inserts` (a scene with inlets): the dump also has `radius mass`, what
+/// `dembound compare` knows an inserted sphere by.
+pub fn output(
+    setup: &SceneSetup,
+    every: u64,
+    planes: &[(usize, Vec<String>)],
+    inserts: bool,
+) -> String {
     let mut x = String::new();
     let mut columns: Vec<String> = Vec::new();
     for (w, wall) in setup.walls.iter().enumerate() {
@@ -116,8 +123,9 @@ pub fn output(setup: &SceneSetup, every: u64, planes: &[(usize, Vec<String>)]) -
     }
     writeln!(
         x,
-        "dump         state all custom {every} {DUMP_FILE} id x y z vx vy vz omegax omegay omegaz\n\
-         dump_modify  state sort id format float %.17g"
+        "dump         state all custom {every} {DUMP_FILE} id x y z vx vy vz omegax omegay omegaz{}\n\
+         dump_modify  state sort id format float %.17g",
+        if inserts { " radius mass" } else { "" }
     )
     .ok();
     if !columns.is_empty() {

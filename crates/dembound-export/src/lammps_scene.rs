@@ -115,13 +115,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     // (lammps_motion.rs).
     lammps_motion::refuse_other_moving_walls(setup)?;
     let moves = lammps_motion::group_moves(setup)?;
-    crate::refuse_inlets(
-        setup,
-        "LAMMPS",
-        "LAMMPS's `fix pour` sets its rate from a volume fraction and the free-fall speed \
-         into the region (not a number or mass rate), and `fix deposit` inserts one atom \
-         every M steps with one diameter (no size distribution): neither is dembound's inlet",
-    )?;
+    // Inlets: dembound's placements replayed (lammps_inlets.rs).
+    crate::lammps_inlets::refuse(setup, !moves.is_empty())?;
+    let inserts = !setup.inlets.is_empty();
     let outlets = crate::outlets::plan(setup, "LAMMPS", Some("free"))?;
     crate::refuse_servo_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
@@ -159,7 +155,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let windows = lammps_gates::windows(setup, dt)?;
     let every = lammps_output::series_every(scene.file.output.series_every, steps);
 
-    // Atom types: the free materials in material order, then the fixed ones.
+    // Atom types: the free materials in material order (with the inlets'
+    // materials), then the fixed ones.
     let mut types: Vec<AtomType> = Vec::new();
     let kind = |s: &SphereInit| AtomType {
         material: s.material,
@@ -173,7 +170,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 fixed,
                 wall,
             };
-            if setup.spheres.iter().any(|s| kind(s) == t) {
+            let inserted = !fixed && setup.inlets.iter().any(|i| i.material == material);
+            if inserted || setup.spheres.iter().any(|s| kind(s) == t) {
                 types.push(t);
             }
         }
@@ -187,11 +185,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let radius: Vec<Option<f64>> = types
         .iter()
         .map(|t| {
+            // An inlet's smallest and largest radius: one radius if fixed.
+            let inserted = setup
+                .inlets
+                .iter()
+                .filter(|i| !t.fixed && i.material == t.material)
+                .flat_map(|i| <[f64; 2]>::from(i.size.radius_range()));
             let mut radii = setup
                 .spheres
                 .iter()
                 .filter(|s| kind(s) == *t)
-                .map(|s| s.radius);
+                .map(|s| s.radius)
+                .chain(inserted);
             let first = radii.next();
             first.filter(|r| radii.all(|q| q == *r))
         })
@@ -221,22 +226,33 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     _ => f64::NAN,
                 }
             };
-            let free = setup.spheres.iter().find(|s| !s.fixed);
-            let Some(s) = free else {
+            // A free sphere of the scene, else an inlet's largest.
+            let free = setup
+                .spheres
+                .iter()
+                .find(|s| !s.fixed)
+                .map(|s| (s.radius, s.material))
+                .or_else(|| {
+                    setup
+                        .inlets
+                        .first()
+                        .map(|i| (i.size.max_radius(), i.material))
+                });
+            let Some((radius, mat)) = free else {
                 return refuse("the scene has no free sphere to export".into());
             };
-            let m = material(s.material);
+            let m = material(mat);
             let reference = alpha(&PairProperties::spheres(
-                s.radius,
-                m.sphere_mass(s.radius),
+                radius,
+                m.sphere_mass(radius),
                 m,
-                s.radius,
-                m.sphere_mass(s.radius),
+                radius,
+                m.sphere_mass(radius),
                 m,
             ));
             let other = alpha(&PairProperties::sphere_plane(
-                2.0 * s.radius,
-                m.sphere_mass(s.radius),
+                2.0 * radius,
+                m.sphere_mass(radius),
                 m,
                 &Material::rigid(1.0),
             ));
@@ -340,6 +356,20 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             }
         }
     }
+    // An inlet's sphere is created one step back along its flight
+    // (lammps_inlets.rs): the box holds its region grown by that step.
+    for i in &setup.inlets {
+        let (a, b) = i.region.bounds();
+        for k in 0..3 {
+            let back = 2.0 * (i.velocity[k].abs() + setup.gravity[k].abs() * dt) * dt;
+            if !d.periodic[k] {
+                lo[k] = lo[k].min(a[k] - back);
+                hi[k] = hi[k].max(b[k] + back);
+            }
+        }
+    }
+    // With inlets, a spare last type: the type a sphere is created with.
+    let fresh = types.len() + 1;
     let mut data = String::new();
     writeln!(
         data,
@@ -347,7 +377,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          {} atoms\n{} atom types\n\n{} {} xlo xhi\n{} {} ylo yhi\n{} {} zlo zhi\n\n\
          Atoms # sphere\n",
         setup.spheres.len(),
-        types.len(),
+        if inserts { fresh } else { types.len() },
         num(lo[0]),
         num(hi[0]),
         num(lo[1]),
@@ -566,12 +596,23 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             .ok();
         }
     }
+    if inserts {
+        writeln!(
+            x,
+            "pair_coeff   * {fresh} {}   # type {fresh}: a sphere being created by an inlet, retyped before any run",
+            model_args("hertz", 1.0, &Damping::None, FRICTIONLESS)
+        )
+        .ok();
+    }
+    // dembound's default skin: 0.2 × the smallest free radius, the
+    // inlets' included.
     let skin = setup.neighbour.skin.unwrap_or_else(|| {
         0.2 * setup
             .spheres
             .iter()
             .filter(|s| !s.fixed)
             .map(|s| s.radius)
+            .chain(setup.inlets.iter().map(|i| i.size.radius_range().0))
             .fold(f64::INFINITY, f64::min)
     });
     writeln!(
@@ -803,7 +844,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             )
         })
         .collect();
-    x.push_str(&lammps_output::output(setup, every, &plane_fixes));
+    x.push_str(&lammps_output::output(setup, every, &plane_fixes, inserts));
     // Moving frozen spheres carry velocities: the kinetic energy is the
     // free spheres' (dembound's), not `ke` of all atoms.
     let ke = if moves.is_empty() {
@@ -812,31 +853,68 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         writeln!(x, "compute      ke_free free ke").ok();
         "c_ke_free"
     };
+    // Inlets (lammps_inlets.rs): a created atom belongs to `all` only, so
+    // after each event the groups of the free types are taken again.
+    let mut regroup = format!("group        free type {}\n", list(&free_types));
+    if !planes.is_empty() {
+        for &t in &free_types {
+            writeln!(regroup, "group        t{} type {}", t + 1, t + 1).ok();
+        }
+    }
+    let free_type = |m: usize| -> usize {
+        1 + types
+            .iter()
+            .position(|t| {
+                *t == AtomType {
+                    material: m,
+                    fixed: false,
+                    wall: false,
+                }
+            })
+            .unwrap_or(0)
+    };
+    let inlets = crate::lammps_inlets::plan(
+        setup,
+        dt,
+        steps,
+        &windows,
+        &crate::lammps_inlets::Naming {
+            free_type: &free_type,
+            fresh,
+            regroup,
+        },
+    )?;
+    if let Some(i) = &inlets {
+        x.push_str(&i.setup);
+    }
     if let Some(o) = &outlets {
         x.push_str(&o.setup);
     }
     writeln!(
         x,
         "variable     pw equal {}\n\
-         thermo_style custom step time {ke} v_pp v_pw{}\n\
+         thermo_style custom step time {ke} v_pp v_pw{}{}\n\
          thermo_modify norm no format float %.17g\n\
          thermo       {}",
         wall_terms.join("+"),
+        inlets.as_ref().map_or("", |i| i.columns.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
-        steps.max(1),
+        // With inlets, the counts over time: at the series cadence.
+        if inlets.is_some() {
+            every
+        } else {
+            steps.max(1)
+        },
     )
     .ok();
     for sw in &mut switches {
         let ids: Vec<String> = sw.fixes.iter().map(|(f, _)| f.clone()).collect();
         sw.force_lines = lammps_output::plane_force_lines(sw.wall, &ids);
     }
-    x.push_str(&lammps_gates::runs(
-        steps,
-        dt,
-        &windows,
-        &switches,
-        outlets.as_ref(),
-    ));
+    x.push_str(&match &inlets {
+        Some(i) => crate::lammps_inlets::runs(steps, dt, &windows, &switches, outlets.as_ref(), i),
+        None => lammps_gates::runs(steps, dt, &windows, &switches, outlets.as_ref()),
+    });
 
     Ok(Deck {
         code: Code::Lammps,

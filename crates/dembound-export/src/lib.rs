@@ -17,6 +17,7 @@ pub mod agreement;
 pub mod lammps;
 mod lammps_friction;
 mod lammps_gates;
+mod lammps_inlets;
 mod lammps_motion;
 pub mod lammps_output;
 pub mod lammps_scene;

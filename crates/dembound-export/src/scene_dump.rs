@@ -21,6 +21,9 @@ pub struct DumpedSphere {
     pub radius: Option<f64>,
     /// Atom type (1-based), when the dump has `type`.
     pub kind: Option<u32>,
+    /// Mass (kg), when the dump has `mass` (LAMMPS decks with inlets:
+    /// their atom types are not material + 1).
+    pub mass: Option<f64>,
 }
 
 /// One dump row: the step and every sphere there, sorted by id.
@@ -89,7 +92,7 @@ pub fn parse_dump(text: &str) -> Result<Vec<DumpRow>> {
             (Some(a), Some(b), Some(c)) => Some([a, b, c]),
             _ => None,
         };
-        let (radius, kind) = (col("radius"), col("type"));
+        let (radius, kind, mass) = (col("radius"), col("type"), col("mass"));
         let mut spheres = Vec::with_capacity(n);
         for j in header_at + 1..header_at + 1 + n {
             let line = lines
@@ -115,6 +118,7 @@ pub fn parse_dump(text: &str) -> Result<Vec<DumpRow>> {
                 kind: kind
                     .map(|c| number(j, words[c]).map(|t| t as u32))
                     .transpose()?,
+                mass: mass.map(|c| number(j, words[c])).transpose()?,
             });
         }
         spheres.sort_by_key(|s| s.id);

@@ -186,8 +186,9 @@ impl Inlets {
         })
     }
 
-    /// The event number of inlet `k` at `step`, if it has one there.
-    pub(super) fn event_at(&self, k: usize, step: u64) -> Option<u64> {
+    /// The event number of inlet `k` at `step`, if it has one there
+    /// (public for the deck writers, which replay the schedule).
+    pub fn event_at(&self, k: usize, step: u64) -> Option<u64> {
         let i = &self.inlets[k];
         let since = step.checked_sub(i.first_step)?;
         if since % i.every != 0 {
@@ -204,7 +205,7 @@ impl Inlets {
     }
 
     /// Spheres due so far after event `e` of inlet `k` (module doc).
-    pub(super) fn due_after(&self, k: usize, e: u64) -> u64 {
+    pub fn due_after(&self, k: usize, e: u64) -> u64 {
         let i = &self.inlets[k];
         let t = (((e + 1) * i.every) as f64 * self.dt).min(i.window);
         let n = (i.number_rate * t).round();
