@@ -1828,6 +1828,8 @@ fn checkpoint_in_parts_restarts_per_rank_bit_for_bit() {
             let name = format!("w{written}r{ranks}");
             let (d, j) = run(ranks, with("4000", &["--restart", &cp]), &name);
             assert_eq!(j["steps_this_run"], 2000);
+            // Each rank made only its part of the lattice.
+            assert_eq!(j["input_in_parts"], true, "restarted on {ranks}");
             assert_eq!(
                 state(&d),
                 expected,
@@ -1856,6 +1858,36 @@ fn checkpoint_in_parts_restarts_per_rank_bit_for_bit() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
     assert_eq!(j["steps"], 4000);
+    // A checkpoint of another scene, on 2 and 3 ranks: refused with one
+    // message (exit 2, every rank ends, nothing written): a sphere's
+    // radius (found where its record arrives), fewer spheres (a part's ids
+    // out of range, found before the build).
+    for (other, named) in [
+        (
+            "particles.0.lattice.radius=0.5005e-3",
+            "(input order): radius differs: the checkpoint's 0.0005 m, the scene's 0.0005005 m",
+        ),
+        (
+            "particles.0.lattice.counts=[8,8,9]",
+            "body order has a bad or repeated id",
+        ),
+    ] {
+        for ranks in [2usize, 3] {
+            let out = tmp.path().join(format!("other{ranks}"));
+            let o = mpirun_scene(ranks, &[], "lattice_drop.toml")
+                .args(scene_args())
+                .args(with("4000", &["--restart", &cp.to_string_lossy()]))
+                .args(["--set", other, "--out"])
+                .arg(&out)
+                .output()
+                .expect("mpirun runs");
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{other}, {ranks} ranks: {err}");
+            assert_eq!(err.matches("error:").count(), 1, "{other}: {err}");
+            assert!(err.contains(named), "{other}, {ranks} ranks: {err}");
+            assert!(!out.exists(), "{other}, {ranks} ranks");
+        }
+    }
     // A part damaged (one byte changed): refused, named, nothing written.
     let part = tmp.path().join("half2/checkpoint_rank_1.cbor");
     let mut bytes = std::fs::read(&part).expect("part");
@@ -1877,4 +1909,184 @@ fn checkpoint_in_parts_restarts_per_rank_bit_for_bit() {
         "{err}"
     );
     assert!(!out.exists());
+}
+
+/// The arrays of the `FieldData` of a `.vtp` file (`TIME`, `STEP`): name
+/// → the values' bytes.
+fn field_data(path: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    use base64::Engine;
+    let text = std::fs::read_to_string(path).expect("vtp");
+    let doc = roxmltree::Document::parse(&text).expect("valid XML");
+    let fields = doc
+        .descendants()
+        .find(|n| n.has_tag_name("FieldData"))
+        .expect("FieldData");
+    fields
+        .children()
+        .filter(|n| n.has_tag_name("DataArray"))
+        .map(|n| {
+            let block = base64::engine::general_purpose::STANDARD
+                .decode(n.text().unwrap_or("").trim())
+                .expect("base64");
+            (n.attribute("Name").expect("Name").to_string(), block)
+        })
+        .collect()
+}
+
+/// Triangle id → (each cell array's bytes of that triangle, its three
+/// corners' position bytes through the connectivity), from mesh-wall
+/// `.vtp` files (a piece's points numbered in the piece).
+type Triangles =
+    std::collections::BTreeMap<i32, (std::collections::BTreeMap<String, Vec<u8>>, [Vec<u8>; 3])>;
+
+fn triangles_by_id(files: &[std::path::PathBuf]) -> Triangles {
+    let mut out = Triangles::new();
+    for f in files {
+        let arrays = vtp_arrays(f);
+        let ids: Vec<i32> = arrays["triangle_id"]
+            .chunks(4)
+            .map(|c| i32::from_le_bytes(c.try_into().expect("4 bytes")))
+            .collect();
+        let corners: Vec<usize> = arrays["connectivity"]
+            .chunks(8)
+            .map(|c| i64::from_le_bytes(c.try_into().expect("8 bytes")) as usize)
+            .collect();
+        let offsets: Vec<i64> = arrays["offsets"]
+            .chunks(8)
+            .map(|c| i64::from_le_bytes(c.try_into().expect("8 bytes")))
+            .collect();
+        let n = ids.len();
+        assert_eq!(corners.len(), 3 * n, "{}", f.display());
+        assert_eq!(
+            offsets,
+            (1..=n as i64).map(|i| 3 * i).collect::<Vec<_>>(),
+            "{}",
+            f.display()
+        );
+        let position = &arrays["position"];
+        for (k, id) in ids.iter().enumerate() {
+            let cells = ["force", "pressure", "shear", "area", "triangle_id"]
+                .iter()
+                .map(|name| {
+                    let bytes = &arrays[*name];
+                    let size = bytes.len() / n;
+                    (name.to_string(), bytes[k * size..(k + 1) * size].to_vec())
+                })
+                .collect();
+            let at =
+                |c: usize| position[24 * corners[3 * k + c]..24 * corners[3 * k + c] + 24].to_vec();
+            assert!(
+                out.insert(*id, (cells, [at(0), at(1), at(2)])).is_none(),
+                "triangle {id} twice"
+            );
+        }
+    }
+    out
+}
+
+/// Issue 31 item 5: under `[parallel] vtk_per_rank` the mesh walls' files
+/// are written in pieces too, with no gather: examples/scenes/mesh_box.toml
+/// (its box a 12-triangle mesh; 8 × 8 × 10 spheres; 3000 steps, files
+/// every 1000) on 2 and 3 ranks writes `wall_0_NNNNNN.pvtp` indices
+/// listing every rank's piece (`snapshots.pvd` lists them as part 1), the
+/// pieces together hold every triangle of the one-process run's
+/// `wall_0_NNNNNN.vtp` once, its force, pressure, shear, area and id the
+/// same bytes and its corners at the same positions (the reference: the
+/// one process's file, whose sums the gathered file's equal, test
+/// above), and the same time and step. Every file parses as XML.
+#[test]
+fn per_rank_mesh_wall_pieces_hold_the_one_process_file() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let args = [
+        "--set",
+        "particles.0.lattice.counts=[8,8,10]",
+        "--set",
+        "integration.steps=3000",
+        "--set",
+        "output.every=1000",
+        "--quiet",
+    ];
+    let plain = tmp.path().join("plain");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/mesh_box.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_dembound"))
+        .arg("scene")
+        .arg(&scene)
+        .args(args)
+        .arg("--out")
+        .arg(&plain)
+        .output()
+        .expect("dembound runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for ranks in [2usize, 3] {
+        let d = tmp.path().join(format!("r{ranks}"));
+        let o = mpirun_scene(ranks, &[], "mesh_box.toml")
+            .args(args)
+            .args(["--set", "parallel.vtk_per_rank=true", "--out"])
+            .arg(&d)
+            .output()
+            .expect("mpirun runs");
+        assert!(
+            o.status.success(),
+            "{ranks} ranks: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let pvd = std::fs::read_to_string(d.join("snapshots.pvd")).expect("pvd");
+        let pvd = roxmltree::Document::parse(&pvd).expect("valid XML");
+        let walls: Vec<(&str, &str)> = pvd
+            .descendants()
+            .filter(|n| n.has_tag_name("DataSet") && n.attribute("part") == Some("1"))
+            .filter_map(|n| Some((n.attribute("file")?, n.attribute("timestep")?)))
+            .collect();
+        let expected: Vec<String> = (0..=3).map(|k| format!("wall_0_{k:06}.pvtp")).collect();
+        assert_eq!(
+            walls.iter().map(|w| w.0).collect::<Vec<_>>(),
+            expected,
+            "{ranks} ranks"
+        );
+        let mut loaded = 0;
+        for (k, index_name) in expected.iter().enumerate() {
+            // No gathered file.
+            assert!(!d.join(format!("wall_0_{k:06}.vtp")).exists());
+            let index = std::fs::read_to_string(d.join(index_name)).expect("pvtp");
+            let index = roxmltree::Document::parse(&index).expect("valid XML");
+            assert_eq!(index.root_element().attribute("type"), Some("PPolyData"));
+            let sources: Vec<&str> = index
+                .descendants()
+                .filter(|n| n.has_tag_name("Piece"))
+                .filter_map(|n| n.attribute("Source"))
+                .collect();
+            let names: Vec<String> = (0..ranks)
+                .map(|r| format!("wall_0_{k:06}_rank_{r}.vtp"))
+                .collect();
+            assert_eq!(sources, names, "{ranks} ranks, file {k}");
+            let mut declared: Vec<&str> = index
+                .descendants()
+                .filter(|n| n.has_tag_name("PDataArray"))
+                .filter_map(|n| n.attribute("Name"))
+                .collect();
+            declared.sort_unstable();
+            let whole_file = plain.join(format!("wall_0_{k:06}.vtp"));
+            let pieces: Vec<std::path::PathBuf> = names.iter().map(|n| d.join(n)).collect();
+            for p in &pieces {
+                let mut in_piece: Vec<String> = vtp_arrays(p)
+                    .into_keys()
+                    .filter(|n| !["connectivity", "offsets"].contains(&n.as_str()))
+                    .collect();
+                in_piece.sort_unstable();
+                assert_eq!(in_piece, declared, "{}", p.display());
+                assert_eq!(field_data(p), field_data(&whole_file), "{}", p.display());
+            }
+            let whole = triangles_by_id(&[whole_file]);
+            assert_eq!(whole.len(), 12);
+            let union = triangles_by_id(&pieces);
+            assert_eq!(union, whole, "{ranks} ranks, file {k}");
+            loaded += whole
+                .values()
+                .filter(|(cells, _)| cells["force"].iter().any(|&b| b != 0))
+                .count();
+        }
+        // Some triangles carry the spheres (the floor from the first
+        // contacts on).
+        assert!(loaded >= 2, "{ranks} ranks: {loaded} loaded triangles");
+    }
 }

@@ -66,7 +66,9 @@ class Scene:
         ``particles`` may be left out and added with ``add_particles``."""
     @classmethod
     def from_checkpoint(cls, path: _Path, threads: Optional[int] = None) -> Scene:
-        """The scene recorded in a checkpoint, continued from it bit for bit."""
+        """The scene recorded in a checkpoint, continued from it bit for bit;
+        the index of one written in parts under MPI (``[parallel]
+        checkpoint_per_rank``) has its parts read and merged."""
     def add_particles(
         self,
         positions: npt.NDArray[np.float64],
@@ -167,4 +169,5 @@ class Scene:
     def checkpoint(self, path: _Path) -> None:
         """Writes a checkpoint (CBOR, the CLI's format)."""
     def restore(self, path: _Path) -> None:
-        """Continues from a checkpoint of this same scene."""
+        """Continues from a checkpoint of this same scene (whole, or the
+        index of one written in parts: merged)."""

@@ -10,7 +10,8 @@
 //! checkpoint and rank 0 the index (`io::checkpoint_parts`); `--restart`
 //! of the index reads each part at one rank, on any number of ranks.
 //! `[parallel] vtk_per_rank`: the sphere snapshots written by every rank,
-//! its own piece, with a `.pvtp` index ([`super::scene_mpi_pieces`]).
+//! its own piece, with a `.pvtp` index ([`super::scene_mpi_pieces`]); the
+//! mesh walls' files too, each rank a slice of the triangles.
 //!
 //! Errors: a setup error on any rank ends every rank (the ranks agree on
 //! it before the first exchange; the lowest failing rank prints it; exit 2
@@ -91,11 +92,21 @@ fn agree<T>(t: &MpiTransport, r: Result<T, CliError>) -> RankResult<T> {
 fn prepare(args: &SceneArgs, rank: usize, ranks: usize) -> Result<Prepared, CliError> {
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
     let base = args.file.parent().unwrap_or(Path::new("."));
+    // Every rank reads the checkpoint (as it reads the scene file) and
+    // keeps its own bodies of it; of a checkpoint in parts, the index and
+    // its share of the parts.
+    let restart = match &args.restart {
+        Some(path) => Some(read_restart(path, rank, ranks).map_err(scene_error)?),
+        None => None,
+    };
     // Lattices and data files: each rank makes its own part of the
-    // spheres (`comm::distributed::input`); else every rank all of them.
-    let parts = match args.restart {
-        None => resolve_parts(&file, base, ranks).map_err(scene_error)?,
-        Some(_) => None,
+    // spheres (`comm::distributed::input`), also to continue a checkpoint
+    // in parts; else every rank all of them.
+    let parts = match restart {
+        None | Some(Restart::Parts(..)) => {
+            resolve_parts(&file, base, ranks).map_err(scene_error)?
+        }
+        Some(Restart::Whole(_) | Restart::Index(_)) => None,
     };
     let (resolved, groups) = match parts {
         Some((r, g)) => (r, Some(g)),
@@ -111,13 +122,6 @@ fn prepare(args: &SceneArgs, rank: usize, ranks: usize) -> Result<Prepared, CliE
         (Some(dir), 0) => Some(super::output_dir(dir, "scene")?),
         _ => None,
     };
-    // Every rank reads the checkpoint (as it reads the scene file) and
-    // keeps its own bodies of it; of a checkpoint in parts, the index and
-    // its share of the parts.
-    let restart = match &args.restart {
-        Some(path) => Some(read_restart(path, rank, ranks).map_err(scene_error)?),
-        None => None,
-    };
     Ok((resolved, threads, out, restart, groups))
 }
 
@@ -126,6 +130,8 @@ fn prepare(args: &SceneArgs, rank: usize, ranks: usize) -> Result<Prepared, CliE
 enum Restart {
     Whole(Checkpoint),
     Parts(Checkpoint, Vec<Checkpoint>),
+    /// The index of a checkpoint in parts whose parts were spent.
+    Index(Checkpoint),
 }
 
 /// Reads `--restart`'s checkpoint at rank `rank` of `ranks`.
@@ -144,6 +150,23 @@ fn read_restart(
         .map(|e| checkpoint_parts::read_part(path, e))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Restart::Parts(file.state, parts))
+}
+
+/// The parts of `--restart`'s checkpoint in parts that rank `rank` of
+/// `ranks` reads (again).
+fn read_restart_parts(
+    args: &SceneArgs,
+    rank: usize,
+    ranks: usize,
+) -> Result<Vec<Checkpoint>, dembound_scene::SceneError> {
+    let path = args.restart.as_deref().unwrap_or(Path::new(""));
+    match read_restart(path, rank, ranks)? {
+        Restart::Parts(_, parts) => Ok(parts),
+        _ => Err(dembound_scene::SceneError::input(format!(
+            "`{}` changed while read: no longer a checkpoint in parts",
+            path.display()
+        ))),
+    }
 }
 
 /// The scene, the threads per rank, the output directory (rank 0), the
@@ -230,15 +253,35 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let (mut resolved, threads, mut out, restart, groups) =
         agree(t, prepare(args, rank, t.size()))?;
     let grid = resolved.file.parallel.grid;
-    let parted = match &groups {
-        Some(g) if restart.is_none() => {
-            // Spheres named in refusals as one process names them.
-            let label = labels::label(&resolved.file, &resolved.groups, &resolved.wall_bodies);
-            DistributedSimulation::new_parts(&resolved.setup, g, &label, threads, grid, t)
-        }
-        _ => Ok(None),
+    // Spheres named in refusals as one process names them.
+    let label = labels::label(&resolved.file, &resolved.groups, &resolved.wall_bodies);
+    let (parted, restart) = match (&groups, restart) {
+        (Some(g), None) => (
+            DistributedSimulation::new_parts(&resolved.setup, g, &label, threads, grid, t),
+            None,
+        ),
+        // The bodies from the parts, the scene's spheres each rank its part.
+        (Some(g), Some(Restart::Parts(index, parts))) => (
+            DistributedSimulation::restore_parts_in_parts(
+                &resolved.setup,
+                g,
+                &label,
+                &index,
+                parts,
+                threads,
+                grid,
+                t,
+            ),
+            Some(Restart::Index(index)),
+        ),
+        (_, restart) => (Ok(None), restart),
     };
+    drop(label);
     let parted = agree(t, parted.map_err(scene_error))?;
+    if parted.is_none() && groups.is_some() {
+        // Not covered by the part-wise input: every rank reads all.
+        resolved = agree(t, resolve_whole(args))?;
+    }
     let built = match (parted, restart) {
         (Some((sim, warnings)), _) => {
             // The overlap warnings one process prints with the scene's.
@@ -251,13 +294,15 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         (None, Some(Restart::Parts(index, parts))) => {
             DistributedSimulation::restore_parts(&resolved.setup, &index, parts, threads, grid, t)
         }
-        (None, None) => {
-            if groups.is_some() {
-                // Not covered by the part-wise input: every rank reads all.
-                resolved = agree(t, resolve_whole(args))?;
-            }
-            DistributedSimulation::new(&resolved.setup, threads, grid, t)
+        (None, Some(Restart::Index(index))) => {
+            // The parts were spent on the part-wise attempt: read again.
+            let parts = agree(
+                t,
+                read_restart_parts(args, rank, t.size()).map_err(scene_error),
+            )?;
+            DistributedSimulation::restore_parts(&resolved.setup, &index, parts, threads, grid, t)
         }
+        (None, None) => DistributedSimulation::new(&resolved.setup, threads, grid, t),
     };
     let mut sim = agree(t, built.map_err(scene_error))?;
     let input_seconds = t.max(super::process_seconds());
@@ -335,6 +380,16 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
                 snapshots.push((time, vtk::snapshot_name(k), 0));
             }
             for &wall in &mesh_walls {
+                if let Some(dir) = &pieces {
+                    // Each rank its slice of the triangles, rank 0 the
+                    // index (collective).
+                    match scene_mpi_pieces::write_wall(dir, &sim, wall, k, step, time) {
+                        Ok(Some(index)) => snapshots.push((time, index, wall + 1)),
+                        Ok(None) => {}
+                        Err(e) => write_failed(e),
+                    }
+                    continue;
+                }
                 // Collective: every rank sends its records, rank 0 writes.
                 let loads = match sim.wall_triangle_loads(wall) {
                     Ok(loads) => loads,

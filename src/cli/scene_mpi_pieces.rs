@@ -8,6 +8,10 @@
 //! a file system, as for LAMMPS's per-processor dump files. The end state
 //! too: each rank's `state_rank_R.csv` instead of a gathered `state.csv`.
 //!
+//! The mesh walls' files likewise: each rank the slice of a wall's
+//! triangles whose loads it summed (`wall_K_NNNNNN_rank_R.vtp`), rank 0
+//! the index `wall_K_NNNNNN.pvtp`; no gather.
+//!
 //! `[parallel] checkpoint_per_rank`: each rank writes its part of the
 //! checkpoint, `checkpoint_rank_R.cbor`, into the same staging directory,
 //! and rank 0 the index `checkpoint.cbor` (`io::checkpoint_parts`).
@@ -23,7 +27,7 @@ use dembound_scene::comm::{DistributedSimulation, Transport};
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
 use dembound_scene::io::checkpoint_parts::{self, PartEntry};
 use dembound_scene::io::config::SceneFile;
-use dembound_scene::io::vtk;
+use dembound_scene::io::{vtk, vtk_walls};
 
 use crate::output::files::AtomicDir;
 
@@ -82,6 +86,40 @@ pub(super) fn write_snapshot<T: Transport>(
     let pieces: Vec<String> = (0..size).map(|r| vtk::piece_name(k, r)).collect();
     write_file(&dir.join(&name), |w| {
         Ok(vtk::write_parallel_index(w, &pieces)?)
+    })?;
+    Ok(Some(name))
+}
+
+/// Writes this rank's piece of mesh wall `wall`'s file of snapshot `k`
+/// (its slice of the triangles with their loads,
+/// `DistributedSimulation::wall_triangle_loads_piece`) into `dir` and, at
+/// rank 0, the `.pvtp` index of every rank's piece; returns the index's
+/// name at rank 0. Collective (each triangle's records go to the rank of
+/// its slice).
+pub(super) fn write_wall<T: Transport>(
+    dir: &Path,
+    sim: &DistributedSimulation<T>,
+    wall: usize,
+    k: usize,
+    step: u64,
+    time: f64,
+) -> anyhow::Result<Option<String>> {
+    let (rank, size) = (sim.rank(), sim.ranks());
+    let (first, loads) = sim.wall_triangle_loads_piece(wall)?;
+    write_file(&dir.join(vtk_walls::wall_piece_name(wall, k, rank)), |w| {
+        Ok(vtk_walls::write_wall_piece(
+            w, wall, time, step, &loads, first,
+        )?)
+    })?;
+    if rank != 0 {
+        return Ok(None);
+    }
+    let name = vtk_walls::wall_index_name(wall, k);
+    let pieces: Vec<String> = (0..size)
+        .map(|r| vtk_walls::wall_piece_name(wall, k, r))
+        .collect();
+    write_file(&dir.join(&name), |w| {
+        Ok(vtk_walls::write_wall_index(w, wall, &pieces)?)
     })?;
     Ok(Some(name))
 }

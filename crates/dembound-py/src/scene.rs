@@ -4,7 +4,9 @@
 
 use crate::args;
 use crate::errors::{guarded, Failure};
+use dembound_scene::fingerprint::Fingerprint;
 use dembound_scene::io::checkpoint::{self, CheckpointFile};
+use dembound_scene::io::checkpoint_parts;
 use dembound_scene::io::config::Particles;
 use dembound_scene::io::config::{self, SceneFile};
 use dembound_scene::io::resolve::resolve_with;
@@ -196,7 +198,10 @@ impl Scene {
 
     /// A scene continued from a checkpoint written by `checkpoint()` or
     /// `dembound scene --out` (the scene recorded in it; bodies added from
-    /// arrays are not recorded there: restore those with `restore()`).
+    /// arrays are not recorded there: restore those with `restore()`), or
+    /// from the index of one written in parts under MPI (`[parallel]
+    /// checkpoint_per_rank`): its parts are read and merged, as the CLI
+    /// does without mpirun.
     #[classmethod]
     #[pyo3(signature = (path, threads = None))]
     fn from_checkpoint(
@@ -209,8 +214,14 @@ impl Scene {
         let threads = args::threads(threads)?;
         Ok(py.detach(|| {
             guarded(|| {
-                let saved = checkpoint::read(&path).map_err(scene_failure)?;
-                let mut scene = Scene::build(saved.scene, Path::new("."), threads)?;
+                // Whole, or the index of one in parts (`[parallel]
+                // checkpoint_per_rank`): its parts merged for this scene.
+                let file = checkpoint::read_any(&path).map_err(scene_failure)?;
+                let mut scene = Scene::build(file.scene.clone(), Path::new("."), threads)?;
+                let fingerprint = Fingerprint::of(&scene.setup);
+                let saved = checkpoint_parts::merge_file(&path, file, &fingerprint)
+                    .map_err(scene_failure)?;
+                drop(fingerprint);
                 scene.sim = Some(
                     Simulation::restore(scene.setup.clone(), &saved.state, threads)
                         .map_err(scene_failure)?,
@@ -1055,14 +1066,18 @@ impl Scene {
     }
 
     /// Replaces the state with a checkpoint of this same scene (same
-    /// bodies and Δt).
+    /// bodies and Δt), whole or in parts (merged).
     fn restore(&mut self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
         let path = args::path(path, "path")?;
         let setup = self.setup.clone();
         let threads = self.threads;
         let sim = py.detach(|| {
             guarded(|| {
-                let saved = checkpoint::read(&path).map_err(scene_failure)?;
+                // Whole, or merged from its parts.
+                let fingerprint = Fingerprint::of(&setup);
+                let saved =
+                    checkpoint_parts::read_whole(&path, &fingerprint).map_err(scene_failure)?;
+                drop(fingerprint);
                 Simulation::restore(setup, &saved.state, threads).map_err(scene_failure)
             })
         })?;

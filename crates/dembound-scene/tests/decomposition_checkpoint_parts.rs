@@ -226,3 +226,157 @@ fn a_part_of_another_scene_is_refused_on_every_rank() {
     let named = format!("sphere {last} (input order): radius differs");
     assert!(errors.iter().any(|e| e.contains(&named)), "{errors:?}");
 }
+
+/// The lattice drop of examples/scenes/lattice_drop.toml, 8 × 8 × 10
+/// spheres in a 10.2 mm box, Walton–Braun, the lattice moving at
+/// (0.2, 0.1, −0.3) m/s so that spheres cross the cuts while in contact,
+/// with `more` settings: (the scene resolved whole, the same resolved in
+/// parts for `ranks`).
+fn lattice_scene(
+    more: &[&str],
+    ranks: usize,
+) -> (
+    dembound_scene::io::resolve::ResolvedScene,
+    (
+        dembound_scene::io::resolve::ResolvedScene,
+        Vec<dembound_scene::io::resolve::PartGroup>,
+    ),
+) {
+    use dembound_scene::io::resolve;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/scenes/lattice_drop.toml");
+    let sets: Vec<String> = [
+        "particles.0.lattice.counts=[8,8,10]",
+        "particles.0.lattice.velocity=[0.2,0.1,-0.3]",
+        "domain.upper=[0.0102,0.0102,0.03]",
+        "wall.1.plane.point=[0.0102,0.0,0.0]",
+        "wall.3.plane.point=[0.0,0.0102,0.0]",
+        "contact.law=\"walton-braun\"",
+        "contact.restitution=0.5",
+        "integration.steps=3000",
+    ]
+    .iter()
+    .chain(more)
+    .map(|s| s.to_string())
+    .collect();
+    let file = config::read(&path, &sets).expect("the example scene reads");
+    let base = path.parent().expect("a directory");
+    let whole = resolve::resolve(&file, base).expect("resolves");
+    let parts = resolve::resolve_parts(&file, base, ranks)
+        .expect("resolves")
+        .expect("lattice and planes: made in parts");
+    (whole, parts)
+}
+
+/// `ranks` thread-ranks continue the parts `from` (each rank those
+/// `parts_for_rank` gives it) of the scene `more` describes, built whole
+/// (every rank the whole sphere list, [`DistributedSimulation::restore_parts`])
+/// or in parts ([`DistributedSimulation::restore_parts_in_parts`]), then
+/// run `steps` steps: the gathered checkpoint, or each rank's refusal.
+fn continue_lattice(
+    more: &[&str],
+    ranks: usize,
+    grid: [usize; 3],
+    from: &[Checkpoint],
+    in_parts: bool,
+    steps: u64,
+) -> Result<Checkpoint, Vec<String>> {
+    let handles: Vec<_> = ThreadTransport::group(ranks)
+        .into_iter()
+        .enumerate()
+        .map(|(rank, t)| {
+            let more: Vec<String> = more.iter().map(|s| s.to_string()).collect();
+            let index = checkpoint_parts::shared_figures(&from[0]);
+            let parts = from[checkpoint_parts::parts_for_rank(rank, ranks, from.len())].to_vec();
+            std::thread::spawn(move || {
+                let more: Vec<&str> = more.iter().map(String::as_str).collect();
+                let (whole, (resolved, groups)) = lattice_scene(&more, ranks);
+                let grid = Some(grid);
+                let built = if in_parts {
+                    let label = dembound_scene::io::labels::label(
+                        &resolved.file,
+                        &resolved.groups,
+                        &resolved.wall_bodies,
+                    );
+                    DistributedSimulation::restore_parts_in_parts(
+                        &resolved.setup,
+                        &groups,
+                        &label,
+                        &index,
+                        parts,
+                        1,
+                        grid,
+                        t,
+                    )
+                    .map(|made| made.expect("covered by the part-wise input").0)
+                } else {
+                    DistributedSimulation::restore_parts(&whole.setup, &index, parts, 1, grid, t)
+                };
+                let mut d = built.map_err(|e| e.to_string())?;
+                d.step(steps);
+                Ok(d.checkpoint().expect("checkpointed"))
+            })
+        })
+        .collect();
+    let mut gathered = None;
+    let mut errors = Vec::new();
+    for h in handles {
+        match h.join().expect("rank finished") {
+            Ok(c) => gathered = gathered.or(c),
+            Err(e) => errors.push(e),
+        }
+    }
+    match gathered {
+        Some(c) if errors.is_empty() => Ok(c),
+        _ => Err(errors),
+    }
+}
+
+/// Issue 31 item 5: continuing parts with each rank making only its part
+/// of the scene's spheres (`restore_parts_in_parts`: no rank holds the
+/// whole sphere list) ends, 1000 steps after a checkpoint at step 2000
+/// (contacts from the first steps on: the lattice moves into the walls), in the same gathered checkpoint, every
+/// field, as continuing them with the whole sphere list on every rank
+/// (`restore_parts`, which the tests above show continues bit for bit),
+/// on the writing rank count and on another. A checkpoint of another
+/// scene is refused on every rank with the same errors, rank by rank, as
+/// with the whole list: a sphere's radius differs (found where its record
+/// arrives), fewer spheres (a part's ids out of range, found before the
+/// build).
+#[test]
+fn parts_restart_in_parts_is_the_whole_lists_restart() {
+    let (whole, _) = lattice_scene(&[], 2);
+    let half = run(&whole.setup, 2, Some([2, 1, 1]), None, 2000);
+    let parts: Vec<Checkpoint> = half.parts.iter().map(through_file).collect();
+    assert!(half.gathered.pair_histories.len() > 10);
+    for (ranks, grid) in [(2, [2, 1, 1]), (3, [1, 3, 1])] {
+        let in_whole = continue_lattice(&[], ranks, grid, &parts, false, 1000).expect("continues");
+        let in_parts = continue_lattice(&[], ranks, grid, &parts, true, 1000).expect("continues");
+        assert_eq!(in_whole.steps_done, 3000);
+        assert_eq!(in_parts, in_whole, "{ranks} ranks: the whole checkpoint");
+    }
+    for (other, named) in [
+        (
+            "particles.0.lattice.radius=0.5005e-3",
+            "(input order): radius differs",
+        ),
+        (
+            "particles.0.lattice.counts=[8,8,9]",
+            "body order has a bad or repeated id",
+        ),
+    ] {
+        for ranks in [2, 3] {
+            let grid = if ranks == 2 { [2, 1, 1] } else { [1, 3, 1] };
+            let refused = |in_parts| {
+                continue_lattice(&[other], ranks, grid, &parts, in_parts, 10).expect_err("refused")
+            };
+            let (in_whole, in_parts) = (refused(false), refused(true));
+            assert_eq!(in_whole.len(), ranks, "{other}: every rank refuses");
+            assert!(
+                in_whole.iter().any(|e| e.contains(named)),
+                "{other}: {in_whole:?}"
+            );
+            assert_eq!(in_parts, in_whole, "{other}, {ranks} ranks");
+        }
+    }
+}

@@ -160,7 +160,17 @@ fn part_path(index_path: &Path, entry: &PartEntry) -> Result<PathBuf, SceneError
 /// parts is merged ([`merge`]; `scene`: the fingerprint of the scene that
 /// continues it).
 pub fn read_whole(path: &Path, scene: &Fingerprint) -> Result<CheckpointFile, SceneError> {
-    let mut file = checkpoint::read_any(path)?;
+    merge_file(path, checkpoint::read_any(path)?, scene)
+}
+
+/// The checkpoint `file` read from `path` ([`checkpoint::read_any`]) made
+/// whole: as it is, or, the index of a checkpoint in parts, its parts
+/// (beside `path`) read and merged as [`read_whole`] merges them.
+pub fn merge_file(
+    path: &Path,
+    mut file: CheckpointFile,
+    scene: &Fingerprint,
+) -> Result<CheckpointFile, SceneError> {
     let Some(index) = file.parts.take() else {
         return Ok(file);
     };

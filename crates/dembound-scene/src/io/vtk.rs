@@ -159,7 +159,7 @@ pub fn write_parallel_index(w: &mut dyn Write, pieces: &[String]) -> io::Result<
 }
 
 /// `text` with XML's special characters escaped, for an attribute value.
-fn xml_attribute(text: &str) -> String {
+pub(crate) fn xml_attribute(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('"', "&quot;")
         .replace('<', "&lt;")

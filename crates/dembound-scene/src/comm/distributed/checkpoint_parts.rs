@@ -22,6 +22,15 @@
 //! Then the restart continues as from the gathered checkpoint
 //! ([`DistributedSimulation::restore`]) with the same values in the same
 //! places: the same bits.
+//!
+//! The scene the records arrive in is set up either from the whole sphere
+//! list on every rank ([`DistributedSimulation::restore_parts`]) or with
+//! each rank making only its part of the spheres
+//! ([`DistributedSimulation::restore_parts_in_parts`], through
+//! `comm::distributed::input`: the same bodies in the same places): then
+//! no rank holds the whole scene either. Each record is checked where it
+//! arrives against the scene's sphere held there (radius, material,
+//! fixedness), so no rank needs the scene's other spheres.
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -295,7 +304,9 @@ impl<T: Transport> DistributedSimulation<T> {
     /// figures, `parts`: those this rank read; every rank the same
     /// `index`, each part read by one rank) of the same `setup` on this
     /// transport's ranks, as [`Self::restore`] continues a gathered one.
-    /// Collective.
+    /// Every rank builds the scene from `setup`'s whole sphere list first
+    /// ([`Self::new`]); [`Self::restore_parts_in_parts`] builds only each
+    /// rank's part. Collective.
     pub fn restore_parts(
         setup: &SceneSetup,
         index: &Checkpoint,
@@ -306,52 +317,60 @@ impl<T: Transport> DistributedSimulation<T> {
     ) -> Result<Self, SceneError> {
         crate::inlets::refuse_restart_under_mpi(&setup.inlets)?;
         let all = setup.spheres.len();
-        let gear5 = setup.integration.scheme == Scheme::Gear5;
-        let friction = setup.friction.is_some();
-        let scene = Fingerprint::of(setup);
-        // The settings here (the same answer on every rank); each body's
-        // radius, material and fixedness where its record arrives.
-        let settings = |f: &Fingerprint| Fingerprint {
-            settings: f.settings.clone(),
-            ..Fingerprint::default()
+        let (parts, change) = check_parts(setup, all, index, parts, &transport)?;
+        let me = Self::new(setup, threads, grid, transport)?;
+        me.continue_parts(index, parts, all, &change)
+    }
+
+    /// [`Self::restore_parts`] with each rank making or reading only its
+    /// part of the scene's spheres ([`Self::new_parts`]: `setup.spheres`
+    /// empty, the spheres described by `groups`, `label` naming them):
+    /// no rank holds the scene's whole sphere list. The same checks in the
+    /// same order, the same bodies in the same places before the records
+    /// arrive ([`Self::new_parts`] starts as [`Self::new`] to the bit), so
+    /// the same bits after. Returns with the simulation the overlap
+    /// warnings one process prints, at rank 0. `Ok(None)`: the scene is to
+    /// be read whole ([`Self::new_parts`]; every rank agrees, `parts` spent:
+    /// read them again). Collective.
+    #[allow(clippy::too_many_arguments)]
+    pub fn restore_parts_in_parts(
+        setup: &SceneSetup,
+        groups: &[crate::io::resolve::PartGroup],
+        label: crate::setup_checks::Label<'_>,
+        index: &Checkpoint,
+        parts: Vec<Checkpoint>,
+        threads: usize,
+        grid: Option<[usize; 3]>,
+        transport: T,
+    ) -> Result<Option<(Self, Vec<String>)>, SceneError> {
+        crate::inlets::refuse_restart_under_mpi(&setup.inlets)?;
+        let all = groups.last().map_or(0, |g| g.ids.end);
+        let (parts, change) = check_parts(setup, all, index, parts, &transport)?;
+        let Some((me, warnings)) = Self::new_parts(setup, groups, label, threads, grid, transport)?
+        else {
+            return Ok(None);
         };
-        settings(&index.fingerprint).check(&settings(&scene))?;
-        let surfaces = crate::restart_walls::surface_count(index);
-        // The spheres with a record on each of the checkpoint's surfaces,
-        // and the parts' bodies, over every rank (collective).
-        let mut local: Vec<f64> = (0..surfaces as u32)
-            .map(|s| {
-                parts
-                    .iter()
-                    .map(|p| crate::restart_walls::spheres_touching(p, s) as f64)
-                    .sum()
-            })
-            .collect();
-        local.push(parts.iter().map(|p| p.order.len() as f64).sum());
-        let counts = transport.sum(&local);
-        let checked = parts
-            .iter()
-            .try_for_each(|p| check_part(p, index, all, surfaces, gear5, friction));
-        agree(&transport, checked)?;
-        let removed = index.removed.map_or(0, |r| r.particles as usize);
-        let bodies = counts[surfaces] as usize;
-        if bodies + removed != all {
-            return Err(SceneError::Checkpoint(format!(
-                "its parts hold {bodies} bodies, the scene {all} less the {removed} it removed"
-            )));
-        }
-        let touching = |s: u32| counts.get(s as usize).copied().unwrap_or(0.0) as usize;
-        let change = crate::restart_walls::match_walls_counted(index, &scene, &touching)?;
-        let parts: Vec<Checkpoint> = if change.unchanged() {
-            parts
-        } else {
-            parts
-                .iter()
-                .map(|p| crate::restart_walls::remap(p, &change))
-                .collect()
-        };
-        let mut me = Self::new(setup, threads, grid, transport)?;
+        Ok(Some((
+            me.continue_parts(index, parts, all, &change)?,
+            warnings,
+        )))
+    }
+
+    /// The restart from the parts once the scene is built (its bodies as
+    /// set up, `all` of them): each record to the ranks holding its body,
+    /// checked against the scene's sphere there, in the two rounds of the
+    /// module's description. Collective.
+    fn continue_parts(
+        mut self,
+        index: &Checkpoint,
+        parts: Vec<Checkpoint>,
+        all: usize,
+        change: &crate::restart_walls::WallChange,
+    ) -> Result<Self, SceneError> {
+        let me = &mut self;
         me.check_dt(index)?;
+        let removed = index.removed.map_or(0, |r| r.particles as usize);
+        let gear5 = me.sim.world.scheme == Scheme::Gear5;
         let spin = me.sim.world.friction.is_some();
         // Round 1: each body's record to the ranks holding it now.
         let to = me.comm.directory();
@@ -362,6 +381,13 @@ impl<T: Transport> DistributedSimulation<T> {
         let held = me.sim.world.bodies.id.clone();
         let got = me.comm.route(&held, out);
         let mut c = shared(index);
+        // Body id → the local body (the scene's sphere of that id here).
+        let mut local = vec![u32::MAX; all];
+        for (k, &id) in held.iter().enumerate() {
+            if let Some(l) = local.get_mut(id as usize) {
+                *l = k as u32;
+            }
+        }
         let mut refused = Ok(());
         for bytes in &got {
             let mut r = Reader::new(bytes);
@@ -370,10 +396,11 @@ impl<T: Transport> DistributedSimulation<T> {
                 let mut record = Reader::new(r.blob());
                 let (id, radius, material, fixed) =
                     read_body_record(&mut record, &mut c, gear5, spin);
-                refused = check_sphere(setup, id, radius, material, fixed);
+                refused = me.check_sphere(&local, id, radius, material, fixed);
             }
         }
         drop(got);
+        drop(local);
         let slot = slots(&c, all);
         // With nothing removed, every body held here has its record.
         if refused.is_ok() && removed == 0 {
@@ -442,45 +469,116 @@ impl<T: Transport> DistributedSimulation<T> {
         c.pair_tracks = tracks.into_iter().map(|((a, b), t)| (a, b, t)).collect();
         c.pair_shear = springs.into_iter().map(|((a, b), s)| (a, b, s)).collect();
         let slot = slots(&c, all);
-        me.restore_after_rebuild(&c, &slot, &change);
-        Ok(me)
+        me.restore_after_rebuild(&c, &slot, change);
+        Ok(self)
+    }
+
+    /// Refuses a body whose radius, material or fixedness in the
+    /// checkpoint is not the scene's (as `Fingerprint::check` names it):
+    /// the scene's sphere is the body held here (`local[id]`: its local
+    /// index), as set up; its fixedness the scene's (`fixed_by_id`: a
+    /// halo copy is flagged fixed here).
+    fn check_sphere(
+        &self,
+        local: &[u32],
+        id: u32,
+        radius: f64,
+        material: u32,
+        fixed: bool,
+    ) -> Result<(), SceneError> {
+        let b = &self.sim.world.bodies;
+        let (Some(&k), Some(&scene_fixed)) = (
+            local.get(id as usize),
+            self.comm.fixed_by_id.get(id as usize),
+        ) else {
+            return Err(SceneError::Checkpoint(format!("body {id} out of range")));
+        };
+        // The records go to the ranks holding the body only.
+        let k = k as usize;
+        let (Some(&scene_radius), Some(&scene_material)) = (b.radius.get(k), b.material.get(k))
+        else {
+            return Ok(());
+        };
+        let at = format!("sphere {id} (input order)");
+        if radius.to_bits() != scene_radius.to_bits() {
+            return Err(SceneError::Checkpoint(format!(
+                "{at}: radius differs: the checkpoint's {radius:?} m, the scene's {scene_radius:?} m"
+            )));
+        }
+        if material != scene_material {
+            return Err(SceneError::Checkpoint(format!(
+                "{at}: material differs: the checkpoint's {material}, the scene's {scene_material}"
+            )));
+        }
+        if fixed != scene_fixed {
+            let kind = |f: bool| if f { "fixed" } else { "free" };
+            return Err(SceneError::Checkpoint(format!(
+                "{at}: the checkpoint's is {}, the scene's {}",
+                kind(fixed),
+                kind(scene_fixed)
+            )));
+        }
+        Ok(())
     }
 }
 
-/// Refuses a body whose radius, material or fixedness in the checkpoint
-/// is not the scene's (as `Fingerprint::check` names it).
-fn check_sphere(
+/// The checks of the parts before the scene is built (the same answer on
+/// every rank): the settings the scene's (`setup`, `all` spheres), each
+/// part read here whole ([`check_part`]), every body in some part, the
+/// checkpoint's walls matched with the scene's (the parts remapped where
+/// they changed). Collective.
+fn check_parts<T: Transport>(
     setup: &SceneSetup,
-    id: u32,
-    radius: f64,
-    material: u32,
-    fixed: bool,
-) -> Result<(), SceneError> {
-    let Some(s) = setup.spheres.get(id as usize) else {
-        return Err(SceneError::Checkpoint(format!("body {id} out of range")));
+    all: usize,
+    index: &Checkpoint,
+    parts: Vec<Checkpoint>,
+    transport: &T,
+) -> Result<(Vec<Checkpoint>, crate::restart_walls::WallChange), SceneError> {
+    let gear5 = setup.integration.scheme == Scheme::Gear5;
+    let friction = setup.friction.is_some();
+    // The settings here (they do not depend on the spheres); each body's
+    // radius, material and fixedness where its record arrives.
+    let settings = |f: &Fingerprint| Fingerprint {
+        settings: f.settings.clone(),
+        ..Fingerprint::default()
     };
-    let at = format!("sphere {id} (input order)");
-    if radius.to_bits() != s.radius.to_bits() {
+    let scene = settings(&Fingerprint::of(setup));
+    settings(&index.fingerprint).check(&scene)?;
+    let surfaces = crate::restart_walls::surface_count(index);
+    // The spheres with a record on each of the checkpoint's surfaces,
+    // and the parts' bodies, over every rank (collective).
+    let mut local: Vec<f64> = (0..surfaces as u32)
+        .map(|s| {
+            parts
+                .iter()
+                .map(|p| crate::restart_walls::spheres_touching(p, s) as f64)
+                .sum()
+        })
+        .collect();
+    local.push(parts.iter().map(|p| p.order.len() as f64).sum());
+    let counts = transport.sum(&local);
+    let checked = parts
+        .iter()
+        .try_for_each(|p| check_part(p, index, all, surfaces, gear5, friction));
+    agree(transport, checked)?;
+    let removed = index.removed.map_or(0, |r| r.particles as usize);
+    let bodies = counts[surfaces] as usize;
+    if bodies + removed != all {
         return Err(SceneError::Checkpoint(format!(
-            "{at}: radius differs: the checkpoint's {radius:?} m, the scene's {:?} m",
-            s.radius
+            "its parts hold {bodies} bodies, the scene {all} less the {removed} it removed"
         )));
     }
-    if material as usize != s.material {
-        return Err(SceneError::Checkpoint(format!(
-            "{at}: material differs: the checkpoint's {material}, the scene's {}",
-            s.material
-        )));
-    }
-    if fixed != s.fixed {
-        let kind = |f: bool| if f { "fixed" } else { "free" };
-        return Err(SceneError::Checkpoint(format!(
-            "{at}: the checkpoint's is {}, the scene's {}",
-            kind(fixed),
-            kind(s.fixed)
-        )));
-    }
-    Ok(())
+    let touching = |s: u32| counts.get(s as usize).copied().unwrap_or(0.0) as usize;
+    let change = crate::restart_walls::match_walls_counted(index, &scene, &touching)?;
+    let parts = if change.unchanged() {
+        parts
+    } else {
+        parts
+            .iter()
+            .map(|p| crate::restart_walls::remap(p, &change))
+            .collect()
+    };
+    Ok((parts, change))
 }
 
 impl<T: Transport> RankComm<T> {

@@ -61,7 +61,7 @@ pub(crate) fn slice_start(n: usize, s: usize, parts: usize) -> usize {
 }
 
 /// The slice holding index `q` of `n`.
-fn slice_of(q: usize, n: usize, parts: usize) -> usize {
+pub(crate) fn slice_of(q: usize, n: usize, parts: usize) -> usize {
     let mut s = ((q as u128 * parts as u128) / n.max(1) as u128) as usize;
     s = s.min(parts - 1);
     while s > 0 && slice_start(n, s, parts) > q {
@@ -242,7 +242,7 @@ fn read_atoms<T: Transport>(
 
 /// Sends `out[rank]` to each rank and returns what the others sent here,
 /// in rank order (collective).
-fn send_all<T: Transport>(t: &T, out: BTreeMap<usize, Writer>) -> Vec<Vec<u8>> {
+pub(crate) fn send_all<T: Transport>(t: &T, out: BTreeMap<usize, Writer>) -> Vec<Vec<u8>> {
     let mut to = vec![false; t.size()];
     for r in out.keys() {
         to[*r] = true;

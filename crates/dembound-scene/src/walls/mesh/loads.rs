@@ -177,17 +177,68 @@ impl TriangleLoads {
             shear: Vec::with_capacity(n),
         };
         for (t, f) in force.into_iter().enumerate() {
-            let (area, normal, centroid) = mesh.triangle_frame(t);
-            let fn_ = dot(f, normal);
-            let tangential = sub(f, scale(normal, fn_));
-            out.pressure.push(fn_.abs() / area);
-            out.shear.push(norm(tangential) / area);
-            out.force.push(f);
-            out.area.push(area);
-            out.normal.push(normal);
-            out.centroid.push(centroid);
+            out.push_triangle(mesh, t, f);
         }
         out
+    }
+
+    /// The loads of `mesh`'s triangles `range` (clamped to the mesh) from
+    /// `records` (those of other triangles skipped), summed as
+    /// [`Self::sum`] sums them: each triangle's values the same bits as
+    /// its entry there. `vertices` holds the vertices these triangles use,
+    /// in order of first use, and `triangles` indexes them: one piece of a
+    /// wall written in pieces (`io::vtk_walls`).
+    pub fn sum_range(
+        mesh: &MeshGeometry,
+        records: &[TriangleForce],
+        range: std::ops::Range<usize>,
+    ) -> TriangleLoads {
+        let n = mesh.triangles.len();
+        let range = range.start.min(n)..range.end.min(n);
+        let mut force = vec![[0.0; 3]; range.len()];
+        for r in records {
+            let t = r.triangle as usize;
+            if range.contains(&t) {
+                force[t - range.start] = add(force[t - range.start], r.force);
+            }
+        }
+        let mut out = TriangleLoads {
+            vertices: Vec::new(),
+            triangles: Vec::with_capacity(range.len()),
+            force: Vec::with_capacity(range.len()),
+            area: Vec::with_capacity(range.len()),
+            normal: Vec::with_capacity(range.len()),
+            centroid: Vec::with_capacity(range.len()),
+            pressure: Vec::with_capacity(range.len()),
+            shear: Vec::with_capacity(range.len()),
+        };
+        // Mesh vertex → its index here.
+        let mut local: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
+        for (t, f) in range.zip(force) {
+            let corners = mesh.triangles[t].map(|v| {
+                *local.entry(v).or_insert_with(|| {
+                    out.vertices.push(mesh.vertices[v as usize]);
+                    (out.vertices.len() - 1) as u32
+                })
+            });
+            out.triangles.push(corners);
+            out.push_triangle(mesh, t, f);
+        }
+        out
+    }
+
+    /// Appends triangle `t`'s loads from its summed force `f` (the
+    /// triangle's corners are the caller's).
+    fn push_triangle(&mut self, mesh: &MeshGeometry, t: usize, f: [f64; 3]) {
+        let (area, normal, centroid) = mesh.triangle_frame(t);
+        let fn_ = dot(f, normal);
+        let tangential = sub(f, scale(normal, fn_));
+        self.pressure.push(fn_.abs() / area);
+        self.shear.push(norm(tangential) / area);
+        self.force.push(f);
+        self.area.push(area);
+        self.normal.push(normal);
+        self.centroid.push(centroid);
     }
 
     /// Triangles.
@@ -229,3 +280,71 @@ impl std::fmt::Display for TriangleLoadsError {
 }
 
 impl std::error::Error for TriangleLoadsError {}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{MeshGeometry, MeshOptions, Transform};
+    use super::*;
+
+    /// A strip of four triangles along x (two unit squares, each cut on
+    /// its diagonal), normal +z.
+    fn strip() -> MeshGeometry {
+        let v = |x: f64, y: f64| [x, y, 0.0];
+        let soup = [
+            [v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0)],
+            [v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)],
+            [v(1.0, 0.0), v(2.0, 0.0), v(2.0, 1.0)],
+            [v(1.0, 0.0), v(2.0, 1.0), v(1.0, 1.0)],
+        ];
+        MeshGeometry::from_triangles(
+            std::path::Path::new("strip.stl"),
+            &soup,
+            &Transform::default(),
+            &MeshOptions::default(),
+        )
+        .expect("a valid mesh")
+    }
+
+    /// The pieces of any cut hold each triangle's loads with the bits of
+    /// the whole sum and its corners at the whole mesh's vertices; a
+    /// piece holds only the vertices its triangles use.
+    #[test]
+    fn pieces_hold_the_whole_sums_bits() {
+        let mesh = strip();
+        // Sums that round: the order of the additions shows in the bits.
+        let records: Vec<TriangleForce> = [(2, 0.1), (0, 0.2), (2, 0.3), (3, 1e-17), (2, 1.0)]
+            .iter()
+            .map(|&(t, f)| TriangleForce {
+                triangle: t,
+                force: [f, -f, 3.0 * f],
+            })
+            .collect();
+        let whole = TriangleLoads::sum(&mesh, &records);
+        // 0.1 + 0.3 + 1.0 in that order, against the plain sum.
+        assert_eq!(whole.force[2][0].to_bits(), ((0.1 + 0.3) + 1.0f64).to_bits());
+        for cut in 0..=4 {
+            let pieces = [
+                TriangleLoads::sum_range(&mesh, &records, 0..cut),
+                TriangleLoads::sum_range(&mesh, &records, cut..9),
+            ];
+            let mut t = 0;
+            for p in &pieces {
+                let used: std::collections::BTreeSet<u32> =
+                    p.triangles.iter().flatten().copied().collect();
+                assert_eq!(used.len(), p.vertices.len(), "cut {cut}");
+                for k in 0..p.len() {
+                    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&p.force[k]), bits(&whole.force[t]), "cut {cut}");
+                    assert_eq!(p.pressure[k].to_bits(), whole.pressure[t].to_bits());
+                    assert_eq!(p.shear[k].to_bits(), whole.shear[t].to_bits());
+                    assert_eq!(p.area[k].to_bits(), whole.area[t].to_bits());
+                    let corners = p.triangles[k].map(|v| p.vertices[v as usize]);
+                    let expected = whole.triangles[t].map(|v| whole.vertices[v as usize]);
+                    assert_eq!(corners, expected, "cut {cut}, triangle {t}");
+                    t += 1;
+                }
+            }
+            assert_eq!(t, 4, "cut {cut}: every triangle once");
+        }
+    }
+}
