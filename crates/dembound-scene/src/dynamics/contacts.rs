@@ -528,9 +528,10 @@ impl Rows<'_> {
     /// operations in its order (no fused multiply–add: the same bits; a
     /// NaN distance counts as touching, as there). [`Self::pair`] decides
     /// again. `centre`: x_i, y_i, z_i and R_i in every lane. The partners'
-    /// x and y come in 16-byte loads, z and R in 8-byte ones (no gathers:
-    /// a four-lane gather is many micro-operations on the processors
-    /// measured, see BENCHMARKS.md).
+    /// x and y come in 16-byte loads, z and R in 8-byte ones: with AVX2
+    /// gathers instead (commit 922d37a) the test was slower than the pair
+    /// loop on the processor measured (BENCHMARKS.md, "Why 922d37a's fewer
+    /// instructions cost wall time"; `bench/pair_test_lanes.c`).
     ///
     /// # Safety
     /// k + 4 ≤ the list's length; every listed j < bodies; the processor
