@@ -24,6 +24,7 @@ pub(crate) mod observe;
 pub(crate) mod servo_walls;
 pub(crate) mod triangle_loads;
 mod verlet;
+mod verlet_four;
 pub(crate) mod wall_loads;
 pub mod wall_states;
 

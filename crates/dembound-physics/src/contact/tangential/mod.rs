@@ -319,6 +319,18 @@ impl FrictionPair {
         Self { damping, ..self }
     }
 
+    /// Whether the tangential force has no dashpot: η_t = 0 at every
+    /// overlap ([`Self::damping_coefficient`]), because the normal law is
+    /// undamped or the dashpot was removed
+    /// ([`Self::without_tangential_damping`]). A sticking contact's force
+    /// is then the spring's alone. Lets a kernel specialised for such laws
+    /// state it to the compiler once, rather than test the variant per
+    /// contact.
+    #[inline(always)]
+    pub fn tangentially_undamped(&self) -> bool {
+        !matches!(self.damping, TangentialDamping::SameRatio { .. })
+    }
+
     /// Tangential damping coefficient η_t at overlap h (m) for stiffness
     /// `k_t` (N/m), N s/m.
     #[inline(always)]

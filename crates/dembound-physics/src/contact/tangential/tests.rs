@@ -238,6 +238,50 @@ fn without_tangential_damping_a_sticking_contact_is_the_spring_alone() {
 }
 
 #[test]
+fn tangentially_undamped_says_whether_the_dashpot_acts() {
+    // The accessor against η_t itself (`damping_coefficient`, the
+    // closed forms of `tangential_damping_has_the_normal_damping_ratio`):
+    // undamped exactly when η_t = 0 at a contact's overlap.
+    let (h, e) = (1.0e-6, 0.5);
+    let laws = [
+        (
+            NormalLaw::Hertz,
+            Damping::NONE,
+            TangentialKind::Mindlin,
+            false,
+        ),
+        (
+            NormalLaw::Linear,
+            Damping::NONE,
+            TangentialKind::Linear,
+            false,
+        ),
+        (
+            NormalLaw::Hertz,
+            Damping::new(DampingKind::Tsuji, Dissipation::Restitution(e)),
+            TangentialKind::Mindlin,
+            true,
+        ),
+        (
+            NormalLaw::Linear,
+            Damping::new(DampingKind::Viscous, Dissipation::Restitution(e)),
+            TangentialKind::Linear,
+            true,
+        ),
+    ];
+    for (law, damping, kind, damped) in laws {
+        let (_, f) = setup(law, damping, kind, 0.3);
+        let k_t = f.tangential().stiffness(h);
+        assert_eq!(f.tangentially_undamped(), !damped, "{law:?} {damping:?}");
+        assert_eq!(f.damping_coefficient(h, k_t) == 0.0, !damped);
+        // Without the dashpot: undamped, whatever the normal damping.
+        let off = f.without_tangential_damping();
+        assert!(off.tangentially_undamped(), "{law:?} {damping:?} off");
+        assert_eq!(off.damping_coefficient(h, k_t), 0.0);
+    }
+}
+
+#[test]
 fn registry_names_and_checks() {
     assert_eq!(
         TangentialKind::from_name("mindlin"),

@@ -89,10 +89,7 @@ impl MainPairs<'_> {
                 let q = k - first;
                 // SAFETY: q < count ≤ BATCH; m ≤ q.
                 let touches = unsafe { *g.touches.get_unchecked(q) };
-                unsafe {
-                    *g.found.get_unchecked_mut(m) = q as u8;
-                    *g.row.get_unchecked_mut(m) = (i - lo) as u8;
-                }
+                unsafe { *g.found.get_unchecked_mut(m) = q as u8 };
                 m += touches as usize;
                 // All ones when touching: the springs kept bit for bit;
                 // else exactly +0.
@@ -116,11 +113,7 @@ impl MainPairs<'_> {
             }
             g.ends[i - lo] = m as u8;
         }
-        // Pass 2, in stages over the contacts found, each a short loop
-        // whose iterations are independent, so that the processor overlaps
-        // the chains of dependent operations of several contacts (one
-        // contact's chain, root to Coulomb test, is longer than its
-        // window); the forces summed last, in [`Self::row`]'s order. The
+        // Pass 2 over the contacts found. The
         // same operations on the same values as [`contact`]: the same bits.
         let found = m.min(BATCH);
         // Batches run only with the class table ([`Self::block`]); i and
@@ -140,46 +133,13 @@ impl MainPairs<'_> {
                 }
             }
         };
-        // 2a: overlap rates and tangential slip velocities.
-        for t in 0..found {
-            let q = g.entry(t);
-            let (i, j) = (lo + g.row[t] as usize, g.partner[q] as usize);
-            let (a, b) = (side(i), side(j));
-            let n = [g.nx[q], g.ny[q], g.nz[q]];
-            g.rate[t] = overlap_rate(a.velocity, b.velocity, n);
-            let (slip_a, slip_b) = row_law(i, j).torque_arm.slip_sides(g.overlap[q], &a, &b);
-            g.slip[t] = slip_velocity(&slip_a, &slip_b, n);
-        }
-        // 2b: normal forces (histories updated), tangential forces
-        // (springs moved) and rolling torques. One loop: the Hertz force
-        // and the Mindlin stiffness share the root of the overlap (taken
-        // once), and the force is not stored and read back between loops.
-        for t in 0..found {
-            let q = g.entry(t);
-            let (i, j, k) = (lo + g.row[t] as usize, g.partner[q] as usize, first + q);
-            let fl = row_law(i, j);
-            let overlap = g.overlap[q];
-            let mut scratch = NO_HISTORY;
-            // SAFETY: entry k belongs to row i of this block.
-            let hist = if KEEP {
-                unsafe { &mut *self.history.0.add(k) }
-            } else {
-                &mut scratch
-            };
-            let force = fl.law.normal_stage(overlap, g.rate[t], hist);
-            g.force[t] = force;
-            let n = [g.nx[q], g.ny[q], g.nz[q]];
-            // SAFETY: entry k belongs to row i of this block.
-            let sh = unsafe { &mut *self.shear.0.add(k) };
-            g.tangential[t] = fl.tangential_stage(overlap, force, n, g.slip[t], self.dt, sh);
-            if ROLL {
-                // SAFETY: as the spring.
-                let roll = unsafe { &mut *self.roll.0.add(k) };
-                g.rolling[t] =
-                    fl.rolling_stage(overlap, force, n, &side(i), &side(j), self.dt, roll);
-            }
-        }
-        // 2d: forces and torques summed row by row.
+        // Row by row (body i's side read once per row, not per contact),
+        // each contact whole: its overlap rate and tangential slip
+        // velocity, normal force (history updated), tangential force
+        // (spring moved) and rolling torque, then its forces and torques
+        // summed, in [`Self::row`]'s order. Nothing is stored and read
+        // back between the stages; the Hertz force and the Mindlin
+        // stiffness share the root of the overlap (taken once).
         let mut from = 0usize;
         for i in lo..hi {
             let (s, e) = (start[i] as usize, start[i + 1] as usize);
@@ -187,18 +147,39 @@ impl MainPairs<'_> {
                 continue;
             }
             let to = (g.ends[i - lo] as usize).min(found);
-            let ri = radius[i];
+            let a = side(i);
             let mut fi = [0.0; 3];
             let mut ti = [0.0; 3];
             for t in from..to {
                 let q = g.entry(t);
-                let j = g.partner[q] as usize;
-                // SAFETY: j is a body (pass 1).
-                let rj = unsafe { *radius.get_unchecked(j) };
+                let (j, k) = (g.partner[q] as usize, first + q);
+                let b = side(j);
+                let fl = row_law(i, j);
+                let overlap = g.overlap[q];
                 let n = [g.nx[q], g.ny[q], g.nz[q]];
-                let rolling = if ROLL { Some(g.rolling[t]) } else { None };
-                let (arm_i, arm_j) = row_law(i, j).torque_arm.arms(g.overlap[q], ri, rj);
-                let c = assemble(g.force[t], g.tangential[t], rolling, n, arm_i, arm_j);
+                let rate = overlap_rate(a.velocity, b.velocity, n);
+                let (slip_a, slip_b) = fl.torque_arm.slip_sides(overlap, &a, &b);
+                let slip = slip_velocity(&slip_a, &slip_b, n);
+                let mut scratch = NO_HISTORY;
+                // SAFETY: entry k belongs to row i of this block.
+                let hist = if KEEP {
+                    unsafe { &mut *self.history.0.add(k) }
+                } else {
+                    &mut scratch
+                };
+                let force = fl.law.normal_stage(overlap, rate, hist);
+                // SAFETY: entry k belongs to row i of this block.
+                let sh = unsafe { &mut *self.shear.0.add(k) };
+                let tangential = fl.tangential_stage(overlap, force, n, slip, self.dt, sh);
+                let rolling = if ROLL {
+                    // SAFETY: as the spring.
+                    let roll = unsafe { &mut *self.roll.0.add(k) };
+                    Some(fl.rolling_stage(overlap, force, n, &a, &b, self.dt, roll))
+                } else {
+                    None
+                };
+                let (arm_i, arm_j) = fl.torque_arm.arms(overlap, a.arm, b.arm);
+                let c = assemble(force, tangential, rolling, n, arm_i, arm_j);
                 let (fj, tqj) = (c.on_body2(n), c.torque2());
                 sub(&mut fi, fj);
                 add(&mut ti, c.torque1());
@@ -287,16 +268,6 @@ pub(super) struct Batch {
     nz: [f64; BATCH],
     found: [u8; BATCH],
     ends: [u8; BATCH],
-    /// By contact found (index into `found`): its row (minus the
-    /// batch's first), overlap rate (m/s), tangential slip velocity
-    /// (m/s), normal force (N), tangential force (N) and rolling torque
-    /// (N m).
-    row: [u8; BATCH],
-    rate: [f64; BATCH],
-    slip: [[f64; 3]; BATCH],
-    force: [f64; BATCH],
-    tangential: [[f64; 3]; BATCH],
-    rolling: [[f64; 3]; BATCH],
 }
 
 impl Batch {
@@ -307,33 +278,26 @@ impl Batch {
     fn entry(&self, t: usize) -> usize {
         let q = self.found[t] as usize;
         // SAFETY: every value written to `found` is an entry q < count ≤
-        // BATCH (pass 1), and the default is 0.
+        // BATCH (pass 1), and those of [`Batch::EMPTY`] are 0.
         unsafe { std::hint::assert_unchecked(q < BATCH) };
         q
     }
 }
 
-impl Default for Batch {
-    fn default() -> Self {
-        Self {
-            partner: [0; BATCH],
-            dx: [0.0; BATCH],
-            dy: [0.0; BATCH],
-            dz: [0.0; BATCH],
-            sum: [0.0; BATCH],
-            touches: [0; BATCH],
-            overlap: [0.0; BATCH],
-            nx: [0.0; BATCH],
-            ny: [0.0; BATCH],
-            nz: [0.0; BATCH],
-            found: [0; BATCH],
-            ends: [0; BATCH],
-            row: [0; BATCH],
-            rate: [0.0; BATCH],
-            slip: [[0.0; 3]; BATCH],
-            force: [0.0; BATCH],
-            tangential: [[0.0; 3]; BATCH],
-            rolling: [[0.0; 3]; BATCH],
-        }
-    }
+impl Batch {
+    /// Zeros: every index an entry (< [`BATCH`]).
+    pub(super) const EMPTY: Batch = Batch {
+        partner: [0; BATCH],
+        dx: [0.0; BATCH],
+        dy: [0.0; BATCH],
+        dz: [0.0; BATCH],
+        sum: [0.0; BATCH],
+        touches: [0; BATCH],
+        overlap: [0.0; BATCH],
+        nx: [0.0; BATCH],
+        ny: [0.0; BATCH],
+        nz: [0.0; BATCH],
+        found: [0; BATCH],
+        ends: [0; BATCH],
+    };
 }

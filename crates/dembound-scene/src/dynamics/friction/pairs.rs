@@ -457,7 +457,9 @@ impl MainPairs<'_> {
         let start = self.start;
         let lo = self.list.blocks[b] as usize;
         let hi = self.list.blocks[b + 1] as usize;
-        let mut scratch = Batch::default();
+        // SAFETY: this thread's scratch, used by this call alone (a block
+        // runs no other block inside it).
+        let scratch = unsafe { &mut *BATCH_SCRATCH.with(|s| s.get()) };
         let mut i = lo;
         while i < hi {
             // The batch: rows i..end, as many as fit in BATCH rows and
@@ -473,7 +475,7 @@ impl MainPairs<'_> {
                 self.row::<KEEP, ROLL, TABLE, TALLY>(i);
                 i += 1;
             } else {
-                self.batch::<KEEP, ROLL, TABLE, TALLY, R>(i, end, &mut scratch, rows);
+                self.batch::<KEEP, ROLL, TABLE, TALLY, R>(i, end, scratch, rows);
                 i = end;
             }
         }
@@ -638,6 +640,15 @@ pub(super) fn tally_entry(
     if *shear != [0.0; 3] || r != [0.0; 3] {
         sums[3] += fl.spring_energy(overlap, shear, &r);
     }
+}
+
+thread_local! {
+    /// Each thread's scratch for [`MainPairs::batch`], kept across blocks
+    /// and steps rather than made (and zeroed) per block: a batch writes
+    /// every entry it reads before reading it (its first pass fills the
+    /// entries of its pairs, the stages read those).
+    static BATCH_SCRATCH: std::cell::UnsafeCell<Batch> =
+        const { std::cell::UnsafeCell::new(Batch::EMPTY) };
 }
 
 /// Tests: run [`MainPairs::row`] for every row, through the class

@@ -13,6 +13,11 @@ use crate::dynamics::friction_observables::tests::scene;
 use crate::setup::{SceneSetup, TimeStep};
 use crate::Simulation;
 
+/// Held by the tests that set [`ROW_BY_ROW`] (a global flag, and the
+/// harness runs tests on parallel threads): one test's row-by-row run
+/// must not switch the other's batched run, or its stepping, to rows.
+static ROW_BY_ROW_USERS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// The scenes the batched loop is checked on: `friction_observables`'s
 /// settling bed (two radii, so two body classes: the class table; Tsuji
 /// damping; rolling springs); the same with Walton–Braun's law (contact
@@ -66,6 +71,7 @@ fn one_law(sim: &Simulation) -> bool {
 /// table and through the one-law kernel.
 #[test]
 fn batched_pairs_equal_row_by_row_bit_for_bit() {
+    let _flag = ROW_BY_ROW_USERS.lock().unwrap_or_else(|e| e.into_inner());
     for (setting, setup, one) in settings() {
         let mut sim = Simulation::new(setup, 1).unwrap();
         assert_eq!(one_law(&sim), one, "{setting}");
@@ -125,6 +131,7 @@ fn batched_pairs_equal_row_by_row_bit_for_bit() {
 /// table and the one-law kernel, on 1 and 2 threads.
 #[test]
 fn tally_equals_the_observation_pass_bit_for_bit() {
+    let _flag = ROW_BY_ROW_USERS.lock().unwrap_or_else(|e| e.into_inner());
     let all = settings();
     let runs = all
         .iter()

@@ -72,9 +72,10 @@ pub(super) trait Variants: Sync {
 /// Hertz without damping, clamped (no attraction), the Mindlin spring,
 /// the torque at the radius: the lattice-drop benchmarks' law (LAMMPS
 /// `hertz/material … tangential mindlin`), and every scene that sets only
-/// `law = "hertz"` and `tangential = "mindlin"`. The tangential dashpot's
-/// variant (private to the physics crate; none without normal damping) is
-/// still tested per sticking contact.
+/// `law = "hertz"` and `tangential = "mindlin"`. Without normal damping
+/// the tangential spring has no dashpot either
+/// (`FrictionPair::tangentially_undamped`), stated too: a sticking
+/// contact's force is the spring's, with no test of the dashpot's variant.
 pub(super) struct HertzMindlin;
 
 impl Variants for HertzMindlin {
@@ -84,6 +85,7 @@ impl Variants for HertzMindlin {
             && matches!(law.law.damping(), DampingPair::None(_))
             && !law.law.attractive()
             && matches!(law.friction.tangential(), TangentialPair::Mindlin(_))
+            && law.friction.tangentially_undamped()
             && law.torque_arm == TorqueArm::Radius
     }
 
@@ -99,6 +101,7 @@ impl Variants for HertzMindlin {
                 law.friction.tangential(),
                 TangentialPair::Mindlin(_)
             ));
+            assert_unchecked(law.friction.tangentially_undamped());
             assert_unchecked(law.torque_arm == TorqueArm::Radius);
         }
     }
