@@ -29,18 +29,13 @@
 mod common;
 
 use common::peer::{export_lammps, missing, run_lmp};
+use common::silo::{silo_scene, DT, G, R, RHO};
 use common::{dembound, numbers, quantity};
 use serde_json::Value;
 use std::f64::consts::PI;
 
-const DT: f64 = 4e-6;
-const G: f64 = 9.81;
 /// Spheres at the start.
 const N0: f64 = 300.0;
-const R: f64 = 1e-3;
-const RHO: f64 = 2500.0;
-const PITCH: f64 = 2.05e-3;
-const ORIFICE: f64 = 5e-3;
 /// Inlet: spheres/s, steps between events, spheres per event.
 const RATE: f64 = 2500.0;
 const EVERY: u64 = 1000;
@@ -50,51 +45,8 @@ const SERIES: u64 = 500;
 const WINDOW_FROM: f64 = 0.1;
 
 fn scene() -> String {
-    let mut floor = Vec::new();
-    for i in -4i32..=4 {
-        for j in -4i32..=4 {
-            let (x, y) = (f64::from(i) * PITCH, f64::from(j) * PITCH);
-            if x.hypot(y) >= ORIFICE {
-                floor.push(format!(
-                    "{{ position = [{x:e}, {y:e}, 0.0], radius = {R:e} }}"
-                ));
-            }
-        }
-    }
-    assert_eq!(floor.len(), 60, "the floor's sites");
-    let plane = |p: &str, n: &str| {
-        format!("[[wall]]\nplane = {{ point = {p}, normal = {n} }}\nmaterial = \"steel\"\n")
-    };
-    format!(
-        r#"
-[domain]
-lower = [-0.01, -0.01, -0.03]
-upper = [0.01, 0.01, 0.07]
-[[material]]
-name = "glass"
-density = {RHO:e}
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-[[material]]
-name = "steel"
-density = 7800.0
-youngs_modulus = 5.0e7
-poisson_ratio = 0.3
-[contact]
-law = "hertz"
-damping = "tsuji"
-restitution = 0.5
-[[particles]]
-random = {{ count = {N0}, radius = {R:e}, lower = [-0.009, -0.009, 0.002], upper = [0.009, 0.009, 0.025], seed = 3 }}
-material = "glass"
-[[particles]]
-spheres = [ {} ]
-material = "steel"
-fixed = true
-{}{}{}{}{}
-[[outlet]]
-region = {{ box = {{ lower = [-0.01, -0.01, -0.03], upper = [0.01, 0.01, -0.01] }} }}
-[[inlet]]
+    let inlet = format!(
+        r#"[[inlet]]
 region = {{ box = {{ lower = [-0.0095, -0.0095, 0.062], upper = [0.0095, 0.0095, 0.065] }} }}
 rate = {{ number = {RATE:e} }}
 size = {{ fixed = {R:e} }}
@@ -102,22 +54,9 @@ material = "glass"
 velocity = [0.0, 0.0, -1.0]
 every = {EVERY}
 seed = 11
-[motion]
-gravity = [0.0, 0.0, -{G}]
-[integration]
-scheme = "verlet"
-dt = {DT:e}
-steps = {STEPS}
-[output]
-series_every = {SERIES}
-"#,
-        floor.join(", "),
-        plane("[0.0, 0.0, -0.03]", "[0.0, 0.0, 1.0]"),
-        plane("[-0.01, 0.0, 0.0]", "[1.0, 0.0, 0.0]"),
-        plane("[0.01, 0.0, 0.0]", "[-1.0, 0.0, 0.0]"),
-        plane("[0.0, -0.01, 0.0]", "[0.0, 1.0, 0.0]"),
-        plane("[0.0, 0.01, 0.0]", "[0.0, -1.0, 0.0]"),
-    )
+"#
+    );
+    silo_scene(N0, 0.025, &inlet, STEPS, SERIES)
 }
 
 #[test]

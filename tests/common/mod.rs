@@ -4,6 +4,7 @@
 
 pub mod peer;
 pub mod shaft;
+pub mod silo;
 
 use assert_cmd::Command;
 use serde_json::Value;
