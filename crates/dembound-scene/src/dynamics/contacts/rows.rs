@@ -1,0 +1,346 @@
+//! The frictionless loop over the main pairs: block by block, row by row,
+//! each touching pair's force added to its partner as it goes and the
+//! row's sum to its body at the row's end (the order that makes the sums
+//! independent of the thread and rank counts); on AVX2 each row's pairs
+//! are tested four at a time first.
+
+use super::{
+    add, contact_force, sub, touching_lazy, LawTable, PairHistories, PairTally, NO_HISTORY,
+};
+use crate::bodies::{Bodies, NO_GROUP};
+use crate::geometry::neighbour::PairList;
+use crate::parallel::SharedMut;
+use dembound_physics::contact::ContactHistory;
+
+/// What the frictionless loop over the main pairs reads and writes.
+pub(crate) struct Rows<'a> {
+    bodies: &'a Bodies,
+    laws: &'a LawTable,
+    list: &'a PairList,
+    position: &'a [[f64; 3]],
+    velocity: &'a [[f64; 3]],
+    radius: &'a [f64],
+    start: &'a [u32],
+    js: &'a [u32],
+    keep: bool,
+    f_ptr: SharedMut<[f64; 3]>,
+    h_ptr: SharedMut<ContactHistory>,
+    /// One [`PairTally`] per body, written when `TALLY`.
+    tally: SharedMut<PairTally>,
+}
+
+impl<'a> Rows<'a> {
+    /// The loop over `list`'s main pairs of `bodies`, adding to the forces
+    /// at `f_ptr` (one per body) and updating `histories` (when the law
+    /// keeps them: one per main entry, asserted); each row's
+    /// [`PairTally`] into `tally` when given.
+    pub(crate) fn new(
+        bodies: &'a Bodies,
+        list: &'a PairList,
+        histories: &'a mut PairHistories,
+        laws: &'a LawTable,
+        f_ptr: SharedMut<[f64; 3]>,
+        tally: Option<SharedMut<PairTally>>,
+    ) -> Self {
+        let n = bodies.len();
+        let keep = laws.history;
+        assert!(list.start.len() == n + 1);
+        assert!(!keep || histories.main.len() == list.j.len());
+        assert!(
+            bodies.position.len() == n && bodies.velocity.len() == n && bodies.radius.len() == n
+        );
+        Rows {
+            bodies,
+            laws,
+            list,
+            // Local slices: the compiler cannot hoist loads of the vectors'
+            // headers past the raw-pointer writes below.
+            position: &bodies.position[..],
+            velocity: &bodies.velocity[..],
+            radius: &bodies.radius[..],
+            start: &list.start[..],
+            js: &list.j[..],
+            keep,
+            f_ptr,
+            h_ptr: SharedMut(histories.main.as_mut_ptr()),
+            tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
+        }
+    }
+
+    /// The laws, the list and the histories of the loop
+    /// (`dynamics::halo_split` computes some pairs itself).
+    pub(crate) fn parts(
+        &self,
+    ) -> (
+        &'a Bodies,
+        &'a LawTable,
+        &'a PairList,
+        Option<SharedMut<ContactHistory>>,
+    ) {
+        (
+            self.bodies,
+            self.laws,
+            self.list,
+            self.keep.then_some(self.h_ptr),
+        )
+    }
+
+    /// Where the loop adds the forces (one per body).
+    pub(crate) fn forces(&self) -> SharedMut<[f64; 3]> {
+        self.f_ptr
+    }
+
+    /// Block `b`'s rows; `TALLY`: each row's [`PairTally`] too.
+    ///
+    /// # Safety
+    /// As [`add_pair_forces_then`](super::add_pair_forces_then)'s; with
+    /// `TALLY`, `tally` points to one per body.
+    #[inline(always)]
+    pub(super) unsafe fn block<const TALLY: bool>(&self, b: usize) {
+        self.block_with::<TALLY, false>(b);
+    }
+
+    /// [`Self::block`] with each row's pairs tested four at a time for
+    /// contact ([`Self::near4`]): only the pairs found touching go through
+    /// the pair-by-pair code, in list order; a row's last 1–3 pairs go pair
+    /// by pair. Without stored histories only (a pair apart then does
+    /// nothing).
+    ///
+    /// # Safety
+    /// As [`Self::block`]; the processor has AVX2 and no histories are
+    /// kept.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    pub(super) unsafe fn block_avx2<const TALLY: bool>(&self, b: usize) {
+        self.block_with::<TALLY, true>(b);
+    }
+
+    /// # Safety
+    /// As [`Self::block`]; with `QUAD`, as [`Self::block_avx2`].
+    #[inline(always)]
+    unsafe fn block_with<const TALLY: bool, const QUAD: bool>(&self, b: usize) {
+        let lo = self.list.blocks[b] as usize;
+        let hi = self.list.blocks[b + 1] as usize;
+        for i in lo..hi {
+            // SAFETY: as the caller's.
+            unsafe { self.row_with::<TALLY, QUAD>(i) };
+        }
+    }
+
+    /// Row `i`: each touching pair's force added to its j as it goes, the
+    /// row's sum to i at its end; `TALLY`: the row's [`PairTally`] too.
+    /// Pair by pair (`dynamics::halo_split` runs the rows it can alone).
+    ///
+    /// # Safety
+    /// As [`add_pair_forces_then`](super::add_pair_forces_then)'s, and no
+    /// other thread touches the forces of i and of its partners, nor the
+    /// row's histories, meanwhile; with `TALLY`, `tally` points to one per
+    /// body.
+    #[inline(always)]
+    pub(crate) unsafe fn row<const TALLY: bool>(&self, i: usize) {
+        // SAFETY: as the caller's.
+        unsafe { self.row_with::<TALLY, false>(i) };
+    }
+
+    /// [`Self::row`]; with `QUAD`, the row's pairs tested four at a time
+    /// ([`Self::block_avx2`]).
+    ///
+    /// # Safety
+    /// As [`Self::row`]; with `QUAD`, as [`Self::block_avx2`].
+    #[inline(always)]
+    unsafe fn row_with<const TALLY: bool, const QUAD: bool>(&self, i: usize) {
+        let Rows {
+            position,
+            velocity,
+            radius,
+            start,
+            f_ptr,
+            tally,
+            ..
+        } = *self;
+        let (s, e) = (start[i] as usize, start[i + 1] as usize);
+        if s == e {
+            if TALLY {
+                // SAFETY: i is in this block.
+                unsafe { *tally.at(i) = [0.0; 3] };
+            }
+            return;
+        }
+        let xi = position[i];
+        let vi = velocity[i];
+        let ri = radius[i];
+        let mut fi = [0.0; 3];
+        // `pair_observables`'s sums of row i.
+        let mut sums: PairTally = [0.0; 3];
+        let mut k = s;
+        #[cfg(target_arch = "x86_64")]
+        if QUAD {
+            use std::arch::x86_64::_mm256_set1_pd;
+            let centre = [
+                _mm256_set1_pd(xi[0]),
+                _mm256_set1_pd(xi[1]),
+                _mm256_set1_pd(xi[2]),
+                _mm256_set1_pd(ri),
+            ];
+            while k + 4 <= e {
+                // SAFETY: k..k + 4 within row i.
+                let mut near = unsafe { self.near4(centre, k) };
+                while near != 0 {
+                    let lane = near.trailing_zeros() as usize;
+                    near &= near - 1;
+                    // SAFETY: as the pair loop below.
+                    unsafe { self.pair::<TALLY>(i, k + lane, xi, vi, ri, &mut fi, &mut sums) };
+                }
+                k += 4;
+            }
+        }
+        while k < e {
+            // SAFETY: k is an entry of row i, which only this block
+            // visits.
+            unsafe { self.pair::<TALLY>(i, k, xi, vi, ri, &mut fi, &mut sums) };
+            k += 1;
+        }
+        // SAFETY: i is in this block.
+        unsafe {
+            add(&mut *f_ptr.0.add(i), fi);
+            if TALLY {
+                *tally.at(i) = sums;
+            }
+        }
+    }
+
+    /// The lanes (bits 0–3) of entries k..k + 4 of row i whose pair
+    /// touches as [`touching_lazy`] decides before its r² = 0 test: not
+    /// |x_j − x_i|² ≥ (R_i + R_j)², each lane with `touching_lazy`'s
+    /// operations in its order (no fused multiply–add: the same bits; a
+    /// NaN distance counts as touching, as there). [`Self::pair`] decides
+    /// again. `centre`: x_i, y_i, z_i and R_i in every lane. The partners'
+    /// x and y come in 16-byte loads, z and R in 8-byte ones: with AVX2
+    /// gathers instead (commit 922d37a) the test was slower than the pair
+    /// loop on the processor measured (BENCHMARKS.md, "Why 922d37a's fewer
+    /// instructions cost wall time"; `bench/pair_test_lanes.c`).
+    ///
+    /// # Safety
+    /// k + 4 ≤ the list's length; every listed j < bodies; the processor
+    /// has AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn near4(&self, centre: [std::arch::x86_64::__m256d; 4], k: usize) -> u32 {
+        use std::arch::x86_64::*;
+        let js = self.js.as_ptr().add(k);
+        let p = self.position.as_ptr() as *const f64;
+        let r = self.radius.as_ptr();
+        let (j0, j1, j2, j3) = (
+            *js as usize,
+            *js.add(1) as usize,
+            *js.add(2) as usize,
+            *js.add(3) as usize,
+        );
+        // (Macros, not closures: a closure is compiled without AVX2
+        // before it is inlined.)
+        macro_rules! pair {
+            ($lo:expr, $hi:expr) => {
+                _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256($lo), $hi)
+            };
+        }
+        macro_rules! two {
+            ($u:expr, $v:expr) => {
+                _mm_loadh_pd(_mm_load_sd($u), $v)
+            };
+        }
+        // [x0 y0 x2 y2] and [x1 y1 x3 y3].
+        let a = pair!(_mm_loadu_pd(p.add(3 * j0)), _mm_loadu_pd(p.add(3 * j2)));
+        let b = pair!(_mm_loadu_pd(p.add(3 * j1)), _mm_loadu_pd(p.add(3 * j3)));
+        let xj = _mm256_unpacklo_pd(a, b);
+        let yj = _mm256_unpackhi_pd(a, b);
+        let z = p.add(2);
+        let zj = pair!(
+            two!(z.add(3 * j0), z.add(3 * j1)),
+            two!(z.add(3 * j2), z.add(3 * j3))
+        );
+        let rj = pair!(two!(r.add(j0), r.add(j1)), two!(r.add(j2), r.add(j3)));
+        let d0 = _mm256_sub_pd(xj, centre[0]);
+        let d1 = _mm256_sub_pd(yj, centre[1]);
+        let d2 = _mm256_sub_pd(zj, centre[2]);
+        let r2 = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(d0, d0), _mm256_mul_pd(d1, d1)),
+            _mm256_mul_pd(d2, d2),
+        );
+        let s = _mm256_add_pd(centre[3], rj);
+        let near = _mm256_cmp_pd::<_CMP_NGE_UQ>(r2, _mm256_mul_pd(s, s));
+        _mm256_movemask_pd(near) as u32
+    }
+
+    /// Entry k of row i: the pair's force if it touches (and its
+    /// [`PairTally`] terms with `TALLY`), else its history reset.
+    ///
+    /// # Safety
+    /// As [`Self::block`]; k is an entry of row i, which only this block
+    /// visits.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn pair<const TALLY: bool>(
+        &self,
+        i: usize,
+        k: usize,
+        xi: [f64; 3],
+        vi: [f64; 3],
+        ri: f64,
+        fi: &mut [f64; 3],
+        sums: &mut PairTally,
+    ) {
+        let Rows {
+            bodies,
+            laws,
+            position,
+            velocity,
+            radius,
+            js,
+            keep,
+            f_ptr,
+            h_ptr,
+            ..
+        } = *self;
+        // SAFETY (the unchecked reads): k < js.len() (rows lie within j),
+        // and every j < n (the list's construction); lengths asserted in
+        // `add_pair_forces_then`.
+        let j = unsafe { *js.get_unchecked(k) } as usize;
+        let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
+        // The velocity is read only for touching pairs.
+        let vj = || unsafe { *velocity.get_unchecked(j) };
+        if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
+            let mut scratch = NO_HISTORY;
+            // SAFETY: history k belongs to row i, which only this block
+            // visits.
+            let hist = if keep {
+                unsafe { &mut *h_ptr.0.add(k) }
+            } else {
+                &mut scratch
+            };
+            let law = laws.pair(bodies, i, j);
+            let fj = contact_force(&law, &g, hist);
+            if TALLY {
+                // As `pair_observables`: the history as the force left it
+                // (none kept: the default).
+                if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
+                    sums[1] += 1.0;
+                } else {
+                    sums[0] += 1.0;
+                }
+                let hist = if keep { &*hist } else { &NO_HISTORY };
+                sums[2] += laws.elastic_energy(&law, g.overlap, hist);
+            }
+            sub(fi, fj);
+            // SAFETY: j lies in this block or the next (the blocks'
+            // construction); blocks of one parity are two apart, so no
+            // other running block writes j.
+            unsafe { add(&mut *f_ptr.0.add(j), fj) };
+        } else if keep {
+            // SAFETY: as above.
+            let hist = unsafe { &mut *h_ptr.0.add(k) };
+            if *hist != ContactHistory::default() {
+                *hist = ContactHistory::default();
+            }
+        }
+    }
+}
