@@ -84,3 +84,38 @@ series_every = {series_every}
         plane("[0.0, 0.01, 0.0]", "[0.0, -1.0, 0.0]"),
     )
 }
+
+/// Asserts that `compare --json`'s late-window means of quantity `name`
+/// agree: the LAMMPS and dembound means within 3 combined standard errors
+/// of each other (two realisations of one flow that parted at the first
+/// collisions: their difference is about normal with the combined error
+/// as its deviation, so 3 of those bound it but for a 0.3 % chance), and
+/// on each side a positive mean with a standard error above 0 and below
+/// `max_relative_se` of it (an error that is there, and a mean that is).
+/// Prints both.
+pub fn assert_windows_agree(report: &serde_json::Value, name: &str, max_relative_se: f64) {
+    let q = super::quantity(report, name);
+    let (c, d) = (&q["code_window"], &q["dembound_window"]);
+    let mean = |w: &serde_json::Value| w["mean"].as_f64().expect("a window mean");
+    let se = |w: &serde_json::Value| w["standard_error"].as_f64().expect("a standard error");
+    let both = format!(
+        "{name}: LAMMPS {} ± {}, dembound {} ± {}",
+        mean(c),
+        se(c),
+        mean(d),
+        se(d)
+    );
+    eprintln!("{both}");
+    assert!(
+        (mean(c) - mean(d)).abs() <= 3.0 * se(c).hypot(se(d)),
+        "{both}"
+    );
+    for (side, w) in [("LAMMPS", c), ("dembound", d)] {
+        assert!(
+            mean(w) > 0.0 && se(w) > 0.0 && se(w) < max_relative_se * mean(w),
+            "{side} {name}: {} ± {}",
+            mean(w),
+            se(w)
+        );
+    }
+}
