@@ -22,7 +22,9 @@ two standard errors of the paired difference, as `compare`'s own verdict):
 "resolved" says whether twice the combined standard error is below the
 bar (else the seeds cannot tell a difference of the bar's size).
 Speed: seconds per particle-step and core of each code (mean over the seeds),
-by CPU time where the run reports it, else by the wall clock (LIGGGHTS).
+by CPU time where the run reports it, else by the peer process's CPU time
+where jittered_seeds.py wrote it (REPORT.cpu beside REPORT.json: LIGGGHTS),
+else by the wall clock.
 
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
        (add --markdown for one table row per quantity, --bins for every
@@ -32,6 +34,7 @@ Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
 import argparse
 import json
 import math
+import os
 import sys
 
 BARS = {"bed height": 0.01, "wall[0] force |F|": 0.01}
@@ -131,9 +134,20 @@ def main():
     # run reports it (dembound, LAMMPS's "% CPU use", Yade), else the wall
     # clock × cores (LIGGGHTS): a wall-clock rate on a loaded machine
     # understates that code's per-core speed.
+    # A wall-clock peer rate (LIGGGHTS) is replaced by the peer process's
+    # CPU time where jittered_seeds.py left it beside the report (REPORT
+    # without .json, plus .cpu: user + system s, setup and output included).
+    def peer_cpu(path, speed):
+        cpu = path[:-5] + ".cpu" if path.endswith(".json") else None
+        if speed.get("clock") != "wall" or not cpu or not os.path.isfile(cpu):
+            return None
+        steps = speed["particle_steps_per_core_second"] * speed["wall_seconds"] * speed["cores"]
+        return float(open(cpu).read()) / steps, "process CPU"
+
     def seconds_per_step(key):
-        got = [(1.0 / r[key]["particle_steps_per_core_second"], r[key].get("clock", "wall"))
-               for r in reports if r.get(key)]
+        got = [(key == "code_speed" and peer_cpu(p, r[key]))
+               or (1.0 / r[key]["particle_steps_per_core_second"], r[key].get("clock", "wall"))
+               for p, r in zip(args.reports, reports) if r.get(key)]
         if not got:
             return "—"
         clocks = sorted({c for _, c in got})

@@ -9,10 +9,13 @@ Per seed k (docs/export-lammps.md, "A's side walls over jittered seeds"):
 2. `jitter_velocities.py RUNS/positions AMPLITUDE k RUNS/Jk.toml`;
 3. `dembound export CODE RUNS/Jk.toml --set SET... --out RUNS/Jk`;
 4. the peer run in RUNS/Jk under `nice -n 5` (LAMMPS: `lmp -in in.lammps
-   -log log.lammps`; Yade: `yade -n -j1 -x scene.py`);
+   -log log.lammps`; LIGGGHTS: `liggghts -in in.liggghts -log
+   log.liggghts`; Yade: `yade -n -j1 -x scene.py`); its process CPU time
+   (user + system, setup and output included) goes to RUNS/Jk.cpu, since
+   LIGGGHTS's log has only the wall clock (`compare_seeds.py` reads it);
 5. `dembound compare RUNS/Jk --json > RUNS/Jk.json`;
-6. the deck's particles.dump is deleted (tens of MB a seed) unless
-   --keep-dumps; walls.txt, the logs and the JSON report stay.
+6. the deck's particles.dump and trajectory.txt are deleted (tens of MB
+   a seed) unless --keep-dumps; walls.txt, the logs and the JSON report stay.
 
 A scene whose spheres are drawn at random (`[particles.random]`) has
 its own seed: with --seed-key KEY (e.g. particles.0.random.seed) steps 1
@@ -32,6 +35,7 @@ Example (scene A, LAMMPS, dembound under LAMMPS's arm):
 
 import argparse
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -40,6 +44,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 PEER = {
     "lammps": ["lmp", "-in", "in.lammps", "-log", "log.lammps"],
+    "liggghts": ["liggghts", "-in", "in.liggghts", "-log", "log.liggghts"],
     "yade": ["yade", "-n", "-j1", "-x", "scene.py"],
 }
 
@@ -90,15 +95,21 @@ def main():
                  repr(args.amplitude), str(k), deck + ".toml"])
             run([args.dembound, "export", args.code, deck + ".toml", *sets(args.set),
                  "--out", deck])
+        cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
         run(["nice", "-n", "5", *PEER[args.code]], cwd=deck)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        with open(deck + ".cpu", "w") as out:
+            out.write(f"{after.ru_utime + after.ru_stime - cpu.ru_utime - cpu.ru_stime:.3f}\n")
         peer = time.time() - start
         with open(report + ".part", "w") as out:
             run(["nice", "-n", "5", args.dembound, "compare", deck, "--json"], stdout=out)
         os.replace(report + ".part", report)
         if not args.keep_dumps:
-            dump = os.path.join(deck, "particles.dump")
-            if os.path.exists(dump):
-                os.remove(dump)
+            # LIGGGHTS's and LAMMPS's decks also trace sphere 1 every step
+            for name in ("particles.dump", "trajectory.txt"):
+                dump = os.path.join(deck, name)
+                if os.path.exists(dump):
+                    os.remove(dump)
         print(f"seed {k}: {args.code} run {peer:.0f} s, compare {time.time() - start - peer:.0f} s "
               f"(wall clock) -> {report}", flush=True)
     return 0
