@@ -710,9 +710,11 @@ impl<T: Transport> RankComm<T> {
     /// ([`HaloSplit`]): those with a free halo copy (its state arrives
     /// every step). Only where the split's loop applies: the forces summed
     /// in cell order, frictionless Verlet (the pipeline checks the rest
-    /// at each step).
+    /// at each step), and this rank receives halo state (without, every
+    /// pair is early: the engine's own loop runs them, as on one process).
     fn split_halo(&mut self, pipeline: &mut Pipeline, world: &World) {
         let applies = self.overlap
+            && !self.receives.is_empty()
             && self.in_cell_order
             && !self.plain_sums
             && world.friction.is_none()
