@@ -710,9 +710,11 @@ impl<T: Transport> RankComm<T> {
     /// ([`HaloSplit`]): those with a free halo copy (its state arrives
     /// every step). Only where the split's loop applies: the forces summed
     /// in cell order, frictionless Verlet (the pipeline checks the rest
-    /// at each step).
+    /// at each step), and this rank receives halo state (without, every
+    /// pair is early: the engine's own loop runs them, as on one process).
     fn split_halo(&mut self, pipeline: &mut Pipeline, world: &World) {
         let applies = self.overlap
+            && !self.receives.is_empty()
             && self.in_cell_order
             && !self.plain_sums
             && world.friction.is_none()
@@ -759,15 +761,19 @@ impl<T: Transport> RankComm<T> {
             .sends
             .iter()
             .map(|(r, idx)| {
-                let mut w = Writer(Vec::with_capacity(idx.len() * halo_record(spin)));
+                let record = halo_record(spin);
+                let mut out = Vec::with_capacity(idx.len() * record);
                 for &k in idx {
-                    w.vec3(b.position[k as usize]);
-                    w.vec3(b.velocity[k as usize]);
+                    let k = k as usize;
+                    let mut at = [0u8; 72];
+                    put_vec3(&mut at[..24], b.position[k]);
+                    put_vec3(&mut at[24..48], b.velocity[k]);
                     if spin {
-                        w.vec3(b.angular_velocity[k as usize]);
+                        put_vec3(&mut at[48..], b.angular_velocity[k]);
                     }
+                    out.extend_from_slice(&at[..record]);
                 }
-                (*r, w.0)
+                (*r, out)
             })
             .collect();
         self.bytes_sent += sends.iter().map(|(_, s)| s.len() as u64).sum::<u64>();
@@ -779,13 +785,14 @@ impl<T: Transport> RankComm<T> {
     fn halo_receive(&self, world: &mut World, got: Vec<Vec<u8>>) {
         let spin = world.friction.is_some();
         let b = &mut world.bodies;
+        let record = halo_record(spin);
         for ((_, idx), bytes) in self.receives.iter().zip(got) {
-            let mut r = Reader::new(&bytes);
-            for &k in idx {
-                b.position[k as usize] = r.vec3();
-                b.velocity[k as usize] = r.vec3();
+            for (&k, at) in idx.iter().zip(bytes.chunks_exact(record)) {
+                let k = k as usize;
+                b.position[k] = get_vec3(&at[..24]);
+                b.velocity[k] = get_vec3(&at[24..48]);
                 if spin {
-                    b.angular_velocity[k as usize] = r.vec3();
+                    b.angular_velocity[k] = get_vec3(&at[48..]);
                 }
             }
         }
@@ -800,6 +807,26 @@ impl<T: Transport> RankComm<T> {
         self.halo_receive(world, got);
         self.halo_wait += clock.elapsed().as_secs_f64();
     }
+}
+
+/// `v` into the 24 bytes `out`, little-endian: the bytes of
+/// [`pack::Writer::vec3`], written in place (the per-step halo records
+/// have a fixed size).
+fn put_vec3(out: &mut [u8], v: [f64; 3]) {
+    for (at, x) in out.chunks_exact_mut(8).zip(v) {
+        at.copy_from_slice(&x.to_le_bytes());
+    }
+}
+
+/// The vector [`put_vec3`] wrote into the 24 bytes `at`.
+fn get_vec3(at: &[u8]) -> [f64; 3] {
+    let mut v = [0.0; 3];
+    for (x, b) in v.iter_mut().zip(at.chunks_exact(8)) {
+        let mut bytes = [0u8; 8];
+        bytes.copy_from_slice(b);
+        *x = f64::from_le_bytes(bytes);
+    }
+    v
 }
 
 /// Bytes of a free halo body's per-step record: position and velocity,
@@ -1003,5 +1030,36 @@ impl<T: Transport> StepHooks for RankComm<T> {
         let walls = servo_walls::servo_file_indices(world);
         let records = self.merge_records(servo_walls::servo_load_records(world, &walls));
         wall_loads::sum_records(&records, world.walls.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{get_vec3, put_vec3};
+    use crate::comm::pack::Writer;
+
+    /// The per-step halo record's vectors are the bytes the whole-record
+    /// writer makes (`pack::Writer::vec3`, little-endian f64s) and read
+    /// back to the same bits, signed zeros, subnormals, infinities and a
+    /// NaN's payload included.
+    #[test]
+    fn halo_vectors_are_the_writers_bytes_and_read_back_bit_for_bit() {
+        let values = [
+            [1.25e-3, -0.0, f64::MIN_POSITIVE / 3.0],
+            [
+                f64::INFINITY,
+                f64::from_bits(0x7ff8_dead_beef_0001),
+                -7.5e300,
+            ],
+        ];
+        for v in values {
+            let mut w = Writer(Vec::new());
+            w.vec3(v);
+            let mut at = [0u8; 24];
+            put_vec3(&mut at, v);
+            assert_eq!(&at[..], &w.0[..]);
+            let back = get_vec3(&at);
+            assert_eq!(back.map(f64::to_bits), v.map(f64::to_bits));
+        }
     }
 }

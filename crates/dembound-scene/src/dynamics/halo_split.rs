@@ -182,15 +182,39 @@ impl HaloSplit {
         let (start, js) = (&list.start[..], &list.j[..]);
         let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
         let f_ptr = rows.forces();
+        // The plain rows' pairs four at a time as the engine's blocks test
+        // them (`Rows::block_avx2`: no histories, AVX2), else pair by pair.
+        #[cfg(target_arch = "x86_64")]
+        let quad = hist.is_none() && std::is_x86_feature_detected!("avx2");
         let mut moved = 0.0f64;
         for b in 0..list.blocks.len().saturating_sub(1) {
             let (lo, hi) = (list.blocks[b] as usize, list.blocks[b + 1] as usize);
-            for i in lo..hi {
+            let mut i = lo;
+            while i < hi {
                 if self.plain[i] {
-                    // SAFETY: one thread; as the caller's.
-                    unsafe { rows.row::<false>(i) };
+                    // A run of plain rows.
+                    let mut z = i + 1;
+                    while z < hi && self.plain[z] {
+                        z += 1;
+                    }
+                    #[cfg(target_arch = "x86_64")]
+                    if quad {
+                        // SAFETY: one thread; as the caller's; AVX2 and no
+                        // histories just checked.
+                        unsafe { rows.rows_avx2(i, z) };
+                        i = z;
+                        continue;
+                    }
+                    for r in i..z {
+                        // SAFETY: one thread; as the caller's.
+                        unsafe { rows.row::<false>(r) };
+                    }
+                    i = z;
                     continue;
                 }
+                let row = i;
+                i += 1;
+                let i = row;
                 let (s, e) = (start[i] as usize, start[i + 1] as usize);
                 if s == e {
                     continue;

@@ -115,6 +115,22 @@ impl<'a> Rows<'a> {
         self.block_with::<TALLY, true>(b);
     }
 
+    /// Rows `lo..hi` as [`Self::block_avx2`] runs a block's, each row's
+    /// pairs tested four at a time (`dynamics::halo_split` runs its rows
+    /// without a late body so).
+    ///
+    /// # Safety
+    /// As [`Self::row`] for each of the rows; the processor has AVX2 and
+    /// no histories are kept.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    pub(crate) unsafe fn rows_avx2(&self, lo: usize, hi: usize) {
+        for i in lo..hi {
+            // SAFETY: as the caller's.
+            unsafe { self.row_with::<false, true>(i) };
+        }
+    }
+
     /// # Safety
     /// As [`Self::block`]; with `QUAD`, as [`Self::block_avx2`].
     #[inline(always)]
