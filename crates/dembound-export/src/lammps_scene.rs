@@ -506,6 +506,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         }
     }
     c(&mut x, lammps_output::about(every, dt));
+    if !setup.walls.is_empty() {
+        c(&mut x, lammps_output::about_mean(every));
+    }
     c(&mut x, format!("step: dt = {} s (integration.dt, or eta x the smallest contact-time estimate), {} steps, velocity Verlet (fix nve/sphere) as dembound's verlet", num(dt), steps));
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
