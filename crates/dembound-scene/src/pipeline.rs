@@ -332,8 +332,8 @@ impl Pipeline {
             if let Some(sum) = self.wall_force_sum.as_mut() {
                 let loads = observe::ObserveHooks::wall_loads(&Local, world);
                 for (s, l) in sum.iter_mut().zip(&loads) {
-                    for a in 0..3 {
-                        s[a] += l.force[a];
+                    for (x, f) in s.iter_mut().zip(l.force) {
+                        *x += f;
                     }
                 }
             }

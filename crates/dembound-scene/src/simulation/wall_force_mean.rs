@@ -113,8 +113,8 @@ steps = {steps}
             for _ in 0..every {
                 by_step.step(1);
                 for (s, f) in sum.iter_mut().zip(by_step.wall_forces()) {
-                    for a in 0..3 {
-                        s[a] += f[a];
+                    for (x, v) in s.iter_mut().zip(f) {
+                        *x += v;
                     }
                 }
             }
@@ -124,14 +124,13 @@ steps = {steps}
                 .map(|v| (v / every as f64).abs())
                 .fold(0.0, f64::max);
             for (w, (m, s)) in mean.iter().zip(&sum).enumerate() {
-                for a in 0..3 {
-                    let expected = s[a] / every as f64;
+                for (a, (got, total)) in m.iter().zip(s).enumerate() {
+                    let expected = total / every as f64;
                     assert!(
-                        (m[a] - expected).abs() <= 1e-9 * scale.max(1e-12),
-                        "wall {w} axis {a}: {} vs {expected}",
-                        m[a]
+                        (got - expected).abs() <= 1e-9 * scale.max(1e-12),
+                        "wall {w} axis {a}: {got} vs {expected}"
                     );
-                    touched[w] |= m[a] != 0.0;
+                    touched[w] |= *got != 0.0;
                 }
             }
             plain.step(every);
