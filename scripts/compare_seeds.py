@@ -26,6 +26,11 @@ by CPU time where the run reports it, else by the peer process's CPU time
 where jittered_seeds.py wrote it (REPORT.cpu beside REPORT.json: LIGGGHTS),
 else by the wall clock.
 
+Wall forces: each report's `wall_forces` says whether its wall rows are
+the force at the row's step ("at_row_step", walls.txt) or the mean over
+every step since the previous row ("mean_over_row_interval",
+walls_mean.txt); the text output names the kind (and flags a mix).
+
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
        (add --markdown for one table row per quantity, --bins for every
        z bin of the packing and flow-velocity profiles)
@@ -161,6 +166,11 @@ def main():
         print(f"| {args.label} | {speed} | | | | | | |")
     else:
         print(f"{args.label}: {code} against dembound over {n} seeds (mean of the late-window means ± SE over seeds)")
+        # What the wall rows hold (compare's `wall_forces`; reports made
+        # before it had the field sampled the row's step).
+        modes = sorted({r.get("wall_forces") or "at_row_step" for r in reports})
+        print("wall forces: " + ", ".join(modes)
+              + ("  (MIXED: the seeds' wall rows are not the same quantity)" if len(modes) > 1 else ""))
         head = ("quantity", code, "dembound", "difference", "verdict", "bar", "resolved")
         widths = [max(len(str(r[i])) for r in rows + [head]) for i in range(len(head))]
         for r in [head] + rows:

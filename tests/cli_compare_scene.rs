@@ -150,6 +150,88 @@ fn lammps_run_of_a_small_bed_is_the_same_state_to_1e_9() {
     }
 }
 
+/// The walls' rows of a `fix ave/time` file: step → the columns.
+fn wall_rows(path: &Path) -> Vec<(u64, Vec<f64>)> {
+    std::fs::read_to_string(path)
+        .expect("the wall file")
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| {
+            let w: Vec<f64> = l
+                .split_whitespace()
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            (w[0] as u64, w[1..].to_vec())
+        })
+        .collect()
+}
+
+/// `compare` reads the walls' forces averaged over every step when the
+/// deck wrote walls_mean.txt, and the force at the row's step when only
+/// walls.txt is there. The small frictionless bed of the test above (the
+/// same state to 1e-9 in both codes over its 400 steps, rows every 20)
+/// hits the floor during the run: per row, the peer's series is |mean F|
+/// of walls_mean.txt's columns (computed here from the file), dembound's
+/// (its own per-step sum) agrees with it to 1e-9, and it is not the
+/// row-step force of walls.txt (the floor's force changes by more than
+/// 1e-3 within a row interval while the bed lands). Without
+/// walls_mean.txt the same compare reads walls.txt's |F| at the row.
+#[test]
+fn compare_reads_the_walls_averaged_over_every_step_when_the_deck_has_them() {
+    if !have_lmp() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let text = lattice_bed(
+        "law = \"hertz\"",
+        "[0.0, 0.0, -0.1]",
+        STEEL_PLANE_FLOOR,
+        400,
+        "[output]\nseries_every = 20\n",
+    );
+    let report = lammps_compare(dir.path(), &text, &[]);
+    let deck = dir.path().join("deck");
+    assert_eq!(report["wall_forces"], "mean_over_row_interval");
+    let norm = |c: &[f64]| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    let mean = wall_rows(&deck.join("walls_mean.txt"));
+    let at_step = wall_rows(&deck.join("walls.txt"));
+    // LAMMPS's fix ave/time 1 20 20: rows 20, 40, … 400, none at step 0.
+    assert_eq!(mean.len(), 20);
+    assert_eq!(mean[0].0, 20);
+    let floor = quantity(&report, "wall[0]");
+    let (code, ours) = (numbers(&floor["code"]), numbers(&floor["dembound"]));
+    assert_eq!(code.len(), 20);
+    let mut differs = false;
+    for (k, (step, columns)) in mean.iter().enumerate() {
+        let expected = norm(&columns[0..3]);
+        // The report's number is the file's, through JSON (17 digits).
+        assert!((code[k] - expected).abs() <= 1e-15 * expected, "row {step}");
+        let scale = code.iter().cloned().fold(0.0, f64::max);
+        assert!((ours[k] - code[k]).abs() <= 1e-9 * scale, "row {step}");
+        let (s, c) = at_step.iter().find(|(s, _)| s == step).expect("same rows");
+        assert_eq!(s, step);
+        differs |= (norm(&c[0..3]) - expected).abs() > 1e-3 * scale;
+    }
+    assert!(differs, "the means are the row-step forces: {code:?}");
+    // Without the averaged file: the row-step forces of walls.txt.
+    std::fs::remove_file(deck.join("walls_mean.txt")).expect("removed");
+    let out = dembound()
+        .arg("compare")
+        .arg(&deck)
+        .arg("--json")
+        .output()
+        .expect("dembound runs");
+    assert!(out.status.success());
+    let report: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(report["wall_forces"], "at_row_step");
+    let code = numbers(&quantity(&report, "wall[0]")["code"]);
+    let rows: Vec<f64> = at_step.iter().map(|(_, c)| norm(&c[0..3])).collect();
+    assert_eq!(code.len(), rows.len());
+    for (a, b) in code.iter().zip(&rows) {
+        assert!((a - b).abs() <= 1e-15 * b.max(1e-300), "{a} vs {b}");
+    }
+}
+
 /// Damped friction exports under `contact.tangential_damping = false`
 /// (Hertz–Tsuji e = 0.5, Mindlin μ = 0.5): thrown sideways at a steel
 /// plane, the bottom layer slides on the floor with its springs loaded

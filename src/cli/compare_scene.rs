@@ -19,7 +19,11 @@
 //! - bed height: the mean of h + R over the highest tenth of the free
 //!   spheres (at least one), h the height along −g without its periodic
 //!   components (along z without gravity), m;
-//! - each wall's force |F| (N), from walls.txt and the engine;
+//! - each wall's force |F| (N), from walls.txt and the engine at the
+//!   row's step; when the deck wrote walls_mean.txt (the LAMMPS deck's
+//!   `fix ave/time 1 N N`), |mean F| over every step since the previous
+//!   row from that file and from dembound's own per-step sum
+//!   (`Simulation::step_wall_force_mean`), the same steps on both sides;
 //! - the state: max over free spheres of |Δx| / R_min (R_min the smallest
 //!   free radius; Δx by the nearest image, as a sphere at a periodic face
 //!   is wrapped by one code and not yet by the other), only for the
@@ -161,8 +165,21 @@ pub struct SceneCompareReport {
     /// Packing fraction and flow velocity against z over the late window
     /// (compare_profiles.rs).
     pub profiles: Vec<ProfileReport>,
+    /// What the `wall[k] force |F|` rows hold (None: no wall compared).
+    pub wall_forces: Option<WallForces>,
     /// What could not be compared, and why.
     pub notes: Vec<String>,
+}
+
+/// What a row's wall force is, on both sides alike.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallForces {
+    /// |F| at the row's step (walls.txt, `fix ave/time N 1 N`).
+    AtRowStep,
+    /// |mean F| over every step since the previous row (walls_mean.txt,
+    /// `fix ave/time 1 N N`; `Simulation::step_wall_force_mean`).
+    MeanOverRowInterval,
 }
 
 /// The end of the state-by-state comparison, before the run's end.
@@ -235,10 +252,19 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     })?;
     let rows = scene_dump::parse_dump(&text)
         .map_err(|e| input(format!("`{}`: {e}", dump_path.display())))?;
-    let walls = match std::fs::read_to_string(dir.join(dembound_export::lammps_output::WALLS_FILE))
-    {
-        Ok(t) => Some(scene_dump::parse_walls(&t).map_err(input)?),
-        Err(_) => None,
+    let read_walls = |name: &str| match std::fs::read_to_string(dir.join(name)) {
+        Ok(t) => scene_dump::parse_walls(&t)
+            .map(Some)
+            .map_err(|e| input(format!("`{name}`: {e}"))),
+        Err(_) => Ok(None),
+    };
+    // Both sides' means over every step of each row interval when the
+    // deck wrote them, else the force at the row's step.
+    let walls_mean = read_walls(dembound_export::lammps_output::WALLS_MEAN_FILE)?;
+    let averaged = walls_mean.is_some();
+    let walls = match walls_mean {
+        Some(w) => Some(w),
+        None => read_walls(dembound_export::lammps_output::WALLS_FILE)?,
     };
     let scene = SceneSpheres::new(&setup);
     let n = scene.count();
@@ -316,7 +342,13 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             )));
         }
         let clock = std::time::Instant::now();
-        sim.step(row.step - sim.steps_done());
+        let steps = row.step - sim.steps_done();
+        let mean = if averaged && with_walls {
+            sim.step_wall_force_mean(steps)
+        } else {
+            sim.step(steps);
+            None
+        };
         stepping += clock.elapsed().as_secs_f64();
         let t = row.step as f64 * dt;
         let mut x = sim.positions();
@@ -326,13 +358,16 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         let mine = scene.read_simulation(&sim, x);
         let mut theirs_row = peer_row;
         wrap_periodic(&setup, &mut theirs_row.position);
-        let wf = if with_walls {
-            sim.wall_forces()
+        let wf = match (with_walls, averaged, mean) {
+            (false, _, _) => Vec::new(),
+            (true, false, _) => sim
+                .wall_forces()
                 .iter()
                 .map(|f| dot(*f, *f).sqrt())
-                .collect()
-        } else {
-            Vec::new()
+                .collect(),
+            (true, true, Some(m)) => m.iter().map(|f| dot(*f, *f).sqrt()).collect(),
+            // The row of step 0: no interval, no mean (nor in the file).
+            (true, true, None) => vec![f64::NAN; wall_count],
         };
         ours.push(geometry.sample(&mine, wf));
         packing_ours.push(profiles.packing(&mine));
@@ -515,6 +550,29 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         }
     }
     let mut notes = Vec::new();
+    let wall_forces = if !with_walls {
+        None
+    } else if averaged {
+        Some(WallForces::MeanOverRowInterval)
+    } else {
+        Some(WallForces::AtRowStep)
+    };
+    if with_walls {
+        notes.push(if averaged {
+            format!(
+                "wall forces: |mean F| over every step since the previous row, both codes ({} \
+                 and dembound's per-step sum)",
+                dembound_export::lammps_output::WALLS_MEAN_FILE
+            )
+        } else {
+            format!(
+                "wall forces: |F| at the row's step only, both codes ({}; one step sampled per \
+                 row: a deck exported now also writes {}, averaged over every step)",
+                dembound_export::lammps_output::WALLS_FILE,
+                dembound_export::lammps_output::WALLS_MEAN_FILE
+            )
+        });
+    }
     if flows {
         flow_quantities(
             code,
@@ -594,6 +652,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
             threads as u64,
         ),
         profiles: profile_reports,
+        wall_forces,
         notes,
     };
     if let Some(figures) = &args.figures {

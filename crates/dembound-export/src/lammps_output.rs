@@ -10,7 +10,13 @@
 //!   the force the spheres exert on the wall). A plane's is minus the sum
 //!   of its `fix wall/gran … contacts` per-atom forces; a boundary-particle
 //!   wall's is the sum of the forces on its spheres, stored by `fix
-//!   store/force` before `fix freeze` zeroes them.
+//!   store/force` before `fix freeze` zeroes them. The force at the row's
+//!   step only (`fix ave/time N 1 N`: one step sampled in N).
+//! - `walls_mean.txt`: the same columns averaged over every step since the
+//!   previous row (`fix ave/time 1 N N`: steps kN−N+1 … kN, the mean of
+//!   each component; no row at step 0), what `dembound compare` reads
+//!   beside dembound's own per-step mean when the file is there
+//!   (docs/export-lammps.md, "Wall forces: one step or every step").
 //!
 //! Rows at steps 0, N, 2N, … (N = output.series_every, default the run's
 //! steps / 1000 as `dembound scene`); the last step only if a multiple of N.
@@ -23,6 +29,8 @@ use std::fmt::Write;
 pub const DUMP_FILE: &str = "particles.dump";
 /// The wall-force file of a scene deck.
 pub const WALLS_FILE: &str = "walls.txt";
+/// The wall-force file averaged over every step of each row interval.
+pub const WALLS_MEAN_FILE: &str = "walls_mean.txt";
 
 /// Steps between rows: `output.series_every`, else steps/1000 (≥ 1).
 pub fn series_every(series_every: Option<u64>, steps: u64) -> u64 {
@@ -135,6 +143,15 @@ pub fn output(
             columns.join(" ")
         )
         .ok();
+        // LAMMPS's FixAveTime (fix_ave_time.cpp, nextvalid): Nevery 1,
+        // Nrepeat N, Nfreq N samples steps kN-N+1 ... kN and writes their
+        // mean at kN.
+        writeln!(
+            x,
+            "fix          walls_mean all ave/time 1 {every} {every} {} file {WALLS_MEAN_FILE} format \" %.17g\"   # every step's force, averaged over each row interval",
+            columns.join(" ")
+        )
+        .ok();
     }
     x
 }
@@ -167,6 +184,14 @@ pub fn about(every: u64, dt: f64) -> String {
     format!(
         "rows: {DUMP_FILE} (id x y z vx vy vz omegax omegay omegaz, SI) and {WALLS_FILE} (step, then Fx Fy Fz N on each wall in file order) every {every} steps ({} s)",
         num(every as f64 * dt)
+    )
+}
+
+/// A comment line for the deck's header: what walls_mean.txt holds.
+pub fn about_mean(every: u64) -> String {
+    format!(
+        "{WALLS_MEAN_FILE}: the same columns averaged over every step since the previous row (the row of step k: steps k-{} ... k; no row at step 0)",
+        every - 1
     )
 }
 

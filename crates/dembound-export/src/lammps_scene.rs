@@ -506,6 +506,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         }
     }
     c(&mut x, lammps_output::about(every, dt));
+    if !setup.walls.is_empty() {
+        c(&mut x, lammps_output::about_mean(every));
+    }
     c(&mut x, format!("step: dt = {} s (integration.dt, or eta x the smallest contact-time estimate), {} steps, velocity Verlet (fix nve/sphere) as dembound's verlet", num(dt), steps));
     let g = setup.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
@@ -1032,6 +1035,24 @@ steps = 10
         );
         assert_eq!(atoms[1][4], 0.004000000000000001);
         assert!(data.contains("\n1 1e-1 0 0 0 0 0\n") && data.contains("\n2 0 0 0 0 0 0\n"));
+    }
+
+    /// The wall forces: walls.txt samples the row's step (`ave/time N 1
+    /// N`, as before), walls_mean.txt averages every step of each row
+    /// interval (`ave/time 1 N N`: Nevery 1, Nrepeat N, Nfreq N), the
+    /// same columns.
+    #[test]
+    fn wall_forces_are_written_at_the_row_and_averaged_over_every_step() {
+        let d = exported(&["output.series_every=5"]).expect("exports");
+        let input = &d.files[0].text;
+        let columns = "v_w0x v_w0y v_w0z";
+        assert!(input.contains(&format!(
+            "fix          walls all ave/time 5 1 5 {columns} file walls.txt format \" %.17g\"\n"
+        )));
+        assert!(input.contains(&format!(
+            "fix          walls_mean all ave/time 1 5 5 {columns} file walls_mean.txt format \" %.17g\"   #"
+        )));
+        assert!(input.contains("# walls_mean.txt: the same columns averaged over every step since the previous row (the row of step k: steps k-4 ... k; no row at step 0)"));
     }
 
     #[test]

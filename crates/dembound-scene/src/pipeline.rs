@@ -156,6 +156,13 @@ pub struct Pipeline {
     pub(crate) tally_wanted: bool,
     /// The pair pass running now tallies.
     tallying: bool,
+    /// When set (one process only: `Simulation::step_wall_force_mean`),
+    /// each step's wall forces (N, file order; the force pass's loads,
+    /// what [`observe::ObserveHooks::wall_loads`] sums) are added here
+    /// after the step, inside [`Self::steps`], which then does not fuse a
+    /// step's pair pass with the next one's body pass (the same bits, see
+    /// `step`).
+    pub(crate) wall_force_sum: Option<Vec<[f64; 3]>>,
     /// The body passes running now (frictionless) tally the walls'
     /// observables: they may be the last before the series row.
     pub(crate) wall_tallying: bool,
@@ -322,6 +329,14 @@ impl Pipeline {
             // rebuild after it repeats it).
             self.wall_tallying = wanted && k + 2 >= n && world.scheme == Scheme::Verlet;
             self.step(world, workers, k + 1 < n, hooks);
+            if let Some(sum) = self.wall_force_sum.as_mut() {
+                let loads = observe::ObserveHooks::wall_loads(&Local, world);
+                for (s, l) in sum.iter_mut().zip(&loads) {
+                    for (x, f) in s.iter_mut().zip(l.force) {
+                        *x += f;
+                    }
+                }
+            }
         }
         self.tallying = false;
         self.wall_tallying = false;
@@ -415,8 +430,11 @@ impl Pipeline {
                 // the same order: the same bits. It needs every pair in
                 // the blocks (no extra pairs) and no per-step observers.
                 // Not with a moving group: its spheres would be placed
-                // for the next step before this one's pair forces.
+                // for the next step before this one's pair forces. Not
+                // while summing each step's wall forces: the fused pass
+                // evaluates the next step's before this one is read.
                 let fuse = more
+                    && self.wall_force_sum.is_none()
                     && world.tracks.is_none()
                     && world.dissipation.is_none()
                     && hooks.fusable(world)

@@ -8,6 +8,7 @@
 pub(crate) mod build;
 mod checkpoint;
 mod observables;
+mod wall_force_mean;
 
 pub(crate) use checkpoint::restore_wall_records;
 pub use checkpoint::{Checkpoint, ElementRecord, HistoryRecord};
