@@ -4,6 +4,8 @@
 //! ([`Bodies::permute`]); `id` keeps each body's input index so that
 //! outputs are always in input order.
 
+use crate::parallel::{SharedMut, Workers, STEP_CHUNK};
+
 /// Marker of "no group" in [`Bodies::group`].
 pub const NO_GROUP: u32 = u32::MAX;
 
@@ -103,6 +105,57 @@ impl Bodies {
         gather(&mut self.torque, order);
         gather(&mut self.inverse_inertia, order);
         gather(&mut self.angular_higher, order);
+    }
+
+    /// [`Self::permute`] with the gathers shared among `workers`, each
+    /// chunk of the new order gathering every field (a copy: the same
+    /// values whatever the threads).
+    pub fn permute_on(&mut self, order: &[u32], workers: &Workers) {
+        if workers.threads() < 2 {
+            return self.permute(order);
+        }
+        let n = order.len();
+        macro_rules! gather_fields {
+            ($($f:ident),*) => {
+                $(let mut $f = match self.$f.first() {
+                    Some(&v) => vec![v; n],
+                    None => Vec::new(),
+                };)*
+                {
+                    $(let $f = (SharedMut::new(&mut $f), &self.$f[..]);)*
+                    workers.run_bodies(n, STEP_CHUNK, |c| {
+                        for k in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+                            let o = order[k] as usize;
+                            $(if !$f.1.is_empty() {
+                                // SAFETY: chunk c writes entries k of its
+                                // own range only; the gathered field
+                                // holds n entries.
+                                unsafe { *$f.0.at(k) = $f.1[o] };
+                            })*
+                        }
+                    });
+                }
+                $(self.$f = $f;)*
+            };
+        }
+        gather_fields!(
+            position,
+            velocity,
+            force,
+            radius,
+            mass,
+            inverse_mass,
+            material,
+            fixed,
+            id,
+            group,
+            class,
+            higher,
+            angular_velocity,
+            torque,
+            inverse_inertia,
+            angular_higher
+        );
     }
 
     /// Body index of each input index (the inverse of `id`); after

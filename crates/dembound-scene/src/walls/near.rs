@@ -17,7 +17,11 @@ use super::{Surface, WallLoad};
 use crate::bodies::Bodies;
 use crate::dynamics::collisions::Track;
 use crate::dynamics::friction::WallShear;
-use crate::parallel::SharedMut;
+use crate::parallel::{SharedMut, Workers};
+
+/// Bodies per chunk of a shared [`WallContacts::refresh_on`] (scheduling
+/// only: the lists do not depend on it).
+const REFRESH_CHUNK: usize = 1024;
 
 /// An element of a wall: the wall's index among the surfaces (the plane
 /// index of a scene of planes) and the element's index in the wall.
@@ -183,11 +187,78 @@ impl WallContacts {
         range: f64,
         active: Option<&[bool]>,
     ) {
-        let acts = |s: usize| active.is_none_or(|a| a.get(s).copied().unwrap_or(true));
+        *self = self.refreshed(bodies, surfaces, range, active, 0, bodies.len());
+    }
+
+    /// [`Self::refresh`] with the bodies shared among `workers` in chunks
+    /// of [`REFRESH_CHUNK`], the chunks' lists joined in body order: each
+    /// body's entries are its own, so the lists are the same whatever
+    /// the chunks and threads.
+    pub fn refresh_on(
+        &mut self,
+        bodies: &Bodies,
+        surfaces: &[Surface],
+        range: f64,
+        active: Option<&[bool]>,
+        workers: &Workers,
+    ) {
         let n = bodies.len();
+        if workers.threads() < 2 || n <= REFRESH_CHUNK {
+            return self.refresh(bodies, surfaces, range, active);
+        }
+        let parts = workers.map_bodies(n, REFRESH_CHUNK, |c| {
+            let lo = c * REFRESH_CHUNK;
+            self.refreshed(
+                bodies,
+                surfaces,
+                range,
+                active,
+                lo,
+                (lo + REFRESH_CHUNK).min(n),
+            )
+        });
         let mut out = self.empty_like(n, self.key.len());
+        for p in parts {
+            out.append(p);
+        }
+        *self = out;
+    }
+
+    /// Appends `other`'s bodies and entries.
+    fn append(&mut self, other: Self) {
+        let base = self.key.len() as u32;
+        self.start.extend(other.start[1..].iter().map(|s| s + base));
+        self.key.extend_from_slice(&other.key);
+        self.touching.extend_from_slice(&other.touching);
+        self.load.extend_from_slice(&other.load);
+        self.history.extend_from_slice(&other.history);
+        self.shear.extend_from_slice(&other.shear);
+        self.track.extend_from_slice(&other.track);
+    }
+
+    /// The refreshed lists of bodies `lo..hi` alone (their entries from
+    /// index 0).
+    fn refreshed(
+        &self,
+        bodies: &Bodies,
+        surfaces: &[Surface],
+        range: f64,
+        active: Option<&[bool]>,
+        lo: usize,
+        hi: usize,
+    ) -> Self {
+        let acts = |s: usize| active.is_none_or(|a| a.get(s).copied().unwrap_or(true));
+        let n = hi - lo;
+        let mut out = self.empty_like(
+            n,
+            if lo == 0 && hi == bodies.len() {
+                self.key.len()
+            } else {
+                0
+            },
+        );
         let mut near = Vec::new();
-        for i in 0..n {
+        for i in lo..hi {
             near.clear();
             if !bodies.fixed[i] {
                 for (s, surface) in surfaces.iter().enumerate() {
@@ -244,7 +315,7 @@ impl WallContacts {
             }
             out.start.push(out.key.len() as u32);
         }
-        *self = out;
+        out
     }
 
     /// The entry of body i for `key`, inserted (relaxed) if not listed.
