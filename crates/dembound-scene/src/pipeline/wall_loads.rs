@@ -44,9 +44,9 @@ pub(crate) fn surface_load_records(world: &World) -> Vec<LoadRecord> {
 }
 
 /// [`surface_load_records`], the bodies scanned by `workers` in chunks of
-/// [`BODY_CHUNK`]: the records are sorted by (input id, entry) at the
-/// end, keys that are all distinct, so the result does not depend on the
-/// chunks or the threads.
+/// [`BODY_CHUNK`], each chunk's records sorted by (input id, entry), the
+/// runs merged at the end: the keys are all distinct, so the result does
+/// not depend on the chunks or the threads.
 pub(crate) fn surface_load_records_on(world: &World, workers: &Workers) -> Vec<LoadRecord> {
     let (b, wc) = (&world.bodies, &world.wall_contacts);
     let n = b.len();
@@ -69,12 +69,15 @@ pub(crate) fn surface_load_records_on(world: &World, workers: &Workers) -> Vec<L
                 }
             }
         }
+        // By id, then entry: a body's entries are contiguous, ascending
+        // by (wall, element).
+        touching.sort_unstable();
         touching
     });
+    // The chunks' sorted runs merged (a stable sort merges runs it finds
+    // sorted; the keys are distinct: one order).
     let mut touching: Vec<(u32, usize)> = parts.concat();
-    // By id, then entry: a body's entries are contiguous, ascending by
-    // (wall, element).
-    touching.sort_unstable();
+    touching.sort();
     touching
         .into_iter()
         .map(|(id, k)| LoadRecord {

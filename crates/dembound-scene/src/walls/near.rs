@@ -449,4 +449,38 @@ mod tests {
         let keys: Vec<u32> = c.range(1).map(|k| c.key[k].wall).collect();
         assert_eq!(keys, vec![0, 2]);
     }
+
+    /// The shared refresh lists what the serial one lists, entry for
+    /// entry with its state, whatever the threads: 3000 bodies (three
+    /// chunks and a part) at heights that put some near both floors, some
+    /// near one, some near none, with states carried from a first build.
+    #[test]
+    fn shared_refresh_equals_the_serial_refresh() {
+        let walls = [floor(0, 0.0), floor(1, 3.0), floor(2, 0.2)];
+        let heights = |shift: f64| -> Vec<f64> {
+            (0..3000)
+                .map(|k| 0.4 + shift + 4.0 * ((k * 7919) % 1000) as f64 / 1000.0)
+                .collect()
+        };
+        let mut first = WallContacts::new(3000, true, false, false);
+        first.refresh(&bodies(&heights(0.0)), &walls, 0.2, None);
+        for k in (0..first.key.len()).step_by(3) {
+            first.touching[k] = true;
+            first.history[k].max_overlap = k as f64;
+        }
+        let moved = bodies(&heights(0.05));
+        let mut serial = first.clone();
+        serial.refresh(&moved, &walls, 0.2, Some(&[true, true, false]));
+        assert!(serial.key.len() > 1000 && serial.bodies() == 3000);
+        for threads in [2, 3] {
+            let workers = Workers::new(threads).expect("threads start");
+            let mut shared = first.clone();
+            shared.refresh_on(&moved, &walls, 0.2, Some(&[true, true, false]), &workers);
+            assert_eq!(shared.start, serial.start, "{threads} threads");
+            assert_eq!(shared.key, serial.key);
+            assert_eq!(shared.touching, serial.touching);
+            assert_eq!(shared.history, serial.history);
+            assert_eq!(shared.load, serial.load);
+        }
+    }
 }
