@@ -69,11 +69,13 @@ pub(crate) fn wrap_then_extent(world: &mut World, workers: &Workers) -> ([f64; 3
     let parts = workers.map_bodies(n, STEP_CHUNK, |c| {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
-        for k in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+        let first = c * STEP_CHUNK;
+        let chunk = &radius[first..(first + STEP_CHUNK).min(n)];
+        for (k, &r) in (first..).zip(chunk) {
             // SAFETY: chunk c touches bodies of its own range only.
             let x = unsafe { position.at(k) };
             *x = domain.wrap(*x);
-            if radius[k] > large {
+            if r > large {
                 continue;
             }
             for a in 0..3 {
