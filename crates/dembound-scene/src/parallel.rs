@@ -64,6 +64,15 @@ impl Workers {
         })
     }
 
+    /// One worker, the caller's thread (cannot fail: starts no thread).
+    pub fn serial() -> Self {
+        Self {
+            team: None,
+            threads: 1,
+            cuts: std::sync::RwLock::new(Vec::new()),
+        }
+    }
+
     pub fn threads(&self) -> usize {
         self.threads
     }

@@ -16,7 +16,7 @@ use crate::dynamics::friction;
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::{PairList, SearchInput};
-use crate::parallel::Workers;
+use crate::parallel::{SharedMut, Workers, STEP_CHUNK};
 
 /// The cell grid of the whole scene (every rank's bodies).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,6 +53,77 @@ pub(crate) fn celled_extent(world: &World) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
+}
+
+/// Wraps every body into the box (`Domain::wrap`) and returns
+/// [`celled_extent`] of the wrapped positions, the bodies shared among
+/// `workers`: each chunk wraps its bodies and takes the extent of its
+/// celled ones, the chunks' extents combined in chunk order (a minimum
+/// or maximum of the same values, whatever the grouping).
+pub(crate) fn wrap_then_extent(world: &mut World, workers: &Workers) -> ([f64; 3], [f64; 3]) {
+    let n = world.bodies.len();
+    let large = world.large_radius;
+    let domain = &world.domain;
+    let radius = &world.bodies.radius;
+    let position = SharedMut::new(&mut world.bodies.position);
+    let parts = workers.map_bodies(n, STEP_CHUNK, |c| {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        let first = c * STEP_CHUNK;
+        let chunk = &radius[first..(first + STEP_CHUNK).min(n)];
+        for (k, &r) in (first..).zip(chunk) {
+            // SAFETY: chunk c touches bodies of its own range only.
+            let x = unsafe { position.at(k) };
+            *x = domain.wrap(*x);
+            if r > large {
+                continue;
+            }
+            for a in 0..3 {
+                if x[a].is_finite() {
+                    lo[a] = lo[a].min(x[a]);
+                    hi[a] = hi[a].max(x[a]);
+                }
+            }
+        }
+        (lo, hi)
+    });
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for (l, h) in parts {
+        for a in 0..3 {
+            lo[a] = lo[a].min(l[a]);
+            hi[a] = hi[a].max(h[a]);
+        }
+    }
+    for a in 0..3 {
+        if domain.periodic[a] {
+            lo[a] = domain.lower[a];
+            hi[a] = domain.upper[a];
+        }
+    }
+    (lo, hi)
+}
+
+/// Each body's cell index in `grid` (`grid.count()` for the large ones,
+/// a bucket after every cell), the bodies shared among `workers`.
+fn cells_of_bodies(world: &World, grid: &CellGrid, workers: &Workers) -> Vec<u32> {
+    let n = world.bodies.len();
+    let cells = grid.count() as u32;
+    let (large, bodies) = (world.large_radius, &world.bodies);
+    let mut cell = vec![0u32; n];
+    let out = SharedMut::new(&mut cell);
+    workers.run_bodies(n, STEP_CHUNK, |c| {
+        for k in c * STEP_CHUNK..((c + 1) * STEP_CHUNK).min(n) {
+            let v = if bodies.radius[k] > large {
+                cells
+            } else {
+                grid.index(grid.coords(bodies.position[k])) as u32
+            };
+            // SAFETY: chunk c writes entries of its own range only.
+            unsafe { *out.at(k) = v };
+        }
+    });
+    cell
 }
 
 /// Pair state by input ids (a < b), carried across a list rebuild.
@@ -159,12 +230,9 @@ impl Pipeline {
         } = saved;
 
         let n = world.bodies.len();
-        for k in 0..n {
-            world.bodies.position[k] = world.domain.wrap(world.bodies.position[k]);
-        }
         // Grid bounds: the box on periodic axes, the celled bodies' extent elsewhere.
         let large = world.large_radius;
-        let (mut lo, mut hi) = celled_extent(world);
+        let (mut lo, mut hi) = wrap_then_extent(world, workers);
         for a in 0..3 {
             if lo[a] > hi[a] {
                 lo[a] = 0.0;
@@ -200,15 +268,7 @@ impl Pipeline {
             }
         };
         let cells = self.grid.count();
-        let cell: Vec<u32> = (0..n)
-            .map(|k| {
-                if world.bodies.radius[k] > large {
-                    cells as u32
-                } else {
-                    self.grid.index(self.grid.coords(world.bodies.position[k])) as u32
-                }
-            })
-            .collect();
+        let cell = cells_of_bodies(world, &self.grid, workers);
         let (mut order, start) = sort_by_cell(&cell, cells);
         if self.whole_grid.is_some() {
             // By input id within a cell: the order is the whole scene's,
@@ -219,13 +279,13 @@ impl Pipeline {
                     .sort_unstable_by_key(|&o| id[o as usize]);
             }
         }
-        world.bodies.permute(&order);
+        world.bodies.permute_on(&order, workers);
         world.wall_contacts.permute(&order);
         let range = wall_range(world);
         let active = world.gates.as_deref().map(|g| &g.active[..]);
         world
             .wall_contacts
-            .refresh(&world.bodies, &world.surfaces, range, active);
+            .refresh_on(&world.bodies, &world.surfaces, range, active, workers);
         world.walls_listed();
         let celled = start[cells] as usize;
         let bodies = &world.bodies;

@@ -24,7 +24,7 @@ pub(crate) trait ObserveHooks {
     /// of `World::surfaces` from the force stage's records in an order
     /// that does not depend on the processes (`wall_loads`), the
     /// boundary-particle walls from their spheres.
-    fn wall_loads(&self, world: &World) -> Vec<WallLoad>;
+    fn wall_loads(&self, world: &World, workers: &Workers) -> Vec<WallLoad>;
     /// Element-wise sums over the processes.
     fn sum(&self, values: Vec<f64>) -> Vec<f64>;
     /// This process's kinetic and potential energy ([`body_energies`]).
@@ -44,8 +44,8 @@ impl ObserveHooks for Local {
         local_contacts(world, workers, &none)
     }
 
-    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
-        let records = wall_loads::surface_load_records(world);
+    fn wall_loads(&self, world: &World, workers: &Workers) -> Vec<WallLoad> {
+        let records = wall_loads::surface_load_records_on(world, workers);
         let mut loads = wall_loads::sum_records(&records, world.walls.len());
         for (load, particles) in loads.iter_mut().zip(wall_loads::particle_wall_loads(world)) {
             if let Some(p) = particles {
@@ -92,8 +92,8 @@ impl ObserveHooks for Tallied<'_> {
         local_contacts(world, workers, self)
     }
 
-    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
-        Local.wall_loads(world)
+    fn wall_loads(&self, world: &World, workers: &Workers) -> Vec<WallLoad> {
+        Local.wall_loads(world, workers)
     }
 
     fn sum(&self, values: Vec<f64>) -> Vec<f64> {
@@ -430,7 +430,7 @@ pub(crate) fn observation(
         None => carried(d),
         Some(g) => carried(d) - g,
     };
-    let loads = hooks.wall_loads(world);
+    let loads = hooks.wall_loads(world, workers);
     Observation {
         step: world.steps_done,
         time: world.time(),

@@ -24,7 +24,7 @@ use crate::bodies::NO_GROUP;
 use crate::walls::WallLoad;
 
 use super::{Pipeline, WallKind, World};
-use crate::parallel::Workers;
+use crate::parallel::{Workers, BODY_CHUNK};
 
 /// One touching wall contact's recorded load, as the sums take it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,28 +40,44 @@ pub(crate) struct LoadRecord {
 /// this process holds: bodies ascending by input id, a body's entries in
 /// (wall, element) order.
 pub(crate) fn surface_load_records(world: &World) -> Vec<LoadRecord> {
+    surface_load_records_on(world, &Workers::serial())
+}
+
+/// [`surface_load_records`], the bodies scanned by `workers` in chunks of
+/// [`BODY_CHUNK`], each chunk's records sorted by (input id, entry), the
+/// runs merged at the end: the keys are all distinct, so the result does
+/// not depend on the chunks or the threads.
+pub(crate) fn surface_load_records_on(world: &World, workers: &Workers) -> Vec<LoadRecord> {
     let (b, wc) = (&world.bodies, &world.wall_contacts);
-    if wc.bodies() != b.len() || wc.load.len() != wc.key.len() {
+    let n = b.len();
+    if wc.bodies() != n || wc.load.len() != wc.key.len() {
         return Vec::new();
     }
     // The touching entries, each with its body's input id (body by body:
     // a body's entries are its range); a fixed body (a halo copy) is not
     // forced: its flags are not this step's.
-    let mut touching: Vec<(u32, usize)> = Vec::new();
-    for (i, w) in wc.start.windows(2).enumerate() {
-        let (s, e) = (w[0] as usize, w[1] as usize);
-        if s == e || b.fixed[i] {
-            continue;
-        }
-        for k in s..e {
-            if wc.touching[k] {
-                touching.push((b.id[i], k));
+    let parts = workers.map_bodies(n, BODY_CHUNK, |c| {
+        let mut touching: Vec<(u32, usize)> = Vec::new();
+        for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
+            let (s, e) = (wc.start[i] as usize, wc.start[i + 1] as usize);
+            if s == e || b.fixed[i] {
+                continue;
+            }
+            for k in s..e {
+                if wc.touching[k] {
+                    touching.push((b.id[i], k));
+                }
             }
         }
-    }
-    // By id, then entry: a body's entries are contiguous, ascending by
-    // (wall, element).
-    touching.sort_unstable();
+        // By id, then entry: a body's entries are contiguous, ascending
+        // by (wall, element).
+        touching.sort_unstable();
+        touching
+    });
+    // The chunks' sorted runs merged (a stable sort merges runs it finds
+    // sorted; the keys are distinct: one order).
+    let mut touching: Vec<(u32, usize)> = parts.concat();
+    touching.sort();
     touching
         .into_iter()
         .map(|(id, k)| LoadRecord {

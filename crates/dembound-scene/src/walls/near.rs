@@ -17,7 +17,11 @@ use super::{Surface, WallLoad};
 use crate::bodies::Bodies;
 use crate::dynamics::collisions::Track;
 use crate::dynamics::friction::WallShear;
-use crate::parallel::SharedMut;
+use crate::parallel::{SharedMut, Workers};
+
+/// Bodies per chunk of a shared [`WallContacts::refresh_on`] (scheduling
+/// only: the lists do not depend on it).
+const REFRESH_CHUNK: usize = 1024;
 
 /// An element of a wall: the wall's index among the surfaces (the plane
 /// index of a scene of planes) and the element's index in the wall.
@@ -183,11 +187,78 @@ impl WallContacts {
         range: f64,
         active: Option<&[bool]>,
     ) {
-        let acts = |s: usize| active.is_none_or(|a| a.get(s).copied().unwrap_or(true));
+        *self = self.refreshed(bodies, surfaces, range, active, 0, bodies.len());
+    }
+
+    /// [`Self::refresh`] with the bodies shared among `workers` in chunks
+    /// of [`REFRESH_CHUNK`], the chunks' lists joined in body order: each
+    /// body's entries are its own, so the lists are the same whatever
+    /// the chunks and threads.
+    pub fn refresh_on(
+        &mut self,
+        bodies: &Bodies,
+        surfaces: &[Surface],
+        range: f64,
+        active: Option<&[bool]>,
+        workers: &Workers,
+    ) {
         let n = bodies.len();
+        if workers.threads() < 2 || n <= REFRESH_CHUNK {
+            return self.refresh(bodies, surfaces, range, active);
+        }
+        let parts = workers.map_bodies(n, REFRESH_CHUNK, |c| {
+            let lo = c * REFRESH_CHUNK;
+            self.refreshed(
+                bodies,
+                surfaces,
+                range,
+                active,
+                lo,
+                (lo + REFRESH_CHUNK).min(n),
+            )
+        });
         let mut out = self.empty_like(n, self.key.len());
+        for p in parts {
+            out.append(p);
+        }
+        *self = out;
+    }
+
+    /// Appends `other`'s bodies and entries.
+    fn append(&mut self, other: Self) {
+        let base = self.key.len() as u32;
+        self.start.extend(other.start[1..].iter().map(|s| s + base));
+        self.key.extend_from_slice(&other.key);
+        self.touching.extend_from_slice(&other.touching);
+        self.load.extend_from_slice(&other.load);
+        self.history.extend_from_slice(&other.history);
+        self.shear.extend_from_slice(&other.shear);
+        self.track.extend_from_slice(&other.track);
+    }
+
+    /// The refreshed lists of bodies `lo..hi` alone (their entries from
+    /// index 0).
+    fn refreshed(
+        &self,
+        bodies: &Bodies,
+        surfaces: &[Surface],
+        range: f64,
+        active: Option<&[bool]>,
+        lo: usize,
+        hi: usize,
+    ) -> Self {
+        let acts = |s: usize| active.is_none_or(|a| a.get(s).copied().unwrap_or(true));
+        let n = hi - lo;
+        let mut out = self.empty_like(
+            n,
+            if lo == 0 && hi == bodies.len() {
+                self.key.len()
+            } else {
+                0
+            },
+        );
         let mut near = Vec::new();
-        for i in 0..n {
+        for i in lo..hi {
             near.clear();
             if !bodies.fixed[i] {
                 for (s, surface) in surfaces.iter().enumerate() {
@@ -244,7 +315,7 @@ impl WallContacts {
             }
             out.start.push(out.key.len() as u32);
         }
-        *self = out;
+        out
     }
 
     /// The entry of body i for `key`, inserted (relaxed) if not listed.
@@ -377,5 +448,39 @@ mod tests {
         assert_eq!(k, c.start[1] as usize);
         let keys: Vec<u32> = c.range(1).map(|k| c.key[k].wall).collect();
         assert_eq!(keys, vec![0, 2]);
+    }
+
+    /// The shared refresh lists what the serial one lists, entry for
+    /// entry with its state, whatever the threads: 3000 bodies (three
+    /// chunks and a part) at heights that put some near both floors, some
+    /// near one, some near none, with states carried from a first build.
+    #[test]
+    fn shared_refresh_equals_the_serial_refresh() {
+        let walls = [floor(0, 0.0), floor(1, 3.0), floor(2, 0.2)];
+        let heights = |shift: f64| -> Vec<f64> {
+            (0..3000)
+                .map(|k| 0.4 + shift + 4.0 * ((k * 7919) % 1000) as f64 / 1000.0)
+                .collect()
+        };
+        let mut first = WallContacts::new(3000, true, false, false);
+        first.refresh(&bodies(&heights(0.0)), &walls, 0.2, None);
+        for k in (0..first.key.len()).step_by(3) {
+            first.touching[k] = true;
+            first.history[k].max_overlap = k as f64;
+        }
+        let moved = bodies(&heights(0.05));
+        let mut serial = first.clone();
+        serial.refresh(&moved, &walls, 0.2, Some(&[true, true, false]));
+        assert!(serial.key.len() > 1000 && serial.bodies() == 3000);
+        for threads in [2, 3] {
+            let workers = Workers::new(threads).expect("threads start");
+            let mut shared = first.clone();
+            shared.refresh_on(&moved, &walls, 0.2, Some(&[true, true, false]), &workers);
+            assert_eq!(shared.start, serial.start, "{threads} threads");
+            assert_eq!(shared.key, serial.key);
+            assert_eq!(shared.touching, serial.touching);
+            assert_eq!(shared.history, serial.history);
+            assert_eq!(shared.load, serial.load);
+        }
     }
 }

@@ -114,9 +114,9 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
     /// share from its pair stage (each pair of a free body with a
     /// boundary particle counted on one rank), summed over the ranks.
     /// Collective.
-    fn wall_loads(&self, world: &World) -> Vec<WallLoad> {
+    fn wall_loads(&self, world: &World, workers: &Workers) -> Vec<WallLoad> {
         let walls = world.walls.len();
-        let mut records = wall_loads::surface_load_records(world);
+        let mut records = wall_loads::surface_load_records_on(world, workers);
         if !world.surfaces.is_empty() {
             records = self.merge_records(records);
         }
