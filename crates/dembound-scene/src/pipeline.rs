@@ -330,7 +330,7 @@ impl Pipeline {
             self.wall_tallying = wanted && k + 2 >= n && world.scheme == Scheme::Verlet;
             self.step(world, workers, k + 1 < n, hooks);
             if let Some(sum) = self.wall_force_sum.as_mut() {
-                let loads = observe::ObserveHooks::wall_loads(&Local, world);
+                let loads = observe::ObserveHooks::wall_loads(&Local, world, workers);
                 for (s, l) in sum.iter_mut().zip(&loads) {
                     for (x, f) in s.iter_mut().zip(l.force) {
                         *x += f;
