@@ -49,7 +49,7 @@ use std::time::Instant;
 
 use dembound_physics::contact::ContactHistory;
 
-use super::pack::{self, Reader, Writer};
+use super::pack::{self, get_vec3, put_vec3, Reader, Writer};
 use super::Transport;
 use crate::dynamics::collisions::Track;
 use crate::dynamics::friction::Springs;
@@ -809,26 +809,6 @@ impl<T: Transport> RankComm<T> {
     }
 }
 
-/// `v` into the 24 bytes `out`, little-endian: the bytes of
-/// [`pack::Writer::vec3`], written in place (the per-step halo records
-/// have a fixed size).
-fn put_vec3(out: &mut [u8], v: [f64; 3]) {
-    for (at, x) in out.chunks_exact_mut(8).zip(v) {
-        at.copy_from_slice(&x.to_le_bytes());
-    }
-}
-
-/// The vector [`put_vec3`] wrote into the 24 bytes `at`.
-fn get_vec3(at: &[u8]) -> [f64; 3] {
-    let mut v = [0.0; 3];
-    for (x, b) in v.iter_mut().zip(at.chunks_exact(8)) {
-        let mut bytes = [0u8; 8];
-        bytes.copy_from_slice(b);
-        *x = f64::from_le_bytes(bytes);
-    }
-    v
-}
-
 /// Bytes of a free halo body's per-step record: position and velocity,
 /// and spin with friction.
 fn halo_record(spin: bool) -> usize {
@@ -1030,36 +1010,5 @@ impl<T: Transport> StepHooks for RankComm<T> {
         let walls = servo_walls::servo_file_indices(world);
         let records = self.merge_records(servo_walls::servo_load_records(world, &walls));
         wall_loads::sum_records(&records, world.walls.len())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{get_vec3, put_vec3};
-    use crate::comm::pack::Writer;
-
-    /// The per-step halo record's vectors are the bytes the whole-record
-    /// writer makes (`pack::Writer::vec3`, little-endian f64s) and read
-    /// back to the same bits, signed zeros, subnormals, infinities and a
-    /// NaN's payload included.
-    #[test]
-    fn halo_vectors_are_the_writers_bytes_and_read_back_bit_for_bit() {
-        let values = [
-            [1.25e-3, -0.0, f64::MIN_POSITIVE / 3.0],
-            [
-                f64::INFINITY,
-                f64::from_bits(0x7ff8_dead_beef_0001),
-                -7.5e300,
-            ],
-        ];
-        for v in values {
-            let mut w = Writer(Vec::new());
-            w.vec3(v);
-            let mut at = [0u8; 24];
-            put_vec3(&mut at, v);
-            assert_eq!(&at[..], &w.0[..]);
-            let back = get_vec3(&at);
-            assert_eq!(back.map(f64::to_bits), v.map(f64::to_bits));
-        }
     }
 }
