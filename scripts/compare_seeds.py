@@ -33,7 +33,10 @@ walls_mean.txt); the text output names the kind (and flags a mix).
 
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
        (add --markdown for one table row per quantity, --bins for every
-       z bin of the packing and flow-velocity profiles)
+       z bin of the packing and flow-velocity profiles, --quantity NAME for
+       another of compare's quantities, e.g. "free spheres in the domain"
+       or "discharge rate" of a deck with inlets and outlets, against
+       compare's own 1 % bar)
 """
 
 import argparse
@@ -60,6 +63,9 @@ def main():
     ap.add_argument("reports", nargs="+")
     ap.add_argument("--label", default="")
     ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--quantity", action="append", default=[],
+                    help="also put this quantity of compare's report side by side (its name "
+                    "there, e.g. \"free spheres in the domain\"), against compare's own 1 %% bar")
     ap.add_argument("--bins", action="store_true",
                     help="also print every z bin of the profiles (both codes' means, paired Δ ± SE)")
     args = ap.parse_args()
@@ -74,6 +80,10 @@ def main():
     walls = [w for w in walls
              if all(any(q["name"] == w for q in r["quantities"]) for r in reports)]
     bars = dict(BARS, **{w: BARS["wall[0] force |F|"] for w in walls})
+    for name in args.quantity:
+        if not all(any(q["name"] == name for q in r["quantities"]) for r in reports):
+            sys.exit(f"--quantity: no \"{name}\" in every report")
+        bars[name] = 0.01
     def window_means(r, name):
         q = next((q for q in r["quantities"] if q["name"] == name), None)
         if q and q["code_window"] and q["dembound_window"]:
@@ -92,8 +102,8 @@ def main():
             if all(parts):
                 c.append(sum(p[0] for p in parts))
                 d.append(sum(p[1] for p in parts))
-        if len(c) < n:
-            continue
+        if len(c) < n or not all(d):
+            continue  # a wall that nothing touches (e.g. below an outlet) has no ratio
         (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
         # Paired by seed: both codes start from the same spheres, so the
         # difference of each seed's pair has no seed-to-seed spread.

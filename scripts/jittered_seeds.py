@@ -28,6 +28,7 @@ One seed at a time: the machine's cores are shared. Then
 Usage: jittered_seeds.py --scene S.toml --code lammps --runs DIR --seeds 0:50
            [--positions-set KEY=VALUE ...] [--set KEY=VALUE ...]
            [--amplitude 1e-4] [--dembound BIN] [--keep-dumps]
+           [--replace OLD NEW ...] [--compare-arg=ARG ...]
 Example (scene A, LAMMPS, dembound under LAMMPS's arm):
     jittered_seeds.py --scene examples/compare/bed.toml --code lammps \\
         --set contact.torque_arm=contact_point --runs /tmp/A --seeds 0:50
@@ -42,6 +43,7 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+DECK = {"lammps": "in.lammps", "liggghts": "in.liggghts", "yade": "scene.py"}
 PEER = {
     "lammps": ["lmp", "-in", "in.lammps", "-log", "log.lammps"],
     "liggghts": ["liggghts", "-in", "in.liggghts", "-log", "log.liggghts"],
@@ -72,6 +74,12 @@ def main():
     ap.add_argument("--dembound", default=os.environ.get("DEMBOUND_BIN", "dembound"))
     ap.add_argument("--keep-dumps", action="store_true")
     ap.add_argument("--seed-key", help="seed the scene's own random draw by this key instead of jittering")
+    ap.add_argument("--replace", nargs=2, action="append", default=[], metavar=("OLD", "NEW"),
+                    help="replace every OLD by NEW in the exported deck's input (in.lammps, "
+                    "in.liggghts or scene.py) before the peer runs: a variant of the peer's "
+                    "model that dembound's side (scene.toml) does not share; OLD must occur")
+    ap.add_argument("--compare-arg", action="append", default=[],
+                    help="an argument for `dembound compare` (e.g. --compare-arg=--window-from=0.2)")
     args = ap.parse_args()
     first, end = (int(x) for x in args.seeds.split(":"))
     os.makedirs(args.runs, exist_ok=True)
@@ -95,6 +103,15 @@ def main():
                  repr(args.amplitude), str(k), deck + ".toml"])
             run([args.dembound, "export", args.code, deck + ".toml", *sets(args.set),
                  "--out", deck])
+        if args.replace:
+            path = os.path.join(deck, DECK[args.code])
+            text = open(path).read()
+            for old, new in args.replace:
+                if old not in text:
+                    sys.exit(f"--replace: `{old}` does not occur in {path}")
+                text = text.replace(old, new)
+            with open(path, "w") as out:
+                out.write(text)
         cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
         run(["nice", "-n", "5", *PEER[args.code]], cwd=deck)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -102,7 +119,8 @@ def main():
             out.write(f"{after.ru_utime + after.ru_stime - cpu.ru_utime - cpu.ru_stime:.3f}\n")
         peer = time.time() - start
         with open(report + ".part", "w") as out:
-            run(["nice", "-n", "5", args.dembound, "compare", deck, "--json"], stdout=out)
+            run(["nice", "-n", "5", args.dembound, "compare", deck, "--json", *args.compare_arg],
+                stdout=out)
         os.replace(report + ".part", report)
         if not args.keep_dumps:
             # LIGGGHTS's and LAMMPS's decks also trace sphere 1 every step
