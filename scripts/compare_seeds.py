@@ -68,7 +68,17 @@ def main():
                     "there, e.g. \"free spheres in the domain\"), against compare's own 1 %% bar")
     ap.add_argument("--bins", action="store_true",
                     help="also print every z bin of the profiles (both codes' means, paired Δ ± SE)")
+    ap.add_argument("--versus-dir", metavar="DIR",
+                    help="a second series of the same seeds (DIR/<each report's file name>), "
+                    "e.g. another model of the peer: prints this series' peer against that "
+                    "one's, paired by seed (both against one dembound run per seed), and stops")
+    ap.add_argument("--versus-side", choices=["code", "dembound"], default="code",
+                    help="with --versus-dir: pair the peer's means (default; the dembound runs "
+                    "must be the same) or dembound's (the peer's runs must be the same, e.g. "
+                    "dembound under another contact.torque_arm against one deck)")
     args = ap.parse_args()
+    if args.versus_dir:
+        return versus(args)
     reports = [json.load(open(p)) for p in args.reports]
     code = reports[0]["code"]
     n = len(reports)
@@ -186,6 +196,47 @@ def main():
         for r in [head] + rows:
             print("  ".join(str(r[i]).ljust(widths[i]) for i in range(len(head))))
         print(speed)
+    return 0
+
+
+def versus(args):
+    """Two series of one scene's seeds whose dembound side is the same run
+    (the same start and scene.toml; checked: equal dembound window means),
+    or with --versus-side dembound whose peer side is (dembound's compared):
+    each quantity's peer window mean of this series over the other's, − 1,
+    mean ± SE over the seeds, and the same through dembound (the product of
+    the two series' paired differences), so two variants of a peer, or two
+    peers, are paired by seed."""
+    pairs = []
+    for path in args.reports:
+        other = os.path.join(args.versus_dir, os.path.basename(path))
+        if not os.path.isfile(other):
+            sys.exit(f"--versus-dir: no {other} for {path}")
+        pairs.append((json.load(open(path)), json.load(open(other))))
+    side, fixed = (("code_window", "dembound_window") if args.versus_side == "code"
+                   else ("dembound_window", "code_window"))
+    a_code, b_code = ((pairs[0][0]["code"], pairs[0][1]["code"]) if args.versus_side == "code"
+                      else ("dembound", "dembound"))
+    print(f"{args.label}: {a_code} ({len(pairs)} seeds) against {b_code} of {args.versus_dir}, "
+          "paired by seed (late-window means)")
+    names = [q["name"] for q in pairs[0][0]["quantities"]
+             if q.get("code_window") and q.get("dembound_window")]
+    for name in ["bed height", "wall[0] force |F|", *args.quantity]:
+        if name not in names:
+            continue
+        ratios, same = [], True
+        for a, b in pairs:
+            qa = next((q for q in a["quantities"] if q["name"] == name), None)
+            qb = next((q for q in b["quantities"] if q["name"] == name), None)
+            if not (qa and qb and qa.get(side) and qb.get(side)):
+                break
+            same &= qa[fixed]["mean"] == qb[fixed]["mean"]
+            ratios.append(qa[side]["mean"] / qb[side]["mean"] - 1.0)
+        if len(ratios) < len(pairs):
+            continue
+        m, se = mean_se(ratios)
+        print(f"  {name}: {100 * m:+.2f} % ± {100 * se:.2f} %"
+              + ("" if same else f"  (the {fixed.split('_')[0]} sides differ: not one run per seed)"))
     return 0
 
 
