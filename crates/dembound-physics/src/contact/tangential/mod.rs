@@ -362,6 +362,12 @@ impl FrictionPair {
     /// time `dt` (s) since the last evaluation (0: evaluate without moving
     /// the spring, as LAMMPS's setup does). Updates the displacement `shear`
     /// (m), which is kept in the tangent plane.
+    ///
+    /// The two parts in turn: [`Self::turn_spring`] (step 1 of the module's
+    /// list, a function of the stored spring and the normal alone), then
+    /// [`Self::tangential_force_turned`] (steps 2–4). A many-contact loop
+    /// may turn a batch's springs first and call the second part per
+    /// contact: the same operations on the same values, the same bits.
     #[inline(always)]
     pub fn tangential_force(
         &self,
@@ -372,10 +378,21 @@ impl FrictionPair {
         dt: f64,
         shear: &mut [f64; 3],
     ) -> [f64; 3] {
-        let k_t = self.tangential.stiffness(overlap);
-        // 1. The contact frame turned: δ back into the tangent plane, its
-        // length kept: p = δ − (δ·n) n scaled by |δ|/|p| = 1/√(1 − x), with
-        // x = (δ·n)²/|δ|² the squared sine of the turn since the last step.
+        Self::turn_spring(shear, normal);
+        self.tangential_force_turned(overlap, normal_force, tangential_velocity, dt, shear)
+    }
+
+    /// Step 1 of [`Self::tangential_force`]: the contact frame turned, the
+    /// stored displacement `shear` (m) back into the tangent plane of the
+    /// unit normal `normal`, its length kept (the projection and rescale
+    /// of LAMMPS `GranSubModTangentialMindlin::calculate_forces`,
+    /// `gran_sub_mod_tangential.cpp`, there only above a threshold). Depends
+    /// on the spring and the normal only, not on the law, the overlap or
+    /// the velocities.
+    #[inline(always)]
+    pub fn turn_spring(shear: &mut [f64; 3], normal: [f64; 3]) {
+        // p = δ − (δ·n) n scaled by |δ|/|p| = 1/√(1 − x), with x =
+        // (δ·n)²/|δ|² the squared sine of the turn since the last step.
         let along = dot(*shear, normal);
         if along != 0.0 {
             let before = dot(*shear, *shear);
@@ -388,9 +405,7 @@ impl FrictionPair {
             let scale = if along2 < 1.0e-8 * before {
                 // A small turn (every step of a resolved contact):
                 // 1/√(1 − x) = 1 + x/2 to rounding (the next term, 3x²/8,
-                // is below 4e-17). No root and no division after the
-                // normal is known (1/|δ|² depends on the stored spring
-                // only), which shortens each contact's chain of latencies.
+                // is below 4e-17). No root.
                 1.0 + 0.5 * (along2 * (1.0 / before))
             } else {
                 let after = dot(p, p);
@@ -405,6 +420,24 @@ impl FrictionPair {
             }
             *shear = p;
         }
+    }
+
+    /// Steps 2–4 of [`Self::tangential_force`] on a spring `shear` (m)
+    /// already turned into the tangent plane ([`Self::turn_spring`]): the
+    /// spring moved by the slip `tangential_velocity` (m/s) over `dt` (s),
+    /// then cut back to the Coulomb limit μ |F_n| (`normal_force`, N) when
+    /// sliding; the tangential force on body 1 (N) at overlap `overlap`
+    /// (m).
+    #[inline(always)]
+    pub fn tangential_force_turned(
+        &self,
+        overlap: f64,
+        normal_force: f64,
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        let k_t = self.tangential.stiffness(overlap);
         // 2. The spring moves with the contact points.
         let v = tangential_velocity;
         for a in 0..3 {

@@ -139,6 +139,37 @@ fn history_is_rotated_into_the_new_tangent_plane() {
 }
 
 #[test]
+fn turn_spring_rotates_the_spring_with_the_frame() {
+    // δ = a x̂ and a normal turned by θ about y from ẑ, n = (sin θ, 0,
+    // cos θ): the projection δ − (δ·n) n = a cos θ (cos θ, 0, −sin θ)
+    // rescaled to length a is a (cos θ, 0, −sin θ), the spring turned
+    // with the frame (closed form). θ = 1e-5 takes the small-turn branch
+    // (sin²θ = 1e-10 < 1e-8; its series 1 + x/2 is off by 3x²/8 ≈ 4e-21),
+    // θ = 0.3 the root. Tolerance 1e-15 of a: a few roundings of values
+    // ≤ a (2.2e-16 each).
+    let a = 3.0e-7;
+    for th in [1.0e-5f64, 0.3] {
+        let mut shear = [a, 0.0, 0.0];
+        FrictionPair::turn_spring(&mut shear, [th.sin(), 0.0, th.cos()]);
+        let expected = [a * th.cos(), 0.0, -a * th.sin()];
+        for c in 0..3 {
+            assert!(
+                (shear[c] - expected[c]).abs() < 1e-15 * a,
+                "θ = {th}: {shear:?} against {expected:?}"
+            );
+        }
+    }
+    // A spring already in the plane is kept bit for bit; one along the
+    // normal has no tangent part and becomes zero.
+    let mut flat = [a, -2.0 * a, 0.0];
+    FrictionPair::turn_spring(&mut flat, [0.0, 0.0, 1.0]);
+    assert_eq!(flat, [a, -2.0 * a, 0.0]);
+    let mut upright = [0.0, 0.0, a];
+    FrictionPair::turn_spring(&mut upright, [0.0, 0.0, 1.0]);
+    assert_eq!(upright, [0.0; 3]);
+}
+
+#[test]
 fn tangential_damping_has_the_normal_damping_ratio() {
     // Linear + viscous (formula, attractive: ξ = −ln e/√(π² + ln² e)):
     // η_t = 2 ξ √(k_t m*).
