@@ -31,9 +31,18 @@ the force at the row's step ("at_row_step", walls.txt) or the mean over
 every step since the previous row ("mean_over_row_interval",
 walls_mean.txt); the text output names the kind (and flags a mix).
 
+With --per-seed, each wall's (and the side walls' sum's) per-seed paired
+differences are described: their SD, skewness, excess kurtosis, median,
+the extreme seeds, the share of the squared deviations the 5 % largest
+carry (heavy tails), the two codes' correlation over the seeds and each
+code's own seed-to-seed spread, and whether |difference| + 2 SE is within
+the bar (the stricter test than 2 SE alone), with the seeds that would
+take at this spread (docs/export-lammps.md, "A's single side walls").
+
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
        (add --markdown for one table row per quantity, --bins for every
-       z bin of the packing and flow-velocity profiles)
+       z bin of the packing and flow-velocity profiles, --per-seed for the
+       walls' per-seed differences)
 """
 
 import argparse
@@ -55,6 +64,81 @@ def mean_se(values):
     return m, math.sqrt(var / n)
 
 
+def describe(values):
+    """Mean, SE, SD, median, skewness and excess kurtosis of `values`."""
+    n = len(values)
+    m, se = mean_se(values)
+    sd = se * math.sqrt(n)
+    ordered = sorted(values)
+    median = (ordered[(n - 1) // 2] + ordered[n // 2]) / 2
+    skew = sum(((v - m) / sd) ** 3 for v in values) / n if sd > 0 else float("nan")
+    kurt = sum(((v - m) / sd) ** 4 for v in values) / n - 3 if sd > 0 else float("nan")
+    return m, se, sd, median, skew, kurt
+
+
+def correlation(a, b):
+    ma, mb = sum(a) / len(a), sum(b) / len(b)
+    cov = sum((x - ma) * (y - mb) for x, y in zip(a, b))
+    va = sum((x - ma) ** 2 for x in a)
+    vb = sum((y - mb) ** 2 for y in b)
+    return cov / math.sqrt(va * vb) if va > 0 and vb > 0 else float("nan")
+
+
+def per_seed(names, pairs, bar):
+    """Prints each wall's per-seed paired differences (`pairs`: name ->
+    [(seed label, code mean, dembound mean)])."""
+    for name in names:
+        got = pairs.get(name)
+        if not got or len(got) < 3:
+            continue
+        labels = [g[0] for g in got]
+        c = [g[1] for g in got]
+        d = [g[2] for g in got]
+        rel = [a / b - 1.0 for a, b in zip(c, d)]
+        n = len(rel)
+        m, se, sd, median, skew, kurt = describe(rel)
+        dev = sorted(((v - m) ** 2, lab, v) for lab, v in zip(labels, rel))
+        top = max(1, round(0.05 * n))
+        share = sum(x for x, _, _ in dev[-top:]) / sum(x for x, _, _ in dev)
+        lo = min(zip(rel, labels))
+        hi = max(zip(rel, labels))
+        cv = [describe(v)[2] / abs(describe(v)[0]) for v in (c, d)]
+        strict = abs(m) + 2 * se
+        # Seeds for 2 SE <= bar at this SD, and for |m| + 2 SE <= bar if the
+        # mean stays where it is.
+        need_se = math.ceil((2 * sd / bar) ** 2)
+        need_strict = (math.ceil((2 * sd / (bar - abs(m))) ** 2) if abs(m) < bar
+                       else float("inf"))
+        print(f"{name}: n = {n}, difference {100 * m:+.2f} % ± {100 * se:.2f} % "
+              f"(median {100 * median:+.2f} %), SD {100 * sd:.2f} %, skewness {skew:+.2f}, "
+              f"excess kurtosis {kurt:+.2f}; the {top} largest of {n} carry {100 * share:.0f} % "
+              f"of the squared deviations (a normal sample: ~{100 * normal_top_share(top, n):.0f} %); "
+              f"extremes {100 * lo[0]:+.1f} % ({os.path.basename(lo[1])}), "
+              f"{100 * hi[0]:+.1f} % ({os.path.basename(hi[1])}); codes' correlation over seeds "
+              f"{correlation(c, d):.2f}, each code's seed-to-seed SD {100 * cv[0]:.1f} % / "
+              f"{100 * cv[1]:.1f} %; |difference| + 2 SE = {100 * strict:.2f} % "
+              f"({'within' if strict <= bar else 'above'} {100 * bar:g} %); seeds for 2 SE <= "
+              f"{100 * bar:g} %: {need_se}, for |difference| + 2 SE <= {100 * bar:g} %: {need_strict}")
+
+
+def normal_top_share(top, n):
+    """The expected share of the squared deviations the `top` largest of n
+    normal draws carry (chi-square with one degree of freedom: the tail
+    above the (1 - top/n) quantile of |z|, whose E[z^2; |z| > q] is
+    2 (q phi(q) + 1 - Phi(q)))."""
+    p = top / n
+    # |z| quantile by bisection on the normal tail 2 (1 - Phi(q)) = p.
+    lo, hi = 0.0, 10.0
+    for _ in range(100):
+        q = (lo + hi) / 2
+        if math.erfc(q / math.sqrt(2)) > p:
+            lo = q
+        else:
+            hi = q
+    phi = math.exp(-q * q / 2) / math.sqrt(2 * math.pi)
+    return 2 * (q * phi) + math.erfc(q / math.sqrt(2))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("reports", nargs="+")
@@ -62,6 +146,8 @@ def main():
     ap.add_argument("--markdown", action="store_true")
     ap.add_argument("--bins", action="store_true",
                     help="also print every z bin of the profiles (both codes' means, paired Δ ± SE)")
+    ap.add_argument("--per-seed", action="store_true",
+                    help="also describe each wall's per-seed paired differences (spread, tails)")
     args = ap.parse_args()
     reports = [json.load(open(p)) for p in args.reports]
     code = reports[0]["code"]
@@ -85,13 +171,15 @@ def main():
     summed = "side walls summed |F|"
     if len(walls) > 1:
         bars[summed] = BARS["wall[0] force |F|"]
+    pairs = {}
     for name, bar in bars.items():
         c, d = [], []
-        for r in reports:
+        for path, r in zip(args.reports, reports):
             parts = [window_means(r, w) for w in (walls if name == summed else [name])]
             if all(parts):
                 c.append(sum(p[0] for p in parts))
                 d.append(sum(p[1] for p in parts))
+                pairs.setdefault(name, []).append((path, c[-1], d[-1]))
         if len(c) < n:
             continue
         (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
@@ -176,6 +264,9 @@ def main():
         for r in [head] + rows:
             print("  ".join(str(r[i]).ljust(widths[i]) for i in range(len(head))))
         print(speed)
+    if args.per_seed:
+        per_seed([w for w in bars if w.startswith("wall[") or w == summed], pairs,
+                 BARS["wall[0] force |F|"])
     return 0
 
 
