@@ -31,18 +31,30 @@ the force at the row's step ("at_row_step", walls.txt) or the mean over
 every step since the previous row ("mean_over_row_interval",
 walls_mean.txt); the text output names the kind (and flags a mix).
 
+With --per-seed, each wall's (and the side walls' sum's) per-seed paired
+differences are described: their SD, skewness, excess kurtosis, median,
+the extreme seeds, the share of the squared deviations the 5 % largest
+carry (heavy tails), the two codes' correlation over the seeds and each
+code's own seed-to-seed spread, and whether |difference| + 2 SE is within
+the bar (the stricter test than 2 SE alone), with the seeds that would
+take at this spread; beside the mean, the mean of ln(peer/dembound) (the
+ratio's mean is biased up by ~SD^2/2 when the codes are exchangeable) and
+the median with its bootstrap SE (docs/export-lammps.md, "A's single side walls").
+
 Usage: compare_seeds.py --label "B pour, Yade" REPORT.json [REPORT.json ...]
        (add --markdown for one table row per quantity, --bins for every
        z bin of the packing and flow-velocity profiles, --quantity NAME for
        another of compare's quantities, e.g. "free spheres in the domain"
        or "discharge rate" of a deck with inlets and outlets, against
-       compare's own 1 % bar)
+       compare's own 1 % bar, --per-seed for the walls' per-seed
+       differences)
 """
 
 import argparse
 import json
 import math
 import os
+import random
 import sys
 
 BARS = {"bed height": 0.01, "wall[0] force |F|": 0.01}
@@ -56,6 +68,92 @@ def mean_se(values):
         return m, float("nan")
     var = sum((v - m) ** 2 for v in values) / (n - 1)
     return m, math.sqrt(var / n)
+
+
+def describe(values):
+    """Mean, SE, SD, median, skewness and excess kurtosis of `values`."""
+    n = len(values)
+    m, se = mean_se(values)
+    sd = se * math.sqrt(n)
+    ordered = sorted(values)
+    median = (ordered[(n - 1) // 2] + ordered[n // 2]) / 2
+    skew = sum(((v - m) / sd) ** 3 for v in values) / n if sd > 0 else float("nan")
+    kurt = sum(((v - m) / sd) ** 4 for v in values) / n - 3 if sd > 0 else float("nan")
+    return m, se, sd, median, skew, kurt
+
+
+def correlation(a, b):
+    ma, mb = sum(a) / len(a), sum(b) / len(b)
+    cov = sum((x - ma) * (y - mb) for x, y in zip(a, b))
+    va = sum((x - ma) ** 2 for x in a)
+    vb = sum((y - mb) ** 2 for y in b)
+    return cov / math.sqrt(va * vb) if va > 0 and vb > 0 else float("nan")
+
+
+def per_seed(names, pairs, bar):
+    """Prints each wall's per-seed paired differences (`pairs`: name ->
+    [(seed label, code mean, dembound mean)])."""
+    for name in names:
+        got = pairs.get(name)
+        if not got or len(got) < 3:
+            continue
+        labels = [g[0] for g in got]
+        c = [g[1] for g in got]
+        d = [g[2] for g in got]
+        rel = [a / b - 1.0 for a, b in zip(c, d)]
+        n = len(rel)
+        m, se, sd, median, skew, kurt = describe(rel)
+        dev = sorted(((v - m) ** 2, lab, v) for lab, v in zip(labels, rel))
+        top = max(1, round(0.05 * n))
+        share = sum(x for x, _, _ in dev[-top:]) / sum(x for x, _, _ in dev)
+        lo = min(zip(rel, labels))
+        hi = max(zip(rel, labels))
+        cv = [describe(v)[2] / abs(describe(v)[0]) for v in (c, d)]
+        strict = abs(m) + 2 * se
+        # Seeds for 2 SE <= bar at this SD, and for |m| + 2 SE <= bar if the
+        # mean stays where it is.
+        need_se = math.ceil((2 * sd / bar) ** 2)
+        need_strict = (math.ceil((2 * sd / (bar - abs(m))) ** 2) if abs(m) < bar
+                       else float("inf"))
+        # The median's standard error by bootstrap over the seeds (2000
+        # resamples, a fixed generator: the same numbers every time).
+        draw = random.Random(1)
+        medians = sorted(describe([draw.choice(rel) for _ in rel])[3] for _ in range(2000))
+        median_se = describe(medians)[2]
+        # peer/dembound - 1 is convex in the ratio: two codes whose values
+        # are exchangeable give a mean of ~SD^2/2 above 0 (0.1-0.25 % at
+        # 5-7 % a seed); ln(peer/dembound) has no such bias.
+        log_m, log_se = mean_se([math.log(a / b) for a, b in zip(c, d)])
+        print(f"{name}: n = {n}, difference {100 * m:+.2f} % ± {100 * se:.2f} % "
+              f"(ln ratio {100 * log_m:+.2f} % ± {100 * log_se:.2f} %, "
+              f"median {100 * median:+.2f} % ± {100 * median_se:.2f} %), SD {100 * sd:.2f} %, "
+              f"skewness {skew:+.2f}, "
+              f"excess kurtosis {kurt:+.2f}; the {top} largest of {n} carry {100 * share:.0f} % "
+              f"of the squared deviations (a normal sample: ~{100 * normal_top_share(top, n):.0f} %); "
+              f"extremes {100 * lo[0]:+.1f} % ({os.path.basename(lo[1])}), "
+              f"{100 * hi[0]:+.1f} % ({os.path.basename(hi[1])}); codes' correlation over seeds "
+              f"{correlation(c, d):.2f}, each code's seed-to-seed SD {100 * cv[0]:.1f} % / "
+              f"{100 * cv[1]:.1f} %; |difference| + 2 SE = {100 * strict:.2f} % "
+              f"({'within' if strict <= bar else 'above'} {100 * bar:g} %); seeds for 2 SE <= "
+              f"{100 * bar:g} %: {need_se}, for |difference| + 2 SE <= {100 * bar:g} %: {need_strict}")
+
+
+def normal_top_share(top, n):
+    """The expected share of the squared deviations the `top` largest of n
+    normal draws carry (chi-square with one degree of freedom: the tail
+    above the (1 - top/n) quantile of |z|, whose E[z^2; |z| > q] is
+    2 (q phi(q) + 1 - Phi(q)))."""
+    p = top / n
+    # |z| quantile by bisection on the normal tail 2 (1 - Phi(q)) = p.
+    lo, hi = 0.0, 10.0
+    for _ in range(100):
+        q = (lo + hi) / 2
+        if math.erfc(q / math.sqrt(2)) > p:
+            lo = q
+        else:
+            hi = q
+    phi = math.exp(-q * q / 2) / math.sqrt(2 * math.pi)
+    return 2 * (q * phi) + math.erfc(q / math.sqrt(2))
 
 
 def main():
@@ -76,6 +174,8 @@ def main():
                     help="with --versus-dir: pair the peer's means (default; the dembound runs "
                     "must be the same) or dembound's (the peer's runs must be the same, e.g. "
                     "dembound under another contact.torque_arm against one deck)")
+    ap.add_argument("--per-seed", action="store_true",
+                    help="also describe each wall's per-seed paired differences (spread, tails)")
     args = ap.parse_args()
     if args.versus_dir:
         return versus(args)
@@ -105,14 +205,17 @@ def main():
     summed = "side walls summed |F|"
     if len(walls) > 1:
         bars[summed] = BARS["wall[0] force |F|"]
+    pairs = {}
     for name, bar in bars.items():
         c, d = [], []
-        for r in reports:
+        for path, r in zip(args.reports, reports):
             parts = [window_means(r, w) for w in (walls if name == summed else [name])]
             if all(parts):
                 c.append(sum(p[0] for p in parts))
                 d.append(sum(p[1] for p in parts))
+                pairs.setdefault(name, []).append((path, c[-1], d[-1]))
         if len(c) < n or not all(d):
+            pairs.pop(name, None)
             continue  # a wall that nothing touches (e.g. below an outlet) has no ratio
         (cm, cse), (dm, dse) = mean_se(c), mean_se(d)
         # Paired by seed: both codes start from the same spheres, so the
@@ -196,6 +299,9 @@ def main():
         for r in [head] + rows:
             print("  ".join(str(r[i]).ljust(widths[i]) for i in range(len(head))))
         print(speed)
+    if args.per_seed:
+        per_seed([w for w in bars if w.startswith("wall[") or w == summed], pairs,
+                 BARS["wall[0] force |F|"])
     return 0
 
 

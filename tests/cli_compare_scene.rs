@@ -213,6 +213,62 @@ fn compare_reads_the_walls_averaged_over_every_step_when_the_deck_has_them() {
         differs |= (norm(&c[0..3]) - expected).abs() > 1e-3 * scale;
     }
     assert!(differs, "the means are the row-step forces: {code:?}");
+    // `dembound scene` on the deck's scene with `output.wall_force_mean`:
+    // series.csv's mean columns are the numbers compare reported for
+    // dembound (the same sums: 1e-14 allows the norm's rounding only), and
+    // LAMMPS's walls_mean.txt component by component (1e-9 of the largest
+    // mean: the same state to 1e-9, as above).
+    let out = dir.path().join("scene_out");
+    let run = dembound()
+        .arg("scene")
+        .arg(deck.join("scene.toml"))
+        .args(["--set", "output.wall_force_mean=true", "--threads", "1"])
+        .args(["--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("dembound runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = std::fs::read_to_string(out.join("series.csv")).expect("series.csv");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let first = header
+        .iter()
+        .position(|h| *h == "wall0_mean_force_x_N")
+        .expect("the mean columns");
+    let walls = (header.len() - first) / 3;
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().expect("a number")).collect())
+        .collect();
+    // Rows at 0, 20, … 400; the row of step 0 has no mean.
+    assert_eq!(rows.len(), 21);
+    assert!(rows[0][first..].iter().all(|x| x.is_nan()));
+    let scale = mean
+        .iter()
+        .flat_map(|(_, c)| c.iter())
+        .fold(0.0f64, |s, x| s.max(x.abs()));
+    for (k, (step, columns)) in mean.iter().enumerate() {
+        let row = &rows[k + 1];
+        assert_eq!(row[0] as u64, *step);
+        for w in 0..walls {
+            let cells = &row[first + 3 * w..first + 3 * w + 3];
+            for (a, b) in cells.iter().zip(&columns[3 * w..3 * w + 3]) {
+                assert!(
+                    (a - b).abs() <= 1e-9 * scale,
+                    "row {step} wall {w}: {a} vs {b}"
+                );
+            }
+        }
+        let reported = ours[k];
+        let series = norm(&row[first..first + 3]);
+        assert!(
+            (series - reported).abs() <= 1e-14 * reported.max(1e-300),
+            "row {step}: series {series} vs compare {reported}"
+        );
+    }
     // Without the averaged file: the row-step forces of walls.txt.
     std::fs::remove_file(deck.join("walls_mean.txt")).expect("removed");
     let out = dembound()

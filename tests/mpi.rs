@@ -2090,3 +2090,28 @@ fn per_rank_mesh_wall_pieces_hold_the_one_process_file() {
         assert!(loaded >= 2, "{ranks} ranks: {loaded} loaded triangles");
     }
 }
+
+/// `output.wall_force_mean` sums each step's wall forces on one process; a
+/// rank holds only its share of them, so under mpirun the key is refused
+/// before any step: exit 2, one message naming the key and what is
+/// allowed, no output directory.
+#[test]
+fn the_averaged_wall_force_columns_are_refused_under_mpi() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let out = tmp.path().join("never");
+    let o = mpirun_scene(2, &[], "lattice_drop.toml")
+        .args(["--set", "output.wall_force_mean=true", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .expect("mpirun runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(
+        err.matches("error: output.wall_force_mean = true is not available under mpirun")
+            .count(),
+        1,
+        "{err}"
+    );
+    assert!(err.contains("allowed here is false"), "{err}");
+    assert!(!out.exists());
+}

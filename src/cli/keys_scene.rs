@@ -652,6 +652,13 @@ pub fn keys() -> Vec<KeyInfo> {
             "series interval",
         ),
         row(
+            "output.wall_force_mean",
+            "",
+            "false",
+            "true, false (not under mpirun)".into(),
+            "series.csv also gives each wall's force averaged over every step since the previous row (wallK_mean_force_x_N …, after all other columns; NaN at the first row)",
+        ),
+        row(
             "parallel.grid",
             "",
             "least surface",

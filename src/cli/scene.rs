@@ -149,12 +149,23 @@ pub fn run(args: &SceneArgs) -> CliResult {
     // Progress is updated at least every 1/200 of the run.
     let tick = (span / 200).max(1);
 
+    // `output.wall_force_mean`: each row also gets the walls' forces
+    // averaged over every step since the previous row.
+    let wall_force_mean = resolved.file.output.wall_force_mean;
+    let walls = resolved.setup.walls.len();
     let mut stepping = 0.0;
     loop {
         let step = sim.steps_done();
         if (step - start) % series_every == 0 || step == total {
             // The energy guard checks every observation (no pass of its own).
-            rows.push(sim.observe_checked().map_err(scene_error)?);
+            let mut row = sim.observe_checked().map_err(scene_error)?;
+            if wall_force_mean {
+                // No step since the previous row (the first): no mean.
+                let means = sim.take_wall_force_mean();
+                row.wall_force_means = Some(means.unwrap_or_else(|| vec![[f64::NAN; 3]; walls]));
+                sim.start_wall_force_mean();
+            }
+            rows.push(row);
         }
         if let Some(out) = &mut out {
             if (step - start) % every == 0 || step == total {

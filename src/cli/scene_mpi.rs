@@ -91,6 +91,14 @@ fn agree<T>(t: &MpiTransport, r: Result<T, CliError>) -> RankResult<T> {
 /// output directory.
 fn prepare(args: &SceneArgs, rank: usize, ranks: usize) -> Result<Prepared, CliError> {
     let file = config::read(&args.file, &args.set).map_err(scene_error)?;
+    if file.output.wall_force_mean {
+        // Each rank's per-step sum would hold only its share of the loads.
+        return Err(CliError::input(anyhow!(
+            "output.wall_force_mean = true is not available under mpirun: allowed here is \
+             false (the default); run the scene on one process (`dembound scene`, threads \
+             allowed) for the averaged wall-force columns"
+        )));
+    }
     let base = args.file.parent().unwrap_or(Path::new("."));
     // Every rank reads the checkpoint (as it reads the scene file) and
     // keeps its own bodies of it; of a checkpoint in parts, the index and

@@ -117,6 +117,7 @@ mod tests {
             gate_energy: None,
             inlets: Vec::new(),
             dissipated_by_contacts: None,
+            wall_force_means: None,
         }
     }
 

@@ -125,6 +125,16 @@ impl World {
     }
 }
 
+/// Each wall's force summed over the steps since the sum started
+/// (`Simulation::start_wall_force_mean`).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct WallForceSum {
+    /// Σ F_s over the steps, N, file order.
+    pub(crate) force: Vec<[f64; 3]>,
+    /// How many steps were summed.
+    pub(crate) steps: u64,
+}
+
 /// Scratch of the stages.
 #[derive(Debug, Clone, Default)]
 pub struct Pipeline {
@@ -156,13 +166,13 @@ pub struct Pipeline {
     pub(crate) tally_wanted: bool,
     /// The pair pass running now tallies.
     tallying: bool,
-    /// When set (one process only: `Simulation::step_wall_force_mean`),
+    /// When set (one process only: `Simulation::start_wall_force_mean`),
     /// each step's wall forces (N, file order; the force pass's loads,
     /// what [`observe::ObserveHooks::wall_loads`] sums) are added here
     /// after the step, inside [`Self::steps`], which then does not fuse a
     /// step's pair pass with the next one's body pass (the same bits, see
     /// `step`).
-    pub(crate) wall_force_sum: Option<Vec<[f64; 3]>>,
+    pub(crate) wall_force_sum: Option<WallForceSum>,
     /// The body passes running now (frictionless) tally the walls'
     /// observables: they may be the last before the series row.
     pub(crate) wall_tallying: bool,
@@ -331,11 +341,12 @@ impl Pipeline {
             self.step(world, workers, k + 1 < n, hooks);
             if let Some(sum) = self.wall_force_sum.as_mut() {
                 let loads = observe::ObserveHooks::wall_loads(&Local, world, workers);
-                for (s, l) in sum.iter_mut().zip(&loads) {
+                for (s, l) in sum.force.iter_mut().zip(&loads) {
                     for (x, f) in s.iter_mut().zip(l.force) {
                         *x += f;
                     }
                 }
+                sum.steps += 1;
             }
         }
         self.tallying = false;

@@ -111,6 +111,13 @@ pub struct Observation {
     /// `dissipated_energy` − D_c is the energy balance's error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dissipated_by_contacts: Option<f64>,
+    /// Each wall's force averaged over every step since the previous
+    /// series row (file order, N; `output.wall_force_mean`,
+    /// [`Simulation::take_wall_force_mean`]), NaN at a row with no step
+    /// before it; `None` when not asked ([`Simulation::observe`] never
+    /// fills it: the caller that steps between rows does).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_force_means: Option<Vec<[f64; 3]>>,
 }
 
 /// A running scene.

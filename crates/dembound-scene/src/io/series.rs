@@ -101,6 +101,15 @@ pub const REMOVED_COLUMNS: [&str; 3] = [
 /// adds after the removal's: the gate energy G booked so far.
 pub const GATE_COLUMN: &str = "gate_energy_J";
 
+/// The columns `output.wall_force_mean` adds after all the others: each
+/// wall's force averaged over every step since the previous row
+/// ([`Observation::wall_force_means`]), file order.
+pub fn mean_force_columns(walls: usize) -> Vec<String> {
+    (0..walls)
+        .flat_map(|k| ["x", "y", "z"].map(|axis| format!("wall{k}_mean_force_{axis}_N")))
+        .collect()
+}
+
 /// Every column of the series row of `o`, `previous` the row before it
 /// (`None`: the first row, after t = 0 with nothing removed): (names with
 /// units, cells), in series.csv's order: [`series_header`]'s energies,
@@ -109,7 +118,8 @@ pub const GATE_COLUMN: &str = "gate_energy_J";
 /// moving wall's [`motion_columns`] and each moving group's
 /// [`group_columns`]; each outlet's `crate::outlets::outlet_columns`
 /// (its rate since `previous`); each inlet's `crate::inlets::inlet_columns`
-/// and, with inlets, the energy brought in. The one builder of the
+/// and, with inlets, the energy brought in; last, with
+/// `o.wall_force_means`, the [`mean_force_columns`]. The one builder of the
 /// columns: series.csv ([`write_series`]) and Python's `Scene.observe()`.
 pub fn series_columns(o: &Observation, previous: Option<&Observation>) -> (Vec<String>, Vec<Cell>) {
     let mut header = series_header(o.wall_forces.len(), o.work_by_walls.is_some());
@@ -174,6 +184,12 @@ pub fn series_columns(o: &Observation, previous: Option<&Observation>) -> (Vec<S
     if !o.inlets.is_empty() {
         header.push(crate::inlets::BROUGHT_IN_COLUMN.to_string());
         cells.push(Cell::Value(o.inlets.iter().map(|r| r.energy).sum()));
+    }
+    // The walls' forces averaged since the previous row, when asked: after
+    // every other column, so that those keep their places.
+    if let Some(means) = &o.wall_force_means {
+        header.extend(mean_force_columns(means.len()));
+        cells.extend(means.iter().flatten().map(|&x| Cell::Value(x)));
     }
     (header, cells)
 }
@@ -329,6 +345,7 @@ mod tests {
             gate_energy: None,
             inlets: Vec::new(),
             dissipated_by_contacts: None,
+            wall_force_means: None,
         };
         let mut out = Vec::new();
         write_series(&mut out, std::slice::from_ref(&o), 2).unwrap();

@@ -457,6 +457,7 @@ pub(crate) fn observation(
         gate_energy: gate,
         inlets,
         dissipated_by_contacts,
+        wall_force_means: None,
     }
 }
 

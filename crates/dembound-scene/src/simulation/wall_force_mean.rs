@@ -6,30 +6,55 @@
 //! step does not carry that sampling noise.
 
 use super::Simulation;
+use crate::pipeline::WallForceSum;
 
 impl Simulation {
-    /// Advances `n` steps and returns each wall's force (file order, N)
-    /// averaged over them, component by component: (Σ F_s)/n over the
-    /// steps s = k+1 … k+n, F_s the force [`Self::wall_forces`] reports
-    /// after step s (the force pass that ended it). The steps are the same
-    /// as [`Self::step`]`(n)`'s to the bit: the forces are summed inside
-    /// the stepping loop, which then leaves its Verlet steps unfused (the
-    /// fused form does the same operations in the same order; the test
-    /// below checks the bits). `None` when `n` is 0 (no step, no mean).
+    /// Starts (or starts again, from zero) summing each wall's force after
+    /// every step that follows, for [`Self::take_wall_force_mean`]: F_s, the
+    /// force [`Self::wall_forces`] reports after step s (the force pass that
+    /// ended it), component by component. The steps stay the same as
+    /// without the sum to the bit: the stepping loop then leaves its Verlet
+    /// steps unfused (the fused form does the same operations in the same
+    /// order; the tests below check the bits). One process only (a rank of
+    /// a decomposed scene holds its share of the loads).
+    pub fn start_wall_force_mean(&mut self) {
+        let walls = self.world.walls.len();
+        self.pipeline.wall_force_sum = Some(WallForceSum {
+            force: vec![[0.0; 3]; walls],
+            steps: 0,
+        });
+    }
+
+    /// Each wall's force (file order, N) averaged over every step since
+    /// [`Self::start_wall_force_mean`]: (Σ F_s)/n over the n steps s taken
+    /// since, however they were grouped into calls of [`Self::step`]. Stops
+    /// the sum. `None` when no sum was started or no step was taken since
+    /// (no step, no mean).
+    pub fn take_wall_force_mean(&mut self) -> Option<Vec<[f64; 3]>> {
+        let sum = self.pipeline.wall_force_sum.take()?;
+        if sum.steps == 0 {
+            return None;
+        }
+        let count = sum.steps as f64;
+        Some(
+            sum.force
+                .into_iter()
+                .map(|f| [f[0] / count, f[1] / count, f[2] / count])
+                .collect(),
+        )
+    }
+
+    /// Advances `n` steps and returns each wall's force averaged over them
+    /// ([`Self::start_wall_force_mean`], [`Self::step`]`(n)`,
+    /// [`Self::take_wall_force_mean`]): (Σ F_s)/n over the steps s = k+1 …
+    /// k+n. `None` when `n` is 0 (no step, no mean).
     pub fn step_wall_force_mean(&mut self, n: u64) -> Option<Vec<[f64; 3]>> {
         if n == 0 {
             return None;
         }
-        let walls = self.world.walls.len();
-        self.pipeline.wall_force_sum = Some(vec![[0.0; 3]; walls]);
+        self.start_wall_force_mean();
         self.step(n);
-        let sum = self.pipeline.wall_force_sum.take()?;
-        let count = n as f64;
-        Some(
-            sum.into_iter()
-                .map(|f| [f[0] / count, f[1] / count, f[2] / count])
-                .collect(),
-        )
+        self.take_wall_force_mean()
     }
 }
 
@@ -99,16 +124,24 @@ steps = {steps}
     /// that and far below the difference one sampled step would make (the
     /// force of one step differs from the interval's mean by percents).
     /// Also: the stepped state and forces are the same to the bit as
-    /// `step(n)`'s.
+    /// `step(n)`'s, and a sum started once and taken after the interval's
+    /// steps in uneven calls (37 + 63, as `dembound scene` steps between
+    /// rows) gives the same bits as the one call.
     #[test]
     fn the_mean_is_the_mean_of_every_steps_force() {
         let (rows, every) = (20u64, 100u64);
         let mut by_mean = bed(rows * every);
         let mut by_step = bed(rows * every);
         let mut plain = bed(rows * every);
+        let mut in_calls = bed(rows * every);
         let mut touched = [false; 5];
+        assert_eq!(in_calls.take_wall_force_mean(), None, "not started");
         for _ in 0..rows {
             let mean = by_mean.step_wall_force_mean(every).expect("n > 0");
+            in_calls.start_wall_force_mean();
+            in_calls.step(37);
+            in_calls.step(every - 37);
+            assert_eq!(in_calls.take_wall_force_mean().as_ref(), Some(&mean));
             let mut sum = vec![[0.0f64; 3]; 5];
             for _ in 0..every {
                 by_step.step(1);
@@ -143,6 +176,9 @@ steps = {steps}
             "a wall never touched: {touched:?}"
         );
         assert_eq!(by_mean.step_wall_force_mean(0), None);
+        // Started, no step since: no mean.
+        in_calls.start_wall_force_mean();
+        assert_eq!(in_calls.take_wall_force_mean(), None);
     }
 
     /// One sphere resting on the floor under gravity, released in contact

@@ -80,6 +80,13 @@ pub struct OutputSection {
     /// Steps between time-series rows (addition; default: 1000 intervals).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub series_every: Option<u64>,
+    /// Each series row also gives each wall's force averaged over every
+    /// step since the previous row (addition: series.csv's
+    /// `wallK_mean_force_*_N` after all other columns; what LAMMPS's `fix
+    /// ave/time 1 N N` writes, docs/export-lammps.md, "Wall forces: one
+    /// step or every step"). One process only.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub wall_force_mean: bool,
 }
 
 /// Most steps a scene may ask for (a typo guard, 10¹²).
