@@ -130,7 +130,8 @@ impl HaloSplit {
         let mut to_late: Vec<(u32, u32)> = Vec::new();
         for i in 0..n {
             slot_start.push(slots);
-            for k in list.start[i] as usize..list.start[i + 1] as usize {
+            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            for (k, slot_k) in slot_of.iter_mut().enumerate().take(e).skip(s) {
                 let j = list.j[k] as usize;
                 if !(late[i] || late[j]) {
                     continue;
@@ -142,7 +143,7 @@ impl HaloSplit {
                     }
                     deferred.push((k as u32, i as u32, slots));
                 }
-                slot_of[k] = slots;
+                *slot_k = slots;
                 if late[j] {
                     to_late.push((j as u32, slots));
                 }
