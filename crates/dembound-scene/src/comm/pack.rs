@@ -49,21 +49,24 @@ impl Writer {
 /// `v` into the first 24 bytes of `out` (three little-endian f64s): the
 /// layout of every vector on the wire, written in place where a record
 /// has a fixed size (the per-step halo records).
+#[inline]
 pub fn put_vec3(out: &mut [u8], v: [f64; 3]) {
-    for (at, x) in out.chunks_exact_mut(8).zip(v) {
-        at.copy_from_slice(&x.to_le_bytes());
-    }
+    let out = &mut out[..24];
+    out[..8].copy_from_slice(&v[0].to_le_bytes());
+    out[8..16].copy_from_slice(&v[1].to_le_bytes());
+    out[16..].copy_from_slice(&v[2].to_le_bytes());
 }
 
 /// The vector [`put_vec3`] wrote into the first 24 bytes of `at`.
+#[inline]
 pub fn get_vec3(at: &[u8]) -> [f64; 3] {
-    let mut v = [0.0; 3];
-    for (x, b) in v.iter_mut().zip(at.chunks_exact(8)) {
+    let at = &at[..24];
+    let f = |b: &[u8]| {
         let mut bytes = [0u8; 8];
         bytes.copy_from_slice(b);
-        *x = f64::from_le_bytes(bytes);
-    }
-    v
+        f64::from_le_bytes(bytes)
+    };
+    [f(&at[..8]), f(&at[8..16]), f(&at[16..])]
 }
 
 /// A value as CBOR (every f64 bit kept): for the rarer, structured

@@ -32,12 +32,36 @@
 //! positions and velocities as the engine's loop reads (a body's follow-up
 //! moves it only after every row reading it), and every body gets the same
 //! additions in the same order: the split changes no bit. Rows without a
-//! late body run the engine's own row code ([`Rows::row`]).
+//! late body run the engine's own row code ([`Rows::rows_avx2`], else
+//! [`Rows::row`]); the others test their pairs four at a time as well
+//! (`quad`), without stored histories on AVX2. The order of the first
+//! part's rows, runs and follow-ups is planned at the list build
+//! ([`Early`]).
 
 use dembound_physics::contact::ContactHistory;
 
 use super::contacts::{add, contact_force, sub, touching_lazy, FollowUp, Rows, NO_HISTORY};
 use crate::geometry::neighbour::PairList;
+
+#[cfg(target_arch = "x86_64")]
+mod quad;
+
+/// [`HaloSplit::slot_of`] of a pair of two early bodies (not stored).
+const NOT_STORED: u32 = u32::MAX;
+
+/// One item of the first part's plan, in the loop's order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Early {
+    /// Plain rows lo..hi (neither body nor partner late): the engine's
+    /// row code.
+    Rows(u32, u32),
+    /// A row that is not plain, of a fresh body, with pairs.
+    Row(u32),
+    /// The follow-up of the early bodies lo..hi (their forces complete).
+    Follow(u32, u32),
+    /// A block's end: the exchange may progress.
+    Progress,
+}
 
 /// Which pairs of a list wait for the halo, and the pair forces stored
 /// for the late bodies. Built at each list build (the list and the stale
@@ -48,23 +72,34 @@ pub struct HaloSplit {
     stale: Vec<bool>,
     /// Body → stale or listed with a stale body.
     late: Vec<bool>,
-    /// Row → neither its body nor any partner is late.
-    plain: Vec<bool>,
+    /// The first part, in order.
+    plan: Vec<Early>,
+    /// Rows whose body and partners are all early.
+    plain_rows: usize,
     /// Row i's first stored pair (the pairs with a late body, numbered in
     /// list order); n + 1 entries.
     slot_start: Vec<u32>,
     /// The pairs with a stale body: (entry, row, stored pair).
     deferred: Vec<(u32, u32, u32)>,
+    /// The rows holding a pair with a stale body, ascending.
+    deferred_rows: Vec<u32>,
+    /// Entry → its stored pair ([`NOT_STORED`] for a pair of two early
+    /// bodies).
+    slot_of: Vec<u32>,
     /// The late bodies, ascending.
     late_bodies: Vec<u32>,
+    /// The runs of consecutive late bodies (their follow-ups).
+    late_runs: Vec<(u32, u32)>,
     /// Each late body's stored pairs as the partner j, in row order:
     /// `incoming[incoming_start[p]..incoming_start[p + 1]]` for
     /// `late_bodies[p]`.
     incoming_start: Vec<u32>,
     incoming: Vec<u32>,
-    /// Each stored pair's force on j (N) and whether the pair touches.
+    /// Each stored pair's force on j (N), valid when its `touched` is
+    /// this step's `stamp` (the pair touches).
     force: Vec<[f64; 3]>,
-    hit: Vec<bool>,
+    touched: Vec<u32>,
+    stamp: u32,
     /// The list's bodies and entries.
     shape: (usize, usize),
 }
@@ -88,20 +123,27 @@ impl HaloSplit {
         let mut plain = vec![true; n];
         let mut slot_start = Vec::with_capacity(n + 1);
         let mut deferred = Vec::new();
+        let mut deferred_rows = Vec::new();
+        let mut slot_of = vec![NOT_STORED; m];
         let mut slots = 0u32;
         // (late partner j, stored pair), in list order.
         let mut to_late: Vec<(u32, u32)> = Vec::new();
         for i in 0..n {
             slot_start.push(slots);
-            for k in list.start[i] as usize..list.start[i + 1] as usize {
+            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            for (k, slot_k) in slot_of.iter_mut().enumerate().take(e).skip(s) {
                 let j = list.j[k] as usize;
                 if !(late[i] || late[j]) {
                     continue;
                 }
                 plain[i] = false;
                 if stale[i] || stale[j] {
+                    if deferred_rows.last() != Some(&(i as u32)) {
+                        deferred_rows.push(i as u32);
+                    }
                     deferred.push((k as u32, i as u32, slots));
                 }
+                *slot_k = slots;
                 if late[j] {
                     to_late.push((j as u32, slots));
                 }
@@ -134,16 +176,21 @@ impl HaloSplit {
             fill[p] += 1;
         }
         HaloSplit {
+            plan: plan(list, stale, &late, &plain),
+            plain_rows: plain.iter().filter(|&&p| p).count(),
+            late_runs: runs(&late_bodies),
             stale: stale.to_vec(),
             late,
-            plain,
             slot_start,
             deferred,
+            deferred_rows,
+            slot_of,
             late_bodies,
             incoming_start,
             incoming,
             force: vec![[0.0; 3]; slots as usize],
-            hit: vec![false; slots as usize],
+            touched: vec![0; slots as usize],
+            stamp: 0,
             shape: (n, m),
         }
     }
@@ -156,12 +203,25 @@ impl HaloSplit {
     /// Rows computed whole before the exchange arrives (neither body nor
     /// partner late).
     pub fn plain_rows(&self) -> usize {
-        self.plain.iter().filter(|&&p| p).count()
+        self.plain_rows
     }
 
     /// Pairs computed after the exchange arrives (with a stale body).
     pub fn deferred_pairs(&self) -> usize {
         self.deferred.len()
+    }
+
+    /// Stored pair `slot` touches this step: its force is set.
+    #[inline(always)]
+    fn set(&mut self, slot: usize, fj: [f64; 3]) {
+        self.force[slot] = fj;
+        self.touched[slot] = self.stamp;
+    }
+
+    /// The force on j of stored pair `slot` if it touches this step.
+    #[inline(always)]
+    fn stored(&self, slot: usize) -> Option<[f64; 3]> {
+        (self.touched[slot] == self.stamp).then_some(self.force[slot])
     }
 
     /// The first part (see the module): every row in order, the pairs of
@@ -178,117 +238,103 @@ impl HaloSplit {
         follow: FollowUp,
         progress: &mut dyn FnMut(),
     ) -> f64 {
-        let (bodies, laws, list, hist) = rows.parts();
-        let (start, js) = (&list.start[..], &list.j[..]);
-        let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
-        let f_ptr = rows.forces();
-        // The plain rows' pairs four at a time as the engine's blocks test
-        // them (`Rows::block_avx2`: no histories, AVX2), else pair by pair.
+        // A new step: every stored pair apart until set.
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.touched.fill(0);
+            self.stamp = 1;
+        }
+        // The rows' pairs four at a time as the engine's blocks test them
+        // (`Rows::block_avx2`: no histories, AVX2), else pair by pair.
         #[cfg(target_arch = "x86_64")]
-        let quad = hist.is_none() && std::is_x86_feature_detected!("avx2");
+        let quad = rows.parts().3.is_none() && std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let quad = false;
         let mut moved = 0.0f64;
-        for b in 0..list.blocks.len().saturating_sub(1) {
-            let (lo, hi) = (list.blocks[b] as usize, list.blocks[b + 1] as usize);
-            let mut i = lo;
-            while i < hi {
-                if self.plain[i] {
-                    // A run of plain rows.
-                    let mut z = i + 1;
-                    while z < hi && self.plain[z] {
-                        z += 1;
-                    }
+        for p in 0..self.plan.len() {
+            match self.plan[p] {
+                Early::Rows(lo, hi) => {
                     #[cfg(target_arch = "x86_64")]
                     if quad {
                         // SAFETY: one thread; as the caller's; AVX2 and no
                         // histories just checked.
-                        unsafe { rows.rows_avx2(i, z) };
-                        i = z;
+                        unsafe { rows.rows_avx2(lo as usize, hi as usize) };
                         continue;
                     }
-                    for r in i..z {
+                    for r in lo as usize..hi as usize {
                         // SAFETY: one thread; as the caller's.
                         unsafe { rows.row::<false>(r) };
                     }
-                    i = z;
-                    continue;
                 }
-                let row = i;
-                i += 1;
-                let i = row;
-                let (s, e) = (start[i] as usize, start[i + 1] as usize);
-                if s == e {
-                    continue;
-                }
-                let (late_i, stale_i) = (self.late[i], self.stale[i]);
-                if stale_i {
-                    // Every pair of the row waits.
-                    continue;
-                }
-                let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
-                let mut fi = [0.0; 3];
-                let mut slot = self.slot_start[i] as usize;
-                for (k, &j) in js.iter().enumerate().take(e).skip(s) {
-                    let j = j as usize;
-                    let late_j = self.late[j];
-                    let stored = late_i || late_j;
-                    if self.stale[j] {
-                        slot += 1;
+                Early::Row(i) => {
+                    #[cfg(target_arch = "x86_64")]
+                    if quad {
+                        // SAFETY: as the caller's; AVX2 and no histories
+                        // just checked.
+                        unsafe { self.early_row_avx2(rows, i as usize) };
                         continue;
                     }
-                    let mut scratch = NO_HISTORY;
-                    let h = match hist {
-                        // SAFETY: entry k's history, this row's only.
-                        Some(h) => unsafe { &mut *h.0.add(k) },
-                        None => &mut scratch,
-                    };
-                    let fj = match touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j])
-                    {
-                        Some(g) => Some(contact_force(&laws.pair(bodies, i, j), &g, h)),
-                        None => {
-                            if hist.is_some() && *h != ContactHistory::default() {
-                                *h = ContactHistory::default();
-                            }
-                            None
-                        }
-                    };
-                    if stored {
-                        self.force[slot] = fj.unwrap_or_default();
-                        self.hit[slot] = fj.is_some();
-                        slot += 1;
-                    }
-                    if let Some(fj) = fj {
-                        if !late_i {
-                            sub(&mut fi, fj);
-                        }
-                        if !late_j {
-                            // SAFETY: one thread; j a body.
-                            unsafe { add(f_ptr.at(j), fj) };
-                        }
-                    }
+                    // SAFETY: as the caller's.
+                    unsafe { self.early_row(rows, i as usize) };
                 }
-                if !late_i {
-                    // SAFETY: as above.
-                    unsafe { add(f_ptr.at(i), fi) };
+                Early::Follow(lo, hi) => {
+                    moved = moved.max(follow(lo as usize, hi as usize));
                 }
+                Early::Progress => progress(),
             }
-            // The block's early bodies are complete (rows before them and
-            // their own are done): their follow-up, in runs.
-            let mut a = lo;
-            while a < hi {
-                if self.late[a] {
-                    a += 1;
-                    continue;
-                }
-                let mut z = a;
-                while z < hi && !self.late[z] {
-                    z += 1;
-                }
-                moved = moved.max(follow(a, z));
-                a = z;
-            }
-            progress();
         }
         moved
+    }
+
+    /// Row i's pairs of two fresh bodies pair by pair (the first part of
+    /// a row that is not plain, with histories or without AVX2): stored
+    /// when either body is late, added to an early j as they come, an
+    /// early i's sum at the row's end.
+    ///
+    /// # Safety
+    /// As [`Self::early`]'s; row i is not stale.
+    unsafe fn early_row(&mut self, rows: &Rows, i: usize) {
+        let (bodies, laws, list, hist) = rows.parts();
+        let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
+        let f_ptr = rows.forces();
+        let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+        let late_i = self.late[i];
+        let (xi, vi, ri) = (position[i], velocity[i], radius[i]);
+        let mut fi = [0.0; 3];
+        for k in s..e {
+            let j = list.j[k] as usize;
+            if self.stale[j] {
+                continue;
+            }
+            let mut scratch = NO_HISTORY;
+            let h = match hist {
+                // SAFETY: entry k's history, this row's only.
+                Some(h) => unsafe { &mut *h.0.add(k) },
+                None => &mut scratch,
+            };
+            let Some(g) = touching_lazy(xi, vi, ri, position[j], || velocity[j], radius[j]) else {
+                if hist.is_some() && *h != ContactHistory::default() {
+                    *h = ContactHistory::default();
+                }
+                continue;
+            };
+            let fj = contact_force(&laws.pair(bodies, i, j), &g, h);
+            let slot = self.slot_of[k];
+            if slot != NOT_STORED {
+                self.set(slot as usize, fj);
+            }
+            if !late_i {
+                sub(&mut fi, fj);
+            }
+            if !self.late[j] {
+                // SAFETY: one thread; j a body.
+                unsafe { add(f_ptr.at(j), fj) };
+            }
+        }
+        if !late_i {
+            // SAFETY: as above.
+            unsafe { add(f_ptr.at(i), fi) };
+        }
     }
 
     /// The second part (see the module), once the stale bodies' state has
@@ -302,36 +348,55 @@ impl HaloSplit {
         let (start, js) = (&list.start[..], &list.j[..]);
         let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
         let f_ptr = rows.forces();
-        for &(k, i, slot) in &self.deferred {
-            let (k, i, slot) = (k as usize, i as usize, slot as usize);
-            let j = js[k] as usize;
-            let mut scratch = NO_HISTORY;
-            let h = match hist {
-                // SAFETY: entry k's history; one thread.
-                Some(h) => unsafe { &mut *h.0.add(k) },
-                None => &mut scratch,
+        // Four at a time as in the first part, else pair by pair.
+        #[cfg(target_arch = "x86_64")]
+        let quad = hist.is_none() && std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let quad = false;
+        if quad {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as the caller's; AVX2 and no histories just checked.
+            unsafe {
+                self.late_rows_avx2(rows)
             };
-            let fj = match touching_lazy(
-                position[i],
-                velocity[i],
-                radius[i],
-                position[j],
-                || velocity[j],
-                radius[j],
-            ) {
-                Some(g) => Some(contact_force(&laws.pair(bodies, i, j), &g, h)),
-                None => {
-                    if hist.is_some() && *h != ContactHistory::default() {
-                        *h = ContactHistory::default();
+        } else {
+            for d in 0..self.deferred.len() {
+                let (k, i, slot) = self.deferred[d];
+                let (k, i, slot) = (k as usize, i as usize, slot as usize);
+                let j = js[k] as usize;
+                let mut scratch = NO_HISTORY;
+                let h = match hist {
+                    // SAFETY: entry k's history; one thread.
+                    Some(h) => unsafe { &mut *h.0.add(k) },
+                    None => &mut scratch,
+                };
+                match touching_lazy(
+                    position[i],
+                    velocity[i],
+                    radius[i],
+                    position[j],
+                    || velocity[j],
+                    radius[j],
+                ) {
+                    Some(g) => {
+                        let fj = contact_force(&laws.pair(bodies, i, j), &g, h);
+                        self.set(slot, fj);
                     }
-                    None
+                    None => {
+                        if hist.is_some() && *h != ContactHistory::default() {
+                            *h = ContactHistory::default();
+                        }
+                    }
                 }
-            };
-            self.force[slot] = fj.unwrap_or_default();
-            self.hit[slot] = fj.is_some();
+            }
         }
         for (p, &y) in self.late_bodies.iter().enumerate() {
             let y = y as usize;
+            if self.stale[y] {
+                // A halo copy: its follow-up sets its force to zero (it
+                // is not integrated here), so no sum.
+                continue;
+            }
             // SAFETY: one thread; y a body.
             let f = unsafe { f_ptr.at(y) };
             let (a, z) = (
@@ -339,8 +404,8 @@ impl HaloSplit {
                 self.incoming_start[p + 1] as usize,
             );
             for &slot in &self.incoming[a..z] {
-                if self.hit[slot as usize] {
-                    add(f, self.force[slot as usize]);
+                if let Some(fj) = self.stored(slot as usize) {
+                    add(f, fj);
                 }
             }
             let (s, e) = (start[y] as usize, start[y + 1] as usize);
@@ -348,28 +413,73 @@ impl HaloSplit {
                 let first = self.slot_start[y] as usize;
                 let mut fy = [0.0; 3];
                 for slot in first..first + (e - s) {
-                    if self.hit[slot] {
-                        sub(&mut fy, self.force[slot]);
+                    if let Some(fj) = self.stored(slot) {
+                        sub(&mut fy, fj);
                     }
                 }
                 add(f, fy);
             }
         }
         let mut moved = 0.0f64;
-        let mut p = 0;
-        while p < self.late_bodies.len() {
-            // Runs of consecutive late bodies.
-            let a = self.late_bodies[p] as usize;
-            let mut z = a + 1;
-            p += 1;
-            while p < self.late_bodies.len() && self.late_bodies[p] as usize == z {
-                z += 1;
-                p += 1;
-            }
-            moved = moved.max(follow(a, z));
+        for &(a, z) in &self.late_runs {
+            moved = moved.max(follow(a as usize, z as usize));
         }
         moved
     }
+}
+
+/// The first part's order (see [`Early`]): block by block, its plain rows
+/// in runs and its other rows of fresh bodies one by one, in row order,
+/// then the follow-ups of its early bodies in runs, then a progress call.
+fn plan(list: &PairList, stale: &[bool], late: &[bool], plain: &[bool]) -> Vec<Early> {
+    let mut plan = Vec::new();
+    for b in 0..list.blocks.len().saturating_sub(1) {
+        let (lo, hi) = (list.blocks[b] as usize, list.blocks[b + 1] as usize);
+        let mut i = lo;
+        while i < hi {
+            if plain[i] {
+                let mut z = i + 1;
+                while z < hi && plain[z] {
+                    z += 1;
+                }
+                plan.push(Early::Rows(i as u32, z as u32));
+                i = z;
+                continue;
+            }
+            if !stale[i] && list.start[i] != list.start[i + 1] {
+                plan.push(Early::Row(i as u32));
+            }
+            i += 1;
+        }
+        let mut a = lo;
+        while a < hi {
+            if late[a] {
+                a += 1;
+                continue;
+            }
+            let mut z = a;
+            while z < hi && !late[z] {
+                z += 1;
+            }
+            plan.push(Early::Follow(a as u32, z as u32));
+            a = z;
+        }
+        plan.push(Early::Progress);
+    }
+    plan
+}
+
+/// The runs of consecutive values of an ascending list, as (first,
+/// last + 1).
+fn runs(sorted: &[u32]) -> Vec<(u32, u32)> {
+    let mut out: Vec<(u32, u32)> = Vec::new();
+    for &k in sorted {
+        match out.last_mut() {
+            Some((_, z)) if *z == k => *z = k + 1,
+            _ => out.push((k, k + 1)),
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -390,11 +500,30 @@ mod tests {
         let stale = [false, false, false, false, true, false];
         let s = HaloSplit::new(&list, &stale);
         assert_eq!(s.late, [false, false, true, false, true, false]);
-        assert_eq!(s.plain, [false, true, false, true, false, true]);
+        // Rows 0 and 2 pair by pair, the plain ones in runs, row 4 (stale)
+        // left to the late part; the early bodies' follow-ups in runs.
+        use Early::*;
+        assert_eq!(
+            s.plan,
+            [
+                Row(0),
+                Rows(1, 2),
+                Row(2),
+                Rows(3, 4),
+                Rows(5, 6),
+                Follow(0, 2),
+                Follow(3, 4),
+                Follow(5, 6),
+                Progress
+            ]
+        );
         // Stored pairs: 0–2, 2–4, 2–5 (slots 0, 1, 2).
         assert_eq!(s.slot_start, [0, 1, 1, 3, 3, 3, 3]);
+        assert_eq!(s.slot_of, [NOT_STORED, 0, NOT_STORED, 1, 2, NOT_STORED]);
         assert_eq!(s.deferred, [(3, 2, 1)]);
+        assert_eq!(s.deferred_rows, [2]);
         assert_eq!(s.late_bodies, [2, 4]);
+        assert_eq!(s.late_runs, [(2, 3), (4, 5)]);
         // Body 2 gets slot 0 (row 0) as j; body 4 slot 1 (row 2).
         assert_eq!(s.incoming_start, [0, 1, 2]);
         assert_eq!(s.incoming, [0, 1]);

@@ -241,7 +241,7 @@ impl<'a> Rows<'a> {
     /// has AVX2.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    unsafe fn near4(&self, centre: [std::arch::x86_64::__m256d; 4], k: usize) -> u32 {
+    pub(crate) unsafe fn near4(&self, centre: [std::arch::x86_64::__m256d; 4], k: usize) -> u32 {
         use std::arch::x86_64::*;
         let js = self.js.as_ptr().add(k);
         let p = self.position.as_ptr() as *const f64;
