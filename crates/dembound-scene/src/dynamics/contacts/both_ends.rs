@@ -15,7 +15,8 @@ use crate::parallel::Workers;
 /// block 2k and the odd block on the taker's side of it (2k − 1 going up,
 /// 2k + 1 going down; its other even neighbour the taker's own last
 /// unit). The units around last step's meeting are claimed one at a time
-/// (an atomic pair of ends); the rest are each worker's without a claim.
+/// (an atomic pair of ends); the rest are each worker's without a claim,
+/// at least one unit each when there are two.
 /// The odd block where they meet is run by the first worker to find
 /// nothing left to claim. `follow_block(c)` runs once for each block c
 /// as soon as c and c − 1 are done (whoever completes them), the rest
@@ -39,7 +40,13 @@ pub(super) fn run(
     }
     .min(units);
     let margin = (units / 8).max(1);
-    let (lo0, hi0) = (last.saturating_sub(margin), (last + margin).min(units));
+    let (mut lo0, mut hi0) = (last.saturating_sub(margin), (last + margin).min(units));
+    if units >= 2 {
+        // Each worker keeps a unit at its end: a worker kept off its core
+        // for a while still has its share of the bodies when it is back.
+        lo0 = lo0.clamp(1, units - 1);
+        hi0 = hi0.clamp(lo0, units - 1);
+    }
     let pack = |lo: usize, hi: usize| (lo as u64) | ((hi as u64) << 32);
     let ends = AtomicU64::new(pack(lo0, hi0));
     let first_out = AtomicBool::new(false);
@@ -243,16 +250,17 @@ mod tests {
                     c as f64
                 };
                 let value = run_blocks_then(&workers, &list, block, Some(&follow));
-                for b in 0..count {
-                    assert_eq!(ran[b].load(Ordering::SeqCst), 1, "block {b} of {count}");
-                    assert_eq!(
-                        followed[b].load(Ordering::SeqCst),
-                        1,
-                        "follow-up {b} of {count}"
-                    );
+                for (b, (r, f)) in ran.iter().zip(&followed).enumerate() {
+                    assert_eq!(r.load(Ordering::SeqCst), 1, "block {b} of {count}");
+                    assert_eq!(f.load(Ordering::SeqCst), 1, "follow-up {b} of {count}");
                 }
                 assert_eq!(value, (count - 1) as f64);
-                assert!(list.shares.meet.load(Ordering::Relaxed) <= units);
+                // Each worker keeps at least one unit (two or more units).
+                let meet = list.shares.meet.load(Ordering::Relaxed);
+                assert!(meet <= units);
+                if units >= 2 {
+                    assert!((1..units).contains(&meet), "met at {meet} of {units} units");
+                }
             }
         }
     }
