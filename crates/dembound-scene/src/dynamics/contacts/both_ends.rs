@@ -198,7 +198,7 @@ mod tests {
     #[test]
     fn two_workers_run_every_block_once_in_the_blocks_order() {
         let workers = Workers::new(2).expect("threads start");
-        for count in 2..=13 {
+        for count in 2usize..=13 {
             let units = count.div_ceil(2);
             for last in (0..=units).chain([usize::MAX]) {
                 let list = list(count);
