@@ -9,8 +9,13 @@
 //! in a falling or settling bed the touching pairs, which cost most, sit
 //! at one end of the cell order, and an estimate from listed pairs alone
 //! gave one of two workers 70 % of the force loop.
+//!
+//! Two workers do without the measured shares: they take the force
+//! blocks from both ends of the list until they meet
+//! (`contacts::both_ends`), and the per-body stages cut the bodies where
+//! they met last ([`Shares::meet`]).
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 /// What a body costs in the per-body stages (kick, drift, walls, its row
 /// of the force loop), in listed pairs: on lattice-drop with one thread
@@ -40,6 +45,10 @@ pub struct Shares {
     block_ns: Vec<AtomicU64>,
     /// This step's time in the per-body stage per worker, ns.
     advance_ns: Vec<AtomicU64>,
+    /// Two workers (`contacts::both_ends`): where they met in the last
+    /// force loop, as the index of the even block there halved;
+    /// `usize::MAX`: not yet (the estimate's cut serves).
+    pub meet: AtomicUsize,
 }
 
 impl Clone for Shares {
@@ -55,6 +64,7 @@ impl Clone for Shares {
             measured: self.measured,
             block_ns: copy(&self.block_ns),
             advance_ns: copy(&self.advance_ns),
+            meet: AtomicUsize::new(self.meet.load(Ordering::Relaxed)),
         }
     }
 }
@@ -79,13 +89,28 @@ impl Shares {
             measured: false,
             block_ns: (0..count).map(|_| AtomicU64::new(0)).collect(),
             advance_ns: (0..threads).map(|_| AtomicU64::new(0)).collect(),
+            meet: AtomicUsize::new(usize::MAX),
         }
     }
 
-    /// Blocks `first..end` of worker `t`, if the shares are for `threads`.
+    /// Two workers take the blocks from both ends of the list
+    /// (`contacts::both_ends`): nothing to measure or rebalance.
+    pub fn both_ends(&self) -> bool {
+        self.advance_ns.len() == 2
+    }
+
+    /// Blocks `first..end` of worker `t`, if the shares are for `threads`
+    /// (two workers: below and above where they met last).
     pub fn blocks(&self, t: usize, threads: usize) -> Option<(usize, usize)> {
         if self.cuts.len() != threads + 1 || t >= threads {
             return None;
+        }
+        let count = self.cost.len();
+        let m = self.meet.load(Ordering::Relaxed);
+        if threads == 2 && m != usize::MAX {
+            // Where the two met: worker 0 below, worker 1 above.
+            let cut = (2 * m).min(count);
+            return Some(if t == 0 { (0, cut) } else { (cut, count) });
         }
         Some((self.cuts[t] as usize, self.cuts[t + 1] as usize))
     }

@@ -13,6 +13,11 @@
 //! workers spin between stages while a run is going (parking only after a
 //! long idle spell), and worker t is the same OS thread in every stage, so
 //! a body's data stays in one core's cache (see `PairList::shares`).
+//!
+//! With the environment variable `DEMBOUND_TEAM_TRACE` set, the team
+//! times its stages and prints a table when it stops ([`trace`]).
+
+pub mod trace;
 
 use crate::error::SceneError;
 use std::cell::UnsafeCell;
@@ -87,6 +92,7 @@ impl Workers {
     /// thread every time (worker 0 is the caller): worker t's share of the
     /// bodies stays in its core's cache from stage to stage. Results in
     /// worker order.
+    #[track_caller]
     pub fn broadcast<T: Send>(&self, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
         match &self.team {
             Some(team) => {
@@ -105,17 +111,20 @@ impl Workers {
     /// Runs `f(k)` for every chunk k in 0..chunks (worker t takes a
     /// contiguous run of chunks: the same bodies as in the other stages
     /// when the chunks are bodies).
+    #[track_caller]
     pub fn run(&self, chunks: usize, f: impl Fn(usize) + Sync + Send) {
         self.run_split(chunks, |t| even_split(t, self.threads, chunks), f);
     }
 
     /// `f(k)` for every chunk, collected in chunk order.
+    #[track_caller]
     pub fn map<T: Send>(&self, chunks: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
         self.map_split(chunks, |t| even_split(t, self.threads, chunks), f)
     }
 
     /// Runs `f(k)` for every chunk k of `chunk` bodies of `n`, each on the
     /// worker whose share holds the chunk's first body.
+    #[track_caller]
     pub fn run_bodies(&self, n: usize, chunk: usize, f: impl Fn(usize) + Sync + Send) {
         let chunks = n.div_ceil(chunk.max(1));
         self.run_split(chunks, |t| self.body_chunks(t, n, chunk), f);
@@ -123,6 +132,7 @@ impl Workers {
 
     /// `f(k)` for every chunk of `chunk` bodies of `n` (as
     /// [`Workers::run_bodies`]), collected in chunk order.
+    #[track_caller]
     pub fn map_bodies<T: Send>(
         &self,
         n: usize,
@@ -159,6 +169,7 @@ impl Workers {
 
     /// Runs `f(k)` for every chunk k in 0..chunks, worker t the chunks
     /// `split(t)` (the splits cover 0..chunks once).
+    #[track_caller]
     fn run_split(
         &self,
         chunks: usize,
@@ -172,6 +183,7 @@ impl Workers {
     }
 
     /// [`Self::run_split`], the results collected in chunk order.
+    #[track_caller]
     fn map_split<T: Send>(
         &self,
         chunks: usize,
@@ -191,6 +203,7 @@ impl Workers {
     }
 
     /// Σ f(k) over 0..n in chunks of [`BODY_CHUNK`], summed in chunk order.
+    #[track_caller]
     pub fn sum<const D: usize>(
         &self,
         n: usize,
@@ -234,6 +247,8 @@ struct Shared {
     /// A worker's job panicked (re-raised by the leader).
     panicked: AtomicBool,
     stop: AtomicBool,
+    /// Worker t's part of the current stage (index t − 1), when traced.
+    parts: Vec<std::sync::Mutex<trace::Part>>,
     /// The leader is running a job (a call from inside a job, or from
     /// another thread meanwhile, runs serially instead).
     busy: AtomicBool,
@@ -247,6 +262,8 @@ unsafe impl Send for Shared {}
 /// Threads 1..threads of a simulation (the caller is thread 0).
 struct Team {
     shared: Arc<Shared>,
+    /// The stages timed (`trace`), when asked.
+    trace: Option<trace::Trace>,
     handles: Vec<JoinHandle<()>>,
     threads: usize,
 }
@@ -260,10 +277,13 @@ impl Team {
             sleeping: (1..threads).map(|_| AtomicBool::new(false)).collect(),
             panicked: AtomicBool::new(false),
             stop: AtomicBool::new(false),
+            parts: (1..threads).map(|_| Default::default()).collect(),
             busy: AtomicBool::new(false),
         });
+        trace::start();
         let mut team = Team {
             shared: Arc::clone(&shared),
+            trace: trace::on().then(trace::Trace::default),
             handles: Vec::with_capacity(threads - 1),
             threads,
         };
@@ -281,12 +301,14 @@ impl Team {
 
     /// Runs `f(t)` for t in 0..threads, t ≥ 1 on the workers, and returns
     /// when all are done.
+    #[track_caller]
     fn run(&self, f: &(dyn Fn(usize) + Sync)) {
         let s = &*self.shared;
         if s.busy.swap(true, Ordering::Acquire) {
             (0..self.threads).for_each(f);
             return;
         }
+        let raised = self.trace.as_ref().map(|_| std::time::Instant::now());
         // SAFETY: the lifetime is erased only for the time of this call:
         // it returns after every worker has finished with the job.
         let job: Job = unsafe { std::mem::transmute::<*const (dyn Fn(usize) + Sync + '_), Job>(f) };
@@ -299,7 +321,13 @@ impl Team {
                 self.handles[k].thread().unpark();
             }
         }
-        let mine = catch_unwind(AssertUnwindSafe(|| f(0)));
+        let mut mine = Ok(());
+        let part0 = if raised.is_some() {
+            trace::part(|| mine = catch_unwind(AssertUnwindSafe(|| f(0))))
+        } else {
+            mine = catch_unwind(AssertUnwindSafe(|| f(0)));
+            trace::Part::default()
+        };
         let mut spins = 0u32;
         while s.pending.load(Ordering::Acquire) != 0 {
             if spins < SPINS {
@@ -308,6 +336,16 @@ impl Team {
             } else {
                 std::thread::yield_now();
             }
+        }
+        if let (Some(tr), Some(raised)) = (&self.trace, raised) {
+            let done = std::time::Instant::now();
+            let mut parts = vec![part0];
+            parts.extend(
+                s.parts
+                    .iter()
+                    .map(|p| p.lock().map(|p| *p).unwrap_or_default()),
+            );
+            tr.record(std::panic::Location::caller(), raised, done, &parts);
         }
         s.busy.store(false, Ordering::Release);
         if let Err(payload) = mine {
@@ -321,6 +359,9 @@ impl Team {
 
 impl Drop for Team {
     fn drop(&mut self) {
+        if let Some(tr) = &self.trace {
+            tr.print();
+        }
         self.shared.stop.store(true, Ordering::SeqCst);
         self.shared.epoch.fetch_add(1, Ordering::SeqCst);
         for h in &self.handles {
@@ -364,7 +405,16 @@ fn work(s: &Shared, t: usize) {
         // above with Acquire) and keeps it alive until `pending` is 0.
         if let Some(job) = unsafe { *s.job.get() } {
             let f = unsafe { &*job };
-            if catch_unwind(AssertUnwindSafe(|| f(t))).is_err() {
+            let mut ok = true;
+            if trace::on() {
+                let part = trace::part(|| ok = catch_unwind(AssertUnwindSafe(|| f(t))).is_ok());
+                if let Ok(mut p) = s.parts[t - 1].lock() {
+                    *p = part;
+                }
+            } else {
+                ok = catch_unwind(AssertUnwindSafe(|| f(t))).is_ok();
+            }
+            if !ok {
                 s.panicked.store(true, Ordering::Release);
             }
         }

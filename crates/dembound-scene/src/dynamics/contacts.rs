@@ -15,6 +15,7 @@ use dembound_physics::material::{Material, PairProperties};
 
 use crate::walls::LawSlot;
 
+mod both_ends;
 mod rows;
 pub(crate) use rows::Rows;
 
@@ -566,6 +567,8 @@ pub(crate) type FollowUp<'a> = &'a (dyn Fn(usize, usize) -> f64 + Sync);
 /// bodies it advanced: their data stay in its core's cache; each block's
 /// time goes to the shares' balance. The blocks a neighbouring share waits
 /// for run first ([`share_order`]), so waits across workers are short.
+/// Two workers instead take the blocks from both ends of the list until
+/// they meet ([`both_ends::run`]): no share to balance by measurement.
 ///
 /// A list marked [`PairList::sequential`] runs its blocks in order on the
 /// calling thread.
@@ -585,8 +588,10 @@ pub(crate) fn run_blocks_then(
     let done: Vec<AtomicBool> = (0..blocks).map(|_| AtomicBool::new(false)).collect();
     let threads = workers.threads();
     let shared = !list.sequential && list.shares.blocks(0, threads).is_some();
+    // Two workers need no measurements (`both_ends`).
+    let measured = shared && !list.shares.both_ends();
     let timed = |b: usize, f: &dyn Fn() -> f64| -> f64 {
-        if shared {
+        if measured {
             // The block's own time, waits excluded.
             let started = Instant::now();
             let value = f();
@@ -651,10 +656,22 @@ pub(crate) fn run_blocks_then(
         // own row's sum), whatever the blocks of this rank's list.
         return work(0, blocks, (0..blocks).collect());
     }
+    if shared && threads == 2 && blocks >= 2 {
+        return both_ends::run(workers, list, &run, &complete, &|c| {
+            follow.map_or(0.0, |f| {
+                let (lo, hi) = bodies(c);
+                f(lo, hi)
+            })
+        });
+    }
     if shared {
         return workers
             .broadcast(|t| {
                 list.shares.blocks(t, threads).map_or(0.0, |(first, end)| {
+                    if crate::parallel::trace::on() {
+                        let (a, b) = (list.blocks[first] as usize, list.blocks[end] as usize);
+                        crate::parallel::trace::add_units(u64::from(list.start[b] - list.start[a]));
+                    }
                     work(first, end, share_order(first, end, blocks))
                 })
             })
@@ -703,6 +720,10 @@ fn block_order(blocks: usize) -> Vec<usize> {
 /// Waits until another worker has set `flag` (spinning, then yielding
 /// the core: a step is short, but the machine may be shared).
 fn wait_for(flag: &AtomicBool) {
+    if flag.load(Ordering::Acquire) {
+        return;
+    }
+    let traced = crate::parallel::trace::on().then(Instant::now);
     let mut spins = 0u32;
     while !flag.load(Ordering::Acquire) {
         if spins < crate::parallel::SPINS {
@@ -711,6 +732,9 @@ fn wait_for(flag: &AtomicBool) {
         } else {
             std::thread::yield_now();
         }
+    }
+    if let Some(t) = traced {
+        crate::parallel::trace::add_wait(t.elapsed().as_nanos() as u64);
     }
 }
 
