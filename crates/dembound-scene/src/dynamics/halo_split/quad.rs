@@ -67,26 +67,10 @@ impl HaloSplit {
     /// As [`Self::early_row_avx2`]; k an entry of row i.
     #[inline(always)]
     unsafe fn early_pair(&mut self, rows: &Rows, i: usize, k: usize, fi: &mut [f64; 3]) {
-        let (bodies, laws, list, _) = rows.parts();
-        // SAFETY: k < the list's length; every listed j is a body.
-        let j = unsafe { *list.j.get_unchecked(k) } as usize;
-        if self.stale[j] {
-            return;
-        }
-        let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
-        let Some(g) = touching_lazy(
-            position[i],
-            velocity[i],
-            radius[i],
-            // SAFETY: j is a body.
-            unsafe { *position.get_unchecked(j) },
-            || unsafe { *velocity.get_unchecked(j) },
-            unsafe { *radius.get_unchecked(j) },
-        ) else {
+        // SAFETY: as this function's.
+        let Some((j, fj)) = (unsafe { self.pair_force(rows, i, k, |stale_j| !stale_j) }) else {
             return;
         };
-        let mut scratch = NO_HISTORY;
-        let fj = contact_force(&laws.pair(bodies, i, j), &g, &mut scratch);
         let slot = self.slot_of[k];
         if slot != NOT_STORED {
             self.set(slot as usize, fj);
@@ -147,14 +131,38 @@ impl HaloSplit {
     /// As [`Self::late_rows_avx2`]; k an entry of row i.
     #[inline(always)]
     unsafe fn late_pair(&mut self, rows: &Rows, i: usize, k: usize, stale_i: bool) {
+        // SAFETY: as this function's.
+        let Some((_, fj)) = (unsafe { self.pair_force(rows, i, k, |stale_j| stale_i || stale_j) })
+        else {
+            return;
+        };
+        // A pair with a stale body is stored (its late body).
+        self.set(self.slot_of[k] as usize, fj);
+    }
+
+    /// Entry k of row i: its partner j and the force on j (N) when
+    /// `wanted(j is stale)` and the pair touches — the one pair code of
+    /// both parts ([`Self::early_pair`]: fresh partners; [`Self::late_pair`]:
+    /// pairs with a stale body).
+    ///
+    /// # Safety
+    /// k an entry of row i of `rows`' list.
+    #[inline(always)]
+    unsafe fn pair_force(
+        &self,
+        rows: &Rows,
+        i: usize,
+        k: usize,
+        wanted: impl Fn(bool) -> bool,
+    ) -> Option<(usize, [f64; 3])> {
         let (bodies, laws, list, _) = rows.parts();
         // SAFETY: k < the list's length; every listed j is a body.
         let j = unsafe { *list.j.get_unchecked(k) } as usize;
-        if !(stale_i || self.stale[j]) {
-            return;
+        if !wanted(self.stale[j]) {
+            return None;
         }
         let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
-        let Some(g) = touching_lazy(
+        let g = touching_lazy(
             position[i],
             velocity[i],
             radius[i],
@@ -162,12 +170,8 @@ impl HaloSplit {
             unsafe { *position.get_unchecked(j) },
             || unsafe { *velocity.get_unchecked(j) },
             unsafe { *radius.get_unchecked(j) },
-        ) else {
-            return;
-        };
+        )?;
         let mut scratch = NO_HISTORY;
-        let fj = contact_force(&laws.pair(bodies, i, j), &g, &mut scratch);
-        // A pair with a stale body is stored (its late body).
-        self.set(self.slot_of[k] as usize, fj);
+        Some((j, contact_force(&laws.pair(bodies, i, j), &g, &mut scratch)))
     }
 }
