@@ -717,15 +717,20 @@ fn block_order(blocks: usize) -> Vec<usize> {
     order
 }
 
-/// Waits until another worker has set `flag` (spinning, then yielding
-/// the core: a step is short, but the machine may be shared).
+/// Waits until another worker has set `flag`.
 fn wait_for(flag: &AtomicBool) {
-    if flag.load(Ordering::Acquire) {
+    wait_until(|| flag.load(Ordering::Acquire));
+}
+
+/// Waits until `ready()` (spinning, then yielding the core: a step is
+/// short, but the machine may be shared and the other worker off its core).
+fn wait_until(ready: impl Fn() -> bool) {
+    if ready() {
         return;
     }
     let traced = crate::parallel::trace::on().then(Instant::now);
     let mut spins = 0u32;
-    while !flag.load(Ordering::Acquire) {
+    while !ready() {
         if spins < crate::parallel::SPINS {
             std::hint::spin_loop();
             spins += 1;

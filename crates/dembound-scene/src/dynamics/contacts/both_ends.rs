@@ -6,6 +6,7 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+use super::wait_until;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
 
@@ -143,27 +144,6 @@ pub(super) fn run(
         })
         .into_iter()
         .fold(0.0, f64::max)
-}
-
-/// Waits until `ready()` (spinning, then yielding the core: the other
-/// worker may be off it on a shared machine).
-fn wait_until(ready: impl Fn() -> bool) {
-    if ready() {
-        return;
-    }
-    let traced = crate::parallel::trace::on().then(std::time::Instant::now);
-    let mut spins = 0u32;
-    while !ready() {
-        if spins < crate::parallel::SPINS {
-            std::hint::spin_loop();
-            spins += 1;
-        } else {
-            std::thread::yield_now();
-        }
-    }
-    if let Some(t) = traced {
-        crate::parallel::trace::add_wait(t.elapsed().as_nanos() as u64);
-    }
 }
 
 #[cfg(test)]
