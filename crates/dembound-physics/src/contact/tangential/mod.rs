@@ -444,19 +444,26 @@ impl FrictionPair {
             shear[a] += v[a] * dt;
         }
         // 3. Coulomb on the spring (LIGGGHTS `tangential_model_history`):
-        // sliding when the spring alone exceeds μ |F_n|; the spring is cut
-        // back to the limit and the force is the limit, without damping.
-        // Compared squared (both sides ≥ 0), so a sticking contact takes no
-        // root.
+        // sliding when the spring alone exceeds μ |F_n| (compared squared,
+        // both sides ≥ 0); the spring is cut back to the limit and the
+        // force is the limit, without damping.
         let limit = self.friction * normal_force.abs();
         let stretch = dot(*shear, *shear);
-        if k_t * k_t * stretch > limit * limit {
-            // > 0: it exceeds limit² ≥ 0.
-            let spring = k_t * stretch.sqrt();
-            let s = limit / spring;
-            for x in shear.iter_mut() {
-                *x *= s;
-            }
+        let sliding = k_t * k_t * stretch > limit * limit;
+        // The cut's factor limit/(k_t |δ|) (the spring's magnitude > 0
+        // when sliding: it exceeds limit² ≥ 0) is taken for every contact
+        // and chosen without a jump; a sticking spring is scaled by exactly
+        // 1, which changes no bit. So the root and the division start as
+        // soon as the moved spring is known, rather than after a test that
+        // contacts turning between sticking and sliding make unpredictable
+        // (a sticking contact discards them, an inf or NaN at |δ| = 0
+        // included); undamped, no test is left at all.
+        let spring = k_t * stretch.sqrt();
+        let s = std::hint::select_unpredictable(sliding, limit / spring, 1.0);
+        for x in shear.iter_mut() {
+            *x *= s;
+        }
+        if sliding {
             return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
         }
         // 4. Sticking: spring and dashpot, the total still capped at μ |F_n|

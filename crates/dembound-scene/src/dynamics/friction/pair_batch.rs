@@ -3,6 +3,7 @@
 //! the row-by-row loop's bits.
 
 use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
+use dembound_physics::contact::tangential::FrictionPair;
 use dembound_physics::contact::Side;
 
 use super::pairs::{tally_entry, MainPairs, PairTally};
@@ -113,9 +114,23 @@ impl MainPairs<'_> {
             }
             g.ends[i - lo] = m as u8;
         }
+        let found = m.min(BATCH);
+        // Pass 1b: the springs of the contacts found turned into their
+        // tangent planes (`FrictionPair::turn_spring`, the first part of the
+        // tangential force): it needs only the stored spring and the
+        // normal, both known now, so its chain of dependent operations (the
+        // dot products and the division by |δ|²) runs here, contacts
+        // overlapping one another, instead of heading each contact's stages
+        // below, which take the rest (`tangential_force_turned`).
+        for t in 0..found {
+            let q = g.entry(t);
+            let n = [g.nx[q], g.ny[q], g.nz[q]];
+            // SAFETY: entry first + q belongs to a row of this batch (pass 1).
+            let sh = unsafe { &mut *self.shear.0.add(first + q) };
+            FrictionPair::turn_spring(sh, n);
+        }
         // Pass 2 over the contacts found. The
         // same operations on the same values as [`contact`]: the same bits.
-        let found = m.min(BATCH);
         // Batches run only with the class table ([`Self::block`]); i and
         // j are bodies (pass 1).
         debug_assert!(TABLE);
@@ -170,7 +185,10 @@ impl MainPairs<'_> {
                 let force = fl.law.normal_stage(overlap, rate, hist);
                 // SAFETY: entry k belongs to row i of this block.
                 let sh = unsafe { &mut *self.shear.0.add(k) };
-                let tangential = fl.tangential_stage(overlap, force, n, slip, self.dt, sh);
+                // The spring was turned in pass 1b.
+                let tangential = fl
+                    .friction
+                    .tangential_force_turned(overlap, force, slip, self.dt, sh);
                 let rolling = if ROLL {
                     // SAFETY: as the spring.
                     let roll = unsafe { &mut *self.roll.0.add(k) };
