@@ -37,10 +37,19 @@ pub const BODY_CHUNK: usize = 4096;
 /// (4096 gave chunks of 4096, 4096 and 1808: one thread did 59 %).
 pub const STEP_CHUNK: usize = 1024;
 
-/// Waits before a waiting worker yields its core, then parks: ~0.1 ms of
-/// spinning covers the serial work between two stages of a step; parking
-/// after ~10 ms idle frees the core between runs.
-pub(crate) const SPINS: u32 = 1 << 14;
+/// Spins (`spin_loop`, one PAUSE) before a waiting worker yields its
+/// core, then yields before it parks. A spin took 25.9 ns on the AMD EPYC
+/// these figures were taken on, so 2^10 spins are ~26 µs: longer than
+/// most hand-offs and waits inside a stage on a quiet machine (sub-µs to
+/// a few µs), short next to a stage (~130 µs at 10k spheres). Past that
+/// the worker yields: on a core of its own `sched_yield` returns at once
+/// (0.6 µs, still a poll), and on a core it shares with the worker it
+/// waits for (a busy machine: the other core taken) it hands that worker
+/// the core. With 2^14 spins (424 µs here) each wait on a shared core
+/// burnt the core for the rest of the spin: two threads on one core ran
+/// 2000 steps of the 10k lattice drop in 7.84 s against one thread's
+/// 0.36 s. Parking after ~2.5 ms of yields frees the core between runs.
+pub(crate) const SPINS: u32 = 1 << 10;
 const YIELDS: u32 = 1 << 12;
 
 /// The worker threads of one simulation.

@@ -4,7 +4,10 @@
 //! their length from the hand-off to the last worker's end, and per
 //! worker its start latency, busy time, time waiting for another worker
 //! inside the stage ([`add_wait`]) and at the stage's end, and the work
-//! units it reported ([`add_units`], e.g. listed pairs). Printed to
+//! units it reported ([`add_units`], e.g. listed pairs), with how many
+//! stages one worker was busy for nearly all of the workers' busy time
+//! ([`ONE_SIDED`]; the other started late or found nothing left) and the
+//! longest run of such stages in a row. Printed to
 //! standard error when the team stops. Off, it costs one relaxed load a
 //! stage and a wait.
 
@@ -16,6 +19,11 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 static ON: AtomicBool = AtomicBool::new(false);
+
+/// A stage is one-sided when one worker's busy time is at least this
+/// fraction of the workers' summed busy time (two workers from both ends:
+/// the other was late or off its core for nearly the whole stage).
+const ONE_SIDED: f64 = 0.9;
 
 thread_local! {
     static WAITED: Cell<u64> = const { Cell::new(0) };
@@ -80,6 +88,11 @@ struct Sum {
     units: Vec<f64>,
     /// Σ over stages of (largest busy − smallest busy).
     spread: f64,
+    /// Stages where one worker was ≥ [`ONE_SIDED`] of the busy time.
+    one_sided: u64,
+    /// One-sided stages in a row now, and the longest such run.
+    streak: u64,
+    longest: u64,
 }
 
 /// The sums of one team.
@@ -142,6 +155,21 @@ impl Trace {
         if hi >= lo {
             s.spread += hi - lo;
         }
+        let busy: Vec<f64> = parts
+            .iter()
+            .filter_map(|p| Some(ns(p.start?, p.end?) - p.waited as f64))
+            .collect();
+        let total: f64 = busy.iter().sum();
+        let most = busy.iter().copied().fold(0.0, f64::max);
+        if total > 0.0 && busy.len() > 1 {
+            if most >= ONE_SIDED * total {
+                s.one_sided += 1;
+                s.streak += 1;
+                s.longest = s.longest.max(s.streak);
+            } else {
+                s.streak = 0;
+            }
+        }
     }
 
     /// The table, to standard error.
@@ -163,7 +191,7 @@ impl Trace {
             staged * 1e-9,
             (whole - staged) * 1e-9
         );
-        eprintln!("stage | count | span µs/stage | per worker: latency / busy / waits inside / wait at end µs/stage, units/stage | spread µs/stage");
+        eprintln!("stage | count | span µs/stage | per worker: latency / busy / waits inside / wait at end µs/stage, units/stage | spread µs/stage | one-sided stages (longest run)");
         for (at, s) in rows {
             let n = s.stages as f64;
             let per: Vec<String> = (0..s.busy.len())
@@ -179,13 +207,15 @@ impl Trace {
                 })
                 .collect();
             eprintln!(
-                "{}:{} | {} | {:.2} | {} | {:.2}",
+                "{}:{} | {} | {:.2} | {} | {:.2} | {} ({})",
                 at.file(),
                 at.line(),
                 s.stages,
                 s.span / n * 1e-3,
                 per.join("  "),
-                s.spread / n * 1e-3
+                s.spread / n * 1e-3,
+                s.one_sided,
+                s.longest
             );
         }
     }

@@ -6,7 +6,6 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-use super::wait_until;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::Workers;
 
@@ -20,8 +19,23 @@ use crate::parallel::Workers;
 /// at least one unit each when there are two.
 /// The odd block where they meet is run by the first worker to find
 /// nothing left to claim. `follow_block(c)` runs once for each block c
-/// as soon as c and c − 1 are done (whoever completes them), the rest
-/// after the claims.
+/// as soon as c and c − 1 are done, by the worker that ran the odd one
+/// of the two (or block 0, for c = 0).
+///
+/// Why no follow-up can be missed, with no final pass waiting for the
+/// rest: of the blocks c − 1 and c that follow-up c needs, one is odd,
+/// b, and the worker that runs b has first waited until its even
+/// neighbours b − 1 and b + 1 were done (an Acquire load that saw the
+/// flag set; `run_blocks_then`'s `run`). Right after b, that worker tries
+/// follow-ups b and b + 1 (`unit`, and the meeting's odd block below):
+/// for each, one flag is its own store and the other one it has already
+/// seen set, and a later load of a flag never set back cannot see it
+/// clear (coherence of one location). So `complete` holds there for
+/// both, and the swap of `followed` lets exactly one worker run it.
+/// Follow-up 0 (block 0 alone) is tried by whoever runs block 0. There
+/// is no store–load race in which both workers miss a completed pair:
+/// that would need two blocks that neither waits for, and the two
+/// blocks of a follow-up are an odd one and an even one it waits for.
 pub(super) fn run(
     workers: &Workers,
     list: &PairList,
@@ -128,18 +142,9 @@ pub(super) fn run(
                 }
                 list.shares.meet.store(meet, Ordering::Relaxed);
             }
-            // The follow-ups not done yet on this side of the meeting.
-            let side = if up {
-                0..(2 * meet).min(blocks)
-            } else {
-                (2 * meet).min(blocks)..blocks
-            };
-            for c in side {
-                if !followed[c].load(Ordering::Acquire) {
-                    wait_until(|| complete(c));
-                    try_follow(c, &mut value);
-                }
-            }
+            // No follow-up is left for after the claims: each was tried by
+            // a worker that had seen both its blocks done (see `run`'s
+            // doc), so no final pass waits for any.
             value
         })
         .into_iter()
