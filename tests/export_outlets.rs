@@ -4,7 +4,8 @@
 //! mass removed per outlet as thermo columns. Five spheres fall freely
 //! into two outlet boxes: each code removes them at the first multiple
 //! of 100 steps at or after the step its centre entered (closed form),
-//! by outlet, with their mass; dembound removes the same spheres.
+//! by outlet, with their mass; the dump's rows leave each out from the
+//! step its centre entered; dembound removes the same spheres.
 //! Outlets refused by Yade, `domain.outside = "delete"`, tilted
 //! cylinders and `[[inlet]]` (LAMMPS and Yade) refused naming the key and
 //! the code.
@@ -135,6 +136,17 @@ fn run_deck(code: &str, scene: &Path, deck: &Path, fields: usize) -> Vec<Vec<f64
         .collect()
 }
 
+/// The first step at which a sphere dropped from `d` above TOP has its
+/// centre in the outlet (the region's surface included), by the closed
+/// form of `removal_step`.
+fn entry_step(d: f64) -> u64 {
+    let mut n = 0u64;
+    while 0.5 * G * (n as f64 * DT).powi(2) < d {
+        n += 1;
+    }
+    n
+}
+
 /// The first step at which column `col` reaches `c` in `rows`.
 fn first_step_with(rows: &[Vec<f64>], col: usize, c: f64) -> Option<u64> {
     rows.iter().find(|r| r[col] >= c).map(|r| r[0] as u64)
@@ -169,6 +181,32 @@ fn check(code: &str, outlet1: &str, fields: usize, first: usize) {
                 c + 1
             );
         }
+    }
+    // The dump (a row every step) is the state after the deletion: a
+    // sphere leaves the rows at the step its centre enters an outlet, not
+    // at the removal that follows (outlets.rs, "The rows are the state
+    // after the deletion"). Ids 1, 2, 3 the column over outlet 0, 4 and 5
+    // the other, in the scene file's order.
+    let dump = std::fs::read_to_string(root.path().join("deck/particles.dump")).unwrap();
+    let dumped = dembound_export::scene_dump::parse_dump(&dump).expect("the dump reads");
+    assert_eq!(dumped.len() as u64, STEPS + 1, "{code}: a row every step");
+    for (i, &d) in DROPS_A.iter().chain(&DROPS_B).enumerate() {
+        let id = i as u64 + 1;
+        let listed =
+            |r: &dembound_export::scene_dump::DumpRow| r.spheres.iter().any(|s| s.id == id);
+        let first_gone = dumped.iter().find(|r| !listed(r)).map(|r| r.step);
+        assert_eq!(
+            first_gone,
+            Some(entry_step(d)),
+            "{code}: sphere {id} left the rows"
+        );
+        assert!(
+            dumped
+                .iter()
+                .filter(|r| r.step >= entry_step(d))
+                .all(|r| !listed(r)),
+            "{code}: sphere {id} came back"
+        );
     }
     // dembound removes the same spheres by outlet.
     let o = dembound()

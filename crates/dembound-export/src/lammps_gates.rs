@@ -103,8 +103,8 @@ pub(crate) fn switch_events<'a, T>(
 
 /// The `run` commands of a run of `steps` steps of `dt` (s), with the
 /// switches of the gated plane walls (`windows` per wall) in between.
-/// With `outlets`, every run removes the spheres in the outlets every
-/// `outlets::EVERY` steps.
+/// With `outlets`, the spheres in the outlets are removed at every
+/// multiple of `outlets::EVERY` steps (`outlets::run_lines`).
 pub(crate) fn runs(
     steps: u64,
     dt: f64,
@@ -117,12 +117,12 @@ pub(crate) fn runs(
     let mut done = 0;
     for (step, arrives, p) in events {
         if step > done {
-            x.push_str(&crate::outlets::run_line(step - done, outlets));
+            x.push_str(&crate::outlets::run_lines(done, step - done, outlets));
             done = step;
         }
         x.push_str(&switch_text(step, arrives, p, dt));
     }
-    x.push_str(&crate::outlets::run_line(steps - done, outlets));
+    x.push_str(&crate::outlets::run_lines(done, steps - done, outlets));
     x
 }
 

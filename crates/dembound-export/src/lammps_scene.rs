@@ -118,7 +118,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     // Inlets: dembound's placements replayed (lammps_inlets.rs).
     crate::lammps_inlets::refuse(setup, !moves.is_empty())?;
     let inserts = !setup.inlets.is_empty();
-    let outlets = crate::outlets::plan(setup, "LAMMPS", Some("free"))?;
+    let outlets = crate::outlets::plan(setup, "LAMMPS", Some("free"), "state")?;
     crate::refuse_servo_walls(setup, "LAMMPS")?;
     // The deck writes planes and walls of boundary particles; every other
     // wall type says why LAMMPS cannot hold it (`WallType::export_note`).

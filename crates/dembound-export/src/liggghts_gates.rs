@@ -73,8 +73,8 @@ fn half_kick(x: &mut String, dt: f64, sign: f64) {
 /// The `run` commands of a run of `steps` steps of `dt` (s), with the
 /// switches of the gated walls (`windows` per wall) in between; `walls`
 /// the deck lines of every written wall.
-/// With `outlets`, every run removes the spheres in the outlets every
-/// `outlets::EVERY` steps.
+/// With `outlets`, the spheres in the outlets are removed at every
+/// multiple of `outlets::EVERY` steps (`outlets::run_lines`).
 pub(crate) fn runs(
     steps: u64,
     dt: f64,
@@ -89,7 +89,7 @@ pub(crate) fn runs(
     while i < events.len() {
         let step = events[i].0;
         if step > done {
-            x.push_str(&crate::outlets::run_line(step - done, outlets));
+            x.push_str(&crate::outlets::run_lines(done, step - done, outlets));
             done = step;
         }
         writeln!(
@@ -119,7 +119,7 @@ pub(crate) fn runs(
         .ok();
         half_kick(&mut x, dt, 1.0);
     }
-    x.push_str(&crate::outlets::run_line(steps - done, outlets));
+    x.push_str(&crate::outlets::run_lines(done, steps - done, outlets));
     x
 }
 

@@ -159,7 +159,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         );
     }
     let any_fixed = setup.spheres.iter().any(|s| s.fixed);
-    let mut outlets = crate::outlets::plan(setup, "LIGGGHTS", any_fixed.then_some("free"))?;
+    let mut outlets =
+        crate::outlets::plan(setup, "LIGGGHTS", any_fixed.then_some("free"), "spheres")?;
     if let Some(o) = &mut outlets {
         // LIGGGHTS refuses a run whose smallest atom type in use is not 1
         // ("Atom types must start from 1"), as when an outlet took every

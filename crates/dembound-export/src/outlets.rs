@@ -1,16 +1,37 @@
 //! Outlets (`[[outlet]]`, issue 28) in the LAMMPS and LIGGGHTS scene
-//! decks: every [`EVERY`] steps (`run N every K "…"`), each outlet's
-//! region (`region outletK block …` or `cylinder …`, `units box`) takes
-//! the free spheres whose centres are inside it (surface included, as
-//! dembound's `Region::holds`) into a group, adds their count and mass
-//! to `outK_n` and `outK_m`, and `delete_atoms` them (`compress no`: the
-//! others keep their ids). The thermo columns `v_outK_n v_outK_m` report
-//! the spheres and the mass (kg) removed so far. Outlets act in file
-//! order, so a sphere in two regions counts for the first, as in
-//! dembound. Neither LIGGGHTS 3.8 (no `fix evaporate`; `fix
+//! decks: at every multiple of [`EVERY`] steps (`run N every K "…"`, the
+//! runs cut so that the checks fall on the multiples after a gate's
+//! switch too), each outlet's region (`region outletK block …` or
+//! `cylinder …`, `units box`) takes the free spheres whose centres are
+//! inside it (surface included, as dembound's `Region::holds`) into a
+//! group, adds their count and mass to `outK_done_n` and `outK_done_m`,
+//! and `delete_atoms` them (`compress no`: the others keep their ids).
+//! Outlets act in file order, so a sphere in two regions counts for the
+//! first, as in dembound. Neither LIGGGHTS 3.8 (no `fix evaporate`; `fix
 //! massflow/mesh … delete_atoms yes` removes spheres that *cross* a mesh
 //! face, another rule) nor LAMMPS's `fix evaporate` (which reports no
 //! mass) gives the rule and the mass directly, hence the commands.
+//!
+//! **The rows are the state after the deletion.** The dump and the
+//! thermo row of a step are written inside the run's last step
+//! (`Verlet::run` calls `Output::write` at the end of each step), before
+//! `run … every` executes its commands (`Run::command`, LIGGGHTS-PUBLIC
+//! `src/run.cpp`, and LAMMPS's alike), and the next run's setup does not
+//! write the dump again at that step (`Output::setup`, `src/output.cpp`:
+//! only when `last_dump != ntimestep`). So the rows do not wait for the
+//! deletion: they leave out what it is about to delete. The dump skips
+//! the free spheres whose centres are in an outlet (`dump_modify … thresh
+//! v_outlet_pending == 0`, an atom-style `grmask(free,outlets)`), and the
+//! thermo columns `v_outK_n v_outK_m` count them as removed (the running
+//! totals plus `count(free,…)`, `mass(free,…)` of those in the region
+//! now, each in its first outlet only). At a multiple of [`EVERY`] that
+//! is exactly the state after the deletion; at a row between checks it
+//! is the state a deletion at that row would leave (the spheres are
+//! deleted at the next check, unless one leaves the region first, which
+//! a later row then shows again). Before, the rows were written before
+//! the deletion and held every sphere that entered an outlet in the last
+//! [`EVERY`] steps (docs/export-liggghts.md, "The fed hopper over inlet
+//! seeds").
 //!
 //! **How it differs from dembound's rule** (`dembound_scene::removal`):
 //! dembound checks at its neighbour-list rebuilds and removes a sphere
@@ -98,30 +119,67 @@ pub(crate) fn region_command(name: &str, key: &str, region: &Region, code: &str)
 }
 
 /// The outlet commands of `setup` for the `code` deck, `free` the group
-/// of the free spheres (`None`: every sphere is free); `None` without
-/// outlets. Refuses `domain.outside = "delete"` (module
+/// of the free spheres (`None`: every sphere is free), `dump` the id of
+/// the deck's `dump custom` (written before [`Outlets::setup`]); `None`
+/// without outlets. Refuses `domain.outside = "delete"` (module
 /// `crate::refuse_lost_removal`) and a cylinder not along an axis.
-pub(crate) fn plan(setup: &SceneSetup, code: &str, free: Option<&str>) -> Result<Option<Outlets>> {
+pub(crate) fn plan(
+    setup: &SceneSetup,
+    code: &str,
+    free: Option<&str>,
+    dump: &str,
+) -> Result<Option<Outlets>> {
     crate::refuse_lost_removal(setup, code)?;
     if setup.outlets.is_empty() {
         return Ok(None);
     }
+    let group = free.unwrap_or("all");
     let mut o = Outlets {
         setup: format!(
-            "\n# outlets: every {EVERY} steps the free spheres whose centres are in a region are deleted;\n\
-             # thermo columns v_outK_n v_outK_m: spheres and mass (kg) removed so far by outlet K\n"
+            "\n# outlets: at every multiple of {EVERY} steps the free spheres whose centres are in a region\n\
+             # are deleted (the commands of `run ... every {EVERY}`). The rows are the state after that\n\
+             # deletion: the dump leaves out the free spheres in an outlet, and the thermo columns\n\
+             # v_outK_n v_outK_m (spheres and mass (kg) removed by outlet K) count them as removed\n"
         ),
         commands: String::new(),
         columns: String::new(),
     };
+    let mut regions = Vec::new();
     for (k, region) in setup.outlets.iter().enumerate() {
+        writeln!(o.setup, "{}", region_line(k, region, code)?).ok();
+        // The spheres outlet k takes: in its region and in no earlier one.
+        let only = if k == 0 {
+            format!("outlet{k}")
+        } else {
+            // The outside of the one before (the earlier ones' were
+            // written with theirs).
+            let j = k - 1;
+            let outside = region_command(
+                &format!("outlet{j}_out"),
+                &format!("outlet[{j}]"),
+                &setup.outlets[j],
+                code,
+            )?;
+            let outs: Vec<String> = (0..k).map(|j| format!("outlet{j}_out")).collect();
+            writeln!(
+                o.setup,
+                "{outside} side out\n\
+                 region       outlet{k}_only intersect {} outlet{k} {}",
+                k + 1,
+                outs.join(" ")
+            )
+            .ok();
+            format!("outlet{k}_only")
+        };
         writeln!(
             o.setup,
-            "{}\nvariable     out{k}_n equal 0\nvariable     out{k}_m equal 0",
-            region_line(k, region, code)?
+            "variable     out{k}_done_n equal 0\nvariable     out{k}_done_m equal 0\n\
+             variable     out{k}_n equal v_out{k}_done_n+count({group},{only})\n\
+             variable     out{k}_m equal v_out{k}_done_m+mass({group},{only})"
         )
         .ok();
-        let group = match free {
+        regions.push(format!("outlet{k}"));
+        let take = match free {
             None => format!(" \"group out{k} region outlet{k}\""),
             Some(f) => format!(
                 " \"group out{k}_r region outlet{k}\" \"group out{k} intersect out{k}_r {f}\" \
@@ -130,25 +188,72 @@ pub(crate) fn plan(setup: &SceneSetup, code: &str, free: Option<&str>) -> Result
         };
         write!(
             o.commands,
-            "{group} \"variable out{k}_dn equal count(out{k})\" \
+            "{take} \"variable out{k}_dn equal count(out{k})\" \
              \"variable out{k}_dm equal mass(out{k})\" \
-             \"variable out{k}_n equal ${{out{k}_n}}+${{out{k}_dn}}\" \
-             \"variable out{k}_m equal ${{out{k}_m}}+${{out{k}_dm}}\" \
+             \"variable out{k}_done_n equal ${{out{k}_done_n}}+${{out{k}_dn}}\" \
+             \"variable out{k}_done_m equal ${{out{k}_done_m}}+${{out{k}_dm}}\" \
              \"delete_atoms group out{k} compress no\" \"group out{k} delete\""
         )
         .ok();
         write!(o.columns, " v_out{k}_n v_out{k}_m").ok();
     }
+    let all = if regions.len() == 1 {
+        regions[0].clone()
+    } else {
+        writeln!(
+            o.setup,
+            "region       outlets union {} {}",
+            regions.len(),
+            regions.join(" ")
+        )
+        .ok();
+        "outlets".into()
+    };
+    writeln!(
+        o.setup,
+        "variable     outlet_pending atom grmask({group},{all})\n\
+         dump_modify  {dump} thresh v_outlet_pending == 0"
+    )
+    .ok();
     Ok(Some(o))
 }
 
-/// `run n`, with the outlets' removal every [`EVERY`] steps when there
-/// are outlets.
-pub(crate) fn run_line(n: u64, outlets: Option<&Outlets>) -> String {
-    match outlets {
-        Some(o) if n > 0 => format!("run          {n} post no every {EVERY}{}\n", o.commands),
-        _ => format!("run          {n}\n"),
+/// The `run` commands of the `n` steps after state `from`: with outlets,
+/// the removal at every multiple of [`EVERY`] in (from, from + n] (a
+/// first run up to the first multiple, `run … every {EVERY}` over the
+/// whole chunks, a last run without removal to the end), so that the
+/// checks fall on the same states whatever the gates cut.
+pub(crate) fn run_lines(from: u64, n: u64, outlets: Option<&Outlets>) -> String {
+    let Some(o) = outlets.filter(|_| n > 0) else {
+        return format!("run          {n}\n");
+    };
+    let mut x = String::new();
+    let end = from + n;
+    let first = from.div_ceil(EVERY) * EVERY;
+    let mut at = from;
+    if first > from {
+        if first <= end {
+            let head = first - from;
+            writeln!(x, "run          {head} post no every {head}{}", o.commands).ok();
+            at = first;
+        } else {
+            return format!("run          {n}\n");
+        }
     }
+    let whole = (end - at) / EVERY * EVERY;
+    if whole > 0 {
+        writeln!(
+            x,
+            "run          {whole} post no every {EVERY}{}",
+            o.commands
+        )
+        .ok();
+        at += whole;
+    }
+    if end > at {
+        writeln!(x, "run          {}", end - at).ok();
+    }
+    x
 }
 
 #[cfg(test)]
@@ -187,17 +292,96 @@ mod tests {
     }
 
     #[test]
-    fn a_run_removes_every_hundred_steps_only_with_outlets() {
-        assert_eq!(run_line(7, None), "run          7\n");
+    fn a_run_removes_at_the_multiples_of_a_hundred_only_with_outlets() {
+        assert_eq!(run_lines(0, 7, None), "run          7\n");
         let o = Outlets {
             setup: String::new(),
             commands: " \"x\"".into(),
             columns: String::new(),
         };
+        // From state 0: whole chunks, the last 50 steps without removal.
         assert_eq!(
-            run_line(250, Some(&o)),
-            "run          250 post no every 100 \"x\"\n"
+            run_lines(0, 250, Some(&o)),
+            "run          200 post no every 100 \"x\"\nrun          50\n"
         );
-        assert_eq!(run_line(0, Some(&o)), "run          0\n");
+        assert_eq!(
+            run_lines(0, 500, Some(&o)),
+            "run          500 post no every 100 \"x\"\n"
+        );
+        // After a switch at state 201: to 300, then on the multiples.
+        assert_eq!(
+            run_lines(201, 299, Some(&o)),
+            "run          99 post no every 99 \"x\"\n\
+             run          200 post no every 100 \"x\"\n"
+        );
+        // A stretch between two multiples holds no check.
+        assert_eq!(run_lines(201, 50, Some(&o)), "run          50\n");
+        assert_eq!(run_lines(0, 0, Some(&o)), "run          0\n");
+    }
+
+    /// Two outlets: the second counts only what the first does not take
+    /// (`outlet1_only`, inside outlet1 and outside outlet0), the dump
+    /// leaves out the free spheres in either, the columns add what is in
+    /// the region now to what was deleted.
+    #[test]
+    fn the_rows_leave_out_what_the_next_check_deletes() {
+        use dembound_scene::io::{config, resolve::resolve};
+        let text = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.005, 0.005, 0.008], radius = 1.0e-3 } ]
+material = "a"
+[[outlet]]
+region = { box = { lower = [0.0, 0.0, 0.0], upper = [0.01, 0.01, 0.002] } }
+[[outlet]]
+region = { box = { lower = [0.0, 0.0, 0.0], upper = [0.005, 0.01, 0.004] } }
+[integration]
+dt = 1.0e-6
+steps = 10
+"#;
+        let file = config::load(text, "test", &[]).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        let o = plan(&scene.setup, "LIGGGHTS", Some("free"), "spheres")
+            .expect("plans")
+            .expect("outlets");
+        let s = &o.setup;
+        for line in [
+            "region       outlet0_out block 0 1e-2 0 1e-2 0 2e-3 units box side out",
+            "region       outlet1_only intersect 2 outlet1 outlet0_out",
+            "variable     out0_n equal v_out0_done_n+count(free,outlet0)",
+            "variable     out1_m equal v_out1_done_m+mass(free,outlet1_only)",
+            "region       outlets union 2 outlet0 outlet1",
+            "variable     outlet_pending atom grmask(free,outlets)",
+            "dump_modify  spheres thresh v_outlet_pending == 0",
+        ] {
+            assert!(s.lines().any(|l| l == line), "no `{line}` in\n{s}");
+        }
+        // The thresh refers to the variable defined before it.
+        assert!(s.find("variable     outlet_pending").unwrap() < s.find("thresh").unwrap());
+        assert_eq!(o.columns, " v_out0_n v_out0_m v_out1_n v_out1_m");
+        // The commands add the deleted count to the totals the columns read.
+        assert!(o
+            .commands
+            .contains("\"variable out1_done_n equal ${out1_done_n}+${out1_dn}\""));
+        assert!(o
+            .commands
+            .contains("\"delete_atoms group out0 compress no\""));
+        // Every sphere free: the group is `all`.
+        let o = plan(&scene.setup, "LAMMPS", None, "state")
+            .unwrap()
+            .unwrap();
+        assert!(o.setup.contains("count(all,outlet0)"), "{}", o.setup);
+        assert!(o
+            .setup
+            .contains("dump_modify  state thresh v_outlet_pending == 0"));
     }
 }

@@ -201,8 +201,12 @@ pub type ThermoRow = BTreeMap<String, f64>;
 /// order printed (column name → value, the names as the header line
 /// `Step …` above prints them). A step is printed twice at the end of one
 /// `run … every` loop and at the start of the next, after the loop's
-/// commands (an outlet's deletion) ran: the first row is the state the
-/// dump wrote at that step, the last the state the next steps start from.
+/// commands (an outlet's deletion) ran: the first row is written with the
+/// dump at that step, the last is the state the next steps start from.
+/// Today's decks count in the first row the spheres the commands are
+/// about to delete (outlets.rs), so both rows agree on the outlets'
+/// columns; a log of an older deck has the count before the deletion in
+/// the first.
 pub fn thermo_rows(log: &str) -> BTreeMap<u64, Vec<ThermoRow>> {
     let mut rows = BTreeMap::new();
     let mut header: Vec<&str> = Vec::new();
