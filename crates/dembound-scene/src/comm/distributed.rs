@@ -157,7 +157,7 @@ pub(crate) struct RankComm<T: Transport> {
     /// Load re-balancing ([`balance`]).
     balance: balance::Balance,
     /// Overlap the halo exchange with the pairs that need none of it
-    /// (`parallel.halo_overlap`, default on; `dynamics::halo_split`).
+    /// (`parallel.halo_overlap`, default off; `dynamics::halo_split`).
     overlap: bool,
     /// Steps whose halo exchange ran during the force stage's pairs.
     overlapped_steps: u64,
@@ -365,7 +365,7 @@ impl<T: Transport> DistributedSimulation<T> {
             collision_steps: Vec::new(),
             restored_collisions: 0,
             balance: balance::Balance::default(),
-            overlap: true,
+            overlap: false,
             overlapped_steps: 0,
             deferred_pairs: 0,
             halo_wait: 0.0,
@@ -417,8 +417,8 @@ impl<T: Transport> DistributedSimulation<T> {
     }
 
     /// `parallel.halo_overlap`: whether the halo exchange runs during the
-    /// force stage's pairs that need none of it (default) or before the
-    /// force stage. The same bits either way.
+    /// force stage's pairs that need none of it or before the force stage
+    /// (default). The same bits either way.
     pub fn set_halo_overlap(&mut self, on: bool) {
         self.comm.overlap = on;
         let sim = &mut self.sim;
