@@ -135,8 +135,8 @@ fn one_two_three_ranks_same_state_shared_memory() {
     same_run(&[]);
 }
 
-/// The halo exchange during the interior pairs (`parallel.halo_overlap`,
-/// default true, `dynamics::halo_split`): the lattice drop on 2 and 3
+/// The halo exchange during the interior pairs (`parallel.halo_overlap =
+/// true`, `dynamics::halo_split`): the lattice drop on 2 and 3
 /// ranks (a bed settled across the cuts: many pairs with halo copies)
 /// takes the split path on every rank (the JSON's overlapped steps and
 /// deferred pairs) and ends in the same state and wall loads as with
@@ -146,6 +146,7 @@ fn one_two_three_ranks_same_state_shared_memory() {
 fn the_halo_overlap_keeps_the_bits_under_mpirun() {
     let tmp = tempfile::tempdir().expect("temp dir");
     let off = ["--set", "parallel.halo_overlap=false"];
+    let overlap = ["--set", "parallel.halo_overlap=true"];
     let d1 = tmp.path().join("r1");
     mpirun(1, &[], &off, &d1);
     let s1 = state(&d1);
@@ -162,7 +163,7 @@ fn the_halo_overlap_keeps_the_bits_under_mpirun() {
             tmp.path().join(format!("on{ranks}")),
             tmp.path().join(format!("off{ranks}")),
         );
-        let on = mpirun(ranks, &[], &[], &d_on);
+        let on = mpirun(ranks, &[], &overlap, &d_on);
         let before = mpirun(ranks, &[], &off, &d_off);
         // 10,000 steps, a series row every 10: 9 in 10 steps are fused
         // (the last of each stretch is not, nor are the list builds').

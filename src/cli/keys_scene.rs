@@ -689,7 +689,7 @@ pub fn keys() -> Vec<KeyInfo> {
         row(
             "parallel.halo_overlap",
             "",
-            "true",
+            "false",
             "true, false".into(),
             "MPI halo exchange during the interior pairs",
         ),

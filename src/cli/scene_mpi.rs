@@ -322,7 +322,7 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     }
     let threshold = resolved.file.parallel.rebalance_threshold;
     sim.set_rebalance_threshold(threshold.unwrap_or(DEFAULT_REBALANCE_THRESHOLD));
-    sim.set_halo_overlap(resolved.file.parallel.halo_overlap.unwrap_or(true));
+    sim.set_halo_overlap(resolved.file.parallel.halo_overlap.unwrap_or(false));
 
     let total = sim.total_steps();
     let start = sim.steps_done();

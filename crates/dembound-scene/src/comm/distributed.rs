@@ -118,6 +118,11 @@ pub(crate) struct RankComm<T: Transport> {
     /// Every step: local indices of the free halo bodies received from
     /// each rank, in arrival order.
     receives: Vec<(usize, Vec<u32>)>,
+    /// The per-step halo messages out, by rank, and in, one per rank of
+    /// `receives`: kept from step to step (grown when needed, never
+    /// zeroed), the bytes of the last step's exchange.
+    halo_out: Vec<(usize, Vec<u8>)>,
+    halo_in: Vec<Vec<u8>>,
     incidence_start: Vec<u32>,
     /// Each body's incident pair entries in partner-id order: entry index,
     /// bit 31 set when the body is the pair's i (it gets minus the force).
@@ -152,7 +157,7 @@ pub(crate) struct RankComm<T: Transport> {
     /// Load re-balancing ([`balance`]).
     balance: balance::Balance,
     /// Overlap the halo exchange with the pairs that need none of it
-    /// (`parallel.halo_overlap`, default on; `dynamics::halo_split`).
+    /// (`parallel.halo_overlap`, default off; `dynamics::halo_split`).
     overlap: bool,
     /// Steps whose halo exchange ran during the force stage's pairs.
     overlapped_steps: u64,
@@ -343,6 +348,8 @@ impl<T: Transport> DistributedSimulation<T> {
             dropping: Vec::new(),
             sends: Vec::new(),
             receives: Vec::new(),
+            halo_out: Vec::new(),
+            halo_in: Vec::new(),
             incidence_start: Vec::new(),
             incidence: Vec::new(),
             walled: Vec::new(),
@@ -358,7 +365,7 @@ impl<T: Transport> DistributedSimulation<T> {
             collision_steps: Vec::new(),
             restored_collisions: 0,
             balance: balance::Balance::default(),
-            overlap: true,
+            overlap: false,
             overlapped_steps: 0,
             deferred_pairs: 0,
             halo_wait: 0.0,
@@ -410,8 +417,8 @@ impl<T: Transport> DistributedSimulation<T> {
     }
 
     /// `parallel.halo_overlap`: whether the halo exchange runs during the
-    /// force stage's pairs that need none of it (default) or before the
-    /// force stage. The same bits either way.
+    /// force stage's pairs that need none of it or before the force stage
+    /// (default). The same bits either way.
     pub fn set_halo_overlap(&mut self, on: bool) {
         self.comm.overlap = on;
         let sim = &mut self.sim;
@@ -752,37 +759,59 @@ impl<T: Transport> RankComm<T> {
         whole
     }
 
-    /// The per-step halo messages: position and velocity (and spin) of
-    /// each free body another rank holds a copy of, by rank.
-    fn halo_sends(&mut self, world: &World) -> Vec<(usize, Vec<u8>)> {
+    /// The per-step halo messages into `halo_out`: position and velocity
+    /// (and spin) of each free body another rank holds a copy of, by
+    /// rank, written into the buffers of the last step.
+    fn halo_sends(&mut self, world: &World) {
         let spin = world.friction.is_some();
+        let record = halo_record(spin);
         let b = &world.bodies;
-        let sends: Vec<(usize, Vec<u8>)> = self
-            .sends
-            .iter()
-            .map(|(r, idx)| {
-                let record = halo_record(spin);
-                let mut out = Vec::with_capacity(idx.len() * record);
+        self.halo_out
+            .resize_with(self.sends.len(), Default::default);
+        let mut bytes = 0u64;
+        for ((r, idx), (to, out)) in self.sends.iter().zip(self.halo_out.iter_mut()) {
+            *to = *r;
+            out.clear();
+            out.reserve(idx.len() * record);
+            // Records of a fixed size each way (copies of known length).
+            if spin {
                 for &k in idx {
                     let k = k as usize;
                     let mut at = [0u8; 72];
                     put_vec3(&mut at[..24], b.position[k]);
                     put_vec3(&mut at[24..48], b.velocity[k]);
-                    if spin {
-                        put_vec3(&mut at[48..], b.angular_velocity[k]);
-                    }
-                    out.extend_from_slice(&at[..record]);
+                    put_vec3(&mut at[48..], b.angular_velocity[k]);
+                    out.extend_from_slice(&at);
                 }
-                (*r, out)
-            })
-            .collect();
-        self.bytes_sent += sends.iter().map(|(_, s)| s.len() as u64).sum::<u64>();
-        sends
+            } else {
+                for &k in idx {
+                    let k = k as usize;
+                    let mut at = [0u8; 48];
+                    put_vec3(&mut at[..24], b.position[k]);
+                    put_vec3(&mut at[24..], b.velocity[k]);
+                    out.extend_from_slice(&at);
+                }
+            }
+            bytes += out.len() as u64;
+        }
+        self.bytes_sent += bytes;
+    }
+
+    /// `halo_in` sized for this step's messages: one per rank of
+    /// `receives`, of their exact lengths (grown when needed; the bytes
+    /// left from the last step are overwritten by the receive).
+    fn size_halo_in(&mut self, spin: bool) {
+        let record = halo_record(spin);
+        self.halo_in
+            .resize_with(self.receives.len(), Default::default);
+        for ((_, idx), buf) in self.receives.iter().zip(self.halo_in.iter_mut()) {
+            buf.resize(idx.len() * record, 0);
+        }
     }
 
     /// The halo copies take the state [`Self::halo_sends`] sent (`got`:
     /// one message per rank of `receives`, in that order).
-    fn halo_receive(&self, world: &mut World, got: Vec<Vec<u8>>) {
+    fn halo_receive(&self, world: &mut World, got: &[Vec<u8>]) {
         let spin = world.friction.is_some();
         let b = &mut world.bodies;
         let record = halo_record(spin);
@@ -800,11 +829,11 @@ impl<T: Transport> RankComm<T> {
 
     /// Position and velocity of every free halo body from its owner.
     fn halo_update(&mut self, world: &mut World) {
-        let sends = self.halo_sends(world);
+        self.halo_sends(world);
         let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
         let clock = Instant::now();
-        let got = self.transport.exchange(&sends, &from);
-        self.halo_receive(world, got);
+        let got = self.transport.exchange(&self.halo_out, &from);
+        self.halo_receive(world, &got);
         self.halo_wait += clock.elapsed().as_secs_f64();
     }
 }
@@ -952,23 +981,18 @@ impl<T: Transport> StepHooks for RankComm<T> {
         world: &mut World,
         interior: &mut dyn FnMut(&mut World, &mut dyn FnMut()),
     ) {
-        let sends = self.halo_sends(world);
-        let record = halo_record(world.friction.is_some());
-        let from: Vec<(usize, usize)> = self
-            .receives
-            .iter()
-            .map(|(r, idx)| (*r, idx.len() * record))
-            .collect();
+        self.halo_sends(world);
+        self.size_halo_in(world.friction.is_some());
+        let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
         let clock = Instant::now();
         let mut working = 0.0;
-        let got = self
-            .transport
-            .exchange_during(&sends, &from, &mut |progress| {
+        self.transport
+            .exchange_during(&self.halo_out, &from, &mut self.halo_in, &mut |progress| {
                 let started = Instant::now();
                 interior(world, progress);
                 working += started.elapsed().as_secs_f64();
             });
-        self.halo_receive(world, got);
+        self.halo_receive(world, &self.halo_in);
         self.halo_wait += clock.elapsed().as_secs_f64() - working;
         self.overlapped_steps += 1;
     }

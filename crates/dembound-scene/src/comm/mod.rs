@@ -29,14 +29,18 @@ pub trait Transport {
     fn exchange(&self, sends: &[(usize, Vec<u8>)], from: &[usize]) -> Vec<Vec<u8>>;
     /// [`Self::exchange`] with `work` run while the messages are in
     /// flight (MPI: non-blocking sends and receives, completed after it);
-    /// `from`: (rank, the message's exact length in bytes). `work` may
-    /// call its argument now and then to let the messages progress.
+    /// the message from `from[k]` lands in `got[k]`, whose length the
+    /// caller has set to the message's exact length in bytes (the buffers
+    /// are the caller's, kept from step to step: nothing is allocated or
+    /// zeroed here). `work` may call its argument now and then to let the
+    /// messages progress.
     fn exchange_during(
         &self,
         sends: &[(usize, Vec<u8>)],
-        from: &[(usize, usize)],
+        from: &[usize],
+        got: &mut [Vec<u8>],
         work: &mut dyn FnMut(&mut dyn FnMut()),
-    ) -> Vec<Vec<u8>>;
+    );
     /// `to[r]`: whether this rank will send to rank r; returns, for each
     /// rank r, whether r will send to this rank.
     fn who_sends(&self, to: &[bool]) -> Vec<bool>;
@@ -66,10 +70,11 @@ impl<T: Transport + ?Sized> Transport for &T {
     fn exchange_during(
         &self,
         sends: &[(usize, Vec<u8>)],
-        from: &[(usize, usize)],
+        from: &[usize],
+        got: &mut [Vec<u8>],
         work: &mut dyn FnMut(&mut dyn FnMut()),
-    ) -> Vec<Vec<u8>> {
-        (**self).exchange_during(sends, from, work)
+    ) {
+        (**self).exchange_during(sends, from, got, work)
     }
     fn who_sends(&self, to: &[bool]) -> Vec<bool> {
         (**self).who_sends(to)

@@ -65,22 +65,22 @@ impl Transport for MpiTransport {
         })
     }
 
-    /// Receives posted first (`MPI_Irecv` into buffers of the known
-    /// lengths), then the sends (`MPI_Isend`); `work` runs while they are
-    /// in flight, its calls to its argument test them (`MPI_Test`: Open
-    /// MPI moves messages only inside its calls); then every one is
-    /// waited for.
+    /// Receives posted first (`MPI_Irecv` into the caller's buffers, of
+    /// the messages' lengths), then the sends (`MPI_Isend`); `work` runs
+    /// while they are in flight, its calls to its argument test them
+    /// (`MPI_Test`: Open MPI moves messages only inside its calls); then
+    /// every one is waited for.
     fn exchange_during(
         &self,
         sends: &[(usize, Vec<u8>)],
-        from: &[(usize, usize)],
+        from: &[usize],
+        got: &mut [Vec<u8>],
         work: &mut dyn FnMut(&mut dyn FnMut()),
-    ) -> Vec<Vec<u8>> {
+    ) {
         let world = &self.world;
-        let mut got: Vec<Vec<u8>> = from.iter().map(|&(_, len)| vec![0u8; len]).collect();
         mpi::request::scope(|scope| {
             let mut requests: Vec<Option<_>> = Vec::with_capacity(from.len() + sends.len());
-            for (&(r, _), buf) in from.iter().zip(got.iter_mut()) {
+            for (&r, buf) in from.iter().zip(got.iter_mut()) {
                 let p = world.process_at_rank(r as i32);
                 requests.push(Some(p.immediate_receive_into(scope, &mut buf[..])));
             }
@@ -99,7 +99,6 @@ impl Transport for MpiTransport {
                 r.wait();
             }
         });
-        got
     }
 
     fn who_sends(&self, to: &[bool]) -> Vec<bool> {

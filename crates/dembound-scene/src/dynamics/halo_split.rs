@@ -49,6 +49,15 @@ mod quad;
 /// [`HaloSplit::slot_of`] of a pair of two early bodies (not stored).
 const NOT_STORED: u32 = u32::MAX;
 
+/// A stored pair: its force on j (N), valid when `stamp` is this step's
+/// (the pair touches). Side by side, one cache line a pair.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(32))]
+struct Stored {
+    force: [f64; 3],
+    stamp: u32,
+}
+
 /// One item of the first part's plan, in the loop's order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Early {
@@ -95,10 +104,8 @@ pub struct HaloSplit {
     /// `late_bodies[p]`.
     incoming_start: Vec<u32>,
     incoming: Vec<u32>,
-    /// Each stored pair's force on j (N), valid when its `touched` is
-    /// this step's `stamp` (the pair touches).
-    force: Vec<[f64; 3]>,
-    touched: Vec<u32>,
+    /// Each stored pair's force on j and its step stamp ([`Stored`]).
+    pairs: Vec<Stored>,
     stamp: u32,
     /// The list's bodies and entries.
     shape: (usize, usize),
@@ -188,8 +195,7 @@ impl HaloSplit {
             late_bodies,
             incoming_start,
             incoming,
-            force: vec![[0.0; 3]; slots as usize],
-            touched: vec![0; slots as usize],
+            pairs: vec![Stored::default(); slots as usize],
             stamp: 0,
             shape: (n, m),
         }
@@ -214,14 +220,22 @@ impl HaloSplit {
     /// Stored pair `slot` touches this step: its force is set.
     #[inline(always)]
     fn set(&mut self, slot: usize, fj: [f64; 3]) {
-        self.force[slot] = fj;
-        self.touched[slot] = self.stamp;
+        debug_assert!(slot < self.pairs.len());
+        let stamp = self.stamp;
+        // SAFETY: as in `stored`: every slot the split holds is below the
+        // stored pairs' count.
+        *unsafe { self.pairs.get_unchecked_mut(slot) } = Stored { force: fj, stamp };
     }
 
     /// The force on j of stored pair `slot` if it touches this step.
     #[inline(always)]
     fn stored(&self, slot: usize) -> Option<[f64; 3]> {
-        (self.touched[slot] == self.stamp).then_some(self.force[slot])
+        debug_assert!(slot < self.pairs.len());
+        // SAFETY: every slot the split holds (`slot_of`, `deferred`,
+        // `incoming`, `slot_start`'s ranges) was numbered below the
+        // stored pairs' count when it was built (`HaloSplit::new`).
+        let s = unsafe { self.pairs.get_unchecked(slot) };
+        (s.stamp == self.stamp).then_some(s.force)
     }
 
     /// The first part (see the module): every row in order, the pairs of
@@ -241,7 +255,7 @@ impl HaloSplit {
         // A new step: every stored pair apart until set.
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
-            self.touched.fill(0);
+            self.pairs.fill(Stored::default());
             self.stamp = 1;
         }
         // The rows' pairs four at a time as the engine's blocks test them
@@ -337,17 +351,15 @@ impl HaloSplit {
         }
     }
 
-    /// The second part (see the module), once the stale bodies' state has
-    /// arrived: their pairs, each late body's sum in the loop's order, its
-    /// follow-up. Returns the follow-ups' maximum.
+    /// The second part's pairs (see the module), once the stale bodies'
+    /// state has arrived: the pairs with a stale body, stored.
     ///
     /// # Safety
     /// As [`Self::early`], which ran just before on the same state.
-    pub(crate) unsafe fn late(&mut self, rows: &Rows, follow: FollowUp) -> f64 {
+    pub(crate) unsafe fn late_pairs(&mut self, rows: &Rows) {
         let (bodies, laws, list, hist) = rows.parts();
-        let (start, js) = (&list.start[..], &list.j[..]);
+        let js = &list.j[..];
         let (position, velocity, radius) = (&bodies.position, &bodies.velocity, &bodies.radius);
-        let f_ptr = rows.forces();
         // Four at a time as in the first part, else pair by pair.
         #[cfg(target_arch = "x86_64")]
         let quad = hist.is_none() && std::is_x86_feature_detected!("avx2");
@@ -390,6 +402,20 @@ impl HaloSplit {
                 }
             }
         }
+    }
+
+    /// The second part's sums (see the module), every stored pair set
+    /// ([`Self::late_pairs`]): each late
+    /// body's sum in the loop's order, its follow-up. Returns the
+    /// follow-ups' maximum.
+    ///
+    /// # Safety
+    /// As [`Self::early`], which ran on the same state.
+    pub(crate) unsafe fn late_sums(&mut self, rows: &Rows, follow: FollowUp) -> f64 {
+        let start = &rows.parts().2.start[..];
+        let f_ptr = rows.forces();
+        // Each late body's sum, in registers: the same additions in the
+        // same order as adding to its force in place.
         for (p, &y) in self.late_bodies.iter().enumerate() {
             let y = y as usize;
             if self.stale[y] {
@@ -399,26 +425,28 @@ impl HaloSplit {
             }
             // SAFETY: one thread; y a body.
             let f = unsafe { f_ptr.at(y) };
+            let mut sum = *f;
             let (a, z) = (
                 self.incoming_start[p] as usize,
                 self.incoming_start[p + 1] as usize,
             );
             for &slot in &self.incoming[a..z] {
                 if let Some(fj) = self.stored(slot as usize) {
-                    add(f, fj);
+                    add(&mut sum, fj);
                 }
             }
             let (s, e) = (start[y] as usize, start[y + 1] as usize);
             if s != e {
                 let first = self.slot_start[y] as usize;
                 let mut fy = [0.0; 3];
-                for slot in first..first + (e - s) {
-                    if let Some(fj) = self.stored(slot) {
-                        sub(&mut fy, fj);
+                for pair in &self.pairs[first..first + (e - s)] {
+                    if pair.stamp == self.stamp {
+                        sub(&mut fy, pair.force);
                     }
                 }
-                add(f, fy);
+                add(&mut sum, fy);
             }
+            *f = sum;
         }
         let mut moved = 0.0f64;
         for &(a, z) in &self.late_runs {

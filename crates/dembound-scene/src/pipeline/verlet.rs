@@ -534,9 +534,11 @@ impl Pipeline {
                 split.early(rows, follow, progress)
             });
         });
-        // SAFETY: as above; the early part ran on this state.
+        // SAFETY: as above; the early part ran on this state. The pairs
+        // with a stale body, then the late bodies' sums.
         let late = with_fused(world, reference, wall_energy, |rows, follow| unsafe {
-            split.late(rows, follow)
+            split.late_pairs(rows);
+            split.late_sums(rows, follow)
         });
         self.halo_split = Some(split);
         moved2.max(late)

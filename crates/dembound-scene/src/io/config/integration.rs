@@ -122,8 +122,10 @@ pub struct ParallelSection {
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub checkpoint_per_rank: bool,
     /// Exchange the halo's per-step state while the pairs that need none
-    /// of it are computed (default true); false: before the force stage.
-    /// The same bits either way (`dynamics::halo_split`).
+    /// of it are computed; false (default): before the force stage, then
+    /// the engine's own loop (fewer instructions; on one node the
+    /// blocking exchange is short: BENCHMARKS.md, "Two ranks at 10k:
+    /// halo buffers"). The same bits either way (`dynamics::halo_split`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub halo_overlap: Option<bool>,
 }
