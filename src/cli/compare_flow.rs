@@ -120,7 +120,10 @@ mod tests {
         };
         let mut thermo = BTreeMap::new();
         thermo.insert(0, vec![counts(0.0, 0.0, 0.0, 0.0)]);
-        // Step 100: before the deletion (with the dump), then after it.
+        // Step 100: the row written with the dump, then the one after the
+        // outlet's deletion. Decks written before the rows counted the spheres
+        // about to be deleted had 0 discharged in the first (as here); today's
+        // count them in both rows, so reading the first row is right for both.
         thermo.insert(
             100,
             vec![counts(0.0, 0.0, 5.0, 1.25), counts(2.0, 0.5, 5.0, 1.25)],
