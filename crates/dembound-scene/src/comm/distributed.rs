@@ -827,13 +827,18 @@ impl<T: Transport> RankComm<T> {
         }
     }
 
-    /// Position and velocity of every free halo body from its owner.
+    /// Position and velocity of every free halo body from its owner,
+    /// before the force stage (`parallel.halo_overlap = false`): the
+    /// overlapped exchange with nothing to overlap, so both schedules
+    /// receive into the same kept buffers (no allocation, no probe).
     fn halo_update(&mut self, world: &mut World) {
         self.halo_sends(world);
+        self.size_halo_in(world.friction.is_some());
         let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
         let clock = Instant::now();
-        let got = self.transport.exchange(&self.halo_out, &from);
-        self.halo_receive(world, &got);
+        self.transport
+            .exchange_during(&self.halo_out, &from, &mut self.halo_in, &mut |_| {});
+        self.halo_receive(world, &self.halo_in);
         self.halo_wait += clock.elapsed().as_secs_f64();
     }
 }

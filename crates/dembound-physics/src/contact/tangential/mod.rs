@@ -457,7 +457,8 @@ impl FrictionPair {
         // soon as the moved spring is known, rather than after a test that
         // contacts turning between sticking and sliding make unpredictable
         // (a sticking contact discards them, an inf or NaN at |δ| = 0
-        // included); undamped, no test is left at all.
+        // included). Undamped, sliding and sticking both return the
+        // spring's force below.
         let spring = k_t * stretch.sqrt();
         let s = std::hint::select_unpredictable(sliding, limit / spring, 1.0);
         for x in shear.iter_mut() {
