@@ -50,7 +50,8 @@ mod quad;
 const NOT_STORED: u32 = u32::MAX;
 
 /// A stored pair: its force on j (N), valid when `stamp` is this step's
-/// (the pair touches). Side by side, one cache line a pair.
+/// (the pair touches). Side by side, 32 bytes a pair: two a cache
+/// line, none straddling one.
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(32))]
 struct Stored {

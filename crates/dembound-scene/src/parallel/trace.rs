@@ -139,6 +139,7 @@ impl Trace {
         s.stages += 1;
         s.span += ns(raised, done);
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        let (mut total, mut timed) = (0.0, 0usize);
         for (t, p) in parts.iter().enumerate() {
             let (Some(a), Some(b)) = (p.start, p.end) else {
                 continue;
@@ -151,18 +152,15 @@ impl Trace {
             s.units[t] += p.units as f64;
             lo = lo.min(busy);
             hi = hi.max(busy);
+            total += busy;
+            timed += 1;
         }
         if hi >= lo {
             s.spread += hi - lo;
         }
-        let busy: Vec<f64> = parts
-            .iter()
-            .filter_map(|p| Some(ns(p.start?, p.end?) - p.waited as f64))
-            .collect();
-        let total: f64 = busy.iter().sum();
-        let most = busy.iter().copied().fold(0.0, f64::max);
-        if total > 0.0 && busy.len() > 1 {
-            if most >= ONE_SIDED * total {
+        // One-sided: the busiest worker (`hi`) did nearly all of it.
+        if total > 0.0 && timed > 1 {
+            if hi >= ONE_SIDED * total {
                 s.one_sided += 1;
                 s.streak += 1;
                 s.longest = s.longest.max(s.streak);
