@@ -186,7 +186,7 @@ pub(crate) fn refuse_moving_groups(setup: &dembound_scene::SceneSetup, code: &st
 pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
     if !setup.outlets.is_empty() {
         return Err(Error::Export(format!(
-            "`outlet` cannot be exported: the {code} deck has no removal by dembound's rule \
+            "`outlet[0]` cannot be exported: the {code} deck has no removal by dembound's rule \
              (a centre inside the region, touching nothing); remove the [[outlet]] sections to \
              export the scene (the LAMMPS and LIGGGHTS decks write outlets)"
         )));
@@ -224,6 +224,16 @@ pub(crate) fn refuse_inlets(
         )));
     }
     Ok(())
+}
+
+/// The refusal of a scene with no free sphere (every `[[particles]]`
+/// group `fixed = true`, no `[[inlet]]`) by the `code` deck writer: the
+/// decks integrate the free spheres and would run nothing.
+pub(crate) fn no_free_sphere(code: &str) -> Error {
+    Error::Export(format!(
+        "the scene has no free sphere to export to {code}: every `particles[K].fixed` is true \
+         and there is no [[inlet]]; give a group `fixed = false` (or an inlet) to export the scene"
+    ))
 }
 
 /// The refusal of a scene with a force-controlled wall (issue 27,
