@@ -46,6 +46,15 @@ pub enum Code {
 }
 
 impl Code {
+    /// The code's own spelling, as refusals name it.
+    pub fn title(&self) -> &'static str {
+        match self {
+            Code::Lammps => "LAMMPS",
+            Code::Liggghts => "LIGGGHTS",
+            Code::Yade => "Yade",
+        }
+    }
+
     pub fn name(&self) -> &'static str {
         match self {
             Code::Lammps => "lammps",
@@ -270,7 +279,14 @@ pub(crate) fn refuse_gates(setup: &dembound_scene::SceneSetup, code: &str) -> Re
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
 pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {
-    let plan = plan::Plan::new(scenario)?;
+    // The plan is the same for every code: its refusals (a law or a value
+    // no deck takes) get the code named here.
+    let plan = plan::Plan::new(scenario).map_err(|e| {
+        Error::Export(format!(
+            "the scenario cannot be exported to {}: {e}",
+            code.title()
+        ))
+    })?;
     let for_code = match pitfall {
         None => code,
         Some(Pitfall::WallMaterial | Pitfall::AutoMix) => Code::Lammps,
