@@ -162,3 +162,52 @@ fn bounce_deck_refusals_name_the_file_and_the_code() {
     std::fs::remove_file(deck.join("scenario.toml")).expect("removed");
     refused(&deck, &[], &["scenario.toml", "--scenario", "LAMMPS"]);
 }
+
+/// A LIGGGHTS dump row (no mass column) of `(id, type)` spheres, with or
+/// without the radius column.
+fn liggghts_row(step: u64, spheres: &[(u64, u64)], radius: bool) -> String {
+    let mut s = format!(
+        "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS mm mm mm\n\
+         0 0.01\n0 0.01\n0 0.02\nITEM: ATOMS id type {}x y z vx vy vz\n",
+        spheres.len(),
+        if radius { "radius " } else { "" }
+    );
+    for (id, kind) in spheres {
+        let x = 0.001 + 0.002 * *id as f64;
+        let r = if radius { "0.001 " } else { "" };
+        s.push_str(&format!("{id} {kind} {r}{x} 0.005 0.005 0 0 0\n"));
+    }
+    s
+}
+
+/// An inserted sphere the scene's materials cannot give a mass: of a type
+/// beyond them, or without a radius column. Exit 2 naming the step, the
+/// id and the code.
+#[test]
+fn inserted_spheres_without_a_mass_are_refused() {
+    let root = tempfile::tempdir().expect("a temporary directory");
+    let inlet = "[[inlet]]\n\
+                 region = { box = { lower = [0.001, 0.001, 0.016], upper = [0.009, 0.009, 0.019] } }\n\
+                 rate = { number = 100.0 }\n\
+                 size = { fixed = 1.0e-3 }\n\
+                 material = \"glass\"\n";
+    let deck = export(root.path(), "liggghts", &scene(inlet));
+    let dump = deck.join("particles.dump");
+    let two = [(1, 1), (2, 1)];
+    std::fs::write(
+        &dump,
+        liggghts_row(0, &two, true) + &liggghts_row(50, &[(1, 1), (2, 1), (3, 9)], true),
+    )
+    .expect("written");
+    refused(&deck, &[], &["step 50", "sphere id 3", "type", "LIGGGHTS"]);
+    std::fs::write(
+        &dump,
+        liggghts_row(0, &two, false) + &liggghts_row(50, &[(1, 1), (2, 1), (3, 1)], false),
+    )
+    .expect("written");
+    refused(
+        &deck,
+        &[],
+        &["step 50", "sphere id 3", "radius", "LIGGGHTS"],
+    );
+}

@@ -913,6 +913,17 @@ spheres = [ { position = [0.005, 0.005, 0.012], radius = 0.8e-3 } ]
         ],
         key: "domain.lower",
     },
+    Case {
+        site: "yade_scene.rs deck: Hooke, a wall's k_t above twice the spheres'",
+        code: "yade",
+        extra: "",
+        sets: &[
+            "contact.law={hooke=100.0}",
+            "contact.friction=0.5",
+            "contact.tangential=linear",
+        ],
+        key: "wall[0]",
+    },
 ];
 
 /// Exports `scene` (written with [`FLOOR_STL`] beside it) to `code` with
