@@ -906,8 +906,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         wall_terms.join("+"),
         inlets.as_ref().map_or("", |i| i.columns.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
-        // With inlets, the counts over time: at the series cadence.
-        if inlets.is_some() {
+        // With inlets or outlets, the counts over time: at the series
+        // cadence, so that a row between the outlets' checks reads the
+        // counts of its own step (`compare` takes the thermo row of a dump
+        // step, else the last before it: the last check's, short of the
+        // spheres the dump already leaves out).
+        if inlets.is_some() || outlets.is_some() {
             every
         } else {
             steps.max(1)

@@ -622,8 +622,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         inlets.as_ref().map_or("", |i| i.setup.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
         inlets.as_ref().map_or("", |i| i.columns.as_str()),
-        // With inlets, the counts over time: at the series cadence.
-        if inlets.is_some() { every } else { steps.max(1) }
+        // With inlets or outlets, the counts over time: at the series
+        // cadence (a row between the outlets' checks reads its own step's
+        // counts; lammps_scene.rs alike).
+        if inlets.is_some() || outlets.is_some() {
+            every
+        } else {
+            steps.max(1)
+        }
     )
     .ok();
     x.push_str(&wall_forces(setup, &windows, every));
