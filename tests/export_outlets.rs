@@ -178,7 +178,7 @@ fn check(code: &str, outlet1: &str, fields: usize, first: usize) {
         // checks, the multiples of EVERY, count it from its deletion.
         let checks: Vec<Vec<f64>> = rows
             .iter()
-            .filter(|r| (r[0] as u64) % EVERY == 0)
+            .filter(|r| (r[0] as u64).is_multiple_of(EVERY))
             .cloned()
             .collect();
         let mut entries: Vec<u64> = drops.iter().map(|&d| entry_step(d)).collect();
