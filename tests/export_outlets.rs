@@ -4,8 +4,9 @@
 //! mass removed per outlet as thermo columns. Five spheres fall freely
 //! into two outlet boxes: each code removes them at the first multiple
 //! of 100 steps at or after the step its centre entered (closed form),
-//! by outlet, with their mass; the dump's rows leave each out from the
-//! step its centre entered; dembound removes the same spheres.
+//! by outlet, with their mass; the thermo rows (at the series cadence,
+//! every step) count each and the dump's rows leave it out from the step
+//! its centre entered; dembound removes the same spheres.
 //! Outlets refused by Yade, `domain.outside = "delete"`, tilted
 //! cylinders and `[[inlet]]` (LAMMPS and Yade) refused naming the key and
 //! the code.
@@ -171,11 +172,30 @@ fn check(code: &str, outlet1: &str, fields: usize, first: usize) {
             "{code} outlet {k}: {} kg, want {want} kg",
             last[mass]
         );
+        // The thermo rows are written at the series cadence (every step
+        // here) and count a sphere from the step its centre enters (the
+        // state a deletion at that row would leave); the rows at the
+        // checks, the multiples of EVERY, count it from its deletion.
+        let checks: Vec<Vec<f64>> = rows
+            .iter()
+            .filter(|r| (r[0] as u64).is_multiple_of(EVERY))
+            .cloned()
+            .collect();
+        let mut entries: Vec<u64> = drops.iter().map(|&d| entry_step(d)).collect();
+        entries.sort_unstable();
+        for (c, &s) in entries.iter().enumerate() {
+            assert_eq!(
+                first_step_with(&rows, n, (c + 1) as f64),
+                Some(s),
+                "{code} outlet {k}: sphere {} counted from the wrong row",
+                c + 1
+            );
+        }
         let mut steps: Vec<u64> = drops.iter().map(|&d| removal_step(d)).collect();
         steps.sort_unstable();
         for (c, &s) in steps.iter().enumerate() {
             assert_eq!(
-                first_step_with(&rows, n, (c + 1) as f64),
+                first_step_with(&checks, n, (c + 1) as f64),
                 Some(s),
                 "{code} outlet {k}: sphere {} removed at the wrong step",
                 c + 1

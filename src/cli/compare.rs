@@ -146,13 +146,16 @@ pub fn run(args: &CompareArgs) -> CliResult {
             args.path.clone(),
         )
     };
+    // The deck's code, named in every refusal ("code" when the directory
+    // holds no deck input).
+    let code = code_in(&dir);
     let scenario_path = args
         .scenario
         .clone()
         .unwrap_or_else(|| dir.join("scenario.toml"));
     let text = std::fs::read_to_string(&scenario_path).map_err(|e| {
         CliError::input(anyhow!(
-            "cannot read the scenario `{}`: {e} (give --scenario)",
+            "cannot read the scenario `{}` of the {code} deck: {e} (give --scenario)",
             scenario_path.display()
         ))
     })?;
@@ -161,31 +164,37 @@ pub fn run(args: &CompareArgs) -> CliResult {
         .resolved();
     let trace_text = std::fs::read_to_string(&trace_path).map_err(|e| {
         CliError::input(anyhow!(
-            "cannot read the trace `{}`: {e} (run the deck first)",
+            "cannot read the trace `{}`: {e} (run the deck first: the {code} deck writes it)",
             trace_path.display()
         ))
     })?;
-    let trace = Trace::parse(&trace_text)
-        .map_err(|e| CliError::input(anyhow!("trace `{}`: {e}", trace_path.display())))?;
+    let trace = Trace::parse(&trace_text).map_err(|e| {
+        CliError::input(anyhow!(
+            "trace `{}` of the {code} deck: {e}",
+            trace_path.display()
+        ))
+    })?;
     let expected = dembound_export::fingerprint(&scenario);
     if let Some(found) = &trace.scenario {
         if *found != expected {
             return Err(CliError::input(anyhow!(
-                "trace `{}` was written by a deck of another scenario (fingerprint {found}, \
+                "trace `{}` was written by a {code} deck of another scenario (fingerprint {found}, \
                  `{}` has {expected}): run the deck exported with this scenario again",
                 trace_path.display(),
                 scenario_path.display()
             )));
         }
     }
-    let measured = trace
-        .contacts()
-        .map_err(|e| CliError::input(anyhow!("trace `{}`: {e}", trace_path.display())))?;
+    let measured = trace.contacts().map_err(|e| {
+        CliError::input(anyhow!(
+            "trace `{}` of the {code} deck: {e}",
+            trace_path.display()
+        ))
+    })?;
     let exact = exact_contacts(&scenario)?;
     let ours = simulate(&scenario, &mut ())
         .map_err(|e| CliError::failed(anyhow!("dembound's run failed: {e}")))?
         .contacts;
-    let code = code_in(&dir);
     let contacts: Vec<ContactComparison> = measured
         .iter()
         .enumerate()

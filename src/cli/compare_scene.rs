@@ -240,7 +240,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
     let dump_path = dir.join(dembound_export::lammps_output::DUMP_FILE);
     let text = std::fs::read_to_string(&dump_path).map_err(|e| {
         input(format!(
-            "cannot read `{}`: {e} (run the deck first: cd {} && {})",
+            "cannot read `{}`: {e} (run the {code} deck first: cd {} && {})",
             dump_path.display(),
             dir.display(),
             match code {
@@ -251,11 +251,11 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         ))
     })?;
     let rows = scene_dump::parse_dump(&text)
-        .map_err(|e| input(format!("`{}`: {e}", dump_path.display())))?;
+        .map_err(|e| input(format!("`{}` of the {code} deck: {e}", dump_path.display())))?;
     let read_walls = |name: &str| match std::fs::read_to_string(dir.join(name)) {
         Ok(t) => scene_dump::parse_walls(&t)
             .map(Some)
-            .map_err(|e| input(format!("`{name}`: {e}"))),
+            .map_err(|e| input(format!("`{name}` of the {code} deck: {e}"))),
         Err(_) => Ok(None),
     };
     // Both sides' means over every step of each row interval when the
@@ -276,7 +276,7 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         .map(|r| {
             reader.read(r).map_err(|e| {
                 input(format!(
-                    "`{}` {e}: the dump is not this deck's run (export and run again)",
+                    "`{}` {e}: the dump is not this deck's run ({code}; export and run again)",
                     dump_path.display()
                 ))
             })
@@ -336,7 +336,8 @@ pub fn run(args: &CompareArgs, dir: &Path) -> CliResult {
         }
         if row.step > total {
             return Err(input(format!(
-                "`{}` has step {} beyond the scene's {total} steps: not this deck's run",
+                "`{}` has step {} beyond the scene's {total} steps: not this deck's run \
+                 ({code}; export and run again)",
                 dump_path.display(),
                 row.step
             )));

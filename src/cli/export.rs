@@ -120,7 +120,9 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
     let code = Code::from(args.code);
     if args.pitfall.is_some() {
         return Err(CliError::input(anyhow!(
-            "--pitfall is for bounce scenarios, not scene files"
+            "--pitfall is for bounce scenarios, not scene files (the {} scene deck has no \
+             pitfall variant)",
+            code.title()
         )));
     }
     let scene_error = super::scene::scene_error;

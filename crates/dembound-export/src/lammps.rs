@@ -114,7 +114,9 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String> {
         (b @ Boundary::Sphere { .. }, _) => (Some(b), None),
         (Boundary::Plane { .. }, Some(Pitfall::AutoMix)) => {
             return Err(Error::Export(
-                "--pitfall auto-mix needs a boundary sphere (boundary.radius_ratio finite)".into(),
+                "--pitfall auto-mix (a LAMMPS pitfall) needs a boundary sphere \
+                 (boundary.radius_ratio finite)"
+                    .into(),
             ))
         }
         (Boundary::Plane { .. }, _) => (None, Some(0.0)),
@@ -140,7 +142,9 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String> {
         .ok();
         if pf == Pitfall::AutoMix && !e_b.is_finite() {
             return Err(Error::Export(
-                "--pitfall auto-mix needs a finite boundary modulus".into(),
+                "--pitfall auto-mix (a LAMMPS pitfall) needs a finite boundary modulus \
+                 (boundary.modulus_ratio finite)"
+                    .into(),
             ));
         }
     }

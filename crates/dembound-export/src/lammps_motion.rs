@@ -156,7 +156,8 @@ fn move_args(key: &str, motion: &WallMotion) -> Result<String> {
             num(1.0 / f)
         )),
         (false, false, None) => refuse(format!(
-            "`{key}.motion` moves nothing (velocity and angular_velocity 0); remove it to export"
+            "`{key}.motion` moves nothing (velocity and angular_velocity 0) and is not exported to \
+             LAMMPS; remove it to export"
         )),
         _ => refuse(format!(
             "`{key}.motion` and `{key}.oscillation` combine several motions (velocity {:?} m/s, \

@@ -239,7 +239,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                         .map(|i| (i.size.max_radius(), i.material))
                 });
             let Some((radius, mat)) = free else {
-                return refuse("the scene has no free sphere to export".into());
+                return Err(crate::no_free_sphere("LAMMPS"));
             };
             let m = material(mat);
             let reference = alpha(&PairProperties::spheres(
@@ -277,7 +277,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         ),
         (kind, _) => {
             return refuse(format!(
-                "contact.damping = \"{}\" is not exported for scenes yet (exported: \"none\", and \
+                "contact.damping = \"{}\" is not exported to LAMMPS for scenes yet (exported: \"none\", and \
                  \"tsuji\" given by contact.restitution); the bounce scenario export maps it \
                  (`dembound export lammps SCENARIO.toml`)",
                 kind.row().name
@@ -292,7 +292,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             Ok(e)
         } else {
             Err(Error::Export(format!(
-                "materials \"{}\" and \"{}\" are both rigid: their contact has no finite stiffness",
+                "`material[{}].youngs_modulus` and `material[{}].youngs_modulus` = inf \
+                 (materials \"{}\" and \"{}\", both rigid) cannot be exported to LAMMPS: their \
+                 contact has no finite stiffness for pair granular",
+                a.material,
+                b.material,
                 name(a.material),
                 name(b.material)
             )))
@@ -341,7 +345,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         .filter(|&t| types[t].fixed && !types[t].wall)
         .collect();
     if free_types.is_empty() {
-        return refuse("the scene has no free sphere to export".into());
+        return Err(crate::no_free_sphere("LAMMPS"));
     }
 
     // The data file.
@@ -902,8 +906,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         wall_terms.join("+"),
         inlets.as_ref().map_or("", |i| i.columns.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
-        // With inlets, the counts over time: at the series cadence.
-        if inlets.is_some() {
+        // With inlets or outlets, the counts over time: at the series
+        // cadence, so that a row between the outlets' checks reads the
+        // counts of its own step (`compare` takes the thermo row of a dump
+        // step, else the last before it: the last check's, short of the
+        // spheres the dump already leaves out).
+        if inlets.is_some() || outlets.is_some() {
             every
         } else {
             steps.max(1)

@@ -46,6 +46,15 @@ pub enum Code {
 }
 
 impl Code {
+    /// The code's own spelling, as refusals name it.
+    pub fn title(&self) -> &'static str {
+        match self {
+            Code::Lammps => "LAMMPS",
+            Code::Liggghts => "LIGGGHTS",
+            Code::Yade => "Yade",
+        }
+    }
+
     pub fn name(&self) -> &'static str {
         match self {
             Code::Lammps => "lammps",
@@ -186,7 +195,7 @@ pub(crate) fn refuse_moving_groups(setup: &dembound_scene::SceneSetup, code: &st
 pub(crate) fn refuse_removal(setup: &dembound_scene::SceneSetup, code: &str) -> Result<()> {
     if !setup.outlets.is_empty() {
         return Err(Error::Export(format!(
-            "`outlet` cannot be exported: the {code} deck has no removal by dembound's rule \
+            "`outlet[0]` cannot be exported: the {code} deck has no removal by dembound's rule \
              (a centre inside the region, touching nothing); remove the [[outlet]] sections to \
              export the scene (the LAMMPS and LIGGGHTS decks write outlets)"
         )));
@@ -226,6 +235,16 @@ pub(crate) fn refuse_inlets(
     Ok(())
 }
 
+/// The refusal of a scene with no free sphere (every `[[particles]]`
+/// group `fixed = true`, no `[[inlet]]`) by the `code` deck writer: the
+/// decks integrate the free spheres and would run nothing.
+pub(crate) fn no_free_sphere(code: &str) -> Error {
+    Error::Export(format!(
+        "the scene has no free sphere to export to {code}: every `particles[K].fixed` is true \
+         and there is no [[inlet]]; give a group `fixed = false` (or an inlet) to export the scene"
+    ))
+}
+
 /// The refusal of a scene with a force-controlled wall (issue 27,
 /// `[[wall]] servo`) by the `code` deck writer, naming the wall's key:
 /// the decks do not write LIGGGHTS's `servo` mesh module (nor has LAMMPS
@@ -260,7 +279,14 @@ pub(crate) fn refuse_gates(setup: &dembound_scene::SceneSetup, code: &str) -> Re
 /// The deck of `scenario` for `code` (`pitfall`: a known-wrong variant,
 /// for the code it belongs to).
 pub fn export(code: Code, scenario: &Scenario, pitfall: Option<Pitfall>) -> Result<Deck> {
-    let plan = plan::Plan::new(scenario)?;
+    // The plan is the same for every code: its refusals (a law or a value
+    // no deck takes) get the code named here.
+    let plan = plan::Plan::new(scenario).map_err(|e| {
+        Error::Export(format!(
+            "the scenario cannot be exported to {}: {e}",
+            code.title()
+        ))
+    })?;
     let for_code = match pitfall {
         None => code,
         Some(Pitfall::WallMaterial | Pitfall::AutoMix) => Code::Lammps,

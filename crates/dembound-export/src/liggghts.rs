@@ -40,7 +40,9 @@ pub fn deck(plan: &Plan) -> Result<String> {
     }
     if matches!(plan.law, Law::Tsuji { .. } | Law::Viscoelastic { .. }) {
         return Err(Error::Export(
-            "Hertz with tsuji or viscoelastic damping is exported to LAMMPS only so far".into(),
+            "contact.damping = \"tsuji\" or \"viscoelastic\" with contact.law = \"hertz\" \
+             cannot be exported to LIGGGHTS (exported to LAMMPS only so far)"
+                .into(),
         ));
     }
     let mut d = String::new();

@@ -75,8 +75,13 @@ pub(crate) fn move_mesh_line(
             }
             _ => "only turning meshes are exported (fix move/mesh rotate); give the wall as a `mesh`",
         };
+        let key = if motion.velocity == [0.0; 3] && motion.angular_velocity == [0.0; 3] {
+            "oscillation"
+        } else {
+            "motion"
+        };
         return refuse(format!(
-            "`wall[{w}].motion` of a `{}` wall is not exported to LIGGGHTS: {why}",
+            "`wall[{w}].{key}` of a `{}` wall is not exported to LIGGGHTS: {why}",
             wall.key()
         ));
     };
@@ -145,7 +150,8 @@ fn rotate_line(w: usize, motion: &WallMotion) -> Result<String> {
     let speed = (omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2]).sqrt();
     if speed == 0.0 {
         return refuse(format!(
-            "`wall[{w}].motion` moves nothing (velocity and angular_velocity 0); remove it to export"
+            "`wall[{w}].motion` moves nothing (velocity and angular_velocity 0) and is not exported \
+             to LIGGGHTS; remove it to export"
         ));
     }
     let c = motion.center;

@@ -185,7 +185,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let words = contact.model_words();
     let settings = contact.settings();
     if setup.spheres.iter().all(|s| s.fixed) && setup.inlets.is_empty() {
-        return refuse("the scene has no free sphere to export".into());
+        return Err(crate::no_free_sphere("LIGGGHTS"));
     }
     // The engine validates the setup and fixes Δt and the run length.
     let sim = Simulation::new(setup.clone(), 1).map_err(|e| Error::Export(e.to_string()))?;
@@ -316,8 +316,9 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     for (k, m) in setup.materials.iter().enumerate() {
         if used[k] && !(m.material.youngs_modulus.is_finite() && m.material.youngs_modulus > 0.0) {
             return refuse(format!(
-                "material \"{}\" is rigid (E = inf): LIGGGHTS needs a finite youngsModulus per \
-                 type; give it a finite modulus (E_eff then changes by E_sphere/E_wall)",
+                "`material[{k}].youngs_modulus` = inf (material \"{}\", rigid) cannot be exported \
+                 to LIGGGHTS: it needs a finite youngsModulus per type; give it a finite modulus \
+                 (E_eff then changes by E_sphere/E_wall)",
                 m.name
             ));
         }
@@ -621,8 +622,14 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         inlets.as_ref().map_or("", |i| i.setup.as_str()),
         outlets.as_ref().map_or("", |o| o.columns.as_str()),
         inlets.as_ref().map_or("", |i| i.columns.as_str()),
-        // With inlets, the counts over time: at the series cadence.
-        if inlets.is_some() { every } else { steps.max(1) }
+        // With inlets or outlets, the counts over time: at the series
+        // cadence (a row between the outlets' checks reads its own step's
+        // counts; lammps_scene.rs alike).
+        if inlets.is_some() || outlets.is_some() {
+            every
+        } else {
+            steps.max(1)
+        }
     )
     .ok();
     x.push_str(&wall_forces(setup, &windows, every));

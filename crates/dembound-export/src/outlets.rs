@@ -384,4 +384,77 @@ steps = 10
             .setup
             .contains("dump_modify  state thresh v_outlet_pending == 0"));
     }
+
+    /// A series cadence that is not a multiple of the checks' (7 steps
+    /// against [`EVERY`]): both decks print the thermo row with the outlet
+    /// counts at every dump row (not only at the end), so that a row
+    /// between checks reads its own step's counts, beside a dump that
+    /// leaves out the spheres pending; the runs cover the 250 steps with
+    /// the checks at 100 and 200 only.
+    #[test]
+    fn a_series_cadence_off_the_checks_prints_the_counts_at_every_row() {
+        use dembound_scene::io::{config, resolve::resolve};
+        let text = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "a"
+density = 1000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[contact]
+law = "hertz"
+[[particles]]
+spheres = [ { position = [0.005, 0.005, 0.008], radius = 1.0e-3 } ]
+material = "a"
+[[outlet]]
+region = { box = { lower = [0.0, 0.0, 0.0], upper = [0.01, 0.01, 0.002] } }
+[integration]
+dt = 1.0e-6
+steps = 250
+[output]
+series_every = 7
+"#;
+        let file = config::load(text, "test", &[]).expect("a valid scene");
+        let scene = resolve(&file, std::path::Path::new(".")).expect("resolves");
+        let decks = [
+            (
+                crate::lammps_scene::deck(&scene).expect("exports"),
+                "dump         state all custom 7 ",
+                "dump_modify  state thresh v_outlet_pending == 0",
+            ),
+            (
+                crate::liggghts_scene::deck(&scene).expect("exports"),
+                "dump         spheres all custom 7 ",
+                "dump_modify  spheres thresh v_outlet_pending == 0",
+            ),
+        ];
+        for (deck, dump, thresh) in decks {
+            let input = &deck.files[0].text;
+            let has = |p: &str| input.lines().any(|l| l.starts_with(p));
+            assert!(
+                has("thermo       7"),
+                "no thermo at the cadence in\n{input}"
+            );
+            assert!(!has("thermo       250"), "{input}");
+            assert!(has(dump) && has(thresh), "{input}");
+            assert!(
+                input.contains(" v_out0_n v_out0_m"),
+                "no outlet columns in\n{input}"
+            );
+            // The runs: 200 steps checked every 100, then 50 unchecked.
+            let runs: Vec<&str> = input.lines().filter(|l| l.starts_with("run ")).collect();
+            let steps: u64 = runs
+                .iter()
+                .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+                .sum();
+            assert_eq!(steps, 250, "{runs:?}");
+            assert!(
+                runs[0].starts_with("run          200 post no every 100 "),
+                "{runs:?}"
+            );
+            assert_eq!(runs[runs.len() - 1], "run          50", "{runs:?}");
+        }
+    }
 }

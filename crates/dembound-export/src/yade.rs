@@ -55,7 +55,9 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String> {
     }
     if matches!(plan.law, Law::Tsuji { .. } | Law::Viscoelastic { .. }) {
         return Err(Error::Export(
-            "Hertz with tsuji or viscoelastic damping is exported to LAMMPS only so far".into(),
+            "contact.damping = \"tsuji\" or \"viscoelastic\" with contact.law = \"hertz\" \
+             cannot be exported to Yade (exported to LAMMPS only so far)"
+                .into(),
         ));
     }
     let mut d = String::new();
@@ -74,7 +76,8 @@ pub fn deck(plan: &Plan, pitfall: Option<Pitfall>) -> Result<String> {
     let yade_wall = pitfall == Some(Pitfall::YadeWall);
     if yade_wall && !matches!(plan.boundary, Boundary::Plane { .. }) {
         return Err(Error::Export(
-            "--pitfall yade-wall needs boundary.radius_ratio = inf (a plane)".into(),
+            "--pitfall yade-wall (a Yade pitfall) needs boundary.radius_ratio = inf (a plane)"
+                .into(),
         ));
     }
     let cundall = if pitfall == Some(Pitfall::CundallDamping) {

@@ -202,7 +202,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         .filter(|&i| !setup.spheres[i].fixed)
         .collect();
     let Some(&first) = free.first() else {
-        return refuse("the scene has no free sphere to export".into());
+        return Err(crate::no_free_sphere("Yade"));
     };
     let free_material = setup.spheres[first].material;
     if let Some(&i) = free
@@ -219,7 +219,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let fm = setup.materials[free_material].material;
     if !fm.youngs_modulus.is_finite() {
         return refuse(format!(
-            "material \"{}\" is rigid: Yade's FrictMat needs a finite Young's modulus",
+            "`material[{free_material}].youngs_modulus` = inf (material \"{}\", rigid) cannot be \
+             exported to Yade: its FrictMat needs a finite Young's modulus",
             setup.materials[free_material].name
         ));
     }
