@@ -309,6 +309,15 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
     // bodies, then the plane walls' forces of the few near a wall. One
     // pass spilled the wall code's registers on every body. Each body gets
     // the same operations in the same order: the same bits.
+    // The four-body groups' largest squared displacements, lane by lane
+    // (`_mm256_max_pd(d, largest)` keeps `largest` where d is NaN, as
+    // `f64::max` ignores a NaN; squares are never −0), folded into `m` at
+    // the end: the same maximum, without a chain of four scalar maxima per
+    // group. Zeroed without an AVX instruction (the scalar instance never
+    // touches it again).
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: all-zero bits are four +0.0 lanes.
+    let mut largest: std::arch::x86_64::__m256d = unsafe { std::mem::zeroed() };
     let mut i = lo;
     while i < hi {
         #[cfg(target_arch = "x86_64")]
@@ -333,9 +342,7 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
             // SAFETY: AVX2 (`FOUR`); bodies i..i + 4 of this chunk, free,
             // touched by no other thread (the caller's).
             let moved2 = verlet_four::advance(&four, c.dt, c.pending, c.gravity);
-            for d in moved2 {
-                m = m.max(d);
-            }
+            largest = std::arch::x86_64::_mm256_max_pd(moved2, largest);
             i += 4;
             continue;
         }
@@ -381,6 +388,12 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
         let state = (*c.x.at(i), *c.v.at(i), *c.spin.at(i));
         friction::add_plane_forces(&input, i, state, &c.walls, &mut f, &mut t);
         (*fi, *ti) = (f, t);
+    }
+    #[cfg(target_arch = "x86_64")]
+    if FOUR {
+        // SAFETY: an __m256d is four f64 lanes.
+        let lanes: [f64; 4] = std::mem::transmute(largest);
+        m = lanes.into_iter().fold(m, f64::max);
     }
     m
 }
