@@ -890,7 +890,15 @@ mod tests {
             let (mut moved, mut walled) = (0, 0);
             let mut position = sim.world.bodies.position.clone();
             position[18][1] = f64::NAN;
-            let ranges = [(0, n), (1, n), (2, n - 1), (3, n - 2), (7, 8), (9, 21), (40, 44)];
+            let ranges = [
+                (0, n),
+                (1, n),
+                (2, n - 1),
+                (3, n - 2),
+                (7, 8),
+                (9, 21),
+                (40, 44),
+            ];
             for ((lo, hi), pending) in ranges.into_iter().flat_map(|r| [(r, false), (r, true)]) {
                 let mut out = Vec::new();
                 for reference in [true, false] {
@@ -964,12 +972,7 @@ mod tests {
                                 let state = (*ctx.x.at(i), *ctx.v.at(i), *ctx.spin.at(i));
                                 let (fi, ti) = (ctx.f.at(i), ctx.torque.at(i));
                                 friction::add_plane_forces::<false>(
-                                    &input,
-                                    i,
-                                    state,
-                                    &ctx.walls,
-                                    fi,
-                                    ti,
+                                    &input, i, state, &ctx.walls, fi, ti,
                                 );
                             }
                             m
@@ -978,15 +981,16 @@ mod tests {
                         }
                     };
                     let touching = walls.touching.iter().filter(|&&t| t).count();
-                    let bits: Vec<u64> = [&x, &v, &spin, &f, &torque]
-                        .iter()
-                        .flat_map(|a| a.iter().flatten().map(|q| q.to_bits()))
-                        .chain(walls.shear.iter().flat_map(|s| s.shear.map(f64::to_bits)))
-                        .chain(walls.load.iter().flat_map(|l| {
-                            l.force.into_iter().chain(l.torque).map(f64::to_bits)
-                        }))
-                        .chain([m.to_bits(), touching as u64])
-                        .collect();
+                    let bits: Vec<u64> =
+                        [&x, &v, &spin, &f, &torque]
+                            .iter()
+                            .flat_map(|a| a.iter().flatten().map(|q| q.to_bits()))
+                            .chain(walls.shear.iter().flat_map(|s| s.shear.map(f64::to_bits)))
+                            .chain(walls.load.iter().flat_map(|l| {
+                                l.force.into_iter().chain(l.torque).map(f64::to_bits)
+                            }))
+                            .chain([m.to_bits(), touching as u64])
+                            .collect();
                     out.push((bits, m, touching));
                 }
                 let what = format!("{lo}..{hi}, pending {pending}, hertz_mindlin {hertz_mindlin}");
