@@ -7,6 +7,7 @@
 use std::collections::HashMap;
 
 use dembound_physics::contact::ContactHistory;
+use rustc_hash::FxHashMap;
 
 use super::{Pipeline, Tracks, World};
 use crate::bodies::Bodies;
@@ -127,11 +128,17 @@ fn cells_of_bodies(world: &World, grid: &CellGrid, workers: &Workers) -> Vec<u32
 }
 
 /// Pair state by input ids (a < b), carried across a list rebuild.
+///
+/// Keyed by pairs of input ids and looked up once per listed pair at each
+/// rebuild: hashed with `rustc_hash`'s Fx hash, not the standard SipHash
+/// (which guards against chosen keys, none here; nothing iterates these
+/// maps in an order that reaches the results, the standard maps' order
+/// being random per process anyway).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct SavedPairs {
-    pub histories: HashMap<(u32, u32), ContactHistory>,
+    pub histories: FxHashMap<(u32, u32), ContactHistory>,
     pub tracks: Option<HashMap<(u32, u32), Track>>,
-    pub shear: HashMap<(u32, u32), friction::Springs>,
+    pub shear: FxHashMap<(u32, u32), friction::Springs>,
 }
 
 /// Histories, collision tracks and tangential springs of the listed
@@ -149,7 +156,7 @@ pub(crate) fn save_pairs(world: &World) -> SavedPairs {
             .map(|(a, b, s)| ((a, b), s))
             .collect()
     } else {
-        HashMap::new()
+        FxHashMap::default()
     };
     SavedPairs {
         histories,

@@ -309,17 +309,26 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
     // bodies, then the plane walls' forces of the few near a wall. One
     // pass spilled the wall code's registers on every body. Each body gets
     // the same operations in the same order: the same bits.
+    // The four-body groups' largest squared displacements, lane by lane
+    // (`_mm256_max_pd(d, largest)` keeps `largest` where d is NaN, as
+    // `f64::max` ignores a NaN; squares are never −0), folded into `m` at
+    // the end: the same maximum, without a chain of four scalar maxima per
+    // group. Zeroed without an AVX instruction (the scalar instance never
+    // touches it again).
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: all-zero bits are four +0.0 lanes.
+    let mut largest: std::arch::x86_64::__m256d = unsafe { std::mem::zeroed() };
     let mut i = lo;
     while i < hi {
         #[cfg(target_arch = "x86_64")]
         if FOUR
             && i + 4 <= hi
-            && !(b.fixed[i] || b.fixed[i + 1] || b.fixed[i + 2] || b.fixed[i + 3])
+            // The four fixed flags (bools: one byte each, 0 or 1), i + 4 ≤
+            // hi ≤ the body count.
+            && (b.fixed.as_ptr().add(i) as *const u32).read_unaligned() == 0
         {
-            for k in i..i + 4 {
-                // SAFETY: bodies of this chunk (read in the second pass).
-                friction::prefetch_wall_springs(k, &c.walls);
-            }
+            // SAFETY: bodies of this chunk (read in the second pass).
+            friction::prefetch_wall_springs_of(i, i + 4, &c.walls);
             let four = verlet_four::Four {
                 x: c.x.at(i).as_mut_ptr(),
                 v: c.v.at(i).as_mut_ptr(),
@@ -333,9 +342,7 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
             // SAFETY: AVX2 (`FOUR`); bodies i..i + 4 of this chunk, free,
             // touched by no other thread (the caller's).
             let moved2 = verlet_four::advance(&four, c.dt, c.pending, c.gravity);
-            for d in moved2 {
-                m = m.max(d);
-            }
+            largest = std::arch::x86_64::_mm256_max_pd(moved2, largest);
             i += 4;
             continue;
         }
@@ -371,16 +378,39 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
         *ti = [0.0; 3];
         i += 1;
     }
-    for i in lo..hi {
+    // Four bodies without wall entries are passed by one test (most are:
+    // the entries' starts are equal across them), as `add_wall_forces_of`.
+    // The lattice drop's plane laws are Hertz–Mindlin: the wall contacts
+    // without the dispatch on the law's variants.
+    let hertz_mindlin = friction::planes_are_hertz_mindlin(table);
+    let mut i = lo;
+    while i < hi {
+        if i + 4 <= hi && c.walls.range(i).0 == c.walls.range(i + 3).1 {
+            i += 4;
+            continue;
+        }
         let (s, e) = c.walls.range(i);
         if b.fixed[i] || s == e {
+            i += 1;
             continue;
         }
         let (fi, ti) = (c.f.at(i), c.torque.at(i));
         let (mut f, mut t) = (*fi, *ti);
         let state = (*c.x.at(i), *c.v.at(i), *c.spin.at(i));
-        friction::add_plane_forces(&input, i, state, &c.walls, &mut f, &mut t);
+        if hertz_mindlin {
+            // SAFETY: the table's plane laws checked above.
+            friction::add_plane_forces::<true>(&input, i, state, &c.walls, &mut f, &mut t);
+        } else {
+            friction::add_plane_forces::<false>(&input, i, state, &c.walls, &mut f, &mut t);
+        }
         (*fi, *ti) = (f, t);
+        i += 1;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if FOUR {
+        // SAFETY: an __m256d is four f64 lanes.
+        let lanes: [f64; 4] = std::mem::transmute(largest);
+        m = lanes.into_iter().fold(m, f64::max);
     }
     m
 }
@@ -676,7 +706,7 @@ fn with_fused(
 
 #[cfg(test)]
 mod tests {
-    use super::{advance_bodies, verlet_chunk, AdvanceContext};
+    use super::{advance_bodies, verlet_chunk, verlet_chunk_friction, AdvanceContext};
     use crate::dynamics::friction_observables::tests::scene;
     use crate::dynamics::walls;
     use crate::parallel::SharedMut;
@@ -819,5 +849,160 @@ mod tests {
         // The displacements and the wall contacts were there to compare.
         assert!(moved > 40, "{moved}");
         assert!(walled > 100, "{walled}");
+    }
+
+    /// The friction body pass (`verlet_chunk_friction`: on AVX2 the
+    /// bodies four at a time with their largest squared displacement kept
+    /// lane by lane, four bodies without wall entries passed by one test,
+    /// and the plane laws without dispatch when they are Hertz–Mindlin)
+    /// gives every position, velocity, spin, force, torque, wall spring
+    /// and wall load and the largest squared displacement bit for bit as
+    /// the reference: body by body, the scalar kicks and drift
+    /// (`integrate`), then each free body with wall entries through
+    /// `add_plane_forces::<false>` (the laws dispatched). With and without
+    /// the pending kick, over ranges of every length modulo 4 and starts
+    /// off the groups of four, fixed bodies among them, a body whose
+    /// position is not finite; on the damped, rolling scene (dispatched)
+    /// and on an undamped Hertz–Mindlin one without rolling (the laws
+    /// stated).
+    #[test]
+    fn friction_body_pass_equals_the_body_loop_bit_for_bit() {
+        use dembound_physics::contact::{ContactModel, NormalLaw};
+
+        use crate::dynamics::{friction, integrate};
+        for hertz_mindlin in [false, true] {
+            let mut setup = scene();
+            if hertz_mindlin {
+                setup.contact = ContactModel::elastic(NormalLaw::Hertz);
+                let f = setup.friction.as_mut().unwrap();
+                f.model.rolling_friction = 0.0;
+                f.walls = vec![Some((0.5, 0.0)); 6];
+            }
+            let mut sim = Simulation::new(setup, 1).unwrap();
+            sim.step(200);
+            let n = sim.world.bodies.len();
+            assert!(n > 100, "{n}");
+            for k in [5, 6, 41, 100] {
+                sim.world.bodies.fixed[k] = true;
+            }
+            let table = sim.world.friction.clone().unwrap();
+            assert_eq!(friction::planes_are_hertz_mindlin(&table), hertz_mindlin);
+            let (mut moved, mut walled) = (0, 0);
+            let mut position = sim.world.bodies.position.clone();
+            position[18][1] = f64::NAN;
+            let ranges = [
+                (0, n),
+                (1, n),
+                (2, n - 1),
+                (3, n - 2),
+                (7, 8),
+                (9, 21),
+                (40, 44),
+            ];
+            for ((lo, hi), pending) in ranges.into_iter().flat_map(|r| [(r, false), (r, true)]) {
+                let mut out = Vec::new();
+                for reference in [true, false] {
+                    let w = &sim.world;
+                    let mut x = position.clone();
+                    let mut v = w.bodies.velocity.clone();
+                    let mut f = w.bodies.force.clone();
+                    let mut torque = w.bodies.torque.clone();
+                    let mut spin = w.bodies.angular_velocity.clone();
+                    let mut walls = w.wall_contacts.clone();
+                    let ctx = AdvanceContext {
+                        x: SharedMut::new(&mut x),
+                        v: SharedMut::new(&mut v),
+                        f: SharedMut::new(&mut f),
+                        walls: walls.shared(),
+                        bodies: &w.bodies,
+                        surfaces: &w.surfaces,
+                        laws: &w.laws,
+                        gravity: w.gravity,
+                        reference: &sim.pipeline.reference,
+                        dt: w.dt,
+                        pending,
+                        spin: SharedMut::new(&mut spin),
+                        torque: SharedMut::new(&mut torque),
+                        friction: Some(&table),
+                        step: w.steps_done + 2,
+                        wall_energy: SharedMut(std::ptr::null_mut()),
+                    };
+                    let b = &w.bodies;
+                    // SAFETY: lo..hi within the bodies, whose arrays are
+                    // this test's copies.
+                    let m = unsafe {
+                        if reference {
+                            let input = friction::BodyForceInput {
+                                bodies: b,
+                                surfaces: ctx.surfaces,
+                                laws: ctx.laws,
+                                friction: &table,
+                                gravity: ctx.gravity,
+                                step: ctx.step,
+                                dt: ctx.dt,
+                            };
+                            let half_dt = 0.5 * ctx.dt;
+                            let mut m = 0.0f64;
+                            for i in lo..hi {
+                                if b.fixed[i] {
+                                    *ctx.f.at(i) = [0.0; 3];
+                                    *ctx.torque.at(i) = [0.0; 3];
+                                    continue;
+                                }
+                                let (xi, vi, wi) = (ctx.x.at(i), ctx.v.at(i), ctx.spin.at(i));
+                                let (fi, ti) = (*ctx.f.at(i), *ctx.torque.at(i));
+                                let dtfm = half_dt / b.mass[i];
+                                let dtfi = half_dt * b.inverse_inertia[i];
+                                if pending {
+                                    integrate::half_kick(vi, fi, dtfm);
+                                    integrate::half_kick(wi, ti, dtfi);
+                                }
+                                integrate::half_kick(vi, fi, dtfm);
+                                integrate::half_kick(wi, ti, dtfi);
+                                integrate::drift(xi, *vi, ctx.dt);
+                                m = m.max(integrate::displacement2(*xi, ctx.reference[i]));
+                                *ctx.f.at(i) = friction::gravity_force(&input, i);
+                                *ctx.torque.at(i) = [0.0; 3];
+                            }
+                            for i in lo..hi {
+                                let (s, e) = ctx.walls.range(i);
+                                if b.fixed[i] || s == e {
+                                    continue;
+                                }
+                                let state = (*ctx.x.at(i), *ctx.v.at(i), *ctx.spin.at(i));
+                                let (fi, ti) = (ctx.f.at(i), ctx.torque.at(i));
+                                friction::add_plane_forces::<false>(
+                                    &input, i, state, &ctx.walls, fi, ti,
+                                );
+                            }
+                            m
+                        } else {
+                            verlet_chunk_friction(&ctx, lo, hi)
+                        }
+                    };
+                    let touching = walls.touching.iter().filter(|&&t| t).count();
+                    let bits: Vec<u64> =
+                        [&x, &v, &spin, &f, &torque]
+                            .iter()
+                            .flat_map(|a| a.iter().flatten().map(|q| q.to_bits()))
+                            .chain(walls.shear.iter().flat_map(|s| s.shear.map(f64::to_bits)))
+                            .chain(walls.load.iter().flat_map(|l| {
+                                l.force.into_iter().chain(l.torque).map(f64::to_bits)
+                            }))
+                            .chain([m.to_bits(), touching as u64])
+                            .collect();
+                    out.push((bits, m, touching));
+                }
+                let what = format!("{lo}..{hi}, pending {pending}, hertz_mindlin {hertz_mindlin}");
+                assert!(out[0].0 == out[1].0, "{what}");
+                if out[0].1 > 0.0 {
+                    moved += 1;
+                }
+                walled += out[0].2;
+            }
+            // The displacements and the wall contacts were there to compare.
+            assert!(moved > 10, "{moved}");
+            assert!(walled > 100, "{walled}");
+        }
     }
 }

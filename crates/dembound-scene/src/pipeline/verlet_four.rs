@@ -13,8 +13,9 @@
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{
-    __m256d, _mm256_add_pd, _mm256_div_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_permute4x64_pd,
-    _mm256_set1_pd, _mm256_setr_pd, _mm256_setzero_pd, _mm256_storeu_pd, _mm256_sub_pd,
+    __m256d, _mm256_add_pd, _mm256_blend_pd, _mm256_div_pd, _mm256_loadu_pd, _mm256_mul_pd,
+    _mm256_permute4x64_pd, _mm256_permute_pd, _mm256_set1_pd, _mm256_setr_pd, _mm256_setzero_pd,
+    _mm256_storeu_pd, _mm256_sub_pd,
 };
 
 /// Where four consecutive bodies' state lies: each pointer at the first
@@ -48,7 +49,11 @@ fn spread(s: __m256d) -> [__m256d; 3] {
 /// Advances four free bodies (`verlet_chunk_friction_body`'s first loop
 /// for each, in the same operations): kicks (two when `pending`) and
 /// drift, step `dt` (s); force m g (N), torque 0. Returns their squared
-/// displacements from the reference positions, m².
+/// displacements from the reference positions, m², body k in lane k:
+/// (dx² + dy²) + dz² as `integrate::displacement2`, the three registers'
+/// squares transposed in registers (a store of them read back as single
+/// doubles would wait for the store: the halves of a vector store do not
+/// forward to narrower loads at other offsets).
 ///
 /// # Safety
 /// The processor has AVX2; the pointers of `four` are valid for four
@@ -56,7 +61,7 @@ fn spread(s: __m256d) -> [__m256d; 3] {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2")]
 #[inline]
-pub(super) unsafe fn advance(four: &Four, dt: f64, pending: bool, gravity: [f64; 3]) -> [f64; 4] {
+pub(super) unsafe fn advance(four: &Four, dt: f64, pending: bool, gravity: [f64; 3]) -> __m256d {
     let half_dt = 0.5 * dt;
     // SAFETY (every load and store): within the four bodies' state (the
     // caller's).
@@ -75,7 +80,7 @@ pub(super) unsafe fn advance(four: &Four, dt: f64, pending: bool, gravity: [f64;
             _mm256_setr_pd(g2, g0, g1, g2),
         ];
         let step = _mm256_set1_pd(dt);
-        let mut squares = [0.0f64; 12];
+        let mut squares = [_mm256_setzero_pd(); 3];
         for k in 0..3 {
             let at = 4 * k;
             let kick_v = _mm256_mul_pd(_mm256_loadu_pd(four.f.add(at)), dtfm[k]);
@@ -95,17 +100,20 @@ pub(super) unsafe fn advance(four: &Four, dt: f64, pending: bool, gravity: [f64;
             _mm256_storeu_pd(four.v.add(at), v);
             _mm256_storeu_pd(four.w.add(at), w);
             let d = _mm256_sub_pd(x, _mm256_loadu_pd(four.reference.add(at)));
-            _mm256_storeu_pd(squares.as_mut_ptr().add(at), _mm256_mul_pd(d, d));
+            squares[k] = _mm256_mul_pd(d, d);
             _mm256_storeu_pd(four.f.add(at), _mm256_mul_pd(mass[k], weight[k]));
             _mm256_storeu_pd(four.t.add(at), _mm256_setzero_pd());
         }
-        let s = squares;
-        [
-            s[0] + s[1] + s[2],
-            s[3] + s[4] + s[5],
-            s[6] + s[7] + s[8],
-            s[9] + s[10] + s[11],
-        ]
+        // [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3] -> the x, y and z
+        // squares of bodies 0-3 (as `verlet::advance_bodies_quad`).
+        let [s0, s1, s2] = squares;
+        let dx = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(s0, s1), s2);
+        let dx = _mm256_permute4x64_pd::<0x6C>(dx);
+        let dy = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(s0, s1), s2);
+        let dy = _mm256_permute_pd::<0b0101>(dy);
+        let dz = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(s0, s1), s2);
+        let dz = _mm256_permute4x64_pd::<0xC6>(dz);
+        _mm256_add_pd(_mm256_add_pd(dx, dy), dz)
     }
 }
 
@@ -174,8 +182,14 @@ mod tests {
                     mass: mass.as_ptr(),
                     inverse_inertia: inverse_inertia.as_ptr(),
                 };
+                let mut moved2 = [0.0f64; 4];
                 // SAFETY: AVX2 (checked); four bodies' state each.
-                let moved2 = unsafe { advance(&four, dt, pending, gravity) };
+                unsafe {
+                    std::arch::x86_64::_mm256_storeu_pd(
+                        moved2.as_mut_ptr(),
+                        advance(&four, dt, pending, gravity),
+                    )
+                };
                 let bits = |a: [f64; 3]| a.map(f64::to_bits);
                 for i in 0..4 {
                     let (xi, vi, wi, weight, d2) = expected[i];

@@ -41,7 +41,8 @@ pub use pairs::{add_pair_forces, add_pair_forces_tallied, PairForceInput, PairTa
 pub use springs::{active_shear, restore_shear, PairShear, Springs, WallShear};
 pub use table::{FrictionLaw, FrictionTable};
 pub use walls::{
-    add_plane_forces, body_force, gravity_force, prefetch_wall_springs, BodyForceInput,
+    add_plane_forces, body_force, gravity_force, planes_are_hertz_mindlin, prefetch_wall_springs,
+    prefetch_wall_springs_of, BodyForceInput,
 };
 
 #[inline(always)]

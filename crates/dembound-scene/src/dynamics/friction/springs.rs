@@ -3,6 +3,7 @@
 //! transfer across list rebuilds and checkpoints by input ids.
 
 use std::collections::HashMap;
+use std::hash::BuildHasher;
 
 use serde::{Deserialize, Serialize};
 
@@ -112,13 +113,14 @@ pub fn active_shear(
 }
 
 /// Displacements for a new list from `saved` (by input ids, as
-/// [`active_shear`] gives them); `rolling`: keep the rolling springs
+/// [`active_shear`] gives them), under any hasher (the rebuild's Fx maps,
+/// a checkpoint's standard one); `rolling`: keep the rolling springs
 /// ([`FrictionTable::rolling`]).
-pub fn restore_shear(
+pub fn restore_shear<S: BuildHasher>(
     bodies: &Bodies,
     ghosts: &Ghosts,
     list: &PairList,
-    saved: &HashMap<(u32, u32), Springs>,
+    saved: &HashMap<(u32, u32), Springs, S>,
     rolling: bool,
 ) -> PairShear {
     let mut main = vec![[0.0; 3]; list.j.len()];

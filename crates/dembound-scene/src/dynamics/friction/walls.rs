@@ -4,6 +4,7 @@
 
 use dembound_physics::contact::{ContactHistory, ContactState, Side};
 
+use super::row_laws::{HertzMindlin, Variants};
 use super::springs::split;
 use super::{add, FrictionTable, WallShear};
 use crate::bodies::Bodies;
@@ -44,7 +45,7 @@ pub unsafe fn body_force(
     }
     let mut acc = gravity_force(c, i);
     let mut torque = [0.0; 3];
-    add_plane_forces(c, i, (x, v, w), walls, &mut acc, &mut torque);
+    add_plane_forces::<false>(c, i, (x, v, w), walls, &mut acc, &mut torque);
     (acc, torque)
 }
 
@@ -60,10 +61,16 @@ pub fn gravity_force(c: &BodyForceInput, i: usize) -> [f64; 3] {
 /// onto `torque`, for free body i at (x, v, w) ([`body_force`] without
 /// the weight), over its near entries.
 ///
+/// `HERTZ_MINDLIN`: every class–plane law of the table has the variants
+/// of [`HertzMindlin`] ([`planes_are_hertz_mindlin`]), stated to the
+/// compiler at each lookup as the pair kernel does (`row_laws`): the same
+/// sub-model methods on the same values, without the dispatch on their
+/// variants.
+///
 /// # Safety
-/// As [`body_force`].
+/// As [`body_force`]; with `HERTZ_MINDLIN`, `planes_are_hertz_mindlin(c.friction)`.
 #[inline(always)]
-pub unsafe fn add_plane_forces(
+pub unsafe fn add_plane_forces<const HERTZ_MINDLIN: bool>(
     c: &BodyForceInput,
     i: usize,
     (x, v, w): ([f64; 3], [f64; 3], [f64; 3]),
@@ -91,6 +98,11 @@ pub unsafe fn add_plane_forces(
             let mut computed = None;
             let slot = surface.law_slot(key.element);
             let fl = c.friction.plane(c.laws, bodies, i, slot, &mut computed);
+            if HERTZ_MINDLIN {
+                // SAFETY: every row of the table has these variants (the
+                // caller's), and with a table `plane` returns a row.
+                unsafe { HertzMindlin::assume(fl) };
+            }
             *touching = true;
             if sh.stamp != c.step {
                 sh.before = sh.shear;
@@ -138,6 +150,51 @@ pub unsafe fn add_plane_forces(
     }
 }
 
+/// Whether every class–plane law of `table` is read from its table and
+/// has the variants of [`HertzMindlin`] (then
+/// `add_plane_forces::<true>` applies).
+pub fn planes_are_hertz_mindlin(table: &FrictionTable) -> bool {
+    table.classes > 0 && table.planes.iter().all(HertzMindlin::matches)
+}
+
+/// [`prefetch_wall_springs`] for bodies lo..hi together: the entries of
+/// consecutive bodies are consecutive, so one loop over lo's first to
+/// (hi − 1)'s last entry asks for the same lines, with one test for bodies
+/// that have none.
+///
+/// # Safety
+/// lo ≤ hi ≤ the body count of `walls` (`start` holds one more).
+#[inline(always)]
+pub unsafe fn prefetch_wall_springs_of(lo: usize, hi: usize, walls: &WallContactsMut) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let (s, e) = (*walls.start.at(lo) as usize, *walls.start.at(hi) as usize);
+        for k in s..e {
+            prefetch_entry(k, walls);
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (lo, hi, walls);
+}
+
+/// The prefetches of wall entry k (its spring's lines, its history).
+///
+/// # Safety
+/// k < the entry count of `walls`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn prefetch_entry(k: usize, walls: &WallContactsMut) {
+    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+    let at = walls.shear.0.add(k) as *const i8;
+    // Its first and last byte: the lines it spans (≤ 3 of 64 B).
+    _mm_prefetch::<_MM_HINT_T0>(at);
+    _mm_prefetch::<_MM_HINT_T0>(at.add(64));
+    _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<WallShear>() - 1));
+    if walls.keep {
+        _mm_prefetch::<_MM_HINT_T0>(walls.history.0.add(k) as *const i8);
+    }
+}
+
 /// Asks the processor to fetch body i's wall springs (and histories), so
 /// that [`body_force`] a few bodies later finds them in cache: only the
 /// few bodies near a wall read theirs, too sparse a pattern for the
@@ -149,17 +206,9 @@ pub unsafe fn add_plane_forces(
 pub unsafe fn prefetch_wall_springs(i: usize, walls: &WallContactsMut) {
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
         let (s, e) = walls.range(i);
         for k in s..e {
-            let at = walls.shear.0.add(k) as *const i8;
-            // Its first and last byte: the lines it spans (≤ 3 of 64 B).
-            _mm_prefetch::<_MM_HINT_T0>(at);
-            _mm_prefetch::<_MM_HINT_T0>(at.add(64));
-            _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<WallShear>() - 1));
-            if walls.keep {
-                _mm_prefetch::<_MM_HINT_T0>(walls.history.0.add(k) as *const i8);
-            }
+            prefetch_entry(k, walls);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
