@@ -108,9 +108,32 @@ impl Workers {
                 let mut slots: Vec<Option<T>> = (0..self.threads).map(|_| None).collect();
                 let out = SharedMut::new(&mut slots);
                 // SAFETY: worker t writes slot t only.
-                team.run(&|t| unsafe { *out.at(t) = Some(f(t)) });
+                team.run(&|t| unsafe { *out.at(t) = Some(f(t)) }, Entry::All);
                 // Every slot is set: `run` returns only after every worker
                 // finished (a panic is re-raised there).
+                slots.into_iter().flatten().collect()
+            }
+            None => vec![f(0)],
+        }
+    }
+
+    /// `f(t)` on worker 0 (the caller) and on each other worker that
+    /// starts before worker 0 has finished its call: `f` must leave
+    /// nothing undone when only worker 0 runs it (its units claimable by
+    /// any worker). The results of the workers that ran, in worker order
+    /// (worker 0's first). A worker kept off its core (a busy machine)
+    /// then costs the stage nothing: worker 0 does its part and the stage
+    /// ends without waiting for it to start.
+    #[track_caller]
+    pub fn broadcast_present<T: Send>(&self, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
+        match &self.team {
+            Some(team) => {
+                let mut slots: Vec<Option<T>> = (0..self.threads).map(|_| None).collect();
+                let out = SharedMut::new(&mut slots);
+                // SAFETY: worker t writes slot t only.
+                team.run(&|t| unsafe { *out.at(t) = Some(f(t)) }, Entry::Present);
+                // The slots of the workers that ran are set: `run` returns
+                // only after each worker that entered has finished.
                 slots.into_iter().flatten().collect()
             }
             None => vec![f(0)],
@@ -176,8 +199,15 @@ impl Workers {
         even_split(t, threads, n.div_ceil(chunk.max(1)))
     }
 
-    /// Runs `f(k)` for every chunk k in 0..chunks, worker t the chunks
-    /// `split(t)` (the splits cover 0..chunks once).
+    /// Runs `f(k)` once for every chunk k in 0..chunks (the splits cover
+    /// 0..chunks once). Worker t takes the chunks `split(t)` first, in
+    /// order, then those of the other workers' splits not yet taken, from
+    /// their far ends: each chunk is claimed (one atomic swap), so a
+    /// worker that starts late finds its chunks done and the stage does
+    /// not wait for it ([`Workers::broadcast_present`]). Which worker runs
+    /// a chunk does not change what it computes: the results are combined
+    /// in chunk order by the callers. When every chunk is in worker 0's
+    /// split, the caller's thread runs them without a hand-off.
     #[track_caller]
     fn run_split(
         &self,
@@ -185,10 +215,26 @@ impl Workers {
         split: impl Fn(usize) -> Range<usize> + Sync,
         f: impl Fn(usize) + Sync + Send,
     ) {
-        match &self.team {
-            Some(team) if chunks > 1 => team.run(&|t| split(t).for_each(&f)),
-            _ => (0..chunks).for_each(f),
-        }
+        let team = match &self.team {
+            Some(team) if chunks > 1 && (1..self.threads).any(|t| !split(t).is_empty()) => team,
+            _ => return (0..chunks).for_each(f),
+        };
+        let claimed: Vec<AtomicBool> = (0..chunks).map(|_| AtomicBool::new(false)).collect();
+        let take = |k: usize| {
+            if k < chunks && !claimed[k].swap(true, Ordering::Relaxed) {
+                f(k);
+            }
+        };
+        let threads = self.threads;
+        team.run(
+            &|t| {
+                split(t).for_each(take);
+                for d in 1..threads {
+                    split((t + d) % threads).rev().for_each(take);
+                }
+            },
+            Entry::Present,
+        );
     }
 
     /// [`Self::run_split`], the results collected in chunk order.
@@ -242,6 +288,28 @@ impl Workers {
 /// lifetime erased (the leader waits for every worker before it returns).
 type Job = *const (dyn Fn(usize) + Sync + 'static);
 
+/// Whether a stage waits for every worker or only for those that started
+/// before the leader finished its part.
+#[derive(Clone, Copy, PartialEq)]
+enum Entry {
+    /// Every worker runs the job (each has a part no other takes).
+    All,
+    /// The leader's call alone leaves nothing undone; the workers that
+    /// start before it has finished help.
+    Present,
+}
+
+/// [`Shared::entry`]: the leader has finished its part of a
+/// [`Entry::Present`] stage; no worker enters it any more.
+const CLOSED: u64 = 1;
+/// [`Shared::entry`]: an [`Entry::All`] stage (the worker counts itself
+/// out in `pending` too).
+const ALL: u64 = 2;
+/// [`Shared::entry`]: one worker inside the stage.
+const INSIDE: u64 = 4;
+/// [`Shared::entry`]'s workers inside.
+const INSIDE_MASK: u64 = 0xffff_fffc;
+
 /// What the leader and the workers share.
 struct Shared {
     /// Raised by one for every job; a worker runs each new value once.
@@ -249,8 +317,13 @@ struct Shared {
     /// Written by the leader before it raises `epoch`, read by the workers
     /// after they see it raised, not written again before `pending` is 0.
     job: UnsafeCell<Option<Job>>,
-    /// Workers still running the current job.
+    /// Workers still running the current job ([`Entry::All`]).
     pending: AtomicUsize,
+    /// The current stage's entry word: its epoch's low 32 bits above bit
+    /// 32, [`CLOSED`], [`ALL`], and the workers inside it in units of
+    /// [`INSIDE`]. A worker enters (one compare-and-swap) only a stage of
+    /// the epoch it saw that is not closed, and reads the job only then.
+    entry: AtomicU64,
     /// Worker t (index t − 1) is parked or about to park.
     sleeping: Vec<AtomicBool>,
     /// A worker's job panicked (re-raised by the leader).
@@ -283,6 +356,7 @@ impl Team {
             epoch: AtomicU64::new(0),
             job: UnsafeCell::new(None),
             pending: AtomicUsize::new(0),
+            entry: AtomicU64::new(0),
             sleeping: (1..threads).map(|_| AtomicBool::new(false)).collect(),
             panicked: AtomicBool::new(false),
             stop: AtomicBool::new(false),
@@ -309,22 +383,42 @@ impl Team {
     }
 
     /// Runs `f(t)` for t in 0..threads, t ≥ 1 on the workers, and returns
-    /// when all are done.
+    /// when all are done; with [`Entry::Present`], `f(0)` and `f(t)` of
+    /// the workers that start before `f(0)` returns, when those are done.
     #[track_caller]
-    fn run(&self, f: &(dyn Fn(usize) + Sync)) {
+    fn run(&self, f: &(dyn Fn(usize) + Sync), entry: Entry) {
         let s = &*self.shared;
         if s.busy.swap(true, Ordering::Acquire) {
             (0..self.threads).for_each(f);
             return;
         }
         let raised = self.trace.as_ref().map(|_| std::time::Instant::now());
+        if raised.is_some() {
+            // A worker that does not enter leaves no part.
+            for p in &s.parts {
+                if let Ok(mut p) = p.lock() {
+                    *p = trace::Part::default();
+                }
+            }
+        }
         // SAFETY: the lifetime is erased only for the time of this call:
-        // it returns after every worker has finished with the job.
+        // it returns after every worker that entered has finished with
+        // the job, and no worker enters after it returns (the stage is
+        // closed, or every worker has run it).
         let job: Job = unsafe { std::mem::transmute::<*const (dyn Fn(usize) + Sync + '_), Job>(f) };
-        // SAFETY: no worker reads `job` now (the last job's `pending` is 0).
+        // SAFETY: no worker is inside a stage now (the last one's workers
+        // inside are 0 and it is closed or all have run), and none enters
+        // one before `entry` holds the new epoch (stored after this).
         unsafe { *s.job.get() = Some(job) };
-        s.pending.store(self.threads - 1, Ordering::Relaxed);
-        s.epoch.fetch_add(1, Ordering::SeqCst);
+        let all = entry == Entry::All;
+        s.pending
+            .store(if all { self.threads - 1 } else { 0 }, Ordering::Relaxed);
+        let epoch = s.epoch.load(Ordering::Relaxed).wrapping_add(1);
+        s.entry.store(
+            ((epoch & 0xffff_ffff) << 32) | if all { ALL } else { 0 },
+            Ordering::Release,
+        );
+        s.epoch.store(epoch, Ordering::SeqCst);
         for (k, sleeping) in s.sleeping.iter().enumerate() {
             if sleeping.load(Ordering::SeqCst) {
                 self.handles[k].thread().unpark();
@@ -338,13 +432,22 @@ impl Team {
             trace::Part::default()
         };
         let mut spins = 0u32;
-        while s.pending.load(Ordering::Acquire) != 0 {
-            if spins < SPINS {
-                std::hint::spin_loop();
-                spins += 1;
-            } else {
-                std::thread::yield_now();
+        let mut wait = |done: &dyn Fn() -> bool| {
+            while !done() {
+                if spins < SPINS {
+                    std::hint::spin_loop();
+                    spins += 1;
+                } else {
+                    std::thread::yield_now();
+                }
             }
+        };
+        if all {
+            wait(&|| s.pending.load(Ordering::Acquire) == 0);
+        } else {
+            // No worker enters from now on; those inside finish.
+            s.entry.fetch_or(CLOSED, Ordering::AcqRel);
+            wait(&|| s.entry.load(Ordering::Acquire) & INSIDE_MASK == 0);
         }
         if let (Some(tr), Some(raised)) = (&self.trace, raised) {
             let done = std::time::Instant::now();
@@ -394,7 +497,13 @@ fn work(s: &Shared, t: usize) {
             }
             if e != seen {
                 seen = e;
-                break;
+                if enter(s, e) {
+                    break;
+                }
+                // The stage closed before this worker came: nothing of
+                // it is left; wait for the next.
+                waited = 0;
+                continue;
             }
             waited = waited.saturating_add(1);
             if waited < SPINS {
@@ -410,8 +519,11 @@ fn work(s: &Shared, t: usize) {
                 sleeping.store(false, Ordering::SeqCst);
             }
         }
-        // SAFETY: the leader wrote the job before raising `epoch` (read
-        // above with Acquire) and keeps it alive until `pending` is 0.
+        let all = s.entry.load(Ordering::Relaxed) & ALL != 0;
+        // SAFETY: the leader wrote the job before storing the entry word
+        // this worker entered by (an Acquire compare-and-swap) and keeps
+        // it alive until the workers inside are 0 (and, for an
+        // [`Entry::All`] stage, `pending` is 0).
         if let Some(job) = unsafe { *s.job.get() } {
             let f = unsafe { &*job };
             let mut ok = true;
@@ -427,7 +539,33 @@ fn work(s: &Shared, t: usize) {
                 s.panicked.store(true, Ordering::Release);
             }
         }
-        s.pending.fetch_sub(1, Ordering::Release);
+        // Out of the stage before `pending` lets the leader store the
+        // next stage's word.
+        s.entry.fetch_sub(INSIDE, Ordering::Release);
+        if all {
+            s.pending.fetch_sub(1, Ordering::Release);
+        }
+    }
+}
+
+/// Enters the stage of epoch `e` if it is still open (see
+/// [`Shared::entry`]): false when the leader has closed it or moved on.
+fn enter(s: &Shared, e: u64) -> bool {
+    let tag = (e & 0xffff_ffff) << 32;
+    let mut word = s.entry.load(Ordering::Acquire);
+    loop {
+        if word & !0xffff_ffff != tag || word & CLOSED != 0 {
+            return false;
+        }
+        match s.entry.compare_exchange_weak(
+            word,
+            word + INSIDE,
+            Ordering::AcqRel,
+            Ordering::Acquire,
+        ) {
+            Ok(_) => return true,
+            Err(seen) => word = seen,
+        }
     }
 }
 
@@ -454,5 +592,69 @@ impl<T> SharedMut<T> {
     #[allow(clippy::mut_from_ref)]
     pub unsafe fn at(&self, k: usize) -> &mut T {
         &mut *self.0.add(k)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every chunk runs once and the results come in chunk order, on 2 and
+    /// 3 threads, for 0 to 19 chunks, with the body cuts giving worker 0
+    /// all, none or part of the chunks, and with one worker slowed at
+    /// its first chunk so that the others take the rest of its split.
+    /// Reference: the chunk indices themselves (each result is its chunk).
+    #[test]
+    fn every_chunk_runs_once_whoever_takes_it() {
+        for threads in [2usize, 3] {
+            let workers = Workers::new(threads).expect("threads start");
+            for chunks in 0usize..20 {
+                for cut in [0, chunks / 3, chunks] {
+                    let mut cuts = vec![0, cut];
+                    cuts.extend(std::iter::repeat_n(chunks, threads - 1));
+                    workers.set_body_cuts(&cuts);
+                    for slow in [None, Some(1usize), Some(0)] {
+                        let ran: Vec<AtomicUsize> =
+                            (0..chunks).map(|_| AtomicUsize::new(0)).collect();
+                        let got = workers.map_bodies(chunks, 1, |k| {
+                            if Some(k) == slow.map(|t| cuts[t]) {
+                                std::thread::sleep(std::time::Duration::from_millis(2));
+                            }
+                            ran[k].fetch_add(1, Ordering::SeqCst);
+                            k
+                        });
+                        assert_eq!(got, (0..chunks).collect::<Vec<_>>());
+                        for (k, r) in ran.iter().enumerate() {
+                            assert_eq!(r.load(Ordering::SeqCst), 1, "chunk {k} of {chunks}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// A stage that every worker must run (`broadcast`) after stages the
+    /// workers may have missed (`broadcast_present`): each worker runs
+    /// each `broadcast` once, and a `broadcast_present` runs worker 0
+    /// always and no worker twice. Reference: counts per worker.
+    #[test]
+    fn present_stages_then_every_worker_stages() {
+        let workers = Workers::new(3).expect("threads start");
+        let runs: Vec<AtomicUsize> = (0..3).map(|_| AtomicUsize::new(0)).collect();
+        for round in 0..2000 {
+            let present = workers.broadcast_present(|t| t);
+            assert_eq!(present.first(), Some(&0));
+            assert!(present.windows(2).all(|w| w[0] < w[1]), "{present:?}");
+            if round % 7 == 0 {
+                let all = workers.broadcast(|t| {
+                    runs[t].fetch_add(1, Ordering::SeqCst);
+                    t
+                });
+                assert_eq!(all, vec![0, 1, 2]);
+            }
+        }
+        for r in &runs {
+            assert_eq!(r.load(Ordering::SeqCst), 2000usize.div_ceil(7));
+        }
     }
 }

@@ -146,8 +146,17 @@ fn assert_split_and_identical(setup: SceneSetup, steps: u64, what: &str) {
         // worker preempted on a busy machine may lose its blocks for a
         // while: each must hold a block in at least 3/4 of the samples
         // (measured: in all of them, also with five builds running).
+        // Two workers take the blocks from both ends, and worker 0 takes
+        // those worker 1 has not claimed when it has not started (its core
+        // taken: `both_ends`): worker 1 then holds none, by design, and
+        // only worker 0 must hold blocks (at load 6 on 2 cores worker 1
+        // held none of 16 samples of this small scene; on a free core it
+        // claims its end of the list within a µs).
+        let must_hold = if threads == 2 { 1 } else { threads };
         assert!(
-            log.held.iter().all(|&h| 4 * h >= 3 * log.samples),
+            log.held[..must_hold]
+                .iter()
+                .all(|&h| 4 * h >= 3 * log.samples),
             "{what}, {threads} threads: a worker was left without a block: held at {:?} of {} samples",
             log.held,
             log.samples

@@ -2,6 +2,7 @@
 //! the per-body forces in one pass over the bodies, alone or fused into
 //! the force stage block by block; the spins' closing half kick.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use super::{verlet_four, Pipeline, StepHooks, World};
@@ -624,15 +625,30 @@ impl Pipeline {
         let partial = if world.list.share(threads - 1, threads).map(|s| s.1) == Some(n) {
             // Each worker advances the bodies of its share of the force
             // loop: they stay in its core's cache (a maximum is exact in
-            // any order: the same bits).
+            // any order: the same bits). Each share is claimed: worker 0
+            // then advances the shares of the workers that have not
+            // started, and the stage ends without them.
             let list = &world.list;
-            workers.broadcast(|t| {
+            let claimed: Vec<AtomicBool> = (0..threads).map(|_| AtomicBool::new(false)).collect();
+            let share = |u: usize| {
+                if claimed[u].swap(true, Ordering::Relaxed) {
+                    return 0.0;
+                }
                 let started = Instant::now();
                 let moved2 = list
-                    .share(t, threads)
+                    .share(u, threads)
                     .map_or(0.0, |(lo, hi)| advance(lo, hi));
                 list.shares
-                    .record_advance(t, started.elapsed().as_nanos() as u64);
+                    .record_advance(u, started.elapsed().as_nanos() as u64);
+                moved2
+            };
+            workers.broadcast_present(|t| {
+                let mut moved2 = share(t);
+                if t == 0 {
+                    for u in 1..threads {
+                        moved2 = moved2.max(share(u));
+                    }
+                }
                 moved2
             })
         } else {

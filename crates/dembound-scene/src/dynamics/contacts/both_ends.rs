@@ -14,9 +14,15 @@ use crate::parallel::Workers;
 /// share to balance, each does what the other has not. Unit k is even
 /// block 2k and the odd block on the taker's side of it (2k − 1 going up,
 /// 2k + 1 going down; its other even neighbour the taker's own last
-/// unit). The units around last step's meeting are claimed one at a time
-/// (an atomic pair of ends); the rest are each worker's without a claim,
-/// at least one unit each when there are two.
+/// unit). Worker 0's units below last step's meeting (less a margin,
+/// at least one unit when there are two) are its own without a claim;
+/// every other unit is claimed one at a time (an atomic pair of ends),
+/// worker 1's included, so that worker 0, the caller, which always runs,
+/// can take them all when worker 1 has not started (a busy machine: its
+/// core taken), and the stage then ends without waiting for it to start
+/// ([`Workers::broadcast_present`]). On its own core worker 1 claims its
+/// units from the top, each a compare-and-swap on a line it alone
+/// touches until the two meet.
 /// The odd block where they meet is run by the first worker to find
 /// nothing left to claim. `follow_block(c)` runs once for each block c
 /// as soon as c and c − 1 are done, by the worker that ran the odd one
@@ -55,13 +61,13 @@ pub(super) fn run(
     }
     .min(units);
     let margin = (units / 8).max(1);
-    let (mut lo0, mut hi0) = (last.saturating_sub(margin), (last + margin).min(units));
+    let mut lo0 = last.saturating_sub(margin);
     if units >= 2 {
-        // Each worker keeps a unit at its end: a worker kept off its core
-        // for a while still has its share of the bodies when it is back.
+        // Worker 0 keeps a unit at its end; worker 1's are all claimed
+        // (none is left to a worker that may not come).
         lo0 = lo0.clamp(1, units - 1);
-        hi0 = hi0.clamp(lo0, units - 1);
     }
+    let hi0 = units.max(lo0);
     let pack = |lo: usize, hi: usize| (lo as u64) | ((hi as u64) << 32);
     let ends = AtomicU64::new(pack(lo0, hi0));
     let first_out = AtomicBool::new(false);
@@ -83,7 +89,7 @@ pub(super) fn run(
         traced(b);
     };
     workers
-        .broadcast(|t| {
+        .broadcast_present(|t| {
             let up = t == 0;
             let mut value = 0.0f64;
             let unit = |k: usize, value: &mut f64| {
@@ -106,10 +112,6 @@ pub(super) fn run(
             };
             if up {
                 for k in 0..lo0 {
-                    unit(k, &mut value);
-                }
-            } else {
-                for k in (hi0..units).rev() {
                     unit(k, &mut value);
                 }
             }
@@ -240,11 +242,15 @@ mod tests {
                     assert_eq!(f.load(Ordering::SeqCst), 1, "follow-up {b} of {count}");
                 }
                 assert_eq!(value, (count - 1) as f64);
-                // Each worker keeps at least one unit (two or more units).
+                // Worker 0 keeps at least one unit (two or more units);
+                // worker 1 may have run none (it came late).
                 let meet = list.shares.meet.load(Ordering::Relaxed);
                 assert!(meet <= units);
                 if units >= 2 {
-                    assert!((1..units).contains(&meet), "met at {meet} of {units} units");
+                    assert!(
+                        (1..=units).contains(&meet),
+                        "met at {meet} of {units} units"
+                    );
                 }
             }
         }
