@@ -204,13 +204,6 @@ unsafe fn prefetch_entry(k: usize, walls: &WallContactsMut) {
 /// i < the body count of `walls`.
 #[inline(always)]
 pub unsafe fn prefetch_wall_springs(i: usize, walls: &WallContactsMut) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let (s, e) = walls.range(i);
-        for k in s..e {
-            prefetch_entry(k, walls);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (i, walls);
+    // SAFETY: i + 1 ≤ the body count (the caller's i < it).
+    unsafe { prefetch_wall_springs_of(i, i + 1, walls) }
 }
