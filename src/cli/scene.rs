@@ -186,11 +186,7 @@ pub fn run(args: &SceneArgs) -> CliResult {
         // and with `output.wall_force_mean` at each row (the means are
         // taken between rows); the other rows are observed inside it.
         let mut next = total.min(step + tick);
-        let rows_end = if wall_force_mean {
-            series_every
-        } else {
-            u64::MAX
-        };
+        let rows_end = if wall_force_mean { series_every } else { u64::MAX };
         for interval in [rows_end, if out.is_some() { every } else { u64::MAX }] {
             let k = (step - start) / interval + 1;
             next = next.min(start.saturating_add(k.saturating_mul(interval)));

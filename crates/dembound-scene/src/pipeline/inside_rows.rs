@@ -49,7 +49,7 @@ pub(crate) struct RowSchedule {
 impl RowSchedule {
     /// Whether the state after `step` steps is a row.
     pub(crate) fn wants(&self, step: u64) -> bool {
-        step >= self.origin && (step - self.origin).is_multiple_of(self.every.max(1))
+        step >= self.origin && (step - self.origin) % self.every.max(1) == 0
     }
 }
 
@@ -70,10 +70,6 @@ pub(crate) enum RowFailure {
     },
 }
 
-/// A free body outside the check's box at a row: index, centre (m) and
-/// velocity (m/s).
-pub(crate) type OutsideBody = (usize, [f64; 3], [f64; 3]);
-
 /// The per-body part of a row, written by the fused follow-up
 /// (`verlet::row_terms`).
 pub(crate) struct RowTerms {
@@ -84,8 +80,8 @@ pub(crate) struct RowTerms {
     pub(crate) check_box: Option<([f64; 3], [f64; 3])>,
     /// A free body's centre lies outside the box by more than its radius.
     pub(crate) outside: AtomicBool,
-    /// Those bodies at the row.
-    pub(crate) outside_bodies: Mutex<Vec<OutsideBody>>,
+    /// Those bodies: index, centre (m) and velocity (m/s) at the row.
+    pub(crate) outside_bodies: Mutex<Vec<(usize, [f64; 3], [f64; 3])>>,
 }
 
 /// Whether rows can be observed inside the stretch for this world (one
@@ -353,15 +349,9 @@ mod tests {
                 assert_eq!(format!("{a:?}"), format!("{b:?}"));
             }
             assert!(compared >= 40, "{compared}");
-            assert!(
-                2 * walled > compared && 2 * paired > compared,
-                "{walled} {paired}"
-            );
+            assert!(2 * walled > compared && 2 * paired > compared, "{walled} {paired}");
             assert!(taken == compared);
-            assert!(
-                inside.list_builds() > builds + 1,
-                "no rebuild among the rows"
-            );
+            assert!(inside.list_builds() > builds + 1, "no rebuild among the rows");
             assert_eq!(inside.list_builds(), ending.list_builds());
         }
     }

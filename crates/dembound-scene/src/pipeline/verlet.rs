@@ -433,8 +433,6 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
 /// # Safety
 /// As [`verlet_chunk`]; `row.terms` holds one entry per body; the forces
 /// of lo..hi are complete.
-// x − x is meant: +0 for a finite x, NaN otherwise.
-#[allow(clippy::eq_op)]
 unsafe fn row_terms(c: &AdvanceContext, row: &RowTerms, lo: usize, hi: usize) {
     let b = c.bodies;
     let g = c.gravity;
