@@ -182,12 +182,8 @@ pub fn run(args: &SceneArgs) -> CliResult {
         if step >= total {
             break;
         }
-        // A stretch of steps ends at a snapshot, a progress tick, the end,
-        // and with `output.wall_force_mean` at each row (the means are
-        // taken between rows); the other rows are observed inside it.
         let mut next = total.min(step + tick);
-        let rows_end = if wall_force_mean { series_every } else { u64::MAX };
-        for interval in [rows_end, if out.is_some() { every } else { u64::MAX }] {
+        for interval in [series_every, if out.is_some() { every } else { u64::MAX }] {
             let k = (step - start) / interval + 1;
             next = next.min(start.saturating_add(k.saturating_mul(interval)));
         }
@@ -196,11 +192,8 @@ pub fn run(args: &SceneArgs) -> CliResult {
             sim.will_observe();
         }
         let t0 = Instant::now();
-        let inside = sim
-            .step_rows(next - step, series_every, start)
-            .map_err(scene_error)?;
+        sim.step_checked(next - step).map_err(scene_error)?;
         stepping += t0.elapsed().as_secs_f64();
-        rows.extend(inside);
         if let Some(bar) = &bar {
             bar.set_position(next - start);
         }

@@ -17,7 +17,6 @@
 mod collisions;
 pub mod dissipation;
 mod forces;
-pub(crate) mod inside_rows;
 pub mod moving_groups;
 pub(crate) mod moving_walls;
 mod neighbours;
@@ -200,13 +199,6 @@ pub struct Pipeline {
     /// The box the state check tests the centres against
     /// (`Simulation::outside_box`), for the last half kick's test.
     pub(crate) check_box: Option<([f64; 3], [f64; 3])>,
-    /// The series rows to observe inside the next [`Self::steps`] without
-    /// ending it (`inside_rows`); `None`: none.
-    pub(crate) rows_inside: Option<inside_rows::RowSchedule>,
-    /// The rows observed inside the stretch, in step order.
-    pub(crate) rows_taken: Vec<Result<crate::Observation, inside_rows::RowFailure>>,
-    /// Each body's energy terms of the last row observed inside (scratch).
-    row_terms: Vec<[f64; 2]>,
 }
 
 /// What differs between one process and one rank of a decomposed scene
@@ -338,30 +330,14 @@ impl Pipeline {
         self.wall_tally_step = None;
         self.wall_tally_valid = false;
         self.energies = None;
-        let (mut n, mut wanted) = (n, wanted);
-        let mut k = 0;
-        while k < n {
-            let now = world.steps_done;
-            let inside = self.rows_inside.as_ref();
-            // A row at the state this step ends in, strictly inside the
-            // stretch: taken inside the fused step, or, where the step does
-            // not fuse, the stretch ends there (the caller observes it).
-            if k + 1 < n
-                && inside.is_some_and(|r| r.wants(now + 1))
-                && !self.row_fuses(world, hooks)
-            {
-                n = k + 1;
-                wanted = true;
-            }
+        for k in 0..n {
             // The last step's pair pass (Verlet: the state the steps end
             // in; only the velocities' last half kick follows).
             self.tallying = wanted && k + 1 == n && world.scheme == Scheme::Verlet;
             // The body pass that places the bodies where the steps end:
             // the last step's, or fused into the step before it (a list
-            // rebuild after it repeats it); or the one before a row inside.
-            self.wall_tallying = (wanted && k + 2 >= n
-                || inside.is_some_and(|r| r.wants(now + 1) || r.wants(now + 2)))
-                && world.scheme == Scheme::Verlet;
+            // rebuild after it repeats it).
+            self.wall_tallying = wanted && k + 2 >= n && world.scheme == Scheme::Verlet;
             self.step(world, workers, k + 1 < n, hooks);
             if let Some(sum) = self.wall_force_sum.as_mut() {
                 let loads = observe::ObserveHooks::wall_loads(&Local, world, workers);
@@ -372,11 +348,6 @@ impl Pipeline {
                 }
                 sum.steps += 1;
             }
-            if self.rows_taken.last().is_some_and(|r| r.is_err()) {
-                // A row's state was not sound: no step after it.
-                n = k + 1;
-            }
-            k += 1;
         }
         self.tallying = false;
         self.wall_tallying = false;
@@ -480,33 +451,16 @@ impl Pipeline {
                     && hooks.fusable(world)
                     && !world.has_moving_groups();
                 if fuse {
-                    // A series row of the state this step ends in, taken
-                    // inside (`inside_rows`; `steps` checked `row_fuses`).
-                    let row = self
-                        .rows_inside
-                        .as_ref()
-                        .is_some_and(|r| r.wants(world.steps_done + 1))
-                        .then(|| {
-                            let tallied = (self.wall_tally_valid
-                                && self.wall_energy.len() == world.wall_contacts.key.len())
-                            .then_some(&self.wall_energy[..]);
-                            inside_rows::wall_part(world, workers, tallied)
-                        });
                     // The next step's wall forces are evaluated inside.
                     world.place_walls(world.steps_done + 2);
-                    let moved2 = if let Some(walls) = row {
-                        self.fused_step_observed(world, workers, &walls)
+                    let moved2 = if std::mem::take(&mut self.halo_deferred) {
+                        self.pair_forces_around_halo_then_advance(world, workers, hooks)
                     } else {
-                        let moved2 = if std::mem::take(&mut self.halo_deferred) {
-                            self.pair_forces_around_halo_then_advance(world, workers, hooks)
-                        } else {
-                            self.pair_forces_then_advance(world, workers)
-                        };
-                        world.list.rebalance();
-                        self.share_cuts(world, workers);
-                        world.steps_done += 1;
-                        moved2
+                        self.pair_forces_then_advance(world, workers)
                     };
+                    world.list.rebalance();
+                    self.share_cuts(world, workers);
+                    world.steps_done += 1;
                     self.advanced = true;
                     self.after_advance(world, workers, moved2, hooks);
                     return;
@@ -596,64 +550,6 @@ impl Pipeline {
         if world.friction.is_some() {
             gear5_rotation::correct(&mut world.bodies, dt, workers);
         }
-    }
-
-    /// Whether the next step fuses and can take a series row inside
-    /// (`inside_rows`): the conditions of the fused form in [`Self::step`]
-    /// with another step following, and the pair loop's tally applies
-    /// (`contacts::add_pair_forces_tallied`'s conditions).
-    fn row_fuses(&self, world: &World, hooks: &impl StepHooks) -> bool {
-        let n = world.bodies.len();
-        world.scheme == Scheme::Verlet
-            && inside_rows::applies(world)
-            && self.wall_force_sum.is_none()
-            && !self.halo_deferred
-            && hooks.fusable(world)
-            && !world.has_moving_groups()
-            && world.list.start.len() == n + 1
-            && crate::dynamics::contacts::covers(&world.list, n)
-            && (world.laws.history || world.histories.main.is_empty())
-            && world.bodies.group.len() == n
-    }
-
-    /// The fused step with the series row of the state it ends in observed
-    /// on the way (`inside_rows`; `walls`: the walls' part of that state,
-    /// taken before the pass), the row kept in [`Self::rows_taken`].
-    /// Returns the largest squared displacement since the list build, m².
-    fn fused_step_observed(
-        &mut self,
-        world: &mut World,
-        workers: &Workers,
-        walls: &inside_rows::WallPart,
-    ) -> f64 {
-        let Some(schedule) = self.rows_inside.clone() else {
-            return 0.0;
-        };
-        let mut terms = std::mem::take(&mut self.row_terms);
-        terms.resize(world.bodies.len(), [0.0; 2]);
-        let row = inside_rows::RowTerms {
-            terms: crate::parallel::SharedMut::new(&mut terms),
-            check_box: schedule.check_box,
-            outside: Default::default(),
-            outside_bodies: Default::default(),
-        };
-        let moved2 = self.pair_forces_then_advance_observed(world, workers, Some(&row));
-        world.list.rebalance();
-        self.share_cuts(world, workers);
-        world.steps_done += 1;
-        // Before a list rebuild reorders the bodies.
-        let observed = inside_rows::row(
-            world,
-            workers,
-            &schedule,
-            &terms,
-            &row,
-            walls,
-            Some(&self.plain_tally),
-        );
-        self.rows_taken.push(observed);
-        self.row_terms = terms;
-        moved2
     }
 
     /// Hands the shares' body cuts to the workers' per-body passes.

@@ -197,96 +197,6 @@ impl Simulation {
         self.pipeline.tally_wanted = true;
     }
 
-    /// `n` steps as [`Self::step_checked`], with the series rows of every
-    /// state strictly inside them whose step s has (s − `origin`) mod
-    /// `every` = 0 observed and checked as [`Self::observe_checked`] (in
-    /// step order: the energy guard sees them in that order). Where it can
-    /// (`pipeline::inside_rows`), a row is taken inside the fused steps
-    /// without ending the stretch; elsewhere the stretch ends at it. The
-    /// same rows and the same state, bit for bit, either way. The row of
-    /// the last state is the caller's ([`Self::will_observe`] before).
-    pub fn step_rows(
-        &mut self,
-        n: u64,
-        every: u64,
-        origin: u64,
-    ) -> Result<Vec<Observation>, SceneError> {
-        let every = every.max(1);
-        let target = self.world.steps_done + n;
-        let end_wanted = std::mem::take(&mut self.pipeline.tally_wanted);
-        let mut rows = Vec::new();
-        let inside = crate::pipeline::inside_rows::applies(&self.world)
-            && self.pipeline.wall_force_sum.is_none();
-        while self.world.steps_done < target {
-            let now = self.world.steps_done;
-            if inside {
-                self.pipeline.rows_inside = Some(crate::pipeline::inside_rows::RowSchedule {
-                    every,
-                    origin,
-                    initial_energy: self.initial_energy,
-                    check_box: self.outside_box,
-                });
-                self.pipeline.tally_wanted = end_wanted;
-                self.step(target - now);
-                self.pipeline.rows_inside = None;
-                for row in std::mem::take(&mut self.pipeline.rows_taken) {
-                    match row {
-                        Ok(o) => {
-                            self.energy_guard.check(&o, self.initial_energy)?;
-                            rows.push(o);
-                        }
-                        Err(failure) => return Err(self.row_error(failure)),
-                    }
-                }
-            } else {
-                // The next row inside, or the end.
-                let k = now.saturating_sub(origin) / every + 1;
-                let next = origin.saturating_add(k.saturating_mul(every)).min(target);
-                self.pipeline.tally_wanted = next < target || end_wanted;
-                self.step(next - now);
-            }
-            if self.world.steps_done < target {
-                // The stretch ended at a row.
-                self.check_finite()?;
-                rows.push(self.observe_checked()?);
-            }
-        }
-        self.check_finite()?;
-        Ok(rows)
-    }
-
-    /// The error of a row whose state was not sound, as
-    /// [`Self::check_finite`] gives it at that state.
-    fn row_error(&self, failure: crate::pipeline::inside_rows::RowFailure) -> SceneError {
-        use crate::pipeline::inside_rows::RowFailure;
-        match failure {
-            RowFailure::NotFinite { step } => self.unstable_at(step),
-            RowFailure::Lost {
-                step,
-                id,
-                axis,
-                centre,
-                radius,
-                ..
-            } => self.lost_error(step, id, axis, centre, radius),
-        }
-    }
-
-    /// [`SceneError::Unstable`] at step `step`.
-    fn unstable_at(&self, step: u64) -> SceneError {
-        SceneError::Unstable {
-            step,
-            time: step as f64 * self.world.dt,
-            dt: self.world.dt,
-            scheme: match self.world.scheme {
-                Scheme::Verlet => "verlet",
-                Scheme::Gear5 => "gear5",
-            }
-            .to_string(),
-            extreme_inputs: self.energy_guard.extreme_inputs().to_vec(),
-        }
-    }
-
     /// [`Self::step`], then the state checked: an error
     /// ([`SceneError::Unstable`]) when a position, velocity or spin is no
     /// longer finite, so that a blown-up run is never reported as numbers;
@@ -311,7 +221,17 @@ impl Simulation {
         if all_finite(&b.position) && all_finite(&b.velocity) && all_finite(&b.angular_velocity) {
             return self.check_inside();
         }
-        Err(self.unstable_at(self.world.steps_done))
+        Err(SceneError::Unstable {
+            step: self.world.steps_done,
+            time: self.time(),
+            dt: self.world.dt,
+            scheme: match self.world.scheme {
+                Scheme::Verlet => "verlet",
+                Scheme::Gear5 => "gear5",
+            }
+            .to_string(),
+            extreme_inputs: self.energy_guard.extreme_inputs().to_vec(),
+        })
     }
 
     /// Under `domain.outside = "error"`: an input error naming the first
@@ -353,16 +273,7 @@ impl Simulation {
         let Some((id, i, a)) = first else {
             return Ok(());
         };
-        Err(self.lost_error(self.world.steps_done, id, a, b.position[i], b.radius[i]))
-    }
-
-    /// The input error of free sphere `id` lost for good along axis `a` by
-    /// step `step`, its centre `x` (m) and radius `r` (m)
-    /// ([`Self::check_inside`]).
-    fn lost_error(&self, step: u64, id: u32, a: usize, x: [f64; 3], r: f64) -> SceneError {
-        let Some((lower, upper)) = self.outside_box else {
-            return self.unstable_at(step);
-        };
+        let x = b.position[i];
         let axis = ["x", "y", "z"][a];
         let d = &self.world.domain;
         let grown = if lower[a] < d.lower[a] || upper[a] > d.upper[a] {
@@ -377,19 +288,19 @@ impl Simulation {
                 lower[a], upper[a]
             )
         };
-        SceneError::input(format!(
+        Err(SceneError::input(format!(
             "sphere {id} left the domain for good by step {} (t = {:.6e} s): its centre ({:.6e}, \
              {:.6e}, {:.6e}) m is more than its radius ({:.6e} m) outside {grown}, moving away, \
              and nothing brings it back; the scene's numbers would no longer describe the scene \
              given; allowed: walls that keep the spheres in, a larger domain, or \
              domain.outside = \"keep\" (they go on, unreported)",
-            step,
-            step as f64 * self.world.dt,
+            self.world.steps_done,
+            self.time(),
             x[0],
             x[1],
             x[2],
-            r,
-        ))
+            b.radius[i],
+        )))
     }
 
     /// [`Self::step_checked`], then one [`Self::observe_checked`] (for

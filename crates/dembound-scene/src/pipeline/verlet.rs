@@ -5,7 +5,6 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use super::inside_rows::RowTerms;
 use super::{verlet_four, Pipeline, StepHooks, World};
 use crate::bodies::Bodies;
 use crate::dynamics::contacts::{self, LawTable, Rows};
@@ -38,9 +37,6 @@ struct AdvanceContext<'a> {
     /// Frictionless: each touching wall entry's elastic energy, for the
     /// series row (`walls::add_wall_forces_tallied`), when not null.
     wall_energy: SharedMut<f64>,
-    /// Frictionless, fused: a series row of the state before this pass's
-    /// kick and drift is observed inside the stretch ([`row_terms`]).
-    row: Option<&'a RowTerms>,
 }
 
 unsafe impl Sync for AdvanceContext<'_> {}
@@ -420,63 +416,6 @@ unsafe fn verlet_chunk_friction_body<const FOUR: bool>(
     m
 }
 
-/// A series row's per-body part, frictionless, of bodies lo..hi before
-/// the follow-up kicks and drifts them ([`verlet_chunk`] with the pending
-/// kick): each body's kinetic and potential energy at the row's state, as
-/// `observe::kick_then_energies` computes them (the closing half kick
-/// v + F·Δt/2m made on a copy with the same operations as the follow-up's,
-/// then ½ m v² and −m g·x), into `row.terms`; NaN where a value the state
-/// check tests is not finite (a fixed body's position or velocity, a spin);
-/// a free body whose centre is outside the check's box by more than its
-/// radius is kept for the lost-sphere test (`inside_rows::row`).
-///
-/// # Safety
-/// As [`verlet_chunk`]; `row.terms` holds one entry per body; the forces
-/// of lo..hi are complete.
-unsafe fn row_terms(c: &AdvanceContext, row: &RowTerms, lo: usize, hi: usize) {
-    let b = c.bodies;
-    let g = c.gravity;
-    let spins = b.angular_velocity.len() == b.len();
-    for k in lo..hi {
-        let x = *c.x.at(k);
-        let mut v = *c.v.at(k);
-        // Σ (x − x) over the values tested one by one: +0 while every
-        // one is finite.
-        let mut not_finite = 0.0f64;
-        if spins {
-            let w = b.angular_velocity[k];
-            not_finite += (w[0] - w[0]) + (w[1] - w[1]) + (w[2] - w[2]);
-        }
-        let mut t = if b.fixed[k] {
-            for a in 0..3 {
-                not_finite += (x[a] - x[a]) + (v[a] - v[a]);
-            }
-            [0.0, 0.0]
-        } else {
-            integrate::half_kick(&mut v, *c.f.at(k), 0.5 * c.dt / b.mass[k]);
-            let e = 0.5 * b.mass[k] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-            [e, -b.mass[k] * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2])]
-        };
-        if not_finite != 0.0 {
-            t = [f64::NAN; 2];
-        }
-        *row.terms.at(k) = t;
-        if let Some((lower, upper)) = row.check_box {
-            let r = b.radius[k];
-            let mut inside = true;
-            for a in 0..3 {
-                inside &= (x[a] >= lower[a] - r) & (x[a] <= upper[a] + r);
-            }
-            if !inside && !b.fixed[k] {
-                row.outside.store(true, Ordering::Relaxed);
-                if let Ok(mut kept) = row.outside_bodies.lock() {
-                    kept.push((k, x, v));
-                }
-            }
-        }
-    }
-}
-
 /// Verlet's last half kick of the spins: ω ← ω + Δt/2 · τ/I.
 pub(super) fn friction_spin_kick(bodies: &mut Bodies, dt: f64, workers: &Workers) {
     let n = bodies.len();
@@ -515,20 +454,6 @@ impl Pipeline {
     /// hand-off between the workers per step instead of two. Returns the
     /// largest squared displacement since the last list build, m².
     pub(crate) fn pair_forces_then_advance(&mut self, world: &mut World, workers: &Workers) -> f64 {
-        self.pair_forces_then_advance_observed(world, workers, None)
-    }
-
-    /// [`Self::pair_forces_then_advance`]; with `observed` (frictionless,
-    /// one process: `inside_rows`) the pair loop tallies each body's pairs
-    /// into [`Pipeline::plain_tally`] and the follow-up stores each body's
-    /// energy terms of the state before its kick and drift ([`row_terms`]).
-    pub(crate) fn pair_forces_then_advance_observed(
-        &mut self,
-        world: &mut World,
-        workers: &Workers,
-        observed: Option<&RowTerms>,
-    ) -> f64 {
-        let row = observed;
         let n = world.bodies.len();
         assert!(
             self.reference.len() == n
@@ -563,15 +488,11 @@ impl Pipeline {
             // The next step's forces.
             step: world.steps_done + 2,
             wall_energy,
-            row,
         };
         // SAFETY (the follow-ups): each block's bodies lo..hi are given
         // once, to one worker, when their forces (and torques) are complete
         // and no block still reads them (run_blocks_then); lengths asserted.
         let follow = |lo: usize, hi: usize| unsafe {
-            if let Some(row) = ctx.row {
-                row_terms(&ctx, row, lo, hi);
-            }
             if tally {
                 verlet_chunk::<true>(&ctx, lo, hi)
             } else {
@@ -602,13 +523,7 @@ impl Pipeline {
                 )
             };
         }
-        // The pairs' tally of the row (`inside_rows` checked that it
-        // applies: `contacts::add_pair_forces_tallied`'s conditions).
-        let pair_tally = row.map(|_| {
-            self.plain_tally.resize(n, [0.0; 3]);
-            SharedMut::new(&mut self.plain_tally)
-        });
-        // SAFETY: as above, for the forces; one tally per body.
+        // SAFETY: as above, for the forces.
         unsafe {
             contacts::add_pair_forces_then(
                 &world.bodies,
@@ -619,7 +534,7 @@ impl Pipeline {
                 f,
                 workers,
                 Some(&follow),
-                pair_tally,
+                None,
             )
         }
     }
@@ -689,7 +604,6 @@ impl Pipeline {
             friction: world.friction.as_ref(),
             step: world.steps_done + 1,
             wall_energy,
-            row: None,
         };
         assert!(
             self.reference.len() == n
@@ -784,7 +698,6 @@ fn with_fused(
         // The next step's forces.
         step: world.steps_done + 2,
         wall_energy,
-        row: None,
     };
     // SAFETY: `run` gives each body to the follow-up once, when its forces
     // are complete and no pair still reads it (`halo_split`); lengths
@@ -921,7 +834,6 @@ mod tests {
                             } else {
                                 SharedMut(std::ptr::null_mut())
                             },
-                            row: None,
                         };
                         // SAFETY: lo..hi within the bodies, whose arrays
                         // are this test's copies; one energy per entry.
@@ -1030,7 +942,6 @@ mod tests {
                         friction: Some(&table),
                         step: w.steps_done + 2,
                         wall_energy: SharedMut(std::ptr::null_mut()),
-                        row: None,
                     };
                     let b = &w.bodies;
                     // SAFETY: lo..hi within the bodies, whose arrays are
