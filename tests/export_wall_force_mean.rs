@@ -77,9 +77,12 @@ steps = 10000
 series_every = 50
 "#;
 
+/// Step → a force (N) per row of a walls file.
+type Rows<T> = BTreeMap<u64, T>;
+
 /// walls.txt or walls_mean.txt of `deck`: step → the force summed over
 /// the walls, and step → each wall's force.
-fn walls(deck: &Path, name: &str) -> (BTreeMap<u64, [f64; 3]>, BTreeMap<u64, Vec<[f64; 3]>>) {
+fn walls(deck: &Path, name: &str) -> (Rows<[f64; 3]>, Rows<Vec<[f64; 3]>>) {
     let text = std::fs::read_to_string(deck.join(name)).expect(name);
     let rows = parse_walls(&text).expect("the walls file reads");
     let mut sum = BTreeMap::new();

@@ -891,12 +891,17 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          meanfile.write('# step then Fx Fy Fz (N) of each wall in file order, each the mean over every step since the previous row (the row of step k: steps k-{last} ... k)\\n')\n\
          n = len(spheres)\n\
          \n\
+         # a boundary-particle wall's force: each component summed over its spheres in id order\n\
+         # by Yade (utils.sumForces: the same additions as a sum of the Vector3s, without Python per sphere)\n\
+         particle_wall_ids = [(w, list(range(a, b + 1))) for (w, a, b) in particle_walls]\n\
+         axes = (Vector3(1, 0, 0), Vector3(0, 1, 0), Vector3(0, 0, 1))\n\
+         \n\
          def wall_forces():\n\
          \x20   f = [Vector3(0, 0, 0) for k in range(wall_count)]\n\
          \x20   for (w, body) in walls:\n\
          \x20       f[w] = O.forces.f(body)\n\
-         \x20   for (w, a, b) in particle_walls:\n\
-         \x20       f[w] = sum((O.forces.f(i) for i in range(a, b + 1)), Vector3(0, 0, 0))\n\
+         \x20   for (w, ids) in particle_wall_ids:\n\
+         \x20       f[w] = Vector3(*(utils.sumForces(ids, axis) for axis in axes))\n\
          \x20   return f\n\
          \n\
          # every step's wall forces summed from step 1; at each row their mean, then the sum restarts\n\
