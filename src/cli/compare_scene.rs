@@ -20,9 +20,10 @@
 //!   spheres (at least one), h the height along −g without its periodic
 //!   components (along z without gravity), m;
 //! - each wall's force |F| (N), from walls.txt and the engine at the
-//!   row's step; when the deck wrote walls_mean.txt (the LAMMPS deck's
-//!   `fix ave/time 1 N N`), |mean F| over every step since the previous
-//!   row from that file and from dembound's own per-step sum
+//!   row's step; when the deck wrote walls_mean.txt (LAMMPS's and
+//!   LIGGGHTS's `fix ave/time 1 N N`, Yade's runner every step), |mean F|
+//!   over every step since the previous row from that file and from
+//!   dembound's own per-step sum
 //!   (`Simulation::step_wall_force_mean`), the same steps on both sides;
 //! - the state: max over free spheres of |Δx| / R_min (R_min the smallest
 //!   free radius; Δx by the nearest image, as a sphere at a periodic face

@@ -102,6 +102,7 @@ fn wall_forces(setup: &SceneSetup, windows: &[(u64, u64)], every: u64) -> String
         return x;
     }
     let mut columns = Vec::new();
+    let mut names = Vec::new();
     writeln!(
         x,
         "\n# {}: step, then the force (N) on each wall in file order, every {every} steps",
@@ -133,6 +134,7 @@ fn wall_forces(setup: &SceneSetup, windows: &[(u64, u64)], every: u64) -> String
             };
             writeln!(x, "variable     w{w}{c} equal {value}").ok();
             columns.push(format!("${{w{w}{c}}}"));
+            names.push(format!("w{w}{c}"));
         }
     }
     writeln!(
@@ -141,6 +143,44 @@ fn wall_forces(setup: &SceneSetup, windows: &[(u64, u64)], every: u64) -> String
          fix          walls all print {every} \"${{wstep}} {}\" file {} title \"# step, Fx Fy Fz (N) on each wall in file order\" screen no",
         columns.join(" "),
         crate::lammps_output::WALLS_FILE
+    )
+    .ok();
+    x.push_str(&wall_force_means(&names, every));
+    x
+}
+
+/// `walls_mean.txt` (docs/export-liggghts.md, "Output"): the columns of
+/// walls.txt (`names`: the variables `wWc`) averaged over every step since
+/// the previous row. `fix ave/time 1 N N` (LIGGGHTS's fix_ave_time.cpp, as
+/// LAMMPS's: Nevery 1, Nrepeat N, Nfreq N) averages steps kN−N+1 … kN
+/// and holds the mean at kN; a `fix print` defined after it (fixes reach
+/// end_of_step in the order defined) writes it with LIGGGHTS's variable
+/// text (15 significant digits), as walls.txt, since LIGGGHTS's `fix
+/// ave/time` has no `format` keyword (its own file would hold 6). `fix
+/// print N` first prints at step N, so there is no row at step 0, as in
+/// the LAMMPS deck's file.
+fn wall_force_means(names: &[String], every: u64) -> String {
+    let mut x = String::new();
+    let values: Vec<String> = names.iter().map(|n| format!("v_{n}")).collect();
+    writeln!(
+        x,
+        "# {}: the same columns, each averaged over every step since the previous row (the row of step k: steps k-{} ... k; no row at step 0)\n\
+         fix          walls_mean_sum all ave/time 1 {every} {every} {}",
+        crate::lammps_output::WALLS_MEAN_FILE,
+        every - 1,
+        values.join(" ")
+    )
+    .ok();
+    let mut columns = Vec::new();
+    for (k, n) in names.iter().enumerate() {
+        writeln!(x, "variable     m{n} equal f_walls_mean_sum[{}]", k + 1).ok();
+        columns.push(format!("${{m{n}}}"));
+    }
+    writeln!(
+        x,
+        "fix          walls_mean all print {every} \"${{wstep}} {}\" file {} title \"# step, then Fx Fy Fz (N) on each wall in file order, each the mean over every step since the previous row\" screen no",
+        columns.join(" "),
+        crate::lammps_output::WALLS_MEAN_FILE
     )
     .ok();
     x
@@ -798,6 +838,29 @@ steps = 10
         assert!(input.contains("primitive type 2 zplane 1e-3"), "{input}");
         assert!(input.contains("omegax omegay omegaz"));
         assert!(d.files[1].text.contains("\n3 atom types\n"));
+    }
+
+    /// walls_mean.txt: `fix ave/time 1 N N` over walls.txt's variables,
+    /// then a `fix print` every N steps defined after it (so the mean of
+    /// the step is there when it prints), 15 digits as walls.txt.
+    #[test]
+    fn walls_mean_averages_every_step_of_each_row() {
+        let d = exported(&["output.series_every=5"]).expect("exports");
+        let input = &d.files[0].text;
+        let mean = input
+            .find("fix          walls_mean_sum all ave/time 1 5 5 v_w0x v_w0y v_w0z v_w1x v_w1y v_w1z\n")
+            .expect(input);
+        let print = input
+            .find("fix          walls_mean all print 5 \"${wstep} ${mw0x} ${mw0y} ${mw0z} ${mw1x} ${mw1y} ${mw1z}\" file walls_mean.txt")
+            .expect(input);
+        assert!(mean < print, "{input}");
+        for line in [
+            "# walls_mean.txt: the same columns, each averaged over every step since the previous row (the row of step k: steps k-4 ... k; no row at step 0)\n",
+            "variable     mw0x equal f_walls_mean_sum[1]\n",
+            "variable     mw1z equal f_walls_mean_sum[6]\n",
+        ] {
+            assert!(input.contains(line), "{line}\n{input}");
+        }
     }
 
     /// Fixed spheres: a frozen group by id, not integrated, no gravity,

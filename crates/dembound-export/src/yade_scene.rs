@@ -37,7 +37,7 @@
 //! v₀ − g Δt/2 and the recorder (before the integrator) writes
 //! v + a Δt/2, dembound's velocity at the row's step.
 
-use crate::lammps_output::{series_every, DUMP_FILE, WALLS_FILE};
+use crate::lammps_output::{series_every, DUMP_FILE, WALLS_FILE, WALLS_MEAN_FILE};
 use crate::{num, yade_rolling, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::tangential::{
     effective_shear_modulus, mix_friction, TangentialKind,
@@ -874,6 +874,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          \x20   InteractionLoop([{geometry}], [{physics}], [{law}]),\n\
          \x20   # before the integrator: positions, forces and torques of step O.iter\n\
          \x20   PyRunner(command='record()', iterPeriod={every}, initRun=True),\n\
+         \x20   PyRunner(command='add_wall_forces()', iterPeriod=1),\n\
          \x20   NewtonIntegrator(damping=0.0, gravity=g),\n\
          ]\n\
          # leapfrog stores v(t - dt/2): start from v0 - g dt/2, minus the contacts' half kick at t = 0\n\
@@ -886,7 +887,39 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          dump = open('{DUMP_FILE}', 'w')\n\
          wallfile = open('{WALLS_FILE}', 'w')\n\
          wallfile.write('# step then Fx Fy Fz (N) of each wall in file order: the force the spheres exert on it\\n')\n\
+         meanfile = open('{WALLS_MEAN_FILE}', 'w')\n\
+         meanfile.write('# step then Fx Fy Fz (N) of each wall in file order, each the mean over every step since the previous row (the row of step k: steps k-{last} ... k)\\n')\n\
          n = len(spheres)\n\
+         \n\
+         # a boundary-particle wall's force: each component summed over its spheres in id order\n\
+         # by Yade (utils.sumForces: the same additions as a sum of the Vector3s, without Python per sphere)\n\
+         particle_wall_ids = [(w, list(range(a, b + 1))) for (w, a, b) in particle_walls]\n\
+         axes = (Vector3(1, 0, 0), Vector3(0, 1, 0), Vector3(0, 0, 1))\n\
+         \n\
+         def wall_forces():\n\
+         \x20   f = [Vector3(0, 0, 0) for k in range(wall_count)]\n\
+         \x20   for (w, body) in walls:\n\
+         \x20       f[w] = O.forces.f(body)\n\
+         \x20   for (w, ids) in particle_wall_ids:\n\
+         \x20       f[w] = Vector3(*(utils.sumForces(ids, axis) for axis in axes))\n\
+         \x20   return f\n\
+         \n\
+         # every step's wall forces summed from step 1; at each row their mean, then the sum restarts\n\
+         force_sum = [Vector3(0, 0, 0) for k in range(wall_count)]\n\
+         summed = 0\n\
+         \n\
+         def add_wall_forces():\n\
+         \x20   global summed\n\
+         \x20   if O.iter == 0:\n\
+         \x20       return\n\
+         \x20   for (w, F) in enumerate(wall_forces()):\n\
+         \x20       force_sum[w] += F\n\
+         \x20   summed += 1\n\
+         \x20   if O.iter % {every} == 0:\n\
+         \x20       meanfile.write('%d' % O.iter + ''.join(' %.17g %.17g %.17g' % (F[0] / summed, F[1] / summed, F[2] / summed) for F in force_sum) + '\\n')\n\
+         \x20       for w in range(wall_count):\n\
+         \x20           force_sum[w] = Vector3(0, 0, 0)\n\
+         \x20       summed = 0\n\
          \n\
          def record():\n\
          \x20   dump.write('ITEM: TIMESTEP\\n%d\\nITEM: NUMBER OF ATOMS\\n%d\\nITEM: ATOMS id x y z vx vy vz omegax omegay omegaz\\n' % (O.iter, n))\n\
@@ -901,12 +934,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          \x20           v = w = Vector3(0, 0, 0)\n\
          \x20       p = s.pos\n\
          \x20       dump.write('%d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\\n' % (i + 1, p[0], p[1], p[2], v[0], v[1], v[2], w[0], w[1], w[2]))\n\
-         \x20   f = [Vector3(0, 0, 0) for k in range(wall_count)]\n\
-         \x20   for (w, body) in walls:\n\
-         \x20       f[w] = O.forces.f(body)\n\
-         \x20   for (w, a, b) in particle_walls:\n\
-         \x20       f[w] = sum((O.forces.f(i) for i in range(a, b + 1)), Vector3(0, 0, 0))\n\
-         \x20   wallfile.write('%d' % O.iter + ''.join(' %.17g %.17g %.17g' % (F[0], F[1], F[2]) for F in f) + '\\n')\n\
+         \x20   wallfile.write('%d' % O.iter + ''.join(' %.17g %.17g %.17g' % (F[0], F[1], F[2]) for F in wall_forces()) + '\\n')\n\
          \n\
          # {steps} steps and one more, whose recorder (before the integrator) writes the state of step {steps}\n\
          clock = time.process_time()\n\
@@ -914,11 +942,13 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
          seconds = time.process_time() - clock\n\
          dump.close()\n\
          wallfile.close()\n\
+         meanfile.close()\n\
          with open('{LOG}', 'w') as log:\n\
          \x20   log.write('Yade, one thread: the CPU time of O.run\\n')\n\
          \x20   log.write('Loop time of %r on 1 procs for %d steps with %d atoms\\n' % (seconds, {run}, len(velocities)))",
         dt = num(dt),
         run = steps + 1,
+        last = every - 1,
     )
     .ok();
     Ok(Deck {
@@ -1065,6 +1095,32 @@ steps = 10
         assert!(s.contains("O.dt = 1e-6") && s.contains("O.run(11, True)"));
         assert!(s.contains("NewtonIntegrator(damping=0.0, gravity=g)"));
         assert!(s.contains("(0, 1e-1, 0, 0),"));
+    }
+
+    /// walls_mean.txt: a runner every step before the integrator (the
+    /// forces of step O.iter, as the recorder's) sums each wall's force
+    /// from step 1 and writes the mean at every multiple of the cadence,
+    /// then starts again; walls.txt keeps the row's own step.
+    #[test]
+    fn the_script_averages_the_wall_forces_over_every_step() {
+        let d = exported(&["output.series_every=5"]).expect("exports");
+        let s = &d.files[0].text;
+        let record = s.find("PyRunner(command='record()', iterPeriod=5, initRun=True),\n");
+        let add = s.find("PyRunner(command='add_wall_forces()', iterPeriod=1),\n");
+        let newton = s.find("NewtonIntegrator(damping=0.0, gravity=g),");
+        assert!(record < add && add < newton, "{s}");
+        for line in [
+            "meanfile = open('walls_mean.txt', 'w')\n",
+            "(the row of step k: steps k-4 ... k)",
+            "    if O.iter == 0:\n        return\n",
+            "        force_sum[w] += F\n    summed += 1\n    if O.iter % 5 == 0:\n",
+            "' %.17g %.17g %.17g' % (F[0] / summed, F[1] / summed, F[2] / summed) for F in force_sum",
+            "            force_sum[w] = Vector3(0, 0, 0)\n        summed = 0\n",
+            "for F in wall_forces()) + '\\n')\n",
+            "meanfile.close()\n",
+        ] {
+            assert!(s.contains(line), "{line}\n{s}");
+        }
     }
 
     #[test]
