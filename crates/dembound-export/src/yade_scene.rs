@@ -1105,9 +1105,12 @@ steps = 10
     fn the_script_averages_the_wall_forces_over_every_step() {
         let d = exported(&["output.series_every=5"]).expect("exports");
         let s = &d.files[0].text;
-        let record = s.find("PyRunner(command='record()', iterPeriod=5, initRun=True),\n");
-        let add = s.find("PyRunner(command='add_wall_forces()', iterPeriod=1),\n");
-        let newton = s.find("NewtonIntegrator(damping=0.0, gravity=g),");
+        // Each line must be there (an absent one fails here, not as a
+        // `None` that compares below every position).
+        let at = |line: &str| s.find(line).unwrap_or_else(|| panic!("{line}\n{s}"));
+        let record = at("PyRunner(command='record()', iterPeriod=5, initRun=True),\n");
+        let add = at("PyRunner(command='add_wall_forces()', iterPeriod=1),\n");
+        let newton = at("NewtonIntegrator(damping=0.0, gravity=g),");
         assert!(record < add && add < newton, "{s}");
         for line in [
             "meanfile = open('walls_mean.txt', 'w')\n",
