@@ -22,7 +22,7 @@
 mod common;
 
 use common::dembound;
-use common::peer::{missing, read_dump, read_liggghts_dump, run_liggghts};
+use common::peer::{missing, read_dump, read_liggghts_dump, run_liggghts, run_yade};
 use dembound_export::scene_dump::parse_walls;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -210,28 +210,7 @@ fn yade_averages_every_step_of_each_row() {
     }
     let dir = tempfile::tempdir().expect("a temporary directory");
     let deck = dir.path().join("deck");
-    let out = dembound()
-        .args(["export", "yade"])
-        .arg(write_scene(dir.path()))
-        .arg("--out")
-        .arg(&deck)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let run = std::process::Command::new("yade")
-        .args(["-n", "-j1", "-x", "scene.py"])
-        .current_dir(&deck)
-        .output()
-        .expect("yade runs");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    run_yade(&write_scene(dir.path()), &deck);
     // The free sphere is body 0 (id 1): x y z vx vy vz ωx ωy ωz.
     let velocity: BTreeMap<u64, [f64; 3]> = read_dump(&deck.join("particles.dump"))
         .into_iter()

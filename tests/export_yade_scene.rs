@@ -10,7 +10,7 @@
 mod common;
 
 use common::dembound;
-use common::peer::missing;
+use common::peer::{missing, run_yade};
 use dembound_export::agreement::IDENTICAL;
 use serde_json::Value;
 use std::path::Path;
@@ -65,28 +65,7 @@ fn yade_compare(dir: &Path, text: &str) -> Value {
     let scene = dir.join("scene_in.toml");
     std::fs::write(&scene, text).expect("written");
     let deck = dir.join("deck");
-    let out = dembound()
-        .args(["export", "yade"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(&deck)
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let run = std::process::Command::new("yade")
-        .args(["-n", "-j1", "-x", "scene.py"])
-        .current_dir(&deck)
-        .output()
-        .expect("yade runs");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    run_yade(&scene, &deck);
     let out = dembound()
         .args(["compare", "--json"])
         .arg(&deck)

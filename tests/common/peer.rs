@@ -158,6 +158,33 @@ pub fn run_liggghts(scene: &Path, deck: &Path) {
     );
 }
 
+/// Exports `scene` to `deck` with `dembound export yade` and runs Yade
+/// there (`yade -n -j1 -x scene.py`: one thread, no GUI).
+pub fn run_yade(scene: &Path, deck: &Path) {
+    let o = dembound()
+        .args(["export", "yade"])
+        .arg(scene)
+        .arg("--out")
+        .arg(deck)
+        .output()
+        .expect("dembound runs");
+    assert!(
+        o.status.success(),
+        "export failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let ran = Command::new("yade")
+        .args(["-n", "-j1", "-x", "scene.py"])
+        .current_dir(deck)
+        .output()
+        .expect("yade runs");
+    assert!(
+        ran.status.success(),
+        "yade failed: {}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+}
+
 /// A LIGGGHTS deck's particles.dump: per dump, (step, rows of id type
 /// radius x y z vx vy vz [ωx ωy ωz]) sorted by id.
 pub fn read_liggghts_dump(deck: &Path) -> Vec<(u64, Vec<Vec<f64>>)> {
