@@ -134,35 +134,25 @@ pub const STEEL_PLANE_FLOOR: &str =
 /// Exports `scene` to `deck` with `dembound export liggghts` and runs
 /// LIGGGHTS there (`in.liggghts`, its log in `log.liggghts`).
 pub fn run_liggghts(scene: &Path, deck: &Path) {
-    let o = dembound()
-        .args(["export", "liggghts"])
-        .arg(scene)
-        .arg("--out")
-        .arg(deck)
-        .output()
-        .expect("dembound runs");
-    assert!(
-        o.status.success(),
-        "export failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let ran = Command::new("liggghts")
-        .args(["-in", "in.liggghts", "-log", "log.liggghts"])
-        .current_dir(deck)
-        .output()
-        .expect("liggghts runs");
-    assert!(
-        ran.status.success(),
-        "liggghts failed: {}",
-        String::from_utf8_lossy(&ran.stdout)
+    export_then_run(
+        "liggghts",
+        scene,
+        deck,
+        &["-in", "in.liggghts", "-log", "log.liggghts"],
     );
 }
 
 /// Exports `scene` to `deck` with `dembound export yade` and runs Yade
 /// there (`yade -n -j1 -x scene.py`: one thread, no GUI).
 pub fn run_yade(scene: &Path, deck: &Path) {
+    export_then_run("yade", scene, deck, &["-n", "-j1", "-x", "scene.py"]);
+}
+
+/// `dembound export CODE scene --out deck`, then the code's binary (named
+/// as the code) with `args` in `deck`; each must succeed.
+fn export_then_run(code: &str, scene: &Path, deck: &Path, args: &[&str]) {
     let o = dembound()
-        .args(["export", "yade"])
+        .args(["export", code])
         .arg(scene)
         .arg("--out")
         .arg(deck)
@@ -173,14 +163,15 @@ pub fn run_yade(scene: &Path, deck: &Path) {
         "export failed: {}",
         String::from_utf8_lossy(&o.stderr)
     );
-    let ran = Command::new("yade")
-        .args(["-n", "-j1", "-x", "scene.py"])
+    let ran = Command::new(code)
+        .args(args)
         .current_dir(deck)
         .output()
-        .expect("yade runs");
+        .expect("the code runs");
     assert!(
         ran.status.success(),
-        "yade failed: {}",
+        "{code} failed: {}{}",
+        String::from_utf8_lossy(&ran.stdout),
         String::from_utf8_lossy(&ran.stderr)
     );
 }
