@@ -6,7 +6,9 @@ Per seed k (docs/export-lammps.md, "A's side walls over jittered seeds"):
 1. once: `dembound export yade SCENE --set POSITIONS_SET... --out RUNS/positions`
    (only for the resolved spheres' positions and velocities, 17 digits;
    Yade is not run);
-2. `jitter_velocities.py RUNS/positions AMPLITUDE k RUNS/Jk.toml`;
+2. `jitter_velocities.py RUNS/positions AMPLITUDE k RUNS/Jk.toml`
+   (with --mirror-x, then `mirror_scene.py RUNS/Jk.toml RUNS/Jk.toml`: the
+   seed's mirror image in x);
 3. `dembound export CODE RUNS/Jk.toml --set SET... --out RUNS/Jk`;
 4. the peer run in RUNS/Jk under `nice -n 5` (LAMMPS: `lmp -in in.lammps
    -log log.lammps`; LIGGGHTS: `liggghts -in in.liggghts -log
@@ -78,9 +80,14 @@ def main():
                     help="replace every OLD by NEW in the exported deck's input (in.lammps, "
                     "in.liggghts or scene.py) before the peer runs: a variant of the peer's "
                     "model that dembound's side (scene.toml) does not share; OLD must occur")
+    ap.add_argument("--mirror-x", action="store_true",
+                    help="run each seed's mirror image in x (mirror_scene.py on the jittered "
+                    "scene): the chirality test of docs/export-yade.md")
     ap.add_argument("--compare-arg", action="append", default=[],
                     help="an argument for `dembound compare` (e.g. --compare-arg=--window-from=0.2)")
     args = ap.parse_args()
+    if args.mirror_x and args.seed_key:
+        sys.exit("--mirror-x mirrors the jittered scene; a scene with its own --seed-key has none")
     first, end = (int(x) for x in args.seeds.split(":"))
     os.makedirs(args.runs, exist_ok=True)
     positions = os.path.join(args.runs, "positions")
@@ -101,6 +108,9 @@ def main():
         else:
             run([sys.executable, os.path.join(HERE, "jitter_velocities.py"), positions,
                  repr(args.amplitude), str(k), deck + ".toml"])
+            if args.mirror_x:
+                run([sys.executable, os.path.join(HERE, "mirror_scene.py"), deck + ".toml",
+                     deck + ".toml"])
             run([args.dembound, "export", args.code, deck + ".toml", *sets(args.set),
                  "--out", deck])
         if args.replace:
