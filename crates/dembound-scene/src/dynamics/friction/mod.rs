@@ -26,7 +26,8 @@
 //! `springs.rs` (spring storage: pairs' and walls' springs, saved and
 //! restored by input ids), `pairs.rs` and `pair_batch.rs` (the pair force
 //! loop, row by row and batched), `row_laws.rs` (the batched loop's law
-//! lookup: the class table, or one law without per-contact dispatch), `walls.rs` (the per-body wall pass and
+//! lookup: the class table, or one law without per-contact dispatch),
+//! `turn_four.rs` (a batch's springs turned or cleared four at a time), `walls.rs` (the per-body wall pass and
 //! the walls' tangential observables).
 
 mod pair_batch;
@@ -34,6 +35,7 @@ mod pairs;
 mod row_laws;
 mod springs;
 mod table;
+mod turn_four;
 mod walls;
 
 pub(crate) use pairs::add_pair_forces_then;

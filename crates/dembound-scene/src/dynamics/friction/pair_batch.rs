@@ -15,13 +15,15 @@ use crate::dynamics::contacts::NO_HISTORY;
 impl MainPairs<'_> {
     /// Rows `lo..hi`, at most [`BATCH`] of them with at most [`BATCH`]
     /// entries in all (see [`Self::block`]), each contact's law from
-    /// `rows`.
+    /// `rows`. `AVX2`: inlined into [`Self::block_avx2`] (the processor
+    /// has AVX2), the springs turned four at a time.
     #[inline(always)]
     pub(super) fn batch<
         const KEEP: bool,
         const ROLL: bool,
         const TABLE: bool,
         const TALLY: bool,
+        const AVX2: bool,
         R: RowLaws,
     >(
         &self,
@@ -83,6 +85,27 @@ impl MainPairs<'_> {
             g.ny[q] = y * inv;
             g.nz[q] = z * inv;
         }
+        // The springs four entries at a time: each touching entry's
+        // turned into its tangent plane (pass 1b below), each other
+        // entry's set to +0 (the mask below), the same bits.
+        #[cfg(target_arch = "x86_64")]
+        if AVX2 {
+            // SAFETY: AVX2 (`AVX2` is set by `block_avx2` alone); entries
+            // first..first + count are this batch's, their springs
+            // consecutive and borrowed by nothing else here; the arrays
+            // hold BATCH ≥ count values.
+            unsafe {
+                super::turn_four::turn_or_clear(
+                    self.shear.0.add(first),
+                    &g.nx,
+                    &g.ny,
+                    &g.nz,
+                    &g.touches,
+                    count,
+                )
+            };
+        }
+        let vector = AVX2 && cfg!(target_arch = "x86_64");
         let mut m = 0usize;
         for i in lo..hi {
             let (s, e) = (start[i] as usize, start[i + 1] as usize);
@@ -101,7 +124,9 @@ impl MainPairs<'_> {
                 // SAFETY: entry k belongs to row i of this block (as in
                 // [`Self::row`]).
                 unsafe {
-                    mask(&mut *self.shear.0.add(k));
+                    if !vector {
+                        mask(&mut *self.shear.0.add(k));
+                    }
                     if KEEP {
                         let hist = &mut *self.history.0.add(k);
                         hist.max_overlap = f64::from_bits(hist.max_overlap.to_bits() & keep);
@@ -122,7 +147,7 @@ impl MainPairs<'_> {
         // dot products and the division by |δ|²) runs here, contacts
         // overlapping one another, instead of heading each contact's stages
         // below, which take the rest (`tangential_force_turned`).
-        for t in 0..found {
+        for t in 0..if vector { 0 } else { found } {
             let q = g.entry(t);
             let n = [g.nx[q], g.ny[q], g.nz[q]];
             // SAFETY: entry first + q belongs to a row of this batch (pass 1).

@@ -404,7 +404,7 @@ impl MainPairs<'_> {
         run_blocks_then(
             workers,
             self.list,
-            |b| self.block::<KEEP, ROLL, TABLE, TALLY, R>(b, rows),
+            |b| self.block::<KEEP, ROLL, TABLE, TALLY, false, R>(b, rows),
             follow,
         )
     }
@@ -429,7 +429,7 @@ impl MainPairs<'_> {
         b: usize,
         rows: &R,
     ) {
-        self.block::<KEEP, ROLL, TABLE, TALLY, R>(b, rows)
+        self.block::<KEEP, ROLL, TABLE, TALLY, true, R>(b, rows)
     }
 
     /// Block `b`'s rows, in batches of consecutive rows with at most
@@ -442,12 +442,15 @@ impl MainPairs<'_> {
     /// operations; the second pass computes the contacts found. Same
     /// operations on the same values in the same order as [`Self::row`]
     /// (the springs of untouched entries set to exactly +0): the same bits.
+    /// `AVX2`: called from [`Self::block_avx2`] (the batches' springs
+    /// turned four at a time, [`super::turn_four`]).
     #[inline(always)]
     fn block<
         const KEEP: bool,
         const ROLL: bool,
         const TABLE: bool,
         const TALLY: bool,
+        const AVX2: bool,
         R: RowLaws,
     >(
         &self,
@@ -475,7 +478,7 @@ impl MainPairs<'_> {
                 self.row::<KEEP, ROLL, TABLE, TALLY>(i);
                 i += 1;
             } else {
-                self.batch::<KEEP, ROLL, TABLE, TALLY, R>(i, end, scratch, rows);
+                self.batch::<KEEP, ROLL, TABLE, TALLY, AVX2, R>(i, end, scratch, rows);
                 i = end;
             }
         }
