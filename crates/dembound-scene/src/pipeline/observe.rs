@@ -322,17 +322,9 @@ impl Kick<'_> {
             if WITHIN {
                 let r = *self.radius.get_unchecked(k);
                 sums.r_min = if r < sums.r_min { r } else { sums.r_min };
-                for a in 0..3 {
-                    sums.least[a] = if x[a] < sums.least[a] {
-                        x[a]
-                    } else {
-                        sums.least[a]
-                    };
-                    sums.most[a] = if x[a] > sums.most[a] {
-                        x[a]
-                    } else {
-                        sums.most[a]
-                    };
+                for ((&c, least), most) in x.iter().zip(&mut sums.least).zip(&mut sums.most) {
+                    *least = if c < *least { c } else { *least };
+                    *most = if c > *most { c } else { *most };
                 }
             }
         }
