@@ -53,37 +53,48 @@ pub(crate) fn surface_load_records_on(world: &World, workers: &Workers) -> Vec<L
     if wc.bodies() != n || wc.load.len() != wc.key.len() {
         return Vec::new();
     }
-    // The touching entries, each with its body's input id (body by body:
-    // a body's entries are its range); a fixed body (a halo copy) is not
-    // forced: its flags are not this step's.
+    // The touching entries, each as its key (body's input id, entry),
+    // packed in one u64 (id above, entry below: entries are u32) so that
+    // the integer order is the key order. Body by body: a body's entries
+    // are its range, the ranges ascend with the body (so eight bodies
+    // whose first and last bounds are equal have none: passed by one
+    // test); a fixed body (a halo copy) is not forced: its flags are not
+    // this step's.
+    let (start, fixed, touching, id) = (&wc.start[..], &b.fixed[..], &wc.touching[..], &b.id[..]);
     let parts = workers.map_bodies(n, BODY_CHUNK, |c| {
-        let mut touching: Vec<(u32, usize)> = Vec::new();
-        for i in c * BODY_CHUNK..((c + 1) * BODY_CHUNK).min(n) {
-            let (s, e) = (wc.start[i] as usize, wc.start[i + 1] as usize);
-            if s == e || b.fixed[i] {
+        let mut keys: Vec<u64> = Vec::new();
+        let (mut i, end) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
+        while i < end {
+            if i + 8 <= end && start[i] == start[i + 8] {
+                i += 8;
                 continue;
             }
-            for k in s..e {
-                if wc.touching[k] {
-                    touching.push((b.id[i], k));
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s != e && !fixed[i] {
+                let body = u64::from(id[i]) << 32;
+                for (k, &t) in touching[s..e].iter().enumerate() {
+                    if t {
+                        keys.push(body | (s + k) as u64);
+                    }
                 }
             }
+            i += 1;
         }
-        // By id, then entry: a body's entries are contiguous, ascending
-        // by (wall, element).
-        touching.sort_unstable();
-        touching
+        keys.sort_unstable();
+        keys
     });
     // The chunks' sorted runs merged (a stable sort merges runs it finds
     // sorted; the keys are distinct: one order).
-    let mut touching: Vec<(u32, usize)> = parts.concat();
-    touching.sort();
-    touching
-        .into_iter()
-        .map(|(id, k)| LoadRecord {
-            id,
-            wall: world.surfaces[wc.key[k].wall as usize].file_index() as u32,
-            load: wc.load[k],
+    let mut keys: Vec<u64> = parts.concat();
+    keys.sort();
+    keys.into_iter()
+        .map(|key| {
+            let k = (key & u64::from(u32::MAX)) as usize;
+            LoadRecord {
+                id: (key >> 32) as u32,
+                wall: world.surfaces[wc.key[k].wall as usize].file_index() as u32,
+                load: wc.load[k],
+            }
         })
         .collect()
 }
