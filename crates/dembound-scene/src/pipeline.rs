@@ -14,6 +14,7 @@
 //! observables, with their own hooks; `wall_loads` the walls' force and
 //! torque from what the force stage recorded).
 
+pub(crate) mod closing_kick;
 mod collisions;
 pub mod dissipation;
 mod forces;
@@ -195,7 +196,7 @@ pub struct Pipeline {
     tally_step: Option<u64>,
     /// The step whose end state's kinetic and potential energy the last
     /// half kick summed (J), when asked ([`Self::tally_wanted`]).
-    energies: Option<(u64, observe::KickedState)>,
+    energies: Option<(u64, closing_kick::KickedState)>,
     /// The box the state check tests the centres against
     /// (`Simulation::outside_box`), for the last half kick's test.
     pub(crate) check_box: Option<([f64; 3], [f64; 3])>,
@@ -357,7 +358,7 @@ impl Pipeline {
         if wanted && n > 0 && self.pending_kick {
             // The last half kick sums the energies on the way.
             self.pending_kick = false;
-            let kicked = observe::kick_then_energies(world, workers, self.check_box);
+            let kicked = closing_kick::kick_then_energies(world, workers, self.check_box);
             self.energies = Some((world.steps_done, kicked));
             self.ghosts(world);
         } else {
@@ -400,7 +401,7 @@ impl Pipeline {
 
     /// The last half kick found every position, velocity and spin finite
     /// and every centre within the check's box at this state
-    /// ([`observe::KickedState::sound`]).
+    /// ([`closing_kick::KickedState::sound`]).
     pub(crate) fn sound(&self, world: &World) -> bool {
         self.energies
             .is_some_and(|(step, e)| step == world.steps_done && e.sound)
