@@ -14,6 +14,23 @@
 //! observables, with their own hooks; `wall_loads` the walls' force and
 //! torque from what the force stage recorded).
 
+/// Four bodies' values (lane k: body k) spread over the lanes of their
+/// three components stored body after body, `[x0 y0 z0 x1] [y1 z1 x2 y2]
+/// [z2 x3 y3 z3]`: lanes [0 0 0 1], [1 1 2 2], [2 3 3 3]. For the AVX2
+/// body passes (`verlet`, `closing_kick`); a macro, not a function or a
+/// closure, so that it is compiled inside their AVX2 functions.
+#[cfg(target_arch = "x86_64")]
+macro_rules! spread_lanes {
+    ($a:expr) => {{
+        let a = $a;
+        [
+            _mm256_permute4x64_pd::<0x40>(a),
+            _mm256_permute4x64_pd::<0xA5>(a),
+            _mm256_permute4x64_pd::<0xFE>(a),
+        ]
+    }};
+}
+
 pub(crate) mod closing_kick;
 mod collisions;
 pub mod dissipation;

@@ -284,19 +284,6 @@ impl Kick<'_> {
         let mut least = [_mm256_set1_pd(f64::INFINITY); 3];
         let mut most = [_mm256_set1_pd(f64::NEG_INFINITY); 3];
         let mut r_min = _mm256_set1_pd(f64::INFINITY);
-        // Body k's value (lane k) over its three components' lanes:
-        // [0 0 0 1], [1 1 2 2], [2 3 3 3]. (A macro, not a closure: a
-        // closure is compiled without AVX2 before it is inlined.)
-        macro_rules! spread {
-            ($a:expr) => {{
-                let a = $a;
-                [
-                    _mm256_permute4x64_pd::<0x40>(a),
-                    _mm256_permute4x64_pd::<0xA5>(a),
-                    _mm256_permute4x64_pd::<0xFE>(a),
-                ]
-            }};
-        }
         // [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3] -> x, y, z of bodies 0-3.
         macro_rules! transpose {
             ($r:expr) => {{
@@ -334,7 +321,7 @@ impl Kick<'_> {
             }
             let m = _mm256_loadu_pd(mass.add(i));
             // `integrate::verlet_kick`'s kick: v + F (Δt/2/m).
-            let dtfm = spread!(_mm256_div_pd(half_dt, m));
+            let dtfm = spread_lanes!(_mm256_div_pd(half_dt, m));
             let mut squares = [_mm256_setzero_pd(); 3];
             let mut centres = [_mm256_setzero_pd(); 3];
             for q in 0..3 {

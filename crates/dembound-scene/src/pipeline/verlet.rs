@@ -142,19 +142,6 @@ unsafe fn advance_bodies_quad(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
         _mm256_setr_pd(g[2], g[0], g[1], g[2]),
     ];
     let (half, dt) = (_mm256_set1_pd(half_dt), _mm256_set1_pd(c.dt));
-    // Body k's value (lane k) over its three components' lanes:
-    // [0 0 0 1], [1 1 2 2], [2 3 3 3]. (A macro, not a closure: a closure
-    // is compiled without AVX2 before it is inlined.)
-    macro_rules! spread {
-        ($a:expr) => {{
-            let a = $a;
-            [
-                _mm256_permute4x64_pd::<0x40>(a),
-                _mm256_permute4x64_pd::<0xA5>(a),
-                _mm256_permute4x64_pd::<0xFE>(a),
-            ]
-        }};
-    }
     let mut largest = _mm256_setzero_pd();
     let mut m = 0.0f64;
     let mut i = lo;
@@ -166,8 +153,8 @@ unsafe fn advance_bodies_quad(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
             continue;
         }
         let masses = _mm256_loadu_pd(mass.as_ptr().add(i));
-        let dtfm = spread!(_mm256_div_pd(half, masses));
-        let masses = spread!(masses);
+        let dtfm = spread_lanes!(_mm256_div_pd(half, masses));
+        let masses = spread_lanes!(masses);
         let mut d2 = [_mm256_setzero_pd(); 3];
         for q in 0..3 {
             // Lanes 4q..4q + 4 of the four bodies' 12 values.
