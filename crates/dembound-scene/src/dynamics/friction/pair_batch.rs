@@ -147,12 +147,15 @@ impl MainPairs<'_> {
         // dot products and the division by |δ|²) runs here, contacts
         // overlapping one another, instead of heading each contact's stages
         // below, which take the rest (`tangential_force_turned`).
-        for t in 0..if vector { 0 } else { found } {
-            let q = g.entry(t);
-            let n = [g.nx[q], g.ny[q], g.nz[q]];
-            // SAFETY: entry first + q belongs to a row of this batch (pass 1).
-            let sh = unsafe { &mut *self.shear.0.add(first + q) };
-            FrictionPair::turn_spring(sh, n);
+        // (The four-lane pass above, when it ran, turned them already.)
+        if !vector {
+            for t in 0..found {
+                let q = g.entry(t);
+                let n = [g.nx[q], g.ny[q], g.nz[q]];
+                // SAFETY: entry first + q belongs to a row of this batch (pass 1).
+                let sh = unsafe { &mut *self.shear.0.add(first + q) };
+                FrictionPair::turn_spring(sh, n);
+            }
         }
         // Pass 2 over the contacts found. The
         // same operations on the same values as [`contact`]: the same bits.
