@@ -73,9 +73,9 @@ fn refuse<T>(s: String) -> Result<T> {
 
 /// The stand-in Hertz–Mindlin material of a body met by spheres of
 /// material `free`: Yade 2023.02a's k_n⁰ = 4/3 E √(ρR) and k_s⁰ = 8 G_Y
-/// √(ρR), E = 1/((1 − ν_f²)/E_f + (1 − ν'²)/E') and G_Y = 1/((2 − ν_f)/G_f
-/// + (2 − ν')/G') (ρ = Yade's R*/dembound's R_eff: 1 against a sphere,
-/// 1/2 against `utils.wall`), equal dembound's E_eff √R and 8 G* √R, where
+/// √(ρR), E = 1/((1 − ν_f²)/E_f + (1 − ν'²)/E') and G_Y = 1/((2 −
+/// ν_f)/G_f + (2 − ν')/G') (ρ = Yade's R*/dembound's R_eff: 1 against a
+/// sphere, 1/2 against `utils.wall`), equal dembound's E_eff √R and 8 G* √R, where
 /// E_eff and G* are dembound's for `free` and `other`. The normal condition
 /// fixes c = (1 − ν'²)/E' = 4√ρ/(3 E_eff) − (1 − ν_f²)/E_f; the shear one,
 /// d = (2 − ν')/G' = √ρ/G* − (2 − ν_f)/G_f with G' = (1 − ν')/(2c), gives
