@@ -481,3 +481,143 @@ fn floor_contact_point_is_yades_under_overlap_middle() {
     // 2.6e-3 R; the bound 1e-6 R leaves a factor 2600).
     assert!(state[1] > 1e3 * IDENTICAL, "contact_point: {}", state[1]);
 }
+
+/// A free sphere (grain, R 0.5 mm) touching, at t = 0, each non-free body
+/// kind of the deck: the floor `utils.wall`, a side `utils.wall` and a fixed
+/// sphere of another material (steel, R 0.6 mm); the friction on, so Yade
+/// builds its Mindlin numbers for all three.
+const STIFFNESS_PROBE: &str = r#"
+[domain]
+lower = [0.0, 0.0, 0.0]
+upper = [0.01, 0.01, 0.01]
+[[material]]
+name = "grain"
+density = 2500.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[material]]
+name = "steel"
+density = 7800.0
+youngs_modulus = 5.0e7
+poisson_ratio = 0.25
+[contact]
+law = "hertz"
+damping = "tsuji"
+restitution = 0.5
+friction = 0.5
+tangential_damping = false
+[[particles]]
+spheres = [ { position = [0.005, 0.005, 0.00049], radius = 0.5e-3 },
+            { position = [0.0025, 0.005, 0.00149], radius = 0.5e-3 },
+            { position = [0.00901, 0.005, 0.003], radius = 0.5e-3 } ]
+material = "grain"
+[[particles]]
+spheres = [ { position = [0.0025, 0.005, 0.0004], radius = 0.6e-3 } ]
+material = "steel"
+fixed = true
+[[wall]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+material = "grain"
+[[wall]]
+plane = { point = [0.0095, 0.0, 0.0], normal = [-1.0, 0.0, 0.0] }
+material = "grain"
+[motion]
+gravity = [0.0, 0.0, -9.81]
+[integration]
+dt = 2.0e-6
+steps = 10
+[output]
+series_every = 10
+"#;
+
+/// The installed Yade's own Mindlin numbers for the deck's materials are
+/// dembound's: after one step of the exported deck, Yade's `kno` and `kso`
+/// of each contact (F_n = kno h^(3/2), k_t = kso √h) equal dembound's 4/3
+/// E* √R_eff and 8 G* √R_eff, written out here from the two materials
+/// (eq 6; G* = 1/((2 − ν₁)/G₁ + (2 − ν₂)/G₂)), on the floor plane, on a
+/// side plane (stand-ins for Yade's R* = R/2) and on the fixed steel
+/// sphere (its own material). Until issue 32 the deck solved its stand-ins
+/// for an older Yade formula (averaged G and ν): Yade's kso was then 7.5 %
+/// low on the planes, 17 % on a ζ = 10 floor's spheres.
+#[test]
+fn yades_mindlin_stiffnesses_are_dembounds_on_walls_and_fixed_spheres() {
+    if !have_yade() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let scene = dir.path().join("scene_in.toml");
+    std::fs::write(&scene, STIFFNESS_PROBE).expect("written");
+    let deck = dir.path().join("deck");
+    let out = dembound()
+        .args(["export", "yade"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&deck)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // One step, then every contact's numbers on stdout.
+    let script = deck.join("scene.py");
+    let text = std::fs::read_to_string(&script).expect("the script");
+    let run_line = "O.run(11, True)";
+    assert!(text.contains(run_line), "{text}");
+    let probe = "O.run(1, True)\nfor i in O.interactions:\n    if i.isReal:\n        \
+                 print('KS', min(i.id1, i.id2), max(i.id1, i.id2), repr(i.phys.kno), repr(i.phys.kso))\n";
+    std::fs::write(&script, text.replace(run_line, probe)).expect("written");
+    let run = std::process::Command::new("yade")
+        .args(["-n", "-j1", "-x", "scene.py"])
+        .current_dir(&deck)
+        .output()
+        .expect("yade runs");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        run.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // dembound's numbers from the materials (E, ν) and R_eff.
+    let hertz_mindlin = |a: (f64, f64), b: (f64, f64), r_eff: f64| -> (f64, f64) {
+        let e = 1.0 / ((1.0 - a.1 * a.1) / a.0 + (1.0 - b.1 * b.1) / b.0);
+        let g = |m: (f64, f64)| m.0 / (2.0 * (1.0 + m.1));
+        let g_star = 1.0 / ((2.0 - a.1) / g(a) + (2.0 - b.1) / g(b));
+        (4.0 / 3.0 * e * r_eff.sqrt(), 8.0 * g_star * r_eff.sqrt())
+    };
+    let (grain, steel) = ((1.0e7, 0.3), (5.0e7, 0.25));
+    // Body ids: the free spheres 0–2, the fixed sphere 3, the planes 4, 5.
+    let expected = [
+        ((0, 4), hertz_mindlin(grain, grain, 0.5e-3)),
+        (
+            (1, 3),
+            hertz_mindlin(grain, steel, 0.5e-3 * 0.6e-3 / 1.1e-3),
+        ),
+        ((2, 5), hertz_mindlin(grain, grain, 0.5e-3)),
+    ];
+    let found: Vec<((u64, u64), (f64, f64))> = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("KS "))
+        .map(|l| {
+            let w: Vec<&str> = l.split_whitespace().collect();
+            let n = |k: usize| w[k].parse::<f64>().expect("a number");
+            (
+                (w[0].parse().expect("an id"), w[1].parse().expect("an id")),
+                (n(2), n(3)),
+            )
+        })
+        .collect();
+    assert_eq!(found.len(), expected.len(), "{stdout}");
+    for (ids, (kn, ks)) in expected {
+        let (_, (kno, kso)) = found
+            .iter()
+            .find(|(f, _)| *f == ids)
+            .unwrap_or_else(|| panic!("no contact {ids:?} in Yade's: {found:?}"));
+        // Round-off of a dozen operations in either code: 1e-13.
+        assert!(
+            (kno / kn - 1.0).abs() < 1e-13 && (kso / ks - 1.0).abs() < 1e-13,
+            "{ids:?}: Yade ({kno}, {kso}) against dembound's ({kn}, {ks})"
+        );
+    }
+}

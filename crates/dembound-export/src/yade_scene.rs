@@ -8,12 +8,14 @@
 //! and FrictPhys.cpp):
 //! - Hertz: `MindlinPhys`/`Law2_ScGeom_MindlinPhys_Mindlin`: k_n⁰ = 4/3 E R*
 //!   ^(1/2), E = 1/((1 − ν_a²)/E_a + (1 − ν_b²)/E_b), R* = D_a D_b/(D_a + D_b);
-//!   k_s = 2 √(4R*) G/(2 − V), G and V the arithmetic means of the two
-//!   bodies' G and ν. Between two spheres of one material this is
-//!   dembound's eq 6 and 8 G* √(R h) exactly. Elsewhere the deck gives the
-//!   other body a stand-in material ([`stand_in`]) whose E and ν make both
-//!   Yade numbers dembound's: for `utils.wall` Yade takes D_a = D_b = R
-//!   (R* = R/2, dembound R) and for two materials it averages G and ν.
+//!   k_s⁰ = 8 G* √R*, G* = 1/((2 − ν_a)/G_a + (2 − ν_b)/G_b) (measured on the
+//!   installed 2023.02a: `kso` of a sphere on a fixed sphere of another
+//!   material; the older sources' 2 √(4R*) G/(2 − V) with the arithmetic
+//!   means G and V is not what it computes). That is dembound's eq 6 and
+//!   8 G* √(R h) for any two spheres, so a fixed sphere keeps its own
+//!   material. A `utils.wall` gets a stand-in material ([`stand_in`]) whose
+//!   E and ν make both Yade numbers dembound's: Yade takes D_a = D_b = R
+//!   there (R* = R/2, dembound R).
 //! - `contact.law = "hooke"`: `FrictPhys`/`Law2_ScGeom_FrictPhys_CundallStrack`:
 //!   k_n = 2 E_a D_a E_b D_b/(E_a D_a + E_b D_b), k_s the same mean of
 //!   E D ν: "young" = k/R and "poisson" = k_t/k for one sphere radius.
@@ -70,13 +72,15 @@ fn refuse<T>(s: String) -> Result<T> {
 }
 
 /// The stand-in Hertz–Mindlin material of a body met by spheres of
-/// material `free`: Yade's k_n⁰ = 4/3 E √(ρR) and k_s = 4 √(ρR) G/(2 − V)
-/// (ρ = Yade's R*/dembound's R_eff: 1 against a sphere, 1/2 against
-/// `utils.wall`) equal dembound's E_eff √R and 8 G* √R, where E_eff and G*
-/// are dembound's for `free` and `other`. The normal condition fixes
-/// c = (1 − ν'²)/E' = 4√ρ/(3 E_eff) − (1 − ν_f²)/E_f; the shear one, with
-/// G' = (1 − ν')/(2c), is linear in ν'. None when no E' > 0, ν' ∈ (−1, 1)
-/// exists.
+/// material `free`: Yade 2023.02a's k_n⁰ = 4/3 E √(ρR) and k_s⁰ = 8 G_Y
+/// √(ρR), E = 1/((1 − ν_f²)/E_f + (1 − ν'²)/E') and G_Y = 1/((2 −
+/// ν_f)/G_f + (2 − ν')/G') (ρ = Yade's R*/dembound's R_eff: 1 against a
+/// sphere, 1/2 against `utils.wall`), equal dembound's E_eff √R and 8 G* √R, where
+/// E_eff and G* are dembound's for `free` and `other`. The normal condition
+/// fixes c = (1 − ν'²)/E' = 4√ρ/(3 E_eff) − (1 − ν_f²)/E_f; the shear one,
+/// d = (2 − ν')/G' = √ρ/G* − (2 − ν_f)/G_f with G' = (1 − ν')/(2c), gives
+/// ν' = (d − 4c)/(d − 2c). At ρ = 1 that is `other` itself. None when no
+/// E' > 0, ν' ∈ (−1, 1) exists.
 pub fn stand_in(free: &Material, other: &Material, rho: f64) -> Option<(f64, f64)> {
     let e_eff = effective_modulus(free, other);
     let g_star = effective_shear_modulus(free, other);
@@ -86,9 +90,8 @@ pub fn stand_in(free: &Material, other: &Material, rho: f64) -> Option<(f64, f64
         return None;
     }
     let g_f = free.youngs_modulus / (2.0 * (1.0 + nu_f));
-    // (G_f + G')/2 = T (2 − (ν_f + ν')/2), T = 2 G*/√ρ.
-    let t = 2.0 * g_star / rho.sqrt();
-    let nu = (2.0 * t - t * nu_f / 2.0 - g_f / 2.0 - 1.0 / (4.0 * c)) / (t / 2.0 - 1.0 / (4.0 * c));
+    let d = rho.sqrt() / g_star - (2.0 - nu_f) / g_f;
+    let nu = (d - 4.0 * c) / (d - 2.0 * c);
     if !(nu > -1.0 && nu < 1.0) {
         return None;
     }
@@ -368,9 +371,11 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             let mut other_yade = Vec::new();
             for o in &others {
                 let rho = if o.wall { 0.5 } else { 1.0 };
-                let same = o.material == fm && !o.wall;
-                let (e, nu) = if same {
-                    (fm.youngs_modulus, fm.poisson_ratio)
+                // Yade's Mindlin numbers between two spheres are dembound's
+                // (module doc): a fixed sphere keeps its own material (a
+                // rigid one has no stand-in either: refused below).
+                let (e, nu) = if !o.wall && o.material.youngs_modulus.is_finite() {
+                    (o.material.youngs_modulus, o.material.poisson_ratio)
                 } else {
                     stand_in(&fm, &o.material, rho).ok_or_else(|| {
                         Error::Export(format!(
@@ -604,8 +609,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             setup.spheres.len()
         ),
     );
-    c(&mut x, "materials: the free spheres' own; every fixed-sphere material and every wall a stand-in whose Yade");
-    c(&mut x, "  stiffnesses against the free spheres are dembound's E_eff sqrt(R_eff) and 8 G* sqrt(R_eff) (docs/export-yade.md)");
+    c(&mut x, "materials: the free spheres' own; every fixed sphere its own (Yade 2023.02a's Mindlin numbers between two");
+    c(&mut x, "  spheres are dembound's); every wall a stand-in whose Yade stiffnesses against the free spheres are");
+    c(
+        &mut x,
+        "  dembound's E_eff sqrt(R_eff) and 8 G* sqrt(R_eff) (docs/export-yade.md)",
+    );
     for line in &comments {
         c(&mut x, line);
     }
@@ -1004,16 +1013,15 @@ steps = 10
         deck(&scene)
     }
 
-    /// Yade's Mindlin numbers (HertzMindlin.cpp, written out here) for a
-    /// pair of FrictMats (E, ν) at R* = ρ R: (k_n⁰, k_s⁰)/√R.
+    /// Yade 2023.02a's Mindlin numbers (HertzMindlin.cpp, written out here;
+    /// the installed Yade's `kno` and `kso`, docs/export-yade.md "Stand-in
+    /// materials, exactly") for a pair of FrictMats (E, ν) at R* = ρ R:
+    /// (k_n⁰, k_s⁰)/√R.
     fn yade_mindlin(a: (f64, f64), b: (f64, f64), rho: f64) -> (f64, f64) {
         let e = a.0 * b.0 / ((1.0 - a.1 * a.1) * b.0 + (1.0 - b.1 * b.1) * a.0);
-        let g = (a.0 / (2.0 * (1.0 + a.1)) + b.0 / (2.0 * (1.0 + b.1))) / 2.0;
-        let v = (a.1 + b.1) / 2.0;
-        (
-            4.0 / 3.0 * e * rho.sqrt(),
-            2.0 * (4.0 * rho).sqrt() * g / (2.0 - v),
-        )
+        let g = |m: (f64, f64)| m.0 / (2.0 * (1.0 + m.1));
+        let g_y = 1.0 / ((2.0 - a.1) / g(a) + (2.0 - b.1) / g(b));
+        (4.0 / 3.0 * e * rho.sqrt(), 8.0 * g_y * rho.sqrt())
     }
 
     /// dembound's eq 6 and 8 G* (written out, not through the physics crate).
@@ -1022,6 +1030,69 @@ steps = 10
         let g = |m: (f64, f64)| m.0 / (2.0 * (1.0 + m.1));
         let g_star = 1.0 / ((2.0 - a.1) / g(a) + (2.0 - b.1) / g(b));
         (e, 8.0 * g_star)
+    }
+
+    /// The written-out Yade numbers are the installed Yade's: `kno` and
+    /// `kso` that Yade 2023.02a computed (`O.interactions[i, j].phys` after
+    /// one step, printed to 17 digits) for a free sphere (E 1e7 Pa, ν 0.3,
+    /// R 0.5 mm) on a fixed sphere (R 2 mm) and on `utils.wall`, with the
+    /// stand-ins the deck wrote before (solved for the older formula with
+    /// averaged G and ν) and with those it writes now (scene A's floor, E
+    /// 1e8 Pa, ν 0.3, ζ = 10; its walls of the spheres' material).
+    #[test]
+    fn yades_mindlin_numbers_are_the_installed_yades() {
+        let free = (1.0e7, 0.3);
+        let sphere: f64 = 0.5e-3 * 2.0e-3 / 2.5e-3;
+        let wall: f64 = 0.5e-3;
+        for (other, rho, r_eff, kno, kso) in [
+            // The floor's earlier stand-in: k_s 17 % below dembound's.
+            (
+                (2.914985208583392e7, 8.571676300578035e-1),
+                1.0,
+                sphere,
+                266400.26640026644,
+                272283.83854648256,
+            ),
+            // The walls' earlier stand-in: k_s 7.5 % below dembound's.
+            (
+                (1.924981287470848e7, 5.238400953609688e-1),
+                0.5,
+                wall,
+                163814.5038461384,
+                187197.47849947645,
+            ),
+            // Now: the floor's own material, and the walls' stand-in.
+            (
+                (1.0e8, 0.3),
+                1.0,
+                sphere,
+                266400.2664002664,
+                329082.68202385854,
+            ),
+            (
+                (24142135.62373094, 0.3),
+                0.5,
+                wall,
+                163814.5038461384,
+                202359.09298640623,
+            ),
+        ] {
+            let (kn, ks) = yade_mindlin(free, other, rho);
+            let (kn, ks) = (kn * r_eff.sqrt(), ks * r_eff.sqrt());
+            // Round-off of a dozen operations in either code: 1e-13.
+            assert!(
+                (kn / kno - 1.0).abs() < 1e-13 && (ks / kso - 1.0).abs() < 1e-13,
+                "{other:?}: ({kn}, {ks}) against Yade's ({kno}, {kso})"
+            );
+        }
+        // The stand-in of the plane walls is the material Yade was given.
+        let m = |e: f64, nu: f64| Material {
+            density: 1000.0,
+            youngs_modulus: e,
+            poisson_ratio: nu,
+        };
+        let (e, nu) = stand_in(&m(1.0e7, 0.3), &m(1.0e7, 0.3), 0.5).expect("exists");
+        assert!((e / 24142135.62373094 - 1.0).abs() < 1e-13 && (nu - 0.3).abs() < 1e-13);
     }
 
     #[test]
