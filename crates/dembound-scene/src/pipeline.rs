@@ -229,6 +229,13 @@ pub(crate) trait StepHooks {
     /// The largest squared displacement since the last list build over
     /// every process (all rebuild at the same step), m².
     fn max_moved2(&mut self, moved2: f64) -> f64;
+    /// [`Self::max_moved2`] and [`Self::halo`] in one exchange, where
+    /// every process trades halo state with every other each step (the
+    /// largest displacement rides with the halo records): the largest
+    /// over every process, the halo copies then holding their owners'
+    /// state. `None`: nothing done; the caller takes the two apart. Every
+    /// process answers alike (the choice is agreed at each list build).
+    fn max_moved2_with_halo(&mut self, world: &mut World, moved2: f64) -> Option<f64>;
     /// New lists (a rank first migrates bodies and rebuilds its halo).
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers);
     /// Halo copies take their owners' state (before the ghosts follow).
@@ -270,6 +277,9 @@ pub(crate) struct Local;
 impl StepHooks for Local {
     fn max_moved2(&mut self, moved2: f64) -> f64 {
         moved2
+    }
+    fn max_moved2_with_halo(&mut self, _world: &mut World, _moved2: f64) -> Option<f64> {
+        None
     }
     fn rebuild(&mut self, pipeline: &mut Pipeline, world: &mut World, workers: &Workers) {
         if world.removal.is_some() || world.inlets.is_some() {
@@ -600,7 +610,12 @@ impl Pipeline {
         moved2: f64,
         hooks: &mut impl StepHooks,
     ) {
-        let moved2 = hooks.max_moved2(moved2);
+        // One exchange for both where the hooks can (a list build then
+        // replaces the halo copies it updated).
+        let (moved2, halo_done) = match hooks.max_moved2_with_halo(world, moved2) {
+            Some(m) => (m, true),
+            None => (hooks.max_moved2(moved2), false),
+        };
         // A wall appearing or vanishing at this state (`walls::gate`):
         // the lists again, without the walls that no longer act.
         let switched = world.switch_gates(world.steps_done + 1);
@@ -610,6 +625,8 @@ impl Pipeline {
                 world.gates_opened(&on);
             }
             self.body_forces(world, workers, world.dt);
+        } else if halo_done {
+            self.ghosts(world);
         } else if self.halo_overlaps(world) {
             // Nothing before the force stage reads the halo copies.
             self.halo_deferred = true;

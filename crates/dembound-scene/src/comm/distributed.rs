@@ -167,6 +167,12 @@ pub(crate) struct RankComm<T: Transport> {
     /// Seconds spent in the per-step halo exchange beyond the work it
     /// overlapped (posting, waiting, unpacking).
     halo_wait: f64,
+    /// Every rank sends halo state to every other and receives it from
+    /// every other each step, and none overlaps the exchange with its
+    /// pairs: the step's largest displacement rides with the halo records
+    /// instead of a collective of its own ([`Self::halo_update_with_max`]).
+    /// Agreed by every rank at each list build ([`Self::split_halo`]).
+    max_in_halo: bool,
 }
 
 /// The collision log with friction or Gear5 is refused under MPI (exit 2). Friction: see [`refuse_unsupported_world`].
@@ -369,6 +375,7 @@ impl<T: Transport> DistributedSimulation<T> {
             overlapped_steps: 0,
             deferred_pairs: 0,
             halo_wait: 0.0,
+            max_in_halo: false,
         };
         let mut me = Self {
             inputs,
@@ -739,6 +746,16 @@ impl<T: Transport> RankComm<T> {
             .halo_split
             .as_ref()
             .map_or(0, HaloSplit::deferred_pairs);
+        // Collective (one per list build): every rank takes the same path
+        // in each step's exchange.
+        let others = |list: &[(usize, Vec<u32>)]| {
+            let mut to: Vec<usize> = list.iter().map(|(r, _)| *r).collect();
+            to.sort_unstable();
+            to.dedup();
+            to.len() + 1 == self.transport.size() && to.iter().all(|&r| r != self.transport.rank())
+        };
+        let fits = others(&self.sends) && others(&self.receives) && pipeline.halo_split.is_none();
+        self.max_in_halo = self.transport.max(if fits { 0.0 } else { 1.0 }) == 0.0;
     }
 
     /// The whole scene's cell grid: the extent of every rank's celled
@@ -841,6 +858,46 @@ impl<T: Transport> RankComm<T> {
         self.halo_receive(world, &self.halo_in);
         self.halo_wait += clock.elapsed().as_secs_f64();
     }
+
+    /// [`Self::halo_update`] with `moved2` after each message's records
+    /// (8 bytes, not counted in the halo's bytes): the largest over every
+    /// rank when each rank exchanges with every other
+    /// ([`Self::max_in_halo`]), without a collective of its own.
+    fn halo_update_with_max(&mut self, world: &mut World, moved2: f64) -> f64 {
+        self.halo_sends(world);
+        for (_, out) in &mut self.halo_out {
+            out.extend_from_slice(&moved2.to_le_bytes());
+        }
+        self.size_halo_in(world.friction.is_some());
+        for buf in &mut self.halo_in {
+            buf.resize(buf.len() + 8, 0);
+        }
+        let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
+        let clock = Instant::now();
+        self.transport
+            .exchange_during(&self.halo_out, &from, &mut self.halo_in, &mut |_| {});
+        // The records are whole chunks before the 8 bytes (`halo_receive`
+        // reads one chunk per halo body).
+        self.halo_receive(world, &self.halo_in);
+        let largest = self.halo_in.iter().fold(moved2, |m, buf| {
+            let mut last = [0u8; 8];
+            last.copy_from_slice(&buf[buf.len() - 8..]);
+            max_or_nan(m, f64::from_le_bytes(last))
+        });
+        self.halo_wait += clock.elapsed().as_secs_f64();
+        largest
+    }
+}
+
+/// The larger of two squared displacements, a NaN winning (a position
+/// no longer finite asks for a list build on every rank, as
+/// `ThreadTransport::max` gives).
+fn max_or_nan(a: f64, b: f64) -> f64 {
+    if b > a || b.is_nan() {
+        b
+    } else {
+        a
+    }
 }
 
 /// Bytes of a free halo body's per-step record: position and velocity,
@@ -934,6 +991,15 @@ impl<T: Transport> StepHooks for RankComm<T> {
     /// step.
     fn max_moved2(&mut self, moved2: f64) -> f64 {
         self.transport.max(moved2)
+    }
+
+    /// Where every rank exchanges halo state with every other
+    /// ([`RankComm::max_in_halo`]): the halo messages carry the
+    /// displacement, one exchange a step instead of a collective and an
+    /// exchange.
+    fn max_moved2_with_halo(&mut self, world: &mut World, moved2: f64) -> Option<f64> {
+        self.max_in_halo
+            .then(|| self.halo_update_with_max(world, moved2))
     }
 
     /// Migration, a new halo and new lists; under `domain.outside =

@@ -127,6 +127,13 @@ impl<T: Transport> DistributedSimulation<T> {
         self.comm.migrated
     }
 
+    /// Whether each step's largest displacement travels with the halo
+    /// messages (every rank trades halo state with every other) rather
+    /// than in a collective of its own.
+    pub fn displacement_in_halo(&self) -> bool {
+        self.comm.max_in_halo
+    }
+
     /// Seconds this rank spent stepping.
     pub fn stepping_seconds(&self) -> f64 {
         self.stepping
