@@ -163,7 +163,45 @@ impl Pass<'_> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
     unsafe fn chunk_avx2(&self, lo: usize, hi: usize) -> Chunk {
-        self.chunk(lo, hi)
+        match self.tally {
+            Some(tally) => self.tallied_avx2(tally, lo, hi),
+            None => self.chunk(lo, hi),
+        }
+    }
+
+    /// [`Self::chunk`]'s tallied sums with AVX2: a body's four tallied
+    /// sums are one 4-lane register added to the chunk's four running sums
+    /// (lane d takes sum d with the scalar loop's additions in its order,
+    /// IEEE per lane); a free body with near walls first has its planes'
+    /// spring energy added to its springs' lane, as the scalar loop does.
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2")]
+    unsafe fn tallied_avx2(&self, tally: &[PairTally], lo: usize, hi: usize) -> Chunk {
+        use std::arch::x86_64::*;
+        let mut out = Chunk {
+            pairs: [0.0; 4],
+            planes: [0.0; 2],
+        };
+        let planes = !self.surfaces.is_empty();
+        let (start, fixed) = (&self.walls.start[..], &self.bodies.fixed[..]);
+        let mut sums = _mm256_setzero_pd();
+        for (i, t) in (lo..hi).zip(&tally[lo..hi]) {
+            // `walls.range(i)` not empty (`observe` checked the lengths
+            // when there are planes).
+            let row = if planes && start[i] != start[i + 1] && !fixed[i] {
+                let mut t = *t;
+                self.planes(i, &mut out.planes, &mut t[3]);
+                _mm256_loadu_pd(t.as_ptr())
+            } else {
+                _mm256_loadu_pd(t.as_ptr())
+            };
+            sums = _mm256_add_pd(sums, row);
+        }
+        _mm256_storeu_pd(out.pairs.as_mut_ptr(), sums);
+        out
     }
 
     /// Bodies lo..hi.
@@ -388,6 +426,69 @@ pub(crate) mod tests {
             torque_arm: Default::default(),
         });
         s
+    }
+
+    /// The tallied sums four lanes at a time (`Pass::tallied_avx2`) against
+    /// the scalar loop over the same tally (`Pass::chunk`, the reference:
+    /// one sum at a time), bit for bit, over every range lo..hi of the
+    /// bodies, at states along a run with pair and plane contacts and
+    /// loaded springs (the planes' springs added to a body's before its
+    /// four sums), and with a NaN and an infinite tally value.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn tallied_sums_four_lanes_equal_the_scalar_loop_bit_for_bit() {
+        if !std::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let mut sim = Simulation::new(scene(), 1).unwrap();
+        let mut walled = 0;
+        for round in 0..6 {
+            sim.will_observe();
+            sim.step(60);
+            let w = &sim.world;
+            let mut tally = sim
+                .pipeline
+                .pair_tally(w)
+                .friction
+                .expect("a tally of this state")
+                .to_vec();
+            let n = tally.len();
+            if round == 4 {
+                tally[n / 2][3] = f64::NAN;
+            }
+            if round == 5 {
+                tally[n / 3][0] = f64::INFINITY;
+            }
+            let pass = super::Pass {
+                bodies: &w.bodies,
+                list: &w.list,
+                histories: &w.histories,
+                shear: &w.shear,
+                surfaces: &w.surfaces,
+                walls: &w.wall_contacts,
+                table: &w.friction.as_ref().unwrap().pairs,
+                plane_table: &w.friction.as_ref().unwrap().planes,
+                classes: w.friction.as_ref().unwrap().classes,
+                tally: Some(&tally),
+            };
+            walled += (0..n)
+                .filter(|&i| !w.wall_contacts.range(i).is_empty())
+                .count();
+            for lo in 0..=n {
+                for hi in lo..=n {
+                    // SAFETY: AVX2 checked above.
+                    let four = unsafe { pass.tallied_avx2(&tally, lo, hi) };
+                    let one = pass.chunk(lo, hi);
+                    assert_eq!(
+                        (four.pairs.map(f64::to_bits), four.planes.map(f64::to_bits)),
+                        (one.pairs.map(f64::to_bits), one.planes.map(f64::to_bits)),
+                        "{round} {lo}..{hi}"
+                    );
+                }
+            }
+        }
+        // Bodies with near walls were there.
+        assert!(walled > 100, "{walled}");
     }
 
     /// The one pass gives the separate passes' numbers bit for bit, along a

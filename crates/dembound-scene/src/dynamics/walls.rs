@@ -262,7 +262,21 @@ pub fn plane_observables_tallied(
         // Count, then energy.
         let mut s = [0.0; 2];
         let (first, end) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
-        // Body i's entries: start[i]..start[i + 1]; the ranges ascend
+        // Body i's entries: start[i]..start[i + 1], the ranges ascending
+        // with the body: without a fixed body in the chunk, its entries in
+        // order are its bodies' body by body, each body's in order.
+        if !fixed[first..end].iter().fold(false, |any, &f| any | f) {
+            let (lo, hi) = (start[first] as usize, start[end] as usize);
+            for (&t, &e) in touching[lo..hi].iter().zip(&energy[lo..hi]) {
+                // Touching: the force pass found overlap > 0.
+                if t {
+                    s[0] += 1.0;
+                    s[1] += e;
+                }
+            }
+            return s;
+        }
+        // The ranges ascend
         // with the body, so eight bodies whose first and last bounds are
         // equal have none (passed by one test).
         let mut i = first;

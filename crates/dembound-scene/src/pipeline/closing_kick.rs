@@ -1,7 +1,7 @@
 //! Verlet's closing half kick of a series row's step, with the bodies'
 //! energies and the state's soundness in the same pass
 //! ([`kick_then_energies`]): the row's per-body work, four bodies at a time
-//! where AVX2 is available (frictionless).
+//! where AVX2 is available.
 
 use crate::dynamics::integrate;
 use crate::parallel::{SharedMut, Workers, BODY_CHUNK};
@@ -72,32 +72,23 @@ pub(crate) fn kick_then_energies(
         // One copy per setting: no per-body test of them.
         // SAFETY (all): lengths asserted; chunks are disjoint ranges of
         // bodies, each kicked once; AVX2 checked.
+        // Four bodies at a time with AVX2.
         macro_rules! run {
             ($spin:literal, $spins:literal, $within:literal) => {{
                 #[cfg(target_arch = "x86_64")]
                 if avx2 {
-                    return unsafe { kick.chunk_avx2::<$spin, $spins, $within>(lo, hi) };
+                    return unsafe { kick.chunk_four_avx2::<$spin, $spins, $within>(lo, hi) };
                 }
                 unsafe { kick.chunk::<$spin, $spins, $within>(lo, hi) }
-            }};
-        }
-        // Without spin kicks, four bodies at a time.
-        macro_rules! run_four {
-            ($spins:literal, $within:literal) => {{
-                #[cfg(target_arch = "x86_64")]
-                if avx2 {
-                    return unsafe { kick.chunk_four_avx2::<$spins, $within>(lo, hi) };
-                }
-                unsafe { kick.chunk::<false, $spins, $within>(lo, hi) }
             }};
         }
         match (spin, spins, bounds.is_some()) {
             (true, _, false) => run!(true, true, false),
             (true, _, true) => run!(true, true, true),
-            (false, true, false) => run_four!(true, false),
-            (false, true, true) => run_four!(true, true),
-            (false, false, false) => run_four!(false, false),
-            (false, false, true) => run_four!(false, true),
+            (false, true, false) => run!(false, true, false),
+            (false, true, true) => run!(false, true, true),
+            (false, false, false) => run!(false, false, false),
+            (false, false, true) => run!(false, false, true),
         }
     });
     let mut s = [0.0; 2];
@@ -134,21 +125,6 @@ struct Kick<'a> {
 }
 
 impl Kick<'_> {
-    /// [`Self::chunk`] compiled for AVX2: no fused multiply–add (Rust does
-    /// not contract a·b + c), so the same bits with fewer instructions.
-    ///
-    /// # Safety
-    /// As [`Self::chunk`]; the processor must have AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx,avx2")]
-    unsafe fn chunk_avx2<const SPIN: bool, const SPINS: bool, const WITHIN: bool>(
-        &self,
-        lo: usize,
-        hi: usize,
-    ) -> ([f64; 2], bool) {
-        self.chunk::<SPIN, SPINS, WITHIN>(lo, hi)
-    }
-
     /// Bodies lo..hi: kicked (`SPIN`: the spins too), their energies
     /// summed as [`body_energies`] sums them, and whether every position,
     /// velocity and (`SPINS`) spin is finite and (`WITHIN`) every centre
@@ -234,14 +210,15 @@ impl Kick<'_> {
         }
     }
 
-    /// [`Self::chunk`] without spin kicks (`SPIN` false), four free bodies
-    /// at a time (a group of four with a fixed body, and the last bodies
-    /// short of four, go one at a time: [`Self::bodies`]). Four bodies'
-    /// 3-vectors lie in 12 consecutive doubles, three 4-lane registers
-    /// [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3]; the kick is done in that
-    /// layout with Δt/2/m spread over the lanes (as `verlet_four`), the
-    /// squared velocities and the positions transposed to one register
-    /// per component, so that each lane computes body k's ½ m v² and
+    /// [`Self::chunk`] four free bodies at a time (a group of four with a
+    /// fixed body, and the last bodies short of four, go one at a time:
+    /// [`Self::bodies`]). Four bodies' 3-vectors lie in 12 consecutive
+    /// doubles, three 4-lane registers [x0 y0 z0 x1] [y1 z1 x2 y2]
+    /// [z2 x3 y3 z3]; the kick is done in that layout with Δt/2/m (`SPIN`:
+    /// and Δt/2 · 1/I for the spins) spread over the lanes (as
+    /// `verlet_four`), the squared velocities (and spins) and the
+    /// positions transposed to one register per component, so that each
+    /// lane computes body k's ½ m v² (`SPIN`: plus ½ ω² / (1/I)) and
     /// −m g·x with the scalar loop's operations on its operands (IEEE per
     /// lane, no fused multiply–add: the same bits), then the four bodies'
     /// terms are added to the two sums in body order, as the scalar loop
@@ -256,7 +233,7 @@ impl Kick<'_> {
     #[target_feature(enable = "avx,avx2")]
     // x − x is meant: +0 for a finite x, NaN otherwise.
     #[allow(clippy::eq_op)]
-    unsafe fn chunk_four_avx2<const SPINS: bool, const WITHIN: bool>(
+    unsafe fn chunk_four_avx2<const SPIN: bool, const SPINS: bool, const WITHIN: bool>(
         &self,
         lo: usize,
         hi: usize,
@@ -275,8 +252,10 @@ impl Kick<'_> {
         let x = self.position.as_ptr() as *const f64;
         let f = self.force.as_ptr() as *const f64;
         let v = self.v.0 as *mut f64;
-        let w = self.w.0 as *const f64;
+        let w = self.w.0 as *mut f64;
+        let torque = self.torque.as_ptr() as *const f64;
         let (mass, radius) = (self.mass.as_ptr(), self.radius.as_ptr());
+        let inverse_inertia = self.inverse_inertia.as_ptr();
         let fixed = self.fixed.as_ptr();
         // Per lane: Σ (w − w), the extremes of the centres' coordinates in
         // the three registers' lane layout, the smallest radius.
@@ -311,18 +290,27 @@ impl Kick<'_> {
         }
         let mut i = lo;
         // SAFETY (every load and store): bodies i..i + 4 < hi ≤ n, each
-        // slice holding a value (3 doubles for a vector) per body.
+        // slice holding a value (3 doubles for a vector) per body (torque
+        // and 1/I read with `SPIN` only, where they are asserted).
         while i + 4 <= hi {
             // The four fixed flags (bools: one byte each, 0 or 1).
             if (fixed.add(i) as *const u32).read_unaligned() != 0 {
-                self.bodies::<false, SPINS, WITHIN>(i, i + 4, &mut sums);
+                self.bodies::<SPIN, SPINS, WITHIN>(i, i + 4, &mut sums);
                 i += 4;
                 continue;
             }
             let m = _mm256_loadu_pd(mass.add(i));
             // `integrate::verlet_kick`'s kick: v + F (Δt/2/m).
             let dtfm = spread_lanes!(_mm256_div_pd(half_dt, m));
+            // `verlet::friction_spin_kick`'s kick: ω + τ (Δt/2 · 1/I).
+            let inverse = if SPIN {
+                _mm256_loadu_pd(inverse_inertia.add(i))
+            } else {
+                _mm256_setzero_pd()
+            };
+            let dtfi = spread_lanes!(_mm256_mul_pd(half_dt, inverse));
             let mut squares = [_mm256_setzero_pd(); 3];
+            let mut spin_squares = [_mm256_setzero_pd(); 3];
             let mut centres = [_mm256_setzero_pd(); 3];
             for q in 0..3 {
                 // Lanes 4q..4q + 4 of the four bodies' 12 values.
@@ -335,7 +323,14 @@ impl Kick<'_> {
                 squares[q] = _mm256_mul_pd(vq, vq);
                 let xq = _mm256_loadu_pd(x.add(at));
                 centres[q] = xq;
-                if SPINS {
+                if SPIN {
+                    let wq = _mm256_add_pd(
+                        _mm256_loadu_pd(w.add(at)),
+                        _mm256_mul_pd(_mm256_loadu_pd(torque.add(at)), dtfi[q]),
+                    );
+                    _mm256_storeu_pd(w.add(at), wq);
+                    spin_squares[q] = _mm256_mul_pd(wq, wq);
+                } else if SPINS {
                     let wq = _mm256_loadu_pd(w.add(at));
                     not_finite = _mm256_add_pd(not_finite, _mm256_sub_pd(wq, wq));
                 }
@@ -349,10 +344,21 @@ impl Kick<'_> {
             }
             // ½ m ((vx² + vy²) + vz²).
             let [qx, qy, qz] = transpose!(squares);
-            let kinetic = _mm256_mul_pd(
+            let mut kinetic = _mm256_mul_pd(
                 _mm256_mul_pd(half, m),
                 _mm256_add_pd(_mm256_add_pd(qx, qy), qz),
             );
+            if SPIN {
+                // + ½ ((ωx² + ωy²) + ωz²) / (1/I).
+                let [wx, wy, wz] = transpose!(spin_squares);
+                kinetic = _mm256_add_pd(
+                    kinetic,
+                    _mm256_div_pd(
+                        _mm256_mul_pd(half, _mm256_add_pd(_mm256_add_pd(wx, wy), wz)),
+                        inverse,
+                    ),
+                );
+            }
             // −m ((gx x + gy y) + gz z).
             let [px, py, pz] = transpose!(centres);
             let gravity = _mm256_add_pd(
@@ -366,7 +372,7 @@ impl Kick<'_> {
             add_lanes!(sums.s[1], potential);
             i += 4;
         }
-        self.bodies::<false, SPINS, WITHIN>(i, hi, &mut sums);
+        self.bodies::<SPIN, SPINS, WITHIN>(i, hi, &mut sums);
         // The lanes folded into the scalar tests.
         let mut lanes = [0.0f64; 4];
         _mm256_storeu_pd(lanes.as_mut_ptr(), not_finite);
@@ -528,11 +534,12 @@ mod tests {
     /// The kick four bodies at a time (`Kick::chunk_four_avx2`) against the
     /// same kick one body at a time (`Kick::chunk`, the scalar loop, an
     /// independent computation of the same operations): the velocities,
-    /// both sums and the state test bit for bit, over chunks of 0–23
-    /// bodies starting anywhere (groups of four with a fixed body, and
-    /// remainders, go body by body), with and without the spins' test
-    /// and the box; a NaN spin, a NaN velocity and a centre outside the
-    /// box fail the test in both.
+    /// the spins, both sums and the state test bit for bit, over chunks of
+    /// 0–23 bodies starting anywhere (groups of four with a fixed body, and
+    /// remainders, go body by body), with spin kicks (friction), without
+    /// them with and without the spins' test, each with and without the
+    /// box; a NaN spin, a NaN velocity, an infinite torque and a centre
+    /// outside the box fail the test in both.
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn the_kick_four_bodies_at_a_time_equals_the_scalar_loop_bit_for_bit() {
@@ -558,25 +565,32 @@ mod tests {
         let radius: Vec<f64> = (0..n)
             .map(|k| 5e-4 * (1.0 + 0.1 * value(k, 1, 1.0)))
             .collect();
+        // 1/I of a solid sphere, 1 / (2/5 m r²), 1/(kg m²).
+        let inverse_inertia: Vec<f64> = (0..n)
+            .map(|k| 2.5 / (mass[k] * radius[k] * radius[k]))
+            .collect();
         let fixed: Vec<bool> = (0..n).map(|k| k == 5 || k == 14).collect();
         let inside = ([-0.02; 3], [0.02; 3]);
         // The box's upper x face below body 9's centre by 1.5 radii.
         let mut cut = inside;
         cut.1[0] = position[9][0] - 1.5 * radius[9];
+        #[allow(clippy::too_many_arguments)]
         let run = |four: bool,
+                   kicks: bool,
                    spins: bool,
                    bounds: Option<([f64; 3], [f64; 3])>,
                    velocity: &mut Vec<[f64; 3]>,
                    spin: &mut Vec<[f64; 3]>,
+                   torque: &[[f64; 3]],
                    lo: usize,
                    hi: usize| {
             let kick = super::Kick {
                 v: crate::parallel::SharedMut::new(velocity),
                 w: crate::parallel::SharedMut::new(spin),
                 force: &force,
-                torque: &[],
+                torque,
                 mass: &mass,
-                inverse_inertia: &[],
+                inverse_inertia: if kicks { &inverse_inertia } else { &[] },
                 fixed: &fixed,
                 position: &position,
                 radius: &radius,
@@ -584,24 +598,32 @@ mod tests {
                 gravity: [0.3, -0.2, -9.81],
                 bounds: bounds.unwrap_or(([f64::NEG_INFINITY; 3], [f64::INFINITY; 3])),
             };
-            // SAFETY: every slice holds n values, lo ≤ hi ≤ n, one thread;
-            // AVX2 checked above.
+            macro_rules! call {
+                ($spin:literal, $spins:literal, $within:literal) => {
+                    if four {
+                        kick.chunk_four_avx2::<$spin, $spins, $within>(lo, hi)
+                    } else {
+                        kick.chunk::<$spin, $spins, $within>(lo, hi)
+                    }
+                };
+            }
+            // SAFETY: every slice holds n values (torque and 1/I with spin
+            // kicks), lo ≤ hi ≤ n, one thread; AVX2 checked above.
             unsafe {
-                match (four, spins, bounds.is_some()) {
-                    (true, true, true) => kick.chunk_four_avx2::<true, true>(lo, hi),
-                    (true, true, false) => kick.chunk_four_avx2::<true, false>(lo, hi),
-                    (true, false, true) => kick.chunk_four_avx2::<false, true>(lo, hi),
-                    (true, false, false) => kick.chunk_four_avx2::<false, false>(lo, hi),
-                    (false, true, true) => kick.chunk::<false, true, true>(lo, hi),
-                    (false, true, false) => kick.chunk::<false, true, false>(lo, hi),
-                    (false, false, true) => kick.chunk::<false, false, true>(lo, hi),
-                    (false, false, false) => kick.chunk::<false, false, false>(lo, hi),
+                match (kicks, spins, bounds.is_some()) {
+                    (true, _, true) => call!(true, true, true),
+                    (true, _, false) => call!(true, true, false),
+                    (false, true, true) => call!(false, true, true),
+                    (false, true, false) => call!(false, true, false),
+                    (false, false, true) => call!(false, false, true),
+                    (false, false, false) => call!(false, false, false),
                 }
             }
         };
         let mut failed = 0;
-        for spoil in 0..4 {
-            for spins in [true, false] {
+        for spoil in 0..5 {
+            // Spin kicks (and so the spins' test), the spins' test alone, neither.
+            for (kicks, spins) in [(true, true), (false, true), (false, false)] {
                 for bounds in [None, Some(inside), Some(cut)] {
                     for lo in 0..n {
                         for hi in lo..=n {
@@ -609,30 +631,52 @@ mod tests {
                             for four in [true, false] {
                                 let mut velocity = vec3(0.05);
                                 let mut spin = if spins { vec3(10.0) } else { Vec::new() };
+                                let mut torque = if kicks { vec3(1e-9) } else { Vec::new() };
                                 match spoil {
                                     1 if spins => spin[11][2] = f64::NAN,
                                     2 => velocity[12][1] = f64::NAN,
                                     3 => velocity[5][0] = f64::INFINITY,
+                                    4 if kicks => torque[2][1] = f64::INFINITY,
                                     _ => {}
                                 }
-                                let (sums, sound) =
-                                    run(four, spins, bounds, &mut velocity, &mut spin, lo, hi);
-                                let bits: Vec<u64> =
-                                    velocity.iter().flatten().map(|x| x.to_bits()).collect();
+                                let (sums, sound) = run(
+                                    four,
+                                    kicks,
+                                    spins,
+                                    bounds,
+                                    &mut velocity,
+                                    &mut spin,
+                                    &torque,
+                                    lo,
+                                    hi,
+                                );
+                                let bits: Vec<u64> = velocity
+                                    .iter()
+                                    .chain(&spin)
+                                    .flatten()
+                                    .map(|x| x.to_bits())
+                                    .collect();
                                 results.push((sums.map(f64::to_bits), sound, bits));
                             }
                             assert_eq!(
                                 results[0], results[1],
-                                "{spoil} {spins} {bounds:?} {lo}..{hi}"
+                                "{spoil} {kicks} {spins} {bounds:?} {lo}..{hi}"
                             );
                             // A sound chunk has a free body or sums of +0.
                             if !results[0].1 {
                                 failed += 1;
                             }
                             if lo == 0 && hi == n && bounds != Some(cut) {
-                                // The whole range: sound unless spoiled.
-                                let spoiled = spoil == 2 || spoil == 3 || (spoil == 1 && spins);
-                                assert_eq!(results[0].1, !spoiled, "{spoil} {spins} {bounds:?}");
+                                // The whole range: sound unless spoiled
+                                // (body 5 is fixed: its velocity tested, not kicked).
+                                let spoiled = spoil == 2
+                                    || spoil == 3
+                                    || (spoil == 1 && spins)
+                                    || (spoil == 4 && kicks);
+                                assert_eq!(
+                                    results[0].1, !spoiled,
+                                    "{spoil} {kicks} {spins} {bounds:?}"
+                                );
                             }
                             if lo == 0 && hi == n && bounds == Some(cut) {
                                 assert!(!results[0].1);

@@ -55,30 +55,32 @@ pub(crate) fn surface_load_records_on(world: &World, workers: &Workers) -> Vec<L
     }
     // The touching entries, each as its key (body's input id, entry),
     // packed in one u64 (id above, entry below: entries are u32) so that
-    // the integer order is the key order. Body by body: a body's entries
-    // are its range, the ranges ascend with the body (so eight bodies
-    // whose first and last bounds are equal have none: passed by one
-    // test); a fixed body (a halo copy) is not forced: its flags are not
-    // this step's.
+    // the integer order is the key order. A chunk's entries entry by
+    // entry: body i's entries are start[i]..start[i + 1] and the ranges
+    // ascend with the body, so a touching entry's body is found by walking
+    // the bodies forward from the last one's (eight at a time while the
+    // eighth next starts at or before it); a fixed body (a halo copy) is
+    // not forced: its flags are not this step's.
     let (start, fixed, touching, id) = (&wc.start[..], &b.fixed[..], &wc.touching[..], &b.id[..]);
     let parts = workers.map_bodies(n, BODY_CHUNK, |c| {
         let mut keys: Vec<u64> = Vec::new();
         let (mut i, end) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
-        while i < end {
-            if i + 8 <= end && start[i] == start[i + 8] {
-                i += 8;
+        let (lo, hi) = (start[i] as usize, start[end] as usize);
+        for (k, &t) in touching[lo..hi].iter().enumerate() {
+            if !t {
                 continue;
             }
-            let (s, e) = (start[i] as usize, start[i + 1] as usize);
-            if s != e && !fixed[i] {
-                let body = u64::from(id[i]) << 32;
-                for (k, &t) in touching[s..e].iter().enumerate() {
-                    if t {
-                        keys.push(body | (s + k) as u64);
-                    }
-                }
+            let k = lo + k;
+            // Body i: start[i] ≤ k < start[i + 1] (i < end: k < start[end]).
+            while i + 8 < end && start[i + 8] as usize <= k {
+                i += 8;
             }
-            i += 1;
+            while start[i + 1] as usize <= k {
+                i += 1;
+            }
+            if !fixed[i] {
+                keys.push(u64::from(id[i]) << 32 | k as u64);
+            }
         }
         keys.sort_unstable();
         keys
@@ -213,5 +215,76 @@ impl Pipeline {
         world.wall_contacts.load = load;
         world.bodies.force = saved.1;
         world.bodies.torque = saved.2;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{surface_load_records_on, LoadRecord};
+    use crate::dynamics::friction_observables::tests::scene;
+    use crate::pipeline::World;
+    use crate::Simulation;
+
+    /// The records straight from their definition: every touching entry
+    /// of every body that is not fixed, body by body, sorted by (input
+    /// id, entry).
+    fn by_definition(world: &World) -> Vec<LoadRecord> {
+        let (b, wc) = (&world.bodies, &world.wall_contacts);
+        let mut keys = Vec::new();
+        for i in 0..b.len() {
+            if b.fixed[i] {
+                continue;
+            }
+            for k in wc.range(i) {
+                if wc.touching[k] {
+                    keys.push((b.id[i], k));
+                }
+            }
+        }
+        keys.sort();
+        keys.into_iter()
+            .map(|(id, k)| LoadRecord {
+                id,
+                wall: world.surfaces[wc.key[k].wall as usize].file_index() as u32,
+                load: wc.load[k],
+            })
+            .collect()
+    }
+
+    /// The chunks' entry walk gives the records of the definition (the
+    /// reference, body by body), on 1 and 2 threads, along a run with
+    /// bodies on the walls, with and without fixed bodies among them
+    /// (their entries left out).
+    #[test]
+    fn load_records_are_the_touching_entries_of_the_free_bodies() {
+        for threads in [1, 2] {
+            let mut sim = Simulation::new(scene(), threads).unwrap();
+            let (mut seen, mut dropped) = (0, 0);
+            for round in 0..8 {
+                sim.step(40);
+                let expected = by_definition(&sim.world);
+                assert_eq!(surface_load_records_on(&sim.world, &sim.workers), expected);
+                seen += expected.len();
+                if round % 2 == 1 {
+                    // Every third body with near walls fixed, then freed.
+                    let n = sim.world.bodies.len();
+                    let walled: Vec<usize> = (0..n)
+                        .filter(|&i| !sim.world.wall_contacts.range(i).is_empty())
+                        .step_by(3)
+                        .collect();
+                    for &i in &walled {
+                        sim.world.bodies.fixed[i] = true;
+                    }
+                    let fewer = by_definition(&sim.world);
+                    dropped += expected.len() - fewer.len();
+                    assert_eq!(surface_load_records_on(&sim.world, &sim.workers), fewer);
+                    for &i in &walled {
+                        sim.world.bodies.fixed[i] = false;
+                    }
+                }
+            }
+            // Touching entries were there, of free and of fixed bodies.
+            assert!(seen > 100 && dropped > 10, "{seen} {dropped}");
+        }
     }
 }
