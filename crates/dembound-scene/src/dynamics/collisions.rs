@@ -210,6 +210,28 @@ impl Track {
         self.in_contact
     }
 
+    /// The step ending at overlap `h` leaves this couple apart and out of
+    /// contact (h ≤ 0 or not a number, no contact open): nothing can be
+    /// logged, and [`Self::advance_apart`] does all that
+    /// [`Self::advance_with_motion`] would.
+    #[inline(always)]
+    pub fn stays_apart(&self, h: f64) -> bool {
+        !self.in_contact && !(h > 0.0)
+    }
+
+    /// [`Self::advance_with_motion`] for a step after which the couple
+    /// [`Self::stays_apart`]: keeps what a later onset reads (the overlap,
+    /// its rate and the motion at this step), without the normal force or
+    /// the interpolant, which only a contact uses.
+    #[inline(always)]
+    pub fn advance_apart(&mut self, h: f64, rate: f64, motion: Motion) {
+        debug_assert!(self.stays_apart(h));
+        self.known = true;
+        self.overlap = h;
+        self.rate = rate;
+        self.last = motion;
+    }
+
     /// [`Self::advance`] that also keeps the tangential motion: returns
     /// the completed contact with the motion before and after it.
     pub fn advance_with_motion(
