@@ -216,7 +216,7 @@ impl Track {
     /// [`Self::advance_with_motion`] would.
     #[inline(always)]
     pub fn stays_apart(&self, h: f64) -> bool {
-        !self.in_contact && !(h > 0.0)
+        !self.in_contact && (h <= 0.0 || h.is_nan())
     }
 
     /// [`Self::advance_with_motion`] for a step after which the couple
