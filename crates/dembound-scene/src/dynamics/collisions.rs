@@ -210,6 +210,28 @@ impl Track {
         self.in_contact
     }
 
+    /// The step ending at overlap `h` leaves this couple apart and out of
+    /// contact (h ≤ 0 or not a number, no contact open): nothing can be
+    /// logged, and [`Self::advance_apart`] does all that
+    /// [`Self::advance_with_motion`] would.
+    #[inline(always)]
+    pub fn stays_apart(&self, h: f64) -> bool {
+        !self.in_contact && (h <= 0.0 || h.is_nan())
+    }
+
+    /// [`Self::advance_with_motion`] for a step after which the couple
+    /// [`Self::stays_apart`]: keeps what a later onset reads (the overlap,
+    /// its rate and the motion at this step), without the normal force or
+    /// the interpolant, which only a contact uses.
+    #[inline(always)]
+    pub fn advance_apart(&mut self, h: f64, rate: f64, motion: Motion) {
+        debug_assert!(self.stays_apart(h));
+        self.known = true;
+        self.overlap = h;
+        self.rate = rate;
+        self.last = motion;
+    }
+
     /// [`Self::advance`] that also keeps the tangential motion: returns
     /// the completed contact with the motion before and after it.
     pub fn advance_with_motion(
@@ -311,6 +333,101 @@ impl Track {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// What the log stage does with one couple at one step: the apart
+    /// path when [`Track::stays_apart`], else the full one.
+    fn observe_fast(
+        track: &mut Track,
+        t: f64,
+        dt: f64,
+        h: f64,
+        rate: f64,
+        motion: Motion,
+        force: impl Fn(f64, f64) -> f64,
+    ) -> Option<(Completed, Motion, Motion)> {
+        if track.stays_apart(h) {
+            track.advance_apart(h, rate, motion);
+            return None;
+        }
+        track.advance_with_motion(t, dt, h, rate, motion, force)
+    }
+
+    #[test]
+    fn apart_path_keeps_the_full_paths_state_and_log() {
+        // The reference is the path every couple took before the apart
+        // one existed: `advance_with_motion` at every step. Couples that
+        // approach, touch for a few steps and part again, many times,
+        // some listed while already touching, with overlaps of exactly 0
+        // and a NaN now and then; after every step the whole track (what
+        // a later onset or a checkpoint reads) and what was logged must be
+        // the same to the bit (compared as their Debug text, so that NaN
+        // equals NaN). No tolerance: the two paths must do the same
+        // arithmetic.
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let force = |h: f64, r: f64| 3.0e5 * h.max(0.0).powf(1.5) + 20.0 * r;
+        let dt = 1.0e-6;
+        let (mut contacts, mut onsets_known) = (0, 0);
+        for couple in 0..200 {
+            let (mut fast, mut reference) = (Track::default(), Track::default());
+            // Listed while touching for one couple in ten.
+            let mut h = if couple % 10 == 0 {
+                2.0e-6
+            } else {
+                -3.0e-6 * next()
+            };
+            let mut t = 0.0;
+            for step in 0..400 {
+                t += dt;
+                // A slow swing across contact with a jitter.
+                let rate =
+                    0.02 * (step as f64 * 0.05 + couple as f64).sin() + 2.0e-3 * (next() - 0.5);
+                h += rate * dt;
+                let mut h_seen = h;
+                match (step * 7 + couple) % 97 {
+                    0 => h_seen = 0.0,
+                    1 => h_seen = -0.0,
+                    2 => h_seen = f64::NAN,
+                    _ => {}
+                }
+                let motion = Motion {
+                    tangential: [next() - 0.5, next() - 0.5, next() - 0.5],
+                    spin_i: [next(), 0.0, -next()],
+                    spin_j: [0.0, next(), 1.0],
+                };
+                let was_known = reference.is_known();
+                let a = observe_fast(&mut fast, t, dt, h_seen, rate, motion, force);
+                let b = reference.advance_with_motion(t, dt, h_seen, rate, motion, force);
+                assert_eq!(
+                    format!("{a:?}"),
+                    format!("{b:?}"),
+                    "couple {couple} step {step}"
+                );
+                assert_eq!(
+                    format!("{fast:?}"),
+                    format!("{reference:?}"),
+                    "couple {couple} step {step}"
+                );
+                if b.is_some() {
+                    contacts += 1;
+                }
+                if reference.in_contact() && reference.t_start > t - dt && was_known {
+                    onsets_known += 1;
+                }
+            }
+        }
+        // The sequences did exercise both paths: many completed contacts
+        // and many onsets that read the state the apart path stored.
+        assert!(
+            contacts > 200 && onsets_known > 200,
+            "{contacts} {onsets_known}"
+        );
+    }
 
     #[test]
     fn hermite_locates_a_parabola_exactly() {

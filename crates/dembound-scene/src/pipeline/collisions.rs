@@ -2,8 +2,6 @@
 //! and sphere–wall) advanced at the end of the step, completed contacts
 //! logged in a fixed order.
 
-use dembound_physics::contact::ContactHistory;
-
 use super::{Pipeline, World};
 use crate::bodies::NO_GROUP;
 use crate::dynamics::collisions::{Collision, Motion, Partner, Track};
@@ -52,8 +50,12 @@ impl Pipeline {
         let bodies = &world.bodies;
         let n = bodies.len();
         let laws = &world.laws;
+        let histories = &world.histories;
+        let spins = &bodies.angular_velocity[..];
+        let spin = |k: usize| spins.get(k).copied().unwrap_or([0.0; 3]);
         let mut log = Vec::new();
-        let mut visit = |i: usize, j_ext: usize, track: &mut Track, history: &ContactHistory| {
+        // Entry k of the main rows (`extra` false) or of the extra pairs.
+        let mut visit = |i: usize, j_ext: usize, track: &mut Track, k: usize, extra: bool| {
             let (xj, vj, owner) = extended(bodies, &world.ghosts, j_ext);
             let g = contacts::separation(
                 bodies.position[i],
@@ -63,8 +65,6 @@ impl Pipeline {
                 vj,
                 bodies.radius[owner],
             );
-            let law = laws.pair(bodies, i, owner);
-            let spin = |k: usize| bodies.angular_velocity.get(k).copied().unwrap_or([0.0; 3]);
             let vi = bodies.velocity[i];
             let motion = Motion {
                 tangential: friction::tangential(
@@ -73,6 +73,17 @@ impl Pipeline {
                 ),
                 spin_i: spin(i),
                 spin_j: spin(owner),
+            };
+            // Almost every listed pair: apart before and after the step.
+            if track.stays_apart(g.overlap) {
+                track.advance_apart(g.overlap, g.overlap_rate, motion);
+                return;
+            }
+            let law = laws.pair(bodies, i, owner);
+            let history = if extra {
+                histories.extra(k)
+            } else {
+                histories.main(k)
             };
             if let Some((c, before, after)) =
                 track.advance_with_motion(t, dt, g.overlap, g.overlap_rate, motion, |h, r| {
@@ -106,27 +117,28 @@ impl Pipeline {
                 });
             }
         };
+        let list = &world.list;
         for i in 0..n {
-            for k in world.list.start[i] as usize..world.list.start[i + 1] as usize {
-                visit(
-                    i,
-                    world.list.j[k] as usize,
-                    &mut tracks.main[k],
-                    world.histories.main(k),
-                );
+            let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
+            for (k, (&j, track)) in list.j[s..e].iter().zip(&mut tracks.main[s..e]).enumerate() {
+                visit(i, j as usize, track, s + k, false);
             }
         }
-        for (k, &(i, j)) in world.list.extra.iter().enumerate() {
-            visit(
-                i as usize,
-                j as usize,
-                &mut tracks.extra[k],
-                world.histories.extra(k),
-            );
+        for (k, (&(i, j), track)) in list.extra.iter().zip(&mut tracks.extra).enumerate() {
+            visit(i as usize, j as usize, track, k, true);
         }
         let wc = &mut world.wall_contacts;
         if wc.bodies() == n && wc.track.len() == wc.key.len() {
-            for i in 0..n {
+            let mut next = 0;
+            while next < n {
+                let i = next;
+                // The ranges ascend with the body: eight bodies whose
+                // first and last bounds are equal have no entries.
+                if i + 8 <= n && wc.start[i] == wc.start[i + 8] {
+                    next += 8;
+                    continue;
+                }
+                next += 1;
                 if bodies.fixed[i] {
                     continue;
                 }
@@ -142,17 +154,26 @@ impl Pipeline {
                     let (h, rate) = (c.overlap, c.rate);
                     let track = &mut wc.track[k];
                     // Only couples near contact are worth tracking.
-                    if h < -world.skin && !track.is_known() {
+                    let far = h < -world.skin;
+                    if far && !track.is_known() {
+                        continue;
+                    }
+                    let v = bodies.velocity[i];
+                    let motion = Motion {
+                        tangential: friction::tangential(v, c.normal),
+                        spin_i: spin(i),
+                        spin_j: [0.0; 3],
+                    };
+                    if track.stays_apart(h) {
+                        if far {
+                            *track = Track::default();
+                        } else {
+                            track.advance_apart(h, rate, motion);
+                        }
                         continue;
                     }
                     let law = laws.wall(bodies, i, surface.law_slot(key.element));
                     let hist = wc.history.get(k).unwrap_or(&contacts::NO_HISTORY);
-                    let v = bodies.velocity[i];
-                    let motion = Motion {
-                        tangential: friction::tangential(v, c.normal),
-                        spin_i: bodies.angular_velocity.get(i).copied().unwrap_or([0.0; 3]),
-                        spin_j: [0.0; 3],
-                    };
                     if let Some((c, before, after)) =
                         track.advance_with_motion(t, dt, h, rate, motion, |h, r| {
                             law.force(h, r, hist)
@@ -184,7 +205,7 @@ impl Pipeline {
                             }),
                         });
                     }
-                    if h < -world.skin {
+                    if far {
                         *track = Track::default();
                     }
                 }
