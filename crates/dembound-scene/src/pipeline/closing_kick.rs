@@ -263,20 +263,6 @@ impl Kick<'_> {
         let mut least = [_mm256_set1_pd(f64::INFINITY); 3];
         let mut most = [_mm256_set1_pd(f64::NEG_INFINITY); 3];
         let mut r_min = _mm256_set1_pd(f64::INFINITY);
-        // [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3] -> x, y, z of bodies 0-3.
-        macro_rules! transpose {
-            ($r:expr) => {{
-                let [s0, s1, s2] = $r;
-                let tx = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(s0, s1), s2);
-                let ty = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(s0, s1), s2);
-                let tz = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(s0, s1), s2);
-                [
-                    _mm256_permute4x64_pd::<0x6C>(tx),
-                    _mm256_permute_pd::<0b0101>(ty),
-                    _mm256_permute4x64_pd::<0xC6>(tz),
-                ]
-            }};
-        }
         // Lane 0, 1, 2, 3 of a register added to `s` in that order.
         macro_rules! add_lanes {
             ($s:expr, $r:expr) => {{
@@ -343,14 +329,14 @@ impl Kick<'_> {
                 r_min = _mm256_min_pd(_mm256_loadu_pd(radius.add(i)), r_min);
             }
             // ½ m ((vx² + vy²) + vz²).
-            let [qx, qy, qz] = transpose!(squares);
+            let [qx, qy, qz] = lanes_to_xyz!(squares);
             let mut kinetic = _mm256_mul_pd(
                 _mm256_mul_pd(half, m),
                 _mm256_add_pd(_mm256_add_pd(qx, qy), qz),
             );
             if SPIN {
                 // + ½ ((ωx² + ωy²) + ωz²) / (1/I).
-                let [wx, wy, wz] = transpose!(spin_squares);
+                let [wx, wy, wz] = lanes_to_xyz!(spin_squares);
                 kinetic = _mm256_add_pd(
                     kinetic,
                     _mm256_div_pd(
@@ -360,7 +346,7 @@ impl Kick<'_> {
                 );
             }
             // −m ((gx x + gy y) + gz z).
-            let [px, py, pz] = transpose!(centres);
+            let [px, py, pz] = lanes_to_xyz!(centres);
             let gravity = _mm256_add_pd(
                 _mm256_add_pd(_mm256_mul_pd(gx, px), _mm256_mul_pd(gy, py)),
                 _mm256_mul_pd(gz, pz),

@@ -173,13 +173,7 @@ unsafe fn advance_bodies_quad(c: &AdvanceContext, lo: usize, hi: usize) -> f64 {
             d2[q] = _mm256_mul_pd(d, d);
         }
         // [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3] -> x, y, z of bodies 0-3.
-        let [s0, s1, s2] = d2;
-        let dx = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(s0, s1), s2);
-        let dx = _mm256_permute4x64_pd::<0x6C>(dx);
-        let dy = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(s0, s1), s2);
-        let dy = _mm256_permute_pd::<0b0101>(dy);
-        let dz = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(s0, s1), s2);
-        let dz = _mm256_permute4x64_pd::<0xC6>(dz);
+        let [dx, dy, dz] = lanes_to_xyz!(d2);
         let moved2 = _mm256_add_pd(_mm256_add_pd(dx, dy), dz);
         largest = _mm256_max_pd(moved2, largest);
         i += 4;

@@ -106,13 +106,7 @@ pub(super) unsafe fn advance(four: &Four, dt: f64, pending: bool, gravity: [f64;
         }
         // [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3] -> the x, y and z
         // squares of bodies 0-3 (as `verlet::advance_bodies_quad`).
-        let [s0, s1, s2] = squares;
-        let dx = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(s0, s1), s2);
-        let dx = _mm256_permute4x64_pd::<0x6C>(dx);
-        let dy = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(s0, s1), s2);
-        let dy = _mm256_permute_pd::<0b0101>(dy);
-        let dz = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(s0, s1), s2);
-        let dz = _mm256_permute4x64_pd::<0xC6>(dz);
+        let [dx, dy, dz] = lanes_to_xyz!(squares);
         _mm256_add_pd(_mm256_add_pd(dx, dy), dz)
     }
 }

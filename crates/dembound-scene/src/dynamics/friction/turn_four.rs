@@ -62,15 +62,11 @@ pub(super) unsafe fn turn_or_clear(
             let at = shear.add(q) as *mut f64;
             // [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3] -> x, y, z of
             // entries q..q + 4 (the transpose of `verlet_four::advance`).
-            let s0 = _mm256_loadu_pd(at);
-            let s1 = _mm256_loadu_pd(at.add(4));
-            let s2 = _mm256_loadu_pd(at.add(8));
-            let x = _mm256_blend_pd::<0b0010>(_mm256_blend_pd::<0b0100>(s0, s1), s2);
-            let x = _mm256_permute4x64_pd::<0x6C>(x);
-            let y = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b1001>(s0, s1), s2);
-            let y = _mm256_permute_pd::<0b0101>(y);
-            let z = _mm256_blend_pd::<0b1001>(_mm256_blend_pd::<0b0010>(s0, s1), s2);
-            let z = _mm256_permute4x64_pd::<0xC6>(z);
+            let [x, y, z] = lanes_to_xyz!([
+                _mm256_loadu_pd(at),
+                _mm256_loadu_pd(at.add(4)),
+                _mm256_loadu_pd(at.add(8)),
+            ]);
             let (n0, n1, n2) = (
                 _mm256_loadu_pd(nx.as_ptr().add(q)),
                 _mm256_loadu_pd(ny.as_ptr().add(q)),
@@ -111,12 +107,7 @@ pub(super) unsafe fn turn_or_clear(
             };
             let (x, y, z) = (pick(px, x), pick(py, y), pick(pz, z));
             // Back: x, y, z -> [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3].
-            let x = _mm256_permute4x64_pd::<0x6C>(x); // [x0 x3 x2 x1]
-            let y = _mm256_permute_pd::<0b0101>(y); // [y1 y0 y3 y2]
-            let z = _mm256_permute4x64_pd::<0xC6>(z); // [z2 z1 z0 z3]
-            let s0 = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(x, y), z);
-            let s1 = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(y, z), x);
-            let s2 = _mm256_blend_pd::<0b0100>(_mm256_blend_pd::<0b0010>(z, x), y);
+            let [s0, s1, s2] = xyz_to_lanes!(x, y, z);
             _mm256_storeu_pd(at, s0);
             _mm256_storeu_pd(at.add(4), s1);
             _mm256_storeu_pd(at.add(8), s2);
