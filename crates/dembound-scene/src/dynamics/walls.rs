@@ -262,11 +262,21 @@ pub fn plane_observables_tallied(
         // Count, then energy.
         let mut s = [0.0; 2];
         let (first, end) = (c * BODY_CHUNK, ((c + 1) * BODY_CHUNK).min(n));
-        // Body i's entries: start[i]..start[i + 1], the ranges ascending
-        // with the body: without a fixed body in the chunk, its entries in
-        // order are its bodies' body by body, each body's in order.
-        if !fixed[first..end].iter().fold(false, |any, &f| any | f) {
-            let (lo, hi) = (start[first] as usize, start[end] as usize);
+        // Body i's entries are start[i]..start[i + 1], the ranges ascending
+        // with the body: a run of bodies a..b none of which is fixed has its
+        // entries in start[a]..start[b], body by body, each body's in order.
+        // Fixed bodies are skipped, as in `plane_observables` (their flags
+        // are not this pass's).
+        // One test over the chunk's flags (vectorised) before the runs.
+        let any_fixed = fixed[first..end].iter().fold(false, |any, &f| any | f);
+        let mut i = first;
+        while i < end {
+            let run_end = if any_fixed {
+                fixed[i..end].iter().position(|&f| f).map_or(end, |k| i + k)
+            } else {
+                end
+            };
+            let (lo, hi) = (start[i] as usize, start[run_end] as usize);
             for (&t, &e) in touching[lo..hi].iter().zip(&energy[lo..hi]) {
                 // Touching: the force pass found overlap > 0.
                 if t {
@@ -274,30 +284,7 @@ pub fn plane_observables_tallied(
                     s[1] += e;
                 }
             }
-            return s;
-        }
-        // The ranges ascend
-        // with the body, so eight bodies whose first and last bounds are
-        // equal have none (passed by one test).
-        let mut i = first;
-        while i < end {
-            if i + 8 <= end && start[i] == start[i + 8] {
-                i += 8;
-                continue;
-            }
-            // As `plane_observables`: fixed bodies skipped (their flags
-            // are not this pass's).
-            let (lo, hi) = (start[i] as usize, start[i + 1] as usize);
-            if lo != hi && !fixed[i] {
-                for k in lo..hi {
-                    // Touching: the force pass found overlap > 0.
-                    if touching[k] {
-                        s[0] += 1.0;
-                        s[1] += energy[k];
-                    }
-                }
-            }
-            i += 1;
+            i = run_end + 1;
         }
         s
     });

@@ -361,13 +361,29 @@ mod tests {
     /// the tally (pairs, energies) and gives the observation that visits
     /// every pair and body again bit for bit (the reference), at the end
     /// of stretches of several lengths, on 1 and 2 threads, with friction
-    /// and without; a stretch not asked leaves no tally.
+    /// and without, with and without fixed spheres (their wall entries are
+    /// skipped by both); a stretch not asked leaves no tally.
     #[test]
     fn tallied_observation_equals_the_pairs_visited_again() {
-        for (threads, friction) in [(1, true), (2, true), (1, false), (2, false)] {
+        let cases = [
+            (1, true, false),
+            (2, true, false),
+            (1, false, false),
+            (2, false, false),
+            (1, false, true),
+            (2, false, true),
+        ];
+        for (threads, friction, fixed) in cases {
             let mut setup = scene();
             if !friction {
                 setup.friction = None;
+            }
+            if fixed {
+                // Every fifth sphere held: spread over the chunks, the
+                // lowest layer's beside the floor's entries.
+                for sphere in setup.spheres.iter_mut().step_by(5) {
+                    sphere.fixed = true;
+                }
             }
             let mut sim = Simulation::new(setup.clone(), threads).unwrap();
             // The same run not asked to tally: the state's reference.
