@@ -15,10 +15,14 @@ use dembound_export::agreement::IDENTICAL;
 use serde_json::Value;
 use std::path::Path;
 
-/// Two free spheres falling onto a fixed sphere of a stiffer material and a
-/// plane floor (one more plane as a side wall): every contact kind of the
-/// deck (free–free, free–fixed stand-in, free–utils.wall stand-in).
-const BOUNCE: &str = r#"
+/// The TOML head [`BOUNCE`] and [`STIFFNESS_PROBE`] share: a 1 cm box, the
+/// materials "grain" (E 1e7 Pa, ν 0.3, 2500 kg/m³) and "steel" (E 5e7 Pa,
+/// ν 0.25, 7800 kg/m³), and a `[contact]` table opened with Hertz, Tsuji
+/// damping and restitution 0.5 (a scene may add keys to it). A macro, so
+/// that `concat!` joins it to each scene's own lines into one `&str`.
+macro_rules! grain_and_steel_hertz {
+    () => {
+        r#"
 [domain]
 lower = [0.0, 0.0, 0.0]
 upper = [0.01, 0.01, 0.01]
@@ -36,7 +40,16 @@ poisson_ratio = 0.25
 law = "hertz"
 damping = "tsuji"
 restitution = 0.5
-[[particles]]
+"#
+    };
+}
+
+/// Two free spheres falling onto a fixed sphere of a stiffer material and a
+/// plane floor (one more plane as a side wall): every contact kind of the
+/// deck (free–free, free–fixed stand-in, free–utils.wall stand-in).
+const BOUNCE: &str = concat!(
+    grain_and_steel_hertz!(),
+    r#"[[particles]]
 spheres = [ { position = [0.005, 0.005, 0.00052], radius = 0.5e-3, velocity = [0.0, 0.0, -0.1] },
             { position = [0.0051, 0.005, 0.00252], radius = 0.5e-3, velocity = [0.0, 0.0, -0.3] },
             { position = [0.0035, 0.005, 0.0015], radius = 0.4e-3, velocity = [-0.2, 0.0, -0.2] } ]
@@ -58,7 +71,8 @@ dt = 2.0e-6
 steps = 3000
 [output]
 series_every = 10
-"#;
+"#
+);
 
 /// Exports `text`, runs Yade, and returns `dembound compare --json`.
 fn yade_compare(dir: &Path, text: &str) -> Value {
@@ -486,25 +500,9 @@ fn floor_contact_point_is_yades_under_overlap_middle() {
 /// kind of the deck: the floor `utils.wall`, a side `utils.wall` and a fixed
 /// sphere of another material (steel, R 0.6 mm); the friction on, so Yade
 /// builds its Mindlin numbers for all three.
-const STIFFNESS_PROBE: &str = r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [0.01, 0.01, 0.01]
-[[material]]
-name = "grain"
-density = 2500.0
-youngs_modulus = 1.0e7
-poisson_ratio = 0.3
-[[material]]
-name = "steel"
-density = 7800.0
-youngs_modulus = 5.0e7
-poisson_ratio = 0.25
-[contact]
-law = "hertz"
-damping = "tsuji"
-restitution = 0.5
-friction = 0.5
+const STIFFNESS_PROBE: &str = concat!(
+    grain_and_steel_hertz!(),
+    r#"friction = 0.5
 tangential_damping = false
 [[particles]]
 spheres = [ { position = [0.005, 0.005, 0.00049], radius = 0.5e-3 },
@@ -528,7 +526,8 @@ dt = 2.0e-6
 steps = 10
 [output]
 series_every = 10
-"#;
+"#
+);
 
 /// The installed Yade's own Mindlin numbers for the deck's materials are
 /// dembound's: after one step of the exported deck, Yade's `kno` and `kso`
