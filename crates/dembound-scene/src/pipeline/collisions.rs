@@ -283,7 +283,9 @@ impl Pipeline {
                     let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
                     let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
                     let reach = ri + rj;
-                    if !(r2 < reach * reach * TOUCH_MARGIN) {
+                    // False for a NaN: apart, as the overlap would say.
+                    let may_touch = r2 < reach * reach * TOUCH_MARGIN;
+                    if !may_touch {
                         continue;
                     }
                 }
