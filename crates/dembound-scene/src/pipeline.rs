@@ -84,6 +84,16 @@ pub enum WallKind {
 pub struct Tracks {
     pub main: Vec<Track>,
     pub extra: Vec<Track>,
+    /// The bodies' and ghosts' state at the log's last step and which
+    /// main entries were in contact after it; while it is that of the
+    /// current lists and step ([`collisions::LoggedStep::current`]), a main
+    /// track out of contact holds its overlap, rate and motion of that
+    /// step only here (the log stage skips pairs that do not touch).
+    pub(crate) logged: Option<Box<collisions::LoggedStep>>,
+    /// Tests: the log stage visits every listed pair every step, storing
+    /// each one's state in its track (the path before [`Self::logged`]).
+    #[cfg(test)]
+    pub(crate) every_pair: bool,
 }
 
 /// The data set of a simulation.

@@ -193,11 +193,20 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
     if tracks.main.len() != list.j.len() || list.start.len() != bodies.len() + 1 {
         return out;
     }
+    // A track out of contact holds the log's last step only in `logged`.
+    let logged = tracks
+        .logged
+        .as_deref()
+        .filter(|l| l.current(world, world.steps_done));
     for i in 0..bodies.len() {
         for k in list.start[i] as usize..list.start[i + 1] as usize {
-            if tracks.main[k].is_known() {
+            let mut track = tracks.main[k];
+            if let (false, Some(l)) = (track.in_contact(), logged) {
+                l.settle(&mut track, bodies, &world.ghosts, i, list.j[k] as usize);
+            }
+            if track.is_known() {
                 let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
-                out.insert((a.min(b), a.max(b)), tracks.main[k]);
+                out.insert((a.min(b), a.max(b)), track);
             }
         }
     }

@@ -227,10 +227,7 @@ impl Simulation {
         );
         let world = World {
             wall_contacts: WallContacts::new(n, laws.history, friction.is_some(), setup.collisions),
-            tracks: setup.collisions.then(|| Tracks {
-                main: Vec::new(),
-                extra: Vec::new(),
-            }),
+            tracks: setup.collisions.then(Tracks::default),
             bodies: b,
             surfaces: planes,
             walls: kinds,
