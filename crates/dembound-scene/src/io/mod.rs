@@ -5,6 +5,7 @@
 pub mod checkpoint;
 pub mod checkpoint_parts;
 pub mod config;
+pub mod exp_format;
 pub mod labels;
 pub mod memory;
 pub mod resolve;

@@ -273,35 +273,37 @@ pub fn write_collisions(
         "rebound_spin_j_z_rad_s",
     ]);
     out.write_record(&header)?;
+    // Each field written as it is formatted: no String a cell (the
+    // formatting is most of this writer's work: `ExpFormat`).
+    let mut number = super::exp_format::ExpFormat::default();
     for c in log {
-        let mut row = vec![
-            c.i.to_string(),
-            partner_name(&c.j),
-            boundary_particle(&c.j).map_or(String::new(), |b| b.to_string()),
-        ];
+        out.write_field(c.i.to_string())?;
+        out.write_field(partner_name(&c.j))?;
+        out.write_field(boundary_particle(&c.j).map_or(String::new(), |b| b.to_string()))?;
         if triangle_column {
-            row.push(c.triangle.map_or(String::new(), |t| t.to_string()));
+            out.write_field(c.triangle.map_or(String::new(), |t| t.to_string()))?;
         }
-        row.extend([
-            format!("{:e}", c.t_start),
-            format!("{:e}", c.t_end),
-            format!("{:e}", c.duration),
-            format!("{:e}", c.max_overlap),
-            format!("{:e}", c.max_normal_force),
-            format!("{:e}", c.impact_normal_velocity),
-            format!("{:e}", c.rebound_normal_velocity),
-            format!("{:e}", c.impact_tangential_velocity),
-            format!("{:e}", c.rebound_tangential_velocity),
-        ]);
-        for v in [
+        let scalars = [
+            c.t_start,
+            c.t_end,
+            c.duration,
+            c.max_overlap,
+            c.max_normal_force,
+            c.impact_normal_velocity,
+            c.rebound_normal_velocity,
+            c.impact_tangential_velocity,
+            c.rebound_tangential_velocity,
+        ];
+        let spins = [
             c.impact_spin_i,
             c.rebound_spin_i,
             c.impact_spin_j,
             c.rebound_spin_j,
-        ] {
-            row.extend(v.iter().map(|x| format!("{x:e}")));
+        ];
+        for x in scalars.into_iter().chain(spins.into_iter().flatten()) {
+            out.write_field(number.format(x))?;
         }
-        out.write_record(&row)?;
+        out.write_record(None::<&[u8]>)?;
     }
     out.flush()?;
     Ok(())
