@@ -87,6 +87,43 @@ pub struct Collision {
     pub triangle: Option<u32>,
 }
 
+impl Collision {
+    /// The log's row of contact `c` of sphere `i` with `j`, from the
+    /// couple's motion before and after it; `spins` gives a motion's
+    /// (sphere i's, partner j's) angular velocity as the row names them.
+    pub fn completed(
+        i: usize,
+        j: Partner,
+        c: &Completed,
+        before: &Motion,
+        after: &Motion,
+        spins: impl Fn(&Motion) -> [[f64; 3]; 2],
+        triangle: Option<u32>,
+    ) -> Self {
+        let (vt_in, vt_out) = Motion::tangential_pair(before, after);
+        let ([impact_spin_i, impact_spin_j], [rebound_spin_i, rebound_spin_j]) =
+            (spins(before), spins(after));
+        Collision {
+            i,
+            j,
+            t_start: c.t_start,
+            t_end: c.t_end,
+            duration: c.t_end - c.t_start,
+            max_overlap: c.max_overlap,
+            max_normal_force: c.max_force,
+            impact_normal_velocity: c.impact,
+            rebound_normal_velocity: c.rebound,
+            impact_tangential_velocity: vt_in,
+            rebound_tangential_velocity: vt_out,
+            impact_spin_i,
+            rebound_spin_i,
+            impact_spin_j,
+            rebound_spin_j,
+            triangle,
+        }
+    }
+}
+
 /// The tangential motion of a couple at one instant (collision log).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Motion {

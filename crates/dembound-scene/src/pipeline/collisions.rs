@@ -170,28 +170,13 @@ fn pair_collision(
 ) -> Collision {
     let (a, b) = (bodies.id[i] as usize, bodies.id[owner] as usize);
     let (i, j) = collision_pair(a, bodies.group[i], b, bodies.group[owner]);
-    let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
     // The log's sphere i is the engine's owner, not i: spins swap.
     let swap = i != a;
-    let pick = |m: &Motion, first: bool| if first != swap { m.spin_i } else { m.spin_j };
-    Collision {
-        i,
-        j,
-        t_start: c.t_start,
-        t_end: c.t_end,
-        duration: c.t_end - c.t_start,
-        max_overlap: c.max_overlap,
-        max_normal_force: c.max_force,
-        impact_normal_velocity: c.impact,
-        rebound_normal_velocity: c.rebound,
-        impact_tangential_velocity: vt_in,
-        rebound_tangential_velocity: vt_out,
-        impact_spin_i: pick(&before, true),
-        rebound_spin_i: pick(&after, true),
-        impact_spin_j: pick(&before, false),
-        rebound_spin_j: pick(&after, false),
-        triangle: None,
-    }
+    let spins = |m: &Motion| match swap {
+        false => [m.spin_i, m.spin_j],
+        true => [m.spin_j, m.spin_i],
+    };
+    Collision::completed(i, j, &c, &before, &after, spins, None)
 }
 
 impl Pipeline {
@@ -367,31 +352,25 @@ impl Pipeline {
                             law.force(h, r, hist)
                         })
                     {
-                        let (vt_in, vt_out) = Motion::tangential_pair(&before, &after);
-                        log.push(Collision {
-                            i: bodies.id[i] as usize,
-                            j: Partner::Wall(surface.file_index()),
-                            t_start: c.t_start,
-                            t_end: c.t_end,
-                            duration: c.t_end - c.t_start,
-                            max_overlap: c.max_overlap,
-                            max_normal_force: c.max_force,
-                            impact_normal_velocity: c.impact,
-                            rebound_normal_velocity: c.rebound,
-                            impact_tangential_velocity: vt_in,
-                            rebound_tangential_velocity: vt_out,
-                            impact_spin_i: before.spin_i,
-                            rebound_spin_i: after.spin_i,
-                            impact_spin_j: [0.0; 3],
-                            rebound_spin_j: [0.0; 3],
-                            triangle: surface.mesh().and_then(|m| {
-                                // A moving mesh: the centre in its
-                                // reference placement.
-                                let x = bodies.position[i];
-                                let x = surface.moving().map_or(x, |s| s.unplace(x));
-                                m.triangle_of(key.element, x, bodies.radius[i])
-                            }),
+                        let spins = |m: &Motion| [m.spin_i, [0.0; 3]];
+                        let triangle = surface.mesh().and_then(|m| {
+                            // A moving mesh: the centre in its reference
+                            // placement.
+                            let x = bodies.position[i];
+                            let x = surface.moving().map_or(x, |s| s.unplace(x));
+                            m.triangle_of(key.element, x, bodies.radius[i])
                         });
+                        let j = Partner::Wall(surface.file_index());
+                        let row = Collision::completed(
+                            bodies.id[i] as usize,
+                            j,
+                            &c,
+                            &before,
+                            &after,
+                            spins,
+                            triangle,
+                        );
+                        log.push(row);
                     }
                     if far {
                         *track = Track::default();
