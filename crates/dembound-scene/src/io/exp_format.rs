@@ -46,12 +46,13 @@ impl ExpFormat {
             let zeros = (frac_part.len() - frac_digits.len()) as i32;
             (frac_digits.as_bytes(), -zeros - 1 + exponent)
         };
-        // The significant digits: no leading or trailing zeros (ryu's
-        // shortest has at most 17).
+        // The significant digits (`digits` starts at the first nonzero
+        // one): the point skipped, trailing zeros dropped (ryu's shortest
+        // has at most 17).
         let mut sig = [0u8; 24];
         let mut len = 0;
         for &d in digits.iter().filter(|b| b.is_ascii_digit()) {
-            if (len > 0 || d != b'0') && len < sig.len() {
+            if len < sig.len() {
                 sig[len] = d;
                 len += 1;
             }
@@ -64,7 +65,7 @@ impl ExpFormat {
         // doubles); both formatters then take the one closer to `x`, but
         // break an exact tie differently (ryu up, the standard formatter to
         // even): at a tie the standard formatter's own text is taken.
-        if len >= 16 && self.has_twin(x.abs(), &sig[..len], first_power) {
+        if len >= 16 && is_decimal_tie(x.abs(), &sig[..len], first_power) {
             use std::fmt::Write;
             self.text.clear();
             let _ = write!(self.text, "{x:e}");
@@ -81,45 +82,46 @@ impl ExpFormat {
         self.text.push_str(itoa_i32(first_power, &mut [0u8; 12]));
         &self.text
     }
-    /// Whether `x` lies exactly halfway between `digits` (first digit at
-    /// 10^`first_power`) and a neighbour with its last digit one lower or
-    /// higher: 2x = (2D ± 1)·10^k, D the digits as an integer and k the
-    /// last digit's power, tested in integers (x = m·2^e, m odd).
-    fn has_twin(&mut self, x: f64, digits: &[u8], first_power: i32) -> bool {
-        let d = digits
-            .iter()
-            .fold(0u128, |d, &b| d * 10 + u128::from(b - b'0'));
-        let k = first_power - (digits.len() as i32 - 1);
-        let bits = x.to_bits();
-        let (biased, fraction) = ((bits >> 52) & 0x7ff, bits & ((1u64 << 52) - 1));
-        let (mut m, mut e) = if biased == 0 {
-            (fraction, -1074)
-        } else {
-            (fraction | (1u64 << 52), biased as i32 - 1075)
-        };
-        if m == 0 {
-            return false;
-        }
-        let zeros = m.trailing_zeros();
-        m >>= zeros;
-        e += zeros as i32;
-        // 2x = m·2^(e+1), m odd; (2D ± 1)·10^k = odd·5^k·2^k.
-        let twos = e + 1;
-        let power_of_five = |j: i32| (0..j).try_fold(1u128, |p, _| p.checked_mul(5));
-        [2 * d - 1, 2 * d + 1].into_iter().any(|odd| {
-            if k >= 0 {
-                twos == k
-                    && power_of_five(k)
-                        .and_then(|p| p.checked_mul(odd))
-                        .is_some_and(|rhs| rhs == u128::from(m))
-            } else {
-                twos == k
-                    && power_of_five(-k)
-                        .and_then(|p| p.checked_mul(u128::from(m)))
-                        .is_some_and(|lhs| lhs == odd)
-            }
-        })
+}
+
+/// Whether `x` lies exactly halfway between `digits` (first digit at
+/// 10^`first_power`) and a neighbour with its last digit one lower or
+/// higher: 2x = (2D ± 1)·10^k, D the digits as an integer and k the
+/// last digit's power, tested in integers (x = m·2^e, m odd).
+fn is_decimal_tie(x: f64, digits: &[u8], first_power: i32) -> bool {
+    let d = digits
+        .iter()
+        .fold(0u128, |d, &b| d * 10 + u128::from(b - b'0'));
+    let k = first_power - (digits.len() as i32 - 1);
+    let bits = x.to_bits();
+    let (biased, fraction) = ((bits >> 52) & 0x7ff, bits & ((1u64 << 52) - 1));
+    let (mut m, mut e) = if biased == 0 {
+        (fraction, -1074)
+    } else {
+        (fraction | (1u64 << 52), biased as i32 - 1075)
+    };
+    if m == 0 {
+        return false;
     }
+    let zeros = m.trailing_zeros();
+    m >>= zeros;
+    e += zeros as i32;
+    // 2x = m·2^(e+1), m odd; (2D ± 1)·10^k = odd·5^k·2^k.
+    let twos = e + 1;
+    let power_of_five = |j: i32| (0..j).try_fold(1u128, |p, _| p.checked_mul(5));
+    [2 * d - 1, 2 * d + 1].into_iter().any(|odd| {
+        if k >= 0 {
+            twos == k
+                && power_of_five(k)
+                    .and_then(|p| p.checked_mul(odd))
+                    .is_some_and(|rhs| rhs == u128::from(m))
+        } else {
+            twos == k
+                && power_of_five(-k)
+                    .and_then(|p| p.checked_mul(u128::from(m)))
+                    .is_some_and(|lhs| lhs == odd)
+        }
+    })
 }
 
 /// `n` in decimal into `buf`.
