@@ -427,6 +427,10 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
             let k = (step - start) / interval + 1;
             next = next.min(start.saturating_add(k.saturating_mul(interval)));
         }
+        if (next - start) % series_every == 0 || next == total {
+            // A row follows: the last pair pass and half kick tally it.
+            sim.will_observe();
+        }
         sim.step(next - step);
         // A blown-up run stops on every rank with one message (exit 2).
         agree(t, sim.check_finite().map_err(scene_error))?;

@@ -218,6 +218,10 @@ pub struct Pipeline {
     /// at step [`Self::tally_step`].
     pair_tally: Vec<friction::PairTally>,
     plain_tally: Vec<crate::dynamics::contacts::PairTally>,
+    /// Asked by a rank of a decomposed scene (`Some`): each main entry's
+    /// own terms, written by the pair pass that writes the rows' tally
+    /// and valid with it (`dynamics::entry_tally`).
+    pub(crate) entry_tally: Option<crate::dynamics::entry_tally::EntryTally>,
     /// The step whose end state [`Self::pair_tally`] describes; `None`:
     /// none does.
     tally_step: Option<u64>,
@@ -433,6 +437,10 @@ impl Pipeline {
                 .energies
                 .filter(|&(step, _)| step == world.steps_done)
                 .map(|(_, e)| e.energies),
+            entries: self
+                .entry_tally
+                .as_ref()
+                .filter(|e| now && e.fits(world.list.j.len(), friction)),
         }
     }
 

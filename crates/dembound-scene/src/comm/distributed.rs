@@ -170,7 +170,7 @@ pub(crate) struct RankComm<T: Transport> {
     /// Every rank sends halo state to every other and receives it from
     /// every other each step, and none overlaps the exchange with its
     /// pairs: the step's largest displacement rides with the halo records
-    /// instead of a collective of its own ([`Self::halo_update_with_max`]).
+    /// instead of a collective of its own ([`Self::halo_update`]).
     /// Agreed by every rank at each list build ([`Self::split_halo`]).
     max_in_halo: bool,
 }
@@ -384,6 +384,8 @@ impl<T: Transport> DistributedSimulation<T> {
             steps_run: 0,
             stepping: 0.0,
         };
+        // The series rows read each listed pair's terms (`observe`).
+        me.sim.pipeline.entry_tally = Some(Default::default());
         me.sim.world.place_walls(0);
         me.rebuild();
         let sim = &mut me.sim;
@@ -848,41 +850,35 @@ impl<T: Transport> RankComm<T> {
     /// before the force stage (`parallel.halo_overlap = false`): the
     /// overlapped exchange with nothing to overlap, so both schedules
     /// receive into the same kept buffers (no allocation, no probe).
-    fn halo_update(&mut self, world: &mut World) {
-        self.halo_sends(world);
-        self.size_halo_in(world.friction.is_some());
-        let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
-        let clock = Instant::now();
-        self.transport
-            .exchange_during(&self.halo_out, &from, &mut self.halo_in, &mut |_| {});
-        self.halo_receive(world, &self.halo_in);
-        self.halo_wait += clock.elapsed().as_secs_f64();
-    }
-
-    /// [`Self::halo_update`] with `moved2` after each message's records
-    /// (8 bytes, not counted in the halo's bytes): the largest over every
-    /// rank when each rank exchanges with every other
+    /// With `moved2`, this rank's largest squared displacement travels
+    /// after each message's records (8 bytes, not counted in the halo's
+    /// bytes) and the largest over the ranks it hears from is returned:
+    /// over every rank when each rank exchanges with every other
     /// ([`Self::max_in_halo`]), without a collective of its own.
-    fn halo_update_with_max(&mut self, world: &mut World, moved2: f64) -> f64 {
+    fn halo_update(&mut self, world: &mut World, moved2: Option<f64>) -> Option<f64> {
         self.halo_sends(world);
-        for (_, out) in &mut self.halo_out {
-            out.extend_from_slice(&moved2.to_le_bytes());
-        }
         self.size_halo_in(world.friction.is_some());
-        for buf in &mut self.halo_in {
-            buf.resize(buf.len() + 8, 0);
+        if let Some(m) = moved2 {
+            for (_, out) in &mut self.halo_out {
+                out.extend_from_slice(&m.to_le_bytes());
+            }
+            for buf in &mut self.halo_in {
+                buf.resize(buf.len() + 8, 0);
+            }
         }
         let from: Vec<usize> = self.receives.iter().map(|(r, _)| *r).collect();
         let clock = Instant::now();
         self.transport
             .exchange_during(&self.halo_out, &from, &mut self.halo_in, &mut |_| {});
-        // The records are whole chunks before the 8 bytes (`halo_receive`
-        // reads one chunk per halo body).
+        // With `moved2` the records are whole chunks before the 8 bytes
+        // (`halo_receive` reads one chunk per halo body).
         self.halo_receive(world, &self.halo_in);
-        let largest = self.halo_in.iter().fold(moved2, |m, buf| {
-            let mut last = [0u8; 8];
-            last.copy_from_slice(&buf[buf.len() - 8..]);
-            max_or_nan(m, f64::from_le_bytes(last))
+        let largest = moved2.map(|m| {
+            self.halo_in.iter().fold(m, |m, buf| {
+                let mut last = [0u8; 8];
+                last.copy_from_slice(&buf[buf.len() - 8..]);
+                max_or_nan(m, f64::from_le_bytes(last))
+            })
         });
         self.halo_wait += clock.elapsed().as_secs_f64();
         largest
@@ -917,6 +913,9 @@ impl<T: Transport> DistributedSimulation<T> {
     pub fn step(&mut self, n: u64) {
         let clock = Instant::now();
         let sim = &mut self.sim;
+        // The box the last half kick tests when it checks the state
+        // (`Simulation::check_finite`), as `Simulation::step` sets it.
+        sim.pipeline.check_box = sim.outside_box;
         sim.pipeline
             .steps(&mut sim.world, &sim.workers, n, &mut self.comm);
         self.steps_run += n;
@@ -979,10 +978,25 @@ impl<T: Transport> DistributedSimulation<T> {
         self.sim.wall_torque_points()
     }
 
-    /// The global observables (sums over the ranks). Collective.
+    /// The global observables (sums over the ranks), from what the last
+    /// steps tallied of this state when they were asked to
+    /// ([`Self::will_observe`]; the same bits). Collective.
     pub fn observe(&self) -> Observation {
         let sim = &self.sim;
-        observation(&sim.world, &sim.workers, sim.initial_energy, &self.comm)
+        let hooks = observe::RankTallied {
+            comm: &self.comm,
+            tally: sim.pipeline.pair_tally(&sim.world),
+        };
+        observation(&sim.world, &sim.workers, sim.initial_energy, &hooks)
+    }
+
+    /// The next [`Self::step`] ends where the caller observes
+    /// ([`Self::observe`]): its last pair pass writes each listed pair's
+    /// terms and its last half kick sums the bodies' energies, so that
+    /// the observation visits neither again ([`Simulation::will_observe`];
+    /// the same numbers, bit for bit).
+    pub fn will_observe(&mut self) {
+        self.sim.will_observe();
     }
 }
 
@@ -998,8 +1012,11 @@ impl<T: Transport> StepHooks for RankComm<T> {
     /// displacement, one exchange a step instead of a collective and an
     /// exchange.
     fn max_moved2_with_halo(&mut self, world: &mut World, moved2: f64) -> Option<f64> {
-        self.max_in_halo
-            .then(|| self.halo_update_with_max(world, moved2))
+        if self.max_in_halo {
+            self.halo_update(world, Some(moved2))
+        } else {
+            None
+        }
     }
 
     /// Migration, a new halo and new lists; under `domain.outside =
@@ -1042,7 +1059,7 @@ impl<T: Transport> StepHooks for RankComm<T> {
     /// Position and velocity (and spin) of every free halo body from its
     /// owner.
     fn halo(&mut self, world: &mut World) {
-        self.halo_update(world);
+        self.halo_update(world, None);
     }
 
     /// [`Self::halo`] with `interior` run while the messages are in

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::balance::share_order;
 use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::entry_tally::{EntryTally, EntryTerms};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
@@ -357,6 +358,7 @@ pub fn add_pair_forces(
             workers,
             None,
             None,
+            EntryTerms::NONE,
         )
     };
 }
@@ -369,7 +371,8 @@ pub fn add_pair_forces(
 pub type PairTally = [f64; 3];
 
 /// [`add_pair_forces`], and each body's [`PairTally`] at this state into
-/// `tally` (one per body), the same bits as [`pair_observables`] sums.
+/// `tally` (one per body), the same bits as [`pair_observables`] sums;
+/// with `entries`, each main entry's elastic energy too ([`EntryTally`]).
 /// `false` (nothing written) when the tally does not apply: the list's
 /// rows or blocks not one per body, or histories stored that the loop
 /// does not update.
@@ -383,6 +386,7 @@ pub fn add_pair_forces_tallied(
     force: &mut [[f64; 3]],
     workers: &Workers,
     tally: &mut Vec<PairTally>,
+    entries: Option<&mut EntryTally>,
 ) -> bool {
     let n = bodies.len();
     assert!(force.len() == n);
@@ -393,8 +397,12 @@ pub fn add_pair_forces_tallied(
     if applies {
         tally.resize(n, [0.0; 3]);
     }
-    // SAFETY: one force per body (asserted) and one tally (resized),
-    // borrowed mutably here.
+    let terms = match entries {
+        Some(e) if applies => e.prepare(list.j.len(), false),
+        _ => EntryTerms::NONE,
+    };
+    // SAFETY: one force per body (asserted), one tally (resized) and one
+    // term per main entry (prepared), borrowed mutably here.
     unsafe {
         add_pair_forces_then(
             bodies,
@@ -406,6 +414,7 @@ pub fn add_pair_forces_tallied(
             workers,
             None,
             applies.then(|| SharedMut::new(tally)),
+            terms,
         )
     };
     applies
@@ -429,6 +438,8 @@ pub(crate) fn covers(list: &PairList, n: usize) -> bool {
 /// write the positions and velocities of those bodies: the blocks that
 /// read them are done, and no later block reads them (the force loop
 /// reads them through `bodies`' slices, never after such a write).
+/// `entries`, when asked, points to one term per main entry
+/// (`EntryTally::prepare`), written only with `tally`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn add_pair_forces_then(
     bodies: &Bodies,
@@ -440,9 +451,10 @@ pub(crate) unsafe fn add_pair_forces_then(
     workers: &Workers,
     follow: Option<FollowUp>,
     tally: Option<SharedMut<PairTally>>,
+    entries: EntryTerms,
 ) -> f64 {
     pair_forces_then(
-        bodies, ghosts, list, histories, laws, f_ptr, workers, follow, tally, true,
+        bodies, ghosts, list, histories, laws, f_ptr, workers, follow, tally, entries, true,
     )
 }
 
@@ -463,12 +475,13 @@ unsafe fn pair_forces_then(
     workers: &Workers,
     follow: Option<FollowUp>,
     tally: Option<SharedMut<PairTally>>,
+    entries: EntryTerms,
     quad: bool,
 ) -> f64 {
     let n = bodies.len();
     let keep = laws.history;
     assert!(follow.is_none() || list.extra.is_empty());
-    let rows = Rows::new(bodies, list, histories, laws, f_ptr, tally);
+    let rows = Rows::new(bodies, list, histories, laws, f_ptr, tally, entries);
     // The pairs four at a time where they can be: no histories (a pair
     // apart does nothing) and AVX2.
     #[cfg(target_arch = "x86_64")]
@@ -1014,6 +1027,7 @@ mod tests {
                                 &sim.workers,
                                 None,
                                 tally.then(|| SharedMut::new(&mut t)),
+                                EntryTerms::NONE,
                                 quad,
                             )
                         };

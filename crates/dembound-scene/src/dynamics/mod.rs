@@ -3,6 +3,7 @@
 
 pub mod collisions;
 pub mod contacts;
+pub mod entry_tally;
 pub mod friction;
 pub mod friction_observables;
 pub mod gear5_rotation;

@@ -108,6 +108,7 @@ impl Pipeline {
                     &mut torque,
                     workers,
                     &mut self.pair_tally,
+                    self.entry_tally.as_mut(),
                 );
                 self.tally_step = made.then_some(world.steps_done);
             } else {
@@ -135,6 +136,7 @@ impl Pipeline {
                 &mut force,
                 workers,
                 &mut self.plain_tally,
+                self.entry_tally.as_mut(),
             );
             self.tally_step = made.then_some(world.steps_done);
         } else {

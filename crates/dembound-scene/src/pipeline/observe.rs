@@ -5,6 +5,7 @@
 //! [`ObserveHooks`] (one process: everything, no sum; a rank of a
 //! decomposed scene: `comm::distributed`).
 
+use crate::dynamics::entry_tally::EntryTally;
 use crate::dynamics::friction::PairTally;
 use crate::dynamics::friction_observables::{self, ContactObservables};
 use crate::dynamics::{contacts, spring_energy, walls};
@@ -39,6 +40,7 @@ impl ObserveHooks for Local {
             plain: None,
             walls: None,
             energies: None,
+            entries: None,
         };
         local_contacts(world, workers, &none)
     }
@@ -73,6 +75,9 @@ pub(crate) struct Tallied<'a> {
     /// The kinetic and potential energy summed by the last half kick
     /// ([`kick_then_energies`](super::closing_kick::kick_then_energies)).
     pub energies: Option<(f64, f64)>,
+    /// Each main entry's terms, by the pass that made `friction` or
+    /// `plain`, when a rank asked for them (`Pipeline::entry_tally`).
+    pub entries: Option<&'a EntryTally>,
 }
 
 impl Tallied<'_> {

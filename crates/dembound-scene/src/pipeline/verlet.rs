@@ -8,6 +8,7 @@ use std::time::Instant;
 use super::{verlet_four, Pipeline, StepHooks, World};
 use crate::bodies::Bodies;
 use crate::dynamics::contacts::{self, LawTable, Rows};
+use crate::dynamics::entry_tally::EntryTerms;
 use crate::dynamics::friction::{self, FrictionTable};
 use crate::dynamics::integrate;
 use crate::dynamics::walls;
@@ -501,6 +502,7 @@ impl Pipeline {
                     workers,
                     Some(&follow_friction),
                     None,
+                    EntryTerms::NONE,
                 )
             };
         }
@@ -516,6 +518,7 @@ impl Pipeline {
                 workers,
                 Some(&follow),
                 None,
+                EntryTerms::NONE,
             )
         }
     }
@@ -697,6 +700,7 @@ fn with_fused(
         &world.laws,
         f,
         None,
+        EntryTerms::NONE,
     );
     run(&rows, &follow)
 }

@@ -3,18 +3,22 @@
 //! (every rank sums every rank's records of the force stage in input-id
 //! order: the same bits on any number of ranks; the boundary particles'
 //! loads from its pair stage, summed over the ranks), the sums over the
-//! ranks.
+//! ranks. After steps asked to tally the row ([`RankTallied`]), the
+//! contacts come from what the last pair pass wrote of each listed pair
+//! and the bodies' energies from the last half kick, with the same bits
+//! as the pass that visits every pair again.
 
 use dembound_physics::contact::ContactHistory;
 
 use super::RankComm;
-use crate::bodies::NO_GROUP;
+use crate::bodies::{Bodies, NO_GROUP};
 use crate::comm::Transport;
 use crate::dynamics::contacts::{extended, touching};
-use crate::dynamics::friction_observables::ContactObservables;
+use crate::dynamics::entry_tally::apart;
+use crate::dynamics::friction_observables::{self, ContactObservables};
 use crate::dynamics::{spring_energy, walls};
 use crate::parallel::Workers;
-use crate::pipeline::observe::ObserveHooks;
+use crate::pipeline::observe::{body_energies, ObserveHooks, Tallied};
 use crate::pipeline::wall_loads::{self, LoadRecord};
 use crate::pipeline::{WallKind, World};
 use crate::walls::WallLoad;
@@ -27,23 +31,8 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
         let b = &w.bodies;
         let (plane_contacts, plane_energy) =
             walls::plane_observables(b, &w.surfaces, &w.wall_contacts, &w.laws, workers);
-        // A pair is counted on the rank owning its free body of lower id.
-        let (fixed_by_id, halo) = (&self.fixed_by_id, &self.halo);
-        let counted_here = |i: usize, j: usize| {
-            let (a, c) = (b.id[i], b.id[j]);
-            let lead = match (fixed_by_id[a as usize], fixed_by_id[c as usize]) {
-                (false, false) => {
-                    if a < c {
-                        i
-                    } else {
-                        j
-                    }
-                }
-                (false, true) => i,
-                _ => j,
-            };
-            !halo[lead]
-        };
+        let (fixed_by_id, halo) = (&self.fixed_by_id[..], &self.halo[..]);
+        let counted_here = |i: usize, j: usize| counted(fixed_by_id, halo, b, i, j);
         let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
         let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
             // The contact test first: most listed pairs are apart.
@@ -148,7 +137,197 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
     }
 }
 
+/// Whether a rank counts the pair of its local bodies i and j: the rank
+/// owning its free body of lower id (a pair across a cut is listed on
+/// both ranks; of a free and a fixed body, the free one's). `fixed_by_id`:
+/// each input id's fixed flag; `halo`: each local body's.
+#[inline(always)]
+fn counted(fixed_by_id: &[bool], halo: &[bool], b: &Bodies, i: usize, j: usize) -> bool {
+    let (a, c) = (b.id[i], b.id[j]);
+    let lead = match (fixed_by_id[a as usize], fixed_by_id[c as usize]) {
+        (false, false) => {
+            if a < c {
+                i
+            } else {
+                j
+            }
+        }
+        (false, true) => i,
+        _ => j,
+    };
+    !halo[lead]
+}
+
+/// A rank's observation after steps asked to tally it
+/// (`DistributedSimulation::will_observe`): [`RankComm`]'s hooks, with the
+/// contacts from `tally` (each listed pair's terms as the last pair pass
+/// wrote them, [`RankComm::tallied_contacts`]) and the bodies' energies
+/// from the last half kick, when they describe this state; else as
+/// [`RankComm`] observes.
+pub(crate) struct RankTallied<'a, T: Transport> {
+    pub comm: &'a RankComm<T>,
+    pub tally: Tallied<'a>,
+}
+
+impl<T: Transport> ObserveHooks for RankTallied<'_, T> {
+    fn contacts(&self, w: &World, workers: &Workers) -> ContactObservables {
+        self.comm
+            .tallied_contacts(w, workers, &self.tally)
+            .unwrap_or_else(|| self.comm.contacts(w, workers))
+    }
+
+    fn wall_loads(&self, world: &World, workers: &Workers) -> Vec<WallLoad> {
+        self.comm.wall_loads(world, workers)
+    }
+
+    fn sum(&self, values: Vec<f64>) -> Vec<f64> {
+        self.comm.sum(values)
+    }
+
+    /// The last half kick's sums: [`body_energies`]' bits.
+    fn body_energies(&self, world: &World, workers: &Workers) -> (f64, f64) {
+        self.tally
+            .energies
+            .unwrap_or_else(|| body_energies(world, workers))
+    }
+}
+
 impl<T: Transport> RankComm<T> {
+    /// [`counted`] on this rank.
+    #[inline(always)]
+    fn counted_here(&self, w: &World, i: usize, j: usize) -> bool {
+        counted(&self.fixed_by_id, &self.halo, &w.bodies, i, j)
+    }
+
+    /// [`ObserveHooks::contacts`] from what the last pair pass wrote of
+    /// each main entry (`tally.entries`): the same counted pairs, their
+    /// energies added one by one in list order into one sum (the extra
+    /// pairs then visited as there), so the same bits; with friction each
+    /// body's springs are its counted entries' springs in row order, then
+    /// its planes' (`friction_observables`, with the planes and the sums'
+    /// chunks of `walls::plane_observables` and
+    /// `spring_energy::spring_energy_counted`); without, the planes from
+    /// the body pass's tally when there is one. `None` when there is no
+    /// tally of this state (then [`ObserveHooks::contacts`] visits the
+    /// pairs).
+    pub(crate) fn tallied_contacts(
+        &self,
+        w: &World,
+        workers: &Workers,
+        tally: &Tallied,
+    ) -> Option<ContactObservables> {
+        let entries = tally.entries?;
+        let b = &w.bodies;
+        let list = &w.list;
+        let n = b.len();
+        let friction = w.friction.as_ref();
+        // The rows' tally of the same pass: with friction it carries
+        // the springs' lane the planes are added to.
+        let mut rows = match friction {
+            Some(_) => Some(tally.friction?.to_vec()),
+            None => {
+                tally.plain?;
+                None
+            }
+        };
+        if list.start.len() != n + 1 || !entries.fits(list.j.len(), friction.is_some()) {
+            return None;
+        }
+        let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
+        for i in 0..n {
+            let mut springs = 0.0;
+            for k in list.start[i] as usize..list.start[i + 1] as usize {
+                let e = entries.energy[k];
+                if apart(e) {
+                    continue;
+                }
+                let j = list.j[k] as usize;
+                if !self.counted_here(w, i, j) {
+                    continue;
+                }
+                if b.group[i] != NO_GROUP || b.group[j] != NO_GROUP {
+                    wc += 1.0;
+                } else {
+                    pc += 1.0;
+                }
+                energy += e;
+                if rows.is_some() {
+                    springs += entries.spring[k];
+                }
+            }
+            if let Some(rows) = rows.as_mut() {
+                rows[i][3] = springs;
+            }
+        }
+        // The extra pairs (none with friction's tally), as `contacts`.
+        for (q, &(i, j)) in list.extra.iter().enumerate() {
+            let i = i as usize;
+            let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
+            let Some(g) = touching(
+                b.position[i],
+                [0.0; 3],
+                b.radius[i],
+                xj,
+                [0.0; 3],
+                b.radius[owner],
+            ) else {
+                continue;
+            };
+            if !self.counted_here(w, i, owner) {
+                continue;
+            }
+            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
+                wc += 1.0;
+            } else {
+                pc += 1.0;
+            }
+            energy +=
+                w.laws
+                    .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, w.histories.extra(q));
+        }
+        let (plane_contacts, plane_energy, spring_energy) = match (friction, rows) {
+            (Some(table), Some(rows)) => {
+                let c = friction_observables::observe(
+                    b,
+                    list,
+                    &w.histories,
+                    table,
+                    &w.shear,
+                    &w.surfaces,
+                    &w.wall_contacts,
+                    workers,
+                    Some(&rows),
+                )?;
+                (c.plane_contacts, c.plane_energy, c.spring_energy)
+            }
+            _ => {
+                let (c, e) = tally
+                    .walls
+                    .and_then(|e| {
+                        walls::plane_observables_tallied(
+                            b,
+                            &w.surfaces,
+                            &w.wall_contacts,
+                            workers,
+                            e,
+                        )
+                    })
+                    .unwrap_or_else(|| {
+                        walls::plane_observables(b, &w.surfaces, &w.wall_contacts, &w.laws, workers)
+                    });
+                (c, e, 0.0)
+            }
+        };
+        Some(ContactObservables {
+            particle_contacts: pc as usize,
+            boundary_contacts: wc as usize,
+            pair_energy: energy,
+            plane_contacts,
+            plane_energy,
+            spring_energy,
+        })
+    }
+
     /// This rank's load records and every other rank's, merged by input
     /// id (a body's records come from its one owner, in entry order).
     /// Collective.

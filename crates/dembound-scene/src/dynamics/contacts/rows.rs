@@ -8,6 +8,7 @@ use super::{
     add, contact_force, sub, touching_lazy, LawTable, PairHistories, PairTally, NO_HISTORY,
 };
 use crate::bodies::{Bodies, NO_GROUP};
+use crate::dynamics::entry_tally::EntryTerms;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::SharedMut;
 use dembound_physics::contact::ContactHistory;
@@ -27,13 +28,18 @@ pub(crate) struct Rows<'a> {
     h_ptr: SharedMut<ContactHistory>,
     /// One [`PairTally`] per body, written when `TALLY`.
     tally: SharedMut<PairTally>,
+    /// Each touching entry's elastic energy, written when `TALLY` and
+    /// asked.
+    entries: EntryTerms,
 }
 
 impl<'a> Rows<'a> {
     /// The loop over `list`'s main pairs of `bodies`, adding to the forces
     /// at `f_ptr` (one per body) and updating `histories` (when the law
     /// keeps them: one per main entry, asserted); each row's
-    /// [`PairTally`] into `tally` when given.
+    /// [`PairTally`] into `tally` when given, and then each touching
+    /// entry's elastic energy into `entries` when asked (one per main
+    /// entry).
     pub(crate) fn new(
         bodies: &'a Bodies,
         list: &'a PairList,
@@ -41,6 +47,7 @@ impl<'a> Rows<'a> {
         laws: &'a LawTable,
         f_ptr: SharedMut<[f64; 3]>,
         tally: Option<SharedMut<PairTally>>,
+        entries: EntryTerms,
     ) -> Self {
         let n = bodies.len();
         let keep = laws.history;
@@ -64,6 +71,7 @@ impl<'a> Rows<'a> {
             f_ptr,
             h_ptr: SharedMut(histories.main.as_mut_ptr()),
             tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
+            entries,
         }
     }
 
@@ -315,6 +323,7 @@ impl<'a> Rows<'a> {
             keep,
             f_ptr,
             h_ptr,
+            entries,
             ..
         } = *self;
         // SAFETY (the unchecked reads): k < js.len() (rows lie within j),
@@ -344,7 +353,11 @@ impl<'a> Rows<'a> {
                     sums[0] += 1.0;
                 }
                 let hist = if keep { &*hist } else { &NO_HISTORY };
-                sums[2] += laws.elastic_energy(&law, g.overlap, hist);
+                let energy = laws.elastic_energy(&law, g.overlap, hist);
+                sums[2] += energy;
+                // SAFETY: entry k belongs to row i, which only this block
+                // visits.
+                unsafe { entries.energy(k, energy) };
             }
             sub(fi, fj);
             // SAFETY: j lies in this block or the next (the blocks'

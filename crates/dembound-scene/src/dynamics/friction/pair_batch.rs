@@ -275,7 +275,7 @@ impl MainPairs<'_> {
                         )
                     };
                     let walled = walled_i || group[j] != NO_GROUP;
-                    tally_entry(
+                    let (energy, spring) = tally_entry(
                         &mut sums,
                         row_law(i, j),
                         g.overlap[q],
@@ -284,6 +284,8 @@ impl MainPairs<'_> {
                         sh,
                         roll,
                     );
+                    // SAFETY: entry k belongs to row i of this block.
+                    unsafe { self.entries.energy_and_spring(k, energy, spring) };
                 }
                 from = to;
                 // SAFETY: i is in this block (one tally per body).

@@ -13,6 +13,7 @@ use crate::dynamics::contacts::{
     extended, run_blocks_then, touching, touching_lazy, FollowUp, LawTable, PairGeometry,
     PairHistories, NO_HISTORY,
 };
+use crate::dynamics::entry_tally::{EntryTally, EntryTerms};
 use crate::geometry::ghosts::Ghosts;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::{SharedMut, Workers};
@@ -94,6 +95,7 @@ pub fn add_pair_forces(
             workers,
             None,
             None,
+            EntryTerms::NONE,
         )
     };
 }
@@ -101,9 +103,10 @@ pub fn add_pair_forces(
 /// [`add_pair_forces`], and each body's [`PairTally`] of its listed pairs
 /// at this state into `tally` (one per body): what
 /// `friction_observables` would count and sum over them, with the same
-/// bits. `false` (nothing written) when the tally does not apply: extra
-/// pairs, no class table, or histories or rolling springs not those the
-/// observation reads.
+/// bits; with `entries`, each main entry's elastic and springs' energy
+/// too ([`EntryTally`]). `false` (nothing written) when the tally does not
+/// apply: extra pairs, no class table, or histories or rolling springs
+/// not those the observation reads.
 #[allow(clippy::too_many_arguments)]
 pub fn add_pair_forces_tallied(
     input: &PairForceInput,
@@ -113,6 +116,7 @@ pub fn add_pair_forces_tallied(
     torque: &mut [[f64; 3]],
     workers: &Workers,
     tally: &mut Vec<PairTally>,
+    entries: Option<&mut EntryTally>,
 ) -> bool {
     let n = input.bodies.len();
     assert!(force.len() == n && torque.len() == n);
@@ -120,8 +124,13 @@ pub fn add_pair_forces_tallied(
     if applies {
         tally.resize(n, [0.0; 4]);
     }
-    // SAFETY: one force and one torque per body (asserted), and one tally
-    // (resized), borrowed mutably here.
+    let terms = match entries {
+        Some(e) if applies => e.prepare(input.list.j.len(), true),
+        _ => EntryTerms::NONE,
+    };
+    // SAFETY: one force and one torque per body (asserted), one tally
+    // (resized) and one term per main entry (prepared), borrowed mutably
+    // here.
     unsafe {
         add_pair_forces_then(
             input,
@@ -131,6 +140,7 @@ pub fn add_pair_forces_tallied(
             workers,
             None,
             applies.then(|| SharedMut::new(tally)),
+            terms,
         )
     };
     applies
@@ -173,6 +183,7 @@ pub(crate) unsafe fn add_pair_forces_then(
     workers: &Workers,
     follow: Option<FollowUp>,
     tally: Option<SharedMut<PairTally>>,
+    entries: EntryTerms,
 ) -> f64 {
     let PairForceInput {
         bodies,
@@ -227,6 +238,7 @@ pub(crate) unsafe fn add_pair_forces_then(
         roll: SharedMut(shear.roll_main.as_mut_ptr()),
         dt,
         tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
+        entries,
     };
     // One loop per setting, so that the per-contact code has no branch on
     // them (the compiler does not unswitch the loop by itself).
@@ -378,6 +390,9 @@ pub(super) struct MainPairs<'a> {
     /// Each body's [`PairTally`] is written here by the loops with
     /// `TALLY` (a body's row is visited by one block only); null without.
     pub(super) tally: SharedMut<PairTally>,
+    /// Each touching entry's terms, written by the loops with `TALLY`
+    /// when asked.
+    pub(super) entries: EntryTerms,
 }
 
 impl MainPairs<'_> {
@@ -579,7 +594,11 @@ impl MainPairs<'_> {
                         &NO_HISTORY
                     };
                     let sh = unsafe { &*self.shear.0.add(k) };
-                    tally_entry(&mut sums, fl, g.overlap, walled, hist, sh, roll);
+                    let (energy, spring) =
+                        tally_entry(&mut sums, fl, g.overlap, walled, hist, sh, roll);
+                    // SAFETY: entry k belongs to row i, which only this
+                    // block visits.
+                    unsafe { self.entries.energy_and_spring(k, energy, spring) };
                 }
                 sub(&mut fi, fj);
                 add(&mut ti, tqi);
@@ -622,7 +641,8 @@ impl MainPairs<'_> {
 /// `friction_observables` does (the same operations in the same order on
 /// the same values: the overlap, the history and springs after the force
 /// stage moved them). `roll`: the rolling spring, `None` when none are
-/// kept (zero).
+/// kept (zero). Returns the entry's elastic energy and its springs'
+/// energy (0 where they are relaxed and not added), J.
 #[inline(always)]
 pub(super) fn tally_entry(
     sums: &mut PairTally,
@@ -632,17 +652,21 @@ pub(super) fn tally_entry(
     history: &ContactHistory,
     shear: &[f64; 3],
     roll: Option<&[f64; 3]>,
-) {
+) -> (f64, f64) {
     if walled {
         sums[1] += 1.0;
     } else {
         sums[0] += 1.0;
     }
-    sums[2] += fl.law.elastic_energy(overlap, history);
+    let energy = fl.law.elastic_energy(overlap, history);
+    sums[2] += energy;
     let r = roll.copied().unwrap_or([0.0; 3]);
+    let mut spring = 0.0;
     if *shear != [0.0; 3] || r != [0.0; 3] {
-        sums[3] += fl.spring_energy(overlap, shear, &r);
+        spring = fl.spring_energy(overlap, shear, &r);
+        sums[3] += spring;
     }
+    (energy, spring)
 }
 
 thread_local! {

@@ -166,6 +166,7 @@ fn tally_equals_the_observation_pass_bit_for_bit() {
                     &mut torque,
                     &sim.workers,
                     &mut tally,
+                    None,
                 );
                 ROW_BY_ROW.store(false, Ordering::Relaxed);
                 assert!(made && tally.len() == n);
