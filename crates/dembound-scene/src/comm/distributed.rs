@@ -990,6 +990,16 @@ impl<T: Transport> DistributedSimulation<T> {
         observation(&sim.world, &sim.workers, sim.initial_energy, &hooks)
     }
 
+    /// [`Self::observe`] without the last steps' tallies: every listed
+    /// pair visited again and the bodies' energies summed again, as a rank
+    /// observes a state no step was asked to tally. For tests: it must
+    /// give [`Self::observe`]'s numbers, bit for bit. Collective.
+    #[doc(hidden)]
+    pub fn observe_visiting(&self) -> Observation {
+        let sim = &self.sim;
+        observation(&sim.world, &sim.workers, sim.initial_energy, &self.comm)
+    }
+
     /// The next [`Self::step`] ends where the caller observes
     /// ([`Self::observe`]): its last pair pass writes each listed pair's
     /// terms and its last half kick sums the bodies' energies, so that

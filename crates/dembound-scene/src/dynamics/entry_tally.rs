@@ -78,6 +78,12 @@ impl EntryTerms {
         spring: SharedMut(std::ptr::null_mut()),
     };
 
+    /// Whether a rank asked for the terms (the pointers are set).
+    #[inline(always)]
+    pub(crate) fn asked(&self) -> bool {
+        !self.energy.0.is_null()
+    }
+
     /// Entry k's elastic energy (J), when asked.
     ///
     /// # Safety

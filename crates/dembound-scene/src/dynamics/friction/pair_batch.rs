@@ -247,50 +247,77 @@ impl MainPairs<'_> {
         // found, row by row in list order, with the histories and springs
         // as the stages left them.
         if TALLY {
-            let tally = self.tally;
-            let group = &self.bodies.group[..];
-            let mut from = 0usize;
-            for i in lo..hi {
-                let to = (g.ends[i - lo] as usize).min(found);
-                let walled_i = group[i] != NO_GROUP;
-                let mut sums: PairTally = [0.0; 4];
-                for t in from..to {
-                    let q = g.entry(t);
-                    let (j, k) = (g.partner[q] as usize, first + q);
-                    // SAFETY: entry k belongs to row i of this block (as
-                    // in the stages above).
-                    let (hist, sh, roll) = unsafe {
-                        (
-                            if KEEP {
-                                &*self.history.0.add(k)
-                            } else {
-                                &NO_HISTORY
-                            },
-                            &*self.shear.0.add(k),
-                            if ROLL {
-                                Some(&*self.roll.0.add(k))
-                            } else {
-                                None
-                            },
-                        )
-                    };
-                    let walled = walled_i || group[j] != NO_GROUP;
-                    let (energy, spring) = tally_entry(
-                        &mut sums,
-                        row_law(i, j),
-                        g.overlap[q],
-                        walled,
-                        hist,
-                        sh,
-                        roll,
-                    );
+            // Each entry's terms recorded only where a rank asks for them:
+            // the one-process loop is the same code as without the record.
+            if self.entries.asked() {
+                self.tally_rows::<KEEP, ROLL, true, R>(lo, hi, first, found, g, rows);
+            } else {
+                self.tally_rows::<KEEP, ROLL, false, R>(lo, hi, first, found, g, rows);
+            }
+        }
+    }
+
+    /// The rows' tallies of the observables of rows `lo..hi` (a batch whose
+    /// first entry is `first`, with `found` contacts in `g`): the contacts
+    /// found, row by row in list order, with the histories and springs as
+    /// the stages left them; with `RECORD`, each entry's terms into
+    /// `self.entries` too.
+    #[inline(always)]
+    fn tally_rows<const KEEP: bool, const ROLL: bool, const RECORD: bool, R: RowLaws>(
+        &self,
+        lo: usize,
+        hi: usize,
+        first: usize,
+        found: usize,
+        g: &Batch,
+        rows: &R,
+    ) {
+        let row_law = |i: usize, j: usize| -> &FrictionLaw { rows.law(i, j) };
+        let tally = self.tally;
+        let group = &self.bodies.group[..];
+        let mut from = 0usize;
+        for i in lo..hi {
+            let to = (g.ends[i - lo] as usize).min(found);
+            let walled_i = group[i] != NO_GROUP;
+            let mut sums: PairTally = [0.0; 4];
+            for t in from..to {
+                let q = g.entry(t);
+                let (j, k) = (g.partner[q] as usize, first + q);
+                // SAFETY: entry k belongs to row i of this block (as
+                // in the stages above).
+                let (hist, sh, roll) = unsafe {
+                    (
+                        if KEEP {
+                            &*self.history.0.add(k)
+                        } else {
+                            &NO_HISTORY
+                        },
+                        &*self.shear.0.add(k),
+                        if ROLL {
+                            Some(&*self.roll.0.add(k))
+                        } else {
+                            None
+                        },
+                    )
+                };
+                let walled = walled_i || group[j] != NO_GROUP;
+                let (energy, spring) = tally_entry(
+                    &mut sums,
+                    row_law(i, j),
+                    g.overlap[q],
+                    walled,
+                    hist,
+                    sh,
+                    roll,
+                );
+                if RECORD {
                     // SAFETY: entry k belongs to row i of this block.
                     unsafe { self.entries.energy_and_spring(k, energy, spring) };
                 }
-                from = to;
-                // SAFETY: i is in this block (one tally per body).
-                unsafe { *tally.at(i) = sums };
             }
+            from = to;
+            // SAFETY: i is in this block (one tally per body).
+            unsafe { *tally.at(i) = sums };
         }
     }
 }
