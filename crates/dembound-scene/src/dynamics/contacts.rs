@@ -1027,7 +1027,7 @@ mod tests {
                                 &sim.workers,
                                 None,
                                 tally.then(|| SharedMut::new(&mut t)),
-                                EntryTerms::NONE,
+                                crate::dynamics::entry_tally::EntryTerms::NONE,
                                 quad,
                             )
                         };

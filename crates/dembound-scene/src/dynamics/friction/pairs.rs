@@ -175,6 +175,7 @@ fn tally_applies(input: &PairForceInput, histories: &PairHistories, shear: &Pair
 /// # Safety
 /// As `contacts::add_pair_forces_then`, for the forces and the torques
 /// (and the spins, which `follow` may write like the velocities).
+#[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn add_pair_forces_then(
     input: &PairForceInput,
     histories: &mut PairHistories,
