@@ -122,6 +122,92 @@ fn validation_scene_collision_log_matches_the_exact_contact() {
     assert!((d / c["duration"].as_f64().unwrap() - 1.0).abs() < 1e-9);
 }
 
+/// With `--out` the JSON summarises the collision log instead of listing
+/// it (a 10k drop completes ~10^6 contacts): the count, the extremes and
+/// the durations are those of collisions.csv's rows, read back and
+/// computed here; without `--out` the JSON lists as many rows as the
+/// summary counts.
+#[test]
+fn with_out_the_json_summarises_the_log_that_collisions_csv_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let drop = scene("lattice_drop.toml");
+    // 36 spheres falling onto the floor and bouncing (elastic Hertz):
+    // dozens of completed contacts with the floor and between spheres.
+    let args = [
+        drop.as_str(),
+        "--set",
+        "particles.0.lattice.counts=[3,3,4]",
+        "--set",
+        "integration.steps=4000",
+        "--set",
+        "output.collisions=true",
+        "--threads",
+        "1",
+    ];
+    let out_text = out.display().to_string();
+    let mut with_out = args.to_vec();
+    with_out.extend(["--out", out_text.as_str()]);
+    let v = scene_json(&with_out);
+    assert!(v.get("collisions").is_none(), "rows listed with --out");
+    let s = &v["collision_summary"];
+    assert_eq!(s["file"], "collisions.csv", "{s}");
+
+    let mut reader = csv::Reader::from_path(out.join("collisions.csv")).unwrap();
+    let header = reader.headers().unwrap().clone();
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (j, h, f, v_in, t) = (
+        column("j"),
+        column("max_overlap_m"),
+        column("max_normal_force_N"),
+        column("impact_normal_velocity_m_s"),
+        column("duration_s"),
+    );
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    let number = |r: &csv::StringRecord, k: usize| r[k].parse::<f64>().unwrap();
+    let max = |k: usize| rows.iter().map(|r| number(r, k)).fold(f64::MIN, f64::max);
+    assert!(
+        rows.len() > 20,
+        "the drop must complete contacts: {}",
+        rows.len()
+    );
+    assert_eq!(s["count"].as_u64(), Some(rows.len() as u64));
+    let spheres = rows.iter().filter(|r| r[j].parse::<u64>().is_ok()).count();
+    assert!(
+        spheres > 0 && spheres < rows.len(),
+        "pairs and walls both: {spheres}"
+    );
+    assert_eq!(s["sphere_contacts"].as_u64(), Some(spheres as u64));
+    assert_eq!(
+        s["wall_contacts"].as_u64(),
+        Some((rows.len() - spheres) as u64)
+    );
+    // The CSV's numbers read back to the logged doubles (shortest
+    // round-trip digits): extremes are selections, so equal exactly.
+    assert_eq!(s["max_overlap"].as_f64(), Some(max(h)));
+    assert_eq!(s["max_normal_force"].as_f64(), Some(max(f)));
+    assert_eq!(s["max_impact_normal_velocity"].as_f64(), Some(max(v_in)));
+    assert_eq!(s["longest_duration"].as_f64(), Some(max(t)));
+    let shortest = rows.iter().map(|r| number(r, t)).fold(f64::MAX, f64::min);
+    assert_eq!(s["shortest_duration"].as_f64(), Some(shortest));
+    // The mean: the same additions in the same (log) order here, so it
+    // agrees to round-off; 1e-12 relative leaves room for another order.
+    let mean = rows.iter().map(|r| number(r, t)).sum::<f64>() / rows.len() as f64;
+    assert!(
+        (s["mean_duration"].as_f64().unwrap() / mean - 1.0).abs() < 1e-12,
+        "{s}"
+    );
+    // The largest overlap's row is a row of the file with that overlap.
+    assert_eq!(s["largest_overlap"]["max_overlap"].as_f64(), Some(max(h)));
+
+    let listed = scene_json(&args);
+    let rows_json = listed["collisions"]
+        .as_array()
+        .expect("rows listed without --out");
+    assert_eq!(rows_json.len(), rows.len());
+    assert_eq!(listed["collision_summary"]["file"], Value::Null);
+}
+
 #[test]
 fn a_plane_collision_names_the_wall() {
     // The validation sphere on a plane of its own material instead.

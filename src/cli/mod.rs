@@ -25,6 +25,7 @@ mod recommend_holes;
 pub mod restitution;
 pub mod run;
 pub mod scene;
+mod scene_collisions;
 mod scene_limits;
 #[cfg(feature = "mpi")]
 mod scene_mpi;

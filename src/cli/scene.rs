@@ -2,6 +2,7 @@
 //! file is read and resolved by `dembound_scene::io`, run by its
 //! `Simulation`, and its outputs written here through [`AtomicDir`].
 
+use super::scene_collisions::{collision_report, summary_line, CollisionSummary};
 use super::{CliError, CliResult};
 use crate::output::files::AtomicDir;
 use crate::output::format::{duration, sig};
@@ -242,12 +243,14 @@ pub fn run(args: &SceneArgs) -> CliResult {
         },
         threads: sim.threads(),
         neighbour_list_builds: sim.list_builds(),
-        collisions: resolved
-            .file
-            .output
-            .collisions
-            .then(|| sim.collisions().iter().map(CollisionRow::from).collect()),
+        collision_summary: None,
+        collisions: None,
     };
+    if resolved.file.output.collisions {
+        let (summary, rows) = collision_report(sim.collisions(), out.is_some());
+        report.collision_summary = Some(summary);
+        report.collisions = rows;
+    }
 
     // Spheres an inlet could not place are reported, not silently lost.
     super::warnings::print(&not_placed_warnings(&report.inlets));
@@ -453,6 +456,12 @@ pub(super) struct Report {
     pub(super) particle_steps_per_second: f64,
     pub(super) threads: usize,
     pub(super) neighbour_list_builds: u64,
+    /// With `output.collisions`: the log's counts, extremes and durations
+    /// ([`CollisionSummary`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) collision_summary: Option<CollisionSummary>,
+    /// With `output.collisions` and no `--out`: every completed contact
+    /// (with `--out` they are in `collisions.csv`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) collisions: Option<Vec<CollisionRow>>,
 }
@@ -691,12 +700,15 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
             vector(g.torque_point, "m")
         );
     }
+    if let Some(summary) = &r.collision_summary {
+        s += &summary_line(summary);
+        s += "\n";
+    }
     if let Some(rows) = &r.collisions {
-        s += &format!("{} completed collisions", rows.len());
         if let Some(c) = rows.first() {
             s += &format!(
-                "; the first: {}–{} from {} s for {} s, max overlap {} m, max force {} N, \
-                 impact {} m/s, rebound {} m/s",
+                "the first collision: {}–{} from {} s for {} s, max overlap {} m, max force {} N, \
+                 impact {} m/s, rebound {} m/s\n",
                 c.i,
                 c.j,
                 sig(c.t_start, 6),
@@ -707,7 +719,6 @@ fn summary(r: &Report, resolved: &ResolvedScene) -> String {
                 sig(c.rebound_normal_velocity, 6)
             );
         }
-        s += "\n";
     }
     s
 }

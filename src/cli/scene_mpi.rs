@@ -33,9 +33,8 @@ use dembound_scene::io::{config, labels, series, vtk, vtk_walls};
 use dembound_scene::{Checkpoint, Collision, Observation};
 use serde::Serialize;
 
-use super::scene::{
-    progress_bar, scene_error, CollisionRow, Report, SceneArgs, PARALLEL_MIN_PARTICLES,
-};
+use super::scene::{progress_bar, scene_error, Report, SceneArgs, PARALLEL_MIN_PARTICLES};
+use super::scene_collisions::collision_report;
 use super::{scene_mpi_pieces, CliError, CliResult};
 use crate::output::files::AtomicDir;
 
@@ -493,6 +492,15 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
     let inserted: u64 = last.inlets.iter().map(|i| i.count).sum();
     let (inputs, fixed) = sim.input_counts();
     let n = inputs + inserted as usize;
+    // The log's summary; its rows only where collisions.csv does not hold
+    // them.
+    let (collision_summary, collisions) = match &log {
+        Some(l) => {
+            let (summary, rows) = collision_report(l, args.out.is_some());
+            (Some(summary), rows)
+        }
+        None => (None, None),
+    };
     let report = Report {
         particles: n,
         free_particles: inputs - fixed,
@@ -531,9 +539,8 @@ fn run_rank(args: &SceneArgs, t: &MpiTransport) -> RankResult<()> {
         },
         threads,
         neighbour_list_builds: sim.local().list_builds(),
-        collisions: log
-            .as_ref()
-            .map(|l| l.iter().map(CollisionRow::from).collect()),
+        collision_summary,
+        collisions,
     };
     super::warnings::print(&super::scene::not_placed_warnings(&report.inlets));
     let doc = MpiReport {
