@@ -35,28 +35,14 @@ impl<T: Transport> ObserveHooks for RankComm<T> {
         let counted_here = |i: usize, j: usize| counted(fixed_by_id, halo, b, i, j);
         let (mut pc, mut wc, mut energy) = (0.0, 0.0, 0.0);
         let mut visit = |i: usize, xj: [f64; 3], owner: usize, h: &ContactHistory| {
-            // The contact test first: most listed pairs are apart.
-            let Some(g) = touching(
-                b.position[i],
-                [0.0; 3],
-                b.radius[i],
-                xj,
-                [0.0; 3],
-                b.radius[owner],
-            ) else {
-                return;
-            };
-            if !counted_here(i, owner) {
-                return;
+            if let Some((walled, e)) = self.pair_terms(w, i, xj, owner, h) {
+                if walled {
+                    wc += 1.0;
+                } else {
+                    pc += 1.0;
+                }
+                energy += e;
             }
-            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
-                wc += 1.0;
-            } else {
-                pc += 1.0;
-            }
-            energy += w
-                .laws
-                .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
         };
         let list = &w.list;
         for i in 0..b.len() {
@@ -199,6 +185,38 @@ impl<T: Transport> RankComm<T> {
         counted(&self.fixed_by_id, &self.halo, &w.bodies, i, j)
     }
 
+    /// Body i's pair with the body or halo copy at `xj` (its owner
+    /// `owner`, history `h`) in the row: whether a wall's boundary
+    /// particle is in it, and its elastic energy (J), when it touches and
+    /// is counted on this rank.
+    fn pair_terms(
+        &self,
+        w: &World,
+        i: usize,
+        xj: [f64; 3],
+        owner: usize,
+        h: &ContactHistory,
+    ) -> Option<(bool, f64)> {
+        let b = &w.bodies;
+        // The contact test first: most listed pairs are apart.
+        let g = touching(
+            b.position[i],
+            [0.0; 3],
+            b.radius[i],
+            xj,
+            [0.0; 3],
+            b.radius[owner],
+        )?;
+        if !self.counted_here(w, i, owner) {
+            return None;
+        }
+        let walled = b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP;
+        let energy = w
+            .laws
+            .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, h);
+        Some((walled, energy))
+    }
+
     /// [`ObserveHooks::contacts`] from what the last pair pass wrote of
     /// each main entry (`tally.entries`): the same counted pairs, their
     /// energies added one by one in list order into one sum (the extra
@@ -261,29 +279,16 @@ impl<T: Transport> RankComm<T> {
         }
         // The extra pairs (none with friction's tally), as `contacts`.
         for (q, &(i, j)) in list.extra.iter().enumerate() {
-            let i = i as usize;
             let (xj, _, owner) = extended(b, &w.ghosts, j as usize);
-            let Some(g) = touching(
-                b.position[i],
-                [0.0; 3],
-                b.radius[i],
-                xj,
-                [0.0; 3],
-                b.radius[owner],
-            ) else {
-                continue;
-            };
-            if !self.counted_here(w, i, owner) {
-                continue;
+            let h = w.histories.extra(q);
+            if let Some((walled, e)) = self.pair_terms(w, i as usize, xj, owner, h) {
+                if walled {
+                    wc += 1.0;
+                } else {
+                    pc += 1.0;
+                }
+                energy += e;
             }
-            if b.group[i] != NO_GROUP || b.group[owner] != NO_GROUP {
-                wc += 1.0;
-            } else {
-                pc += 1.0;
-            }
-            energy +=
-                w.laws
-                    .elastic_energy(&w.laws.pair(b, i, owner), g.overlap, w.histories.extra(q));
         }
         let (plane_contacts, plane_energy, spring_energy) = match (friction, rows) {
             (Some(table), Some(rows)) => {
