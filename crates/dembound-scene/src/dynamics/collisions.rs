@@ -262,7 +262,14 @@ impl Track {
     /// [`Self::advance_with_motion`] would.
     #[inline(always)]
     pub fn stays_apart(&self, h: f64) -> bool {
-        !self.in_contact && (h <= 0.0 || h.is_nan())
+        Self::apart_after(self.in_contact, h)
+    }
+
+    /// [`Self::stays_apart`] for a track whose in-contact flag is
+    /// `in_contact` (read from a dense copy without loading the track).
+    #[inline(always)]
+    pub fn apart_after(in_contact: bool, h: f64) -> bool {
+        !in_contact && (h <= 0.0 || h.is_nan())
     }
 
     /// [`Self::advance_with_motion`] for a step after which the couple
@@ -317,7 +324,8 @@ impl Track {
     }
 
     /// [`Self::advance`] that also keeps the tangential motion: returns
-    /// the completed contact with the motion before and after it.
+    /// the completed contact with the motion before and after it
+    /// ([`Self::advance_listed`] with the motion stored every step).
     pub fn advance_with_motion(
         &mut self,
         t: f64,
@@ -327,13 +335,9 @@ impl Track {
         motion: Motion,
         force: impl Fn(f64, f64) -> f64,
     ) -> Option<(Completed, Motion, Motion)> {
-        let (was_known, was_in, prev) = (self.known, self.in_contact, self.last);
-        let done = self.advance(t, dt, h, rate, force);
-        if !was_in && self.in_contact {
-            self.impact_motion = if was_known { prev } else { motion };
-        }
+        let done = self.advance_listed(t, dt, h, rate, || motion, force);
         self.last = motion;
-        done.map(|c| (c, self.impact_motion, motion))
+        done
     }
 
     /// Advances over the step that ends at time `t` (length `dt`) with

@@ -23,6 +23,24 @@ use crate::geometry::ghosts::Ghosts;
 /// the test only spares pairs the exact overlap then sees apart.
 const TOUCH_MARGIN: f64 = 1.0 + 1.0e-12;
 
+/// How many list entries ahead the stage asks for a track in contact.
+const TRACK_LEAD: usize = 16;
+
+/// Asks for the cache line holding `track`'s first fields (a hint: no
+/// effect on any value).
+#[inline(always)]
+fn prefetch(track: &Track) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing the program sees and cannot fault;
+    // the pointer comes from a reference.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>((track as *const Track).cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = track;
+}
+
 /// The bodies' and ghosts' state at the end of the collision log's last
 /// step, and which main entries were in contact after it.
 #[derive(Debug, Clone, Default)]
@@ -51,9 +69,11 @@ impl LoggedStep {
             && self.open.len() == world.list.j.len()
     }
 
-    /// Sets `track` (of main entry (i, j_ext), out of contact) to what the
-    /// log left in it at that step: [`Track::advance_apart`] with the
-    /// couple's overlap, rate and motion then.
+    /// Sets `track` (of main entry (i, j_ext)) to what the log left in it
+    /// at that step: out of contact, [`Track::advance_apart`] with the
+    /// couple's overlap, rate and motion then; in contact, the motion then
+    /// (what the stage leaves unstored while a contact goes on:
+    /// [`Track::advance_listed`]).
     pub(crate) fn settle(
         &self,
         track: &mut Track,
@@ -63,21 +83,11 @@ impl LoggedStep {
         j_ext: usize,
     ) {
         let (g, motion) = self.couple(bodies, ghosts, i, j_ext);
-        track.advance_apart(g.overlap, g.overlap_rate, motion);
-    }
-
-    /// Sets the motion of `track` (of main entry (i, j_ext), in contact)
-    /// to the couple's at that step: what the log stage leaves unstored
-    /// while a contact goes on ([`Track::advance_listed`]).
-    pub(crate) fn settle_motion(
-        &self,
-        track: &mut Track,
-        bodies: &Bodies,
-        ghosts: &Ghosts,
-        i: usize,
-        j_ext: usize,
-    ) {
-        track.set_last(self.couple(bodies, ghosts, i, j_ext).1);
+        if track.in_contact() {
+            track.set_last(motion);
+        } else {
+            track.advance_apart(g.overlap, g.overlap_rate, motion);
+        }
     }
 
     /// The geometry and motion of main entry (i, j_ext) at that step.
@@ -291,9 +301,16 @@ impl Pipeline {
         for i in 0..n {
             let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
             let (xi, ri) = (position[i], radius[i]);
-            let row = (s..e).zip(&list.j[s..e]).zip(&mut open[s..e]);
-            for ((k, &j), open_k) in row {
-                let j = j as usize;
+            for k in s..e {
+                let j = list.j[k] as usize;
+                // The tracks are read only for couples in contact or
+                // touching; those in contact are known ahead (`open`):
+                // their first line is asked for a few entries early.
+                let lead = open.get(k + TRACK_LEAD).copied().unwrap_or(false);
+                // Without a branch (whether it is in contact is random):
+                // entry k itself when not.
+                prefetch(&tracks.main[k + TRACK_LEAD * usize::from(lead)]);
+                let open_k = &mut open[k];
                 if !*open_k && !every_pair {
                     // Neither in contact nor touching: nothing to do now
                     // (its state at this step is `LoggedStep`'s).
@@ -328,7 +345,7 @@ impl Pipeline {
                     *open_k
                 };
                 let track = &mut tracks.main[k];
-                if !in_contact && (g.overlap <= 0.0 || g.overlap.is_nan()) {
+                if Track::apart_after(in_contact, g.overlap) {
                     if every_pair {
                         track.advance_apart(g.overlap, g.overlap_rate, motion());
                     }

@@ -4,8 +4,6 @@
 //! the lists and carries every pair's state (histories, springs,
 //! collision tracks) over by input ids.
 
-use std::collections::HashMap;
-
 use dembound_physics::contact::ContactHistory;
 use rustc_hash::FxHashMap;
 
@@ -137,7 +135,7 @@ fn cells_of_bodies(world: &World, grid: &CellGrid, workers: &Workers) -> Vec<u32
 #[derive(Debug, Clone, Default)]
 pub(crate) struct SavedPairs {
     pub histories: FxHashMap<(u32, u32), ContactHistory>,
-    pub tracks: Option<HashMap<(u32, u32), Track>>,
+    pub tracks: Option<FxHashMap<(u32, u32), Track>>,
     pub shear: FxHashMap<(u32, u32), friction::Springs>,
 }
 
@@ -182,14 +180,14 @@ fn nearest_image(bodies: &Bodies, ghosts: &Ghosts, i: usize, j: usize) -> usize 
 }
 
 /// The tracks of the listed couples that have a previous step, by input ids.
-pub(crate) fn saved_tracks_public(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+pub(crate) fn saved_tracks_public(world: &World, tracks: &Tracks) -> FxHashMap<(u32, u32), Track> {
     saved_tracks(world, tracks)
 }
 
-fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
+fn saved_tracks(world: &World, tracks: &Tracks) -> FxHashMap<(u32, u32), Track> {
     let bodies = &world.bodies;
     let list = &world.list;
-    let mut out = HashMap::new();
+    let mut out = FxHashMap::default();
     if tracks.main.len() != list.j.len() || list.start.len() != bodies.len() + 1 {
         return out;
     }
@@ -204,11 +202,7 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
             let mut track = tracks.main[k];
             if let Some(l) = logged {
                 let j = list.j[k] as usize;
-                if track.in_contact() {
-                    l.settle_motion(&mut track, bodies, &world.ghosts, i, j);
-                } else {
-                    l.settle(&mut track, bodies, &world.ghosts, i, j);
-                }
+                l.settle(&mut track, bodies, &world.ghosts, i, j);
             }
             if track.is_known() {
                 let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
@@ -364,7 +358,7 @@ impl Pipeline {
         if let (Some(saved), Some(tracks)) = (saved_tracks, world.tracks.as_mut()) {
             tracks.main = vec![Track::default(); list.j.len()];
             tracks.extra = vec![Track::default(); list.extra.len()];
-            let mut found = std::collections::HashSet::new();
+            let mut found = rustc_hash::FxHashSet::default();
             for (i, k) in list.entries() {
                 let key = key(i, list.j[k] as usize);
                 if let Some(t) = saved.get(&key) {
@@ -387,7 +381,7 @@ impl Pipeline {
             open.sort_by_key(|(key, _)| *key);
             // By input id (a rank of a decomposed run holds some bodies
             // only: a pair with one elsewhere is kept by the other rank).
-            let at: HashMap<u32, usize> = bodies
+            let at: FxHashMap<u32, usize> = bodies
                 .id
                 .iter()
                 .enumerate()
