@@ -9,6 +9,8 @@
 //! state at that step kept in [`LoggedStep`]: the same formulas on the
 //! same inputs, so the same bits as visiting every pair every step.
 
+use std::cell::Cell;
+
 use super::{Pipeline, World};
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::collisions::{Collision, Completed, Motion, Partner, Track};
@@ -26,16 +28,15 @@ const TOUCH_MARGIN: f64 = 1.0 + 1.0e-12;
 /// How many list entries ahead the stage asks for a track in contact.
 const TRACK_LEAD: usize = 16;
 
-/// Asks for the cache line holding `track`'s first fields (a hint: no
-/// effect on any value).
+/// Asks for the cache line at `track` (a hint: reads nothing the
+/// program sees, and cannot fault, even out of bounds).
 #[inline(always)]
-fn prefetch(track: &Track) {
+fn prefetch(track: *const Track) {
     #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing the program sees and cannot fault;
-    // the pointer comes from a reference.
+    // SAFETY: a prefetch dereferences nothing: any address is allowed.
     unsafe {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>((track as *const Track).cast::<i8>());
+        _mm_prefetch::<_MM_HINT_T0>(track.cast::<i8>());
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = track;
@@ -298,20 +299,27 @@ impl Pipeline {
         };
         let list = &world.list;
         let (position, radius) = (&bodies.position[..n], &bodies.radius[..n]);
+        // Read ahead and written at the entry: shared cells.
+        let flags = Cell::from_mut(&mut open[..]).as_slice_of_cells();
         for i in 0..n {
             let (s, e) = (list.start[i] as usize, list.start[i + 1] as usize);
             let (xi, ri) = (position[i], radius[i]);
-            for k in s..e {
-                let j = list.j[k] as usize;
+            let row = (s..e).zip(&list.j[s..e]).zip(&flags[s..e]);
+            for ((k, &j), open_k) in row {
+                let j = j as usize;
                 // The tracks are read only for couples in contact or
                 // touching; those in contact are known ahead (`open`):
-                // their first line is asked for a few entries early.
-                let lead = open.get(k + TRACK_LEAD).copied().unwrap_or(false);
-                // Without a branch (whether it is in contact is random):
+                // their first line is asked for a few entries early,
+                // without a branch (whether one is in contact is random):
                 // entry k itself when not.
-                prefetch(&tracks.main[k + TRACK_LEAD * usize::from(lead)]);
-                let open_k = &mut open[k];
-                if !*open_k && !every_pair {
+                let lead = flags.get(k + TRACK_LEAD).is_some_and(Cell::get);
+                prefetch(
+                    tracks
+                        .main
+                        .as_ptr()
+                        .wrapping_add(k + TRACK_LEAD * usize::from(lead)),
+                );
+                if !open_k.get() && !every_pair {
                     // Neither in contact nor touching: nothing to do now
                     // (its state at this step is `LoggedStep`'s).
                     let (xj, rj) = if j < n {
@@ -338,11 +346,11 @@ impl Pipeline {
                 // Whether the track is in contact is `open`'s (the same
                 // flag, dense): a couple staying apart is settled without
                 // reading its track (`Track::stays_apart`).
-                debug_assert!(every_pair || *open_k == tracks.main[k].in_contact());
+                debug_assert!(every_pair || open_k.get() == tracks.main[k].in_contact());
                 let in_contact = if every_pair {
                     tracks.main[k].in_contact()
                 } else {
-                    *open_k
+                    open_k.get()
                 };
                 let track = &mut tracks.main[k];
                 if Track::apart_after(in_contact, g.overlap) {
@@ -368,7 +376,7 @@ impl Pipeline {
                         log.push(pair_collision(bodies, i, owner, c, before, after));
                     }
                 }
-                *open_k = track.in_contact();
+                open_k.set(track.in_contact());
             }
         }
         // The extra pairs (open contacts no longer listed): every step.
