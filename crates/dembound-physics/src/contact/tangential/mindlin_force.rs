@@ -30,3 +30,7 @@ impl TangentialSubModel for MindlinForce {
         self.coefficient * overlap.abs().sqrt()
     }
 }
+
+#[cfg(test)]
+#[path = "mindlin_force_tests.rs"]
+mod tests;
