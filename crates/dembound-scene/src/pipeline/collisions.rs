@@ -62,6 +62,32 @@ impl LoggedStep {
         i: usize,
         j_ext: usize,
     ) {
+        let (g, motion) = self.couple(bodies, ghosts, i, j_ext);
+        track.advance_apart(g.overlap, g.overlap_rate, motion);
+    }
+
+    /// Sets the motion of `track` (of main entry (i, j_ext), in contact)
+    /// to the couple's at that step: what the log stage leaves unstored
+    /// while a contact goes on ([`Track::advance_listed`]).
+    pub(crate) fn settle_motion(
+        &self,
+        track: &mut Track,
+        bodies: &Bodies,
+        ghosts: &Ghosts,
+        i: usize,
+        j_ext: usize,
+    ) {
+        track.set_last(self.couple(bodies, ghosts, i, j_ext).1);
+    }
+
+    /// The geometry and motion of main entry (i, j_ext) at that step.
+    fn couple(
+        &self,
+        bodies: &Bodies,
+        ghosts: &Ghosts,
+        i: usize,
+        j_ext: usize,
+    ) -> (PairGeometry, Motion) {
         let n = self.position.len();
         let (xj, vj, owner) = if j_ext < n {
             (self.position[j_ext], self.velocity[j_ext], j_ext)
@@ -74,7 +100,7 @@ impl LoggedStep {
             )
         };
         let spin = |k: usize| self.spin.get(k).copied().unwrap_or([0.0; 3]);
-        let (g, motion) = couple_state(
+        couple_state(
             (
                 self.position[i],
                 self.velocity[i],
@@ -82,8 +108,7 @@ impl LoggedStep {
                 spin(i),
             ),
             (xj, vj, bodies.radius[owner], spin(owner)),
-        );
-        track.advance_apart(g.overlap, g.overlap_rate, motion);
+        )
     }
 
     /// Keeps `world`'s state at the end of its current step.
@@ -119,12 +144,24 @@ fn couple_state(a: Side, b: Side) -> (PairGeometry, Motion) {
     let (xi, vi, ri, wi) = a;
     let (xj, vj, rj, wj) = b;
     let g = contacts::separation(xi, vi, ri, xj, vj, rj);
-    let motion = Motion {
-        tangential: friction::tangential([vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]], g.normal),
+    (g, couple_motion(vi, wi, vj, wj, g.normal))
+}
+
+/// The tangential motion of a sphere pair of velocities `vi`, `vj` (m/s)
+/// and spins `wi`, `wj` (rad/s) at unit normal `normal`.
+#[inline(always)]
+fn couple_motion(
+    vi: [f64; 3],
+    wi: [f64; 3],
+    vj: [f64; 3],
+    wj: [f64; 3],
+    normal: [f64; 3],
+) -> Motion {
+    Motion {
+        tangential: friction::tangential([vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]], normal),
         spin_i: wi,
         spin_j: wj,
-    };
-    (g, motion)
+    }
 }
 
 pub(crate) fn partner_key(p: Partner) -> (u8, usize) {
@@ -233,12 +270,13 @@ impl Pipeline {
             (g, motion, owner)
         };
         // A couple not staying apart: the law, the interpolant, the row.
-        let mut advance = |i: usize,
-                           owner: usize,
-                           g: PairGeometry,
-                           motion: Motion,
-                           track: &mut Track,
-                           history| {
+        let advance = |log: &mut Vec<Collision>,
+                       i: usize,
+                       owner: usize,
+                       g: PairGeometry,
+                       motion: Motion,
+                       track: &mut Track,
+                       history| {
             let law = laws.pair(bodies, i, owner);
             if let Some((c, before, after)) =
                 track.advance_with_motion(t, dt, g.overlap, g.overlap_rate, motion, |h, r| {
@@ -274,19 +312,45 @@ impl Pipeline {
                         continue;
                     }
                 }
-                let (g, motion, owner) = state(i, j);
+                let (xj, vj, owner) = extended(bodies, ghosts, j);
+                let vi = bodies.velocity[i];
+                let g = contacts::separation(xi, vi, ri, xj, vj, radius[owner]);
+                // The motion only where the track uses it (not while a
+                // contact goes on: `Track::advance_listed`).
+                let motion = || couple_motion(vi, spin(i), vj, spin(owner), g.normal);
+                // Whether the track is in contact is `open`'s (the same
+                // flag, dense): a couple staying apart is settled without
+                // reading its track (`Track::stays_apart`).
+                debug_assert!(every_pair || *open_k == tracks.main[k].in_contact());
+                let in_contact = if every_pair {
+                    tracks.main[k].in_contact()
+                } else {
+                    *open_k
+                };
                 let track = &mut tracks.main[k];
-                if track.stays_apart(g.overlap) {
+                if !in_contact && (g.overlap <= 0.0 || g.overlap.is_nan()) {
                     if every_pair {
-                        track.advance_apart(g.overlap, g.overlap_rate, motion);
+                        track.advance_apart(g.overlap, g.overlap_rate, motion());
                     }
                     continue;
                 }
-                if let (false, Some(last)) = (track.in_contact(), last) {
-                    // An onset reads the state of the step before.
-                    last.settle(track, bodies, ghosts, i, j);
+                if every_pair {
+                    advance(&mut log, i, owner, g, motion(), track, histories.main(k));
+                } else {
+                    if let (false, Some(last)) = (track.in_contact(), last) {
+                        // An onset reads the state of the step before.
+                        last.settle(track, bodies, ghosts, i, j);
+                    }
+                    let law = laws.pair(bodies, i, owner);
+                    let history = histories.main(k);
+                    if let Some((c, before, after)) =
+                        track.advance_listed(t, dt, g.overlap, g.overlap_rate, motion, |h, r| {
+                            law.force(h, r, history)
+                        })
+                    {
+                        log.push(pair_collision(bodies, i, owner, c, before, after));
+                    }
                 }
-                advance(i, owner, g, motion, track, histories.main(k));
                 *open_k = track.in_contact();
             }
         }
@@ -298,7 +362,7 @@ impl Pipeline {
                 track.advance_apart(g.overlap, g.overlap_rate, motion);
                 continue;
             }
-            advance(i, owner, g, motion, track, histories.extra(k));
+            advance(&mut log, i, owner, g, motion, track, histories.extra(k));
         }
         let wc = &mut world.wall_contacts;
         if wc.bodies() == n && wc.track.len() == wc.key.len() {

@@ -193,7 +193,8 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
     if tracks.main.len() != list.j.len() || list.start.len() != bodies.len() + 1 {
         return out;
     }
-    // A track out of contact holds the log's last step only in `logged`.
+    // A track out of contact holds the log's last step only in `logged`,
+    // a contact in progress its motion at that step.
     let logged = tracks
         .logged
         .as_deref()
@@ -201,8 +202,13 @@ fn saved_tracks(world: &World, tracks: &Tracks) -> HashMap<(u32, u32), Track> {
     for i in 0..bodies.len() {
         for k in list.start[i] as usize..list.start[i + 1] as usize {
             let mut track = tracks.main[k];
-            if let (false, Some(l)) = (track.in_contact(), logged) {
-                l.settle(&mut track, bodies, &world.ghosts, i, list.j[k] as usize);
+            if let Some(l) = logged {
+                let j = list.j[k] as usize;
+                if track.in_contact() {
+                    l.settle_motion(&mut track, bodies, &world.ghosts, i, j);
+                } else {
+                    l.settle(&mut track, bodies, &world.ghosts, i, j);
+                }
             }
             if track.is_known() {
                 let (a, b) = (bodies.id[i], bodies.id[list.j[k] as usize]);
