@@ -123,6 +123,12 @@ macro_rules! tangential_registry {
                 None
             }
 
+            /// [`TangentialSubModel::STORES_FORCE`] of the model (the same
+            /// for every pair of a scene: `contact.tangential` is one key).
+            pub fn stores_force(&self) -> bool {
+                match self { $( TangentialKind::$V => <$T as TangentialSubModel>::STORES_FORCE, )+ }
+            }
+
             /// The model for one pair.
             pub fn resolve(&self, setup: &TangentialSetup) -> TangentialPair {
                 match self { $( TangentialKind::$V => TangentialPair::$V(<$T as TangentialSubModel>::new(setup)), )+ }
@@ -405,6 +411,32 @@ impl FrictionPair {
         self.tangential_force_turned(overlap, normal_force, tangential_velocity, dt, shear)
     }
 
+    /// [`Self::tangential_force`] with the kind of spring known to the
+    /// caller (`stores_force`: the pair's [`TangentialPair::stores_force`],
+    /// a constant in a kernel; see [`Self::tangential_force_turned_known`]).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn tangential_force_known(
+        &self,
+        stores_force: bool,
+        overlap: f64,
+        normal_force: f64,
+        normal: [f64; 3],
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        Self::turn_spring(shear, normal);
+        self.tangential_force_turned_known(
+            stores_force,
+            overlap,
+            normal_force,
+            tangential_velocity,
+            dt,
+            shear,
+        )
+    }
+
     /// Step 1 of [`Self::tangential_force`]: the contact frame turned, the
     /// stored displacement `shear` (m) back into the tangent plane of the
     /// unit normal `normal`, its length kept (the projection and rescale
@@ -460,7 +492,34 @@ impl FrictionPair {
         dt: f64,
         shear: &mut [f64; 3],
     ) -> [f64; 3] {
-        if self.tangential.stores_force() {
+        self.tangential_force_turned_known(
+            self.tangential.stores_force(),
+            overlap,
+            normal_force,
+            tangential_velocity,
+            dt,
+            shear,
+        )
+    }
+
+    /// [`Self::tangential_force_turned`] with the kind of spring known to
+    /// the caller: `stores_force` must be the pair's
+    /// [`TangentialPair::stores_force`]. A kernel passes a constant, chosen
+    /// once a run from the scene's `contact.tangential` (the key is one per
+    /// scene), so that its instance for displacement springs (`mindlin`,
+    /// `linear`) compiles to their code alone, without a test per contact.
+    #[inline(always)]
+    pub fn tangential_force_turned_known(
+        &self,
+        stores_force: bool,
+        overlap: f64,
+        normal_force: f64,
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        debug_assert_eq!(stores_force, self.tangential.stores_force());
+        if stores_force {
             return self.incremental_force_turned(
                 overlap,
                 normal_force,
@@ -677,11 +736,27 @@ impl FrictionPair {
         shear: &[f64; 3],
         rolling: &[f64; 3],
     ) -> f64 {
+        self.spring_energy_known(self.tangential.stores_force(), law, overlap, shear, rolling)
+    }
+
+    /// [`Self::spring_energy`] with the kind of spring known to the caller
+    /// (`stores_force`: the pair's [`TangentialPair::stores_force`], a
+    /// constant in a kernel; see [`Self::tangential_force_turned_known`]).
+    #[inline(always)]
+    pub fn spring_energy_known(
+        &self,
+        stores_force: bool,
+        law: &PairLaw,
+        overlap: f64,
+        shear: &[f64; 3],
+        rolling: &[f64; 3],
+    ) -> f64 {
+        debug_assert_eq!(stores_force, self.tangential.stores_force());
         if overlap <= 0.0 {
             return 0.0;
         }
         let k_t = self.tangential.stiffness(overlap);
-        let mut e = if self.tangential.stores_force() {
+        let mut e = if stores_force {
             // ½ |F_s|²/k_t (LAMMPS and Yade report the same).
             if k_t > 0.0 {
                 0.5 * dot(*shear, *shear) / k_t
