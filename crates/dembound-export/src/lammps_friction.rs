@@ -13,6 +13,9 @@
 //!   1/((2 − ν₁)/G₁ + (2 − ν₂)/G₂). Not `mindlin/force` (which integrates
 //!   the force, dF = −k_t(h) v_t Δt, and differs as soon as h changes under
 //!   a loaded spring) nor `mindlin_rescale` (which shrinks δ on unloading).
+//! - `contact.tangential = "mindlin_force"`: dembound's incremental spring
+//!   (a stored force F_s += −k_t(h) v_t Δt) is LAMMPS's `tangential
+//!   mindlin/force k_t` with the same k_t = 8 G* per type pair.
 //! - `contact.tangential = "linear"`: k_t = (2/7) E_eff R_eff, LAMMPS's
 //!   `linear_history k_t` with that number per type pair: exact when every
 //!   pair of the two types has the same R_eff (each type of one radius).
@@ -182,6 +185,13 @@ impl FrictionPlan {
                 (
                     format!("mindlin {} 0.0 {}", num(k), num(mu)),
                     format!("8 G* = {} Pa, mu = {}", num(k), num(mu)),
+                )
+            }
+            TangentialKind::MindlinForce => {
+                let k = 8.0 * effective_shear_modulus(a.material, b.material);
+                (
+                    format!("mindlin/force {} 0.0 {}", num(k), num(mu)),
+                    format!("8 G* = {} Pa, mu = {}, incremental", num(k), num(mu)),
                 )
             }
             TangentialKind::Linear => {

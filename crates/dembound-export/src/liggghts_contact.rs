@@ -337,6 +337,19 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                         f.model.tangential.row().name
                     ));
                 }
+                if hooke.is_none() && f.model.tangential == TangentialKind::MindlinForce {
+                    return refuse(
+                        "contact.tangential = \"mindlin_force\" is not exported to LIGGGHTS: \
+                         its `tangential history` (tangential_model_history.h) stores the \
+                         displacement and applies -k_t(h) times it with the current k_t, \
+                         dembound's \"mindlin\" spring, not the incremental one (a stored \
+                         force F_s += -k_t(h) v_t dt), and the two differ whenever the overlap \
+                         changes under a loaded spring; use contact.tangential = \"mindlin\", \
+                         or export to LAMMPS (tangential mindlin/force) or Yade (its Mindlin \
+                         law is incremental)"
+                            .to_string(),
+                    );
+                }
                 if hooke.is_none() && f.model.tangential != TangentialKind::Mindlin {
                     return refuse(format!(
                         "contact.tangential = \"{}\" is not exported to LIGGGHTS: its `model \

@@ -284,7 +284,10 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             ));
         }
         let law_tangential_ok = match model.normal {
-            NormalLaw::Hertz => f.model.tangential == TangentialKind::Mindlin,
+            NormalLaw::Hertz => matches!(
+                f.model.tangential,
+                TangentialKind::Mindlin | TangentialKind::MindlinForce
+            ),
             NormalLaw::Hooke { .. } => f.model.tangential == TangentialKind::Linear,
             _ => true,
         };
@@ -363,6 +366,16 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let mut rolling: Option<(yade_rolling::Rolling, Vec<yade_rolling::Rolling>)> = None;
     let (physics, law, free_yade, other_yade) = match model.normal {
         NormalLaw::Hertz => {
+            if let Some(f) = setup.friction.as_ref() {
+                comments.push(
+                    if f.model.tangential == TangentialKind::MindlinForce {
+                        "tangential: Yade's Mindlin law increments the shear force by -k_s(h) du_s each step, dembound's contact.tangential = \"mindlin_force\": the same spring"
+                    } else {
+                        "tangential: Yade's Mindlin law increments the shear force by -k_s(h) du_s each step; dembound's contact.tangential = \"mindlin\" applies -k_s(h) to the whole displacement: the two differ when the overlap changes under a loaded spring (\"mindlin_force\" is Yade's)"
+                    }
+                    .to_string(),
+                );
+            }
             let free_yade = YadeMaterial {
                 young: fm.youngs_modulus,
                 poisson: fm.poisson_ratio,

@@ -292,13 +292,40 @@ impl ContactLaw {
         state: ContactState,
         dt: f64,
     ) -> ContactForces {
+        let stores_force = self.friction.tangential().stores_force();
+        self.calculate_forces_known(stores_force, g, a, b, state, dt)
+    }
+
+    /// [`Self::calculate_forces`] with the kind of tangential spring known
+    /// to the caller (`stores_force`: the law's
+    /// [`TangentialPair::stores_force`](crate::contact::tangential::TangentialPair::stores_force),
+    /// a constant in a kernel chosen once a run: see
+    /// `FrictionPair::tangential_force_turned_known`).
+    #[inline(always)]
+    pub fn calculate_forces_known(
+        &self,
+        stores_force: bool,
+        g: &Geometry,
+        a: &Side,
+        b: &Side,
+        state: ContactState,
+        dt: f64,
+    ) -> ContactForces {
         let n = g.normal;
         let f = self
             .law
             .normal_stage(g.overlap, g.overlap_rate, state.history);
         let (slip_a, slip_b) = self.torque_arm.slip_sides(g.overlap, a, b);
         let vt = slip_velocity(&slip_a, &slip_b, n);
-        let ft = self.tangential_stage(g.overlap, f, n, vt, dt, state.tangential);
+        let ft = self.friction.tangential_force_known(
+            stores_force,
+            g.overlap,
+            f,
+            n,
+            vt,
+            dt,
+            state.tangential,
+        );
         let rolling = state
             .rolling
             .map(|m| self.rolling_stage(g.overlap, f, n, a, b, dt, m));
@@ -428,6 +455,20 @@ impl ContactLaw {
     pub fn spring_energy(&self, overlap: f64, shear: &[f64; 3], rolling: &[f64; 3]) -> f64 {
         self.friction
             .spring_energy(&self.law, overlap, shear, rolling)
+    }
+
+    /// [`Self::spring_energy`] with the kind of tangential spring known to
+    /// the caller (`stores_force`, as in [`Self::calculate_forces_known`]).
+    #[inline]
+    pub fn spring_energy_known(
+        &self,
+        stores_force: bool,
+        overlap: f64,
+        shear: &[f64; 3],
+        rolling: &[f64; 3],
+    ) -> f64 {
+        self.friction
+            .spring_energy_known(stores_force, &self.law, overlap, shear, rolling)
     }
 }
 

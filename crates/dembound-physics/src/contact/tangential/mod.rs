@@ -36,6 +36,10 @@
 //! spring's alone, which step 3 keeps within μ |F_n|, so the cap of step 4
 //! never acts and the law is the same in both codes.
 //!
+//! `mindlin_force` ([`mindlin_force`], LAMMPS `mindlin/force`) stores the
+//! spring's force instead and adds −k_t(h) v_t Δt to it in step 2 (an
+//! incremental spring); steps 1, 3 and 4 act on that force as on −k_t δ.
+//!
 //! Rolling resistance is its own sub-model ([`super::rolling`]).
 //!
 //! Sign conventions: n is the unit normal from body 1 to body 2; v_t is the
@@ -49,6 +53,7 @@ use crate::material::{Material, PairProperties};
 
 pub mod linear;
 pub mod mindlin;
+pub mod mindlin_force;
 
 /// What a tangential sub-model is built from for one pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,6 +71,12 @@ pub trait TangentialSubModel: Copy + std::fmt::Debug {
 
     /// k_t at overlap h > 0 (m), N/m.
     fn stiffness(&self, overlap: f64) -> f64;
+
+    /// Whether the contact's tangential history is the spring's force F_s
+    /// (N), incremented by −k_t(h) v_t Δt each step (LAMMPS
+    /// `mindlin/force`), rather than its displacement δ (m), whose force is
+    /// −k_t(h) δ.
+    const STORES_FORCE: bool = false;
 }
 
 /// A registry row of a tangential model.
@@ -112,6 +123,12 @@ macro_rules! tangential_registry {
                 None
             }
 
+            /// [`TangentialSubModel::STORES_FORCE`] of the model (the same
+            /// for every pair of a scene: `contact.tangential` is one key).
+            pub fn stores_force(&self) -> bool {
+                match self { $( TangentialKind::$V => <$T as TangentialSubModel>::STORES_FORCE, )+ }
+            }
+
             /// The model for one pair.
             pub fn resolve(&self, setup: &TangentialSetup) -> TangentialPair {
                 match self { $( TangentialKind::$V => TangentialPair::$V(<$T as TangentialSubModel>::new(setup)), )+ }
@@ -129,6 +146,12 @@ macro_rules! tangential_registry {
             pub fn row(&self) -> &'static TangentialRow {
                 match self { $( TangentialPair::$V(_) => &tangential_rows::$V, )+ }
             }
+
+            /// [`TangentialSubModel::STORES_FORCE`].
+            #[inline(always)]
+            pub fn stores_force(&self) -> bool {
+                match self { $( TangentialPair::$V(_) => <$T as TangentialSubModel>::STORES_FORCE, )+ }
+            }
         }
     };
 }
@@ -143,6 +166,11 @@ tangential_registry! {
     Linear => linear::LinearTangential = TangentialRow {
         name: "linear",
         formula: "k_t = (2/7) E_eff R_eff (constant)",
+    };
+    /// Incremental Hertz–Mindlin: the stored force F_s += −8 G* √(R_eff h) v_t Δt.
+    MindlinForce => mindlin_force::MindlinForce = TangentialRow {
+        name: "mindlin_force",
+        formula: "F_s += −k_t v_t Δt, k_t = 8 G* √(R_eff h) (LAMMPS mindlin/force)",
     };
 }
 
@@ -360,8 +388,9 @@ impl FrictionPair {
     /// unit normal `normal` (body 1 to body 2) and tangential relative
     /// velocity `tangential_velocity` of the contact points (m/s), after a
     /// time `dt` (s) since the last evaluation (0: evaluate without moving
-    /// the spring, as LAMMPS's setup does). Updates the displacement `shear`
-    /// (m), which is kept in the tangent plane.
+    /// the spring, as LAMMPS's setup does). Updates the spring `shear`,
+    /// kept in the tangent plane: the displacement δ (m), or the force F_s
+    /// (N) for a model that stores it ([`TangentialSubModel::STORES_FORCE`]).
     ///
     /// The two parts in turn: [`Self::turn_spring`] (step 1 of the module's
     /// list, a function of the stored spring and the normal alone), then
@@ -380,6 +409,32 @@ impl FrictionPair {
     ) -> [f64; 3] {
         Self::turn_spring(shear, normal);
         self.tangential_force_turned(overlap, normal_force, tangential_velocity, dt, shear)
+    }
+
+    /// [`Self::tangential_force`] with the kind of spring known to the
+    /// caller (`stores_force`: the pair's [`TangentialPair::stores_force`],
+    /// a constant in a kernel; see [`Self::tangential_force_turned_known`]).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn tangential_force_known(
+        &self,
+        stores_force: bool,
+        overlap: f64,
+        normal_force: f64,
+        normal: [f64; 3],
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        Self::turn_spring(shear, normal);
+        self.tangential_force_turned_known(
+            stores_force,
+            overlap,
+            normal_force,
+            tangential_velocity,
+            dt,
+            shear,
+        )
     }
 
     /// Step 1 of [`Self::tangential_force`]: the contact frame turned, the
@@ -437,6 +492,42 @@ impl FrictionPair {
         dt: f64,
         shear: &mut [f64; 3],
     ) -> [f64; 3] {
+        self.tangential_force_turned_known(
+            self.tangential.stores_force(),
+            overlap,
+            normal_force,
+            tangential_velocity,
+            dt,
+            shear,
+        )
+    }
+
+    /// [`Self::tangential_force_turned`] with the kind of spring known to
+    /// the caller: `stores_force` must be the pair's
+    /// [`TangentialPair::stores_force`]. A kernel passes a constant, chosen
+    /// once a run from the scene's `contact.tangential` (the key is one per
+    /// scene), so that its instance for displacement springs (`mindlin`,
+    /// `linear`) compiles to their code alone, without a test per contact.
+    #[inline(always)]
+    pub fn tangential_force_turned_known(
+        &self,
+        stores_force: bool,
+        overlap: f64,
+        normal_force: f64,
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        debug_assert_eq!(stores_force, self.tangential.stores_force());
+        if stores_force {
+            return self.incremental_force_turned(
+                overlap,
+                normal_force,
+                tangential_velocity,
+                dt,
+                shear,
+            );
+        }
         let k_t = self.tangential.stiffness(overlap);
         // 2. The spring moves with the contact points.
         let v = tangential_velocity;
@@ -489,6 +580,65 @@ impl FrictionPair {
         f
     }
 
+    /// [`Self::tangential_force_turned`] for a spring that stores its force
+    /// `spring` (N; [`TangentialSubModel::STORES_FORCE`]), already turned
+    /// into the tangent plane: LAMMPS `GranSubModTangentialMindlin::
+    /// calculate_forces` with `mindlin_force` (`gran_sub_mod_tangential.cpp`),
+    /// 1. F_s ← F_s + (−k_t(h) Δt) v_t, the stiffness of this step's overlap;
+    /// 2. sliding if the spring alone exceeds μ |F_n|: F_s scaled by
+    ///    μ |F_n|/|F_s| and returned, without damping;
+    /// 3. else F_s − η_t v_t, capped at μ |F_n| (the spring kept).
+    ///
+    /// Steps 2–3 are the Coulomb order of the displacement springs (the
+    /// module's list). Without the tangential dashpot (η_t = 0: LAMMPS's
+    /// x_γ,t = 0, the exported decks) they are LAMMPS's operations: its
+    /// force |F_s| = √(F_s·F_s) tested against Fscrit = μ |F_n|, F_s scaled
+    /// by Fscrit/|F_s|. With the dashpot LAMMPS caps spring plus dashpot
+    /// and solves the spring back from the capped force (see the module's
+    /// list): the two differ only while that sum exceeds the limit.
+    #[inline(always)]
+    fn incremental_force_turned(
+        &self,
+        overlap: f64,
+        normal_force: f64,
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        spring: &mut [f64; 3],
+    ) -> [f64; 3] {
+        let k_t = self.tangential.stiffness(overlap);
+        let v = tangential_velocity;
+        let step = -k_t * dt;
+        for a in 0..3 {
+            spring[a] += step * v[a];
+        }
+        let limit = self.friction * normal_force.abs();
+        let magnitude = dot(*spring, *spring).sqrt();
+        if magnitude > limit {
+            let s = limit / magnitude;
+            for x in spring.iter_mut() {
+                *x *= s;
+            }
+            return *spring;
+        }
+        let eta = self.damping_coefficient(overlap, k_t);
+        if eta == 0.0 {
+            return *spring;
+        }
+        let mut f = [
+            spring[0] - eta * v[0],
+            spring[1] - eta * v[1],
+            spring[2] - eta * v[2],
+        ];
+        let magnitude = dot(f, f).sqrt();
+        if magnitude > limit {
+            let s = limit / magnitude;
+            for x in &mut f {
+                *x *= s;
+            }
+        }
+        f
+    }
+
     /// The tangential force on body 1 (N) that the last step applied,
     /// given the spring `shear` (m) it stored and the same overlap,
     /// normal force, normal and slip: [`Self::tangential_force`] through a
@@ -508,13 +658,20 @@ impl FrictionPair {
         tangential_velocity: [f64; 3],
         shear: [f64; 3],
     ) -> [f64; 3] {
-        let k_t = self.tangential.stiffness(overlap);
         let limit = self.friction * normal_force.abs();
-        // The cut scales δ by limit/(k_t |δ|): k_t |δ| lands within a few
-        // ulp of the limit; 1e-12 is far above that and far below any
-        // sticking spring's approach to the limit within a step.
-        if k_t * dot(shear, shear).sqrt() >= limit * (1.0 - 1.0e-12) {
-            return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
+        if self.tangential.stores_force() {
+            // The stored force itself: cut to the limit, as below.
+            if dot(shear, shear).sqrt() >= limit * (1.0 - 1.0e-12) {
+                return shear;
+            }
+        } else {
+            let k_t = self.tangential.stiffness(overlap);
+            // The cut scales δ by limit/(k_t |δ|): k_t |δ| lands within a few
+            // ulp of the limit; 1e-12 is far above that and far below any
+            // sticking spring's approach to the limit within a step.
+            if k_t * dot(shear, shear).sqrt() >= limit * (1.0 - 1.0e-12) {
+                return [-k_t * shear[0], -k_t * shear[1], -k_t * shear[2]];
+            }
         }
         let mut s = shear;
         self.tangential_force(
@@ -579,11 +736,36 @@ impl FrictionPair {
         shear: &[f64; 3],
         rolling: &[f64; 3],
     ) -> f64 {
+        self.spring_energy_known(self.tangential.stores_force(), law, overlap, shear, rolling)
+    }
+
+    /// [`Self::spring_energy`] with the kind of spring known to the caller
+    /// (`stores_force`: the pair's [`TangentialPair::stores_force`], a
+    /// constant in a kernel; see [`Self::tangential_force_turned_known`]).
+    #[inline(always)]
+    pub fn spring_energy_known(
+        &self,
+        stores_force: bool,
+        law: &PairLaw,
+        overlap: f64,
+        shear: &[f64; 3],
+        rolling: &[f64; 3],
+    ) -> f64 {
+        debug_assert_eq!(stores_force, self.tangential.stores_force());
         if overlap <= 0.0 {
             return 0.0;
         }
         let k_t = self.tangential.stiffness(overlap);
-        let mut e = 0.5 * k_t * dot(*shear, *shear);
+        let mut e = if stores_force {
+            // ½ |F_s|²/k_t (LAMMPS and Yade report the same).
+            if k_t > 0.0 {
+                0.5 * dot(*shear, *shear) / k_t
+            } else {
+                0.0
+            }
+        } else {
+            0.5 * k_t * dot(*shear, *shear)
+        };
         let m2 = dot(*rolling, *rolling);
         if m2 > 0.0 && self.rolling.coefficient > 0.0 {
             let secant = law

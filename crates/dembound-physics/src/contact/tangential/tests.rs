@@ -322,8 +322,15 @@ fn registry_names_and_checks() {
         TangentialKind::from_name("linear"),
         Some(TangentialKind::Linear)
     );
+    assert_eq!(
+        TangentialKind::from_name("mindlin_force"),
+        Some(TangentialKind::MindlinForce)
+    );
     assert_eq!(TangentialKind::from_name("hooke"), None);
-    assert_eq!(tangential_names(), "\"mindlin\", \"linear\"");
+    assert_eq!(
+        tangential_names(),
+        "\"mindlin\", \"linear\", \"mindlin_force\""
+    );
     let m = FrictionModel {
         tangential: TangentialKind::Mindlin,
         friction: -0.1,

@@ -214,9 +214,14 @@ impl MainPairs<'_> {
                 // SAFETY: entry k belongs to row i of this block.
                 let sh = unsafe { &mut *self.shear.0.add(k) };
                 // The spring was turned in pass 1b.
-                let tangential = fl
-                    .friction
-                    .tangential_force_turned(overlap, force, slip, self.dt, sh);
+                let tangential = fl.friction.tangential_force_turned_known(
+                    R::STORES_FORCE,
+                    overlap,
+                    force,
+                    slip,
+                    self.dt,
+                    sh,
+                );
                 let rolling = if ROLL {
                     // SAFETY: as the spring.
                     let roll = unsafe { &mut *self.roll.0.add(k) };
@@ -302,6 +307,7 @@ impl MainPairs<'_> {
                 };
                 let walled = walled_i || group[j] != NO_GROUP;
                 let (energy, spring) = tally_entry(
+                    R::STORES_FORCE,
                     &mut sums,
                     row_law(i, j),
                     g.overlap[q],

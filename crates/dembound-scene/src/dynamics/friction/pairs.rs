@@ -26,6 +26,7 @@ use crate::parallel::{SharedMut, Workers};
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn contact(
+    stores_force: bool,
     fl: &FrictionLaw,
     g: &PairGeometry,
     history: &mut ContactHistory,
@@ -36,7 +37,8 @@ fn contact(
     dt: f64,
 ) -> ([f64; 3], [f64; 3], [f64; 3]) {
     let n = g.normal;
-    let c = fl.calculate_forces(
+    let c = fl.calculate_forces_known(
+        stores_force,
         g,
         &a,
         &b,
@@ -253,59 +255,43 @@ pub(crate) unsafe fn add_pair_forces_then(
         (1, false) if !row_by_row() => OneLaw::<HertzMindlin>::new(&friction.pairs[0]),
         _ => None,
     };
-    let rows = ClassTable {
-        table: &friction.pairs,
-        class: &bodies.class,
-        classes: friction.classes,
-    };
-    let value = match (keep, rolling, table, tallied, one) {
-        (_, false, _, false, Some(one)) => {
+    // The scene's kind of tangential spring (`contact.tangential`, one
+    // for every pair): the class table's kernels instantiated for it.
+    let stores_force = friction.setup.model.tangential.stores_force();
+    let value = match (rolling, tallied, one) {
+        (false, false, Some(one)) => {
             main.run::<false, false, true, false, _>(workers, follow, &one)
         }
-        (_, false, _, true, Some(one)) => {
-            main.run::<false, false, true, true, _>(workers, follow, &one)
+        (false, true, Some(one)) => main.run::<false, false, true, true, _>(workers, follow, &one),
+        (true, false, Some(one)) => main.run::<false, true, true, false, _>(workers, follow, &one),
+        (true, true, Some(one)) => main.run::<false, true, true, true, _>(workers, follow, &one),
+        (_, _, None) if stores_force => {
+            let rows = ClassTable::<true> {
+                table: &friction.pairs,
+                class: &bodies.class,
+                classes: friction.classes,
+            };
+            run_class_table(
+                &main,
+                workers,
+                follow,
+                (keep, rolling, table, tallied),
+                &rows,
+            )
         }
-        (_, true, _, false, Some(one)) => {
-            main.run::<false, true, true, false, _>(workers, follow, &one)
-        }
-        (_, true, _, true, Some(one)) => {
-            main.run::<false, true, true, true, _>(workers, follow, &one)
-        }
-        (false, false, true, true, None) => {
-            main.run::<false, false, true, true, _>(workers, follow, &rows)
-        }
-        (false, true, true, true, None) => {
-            main.run::<false, true, true, true, _>(workers, follow, &rows)
-        }
-        (true, false, true, true, None) => {
-            main.run::<true, false, true, true, _>(workers, follow, &rows)
-        }
-        (true, true, true, true, None) => {
-            main.run::<true, true, true, true, _>(workers, follow, &rows)
-        }
-        (false, false, true, _, None) => {
-            main.run::<false, false, true, false, _>(workers, follow, &rows)
-        }
-        (false, false, false, _, None) => {
-            main.run::<false, false, false, false, _>(workers, follow, &rows)
-        }
-        (false, true, true, _, None) => {
-            main.run::<false, true, true, false, _>(workers, follow, &rows)
-        }
-        (false, true, false, _, None) => {
-            main.run::<false, true, false, false, _>(workers, follow, &rows)
-        }
-        (true, false, true, _, None) => {
-            main.run::<true, false, true, false, _>(workers, follow, &rows)
-        }
-        (true, false, false, _, None) => {
-            main.run::<true, false, false, false, _>(workers, follow, &rows)
-        }
-        (true, true, true, _, None) => {
-            main.run::<true, true, true, false, _>(workers, follow, &rows)
-        }
-        (true, true, false, _, None) => {
-            main.run::<true, true, false, false, _>(workers, follow, &rows)
+        (_, _, None) => {
+            let rows = ClassTable::<false> {
+                table: &friction.pairs,
+                class: &bodies.class,
+                classes: friction.classes,
+            };
+            run_class_table(
+                &main,
+                workers,
+                follow,
+                (keep, rolling, table, tallied),
+                &rows,
+            )
         }
     };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
@@ -331,6 +317,7 @@ pub(crate) unsafe fn add_pair_forces_then(
                 let mut computed = None;
                 let fl = friction.pair(laws, bodies, i, owner, &mut computed);
                 let (fj, tqi, tqj) = contact(
+                    stores_force,
                     fl,
                     &g,
                     hist,
@@ -491,7 +478,7 @@ impl MainPairs<'_> {
             if end == i || !TABLE || row_by_row() {
                 // A row longer than a batch (a large body's), or laws
                 // computed per pair (no class table).
-                self.row::<KEEP, ROLL, TABLE, TALLY>(i);
+                self.row::<KEEP, ROLL, TABLE, TALLY>(i, R::STORES_FORCE);
                 i += 1;
             } else {
                 self.batch::<KEEP, ROLL, TABLE, TALLY, AVX2, R>(i, end, scratch, rows);
@@ -500,11 +487,13 @@ impl MainPairs<'_> {
         }
     }
 
-    /// Row i entry by entry (rows longer than a batch).
+    /// Row i entry by entry (rows longer than a batch). `stores_force`:
+    /// the scene's [`RowLaws::STORES_FORCE`] (a constant where inlined).
     #[inline(always)]
     fn row<const KEEP: bool, const ROLL: bool, const TABLE: bool, const TALLY: bool>(
         &self,
         i: usize,
+        stores_force: bool,
     ) {
         let (position, velocity, radius, spin, inverse_inertia, class) = (
             self.position,
@@ -578,7 +567,7 @@ impl MainPairs<'_> {
                 } else {
                     None
                 };
-                let (fj, tqi, tqj) = contact(fl, &g, hist, sh, roll, a, b, self.dt);
+                let (fj, tqi, tqj) = contact(stores_force, fl, &g, hist, sh, roll, a, b, self.dt);
                 if TALLY {
                     let roll = if ROLL {
                         // SAFETY: as the spring above.
@@ -595,8 +584,16 @@ impl MainPairs<'_> {
                         &NO_HISTORY
                     };
                     let sh = unsafe { &*self.shear.0.add(k) };
-                    let (energy, spring) =
-                        tally_entry(&mut sums, fl, g.overlap, walled, hist, sh, roll);
+                    let (energy, spring) = tally_entry(
+                        stores_force,
+                        &mut sums,
+                        fl,
+                        g.overlap,
+                        walled,
+                        hist,
+                        sh,
+                        roll,
+                    );
                     // SAFETY: entry k belongs to row i, which only this
                     // block visits.
                     unsafe { self.entries.energy_and_spring(k, energy, spring) };
@@ -638,6 +635,36 @@ impl MainPairs<'_> {
     }
 }
 
+/// The class table's loops of [`add_pair_forces_then`] (one per setting:
+/// `keep`, `rolling`, `table`, `tallied`), for the kind of tangential
+/// spring `STORES_FORCE` ([`RowLaws::STORES_FORCE`]).
+fn run_class_table<const STORES_FORCE: bool>(
+    main: &MainPairs,
+    workers: &Workers,
+    follow: Option<FollowUp>,
+    (keep, rolling, table, tallied): (bool, bool, bool, bool),
+    rows: &ClassTable<STORES_FORCE>,
+) -> f64 {
+    match (keep, rolling, table, tallied) {
+        (false, false, true, true) => {
+            main.run::<false, false, true, true, _>(workers, follow, rows)
+        }
+        (false, true, true, true) => main.run::<false, true, true, true, _>(workers, follow, rows),
+        (true, false, true, true) => main.run::<true, false, true, true, _>(workers, follow, rows),
+        (true, true, true, true) => main.run::<true, true, true, true, _>(workers, follow, rows),
+        (false, false, true, _) => main.run::<false, false, true, false, _>(workers, follow, rows),
+        (false, false, false, _) => {
+            main.run::<false, false, false, false, _>(workers, follow, rows)
+        }
+        (false, true, true, _) => main.run::<false, true, true, false, _>(workers, follow, rows),
+        (false, true, false, _) => main.run::<false, true, false, false, _>(workers, follow, rows),
+        (true, false, true, _) => main.run::<true, false, true, false, _>(workers, follow, rows),
+        (true, false, false, _) => main.run::<true, false, false, false, _>(workers, follow, rows),
+        (true, true, true, _) => main.run::<true, true, true, false, _>(workers, follow, rows),
+        (true, true, false, _) => main.run::<true, true, false, false, _>(workers, follow, rows),
+    }
+}
+
 /// Adds one touching entry to its body's [`PairTally`], as
 /// `friction_observables` does (the same operations in the same order on
 /// the same values: the overlap, the history and springs after the force
@@ -645,7 +672,9 @@ impl MainPairs<'_> {
 /// kept (zero). Returns the entry's elastic energy and its springs'
 /// energy (0 where they are relaxed and not added), J.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn tally_entry(
+    stores_force: bool,
     sums: &mut PairTally,
     fl: &FrictionLaw,
     overlap: f64,
@@ -664,7 +693,7 @@ pub(super) fn tally_entry(
     let r = roll.copied().unwrap_or([0.0; 3]);
     let mut spring = 0.0;
     if *shear != [0.0; 3] || r != [0.0; 3] {
-        spring = fl.spring_energy(overlap, shear, &r);
+        spring = fl.spring_energy_known(stores_force, overlap, shear, &r);
         sums[3] += spring;
     }
     (energy, spring)

@@ -29,17 +29,26 @@ use super::FrictionLaw;
 /// The law of the contact between bodies i and j (both bodies of the
 /// scene, < the class array's length).
 pub(super) trait RowLaws: Sync {
+    /// Whether every law's tangential spring stores its force
+    /// (`TangentialPair::stores_force`, the scene's `contact.tangential`):
+    /// the kernel's instance for one kind of spring, chosen once a run, so
+    /// that the displacement springs' kernels have no test per contact.
+    const STORES_FORCE: bool;
+
     fn law(&self, i: usize, j: usize) -> &FrictionLaw;
 }
 
-/// The class table: row class(i) · classes + class(j).
-pub(super) struct ClassTable<'a> {
+/// The class table: row class(i) · classes + class(j). `STORES_FORCE`:
+/// [`RowLaws::STORES_FORCE`], checked by the caller for every row.
+pub(super) struct ClassTable<'a, const STORES_FORCE: bool> {
     pub(super) table: &'a [FrictionLaw],
     pub(super) class: &'a [u16],
     pub(super) classes: usize,
 }
 
-impl RowLaws for ClassTable<'_> {
+impl<const STORES_FORCE: bool> RowLaws for ClassTable<'_, STORES_FORCE> {
+    const STORES_FORCE: bool = STORES_FORCE;
+
     #[inline(always)]
     fn law(&self, i: usize, j: usize) -> &FrictionLaw {
         // SAFETY: classes are < `classes` when the table exists
@@ -57,6 +66,9 @@ impl RowLaws for ClassTable<'_> {
 /// Sub-model variants a law may be checked to have, so that a kernel
 /// instantiated for them has no per-contact dispatch.
 pub(super) trait Variants: Sync {
+    /// [`RowLaws::STORES_FORCE`] of a law with these variants.
+    const STORES_FORCE: bool;
+
     /// Whether `law` has these variants.
     fn matches(law: &FrictionLaw) -> bool;
 
@@ -79,6 +91,9 @@ pub(super) trait Variants: Sync {
 pub(super) struct HertzMindlin;
 
 impl Variants for HertzMindlin {
+    /// The Mindlin spring stores its displacement.
+    const STORES_FORCE: bool = false;
+
     #[inline(always)]
     fn matches(law: &FrictionLaw) -> bool {
         matches!(law.law.normal(), NormalPair::Hertz(_))
@@ -125,6 +140,8 @@ impl<V: Variants> OneLaw<V> {
 }
 
 impl<V: Variants> RowLaws for OneLaw<V> {
+    const STORES_FORCE: bool = V::STORES_FORCE;
+
     #[inline(always)]
     fn law(&self, _i: usize, _j: usize) -> &FrictionLaw {
         // SAFETY: checked in `new`, and the law is not changed after.

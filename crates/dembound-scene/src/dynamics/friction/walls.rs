@@ -2,11 +2,11 @@
 //! and torques (the composer's contact, the wall as side 2) and records
 //! what the wall took from it (`WallContacts::load`).
 
-use dembound_physics::contact::{ContactHistory, ContactState, Side};
+use dembound_physics::contact::{ContactForces, ContactHistory, ContactState, Geometry, Side};
 
 use super::row_laws::{HertzMindlin, Variants};
 use super::springs::split;
-use super::{add, FrictionTable, WallShear};
+use super::{add, FrictionLaw, FrictionTable, WallShear};
 use crate::bodies::Bodies;
 use crate::dynamics::contacts::{LawTable, NO_HISTORY};
 use crate::walls::{Surface, WallContactsMut, WallLoad};
@@ -47,6 +47,21 @@ pub unsafe fn body_force(
     let mut torque = [0.0; 3];
     add_plane_forces::<false>(c, i, (x, v, w), walls, &mut acc, &mut torque);
     (acc, torque)
+}
+
+/// The composer's whole contact (`ContactLaw::calculate_forces`) for a
+/// law whose tangential spring stores its force
+/// (`TangentialPair::stores_force`), not inlined into the wall loops.
+#[inline(never)]
+fn calculate_forces_storing(
+    fl: &FrictionLaw,
+    g: &Geometry,
+    a: &Side,
+    b: &Side,
+    state: ContactState,
+    dt: f64,
+) -> ContactForces {
+    fl.calculate_forces_known(true, g, a, b, state, dt)
 }
 
 /// Body i's weight m g, N.
@@ -119,17 +134,20 @@ pub unsafe fn add_plane_forces<const HERTZ_MINDLIN: bool>(
                 arm: r,
                 inverse_inertia: bodies.inverse_inertia[i],
             };
-            let f = fl.calculate_forces(
-                &g,
-                &sphere,
-                &surface.side(key.element, &p, x, r),
-                ContactState {
-                    history: hist,
-                    tangential: ds,
-                    rolling: c.friction.rolling.then_some(dr),
-                },
-                c.dt,
-            );
+            let wall = surface.side(key.element, &p, x, r);
+            let state = ContactState {
+                history: hist,
+                tangential: ds,
+                rolling: c.friction.rolling.then_some(dr),
+            };
+            // A spring that stores its force (`mindlin_force`; never a
+            // Hertz–Mindlin table's) out of line: the displacement springs'
+            // code of this loop stays as it was.
+            let f = if !HERTZ_MINDLIN && fl.friction.tangential().stores_force() {
+                calculate_forces_storing(fl, &g, &sphere, &wall, state, c.dt)
+            } else {
+                fl.calculate_forces_known(false, &g, &sphere, &wall, state, c.dt)
+            };
             sh.shear = d;
             // −F_n n + F_t = F_n (wall normal) + F_t, and the two torque
             // parts added one after the other.

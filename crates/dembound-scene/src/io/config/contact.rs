@@ -42,8 +42,11 @@ pub struct ContactSection {
     /// and each contact carries a tangential spring.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
-    /// The tangential spring: `"mindlin"` (default; Hertz–Mindlin no-slip)
-    /// or `"linear"` (Cundall–Strack, k_t = 2/7 E_eff R_eff).
+    /// The tangential spring: `"mindlin"` (default; Hertz–Mindlin no-slip,
+    /// the force −k_t(h) δ of the stored displacement), `"mindlin_force"`
+    /// (the same k_t on a stored force, F_s += −k_t(h) v_t Δt: LAMMPS
+    /// `mindlin/force`, Yade's law) or `"linear"` (Cundall–Strack, k_t =
+    /// 2/7 E_eff R_eff).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tangential: Option<String>,
     /// Rolling friction μ_r ≥ 0: an elastic–plastic rolling spring whose
