@@ -183,7 +183,15 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
         );
     }
     let file: CheckpointFile = ciborium::from_reader(payload).map_err(|e| {
-        SceneError::input(format!("`{name}` is not a dembound scene checkpoint: {e}"))
+        // A check of the content's own (the collision columns') says why
+        // in words; ciborium's other errors print as they are.
+        let why = match e {
+            ciborium::de::Error::Semantic(_, why) => why,
+            e => e.to_string(),
+        };
+        SceneError::input(format!(
+            "`{name}` is not a dembound scene checkpoint: {why}"
+        ))
     })?;
     let parts = super::checkpoint_parts::FORMAT_PARTS;
     if (file.format != FORMAT && file.format != parts)

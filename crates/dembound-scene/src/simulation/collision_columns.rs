@@ -428,3 +428,263 @@ impl Columns {
         Ok(out)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A checkpoint's field as the file holds it.
+    #[derive(Serialize, Deserialize)]
+    struct Holder {
+        #[serde(with = "super")]
+        rows: Vec<Collision>,
+    }
+
+    fn encode(rows: &[Collision]) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        ciborium::into_writer(
+            &Holder {
+                rows: rows.to_vec(),
+            },
+            &mut bytes,
+        )
+        .expect("encoded");
+        bytes
+    }
+
+    fn decode(bytes: &[u8]) -> Result<Vec<Collision>, String> {
+        ciborium::from_reader::<Holder, _>(bytes)
+            .map(|h| h.rows)
+            .map_err(|e| e.to_string())
+    }
+
+    /// Every field of a row by its bits, named field by field (not through
+    /// [`VALUES`], so a column read into the wrong field shows).
+    fn bits(c: &Collision) -> Vec<u64> {
+        let partner = match c.j {
+            Partner::Body(b) => [0, b as u64, 0],
+            Partner::Wall(w) => [1, w as u64, 0],
+            Partner::BoundaryParticle { wall, body } => [2, wall as u64, body as u64],
+        };
+        let mut v = vec![c.i as u64];
+        v.extend(partner);
+        v.push(c.triangle.map_or(u64::MAX, u64::from));
+        v.extend(
+            [
+                c.t_start,
+                c.t_end,
+                c.duration,
+                c.max_overlap,
+                c.max_normal_force,
+                c.impact_normal_velocity,
+                c.rebound_normal_velocity,
+                c.impact_tangential_velocity,
+                c.rebound_tangential_velocity,
+            ]
+            .iter()
+            .chain(&c.impact_spin_i)
+            .chain(&c.rebound_spin_i)
+            .chain(&c.impact_spin_j)
+            .chain(&c.rebound_spin_j)
+            .map(|x| x.to_bits()),
+        );
+        v
+    }
+
+    fn row(i: usize, j: Partner, triangle: Option<u32>, first: f64) -> Collision {
+        // Distinct values field by field (first + k / 64, exact in binary).
+        let x = |k: u32| first + f64::from(k) / 64.0;
+        Collision {
+            i,
+            j,
+            t_start: x(0),
+            t_end: x(1),
+            duration: x(2),
+            max_overlap: x(3),
+            max_normal_force: x(4),
+            impact_normal_velocity: x(5),
+            rebound_normal_velocity: x(6),
+            impact_tangential_velocity: x(7),
+            rebound_tangential_velocity: x(8),
+            impact_spin_i: [x(9), x(10), x(11)],
+            rebound_spin_i: [x(12), x(13), x(14)],
+            impact_spin_j: [x(15), x(16), x(17)],
+            rebound_spin_j: [x(18), x(19), x(20)],
+            triangle,
+        }
+    }
+
+    /// Every partner kind, with and without a triangle, the largest
+    /// indices the columns hold, and special values in every column: NaN
+    /// (two payloads, both signs), ±∞, −0.0, the smallest subnormal, a
+    /// column whose only non-+0.0 value is −0.0, and one of +0.0 alone.
+    fn every_kind() -> Vec<Collision> {
+        let max = u32::MAX as usize;
+        let mut rows = vec![
+            row(0, Partner::Body(1), None, 1.0),
+            row(7, Partner::Wall(3), None, 2.0),
+            row(
+                9,
+                Partner::BoundaryParticle { wall: 2, body: 11 },
+                None,
+                3.0,
+            ),
+            row(4, Partner::Wall(0), Some(17), 4.0),
+            row(
+                max,
+                Partner::BoundaryParticle {
+                    wall: max,
+                    body: max,
+                },
+                Some(u32::MAX),
+                5.0,
+            ),
+            row(5, Partner::Body(max), None, 6.0),
+        ];
+        let special = [
+            f64::NAN,
+            -f64::NAN,
+            f64::from_bits(0x7ff0_0000_0000_0001),
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            -0.0,
+            f64::from_bits(1),
+        ];
+        for (k, v) in VALUES.iter().enumerate() {
+            for (r, c) in rows.iter_mut().enumerate() {
+                (v.set)(c, special[(k + r) % special.len()]);
+            }
+        }
+        for c in &mut rows {
+            c.rebound_spin_j = [0.0; 3];
+            c.impact_spin_j[2] = 0.0;
+        }
+        rows[3].impact_spin_j[2] = -0.0;
+        rows
+    }
+
+    #[test]
+    fn every_partner_and_special_value_comes_back_bit_for_bit() {
+        for rows in [
+            every_kind(),
+            vec![row(3, Partner::Body(8), None, 0.5)],
+            Vec::new(),
+        ] {
+            let back = decode(&encode(&rows)).expect("decoded");
+            let expected: Vec<_> = rows.iter().map(bits).collect();
+            let got: Vec<_> = back.iter().map(bits).collect();
+            assert_eq!(got, expected);
+        }
+    }
+
+    #[test]
+    fn the_columns_are_fixed_width() {
+        // 1,000 rows of a frictionless run (spins +0.0): one kind byte, i
+        // and j (u32) and nine f64 a row = 81 bytes, plus the map's keys
+        // and byte-string heads (≤ 30 bytes a column with its name).
+        let rows: Vec<_> = (0..1000)
+            .map(|k| {
+                let mut c = row(k, Partner::Body(k + 1), None, 1.0);
+                for s in [
+                    &mut c.impact_spin_i,
+                    &mut c.rebound_spin_i,
+                    &mut c.impact_spin_j,
+                    &mut c.rebound_spin_j,
+                ] {
+                    *s = [0.0; 3];
+                }
+                c
+            })
+            .collect();
+        let n = encode(&rows).len();
+        assert!(n >= 81 * 1000 && n <= 81 * 1000 + 13 * 30, "{n} bytes");
+    }
+
+    #[test]
+    fn format_2_rows_are_read() {
+        // Format 2 stored the rows with serde's derive of `Collision`.
+        #[derive(Serialize)]
+        struct Old {
+            rows: Vec<Collision>,
+        }
+        let rows = every_kind();
+        let mut bytes = Vec::new();
+        ciborium::into_writer(&Old { rows: rows.clone() }, &mut bytes).expect("encoded");
+        let back = decode(&bytes).expect("decoded");
+        let expected: Vec<_> = rows.iter().map(bits).collect();
+        let got: Vec<_> = back.iter().map(bits).collect();
+        assert_eq!(got, expected);
+    }
+
+    #[test]
+    fn a_cut_encoding_is_an_error_not_a_panic() {
+        let bytes = encode(&every_kind());
+        for cut in 0..bytes.len() {
+            assert!(decode(&bytes[..cut]).is_err(), "cut at {cut}");
+        }
+    }
+
+    /// The columns of `every_kind` as a CBOR value, changed by `edit`,
+    /// then decoded.
+    fn edited(edit: impl Fn(&mut Vec<(ciborium::Value, ciborium::Value)>)) -> String {
+        use ciborium::Value;
+        let bytes = encode(&every_kind());
+        let mut v: Value = ciborium::from_reader(&bytes[..]).expect("a CBOR value");
+        let Value::Map(holder) = &mut v else {
+            panic!("a map")
+        };
+        let Value::Map(columns) = &mut holder[0].1 else {
+            panic!("the columns' map")
+        };
+        edit(columns);
+        let mut out = Vec::new();
+        ciborium::into_writer(&v, &mut out).expect("encoded");
+        decode(&out).expect_err("refused")
+    }
+
+    fn column<'a>(
+        columns: &'a mut [(ciborium::Value, ciborium::Value)],
+        name: &str,
+    ) -> &'a mut Vec<u8> {
+        let (_, v) = columns
+            .iter_mut()
+            .find(|(k, _)| k.as_text() == Some(name))
+            .expect("the column");
+        match v {
+            ciborium::Value::Bytes(b) => b,
+            _ => panic!("bytes"),
+        }
+    }
+
+    #[test]
+    fn a_damaged_column_is_named() {
+        let e = edited(|c| column(c, "kind")[2] = 3);
+        assert!(e.contains("row 2 has partner kind 3"), "{e}");
+        let e = edited(|c| column(c, "kind")[1] = 8);
+        assert!(e.contains("row 1 has partner kind 8"), "{e}");
+        let e = edited(|c| {
+            column(c, "j").pop();
+        });
+        assert!(
+            e.contains("`j` holds 23 bytes, 6 entries of 4 bytes need 24"),
+            "{e}"
+        );
+        let e = edited(|c| column(c, "boundary_body").truncate(4));
+        assert!(e.contains("`boundary_body` holds 4 bytes"), "{e}");
+        let e = edited(|c| column(c, "triangle").clear());
+        assert!(e.contains("`triangle` holds 0 bytes"), "{e}");
+        let e = edited(|c| column(c, "t_end").truncate(40));
+        assert!(
+            e.contains("`t_end` holds 40 bytes, 6 entries of 8 bytes need 48"),
+            "{e}"
+        );
+        let e = edited(|c| column(c, "kind").push(0));
+        assert!(e.contains("`rows` is 6, `kind` holds 7 bytes"), "{e}");
+        let e = edited(|c| c.retain(|(k, _)| k.as_text() != Some("rows")));
+        assert!(e.contains("how many rows"), "{e}");
+        let e = edited(|c| c[1].0 = ciborium::Value::Text("spin".into()));
+        assert!(e.contains("unknown column `spin`"), "{e}");
+        let e = edited(|c| c[2].0 = ciborium::Value::Text("j".into()));
+        assert!(e.contains("`j` twice"), "{e}");
+    }
+}
