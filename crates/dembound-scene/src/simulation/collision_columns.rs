@@ -597,7 +597,7 @@ mod tests {
             })
             .collect();
         let n = encode(&rows).len();
-        assert!(n >= 81 * 1000 && n <= 81 * 1000 + 13 * 30, "{n} bytes");
+        assert!((81 * 1000..=81 * 1000 + 13 * 30).contains(&n), "{n} bytes");
     }
 
     #[test]
