@@ -5,7 +5,8 @@
 //! rows from N/2 on are A's to the byte, under Verlet and under Gear5,
 //! with friction (tangential and rolling springs on pairs and walls).
 //!
-//! Not vacuous: B's summary at N/2 has pair and wall contacts, and the
+//! Not vacuous: B's summary at N/2 has pair and wall contacts and B's
+//! log completed ones (the checkpoint's collision columns), and the
 //! same scene run to N/2 through the engine API (the same bits as the
 //! binary: its kinetic energy is B's) has non-zero springs on pairs and
 //! walls at that step. Only the commands' behaviour is used, not the
@@ -113,6 +114,13 @@ fn assert_restart_mid_contact(sets: Vec<String>, n: u64, every: u64, what: &str)
         "{what}: no contact live at the checkpoint: {vb}"
     );
     assert_springs_live(&sets, n / 2, &vb, what);
+    // The checkpoint carries completed contacts (its collision columns):
+    // B's log has rows before the restart.
+    let logged = std::fs::read_to_string(b.join("collisions.csv")).unwrap_or_default();
+    assert!(
+        logged.lines().count() > 1,
+        "{what}: no contact completed before the checkpoint"
+    );
     let vc = run(&sets, n, Some(&b.join("checkpoint.cbor")), &c);
     assert_eq!(vc["steps"], n);
     assert_eq!(vc["steps_this_run"], n - n / 2);

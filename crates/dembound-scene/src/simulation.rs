@@ -1,12 +1,14 @@
 //! The public API: build a [`Simulation`] from a [`SceneSetup`], step it,
 //! read its state (always in input order), checkpoint and restore it.
 //! Building from the setup is in `build`, the observables and energies in
-//! `observables`, checkpoint and restore in `checkpoint`; the time-step
-//! rule is `crate::time_step`.
+//! `observables`, checkpoint and restore in `checkpoint` (the completed
+//! collisions stored in columns by `collision_columns`); the time-step rule
+//! is `crate::time_step`.
 
 // (child modules: they reach the run's private state)
 pub(crate) mod build;
 mod checkpoint;
+mod collision_columns;
 mod observables;
 mod wall_force_mean;
 

@@ -29,8 +29,12 @@ pub const FORMAT: &str = "dembound-scene checkpoint";
 /// The first bytes of a checkpoint file (version 2 on).
 pub const MAGIC: &[u8] = b"dembound-scene checkpoint\n";
 /// Bumped whenever the file layout, [`CheckpointFile`] or [`Checkpoint`]
-/// changes shape. 2: checksum and scene fingerprint.
-pub const VERSION: u32 = 2;
+/// changes shape. 2: checksum and scene fingerprint. 3: the completed
+/// collisions in columns of fixed-width values rather than a map a row
+/// (`simulation::collision_columns`).
+pub const VERSION: u32 = 3;
+/// The versions this dembound reads (2's collisions are read as rows).
+pub const READS: [u32; 2] = [2, VERSION];
 /// Bytes before the payload: magic, version.
 const HEADER: usize = MAGIC.len() + 4;
 /// Bytes after the payload: its length and SHA-256.
@@ -139,8 +143,8 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
             if old.format == FORMAT {
                 return refuse(format!(
                     "a dembound scene checkpoint of format version {}, this dembound reads \
-                     version {VERSION} (with a checksum and the scene's fingerprint): run the \
-                     scene again to write a new checkpoint",
+                     versions 2 to {VERSION} (with a checksum and the scene's fingerprint): run \
+                     the scene again to write a new checkpoint",
                     old.version
                 ));
             }
@@ -158,9 +162,9 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
     }
     let at = MAGIC.len();
     let version = u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap_or([0; 4]));
-    if version != VERSION {
+    if !READS.contains(&version) {
         return refuse(format!(
-            "checkpoint format version {version}, this dembound reads version {VERSION}"
+            "checkpoint format version {version}, this dembound reads versions 2 to {VERSION}"
         ));
     }
     let end = bytes.len() - TRAILER;
@@ -179,15 +183,23 @@ fn decode(bytes: &[u8], name: &str) -> Result<CheckpointFile, SceneError> {
         );
     }
     let file: CheckpointFile = ciborium::from_reader(payload).map_err(|e| {
-        SceneError::input(format!("`{name}` is not a dembound scene checkpoint: {e}"))
+        // A check of the content's own (the collision columns') says why
+        // in words; ciborium's other errors print as they are.
+        let why = match e {
+            ciborium::de::Error::Semantic(_, why) => why,
+            e => e.to_string(),
+        };
+        SceneError::input(format!(
+            "`{name}` is not a dembound scene checkpoint: {why}"
+        ))
     })?;
     let parts = super::checkpoint_parts::FORMAT_PARTS;
     if (file.format != FORMAT && file.format != parts)
-        || file.version != VERSION
+        || file.version != version
         || (file.format == parts) != file.parts.is_some()
     {
         return refuse(format!(
-            "format \"{}\" version {}, expected \"{FORMAT}\" version {VERSION}",
+            "format \"{}\" version {}, expected \"{FORMAT}\" version {version} (its header's)",
             file.format, file.version
         ));
     }
@@ -264,7 +276,10 @@ mod tests {
         ]);
         ciborium::into_writer(&header, &mut old).unwrap();
         let e = decode(&old, "old.cbor").unwrap_err().to_string();
-        assert!(e.contains("version 1") && e.contains("version 2"), "{e}");
+        assert!(
+            e.contains("version 1") && e.contains("versions 2 to 3"),
+            "{e}"
+        );
         let e = decode(b"hello", "x").unwrap_err().to_string();
         assert!(e.contains("not a dembound scene checkpoint"), "{e}");
     }

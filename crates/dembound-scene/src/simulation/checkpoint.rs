@@ -487,6 +487,10 @@ pub struct Checkpoint {
     pub plane_histories: Vec<(u32, u32, HistoryRecord)>,
     pub pair_tracks: Vec<(u32, u32, Track)>,
     pub plane_tracks: Vec<(u32, u32, Track)>,
+    /// The completed contacts (the collision log so far), stored in
+    /// columns of fixed-width values (format 3; format 2's list of rows is
+    /// still read: `collision_columns`).
+    #[serde(with = "super::collision_columns")]
     pub collisions: Vec<Collision>,
     /// J.
     pub initial_energy: f64,
