@@ -367,7 +367,7 @@ fn resolve_inner(
         },
         materials,
         contact: file.contact.model(impact_speed.ok())?,
-        spheres,
+        spheres: spheres.into(),
         walls,
         gravity: file.motion.gravity,
         integration: IntegrationSetup {

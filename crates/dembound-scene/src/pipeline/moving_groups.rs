@@ -263,13 +263,14 @@ pub(crate) fn drives(
         (key, g.spheres.clone(), (None, Some(g.group)), g.motion)
     });
     for (key, spheres, wall, motion) in groups.chain(walls) {
-        let Some(list) = setup.spheres.get(spheres.clone()) else {
+        let Some(list) = setup.spheres.range(spheres.clone()) else {
             return Err(SceneError::invalid(
                 format!("{key}.motion"),
                 format!("spheres {spheres:?}"),
                 format!("input indices below {}", setup.spheres.len()),
             ));
         };
+        let list: Vec<_> = list.collect();
         if let Some(k) = list.iter().position(|s| !s.fixed) {
             return Err(SceneError::invalid(
                 format!("{key}.motion"),

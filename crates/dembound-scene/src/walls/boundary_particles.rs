@@ -259,7 +259,9 @@ impl WallType for BoundaryParticles {
             ));
         };
         for k in first_body..end {
-            let s = &setup.spheres[k];
+            let Some(s) = setup.spheres.get(k) else {
+                continue;
+            };
             if !s.fixed || s.group != Some(w) {
                 return Err(SceneError::invalid(
                     format!("spheres[{k}].group"),
