@@ -270,8 +270,7 @@ pub(crate) fn drives(
                 format!("input indices below {}", setup.spheres.len()),
             ));
         };
-        let list: Vec<_> = list.collect();
-        if let Some(k) = list.iter().position(|s| !s.fixed) {
+        if let Some(k) = list.clone().position(|s| !s.fixed) {
             return Err(SceneError::invalid(
                 format!("{key}.motion"),
                 format!(
@@ -306,7 +305,7 @@ pub(crate) fn drives(
             spheres.start as u32..spheres.end as u32,
             wall,
             motion,
-            list.iter().map(|s| s.position).collect(),
+            list.map(|s| s.position).collect(),
             torque_point,
         ));
     }
