@@ -369,8 +369,8 @@ mod tests {
             velocity: [0.1, 0.0, k as f64],
             radius: 0.25 + k as f64 * 1e-3,
             material: k % 3,
-            fixed: k % 2 == 0,
-            group: (k % 4 == 0).then_some(k),
+            fixed: k.is_multiple_of(2),
+            group: k.is_multiple_of(4).then_some(k),
         }
     }
 
@@ -491,7 +491,9 @@ mod tests {
             }
         }
         assert!(s.range(0..reference.len() + 1).is_none());
-        assert!(s.range(3..2).is_none());
+        // A reversed range.
+        let (start, end) = (3, 2);
+        assert!(s.range(start..end).is_none());
     }
 
     #[test]
