@@ -64,8 +64,12 @@ pub fn before_freeze(setup: &SceneSetup) -> String {
         if !wall.is_particles() {
             continue;
         }
-        let ids: Vec<usize> = (0..setup.spheres.len())
-            .filter(|&i| setup.spheres[i].group == Some(w))
+        let ids: Vec<usize> = setup
+            .spheres
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.group == Some(w))
+            .map(|(i, _)| i)
             .collect();
         if ids.is_empty() {
             continue;

@@ -171,7 +171,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                 wall,
             };
             let inserted = !fixed && setup.inlets.iter().any(|i| i.material == material);
-            if inserted || setup.spheres.iter().any(|s| kind(s) == t) {
+            if inserted || setup.spheres.iter().any(|s| kind(&s) == t) {
                 types.push(t);
             }
         }
@@ -396,7 +396,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             data,
             "{} {} {} {} {} {} {}",
             i + 1,
-            type_of(s),
+            type_of(&s),
             num(2.0 * s.radius),
             num(material(s.material).density),
             num(p[0]),

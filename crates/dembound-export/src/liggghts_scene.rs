@@ -564,8 +564,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         )
         .ok();
     }
-    let fixed_ids: Vec<usize> = (0..setup.spheres.len())
-        .filter(|&i| setup.spheres[i].fixed)
+    let fixed_ids: Vec<usize> = setup
+        .spheres
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.fixed)
+        .map(|(i, _)| i)
         .collect();
     if any_fixed {
         writeln!(

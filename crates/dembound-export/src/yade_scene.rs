@@ -47,7 +47,7 @@ use dembound_physics::contact::tangential::{
 use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
 use dembound_physics::material::{effective_modulus, Material, PairProperties};
 use dembound_scene::io::resolve::ResolvedScene;
-use dembound_scene::setup::{Scheme, WallSetup};
+use dembound_scene::setup::{Scheme, SphereInit, WallSetup};
 use dembound_scene::Simulation;
 use std::fmt::Write;
 
@@ -201,22 +201,23 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
             }
         }
     }
-    let free: Vec<usize> = (0..setup.spheres.len())
-        .filter(|&i| !setup.spheres[i].fixed)
+    // The free spheres with their input indices.
+    let free: Vec<(usize, SphereInit)> = setup
+        .spheres
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.fixed)
         .collect();
-    let Some(&first) = free.first() else {
+    let Some(&(_, first)) = free.first() else {
         return Err(crate::no_free_sphere("Yade"));
     };
-    let free_material = setup.spheres[first].material;
-    if let Some(&i) = free
-        .iter()
-        .find(|&&i| setup.spheres[i].material != free_material)
-    {
+    let free_material = first.material;
+    if let Some((_, other)) = free.iter().find(|(_, s)| s.material != free_material) {
         return refuse(format!(
             "free spheres of materials \"{}\" and \"{}\" cannot be exported to Yade: the deck \
              maps the walls and fixed spheres by a stand-in material against one free \
              material (Yade averages G and nu of a pair); give the free spheres one material",
-            setup.materials[free_material].name, setup.materials[setup.spheres[i].material].name
+            setup.materials[free_material].name, setup.materials[other.material].name
         ));
     }
     let fm = setup.materials[free_material].material;
@@ -359,7 +360,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         other_of_plane.push(others.len() - 1);
     }
     // Each other body's Yade material.
-    let radius_f = setup.spheres[first].radius;
+    let radius_f = first.radius;
     let mut comments: Vec<String> = Vec::new();
     // Rolling friction (Hooke only): CohFrictMat's alphaKr and etaRoll of the
     // free spheres and of each other body.
@@ -485,14 +486,13 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
                     model.damping.kind().row().name
                 ));
             }
-            if let Some(i) = (0..setup.spheres.len()).find(|&i| setup.spheres[i].radius != radius_f)
-            {
+            if let Some(other) = setup.spheres.iter().find(|s| s.radius != radius_f) {
                 return refuse(format!(
                     "contact.law = \"hooke\" with spheres of several radii ({} and {} m) cannot \
                      be exported to Yade: FrictPhys makes k_n = 2 E_a D_a E_b D_b/(E_a D_a + \
                      E_b D_b) from the radii, one k for one radius only",
                     num(radius_f),
-                    num(setup.spheres[i].radius)
+                    num(other.radius)
                 ));
             }
             // k_t of a sphere pair (R_eff = R/2) and against a plane (R_eff = R).
@@ -757,8 +757,8 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         .ok();
     }
     writeln!(x, "]\nvelocities = [").ok();
-    for &i in &free {
-        let v = setup.spheres[i].velocity;
+    for &(i, s) in &free {
+        let v = s.velocity;
         writeln!(x, "    ({i}, {}, {}, {}),", num(v[0]), num(v[1]), num(v[2])).ok();
     }
     writeln!(x, "]").ok();
@@ -771,8 +771,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         "# contacts at t = 0: body, then F_c/m and T/I (dembound's at t = 0) times dt/2\nkicks = ["
     )
     .ok();
-    for &i in &free {
-        let s = &setup.spheres[i];
+    for &(i, s) in &free {
         let m = setup.materials[s.material].material.sphere_mass(s.radius);
         let inertia = 0.4 * m * s.radius * s.radius;
         let dv: Vec<f64> = (0..3).map(|k| (f0[i][k] / m - g[k]) * dt / 2.0).collect();
@@ -852,8 +851,12 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         .map(|(w, _)| {
             (
                 w,
-                (0..setup.spheres.len())
-                    .filter(|&i| setup.spheres[i].group == Some(w))
+                setup
+                    .spheres
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, s)| s.group == Some(w))
+                    .map(|(i, _)| i)
                     .collect(),
             )
         })

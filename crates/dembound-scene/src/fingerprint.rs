@@ -350,8 +350,9 @@ mod tests {
     fn initial_positions_do_not_count() {
         let a = setup(1000.0, 1e-3);
         let mut b = a.clone();
-        b.spheres[1].position[0] += 0.01;
-        b.spheres[1].velocity[2] = 3.0;
+        let moved = b.spheres.get_mut(1).expect("the setup has two spheres");
+        moved.position[0] += 0.01;
+        moved.velocity[2] = 3.0;
         assert!(Fingerprint::of(&a).check(&Fingerprint::of(&b)).is_ok());
     }
 }

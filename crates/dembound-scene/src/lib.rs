@@ -74,6 +74,7 @@ pub mod setup;
 pub mod setup_checks;
 pub mod simulation;
 pub mod sources;
+pub mod spheres;
 pub mod time_step;
 pub mod wall_study;
 pub mod walls;

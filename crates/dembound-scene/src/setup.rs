@@ -21,7 +21,7 @@ pub struct SceneSetup {
     pub contact: ContactModel,
     /// All spheres, free and fixed, in input order (the order every
     /// per-body output uses).
-    pub spheres: Vec<SphereInit>,
+    pub spheres: crate::spheres::Spheres,
     /// Walls in file order (the order of the wall forces).
     pub walls: Vec<WallSetup>,
     /// Gravitational acceleration, m/s².
@@ -268,7 +268,7 @@ impl SceneSetup {
             domain,
             materials: Vec::new(),
             contact,
-            spheres: Vec::new(),
+            spheres: crate::spheres::Spheres::new(),
             walls: Vec::new(),
             gravity: [0.0; 3],
             integration: IntegrationSetup {

@@ -359,14 +359,18 @@ fn pair_overlaps(
         periodic: d.periodic,
     };
     let length = domain.length();
+    // Each sphere's wrapped position, radius and fixed flag, in input
+    // order (read by index below).
     let position: Vec<[f64; 3]> = s.iter().map(|s| domain.wrap(s.position)).collect();
+    let radius: Vec<f64> = s.iter().map(|s| s.radius).collect();
+    let fixed: Vec<bool> = s.iter().map(|s| s.fixed).collect();
     let large_limit = LARGE_FACTOR * free_min;
     let (small, large): (Vec<usize>, Vec<usize>) =
-        (0..s.len()).partition(|&k| s[k].radius <= large_limit);
+        (0..radius.len()).partition(|&k| radius[k] <= large_limit);
     let reports = overlaps.reports;
     let mut scan = OverlapTally::default();
     let pair = |i: usize, j: usize, scan: &mut OverlapTally| -> Result<(), SceneError> {
-        if s[i].fixed && s[j].fixed {
+        if fixed[i] && fixed[j] {
             return Ok(());
         }
         let mut dist2 = 0.0;
@@ -377,13 +381,13 @@ fn pair_overlaps(
             }
             dist2 += x * x;
         }
-        let reach = s[i].radius + s[j].radius;
+        let reach = radius[i] + radius[j];
         if dist2 >= reach * reach {
             return Ok(());
         }
         let distance = dist2.sqrt();
         let overlap = reach - distance;
-        let smaller = s[i].radius.min(s[j].radius);
+        let smaller = radius[i].min(radius[j]);
         let share = overlap / smaller;
         let (i, j) = (i.min(j), i.max(j));
         if share > limits::OVERLAP_REFUSAL {
@@ -410,7 +414,7 @@ fn pair_overlaps(
     };
 
     // The grid over the spheres of ordinary size (periodic axes: the box).
-    let max_small = small.iter().map(|&k| s[k].radius).fold(0.0, f64::max);
+    let max_small = small.iter().map(|&k| radius[k]).fold(0.0, f64::max);
     let mut lower = [f64::INFINITY; 3];
     let mut upper = [f64::NEG_INFINITY; 3];
     for &k in &small {
@@ -486,7 +490,7 @@ fn pair_overlaps(
 
     // Large spheres: against the grid over their extent, and each other.
     for (n, &i) in large.iter().enumerate() {
-        let reach = s[i].radius + max_small;
+        let reach = radius[i] + max_small;
         let mut axes: [Vec<usize>; 3] = Default::default();
         let mut cells = 1usize;
         for a in 0..3 {
@@ -526,12 +530,12 @@ fn pair_overlaps(
                 }
             }
         }
-        if !s[i].fixed {
+        if !fixed[i] {
             for &j in large.iter().take(n) {
                 pair(i, j, &mut scan)?;
             }
         } else {
-            for &j in large.iter().take(n).filter(|&&j| !s[j].fixed) {
+            for &j in large.iter().take(n).filter(|&&j| !fixed[j]) {
                 pair(i, j, &mut scan)?;
             }
         }
@@ -609,14 +613,14 @@ mod tests {
     /// overlap share).
     fn brute(s: &SceneSetup) -> (usize, f64) {
         let d = &s.domain;
-        let b = &s.spheres;
+        let b = s.spheres.to_vec();
         let (mut count, mut worst) = (0, 0.0_f64);
         for i in 0..b.len() {
             for j in i + 1..b.len() {
                 if b[i].fixed && b[j].fixed {
                     continue;
                 }
-                let mut dist2 = 0.0;
+                let mut dist2 = 0.0_f64;
                 for a in 0..3 {
                     let l = d.upper[a] - d.lower[a];
                     let mut x = b[j].position[a] - b[i].position[a];

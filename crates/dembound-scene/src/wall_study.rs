@@ -322,7 +322,7 @@ impl StudyConfig {
             match s.walls[floor].bodies() {
                 None => w[floor] = Some((mu, self.rolling_friction)),
                 Some(bodies) => {
-                    let m = s.spheres[bodies.start].material;
+                    let m = s.spheres.get(bodies.start).map_or(0, |b| b.material);
                     materials = vec![None; s.materials.len()];
                     materials[m] = Some((mu, self.rolling_friction));
                 }

@@ -204,7 +204,11 @@ fn a_part_of_another_scene_is_refused_on_every_rank() {
     let half = run(&setup, 2, Some([2, 1, 1]), None, 100);
     let mut other = setup.clone();
     let last = other.spheres.len() - 1;
-    other.spheres[last].radius *= 1.01;
+    other
+        .spheres
+        .get_mut(last)
+        .expect("the scene has spheres")
+        .radius *= 1.01;
     let index = checkpoint_parts::shared_figures(&half.parts[0]);
     let handles: Vec<_> = ThreadTransport::group(2)
         .into_iter()

@@ -272,11 +272,15 @@ fn collapse_one(
     second.domain = lower(x_hi, h0 + 10.0 * d);
     second.walls = vec![floor, back];
     second.outside = Outside::Keep;
-    second.spheres = (0..n)
-        .map(|i| SphereInit {
+    second.spheres = second
+        .spheres
+        .iter()
+        .take(n)
+        .enumerate()
+        .map(|(i, s)| SphereInit {
             position: x[i],
             velocity: v[i],
-            ..second.spheres[i]
+            ..s
         })
         .collect();
     let mut sim = Simulation::new(second, 1)?;

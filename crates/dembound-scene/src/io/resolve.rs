@@ -19,6 +19,7 @@ use crate::sources::lattice::Lattice;
 use crate::sources::random::RandomInsertion;
 use crate::sources::tiling::Extent;
 use crate::sources::{self, SourceSphere};
+use crate::spheres::{LatticeRun, Spheres};
 use crate::SceneError;
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::TorqueArm;
@@ -67,7 +68,7 @@ pub struct WallResolve<'a> {
     pub materials: &'a mut Vec<NamedMaterial>,
     /// The spheres so far, in input order (a wall of boundary particles
     /// appends its own).
-    pub spheres: &'a mut Vec<SphereInit>,
+    pub spheres: &'a mut Spheres,
     /// The box a tiling fills.
     pub extent: Extent,
     /// The scene file's directory (paths in the file are relative to it).
@@ -187,13 +188,15 @@ fn resolve_inner(
     // Made in parts: each rank holds about its share.
     let share = |n: u64| defer.map_or(n, |ranks| n.div_ceil(ranks as u64));
     super::memory::check(share(generated), heavy, &largest, available)?;
-    let mut spheres: Vec<SphereInit> = Vec::new();
+    let mut spheres = Spheres::new();
     let mut parts: Vec<PartGroup> = Vec::new();
     // The input indices given so far (the spheres made, or described).
     let mut next = 0usize;
+    // Room for the listed ones (a lattice is kept as its formula).
+    let listed = listed_count(&file);
     spheres
         .try_reserve(
-            usize::try_from(if defer.is_some() { 0 } else { generated }).unwrap_or(usize::MAX),
+            usize::try_from(if defer.is_some() { 0 } else { listed }).unwrap_or(usize::MAX),
         )
         .map_err(|e| {
             SceneError::input(format!(
@@ -257,6 +260,26 @@ fn resolve_inner(
                 fixed: group.fixed,
                 group: None,
             }));
+            next = spheres.len();
+            groups.push(first..spheres.len());
+            continue;
+        }
+        if let Some(l) = &group.lattice {
+            let lattice = Lattice {
+                counts: l.counts,
+                spacing: l.spacing,
+                origin: l.origin,
+                radius: l.radius,
+                stagger: l.stagger,
+            };
+            lattice.validate(&format!("{key}.lattice"))?;
+            spheres.push_lattice(LatticeRun {
+                lattice,
+                velocity: l.velocity,
+                material,
+                fixed: group.fixed,
+                group: None,
+            });
             next = spheres.len();
             groups.push(first..spheres.len());
             continue;
@@ -339,7 +362,7 @@ fn resolve_inner(
         .collect();
     let impact_speed = match n.impact_speed {
         Some(v) => Ok(v),
-        None if defer.is_some() => default_impact_speed(&file, &standing),
+        None if defer.is_some() => default_impact_speed(&file, standing),
         None => default_impact_speed(&file, &spheres),
     };
     let time_step = match (n.dt, n.eta) {
@@ -690,7 +713,7 @@ fn group_spheres(
     group: &mut ParticlesSection,
     key: &str,
     base_dir: &Path,
-    earlier: &[SphereInit],
+    earlier: &Spheres,
 ) -> Result<Vec<SourceSphere>, SceneError> {
     let absolute = |p: &str| -> PathBuf {
         let p = base_dir.join(p);
@@ -700,21 +723,6 @@ fn group_spheres(
         let full = absolute(path);
         *path = full.display().to_string();
         return sources::csv::read_for(&full, &format!("{key}.csv"));
-    }
-    if let Some(l) = &group.lattice {
-        let lattice = Lattice {
-            counts: l.counts,
-            spacing: l.spacing,
-            origin: l.origin,
-            radius: l.radius,
-            stagger: l.stagger,
-        };
-        lattice.validate(&format!("{key}.lattice"))?;
-        let mut s = lattice.spheres();
-        for sphere in &mut s {
-            sphere.velocity = l.velocity;
-        }
-        return Ok(s);
     }
     if let Some(r) = &group.random {
         let insertion = RandomInsertion {
@@ -789,6 +797,19 @@ fn generated_count(file: &SceneFile) -> (u64, String) {
     (count, what)
 }
 
+/// The spheres the random insertions and inline lists of `file` make:
+/// the generated ones held listed (a lattice is held as its formula).
+fn listed_count(file: &SceneFile) -> u64 {
+    file.particles
+        .iter()
+        .map(|g| match (&g.random, &g.spheres) {
+            (Some(r), _) => r.count as u64,
+            (None, Some(list)) => list.len() as u64,
+            (None, None) => 0,
+        })
+        .fold(0u64, u64::saturating_add)
+}
+
 /// Whether `file` asks for friction anywhere (the spheres then carry
 /// spins and springs: more memory each).
 fn has_friction(file: &SceneFile) -> bool {
@@ -808,7 +829,10 @@ fn has_friction(file: &SceneFile) -> bool {
 /// The impact speed of the contact-time estimate when the file gives none:
 /// the larger of a free fall across the whole domain along g, √(2 |g| H)
 /// (H the box's extent along g), and the fastest initial speed.
-fn default_impact_speed(file: &SceneFile, spheres: &[SphereInit]) -> Result<f64, SceneError> {
+fn default_impact_speed(
+    file: &SceneFile,
+    spheres: impl IntoIterator<Item = SphereInit>,
+) -> Result<f64, SceneError> {
     let g = file.motion.gravity;
     let g_norm = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
     let d = &file.domain;
@@ -821,7 +845,7 @@ fn default_impact_speed(file: &SceneFile, spheres: &[SphereInit]) -> Result<f64,
     };
     let fall = (2.0 * g_norm * height).sqrt();
     let fastest = spheres
-        .iter()
+        .into_iter()
         .filter(|s| !s.fixed)
         .map(|s| (s.velocity[0].powi(2) + s.velocity[1].powi(2) + s.velocity[2].powi(2)).sqrt())
         .fold(0.0, f64::max);

@@ -263,14 +263,14 @@ pub(crate) fn drives(
         (key, g.spheres.clone(), (None, Some(g.group)), g.motion)
     });
     for (key, spheres, wall, motion) in groups.chain(walls) {
-        let Some(list) = setup.spheres.get(spheres.clone()) else {
+        let Some(list) = setup.spheres.range(spheres.clone()) else {
             return Err(SceneError::invalid(
                 format!("{key}.motion"),
                 format!("spheres {spheres:?}"),
                 format!("input indices below {}", setup.spheres.len()),
             ));
         };
-        if let Some(k) = list.iter().position(|s| !s.fixed) {
+        if let Some(k) = list.clone().position(|s| !s.fixed) {
             return Err(SceneError::invalid(
                 format!("{key}.motion"),
                 format!(
@@ -305,7 +305,7 @@ pub(crate) fn drives(
             spheres.start as u32..spheres.end as u32,
             wall,
             motion,
-            list.iter().map(|s| s.position).collect(),
+            list.map(|s| s.position).collect(),
             torque_point,
         ));
     }

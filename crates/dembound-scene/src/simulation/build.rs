@@ -96,11 +96,9 @@ impl Simulation {
                     // Built: its spheres are in range (`WallType::build`).
                     let at: Vec<[f64; 3]> = wall
                         .bodies()
-                        .and_then(|r| setup.spheres.get(r))
-                        .unwrap_or_default()
-                        .iter()
-                        .map(|s| s.position)
-                        .collect();
+                        .and_then(|r| setup.spheres.range(r))
+                        .map(|r| r.map(|s| s.position).collect())
+                        .unwrap_or_default();
                     kinds.push(WallKind::Particles {
                         torque_point: crate::pipeline::wall_loads::particle_wall_torque_point(&at),
                     });
@@ -118,7 +116,7 @@ impl Simulation {
 
         // Bodies in input order.
         let n = setup.spheres.len();
-        let mut b = bodies_of(setup, &setup.spheres, |k| k as u32);
+        let mut b = bodies_of(setup, &setup.spheres, n, |k| k as u32);
         let materials: Vec<_> = setup.materials.iter().map(|m| m.material).collect();
         let laws = LawTable::new(setup.contact, materials, &mut b, slots);
         let friction = setup.friction.clone().map(|f| FrictionTable::new(f, &laws));
@@ -336,11 +334,11 @@ fn outside_box(setup: &SceneSetup) -> Option<([f64; 3], [f64; 3])> {
 /// `id(q)`: the input index of `spheres[q]`, named in messages.
 pub(crate) fn check_spheres(
     setup: &SceneSetup,
-    spheres: &[crate::setup::SphereInit],
+    spheres: impl IntoIterator<Item = crate::setup::SphereInit>,
     id: impl Fn(usize) -> usize,
 ) -> Result<(), SceneError> {
     let nm = setup.materials.len();
-    for (q, s) in spheres.iter().enumerate() {
+    for (q, s) in spheres.into_iter().enumerate() {
         let k = id(q);
         if !(s.radius.is_finite() && s.radius > 0.0) {
             return Err(SceneError::invalid(
@@ -391,16 +389,17 @@ pub(crate) fn check_spheres(
     Ok(())
 }
 
-/// The engine's bodies of `spheres` (in that order), `id(q)` the input
-/// index of `spheres[q]`.
+/// The engine's bodies of `spheres` (in that order, `count` of them:
+/// the arrays' reserved length), `id(q)` the input index of `spheres[q]`.
 pub(crate) fn bodies_of(
     setup: &SceneSetup,
-    spheres: &[crate::setup::SphereInit],
+    spheres: impl IntoIterator<Item = crate::setup::SphereInit>,
+    count: usize,
     id: impl Fn(usize) -> u32,
 ) -> Bodies {
     let mut b = Bodies::default();
-    b.reserve_exact(spheres.len());
-    for (k, s) in spheres.iter().enumerate() {
+    b.reserve_exact(count);
+    for (k, s) in spheres.into_iter().enumerate() {
         let mat = &setup.materials[s.material].material;
         b.position.push(s.position);
         b.velocity.push(if s.fixed { [0.0; 3] } else { s.velocity });

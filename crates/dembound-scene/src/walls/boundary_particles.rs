@@ -245,10 +245,10 @@ impl WallType for BoundaryParticles {
         _slot: usize,
     ) -> Result<Option<Surface>, SceneError> {
         let BoundaryParticles { first_body, count } = *self;
-        let end = first_body
+        let spheres = first_body
             .checked_add(count)
-            .filter(|&e| e <= setup.spheres.len());
-        let Some(end) = end else {
+            .and_then(|end| setup.spheres.range(first_body..end));
+        let Some(spheres) = spheres else {
             return Err(SceneError::invalid(
                 format!("walls[{w}].count"),
                 count,
@@ -258,8 +258,7 @@ impl WallType for BoundaryParticles {
                 ),
             ));
         };
-        for k in first_body..end {
-            let s = &setup.spheres[k];
+        for (k, s) in (first_body..).zip(spheres) {
             if !s.fixed || s.group != Some(w) {
                 return Err(SceneError::invalid(
                     format!("spheres[{k}].group"),

@@ -439,7 +439,8 @@ fn with_ghosts(setup: &SceneSetup, part: &Part, ghosts: Part) -> (SceneSetup, Ve
     let mut ids = Vec::with_capacity(all.len());
     let mut own = Vec::with_capacity(all.len());
     let mut local = setup.clone();
-    local.spheres = Vec::with_capacity(all.len());
+    local.spheres = crate::spheres::Spheres::new();
+    local.spheres.reserve(all.len());
     for (id, mine, s) in all {
         ids.push(id);
         own.push(mine);
@@ -547,7 +548,7 @@ impl<T: Transport> DistributedSimulation<T> {
         // The same scene of representatives on every rank: the same
         // decisions, or the same refusal.
         let mut proxy = setup.clone();
-        proxy.spheres = representatives;
+        proxy.spheres = representatives.into();
         let checked = refuse_unsupported(&proxy)
             .and_then(|()| Simulation::prepare(&proxy, threads))
             .and_then(|sim| refuse_unsupported_world(&sim.world).map(|()| sim));
@@ -594,19 +595,26 @@ impl<T: Transport> DistributedSimulation<T> {
         let (local, local_ids, own) = with_ghosts(&proxy, &part, ghosts);
         let reports = |k: usize| own[k];
         let checked =
-            crate::simulation::build::check_spheres(&proxy, &part.spheres, |q| ids[q] as usize)
-                .and_then(|()| {
-                    crate::setup_checks::check_overlaps(
-                        &local,
-                        &|k| label(local_ids[k] as usize),
-                        &reports,
-                    )
-                });
+            crate::simulation::build::check_spheres(&proxy, part.spheres.iter().copied(), |q| {
+                ids[q] as usize
+            })
+            .and_then(|()| {
+                crate::setup_checks::check_overlaps(
+                    &local,
+                    &|k| label(local_ids[k] as usize),
+                    &reports,
+                )
+            });
         let overlaps = agree(t, checked)?;
         drop(local);
         let warnings = gather_warnings(overlaps, &local_ids, label, t);
         let w = &mut sim.world;
-        let mut b = crate::simulation::build::bodies_of(&proxy, &part.spheres, |q| ids[q]);
+        let mut b = crate::simulation::build::bodies_of(
+            &proxy,
+            part.spheres.iter().copied(),
+            part.spheres.len(),
+            |q| ids[q],
+        );
         drop(part.spheres);
         // The classes of the representatives' law table, which holds every
         // class of the scene.
