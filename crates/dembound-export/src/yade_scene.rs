@@ -367,7 +367,7 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
     let mut rolling: Option<(yade_rolling::Rolling, Vec<yade_rolling::Rolling>)> = None;
     let (physics, law, free_yade, other_yade) = match model.normal {
         NormalLaw::Hertz => {
-            if let Some(f) = setup.friction.as_ref() {
+            if let Some(f) = setup.friction.as_ref().filter(|_| frictional) {
                 comments.push(
                     if f.model.tangential == TangentialKind::MindlinForce {
                         "tangential: Yade's Mindlin law increments the shear force by -k_s(h) du_s each step, dembound's contact.tangential = \"mindlin_force\": the same spring"
