@@ -8,7 +8,7 @@
 // (child modules: they reach the run's private state)
 pub(crate) mod build;
 mod checkpoint;
-mod collision_columns;
+pub(crate) mod collision_columns;
 mod observables;
 mod wall_force_mean;
 

@@ -6,6 +6,7 @@
 //! units in the column names.
 
 use crate::dynamics::collisions::{Collision, Partner};
+use crate::simulation::collision_columns::VALUES;
 use crate::simulation::Observation;
 use std::io::Write;
 
@@ -249,6 +250,7 @@ pub fn write_collisions(
     if triangle_column {
         header.push("triangle");
     }
+    // The number columns: `VALUES`' fields in their order, with units.
     header.extend([
         "t_start_s",
         "t_end_s",
@@ -283,25 +285,8 @@ pub fn write_collisions(
         if triangle_column {
             out.write_field(c.triangle.map_or(String::new(), |t| t.to_string()))?;
         }
-        let scalars = [
-            c.t_start,
-            c.t_end,
-            c.duration,
-            c.max_overlap,
-            c.max_normal_force,
-            c.impact_normal_velocity,
-            c.rebound_normal_velocity,
-            c.impact_tangential_velocity,
-            c.rebound_tangential_velocity,
-        ];
-        let spins = [
-            c.impact_spin_i,
-            c.rebound_spin_i,
-            c.impact_spin_j,
-            c.rebound_spin_j,
-        ];
-        for x in scalars.into_iter().chain(spins.into_iter().flatten()) {
-            out.write_field(number.format(x))?;
+        for value in &VALUES {
+            out.write_field(number.format(value.of(c)))?;
         }
         out.write_record(None::<&[u8]>)?;
     }
@@ -402,5 +387,75 @@ mod tests {
         );
         assert_eq!(partner_name(&Partner::Wall(2)), "wall:2");
         assert_eq!(partner_name(&Partner::Body(5)), "5");
+    }
+
+    /// Each number column of collisions.csv holds the field its header
+    /// names: a row whose fields are all different, the header's names
+    /// matched to the fields by hand (not through `VALUES`), each value
+    /// read back from the text. Exact: `ExpFormat` writes the shortest
+    /// digits that read back to the same double.
+    #[test]
+    fn each_collision_column_holds_the_field_it_names() {
+        let x = |k: u32| 1.0 + f64::from(k) / 64.0;
+        let c = Collision {
+            i: 3,
+            j: Partner::BoundaryParticle { wall: 1, body: 7 },
+            t_start: x(0),
+            t_end: x(1),
+            duration: x(2),
+            max_overlap: x(3),
+            max_normal_force: x(4),
+            impact_normal_velocity: x(5),
+            rebound_normal_velocity: x(6),
+            impact_tangential_velocity: x(7),
+            rebound_tangential_velocity: x(8),
+            impact_spin_i: [x(9), x(10), x(11)],
+            rebound_spin_i: [x(12), x(13), x(14)],
+            impact_spin_j: [x(15), x(16), x(17)],
+            rebound_spin_j: [x(18), x(19), x(20)],
+            triangle: None,
+        };
+        let mut expected: Vec<(String, f64)> = [
+            ("t_start_s", c.t_start),
+            ("t_end_s", c.t_end),
+            ("duration_s", c.duration),
+            ("max_overlap_m", c.max_overlap),
+            ("max_normal_force_N", c.max_normal_force),
+            ("impact_normal_velocity_m_s", c.impact_normal_velocity),
+            ("rebound_normal_velocity_m_s", c.rebound_normal_velocity),
+            (
+                "impact_tangential_velocity_m_s",
+                c.impact_tangential_velocity,
+            ),
+            (
+                "rebound_tangential_velocity_m_s",
+                c.rebound_tangential_velocity,
+            ),
+        ]
+        .map(|(name, value)| (name.to_string(), value))
+        .to_vec();
+        for (name, spin) in [
+            ("impact_spin_i", c.impact_spin_i),
+            ("rebound_spin_i", c.rebound_spin_i),
+            ("impact_spin_j", c.impact_spin_j),
+            ("rebound_spin_j", c.rebound_spin_j),
+        ] {
+            for (axis, value) in ["x", "y", "z"].iter().zip(spin) {
+                expected.push((format!("{name}_{axis}_rad_s"), value));
+            }
+        }
+        let mut csv = Vec::new();
+        write_collisions(&mut csv, &[c], false).unwrap();
+        let text = String::from_utf8(csv).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(&header[..3], &["i", "j", "boundary_particle"]);
+        assert_eq!(&row[..3], &["3", "wall:1", "7"]);
+        assert_eq!(header.len(), 3 + expected.len());
+        for (name, value) in expected {
+            let k = header.iter().position(|h| *h == name.as_str()).unwrap();
+            assert_eq!(row[k].parse::<f64>().unwrap(), value, "{name}");
+        }
     }
 }

@@ -42,7 +42,15 @@ pub struct Value {
     set: fn(&mut Collision, f64),
 }
 
-/// The f64 fields of a [`Collision`], in column order (spins by component).
+impl Value {
+    /// This field of `c`.
+    pub fn of(&self, c: &Collision) -> f64 {
+        (self.get)(c)
+    }
+}
+
+/// The f64 fields of a [`Collision`], in column order (spins by component):
+/// the checkpoint's columns and collisions.csv's number columns.
 pub const VALUES: [Value; 21] = [
     Value {
         name: "t_start",
