@@ -191,5 +191,5 @@ fn a_checkpoint_of_the_old_format_is_named() {
     }
     let path = dir.join("old.cbor");
     std::fs::write(&path, &old).unwrap();
-    restart_refused(dir, &scene, &path, &["version 1", "versions 2 to 3"]);
+    restart_refused(dir, &scene, &path, &["version 1", "versions 2 to 4"]);
 }

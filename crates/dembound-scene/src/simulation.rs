@@ -9,6 +9,7 @@
 pub(crate) mod build;
 mod checkpoint;
 pub(crate) mod collision_columns;
+mod keyed_columns;
 mod observables;
 mod wall_force_mean;
 

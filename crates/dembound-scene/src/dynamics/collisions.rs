@@ -246,6 +246,86 @@ impl Hermite {
 }
 
 impl Track {
+    /// The names of [`Self::values`]' entries, in order (the checkpoint's
+    /// columns).
+    pub const VALUE_NAMES: [&'static str; 24] = [
+        "overlap",
+        "rate",
+        "t_start",
+        "impact",
+        "max_overlap",
+        "max_force",
+        "last_tangential_x",
+        "last_tangential_y",
+        "last_tangential_z",
+        "last_spin_i_x",
+        "last_spin_i_y",
+        "last_spin_i_z",
+        "last_spin_j_x",
+        "last_spin_j_y",
+        "last_spin_j_z",
+        "impact_tangential_x",
+        "impact_tangential_y",
+        "impact_tangential_z",
+        "impact_spin_i_x",
+        "impact_spin_i_y",
+        "impact_spin_i_z",
+        "impact_spin_j_x",
+        "impact_spin_j_y",
+        "impact_spin_j_z",
+    ];
+    /// [`Self::flags`]' bit: the track has a previous step.
+    pub const KNOWN: u8 = 1;
+    /// [`Self::flags`]' bit: the couple is in contact.
+    pub const IN_CONTACT: u8 = 2;
+
+    /// The two flags as bits ([`Self::KNOWN`], [`Self::IN_CONTACT`]).
+    pub fn flags(&self) -> u8 {
+        u8::from(self.known) * Self::KNOWN + u8::from(self.in_contact) * Self::IN_CONTACT
+    }
+
+    /// The track's f64 number `k` of [`Self::VALUE_NAMES`] (k < 24).
+    pub fn value(&self, k: usize) -> f64 {
+        let motion = |m: &Motion, k: usize| match k / 3 {
+            0 => m.tangential[k % 3],
+            1 => m.spin_i[k % 3],
+            _ => m.spin_j[k % 3],
+        };
+        match k {
+            0 => self.overlap,
+            1 => self.rate,
+            2 => self.t_start,
+            3 => self.impact,
+            4 => self.max_overlap,
+            5 => self.max_force,
+            6..=14 => motion(&self.last, k - 6),
+            _ => motion(&self.impact_motion, k - 15),
+        }
+    }
+
+    /// The track of [`Self::flags`] and the values of [`Self::value`]
+    /// (other flag bits ignored).
+    pub fn from_parts(flags: u8, v: &[f64; 24]) -> Self {
+        let triple = |k: usize| [v[k], v[k + 1], v[k + 2]];
+        let motion = |k: usize| Motion {
+            tangential: triple(k),
+            spin_i: triple(k + 3),
+            spin_j: triple(k + 6),
+        };
+        Self {
+            known: flags & Self::KNOWN != 0,
+            overlap: v[0],
+            rate: v[1],
+            in_contact: flags & Self::IN_CONTACT != 0,
+            t_start: v[2],
+            impact: v[3],
+            max_overlap: v[4],
+            max_force: v[5],
+            last: motion(6),
+            impact_motion: motion(15),
+        }
+    }
+
     /// The couple has a previous step.
     pub fn is_known(&self) -> bool {
         self.known

@@ -31,10 +31,12 @@ pub const MAGIC: &[u8] = b"dembound-scene checkpoint\n";
 /// Bumped whenever the file layout, [`CheckpointFile`] or [`Checkpoint`]
 /// changes shape. 2: checksum and scene fingerprint. 3: the completed
 /// collisions in columns of fixed-width values rather than a map a row
-/// (`simulation::collision_columns`).
-pub const VERSION: u32 = 3;
-/// The versions this dembound reads (2's collisions are read as rows).
-pub const READS: [u32; 2] = [2, VERSION];
+/// (`simulation::collision_columns`). 4: the collision log's tracks in
+/// columns likewise (`simulation::keyed_columns`).
+pub const VERSION: u32 = 4;
+/// The versions this dembound reads (2's collisions are read as rows, 2's
+/// and 3's tracks as triples).
+pub const READS: [u32; 3] = [2, 3, VERSION];
 /// Bytes before the payload: magic, version.
 const HEADER: usize = MAGIC.len() + 4;
 /// Bytes after the payload: its length and SHA-256.

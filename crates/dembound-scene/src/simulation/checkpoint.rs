@@ -485,7 +485,12 @@ pub struct Checkpoint {
     pub pair_histories: Vec<(u32, u32, HistoryRecord)>,
     /// (input id, plane index, history).
     pub plane_histories: Vec<(u32, u32, HistoryRecord)>,
+    /// The collision log's tracks of pairs (input ids a < b) and of
+    /// plane walls (input id, plane index), in columns (format 4; formats
+    /// 2 and 3's list of triples still read: `keyed_columns`).
+    #[serde(with = "super::keyed_columns")]
     pub pair_tracks: Vec<(u32, u32, Track)>,
+    #[serde(with = "super::keyed_columns")]
     pub plane_tracks: Vec<(u32, u32, Track)>,
     /// The completed contacts (the collision log so far), stored in
     /// columns of fixed-width values (format 3; format 2's list of rows is

@@ -160,7 +160,7 @@ pub const VALUES: [Value; 21] = [
 ];
 
 /// A byte string to write.
-struct Bytes(Vec<u8>);
+pub(super) struct Bytes(pub(super) Vec<u8>);
 
 impl Serialize for Bytes {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -169,7 +169,7 @@ impl Serialize for Bytes {
 }
 
 /// A byte string read (a definite or chunked CBOR byte string).
-struct ByteColumn(Vec<u8>);
+pub(super) struct ByteColumn(pub(super) Vec<u8>);
 
 impl<'de> Deserialize<'de> for ByteColumn {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
