@@ -753,9 +753,6 @@ fn group_spheres(
     Err(SceneError::input(format!("`{key}`: no source")))
 }
 
-/// The spheres the lattices, random insertions and inline lists of `file`
-/// make (known before any is made), and the largest group named with its
-/// count. A lattice over its own maximum is left to its validation.
 /// The lattice of group `key`'s `lattice` table (`key`: `particles[i]`),
 /// validated ([`Lattice::validate`], its messages naming `key.lattice`).
 fn lattice_of(l: &LatticeSource, key: &str) -> Result<Lattice, SceneError> {
@@ -770,6 +767,9 @@ fn lattice_of(l: &LatticeSource, key: &str) -> Result<Lattice, SceneError> {
     Ok(lattice)
 }
 
+/// The spheres the lattices, random insertions and inline lists of `file`
+/// make (known before any is made), and the largest group named with its
+/// count. A lattice over its own maximum is left to its validation.
 fn generated_count(file: &SceneFile) -> (u64, String) {
     let mut count: u64 = 0;
     let mut largest = (0u64, String::from("[[particles]]"));
