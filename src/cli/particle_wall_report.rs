@@ -262,7 +262,12 @@ pub(super) fn report_text(
         c.dropped_crossing,
         c.dropped_duplicate
     );
-    let bytes = dembound_scene::io::memory::estimate(count as u64, false);
+    // A wall's spheres are listed.
+    let listed = dembound_scene::io::memory::SphereCount {
+        listed: count as u64,
+        lattice: 0,
+    };
+    let bytes = dembound_scene::io::memory::estimate(listed, false);
     let _ = writeln!(
         s,
         "Memory in a dembound scene: about {:.3} MB ({} B per sphere, Verlet without friction; \

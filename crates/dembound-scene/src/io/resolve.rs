@@ -8,8 +8,9 @@
 //! the spheres of each `boundary_particles` wall in wall order.
 
 use super::config::{
-    OutsideName, Particles, ParticlesSection, SceneFile, Scheme as SchemeName, RIGID,
+    LatticeSource, OutsideName, Particles, ParticlesSection, SceneFile, Scheme as SchemeName, RIGID,
 };
+use super::memory::SphereCount;
 use crate::setup::{
     DomainSetup, FrictionSetup, IntegrationSetup, NamedMaterial, NeighbourSetup, Outside,
     RunLength, SceneSetup, Scheme, SphereInit, TimeStep,
@@ -185,15 +186,20 @@ fn resolve_inner(
     let heavy = file.integration.scheme == SchemeName::Gear5 || has_friction(&file);
     let available = super::memory::available();
     let (generated, largest) = generated_count(&file);
+    // The listed ones (random, inline); a lattice is kept as its formula.
+    let listed = listed_count(&file);
+    let made = SphereCount {
+        listed,
+        lattice: generated.saturating_sub(listed),
+    };
     // Made in parts: each rank holds about its share.
-    let share = |n: u64| defer.map_or(n, |ranks| n.div_ceil(ranks as u64));
-    super::memory::check(share(generated), heavy, &largest, available)?;
+    let share = |n: SphereCount| defer.map_or(n, |ranks| n.share(ranks as u64));
+    super::memory::check(share(made), heavy, &largest, available)?;
     let mut spheres = Spheres::new();
     let mut parts: Vec<PartGroup> = Vec::new();
     // The input indices given so far (the spheres made, or described).
     let mut next = 0usize;
-    // Room for the listed ones (a lattice is kept as its formula).
-    let listed = listed_count(&file);
+    // Room for the listed ones.
     spheres
         .try_reserve(
             usize::try_from(if defer.is_some() { 0 } else { listed }).unwrap_or(usize::MAX),
@@ -222,14 +228,7 @@ fn resolve_inner(
                     },
                 )
             } else if let Some(l) = &group.lattice {
-                let lattice = Lattice {
-                    counts: l.counts,
-                    spacing: l.spacing,
-                    origin: l.origin,
-                    radius: l.radius,
-                    stagger: l.stagger,
-                };
-                lattice.validate(&format!("{key}.lattice"))?;
+                let lattice = lattice_of(l, &key)?;
                 (
                     lattice.len(),
                     PartSource::Lattice {
@@ -265,16 +264,8 @@ fn resolve_inner(
             continue;
         }
         if let Some(l) = &group.lattice {
-            let lattice = Lattice {
-                counts: l.counts,
-                spacing: l.spacing,
-                origin: l.origin,
-                radius: l.radius,
-                stagger: l.stagger,
-            };
-            lattice.validate(&format!("{key}.lattice"))?;
             spheres.push_lattice(LatticeRun {
-                lattice,
+                lattice: lattice_of(l, &key)?,
                 velocity: l.velocity,
                 material,
                 fixed: group.fixed,
@@ -340,8 +331,13 @@ fn resolve_inner(
         walls.push(setup);
     }
 
-    let total = if defer.is_some() { next } else { spheres.len() };
-    super::memory::check(share(total as u64), heavy, "the scene", available)?;
+    let total = if defer.is_some() { next } else { spheres.len() } as u64;
+    // Every sphere but the lattices' is listed (data files, walls too).
+    let all = SphereCount {
+        listed: total.saturating_sub(made.lattice),
+        lattice: made.lattice,
+    };
+    super::memory::check(share(all), heavy, "the scene", available)?;
 
     let n = &file.integration;
     // Parts: the data files hold no velocities (else read whole), a
@@ -755,6 +751,20 @@ fn group_spheres(
             .collect());
     }
     Err(SceneError::input(format!("`{key}`: no source")))
+}
+
+/// The lattice of group `key`'s `lattice` table (`key`: `particles[i]`),
+/// validated ([`Lattice::validate`], its messages naming `key.lattice`).
+fn lattice_of(l: &LatticeSource, key: &str) -> Result<Lattice, SceneError> {
+    let lattice = Lattice {
+        counts: l.counts,
+        spacing: l.spacing,
+        origin: l.origin,
+        radius: l.radius,
+        stagger: l.stagger,
+    };
+    lattice.validate(&format!("{key}.lattice"))?;
+    Ok(lattice)
 }
 
 /// The spheres the lattices, random insertions and inline lists of `file`

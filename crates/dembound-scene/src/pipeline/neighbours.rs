@@ -149,10 +149,7 @@ pub(crate) fn save_pairs(world: &World) -> SavedPairs {
             .collect();
     let tracks = world.tracks.as_ref().map(|t| saved_tracks(world, t));
     let shear = if world.friction.is_some() {
-        friction::active_shear(&world.bodies, &world.ghosts, &world.list, &world.shear)
-            .into_iter()
-            .map(|(a, b, s)| ((a, b), s))
-            .collect()
+        friction::active_shear_map(&world.bodies, &world.ghosts, &world.list, &world.shear)
     } else {
         FxHashMap::default()
     };
@@ -244,6 +241,13 @@ impl Pipeline {
             tracks: saved_tracks,
             shear: saved_shear,
         } = saved;
+        // The old list and the arrays aligned with it are in `saved`: freed
+        // before the new ones are made (not two copies of them at once).
+        world.list = PairList::default();
+        world.histories = PairHistories::default();
+        if world.friction.is_some() {
+            world.shear = friction::PairShear::default();
+        }
 
         let n = world.bodies.len();
         // Grid bounds: the box on periodic axes, the celled bodies' extent elsewhere.

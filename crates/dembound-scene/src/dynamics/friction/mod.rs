@@ -40,7 +40,7 @@ mod walls;
 
 pub(crate) use pairs::add_pair_forces_then;
 pub use pairs::{add_pair_forces, add_pair_forces_tallied, PairForceInput, PairTally};
-pub use springs::{active_shear, restore_shear, PairShear, Springs, WallShear};
+pub use springs::{active_shear, active_shear_map, restore_shear, PairShear, Springs, WallShear};
 pub use table::{FrictionLaw, FrictionTable};
 pub use walls::{
     add_plane_forces, body_force, gravity_force, planes_are_hertz_mindlin, prefetch_wall_springs,

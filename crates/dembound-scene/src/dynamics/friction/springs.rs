@@ -80,20 +80,52 @@ pub fn active_shear(
     shear: &PairShear,
 ) -> Vec<(u32, u32, Springs)> {
     let mut out = Vec::new();
+    for_each_active(bodies, ghosts, list, shear, |a, b, s| out.push((a, b, s)));
+    out.sort_by_key(|x| (x.0, x.1));
+    out
+}
+
+/// [`active_shear`] straight into a map by (a, b), without the sorted list
+/// beside it (a rebuild's saved springs: one copy of them at a time, not
+/// two). A pair met twice keeps its last springs, as [`active_shear`]'s
+/// stable sort collected into a map does.
+pub fn active_shear_map<S: BuildHasher + Default>(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    shear: &PairShear,
+) -> HashMap<(u32, u32), Springs, S> {
+    let mut out = HashMap::default();
+    for_each_active(bodies, ghosts, list, shear, |a, b, s| {
+        out.insert((a, b), s);
+    });
+    out
+}
+
+/// Calls `f(a, b, springs)` for each listed pair whose springs are not all
+/// zero, by input ids (a < b), seen from a, in list order; nothing when
+/// `shear` is not aligned with `list`.
+fn for_each_active(
+    bodies: &Bodies,
+    ghosts: &Ghosts,
+    list: &PairList,
+    shear: &PairShear,
+    mut f: impl FnMut(u32, u32, Springs),
+) {
     let n = bodies.len();
     if list.start.len() != n + 1
         || shear.main.len() != list.j.len()
         || shear.extra.len() != list.extra.len()
     {
-        return out;
+        return;
     }
     let mut push = |i: usize, owner: usize, s: Springs| {
         if s != [0.0; 6] {
             let (a, b) = (bodies.id[i], bodies.id[owner]);
             if a < b {
-                out.push((a, b, s));
+                f(a, b, s);
             } else {
-                out.push((b, a, negate(s)));
+                f(b, a, negate(s));
             }
         }
     };
@@ -108,8 +140,6 @@ pub fn active_shear(
         let s = PairShear::springs(shear.extra[k], shear.roll_extra.get(k));
         push(i as usize, owner, s);
     }
-    out.sort_by_key(|x| (x.0, x.1));
-    out
 }
 
 /// Displacements for a new list from `saved` (by input ids, as
