@@ -306,6 +306,48 @@ pub struct FrictionPair {
     damping: TangentialDamping,
 }
 
+/// A displacement spring moved by its contact's slip
+/// ([`FrictionPair::move_spring`]): what the Coulomb test and cut of step
+/// 3 read.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MovedSpring {
+    /// k_t at the contact's overlap, N/m.
+    pub stiffness: f64,
+    /// The Coulomb limit μ |F_n|, N.
+    pub limit: f64,
+    /// |δ|² of the moved spring, m².
+    pub stretch: f64,
+}
+
+impl MovedSpring {
+    /// Step 3's test and factor: whether the spring alone exceeds μ |F_n|
+    /// (sliding), and the factor on the spring, limit/(k_t |δ|) when
+    /// sliding, else exactly 1 (which changes no bit).
+    #[inline(always)]
+    pub fn cut(&self) -> (bool, f64) {
+        let (k_t, limit, stretch) = (self.stiffness, self.limit, self.stretch);
+        // 3. Coulomb on the spring (LIGGGHTS `tangential_model_history`):
+        // sliding when the spring alone exceeds μ |F_n| (compared squared,
+        // both sides ≥ 0); the spring is cut back to the limit and the
+        // force is the limit, without damping.
+        let sliding = k_t * k_t * stretch > limit * limit;
+        // The cut's factor limit/(k_t |δ|) (the spring's magnitude > 0
+        // when sliding: it exceeds limit² ≥ 0) is taken for every contact
+        // and chosen without a jump; a sticking spring is scaled by exactly
+        // 1. So the root and the division start as soon as the moved
+        // spring is known, rather than after a test that contacts turning
+        // between sticking and sliding make unpredictable (a sticking
+        // contact discards them, an inf or NaN at |δ| = 0 included).
+        // Undamped, sliding and sticking both return the spring's force
+        // ([`FrictionPair::cut_spring_force`]).
+        let spring = k_t * stretch.sqrt();
+        (
+            sliding,
+            std::hint::select_unpredictable(sliding, limit / spring, 1.0),
+        )
+    }
+}
+
 #[inline(always)]
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -528,30 +570,63 @@ impl FrictionPair {
                 shear,
             );
         }
+        let moved = self.move_spring(overlap, normal_force, tangential_velocity, dt, shear);
+        let (sliding, s) = moved.cut();
+        self.cut_spring_force(&moved, sliding, s, overlap, tangential_velocity, shear)
+    }
+
+    /// Step 2 of [`Self::tangential_force_turned_known`] for a
+    /// displacement spring (not [`TangentialSubModel::STORES_FORCE`]): the
+    /// spring `shear` (m), turned already, moved by the slip
+    /// `tangential_velocity` (m/s) over `dt` (s); returns what step 3's
+    /// Coulomb test and cut read ([`MovedSpring`]). Then
+    /// [`MovedSpring::cut`] and [`Self::cut_spring_force`]: the three in
+    /// turn are that function's operations in its order (the same bits),
+    /// so that a many-contact loop may run each over a batch of contacts,
+    /// the cut's root and division of several contacts overlapping
+    /// instead of ending each contact's chain of dependent operations.
+    #[inline(always)]
+    pub fn move_spring(
+        &self,
+        overlap: f64,
+        normal_force: f64,
+        tangential_velocity: [f64; 3],
+        dt: f64,
+        shear: &mut [f64; 3],
+    ) -> MovedSpring {
+        debug_assert!(!self.tangential.stores_force());
         let k_t = self.tangential.stiffness(overlap);
         // 2. The spring moves with the contact points.
         let v = tangential_velocity;
         for a in 0..3 {
             shear[a] += v[a] * dt;
         }
-        // 3. Coulomb on the spring (LIGGGHTS `tangential_model_history`):
-        // sliding when the spring alone exceeds μ |F_n| (compared squared,
-        // both sides ≥ 0); the spring is cut back to the limit and the
-        // force is the limit, without damping.
         let limit = self.friction * normal_force.abs();
         let stretch = dot(*shear, *shear);
-        let sliding = k_t * k_t * stretch > limit * limit;
-        // The cut's factor limit/(k_t |δ|) (the spring's magnitude > 0
-        // when sliding: it exceeds limit² ≥ 0) is taken for every contact
-        // and chosen without a jump; a sticking spring is scaled by exactly
-        // 1, which changes no bit. So the root and the division start as
-        // soon as the moved spring is known, rather than after a test that
-        // contacts turning between sticking and sliding make unpredictable
-        // (a sticking contact discards them, an inf or NaN at |δ| = 0
-        // included). Undamped, sliding and sticking both return the
-        // spring's force below.
-        let spring = k_t * stretch.sqrt();
-        let s = std::hint::select_unpredictable(sliding, limit / spring, 1.0);
+        MovedSpring {
+            stiffness: k_t,
+            limit,
+            stretch,
+        }
+    }
+
+    /// Steps 3–4 of [`Self::tangential_force_turned_known`] for a
+    /// displacement spring after [`Self::move_spring`] gave `moved` and
+    /// [`MovedSpring::cut`] gave `(sliding, s)`: the spring `shear` (m)
+    /// scaled by `s`, and the tangential force on body 1 (N) at overlap
+    /// `overlap` (m) with slip `tangential_velocity` (m/s, the one the
+    /// spring moved by).
+    #[inline(always)]
+    pub fn cut_spring_force(
+        &self,
+        moved: &MovedSpring,
+        sliding: bool,
+        s: f64,
+        overlap: f64,
+        tangential_velocity: [f64; 3],
+        shear: &mut [f64; 3],
+    ) -> [f64; 3] {
+        let (k_t, limit, v) = (moved.stiffness, moved.limit, tangential_velocity);
         for x in shear.iter_mut() {
             *x *= s;
         }

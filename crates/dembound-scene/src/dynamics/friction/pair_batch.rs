@@ -3,7 +3,7 @@
 //! the row-by-row loop's bits.
 
 use dembound_physics::contact::model::{assemble, overlap_rate, slip_velocity};
-use dembound_physics::contact::tangential::FrictionPair;
+use dembound_physics::contact::tangential::{FrictionPair, MovedSpring};
 use dembound_physics::contact::Side;
 
 use super::pairs::{tally_entry, MainPairs, PairTally};
@@ -177,12 +177,19 @@ impl MainPairs<'_> {
             }
         };
         // Row by row (body i's side read once per row, not per contact),
-        // each contact whole: its overlap rate and tangential slip
-        // velocity, normal force (history updated), tangential force
-        // (spring moved) and rolling torque, then its forces and torques
-        // summed, in [`Self::row`]'s order. Nothing is stored and read
-        // back between the stages; the Hertz force and the Mindlin
-        // stiffness share the root of the overlap (taken once).
+        // in [`Self::row`]'s order, in three passes over the contacts
+        // found: 2a each contact's overlap rate and tangential slip
+        // velocity, normal force (history updated) and, for a
+        // displacement spring, the spring moved (`FrictionPair::
+        // move_spring`); 2b the Coulomb tests and cut factors of all of
+        // them (`MovedSpring::cut`: a root and a division each, of
+        // independent contacts, which overlap here instead of ending each
+        // contact's chain of dependent operations); 2c the tangential
+        // forces (spring cut; a force-storing spring's whole step here),
+        // rolling torques, and the forces and torques summed. Each
+        // contact's operations are those of [`contact`], in its order:
+        // the same bits. The Hertz force and the Mindlin stiffness share
+        // the root of the overlap (taken once).
         let mut from = 0usize;
         for i in lo..hi {
             let (s, e) = (start[i] as usize, start[i + 1] as usize);
@@ -191,8 +198,6 @@ impl MainPairs<'_> {
             }
             let to = (g.ends[i - lo] as usize).min(found);
             let a = side(i);
-            let mut fi = [0.0; 3];
-            let mut ti = [0.0; 3];
             for t in from..to {
                 let q = g.entry(t);
                 let (j, k) = (g.partner[q] as usize, first + q);
@@ -211,25 +216,80 @@ impl MainPairs<'_> {
                     &mut scratch
                 };
                 let force = fl.law.normal_stage(overlap, rate, hist);
+                // SAFETY: t < found ≤ BATCH.
+                unsafe {
+                    *g.force.get_unchecked_mut(t) = force;
+                    *g.slip.get_unchecked_mut(t) = slip;
+                }
+                if !R::STORES_FORCE {
+                    // SAFETY: entry k belongs to row i of this block; the
+                    // spring was turned in pass 1b.
+                    let sh = unsafe { &mut *self.shear.0.add(k) };
+                    let moved = fl.friction.move_spring(overlap, force, slip, self.dt, sh);
+                    // SAFETY: t < found ≤ BATCH.
+                    unsafe { *g.moved.get_unchecked_mut(t) = moved };
+                }
+            }
+            from = to;
+        }
+        if !R::STORES_FORCE {
+            for t in 0..found {
+                let (sliding, s) = g.moved[t].cut();
+                g.sliding[t] = sliding;
+                g.cut[t] = s;
+            }
+        }
+        let mut from = 0usize;
+        for i in lo..hi {
+            let (s, e) = (start[i] as usize, start[i + 1] as usize);
+            if s == e {
+                continue;
+            }
+            let to = (g.ends[i - lo] as usize).min(found);
+            let a = side(i);
+            let mut fi = [0.0; 3];
+            let mut ti = [0.0; 3];
+            for t in from..to {
+                let q = g.entry(t);
+                let (j, k) = (g.partner[q] as usize, first + q);
+                let fl = row_law(i, j);
+                let overlap = g.overlap[q];
+                let n = [g.nx[q], g.ny[q], g.nz[q]];
+                // SAFETY: t < found ≤ BATCH.
+                let (force, slip) =
+                    unsafe { (*g.force.get_unchecked(t), *g.slip.get_unchecked(t)) };
                 // SAFETY: entry k belongs to row i of this block.
                 let sh = unsafe { &mut *self.shear.0.add(k) };
-                // The spring was turned in pass 1b.
-                let tangential = fl.friction.tangential_force_turned_known(
-                    R::STORES_FORCE,
-                    overlap,
-                    force,
-                    slip,
-                    self.dt,
-                    sh,
-                );
-                let rolling = if ROLL {
+                let tangential = if R::STORES_FORCE {
+                    // The spring was turned in pass 1b.
+                    fl.friction
+                        .tangential_force_turned_known(true, overlap, force, slip, self.dt, sh)
+                } else {
+                    // SAFETY: t < found ≤ BATCH.
+                    let (moved, sliding, cut) = unsafe {
+                        (
+                            g.moved.get_unchecked(t),
+                            *g.sliding.get_unchecked(t),
+                            *g.cut.get_unchecked(t),
+                        )
+                    };
+                    fl.friction
+                        .cut_spring_force(moved, sliding, cut, overlap, slip, sh)
+                };
+                let arm_j = if ROLL {
+                    let b = side(j);
                     // SAFETY: as the spring.
                     let roll = unsafe { &mut *self.roll.0.add(k) };
-                    Some(fl.rolling_stage(overlap, force, n, &a, &b, self.dt, roll))
+                    (
+                        Some(fl.rolling_stage(overlap, force, n, &a, &b, self.dt, roll)),
+                        b.arm,
+                    )
                 } else {
-                    None
+                    // SAFETY: j is a body (pass 1).
+                    (None, unsafe { *radius.get_unchecked(j) })
                 };
-                let (arm_i, arm_j) = fl.torque_arm.arms(overlap, a.arm, b.arm);
+                let (rolling, arm_j) = arm_j;
+                let (arm_i, arm_j) = fl.torque_arm.arms(overlap, a.arm, arm_j);
                 let c = assemble(force, tangential, rolling, n, arm_i, arm_j);
                 let (fj, tqj) = (c.on_body2(n), c.torque2());
                 sub(&mut fi, fj);
@@ -335,7 +395,10 @@ pub(super) const BATCH: usize = 64;
 /// entry (its index in the list minus the batch's first): the partner,
 /// the difference of centres (m) and sum of radii (m), whether it
 /// touches, the overlap (m) and unit normal; `found`: the touching
-/// entries in order; `ends`: where each row's end in `found`.
+/// entries in order; `ends`: where each row's end in `found`. Then by
+/// contact found (its index in `found`), the second pass's stages: the
+/// normal force (N), the slip velocity (m/s), the moved displacement
+/// spring, whether it slides and its cut factor.
 pub(super) struct Batch {
     partner: [u32; BATCH],
     dx: [f64; BATCH],
@@ -349,6 +412,11 @@ pub(super) struct Batch {
     nz: [f64; BATCH],
     found: [u8; BATCH],
     ends: [u8; BATCH],
+    force: [f64; BATCH],
+    slip: [[f64; 3]; BATCH],
+    moved: [MovedSpring; BATCH],
+    sliding: [bool; BATCH],
+    cut: [f64; BATCH],
 }
 
 impl Batch {
@@ -380,5 +448,14 @@ impl Batch {
         nz: [0.0; BATCH],
         found: [0; BATCH],
         ends: [0; BATCH],
+        force: [0.0; BATCH],
+        slip: [[0.0; 3]; BATCH],
+        moved: [MovedSpring {
+            stiffness: 0.0,
+            limit: 0.0,
+            stretch: 0.0,
+        }; BATCH],
+        sliding: [false; BATCH],
+        cut: [0.0; BATCH],
     };
 }

@@ -266,32 +266,10 @@ pub(crate) unsafe fn add_pair_forces_then(
         (true, false, Some(one)) => main.run::<false, true, true, false, _>(workers, follow, &one),
         (true, true, Some(one)) => main.run::<false, true, true, true, _>(workers, follow, &one),
         (_, _, None) if stores_force => {
-            let rows = ClassTable::<true> {
-                table: &friction.pairs,
-                class: &bodies.class,
-                classes: friction.classes,
-            };
-            run_class_table(
-                &main,
-                workers,
-                follow,
-                (keep, rolling, table, tallied),
-                &rows,
-            )
+            run_class_table::<true>(&main, workers, follow, (keep, rolling, table, tallied))
         }
         (_, _, None) => {
-            let rows = ClassTable::<false> {
-                table: &friction.pairs,
-                class: &bodies.class,
-                classes: friction.classes,
-            };
-            run_class_table(
-                &main,
-                workers,
-                follow,
-                (keep, rolling, table, tallied),
-                &rows,
-            )
+            run_class_table::<false>(&main, workers, follow, (keep, rolling, table, tallied))
         }
     };
     for (k, &(i, j)) in list.extra.iter().enumerate() {
@@ -637,14 +615,19 @@ impl MainPairs<'_> {
 
 /// The class table's loops of [`add_pair_forces_then`] (one per setting:
 /// `keep`, `rolling`, `table`, `tallied`), for the kind of tangential
-/// spring `STORES_FORCE` ([`RowLaws::STORES_FORCE`]).
+/// spring `STORES_FORCE` ([`RowLaws::STORES_FORCE`]): the laws from
+/// `main`'s class table.
 fn run_class_table<const STORES_FORCE: bool>(
     main: &MainPairs,
     workers: &Workers,
     follow: Option<FollowUp>,
     (keep, rolling, table, tallied): (bool, bool, bool, bool),
-    rows: &ClassTable<STORES_FORCE>,
 ) -> f64 {
+    let rows = &ClassTable::<STORES_FORCE> {
+        table: main.table,
+        class: main.class,
+        classes: main.classes,
+    };
     match (keep, rolling, table, tallied) {
         (false, false, true, true) => {
             main.run::<false, false, true, true, _>(workers, follow, rows)
