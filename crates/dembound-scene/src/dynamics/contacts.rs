@@ -294,7 +294,22 @@ pub fn separation(
 #[inline(always)]
 fn geometry(d: [f64; 3], r2: f64, s: f64, vi: [f64; 3], vj: [f64; 3]) -> PairGeometry {
     let r = r2.sqrt();
-    let inv = 1.0 / r;
+    geometry_at(d, r, 1.0 / r, s, vi, vj)
+}
+
+/// The geometry of a touching pair whose centre distance `r` = √r² and
+/// its inverse `inv` = 1 / r are known (computed four pairs at a time by
+/// `Rows`: the same correctly rounded operations, the same bits); `d` is
+/// x_j − x_i and `s` the radii's sum.
+#[inline(always)]
+pub(crate) fn geometry_at(
+    d: [f64; 3],
+    r: f64,
+    inv: f64,
+    s: f64,
+    vi: [f64; 3],
+    vj: [f64; 3],
+) -> PairGeometry {
     let n = [d[0] * inv, d[1] * inv, d[2] * inv];
     PairGeometry {
         overlap: s - r,

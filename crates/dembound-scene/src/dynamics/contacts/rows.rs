@@ -5,7 +5,8 @@
 //! are tested four at a time first.
 
 use super::{
-    add, contact_force, sub, touching_lazy, LawTable, PairHistories, PairTally, NO_HISTORY,
+    add, contact_force, geometry_at, sub, touching_lazy, LawTable, PairGeometry, PairHistories,
+    PairTally, NO_HISTORY,
 };
 use crate::bodies::{Bodies, NO_GROUP};
 use crate::dynamics::entry_tally::EntryTerms;
@@ -208,12 +209,28 @@ impl<'a> Rows<'a> {
             ];
             while k + 4 <= e {
                 // SAFETY: k..k + 4 within row i.
-                let mut near = unsafe { self.near4(centre, k) };
-                while near != 0 {
-                    let lane = near.trailing_zeros() as usize;
-                    near &= near - 1;
-                    // SAFETY: as the pair loop below.
-                    unsafe { self.pair::<TALLY>(i, k + lane, xi, vi, ri, &mut fi, &mut sums) };
+                let (mut near, r2) = unsafe { self.near4_distances(centre, k) };
+                if near != 0 {
+                    // The touching lanes' r = √r² and 1 / r, four at a
+                    // time (`touching_lazy`'s scalar operations, correctly
+                    // rounded either way: the same bits).
+                    let (r, inv) = unsafe { distances_inverses(r2) };
+                    while near != 0 {
+                        let lane = near.trailing_zeros() as usize;
+                        near &= near - 1;
+                        // SAFETY: as the pair loop below; lane is one of
+                        // near4's touching lanes.
+                        unsafe {
+                            self.pair_near::<TALLY>(
+                                i,
+                                k + lane,
+                                (xi, vi, ri),
+                                (r[lane], inv[lane]),
+                                &mut fi,
+                                &mut sums,
+                            )
+                        };
+                    }
                 }
                 k += 4;
             }
@@ -250,6 +267,22 @@ impl<'a> Rows<'a> {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(crate) unsafe fn near4(&self, centre: [std::arch::x86_64::__m256d; 4], k: usize) -> u32 {
+        // SAFETY: as the caller's.
+        unsafe { self.near4_distances(centre, k).0 }
+    }
+
+    /// [`Self::near4`]'s lanes and each lane's squared centre distance
+    /// r² = |x_j − x_i|².
+    ///
+    /// # Safety
+    /// As [`Self::near4`].
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(crate) unsafe fn near4_distances(
+        &self,
+        centre: [std::arch::x86_64::__m256d; 4],
+        k: usize,
+    ) -> (u32, std::arch::x86_64::__m256d) {
         use std::arch::x86_64::*;
         let js = self.js.as_ptr().add(k);
         let p = self.position.as_ptr() as *const f64;
@@ -292,7 +325,7 @@ impl<'a> Rows<'a> {
         );
         let s = _mm256_add_pd(centre[3], rj);
         let near = _mm256_cmp_pd::<_CMP_NGE_UQ>(r2, _mm256_mul_pd(s, s));
-        _mm256_movemask_pd(near) as u32
+        (_mm256_movemask_pd(near) as u32, r2)
     }
 
     /// Entry k of row i: the pair's force if it touches (and its
@@ -314,16 +347,12 @@ impl<'a> Rows<'a> {
         sums: &mut PairTally,
     ) {
         let Rows {
-            bodies,
-            laws,
             position,
             velocity,
             radius,
             js,
             keep,
-            f_ptr,
             h_ptr,
-            entries,
             ..
         } = *self;
         // SAFETY (the unchecked reads): k < js.len() (rows lie within j),
@@ -333,43 +362,134 @@ impl<'a> Rows<'a> {
         let (xj, rj) = unsafe { (*position.get_unchecked(j), *radius.get_unchecked(j)) };
         // The velocity is read only for touching pairs.
         let vj = || unsafe { *velocity.get_unchecked(j) };
-        if let Some(g) = touching_lazy(xi, vi, ri, xj, vj, rj) {
-            let mut scratch = NO_HISTORY;
-            // SAFETY: history k belongs to row i, which only this block
-            // visits.
-            let hist = if keep {
-                unsafe { &mut *h_ptr.0.add(k) }
-            } else {
-                &mut scratch
-            };
-            let law = laws.pair(bodies, i, j);
-            let fj = contact_force(&law, &g, hist);
-            if TALLY {
-                // As `pair_observables`: the history as the force left it
-                // (none kept: the default).
-                if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
-                    sums[1] += 1.0;
-                } else {
-                    sums[0] += 1.0;
+        match touching_lazy(xi, vi, ri, xj, vj, rj) {
+            // SAFETY: as the caller's.
+            Some(g) => unsafe { self.touching_pair::<TALLY>(i, k, j, &g, fi, sums) },
+            None => {
+                if keep {
+                    // SAFETY: as above.
+                    let hist = unsafe { &mut *h_ptr.0.add(k) };
+                    if *hist != ContactHistory::default() {
+                        *hist = ContactHistory::default();
+                    }
                 }
-                let hist = if keep { &*hist } else { &NO_HISTORY };
-                let energy = laws.elastic_energy(&law, g.overlap, hist);
-                sums[2] += energy;
-                // SAFETY: entry k belongs to row i, which only this block
-                // visits.
-                unsafe { entries.energy(k, energy) };
-            }
-            sub(fi, fj);
-            // SAFETY: j lies in this block or the next (the blocks'
-            // construction); blocks of one parity are two apart, so no
-            // other running block writes j.
-            unsafe { add(&mut *f_ptr.0.add(j), fj) };
-        } else if keep {
-            // SAFETY: as above.
-            let hist = unsafe { &mut *h_ptr.0.add(k) };
-            if *hist != ContactHistory::default() {
-                *hist = ContactHistory::default();
             }
         }
     }
+
+    /// Entry k of row i, one of [`Self::near4`]'s touching lanes, whose
+    /// centre distance r and its inverse are `(r, inv)`: as [`Self::pair`]
+    /// (the same bits: `touching_lazy`'s second test, r² = 0, is r = 0).
+    ///
+    /// # Safety
+    /// As [`Self::pair`]; no histories are kept (a pair apart does
+    /// nothing).
+    #[inline(always)]
+    unsafe fn pair_near<const TALLY: bool>(
+        &self,
+        i: usize,
+        k: usize,
+        (xi, vi, ri): ([f64; 3], [f64; 3], f64),
+        (r, inv): (f64, f64),
+        fi: &mut [f64; 3],
+        sums: &mut PairTally,
+    ) {
+        // Coincident centres: no direction to push along (`touching_lazy`).
+        if r == 0.0 {
+            return;
+        }
+        let Rows {
+            position,
+            velocity,
+            radius,
+            js,
+            ..
+        } = *self;
+        // SAFETY: as in `Self::pair`.
+        let j = unsafe { *js.get_unchecked(k) } as usize;
+        let (xj, rj, vj) = unsafe {
+            (
+                *position.get_unchecked(j),
+                *radius.get_unchecked(j),
+                *velocity.get_unchecked(j),
+            )
+        };
+        let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+        let g = geometry_at(d, r, inv, ri + rj, vi, vj);
+        // SAFETY: as the caller's.
+        unsafe { self.touching_pair::<TALLY>(i, k, j, &g, fi, sums) };
+    }
+
+    /// The force of touching entry k (row i, partner j) with geometry `g`:
+    /// subtracted from `fi`, added to j's force; with `TALLY`, its
+    /// [`PairTally`] terms to `sums`.
+    ///
+    /// # Safety
+    /// As [`Self::pair`].
+    #[inline(always)]
+    unsafe fn touching_pair<const TALLY: bool>(
+        &self,
+        i: usize,
+        k: usize,
+        j: usize,
+        g: &PairGeometry,
+        fi: &mut [f64; 3],
+        sums: &mut PairTally,
+    ) {
+        let Rows {
+            bodies,
+            laws,
+            keep,
+            f_ptr,
+            h_ptr,
+            entries,
+            ..
+        } = *self;
+        let mut scratch = NO_HISTORY;
+        // SAFETY: history k belongs to row i, which only this block
+        // visits.
+        let hist = if keep {
+            unsafe { &mut *h_ptr.0.add(k) }
+        } else {
+            &mut scratch
+        };
+        let law = laws.pair(bodies, i, j);
+        let fj = contact_force(&law, g, hist);
+        if TALLY {
+            // As `pair_observables`: the history as the force left it
+            // (none kept: the default).
+            if bodies.group[i] != NO_GROUP || bodies.group[j] != NO_GROUP {
+                sums[1] += 1.0;
+            } else {
+                sums[0] += 1.0;
+            }
+            let hist = if keep { &*hist } else { &NO_HISTORY };
+            let energy = laws.elastic_energy(&law, g.overlap, hist);
+            sums[2] += energy;
+            // SAFETY: entry k belongs to row i, which only this block
+            // visits.
+            unsafe { entries.energy(k, energy) };
+        }
+        sub(fi, fj);
+        // SAFETY: j lies in this block or the next (the blocks'
+        // construction); blocks of one parity are two apart, so no
+        // other running block writes j.
+        unsafe { add(&mut *f_ptr.0.add(j), fj) };
+    }
+}
+
+/// √r² and 1 / √r² of each lane of `r2`, as arrays.
+///
+/// # Safety
+/// The processor has AVX.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn distances_inverses(r2: std::arch::x86_64::__m256d) -> ([f64; 4], [f64; 4]) {
+    use std::arch::x86_64::*;
+    let r = _mm256_sqrt_pd(r2);
+    let inv = _mm256_div_pd(_mm256_set1_pd(1.0), r);
+    let (mut rs, mut invs) = ([0.0; 4], [0.0; 4]);
+    _mm256_storeu_pd(rs.as_mut_ptr(), r);
+    _mm256_storeu_pd(invs.as_mut_ptr(), inv);
+    (rs, invs)
 }
