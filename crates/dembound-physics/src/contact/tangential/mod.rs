@@ -499,7 +499,11 @@ impl FrictionPair {
                 shear[2] - along * normal[2],
             ];
             let along2 = along * along;
-            let scale = if along2 < 1.0e-8 * before {
+            // A spring so short that |δ|² is subnormal (|δ| < 1.5e-154:
+            // round-off slips of spheres at rest, ~1e-123 m/s) takes the
+            // root below: there 1/|δ|² overflows to ∞ and the small turn's
+            // factor would be ∞, the spring ∞ and then NaN.
+            let scale = if along2 < 1.0e-8 * before && before >= f64::MIN_POSITIVE {
                 // A small turn (every step of a resolved contact):
                 // 1/√(1 − x) = 1 + x/2 to rounding (the next term, 3x²/8,
                 // is below 4e-17). No root.

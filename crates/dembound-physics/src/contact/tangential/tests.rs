@@ -169,6 +169,29 @@ fn turn_spring_rotates_the_spring_with_the_frame() {
     assert_eq!(upright, [0.0; 3]);
 }
 
+/// A spring whose |δ|² is subnormal (round-off slips of spheres at rest:
+/// a touching FCC bed with Mindlin friction blew up to NaN this way) turns
+/// like any other: δ = a x̂ with a = 1e-155 m (a² = 1e-310 < 2.2e-308) and
+/// the normal turned by θ = 1e-5 (the small-turn test holds, and there
+/// 1/|δ|² = ∞). The closed form of the test above, a (cos θ, 0, −sin θ);
+/// tolerance 1e-6 of a: a² and (δ·n)² = 1e-320 are subnormals, kept to
+/// ~1e-2 and ~1e-4 of themselves (the factor |δ|/|p| is 1 + 5e-11, so
+/// the result is the projection to that precision: 1e-6 is loose).
+#[test]
+fn a_spring_with_a_subnormal_square_turns_to_a_finite_spring() {
+    let a = 1.0e-155;
+    let th = 1.0e-5f64;
+    let mut shear = [a, 0.0, 0.0];
+    FrictionPair::turn_spring(&mut shear, [th.sin(), 0.0, th.cos()]);
+    let expected = [a * th.cos(), 0.0, -a * th.sin()];
+    for c in 0..3 {
+        assert!(
+            (shear[c] - expected[c]).abs() < 1e-6 * a,
+            "{shear:?} against {expected:?}"
+        );
+    }
+}
+
 #[test]
 fn tangential_damping_has_the_normal_damping_ratio() {
     // Linear + viscous (formula, attractive: ξ = −ln e/√(π² + ln² e)):

@@ -13,7 +13,7 @@ use std::arch::x86_64::{
     _mm256_blendv_pd, _mm256_castsi256_pd, _mm256_cmp_pd, _mm256_div_pd, _mm256_loadu_pd,
     _mm256_loadu_si256, _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute4x64_pd,
     _mm256_permute_pd, _mm256_set1_pd, _mm256_setzero_pd, _mm256_setzero_si256, _mm256_storeu_pd,
-    _mm256_sub_epi64, _mm256_sub_pd, _CMP_LT_OQ, _CMP_NEQ_UQ,
+    _mm256_sub_epi64, _mm256_sub_pd, _CMP_GE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ,
 };
 
 use dembound_physics::contact::tangential::FrictionPair;
@@ -55,6 +55,7 @@ pub(super) unsafe fn turn_or_clear(
     let one = _mm256_set1_pd(1.0);
     let half = _mm256_set1_pd(0.5);
     let tiny = _mm256_set1_pd(1.0e-8);
+    let normal_min = _mm256_set1_pd(f64::MIN_POSITIVE);
     let mut q = 0;
     while q + 4 <= count {
         // SAFETY: entries q..q + 4 are < count (the loop's test).
@@ -84,7 +85,12 @@ pub(super) unsafe fn turn_or_clear(
             let py = _mm256_sub_pd(y, _mm256_mul_pd(along, n1));
             let pz = _mm256_sub_pd(z, _mm256_mul_pd(along, n2));
             let along2 = _mm256_mul_pd(along, along);
-            let small = _mm256_cmp_pd::<_CMP_LT_OQ>(along2, _mm256_mul_pd(tiny, before));
+            // The small turn's test, and |δ|² normal (`turn_spring`: a
+            // subnormal |δ|² takes the root, in the scalar function).
+            let small = _mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_LT_OQ>(along2, _mm256_mul_pd(tiny, before)),
+                _mm256_cmp_pd::<_CMP_GE_OQ>(before, normal_min),
+            );
             let turned = _mm256_cmp_pd::<_CMP_NEQ_UQ>(along, zero);
             // A touching spring that turns by the large-turn branch: the
             // scalar function for these four.
@@ -200,6 +206,13 @@ mod tests {
             if e % 19 == 2 {
                 d = [f64::NAN, 1.0, -2.0];
             }
+            if e % 23 == 12 {
+                // |δ|² subnormal, a small turn (δ·n ~ 1e-5 |δ|): the
+                // scalar function's root (1/|δ|² would be ∞).
+                for c in 0..3 {
+                    d[c] = 1.0e-155 * t[c] + 1.0e-160 * n[c];
+                }
+            }
             shear.push(d);
             touches.push(u64::from(e % 5 != 1 && e % 19 != 2));
         }
@@ -211,6 +224,13 @@ mod tests {
             let mut got = shear.clone();
             // SAFETY: AVX2 checked; `got` holds `count` ≥ n springs.
             unsafe { turn_or_clear(got.as_mut_ptr(), &nx, &ny, &nz, &touches, n) };
+            for e in (12..n).step_by(23) {
+                assert!(
+                    got[e].iter().all(|x| x.is_finite()),
+                    "entry {e}: {:?}",
+                    got[e]
+                );
+            }
             for e in 0..count {
                 assert_eq!(
                     got[e].map(f64::to_bits),
