@@ -231,19 +231,22 @@ fn runs_beyond_the_step_limit_need_force() {
 fn a_scene_larger_than_the_memory_is_refused_before_it_is_made() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    // 10⁸ spheres (the lattice's own maximum) need 56 GB at 560 B each:
-    // more than any machine this runs on has available (24 GB here).
+    // 10⁸ spheres (the lattice's own maximum) with Gear5 are charged
+    // 95.2 GB: Gear5's measured 1040 B a sphere less the 88 B of the
+    // sphere list a lattice does not make (952 B) — more than any machine
+    // this runs on has available (24 GB here).
     let lattice = "lattice = { counts = [1000, 1000, 100], spacing = [1e-3, 1e-3, 1e-3], \
                    origin = [5e-4, 5e-4, 5e-4], radius = 4e-4 }";
+    let gear5 = "scheme = \"gear5\"\ndt = 1.0e-6\nsteps = 10";
     let started = std::time::Instant::now();
     refused(
         dir,
         lattice,
-        SHORT,
+        gear5,
         &[
             "particles[0].lattice.counts = [1000, 1000, 100]",
             "100000000 spheres",
-            "56.000 GB",
+            "95.200 GB",
             "available",
         ],
     );
