@@ -279,7 +279,7 @@ mod tests {
         ciborium::into_writer(&header, &mut old).unwrap();
         let e = decode(&old, "old.cbor").unwrap_err().to_string();
         assert!(
-            e.contains("version 1") && e.contains("versions 2 to 3"),
+            e.contains("version 1") && e.contains("versions 2 to 4"),
             "{e}"
         );
         let e = decode(b"hello", "x").unwrap_err().to_string();
