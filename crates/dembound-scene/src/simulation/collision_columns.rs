@@ -329,10 +329,17 @@ struct Columns {
 }
 
 /// The u32 at `k` of a column of u32.
-fn u32_at(column: &[u8], k: usize) -> u32 {
+pub(super) fn u32_at(column: &[u8], k: usize) -> u32 {
     let mut b = [0; 4];
     b.copy_from_slice(&column[4 * k..4 * k + 4]);
     u32::from_le_bytes(b)
+}
+
+/// The f64 at `k` of a column of f64 (by bits).
+pub(super) fn f64_at(column: &[u8], k: usize) -> f64 {
+    let mut b = [0; 8];
+    b.copy_from_slice(&column[8 * k..8 * k + 8]);
+    f64::from_bits(u64::from_le_bytes(b))
 }
 
 impl Columns {
@@ -426,9 +433,7 @@ impl Columns {
             };
             for (v, column) in VALUES.iter().zip(&values) {
                 if !column.is_empty() {
-                    let mut b = [0; 8];
-                    b.copy_from_slice(&column[8 * r..8 * r + 8]);
-                    (v.set)(&mut c, f64::from_bits(u64::from_le_bytes(b)));
+                    (v.set)(&mut c, f64_at(column, r));
                 }
             }
             out.push(c);

@@ -23,7 +23,7 @@ use serde::de::{self, DeserializeOwned, MapAccess, SeqAccess, Visitor};
 use serde::ser::SerializeStruct;
 use serde::{Deserializer, Serializer};
 
-use super::collision_columns::{ByteColumn, Bytes};
+use super::collision_columns::{f64_at, u32_at, ByteColumn, Bytes};
 use crate::dynamics::collisions::Track;
 
 /// A record stored as flag bits and a fixed number of f64 values.
@@ -194,20 +194,11 @@ fn records<T: Keyed>(
         .zip(T::VALUE_NAMES)
         .map(|(c, name)| sized(name, c, 8, true))
         .collect::<Result<Vec<_>, _>>()?;
-    let u32_at = |c: &[u8], r: usize| {
-        u32::from_le_bytes([c[4 * r], c[4 * r + 1], c[4 * r + 2], c[4 * r + 3]])
-    };
     let mut row = vec![0.0; T::VALUE_NAMES.len()];
     let mut out = Vec::with_capacity(n);
     for r in 0..n {
         for (x, c) in row.iter_mut().zip(&values) {
-            *x = if c.is_empty() {
-                0.0
-            } else {
-                let mut bytes = [0; 8];
-                bytes.copy_from_slice(&c[8 * r..8 * r + 8]);
-                f64::from_bits(u64::from_le_bytes(bytes))
-            };
+            *x = if c.is_empty() { 0.0 } else { f64_at(c, r) };
         }
         let f = flags.get(r).copied().unwrap_or(0);
         out.push((u32_at(&a, r), u32_at(&b, r), T::from_parts(f, &row)));
