@@ -17,7 +17,10 @@
 //! With the environment variable `DEMBOUND_TEAM_TRACE` set, the team
 //! times its stages and prints a table when it stops ([`trace`]).
 
+mod backoff;
 pub mod trace;
+
+pub(crate) use backoff::Backoff;
 
 use crate::error::SceneError;
 use std::cell::UnsafeCell;
@@ -37,19 +40,9 @@ pub const BODY_CHUNK: usize = 4096;
 /// (4096 gave chunks of 4096, 4096 and 1808: one thread did 59 %).
 pub const STEP_CHUNK: usize = 1024;
 
-/// Spins (`spin_loop`, one PAUSE) before a waiting worker yields its
-/// core, then yields before it parks. A spin took 25.9 ns on the AMD EPYC
-/// these figures were taken on, so 2^10 spins are ~26 µs: longer than
-/// most hand-offs and waits inside a stage on a quiet machine (sub-µs to
-/// a few µs), short next to a stage (~130 µs at 10k spheres). Past that
-/// the worker yields: on a core of its own `sched_yield` returns at once
-/// (0.6 µs, still a poll), and on a core it shares with the worker it
-/// waits for (a busy machine: the other core taken) it hands that worker
-/// the core. With 2^14 spins (424 µs here) each wait on a shared core
-/// burnt the core for the rest of the spin: two threads on one core ran
-/// 2000 steps of the 10k lattice drop in 7.84 s against one thread's
-/// 0.36 s. Parking after ~2.5 ms of yields frees the core between runs.
-pub(crate) const SPINS: u32 = 1 << 10;
+/// Yields (`sched_yield`) of a worker waiting for the next stage, after
+/// its spins ([`backoff`]), before it parks: ~2.5 ms of them free the core
+/// between runs.
 const YIELDS: u32 = 1 << 12;
 
 /// The worker threads of one simulation.
@@ -348,6 +341,9 @@ struct Team {
     trace: Option<trace::Trace>,
     handles: Vec<JoinHandle<()>>,
     threads: usize,
+    /// Spins before a yield, for each thread of the team
+    /// ([`backoff::budget_for`]).
+    spins: u32,
 }
 
 impl Team {
@@ -364,17 +360,20 @@ impl Team {
             busy: AtomicBool::new(false),
         });
         trace::start();
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let spins = backoff::budget_for(threads, cores);
         let mut team = Team {
             shared: Arc::clone(&shared),
             trace: trace::on().then(trace::Trace::default),
             handles: Vec::with_capacity(threads - 1),
             threads,
+            spins,
         };
         for t in 1..threads {
             let shared = Arc::clone(&shared);
             let handle = std::thread::Builder::new()
                 .name(format!("dembound-worker-{t}"))
-                .spawn(move || work(&shared, t))
+                .spawn(move || work(&shared, t, spins))
                 .map_err(|e| SceneError::Threads(format!("cannot start worker thread {t}: {e}")))?;
             // Dropping `team` on an error stops the workers started so far.
             team.handles.push(handle);
@@ -424,6 +423,8 @@ impl Team {
                 self.handles[k].thread().unpark();
             }
         }
+        // The leader may be any thread: its waits take the team's budget.
+        backoff::set_budget(self.spins);
         let mut mine = Ok(());
         let part0 = if raised.is_some() {
             trace::part(|| mine = catch_unwind(AssertUnwindSafe(|| f(0))))
@@ -431,15 +432,10 @@ impl Team {
             mine = catch_unwind(AssertUnwindSafe(|| f(0)));
             trace::Part::default()
         };
-        let mut spins = 0u32;
-        let mut wait = |done: &dyn Fn() -> bool| {
+        let wait = |done: &dyn Fn() -> bool| {
+            let mut backoff = Backoff::new();
             while !done() {
-                if spins < SPINS {
-                    std::hint::spin_loop();
-                    spins += 1;
-                } else {
-                    std::thread::yield_now();
-                }
+                backoff.snooze();
             }
         };
         if all {
@@ -485,8 +481,10 @@ impl Drop for Team {
     }
 }
 
-/// Worker t's loop: wait for a new job (spin, yield, then park), run it.
-fn work(s: &Shared, t: usize) {
+/// Worker t's loop: wait for a new job (spin `spins` times, yield, then
+/// park), run it.
+fn work(s: &Shared, t: usize, spins: u32) {
+    backoff::set_budget(spins);
     let mut seen = 0u64;
     loop {
         let mut waited = 0u32;
@@ -506,9 +504,9 @@ fn work(s: &Shared, t: usize) {
                 continue;
             }
             waited = waited.saturating_add(1);
-            if waited < SPINS {
+            if waited < spins {
                 std::hint::spin_loop();
-            } else if waited < SPINS + YIELDS {
+            } else if waited < spins.saturating_add(YIELDS) {
                 std::thread::yield_now();
             } else {
                 let sleeping = &s.sleeping[t - 1];

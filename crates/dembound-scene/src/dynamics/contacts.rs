@@ -757,14 +757,9 @@ fn wait_until(ready: impl Fn() -> bool) {
         return;
     }
     let traced = crate::parallel::trace::on().then(Instant::now);
-    let mut spins = 0u32;
+    let mut backoff = crate::parallel::Backoff::new();
     while !ready() {
-        if spins < crate::parallel::SPINS {
-            std::hint::spin_loop();
-            spins += 1;
-        } else {
-            std::thread::yield_now();
-        }
+        backoff.snooze();
     }
     if let Some(t) = traced {
         crate::parallel::trace::add_wait(t.elapsed().as_nanos() as u64);
