@@ -29,10 +29,18 @@ pub enum Region {
     },
 }
 
-/// `v` over its length (the zero vector stays zero).
+/// `v` over its length (the zero vector stays zero). Where the plain
+/// square underflows or overflows (|v| ≤ 1e-150 or not finite: [0, 0,
+/// 1e-170] squares to 0 and stayed unnormalised, [0, 0, 1e200] to ∞ and
+/// became 0, both accepted as "finite, non-zero" axes), the length is the
+/// norm scaled by the largest component (every other vector keeps the
+/// plain root's bits).
 pub fn unit(v: [f64; 3]) -> [f64; 3] {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    if n > 0.0 {
+    let mut n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if !(n.is_finite() && n > 1e-150) {
+        n = crate::limits::norm(v);
+    }
+    if n > 0.0 && n.is_finite() {
         [v[0] / n, v[1] / n, v[2] / n]
     } else {
         v
@@ -230,6 +238,26 @@ mod tests {
         let p = [0.9, -0.9, 0.0];
         assert!((0..3).all(|k| p[k] >= lo[k] && p[k] <= hi[k]));
         assert!(!c.holds(&p));
+    }
+
+    /// A cylinder axis of any finite non-zero length is the unit one:
+    /// along z, 1e-160 (a subnormal square: 1 + 5.7e-6 long before),
+    /// 1e-170 and 1e200 (squares 0 and ∞: left 1e-170 long, or made 0)
+    /// give [0, 0, 1] to the bit.
+    #[test]
+    fn tiny_and_huge_cylinder_axes_normalise_to_unit_ones() {
+        let c = |z: f64| {
+            Region::Cylinder {
+                center: [0.0; 3],
+                axis: [0.0, 0.0, z],
+                radius: 1.0,
+                length: 4.0,
+            }
+            .normalized()
+        };
+        for z in [1e-160, 1e-170, 1e200] {
+            assert_eq!(c(z), c(1.0), "{z}");
+        }
     }
 
     /// The scene file's spellings, and the keys of bad values.

@@ -125,6 +125,44 @@ fn walton_braun_branches_from_update_alone() {
     assert_eq!(hist.max_overlap, 1.2e-6);
 }
 
+/// Walton–Braun at a restitution whose square is subnormal (1e-155) or
+/// 0 (1e-200, 5e-324; `contact.restitution` accepts any e > 0): k₂ =
+/// k₁/e² is ∞, the limit of a perfectly plastic unloading, h₀ = h_max.
+/// Below h_max on unloading the law gives no force and holds no energy
+/// (k₂ (h − h₀)²/2 was ∞ × 0 = NaN, which the scene's energy balance
+/// printed); at h_max the two branches meet at k₁ h_max; loading is k₁ h
+/// with energy k₁ h²/2, as at any e.
+#[test]
+fn walton_braun_at_a_vanishing_restitution_holds_no_energy() {
+    let p = paper_pair();
+    let k1 = p.modulus * p.radius;
+    let h = 4e-7;
+    let unloading = ContactHistory {
+        max_overlap: 1.5 * h,
+        unloading: true,
+    };
+    for e in [1e-155, 1e-200, 5e-324] {
+        let wb = law(ContactModel::elastic(NormalLaw::WaltonBraun {
+            restitution: e,
+        }));
+        assert_eq!(wb.force(h, -0.1, &unloading), 0.0, "{e}");
+        assert_eq!(wb.elastic_energy(h, &unloading), 0.0, "{e}");
+        // One rounding each (k₁ from the pair, times h): 1e−15.
+        let at_max = wb.force(1.5 * h, -0.1, &unloading);
+        assert!(
+            (at_max / (k1 * 1.5 * h) - 1.0).abs() < 1e-15,
+            "{e}: {at_max}"
+        );
+        let none = ContactHistory::default();
+        assert!(
+            (wb.force(h, 0.1, &none) / (k1 * h) - 1.0).abs() < 1e-15,
+            "{e}"
+        );
+        let u = wb.elastic_energy(h, &none);
+        assert!((u / (0.5 * k1 * h * h) - 1.0).abs() < 1e-15, "{e}: {u}");
+    }
+}
+
 #[test]
 fn walton_braun_driven_step_by_step_rebounds_with_e_to_second_order() {
     // The must-show of issue 11: only force/update, no event location. The

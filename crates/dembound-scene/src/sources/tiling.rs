@@ -74,8 +74,16 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// `v` scaled to unit length, or `None` for a zero or non-finite vector.
+/// Where the plain square underflows or overflows (|v| ≤ 1e-150 or not
+/// finite: [0, 0, 1e-160] squares to a subnormal that keeps 11 bits,
+/// [0, 0, 1e-170] to 0, [0, 0, 1e200] to ∞), the length is the norm scaled
+/// by the largest component, so that any finite non-zero vector gives a
+/// unit one (every other vector keeps the plain root's bits).
 pub fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
-    let n = dot(v, v).sqrt();
+    let mut n = dot(v, v).sqrt();
+    if !(n.is_finite() && n > 1e-150) {
+        n = crate::limits::norm(v);
+    }
     (n > 0.0 && n.is_finite()).then(|| v.map(|x| x / n))
 }
 
@@ -391,6 +399,30 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("periodic axis z"), "{e}");
+    }
+
+    /// A floor normal of any finite non-zero length tiles alike: along z,
+    /// 1e-160 (its square a subnormal keeping 11 bits: the unit normal was
+    /// 1 + 5.7e-6 long, the rows 5.7e-6 too far apart, touching spheres
+    /// overlapping), 1e-170 and 1e200 (squares 0 and ∞: refused as "not a
+    /// non-zero finite vector", which the scene's key check had accepted)
+    /// give the spheres of [0, 0, 1] to the bit.
+    #[test]
+    fn tiny_and_huge_normals_tile_as_unit_ones() {
+        let unit_floor = floor(Pattern::Hexagonal, 1.0)
+            .spheres(&box10([false; 3]), "w")
+            .unwrap();
+        for z in [1e-160, 1e-170, 1e200] {
+            let t = Tiling {
+                normal: [0.0, 0.0, z],
+                ..floor(Pattern::Hexagonal, 1.0)
+            };
+            assert_eq!(
+                t.spheres(&box10([false; 3]), "w"),
+                Ok(unit_floor.clone()),
+                "{z}"
+            );
+        }
     }
 
     #[test]

@@ -674,6 +674,34 @@ mod tests {
         assert_eq!((lo, hi), ([0.5, 1.5, -1.0], [1.5, 2.5, 1.0]));
     }
 
+    /// A centre exactly on the axis (r = 0) has no radial direction: the
+    /// tube does not face it (overlap −∞, normal 0, rate 0, not near)
+    /// rather than giving the normal 0/0 = NaN; the caps answer as
+    /// anywhere. A centre 1e-160 m off the axis (r² a subnormal) gets a
+    /// finite normal and the overlap R + r − R_c = −0.4 m (inside, R_c >
+    /// R: the tube never pushes there).
+    #[test]
+    fn a_centre_on_the_axis_is_not_faced_by_the_tube() {
+        let w = tube(true, Some(1.0));
+        let x = [1.0, 2.0, -0.95];
+        assert_eq!(w.geometry(TUBE, x, 0.1), (f64::NEG_INFINITY, [0.0; 3]));
+        let c = w.contact(TUBE, x, [0.3, -0.2, 0.1], 0.1);
+        assert_eq!((c.overlap, c.normal, c.rate), (f64::NEG_INFINITY, [0.0; 3], 0.0));
+        let mut seen = Vec::new();
+        w.near_elements(x, 0.1, 0.01, &mut |e| seen.push(e));
+        assert_eq!(seen, vec![LOWER_CAP]);
+        let (h, n) = w.geometry(LOWER_CAP, x, 0.1);
+        assert!((h - 0.05).abs() < 1e-15 && n == [0.0, 0.0, 1.0]);
+        let off = CylinderWall {
+            point: [0.0; 3],
+            ..w
+        };
+        let (h, n) = off.geometry(TUBE, [1e-160, 0.0, 0.3], 0.1);
+        // 0.1 + 1e-160 − 0.5 rounds to −0.4 (1e-160 is far below its ulp).
+        assert_eq!(h, 0.1 - 0.5);
+        assert!(n.iter().all(|c| c.is_finite()) && n[0] < 0.0, "{n:?}");
+    }
+
     /// The law rows: the tube a sphere of radius −R_c inside (LAMMPS
     /// `wall/gran` cylinders: R_eff = R R_c/(R_c − R)), +R_c outside.
     #[test]

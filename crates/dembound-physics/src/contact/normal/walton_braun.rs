@@ -81,7 +81,15 @@ impl NormalSubModel for WaltonBraun {
             return load;
         }
         let d = (overlap - self.residual_overlap(history)).max(0.0);
-        0.5 * self.unloading * d * d
+        // At or below h₀ the k₂ line holds nothing: 0, also where k₂ is
+        // ∞ (e² below f64::MIN_POSITIVE, perfectly plastic unloading, h₀ =
+        // h_max), where k₂ d²/2 would be ∞ × 0 = NaN. For a finite k₂
+        // this is the +0 the product gives (the same bits).
+        if d > 0.0 {
+            0.5 * self.unloading * d * d
+        } else {
+            0.0
+        }
     }
 
     fn stiffness(&self) -> f64 {

@@ -11,7 +11,12 @@
 //! 2. Degenerate triangles dropped: two corners welded into one, or
 //!    collinear corners (twice the area ≤ 1e-10 × longest edge², a height
 //!    below 1e-10 of the length: such a triangle's normal would carry
-//!    errors above the 1e-6 rad flatness tolerance of the patches).
+//!    errors above the 1e-6 rad flatness tolerance of the patches), or a
+//!    triangle so small that the square of twice its area is subnormal
+//!    (below `f64::MIN_POSITIVE`, ≈ 2.2e-308 m⁴: edges below ~1e-77 m,
+//!    a mesh scaled by 1e-80). Its normal, the area vector over the root
+//!    of that square, would not be of unit length (1.0000056 at edges of
+//!    1e-80 m, 1.012 at 3e-81 m: the subnormal square keeps a few bits).
 //! 3. Duplicate triangles (the same three welded vertices, in any order or
 //!    orientation) dropped but the first.
 //! 4. Edges counted: open (one triangle), non-manifold (three or more).
@@ -157,9 +162,11 @@ pub fn clean(soup: &[Triangle], weld_relative: f64) -> CleanMesh {
             vertices[b as usize],
             vertices[c as usize],
         );
-        let twice_area = norm(cross(sub(q, p), sub(r, p)));
+        let area_vector = cross(sub(q, p), sub(r, p));
+        let squared = dot(area_vector, area_vector);
+        let twice_area = squared.sqrt();
         let longest = norm(sub(q, p)).max(norm(sub(r, q))).max(norm(sub(p, r)));
-        if twice_area <= 1e-10 * longest * longest {
+        if squared < f64::MIN_POSITIVE || twice_area <= 1e-10 * longest * longest {
             report.degenerate += 1;
             continue;
         }

@@ -166,7 +166,7 @@ pub use wall_type::{Mesh, MeshConfig, RotateConfig};
 
 use super::motion::WallState;
 use super::{Wall, WallPoint};
-use geometry::{add, cross, norm, scale, sub};
+use geometry::{add, cross, dot, norm, scale, sub};
 
 /// Cleaning and patch tolerances.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -283,6 +283,23 @@ impl MeshGeometry {
             area += w;
         }
         let centroid = scale(centroid, 1.0 / area);
+        // A mesh whose areas' squares overflow (edges above ~1e77 m, or a
+        // flat patch's summed area vector above ~1.3e154 m²) gets a zero
+        // patch normal (1/∞ = 0) and a NaN centroid (0 × ∞): refused.
+        // Every other mesh's normals are unit to round-off (cleaning drops
+        // the triangles whose squares underflow) and passes unchanged.
+        let finite_unit = |n: [f64; 3]| (dot(n, n) - 1.0).abs() <= 1e-12;
+        let sound = area.is_finite()
+            && centroid.iter().all(|c| c.is_finite())
+            && patches
+                .patches
+                .iter()
+                .all(|p| p.area.is_finite() && finite_unit(p.normal));
+        if !sound {
+            return Err(MeshError::TooLarge {
+                file: file.to_path_buf(),
+            });
+        }
         Ok(MeshGeometry {
             vertices: cleaned.vertices,
             triangles: cleaned.triangles,

@@ -33,6 +33,10 @@ pub enum MeshError {
     /// No triangle is left after cleaning (`read` triangles were in the
     /// file, all degenerate or duplicates, or none at all).
     Empty { file: PathBuf, read: usize },
+    /// The placed mesh is too large for f64 arithmetic: a flat patch's
+    /// normal or area, or the mesh's area or centroid, is not a finite
+    /// number (squares of areas overflow, above ~1.8e308 m⁴).
+    TooLarge { file: PathBuf },
     /// A transform value out of its range.
     Transform {
         key: &'static str,
@@ -67,6 +71,14 @@ impl fmt::Display for MeshError {
             MeshError::Empty { file, read } => write!(
                 f,
                 "mesh file {}: no triangle left ({read} read, every one degenerate or a duplicate)",
+                file.display()
+            ),
+            MeshError::TooLarge { file } => write!(
+                f,
+                "mesh file {}: too large for f64 arithmetic once placed: the square of a flat \
+                 patch's area overflows, so its normal, area or the mesh's centroid is not a \
+                 finite number (allowed: a mesh below about 1e76 m across; check the scale and \
+                 the file's units)",
                 file.display()
             ),
             MeshError::Transform {

@@ -262,6 +262,56 @@ fn extreme_coordinates_do_not_panic() {
     assert!(c.overlap.is_nan() || c.overlap < 0.0);
 }
 
+/// The unit square [0, 1]² placed by `scale` s (edges s m).
+fn scaled_square(s: f64) -> Result<MeshGeometry, MeshError> {
+    let t = Transform {
+        scale: s,
+        ..Default::default()
+    };
+    MeshGeometry::from_triangles(Path::new("part.stl"), &square(0.0), &t, &MeshOptions::default())
+}
+
+/// A unit square scaled so small that the square of twice a triangle's
+/// area, s⁴, is subnormal: 1e-316, 1e-320 and 8e-323 m⁴ at s = 1e-79,
+/// 1e-80 and 3e-81. The normal over its root would be 1 + 8e-9, 1 +
+/// 5.6e-6 and 1.012 long (the subnormal keeps 24, 11 and 4 bits), so
+/// cleaning drops both triangles as degenerate and the mesh is refused as
+/// empty. At s = 2e-77 (s⁴ = 1.6e-307 m⁴, normal) it is kept, its normal
+/// (0, 0, 1) exactly (√(x²) = |x| when x² neither underflows nor
+/// overflows), its area s² and centroid (s/2, s/2, 0) to round-off.
+#[test]
+fn areas_whose_squares_underflow_are_dropped_as_degenerate() {
+    for s in [1e-79, 1e-80, 3e-81] {
+        let e = scaled_square(s);
+        assert!(matches!(e, Err(MeshError::Empty { read: 2, .. })), "{s}: {e:?}");
+    }
+    let s = 2e-77;
+    let m = scaled_square(s).unwrap();
+    assert_eq!(m.report.degenerate, 0);
+    assert_eq!(m.patches.patches[0].normal, [0.0, 0.0, 1.0]);
+    // Sums of two halves and a division by the area: a few ulps.
+    assert!((m.area / (s * s) - 1.0).abs() < 1e-15, "{}", m.area);
+    for (c, e) in m.centroid.iter().zip([0.5 * s, 0.5 * s, 0.0]) {
+        assert!((c - e).abs() <= 1e-15 * s, "{:?}", m.centroid);
+    }
+}
+
+/// A unit square scaled so large that squares of areas overflow. At s =
+/// 1e77 each triangle's square (1e308 m⁴) is finite but the patch's
+/// summed area vector's (4e308) is not, which made the patch normal 0
+/// (1/∞); at 1e80 every square overflows (normal 0, centroid 0 × ∞ =
+/// NaN: a scene with it printed NaN wall torques). Both refused, naming
+/// the file and the allowed size.
+#[test]
+fn meshes_whose_area_squares_overflow_are_refused() {
+    for s in [1e77, 1e80] {
+        let e = scaled_square(s).unwrap_err();
+        assert!(matches!(e, MeshError::TooLarge { .. }), "{s}: {e:?}");
+        let text = e.to_string();
+        assert!(text.contains("part.stl") && text.contains("1e76 m"), "{text}");
+    }
+}
+
 /// 600 broken files (random bytes; valid ASCII, binary and OBJ files
 /// truncated at random or with random bytes overwritten): each read
 /// returns, Ok or Err, and never panics.

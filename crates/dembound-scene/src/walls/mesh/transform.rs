@@ -51,7 +51,7 @@ impl Transform {
                 "finite, degrees",
             ));
         }
-        let l = norm(self.axis);
+        let l = axis_length(self.axis);
         if !(l.is_finite() && l > 0.0) {
             return Err(bad(
                 "rotate.axis",
@@ -69,7 +69,7 @@ impl Transform {
         let mut p = x.map(|c| c * self.scale);
         if self.angle_degrees != 0.0 {
             // Rodrigues: p cos θ + (k × p) sin θ + k (k·p)(1 − cos θ).
-            let l = norm(self.axis);
+            let l = axis_length(self.axis);
             let k = self.axis.map(|c| c / l);
             let (s, c) = self.angle_degrees.to_radians().sin_cos();
             let kxp = cross(k, p);
@@ -77,6 +77,22 @@ impl Transform {
             p = [0, 1, 2].map(|i| p[i] * c + kxp[i] * s + k[i] * kp * (1.0 - c));
         }
         [0, 1, 2].map(|i| p[i] + self.translate[i])
+    }
+}
+
+/// |axis|, m: the plain root of the sum of squares (the bits of every
+/// axis of ordinary length), or, where that square underflows or
+/// overflows (|axis| ≤ 1e-150 or not finite: [0, 0, 1e-160] squares to a
+/// subnormal that keeps 11 bits, [0, 0, 1e-170] to 0, [0, 0, 1e200] to
+/// ∞), the norm scaled by the largest component, so that the rotation
+/// axis is of unit length to round-off (as `walls::plane` does for a
+/// plane's normal).
+fn axis_length(axis: [f64; 3]) -> f64 {
+    let l = norm(axis);
+    if l.is_finite() && l > 1e-150 {
+        l
+    } else {
+        crate::limits::norm(axis)
     }
 }
 
@@ -103,6 +119,34 @@ mod tests {
             Transform::default().apply([0.1, -0.2, 0.3]),
             [0.1, -0.2, 0.3]
         );
+    }
+
+    /// Axes of any finite non-zero length turn alike. Along z, 1e-160
+    /// (its square a subnormal keeping 11 bits: the axis over that root
+    /// was 1 + 5.7e-6 long, the rotation stretched by as much), 1e-170
+    /// and 1e200 (squares 0 and ∞: refused as zero or infinite) give the
+    /// quarter turn of [0, 0, 1] to the bit; skew tiny axes keep a point's
+    /// distance from the origin (rigid) to round-off.
+    #[test]
+    fn tiny_and_huge_axes_rotate_as_unit_ones() {
+        let turn = |axis: [f64; 3], angle_degrees: f64, p: [f64; 3]| {
+            let t = Transform {
+                axis,
+                angle_degrees,
+                ..Default::default()
+            };
+            t.validate().map(|()| t.apply(p))
+        };
+        let unit = turn([0.0, 0.0, 1.0], 90.0, [1.0, 0.0, 0.0]).unwrap();
+        for z in [1e-160, 1e-170, 1e200] {
+            assert_eq!(turn([0.0, 0.0, z], 90.0, [1.0, 0.0, 0.0]), Ok(unit), "{z}");
+        }
+        let p = [1.0, 2.0, 3.0];
+        for axis in [[1e-160, 1e-160, 0.0], [3e-160, 0.0, 4e-160], [0.0, 2e-170, 1e-170]] {
+            let q = turn(axis, 37.0, p).unwrap();
+            // |p| = √14 ≈ 3.7: a rotation's few roundings, < 1e-15 × 4.
+            assert!((norm(q) - norm(p)).abs() < 4e-15, "{axis:?}: {q:?}");
+        }
     }
 
     #[test]
