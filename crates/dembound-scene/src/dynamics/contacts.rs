@@ -1130,10 +1130,8 @@ mod tests {
                     };
                     let mut history = super::NO_HISTORY;
                     let fj = super::contact_force(&w.laws.pair(b, i, j), &g, &mut history);
-                    for a in 0..3 {
-                        expected[i][a] -= fj[a];
-                        expected[j][a] += fj[a];
-                    }
+                    super::sub(&mut expected[i], fj);
+                    super::add(&mut expected[j], fj);
                     let m = fj.iter().map(|x| x.abs()).sum::<f64>();
                     magnitude[i] += m;
                     magnitude[j] += m;
@@ -1162,15 +1160,13 @@ mod tests {
             }
             for quad in [false, true] {
                 let (f, _) = list_forces(w, &sim.workers, quad);
-                for i in 0..n {
-                    for a in 0..3 {
-                        assert!(
-                            (f[i][a] - expected[i][a]).abs() <= 1e-14 * magnitude[i],
-                            "quad {quad}, body {i}: {:?} against {:?}",
-                            f[i],
-                            expected[i]
-                        );
-                    }
+                for (i, (got, want)) in f.iter().zip(&expected).enumerate() {
+                    assert!(
+                        got.iter()
+                            .zip(want)
+                            .all(|(g, e)| (g - e).abs() <= 1e-14 * magnitude[i]),
+                        "quad {quad}, body {i}: {got:?} against {want:?}"
+                    );
                 }
             }
         }

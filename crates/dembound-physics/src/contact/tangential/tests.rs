@@ -427,11 +427,8 @@ fn a_spring_exactly_at_the_limit_sticks() {
     assert_eq!(shear, [1.5, 2.0, 0.0], "the spring is not cut");
     let sum = [-6.0 - eta * 2.0, -8.0 + eta * 1.5, 0.0];
     let magnitude = norm(sum);
-    for a in 0..3 {
-        assert!(
-            (force[a] - 10.0 * sum[a] / magnitude).abs() < 1e-14,
-            "{force:?}"
-        );
+    for (f, s) in force.iter().zip(sum) {
+        assert!((f - 10.0 * s / magnitude).abs() < 1e-14, "{force:?}");
     }
 }
 
