@@ -1055,6 +1055,201 @@ mod tests {
         }
     }
 
+    /// The pair forces of `w`'s list, four lanes at a time (`quad`, where
+    /// the processor has AVX2) or pair by pair, with the rows' tallies.
+    fn list_forces(
+        w: &crate::pipeline::World,
+        workers: &crate::parallel::Workers,
+        quad: bool,
+    ) -> (Vec<[f64; 3]>, Vec<PairTally>) {
+        let n = w.bodies.len();
+        let mut f = vec![[0.0f64; 3]; n];
+        let mut t: Vec<PairTally> = vec![[0.0; 3]; n];
+        let mut histories = w.histories.clone();
+        // SAFETY: one force and one tally per body, borrowed here; no
+        // follow-up.
+        unsafe {
+            pair_forces_then(
+                &w.bodies,
+                &w.ghosts,
+                &w.list,
+                &mut histories,
+                &w.laws,
+                SharedMut::new(&mut f),
+                workers,
+                None,
+                Some(SharedMut::new(&mut t)),
+                crate::dynamics::entry_tally::EntryTerms::NONE,
+                quad,
+            )
+        };
+        (f, t)
+    }
+
+    /// The list's pair forces, four lanes at a time and pair by pair,
+    /// against every pair of bodies (i < j) tested and forced on its own
+    /// (`touching`, `contact_force`): no list, no rows, no four-lane test
+    /// (so a row's pair left out or taken twice, in the four-lane part or
+    /// the last 1–3 pairs that both paths share, shows), along the
+    /// frictionless run of `pairs_four_at_a_time_equal_the_pair_loop_bit_for_bit`.
+    /// Each pair's force has the same bits either way (i and j swapped
+    /// negate d and n exactly); only the order of each body's sum
+    /// differs, so the tolerance is 1e-14 of the sum of its terms'
+    /// magnitudes (≤ 12 terms a body: round-off ≤ 12 × 1.1e-16 of it).
+    #[test]
+    fn list_forces_equal_every_pair_forced_alone() {
+        let mut setup = scene();
+        setup.friction = None;
+        let mut sim = Simulation::new(setup, 1).unwrap();
+        assert!(!sim.world.laws.history);
+        let (mut compared, mut in_tails) = (0usize, 0usize);
+        for _ in 0..25 {
+            sim.step(11);
+            let w = &sim.world;
+            let b = &w.bodies;
+            let n = b.len();
+            assert!(w.list.extra.is_empty() && w.ghosts.position.is_empty());
+            let mut expected = vec![[0.0f64; 3]; n];
+            let mut magnitude = vec![0.0f64; n];
+            for i in 0..n {
+                for j in i + 1..n {
+                    let Some(g) = super::touching(
+                        b.position[i],
+                        b.velocity[i],
+                        b.radius[i],
+                        b.position[j],
+                        b.velocity[j],
+                        b.radius[j],
+                    ) else {
+                        continue;
+                    };
+                    let mut history = super::NO_HISTORY;
+                    let fj = super::contact_force(&w.laws.pair(b, i, j), &g, &mut history);
+                    super::sub(&mut expected[i], fj);
+                    super::add(&mut expected[j], fj);
+                    let m = fj.iter().map(|x| x.abs()).sum::<f64>();
+                    magnitude[i] += m;
+                    magnitude[j] += m;
+                    compared += 1;
+                }
+            }
+            // Touching pairs among a row's last 1–3 entries (pair by pair
+            // on either path).
+            for i in 0..n {
+                let (s, e) = (w.list.start[i] as usize, w.list.start[i + 1] as usize);
+                let tail = s + (e - s) / 4 * 4;
+                in_tails += (tail..e)
+                    .filter(|&k| {
+                        let j = w.list.j[k] as usize;
+                        super::touching(
+                            b.position[i],
+                            b.velocity[i],
+                            b.radius[i],
+                            b.position[j],
+                            b.velocity[j],
+                            b.radius[j],
+                        )
+                        .is_some()
+                    })
+                    .count();
+            }
+            for quad in [false, true] {
+                let (f, _) = list_forces(w, &sim.workers, quad);
+                for (i, (got, want)) in f.iter().zip(&expected).enumerate() {
+                    assert!(
+                        got.iter()
+                            .zip(want)
+                            .all(|(g, e)| (g - e).abs() <= 1e-14 * magnitude[i]),
+                        "quad {quad}, body {i}: {got:?} against {want:?}"
+                    );
+                }
+            }
+        }
+        // Contacts compared, some of them among the rows' last pairs (497
+        // and 174 when written).
+        assert!(compared > 300 && in_tails > 100, "{compared} {in_tails}");
+    }
+
+    /// A pair with coincident centres (r = 0: no direction to push along)
+    /// in one of a row's four-lane groups: the four-lane path's r = √0 = 0
+    /// and 1/r = ∞ must give what the pair-by-pair test gives (no force: it
+    /// is not touching there), bit for bit and finite, with and without
+    /// the tally. Partners are put on their row's body, at the first and
+    /// the last lane of the row's first group of four, and (where the row
+    /// has one) at its last entry, among the pairs left over.
+    #[test]
+    fn coincident_centres_in_a_lane_of_four_give_no_force() {
+        let mut setup = scene();
+        setup.friction = None;
+        let mut sim = Simulation::new(setup, 1).unwrap();
+        sim.step(11);
+        let w = &mut sim.world;
+        let n = w.bodies.len();
+        let (mut lanes, mut moved) = (0, vec![false; n]);
+        for i in 0..n {
+            let (s, e) = (w.list.start[i] as usize, w.list.start[i + 1] as usize);
+            if e - s < 4 || moved[i] {
+                continue;
+            }
+            let mut entries = vec![s, s + 3];
+            if (e - s) % 4 != 0 {
+                entries.push(e - 1);
+            }
+            for k in entries {
+                let j = w.list.j[k] as usize;
+                if !moved[j] {
+                    w.bodies.position[j] = w.bodies.position[i];
+                    moved[j] = true;
+                    moved[i] = true;
+                    lanes += 1;
+                }
+            }
+        }
+        assert!(lanes > 10, "{lanes}");
+        let (one, tally_one) = list_forces(w, &sim.workers, false);
+        let (four, tally_four) = list_forces(w, &sim.workers, true);
+        let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
+            f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
+        };
+        assert!(bits(&one, &tally_one) == bits(&four, &tally_four));
+        assert!(four
+            .iter()
+            .chain(&tally_four)
+            .flatten()
+            .all(|x| x.is_finite()));
+    }
+
+    /// A partner whose centre is NaN (a run gone unstable) in a lane of
+    /// four counts as touching there as pair by pair (`touching_lazy`'s
+    /// `r² ≥ (R_i + R_j)²` is false for NaN: the NaN reaches the forces,
+    /// where the step's guard sees it): the same bits, with NaN in the
+    /// forces of the row's body and of the partner.
+    #[test]
+    fn a_nan_centre_in_a_lane_of_four_is_forced_as_pair_by_pair() {
+        let mut setup = scene();
+        setup.friction = None;
+        let mut sim = Simulation::new(setup, 1).unwrap();
+        sim.step(11);
+        let w = &mut sim.world;
+        let n = w.bodies.len();
+        let i = (0..n)
+            .find(|&i| w.list.start[i + 1] - w.list.start[i] >= 4)
+            .expect("a row of four");
+        let j = w.list.j[w.list.start[i] as usize + 1] as usize;
+        w.bodies.position[j][2] = f64::NAN;
+        let (one, tally_one) = list_forces(w, &sim.workers, false);
+        let (four, tally_four) = list_forces(w, &sim.workers, true);
+        let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
+            f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
+        };
+        assert!(bits(&one, &tally_one) == bits(&four, &tally_four));
+        assert!(
+            four[i].iter().chain(&four[j]).all(|x| x.is_nan()),
+            "{:?}",
+            four[i]
+        );
+    }
+
     /// The tallies summed four lanes at a time (`sum_rows_avx2`) against
     /// the scalar loop (`sum_rows`, the reference: the same additions one
     /// value at a time), bit for bit, over every range lo..hi of 23 rows

@@ -395,6 +395,43 @@ fn sliding_with_damping_transmits_exactly_the_limit_along_the_slip() {
     }
 }
 
+/// A spring exactly at the Coulomb limit sticks: sliding is k_t |δ| > μ |F_n|,
+/// strictly (LIGGGHTS `tangential_model_history`'s `Ft_shear >
+/// Ft_friction`, LAMMPS mindlin's `magfs > Fscrit`). k_t = 4 N/m, δ =
+/// (1.5, 2, 0) m (|δ|² = 6.25, |δ| = 2.5) and μ |F_n| = 10 N are exact in
+/// binary, so k_t² |δ|² = 100 = limit² exactly. Sticking with the
+/// dashpot, the force is spring plus dashpot capped at the limit:
+/// 10 (−k_t δ − η_t v)/|−k_t δ − η_t v| with v ⊥ δ; sliding would give
+/// −k_t δ alone. A few roundings of numbers of order 10: 1e-14 N.
+#[test]
+fn a_spring_exactly_at_the_limit_sticks() {
+    let moved = MovedSpring {
+        stiffness: 4.0,
+        limit: 10.0,
+        stretch: 6.25,
+    };
+    assert_eq!(moved.cut(), (false, 1.0));
+    let (_, f) = setup(
+        NormalLaw::Hertz,
+        Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5)),
+        TangentialKind::Mindlin,
+        0.3,
+    );
+    let h = 1.0e-6;
+    let eta = f.damping_coefficient(h, 4.0);
+    assert!(eta > 0.0);
+    let v = [2.0, -1.5, 0.0];
+    let mut shear = [1.5, 2.0, 0.0];
+    let (sliding, s) = moved.cut();
+    let force = f.cut_spring_force(&moved, sliding, s, h, v, &mut shear);
+    assert_eq!(shear, [1.5, 2.0, 0.0], "the spring is not cut");
+    let sum = [-6.0 - eta * 2.0, -8.0 + eta * 1.5, 0.0];
+    let magnitude = norm(sum);
+    for (f, s) in force.iter().zip(sum) {
+        assert!((f - 10.0 * s / magnitude).abs() < 1e-14, "{force:?}");
+    }
+}
+
 #[test]
 fn spring_energy_closed_forms() {
     // Tangential: ½ k_t(h) |δ|² (Mindlin k_t = 8 G* √(R h)); rolling:

@@ -583,20 +583,22 @@ impl MainPairs<'_> {
                     add(&mut *self.torque.0.add(j), tqj);
                 }
             } else {
-                // An untouched pair: relax its springs (a read and a
-                // compare when they are relaxed already).
+                // An untouched pair: relax its springs to +0 (a read and a
+                // compare when they are relaxed already). Compared by
+                // bits: a −0 spring (a contact's with no slip along an
+                // axis) is set to +0 as the batched pass's mask sets it.
                 if KEEP {
                     let hist = unsafe { &mut *self.history.0.add(k) };
                     if *hist != ContactHistory::default() {
                         *hist = ContactHistory::default();
                     }
                 }
-                if *sh != [0.0; 3] {
+                if sh.map(f64::to_bits) != [0; 3] {
                     *sh = [0.0; 3];
                 }
                 if ROLL {
                     let r = unsafe { &mut *self.roll.0.add(k) };
-                    if *r != [0.0; 3] {
+                    if r.map(f64::to_bits) != [0; 3] {
                         *r = [0.0; 3];
                     }
                 }

@@ -205,3 +205,83 @@ fn tally_equals_the_observation_pass_bit_for_bit() {
         assert!(compared > 20, "{setting}, {threads} threads: {compared}");
     }
 }
+
+/// Pairs with coincident centres (r = 0: no direction to push along,
+/// not touching for `touching_lazy`) in the batched pass, whose first
+/// pass takes every entry's root and division (r = 0, 1/r = ∞) and masks
+/// them after: the batched loop gives the row-by-row loop's forces,
+/// torques, springs and histories bit for bit, all finite, with the
+/// coincident pairs' springs relaxed to +0 (as a pair apart's), through
+/// the class table and the one-law kernel. Partners are put on their
+/// row's body (first, fourth and last entries of the rows of 4 or more:
+/// within the four-lane groups of the spring pass and after them).
+#[test]
+fn coincident_centres_in_a_batch_give_no_force() {
+    let _flag = ROW_BY_ROW_USERS.lock().unwrap_or_else(|e| e.into_inner());
+    for (setting, setup, _) in settings() {
+        let mut sim = Simulation::new(setup, 1).unwrap();
+        sim.step(300);
+        let w = &mut sim.world;
+        let n = w.bodies.len();
+        let (mut placed, mut moved) = (Vec::new(), vec![false; n]);
+        for i in 0..n {
+            let (s, e) = (w.list.start[i] as usize, w.list.start[i + 1] as usize);
+            if e - s < 4 || moved[i] {
+                continue;
+            }
+            for k in [s, s + 3, e - 1] {
+                let j = w.list.j[k] as usize;
+                if !moved[j] {
+                    w.bodies.position[j] = w.bodies.position[i];
+                    moved[j] = true;
+                    moved[i] = true;
+                    placed.push(k);
+                }
+            }
+        }
+        assert!(placed.len() > 10, "{setting}: {}", placed.len());
+        let w = &sim.world;
+        let input = PairForceInput {
+            bodies: &w.bodies,
+            ghosts: &w.ghosts,
+            list: &w.list,
+            laws: &w.laws,
+            friction: w.friction.as_ref().unwrap(),
+            dt: sim.dt(),
+        };
+        let run = |rows: bool| {
+            let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
+            let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+            ROW_BY_ROW.store(rows, Ordering::Relaxed);
+            add_pair_forces(
+                &input,
+                &mut histories,
+                &mut shear,
+                &mut force,
+                &mut torque,
+                &sim.workers,
+            );
+            ROW_BY_ROW.store(false, Ordering::Relaxed);
+            (force, torque, shear, histories.main)
+        };
+        let (batched, rows) = (run(false), run(true));
+        let bits =
+            |v: &[[f64; 3]]| -> Vec<u64> { v.iter().flatten().map(|x| x.to_bits()).collect() };
+        assert!(bits(&batched.0) == bits(&rows.0), "{setting}: forces");
+        assert!(bits(&batched.1) == bits(&rows.1), "{setting}: torques");
+        assert!(
+            bits(&batched.2.main) == bits(&rows.2.main),
+            "{setting}: springs"
+        );
+        assert!(batched.3 == rows.3, "{setting}: histories");
+        let finite = |v: &[[f64; 3]]| v.iter().flatten().all(|x| x.is_finite());
+        assert!(finite(&batched.0) && finite(&batched.1) && finite(&batched.2.main));
+        for &k in &placed {
+            assert_eq!(
+                batched.2.main[k].map(f64::to_bits),
+                [0; 3],
+                "{setting}: entry {k}"
+            );
+        }
+    }
+}
