@@ -4,10 +4,11 @@
 
 use std::sync::atomic::Ordering;
 
-use dembound_physics::contact::{ContactModel, NormalLaw};
+use dembound_physics::contact::{ContactHistory, ContactModel, NormalLaw};
 
 use super::super::row_laws::{HertzMindlin, OneLaw};
 use super::{add_pair_forces, add_pair_forces_tallied, PairForceInput, ROW_BY_ROW};
+use crate::dynamics::friction::PairShear;
 use crate::dynamics::friction_observables::observe;
 use crate::dynamics::friction_observables::tests::scene;
 use crate::setup::{SceneSetup, TimeStep};
@@ -62,6 +63,40 @@ fn one_law(sim: &Simulation) -> bool {
         && OneLaw::<HertzMindlin>::new(&friction.pairs[0]).is_some()
 }
 
+/// What one pair loop leaves: forces and torques by body, the springs,
+/// the contact histories by main entry.
+type LoopResult = (Vec<[f64; 3]>, Vec<[f64; 3]>, PairShear, Vec<ContactHistory>);
+
+/// The pair loop with friction once on `sim`'s state, batched or (`rows`)
+/// row by row, from copies of its springs and histories: the forces,
+/// torques, springs and contact histories it leaves. Hold
+/// [`ROW_BY_ROW_USERS`] while calling it.
+fn pair_loop(sim: &Simulation, rows: bool) -> LoopResult {
+    let w = &sim.world;
+    let n = w.bodies.len();
+    let input = PairForceInput {
+        bodies: &w.bodies,
+        ghosts: &w.ghosts,
+        list: &w.list,
+        laws: &w.laws,
+        friction: w.friction.as_ref().unwrap(),
+        dt: sim.dt(),
+    };
+    let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
+    let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+    ROW_BY_ROW.store(rows, Ordering::Relaxed);
+    add_pair_forces(
+        &input,
+        &mut histories,
+        &mut shear,
+        &mut force,
+        &mut torque,
+        &sim.workers,
+    );
+    ROW_BY_ROW.store(false, Ordering::Relaxed);
+    (force, torque, shear, histories.main)
+}
+
 /// The batched pair loop (two passes, stages) gives the row-by-row
 /// loop's forces, torques, springs and histories bit for bit (the
 /// row-by-row loop is the reference: each contact evaluated whole, in
@@ -78,29 +113,8 @@ fn batched_pairs_equal_row_by_row_bit_for_bit() {
         let mut touching = 0;
         for _ in 0..30 {
             sim.step(100);
-            let w = &sim.world;
-            let n = w.bodies.len();
-            let input = PairForceInput {
-                bodies: &w.bodies,
-                ghosts: &w.ghosts,
-                list: &w.list,
-                laws: &w.laws,
-                friction: w.friction.as_ref().unwrap(),
-                dt: sim.dt(),
-            };
             let run = |rows: bool| {
-                let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
-                let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-                ROW_BY_ROW.store(rows, Ordering::Relaxed);
-                add_pair_forces(
-                    &input,
-                    &mut histories,
-                    &mut shear,
-                    &mut force,
-                    &mut torque,
-                    &sim.workers,
-                );
-                ROW_BY_ROW.store(false, Ordering::Relaxed);
+                let (force, torque, shear, histories) = pair_loop(&sim, rows);
                 let bits = |v: &[[f64; 3]]| -> Vec<u64> {
                     v.iter().flatten().map(|x| x.to_bits()).collect()
                 };
@@ -109,7 +123,7 @@ fn batched_pairs_equal_row_by_row_bit_for_bit() {
                     bits(&torque),
                     bits(&shear.main),
                     bits(&shear.roll_main),
-                    histories.main,
+                    histories,
                 )
             };
             let (batched, rows) = (run(false), run(true));
@@ -240,31 +254,7 @@ fn coincident_centres_in_a_batch_give_no_force() {
             }
         }
         assert!(placed.len() > 10, "{setting}: {}", placed.len());
-        let w = &sim.world;
-        let input = PairForceInput {
-            bodies: &w.bodies,
-            ghosts: &w.ghosts,
-            list: &w.list,
-            laws: &w.laws,
-            friction: w.friction.as_ref().unwrap(),
-            dt: sim.dt(),
-        };
-        let run = |rows: bool| {
-            let (mut histories, mut shear) = (w.histories.clone(), w.shear.clone());
-            let (mut force, mut torque) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
-            ROW_BY_ROW.store(rows, Ordering::Relaxed);
-            add_pair_forces(
-                &input,
-                &mut histories,
-                &mut shear,
-                &mut force,
-                &mut torque,
-                &sim.workers,
-            );
-            ROW_BY_ROW.store(false, Ordering::Relaxed);
-            (force, torque, shear, histories.main)
-        };
-        let (batched, rows) = (run(false), run(true));
+        let (batched, rows) = (pair_loop(&sim, false), pair_loop(&sim, true));
         let bits =
             |v: &[[f64; 3]]| -> Vec<u64> { v.iter().flatten().map(|x| x.to_bits()).collect() };
         assert!(bits(&batched.0) == bits(&rows.0), "{setting}: forces");
