@@ -1021,26 +1021,7 @@ mod tests {
                 for tally in [false, true] {
                     let mut out = Vec::new();
                     for quad in [false, true] {
-                        let mut f = vec![[0.0f64; 3]; n];
-                        let mut t: Vec<PairTally> = vec![[0.0; 3]; n];
-                        let mut histories = w.histories.clone();
-                        // SAFETY: one force and one tally per body, borrowed
-                        // here; no follow-up.
-                        unsafe {
-                            pair_forces_then(
-                                &w.bodies,
-                                &w.ghosts,
-                                &w.list,
-                                &mut histories,
-                                &w.laws,
-                                SharedMut::new(&mut f),
-                                &sim.workers,
-                                None,
-                                tally.then(|| SharedMut::new(&mut t)),
-                                crate::dynamics::entry_tally::EntryTerms::NONE,
-                                quad,
-                            )
-                        };
+                        let (f, t) = list_forces(w, &sim.workers, quad, tally);
                         let bits: Vec<u64> =
                             f.iter().chain(&t).flatten().map(|x| x.to_bits()).collect();
                         out.push((bits, t));
@@ -1056,11 +1037,13 @@ mod tests {
     }
 
     /// The pair forces of `w`'s list, four lanes at a time (`quad`, where
-    /// the processor has AVX2) or pair by pair, with the rows' tallies.
+    /// the processor has AVX2) or pair by pair, with the rows' tallies
+    /// (`tally`; zeros without).
     fn list_forces(
         w: &crate::pipeline::World,
         workers: &crate::parallel::Workers,
         quad: bool,
+        tally: bool,
     ) -> (Vec<[f64; 3]>, Vec<PairTally>) {
         let n = w.bodies.len();
         let mut f = vec![[0.0f64; 3]; n];
@@ -1078,7 +1061,7 @@ mod tests {
                 SharedMut::new(&mut f),
                 workers,
                 None,
-                Some(SharedMut::new(&mut t)),
+                tally.then(|| SharedMut::new(&mut t)),
                 crate::dynamics::entry_tally::EntryTerms::NONE,
                 quad,
             )
@@ -1154,7 +1137,7 @@ mod tests {
                     .count();
             }
             for quad in [false, true] {
-                let (f, _) = list_forces(w, &sim.workers, quad);
+                let (f, _) = list_forces(w, &sim.workers, quad, true);
                 for (i, (got, want)) in f.iter().zip(&expected).enumerate() {
                     assert!(
                         got.iter()
@@ -1206,8 +1189,8 @@ mod tests {
             }
         }
         assert!(lanes > 10, "{lanes}");
-        let (one, tally_one) = list_forces(w, &sim.workers, false);
-        let (four, tally_four) = list_forces(w, &sim.workers, true);
+        let (one, tally_one) = list_forces(w, &sim.workers, false, true);
+        let (four, tally_four) = list_forces(w, &sim.workers, true, true);
         let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
             f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
         };
@@ -1237,8 +1220,8 @@ mod tests {
             .expect("a row of four");
         let j = w.list.j[w.list.start[i] as usize + 1] as usize;
         w.bodies.position[j][2] = f64::NAN;
-        let (one, tally_one) = list_forces(w, &sim.workers, false);
-        let (four, tally_four) = list_forces(w, &sim.workers, true);
+        let (one, tally_one) = list_forces(w, &sim.workers, false, true);
+        let (four, tally_four) = list_forces(w, &sim.workers, true, true);
         let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
             f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
         };
