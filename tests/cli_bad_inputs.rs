@@ -142,6 +142,73 @@ fn run_refuses_steps_that_do_not_resolve_the_contact() {
     }
 }
 
+/// Walton–Braun's unloading line k₂ = k₁/e² must be resolved by the step
+/// (ω₂Δt ≤ 0.9 with Gear5, 0.5 with Verlet: the limits' measurements): a
+/// small e at the default step printed e = 2.09 (target 0.001) and
+/// e = 2e6 (target 1e-6) with exit 0 before the bound.
+#[test]
+fn run_refuses_a_walton_braun_unloading_the_step_cannot_resolve() {
+    let wb = ["contact.law=walton-braun", "contact.damping=none"];
+    let cases: &[&[&str]] = &[
+        &["contact.restitution=0.001"],
+        &[
+            "contact.restitution=1e-6",
+            "motion.gravity=0",
+            "motion.velocity=-1",
+            "motion.contacts=1",
+        ],
+        &["contact.restitution=1e-200", "motion.contacts=1"],
+        &["contact.restitution=0.03", "motion.contacts=1"],
+        &[
+            "contact.restitution=0.05",
+            "integration.scheme=verlet",
+            "motion.contacts=1",
+        ],
+        &[
+            "contact.restitution=0.01",
+            "integration.dt=5e-9",
+            "motion.contacts=1",
+        ],
+    ];
+    for sets in cases {
+        let all: Vec<&str> = wb.iter().chain(sets.iter()).copied().collect();
+        run_case(
+            &with_sets("run", true, &all),
+            Refused("contact.restitution"),
+        );
+    }
+    // Several contacts with a tiny e: refused for the later contacts'
+    // gravity share first, with e written in exponent form (it was a
+    // 0.000…0001 of 200 digits).
+    let out = dembound()
+        .args([
+            "run",
+            "--set",
+            wb[0],
+            "--set",
+            wb[1],
+            "--set",
+            "contact.restitution=1e-200",
+        ])
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("e = 1e-200 ") && !stderr.contains("0.0000000"),
+        "{stderr}"
+    );
+    // Resolved: the same e with a step that resolves it.
+    let all = [
+        wb[0],
+        wb[1],
+        "contact.restitution=0.03",
+        "motion.contacts=1",
+        "integration.eta=0.01",
+    ];
+    run_case(&with_sets("run", true, &all), Valid { dissipative: true });
+}
+
 #[test]
 fn run_refuses_contacts_the_step_would_skip_or_gravity_dominates() {
     let cases: &[(&[&str], &str)] = &[

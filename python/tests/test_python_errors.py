@@ -530,3 +530,19 @@ def test_scene_and_scenario_paths_are_checked(path):
     refused(lambda: dembound.scene(path), "path: ")
     if path not in (None, 42):  # None is the default scenario; 42 is "not a scenario"
         refused(lambda: dembound.run(path), "scenario")
+
+
+def test_walton_braun_unloading_the_step_cannot_resolve_is_refused():
+    # e = 0.001 at the default step: k2 = k1/e^2 oscillates ~1000 times
+    # faster than the loading; the run printed e = 2.09 (energy created)
+    # before the step's bound (omega2 dt <= 0.9 with Gear5).
+    keys = dict(contact__law="walton-braun", contact__damping="none", contact__restitution=0.001)
+    refused(lambda: dembound.run(**keys), "contact.restitution")
+    refused(lambda: dembound.history(**keys), "contact.restitution")
+    # A step that resolves it: the rebound is dissipative, 0 < e <= 1.
+    ok = dembound.run(
+        contact__law="walton-braun", contact__damping="none", contact__restitution=0.03,
+        motion__contacts=1, integration__eta=0.01,
+    )
+    e = ok["contacts"][0]["restitution"]
+    assert 0.0 < e <= 1.0, e

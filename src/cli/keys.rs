@@ -198,7 +198,8 @@ pub fn keys() -> Vec<KeyInfo> {
             "contact.restitution",
             "",
             "none".into(),
-            "0 < e ≤ 1; with damping or walton-braun".into(),
+            "0 < e ≤ 1; with damping or walton-braun (then also ω₂Δt ≤ 0.9 Gear5, 0.5 Verlet)"
+                .into(),
             "target coefficient of restitution",
         ),
         row(

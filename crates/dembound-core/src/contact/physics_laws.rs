@@ -226,6 +226,11 @@ impl NormalContactLaw for WaltonBraun {
         NormalSubModel::contact_time_estimate(self, mass, impact_speed)
     }
 
+    /// k₂ = k₁/e²: for a small e its quarter period is a sliver of T_c.
+    fn unloading_stiffness(&self) -> Option<f64> {
+        Some(self.unloading)
+    }
+
     /// Linear branches: smooth away from the kink, which is restarted at.
     fn onset(&self) -> Onset {
         Onset::Smooth

@@ -19,6 +19,20 @@
 //!   Hertz error in e grows from 5e−7 at g T_c/|v_c| = 1.6 to 2.3e−6 at
 //!   6.4, 1.1e−5 at 13, 4.5e−5 at 26 and 1.5 % at 240 (R = 1000 m), 690 %
 //!   at 3000 (a 1e−15 m drop). Refused above 10 (an error ~5e−6).
+//! - **ω₂ Δt ≤ 0.9 (Gear5), ≤ 0.5 (velocity Verlet)**
+//!   ([`MAX_UNLOADING_STEP_GEAR5`], [`MAX_UNLOADING_STEP_VERLET`];
+//!   Walton–Braun): the unloading line k₂ = k₁/e² oscillates at ω₂ =
+//!   ω₁/e, far faster than the contact-time estimate's scale for a small
+//!   e, so Δt = η T_c can leave it unresolved. Gravity-free impacts at
+//!   1 m/s (session 34), the error in e against the exact e, over e =
+//!   0.01–0.3 and η = 0.005–0.1: Gear5, event stepping, 0.006 % at ω₂Δt =
+//!   0.35, 0.14 % at 0.66–0.69, 0.64–0.76 % at 0.78–0.95, 7 % at 1.6, 20 %
+//!   at 2.7, e = 2.09 for a target 0.001 at 31 (energy created, printed
+//!   with exit 0 before this bound); velocity Verlet 1.5 % at 0.35, 0.5–0.75
+//!   % at 0.50, 2.4–4.3 % at 0.66–0.69, 4–11 % at 0.78–0.95. The bounds
+//!   keep each scheme within its error at η = 0.1 (above). Refused beyond,
+//!   naming contact.restitution with the smallest e the step resolves and
+//!   the step this e needs.
 //! - The physical ranges keep every derived quantity (masses, stiffnesses,
 //!   times, step counts) finite in double precision with room to spare;
 //!   they are far wider than any DEM material.
@@ -42,6 +56,11 @@ pub const GRAVITY: (f64, f64) = (1e-6, 1e6);
 pub const ETA: (f64, f64) = (1e-9, MAX_ETA);
 /// The largest Δt/T_c (see the module doc).
 pub const MAX_ETA: f64 = 0.1;
+/// The largest ω₂ Δt of a Walton–Braun unloading line with Gear5 (see
+/// the module doc).
+pub const MAX_UNLOADING_STEP_GEAR5: f64 = 0.9;
+/// The same with velocity Verlet.
+pub const MAX_UNLOADING_STEP_VERLET: f64 = 0.5;
 /// The largest g T_c/|v_c| (see the module doc).
 pub const MAX_GRAVITY_SHARE: f64 = 10.0;
 
