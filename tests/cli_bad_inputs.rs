@@ -209,6 +209,63 @@ fn run_refuses_a_walton_braun_unloading_the_step_cannot_resolve() {
     run_case(&with_sets("run", true, &all), Valid { dissipative: true });
 }
 
+/// A restitution the viscoelastic law cannot rebound with (its damping
+/// reaches δ ≤ 30) is bad input, exit 2 naming contact.restitution with the
+/// reachable range (it exited 1 as a failed run), and the range's lower end
+/// is reachable: 5 % above it runs to a valid dissipative rebound.
+#[test]
+fn run_refuses_a_viscoelastic_restitution_out_of_reach_with_the_range() {
+    // Gravity-free, so that the strongest damping's slow rebound ends.
+    let ve = [
+        "contact.law=hertz",
+        "contact.damping=viscoelastic",
+        "motion.contacts=1",
+        "motion.gravity=0",
+        "motion.velocity=-0.313",
+    ];
+    let mut args = vec!["run"];
+    for s in ve.iter().chain(&["contact.restitution=7e-6"]) {
+        args.extend(["--set", s]);
+    }
+    let out = dembound().args(&args).output().expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("`contact.restitution`") && stderr.contains("out of reach"),
+        "{stderr}"
+    );
+    let low: f64 = stderr
+        .split("allowed: ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("no range in {stderr}"));
+    assert!(low > 7e-6 && low < 0.1, "{low}");
+    let inside = format!("contact.restitution={}", low * 1.05);
+    let all: Vec<&str> = ve.iter().copied().chain([inside.as_str()]).collect();
+    let mut args = vec!["run", "--json"];
+    for s in &all {
+        args.extend(["--set", s]);
+    }
+    let out = dembound().args(&args).output().expect("the binary runs");
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let e = doc["contacts"][0]["restitution"].as_f64().expect("e");
+    // The exact calibration rebounds with the target (Gear5 at η = 1/50:
+    // ~1e-6 in the accuracy section); 1 % leaves room for this strong
+    // damping's slow exit.
+    assert!(
+        (e / (low * 1.05) - 1.0).abs() < 1e-2,
+        "{e} against {}",
+        low * 1.05
+    );
+}
+
 #[test]
 fn run_refuses_contacts_the_step_would_skip_or_gravity_dominates() {
     let cases: &[(&[&str], &str)] = &[

@@ -267,10 +267,20 @@ pub fn viscoelastic_coefficient(
             };
             // e decreases with δ: e(1e−9) ≈ 1, e(30) ≈ 0.
             let (mut lo, mut hi) = ((1e-9_f64).ln(), (30.0_f64).ln());
-            if e_of(lo) < e || e_of(hi) > e {
-                return Err(Error::Model(format!(
-                        "contact.restitution = {e} is out of reach of the viscoelastic law (0 < δ ≤ 30)"
-                    )));
+            let (e_low, e_high) = (e_of(hi), e_of(lo));
+            if e_high < e || e_low > e {
+                // Bad input (exit 2), with the reachable range: a target
+                // the law cannot rebound with is not a failed run.
+                return Err(Error::Input {
+                    field: "contact.restitution".into(),
+                    value: crate::scenario::limits::show(e),
+                    allowed: format!(
+                        "{e_low:.4e} to {e_high:.9} (or 1) with damping = \"viscoelastic\" at \
+                         this impact speed ({impact_speed:.4e} m/s): the rest is out of reach of \
+                         the viscoelastic law (0 < δ ≤ 30, δ = A (k/m)^(2/5) v^(1/5)); a smaller \
+                         e needs damping = \"tsuji\" or \"viscous\""
+                    ),
+                });
             }
             for _ in 0..60 {
                 let mid = 0.5 * (lo + hi);
