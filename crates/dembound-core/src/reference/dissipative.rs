@@ -288,6 +288,14 @@ impl DampedHertz {
         }
     }
 
+    /// No damping (γ = 0 or A = 0, e.g. a target e = 1): elastic Hertz.
+    fn undamped(&self) -> bool {
+        match *self {
+            DampedHertz::Tsuji { damping, .. } => damping == 0.0,
+            DampedHertz::Viscoelastic { a, .. } => a == 0.0,
+        }
+    }
+
     /// Unclamped force; fractional powers of |h| (the integration stops at
     /// h = 0, so h < 0 is met only inside rejected or bisected trial steps).
     fn force(&self, h: f64, hd: f64) -> f64 {
@@ -348,7 +356,17 @@ pub fn damped_hertz(
     .map_err(ode)?;
     let h_out = |y: &State| -y[0];
     let f_zero = |y: &State| -model.force(y[0], y[1]);
-    let (t_force_zero, end) = if attractive {
+    let (t_force_zero, end) = if model.undamped() {
+        // Elastic: the force returns to zero at the separation itself, so
+        // the force-zero and separation events would coincide at h = 0,
+        // where F ∝ h^(3/2) has a zero of order 3/2 (the event search
+        // failed there gravity-free). The run reports the force zero at
+        // the separation unless attraction is allowed.
+        let end =
+            integrate_to_event(free, top.y, &[&h_out], tol, 1e-3 * t_s, budget).map_err(settles)?;
+        let t_end = top.t + end.t;
+        ((!attractive).then_some(t_end), (t_end, end.y))
+    } else if attractive {
         let end =
             integrate_to_event(free, top.y, &[&h_out], tol, 1e-3 * t_s, budget).map_err(settles)?;
         (None, (top.t + end.t, end.y))
