@@ -105,16 +105,26 @@ pub fn dissipative_contacts_with(
         }
     };
     let reference_error = |e: Error| match e {
-        Error::Overdamped(xi) => Error::InvalidParameter {
-            name: if c.restitution.is_some() {
-                "contact.restitution"
-            } else {
-                "contact.damping_coefficient"
-            },
-            value: xi,
-            requirement: "an underdamped contact (damping ratio ξ < 1, the value shown): the \
-                          closed-form reference of the spring–dashpot is for ξ < 1",
-        },
+        // The value the user gave (not ξ, which the message states).
+        Error::Overdamped(xi) => {
+            let (field, value) = match (c.restitution, c.damping_coefficient) {
+                (Some(e), _) => ("contact.restitution", crate::scenario::limits::show(e)),
+                (None, Some(d)) => (
+                    "contact.damping_coefficient",
+                    format!("{} N s/m", crate::scenario::limits::show(d)),
+                ),
+                (None, None) => ("contact.restitution", "missing".into()),
+            };
+            Error::Input {
+                field: field.into(),
+                value,
+                allowed: format!(
+                    "a damping ratio ξ < 1 for an exact reference (this gives ξ = {xi:.4}, \
+                     overdamped): the closed-form reference of the spring–dashpot is for \
+                     ξ < 1; `dembound run` integrates the overdamped contact"
+                ),
+            }
+        }
         Error::NoReferenceRebound => Error::NoExactRebound { contact: 0 },
         // Error::Integration: the only other failure of a reference.
         _ => Error::Numerical("the adaptive reference integration failed"),
