@@ -105,6 +105,8 @@ pub fn gear5_predict(
 ) -> f64 {
     let inv_dt = 1.0 / dt;
     let n = bodies.len();
+    // The vectors are written through raw pointers below: one per body.
+    assert!(bodies.higher.len() == n && bodies.velocity.len() == n && reference.len() == n);
     let (x, v, r) = (
         SharedMut::new(&mut bodies.position),
         SharedMut::new(&mut bodies.velocity),
@@ -141,6 +143,13 @@ pub fn gear5_correct(bodies: &mut Bodies, dt: f64, c: [f64; 6], workers: &Worker
     let inv_dt = 1.0 / dt;
     let half_dt2 = 0.5 * dt * dt;
     let n = bodies.len();
+    // The vectors are written through raw pointers below: one per body.
+    assert!(
+        bodies.higher.len() == n
+            && bodies.velocity.len() == n
+            && bodies.force.len() == n
+            && bodies.inverse_mass.len() == n
+    );
     let (x, v, r) = (
         SharedMut::new(&mut bodies.position),
         SharedMut::new(&mut bodies.velocity),

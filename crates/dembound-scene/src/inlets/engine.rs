@@ -168,7 +168,12 @@ pub(super) fn push_sphere(
     b.fixed.push(false);
     b.id.push(id);
     b.group.push(crate::bodies::NO_GROUP);
-    if !b.higher.is_empty() {
+    // Gear5's vectors, whether or not the scene had bodies before (a scene
+    // that starts empty has none yet: `Pipeline::start` made them for its
+    // zero bodies; the predictor would read past them otherwise).
+    let gear5 = world.scheme == Scheme::Gear5;
+    if gear5 {
+        debug_assert!(b.higher.len() + 1 == b.position.len());
         // r₂ = Δt² x''/2 with x'' = g (a free flight), the rest 0.
         let r2 = [0, 1, 2].map(|a| 0.5 * dt * dt * g[a]);
         b.higher.push([r2, [0.0; 3], [0.0; 3], [0.0; 3]]);
@@ -176,7 +181,8 @@ pub(super) fn push_sphere(
     b.angular_velocity.push([0.0; 3]);
     b.torque.push([0.0; 3]);
     b.inverse_inertia.push(1.0 / (0.4 * m * r * r));
-    if !b.angular_higher.is_empty() {
+    if gear5 && world.friction.is_some() {
+        debug_assert!(b.angular_higher.len() + 1 == b.position.len());
         b.angular_higher.push([[0.0; 3]; 4]);
     }
     world.wall_contacts.push_body(&[]);
