@@ -360,6 +360,14 @@ fn other_subcommands_refuse_what_run_refuses() {
             ],
             "radius_ratio",
         ),
+        // A tiny soft boundary (r = ζ = 1e-6) makes the validation drop
+        // with the linear law (one of recommend's default laws) a contact
+        // gravity dominates: refused as `run --set contact.law=linear`
+        // refuses it (it exited 1 as a failed simulation inside the study).
+        (
+            &["recommend", "--r", "1e-6", "--zeta", "1e-6"],
+            "motion.gap",
+        ),
         (
             &["sweep", "--r", "lin:1:2:100000", "--zeta", "lin:1:2:100000"],
             "--r",

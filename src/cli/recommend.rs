@@ -192,6 +192,14 @@ pub(crate) fn core_error(e: Error) -> CliError {
                 "invalid value for `{flag}`: {value} (allowed: {allowed})"
             ))
         }
+        // A run or reference of the study refused the scenario at the
+        // (r, ζ) asked (e.g. a contact gravity dominates on a tiny soft
+        // boundary): bad input too, with the study's context.
+        Error::Simulation(ref inner) | Error::Exact(ref inner)
+            if matches!(**inner, Error::Input { .. }) =>
+        {
+            CliError::input(anyhow!("{e}"))
+        }
         e => CliError::failed(e),
     }
 }
