@@ -39,7 +39,8 @@ use crate::walls::mesh::MeshGeometry;
 /// The largest hole and the bumpiness of a covering.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Holes {
-    /// Largest hole radius found on the samples, m.
+    /// Largest hole radius found on the samples, m (0 when every sample
+    /// lies within R_b of a centre: no particle passes).
     pub hole: f64,
     /// Where (the offset point), m.
     pub at: [f64; 3],
@@ -209,6 +210,14 @@ pub fn holes_sampled(c: &Covering, h: f64) -> Holes {
         }
     });
     worst.hole_bound = worst.hole + h;
+    if worst.samples > 0 && worst.hole < 0.0 {
+        // Every sample lies within R_b of a centre (spheres overlapping
+        // all over a surface smaller than their spacing): no particle
+        // passes, a hole of radius 0, not the negative distance (a
+        // 1 nm square under 1 mm spheres printed −1 R_b).
+        worst.hole = 0.0;
+        worst.hole_bound = worst.hole_bound.max(0.0);
+    }
     worst
 }
 

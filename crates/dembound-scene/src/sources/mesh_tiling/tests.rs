@@ -69,6 +69,26 @@ fn flat_holes_are_the_classical_windows() {
 }
 
 #[test]
+fn a_surface_under_one_sphere_has_no_hole() {
+    // A square 1e-6 R_b wide: every sample of the centres' surface lies
+    // within R_b of a centre (the spheres overlap it all), so no particle
+    // passes: a hole of radius 0 and a bound of 0 + h, never negative (it
+    // printed −1 R_b; `flat_holes_are_the_classical_windows` keeps the
+    // positive windows).
+    let r = 1.0;
+    let c = cover(
+        Path::new("square"),
+        &shapes::square(1e-6),
+        &options(Pattern::Square, r),
+    )
+    .unwrap();
+    let h = holes(&c);
+    assert!(h.samples > 0, "{h:?}");
+    assert_eq!(h.hole, 0.0, "{h:?}");
+    assert!(h.hole_bound >= 0.0 && h.hole_bound <= h.spacing, "{h:?}");
+}
+
+#[test]
 fn flat_bumpiness_is_the_hollow_depth() {
     // Square, touching, ρ = R: on top t = ρ; in the hollow (distance √2 R
     // from four centres at depth R) t = −R + √((2R)² − 2R²) = (√2 − 1) R:
