@@ -178,6 +178,22 @@ fn bad_input_exits_2_and_writes_nothing() {
             ],
             "out of reach",
         ),
+        // e = 1e-6 on the rigid wall: Walton–Braun's k₂ = k₁/e² is far
+        // beyond what the default step resolves (ω₂Δt ≤ 0.9); it printed
+        // a rebound of 2e6 (648 km/s), exit 0.
+        (
+            vec![
+                "--law",
+                "walton-braun",
+                "--e",
+                "1e-6",
+                "--r",
+                "inf",
+                "--zeta",
+                "inf",
+            ],
+            "contact.restitution",
+        ),
     ];
     for (args, needle) in cases {
         let dir = tempfile::tempdir().unwrap();

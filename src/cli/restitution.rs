@@ -139,6 +139,11 @@ pub fn run(args: &RestitutionArgs) -> CliResult {
 fn study_error(e: Error) -> CliError {
     match e {
         Error::Request(_) | Error::OutOfReach(_) => CliError::input(anyhow!("{e}")),
+        // A point the step cannot resolve (Walton–Braun's unloading line
+        // at a small e) is refused as `run` refuses it.
+        Error::StudyRun { ref error, .. } if matches!(**error, Error::Input { .. }) => {
+            CliError::input(anyhow!("{e}"))
+        }
         e => CliError::failed(anyhow!("the study failed: {e}")),
     }
 }

@@ -19,7 +19,10 @@ pub use crate::scenario::{
 };
 pub use batch::simulate_batch;
 pub use problem::Problem;
-pub use run::{check_resolution, check_step, plan, resolve, simulate, simulate_resolved, Resolved};
+pub use run::{
+    check_resolution, check_step, check_unloading, plan, resolve, simulate, simulate_resolved,
+    Resolved,
+};
 pub use simulate::simulate_with;
 
 use serde::{Deserialize, Serialize};

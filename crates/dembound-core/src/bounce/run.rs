@@ -181,7 +181,7 @@ pub fn check_step(s: &Scenario, problem: &Problem) -> Result<()> {
 }
 
 /// Refuses a step that does not resolve a stiff unloading branch
-/// ([`NormalContactLaw::unloading_stiffness`], Walton–Braun's k₂ = k₁/e²):
+/// ([`NormalContactLaw::loading_unloading`], Walton–Braun's k₂ = k₁/e²):
 /// ω₂ Δt above the scheme's bound ([`limits::MAX_UNLOADING_STEP_GEAR5`],
 /// [`limits::MAX_UNLOADING_STEP_VERLET`]), ω₂ = √(k₂/m). There the
 /// rebound is wrong by far more than the step's error elsewhere (e = 2.09
@@ -189,7 +189,7 @@ pub fn check_step(s: &Scenario, problem: &Problem) -> Result<()> {
 /// [`limits`]). The message names `contact.restitution`, with the smallest
 /// e this step resolves and the step this e needs.
 pub fn check_unloading(s: &Scenario, law: &impl NormalContactLaw, problem: &Problem) -> Result<()> {
-    let Some(k2) = law.unloading_stiffness() else {
+    let Some([k1, k2]) = law.loading_unloading() else {
         return Ok(());
     };
     let omega2 = (k2 / problem.mass).sqrt();
@@ -200,7 +200,9 @@ pub fn check_unloading(s: &Scenario, law: &impl NormalContactLaw, problem: &Prob
     if omega2 * problem.dt <= limit {
         return Ok(());
     }
-    let e = s.contact.restitution.unwrap_or(1.0);
+    // The e the user gave, else the law's own √(k₁/k₂) (a study's raw
+    // coefficient k₂).
+    let e = s.contact.restitution.unwrap_or((k1 / k2).sqrt());
     let w = omega2 * problem.dt;
     // The smallest e this step rule resolves. Walton–Braun's ω₂ = ω₁/e
     // with ω₁ set by the loading line: a fixed Δt needs ω₁Δt/e ≤ limit;

@@ -82,11 +82,11 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     /// of a body of `mass` (kg): the scale of the time step Δt = η T_c.
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64;
 
-    /// The stiffness (N/m) of a linear unloading branch much stiffer than
-    /// the loading the contact-time estimate describes (Walton–Braun's
-    /// k₂ = k₁/e²), which the step must resolve on its own; `None` for the
-    /// other laws.
-    fn unloading_stiffness(&self) -> Option<f64> {
+    /// The loading and unloading stiffnesses [k₁, k₂] (N/m) of a law whose
+    /// linear unloading branch may be much stiffer than the loading the
+    /// contact-time estimate describes (Walton–Braun's k₂ = k₁/e²), which
+    /// the step must resolve on its own; `None` for the other laws.
+    fn loading_unloading(&self) -> Option<[f64; 2]> {
         None
     }
 

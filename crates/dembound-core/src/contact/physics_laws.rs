@@ -227,8 +227,8 @@ impl NormalContactLaw for WaltonBraun {
     }
 
     /// k₂ = k₁/e²: for a small e its quarter period is a sliver of T_c.
-    fn unloading_stiffness(&self) -> Option<f64> {
-        Some(self.unloading)
+    fn loading_unloading(&self) -> Option<[f64; 2]> {
+        Some([self.loading, self.unloading])
     }
 
     /// Linear branches: smooth away from the kink, which is restarted at.

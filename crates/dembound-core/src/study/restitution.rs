@@ -393,6 +393,9 @@ pub fn simulate_coefficient(
 
 fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord> {
     let problem = Problem::new(s, &law)?;
+    // Walton–Braun's unloading line must be resolved (e = 2e6 printed
+    // for a target 1e-6 before).
+    crate::bounce::check_unloading(s, &law, &problem)?;
     let outcome = match s.integration.scheme {
         Scheme::Gear5 => {
             let gear = Gear5::for_force(law.depends_on_rate());
