@@ -327,17 +327,24 @@ def versus(args):
           "paired by seed (late-window means)")
     names = [q["name"] for q in pairs[0][0]["quantities"]
              if q.get("code_window") and q.get("dembound_window")]
-    for name in ["bed height", "wall[0] force |F|", *args.quantity]:
-        if name not in names:
+    # The side walls (every wall but the floor, wall[0]) and their sum per
+    # seed, as in the main table.
+    walls = [n for n in names if n.startswith("wall[") and n != "wall[0] force |F|"]
+    summed = "side walls summed |F|"
+    for name in ["bed height", "wall[0] force |F|", *args.quantity,
+                 *([summed] if len(walls) > 1 else [])]:
+        if name not in names and name != summed:
             continue
+        parts = walls if name == summed else [name]
         ratios, same = [], True
         for a, b in pairs:
-            qa = next((q for q in a["quantities"] if q["name"] == name), None)
-            qb = next((q for q in b["quantities"] if q["name"] == name), None)
-            if not (qa and qb and qa.get(side) and qb.get(side)):
+            qa = [next((q for q in a["quantities"] if q["name"] == w), None) for w in parts]
+            qb = [next((q for q in b["quantities"] if q["name"] == w), None) for w in parts]
+            if not all(q and q.get(side) and q.get(fixed) for q in qa + qb):
                 break
-            same &= qa[fixed]["mean"] == qb[fixed]["mean"]
-            ratios.append(qa[side]["mean"] / qb[side]["mean"] - 1.0)
+            same &= all(x[fixed]["mean"] == y[fixed]["mean"] for x, y in zip(qa, qb))
+            ratios.append(sum(q[side]["mean"] for q in qa) / sum(q[side]["mean"] for q in qb)
+                          - 1.0)
         if len(ratios) < len(pairs):
             continue
         m, se = mean_se(ratios)
