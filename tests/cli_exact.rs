@@ -234,35 +234,3 @@ fn compare_exact_adds_a_second_table() {
     let j = json(&["run", "--json"]);
     assert!(j.get("relative_errors").is_none());
 }
-
-/// An overdamped spring–dashpot (ξ ≥ 1: reached by a small e with the
-/// clamped exact calibration) has no closed-form reference here: exit 2
-/// naming the key with the value the user gave (it showed ξ as
-/// "contact.restitution = 1.837") and the damping ratio it gives.
-#[test]
-fn an_overdamped_spring_dashpot_is_refused_with_the_users_value() {
-    let out = dembound()
-        .args([
-            "exact",
-            "--set",
-            "contact.law=linear",
-            "--set",
-            "contact.damping=viscous",
-            "--set",
-            "contact.restitution=0.0549",
-            "--set",
-            "motion.contacts=1",
-        ])
-        .output()
-        .expect("the binary runs");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.contains("`contact.restitution`: 0.0549 "),
-        "{stderr}"
-    );
-    assert!(
-        stderr.contains("overdamped") && stderr.contains("ξ = 1."),
-        "{stderr}"
-    );
-}
