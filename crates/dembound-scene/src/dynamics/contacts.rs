@@ -1092,18 +1092,21 @@ mod tests {
             let b = &w.bodies;
             let n = b.len();
             assert!(w.list.extra.is_empty() && w.ghosts.position.is_empty());
+            let touching = |i: usize, j: usize| {
+                super::touching(
+                    b.position[i],
+                    b.velocity[i],
+                    b.radius[i],
+                    b.position[j],
+                    b.velocity[j],
+                    b.radius[j],
+                )
+            };
             let mut expected = vec![[0.0f64; 3]; n];
             let mut magnitude = vec![0.0f64; n];
             for i in 0..n {
                 for j in i + 1..n {
-                    let Some(g) = super::touching(
-                        b.position[i],
-                        b.velocity[i],
-                        b.radius[i],
-                        b.position[j],
-                        b.velocity[j],
-                        b.radius[j],
-                    ) else {
+                    let Some(g) = touching(i, j) else {
                         continue;
                     };
                     let mut history = super::NO_HISTORY;
@@ -1122,18 +1125,7 @@ mod tests {
                 let (s, e) = (w.list.start[i] as usize, w.list.start[i + 1] as usize);
                 let tail = s + (e - s) / 4 * 4;
                 in_tails += (tail..e)
-                    .filter(|&k| {
-                        let j = w.list.j[k] as usize;
-                        super::touching(
-                            b.position[i],
-                            b.velocity[i],
-                            b.radius[i],
-                            b.position[j],
-                            b.velocity[j],
-                            b.radius[j],
-                        )
-                        .is_some()
-                    })
+                    .filter(|&k| touching(i, w.list.j[k] as usize).is_some())
                     .count();
             }
             for quad in [false, true] {
@@ -1153,19 +1145,41 @@ mod tests {
         assert!(compared > 300 && in_tails > 100, "{compared} {in_tails}");
     }
 
-    /// A pair with coincident centres (r = 0: no direction to push along)
-    /// in one of a row's four-lane groups: the four-lane path's r = √0 = 0
-    /// and 1/r = ∞ must give what the pair-by-pair test gives (no force: it
-    /// is not touching there), bit for bit and finite, with and without
-    /// the tally. Partners are put on their row's body, at the first and
-    /// the last lane of the row's first group of four, and (where the row
-    /// has one) at its last entry, among the pairs left over.
-    #[test]
-    fn coincident_centres_in_a_lane_of_four_give_no_force() {
+    /// The frictionless scene after 11 steps (its list built, spheres in
+    /// contact), for the four-lane tests below.
+    fn frictionless_after_11_steps() -> Simulation {
         let mut setup = scene();
         setup.friction = None;
         let mut sim = Simulation::new(setup, 1).unwrap();
         sim.step(11);
+        sim
+    }
+
+    /// The list's forces and tallies four lanes at a time, asserted equal
+    /// bit for bit to pair by pair; returns the four-lane ones.
+    fn four_lanes_as_pair_by_pair(
+        w: &crate::pipeline::World,
+        workers: &crate::parallel::Workers,
+    ) -> (Vec<[f64; 3]>, Vec<PairTally>) {
+        let (one, tally_one) = list_forces(w, workers, false, true);
+        let (four, tally_four) = list_forces(w, workers, true, true);
+        let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
+            f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
+        };
+        assert!(bits(&one, &tally_one) == bits(&four, &tally_four));
+        (four, tally_four)
+    }
+
+    /// A pair with coincident centres (r = 0: no direction to push along)
+    /// in one of a row's four-lane groups: the four-lane path's r = √0 = 0
+    /// and 1/r = ∞ must give what the pair-by-pair test gives (no force: it
+    /// is not touching there), bit for bit and finite, forces and tallies.
+    /// Partners are put on their row's body, at the first and
+    /// the last lane of the row's first group of four, and (where the row
+    /// has one) at its last entry, among the pairs left over.
+    #[test]
+    fn coincident_centres_in_a_lane_of_four_give_no_force() {
+        let mut sim = frictionless_after_11_steps();
         let w = &mut sim.world;
         let n = w.bodies.len();
         let (mut lanes, mut moved) = (0, vec![false; n]);
@@ -1189,17 +1203,8 @@ mod tests {
             }
         }
         assert!(lanes > 10, "{lanes}");
-        let (one, tally_one) = list_forces(w, &sim.workers, false, true);
-        let (four, tally_four) = list_forces(w, &sim.workers, true, true);
-        let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
-            f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
-        };
-        assert!(bits(&one, &tally_one) == bits(&four, &tally_four));
-        assert!(four
-            .iter()
-            .chain(&tally_four)
-            .flatten()
-            .all(|x| x.is_finite()));
+        let (four, tally) = four_lanes_as_pair_by_pair(w, &sim.workers);
+        assert!(four.iter().chain(&tally).flatten().all(|x| x.is_finite()));
     }
 
     /// A partner whose centre is NaN (a run gone unstable) in a lane of
@@ -1209,10 +1214,7 @@ mod tests {
     /// forces of the row's body and of the partner.
     #[test]
     fn a_nan_centre_in_a_lane_of_four_is_forced_as_pair_by_pair() {
-        let mut setup = scene();
-        setup.friction = None;
-        let mut sim = Simulation::new(setup, 1).unwrap();
-        sim.step(11);
+        let mut sim = frictionless_after_11_steps();
         let w = &mut sim.world;
         let n = w.bodies.len();
         let i = (0..n)
@@ -1220,12 +1222,7 @@ mod tests {
             .expect("a row of four");
         let j = w.list.j[w.list.start[i] as usize + 1] as usize;
         w.bodies.position[j][2] = f64::NAN;
-        let (one, tally_one) = list_forces(w, &sim.workers, false, true);
-        let (four, tally_four) = list_forces(w, &sim.workers, true, true);
-        let bits = |f: &[[f64; 3]], t: &[PairTally]| -> Vec<u64> {
-            f.iter().chain(t).flatten().map(|x| x.to_bits()).collect()
-        };
-        assert!(bits(&one, &tally_one) == bits(&four, &tally_four));
+        let (four, _) = four_lanes_as_pair_by_pair(w, &sim.workers);
         assert!(
             four[i].iter().chain(&four[j]).all(|x| x.is_nan()),
             "{:?}",
