@@ -17,6 +17,7 @@ use dembound_physics::material::{Material, PairProperties};
 use crate::walls::LawSlot;
 
 mod both_ends;
+mod one_law;
 mod rows;
 pub(crate) use rows::Rows;
 
@@ -469,13 +470,15 @@ pub(crate) unsafe fn add_pair_forces_then(
     entries: EntryTerms,
 ) -> f64 {
     pair_forces_then(
-        bodies, ghosts, list, histories, laws, f_ptr, workers, follow, tally, entries, true,
+        bodies, ghosts, list, histories, laws, f_ptr, workers, follow, tally, entries, true, true,
     )
 }
 
 /// [`add_pair_forces_then`]; `quad`: each row's pairs tested four at a
 /// time where they can be ([`Rows::block_avx2`]), else pair by pair (the
-/// unit tests' reference).
+/// unit tests' reference); `one_law`: a scene of one body class and law
+/// through the kernel instantiated for it (`one_law`), else every law read
+/// from the table (the unit tests' reference).
 ///
 /// # Safety
 /// As [`add_pair_forces_then`].
@@ -492,11 +495,17 @@ unsafe fn pair_forces_then(
     tally: Option<SharedMut<PairTally>>,
     entries: EntryTerms,
     quad: bool,
+    one_law: bool,
 ) -> f64 {
     let n = bodies.len();
     let keep = laws.history;
     assert!(follow.is_none() || list.extra.is_empty());
     let rows = Rows::new(bodies, list, histories, laws, f_ptr, tally, entries);
+    let rows = if one_law {
+        rows
+    } else {
+        rows.table_laws_only()
+    };
     // The pairs four at a time where they can be: no histories (a pair
     // apart does nothing) and AVX2.
     #[cfg(target_arch = "x86_64")]
@@ -983,10 +992,11 @@ pub fn active_histories(
 
 #[cfg(test)]
 mod tests {
-    use super::{block_order, pair_forces_then, PairTally};
+    use super::{block_order, one_law, pair_forces_then, PairTally};
     use crate::dynamics::friction_observables::tests::scene;
     use crate::parallel::SharedMut;
     use crate::Simulation;
+    use dembound_physics::contact::{ContactModel, NormalLaw};
 
     /// The pairs tested four at a time (AVX2) give every force and every
     /// row's tally bit for bit as the pair-by-pair loop (the reference: it
@@ -1045,6 +1055,19 @@ mod tests {
         quad: bool,
         tally: bool,
     ) -> (Vec<[f64; 3]>, Vec<PairTally>) {
+        list_forces_with(w, workers, quad, tally, true)
+    }
+
+    /// [`list_forces`]; `one_law`: a scene of one body class and law
+    /// through the kernel instantiated for it, else every law read from
+    /// the class table.
+    fn list_forces_with(
+        w: &crate::pipeline::World,
+        workers: &crate::parallel::Workers,
+        quad: bool,
+        tally: bool,
+        one_law: bool,
+    ) -> (Vec<[f64; 3]>, Vec<PairTally>) {
         let n = w.bodies.len();
         let mut f = vec![[0.0f64; 3]; n];
         let mut t: Vec<PairTally> = vec![[0.0; 3]; n];
@@ -1064,9 +1087,57 @@ mod tests {
                 tally.then(|| SharedMut::new(&mut t)),
                 crate::dynamics::entry_tally::EntryTerms::NONE,
                 quad,
+                one_law,
             )
         };
         (f, t)
+    }
+
+    /// The one-law kernel (one body class of undamped Hertz: no dispatch
+    /// on the law per contact, `one_law`) gives the class table's forces
+    /// and tallies bit for bit (the reference: every contact's law read
+    /// from the table and dispatched on its variants), four lanes at a
+    /// time and pair by pair, on 1 and 2 threads, along a frictionless
+    /// run of one radius with contacts made and broken.
+    #[test]
+    fn one_law_kernel_equals_the_class_table_bit_for_bit() {
+        for threads in [1, 2] {
+            let mut setup = scene();
+            setup.friction = None;
+            for s in &mut setup.spheres {
+                s.radius = 0.5e-3;
+            }
+            setup.contact = ContactModel::elastic(NormalLaw::Hertz);
+            // Undamped: a step well inside the Hertz contact time of these
+            // impacts (~0.1 ms at 5 cm/s).
+            setup.integration.time_step = crate::setup::TimeStep::Fixed(5.0e-6);
+            let mut sim = Simulation::new(setup, threads).unwrap();
+            assert!(
+                one_law::OneLaw::<one_law::HertzUndamped>::of(&sim.world.laws).is_some(),
+                "the scene must take the one-law kernel"
+            );
+            let mut touching = 0.0;
+            for _ in 0..25 {
+                sim.step(100);
+                let w = &sim.world;
+                let bits = |(f, t): (Vec<[f64; 3]>, Vec<PairTally>)| -> Vec<u64> {
+                    f.iter().chain(&t).flatten().map(|x| x.to_bits()).collect()
+                };
+                for quad in [false, true] {
+                    for tally in [false, true] {
+                        let table = list_forces_with(w, &sim.workers, quad, tally, false);
+                        touching += table.1.iter().map(|t| t[0]).sum::<f64>();
+                        let one = list_forces_with(w, &sim.workers, quad, tally, true);
+                        assert!(
+                            bits(one) == bits(table),
+                            "{threads} threads, quad {quad}, tally {tally}"
+                        );
+                    }
+                }
+            }
+            // Contacts were there to force.
+            assert!(touching > 100.0, "{touching}");
+        }
     }
 
     /// The list's pair forces, four lanes at a time and pair by pair,

@@ -4,6 +4,7 @@
 //! independent of the thread and rank counts); on AVX2 each row's pairs
 //! are tested four at a time first.
 
+use super::one_law::{HertzUndamped, OneLaw, PairLaws};
 use super::{
     add, contact_force, geometry_at, sub, touching_lazy, LawTable, PairGeometry, PairHistories,
     PairTally, NO_HISTORY,
@@ -32,6 +33,9 @@ pub(crate) struct Rows<'a> {
     /// Each touching entry's elastic energy, written when `TALLY` and
     /// asked.
     entries: EntryTerms,
+    /// The scene's one law when it has one body class of undamped Hertz:
+    /// the rows' kernel without the per-contact dispatch (`one_law`).
+    one: Option<OneLaw<HertzUndamped>>,
 }
 
 impl<'a> Rows<'a> {
@@ -73,7 +77,14 @@ impl<'a> Rows<'a> {
             h_ptr: SharedMut(histories.main.as_mut_ptr()),
             tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
             entries,
+            one: OneLaw::of(laws),
         }
+    }
+
+    /// The same loop with every contact's law read from the table and
+    /// dispatched on (the one-law kernel's reference in the tests).
+    pub(crate) fn table_laws_only(self) -> Self {
+        Rows { one: None, ..self }
     }
 
     /// The laws, the list and the histories of the loop
@@ -106,7 +117,10 @@ impl<'a> Rows<'a> {
     /// `TALLY`, `tally` points to one per body.
     #[inline(always)]
     pub(super) unsafe fn block<const TALLY: bool>(&self, b: usize) {
-        self.block_with::<TALLY, false>(b);
+        match &self.one {
+            Some(one) => self.block_with::<TALLY, false, _>(b, one),
+            None => self.block_with::<TALLY, false, _>(b, self.laws),
+        }
     }
 
     /// [`Self::block`] with each row's pairs tested four at a time for
@@ -121,7 +135,10 @@ impl<'a> Rows<'a> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
     pub(super) unsafe fn block_avx2<const TALLY: bool>(&self, b: usize) {
-        self.block_with::<TALLY, true>(b);
+        match &self.one {
+            Some(one) => self.block_with::<TALLY, true, _>(b, one),
+            None => self.block_with::<TALLY, true, _>(b, self.laws),
+        }
     }
 
     /// Rows `lo..hi` as [`Self::block_avx2`] runs a block's, each row's
@@ -134,21 +151,38 @@ impl<'a> Rows<'a> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
     pub(crate) unsafe fn rows_avx2(&self, lo: usize, hi: usize) {
+        match &self.one {
+            Some(one) => self.rows_with::<true, _>(lo, hi, one),
+            None => self.rows_with::<true, _>(lo, hi, self.laws),
+        }
+    }
+
+    /// Rows `lo..hi`, no tally, the laws from `laws`.
+    ///
+    /// # Safety
+    /// As [`Self::row`] for each of the rows; with `QUAD`, as
+    /// [`Self::block_avx2`].
+    #[inline(always)]
+    unsafe fn rows_with<const QUAD: bool, L: PairLaws>(&self, lo: usize, hi: usize, laws: &L) {
         for i in lo..hi {
             // SAFETY: as the caller's.
-            unsafe { self.row_with::<false, true>(i) };
+            unsafe { self.row_with::<false, QUAD, L>(i, laws) };
         }
     }
 
     /// # Safety
     /// As [`Self::block`]; with `QUAD`, as [`Self::block_avx2`].
     #[inline(always)]
-    unsafe fn block_with<const TALLY: bool, const QUAD: bool>(&self, b: usize) {
+    unsafe fn block_with<const TALLY: bool, const QUAD: bool, L: PairLaws>(
+        &self,
+        b: usize,
+        laws: &L,
+    ) {
         let lo = self.list.blocks[b] as usize;
         let hi = self.list.blocks[b + 1] as usize;
         for i in lo..hi {
             // SAFETY: as the caller's.
-            unsafe { self.row_with::<TALLY, QUAD>(i) };
+            unsafe { self.row_with::<TALLY, QUAD, L>(i, laws) };
         }
     }
 
@@ -164,7 +198,12 @@ impl<'a> Rows<'a> {
     #[inline(always)]
     pub(crate) unsafe fn row<const TALLY: bool>(&self, i: usize) {
         // SAFETY: as the caller's.
-        unsafe { self.row_with::<TALLY, false>(i) };
+        unsafe {
+            match &self.one {
+                Some(one) => self.row_with::<TALLY, false, _>(i, one),
+                None => self.row_with::<TALLY, false, _>(i, self.laws),
+            }
+        }
     }
 
     /// [`Self::row`]; with `QUAD`, the row's pairs tested four at a time
@@ -173,7 +212,11 @@ impl<'a> Rows<'a> {
     /// # Safety
     /// As [`Self::row`]; with `QUAD`, as [`Self::block_avx2`].
     #[inline(always)]
-    unsafe fn row_with<const TALLY: bool, const QUAD: bool>(&self, i: usize) {
+    unsafe fn row_with<const TALLY: bool, const QUAD: bool, L: PairLaws>(
+        &self,
+        i: usize,
+        laws: &L,
+    ) {
         let Rows {
             position,
             velocity,
@@ -221,7 +264,8 @@ impl<'a> Rows<'a> {
                         // SAFETY: as the pair loop below; lane is one of
                         // near4's touching lanes.
                         unsafe {
-                            self.pair_near::<TALLY>(
+                            self.pair_near::<TALLY, L>(
+                                laws,
                                 i,
                                 k + lane,
                                 (xi, vi, ri),
@@ -238,7 +282,7 @@ impl<'a> Rows<'a> {
         while k < e {
             // SAFETY: k is an entry of row i, which only this block
             // visits.
-            unsafe { self.pair::<TALLY>(i, k, xi, vi, ri, &mut fi, &mut sums) };
+            unsafe { self.pair::<TALLY, L>(laws, i, k, xi, vi, ri, &mut fi, &mut sums) };
             k += 1;
         }
         // SAFETY: i is in this block.
@@ -336,8 +380,9 @@ impl<'a> Rows<'a> {
     /// visits.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    unsafe fn pair<const TALLY: bool>(
+    unsafe fn pair<const TALLY: bool, L: PairLaws>(
         &self,
+        laws: &L,
         i: usize,
         k: usize,
         xi: [f64; 3],
@@ -364,7 +409,7 @@ impl<'a> Rows<'a> {
         let vj = || unsafe { *velocity.get_unchecked(j) };
         match touching_lazy(xi, vi, ri, xj, vj, rj) {
             // SAFETY: as the caller's.
-            Some(g) => unsafe { self.touching_pair::<TALLY>(i, k, j, &g, fi, sums) },
+            Some(g) => unsafe { self.touching_pair::<TALLY, L>(laws, i, k, j, &g, fi, sums) },
             None => {
                 if keep {
                     // SAFETY: as above.
@@ -385,8 +430,10 @@ impl<'a> Rows<'a> {
     /// As [`Self::pair`]; no histories are kept (a pair apart does
     /// nothing).
     #[inline(always)]
-    unsafe fn pair_near<const TALLY: bool>(
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn pair_near<const TALLY: bool, L: PairLaws>(
         &self,
+        laws: &L,
         i: usize,
         k: usize,
         (xi, vi, ri): ([f64; 3], [f64; 3], f64),
@@ -417,7 +464,7 @@ impl<'a> Rows<'a> {
         let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
         let g = geometry_at(d, r, inv, ri + rj, vi, vj);
         // SAFETY: as the caller's.
-        unsafe { self.touching_pair::<TALLY>(i, k, j, &g, fi, sums) };
+        unsafe { self.touching_pair::<TALLY, L>(laws, i, k, j, &g, fi, sums) };
     }
 
     /// The force of touching entry k (row i, partner j) with geometry `g`:
@@ -427,8 +474,10 @@ impl<'a> Rows<'a> {
     /// # Safety
     /// As [`Self::pair`].
     #[inline(always)]
-    unsafe fn touching_pair<const TALLY: bool>(
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn touching_pair<const TALLY: bool, L: PairLaws>(
         &self,
+        laws: &L,
         i: usize,
         k: usize,
         j: usize,
@@ -438,7 +487,6 @@ impl<'a> Rows<'a> {
     ) {
         let Rows {
             bodies,
-            laws,
             keep,
             f_ptr,
             h_ptr,
@@ -453,7 +501,7 @@ impl<'a> Rows<'a> {
         } else {
             &mut scratch
         };
-        let law = laws.pair(bodies, i, j);
+        let law = laws.law(bodies, i, j);
         let fj = contact_force(&law, g, hist);
         if TALLY {
             // As `pair_observables`: the history as the force left it
@@ -464,7 +512,7 @@ impl<'a> Rows<'a> {
                 sums[0] += 1.0;
             }
             let hist = if keep { &*hist } else { &NO_HISTORY };
-            let energy = laws.elastic_energy(&law, g.overlap, hist);
+            let energy = law.elastic_energy(g.overlap, hist);
             sums[2] += energy;
             // SAFETY: entry k belongs to row i, which only this block
             // visits.

@@ -1,0 +1,139 @@
+//! Where the frictionless pair loop ([`Rows`](super::Rows)) finds a
+//! contact's law: the scene's [`LawTable`], looked up and dispatched on
+//! per contact, or the table's one row when the scene has one body class
+//! ([`OneLaw`]), with its sub-model variants known to the compiler.
+//!
+//! Why (as the friction loop's `friction::row_laws`): the composer's
+//! sub-models are enums (`NormalPair`, `DampingPair`, the clamp flag), so
+//! a loop that reads the law per contact dispatches on them per contact,
+//! besides the two class loads and the index of each lookup: the
+//! frictionless 10k lattice drop (undamped Hertz, one class, 10,000
+//! steps, one thread) ran 27.5·10⁹ instructions with them and 20.3·10⁹
+//! without (BENCHMARKS.md, session 35). A kernel
+//! instantiated for the one row's variants ([`Variants`]) runs the same
+//! sub-model methods on the same values (the same bits) without the
+//! dispatch: each read states the variants the row was checked to have
+//! ([`std::hint::assert_unchecked`]) and the compiler folds the matches
+//! on them. The physics crate's code is the only contact law; the kernel
+//! only tells the compiler what was checked once per call.
+
+use std::marker::PhantomData;
+
+use dembound_physics::contact::{DampingPair, NormalPair, PairLaw};
+
+use super::LawTable;
+use crate::bodies::Bodies;
+
+/// The law of the contact between bodies i and j of `bodies`.
+pub(crate) trait PairLaws: Sync {
+    fn law(&self, bodies: &Bodies, i: usize, j: usize) -> PairLaw;
+}
+
+impl PairLaws for LawTable {
+    #[inline(always)]
+    fn law(&self, bodies: &Bodies, i: usize, j: usize) -> PairLaw {
+        self.pair(bodies, i, j)
+    }
+}
+
+/// Sub-model variants a law may be checked to have, so that a kernel
+/// instantiated for them has no per-contact dispatch.
+pub(crate) trait Variants: Sync {
+    /// Whether `law` has these variants.
+    fn matches(law: &PairLaw) -> bool;
+
+    /// Tells the compiler that `law` has these variants, one fact per
+    /// sub-model (a single condition joined by `&&` is a chain of branches
+    /// the optimiser does not split back into facts).
+    ///
+    /// # Safety
+    /// `Self::matches(law)`.
+    unsafe fn assume(law: &PairLaw);
+}
+
+/// Hertz without damping, clamped (no attraction): the lattice-drop
+/// benchmark's law (LAMMPS `hertz/material` undamped), and every scene
+/// that sets only `law = "hertz"`.
+pub(crate) struct HertzUndamped;
+
+impl Variants for HertzUndamped {
+    #[inline(always)]
+    fn matches(law: &PairLaw) -> bool {
+        matches!(law.normal(), NormalPair::Hertz(_))
+            && matches!(law.damping(), DampingPair::None(_))
+            && !law.attractive()
+    }
+
+    #[inline(always)]
+    unsafe fn assume(law: &PairLaw) {
+        use std::hint::assert_unchecked;
+        // SAFETY: the caller's (`Self::matches`).
+        unsafe {
+            assert_unchecked(matches!(law.normal(), NormalPair::Hertz(_)));
+            assert_unchecked(matches!(law.damping(), DampingPair::None(_)));
+            assert_unchecked(!law.attractive());
+        }
+    }
+}
+
+/// The one law of a scene with one body class, checked to have the
+/// variants `V`.
+#[derive(Clone, Copy)]
+pub(crate) struct OneLaw<V> {
+    law: PairLaw,
+    variants: PhantomData<V>,
+}
+
+impl<V: Variants> OneLaw<V> {
+    /// The one law of `laws` if the table has one body class, keeps no
+    /// contact histories and its law has the variants `V`.
+    pub(crate) fn of(laws: &LawTable) -> Option<Self> {
+        if laws.classes != 1 || laws.history {
+            return None;
+        }
+        let law = laws.pairs[0];
+        V::matches(&law).then_some(Self {
+            law,
+            variants: PhantomData,
+        })
+    }
+}
+
+impl<V: Variants> PairLaws for OneLaw<V> {
+    #[inline(always)]
+    fn law(&self, _bodies: &Bodies, _i: usize, _j: usize) -> PairLaw {
+        // SAFETY: checked in `of`, and the law is not changed after.
+        unsafe { V::assume(&self.law) };
+        self.law
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{HertzUndamped, Variants};
+    use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
+    use dembound_physics::material::{Material, PairProperties};
+
+    /// The variants' test accepts exactly undamped, clamped Hertz: the
+    /// damped, the attractive and another normal law are refused (each
+    /// would be miscompiled under the kernel's stated facts).
+    #[test]
+    fn hertz_undamped_matches_only_its_law() {
+        let m = Material {
+            density: 1000.0,
+            youngs_modulus: 1.0e7,
+            poisson_ratio: 0.3,
+        };
+        let props = PairProperties::spheres(1.0e-3, 1.0e-6, &m, 1.0e-3, 1.0e-6, &m);
+        let law = |model: ContactModel| HertzUndamped::matches(&model.pair(&props));
+        let hertz = ContactModel::elastic(NormalLaw::Hertz);
+        assert!(law(hertz));
+        assert!(!law(ContactModel::elastic(NormalLaw::Linear)));
+        assert!(!law(ContactModel {
+            attractive: true,
+            ..hertz
+        }));
+        let tsuji = Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5));
+        assert!(!law(ContactModel::damped(NormalLaw::Hertz, tsuji)));
+    }
+}
