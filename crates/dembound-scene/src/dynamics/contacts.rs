@@ -996,7 +996,9 @@ mod tests {
     use crate::dynamics::friction_observables::tests::scene;
     use crate::parallel::SharedMut;
     use crate::Simulation;
-    use dembound_physics::contact::{ContactModel, NormalLaw};
+    use dembound_physics::contact::{
+        ContactModel, Damping, DampingKind, Dissipation, NormalLaw,
+    };
 
     /// The pairs tested four at a time (AVX2) give every force and every
     /// row's tally bit for bit as the pair-by-pair loop (the reference: it
@@ -1093,28 +1095,40 @@ mod tests {
         (f, t)
     }
 
-    /// The one-law kernel (one body class of undamped Hertz: no dispatch
-    /// on the law per contact, `one_law`) gives the class table's forces
-    /// and tallies bit for bit (the reference: every contact's law read
-    /// from the table and dispatched on its variants), four lanes at a
-    /// time and pair by pair, on 1 and 2 threads, along a frictionless
-    /// run of one radius with contacts made and broken.
+    /// The one-law kernels (one body class of Hertz, undamped or with
+    /// Tsuji's damping: no dispatch on the law per contact, `one_law`) give
+    /// the class table's forces and tallies bit for bit (the reference:
+    /// every contact's law read from the table and dispatched on its
+    /// variants), four lanes at a time and pair by pair, on 1 and 2
+    /// threads, along a frictionless run of one radius with contacts made
+    /// and broken.
     #[test]
-    fn one_law_kernel_equals_the_class_table_bit_for_bit() {
-        for threads in [1, 2] {
+    fn one_law_kernels_equal_the_class_table_bit_for_bit() {
+        let tsuji = ContactModel::damped(
+            NormalLaw::Hertz,
+            Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
+        );
+        for (threads, model) in [1, 2].into_iter().flat_map(|t| {
+            [ContactModel::elastic(NormalLaw::Hertz), tsuji].map(|m| (t, m))
+        }) {
             let mut setup = scene();
             setup.friction = None;
             for s in &mut setup.spheres {
                 s.radius = 0.5e-3;
             }
-            setup.contact = ContactModel::elastic(NormalLaw::Hertz);
-            // Undamped: a step well inside the Hertz contact time of these
+            setup.contact = model;
+            // A step well inside the Hertz contact time of these
             // impacts (~0.1 ms at 5 cm/s).
             setup.integration.time_step = crate::setup::TimeStep::Fixed(5.0e-6);
             let mut sim = Simulation::new(setup, threads).unwrap();
+            let kernel = one_law::KnownLaw::of(&sim.world.laws);
             assert!(
-                one_law::OneLaw::<one_law::HertzUndamped>::of(&sim.world.laws).is_some(),
-                "the scene must take the one-law kernel"
+                matches!(
+                    (&kernel, model.damping.kind()),
+                    (Some(one_law::KnownLaw::HertzUndamped(_)), DampingKind::None)
+                        | (Some(one_law::KnownLaw::HertzTsuji(_)), DampingKind::Tsuji)
+                ),
+                "the scene must take its law's kernel"
             );
             let mut touching = 0.0;
             for _ in 0..25 {
@@ -1130,7 +1144,7 @@ mod tests {
                         let one = list_forces_with(w, &sim.workers, quad, tally, true);
                         assert!(
                             bits(one) == bits(table),
-                            "{threads} threads, quad {quad}, tally {tally}"
+                            "{threads} threads, {model:?}, quad {quad}, tally {tally}"
                         );
                     }
                 }

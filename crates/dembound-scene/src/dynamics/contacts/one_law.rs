@@ -76,9 +76,49 @@ impl Variants for HertzUndamped {
     }
 }
 
+/// Hertz with Tsuji's damping, clamped: the damped law of most example
+/// scenes (`law = "hertz"`, `damping = "tsuji"`; LIGGGHTS's and LAMMPS's
+/// `tsuji` damping).
+pub(crate) struct HertzTsuji;
+
+impl Variants for HertzTsuji {
+    #[inline(always)]
+    fn matches(law: &PairLaw) -> bool {
+        matches!(law.normal(), NormalPair::Hertz(_))
+            && matches!(law.damping(), DampingPair::Tsuji(_))
+            && !law.attractive()
+    }
+
+    #[inline(always)]
+    unsafe fn assume(law: &PairLaw) {
+        use std::hint::assert_unchecked;
+        // SAFETY: the caller's (`Self::matches`).
+        unsafe {
+            assert_unchecked(matches!(law.normal(), NormalPair::Hertz(_)));
+            assert_unchecked(matches!(law.damping(), DampingPair::Tsuji(_)));
+            assert_unchecked(!law.attractive());
+        }
+    }
+}
+
+/// The one law of a scene with one body class, with the variants the
+/// loop has a kernel for.
+pub(crate) enum KnownLaw {
+    HertzUndamped(OneLaw<HertzUndamped>),
+    HertzTsuji(OneLaw<HertzTsuji>),
+}
+
+impl KnownLaw {
+    /// The one law of `laws` ([`OneLaw::of`]) if a kernel has its variants.
+    pub(crate) fn of(laws: &LawTable) -> Option<Self> {
+        OneLaw::of(laws)
+            .map(Self::HertzUndamped)
+            .or_else(|| OneLaw::of(laws).map(Self::HertzTsuji))
+    }
+}
+
 /// The one law of a scene with one body class, checked to have the
 /// variants `V`.
-#[derive(Clone, Copy)]
 pub(crate) struct OneLaw<V> {
     law: PairLaw,
     variants: PhantomData<V>,
@@ -110,30 +150,43 @@ impl<V: Variants> PairLaws for OneLaw<V> {
 
 #[cfg(test)]
 mod tests {
-    use super::{HertzUndamped, Variants};
+    use super::{HertzTsuji, HertzUndamped, Variants};
     use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
     use dembound_physics::material::{Material, PairProperties};
 
-    /// The variants' test accepts exactly undamped, clamped Hertz: the
-    /// damped, the attractive and another normal law are refused (each
-    /// would be miscompiled under the kernel's stated facts).
+    /// Each variants' test accepts exactly its law (clamped Hertz,
+    /// undamped or with Tsuji's damping): another damping, the attractive
+    /// and another normal law are refused (each would be miscompiled under
+    /// the kernel's stated facts).
     #[test]
-    fn hertz_undamped_matches_only_its_law() {
+    fn each_variants_test_matches_only_its_law() {
         let m = Material {
             density: 1000.0,
             youngs_modulus: 1.0e7,
             poisson_ratio: 0.3,
         };
         let props = PairProperties::spheres(1.0e-3, 1.0e-6, &m, 1.0e-3, 1.0e-6, &m);
-        let law = |model: ContactModel| HertzUndamped::matches(&model.pair(&props));
+        let undamped = |model: ContactModel| HertzUndamped::matches(&model.pair(&props));
+        let tsuji = |model: ContactModel| HertzTsuji::matches(&model.pair(&props));
         let hertz = ContactModel::elastic(NormalLaw::Hertz);
-        assert!(law(hertz));
-        assert!(!law(ContactModel::elastic(NormalLaw::Linear)));
-        assert!(!law(ContactModel {
-            attractive: true,
-            ..hertz
-        }));
-        let tsuji = Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5));
-        assert!(!law(ContactModel::damped(NormalLaw::Hertz, tsuji)));
+        let damping = |kind| Damping::new(kind, Dissipation::Restitution(0.5));
+        let hertz_tsuji = ContactModel::damped(NormalLaw::Hertz, damping(DampingKind::Tsuji));
+        assert!(undamped(hertz) && !tsuji(hertz));
+        assert!(tsuji(hertz_tsuji) && !undamped(hertz_tsuji));
+        for other in [
+            ContactModel::elastic(NormalLaw::Linear),
+            ContactModel::damped(NormalLaw::Linear, damping(DampingKind::Tsuji)),
+            ContactModel::damped(NormalLaw::Hertz, damping(DampingKind::Viscoelastic)),
+            ContactModel {
+                attractive: true,
+                ..hertz
+            },
+            ContactModel {
+                attractive: true,
+                ..hertz_tsuji
+            },
+        ] {
+            assert!(!undamped(other) && !tsuji(other), "{other:?}");
+        }
     }
 }

@@ -4,7 +4,7 @@
 //! independent of the thread and rank counts); on AVX2 each row's pairs
 //! are tested four at a time first.
 
-use super::one_law::{HertzUndamped, OneLaw, PairLaws};
+use super::one_law::{KnownLaw, PairLaws};
 use super::{
     add, contact_force, geometry_at, sub, touching_lazy, LawTable, PairGeometry, PairHistories,
     PairTally, NO_HISTORY,
@@ -14,6 +14,22 @@ use crate::dynamics::entry_tally::EntryTerms;
 use crate::geometry::neighbour::PairList;
 use crate::parallel::SharedMut;
 use dembound_physics::contact::ContactHistory;
+
+/// `$body` with `$laws` the loop's law source: the kernel of the scene's
+/// one law when it has one ([`KnownLaw`]), else the table (one
+/// instantiation of the loop each).
+macro_rules! with_laws {
+    ($rows:ident, $laws:ident => $body:expr) => {
+        match &$rows.one {
+            Some(KnownLaw::HertzUndamped($laws)) => $body,
+            Some(KnownLaw::HertzTsuji($laws)) => $body,
+            None => {
+                let $laws = $rows.laws;
+                $body
+            }
+        }
+    };
+}
 
 /// What the frictionless loop over the main pairs reads and writes.
 pub(crate) struct Rows<'a> {
@@ -33,9 +49,9 @@ pub(crate) struct Rows<'a> {
     /// Each touching entry's elastic energy, written when `TALLY` and
     /// asked.
     entries: EntryTerms,
-    /// The scene's one law when it has one body class of undamped Hertz:
-    /// the rows' kernel without the per-contact dispatch (`one_law`).
-    one: Option<OneLaw<HertzUndamped>>,
+    /// The scene's one law when it has one body class and a law a kernel
+    /// without the per-contact dispatch has (`one_law`).
+    one: Option<KnownLaw>,
 }
 
 impl<'a> Rows<'a> {
@@ -77,7 +93,7 @@ impl<'a> Rows<'a> {
             h_ptr: SharedMut(histories.main.as_mut_ptr()),
             tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
             entries,
-            one: OneLaw::of(laws),
+            one: KnownLaw::of(laws),
         }
     }
 
@@ -117,10 +133,7 @@ impl<'a> Rows<'a> {
     /// `TALLY`, `tally` points to one per body.
     #[inline(always)]
     pub(super) unsafe fn block<const TALLY: bool>(&self, b: usize) {
-        match &self.one {
-            Some(one) => self.block_with::<TALLY, false, _>(b, one),
-            None => self.block_with::<TALLY, false, _>(b, self.laws),
-        }
+        with_laws!(self, laws => self.block_with::<TALLY, false, _>(b, laws))
     }
 
     /// [`Self::block`] with each row's pairs tested four at a time for
@@ -135,10 +148,7 @@ impl<'a> Rows<'a> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
     pub(super) unsafe fn block_avx2<const TALLY: bool>(&self, b: usize) {
-        match &self.one {
-            Some(one) => self.block_with::<TALLY, true, _>(b, one),
-            None => self.block_with::<TALLY, true, _>(b, self.laws),
-        }
+        with_laws!(self, laws => self.block_with::<TALLY, true, _>(b, laws))
     }
 
     /// Rows `lo..hi` as [`Self::block_avx2`] runs a block's, each row's
@@ -151,10 +161,7 @@ impl<'a> Rows<'a> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2")]
     pub(crate) unsafe fn rows_avx2(&self, lo: usize, hi: usize) {
-        match &self.one {
-            Some(one) => self.rows_with::<true, _>(lo, hi, one),
-            None => self.rows_with::<true, _>(lo, hi, self.laws),
-        }
+        with_laws!(self, laws => self.rows_with::<true, _>(lo, hi, laws))
     }
 
     /// Rows `lo..hi`, no tally, the laws from `laws`.
@@ -198,12 +205,7 @@ impl<'a> Rows<'a> {
     #[inline(always)]
     pub(crate) unsafe fn row<const TALLY: bool>(&self, i: usize) {
         // SAFETY: as the caller's.
-        unsafe {
-            match &self.one {
-                Some(one) => self.row_with::<TALLY, false, _>(i, one),
-                None => self.row_with::<TALLY, false, _>(i, self.laws),
-            }
-        }
+        unsafe { with_laws!(self, laws => self.row_with::<TALLY, false, _>(i, laws)) }
     }
 
     /// [`Self::row`]; with `QUAD`, the row's pairs tested four at a time
