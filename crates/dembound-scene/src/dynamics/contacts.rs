@@ -996,9 +996,7 @@ mod tests {
     use crate::dynamics::friction_observables::tests::scene;
     use crate::parallel::SharedMut;
     use crate::Simulation;
-    use dembound_physics::contact::{
-        ContactModel, Damping, DampingKind, Dissipation, NormalLaw,
-    };
+    use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
 
     /// The pairs tested four at a time (AVX2) give every force and every
     /// row's tally bit for bit as the pair-by-pair loop (the reference: it
@@ -1108,9 +1106,10 @@ mod tests {
             NormalLaw::Hertz,
             Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
         );
-        for (threads, model) in [1, 2].into_iter().flat_map(|t| {
-            [ContactModel::elastic(NormalLaw::Hertz), tsuji].map(|m| (t, m))
-        }) {
+        for (threads, model) in [1, 2]
+            .into_iter()
+            .flat_map(|t| [ContactModel::elastic(NormalLaw::Hertz), tsuji].map(|m| (t, m)))
+        {
             let mut setup = scene();
             setup.friction = None;
             for s in &mut setup.spheres {
