@@ -1093,63 +1093,71 @@ mod tests {
         (f, t)
     }
 
-    /// The one-law kernels (one body class of Hertz, undamped or with
-    /// Tsuji's damping: no dispatch on the law per contact, `one_law`) give
-    /// the class table's forces and tallies bit for bit (the reference:
-    /// every contact's law read from the table and dispatched on its
-    /// variants), four lanes at a time and pair by pair, on 1 and 2
-    /// threads, along a frictionless run of one radius with contacts made
-    /// and broken.
+    /// The kernels without the per-contact dispatch on the law (Hertz,
+    /// undamped or with Tsuji's damping; one body class and its one row,
+    /// or two classes and their table: `one_law`) give the class table's
+    /// forces and tallies bit for bit (the reference: every contact's law
+    /// read from the table and dispatched on its variants), four lanes at
+    /// a time and pair by pair, on 1 and 2 threads, along frictionless
+    /// runs with contacts made and broken.
     #[test]
-    fn one_law_kernels_equal_the_class_table_bit_for_bit() {
+    fn known_law_kernels_equal_the_class_table_bit_for_bit() {
+        use one_law::KnownLaw;
         let tsuji = ContactModel::damped(
             NormalLaw::Hertz,
             Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
         );
-        for (threads, model) in [1, 2]
-            .into_iter()
-            .flat_map(|t| [ContactModel::elastic(NormalLaw::Hertz), tsuji].map(|m| (t, m)))
-        {
-            let mut setup = scene();
-            setup.friction = None;
-            for s in &mut setup.spheres {
-                s.radius = 0.5e-3;
-            }
-            setup.contact = model;
-            // A step well inside the Hertz contact time of these
-            // impacts (~0.1 ms at 5 cm/s).
-            setup.integration.time_step = crate::setup::TimeStep::Fixed(5.0e-6);
-            let mut sim = Simulation::new(setup, threads).unwrap();
-            let kernel = one_law::KnownLaw::of(&sim.world.laws);
-            assert!(
-                matches!(
-                    (&kernel, model.damping.kind()),
-                    (Some(one_law::KnownLaw::HertzUndamped(_)), DampingKind::None)
-                        | (Some(one_law::KnownLaw::HertzTsuji(_)), DampingKind::Tsuji)
-                ),
-                "the scene must take its law's kernel"
-            );
-            let mut touching = 0.0;
-            for _ in 0..25 {
-                sim.step(100);
-                let w = &sim.world;
-                let bits = |(f, t): (Vec<[f64; 3]>, Vec<PairTally>)| -> Vec<u64> {
-                    f.iter().chain(&t).flatten().map(|x| x.to_bits()).collect()
-                };
-                for quad in [false, true] {
-                    for tally in [false, true] {
-                        let table = list_forces_with(w, &sim.workers, quad, tally, false);
-                        touching += table.1.iter().map(|t| t[0]).sum::<f64>();
-                        let one = list_forces_with(w, &sim.workers, quad, tally, true);
-                        assert!(
-                            bits(one) == bits(table),
-                            "{threads} threads, {model:?}, quad {quad}, tally {tally}"
-                        );
+        for threads in [1, 2] {
+            for model in [ContactModel::elastic(NormalLaw::Hertz), tsuji] {
+                for one_class in [true, false] {
+                    let mut setup = scene();
+                    setup.friction = None;
+                    if one_class {
+                        for s in &mut setup.spheres {
+                            s.radius = 0.5e-3;
+                        }
                     }
+                    setup.contact = model;
+                    // A step well inside the Hertz contact time of these
+                    // impacts (~0.1 ms at 5 cm/s).
+                    setup.integration.time_step = crate::setup::TimeStep::Fixed(5.0e-6);
+                    let mut sim = Simulation::new(setup, threads).unwrap();
+                    let w = &sim.world;
+                    let kernel = KnownLaw::of(&w.laws, &w.bodies);
+                    let label = format!("{threads} threads, {model:?}, one class {one_class}");
+                    assert!(
+                        matches!(
+                            (&kernel, model.damping.kind(), one_class),
+                            (Some(KnownLaw::OneHertzUndamped(_)), DampingKind::None, true)
+                                | (Some(KnownLaw::OneHertzTsuji(_)), DampingKind::Tsuji, true)
+                                | (Some(KnownLaw::HertzUndamped(_)), DampingKind::None, false)
+                                | (Some(KnownLaw::HertzTsuji(_)), DampingKind::Tsuji, false)
+                        ),
+                        "{label}: the scene must take its law's kernel"
+                    );
+                    let mut touching = 0.0;
+                    for _ in 0..25 {
+                        sim.step(100);
+                        let w = &sim.world;
+                        let bits = |(f, t): (Vec<[f64; 3]>, Vec<PairTally>)| -> Vec<u64> {
+                            f.iter().chain(&t).flatten().map(|x| x.to_bits()).collect()
+                        };
+                        for quad in [false, true] {
+                            for tally in [false, true] {
+                                let table = list_forces_with(w, &sim.workers, quad, tally, false);
+                                touching += table.1.iter().map(|t| t[0]).sum::<f64>();
+                                let known = list_forces_with(w, &sim.workers, quad, tally, true);
+                                assert!(
+                                    bits(known) == bits(table),
+                                    "{label}, quad {quad}, tally {tally}"
+                                );
+                            }
+                        }
+                    }
+                    // Contacts were there to force.
+                    assert!(touching > 100.0, "{label}: {touching}");
                 }
             }
-            // Contacts were there to force.
-            assert!(touching > 100.0, "{touching}");
         }
     }
 

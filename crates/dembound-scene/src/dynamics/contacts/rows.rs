@@ -21,6 +21,8 @@ use dembound_physics::contact::ContactHistory;
 macro_rules! with_laws {
     ($rows:ident, $laws:ident => $body:expr) => {
         match &$rows.one {
+            Some(KnownLaw::OneHertzUndamped($laws)) => $body,
+            Some(KnownLaw::OneHertzTsuji($laws)) => $body,
             Some(KnownLaw::HertzUndamped($laws)) => $body,
             Some(KnownLaw::HertzTsuji($laws)) => $body,
             None => {
@@ -51,7 +53,7 @@ pub(crate) struct Rows<'a> {
     entries: EntryTerms,
     /// The scene's one law when it has one body class and a law a kernel
     /// without the per-contact dispatch has (`one_law`).
-    one: Option<KnownLaw>,
+    one: Option<KnownLaw<'a>>,
 }
 
 impl<'a> Rows<'a> {
@@ -93,7 +95,7 @@ impl<'a> Rows<'a> {
             h_ptr: SharedMut(histories.main.as_mut_ptr()),
             tally: tally.unwrap_or(SharedMut(std::ptr::null_mut())),
             entries,
-            one: KnownLaw::of(laws),
+            one: KnownLaw::of(laws, bodies),
         }
     }
 
