@@ -10,7 +10,9 @@ running the peer again:
 
 1. `dembound export CODE RUNS/Jk.toml --set SET... --out OUT/Jk`; the new
    deck's input (in.liggghts, in.lammps) must be the stored deck's byte for
-   byte (the peer's run is then this deck's), else the seed stops here;
+   byte but for its comment lines (the header's notes, which name e.g. the
+   lever arm dembound's side runs; the peer's run is then this deck's),
+   else the seed stops here;
 2. the stored peer outputs are copied in (log, walls.txt, walls_mean.txt),
    and a stand-in particles.dump is written: every sphere of the deck's
    data file at its initial place, at the steps of the stored report's
@@ -85,6 +87,15 @@ def data_atoms(path):
     if not atoms:
         fail(f"{path}: no `Atoms` section of atom_style granular (id type diameter density x y z)")
     return atoms
+
+
+def commands(path):
+    """The deck's input without its comment lines (those starting with #,
+    which the header's notes are: they say which of dembound's settings
+    the deck was written under, e.g. the lever arm, and do not change the
+    peer's run), byte for byte otherwise."""
+    return [line for line in open(path, "rb").read().split(b"\n")
+            if not line.lstrip().startswith(b"#")]
 
 
 def stand_in_dump(path, atoms, steps):
@@ -176,10 +187,10 @@ def main():
         sets = [a for s in args.set for a in ("--set", s)]
         run([args.dembound, "export", args.code, os.path.join(args.runs, f"J{k}.toml"), *sets,
              "--out", deck])
-        if open(os.path.join(deck, deck_file), "rb").read() != \
-                open(os.path.join(stored_deck, deck_file), "rb").read():
-            fail(f"seed {k}: the new {deck_file} differs from {stored_deck}/{deck_file}: "
-                 f"the stored {args.code} run is not this deck's", 1)
+        if commands(os.path.join(deck, deck_file)) != \
+                commands(os.path.join(stored_deck, deck_file)):
+            fail(f"seed {k}: the commands of the new {deck_file} differ from "
+                 f"{stored_deck}/{deck_file}: the stored {args.code} run is not this deck's", 1)
         for name in (log_file, *PEER_FILES):
             if os.path.isfile(os.path.join(stored_deck, name)):
                 shutil.copy2(os.path.join(stored_deck, name), deck)

@@ -182,6 +182,9 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         for note in dembound_export::liggghts_inlets::notes(&resolved.setup) {
             eprintln!("note: {note}");
         }
+        if let Some(note) = dembound_export::liggghts_scene::torque_arm_note(&resolved.setup) {
+            eprintln!("{note}");
+        }
     }
     if code == Code::Lammps {
         if let Some(note) = dembound_export::lammps_scene::torque_arm_note(&resolved.setup) {

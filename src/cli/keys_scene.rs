@@ -6,6 +6,7 @@
 
 use super::keys::{law_parameter_rows, KeyInfo};
 use dembound_physics::contact::tangential::tangential_names;
+use dembound_physics::contact::torque_arm::TORQUE_ARM_NAMES;
 use dembound_scene::io::config::MAX_STEPS;
 use dembound_scene::limits::{self, describe, show};
 use dembound_scene::setup_checks::radius_range;
@@ -283,7 +284,14 @@ pub fn keys() -> Vec<KeyInfo> {
             "contact.torque_arm",
             "",
             "\"radius\"",
-            "\"radius\", \"contact_point\", \"overlap_middle\" (with friction)".into(),
+            format!(
+                "{} (with friction)",
+                TORQUE_ARM_NAMES
+                    .iter()
+                    .map(|name| format!("\"{name}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
             "lever arm of the tangential torque",
         ),
         row(

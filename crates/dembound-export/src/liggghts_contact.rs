@@ -31,12 +31,15 @@
 //! - μ per type pair: dembound's √(μ_a μ_b) written per pair.
 //!
 //! What differs, and is exported anyway (the deck's header says so):
-//! 1. The lever arm. LIGGGHTS takes R − δ/2 from each centre, in the slip
-//!    velocity and in the torque of F_t; dembound the undeformed R
-//!    (`contact::model`). Relative size δ/(2R) of the spin terms. In gross
-//!    sliding along a fixed direction F_t is μ |F_n| in both and the
-//!    trajectory is the same; only the spin change differs, by
-//!    ∫ (δ/2) μ F_n dt/I.
+//! 1. The lever arm, unless `contact.torque_arm = "half_overlap"`.
+//!    LIGGGHTS takes R − δ/2 from each centre, in the slip velocity and in
+//!    the torque of F_t, of sphere pairs and walls alike; dembound by
+//!    default the undeformed R (`contact::model`), and its other arms
+//!    R − δ/2 in part (`contact::torque_arm`). Relative size δ/(2R) of the
+//!    spin terms. In gross sliding along a fixed direction F_t is μ |F_n|
+//!    in both and the trajectory is the same; only the spin change
+//!    differs, by ∫ (δ/2) μ F_n dt/I. Under `"half_overlap"` the arm is
+//!    LIGGGHTS's (`TorqueArm::HalfOverlap`) and the header says so.
 //! 2. The spring's rotation: LIGGGHTS projects δ onto the new tangent plane,
 //!    dembound also restores its length (second order in the turn per
 //!    step; none on a flat wall).
@@ -82,7 +85,7 @@ use dembound_physics::contact::tangential::linear::LinearTangential;
 use dembound_physics::contact::tangential::{
     mix_friction, TangentialKind, TangentialSetup, TangentialSubModel,
 };
-use dembound_physics::contact::{Calibration, DampingKind, Dissipation, NormalLaw};
+use dembound_physics::contact::{Calibration, DampingKind, Dissipation, NormalLaw, TorqueArm};
 use dembound_physics::material::{effective_modulus, effective_radius, PairProperties};
 use dembound_scene::setup::{SceneSetup, WallSetup};
 
@@ -196,6 +199,28 @@ impl ContactPlan {
         }
         v
     }
+}
+
+/// The note `dembound export liggghts` prints for a frictional scene
+/// (its deck has `tangential history`) under an arm other than
+/// `contact.torque_arm = "half_overlap"`: LIGGGHTS 3.8 takes R − δ/2 in
+/// the slip and the torque of every contact (`surface_model_default.h`,
+/// `tangential_model_history.h`), so the two runs part at the first
+/// frictional contact. `None` without friction, under `"half_overlap"` or
+/// for a scene the export refuses.
+pub fn torque_arm_note(setup: &SceneSetup) -> Option<String> {
+    let f = setup.friction.as_ref()?;
+    if f.torque_arm == TorqueArm::HalfOverlap {
+        return None;
+    }
+    plan(setup).ok()?.friction?;
+    Some(format!(
+        "note: contact.torque_arm = \"{}\": LIGGGHTS takes the lever arm R − δ/2 (δ the overlap) \
+         in the slip velocity and the tangential torque of every contact, so the two runs part at \
+         the first frictional contact; set contact.torque_arm = \"half_overlap\" to run \
+         LIGGGHTS's arm in dembound",
+        f.torque_arm.name()
+    ))
 }
 
 /// e whose β = ln e/√(ln² e + π²) is −ξ (0 ≤ ξ < 1).
@@ -400,10 +425,18 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                 } else {
                     "dembound's Mindlin spring k_t = 8 G* sqrt(R* d)"
                 };
+                // The header as before for every other arm (the same deck
+                // bytes); under LIGGGHTS's own arm the arm is not a difference.
+                let kept = if f.torque_arm == TorqueArm::HalfOverlap {
+                    " The lever arm is LIGGGHTS's\n\
+                     # (contact.torque_arm = \"half_overlap\": R - d/2 in the slip and the torque of every contact). Difference kept: the spring's length on a turning normal."
+                } else {
+                    " Differences kept: the lever arm\n\
+                     # (LIGGGHTS R - d/2 in the slip and the torque; relative d/2R in the spin terms), the spring's length on a turning normal."
+                };
                 notes.push(format!(
                     "# Friction: tangential history = {spring} with the Coulomb cut,\n\
-                     # no damping; mu per type pair = sqrt(mu_a mu_b) as dembound mixes. Differences kept: the lever arm\n\
-                     # (LIGGGHTS R - d/2 in the slip and the torque; relative d/2R in the spin terms), the spring's length on a turning normal."
+                     # no damping; mu per type pair = sqrt(mu_a mu_b) as dembound mixes.{kept}"
                 ));
                 Some(mu)
             }

@@ -309,9 +309,9 @@ fn gross_sliding_transmits_the_coulomb_limit_against_the_slip() {
 /// A sphere pair in gross sliding: the torque on each sphere is its arm
 /// times n × F_t with |F_t| = μ F_n against the slip, the arm R for
 /// `TorqueArm::Radius` and R − δ/2 for `TorqueArm::ContactPoint`
-/// (LAMMPS's `dist_to_contact`) and `TorqueArm::OverlapMiddle` (Yade's
-/// contact point); against a wall the first two take R, the third
-/// R − δ/2. Closed form:
+/// (LAMMPS's `dist_to_contact`), `TorqueArm::OverlapMiddle` (Yade's
+/// contact point) and `TorqueArm::HalfOverlap` (LIGGGHTS's `cri`, `crj`);
+/// against a wall the first two take R, the last two R − δ/2. Closed form:
 /// n = +x, body 1 sliding along +y on body 2 at rest, so F_t = −μ F_n ŷ
 /// and n × F_t = −μ F_n ẑ, τ_k = −A_k μ F_n ẑ.
 #[test]
@@ -358,6 +358,7 @@ fn sliding_torque_is_the_arm_times_the_coulomb_force() {
         TorqueArm::Radius,
         TorqueArm::ContactPoint,
         TorqueArm::OverlapMiddle,
+        TorqueArm::HalfOverlap,
     ] {
         let cl = ContactLaw {
             torque_arm: arm,
@@ -369,7 +370,9 @@ fn sliding_torque_is_the_arm_times_the_coulomb_force() {
         let f_n = cl.law.force(h, 0.0, &ContactHistory::default());
         let (arm1, arm2) = match arm {
             TorqueArm::Radius => (R1, R2),
-            TorqueArm::ContactPoint | TorqueArm::OverlapMiddle => (R1 - 0.5 * h, R2 - 0.5 * h),
+            TorqueArm::ContactPoint | TorqueArm::OverlapMiddle | TorqueArm::HalfOverlap => {
+                (R1 - 0.5 * h, R2 - 0.5 * h)
+            }
         };
         // The closed form to a few roundings: |F_t| is μ F_n after the
         // spring's rescale (1e-15 relative), times one product.
@@ -383,7 +386,7 @@ fn sliding_torque_is_the_arm_times_the_coulomb_force() {
         // arms take R, Yade's box face R − δ/2.
         let w = sliding(&cl, &Side::wall([0.0; 3]));
         let fw = cl.law.force(h, 0.0, &ContactHistory::default());
-        let wall_arm = if arm == TorqueArm::OverlapMiddle {
+        let wall_arm = if matches!(arm, TorqueArm::OverlapMiddle | TorqueArm::HalfOverlap) {
             R1 - 0.5 * h
         } else {
             R1
@@ -518,6 +521,112 @@ fn a_wall_is_side_two_with_its_surface_velocity() {
     assert_eq!(
         c.normal,
         frictionless.law.normal_stage(1.0e-6, 0.0, &mut h2)
+    );
+}
+
+/// LIGGGHTS's arm (`TorqueArm::HalfOverlap`) at a known sticking state,
+/// by LIGGGHTS's formulas (`surface_model_default.h`,
+/// `tangential_model_history.h`): from an empty spring one step moves it
+/// by v_t Δt, v_t the tangential part of v₁ − v₂ + ((R₁ − δ/2) ω₁ + (R₂
+/// − δ/2) ω₂) × n, so F_t = −c v_t with c = k_t Δt + η_t the same scalar
+/// as under the default arm (whose slip takes R: c read from that run),
+/// and the torques are (R_k − δ/2) n × F_t. Against a wall the whole
+/// contact is Yade's (`TorqueArm::OverlapMiddle`), bit for bit.
+#[test]
+fn half_overlap_sticking_step_is_liggghts_slip_and_torque() {
+    let h = 1.0e-6;
+    let n = [0.0, 0.0, 1.0];
+    let g = Geometry {
+        overlap: h,
+        overlap_rate: 0.0,
+        normal: n,
+    };
+    let a = Side {
+        velocity: [0.02, -0.01, 0.005],
+        spin: [30.0, -20.0, 5.0],
+        arm: R1,
+        inverse_inertia: 1.0,
+    };
+    let b = Side {
+        velocity: [-0.01, 0.03, 0.0],
+        spin: [-10.0, 40.0, 7.0],
+        arm: R2,
+        inverse_inertia: 1.0,
+    };
+    let step = |arm: TorqueArm, other: &Side| {
+        let cl = ContactLaw {
+            torque_arm: arm,
+            ..laws()[0]
+        };
+        let (mut hist, mut s) = (ContactHistory::default(), [0.0; 3]);
+        cl.calculate_forces(
+            &g,
+            &a,
+            other,
+            ContactState {
+                history: &mut hist,
+                tangential: &mut s,
+                rolling: None,
+            },
+            1.0e-7,
+        )
+    };
+    // The tangential slip of arms c1, c2, n = z: (v₁ − v₂)_xy + (w_y, −w_x)
+    // with w = c1 ω₁ + c2 ω₂.
+    let slip = |c1: f64, c2: f64| {
+        let w = [
+            c1 * a.spin[0] + c2 * b.spin[0],
+            c1 * a.spin[1] + c2 * b.spin[1],
+        ];
+        [
+            a.velocity[0] - b.velocity[0] + w[1],
+            a.velocity[1] - b.velocity[1] - w[0],
+            0.0,
+        ]
+    };
+    let (c1, c2) = (R1 - 0.5 * h, R2 - 0.5 * h);
+    let radius = step(TorqueArm::Radius, &b);
+    let v_r = slip(R1, R2);
+    let coefficient = -radius.tangential[0] / v_r[0];
+    assert!(coefficient > 0.0);
+    let half = step(TorqueArm::HalfOverlap, &b);
+    let v_h = slip(c1, c2);
+    // Sticking: under μ F_n (measured 0.12 N against 0.49 N, mostly the
+    // tangential dashpot), or the cut would break F_t ∝ v_t.
+    let mu = laws()[0].friction.friction();
+    assert!(norm(half.tangential) < 0.5 * mu * half.normal);
+    // A few roundings of the slip's sums and of one product (1e-13
+    // relative); the arms R against R − δ/2 move the spin terms by
+    // δ/(2R) = 5e-4 of 0.1 m/s, 1e6 times that.
+    for k in 0..2 {
+        let want = -coefficient * v_h[k];
+        assert!(
+            (half.tangential[k] / want - 1.0).abs() < 1e-12,
+            "F_t[{k}] {:?} against {want}",
+            half.tangential
+        );
+        assert!((radius.tangential[k] / want - 1.0).abs() > 1e-6);
+    }
+    assert_eq!(half.tangential[2], 0.0);
+    let t1 = cross(n, half.tangential).map(|x| c1 * x);
+    let t2 = cross(n, half.tangential).map(|x| c2 * x);
+    for k in 0..3 {
+        assert!((half.torque1()[k] - t1[k]).abs() <= 1e-15 * norm(t1));
+        assert!((half.torque2()[k] - t2[k]).abs() <= 1e-15 * norm(t2));
+    }
+    // The wall: every bit of Yade's.
+    let wall = Side::wall([0.01, 0.0, 0.0]);
+    let (w_half, w_yade) = (
+        step(TorqueArm::HalfOverlap, &wall),
+        step(TorqueArm::OverlapMiddle, &wall),
+    );
+    assert_eq!(w_half.normal.to_bits(), w_yade.normal.to_bits());
+    assert_eq!(bits(w_half.tangential), bits(w_yade.tangential));
+    assert_eq!(bits(w_half.torque1()), bits(w_yade.torque1()));
+    assert_eq!(bits(w_half.torque2()), bits(w_yade.torque2()));
+    assert_ne!(
+        bits(w_half.torque1()),
+        bits(step(TorqueArm::ContactPoint, &wall).torque1())
     );
 }
 

@@ -27,8 +27,21 @@
 //!   two spheres the slip keeps the radii and scales the centres'
 //!   relative velocity by α = (R₁ + R₂)/(R₁ + R₂ − δ)
 //!   (`avoidGranularRatcheting`, the default of
-//!   `Ig2_Sphere_Sphere_ScGeom`). The rolling spring (relative spin
-//!   only) is the same in all three.
+//!   `Ig2_Sphere_Sphere_ScGeom`).
+//! - [`TorqueArm::HalfOverlap`] (`"half_overlap"`): LIGGGHTS's (3.8,
+//!   read in `src/surface_model_default.h`,
+//!   `SurfaceModel<SURFACE_DEFAULT>::surfacesIntersect`, and
+//!   `src/tangential_model_history.h`,
+//!   `TangentialModel<TANGENTIAL_HISTORY>::surfacesIntersect`): R − δ/2
+//!   from each centre, `cri = radi − 0.5 deltan` and `crj = radj − 0.5
+//!   deltan` in a sphere pair, `cr = radi − 0.5 deltan` against a wall,
+//!   each used both in the slip velocity (`wr = (cri ω_i + crj ω_j)/r`,
+//!   then `vtr = vt − wr × delta`) and as the tangential torque's arm
+//!   (`delta_torque = −cri en × F_t`), with no scaling of the centres'
+//!   velocities. Against a wall it is [`TorqueArm::OverlapMiddle`] bit
+//!   for bit; in a sphere pair it has no α.
+//!
+//! The rolling spring (relative spin only) is the same under every arm.
 
 use super::model::Side;
 
@@ -44,18 +57,23 @@ pub enum TorqueArm {
     /// centres' relative velocity scaled by α in a pair's slip (Yade's
     /// model; [`TorqueArm::slip_sides`]).
     OverlapMiddle,
+    /// R − δ/2 on every sphere of every contact, in the torque and in the
+    /// slip, the centres' velocities as they are (LIGGGHTS's model).
+    HalfOverlap,
 }
 
 /// The names `contact.torque_arm` takes, in the order of [`TorqueArm`].
-pub const TORQUE_ARM_NAMES: [&str; 3] = ["radius", "contact_point", "overlap_middle"];
+pub const TORQUE_ARM_NAMES: [&str; 4] =
+    ["radius", "contact_point", "overlap_middle", "half_overlap"];
 
 impl TorqueArm {
-    /// The arm named `name` (`"radius"` or `"contact_point"`).
+    /// The arm named `name` (one of [`TORQUE_ARM_NAMES`]).
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "radius" => Some(Self::Radius),
             "contact_point" => Some(Self::ContactPoint),
             "overlap_middle" => Some(Self::OverlapMiddle),
+            "half_overlap" => Some(Self::HalfOverlap),
             _ => None,
         }
     }
@@ -66,6 +84,7 @@ impl TorqueArm {
             Self::Radius => TORQUE_ARM_NAMES[0],
             Self::ContactPoint => TORQUE_ARM_NAMES[1],
             Self::OverlapMiddle => TORQUE_ARM_NAMES[2],
+            Self::HalfOverlap => TORQUE_ARM_NAMES[3],
         }
     }
 
@@ -75,17 +94,15 @@ impl TorqueArm {
     /// [`Self::Radius`] the radii themselves (the same bits); under
     /// [`Self::ContactPoint`] R − δ/2 on both sides of a sphere pair
     /// (`radius2 > 0`), the radii unchanged against a wall; under
-    /// [`Self::OverlapMiddle`] R − δ/2 on every sphere (a wall keeps 0).
+    /// [`Self::OverlapMiddle`] and [`Self::HalfOverlap`] R − δ/2 on every
+    /// sphere (a wall keeps 0).
     #[inline(always)]
     pub fn arms(self, overlap: f64, radius1: f64, radius2: f64) -> (f64, f64) {
         match self {
-            Self::ContactPoint if radius2 > 0.0 => {
+            Self::ContactPoint | Self::OverlapMiddle | Self::HalfOverlap if radius2 > 0.0 => {
                 (radius1 - 0.5 * overlap, radius2 - 0.5 * overlap)
             }
-            Self::OverlapMiddle if radius2 > 0.0 => {
-                (radius1 - 0.5 * overlap, radius2 - 0.5 * overlap)
-            }
-            Self::OverlapMiddle => (radius1 - 0.5 * overlap, radius2),
+            Self::OverlapMiddle | Self::HalfOverlap => (radius1 - 0.5 * overlap, radius2),
             _ => (radius1, radius2),
         }
     }
@@ -96,7 +113,9 @@ impl TorqueArm {
     /// [`Self::OverlapMiddle`] Yade's: against a wall (side 2 of arm 0)
     /// body 1's arm R − δ/2, between two spheres both centre velocities
     /// times α = (R₁ + R₂)/(R₁ + R₂ − δ) (so their difference is α (v₁ −
-    /// v₂); `ScGeom::getIncidentVel` with `avoidGranularRatcheting`).
+    /// v₂); `ScGeom::getIncidentVel` with `avoidGranularRatcheting`);
+    /// under [`Self::HalfOverlap`] LIGGGHTS's: every sphere's arm R − δ/2
+    /// (a wall's stays 0), the velocities unchanged.
     #[inline(always)]
     pub fn slip_sides(self, overlap: f64, a: &Side, b: &Side) -> (Side, Side) {
         match self {
@@ -115,7 +134,17 @@ impl TorqueArm {
                     },
                 )
             }
-            Self::OverlapMiddle => (
+            Self::HalfOverlap if b.arm > 0.0 => (
+                Side {
+                    arm: a.arm - 0.5 * overlap,
+                    ..*a
+                },
+                Side {
+                    arm: b.arm - 0.5 * overlap,
+                    ..*b
+                },
+            ),
+            Self::OverlapMiddle | Self::HalfOverlap => (
                 Side {
                     arm: a.arm - 0.5 * overlap,
                     ..*a
@@ -133,7 +162,7 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_is_none() {
-        assert_eq!(TORQUE_ARM_NAMES.len(), 3);
+        assert_eq!(TORQUE_ARM_NAMES.len(), 4);
         for name in TORQUE_ARM_NAMES {
             assert_eq!(TorqueArm::from_name(name).map(TorqueArm::name), Some(name));
         }
@@ -205,5 +234,55 @@ mod tests {
         for k in 0..3 {
             assert!((got[k] - on_wall[k]).abs() < 1e-15, "{got:?} {on_wall:?}");
         }
+    }
+
+    /// The slip under LIGGGHTS's model against LIGGGHTS's formulas
+    /// (`surface_model_default.h`), written out here: a pair's relative
+    /// contact velocity v₁ − v₂ + ((R₁ − δ/2) ω₁ + (R₂ − δ/2) ω₂) × n, no
+    /// α (`vtr = vt − wr × delta` with `wr = (cri ω_i + crj ω_j)/r`: the
+    /// normal of LIGGGHTS points from j to i, dembound's from 1 to 2, so
+    /// both signs flip); against a wall exactly Yade's
+    /// ([`TorqueArm::OverlapMiddle`]): the same sides and arms, bit for bit.
+    #[test]
+    fn half_overlap_slip_is_liggghts_relative_velocity() {
+        use crate::contact::model::slip_velocity;
+        let (h, r1, r2) = (1e-4, 1e-3, 2e-3);
+        let n = [0.0, 0.0, 1.0];
+        let a = side([0.3, -0.1, 0.2], [10.0, 20.0, -5.0], r1);
+        let b = side([-0.2, 0.4, 0.1], [-30.0, 5.0, 7.0], r2);
+        let wall = side([0.05, 0.0, 0.0], [0.0; 3], 0.0);
+        let (c1, c2) = (r1 - 0.5 * h, r2 - 0.5 * h);
+        // (c₁ ω₁ + c₂ ω₂) × n with n = z: (w_y, −w_x, 0).
+        let w = [c1 * 10.0 + c2 * -30.0, c1 * 20.0 + c2 * 5.0];
+        let pair = [0.5 + w[1], -0.5 - w[0], 0.0];
+        let (sa, sb) = TorqueArm::HalfOverlap.slip_sides(h, &a, &b);
+        assert_eq!((sa.velocity, sb.velocity), (a.velocity, b.velocity));
+        let got = slip_velocity(&sa, &sb, n);
+        for k in 0..3 {
+            // a few ulps of the 0.5 m/s terms summed
+            assert!((got[k] - pair[k]).abs() < 1e-15, "{got:?} {pair:?}");
+        }
+        // Yade's α = 3.0e-3/2.9e-3 would move the 0.5 m/s terms by 1.7e-2
+        // m/s: the two pair slips are told apart far above the tolerance.
+        let (ya, yb) = TorqueArm::OverlapMiddle.slip_sides(h, &a, &b);
+        let yade = slip_velocity(&ya, &yb, n);
+        assert!((yade[0] - got[0]).abs() > 1e-3, "{yade:?} {got:?}");
+        assert_eq!(
+            TorqueArm::HalfOverlap.arms(h, r1, r2),
+            (r1 - 0.5 * h, r2 - 0.5 * h)
+        );
+        // At a wall: LIGGGHTS's cr = R − δ/2 in the slip and the torque,
+        // the same bits as Yade's.
+        assert_eq!(
+            TorqueArm::HalfOverlap.slip_sides(h, &a, &wall),
+            TorqueArm::OverlapMiddle.slip_sides(h, &a, &wall)
+        );
+        let (sa, _) = TorqueArm::HalfOverlap.slip_sides(h, &a, &wall);
+        assert_eq!(sa.arm, r1 - 0.5 * h);
+        assert_eq!(
+            TorqueArm::HalfOverlap.arms(h, r1, 0.0).0.to_bits(),
+            TorqueArm::OverlapMiddle.arms(h, r1, 0.0).0.to_bits()
+        );
+        assert_eq!(TorqueArm::HalfOverlap.arms(h, r1, 0.0), (r1 - 0.5 * h, 0.0));
     }
 }

@@ -60,8 +60,9 @@ pub struct ContactSection {
     pub tangential_damping: Option<bool>,
     /// The lever arm of the tangential force's torque: `"radius"` (default:
     /// R), `"contact_point"` (LAMMPS's R − δ/2 for sphere pairs, R
-    /// against walls) or `"overlap_middle"` (Yade's R − δ/2 on every
-    /// contact; `dembound_physics::contact::TorqueArm`).
+    /// against walls), `"overlap_middle"` (Yade's R − δ/2 on every
+    /// contact) or `"half_overlap"` (LIGGGHTS's R − δ/2 in the torque and
+    /// the slip of every contact; `dembound_physics::contact::TorqueArm`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub torque_arm: Option<String>,
 }
@@ -281,8 +282,9 @@ impl SceneFile {
                 "contact.torque_arm",
                 format!("{name:?}"),
                 "\"radius\" (the default: the tangential torque at R), \"contact_point\" \
-                 (LAMMPS's R − δ/2 for sphere pairs, R against walls) or \"overlap_middle\" \
-                 (Yade's R − δ/2 on every contact, in the slip against walls too)",
+                 (LAMMPS's R − δ/2 for sphere pairs, R against walls), \"overlap_middle\" \
+                 (Yade's R − δ/2 on every contact, in the slip against walls too) or \
+                 \"half_overlap\" (LIGGGHTS's R − δ/2 on every contact, in the torque and the slip)",
             )?;
             check(
                 self.has_friction(),
