@@ -23,16 +23,11 @@ use common::peer::{missing, read_liggghts_dump, run_liggghts};
 use dembound_scene::io::{config, resolve::resolve};
 use dembound_scene::Simulation;
 
-/// Two free spheres (R = 0.5 and 0.4 mm, ρ = 1000 kg/m³, E = 1e7 Pa,
-/// ν = 0.3), no gravity, no wall: sphere 1 at 0.1 m/s along x meets
-/// sphere 2 coming back at 0.05 m/s and rising at 0.02 m/s, their centres
-/// 0.3 mm apart in y and 0.1 mm in z (an impact 20° off the line of
-/// centres). Hertz, Tsuji damping for e = 0.3 without the tangential
-/// dashpot (the one damping the LIGGGHTS export takes with friction),
-/// μ = 0.5; Δt = 2 µs, 3000 steps. The contact (56 steps) spins both
-/// spheres up from rest (to 128 rad/s), and the slip it sees carries that
-/// spin at the lever arm.
-const PAIR: &str = r#"
+/// The domain, the material and the law of both scenes (`ARM` replaced
+/// by each arm): ρ = 1000 kg/m³, E = 1e7 Pa, ν = 0.3; Hertz, Tsuji damping
+/// for e = 0.3 without the tangential dashpot (the one damping the
+/// LIGGGHTS export takes with friction), μ = 0.5.
+const LAW: &str = r#"
 [domain]
 lower = [0.0, 0.0, 0.0]
 upper = [0.01, 0.01, 0.01]
@@ -49,6 +44,18 @@ restitution = 0.3
 friction = 0.5
 tangential_damping = false
 torque_arm = "ARM"
+"#;
+
+/// Two free spheres (R = 0.5 and 0.4 mm, ρ = 1000 kg/m³, E = 1e7 Pa,
+/// ν = 0.3), no gravity, no wall: sphere 1 at 0.1 m/s along x meets
+/// sphere 2 coming back at 0.05 m/s and rising at 0.02 m/s, their centres
+/// 0.3 mm apart in y and 0.1 mm in z (an impact 20° off the line of
+/// centres). Hertz, Tsuji damping for e = 0.3 without the tangential
+/// dashpot (the one damping the LIGGGHTS export takes with friction),
+/// μ = 0.5; Δt = 2 µs, 3000 steps. The contact (56 steps) spins both
+/// spheres up from rest (to 128 rad/s), and the slip it sees carries that
+/// spin at the lever arm.
+const PAIR: &str = r#"
 [[particles]]
 material = "grain"
 spheres = [
@@ -70,22 +77,6 @@ series_every = 10
 /// meet the floor again. The law of `PAIR`; 8000 steps of 2 µs (the pair
 /// touches for 78 steps; spins up to 218 rad/s).
 const ROLL: &str = r#"
-[domain]
-lower = [0.0, 0.0, 0.0]
-upper = [0.01, 0.01, 0.01]
-periodic = [false, false, false]
-[[material]]
-name = "grain"
-density = 1000.0
-youngs_modulus = 1e7
-poisson_ratio = 0.3
-[contact]
-law = "hertz"
-damping = "tsuji"
-restitution = 0.3
-friction = 0.5
-tangential_damping = false
-torque_arm = "ARM"
 [[particles]]
 material = "grain"
 spheres = [
@@ -239,7 +230,7 @@ fn half_overlap_is_liggghts_in_an_oblique_sphere_pair() {
         return;
     }
     let got = against_liggghts(
-        PAIR,
+        &format!("{LAW}{PAIR}"),
         0.1,
         &["half_overlap", "contact_point", "overlap_middle"],
     );
@@ -274,7 +265,7 @@ fn half_overlap_is_liggghts_on_a_frictional_floor_and_into_a_sphere() {
         return;
     }
     let got = against_liggghts(
-        ROLL,
+        &format!("{LAW}{ROLL}"),
         0.15,
         &["half_overlap", "contact_point", "overlap_middle"],
     );
@@ -315,7 +306,8 @@ fn half_overlap_is_liggghts_on_a_frictional_floor_and_into_a_sphere() {
 fn export_notes_every_arm_but_half_overlap() {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let scene = dir.path().join("pair.toml");
-    std::fs::write(&scene, PAIR.replace("torque_arm = \"ARM\"\n", "")).expect("written");
+    let pair = format!("{LAW}{PAIR}").replace("torque_arm = \"ARM\"\n", "");
+    std::fs::write(&scene, pair).expect("written");
     for arm in ["radius", "contact_point", "overlap_middle", "half_overlap"] {
         let deck = dir.path().join(arm);
         let out = common::dembound()
