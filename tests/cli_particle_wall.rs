@@ -96,4 +96,30 @@ fn bad_input_exits_2_and_writes_nothing() {
         assert!(stderr.contains("error:"), "{stderr}");
         assert!(!out.exists(), "{args:?} left {}", out.display());
     }
+    // Too many spheres: (0.01 m / 2e-7 m)² = 2.5e9 on the square, beyond
+    // the 2e7 a wall may hold. The message names the flags typed, not the
+    // scene keys `radius_ratio`/`spacing` nor `mesh.boundary_particles`
+    // (session 34).
+    for args in [
+        vec!["square:0.01", "--radius", "1e-7"],
+        vec!["square:0.01", "--radius", "1e-3", "--spacing", "1e-12"],
+    ] {
+        let run = dembound()
+            .arg("particle-wall")
+            .args(&args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("raise `--radius` or `--spacing`"),
+            "{args:?}: {stderr}"
+        );
+        for internal in ["radius_ratio", "`spacing`", "boundary_particles"] {
+            assert!(!stderr.contains(internal), "{args:?}: {stderr}");
+        }
+        assert!(!out.exists(), "{args:?} left {}", out.display());
+    }
 }

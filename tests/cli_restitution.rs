@@ -194,6 +194,23 @@ fn bad_input_exits_2_and_writes_nothing() {
             ],
             "contact.restitution",
         ),
+        // E = 0.01 on r = ζ = 1 with the wall's k₂ needs an entered e the
+        // step does not resolve: refused naming --target and the reachable
+        // range, not the internal e (session 34: `contact.restitution`:
+        // 0.005).
+        (
+            vec![
+                "--target",
+                "0.01",
+                "--law",
+                "walton-braun",
+                "--r",
+                "1",
+                "--zeta",
+                "1",
+            ],
+            "invalid value for `--target`: 0.01 (allowed: 0.0",
+        ),
     ];
     for (args, needle) in cases {
         let dir = tempfile::tempdir().unwrap();

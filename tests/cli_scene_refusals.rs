@@ -368,6 +368,53 @@ fn messages_name_keys_that_exist_and_valid_forms_run() {
 // 5. The key table and the README.
 
 #[test]
+fn walton_braun_with_an_unloading_line_the_step_cannot_resolve_is_refused() {
+    // BASE's sphere on its floor: E_eff = 4/3 · E/(2(1 − ν²)) (eq 6 as
+    // corrected in ERRATA 2, one material), k₁ = E_eff R, m the sphere's
+    // mass; ω₂ = √(k₁/m)/e. Verlet
+    // resolves ω₂Δt ≤ 0.5, Gear5 ≤ 0.9 (`dembound run`'s bounds, measured
+    // in dembound-core's `scenario::limits`): at Δt = 1 µs, Verlet needs
+    // e ≥ ω₁Δt/0.5 = 0.1673. Session 35 measured what the scene printed
+    // beyond it (validation.toml, Gear5, η = 1/50): a rebound of 0.040 for
+    // e = 1e-6, 0.019 for e = 1e-3, exit 0.
+    let s = Scene::new(BASE, &[]);
+    let e_eff = 4.0 / 3.0 * 1e7 / (2.0 * (1.0 - 0.3f64 * 0.3));
+    let mass = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.0005f64.powi(3);
+    let omega1 = (e_eff * 0.0005 / mass).sqrt();
+    let e_min = omega1 * 1e-6 / 0.5;
+    assert!(e_min > 0.1 && e_min < 0.2, "{e_min}");
+    let wb = |e: &'static str| ["contact.law=\"walton-braun\"", e];
+    refused(
+        &s,
+        &wb("contact.restitution=0.1"),
+        &[
+            "contact.restitution",
+            &format!("{e_min:.3e} to 1 with integration.dt = 1e-6 s"),
+            "above 0.5 under verlet",
+            "integration.dt ≤",
+        ],
+    );
+    accepted(&s, &wb("contact.restitution=0.2"));
+    // Gear5 resolves up to ω₂Δt = 0.9: e = 0.1 (0.84) runs, 0.05 does not.
+    let gear5 = |e: &'static str| {
+        [
+            "contact.law=\"walton-braun\"",
+            e,
+            "integration.scheme=\"gear5\"",
+        ]
+    };
+    accepted(&s, &gear5("contact.restitution=0.1"));
+    refused(
+        &s,
+        &gear5("contact.restitution=0.05"),
+        &[
+            &format!("{:.3e} to 1", omega1 * 1e-6 / 0.9),
+            "above 0.9 under gear5",
+        ],
+    );
+}
+
+#[test]
 fn the_readme_scene_key_table_is_the_commands_output() {
     let out = dembound().args(["keys", "--scene"]).output().unwrap();
     assert!(out.status.success());

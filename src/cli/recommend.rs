@@ -17,6 +17,7 @@ use dembound_core::contact::ContactLawKind;
 use dembound_core::study::recommend::{
     check_tolerance, deviations_from, poisson_factor, smallest_against, tradeoff, Deviations,
     Limit, Outcome, Reference, Tradeoff, TradeoffPoint, MAX_TOLERANCE, MIN_TOLERANCE,
+    SMALLEST_RATIO,
 };
 use dembound_core::study::{Axis, Quantity};
 use dembound_core::Error;
@@ -524,7 +525,8 @@ fn limits_table(base: &Scenario, limits: &[Limit]) -> Table {
         let found = match l.outcome {
             Outcome::Found { value } => format!("{} = {}", l.solved.symbol(), sig(value, 8)),
             Outcome::Unreachable { floor } => format!("none ({} % already)", sig(floor * 100.0, 4)),
-            Outcome::AnyValue => "any value".into(),
+            // Every value a scenario accepts (r, ζ ≥ 1e-6).
+            Outcome::AnyValue => format!("any value ≥ {SMALLEST_RATIO:e}"),
         };
         let (rb, eb) = match answer(l) {
             Some((r, z)) => (

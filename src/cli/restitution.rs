@@ -138,7 +138,9 @@ pub fn run(args: &RestitutionArgs) -> CliResult {
 
 fn study_error(e: Error) -> CliError {
     match e {
-        Error::Request(_) | Error::OutOfReach(_) => CliError::input(anyhow!("{e}")),
+        Error::Request(_) | Error::OutOfReach(_) | Error::Input { .. } => {
+            CliError::input(anyhow!("{e}"))
+        }
         // A point the step cannot resolve (Walton–Braun's unloading line
         // at a small e) is refused as `run` refuses it.
         Error::StudyRun { ref error, .. } if matches!(**error, Error::Input { .. }) => {
@@ -358,7 +360,7 @@ fn write_answer(
     writeln!(
         w,
         "\n{} calibration ({}):\n  enter e = {:.9}\n  raw coefficient {} = {} {}\n  \
-         simulated rebound with it: {:.9}\n  (entering E = {} itself gives {:.9})",
+         simulated rebound with it: {:.9}\n  (entering E = {} itself {})",
         a.calibration.name(),
         a.calibration.description(),
         a.enter,
@@ -367,7 +369,12 @@ fn write_answer(
         law.coefficient_unit(),
         a.achieved,
         a.target,
-        a.naive,
+        match a.naive {
+            Some(e) => format!("gives {e:.9}"),
+            None => "is refused: the law cannot be calibrated for it or the step does not \
+                     resolve it"
+                .to_string(),
+        },
     )?;
     let (l, d) = law.contact();
     match (law, a.calibration) {

@@ -95,11 +95,6 @@ pub fn run(args: &RunArgs) -> CliResult {
         None => None,
     };
 
-    let mut stdout = std::io::stdout().lock();
-    if !args.json {
-        write!(stdout, "{}", report::header(&scenario, &problem)).map_err(CliError::failed)?;
-    }
-
     let mut history = out.as_ref().map(|_| {
         let rows = usize::try_from(args.history_points).unwrap_or(usize::MAX);
         RunTrace::new(
@@ -121,7 +116,13 @@ pub fn run(args: &RunArgs) -> CliResult {
     if let Some(bar) = bar {
         bar.finish();
     }
-    let outcome = outcome.map_err(simulation_error)?;
+    let outcome = outcome.map_err(|e| run_error(&scenario, e))?;
+    // The header after the run: a run refused for a contact that did not
+    // end (`run_error`) prints nothing on stdout.
+    let mut stdout = std::io::stdout().lock();
+    if !args.json {
+        write!(stdout, "{}", report::header(&scenario, &problem)).map_err(CliError::failed)?;
+    }
     warnings::print(&warnings::contacts(&scenario, &outcome.contacts));
 
     let written = match (out, &history) {
@@ -176,6 +177,62 @@ fn simulation_error(e: Error) -> CliError {
         e @ Error::Input { .. } => CliError::input(e),
         e => CliError::failed(anyhow!("the run failed: {e}")),
     }
+}
+
+/// [`simulation_error`], with a contact of a dissipative run that did not
+/// end refused (exit 2) as [`check_rebounds`] refuses it before the run:
+/// a later contact naming `motion.contacts`, the first naming the key that
+/// sets the dissipation: gravity
+/// holds the particle once the damping has slowed it, or an overdamped
+/// contact's slow release (time ~ c/k, steps ~ c²) outlasts the step
+/// budget. The law's reference cannot say so before the run when the
+/// contact is overdamped ([`check_rebounds`]: it has no closed form for ξ ≥ 1);
+/// nothing has been written then (`--out` is written after the run).
+/// Session 34 saw exit 1 at `contact.damping_coefficient = 100` (ξ = 26).
+fn run_error(s: &Scenario, e: Error) -> CliError {
+    use dembound_core::contact::DampingKind;
+    let Error::NoRebound { contact, steps } = e else {
+        return simulation_error(e);
+    };
+    if !dembound_core::exact::dissipative::is_dissipative(s) {
+        return simulation_error(e);
+    }
+    if contact > 1 {
+        return CliError::input(anyhow!(
+            "invalid value for `motion.contacts`: {} (allowed: 1 to {} for this scenario: \
+             contact {contact} did not end after {steps} steps, gravity holds the particle on \
+             the boundary once the damping has slowed it)",
+            s.motion.contacts,
+            contact - 1
+        ));
+    }
+    let show = dembound_core::scenario::limits::show;
+    let (field, value, less) = match (s.contact.restitution, s.contact.damping_coefficient) {
+        (None, Some(c)) => {
+            let unit = match s.contact.damping {
+                DampingKind::Tsuji => "N s/m^(5/4)",
+                DampingKind::Viscoelastic => "s",
+                _ => "N s/m",
+            };
+            (
+                "contact.damping_coefficient",
+                format!("{} {unit}", show(c)),
+                "a smaller contact.damping_coefficient",
+            )
+        }
+        (e, _) => (
+            "contact.restitution",
+            e.map_or_else(|| "missing".to_string(), show),
+            "a larger contact.restitution",
+        ),
+    };
+    CliError::input(anyhow!(
+        "invalid value for `{field}`: {value} (allowed: a dissipation that lets the particle \
+         leave the boundary; with this one contact {contact} did not end after {steps} steps: \
+         gravity holds the particle on the boundary once the damping has slowed it, or an \
+         overdamped contact releases it (in a time ~ c/k) more slowly than the step budget \
+         allows; {less}, a larger motion.gap or a faster motion.velocity lets it rebound)"
+    ))
 }
 
 /// The most contacts whose rebound is checked before a dissipative run.

@@ -30,8 +30,9 @@ use crate::error::SceneError;
 use crate::geometry::cells::{sort_by_cell, CellGrid};
 use crate::geometry::domain::Domain;
 use crate::limits::{self, describe, metres, norm, show, within};
-use crate::setup::SceneSetup;
+use crate::setup::{SceneSetup, Scheme, TimeStep};
 use crate::simulation::LARGE_FACTOR;
+use crate::time_step::ClassPair;
 
 /// How a sphere is named in a message, by its input index.
 pub type Label<'a> = &'a dyn Fn(usize) -> String;
@@ -139,6 +140,91 @@ fn ranges(setup: &SceneSetup, label: Label<'_>) -> Result<(), SceneError> {
         }
     }
     servos(setup)
+}
+
+/// Walton–Braun's unloading line k₂ = k₁/e² resolved by the step: ω₂ Δt
+/// ≤ 0.9 (Gear5) or 0.5 (velocity Verlet), ω₂ = √(k₂/m) of the stiffest
+/// pair of the scene (every class pair, as the step bound's, at Δt
+/// `dt`): the bound `dembound run` applies (`check_unloading` of
+/// dembound-core, measurements in its `scenario::limits`), with the same
+/// message. Beyond it the rebound is wrong by far more than the step's
+/// error elsewhere: measured on `examples/scenes/validation.toml` (Gear5,
+/// η = 1/50), e = 1e-6 rebounds with 0.040 and e = 1e-3 with 0.019
+/// (session 35). Refused naming `contact.restitution`, with the smallest
+/// e this step resolves and the step this e needs.
+pub(crate) fn check_unloading(
+    setup: &SceneSetup,
+    dt: f64,
+    pairs: &[ClassPair],
+) -> Result<(), SceneError> {
+    use dembound_physics::contact::normal::walton_braun::{
+        MAX_UNLOADING_STEP_GEAR5, MAX_UNLOADING_STEP_VERLET,
+    };
+    use dembound_physics::contact::{NormalLaw, NormalPair};
+    let NormalLaw::WaltonBraun { restitution: e } = setup.contact.normal else {
+        return Ok(());
+    };
+    // The largest ω₂ of the scene's pairs.
+    let Some((omega2, pair)) = pairs
+        .iter()
+        .filter_map(|p| match p.law.normal() {
+            NormalPair::WaltonBraun(wb) => Some(((wb.unloading / p.law.mass()).sqrt(), p)),
+            _ => None,
+        })
+        .filter(|(w, _)| w.is_finite())
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+    else {
+        return Ok(());
+    };
+    let limit = match setup.integration.scheme {
+        Scheme::Gear5 => MAX_UNLOADING_STEP_GEAR5,
+        Scheme::Verlet => MAX_UNLOADING_STEP_VERLET,
+    };
+    let w = omega2 * dt;
+    if w <= limit {
+        return Ok(());
+    }
+    let dt_max = limit / omega2;
+    let (e_min, step, smaller) = match setup.integration.time_step {
+        // ω₂ = ω₁/e: a fixed Δt resolves e ≥ e w/limit.
+        TimeStep::Fixed(dt) => (
+            e * w / limit,
+            format!("integration.dt = {} s", show(dt)),
+            format!("; or keep e with integration.dt ≤ {dt_max:.4e} s"),
+        ),
+        // Δt = η T_c with T_c ∝ (1 + e) (π/2 (1/ω₁ + 1/ω₂)): ω₂Δt =
+        // K (1 + e)/e, K = w e/(1 + e); ≤ limit for e ≥ K/(limit − K).
+        TimeStep::Eta { eta, .. } => {
+            let k = w * e / (1.0 + e);
+            (
+                if k < limit { k / (limit - k) } else { f64::INFINITY },
+                format!("integration.eta = {}", show(eta)),
+                format!(
+                    "; or keep e with a smaller step, integration.eta ≤ {:.3e} (Δt ≤ {dt_max:.4e} s)",
+                    eta * dt_max / dt
+                ),
+            )
+        }
+    };
+    let range = if e_min <= 1.0 {
+        format!("{e_min:.3e} to 1 with {step}")
+    } else {
+        format!("none with {step}")
+    };
+    Err(SceneError::invalid(
+        "contact.restitution",
+        show(e),
+        format!(
+            "{range}: Walton–Braun's unloading line k₂ = k₁/e² oscillates at ω₂ = {omega2:.4e} \
+             rad/s ({}), and ω₂Δt = {w:.3e} above {limit} under {} leaves it unresolved (the \
+             rebound would be wrong, with energy created){smaller}",
+            pair.describe(setup),
+            match setup.integration.scheme {
+                Scheme::Gear5 => "gear5",
+                Scheme::Verlet => "verlet",
+            }
+        ),
+    ))
 }
 
 /// A servo (issue 27, `walls::servo`) on a surface wall without a

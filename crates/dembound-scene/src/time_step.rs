@@ -45,6 +45,7 @@
 
 use std::collections::HashMap;
 
+use dembound_physics::contact::PairLaw;
 use dembound_physics::material::PairProperties;
 
 use crate::error::SceneError;
@@ -143,6 +144,9 @@ pub(crate) fn choose(setup: &SceneSetup) -> Result<StepChoice, SceneError> {
             return Err(too_large(setup, &choice, &bound));
         }
     }
+    // Walton–Braun's unloading line resolved by this step (its own bound).
+    let speed = bounding_speed(setup);
+    crate::setup_checks::check_unloading(setup, choice.dt, &pair_laws(setup, 2.0 * speed, speed))?;
     Ok(choice)
 }
 
@@ -344,15 +348,52 @@ pub(crate) fn smallest_contact_time(setup: &SceneSetup, impact_speed: f64) -> f6
     smallest_contact_time_of(setup, impact_speed, impact_speed).0
 }
 
-/// [`smallest_contact_time`] with pairs of free spheres at `free_speed` and
-/// the rest (fixed spheres, walls) at `fixed_speed`, m/s: the time, the
-/// pair that gives it, whether its force depends on the overlap rate
-/// (damping, a viscous law), and the speed it was estimated at.
-fn smallest_contact_time_of(
-    setup: &SceneSetup,
-    free_speed: f64,
-    fixed_speed: f64,
-) -> (f64, String, bool, f64) {
+/// What a free sphere class meets in [`pair_laws`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Partner {
+    /// A sphere class (radius, material, fixed).
+    Sphere(f64, usize, bool),
+    /// Wall `k` (each of its law rows).
+    Wall(usize),
+}
+
+/// One pair of the scene's classes and its resolved law.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ClassPair {
+    /// The free sphere class (radius, material).
+    pub free: (f64, usize),
+    pub partner: Partner,
+    pub law: PairLaw,
+    /// The speed its contact time is estimated at, m/s.
+    pub speed: f64,
+}
+
+impl ClassPair {
+    /// "a free sphere of R = … m, `grain` on wall 2".
+    pub fn describe(&self, setup: &SceneSetup) -> String {
+        let mats = &setup.materials;
+        let sphere = |r: f64, m: usize, fixed: bool| {
+            format!(
+                "{} sphere of R = {r:e} m, `{}`",
+                if fixed { "a fixed" } else { "a free" },
+                mats[m].name
+            )
+        };
+        let (ra, ma) = self.free;
+        match self.partner {
+            Partner::Sphere(rb, mb, fb) => {
+                format!("{} on {}", sphere(ra, ma, false), sphere(rb, mb, fb))
+            }
+            Partner::Wall(k) => format!("{} on wall {k}", sphere(ra, ma, false)),
+        }
+    }
+}
+
+/// Every pair of the scene's classes that can touch: each free sphere
+/// class against every other class (with itself only when two bodies
+/// share it), pairs of free spheres at `free_speed`, and against fixed
+/// spheres and each wall's law rows at `fixed_speed` (m/s).
+pub(crate) fn pair_laws(setup: &SceneSetup, free_speed: f64, fixed_speed: f64) -> Vec<ClassPair> {
     let cl = classes(setup);
     let mats = &setup.materials;
     let mass = |r: f64, m: usize, fixed: bool| {
@@ -362,17 +403,6 @@ fn smallest_contact_time_of(
             mats[m].material.sphere_mass(r)
         }
     };
-    let sphere = |r: f64, m: usize, fixed: bool| {
-        format!(
-            "{} sphere of R = {r:e} m, `{}`",
-            if fixed { "a fixed" } else { "a free" },
-            mats[m].name
-        )
-    };
-    let mut best = f64::INFINITY;
-    let mut pair = String::new();
-    let mut damped = false;
-    let mut at_speed = f64::NAN;
     // A class paired with itself only when two bodies share it.
     let count = |c: (f64, usize, bool)| {
         setup
@@ -382,6 +412,7 @@ fn smallest_contact_time_of(
             .take(2)
             .count()
     };
+    let mut out = Vec::new();
     for &(ra, ma, fa) in cl.iter() {
         if fa {
             continue;
@@ -398,15 +429,12 @@ fn smallest_contact_time_of(
                 mass(rb, mb, fb),
                 &mats[mb].material,
             );
-            let law = setup.contact.pair(&p);
-            let speed = if fb { fixed_speed } else { free_speed };
-            let t = law.contact_time_estimate(speed);
-            if t > 0.0 && t < best {
-                best = t;
-                pair = format!("{} on {}", sphere(ra, ma, fa), sphere(rb, mb, fb));
-                damped = law.depends_on_rate();
-                at_speed = speed;
-            }
+            out.push(ClassPair {
+                free: (ra, ma),
+                partner: Partner::Sphere(rb, mb, fb),
+                law: setup.contact.pair(&p),
+                speed: if fb { fixed_speed } else { free_speed },
+            });
         }
         for (k, wall) in setup.walls.iter().enumerate() {
             // The wall's law rows (a plane's one; a cylinder's tube and
@@ -423,15 +451,38 @@ fn smallest_contact_time_of(
                     &mats[ma].material,
                     &mats[material].material,
                 );
-                let law = setup.contact.pair(&p);
-                let t = law.contact_time_estimate(fixed_speed);
-                if t > 0.0 && t < best {
-                    best = t;
-                    pair = format!("{} on wall {k}", sphere(ra, ma, fa));
-                    damped = law.depends_on_rate();
-                    at_speed = fixed_speed;
-                }
+                out.push(ClassPair {
+                    free: (ra, ma),
+                    partner: Partner::Wall(k),
+                    law: setup.contact.pair(&p),
+                    speed: fixed_speed,
+                });
             }
+        }
+    }
+    out
+}
+
+/// [`smallest_contact_time`] with pairs of free spheres at `free_speed` and
+/// the rest (fixed spheres, walls) at `fixed_speed`, m/s: the time, the
+/// pair that gives it, whether its force depends on the overlap rate
+/// (damping, a viscous law), and the speed it was estimated at.
+fn smallest_contact_time_of(
+    setup: &SceneSetup,
+    free_speed: f64,
+    fixed_speed: f64,
+) -> (f64, String, bool, f64) {
+    let mut best = f64::INFINITY;
+    let mut pair = String::new();
+    let mut damped = false;
+    let mut at_speed = f64::NAN;
+    for p in pair_laws(setup, free_speed, fixed_speed) {
+        let t = p.law.contact_time_estimate(p.speed);
+        if t > 0.0 && t < best {
+            best = t;
+            pair = p.describe(setup);
+            damped = p.law.depends_on_rate();
+            at_speed = p.speed;
         }
     }
     (best, pair, damped, at_speed)

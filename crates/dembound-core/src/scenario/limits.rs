@@ -58,9 +58,11 @@ pub const ETA: (f64, f64) = (1e-9, MAX_ETA);
 pub const MAX_ETA: f64 = 0.1;
 /// The largest ω₂ Δt of a Walton–Braun unloading line with Gear5 (see
 /// the module doc).
-pub const MAX_UNLOADING_STEP_GEAR5: f64 = 0.9;
+pub const MAX_UNLOADING_STEP_GEAR5: f64 =
+    dembound_physics::contact::normal::walton_braun::MAX_UNLOADING_STEP_GEAR5;
 /// The same with velocity Verlet.
-pub const MAX_UNLOADING_STEP_VERLET: f64 = 0.5;
+pub const MAX_UNLOADING_STEP_VERLET: f64 =
+    dembound_physics::contact::normal::walton_braun::MAX_UNLOADING_STEP_VERLET;
 /// The largest g T_c/|v_c| (see the module doc).
 pub const MAX_GRAVITY_SHARE: f64 = 10.0;
 

@@ -50,6 +50,9 @@ fn input(field: &str, value: f64, allowed: &str) -> Error {
 pub const MIN_TOLERANCE: f64 = 1e-8;
 /// Largest tolerance accepted (10 000 %).
 pub const MAX_TOLERANCE: f64 = 100.0;
+/// The smallest r or ζ searched: the smallest a scenario accepts
+/// (`limits::RATIO`), so that the integrator can check the limit found.
+pub const SMALLEST_RATIO: f64 = crate::scenario::limits::RATIO.0;
 
 /// What the boundary is compared with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -203,7 +206,8 @@ pub enum Outcome {
     Found { value: f64 },
     /// No value does: the other parameter alone already gives `floor` ≥ T.
     Unreachable { floor: f64 },
-    /// Every value does (down to 1e−12): e.g. a_max with T ≥ 1.
+    /// Every value a scenario accepts does (down to [`SMALLEST_RATIO`]):
+    /// e.g. a_max with T ≥ 1.
     AnyValue,
 }
 
@@ -479,16 +483,20 @@ fn search(
         limit.outcome = Outcome::Unreachable { floor };
         return Ok(limit);
     }
-    // u = 1/x: the deviation grows with u from `floor` at u = 0.
-    let mut u_hi = 1.0;
+    // u = 1/x: the deviation grows with u from `floor` at u = 0, up to
+    // u_max = 1/(the smallest ratio a scenario accepts): a limit below it
+    // could not be checked by the integrator (nor run), so every accepted
+    // value is within T (e.g. Hertz h_max at T = 100: r = 1e−10 and below).
+    let u_max = 1.0 / SMALLEST_RATIO;
+    let mut u_hi: f64 = 1.0;
     loop {
         if dev(1.0 / u_hi, Model::Exact)? > tolerance {
             break;
         }
-        if u_hi > 1e12 {
+        if u_hi >= u_max {
             return Ok(limit);
         }
-        u_hi *= 4.0;
+        u_hi = (u_hi * 4.0).min(u_max);
     }
     let mut error: Option<Error> = None;
     let f = |u: f64| match dev(1.0 / u, Model::Exact) {
@@ -718,6 +726,32 @@ mod tests {
         assert!(matches!(e, Error::Input { ref field, .. } if field == "tolerance"));
         let e = smallest(&g, hertz, Quantity::Duration, 0.1, Axis::Modulus, 0.0).unwrap_err();
         assert!(matches!(e, Error::Input { ref field, .. } if field == "r"));
+    }
+
+    #[test]
+    fn limits_below_the_smallest_accepted_ratio_are_any_value() {
+        // Hertz h_max with ζ = ∞, gravity-free: r = 1/((1+T)^((α+1)/(2−α)) − 1)
+        // = 1/((1+T)^5 − 1) (module doc). At T = 9 that is 1/(10⁵ − 1) ≈ 1e−5,
+        // above the smallest accepted r (1e−6): found, to Brent's 1e−6 as in
+        // the other closed-form tests. At T = 100 it is 1/(101⁵ − 1) ≈ 9.5e−11
+        // (with gravity 9.7e−11): every accepted r is within T, and the
+        // search must say so instead of asking the integrator to check
+        // r = 9.7e−11, which a scenario refuses (session 34 saw
+        // `recommend --tolerance 100` fail with "boundary.radius_ratio:
+        // 9.7e-11").
+        let hertz = ContactLawKind::Hertz;
+        let free = gravity_free(&Scenario::default());
+        let found = smallest(&free, hertz, Quantity::MaxOverlap, 9.0, Axis::Radius, INF).unwrap();
+        let r9 = 1.0 / (10f64.powi(5) - 1.0);
+        assert!(rel(found.value().unwrap(), r9) < 1e-6, "{found:?}");
+        assert!(1.0 / (101f64.powi(5) - 1.0) < SMALLEST_RATIO);
+        for s in [free, Scenario::default()] {
+            for q in [Quantity::MaxOverlap, Quantity::Duration] {
+                let l = smallest(&s, hertz, q, 100.0, Axis::Radius, INF).unwrap();
+                assert_eq!(l.outcome, Outcome::AnyValue, "{l:?}");
+                assert!(tradeoff(&s, hertz, q, 100.0).unwrap().is_none());
+            }
+        }
     }
 
     #[test]

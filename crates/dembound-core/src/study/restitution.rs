@@ -515,8 +515,10 @@ pub struct RequiredRestitution {
     pub coefficient: f64,
     /// The simulated rebound on the pair with that coefficient.
     pub achieved: f64,
-    /// The simulated rebound on the pair when E itself is entered.
-    pub naive: f64,
+    /// The simulated rebound on the pair when E itself is entered; `None`
+    /// when E itself is refused (the law cannot be calibrated for it, or
+    /// the step does not resolve Walton–Braun's unloading line at it).
+    pub naive: Option<f64>,
 }
 
 /// Root-search convergence: x to 1e−13 or the function exactly zero.
@@ -580,13 +582,64 @@ pub fn required_restitution(
              {law} with {calibration} calibration: {why}"
         ))
     };
-    let naive = match rebound(target) {
-        Ok((e, _)) => e,
-        Err(Error::OutOfReach(why)) => return Err(unreachable(why)),
-        Err(e) => return Err(e),
+    // An entered e the law cannot be calibrated for (viscoelastic δ out of
+    // range) or whose Walton–Braun unloading line the step does not resolve
+    // is refused; the rebound grows with e, so the smallest accepted e
+    // gives the smallest reachable E, and a smaller --target is refused
+    // naming it (not the internal e that failed).
+    let refused = |err: &Error| match err {
+        Error::OutOfReach(_) => Some(format!(
+            "{law} cannot be calibrated for a smaller e at this impact speed"
+        )),
+        Error::StudyRun { error, .. } => match &**error {
+            Error::Input { field, .. } if field == "contact.restitution" => Some(
+                "Walton–Braun's unloading line k₂ = k₁/e² would not be resolved by the step \
+                 (a smaller integration.eta or integration.dt reaches lower)"
+                    .to_string(),
+            ),
+            _ => None,
+        },
+        _ => None,
+    };
+    // The smallest accepted e in (bad, good] (bisection in log e to 1e−6
+    // relative) and its rebound: Ok(e, rebound) if that rebound is below
+    // the target (a bracket), else the refusal naming --target.
+    let floor = |mut bad: f64, mut good: f64, why: String| -> Result<(f64, f64)> {
+        while good / bad - 1.0 > 1e-6 {
+            let mid = (bad * good).sqrt();
+            match rebound(mid) {
+                Ok(_) => good = mid,
+                Err(err) if refused(&err).is_some() => bad = mid,
+                Err(err) => return Err(err),
+            }
+        }
+        let (lowest, _) = rebound(good)?;
+        if lowest < target {
+            return Ok((good, lowest));
+        }
+        Err(Error::Input {
+            field: "--target".into(),
+            value: target.to_string(),
+            allowed: format!(
+                "{lowest:.6} ≤ E < {top:.6} for {law} with {calibration} calibration on \
+                 r = {radius_ratio}, ζ = {modulus_ratio} at this step: a smaller rebound needs \
+                 an entered e below {good:.4e}, and {why}"
+            ),
+        })
     };
     let (mut lo, mut hi) = (target, 1.0);
-    if naive >= target {
+    let naive = match rebound(target) {
+        Ok((e, _)) => Some(e),
+        Err(err) => match refused(&err) {
+            // E itself is refused: the bracket starts at the smallest accepted e.
+            Some(why) => {
+                lo = floor(target, 1.0, why)?.0;
+                None
+            }
+            None => return Err(err),
+        },
+    };
+    if naive.is_some_and(|e| e >= target) {
         hi = target;
         loop {
             lo *= 0.5;
@@ -598,11 +651,15 @@ pub fn required_restitution(
                     2.0 * lo
                 )));
             }
-            // A calibration that fails at small e (viscoelastic δ out of range) is out of reach too.
             let e_lo = match rebound(lo) {
                 Ok((e, _)) => e,
-                Err(Error::OutOfReach(why)) => return Err(unreachable(why)),
-                Err(e) => return Err(e),
+                Err(err) => match refused(&err) {
+                    Some(why) => {
+                        lo = floor(lo, hi, why)?.0;
+                        break;
+                    }
+                    None => return Err(err),
+                },
             };
             if e_lo < target {
                 break;
@@ -702,5 +759,61 @@ mod tests {
             .restitution;
         let ratio = (3.0 / 4.0) * (10.0 / 11.0);
         assert!((e - 0.7 * f64::sqrt(ratio)).abs() < 1e-7, "{e}");
+    }
+
+    #[test]
+    fn a_target_below_what_the_step_resolves_is_refused_naming_target() {
+        // Walton–Braun, wall calibration, on r = ζ = 1 gravity-free: the
+        // rebound is the entered e times √(k₁/k₁(∞)) = √(1/2 · 1/2) = 1/2
+        // (the test above), and the pair's own e = √(k₁/k₂) must be at
+        // least a/(0.9 − a), a = η π/2 (η = 1/50, Gear5's ω₂Δt ≤ 0.9; see
+        // `check_unloading`) = 0.036169. So E = 0.01 is out of reach (its
+        // entered e, 0.02, and any e below 0.072338 are refused), reported
+        // against --target with the reachable floor, the rebound at
+        // e = 0.036169; session 34 saw the internal e = 0.005
+        // named as `contact.restitution` instead. E = 0.05 is reachable
+        // although E itself (entered e 0.05 → pair e 0.025) is refused:
+        // enter e = 2E = 0.1, within Gear5's error in e at the pair's
+        // ω₂Δt ≈ 0.9 · 0.036/0.05 = 0.65, 0.14 % (`limits`): 0.3 %.
+        let mut base = Scenario::default();
+        base.motion.gravity = 0.0;
+        base.motion.velocity = -0.313;
+        base.motion.contacts = 1;
+        let (wb, wall) = (DissipativeLaw::WaltonBraun, CalibrationSite::Wall);
+        let a = 0.02 * std::f64::consts::FRAC_PI_2;
+        let e_min = a / (0.9 - a);
+        match required_restitution(&base, wb, wall, 0.01, 1.0, 1.0) {
+            Err(Error::Input {
+                field,
+                value,
+                allowed,
+            }) => {
+                assert_eq!((field.as_str(), value.as_str()), ("--target", "0.01"));
+                // The smallest entered e, 2 e_min (printed to 5 digits:
+                // 1e−4 relative); its rebound e_min within Gear5's error at
+                // ω₂Δt = 0.9, 0.64–0.76 % (`limits`): 1 %.
+                let number = |after: &str| -> f64 {
+                    let tail = &allowed[allowed.find(after).unwrap() + after.len()..];
+                    tail.split([' ', ',']).next().unwrap().parse().unwrap()
+                };
+                let entered = number("an entered e below ");
+                assert!((entered / (2.0 * e_min) - 1.0).abs() < 1e-4, "{allowed}");
+                let floor: f64 = allowed.split(' ').next().unwrap().parse().unwrap();
+                assert!((floor / e_min - 1.0).abs() < 0.01, "{allowed}");
+                assert!(allowed.contains("integration.eta"), "{allowed}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let ok = required_restitution(&base, wb, wall, 0.05, 1.0, 1.0).unwrap();
+        assert_eq!(ok.naive, None);
+        assert!((ok.enter / 0.1 - 1.0).abs() < 3e-3, "{ok:?}");
+        assert!((ok.achieved - 0.05).abs() < 1e-7, "{ok:?}");
+        // The viscoelastic law's own floor (δ ≤ 30) is named the same way.
+        let e = required_restitution(&base, DissipativeLaw::Viscoelastic, wall, 1e-5, 1.0, 1.0)
+            .unwrap_err();
+        assert!(
+            matches!(e, Error::Input { ref field, .. } if field == "--target"),
+            "{e:?}"
+        );
     }
 }

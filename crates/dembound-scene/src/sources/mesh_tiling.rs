@@ -85,6 +85,25 @@ pub struct CoveringOptions {
     pub flip: bool,
 }
 
+/// How a refusal names the covering's radius and spacing: the keys or
+/// flags the user set them with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Names<'a> {
+    /// R_b's key (`--radius`, or a scene wall's `radius_ratio`); the same
+    /// as `spacing` when one key sets both (s = 2 R_b).
+    pub radius: &'a str,
+    /// s's key.
+    pub spacing: &'a str,
+}
+
+impl Names<'static> {
+    /// `dembound particle-wall`'s flags.
+    pub const FLAGS: Names<'static> = Names {
+        radius: "--radius",
+        spacing: "--spacing",
+    };
+}
+
 /// Where a sphere of the covering came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Origin {
@@ -241,17 +260,17 @@ pub(crate) fn corner_offset(normals: &[[f64; 3]]) -> Option<[f64; 3]> {
 }
 
 impl CoveringOptions {
-    fn check(&self) -> Result<(), SceneError> {
+    fn check(&self, names: Names<'_>) -> Result<(), SceneError> {
         if !(self.radius > 0.0 && self.radius.is_finite()) {
             return Err(SceneError::input(format!(
-                "`--radius` = {:e}: the boundary-sphere radius must be a finite length > 0 m",
-                self.radius
+                "`{}` gives R_b = {:e} m: the boundary-sphere radius must be a finite length > 0 m",
+                names.radius, self.radius
             )));
         }
         if !(self.spacing > 0.0 && self.spacing.is_finite()) {
             return Err(SceneError::input(format!(
-                "`--spacing` = {:e}: must be a finite length > 0 m",
-                self.spacing
+                "`{}` = {:e} m: must be a finite length > 0 m",
+                names.spacing, self.spacing
             )));
         }
         Ok(())
@@ -265,13 +284,29 @@ pub fn cover_file(path: &Path, options: &CoveringOptions) -> Result<Covering, Sc
     cover(path, &soup, options)
 }
 
-/// Covers the triangles `soup` (`file` names them in errors).
+/// Covers the triangles `soup` (`file` names them in errors), a refusal
+/// naming R_b and s as `dembound particle-wall`'s flags ([`Names::FLAGS`]).
 pub fn cover(
     file: &Path,
     soup: &[Triangle],
     options: &CoveringOptions,
 ) -> Result<Covering, SceneError> {
-    options.check()?;
+    cover_named(file, soup, options, Names::FLAGS)
+}
+
+/// [`cover`], a refusal naming R_b and s by `names`.
+pub fn cover_named(
+    file: &Path,
+    soup: &[Triangle],
+    options: &CoveringOptions,
+    names: Names<'_>,
+) -> Result<Covering, SceneError> {
+    options.check(names)?;
+    let raise = if names.radius == names.spacing {
+        format!("raise `{}`", names.radius)
+    } else {
+        format!("raise `{}` or `{}`", names.radius, names.spacing)
+    };
     let mesh =
         MeshGeometry::from_triangles(file, soup, &Transform::default(), &MeshOptions::default())
             .map_err(|e| SceneError::input(e.to_string()))?;
@@ -309,7 +344,7 @@ pub fn cover(
         if kept.spheres.len() >= MAX_COVERING_SPHERES {
             return Err(SceneError::input(format!(
                 "more than {MAX_COVERING_SPHERES} boundary spheres of radius {radius:e} m would cover \
-                 the mesh; raise `--radius` or `--spacing`"
+                 the mesh; {raise}"
             )));
         }
         grid.insert(c, kept.spheres.len() as u32);
@@ -351,7 +386,18 @@ pub fn cover(
             .of(p)
             .iter()
             .all(|&t| (0..3).all(|k| mesh.patches.across(t, k).is_empty()));
-        for site in tiling.spheres(&extent, "mesh")? {
+        // The plane tiling of a face's box: with R_b and s checked, a
+        // unit normal and a finite box, the one refusal left is its count.
+        let sites = tiling.spheres(&extent, "mesh").map_err(|_| {
+            SceneError::input(format!(
+                "more than {} boundary spheres of radius {radius:e} m at spacing {s:e} m would \
+                 tile a face of the mesh ({} to {} m); {raise}",
+                super::tiling::MAX_WALL_SPHERES,
+                crate::walls::registry::show3(lo),
+                crate::walls::registry::show3(hi),
+            ))
+        })?;
+        for site in sites {
             let x = add(site.position, scale(n, radius));
             let (own, other) = patch_distance(&mesh, p, x, s * (1.0 + 1e-9));
             let keep = isolated

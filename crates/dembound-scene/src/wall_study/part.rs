@@ -19,7 +19,7 @@ use std::path::Path;
 use super::part_bed::{self, BedWall, PartBed, PartBedConfig, PartRegion};
 use super::{base_setup, StudyConfig};
 use crate::setup::{BoundaryParticles, NamedMaterial, SphereInit, WallSetup};
-use crate::sources::mesh_tiling::{cover, Covering, CoveringOptions};
+use crate::sources::mesh_tiling::{cover_named, Covering, CoveringOptions, Names};
 use crate::sources::tiling::Pattern;
 use crate::walls::mesh::geometry::{cross, dot, norm, scale, sub};
 use crate::walls::mesh::{Mesh, MeshGeometry, MeshOptions, Transform, Triangle};
@@ -441,7 +441,16 @@ pub fn run(c: &PartConfig, mut progress: impl FnMut(&str)) -> Result<PartResults
         // ζ does not change the geometry: one covering per (r, tiling).
         let covering = match coverings.iter().find(|k| k.options == options) {
             Some(k) => k.clone(),
-            None => cover(Path::new(&c.name), &c.triangles, &options)?,
+            // R_b = r R and s = 2 R_b: `wall-study --radius-ratios` sets both.
+            None => cover_named(
+                Path::new(&c.name),
+                &c.triangles,
+                &options,
+                Names {
+                    radius: "--radius-ratios",
+                    spacing: "--radius-ratios",
+                },
+            )?,
         };
         let target = Target::Particles(&covering, c.boundary_material(spec));
         let impacts = points

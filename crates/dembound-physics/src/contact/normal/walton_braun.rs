@@ -20,6 +20,14 @@ use crate::contact::ContactHistory;
 use crate::material::PairProperties;
 use std::f64::consts::PI;
 
+/// The largest ω₂ Δt (ω₂ = √(k₂/m), the unloading line's frequency) that
+/// Gear5 resolves: the rebound within 0.76 % of e (measured over e =
+/// 0.01–0.3, η = 0.005–0.1 in session 34; `dembound_core::scenario::limits`
+/// has the table). `dembound run` and `dembound scene` refuse beyond it.
+pub const MAX_UNLOADING_STEP_GEAR5: f64 = 0.9;
+/// The same for velocity Verlet (0.5–0.75 % at 0.5).
+pub const MAX_UNLOADING_STEP_VERLET: f64 = 0.5;
+
 /// Loading k₁ h; unloading min(k₁ h, k₂ (h − h₀)); never negative.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WaltonBraun {

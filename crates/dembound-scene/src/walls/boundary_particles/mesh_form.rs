@@ -23,7 +23,7 @@ use crate::io::config::SceneFile;
 use crate::io::resolve::WallResolve;
 use crate::io::resolve::CoveringHole;
 use crate::sources::mesh_tiling::measure::holes;
-use crate::sources::mesh_tiling::{cover, CoveringOptions};
+use crate::sources::mesh_tiling::{cover_named, CoveringOptions, Names};
 use crate::sources::tiling::Pattern;
 use crate::sources::SourceSphere;
 use crate::walls::mesh::{read::read_triangles, MeshConfig};
@@ -152,7 +152,15 @@ pub(super) fn spheres(
         pattern,
         flip: b.flip.unwrap_or(false),
     };
-    let covering = cover(&path, &placed, &options)
+    let (radius_key, spacing_key) = (
+        format!("{key}.boundary_particles.radius_ratio"),
+        format!("{key}.boundary_particles.spacing"),
+    );
+    let names = Names {
+        radius: &radius_key,
+        spacing: &spacing_key,
+    };
+    let covering = cover_named(&path, &placed, &options, names)
         .map_err(|e| SceneError::input(format!("`{k}` = {file:?}: {e}")))?;
     b.mesh = Some(path);
     let (lo, hi) = (covering.mesh.lo, covering.mesh.hi);
