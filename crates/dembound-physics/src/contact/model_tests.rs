@@ -598,8 +598,8 @@ fn half_overlap_sticking_step_is_liggghts_slip_and_torque() {
     // A few roundings of the slip's sums and of one product (1e-13
     // relative); the arms R against R − δ/2 move the spin terms by
     // δ/(2R) = 5e-4 of 0.1 m/s, 1e6 times that.
-    for k in 0..2 {
-        let want = -coefficient * v_h[k];
+    for (k, v) in v_h.iter().enumerate().take(2) {
+        let want = -coefficient * v;
         assert!(
             (half.tangential[k] / want - 1.0).abs() < 1e-12,
             "F_t[{k}] {:?} against {want}",
