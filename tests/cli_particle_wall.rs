@@ -78,23 +78,29 @@ fn square_files_are_the_plane_tiling() {
 fn bad_input_exits_2_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");
+    // The run's standard error, asserted a refusal (exit 2) that wrote
+    // nothing.
+    let refused = |args: &[&str]| -> String {
+        let run = dembound()
+            .arg("particle-wall")
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} left {}", out.display());
+        stderr
+    };
     for args in [
         vec!["square:10", "--radius", "-1"],
         vec!["square:10", "--radius", "1", "--spacing", "0"],
         vec!["cone:1", "--radius", "1"],
         vec!["missing.stl", "--radius", "1"],
     ] {
-        let run = dembound()
-            .arg("particle-wall")
-            .args(&args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        let stderr = refused(&args);
         assert!(stderr.contains("error:"), "{stderr}");
-        assert!(!out.exists(), "{args:?} left {}", out.display());
     }
     // Too many spheres: (0.01 m / 2e-7 m)² = 2.5e9 on the square, beyond
     // the 2e7 a wall may hold. The message names the flags typed, not the
@@ -104,15 +110,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         vec!["square:0.01", "--radius", "1e-7"],
         vec!["square:0.01", "--radius", "1e-3", "--spacing", "1e-12"],
     ] {
-        let run = dembound()
-            .arg("particle-wall")
-            .args(&args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
+        let stderr = refused(&args);
         assert!(
             stderr.contains("raise `--radius` or `--spacing`"),
             "{args:?}: {stderr}"
@@ -120,6 +118,5 @@ fn bad_input_exits_2_and_writes_nothing() {
         for internal in ["radius_ratio", "`spacing`", "boundary_particles"] {
             assert!(!stderr.contains(internal), "{args:?}: {stderr}");
         }
-        assert!(!out.exists(), "{args:?} left {}", out.display());
     }
 }
