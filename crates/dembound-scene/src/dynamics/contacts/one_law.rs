@@ -191,16 +191,10 @@ impl<'a, V: Variants> ClassLaws<'a, V> {
 impl<V: Variants> PairLaws for ClassLaws<'_, V> {
     #[inline(always)]
     fn law(&self, _bodies: &Bodies, i: usize, j: usize) -> PairLaw {
-        // SAFETY: classes are < `classes` when the table exists
-        // (`LawTable::new`), so the row is in the table of classes² rows
-        // (its length checked in `of`); i and j are bodies (the caller's),
-        // and the class array has one per body (checked in `of`).
-        let law = unsafe {
-            self.table.get_unchecked(
-                *self.class.get_unchecked(i) as usize * self.classes
-                    + *self.class.get_unchecked(j) as usize,
-            )
-        };
+        // Checked indexing, as the table's own lookup (`LawTable::pair`):
+        // a class the table does not hold (`NO_CLASS`, which no set-up
+        // leaves beside a table) panics instead of reading past it.
+        let law = &self.table[self.class[i] as usize * self.classes + self.class[j] as usize];
         // SAFETY: every row checked in `of`, and the table is not changed
         // after.
         unsafe { V::assume(law) };
