@@ -43,6 +43,9 @@ pub struct LawTable {
     pub slots: Vec<LawSlot>,
     /// The key of each class ([`Self::class_keys`]).
     keys: Option<Vec<ClassKey>>,
+    /// The variants every row of `pairs` has, if a dispatch-free kernel
+    /// has them (`one_law`): found once here, with the rows.
+    row_variants: Option<one_law::RowVariants>,
 }
 
 /// What a body's pair laws are computed from: the bits of its radius (m)
@@ -113,6 +116,7 @@ impl LawTable {
             planes: Vec::new(),
             slots,
             keys: None,
+            row_variants: None,
         };
         if keys.len() > MAX_CLASSES {
             return table;
@@ -136,6 +140,7 @@ impl LawTable {
         }
         table.classes = c;
         table.keys = Some(keys);
+        table.row_variants = one_law::RowVariants::of(&table.pairs, table.history);
         table
     }
 

@@ -38,9 +38,37 @@ impl PairLaws for LawTable {
     }
 }
 
+/// Which [`Variants`] every row of a class table has, if any: found once
+/// when the table is made ([`LawTable::from_keys`], which alone writes the
+/// rows), not at every step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum RowVariants {
+    HertzUndamped,
+    HertzTsuji,
+}
+
+impl RowVariants {
+    /// The variants every one of `rows` has (none for an empty table or
+    /// one that keeps contact histories: no kernel has them).
+    pub(super) fn of(rows: &[PairLaw], history: bool) -> Option<Self> {
+        if history || rows.is_empty() {
+            None
+        } else if rows.iter().all(HertzUndamped::matches) {
+            Some(Self::HertzUndamped)
+        } else if rows.iter().all(HertzTsuji::matches) {
+            Some(Self::HertzTsuji)
+        } else {
+            None
+        }
+    }
+}
+
 /// Sub-model variants a law may be checked to have, so that a kernel
 /// instantiated for them has no per-contact dispatch.
 pub(crate) trait Variants: Sync {
+    /// The table-wide name of these variants.
+    const ROWS: RowVariants;
+
     /// Whether `law` has these variants.
     fn matches(law: &PairLaw) -> bool;
 
@@ -59,6 +87,8 @@ pub(crate) trait Variants: Sync {
 pub(crate) struct HertzUndamped;
 
 impl Variants for HertzUndamped {
+    const ROWS: RowVariants = RowVariants::HertzUndamped;
+
     #[inline(always)]
     fn matches(law: &PairLaw) -> bool {
         matches!(law.normal(), NormalPair::Hertz(_))
@@ -84,6 +114,8 @@ impl Variants for HertzUndamped {
 pub(crate) struct HertzTsuji;
 
 impl Variants for HertzTsuji {
+    const ROWS: RowVariants = RowVariants::HertzTsuji;
+
     #[inline(always)]
     fn matches(law: &PairLaw) -> bool {
         matches!(law.normal(), NormalPair::Hertz(_))
@@ -115,15 +147,15 @@ pub(crate) enum KnownLaw<'a> {
 }
 
 impl<'a> KnownLaw<'a> {
-    /// The laws of `laws` for `bodies` if a kernel has their variants.
+    /// The laws of `laws` for `bodies` if a kernel has their variants
+    /// (the table's rows were checked when it was made: a few loads a
+    /// step, whatever the number of classes).
     pub(crate) fn of(laws: &'a LawTable, bodies: &'a Bodies) -> Option<Self> {
-        match laws.classes {
-            1 => OneLaw::of(laws)
-                .map(Self::OneHertzUndamped)
-                .or_else(|| OneLaw::of(laws).map(Self::OneHertzTsuji)),
-            _ => ClassLaws::of(laws, bodies)
-                .map(Self::HertzUndamped)
-                .or_else(|| ClassLaws::of(laws, bodies).map(Self::HertzTsuji)),
+        match (laws.row_variants?, laws.classes) {
+            (RowVariants::HertzUndamped, 1) => OneLaw::of(laws).map(Self::OneHertzUndamped),
+            (RowVariants::HertzTsuji, 1) => OneLaw::of(laws).map(Self::OneHertzTsuji),
+            (RowVariants::HertzUndamped, _) => ClassLaws::of(laws, bodies).map(Self::HertzUndamped),
+            (RowVariants::HertzTsuji, _) => ClassLaws::of(laws, bodies).map(Self::HertzTsuji),
         }
     }
 }
@@ -170,15 +202,15 @@ pub(crate) struct ClassLaws<'a, V> {
 
 impl<'a, V: Variants> ClassLaws<'a, V> {
     /// The table of `laws` if it has one (few enough classes), keeps no
-    /// contact histories, its rows all have the variants `V` and `bodies`
-    /// carry its classes.
+    /// contact histories, its rows all have the variants `V` (checked
+    /// when the table was made: [`RowVariants::of`]) and `bodies` carry
+    /// its classes.
     pub(crate) fn of(laws: &'a LawTable, bodies: &'a Bodies) -> Option<Self> {
         let classes = laws.classes;
         let fits = classes > 0
-            && !laws.history
+            && laws.row_variants == Some(V::ROWS)
             && laws.pairs.len() == classes * classes
-            && bodies.class.len() == bodies.len()
-            && laws.pairs.iter().all(V::matches);
+            && bodies.class.len() == bodies.len();
         fits.then_some(Self {
             table: &laws.pairs,
             class: &bodies.class,
@@ -195,8 +227,9 @@ impl<V: Variants> PairLaws for ClassLaws<'_, V> {
         // a class the table does not hold (`NO_CLASS`, which no set-up
         // leaves beside a table) panics instead of reading past it.
         let law = &self.table[self.class[i] as usize * self.classes + self.class[j] as usize];
-        // SAFETY: every row checked in `of`, and the table is not changed
-        // after.
+        // SAFETY: every row checked when the table was made
+        // (`RowVariants::of` in `LawTable::from_keys`, the only writer of
+        // the rows; `of` required its answer to be `V`).
         unsafe { V::assume(law) };
         *law
     }
@@ -204,7 +237,7 @@ impl<V: Variants> PairLaws for ClassLaws<'_, V> {
 
 #[cfg(test)]
 mod tests {
-    use super::{HertzTsuji, HertzUndamped, Variants};
+    use super::{HertzTsuji, HertzUndamped, RowVariants, Variants};
     use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
     use dembound_physics::material::{Material, PairProperties};
 
@@ -242,5 +275,29 @@ mod tests {
         ] {
             assert!(!undamped(other) && !tsuji(other), "{other:?}");
         }
+    }
+
+    /// A table's variants are those of every row: a table mixing undamped
+    /// and Tsuji rows (two materials, one damped) has none (a kernel would
+    /// state a fact one row breaks), nor has an empty table or one keeping
+    /// histories. Reference: the rows' own variants, built here.
+    #[test]
+    fn a_table_has_the_variants_of_every_row_or_none() {
+        let m = Material {
+            density: 1000.0,
+            youngs_modulus: 1.0e7,
+            poisson_ratio: 0.3,
+        };
+        let props = PairProperties::spheres(1.0e-3, 1.0e-6, &m, 2.0e-3, 8.0e-6, &m);
+        let undamped = ContactModel::elastic(NormalLaw::Hertz).pair(&props);
+        let damping = Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5));
+        let tsuji = ContactModel::damped(NormalLaw::Hertz, damping).pair(&props);
+        let of = |rows: &[_], history| RowVariants::of(rows, history);
+        assert_eq!(of(&[undamped; 4], false), Some(RowVariants::HertzUndamped));
+        assert_eq!(of(&[tsuji; 4], false), Some(RowVariants::HertzTsuji));
+        assert_eq!(of(&[undamped, tsuji, tsuji, undamped], false), None);
+        assert_eq!(of(&[tsuji, tsuji, tsuji, undamped], false), None);
+        assert_eq!(of(&[undamped; 4], true), None);
+        assert_eq!(of(&[], false), None);
     }
 }
