@@ -229,6 +229,9 @@ impl PairList {
             }
         }
         let blocks = Self::blocks_for(&start, &j, n);
+        if crate::parallel::trace::on() {
+            crate::parallel::trace::note_blocks(&blocks, &start);
+        }
         let shares = Shares::new(workers.threads(), &blocks, &start);
         PairList {
             start,

@@ -9,7 +9,10 @@
 //! ([`ONE_SIDED`]; the other started late or found nothing left) and the
 //! longest run of such stages in a row. Printed to
 //! standard error when the team stops. Off, it costs one relaxed load a
-//! stage and a wait.
+//! stage and a wait. Each pair list built while it is on also prints its
+//! force blocks ([`note_blocks`]): how finely the force stage can be
+//! shared (`scripts/two_ends_bound.py` turns the lines into the speed-up
+//! two workers from both ends of the blocks could reach at best).
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -51,6 +54,24 @@ pub fn add_wait(ns: u64) {
 /// Adds `n` work units to this thread's stage.
 pub fn add_units(n: u64) {
     UNITS.with(|u| u.set(u.get() + n));
+}
+
+/// Prints a new pair list's force blocks, one line: each block's bodies
+/// and listed pairs (`blocks`: the boundaries, `start`: the rows' starts).
+pub fn note_blocks(blocks: &[u32], start: &[u32]) {
+    let span = |w: &[u32]| (w[0] as usize, w[1] as usize);
+    let bodies: Vec<u32> = blocks.windows(2).map(|w| w[1] - w[0]).collect();
+    let pairs: Vec<u32> = blocks
+        .windows(2)
+        .map(|w| {
+            let (lo, hi) = span(w);
+            match (start.get(lo), start.get(hi)) {
+                (Some(a), Some(b)) => b - a,
+                _ => 0,
+            }
+        })
+        .collect();
+    eprintln!("team trace: force blocks: bodies {bodies:?} pairs {pairs:?}");
 }
 
 /// One worker's part of one stage.
