@@ -166,3 +166,30 @@ fn bad_input_exits_2_and_writes_nothing() {
         assert!(!out.exists(), "{args:?} wrote output");
     }
 }
+
+/// Impacts alone (`--particles 0`, no chute): the report states that no
+/// bed was poured instead of a floor pressure it could not have (the
+/// weight per area of no bed printed as "NaN Pa" before session 36), and
+/// prints no NaN anywhere (the one undefined quantity, e_t at normal
+/// incidence, stays in impacts.csv only).
+#[test]
+fn impacts_without_a_bed_state_no_pressure_and_print_no_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let run = dembound()
+        .args(["wall-study", "--quick", "--quiet", "--particles", "0"])
+        .args(["--chute-time", "0", "--impacts", "1", "--radius-ratios", "1"])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("No bed was poured"), "{report}");
+    assert!(!report.contains("weight per area ("), "{report}");
+    assert!(!report.to_lowercase().contains("nan"), "{report}");
+}

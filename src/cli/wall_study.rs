@@ -743,15 +743,48 @@ fn report(
         }
         let _ = writeln!(s);
     }
+    // No bed (`--particles 0`): no pressure, fluctuation or loads to
+    // state (the weight per area would print as NaN Pa).
+    let weight_pressure = results
+        .iter()
+        .find_map(|r| r.bed.as_ref().map(|b| b.weight_pressure));
+    match weight_pressure {
+        Some(w) => bed_loads_section(&mut s, w, results),
+        None => {
+            let _ = writeln!(
+                s,
+                "\nNo bed was poured (`--particles 0`): no floor pressure, fluctuation or \
+                 boundary-particle loads.\n"
+            );
+        }
+    }
+    chute_section(&mut s, c, results);
     let _ = writeln!(
         s,
-        "\nThe floor pressure equals the weight per area ({:.6e} Pa) once a bed has settled on any \
-         floor; its fluctuation over the last fifth of the run and the force per boundary particle \
-         are what differ.\n",
-        results
-            .iter()
-            .find_map(|r| r.bed.as_ref().map(|b| b.weight_pressure))
-            .unwrap_or(f64::NAN)
+        "\nEffective restitutions are taken along the floor's normal (z) and the incidence \
+         direction: on a bumpy floor a particle hitting the flank of a boundary sphere rebounds \
+         sideways or down, so e_n may be negative and the rebound angle above 90°.\n"
+    );
+    verdicts::recommendation_section(&mut s, verdicts, tolerances);
+    let _ = writeln!(
+        s,
+        "Files: impacts.csv (every impact), summary.csv, profile.csv (packing fraction in slabs of \
+         R/4), boundary_forces.csv (N), restitution.svg/png, contact_time.svg/png, \
+         packing_profile.svg/png, bed_side.svg/png (the bed drawn from its final state), \
+         chute.csv and chute_profile.svg/png (the chute's velocity profiles), \
+         recommendation.csv (every floor and quantity against the plane)."
+    );
+    s
+}
+
+/// The settled beds' floor pressure sentence and each floor's loaded
+/// boundary particles (`weight_pressure`: N m g/A, Pa).
+fn bed_loads_section(s: &mut String, weight_pressure: f64, results: &[FloorResult]) {
+    let _ = writeln!(
+        s,
+        "\nThe floor pressure equals the weight per area ({weight_pressure:.6e} Pa) once a bed has \
+         settled on any floor; its fluctuation over the last fifth of the run and the force per \
+         boundary particle are what differ.\n"
     );
     for r in results {
         if let Some(b) = r.bed.as_ref().filter(|b| b.fell_through > 0) {
@@ -786,23 +819,6 @@ fn report(
             );
         }
     }
-    chute_section(&mut s, c, results);
-    let _ = writeln!(
-        s,
-        "\nEffective restitutions are taken along the floor's normal (z) and the incidence \
-         direction: on a bumpy floor a particle hitting the flank of a boundary sphere rebounds \
-         sideways or down, so e_n may be negative and the rebound angle above 90°.\n"
-    );
-    verdicts::recommendation_section(&mut s, verdicts, tolerances);
-    let _ = writeln!(
-        s,
-        "Files: impacts.csv (every impact), summary.csv, profile.csv (packing fraction in slabs of \
-         R/4), boundary_forces.csv (N), restitution.svg/png, contact_time.svg/png, \
-         packing_profile.svg/png, bed_side.svg/png (the bed drawn from its final state), \
-         chute.csv and chute_profile.svg/png (the chute's velocity profiles), \
-         recommendation.csv (every floor and quantity against the plane)."
-    );
-    s
 }
 
 /// The chute's part of the report: setup, one row per floor, the reading.
