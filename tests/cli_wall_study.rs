@@ -153,6 +153,22 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--chute-layers", "0.5"], "--chute-layers"),
         (vec!["--floor-friction=-1"], "--floor-friction"),
         (vec!["--tol-packing=-0.1"], "--tol-packing"),
+        // The scene's ranges (crate::limits), which the study took any
+        // positive value for before session 36: μ_r = 5 ran a rolling
+        // spring its step does not resolve, E = 1e30 Pa a step count no
+        // run finishes, ζ = 1e-9 a bed that fell through its floor.
+        (
+            vec!["--rolling-friction", "5"],
+            "--rolling-friction = 5 is out of range: 0 to 1",
+        ),
+        (
+            vec!["--friction", "11"],
+            "--friction = 11 is out of range: 0 to 10",
+        ),
+        (vec!["--youngs-modulus", "1e30"], "--youngs-modulus"),
+        (vec!["--modulus-ratios", "1e-9"], "--modulus-ratios"),
+        (vec!["--floor-friction", "20"], "--floor-friction"),
+        (vec!["--speed", "2e4"], "--speed"),
     ] {
         let run = dembound()
             .args(["wall-study", "--quick", "--quiet", "--out"])
@@ -178,7 +194,14 @@ fn impacts_without_a_bed_state_no_pressure_and_print_no_nan() {
     let out = dir.path().join("study");
     let run = dembound()
         .args(["wall-study", "--quick", "--quiet", "--particles", "0"])
-        .args(["--chute-time", "0", "--impacts", "1", "--radius-ratios", "1"])
+        .args([
+            "--chute-time",
+            "0",
+            "--impacts",
+            "1",
+            "--radius-ratios",
+            "1",
+        ])
         .arg("--out")
         .arg(&out)
         .output()

@@ -233,9 +233,22 @@ fn invalid(key: &str, value: impl std::fmt::Display, allowed: &str) -> SceneErro
 }
 
 impl StudyConfig {
-    /// Checks the numbers; an error names the option, the value and the range.
+    /// Checks the numbers; an error names the option, the value and the
+    /// range. The material, grain, speed and friction ranges are the
+    /// scene's ([`crate::limits`]: the study builds its scenes without a
+    /// scene file, so it checks them itself; before session 36 it took
+    /// any positive value, and e.g. `--rolling-friction 5`, which no
+    /// scene accepts, ran with a rolling spring the step does not resolve).
     pub fn validate(&self) -> Result<(), SceneError> {
+        use crate::limits::{self, describe, within};
         let m = &self.material;
+        let ranged = |k: &str, x: f64, range: (f64, f64), unit: &str| {
+            if x.is_finite() && within(x, range) {
+                Ok(())
+            } else {
+                Err(invalid(k, x, &describe(range, unit)))
+            }
+        };
         let pos = |k: &str, x: f64, unit: &str| {
             if x.is_finite() && x > 0.0 {
                 Ok(())
@@ -243,26 +256,34 @@ impl StudyConfig {
                 Err(invalid(k, x, &format!("finite and > 0 {unit}")))
             }
         };
-        pos("--density", m.density, "kg/m³")?;
-        pos("--youngs-modulus", m.youngs_modulus, "Pa")?;
+        ranged("--density", m.density, limits::DENSITY, "kg/m³")?;
+        ranged(
+            "--youngs-modulus",
+            m.youngs_modulus,
+            limits::YOUNGS_MODULUS,
+            "Pa",
+        )?;
         if !(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5) {
             return Err(invalid("--poisson-ratio", m.poisson_ratio, "-1 < ν < 0.5"));
         }
-        pos("--radius", self.radius, "m")?;
+        ranged("--radius", self.radius, limits::RADIUS, "m")?;
         if !(self.restitution > 0.0 && self.restitution <= 1.0) {
             return Err(invalid("--restitution", self.restitution, "0 < e ≤ 1"));
         }
-        if !(self.friction.is_finite() && self.friction >= 0.0) {
-            return Err(invalid("--friction", self.friction, "finite and ≥ 0"));
-        }
-        if !(self.rolling_friction.is_finite() && self.rolling_friction >= 0.0) {
+        ranged("--friction", self.friction, limits::FRICTION, "")?;
+        ranged(
+            "--rolling-friction",
+            self.rolling_friction,
+            limits::ROLLING_FRICTION,
+            "",
+        )?;
+        if !(self.speed.is_finite() && self.speed > 0.0 && self.speed <= limits::MAX_SPEED) {
             return Err(invalid(
-                "--rolling-friction",
-                self.rolling_friction,
-                "finite and ≥ 0",
+                "--speed",
+                self.speed,
+                &format!("0 < v ≤ {} m/s", limits::show(limits::MAX_SPEED)),
             ));
         }
-        pos("--speed", self.speed, "m/s")?;
         for &a in &self.angles {
             if !(0.0..90.0).contains(&a) {
                 return Err(invalid("--angles", a, "0 ≤ θ < 90 degrees from the normal"));
@@ -282,15 +303,18 @@ impl StudyConfig {
                 if !(radius_ratio.is_finite() && (0.5..=1000.0).contains(&radius_ratio)) {
                     return Err(invalid("--radius-ratios", radius_ratio, "0.5 ≤ r ≤ 1000"));
                 }
-                if modulus_ratio <= 0.0 || modulus_ratio.is_nan() {
-                    return Err(invalid("--modulus-ratios", modulus_ratio, "> 0, or inf"));
+                if !(modulus_ratio == f64::INFINITY || within(modulus_ratio, limits::MODULUS_RATIO))
+                {
+                    return Err(invalid(
+                        "--modulus-ratios",
+                        modulus_ratio,
+                        &format!("{}, or inf", describe(limits::MODULUS_RATIO, "")),
+                    ));
                 }
             }
         }
         if let Some(mu) = self.floor_friction {
-            if !(mu.is_finite() && mu >= 0.0) {
-                return Err(invalid("--floor-friction", mu, "finite and ≥ 0"));
-            }
+            ranged("--floor-friction", mu, limits::FRICTION, "")?;
         }
         if let Some(chute) = &self.chute {
             chute.validate()?;
