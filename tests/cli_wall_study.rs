@@ -6,13 +6,13 @@ mod common;
 
 use common::dembound;
 
-#[test]
-fn quick_study_writes_its_files() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("study");
+/// Runs `wall-study --quick --quiet` with `extra` into `out`; it must
+/// succeed.
+fn quick_study(out: &std::path::Path, extra: &[&str]) {
     let run = dembound()
         .args(["wall-study", "--quick", "--quiet", "--out"])
-        .arg(&out)
+        .arg(out)
+        .args(extra)
         .output()
         .unwrap();
     assert!(
@@ -20,6 +20,13 @@ fn quick_study_writes_its_files() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
+}
+
+#[test]
+fn quick_study_writes_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    quick_study(&out, &[]);
     for f in [
         "impacts.csv",
         "summary.csv",
@@ -192,25 +199,8 @@ fn bad_input_exits_2_and_writes_nothing() {
 fn impacts_without_a_bed_state_no_pressure_and_print_no_nan() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("study");
-    let run = dembound()
-        .args(["wall-study", "--quick", "--quiet", "--particles", "0"])
-        .args([
-            "--chute-time",
-            "0",
-            "--impacts",
-            "1",
-            "--radius-ratios",
-            "1",
-        ])
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let no_bed = ["--particles", "0", "--chute-time", "0", "--impacts", "1"];
+    quick_study(&out, &[&no_bed[..], &["--radius-ratios", "1"]].concat());
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("No bed was poured"), "{report}");
     assert!(!report.contains("weight per area ("), "{report}");

@@ -241,17 +241,22 @@ mod tests {
     use dembound_physics::contact::{ContactModel, Damping, DampingKind, Dissipation, NormalLaw};
     use dembound_physics::material::{Material, PairProperties};
 
+    /// The lattice drop's grain material.
+    fn grain() -> Material {
+        Material {
+            density: 1000.0,
+            youngs_modulus: 1.0e7,
+            poisson_ratio: 0.3,
+        }
+    }
+
     /// Each variants' test accepts exactly its law (clamped Hertz,
     /// undamped or with Tsuji's damping): another damping, the attractive
     /// and another normal law are refused (each would be miscompiled under
     /// the kernel's stated facts).
     #[test]
     fn each_variants_test_matches_only_its_law() {
-        let m = Material {
-            density: 1000.0,
-            youngs_modulus: 1.0e7,
-            poisson_ratio: 0.3,
-        };
+        let m = grain();
         let props = PairProperties::spheres(1.0e-3, 1.0e-6, &m, 1.0e-3, 1.0e-6, &m);
         let undamped = |model: ContactModel| HertzUndamped::matches(&model.pair(&props));
         let tsuji = |model: ContactModel| HertzTsuji::matches(&model.pair(&props));
@@ -283,11 +288,7 @@ mod tests {
     /// histories. Reference: the rows' own variants, built here.
     #[test]
     fn a_table_has_the_variants_of_every_row_or_none() {
-        let m = Material {
-            density: 1000.0,
-            youngs_modulus: 1.0e7,
-            poisson_ratio: 0.3,
-        };
+        let m = grain();
         let props = PairProperties::spheres(1.0e-3, 1.0e-6, &m, 2.0e-3, 8.0e-6, &m);
         let undamped = ContactModel::elastic(NormalLaw::Hertz).pair(&props);
         let damping = Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.5));
