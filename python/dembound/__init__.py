@@ -236,7 +236,9 @@ def _list(value: ListLike, name: str = "list") -> str:
 
 def _option(argv: list[str], flag: str, value: Any) -> None:
     if value is not None:
-        argv += [flag, _list(value, flag.lstrip("-"))]
+        # FLAG=VALUE: a value starting with '-' ("-inf", "-1") is then not
+        # read as another flag.
+        argv.append(f"{flag}={_list(value, flag.lstrip('-'))}")
 
 
 def run(
@@ -341,9 +343,9 @@ def recommend(
     ratios and in SI (m, Pa)."""
     argv = _argv("recommend", scenario, keys)
     if tolerance is not None:
-        argv += ["--tolerance", tolerance if isinstance(tolerance, str) else _toml(_real("tolerance", tolerance))]
+        argv.append(f"--tolerance={tolerance if isinstance(tolerance, str) else _toml(_real('tolerance', tolerance))}")
     if reference is not None:
-        argv += ["--reference", _text("reference", reference)]
+        argv.append(f"--reference={_text('reference', reference)}")
     _option(argv, "--law", law)
     _option(argv, "--quantity", quantity)
     _option(argv, "--r", r)
@@ -368,12 +370,12 @@ def restitution(
     calibration). The restitution *sweep* has no JSON document in the CLI
     (it writes CSV with ``--out``) and is not offered here."""
     argv = _argv("restitution", scenario, keys)
-    argv += ["--target", _toml(_real("target", target))]
+    argv.append(f"--target={_toml(_real('target', target))}")
     _option(argv, "--law", law)
     _option(argv, "--r", r)
     _option(argv, "--zeta", zeta)
     if calibrate is not None:
-        argv += ["--calibrate", _text("calibrate", calibrate)]
+        argv.append(f"--calibrate={_text('calibrate', calibrate)}")
     return _cli(argv)
 
 

@@ -470,6 +470,18 @@ def test_restitution_target_is_a_real_number(target):
     refused(lambda: dembound.restitution(target=target, law="hertz-tsuji", r="inf", zeta="inf"), "target: ")
 
 
+@pytest.mark.parametrize("target", [-math.inf, -0.5, math.inf, math.nan], ids=repr)
+def test_restitution_target_out_of_range_names_target(target):
+    # A negative value was passed as a separate argument, so "-inf" was
+    # read as the flags -i -n -f ("unexpected argument '-i' found").
+    refused(lambda: dembound.restitution(target=target, law="tsuji", r=10, zeta=10), "--target")
+
+
+@pytest.mark.parametrize("tolerance", [-1.0, "-1%", -math.inf], ids=repr)
+def test_recommend_negative_tolerance_names_tolerance(tolerance):
+    refused(lambda: dembound.recommend(tolerance=tolerance), "--tolerance")
+
+
 @pytest.mark.parametrize("tolerance", [b"1%", 0.01j, False, [0.01]], ids=repr)
 def test_recommend_tolerance_is_a_number_or_text(tolerance):
     refused(lambda: dembound.recommend(tolerance=tolerance), "tolerance: ")
