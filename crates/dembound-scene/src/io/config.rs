@@ -276,7 +276,14 @@ pub fn from_table_with(
                 "in scene file `{name}`: unknown key `{path}`: {inner}"
             ))
         } else if inner.starts_with("missing field") {
-            SceneError::input(format!("in scene file `{name}`: `{path}`: {inner}"))
+            // At the top level the path is "." (serde_path_to_error's
+            // root): say "the file" instead.
+            let place = if path == "." {
+                "the file".to_string()
+            } else {
+                format!("`{path}`")
+            };
+            SceneError::input(format!("in scene file `{name}`: {place}: {inner}"))
         } else {
             SceneError::input(format!(
                 "in scene file `{name}`: invalid value for `{path}`: {inner}"

@@ -376,3 +376,19 @@ fn tangential_damping_is_read_and_written_only_when_given() {
         .expect("serialises")
         .contains("tangential_damping"));
 }
+
+/// An empty scene file is refused naming what it lacks, with the place as
+/// words ("the file"), not serde's root path "`.`" (before session 36:
+/// "`.`: missing field `domain`").
+#[test]
+fn an_empty_file_names_the_missing_domain_not_a_dot() {
+    let err = from_table_with(Table::new(), "empty.toml", Particles::Required)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(
+        err.contains("in scene file `empty.toml`: the file: missing field `domain`"),
+        "{err}"
+    );
+    assert!(!err.contains("`.`"), "{err}");
+}
