@@ -329,6 +329,13 @@ material = "steel"
         key: "contact.tangential_damping",
     },
     Case {
+        site: "lammps_friction.rs plan: projected spring",
+        code: "lammps",
+        extra: "",
+        sets: &["contact.friction=0.5", "contact.spring_rotation=project"],
+        key: "contact.spring_rotation",
+    },
+    Case {
         site: "lammps_friction.rs plan: rolling with damping",
         code: "lammps",
         extra: "",
@@ -799,6 +806,17 @@ spheres = [ { position = [0.005, 0.005, 0.012], radius = 1.0e-3 } ]
             "contact.restitution=0.5",
         ],
         key: "contact.tangential_damping",
+    },
+    Case {
+        site: "yade_scene.rs deck: projected spring",
+        code: "yade",
+        extra: "",
+        sets: &[
+            "wall.0.material=glass",
+            "contact.friction=0.5",
+            "contact.spring_rotation=project",
+        ],
+        key: "contact.spring_rotation",
     },
     Case {
         site: "yade_scene.rs deck: no stand-in material",

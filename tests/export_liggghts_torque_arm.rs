@@ -8,11 +8,14 @@
 //! double itself). Under `"half_overlap"`: against a plane wall the same
 //! state to 1e-9 (round-off); in a sphere pair the one difference left is
 //! the tangential spring's length when the pair's normal turns (dembound
-//! keeps it, LIGGGHTS projects the spring and shortens it by θ²/2 a step),
+//! keeps it by default, LIGGGHTS projects the spring and shortens it by θ²/2 a step),
 //! so the state agrees within twice that term summed over the contact
-//! (2e-8 measured; 2e-16 with dembound's rescale removed by hand). Under
+//! (2e-8 measured). Under
 //! `"contact_point"` (LAMMPS's arm) and `"overlap_middle"` (Yade's) the
-//! runs part by a hundred times more, so the test can fail.
+//! runs part by a hundred times more, so the test can fail. Under
+//! `"half_overlap"` with `contact.spring_rotation = "project"` (session
+//! 36: the spring projected as LIGGGHTS projects it) the pair too is the
+//! same state to 1e-9: the model is LIGGGHTS's.
 //!
 //! Without `liggghts` on PATH the test fails under CI (the CI image
 //! installs it) and skips elsewhere, saying so.
@@ -24,7 +27,8 @@ use dembound_scene::io::{config, resolve::resolve};
 use dembound_scene::Simulation;
 
 /// The domain, the material and the law of both scenes (`ARM` replaced
-/// by each arm): ρ = 1000 kg/m³, E = 1e7 Pa, ν = 0.3; Hertz, Tsuji damping
+/// by each arm, `ROTATION` by each spring rotation): ρ = 1000 kg/m³,
+/// E = 1e7 Pa, ν = 0.3; Hertz, Tsuji damping
 /// for e = 0.3 without the tangential dashpot (the one damping the
 /// LIGGGHTS export takes with friction), μ = 0.5.
 const LAW: &str = r#"
@@ -44,6 +48,7 @@ restitution = 0.3
 friction = 0.5
 tangential_damping = false
 torque_arm = "ARM"
+spring_rotation = "ROTATION"
 "#;
 
 /// Two free spheres (R = 0.5 and 0.4 mm, ρ = 1000 kg/m³, E = 1e7 Pa,
@@ -114,28 +119,33 @@ struct Apart {
     length_term: f64,
 }
 
-/// `scene` (with `ARM` for the arm) exported under `"half_overlap"` and
-/// run in LIGGGHTS once (the deck's commands do not depend on the arm:
-/// only its header's notes do), then dembound under each of `arms`
-/// against it, step by step.
-fn against_liggghts(scene: &str, speed: f64, arms: &[&str]) -> Vec<Apart> {
+/// `scene` (with `ARM` for the arm, `ROTATION` for the spring's
+/// rotation) exported under `"half_overlap"` and `"project"` and run in
+/// LIGGGHTS once (the deck's commands depend on neither key: only its
+/// header's notes do), then dembound under each of `variants` (arm,
+/// rotation) against it, step by step.
+fn against_liggghts(scene: &str, speed: f64, variants: &[(&str, &str)]) -> Vec<Apart> {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let file = dir.path().join("scene.toml");
-    let text = |arm: &str| scene.replace("ARM", arm);
-    std::fs::write(&file, text("half_overlap")).expect("written");
+    let text = |arm: &str, rotation: &str| scene.replace("ARM", arm).replace("ROTATION", rotation);
+    std::fs::write(&file, text("half_overlap", "project")).expect("written");
     let deck = dir.path().join("deck");
     run_liggghts(&file, &deck);
     let input = std::fs::read_to_string(deck.join("in.liggghts")).expect("in.liggghts");
     assert!(
         input.contains("The lever arm is LIGGGHTS's")
-            && !input.contains("Differences kept: the lever arm"),
+            && input.contains("and so is the spring's rotation")
+            && !input.contains("Differences kept: the lever arm")
+            && !input.contains("Difference kept"),
         "the deck's header: {input}"
     );
     let dump = read_liggghts_dump(&deck);
     assert!(dump.len() > 100, "{} dumped steps", dump.len());
-    arms.iter()
-        .map(|arm| {
-            let parsed = config::load(&text(arm), "scene.toml", &[]).expect("a valid scene");
+    variants
+        .iter()
+        .map(|&(arm, rotation)| {
+            let parsed =
+                config::load(&text(arm, rotation), "scene.toml", &[]).expect("a valid scene");
             let resolved = resolve(&parsed, dir.path()).expect("resolves");
             let radii: Vec<f64> = resolved.setup.spheres.iter().map(|s| s.radius).collect();
             let mut sim = Simulation::new(resolved.setup, 1).expect("builds");
@@ -184,7 +194,7 @@ fn against_liggghts(scene: &str, speed: f64, arms: &[&str]) -> Vec<Apart> {
                     apart.before_pair = apart.before_pair.max(worst);
                 }
             }
-            eprintln!("{arm}: {apart:?}");
+            eprintln!("{arm}, {rotation}: {apart:?}");
             apart
         })
         .collect()
@@ -193,10 +203,12 @@ fn against_liggghts(scene: &str, speed: f64, arms: &[&str]) -> Vec<Apart> {
 /// The same state within this, relative (of R, of the throw speed, of
 /// the throw speed/R), where the two codes have the same law. They do the
 /// same arithmetic in other orders (e.g. LIGGGHTS's `(cri ω_i + crj ω_j)
-/// / r` then × `delta`, dembound's (c₁ ω₁ + c₂ ω₂) × n), so they differ
-/// by round-off, 1e-16 per operation, grown by the contacts over a few
-/// thousand steps; the dump prints the doubles themselves (`%.17g`).
-/// 1e-9 is the issue's bar for the same model.
+/// / r` then × `delta`, dembound's (c₁ ω₁ + c₂ ω₂) × n; LIGGGHTS projects
+/// the spring after adding the step's slip v_t Δt, dembound before, the
+/// same in exact arithmetic as v_t ⟂ n), so they differ by round-off,
+/// 1e-16 per operation, grown by the contacts over a few thousand steps;
+/// the dump prints the doubles themselves (`%.17g`). 1e-9 is the issue's
+/// bar for the same model.
 const SAME: f64 = 1e-9;
 
 /// Another arm parts by more than this (δ/(2R) ~ 1e-3 at the largest
@@ -213,9 +225,10 @@ const PARTED: f64 = 1e-5;
 /// the order of the throw's momentum: the states part by about that
 /// fraction of it (measured 0.10 `length_term` on `PAIR`, 0.43 on `ROLL`),
 /// and by round-off only with the spring's length dropped as LIGGGHTS
-/// drops it (measured 2e-16 on `PAIR`, 8e-14 on `ROLL` with dembound's
-/// rescale in `turn_spring` removed by hand). Bounded here at twice
-/// `length_term` (2.1e-7 and 1.9e-7 here).
+/// drops it (`contact.spring_rotation = "project"`: measured 2.3e-16 on
+/// `PAIR`, 8.5e-14 on `ROLL`; session 35 saw the same with the rescale
+/// removed by hand). Bounded here at twice `length_term` (2.1e-7 and
+/// 1.9e-7 here).
 fn spring_length_bound(a: &Apart) -> f64 {
     2.0 * a.length_term
 }
@@ -232,11 +245,23 @@ fn half_overlap_is_liggghts_in_an_oblique_sphere_pair() {
     let got = against_liggghts(
         &format!("{LAW}{PAIR}"),
         0.1,
-        &["half_overlap", "contact_point", "overlap_middle"],
+        &[
+            ("half_overlap", "rescale"),
+            ("contact_point", "rescale"),
+            ("overlap_middle", "rescale"),
+            ("half_overlap", "project"),
+        ],
     );
-    let [half, point, middle] = [got[0], got[1], got[2]];
+    let [half, point, middle, projected] = [got[0], got[1], got[2], got[3]];
     // The spheres met, and the contact spun them.
     assert!(half.pair_steps >= 20 && half.max_spin > 10.0, "{half:?}");
+    // LIGGGHTS's arm and LIGGGHTS's rotation: LIGGGHTS's state to
+    // round-off, where the rescale parts by the spring's length.
+    assert!(
+        projected.whole <= SAME,
+        "half_overlap + project parts from LIGGGHTS: {projected:?}"
+    );
+    assert!(half.whole > 10.0 * SAME, "{half:?}");
     // The spring's length is the only difference left, and it is small.
     let bound = spring_length_bound(&half);
     assert!(
@@ -267,10 +292,24 @@ fn half_overlap_is_liggghts_on_a_frictional_floor_and_into_a_sphere() {
     let got = against_liggghts(
         &format!("{LAW}{ROLL}"),
         0.15,
-        &["half_overlap", "contact_point", "overlap_middle"],
+        &[
+            ("half_overlap", "rescale"),
+            ("contact_point", "rescale"),
+            ("overlap_middle", "rescale"),
+            ("half_overlap", "project"),
+        ],
     );
-    let [half, point, middle] = [got[0], got[1], got[2]];
+    let [half, point, middle, projected] = [got[0], got[1], got[2], got[3]];
     assert!(half.pair_steps >= 20 && half.max_spin > 100.0, "{half:?}");
+    // LIGGGHTS's arm and rotation: the floor and the pair, LIGGGHTS's
+    // state to round-off; on the flat floor the rotations are one (the
+    // same bits before the pair meets: δ·n = 0 exactly there).
+    assert!(
+        projected.whole <= SAME,
+        "half_overlap + project parts from LIGGGHTS: {projected:?}"
+    );
+    assert_eq!(projected.before_pair, half.before_pair, "{projected:?}");
+    assert!(half.whole > 10.0 * SAME, "{half:?}");
     // Until the spheres touch only the floor acts, whose normal never
     // turns: the same law, the same state to round-off.
     assert!(
@@ -299,41 +338,79 @@ fn half_overlap_is_liggghts_on_a_frictional_floor_and_into_a_sphere() {
 }
 
 /// `dembound export liggghts` notes the arm for a frictional scene under
-/// any arm but `"half_overlap"` (naming it), and says nothing under it;
-/// the deck's header calls the lever arm a difference kept under the
-/// others and LIGGGHTS's own under `"half_overlap"`. No LIGGGHTS needed.
+/// any arm but `"half_overlap"` (naming it, and `contact.spring_rotation
+/// = "project"` too under the default rotation), and under
+/// `"half_overlap"` notes the rotation alone unless it is `"project"`
+/// (then nothing); the deck's header calls the lever arm a difference
+/// kept under the other arms and LIGGGHTS's own under `"half_overlap"`,
+/// and the spring's length a difference kept unless the rotation is
+/// `"project"`. No LIGGGHTS needed.
 #[test]
 fn export_notes_every_arm_but_half_overlap() {
     let dir = tempfile::tempdir().expect("a temporary directory");
     let scene = dir.path().join("pair.toml");
-    let pair = format!("{LAW}{PAIR}").replace("torque_arm = \"ARM\"\n", "");
+    let pair = format!("{LAW}{PAIR}")
+        .replace("torque_arm = \"ARM\"\n", "")
+        .replace("spring_rotation = \"ROTATION\"\n", "");
     std::fs::write(&scene, pair).expect("written");
-    for arm in ["radius", "contact_point", "overlap_middle", "half_overlap"] {
-        let deck = dir.path().join(arm);
-        let out = common::dembound()
-            .args(["export", "liggghts"])
-            .arg(&scene)
-            .args(["--set", &format!("contact.torque_arm={arm}"), "--out"])
-            .arg(&deck)
-            .output()
-            .expect("dembound runs");
-        let note = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{arm}: {note}");
-        let input = std::fs::read_to_string(deck.join("in.liggghts")).expect("in.liggghts");
-        if arm == "half_overlap" {
-            assert!(!note.contains("torque_arm"), "{arm}: {note}");
-            assert!(input.contains("The lever arm is LIGGGHTS's"), "{input}");
-            assert!(
-                !input.contains("Differences kept: the lever arm"),
-                "{input}"
+    for rotation in ["rescale", "project"] {
+        let project = rotation == "project";
+        for arm in ["radius", "contact_point", "overlap_middle", "half_overlap"] {
+            let deck = dir.path().join(format!("{arm}-{rotation}"));
+            let mut sets = vec!["--set".to_string(), format!("contact.torque_arm={arm}")];
+            if project {
+                sets.extend(["--set".into(), "contact.spring_rotation=project".into()]);
+            }
+            let out = common::dembound()
+                .args(["export", "liggghts"])
+                .arg(&scene)
+                .args(&sets)
+                .arg("--out")
+                .arg(&deck)
+                .output()
+                .expect("dembound runs");
+            let note = String::from_utf8_lossy(&out.stderr);
+            assert!(out.status.success(), "{arm}, {rotation}: {note}");
+            let input = std::fs::read_to_string(deck.join("in.liggghts")).expect("in.liggghts");
+            let length_kept = input.contains("the spring's length on a turning normal");
+            assert_eq!(length_kept, !project, "{arm}, {rotation}: {input}");
+            assert_eq!(
+                input.contains("contact.spring_rotation = \"project\""),
+                project,
+                "{arm}, {rotation}: {input}"
             );
-        } else {
-            assert!(
-                note.contains(&format!("note: contact.torque_arm = \"{arm}\""))
-                    && note.contains("contact.torque_arm = \"half_overlap\""),
-                "{arm}: {note}"
-            );
-            assert!(input.contains("Differences kept: the lever arm"), "{input}");
+            if arm == "half_overlap" {
+                assert!(!note.contains("torque_arm"), "{arm}: {note}");
+                assert!(input.contains("The lever arm is LIGGGHTS's"), "{input}");
+                assert!(!input.contains("kept: the lever arm"), "{input}");
+                if project {
+                    assert!(!note.contains("note:"), "{arm}, {rotation}: {note}");
+                } else {
+                    assert!(
+                        note.contains("note: contact.spring_rotation = \"rescale\"")
+                            && note.contains("set contact.spring_rotation = \"project\""),
+                        "{arm}, {rotation}: {note}"
+                    );
+                }
+            } else {
+                assert!(
+                    note.contains(&format!("note: contact.torque_arm = \"{arm}\""))
+                        && note.contains("contact.torque_arm = \"half_overlap\""),
+                    "{arm}: {note}"
+                );
+                assert!(!note.contains("note: contact.spring_rotation"), "{note}");
+                assert_eq!(
+                    note.contains("and contact.spring_rotation = \"project\""),
+                    !project,
+                    "{arm}, {rotation}: {note}"
+                );
+                let kept = if project {
+                    "Difference kept: the lever arm"
+                } else {
+                    "Differences kept: the lever arm"
+                };
+                assert!(input.contains(kept), "{input}");
+            }
         }
     }
 }

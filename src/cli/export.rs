@@ -185,6 +185,9 @@ fn run_scene(args: &ExportArgs, path: &Path) -> CliResult {
         if let Some(note) = dembound_export::liggghts_scene::torque_arm_note(&resolved.setup) {
             eprintln!("{note}");
         }
+        if let Some(note) = dembound_export::liggghts_scene::spring_rotation_note(&resolved.setup) {
+            eprintln!("{note}");
+        }
     }
     if code == Code::Lammps {
         if let Some(note) = dembound_export::lammps_scene::torque_arm_note(&resolved.setup) {

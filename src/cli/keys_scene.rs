@@ -5,6 +5,7 @@
 //! key table is this command's output (asserted by a test).
 
 use super::keys::{law_parameter_rows, KeyInfo};
+use dembound_physics::contact::tangential::rotation::SPRING_ROTATION_NAMES;
 use dembound_physics::contact::tangential::tangential_names;
 use dembound_physics::contact::torque_arm::TORQUE_ARM_NAMES;
 use dembound_scene::io::config::MAX_STEPS;
@@ -293,6 +294,20 @@ pub fn keys() -> Vec<KeyInfo> {
                     .join(", ")
             ),
             "lever arm of the tangential torque",
+        ),
+        row(
+            "contact.spring_rotation",
+            "",
+            "\"rescale\"",
+            format!(
+                "{} (with friction)",
+                SPRING_ROTATION_NAMES
+                    .iter()
+                    .map(|name| format!("\"{name}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            "how the tangential spring follows a turning normal",
         ),
         row(
             "particles[K].material",

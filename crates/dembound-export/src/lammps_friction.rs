@@ -37,6 +37,10 @@
 //!   `limit_damping`) normal force in both (LAMMPS's F_ncrit = |F_ntot|).
 //!
 //! What is refused, with the key:
+//! - `contact.spring_rotation = "project"` (LIGGGHTS's rotation of the
+//!   tangential spring, its length not restored): `pair granular` always
+//!   rotates and rescales its history (`gran_sub_mod_tangential.cpp`;
+//!   2021's `rotate_rescale_vec`), dembound's default.
 //! - damping with friction and dembound's tangential dashpot on
 //!   (`contact.tangential_damping`, default true): on sliding
 //!   LAMMPS caps spring + dashpot together and solves the spring back
@@ -56,7 +60,7 @@
 
 use crate::{num, Error, Result};
 use dembound_physics::contact::tangential::{
-    effective_shear_modulus, mix_friction, TangentialKind,
+    effective_shear_modulus, mix_friction, SpringRotation, TangentialKind,
 };
 use dembound_physics::contact::{DampingKind, NormalLaw};
 use dembound_physics::material::{effective_modulus, effective_radius, Material};
@@ -117,6 +121,18 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<Option<FrictionPlan>> {
         return Ok(None);
     }
     let refuse = |s: String| Err(Error::Export(s));
+    if f.spring_rotation == SpringRotation::Project {
+        return refuse(
+            "contact.spring_rotation = \"project\" with friction cannot be exported to LAMMPS: \
+             its pair granular and fix wall/gran granular turn the tangential history into the \
+             new tangent plane and rescale it to its old length (\"rotate and rescale\", \
+             gran_sub_mod_tangential.cpp; rotate_rescale_vec in 2021's PairGranular), with no \
+             setting to project only, so the decks would part wherever a contact's normal turns \
+             under a loaded spring (allowed: contact.spring_rotation = \"rescale\", the default \
+             and LAMMPS's rotation; or export without friction: --set contact.friction=0)"
+                .to_string(),
+        );
+    }
     let damping = setup.contact.damping.kind();
     if damping != DampingKind::None && f.tangential_damping {
         return refuse(format!(

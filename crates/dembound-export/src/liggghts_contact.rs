@@ -40,9 +40,11 @@
 //!    in both and the trajectory is the same; only the spin change
 //!    differs, by ∫ (δ/2) μ F_n dt/I. Under `"half_overlap"` the arm is
 //!    LIGGGHTS's (`TorqueArm::HalfOverlap`) and the header says so.
-//! 2. The spring's rotation: LIGGGHTS projects δ onto the new tangent plane,
-//!    dembound also restores its length (second order in the turn per
-//!    step; none on a flat wall).
+//! 2. The spring's rotation, unless `contact.spring_rotation = "project"`:
+//!    LIGGGHTS projects δ onto the new tangent plane, dembound by default
+//!    also restores its length (second order in the turn per step; none on
+//!    a flat wall). Under `"project"` the rotation is LIGGGHTS's
+//!    (`tangential::rotation`) and the header says so.
 //!
 //! Exported with `tangential_damping off`: damping together with friction
 //! under `contact.tangential_damping = false`. Neither code then has a
@@ -83,7 +85,7 @@ use crate::{num, Error, Result};
 use dembound_physics::contact::calibration::damping_ratio_for;
 use dembound_physics::contact::tangential::linear::LinearTangential;
 use dembound_physics::contact::tangential::{
-    mix_friction, TangentialKind, TangentialSetup, TangentialSubModel,
+    mix_friction, SpringRotation, TangentialKind, TangentialSetup, TangentialSubModel,
 };
 use dembound_physics::contact::{Calibration, DampingKind, Dissipation, NormalLaw, TorqueArm};
 use dembound_physics::material::{effective_modulus, effective_radius, PairProperties};
@@ -217,10 +219,46 @@ pub fn torque_arm_note(setup: &SceneSetup) -> Option<String> {
     Some(format!(
         "note: contact.torque_arm = \"{}\": LIGGGHTS takes the lever arm R − δ/2 (δ the overlap) \
          in the slip velocity and the tangential torque of every contact, so the two runs part at \
-         the first frictional contact; set contact.torque_arm = \"half_overlap\" to run \
-         LIGGGHTS's arm in dembound",
-        f.torque_arm.name()
+         the first frictional contact; set contact.torque_arm = \"half_overlap\"{} to run \
+         LIGGGHTS's {} in dembound",
+        f.torque_arm.name(),
+        if f.spring_rotation == SpringRotation::Project {
+            ""
+        } else {
+            " and contact.spring_rotation = \"project\""
+        },
+        if f.spring_rotation == SpringRotation::Project {
+            "arm"
+        } else {
+            "arm and spring rotation"
+        }
     ))
+}
+
+/// The note `dembound export liggghts` prints for a frictional scene
+/// under `contact.torque_arm = "half_overlap"` that keeps the default
+/// `contact.spring_rotation = "rescale"`: LIGGGHTS 3.8 projects the
+/// tangential spring onto a contact's new tangent plane without restoring
+/// its length (`tangential_model_history.h`), so sphere pairs whose normal
+/// turns part by the spring's lost length (2e-8 of the state in
+/// tests/export_liggghts_torque_arm.rs), then by chaos. Under the other
+/// arms [`torque_arm_note`] names both keys. `None` without friction,
+/// under `"project"`, under another arm or for a scene the export
+/// refuses.
+pub fn spring_rotation_note(setup: &SceneSetup) -> Option<String> {
+    let f = setup.friction.as_ref()?;
+    if f.spring_rotation == SpringRotation::Project || f.torque_arm != TorqueArm::HalfOverlap {
+        return None;
+    }
+    plan(setup).ok()?.friction?;
+    Some(
+        "note: contact.spring_rotation = \"rescale\": dembound turns the tangential spring into a \
+         contact's new tangent plane keeping its length, LIGGGHTS projects it (shorter by θ²/2 a \
+         step, θ the turn of the normal), so the two runs part where a sphere pair's normal turns \
+         under a loaded spring; set contact.spring_rotation = \"project\" to run LIGGGHTS's \
+         rotation in dembound"
+            .to_string(),
+    )
 }
 
 /// e whose β = ln e/√(ln² e + π²) is −ξ (0 ≤ ξ < 1).
@@ -425,14 +463,22 @@ pub(crate) fn plan(setup: &SceneSetup) -> Result<ContactPlan> {
                 } else {
                     "dembound's Mindlin spring k_t = 8 G* sqrt(R* d)"
                 };
-                // The header as before for every other arm (the same deck
-                // bytes); under LIGGGHTS's own arm the arm is not a difference.
-                let kept = if f.torque_arm == TorqueArm::HalfOverlap {
-                    " The lever arm is LIGGGHTS's\n\
-                     # (contact.torque_arm = \"half_overlap\": R - d/2 in the slip and the torque of every contact). Difference kept: the spring's length on a turning normal."
-                } else {
-                    " Differences kept: the lever arm\n\
-                     # (LIGGGHTS R - d/2 in the slip and the torque; relative d/2R in the spin terms), the spring's length on a turning normal."
+                // The header as before for every other arm and the default
+                // rotation (the same deck bytes); under LIGGGHTS's own arm
+                // the arm is not a difference, under its own rotation the
+                // spring's length is not.
+                let project = f.spring_rotation == SpringRotation::Project;
+                let kept = match (f.torque_arm == TorqueArm::HalfOverlap, project) {
+                    (true, false) => " The lever arm is LIGGGHTS's\n\
+                     # (contact.torque_arm = \"half_overlap\": R - d/2 in the slip and the torque of every contact). Difference kept: the spring's length on a turning normal.",
+                    (true, true) => " The lever arm is LIGGGHTS's\n\
+                     # (contact.torque_arm = \"half_overlap\": R - d/2 in the slip and the torque of every contact), and so is the spring's rotation\n\
+                     # (contact.spring_rotation = \"project\": projected onto the new tangent plane, its length not restored).",
+                    (false, false) => " Differences kept: the lever arm\n\
+                     # (LIGGGHTS R - d/2 in the slip and the torque; relative d/2R in the spin terms), the spring's length on a turning normal.",
+                    (false, true) => " Difference kept: the lever arm\n\
+                     # (LIGGGHTS R - d/2 in the slip and the torque; relative d/2R in the spin terms). The spring's rotation is LIGGGHTS's\n\
+                     # (contact.spring_rotation = \"project\": projected onto the new tangent plane, its length not restored).",
                 };
                 notes.push(format!(
                     "# Friction: tangential history = {spring} with the Coulomb cut,\n\

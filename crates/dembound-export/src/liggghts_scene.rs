@@ -28,7 +28,7 @@
 //! (`nve/sphere`); axis-aligned planes; meshes. Rigid materials (E = ∞)
 //! are refused: LIGGGHTS needs a finite modulus per type.
 
-pub use crate::liggghts_contact::torque_arm_note;
+pub use crate::liggghts_contact::{spring_rotation_note, torque_arm_note};
 use crate::liggghts_gates::WallLines;
 use crate::liggghts_motion::Sweep;
 use crate::{num, Code, Deck, DeckFile, Error, Result};

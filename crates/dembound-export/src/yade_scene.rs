@@ -42,7 +42,7 @@
 use crate::lammps_output::{series_every, DUMP_FILE, WALLS_FILE, WALLS_MEAN_FILE};
 use crate::{num, yade_rolling, Code, Deck, DeckFile, Error, Result};
 use dembound_physics::contact::tangential::{
-    effective_shear_modulus, mix_friction, TangentialKind,
+    effective_shear_modulus, mix_friction, SpringRotation, TangentialKind,
 };
 use dembound_physics::contact::{DampingKind, DampingPair, Dissipation, NormalLaw};
 use dembound_physics::material::{effective_modulus, Material, PairProperties};
@@ -251,6 +251,18 @@ pub fn deck(scene: &ResolvedScene) -> Result<Deck> {
         any && setup.friction.is_some()
     };
     if let Some(f) = setup.friction.as_ref().filter(|_| frictional) {
+        if f.spring_rotation == SpringRotation::Project {
+            return refuse(
+                "contact.spring_rotation = \"project\" with friction cannot be exported to Yade: \
+                 Yade turns its stored shear force by a first-order rotation each step \
+                 (ScGeom::rotate: F -= F x (n0 x n), then a twist about n), which lengthens it \
+                 by theta^2/2 of itself where \"project\" shortens the spring by as much, twice \
+                 the difference of the default, which keeps the length (allowed: \
+                 contact.spring_rotation = \"rescale\", the default; or export without \
+                 friction: --set contact.friction=0)"
+                    .to_string(),
+            );
+        }
         let mut rolling: Vec<String> = Vec::new();
         if f.model.rolling_friction > 0.0 {
             rolling.push(format!(

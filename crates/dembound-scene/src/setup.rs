@@ -3,6 +3,7 @@
 //! [`crate::Simulation::new`] validates it.
 
 use dembound_physics::contact::tangential::FrictionModel;
+use dembound_physics::contact::tangential::SpringRotation;
 use dembound_physics::contact::{ContactModel, TorqueArm};
 use dembound_physics::material::Material;
 
@@ -119,10 +120,14 @@ pub struct FrictionSetup {
     /// The lever arm of the tangential force's torque
     /// (`contact.torque_arm`, default the radius).
     pub torque_arm: TorqueArm,
+    /// How the tangential spring follows a turning normal
+    /// (`contact.spring_rotation`, default rescaled to its length).
+    pub spring_rotation: SpringRotation,
 }
 
-/// The derived form, with `tangential_damping` only when false and
-/// `torque_arm` only when not the radius: a
+/// The derived form, with `tangential_damping` only when false,
+/// `torque_arm` only when not the radius and `spring_rotation` only when
+/// not the rescale: a
 /// checkpoint's fingerprint holds this text (crate::fingerprint), so the
 /// default keeps the bytes of the checkpoints written before the switch.
 impl std::fmt::Debug for FrictionSetup {
@@ -137,6 +142,9 @@ impl std::fmt::Debug for FrictionSetup {
         if self.torque_arm != TorqueArm::Radius {
             d.field("torque_arm", &self.torque_arm);
         }
+        if self.spring_rotation != SpringRotation::Rescale {
+            d.field("spring_rotation", &self.spring_rotation);
+        }
         d.finish()
     }
 }
@@ -150,6 +158,7 @@ impl FrictionSetup {
             walls: Vec::new(),
             tangential_damping: true,
             torque_arm: TorqueArm::Radius,
+            spring_rotation: SpringRotation::Rescale,
         }
     }
 

@@ -362,6 +362,7 @@ impl StudyConfig {
             walls: w,
             tangential_damping: true,
             torque_arm: Default::default(),
+            spring_rotation: Default::default(),
         })
     }
 

@@ -424,6 +424,7 @@ pub(crate) mod tests {
             walls: vec![Some((0.5, 0.05)); 6],
             tangential_damping: true,
             torque_arm: Default::default(),
+            spring_rotation: Default::default(),
         });
         s
     }

@@ -22,6 +22,7 @@ use crate::sources::tiling::Extent;
 use crate::sources::{self, SourceSphere};
 use crate::spheres::{LatticeRun, Spheres};
 use crate::SceneError;
+use dembound_physics::contact::tangential::SpringRotation;
 use dembound_physics::contact::tangential::{FrictionModel, TangentialKind};
 use dembound_physics::contact::TorqueArm;
 use dembound_physics::material::Material;
@@ -643,6 +644,11 @@ fn friction_setup(
             .torque_arm
             .as_deref()
             .and_then(TorqueArm::from_name)
+            .unwrap_or_default(),
+        spring_rotation: c
+            .spring_rotation
+            .as_deref()
+            .and_then(SpringRotation::from_name)
             .unwrap_or_default(),
     })
 }

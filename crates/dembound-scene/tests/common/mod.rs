@@ -225,6 +225,7 @@ pub fn frictional_bed(side: usize, layers: usize, dt: f64) -> SceneSetup {
         walls,
         tangential_damping: true,
         torque_arm: Default::default(),
+        spring_rotation: Default::default(),
     });
     s
 }

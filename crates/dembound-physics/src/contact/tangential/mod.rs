@@ -9,7 +9,9 @@
 //! Per evaluation (LAMMPS `linear_history`/`mindlin`, LIGGGHTS
 //! `tangential_model_history`):
 //! 1. the stored displacement δ is projected onto the current tangent
-//!    plane and rescaled to its old length (the contact frame rotates);
+//!    plane and rescaled to its old length (the contact frame rotates;
+//!    LAMMPS's), or under `contact.spring_rotation = "project"` only
+//!    projected (LIGGGHTS 3.8's; [`rotation`]);
 //! 2. δ ← δ + v_t Δt (v_t the tangential relative velocity of the contact
 //!    points);
 //! 3. sliding if the spring alone exceeds the Coulomb limit, k_t |δ| >
@@ -54,6 +56,9 @@ use crate::material::{Material, PairProperties};
 pub mod linear;
 pub mod mindlin;
 pub mod mindlin_force;
+pub mod rotation;
+
+pub use rotation::{project_spring, SpringRotation};
 
 /// What a tangential sub-model is built from for one pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -259,6 +264,7 @@ impl FrictionModel {
             } else {
                 TangentialDamping::None
             },
+            rotation: SpringRotation::Rescale,
         }
     }
 }
@@ -304,6 +310,8 @@ pub struct FrictionPair {
     friction: f64,
     rolling: super::rolling::Epsd2,
     damping: TangentialDamping,
+    /// How the spring follows a turning normal (step 1).
+    rotation: SpringRotation,
 }
 
 /// A displacement spring moved by its contact's slip
@@ -349,7 +357,7 @@ impl MovedSpring {
 }
 
 #[inline(always)]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
@@ -387,6 +395,31 @@ impl FrictionPair {
             other => other,
         };
         Self { damping, ..self }
+    }
+
+    /// The same friction with the spring turned by `rotation` when the
+    /// normal turns (`contact.spring_rotation`; [`Self::rotate_spring`]).
+    pub fn with_spring_rotation(self, rotation: SpringRotation) -> Self {
+        Self { rotation, ..self }
+    }
+
+    /// How the spring follows a turning normal.
+    #[inline(always)]
+    pub fn spring_rotation(&self) -> SpringRotation {
+        self.rotation
+    }
+
+    /// Step 1 of [`Self::tangential_force`]: the stored spring `shear`
+    /// back into the tangent plane of the unit normal `normal` as the
+    /// pair's [`SpringRotation`] says: [`Self::turn_spring`] (its length
+    /// kept, the default) or [`project_spring`] (LIGGGHTS's, its length
+    /// not restored).
+    #[inline(always)]
+    pub fn rotate_spring(&self, shear: &mut [f64; 3], normal: [f64; 3]) {
+        match self.rotation {
+            SpringRotation::Rescale => Self::turn_spring(shear, normal),
+            SpringRotation::Project => project_spring(shear, normal),
+        }
     }
 
     /// Whether the tangential force has no dashpot: η_t = 0 at every
@@ -434,8 +467,9 @@ impl FrictionPair {
     /// kept in the tangent plane: the displacement δ (m), or the force F_s
     /// (N) for a model that stores it ([`TangentialSubModel::STORES_FORCE`]).
     ///
-    /// The two parts in turn: [`Self::turn_spring`] (step 1 of the module's
-    /// list, a function of the stored spring and the normal alone), then
+    /// The two parts in turn: [`Self::rotate_spring`] (step 1 of the
+    /// module's list, a function of the stored spring and the normal alone,
+    /// [`Self::turn_spring`] by default), then
     /// [`Self::tangential_force_turned`] (steps 2–4). A many-contact loop
     /// may turn a batch's springs first and call the second part per
     /// contact: the same operations on the same values, the same bits.
@@ -449,7 +483,7 @@ impl FrictionPair {
         dt: f64,
         shear: &mut [f64; 3],
     ) -> [f64; 3] {
-        Self::turn_spring(shear, normal);
+        self.rotate_spring(shear, normal);
         self.tangential_force_turned(overlap, normal_force, tangential_velocity, dt, shear)
     }
 
@@ -468,7 +502,7 @@ impl FrictionPair {
         dt: f64,
         shear: &mut [f64; 3],
     ) -> [f64; 3] {
-        Self::turn_spring(shear, normal);
+        self.rotate_spring(shear, normal);
         self.tangential_force_turned_known(
             stores_force,
             overlap,

@@ -138,6 +138,41 @@ fn history_is_rotated_into_the_new_tangent_plane() {
     assert!((norm(force) / (k * len) - 1.0).abs() < 1e-15);
 }
 
+/// The same turn under `contact.spring_rotation = "project"`
+/// ([`FrictionPair::with_spring_rotation`]): the spring projected and not
+/// rescaled. δ = (1, 2, 0) nm and n turned by θ = 0.1 rad about y: δ·n =
+/// 1 nm · sin θ, so the projection's length is √(|δ|² − (δ·n)²) = √(5 −
+/// sin²θ) nm (closed form), 0.1 % shorter than the rescaled spring's
+/// √5 nm; the force k_t times it (elastic, below the limit, dt = 0), in
+/// the tangent plane. Tolerance 1e-15: a few roundings; a rescale (or no
+/// turn) is off by 1e-3.
+#[test]
+fn a_projecting_pair_leaves_the_turned_spring_shorter() {
+    let (_, f) = setup(
+        NormalLaw::Linear,
+        Damping::NONE,
+        TangentialKind::Linear,
+        1.0,
+    );
+    let f = f.with_spring_rotation(SpringRotation::Project);
+    assert_eq!(f.spring_rotation(), SpringRotation::Project);
+    let h = 1.0e-6;
+    let k = f.tangential().stiffness(h);
+    let mut shear = [1.0e-9, 2.0e-9, 0.0];
+    let th = 0.1f64;
+    let len = (5.0 - th.sin().powi(2)).sqrt() * 1.0e-9;
+    let n = [th.sin(), 0.0, th.cos()];
+    let force = f.tangential_force(h, 10.0, n, [0.0; 3], 0.0, &mut shear);
+    let along = shear[0] * n[0] + shear[1] * n[1] + shear[2] * n[2];
+    assert!(along.abs() < 1e-24, "{along}");
+    assert!((norm(shear) / len - 1.0).abs() < 1e-15, "{shear:?}");
+    assert!((norm(force) / (k * len) - 1.0).abs() < 1e-15);
+    // tangential_force_known turns the same way.
+    let mut known = [1.0e-9, 2.0e-9, 0.0];
+    let again = f.tangential_force_known(false, h, 10.0, n, [0.0; 3], 0.0, &mut known);
+    assert_eq!((again, known), (force, shear));
+}
+
 #[test]
 fn turn_spring_rotates_the_spring_with_the_frame() {
     // δ = a x̂ and a normal turned by θ about y from ẑ, n = (sin θ, 0,

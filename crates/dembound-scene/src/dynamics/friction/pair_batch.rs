@@ -148,6 +148,11 @@ impl MainPairs<'_> {
         // overlapping one another, instead of heading each contact's stages
         // below, which take the rest (`tangential_force_turned`).
         // (The four-lane pass above, when it ran, turned them already.)
+        // Batches run under the default rotation only (`Self::block`).
+        debug_assert_eq!(
+            self.friction.setup.spring_rotation,
+            dembound_physics::contact::tangential::SpringRotation::Rescale
+        );
         if !vector {
             for t in 0..found {
                 let q = g.entry(t);

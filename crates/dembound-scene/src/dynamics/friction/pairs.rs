@@ -3,6 +3,7 @@
 //! the batched pass of `pair_batch.rs`), over the frictionless loop's
 //! blocks and order.
 
+use dembound_physics::contact::tangential::SpringRotation;
 use dembound_physics::contact::{ContactHistory, ContactState, Side};
 
 use super::pair_batch::{Batch, BATCH};
@@ -444,6 +445,10 @@ impl MainPairs<'_> {
         // SAFETY: this thread's scratch, used by this call alone (a block
         // runs no other block inside it).
         let scratch = unsafe { &mut *BATCH_SCRATCH.with(|s| s.get()) };
+        // The batches turn the springs by the rescale alone (their pass 1b
+        // and `turn_four`): under `contact.spring_rotation = "project"`
+        // every row runs entry by entry (`FrictionPair::rotate_spring`).
+        let project = self.friction.setup.spring_rotation == SpringRotation::Project;
         let mut i = lo;
         while i < hi {
             // The batch: rows i..end, as many as fit in BATCH rows and
@@ -453,9 +458,9 @@ impl MainPairs<'_> {
             let first = start[i] as usize;
             let last = hi.min(i + BATCH);
             let end = i + start[i + 1..=last].partition_point(|&e| e as usize - first <= BATCH);
-            if end == i || !TABLE || row_by_row() {
-                // A row longer than a batch (a large body's), or laws
-                // computed per pair (no class table).
+            if end == i || !TABLE || project || row_by_row() {
+                // A row longer than a batch (a large body's), laws
+                // computed per pair (no class table), or springs projected.
                 self.row::<KEEP, ROLL, TABLE, TALLY>(i, R::STORES_FORCE);
                 i += 1;
             } else {

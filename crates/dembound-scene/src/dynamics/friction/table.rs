@@ -98,7 +98,9 @@ impl FrictionTable {
             mix_friction(mu_a, mu_b),
             mix_friction(roll_a, roll_b),
         );
-        let friction = self.without_dashpot_if_off(friction);
+        let friction = self
+            .without_dashpot_if_off(friction)
+            .with_spring_rotation(self.setup.spring_rotation);
         FrictionLaw {
             law,
             friction,
@@ -131,7 +133,9 @@ impl FrictionTable {
             mix_friction(mu_a, mu_w),
             mix_friction(roll_a, roll_w),
         );
-        let friction = self.without_dashpot_if_off(friction);
+        let friction = self
+            .without_dashpot_if_off(friction)
+            .with_spring_rotation(self.setup.spring_rotation);
         FrictionLaw {
             law,
             friction,

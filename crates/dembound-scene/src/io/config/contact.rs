@@ -4,7 +4,7 @@
 use super::checks::{check, invalid};
 use super::{SceneError, SceneFile};
 use crate::limits;
-use dembound_physics::contact::tangential::{tangential_names, TangentialKind};
+use dembound_physics::contact::tangential::{tangential_names, SpringRotation, TangentialKind};
 use dembound_physics::contact::{ContactModel, ContactSpec, LawParams, TorqueArm};
 use serde::{Deserialize, Serialize};
 
@@ -65,6 +65,12 @@ pub struct ContactSection {
     /// the slip of every contact; `dembound_physics::contact::TorqueArm`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub torque_arm: Option<String>,
+    /// How the tangential spring follows a turning normal: `"rescale"`
+    /// (default: projected onto the new tangent plane and scaled back to
+    /// its length, LAMMPS's) or `"project"` (projected only, LIGGGHTS
+    /// 3.8's; `dembound_physics::contact::tangential::SpringRotation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring_rotation: Option<String>,
 }
 
 /// A struct of the fields in declaration order, each optional one only
@@ -84,7 +90,8 @@ impl Serialize for ContactSection {
             + given(self.tangential.is_some())
             + given(self.rolling_friction.is_some())
             + given(self.tangential_damping.is_some())
-            + given(self.torque_arm.is_some());
+            + given(self.torque_arm.is_some())
+            + given(self.spring_rotation.is_some());
         let mut s = serializer.serialize_struct("ContactSection", len)?;
         s.serialize_field("law", &self.law)?;
         s.serialize_field("damping", &self.damping)?;
@@ -113,6 +120,9 @@ impl Serialize for ContactSection {
         }
         if let Some(arm) = &self.torque_arm {
             s.serialize_field("torque_arm", arm)?;
+        }
+        if let Some(rotation) = &self.spring_rotation {
+            s.serialize_field("spring_rotation", rotation)?;
         }
         s.end()
     }
@@ -145,6 +155,7 @@ impl Default for ContactSection {
             rolling_friction: None,
             tangential_damping: None,
             torque_arm: None,
+            spring_rotation: None,
         }
     }
 }
@@ -292,6 +303,23 @@ impl SceneFile {
                 format!("{name:?}"),
                 "given only with friction (contact.friction or a surface's friction): the arm \
                  is the tangential force's",
+            )?;
+        }
+        if let Some(name) = &c.spring_rotation {
+            check(
+                SpringRotation::from_name(name).is_some(),
+                "contact.spring_rotation",
+                format!("{name:?}"),
+                "\"rescale\" (the default: the tangential spring projected onto the new tangent \
+                 plane and scaled back to its length, LAMMPS's) or \"project\" (projected only, \
+                 LIGGGHTS 3.8's)",
+            )?;
+            check(
+                self.has_friction(),
+                "contact.spring_rotation",
+                format!("{name:?}"),
+                "given only with friction (contact.friction or a surface's friction): the \
+                 rotation is the tangential spring's",
             )?;
         }
         for (i, m) in self.materials.iter().enumerate() {

@@ -254,6 +254,16 @@ fn validation_table() {
             "contact.torque_arm",
             "given only with friction",
         ),
+        (
+            "contact.spring_rotation=\"projected\"",
+            "contact.spring_rotation",
+            "\"rescale\" (the default: the tangential spring projected onto the new tangent",
+        ),
+        (
+            "contact.spring_rotation=\"project\"",
+            "contact.spring_rotation",
+            "given only with friction",
+        ),
     ];
     for (set, key, allowed) in cases {
         let e = load(ISSUE_EXAMPLE, "issue.toml", &sets(&[set]))
