@@ -544,6 +544,25 @@ def test_scene_and_scenario_paths_are_checked(path):
         refused(lambda: dembound.run(path), "scenario")
 
 
+def test_a_damped_gear5_step_past_its_stability_bound_is_refused():
+    # Spring-dashpot, e = 0.01 with attraction, eta = 0.1: a parasitic root
+    # of Gear5 passes -1 at (w dt/0.840)^2 + beta dt/0.163 = 1; the run
+    # printed e = 0.245 with exit 0 before (session 36). The largest eta it
+    # accepts, 0.0256 (the message), runs.
+    keys = dict(
+        contact__law="linear", contact__damping="viscous", contact__restitution=0.01,
+        contact__attractive=True, motion__gravity=0.0, motion__velocity=-0.313,
+        motion__contacts=1,
+    )
+    message = refused(lambda: dembound.run(integration__eta=0.1, **keys), "integration.eta")
+    assert "contact.restitution" in message, message
+    refused(lambda: dembound.history(integration__eta=0.1, **keys), "integration.eta")
+    e = dembound.run(integration__eta=0.025, **keys)["contacts"][0]["restitution"]
+    # The closed form of the attractive spring-dashpot gives exactly 0.01;
+    # Gear5 at the bound is within 1e-4 of it (the CLI test's grid).
+    assert abs(e / 0.01 - 1.0) < 1e-3, e
+
+
 def test_walton_braun_unloading_the_step_cannot_resolve_is_refused():
     # e = 0.001 at the default step: k2 = k1/e^2 oscillates ~1000 times
     # faster than the loading; the run printed e = 2.09 (energy created)

@@ -20,8 +20,8 @@ pub use crate::scenario::{
 pub use batch::simulate_batch;
 pub use problem::Problem;
 pub use run::{
-    check_resolution, check_step, check_unloading, plan, resolve, simulate, simulate_resolved,
-    Resolved,
+    check_damped_step, check_resolution, check_step, check_unloading, plan, resolve, simulate,
+    simulate_resolved, Resolved,
 };
 pub use simulate::simulate_with;
 

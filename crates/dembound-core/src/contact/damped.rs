@@ -17,6 +17,8 @@ use dembound_physics::contact::damping::{
     none::NoDamping, tsuji::Tsuji, viscoelastic::Viscoelastic, viscous::Viscous, DampingSubModel,
 };
 use dembound_physics::contact::normal::NormalSubModel;
+use dembound_physics::contact::peak::{self, Linearization};
+use dembound_physics::contact::ContactHistory;
 
 /// What the bounce needs of a damping sub-model beyond the physics trait.
 pub trait BounceDamping: DampingSubModel + Send + Sync {
@@ -132,6 +134,28 @@ where
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {
         NormalContactLaw::contact_time_estimate(&self.normal, mass, impact_speed)
             * self.damping.time_factor(mass, impact_speed)
+    }
+
+    /// The normal law's energy and stiffness and the damping's coefficient
+    /// at the largest overlap ([`peak`]); `None` without a rate-dependent
+    /// damping.
+    fn damped_peak(&self, mass: f64, impact_speed: f64, gravity: f64) -> Option<Linearization> {
+        if !D::RATE_DEPENDENT {
+            return None;
+        }
+        let history = ContactHistory::default();
+        let overlap = peak::largest_overlap(
+            |h| self.normal.elastic_energy(h, &history),
+            mass,
+            impact_speed,
+            gravity,
+        );
+        Some(peak::linearize(
+            |h| NormalSubModel::force(&self.normal, h, 0.0, &history),
+            |h| self.damping.force(h, 1.0),
+            overlap,
+            mass,
+        ))
     }
 
     /// The rougher of the two.

@@ -37,6 +37,7 @@ pub use registered::Registered;
 pub type WaltonBraunHistory = dembound_physics::contact::ContactHistory;
 
 use crate::material::ContactPair;
+use dembound_physics::contact::peak::Linearization;
 use dembound_physics::contact::registry;
 use serde::{Deserialize, Serialize};
 
@@ -87,6 +88,16 @@ pub trait NormalContactLaw: Send + Sync + std::fmt::Debug {
     /// contact-time estimate describes (Walton–Braun's k₂ = k₁/e²), which
     /// the step must resolve on its own; `None` for the other laws.
     fn loading_unloading(&self) -> Option<[f64; 2]> {
+        None
+    }
+
+    /// For a damped law (a force that depends on the overlap rate): the
+    /// contact linearised at the largest overlap of an impact at
+    /// `impact_speed` (m/s) under relative gravity `gravity` (m/s²) of a
+    /// body of `mass` (kg), ω² = (∂F/∂h)/m and β = (∂F/∂ḣ)/m
+    /// ([`dembound_physics::contact::peak`]): what bounds Gear5's step
+    /// ([`crate::bounce::check_damped_step`]). `None` for the other laws.
+    fn damped_peak(&self, _mass: f64, _impact_speed: f64, _gravity: f64) -> Option<Linearization> {
         None
     }
 

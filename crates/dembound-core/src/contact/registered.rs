@@ -16,6 +16,7 @@
 use super::{ContactModel, Dissipation, NormalContactLaw, Onset};
 use crate::material::ContactPair;
 use crate::{Error, Result};
+use dembound_physics::contact::peak::Linearization;
 use dembound_physics::contact::registry::NormalLaw;
 use dembound_physics::contact::{self as physics, ContactHistory, Damping, PairLaw};
 
@@ -131,6 +132,14 @@ impl<const CLAMPED: bool> NormalContactLaw for Registered<CLAMPED> {
     fn contact_time_estimate(&self, mass: f64, impact_speed: f64) -> f64 {
         self.law.normal().contact_time_estimate(mass, impact_speed)
             * self.law.damping().time_factor(mass, impact_speed)
+    }
+
+    /// The physics pair's own ([`PairLaw::peak_linearization`]), at the
+    /// pair's mass; `None` without a rate-dependent force.
+    fn damped_peak(&self, _mass: f64, impact_speed: f64, gravity: f64) -> Option<Linearization> {
+        self.law
+            .depends_on_rate()
+            .then(|| self.law.peak_linearization(impact_speed, gravity))
     }
 
     /// Non-smooth (graded at both ends), singular with a rate-dependent

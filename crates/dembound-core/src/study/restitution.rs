@@ -396,6 +396,9 @@ fn run<L: NormalContactLaw>(s: &Scenario, law: L) -> Result<ContactRecord> {
     // Walton–Braun's unloading line must be resolved (e = 2e6 printed
     // for a target 1e-6 before).
     crate::bounce::check_unloading(s, &law, &problem)?;
+    // A damped contact's Gear5 step must be stable (e = 0.59 printed for
+    // a target 0.01 at η = 0.1 before).
+    crate::bounce::check_damped_step(s, &law, &problem)?;
     let outcome = match s.integration.scheme {
         Scheme::Gear5 => {
             let gear = Gear5::for_force(law.depends_on_rate());

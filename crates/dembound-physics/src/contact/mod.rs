@@ -31,6 +31,7 @@ pub mod damping;
 pub mod law_params;
 pub mod model;
 pub mod normal;
+pub mod peak;
 pub mod registry;
 mod spec;
 #[cfg(test)]

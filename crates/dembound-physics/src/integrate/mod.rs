@@ -10,6 +10,8 @@
 //!
 //! - [`gear5`]: the paper's 5th-order Gear predictor–corrector (eqs 18–19)
 //!   in Nordsieck form, with the Pascal-matrix predictor;
+//! - [`gear5_stability`]: the largest step Gear5 keeps stable on a damped
+//!   contact, in closed form;
 //! - [`verlet`]: velocity Verlet (LAMMPS, LIGGGHTS).
 //!
 //! The bounce study (`dembound-core`) takes its Gear5 coefficients and
@@ -21,6 +23,7 @@
 //! `dembound-core/tests/generic_integrators.rs`).
 
 pub mod gear5;
+pub mod gear5_stability;
 pub mod verlet;
 
 use std::ops::{Add, Div, Mul, Sub};
