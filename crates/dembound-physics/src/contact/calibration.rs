@@ -64,7 +64,7 @@ fn clamped_phase(xi: f64) -> f64 {
 }
 
 /// Brent convergence: x to a few ulp.
-struct Ulps;
+pub(crate) struct Ulps;
 
 impl Convergency<f64> for Ulps {
     fn is_root_found(&mut self, y: f64) -> bool {

@@ -19,6 +19,9 @@
 //! The damping's h-derivative, (∂F_d/∂h) ḣ, adds to the stiffness where
 //! ḣ ≠ 0; it vanishes at the largest overlap (ḣ = 0) and is left out.
 
+use roots::find_root_brent;
+
+use super::calibration::Ulps;
 use super::{ContactHistory, PairLaw};
 
 /// A contact linearised as ẍ = −ω² x − β ẋ at one overlap.
@@ -35,9 +38,9 @@ pub struct Linearization {
 /// The largest overlap (m) of a contact whose undamped law stores
 /// `energy(h)` (J) at overlap h, for a body of `mass` (kg) meeting it at
 /// `impact_speed` (m/s) under relative gravity `gravity` (m/s², pressing
-/// the bodies together): the root of E_el(h) = ½ m v² + m g h, by
-/// bisection (E_el grows faster than linearly). 0 when there is nothing
-/// to store.
+/// the bodies together): the root of E_el(h) = ½ m v² + m g h, bracketed
+/// by doubling (E_el grows faster than linearly), then Brent's method. 0
+/// when there is nothing to store.
 pub fn largest_overlap(
     energy: impl Fn(f64) -> f64,
     mass: f64,
@@ -58,16 +61,16 @@ pub fn largest_overlap(
             return f64::INFINITY;
         }
     }
-    let mut lo = 0.0;
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if excess(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
+    // A lower end with excess < 0 (excess(0) is 0 under gravity alone,
+    // where Brent would take h = 0 for the root): hi/2 after a doubling,
+    // halvings when the first guess already holds the root.
+    let mut lo = hi;
+    while lo > 0.0 && excess(lo) >= 0.0 {
+        lo *= 0.5;
     }
-    hi
+    // Brent's method (`roots`), as the calibration's roots
+    // ([`super::calibration::Ulps`]).
+    find_root_brent(lo, hi, excess, &mut Ulps).unwrap_or(hi)
 }
 
 /// The linearisation at `overlap` (m) of a contact of `mass` (kg) whose

@@ -168,15 +168,12 @@ pub(crate) struct OneLaw<V> {
 }
 
 impl<V: Variants> OneLaw<V> {
-    /// The one law of `laws` if the table has one body class, keeps no
-    /// contact histories and its law has the variants `V`.
+    /// The one law of `laws` if the table has one body class and its row
+    /// has the variants `V` (no histories: [`RowVariants::of`]).
     pub(crate) fn of(laws: &LawTable) -> Option<Self> {
-        if laws.classes != 1 || laws.history {
-            return None;
-        }
-        let law = laws.pairs[0];
-        V::matches(&law).then_some(Self {
-            law,
+        let fits = laws.classes == 1 && laws.row_variants == Some(V::ROWS);
+        fits.then(|| Self {
+            law: laws.pairs[0],
             variants: PhantomData,
         })
     }
@@ -185,7 +182,8 @@ impl<V: Variants> OneLaw<V> {
 impl<V: Variants> PairLaws for OneLaw<V> {
     #[inline(always)]
     fn law(&self, _bodies: &Bodies, _i: usize, _j: usize) -> PairLaw {
-        // SAFETY: checked in `of`, and the law is not changed after.
+        // SAFETY: the table's one row, checked when the table was made
+        // (`RowVariants::of` in `LawTable::from_keys`; `of` required `V`).
         unsafe { V::assume(&self.law) };
         self.law
     }
