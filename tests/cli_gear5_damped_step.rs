@@ -52,14 +52,7 @@ fn restitution(args: &[String]) -> f64 {
 
 /// The largest η the refusal names: "integration.eta`: … (allowed: ≤ X (".
 fn eta_max(stderr: &str) -> f64 {
-    let tail = stderr
-        .split("(allowed: ≤ ")
-        .nth(1)
-        .unwrap_or_else(|| panic!("no bound in: {stderr}"));
-    tail.split_whitespace()
-        .next()
-        .and_then(|x| x.parse().ok())
-        .unwrap_or_else(|| panic!("no number in: {stderr}"))
+    common::number_after(stderr, "(allowed: ≤ ")
 }
 
 const VISCOUS: [&str; 2] = ["contact.law=linear", "contact.damping=viscous"];

@@ -224,3 +224,22 @@ def test_a_step_beyond_the_bound_is_refused_and_energy_creation_stopped():
         for _ in range(100):
             scene.step(100)
     assert scene.steps_done < 8200
+
+
+def test_a_damped_gear5_scene_past_its_stability_bound_is_refused():
+    # Tsuji e = 0.01 with attraction on the validation drop at eta = 0.05: a
+    # parasitic root of Gear5 passes -1 at (w dt/0.840)^2 + beta dt/0.163 = 1;
+    # the scene rebounded with e = 0.081 (exact 0.0098) before (session 36),
+    # creating no energy, so the energy guard could not stop it.
+    keys = ["contact.damping=tsuji", "contact.restitution=0.01", "contact.attractive=true"]
+    with pytest.raises(ValueError, match=r"integration.eta = 0.05 is out of range: .*gear5"):
+        dembound.Scene.from_toml(VALIDATION, keys + ["integration.eta=0.05"])
+    with pytest.raises(ValueError, match=r"integration.eta = 0.05 is out of range"):
+        dembound.scene(
+            VALIDATION,
+            contact__damping="tsuji", contact__restitution=0.01, contact__attractive=True,
+            integration__eta=0.05,
+        )
+    # The validation file's own eta = 0.02 is inside the bound (0.0225).
+    dembound.Scene.from_toml(VALIDATION, keys)
+

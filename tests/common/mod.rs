@@ -182,3 +182,17 @@ pub fn numbers(v: &Value) -> Vec<f64> {
         .map(|x| x.as_f64().expect("a number"))
         .collect()
 }
+
+/// The number that follows `marker` in `text` (a refusal's bound, "…
+/// (allowed: ≤ X (" or "… out of range: η ≤ X ("); panics naming both when
+/// there is none.
+pub fn number_after(text: &str, marker: &str) -> f64 {
+    let tail = text
+        .split(marker)
+        .nth(1)
+        .unwrap_or_else(|| panic!("no `{marker}` in: {text}"));
+    tail.split_whitespace()
+        .next()
+        .and_then(|x| x.parse().ok())
+        .unwrap_or_else(|| panic!("no number after `{marker}` in: {text}"))
+}

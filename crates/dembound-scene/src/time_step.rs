@@ -38,6 +38,12 @@
 //!   (runs at 0.017 T_b): there the energy guard stops it (exit 2). The
 //!   Gear5 tests reach 0.31 T_b elastic and 0.077 T_b damped. For accuracy
 //!   rather than stability keep Gear5 at η ≤ 0.1 (`dembound run`'s bound).
+//!   On top of c, each damped pair must satisfy Gear5's closed-form bound
+//!   (ωΔt/0.840)² + βΔt/0.163 ≤ 1 at its largest overlap at the bounding
+//!   speed (`setup_checks::check_damped_gear5`, session 37): a strong
+//!   damping breaks one contact far below 0.08 T_b (Tsuji e = 0.01 with
+//!   attraction: e = 0.081 at 0.05 T_c, exit 0 before), and that error
+//!   creates no energy, so the guard cannot see it.
 //!
 //! `integration.eta` is bounded the same way: Δt = η T_c(v_impact) must
 //! satisfy the bound, so η ≤ c T_b / T_c(v_impact) (≤ c when the impact
@@ -146,7 +152,10 @@ pub(crate) fn choose(setup: &SceneSetup) -> Result<StepChoice, SceneError> {
     }
     // Walton–Braun's unloading line resolved by this step (its own bound).
     let speed = bounding_speed(setup);
-    crate::setup_checks::check_unloading(setup, choice.dt, &pair_laws(setup, 2.0 * speed, speed))?;
+    let pairs = pair_laws(setup, 2.0 * speed, speed);
+    crate::setup_checks::check_unloading(setup, choice.dt, &pairs)?;
+    // Gear5's closed-form bound on a damped contact (its own bound).
+    crate::setup_checks::check_damped_gear5(setup, choice.dt, &pairs)?;
     Ok(choice)
 }
 

@@ -35,6 +35,7 @@
 //! the measured grid is in `dembound-core`'s `scenario::limits`).
 
 use super::gear5::{pascal, Gear5};
+use crate::contact::peak::Linearization;
 
 /// Gear5's stability bound on ẍ = −ω² x − β ẋ: stable for
 /// (ωΔt/W)² + βΔt/B ≤ 1 (module doc).
@@ -95,6 +96,66 @@ impl DampedStability {
     }
 }
 
+/// A step past a [`DampedStability`] bound on a contact linearised at
+/// its largest overlap ([`DampedStability::check`]): what a refusal states.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnstableStep {
+    /// The contact at its largest overlap.
+    pub peak: Linearization,
+    /// The scheme's bound.
+    pub stability: DampedStability,
+    /// The step, s.
+    pub dt: f64,
+    /// The largest stable step, s.
+    pub dt_max: f64,
+}
+
+impl DampedStability {
+    /// `Err` when `dt` (s) is past the bound on the contact `peak`. A NaN
+    /// step passes: refusing it is the step rule's business.
+    pub fn check(self, peak: Linearization, dt: f64) -> Result<(), UnstableStep> {
+        let dt_max = self.max_step(peak.omega, peak.rate);
+        if dt <= dt_max || dt.is_nan() {
+            return Ok(());
+        }
+        Err(UnstableStep {
+            peak,
+            stability: self,
+            dt,
+            dt_max,
+        })
+    }
+}
+
+impl UnstableStep {
+    /// (ωΔt/W)² + βΔt/B at the step (> 1).
+    pub fn index(&self) -> f64 {
+        let p = &self.peak;
+        self.stability.index(p.omega * self.dt, p.rate * self.dt)
+    }
+
+    /// "at its largest overlap h = … m the contact's frequency ω = … rad/s
+    /// and damping rate β = … 1/s (`damping`) give (ωΔt/W)² + βΔt/B = … > 1
+    /// at Δt = … s, where the predictor–corrector is unstable and the
+    /// rebound would be wrong": the refusal's reason, `damping` naming the
+    /// setting that gives β.
+    pub fn describe(&self, damping: &str) -> String {
+        format!(
+            "at its largest overlap h = {h:.4e} m the contact's frequency ω = {omega:.4e} rad/s \
+             and damping rate β = {rate:.4e} 1/s ({damping}) give (ωΔt/{w:.4})² + βΔt/{b:.4} = \
+             {index:.3} > 1 at Δt = {dt:.4e} s, where the predictor–corrector is unstable and \
+             the rebound would be wrong",
+            h = self.peak.overlap,
+            omega = self.peak.omega,
+            rate = self.peak.rate,
+            w = self.stability.omega_step,
+            b = self.stability.rate_step,
+            index = self.index(),
+            dt = self.dt,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::{Integrator, Kinematics};
@@ -152,6 +213,28 @@ mod tests {
             assert!(a < 1e-6, "ξ = {xi}: {a} at 0.97 of Δt_max = {dt}");
             assert!(b > 1e6, "ξ = {xi}: {b} at 1.03 of Δt_max = {dt}");
         }
+    }
+
+    #[test]
+    fn check_refuses_past_the_largest_step_only() {
+        let stab = Gear5::VELOCITY_DEPENDENT.damped_stability();
+        let peak = Linearization {
+            overlap: 1e-6,
+            omega: 1e6,
+            rate: 2e6,
+        };
+        let dt_max = stab.max_step(peak.omega, peak.rate);
+        assert_eq!(stab.check(peak, dt_max), Ok(()));
+        assert_eq!(stab.check(peak, f64::NAN), Ok(()));
+        let past = stab.check(peak, 1.01 * dt_max).expect_err("past the bound");
+        assert_eq!(past.dt_max, dt_max);
+        // Both terms grow with Δt: 1.01 Δt_max gives an index in (1.01, 1.0201).
+        assert!(past.index() > 1.01 && past.index() < 1.0201, "{past:?}");
+        let why = past.describe("contact.restitution = 0.01");
+        assert!(
+            why.contains("(contact.restitution = 0.01)") && why.contains("> 1"),
+            "{why}"
+        );
     }
 
     #[test]
