@@ -193,8 +193,10 @@ fn bad_input_exits_2_and_writes_nothing() {
 /// Impacts alone (`--particles 0`, no chute): the report states that no
 /// bed was poured instead of a floor pressure it could not have (the
 /// weight per area of no bed printed as "NaN Pa" before session 36), and
-/// prints no NaN anywhere (the one undefined quantity, e_t at normal
-/// incidence, stays in impacts.csv only).
+/// prints no NaN anywhere: the undefined quantities of a normal impact
+/// (e_t and the rebound angle: no tangential impact velocity) are empty
+/// cells of impacts.csv (they were "NaN" before session 37), which CSV
+/// readers take as missing.
 #[test]
 fn impacts_without_a_bed_state_no_pressure_and_print_no_nan() {
     let dir = tempfile::tempdir().unwrap();
@@ -205,4 +207,28 @@ fn impacts_without_a_bed_state_no_pressure_and_print_no_nan() {
     assert!(report.contains("No bed was poured"), "{report}");
     assert!(!report.contains("weight per area ("), "{report}");
     assert!(!report.to_lowercase().contains("nan"), "{report}");
+    let mut impacts = csv::Reader::from_path(out.join("impacts.csv")).unwrap();
+    let head = impacts.headers().unwrap().clone();
+    let col = |name: &str| head.iter().position(|x| x == name).unwrap();
+    let (angle, e_t, e_n) = (
+        col("angle_deg"),
+        col("tangential_restitution"),
+        col("normal_restitution"),
+    );
+    let mut normal = 0;
+    for row in impacts.records() {
+        let row = row.unwrap();
+        assert!(
+            !row.iter().any(|x| x.to_lowercase().contains("nan")),
+            "{row:?}"
+        );
+        assert!(row[e_n].parse::<f64>().is_ok(), "{row:?}");
+        if row[angle].parse::<f64>().unwrap() == 0.0 {
+            assert_eq!(&row[e_t], "", "{row:?}");
+            normal += 1;
+        } else {
+            assert!(row[e_t].parse::<f64>().is_ok(), "{row:?}");
+        }
+    }
+    assert!(normal > 0, "no normal impact in impacts.csv");
 }

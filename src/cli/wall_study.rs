@@ -470,13 +470,13 @@ fn write_all(
                     i.angle.to_string(),
                     format!("{:e}", i.point[0]),
                     format!("{:e}", i.point[1]),
-                    format!("{:e}", i.normal_restitution),
-                    format!("{:e}", i.tangential_restitution),
-                    format!("{:e}", i.rebound_angle),
-                    format!("{:e}", i.deflection),
-                    format!("{:e}", i.contact_time),
+                    defined(i.normal_restitution),
+                    defined(i.tangential_restitution),
+                    defined(i.rebound_angle),
+                    defined(i.deflection),
+                    defined(i.contact_time),
                     i.contacts.to_string(),
-                    format!("{:e}", i.spin),
+                    defined(i.spin),
                 ])?;
             }
         }
@@ -977,4 +977,15 @@ fn fmt(v: f64, sd: f64) -> String {
 
 fn sig(v: f64) -> String {
     crate::output::format::sig(v, 4)
+}
+
+/// A value of impacts.csv: empty where it is undefined, never "NaN": e_t
+/// at normal incidence (no tangential impact velocity to divide by), and
+/// there a part study's rebound angle.
+pub(super) fn defined(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:e}")
+    } else {
+        String::new()
+    }
 }

@@ -328,10 +328,10 @@ fn write_all(
                     i.deflection,
                     i.contact_time,
                 ] {
-                    row.push(format!("{x:e}"));
+                    row.push(super::defined(x));
                 }
                 row.push(i.contacts.to_string());
-                row.push(format!("{:e}", i.spin));
+                row.push(super::defined(i.spin));
                 csv.write_record(&row)?;
             }
         }
