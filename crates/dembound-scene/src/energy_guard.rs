@@ -431,7 +431,7 @@ fn step_share(setup: &SceneSetup, dt: f64) -> String {
             (Gear5's predictor–corrector is unstable at far shorter steps on dense damped beds)"
             .to_string(),
     };
-    match time_step::step_bound(setup) {
+    let step = match time_step::step_bound(setup) {
         Some(b) => format!(
             "the step or the contact stiffness: Δt = {dt:e} s is {:.3} × the smallest \
              contact-time estimate {:.4e} s ({}), within the bound of {} but too large for this \
@@ -442,5 +442,40 @@ fn step_share(setup: &SceneSetup, dt: f64) -> String {
             b.ratio
         ),
         None => format!("the step or the contact stiffness (Δt = {dt:e} s); try {advice}"),
+    };
+    match spring_work(setup) {
+        Some(note) => format!("{step}; {note}"),
+        None => step,
     }
+}
+
+/// The other cause a frictional scene may have: a tangential spring whose
+/// stiffness grows with the overlap (the Mindlin springs, k_t ∝ √h). A
+/// loaded spring whose overlap changes gains or loses ½ |δ|² Δk_t
+/// (stored displacement) that no potential holds
+/// (`TangentialModel::spring_energy`): the model's own work, which a
+/// smaller step does not remove. Damping hides it; without, the guard can
+/// see it: `dembound wall-study --quick --particles 0 --chute-time 0
+/// --restitution 1` (elastic Hertz, Mindlin μ = 0.5) gained 1.9 % of its
+/// energy scale at η = 0.05 and 1.6 % at η = 0.01, none with
+/// `--tangential linear` (session 37). `None` without friction or with a
+/// constant k_t.
+fn spring_work(setup: &SceneSetup) -> Option<String> {
+    use dembound_physics::contact::tangential::TangentialKind;
+    let f = setup.friction.as_ref()?;
+    let mu_given = f.model.friction > 0.0
+        || f.materials.iter().flatten().any(|m| m.0 > 0.0)
+        || f.walls.iter().flatten().any(|w| w.0 > 0.0);
+    let kind = f.model.tangential;
+    if !mu_given || kind == TangentialKind::Linear {
+        return None;
+    }
+    Some(format!(
+        "or, if a smaller step does not help, the tangential spring itself: under \
+         contact.tangential = \"{}\" its stiffness grows with the overlap, and a loaded \
+         spring whose overlap changes gains or loses ½ |δ|² Δk_t that no potential holds \
+         (the model's work, percents of an undamped impact's energy); damp the contacts \
+         (contact.restitution < 1) or use contact.tangential = \"linear\"",
+        kind.row().name
+    ))
 }
