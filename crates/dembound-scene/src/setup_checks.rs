@@ -283,7 +283,7 @@ pub(crate) fn check_damped_gear5(
     let damping = match setup.contact.damping.dissipation() {
         Some(Dissipation::Restitution(e)) => format!("contact.restitution = {}", show(e)),
         Some(Dissipation::Coefficient(c)) => format!("contact.damping_coefficient = {}", show(c)),
-        None => "the viscous law".to_string(),
+        None => "the law's damping".to_string(),
     };
     let why = format!(
         "a damped contact under gear5 ({pair}, at {v:.4} m/s: the fastest approach a body can \
