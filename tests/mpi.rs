@@ -285,7 +285,7 @@ fn bad_grid_exits_2_with_one_message() {
 /// A step far beyond the contact time is refused under MPI before any
 /// step, one message naming `integration.dt` (issue 24). A run inside the
 /// bound that creates energy (the settling bed under Gear5 with Tsuji
-/// e = 0.3 at 2 µs, see `cli_scene_guard.rs`) stops on every rank with one
+/// e = 0.3 and friction μ = 0.5 at 2 µs, see `cli_scene_guard.rs`) stops on every rank with one
 /// message from the energy guard (the ranks see the same summed energies),
 /// exit 2, no output directory (instead of NaN energies).
 #[test]
@@ -314,6 +314,7 @@ fn a_blown_up_run_exits_2_with_one_message() {
     assert!(!out.exists());
     let o = mpirun_scene(3, &[], "settling_bed.toml")
         .args(["--set", "integration.scheme=gear5"])
+        .args(["--set", "contact.friction=0.5"])
         .args(["--quiet", "--out"])
         .arg(&out)
         .output()

@@ -428,7 +428,8 @@ fn step_share(setup: &SceneSetup, dt: f64) -> String {
     let advice = match scheme {
         Scheme::Verlet => "a smaller integration.dt or integration.eta".to_string(),
         Scheme::Gear5 => "a smaller integration.dt or integration.eta, or scheme = \"verlet\" \
-            (Gear5's predictor–corrector is unstable at far shorter steps on dense damped beds)"
+            (Gear5 with friction is unstable at far shorter steps than Verlet on dense damped \
+            beds)"
             .to_string(),
     };
     let step = match time_step::step_bound(setup) {

@@ -29,18 +29,20 @@
 //! to 0.09 and 0.12: the spins would limit Δt before the centres do.
 //!
 //! Known limit (not from the spins' coefficients): a dense, strongly
-//! damped frictional bed can blow up under Gear5 where Verlet and
-//! frictionless Gear5 do not (`tests/friction_gear5.rs`,
-//! `gear5_strongly_damped_lattice_stays_finite`, ignored: Tsuji e = 0.3).
-//! With the spins on Gear's 3-, 4-, 5- or 6-value sets it blows up at
-//! about the same step (1,410–1,580 at Δt = 2 µs, measured); elastic or
-//! e ≥ 0.6 runs are stable, and so is e = 0.3 with the tangential dashpot
-//! scaled by 0.3 or removed (measured over 4.5 ms). The likely cause:
-//! Gear's small stability interval for velocity-dependent forces
-//! (|λΔt| < 0.17, above) against the slip modes of spheres with several
-//! sticking contacts, damped at η_t (1/m + R²/I) per contact, 3.5 times
-//! the normal dashpot's rate for one contact, summed over the contacts a
-//! spin couples; Verlet tolerates ten times more.
+//! damped frictional bed can blow up under Gear5 where Verlet does not
+//! (the settling bed with Tsuji e = 0.3 and μ = 0.5 at Δt = 2 µs; it runs
+//! at 1 µs). Until session 37 the 8 × 8 × 6 drop of
+//! `tests/friction_gear5.rs` (`gear5_strongly_damped_lattice_stays_finite`,
+//! then ignored) blew up too, at 1 and 2 µs, with the spins on Gear's 3-,
+//! 4-, 5- or 6-value sets alike: that was the damped onset's kink handing
+//! the predictor unbounded derivatives (`dynamics::kinks`), not the spins;
+//! it now settles at 1 µs (2 µs is refused by the closed-form bound on one
+//! damped contact). What remains is likely Gear's small stability interval
+//! for velocity-dependent forces (|λΔt| < 0.17, above) against the slip
+//! modes of spheres with several sticking contacts, damped at
+//! η_t (1/m + R²/I) per contact, 3.5 times the normal dashpot's rate for
+//! one contact, summed over the contacts a spin couples; Verlet tolerates
+//! ten times more.
 //!
 //! The start is as the centres': r₁ = Δt τ/I from the first torques,
 //! r₂..r₄ = 0. Per body (parallel, the same bits for any thread count).
