@@ -37,8 +37,8 @@
 //!   up at 5e-6 s (0.084 T_b), with e = 0.3 even at 0.034 T_b: measured
 //!   before session 37, when a damped onset just before a step's end
 //!   handed the predictor unbounded derivatives (`dynamics::kinks`). Since
-//!   that fix e = 0.6 and 0.9 run at 4.7e-6 s (0.079 T_b) and e = 0.3 at
-//!   2e-6 s; c is kept. With friction (μ = 0.5) e = 0.3 still blows up at
+//!   that fix e = 0.6 and 0.9 run at 4.7e-6 s (0.079 T_b; they blew up
+//!   at 4e-6 s before) and e = 0.3 at 2e-6 s; c is kept. With friction (μ = 0.5) e = 0.3 still blows up at
 //!   2e-6 s (runs at 1e-6 s): there the energy guard stops it (exit 2). The
 //!   Gear5 tests reach 0.31 T_b elastic and 0.077 T_b damped. For accuracy
 //!   rather than stability keep Gear5 at η ≤ 0.1 (`dembound run`'s bound).
