@@ -55,6 +55,20 @@ fn restitution(stdout: &str) -> f64 {
         / c["impact_normal_velocity"].as_f64().expect("impact")
 }
 
+/// `dembound exact`'s e for the validation drop under `sets` (Hertz, its
+/// first contact): the independent reference.
+fn exact_restitution(sets: &[&str]) -> f64 {
+    let mut exact = dembound();
+    exact.args(["exact", "--json", "--set", "contact.law=hertz"]);
+    for s in sets.iter().chain(&["motion.contacts=1"]) {
+        exact.args(["--set", s]);
+    }
+    let out = exact.output().expect("the binary runs");
+    assert_eq!(out.status.code(), Some(0));
+    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    v["contacts"][0]["restitution"].as_f64().expect("e")
+}
+
 #[test]
 fn a_damped_gear5_step_past_the_bound_is_refused_with_nothing_written() {
     for (step, key, prefix) in [
@@ -102,15 +116,7 @@ fn the_largest_accepted_step_rebounds_as_the_exact_reference() {
     let (code, stdout, stderr) = scene(&accepted, &[]);
     assert_eq!(code, Some(0), "{inside}: {stderr}");
     let e_scene = restitution(&stdout);
-    let mut exact = dembound();
-    exact.args(["exact", "--json", "--set", "contact.law=hertz"]);
-    for s in TSUJI.iter().chain(&["motion.contacts=1"]) {
-        exact.args(["--set", s]);
-    }
-    let out = exact.output().expect("the binary runs");
-    assert_eq!(out.status.code(), Some(0));
-    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
-    let e_exact = v["contacts"][0]["restitution"].as_f64().expect("e");
+    let e_exact = exact_restitution(&TSUJI);
     // The collision log reads the rebound at the first step out of contact,
     // where attraction still pulls: over η = 0.0205–0.0224 e moved by 0.1–
     // 2.4 % with the step's phase (session 37); at η = 0.05 it was +720 %.
@@ -137,15 +143,7 @@ fn the_largest_accepted_step_rebounds_as_the_exact_reference() {
 #[test]
 fn a_damped_onset_at_any_phase_of_the_step_rebounds_as_the_exact_reference() {
     let sets = ["contact.damping=tsuji", "contact.restitution=0.3"];
-    let mut exact = dembound();
-    exact.args(["exact", "--json", "--set", "contact.law=hertz"]);
-    for s in sets.iter().chain(&["motion.contacts=1"]) {
-        exact.args(["--set", s]);
-    }
-    let out = exact.output().expect("the binary runs");
-    assert_eq!(out.status.code(), Some(0));
-    let v: Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
-    let e_exact = v["contacts"][0]["restitution"].as_f64().expect("e");
+    let e_exact = exact_restitution(&sets);
     for eta in [
         0.0125, 0.01875, 0.005, 0.0075, 0.011, 0.01775, 0.02, 0.022, 0.025, 0.03,
     ] {

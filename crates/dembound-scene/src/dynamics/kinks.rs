@@ -294,7 +294,8 @@ mod tests {
     use dembound_physics::contact::{ContactModel, NormalLaw};
     use dembound_physics::material::{Material, PairProperties};
 
-    fn law(normal: NormalLaw) -> PairLaw {
+    /// A steel sphere of R = 1 mm on a steel plane under `model`.
+    fn pair(model: ContactModel) -> PairLaw {
         let m = Material {
             density: 7800.0,
             youngs_modulus: 2e11,
@@ -302,7 +303,11 @@ mod tests {
         };
         let mass = 4.0 / 3.0 * std::f64::consts::PI * 1e-9 * 7800.0;
         let props = PairProperties::sphere_plane(1e-3, mass, &m, &m);
-        ContactModel::elastic(normal).pair(&props)
+        model.pair(&props)
+    }
+
+    fn law(normal: NormalLaw) -> PairLaw {
+        pair(ContactModel::elastic(normal))
     }
 
     /// The onset kink of F = K h^α along h = v s has closed-form moments:
@@ -352,18 +357,10 @@ mod tests {
     #[test]
     fn a_damped_onset_near_the_step_end_keeps_bounded_derivatives() {
         use dembound_physics::contact::{Damping, DampingKind, Dissipation};
-        let m = Material {
-            density: 1000.0,
-            youngs_modulus: 1e10,
-            poisson_ratio: 0.3,
-        };
-        let mass = 4.0 / 3.0 * std::f64::consts::PI * 1.25e-10 * 1000.0;
-        let props = PairProperties::sphere_plane(5e-4, mass, &m, &m);
-        let law = ContactModel::damped(
+        let law = pair(ContactModel::damped(
             NormalLaw::Hertz,
             Damping::new(DampingKind::Tsuji, Dissipation::Restitution(0.3)),
-        )
-        .pair(&props);
+        ));
         let (v, dt) = (0.3, 1e-7);
         let end = path_force(&law, v, dt);
         for tau in [1e-6 * dt, 1e-3 * dt, 0.1 * dt, 0.9 * dt] {
