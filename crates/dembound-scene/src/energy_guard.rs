@@ -454,7 +454,7 @@ fn step_share(setup: &SceneSetup, dt: f64) -> String {
 /// stiffness grows with the overlap (the Mindlin springs, k_t ∝ √h). A
 /// loaded spring whose overlap changes gains or loses ½ |δ|² Δk_t
 /// (stored displacement) that no potential holds
-/// (`TangentialModel::spring_energy`): the model's own work, which a
+/// (`FrictionPair::spring_energy` of dembound-physics): the model's own work, which a
 /// smaller step does not remove. Damping hides it; without, the guard can
 /// see it: `dembound wall-study --quick --particles 0 --chute-time 0
 /// --restitution 1` (elastic Hertz, Mindlin μ = 0.5) gained 1.9 % of its

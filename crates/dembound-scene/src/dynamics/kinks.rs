@@ -27,11 +27,12 @@
 //!   the next steps rebuild it from smooth data), which the next
 //!   predictor extrapolates over one step Δt: so they are those of the
 //!   quadratic through f at τ, τ + Δt/2 and τ + Δt along the same path,
-//!   not the derivatives at τ. For f ∝ s^α with α < 2 the derivatives at
-//!   τ grow as τ^(α−1), τ^(α−2) when the onset falls just before the
-//!   step's end (τ ≪ Δt), where their Taylor polynomial is no guide to
-//!   the next step (it converges only within τ): Tsuji's damping,
-//!   ∝ h^(1/4) ḣ, gave τ^(−7/4), and the validation drop with e = 0.3
+//!   not the derivatives at τ. For f ∝ s^α with α < 2 the second
+//!   derivative at τ grows as τ^(α−2) (the first too, as τ^(α−1), for
+//!   α < 1) when the onset falls just before the step's end (τ ≪ Δt),
+//!   where their Taylor polynomial is no guide to the next step (it
+//!   converges only within τ): Tsuji's damping, ∝ h^(1/4) ḣ, gave
+//!   τ^(−3/4) and τ^(−7/4), and the validation drop with e = 0.3
 //!   under Gear5 rebounded with e = 0.057 at η = 0.01875 (−81 %) and
 //!   −11 % at 0.0125, exit 0 (session 37; over η = 0.004–0.031 now within
 //!   0.27 %).
