@@ -15,13 +15,19 @@ use dembound_scene::time_step::{
     GEAR5_DAMPED_MAX_STEP_RATIO, GEAR5_MAX_STEP_RATIO, VERLET_MAX_STEP_RATIO,
 };
 
-/// The largest Δt/T_b of each scheme, as the time-step rule checks them.
+/// The largest Δt/T_b of each scheme, as the time-step rule checks them,
+/// and Gear5's closed-form bound on each damped pair
+/// (`setup_checks::check_damped_gear5`).
 fn step_ratios() -> String {
+    let damped = dembound_physics::integrate::gear5::Gear5::for_force(true).damped_stability();
     format!(
-        "{} (verlet), {} (gear5), {} (gear5 with damping)",
+        "{} (verlet), {} (gear5), {} (gear5 with damping; and each damped pair's \
+         (ωΔt/{:.3})² + βΔt/{:.3} ≤ 1)",
         show(VERLET_MAX_STEP_RATIO),
         show(GEAR5_MAX_STEP_RATIO),
-        show(GEAR5_DAMPED_MAX_STEP_RATIO)
+        show(GEAR5_DAMPED_MAX_STEP_RATIO),
+        damped.omega_step,
+        damped.rate_step
     )
 }
 
